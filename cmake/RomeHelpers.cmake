@@ -1,0 +1,35 @@
+# Helpers shared by every CMakeLists.txt in ROME.
+
+# Adds every immediate subdirectory of the current source dir that has a CMakeLists.txt.
+function(rome_add_child_directories)
+  file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
+  list(SORT children)
+  foreach(child ${children})
+    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt)
+      add_subdirectory(${child})
+    endif()
+  endforeach()
+endfunction()
+
+# rome_add_test(NAME <name> SOURCES <files...> LIBS <targets...> [LABELS <labels...>])
+# Builds a GoogleTest executable and registers it with ctest.
+# Tests run with the repository root as working directory, so robots/... paths resolve.
+function(rome_add_test)
+  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  add_executable(${T_NAME} ${T_SOURCES})
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${T_NAME} PRIVATE ROME_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_test(NAME ${T_NAME} COMMAND ${T_NAME} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  if(T_LABELS)
+    set_tests_properties(${T_NAME} PROPERTIES LABELS "${T_LABELS}")
+  endif()
+endfunction()
+
+# rome_add_benchmark(NAME <name> SOURCES <files...> LIBS <targets...>)
+# Google Benchmark executable; not run by ctest (performance is measured, never asserted).
+function(rome_add_benchmark)
+  cmake_parse_arguments(B "" "NAME" "SOURCES;LIBS" ${ARGN})
+  add_executable(${B_NAME} ${B_SOURCES})
+  target_link_libraries(${B_NAME} PRIVATE ${B_LIBS} benchmark::benchmark)
+  target_compile_definitions(${B_NAME} PRIVATE ROME_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+endfunction()
