@@ -1,11 +1,15 @@
 # Helpers shared by every CMakeLists.txt in ROME.
 
 # Adds every immediate subdirectory of the current source dir that has a CMakeLists.txt.
+# Developers may skip work-in-progress folders with -DROME_SKIP_SUBDIRS="tests/benchmarks/qp;...".
 function(rome_add_child_directories)
   file(GLOB children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
   list(SORT children)
   foreach(child ${children})
-    if(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt)
+    file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/${child})
+    if(rel IN_LIST ROME_SKIP_SUBDIRS)
+      message(STATUS "ROME: skipping ${rel} (ROME_SKIP_SUBDIRS)")
+    elseif(IS_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/${child} AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${child}/CMakeLists.txt)
       add_subdirectory(${child})
     endif()
   endforeach()

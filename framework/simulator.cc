@@ -1,0 +1,452 @@
+#include "framework/simulator.h"
+
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <sstream>
+
+namespace rome {
+
+std::string SimulatorStatus::ToString() const {
+  std::ostringstream os;
+  switch (reason) {
+    case Reason::kReachedBoundaryTime: os << "reached boundary time"; break;
+    case Reason::kReachedTermination: os << "terminated"; break;
+    case Reason::kZeno: os << "Zeno behaviour"; break;
+    case Reason::kFailed: os << "failed"; break;
+  }
+  os << " at t = " << time << " s";
+  if (!system.empty()) os << " (system '" << system << "')";
+  if (!message.empty()) os << ": " << message;
+  return os.str();
+}
+
+struct Simulator::Impl {
+  std::vector<const LeafSystem*> systems;
+  std::vector<LeafContext*> contexts;
+  std::vector<std::string> paths;
+  std::vector<int> xc_offset;
+  struct GuardRef {
+    int leaf, guard, root_offset;
+  };
+  std::vector<GuardRef> guards;
+  int nroots = 0;
+  std::vector<int> rootdir, rootsfound;
+  struct Periodic {
+    int leaf, event;
+    double period, offset;
+    long k;
+    double next_time() const { return offset + static_cast<double>(k) * period; }
+  };
+  std::vector<Periodic> periodic;
+  std::vector<Eigen::VectorXd> xdot, xd_next;
+  std::vector<char> xd_touched;
+  std::vector<State> state_buf;
+  int nx_integrated = 0;  // >= 1 (a dummy state when the diagram has none)
+
+  SUNContext sunctx = nullptr;
+  N_Vector y = nullptr;
+  void* mem = nullptr;
+  SUNMatrix A = nullptr;
+  SUNLinearSolver LS = nullptr;
+  long acc_steps = 0, acc_rhs = 0, acc_g = 0;
+  std::exception_ptr error;
+  std::string cvode_message;
+  std::string failure;  // non-finite derivative report from the RHS
+  double last_event_time = -std::numeric_limits<double>::infinity();
+  int events_at_instant = 0;
+
+  ~Impl() { FreeCvode(); }
+  void FreeCvode() {
+    if (mem) CVodeFree(&mem);
+    if (LS) SUNLinSolFree(LS);
+    if (A) SUNMatDestroy(A);
+    if (y) N_VDestroy(y);
+    if (sunctx) SUNContext_Free(&sunctx);
+    mem = nullptr;
+    LS = nullptr;
+    A = nullptr;
+    y = nullptr;
+    sunctx = nullptr;
+  }
+
+  void StateToContexts(double t, const double* ydata) {
+    for (size_t i = 0; i < systems.size(); ++i) {
+      const int n = systems[i]->num_continuous_states();
+      if (n > 0) contexts[i]->state_.continuous = Eigen::Map<const Eigen::VectorXd>(ydata + xc_offset[i], n);
+    }
+    if (!contexts.empty()) contexts[0]->SetTime(t);  // shared clock; bumps the shared cache version
+  }
+  void ContextsToState(double* ydata) const {
+    for (size_t i = 0; i < systems.size(); ++i) {
+      const int n = systems[i]->num_continuous_states();
+      if (n > 0) Eigen::Map<Eigen::VectorXd>(ydata + xc_offset[i], n) = contexts[i]->state_.continuous;
+    }
+    if (nx_integrated == 1 && xc_offset.empty()) ydata[0] = 0.0;
+  }
+  void AccumulateCounters() {
+    long v = 0;
+    CVodeGetNumSteps(mem, &v);
+    acc_steps += v;
+    CVodeGetNumRhsEvals(mem, &v);
+    acc_rhs += v;
+    CVodeGetNumGEvals(mem, &v);
+    acc_g += v;
+  }
+};
+
+struct SimulatorCallbacks {
+  static int Rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
+    auto* impl = static_cast<Simulator::Impl*>(user_data);
+    try {
+      double* yd = N_VGetArrayPointer(ydot);
+      impl->StateToContexts(t, N_VGetArrayPointer(y));
+      bool any = false;
+      for (size_t i = 0; i < impl->systems.size(); ++i) {
+        const int n = impl->systems[i]->num_continuous_states();
+        if (n == 0) continue;
+        any = true;
+        impl->systems[i]->CalcTimeDerivatives(*impl->contexts[i], &impl->xdot[i]);
+        const Eigen::VectorXd& d = impl->xdot[i];
+        if (d.size() != n)
+          throw std::runtime_error("system '" + impl->paths[i] + "': DoCalcTimeDerivatives produced size " + std::to_string(d.size()) +
+                                   ", expected " + std::to_string(n));
+        if (!d.allFinite()) {
+          std::ostringstream os;
+          os << "system '" << impl->paths[i] << "' produced a non-finite time derivative at t = " << t << " (mode '"
+             << impl->systems[i]->mode_name(impl->contexts[i]->mode()) << "')";
+          impl->failure = os.str();
+          return -1;
+        }
+        Eigen::Map<Eigen::VectorXd>(yd + impl->xc_offset[i], n) = d;
+      }
+      if (!any) yd[0] = 0.0;
+      return 0;
+    } catch (...) {
+      impl->error = std::current_exception();
+      return -1;
+    }
+  }
+  static int Roots(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) {
+    auto* impl = static_cast<Simulator::Impl*>(user_data);
+    try {
+      impl->StateToContexts(t, N_VGetArrayPointer(y));
+      for (const auto& g : impl->guards) {
+        const LeafSystem::Guard& guard = impl->systems[g.leaf]->guards()[g.guard];
+        Eigen::Map<Eigen::VectorXd> out(gout + g.root_offset, guard.size);
+        if (LeafSystem::GuardActiveIn(guard, impl->contexts[g.leaf]->mode())) {
+          guard.witness(*impl->contexts[g.leaf], out);
+        } else {
+          out.setOnes();  // inactive guards never cross
+        }
+      }
+      return 0;
+    } catch (...) {
+      impl->error = std::current_exception();
+      return -1;
+    }
+  }
+  static void ErrHandler(int, const char* module, const char* function, char* msg, void* user_data) {
+    auto* impl = static_cast<Simulator::Impl*>(user_data);
+    impl->cvode_message = std::string(module) + "::" + function + ": " + msg;
+  }
+};
+
+Simulator::Simulator(const System& system, SimulatorConfig config) : Simulator(system, system.CreateDefaultContext(), config) {}
+
+Simulator::Simulator(const System& system, std::unique_ptr<Context> context, SimulatorConfig config)
+    : impl_(std::make_unique<Impl>()), system_(system), context_(std::move(context)), config_(config) {
+  if (!context_) throw std::invalid_argument("Simulator: null context for system '" + system.name() + "'");
+  Impl& m = *impl_;
+  if (system.is_diagram()) {
+    const auto& d = static_cast<const Diagram&>(system);
+    auto& dc = static_cast<DiagramContext&>(*context_);
+    for (int i = 0; i < d.num_leaves(); ++i) {
+      m.systems.push_back(&d.leaf(i));
+      m.contexts.push_back(&d.GetMutableSubsystemContext(d.leaf(i), dc));
+      m.paths.push_back(d.leaf_path(i));
+    }
+  } else {
+    if (context_->is_diagram_context()) throw std::invalid_argument("Simulator: leaf system '" + system.name() + "' given a diagram context");
+    m.systems.push_back(static_cast<const LeafSystem*>(&system));
+    m.contexts.push_back(static_cast<LeafContext*>(context_.get()));
+    m.paths.push_back(system.name());
+  }
+  int offset = 0;
+  for (size_t i = 0; i < m.systems.size(); ++i) {
+    const LeafSystem& s = *m.systems[i];
+    m.xc_offset.push_back(offset);
+    offset += s.num_continuous_states();
+    m.xdot.emplace_back(Eigen::VectorXd::Zero(s.num_continuous_states()));
+    m.xd_next.emplace_back(Eigen::VectorXd::Zero(s.num_discrete_states()));
+    m.state_buf.push_back(m.contexts[i]->state());
+    for (int g = 0; g < static_cast<int>(s.guards().size()); ++g) {
+      const auto& guard = s.guards()[g];
+      m.guards.push_back({static_cast<int>(i), g, m.nroots});
+      for (int c = 0; c < guard.size; ++c)
+        m.rootdir.push_back(guard.direction == CrossingDirection::kRising ? 1 : guard.direction == CrossingDirection::kFalling ? -1 : 0);
+      m.nroots += guard.size;
+    }
+    for (int e = 0; e < static_cast<int>(s.periodic_events().size()); ++e) {
+      const auto& pe = s.periodic_events()[e];
+      m.periodic.push_back({static_cast<int>(i), e, pe.period, pe.offset, 0});
+    }
+  }
+  m.xd_touched.assign(m.systems.size(), 0);
+  m.rootsfound.assign(m.nroots, 0);
+  nx_ = offset;
+  m.nx_integrated = std::max(offset, 1);
+  if (offset == 0) m.xc_offset.clear();  // marks the dummy state
+  if (offset == 0) m.xc_offset.assign(m.systems.size(), 0);
+}
+
+Simulator::~Simulator() = default;
+
+void Simulator::set_config(const SimulatorConfig& config) {
+  config_ = config;
+  if (initialized_) Initialize();
+}
+
+namespace {
+EventStatus RunEventPublishes(Simulator::Impl& m);
+}
+
+SimulatorStatus Simulator::Initialize() {
+  Impl& m = *impl_;
+  if (m.mem) m.AccumulateCounters();
+  m.FreeCvode();
+  const double t0 = context_->time();
+  if (SUNContext_Create(nullptr, &m.sunctx) != 0) throw std::runtime_error("Simulator: SUNContext_Create failed");
+  m.y = N_VNew_Serial(m.nx_integrated, m.sunctx);
+  N_VConst(0.0, m.y);
+  if (nx_ > 0) m.ContextsToState(N_VGetArrayPointer(m.y));
+  m.mem = CVodeCreate(config_.scheme == IntegrationScheme::kBdf ? CV_BDF : CV_ADAMS, m.sunctx);
+  if (!m.mem) throw std::runtime_error("Simulator: CVodeCreate failed");
+  CVodeSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
+  if (CVodeInit(m.mem, &SimulatorCallbacks::Rhs, t0, m.y) != CV_SUCCESS) throw std::runtime_error("Simulator: CVodeInit failed: " + m.cvode_message);
+  if (!(config_.relative_tolerance > 0) || !(config_.absolute_tolerance > 0))
+    throw std::invalid_argument("SimulatorConfig: tolerances must be positive (relative_tolerance = " + std::to_string(config_.relative_tolerance) +
+                                ", absolute_tolerance = " + std::to_string(config_.absolute_tolerance) + ")");
+  CVodeSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
+  CVodeSetUserData(m.mem, &m);
+  m.A = SUNDenseMatrix(m.nx_integrated, m.nx_integrated, m.sunctx);
+  m.LS = SUNLinSol_Dense(m.y, m.A, m.sunctx);
+  CVodeSetLinearSolver(m.mem, m.LS, m.A);
+  if (config_.max_step_s > 0) CVodeSetMaxStep(m.mem, config_.max_step_s);
+  if (config_.initial_step_s > 0) CVodeSetInitStep(m.mem, config_.initial_step_s);
+  if (config_.max_order > 0) CVodeSetMaxOrd(m.mem, config_.max_order);
+  CVodeSetMaxNumSteps(m.mem, 100000);
+  if (m.nroots > 0) {
+    CVodeRootInit(m.mem, m.nroots, &SimulatorCallbacks::Roots);
+    CVodeSetRootDirection(m.mem, m.rootdir.data());
+    CVodeSetNoInactiveRootWarn(m.mem);
+  }
+  // First sample index of every periodic event at or after t0.
+  for (auto& p : m.periodic) {
+    p.k = 0;
+    if (t0 > p.offset) p.k = static_cast<long>(std::ceil((t0 - p.offset) / p.period - 1e-9));
+  }
+  initialized_ = true;
+  terminated_ = false;
+  SimulatorStatus status;
+  status.time = t0;
+  EventStatus es = RunEventPublishes(m);
+  if (!es.ok()) {
+    status.reason = es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed : SimulatorStatus::Reason::kReachedTermination;
+    status.message = es.message;
+    terminated_ = true;
+    terminal_status_ = status;
+  }
+  return status;
+}
+
+namespace {
+
+EventStatus RunEventPublishes(Simulator::Impl& m) {
+  for (size_t i = 0; i < m.systems.size(); ++i)
+    for (const auto& pub : m.systems[i]->event_publishes()) {
+      EventStatus s = pub(*m.contexts[i]);
+      if (!s.ok()) return s;
+    }
+  return EventStatus::Succeeded();
+}
+
+bool SameTime(double a, double b) { return std::isfinite(a) && std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(a)); }
+
+}  // namespace
+
+SimulatorStatus Simulator::AdvanceTo(double t_final) {
+  if (!initialized_) {
+    SimulatorStatus s = Initialize();
+    if (!s.ok()) return s;
+  }
+  if (terminated_) return terminal_status_;
+  Impl& m = *impl_;
+  if (!std::isfinite(t_final)) throw std::invalid_argument("Simulator::AdvanceTo: t_final must be finite, got " + std::to_string(t_final));
+  SimulatorStatus status;
+  auto finish = [&](SimulatorStatus::Reason reason, const std::string& sys, const std::string& msg) {
+    status.reason = reason;
+    status.system = sys;
+    status.message = msg;
+    status.time = context_->time();
+    if (reason != SimulatorStatus::Reason::kReachedBoundaryTime) {
+      terminated_ = true;
+      terminal_status_ = status;
+    }
+    stats_.steps = m.acc_steps;
+    stats_.rhs_evals = m.acc_rhs;
+    stats_.root_evals = m.acc_g;
+    long v = 0;
+    if (m.mem) {
+      CVodeGetNumSteps(m.mem, &v);
+      stats_.steps += v;
+      CVodeGetNumRhsEvals(m.mem, &v);
+      stats_.rhs_evals += v;
+      CVodeGetNumGEvals(m.mem, &v);
+      stats_.root_evals += v;
+    }
+    if (reason == SimulatorStatus::Reason::kZeno && config_.event_policy.throw_on_violation) throw std::runtime_error(status.ToString());
+    return status;
+  };
+  auto from_event = [&](const EventStatus& es, const std::string& sys) {
+    return finish(es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed : SimulatorStatus::Reason::kReachedTermination, sys,
+                  es.message);
+  };
+  auto reinit = [&]() {
+    m.AccumulateCounters();
+    m.ContextsToState(N_VGetArrayPointer(m.y));
+    CVodeReInit(m.mem, context_->time(), m.y);
+  };
+
+  long steps_this_advance = 0;
+  while (true) {
+    double t = context_->time();
+    if (t >= t_final || SameTime(t, t_final)) break;
+
+    // (a) Periodic events due now.
+    double next_sample = std::numeric_limits<double>::infinity();
+    for (const auto& p : m.periodic) next_sample = std::min(next_sample, p.next_time());
+    if (next_sample <= t || SameTime(next_sample, t)) {
+      bool any_update = false;
+      for (auto& p : m.periodic) {
+        if (!SameTime(p.next_time(), next_sample)) continue;
+        const auto& ev = m.systems[p.leaf]->periodic_events()[p.event];
+        if (ev.update) {
+          if (!m.xd_touched[p.leaf]) {
+            m.xd_next[p.leaf] = m.contexts[p.leaf]->discrete_state();
+            m.xd_touched[p.leaf] = 1;
+          }
+          EventStatus es = ev.update(*m.contexts[p.leaf], &m.xd_next[p.leaf]);
+          if (m.xd_next[p.leaf].size() != m.systems[p.leaf]->num_discrete_states())
+            throw std::runtime_error("system '" + m.paths[p.leaf] + "': a discrete update changed the size of the discrete state to " +
+                                     std::to_string(m.xd_next[p.leaf].size()));
+          if (!es.ok()) return from_event(es, m.paths[p.leaf]);
+          any_update = true;
+        }
+      }
+      for (size_t i = 0; i < m.systems.size(); ++i)
+        if (m.xd_touched[i]) {
+          m.contexts[i]->get_mutable_discrete_state() = m.xd_next[i];
+          m.xd_touched[i] = 0;
+        }
+      for (auto& p : m.periodic) {
+        if (!SameTime(p.next_time(), next_sample)) continue;
+        const auto& ev = m.systems[p.leaf]->periodic_events()[p.event];
+        if (ev.publish) {
+          EventStatus es = ev.publish(*m.contexts[p.leaf]);
+          if (!es.ok()) return from_event(es, m.paths[p.leaf]);
+        }
+        ++p.k;
+      }
+      ++stats_.discrete_samples;
+      EventStatus es = RunEventPublishes(m);
+      if (!es.ok()) return from_event(es, "");
+      if (any_update) reinit();
+      continue;
+    }
+
+    // (b) One CVODE step towards the next stop.
+    const double t_stop = std::min(next_sample, t_final);
+    CVodeSetStopTime(m.mem, t_stop);
+    double t_ret = t;
+    m.cvode_message.clear();
+    const int flag = CVode(m.mem, t_stop, m.y, &t_ret, CV_ONE_STEP);
+    if (m.error) {
+      std::exception_ptr e = m.error;
+      m.error = nullptr;
+      terminated_ = true;
+      std::rethrow_exception(e);
+    }
+    if (flag < 0) {
+      if (!m.failure.empty()) return finish(SimulatorStatus::Reason::kFailed, "", m.failure);
+      return finish(SimulatorStatus::Reason::kFailed, "", "CVODE error " + std::to_string(flag) + ": " + m.cvode_message);
+    }
+    if (flag == CV_TSTOP_RETURN) t_ret = t_stop;  // exact sample times
+    m.StateToContexts(t_ret, N_VGetArrayPointer(m.y));
+    if (++steps_this_advance > config_.max_steps_per_advance)
+      return finish(SimulatorStatus::Reason::kFailed, "", "more than max_steps_per_advance = " + std::to_string(config_.max_steps_per_advance) + " steps");
+    // Non-finite state check, naming the system.
+    if (!Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(m.y), m.nx_integrated).allFinite()) {
+      for (size_t i = 0; i < m.systems.size(); ++i)
+        if (!m.contexts[i]->continuous_state().allFinite())
+          return finish(SimulatorStatus::Reason::kFailed, m.paths[i], "NaN or Inf in the continuous state");
+    }
+
+    // (c) Guards.
+    if (flag == CV_ROOT_RETURN) {
+      CVodeGetRootInfo(m.mem, m.rootsfound.data());
+      for (const auto& g : m.guards) {
+        const LeafSystem& sys = *m.systems[g.leaf];
+        const LeafSystem::Guard& guard = sys.guards()[g.guard];
+        LeafContext& ctx = *m.contexts[g.leaf];
+        if (!LeafSystem::GuardActiveIn(guard, ctx.mode())) continue;
+        int component = -1;
+        for (int c = 0; c < guard.size; ++c)
+          if (m.rootsfound[g.root_offset + c] != 0) {
+            component = c;
+            break;
+          }
+        if (component < 0) continue;
+        // Zeno policy.
+        if (t_ret - m.last_event_time < config_.event_policy.min_event_separation_s) {
+          if (++m.events_at_instant > config_.event_policy.max_events_per_instant) {
+            std::ostringstream os;
+            os << "guard '" << guard.name << "' fired " << m.events_at_instant << " times with less than " << config_.event_policy.min_event_separation_s
+               << " s between events (EventPolicy::max_events_per_instant = " << config_.event_policy.max_events_per_instant << ")";
+            return finish(SimulatorStatus::Reason::kZeno, m.paths[g.leaf], os.str());
+          }
+        } else {
+          m.events_at_instant = 1;
+        }
+        m.last_event_time = t_ret;
+        State& next = m.state_buf[g.leaf];
+        next = ctx.state();
+        const int mode_before = ctx.mode();
+        EventStatus es = guard.reset ? guard.reset(ctx, component, &next) : EventStatus::Succeeded();
+        if (next.continuous.size() != sys.num_continuous_states() || next.discrete.size() != sys.num_discrete_states() || next.mode < 0 ||
+            next.mode >= sys.num_modes())
+          throw std::runtime_error("system '" + m.paths[g.leaf] + "': the reset of guard '" + guard.name +
+                                   "' produced a state of the wrong size or an unknown mode " + std::to_string(next.mode));
+        ctx.get_mutable_state() = next;
+        ++stats_.guard_events;
+        stats_.events.push_back({t_ret, m.paths[g.leaf], guard.name, component, mode_before, next.mode});
+        if (!es.ok()) return from_event(es, m.paths[g.leaf]);
+      }
+      EventStatus es = RunEventPublishes(m);
+      if (!es.ok()) return from_event(es, "");
+      reinit();
+    }
+    if (monitor_) {
+      EventStatus es = monitor_(*context_);
+      if (!es.ok()) return from_event(es, "monitor");
+    }
+  }
+  return finish(SimulatorStatus::Reason::kReachedBoundaryTime, "", "");
+}
+
+}  // namespace rome

@@ -1,0 +1,130 @@
+#pragma once
+// Simulator: integrates the stacked continuous state of a diagram (or one leaf system) with SUNDIALS CVODE,
+// finds every guard crossing with CVODE's rootfinder, and runs periodic discrete updates exactly at their
+// sample times using CVODE stop times.
+//
+// Order of operations (documented contract):
+//  1. Initialize(): event publishes run once at the initial time.
+//  2. Each pass of AdvanceTo(t_final):
+//     a. Periodic events due at the current time run: all discrete updates due now are computed from the same
+//        pre-update state, then applied together (systems in diagram order, updates in declaration order);
+//        then the periodic publishes due now; then event publishes. Events due exactly at t_final are left for
+//        the next AdvanceTo (so a 1 kHz counter updates 1000 times in [0, 1 s)).
+//     b. CVODE integrates one step towards min(next sample time, t_final) with that time as stop time.
+//        The monitor (if any) runs after each accepted step.
+//     c. If guards fired, their resets run in diagram order (systems as added to the builder), then in guard
+//        declaration order within a system. Each reset sees the state left by the earlier ones; a guard
+//        whose mode is no longer active after an earlier reset is skipped. Then event publishes run and
+//        CVODE is re-initialised (CVodeReInit) at the event time.
+//  3. Zeno policy: events closer than EventPolicy::min_event_separation_s to the previous event count as the
+//     same instant; more than EventPolicy::max_events_per_instant of them end the run with kZeno (or throw,
+//     if EventPolicy::throw_on_violation).
+// Any system ends the run by returning EventStatus::ReachedTermination(reason) from a reset, update,
+// publish, or the monitor. A NaN or Inf in the continuous state ends the run with kFailed, naming the system.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/context.h"
+#include "framework/diagram.h"
+#include "framework/system.h"
+
+namespace rome {
+
+enum class IntegrationScheme { kBdf, kAdams };
+
+struct EventPolicy {
+  /// [s] An event closer than this to the previous event counts as "at the same instant". Legged-robot events
+  /// (touchdown, lift-off) are milliseconds apart unless they are chained (impact then lift-off at once).
+  double min_event_separation_s = 1e-4;
+  /// Events allowed at one instant (chained resets) before the run stops as Zeno.
+  int max_events_per_instant = 5;
+  bool throw_on_violation = false;       ///< Throw std::runtime_error instead of returning kZeno.
+};
+
+struct SimulatorConfig {
+  IntegrationScheme scheme = IntegrationScheme::kBdf;
+  double relative_tolerance = 1e-8;   ///< [-]
+  double absolute_tolerance = 1e-10;  ///< [state units]
+  double max_step_s = 0.0;            ///< [s] 0 = no limit.
+  double initial_step_s = 0.0;        ///< [s] 0 = CVODE's estimate.
+  int max_order = 0;                  ///< 0 = CVODE's default (5 for BDF, 12 for Adams).
+  long max_steps_per_advance = 1000000000L;  ///< Safety net on CVODE internal steps within one AdvanceTo.
+  EventPolicy event_policy;
+};
+
+struct EventRecord {
+  double time = 0;
+  std::string system;  ///< Path of the system whose guard fired.
+  std::string guard;
+  int component = 0;
+  int mode_before = 0;
+  int mode_after = 0;
+};
+
+struct SimulatorStatistics {
+  long steps = 0;
+  long rhs_evals = 0;
+  long root_evals = 0;
+  long guard_events = 0;
+  long discrete_samples = 0;  ///< Sample times at which periodic events ran.
+  std::vector<EventRecord> events;
+};
+
+struct SimulatorStatus {
+  enum class Reason { kReachedBoundaryTime, kReachedTermination, kZeno, kFailed };
+  Reason reason = Reason::kReachedBoundaryTime;
+  double time = 0;
+  std::string system;   ///< The system that ended the run, if any.
+  std::string message;  ///< Human-readable reason.
+  bool ok() const { return reason == Reason::kReachedBoundaryTime; }
+  std::string ToString() const;
+};
+
+class Simulator {
+ public:
+  using Monitor = std::function<EventStatus(const Context&)>;
+
+  /// The simulator keeps references to `system`; it owns a default context unless one is given.
+  explicit Simulator(const System& system, SimulatorConfig config = {});
+  Simulator(const System& system, std::unique_ptr<Context> context, SimulatorConfig config = {});
+  ~Simulator();
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
+
+  Context& get_mutable_context() { return *context_; }
+  const Context& get_context() const { return *context_; }
+  const SimulatorConfig& config() const { return config_; }
+  /// Changing the configuration after Initialize() re-creates the integrator at the current state.
+  void set_config(const SimulatorConfig& config);
+  void set_monitor(Monitor monitor) { monitor_ = std::move(monitor); }
+
+  /// Reads the state from the context and prepares the integrator. Called by AdvanceTo if needed; call it
+  /// again after changing the state in the context by hand.
+  SimulatorStatus Initialize();
+  /// Advances to `t_final`, handling every event on the way. May be called repeatedly.
+  SimulatorStatus AdvanceTo(double t_final);
+
+  const SimulatorStatistics& statistics() const { return stats_; }
+  /// Total continuous states integrated.
+  int num_continuous_states() const { return nx_; }
+
+  struct Impl;  // CVODE memory and preallocated buffers (opaque)
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  const System& system_;
+  std::unique_ptr<Context> context_;
+  SimulatorConfig config_;
+  Monitor monitor_;
+  SimulatorStatistics stats_;
+  int nx_ = 0;
+  bool initialized_ = false;
+  bool terminated_ = false;
+  SimulatorStatus terminal_status_;
+  friend struct SimulatorCallbacks;
+};
+
+}  // namespace rome

@@ -1,0 +1,73 @@
+#include "framework/vector_logger.h"
+
+#include <fstream>
+#include <iomanip>
+
+namespace rome {
+
+VectorLogger::VectorLogger(std::string name, std::vector<LoggedSignal> signals, double period_s)
+    : LeafSystem(std::move(name)), signals_(std::move(signals)) {
+  for (const auto& s : signals_) {
+    if (!s.element_names.empty() && static_cast<int>(s.element_names.size()) != s.size)
+      ThrowError("signal '" + s.name + "' has size " + std::to_string(s.size) + " but " + std::to_string(s.element_names.size()) + " element names");
+    DeclareInputPort(s.name, s.size);
+    total_size_ += s.size;
+  }
+  if (period_s > 0) {
+    DeclarePeriodicPublish(period_s, 0.0, [this](const LeafContext& c) { return Record(c); });
+  } else if (period_s == 0) {
+    DeclareEventPublish([this](const LeafContext& c) { return Record(c); });
+  } else {
+    ThrowError("logging period must be >= 0 s, got " + std::to_string(period_s));
+  }
+}
+
+EventStatus VectorLogger::Record(const LeafContext& context) const {
+  LogData& data = context.scratch<LogData>();
+  Eigen::VectorXd row(total_size_);
+  int at = 0;
+  for (int i = 0; i < num_input_ports(); ++i) {
+    const Eigen::VectorXd& u = EvalInput(context, i);
+    row.segment(at, u.size()) = u;
+    at += static_cast<int>(u.size());
+  }
+  data.times.push_back(context.time());
+  data.samples.push_back(std::move(row));
+  return EventStatus::Succeeded();
+}
+
+std::vector<std::string> VectorLogger::ColumnNames() const {
+  std::vector<std::string> names{"time"};
+  for (const auto& s : signals_)
+    for (int i = 0; i < s.size; ++i) names.push_back(s.element_names.empty() ? s.name + "[" + std::to_string(i) + "]" : s.element_names[i]);
+  return names;
+}
+
+void VectorLogger::WriteCsv(const LeafContext& context, const std::string& path) const {
+  std::ofstream out(path);
+  if (!out) ThrowError("cannot open log file '" + path + "' for writing");
+  const auto names = ColumnNames();
+  for (size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << names[i];
+  out << "\n" << std::setprecision(12);
+  const LogData& data = log(context);
+  for (size_t k = 0; k < data.times.size(); ++k) {
+    out << data.times[k];
+    for (int i = 0; i < data.samples[k].size(); ++i) out << "," << data.samples[k][i];
+    out << "\n";
+  }
+  if (!out) ThrowError("writing log file '" + path + "' failed");
+}
+
+VectorLogger* AddVectorLogger(DiagramBuilder& builder, const std::string& name, const std::vector<std::pair<std::string, std::string>>& ports,
+                              double period_s) {
+  std::vector<LoggedSignal> signals;
+  for (const auto& [sys, port] : ports) {
+    const System& s = builder.GetMutableSystem(sys);
+    signals.push_back({sys + "." + port, s.output_port(s.GetOutputPortIndex(port)).size, {}});
+  }
+  auto* logger = builder.AddSystem(std::make_unique<VectorLogger>(name, signals, period_s));
+  for (const auto& [sys, port] : ports) builder.Connect(sys, port, name, sys + "." + port);
+  return logger;
+}
+
+}  // namespace rome
