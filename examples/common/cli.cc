@@ -1,0 +1,99 @@
+#include "examples/common/cli.h"
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+namespace rome::examples {
+
+CommandLine& CommandLine::Option(const std::string& name, const std::string& default_value, const std::string& help) {
+  order_.push_back(name);
+  decls_[name] = {default_value, help, false};
+  return *this;
+}
+
+CommandLine& CommandLine::Flag(const std::string& name, const std::string& help) {
+  order_.push_back(name);
+  decls_[name] = {"", help, true};
+  return *this;
+}
+
+bool CommandLine::Parse(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::cout << Help();
+      return false;
+    }
+    if (arg.rfind("--", 0) != 0) throw std::invalid_argument(program_ + ": unexpected argument '" + arg + "' (options start with --; see --help)");
+    std::string name = arg.substr(2), value;
+    const auto eq = name.find('=');
+    if (eq != std::string::npos) {
+      value = name.substr(eq + 1);
+      name = name.substr(0, eq);
+    }
+    auto it = decls_.find(name);
+    if (it == decls_.end()) throw std::invalid_argument(program_ + ": unknown option '--" + name + "' (see --help)");
+    if (it->second.is_flag) {
+      values_[name] = "1";
+      continue;
+    }
+    if (eq == std::string::npos) {
+      if (i + 1 >= argc) throw std::invalid_argument(program_ + ": option '--" + name + "' needs a value");
+      value = argv[++i];
+    }
+    values_[name] = value;
+  }
+  return true;
+}
+
+std::string CommandLine::Get(const std::string& name) const {
+  auto v = values_.find(name);
+  if (v != values_.end()) return v->second;
+  auto d = decls_.find(name);
+  if (d == decls_.end()) throw std::logic_error(program_ + ": option '--" + name + "' was never declared");
+  return d->second.default_value;
+}
+
+double CommandLine::GetDouble(const std::string& name) const {
+  const std::string s = Get(name);
+  try {
+    size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument("");
+    return v;
+  } catch (const std::exception&) {
+    throw std::invalid_argument(program_ + ": option '--" + name + "' needs a finite number, got '" + s + "'");
+  }
+}
+
+int CommandLine::GetInt(const std::string& name) const {
+  const std::string s = Get(name);
+  try {
+    size_t used = 0;
+    const int v = std::stoi(s, &used);
+    if (used != s.size()) throw std::invalid_argument("");
+    return v;
+  } catch (const std::exception&) {
+    throw std::invalid_argument(program_ + ": option '--" + name + "' needs an integer, got '" + s + "'");
+  }
+}
+
+bool CommandLine::GetFlag(const std::string& name) const { return values_.count(name) > 0; }
+
+std::string CommandLine::Help() const {
+  std::ostringstream os;
+  os << "Usage: " << program_ << " [options]\n\n" << summary_ << "\n\nOptions:\n";
+  for (const auto& name : order_) {
+    const Decl& d = decls_.at(name);
+    os << "  --" << name << (d.is_flag ? "" : " VALUE");
+    os << "\n      " << d.help;
+    if (!d.is_flag && !d.default_value.empty()) os << " (default: " << d.default_value << ")";
+    os << "\n";
+  }
+  os << "  --help\n      Print this help and exit.\n";
+  return os.str();
+}
+
+}  // namespace rome::examples

@@ -1,0 +1,42 @@
+#pragma once
+// Tiny command-line parser shared by ROME's example programs: --name value options, --flags, and --help.
+// Unknown options and malformed values are errors that name the option and the value.
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rome::examples {
+
+class CommandLine {
+ public:
+  CommandLine(std::string program, std::string summary) : program_(std::move(program)), summary_(std::move(summary)) {}
+
+  /// Declares an option with a default value (printed by --help).
+  CommandLine& Option(const std::string& name, const std::string& default_value, const std::string& help);
+  /// Declares a boolean flag (present = true).
+  CommandLine& Flag(const std::string& name, const std::string& help);
+
+  /// Parses argv. Returns false if --help was given (the help text is printed). Throws std::invalid_argument
+  /// naming the option for unknown options or missing values.
+  bool Parse(int argc, char** argv);
+
+  std::string Get(const std::string& name) const;
+  double GetDouble(const std::string& name) const;
+  int GetInt(const std::string& name) const;
+  bool GetFlag(const std::string& name) const;
+  std::string Help() const;
+
+ private:
+  struct Decl {
+    std::string default_value, help;
+    bool is_flag = false;
+  };
+  std::string program_, summary_;
+  std::vector<std::string> order_;
+  std::map<std::string, Decl> decls_;
+  std::map<std::string, std::string> values_;
+};
+
+}  // namespace rome::examples

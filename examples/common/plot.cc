@@ -1,0 +1,58 @@
+#include "examples/common/plot.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+namespace rome::examples {
+
+namespace {
+std::string Quote(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) out += (c == '"' ? std::string("\\\"") : std::string(1, c));
+  return out + "\"";
+}
+}  // namespace
+
+bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* error) {
+  namespace fs = std::filesystem;
+  const fs::path data = fs::path(png_path).replace_extension(".plotdata");
+  const fs::path script = fs::path(png_path).replace_extension(".gp");
+  {
+    std::ofstream d(data);
+    if (!d) {
+      if (error) *error = "cannot write " + data.string();
+      return false;
+    }
+    d << std::setprecision(10);
+    for (const Series& s : spec.series) {
+      for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) d << s.x[i] << " " << s.y[i] << "\n";
+      d << "\n\n";  // gnuplot data block separator (index)
+    }
+  }
+  {
+    std::ofstream g(script);
+    g << "set terminal pngcairo size " << spec.width_px << "," << spec.height_px << " noenhanced\n";
+    g << "set output " << Quote(png_path) << "\n";
+    g << "set title " << Quote(spec.title) << "\nset xlabel " << Quote(spec.xlabel) << "\nset ylabel " << Quote(spec.ylabel) << "\n";
+    g << "set grid\nset key outside right\n";
+    if (spec.equal_axes) g << "set size ratio -1\n";
+    g << "plot ";
+    for (size_t i = 0; i < spec.series.size(); ++i)
+      g << (i ? ", " : "") << Quote(data.string()) << " index " << i << " with " << spec.series[i].style << " title " << Quote(spec.series[i].title);
+    g << "\n";
+  }
+  const std::string cmd = "gnuplot " + Quote(script.string()) + " 2>/dev/null";
+  const int rc = std::system(cmd.c_str());
+  fs::remove(data);
+  fs::remove(script);
+  if (rc != 0) {
+    if (error) *error = "gnuplot failed (exit " + std::to_string(rc) + ") for " + png_path + "; is gnuplot installed (./rome setup)?";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace rome::examples
