@@ -1,0 +1,627 @@
+#include "solvers/collocation/direct_collocation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace rome {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kEveryNode = -2;
+
+struct PhaseLayout {
+  int nx = 0, nu = 0, N = 0;
+  int x_offset = 0;   // first state variable
+  int u_offset = 0;   // first input variable
+  int T_index = -1;   // duration variable, −1 when fixed
+  double fixed_T = 0.0;
+  int defect_row = 0;  // first defect row
+  int x(int k) const { return x_offset + k * nx; }
+  int u(int k) const { return u_offset + k * nu; }
+};
+
+// Writes dense blocks of the constraint Jacobian either as a pattern or as values, so the two
+// can never disagree.
+class JacobianWriter {
+ public:
+  explicit JacobianWriter(SparsityPattern* pattern) : pattern_(pattern) {}
+  explicit JacobianWriter(Eigen::VectorXd* values) : values_(values) {}
+  void Block(int row0, int col0, const Eigen::MatrixXd& M) {
+    for (Eigen::Index j = 0; j < M.cols(); ++j) {
+      for (Eigen::Index i = 0; i < M.rows(); ++i) Put(row0 + static_cast<int>(i),
+                                                      col0 + static_cast<int>(j), M(i, j));
+    }
+  }
+  int count() const { return next_; }
+
+ private:
+  void Put(int row, int col, double value) {
+    if (pattern_ != nullptr) {
+      pattern_->Add(row, col);
+    } else {
+      (*values_)(next_) = value;
+    }
+    ++next_;
+  }
+  SparsityPattern* pattern_ = nullptr;
+  Eigen::VectorXd* values_ = nullptr;
+  int next_ = 0;
+};
+
+// Evaluates y = F(x, u) and ∂y/∂[x; u] with AutoDiff, checking the output size.
+void EvalWithJacobian(const StateInputFunction& F, int expected_size, const Eigen::VectorXd& x,
+                      const Eigen::VectorXd& u, const std::string& what, Eigen::VectorXd* value,
+                      Eigen::MatrixXd* jacobian) {
+  const int nd = static_cast<int>(x.size() + u.size());
+  const VectorXad xa = InitializeAutoDiff(x, nd, 0);
+  const VectorXad ua = InitializeAutoDiff(u, nd, static_cast<int>(x.size()));
+  VectorXad y;
+  F(xa, ua, y);
+  if (y.size() != expected_size) {
+    std::ostringstream msg;
+    msg << what << " returned " << y.size() << " values, expected " << expected_size;
+    throw std::runtime_error(msg.str());
+  }
+  *value = ExtractValue(y);
+  *jacobian = ExtractJacobian(y, nd);
+}
+
+void EvalScalar(const ScalarStateInputFunction& F, const Eigen::VectorXd& x,
+                const Eigen::VectorXd& u, double* value, Eigen::VectorXd* gradient) {
+  const int nd = static_cast<int>(x.size() + u.size());
+  const AutoDiffXd y =
+      F(InitializeAutoDiff(x, nd, 0), InitializeAutoDiff(u, nd, static_cast<int>(x.size())));
+  *value = y.value();
+  *gradient = y.derivatives().size() == nd ? Eigen::VectorXd(y.derivatives())
+                                           : Eigen::VectorXd::Zero(nd);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// The NLP.
+class CollocationNlp final : public NlpProblem {
+ public:
+  CollocationNlp(const std::string& name, const std::vector<CollocationPhase>& phases,
+                 const std::vector<PhaseLayout>& layout, int num_variables, int num_constraints,
+                 const std::vector<DirectCollocation::NodeConstraint>& constraints,
+                 const std::vector<StateFunction>& transitions,
+                 const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe)
+      : NlpProblem(name, num_variables, num_constraints),
+        phases_(phases),
+        layout_(layout),
+        constraints_(constraints),
+        transitions_(transitions),
+        terminal_cost_(terminal_cost) {
+    SparsityPattern pattern;
+    JacobianWriter writer(&pattern);
+    Eigen::VectorXd g(num_constraints);
+    EvaluateConstraints(z_probe, g, writer);
+    SetConstraintJacobianSparsity(std::move(pattern));
+    jacobian_values_.resize(writer.count());
+    g_values_.resize(num_constraints);
+    gradient_.resize(num_variables);
+  }
+
+  double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& z) override {
+    UpdateCost(z);
+    return cost_;
+  }
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& z,
+                        Eigen::Ref<Eigen::VectorXd> gradient) override {
+    UpdateCost(z);
+    gradient = gradient_;
+  }
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& z,
+                       Eigen::Ref<Eigen::VectorXd> g) override {
+    UpdateConstraints(z);
+    g = g_values_;
+  }
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& z,
+                              Eigen::Ref<Eigen::VectorXd> values) override {
+    UpdateConstraints(z);
+    values = jacobian_values_;
+  }
+
+ private:
+  double Duration(const PhaseLayout& L, const Eigen::VectorXd& z) const {
+    return L.T_index >= 0 ? z(L.T_index) : L.fixed_T;
+  }
+
+  void UpdateCost(const Eigen::Ref<const Eigen::VectorXd>& z) {
+    if (cost_z_.size() == z.size() && cost_z_ == z) return;
+    cost_ = 0.0;
+    gradient_.setZero();
+    double value = 0.0;
+    Eigen::VectorXd grad;
+    for (size_t p = 0; p < phases_.size(); ++p) {
+      const CollocationPhase& phase = phases_[p];
+      const PhaseLayout& L = layout_[p];
+      const double T = Duration(L, z);
+      const double h = T / (L.N - 1);
+      if (phase.running_cost) {
+        for (int k = 0; k < L.N; ++k) {
+          const double c = (k == 0 || k == L.N - 1) ? 0.5 : 1.0;  // trapezoid weights
+          EvalScalar(phase.running_cost, z.segment(L.x(k), L.nx), z.segment(L.u(k), L.nu), &value,
+                     &grad);
+          cost_ += c * h * value;
+          gradient_.segment(L.x(k), L.nx) += c * h * grad.head(L.nx);
+          gradient_.segment(L.u(k), L.nu) += c * h * grad.tail(L.nu);
+          if (L.T_index >= 0) gradient_(L.T_index) += c / (L.N - 1) * value;
+        }
+      }
+      if (L.T_index >= 0) {
+        cost_ += phase.duration_cost * T;
+        gradient_(L.T_index) += phase.duration_cost;
+      }
+    }
+    if (terminal_cost_) {
+      const PhaseLayout& L = layout_.back();
+      EvalScalar(terminal_cost_, z.segment(L.x(L.N - 1), L.nx), z.segment(L.u(L.N - 1), L.nu),
+                 &value, &grad);
+      cost_ += value;
+      gradient_.segment(L.x(L.N - 1), L.nx) += grad.head(L.nx);
+      gradient_.segment(L.u(L.N - 1), L.nu) += grad.tail(L.nu);
+    }
+    cost_z_ = z;
+  }
+
+  void UpdateConstraints(const Eigen::Ref<const Eigen::VectorXd>& z) {
+    if (constraint_z_.size() == z.size() && constraint_z_ == z) return;
+    JacobianWriter writer(&jacobian_values_);
+    EvaluateConstraints(z, g_values_, writer);
+    constraint_z_ = z;
+  }
+
+  void EvaluateConstraints(const Eigen::VectorXd& z, Eigen::VectorXd& g, JacobianWriter& writer) {
+    // Defects, Eq. x_{k+1} − x_k − (h/2)(f_k + f_{k+1}) = 0.
+    Eigen::VectorXd f_k, f_next, value;
+    Eigen::MatrixXd J_k, J_next, J;
+    int row = 0;
+    for (size_t p = 0; p < phases_.size(); ++p) {
+      const CollocationPhase& phase = phases_[p];
+      const PhaseLayout& L = layout_[p];
+      const double T = Duration(L, z);
+      const double h = T / (L.N - 1);
+      const std::string what = "dynamics of phase '" + phase.name + "'";
+      const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(L.nx, L.nx);
+      EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(0), L.nx), z.segment(L.u(0), L.nu),
+                       what, &f_k, &J_k);
+      for (int k = 0; k + 1 < L.N; ++k) {
+        EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(k + 1), L.nx),
+                         z.segment(L.u(k + 1), L.nu), what, &f_next, &J_next);
+        g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) -
+                               0.5 * h * (f_k + f_next);
+        writer.Block(row, L.x(k), -I - 0.5 * h * J_k.leftCols(L.nx));
+        if (L.nu > 0) writer.Block(row, L.u(k), -0.5 * h * J_k.rightCols(L.nu));
+        writer.Block(row, L.x(k + 1), I - 0.5 * h * J_next.leftCols(L.nx));
+        if (L.nu > 0) writer.Block(row, L.u(k + 1), -0.5 * h * J_next.rightCols(L.nu));
+        if (L.T_index >= 0) writer.Block(row, L.T_index, -(f_k + f_next) / (2.0 * (L.N - 1)));
+        row += L.nx;
+        f_k.swap(f_next);
+        J_k.swap(J_next);
+      }
+    }
+    // Transitions x_0^{p+1} − Δ(x_{N−1}^p) = 0.
+    for (size_t p = 0; p + 1 < phases_.size(); ++p) {
+      const PhaseLayout& A = layout_[p];
+      const PhaseLayout& B = layout_[p + 1];
+      const Eigen::VectorXd x_end = z.segment(A.x(A.N - 1), A.nx);
+      if (transitions_[p]) {
+        VectorXad y;
+        transitions_[p](InitializeAutoDiff(x_end), y);
+        if (y.size() != B.nx) {
+          std::ostringstream msg;
+          msg << "transition from phase '" << phases_[p].name << "' to '" << phases_[p + 1].name
+              << "' returned " << y.size() << " values, expected " << B.nx;
+          throw std::runtime_error(msg.str());
+        }
+        value = ExtractValue(y);
+        J = ExtractJacobian(y, A.nx);
+      } else {
+        value = x_end;
+        J = Eigen::MatrixXd::Identity(A.nx, A.nx);
+      }
+      g.segment(row, B.nx) = z.segment(B.x(0), B.nx) - value;
+      writer.Block(row, B.x(0), Eigen::MatrixXd::Identity(B.nx, B.nx));
+      writer.Block(row, A.x(A.N - 1), -J);
+      row += B.nx;
+    }
+    // Path and node constraints.
+    for (const auto& c : constraints_) {
+      const PhaseLayout& L = layout_[c.phase];
+      const int first = c.node == kEveryNode ? 0 : c.node;
+      const int last = c.node == kEveryNode ? L.N - 1 : c.node;
+      const std::string what =
+          "constraint '" + c.name + "' of phase '" + phases_[c.phase].name + "'";
+      for (int k = first; k <= last; ++k) {
+        EvalWithJacobian(c.function, c.size, z.segment(L.x(k), L.nx), z.segment(L.u(k), L.nu),
+                         what, &value, &J);
+        g.segment(row, c.size) = value;
+        writer.Block(row, L.x(k), J.leftCols(L.nx));
+        if (L.nu > 0) writer.Block(row, L.u(k), J.rightCols(L.nu));
+        row += c.size;
+      }
+    }
+  }
+
+  std::vector<CollocationPhase> phases_;
+  std::vector<PhaseLayout> layout_;
+  std::vector<DirectCollocation::NodeConstraint> constraints_;
+  std::vector<StateFunction> transitions_;
+  ScalarStateInputFunction terminal_cost_;
+  Eigen::VectorXd cost_z_, constraint_z_;
+  double cost_ = 0.0;
+  Eigen::VectorXd gradient_, g_values_, jacobian_values_;
+};
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+std::vector<PhaseLayout> MakeLayout(const std::vector<CollocationPhase>& phases,
+                                    int* num_variables) {
+  std::vector<PhaseLayout> layout;
+  int offset = 0, row = 0;
+  for (const auto& phase : phases) {
+    PhaseLayout L;
+    L.nx = phase.num_states;
+    L.nu = phase.num_inputs;
+    L.N = phase.num_nodes;
+    L.x_offset = offset;
+    L.u_offset = offset + L.N * L.nx;
+    offset = L.u_offset + L.N * L.nu;
+    if (phase.max_duration > phase.min_duration) {
+      L.T_index = offset++;
+    } else {
+      L.fixed_T = phase.min_duration;
+    }
+    L.defect_row = row;
+    row += (L.N - 1) * L.nx;
+    layout.push_back(L);
+  }
+  *num_variables = offset;
+  return layout;
+}
+
+}  // namespace
+
+DirectCollocation::DirectCollocation(std::string name, std::vector<CollocationPhase> phases)
+    : name_(std::move(name)), phases_(std::move(phases)) {
+  std::ostringstream msg;
+  if (phases_.empty()) {
+    throw std::invalid_argument("DirectCollocation '" + name_ + "': needs at least one phase");
+  }
+  for (size_t p = 0; p < phases_.size(); ++p) {
+    CollocationPhase& ph = phases_[p];
+    if (ph.name.empty()) ph.name = "phase" + std::to_string(p);
+    const std::string who = "DirectCollocation '" + name_ + "', phase '" + ph.name + "': ";
+    auto fail = [&](const std::string& what) { throw std::invalid_argument(who + what); };
+    if (ph.num_states < 1) fail("num_states must be ≥ 1, got " + std::to_string(ph.num_states));
+    if (ph.num_inputs < 0) fail("num_inputs must be ≥ 0, got " + std::to_string(ph.num_inputs));
+    if (ph.num_nodes < 2) fail("num_nodes must be ≥ 2, got " + std::to_string(ph.num_nodes));
+    if (!ph.dynamics) fail("dynamics function is empty");
+    if (!(ph.min_duration > 0.0) || !(ph.max_duration >= ph.min_duration) ||
+        !std::isfinite(ph.max_duration)) {
+      std::ostringstream m;
+      m << "durations must satisfy 0 < min_duration ≤ max_duration < ∞, got [" << ph.min_duration
+        << ", " << ph.max_duration << "] s";
+      fail(m.str());
+    }
+    auto check_bounds = [&](Eigen::VectorXd& lo, Eigen::VectorXd& hi, int n, const char* what) {
+      if (lo.size() == 0) lo = Eigen::VectorXd::Constant(n, -kInf);
+      if (hi.size() == 0) hi = Eigen::VectorXd::Constant(n, kInf);
+      if (lo.size() != n || hi.size() != n) {
+        std::ostringstream m;
+        m << what << " bounds must have size " << n << " (or be empty), got " << lo.size()
+          << " and " << hi.size();
+        fail(m.str());
+      }
+      for (int i = 0; i < n; ++i) {
+        if (!(lo(i) <= hi(i))) {
+          std::ostringstream m;
+          m << what << " bound " << i << ": lower " << lo(i) << " > upper " << hi(i);
+          fail(m.str());
+        }
+      }
+    };
+    check_bounds(ph.state_lower, ph.state_upper, ph.num_states, "state");
+    check_bounds(ph.input_lower, ph.input_upper, ph.num_inputs, "input");
+  }
+  transitions_.resize(phases_.size() - 1);
+  guesses_.resize(phases_.size());
+}
+
+DirectCollocation::~DirectCollocation() = default;
+
+const CollocationPhase& DirectCollocation::phase(int p) const {
+  if (p < 0 || p >= num_phases()) {
+    throw std::out_of_range("DirectCollocation '" + name_ + "': no phase " + std::to_string(p));
+  }
+  return phases_[p];
+}
+
+int DirectCollocation::NodeIndex(int p, int node, const char* who) const {
+  const int N = phase(p).num_nodes;
+  const int k = node < 0 ? N + node : node;
+  if (k < 0 || k >= N) {
+    std::ostringstream msg;
+    msg << "DirectCollocation '" << name_ << "'::" << who << ": phase '" << phases_[p].name
+        << "' has " << N << " nodes, node " << node << " is out of range";
+    throw std::out_of_range(msg.str());
+  }
+  return k;
+}
+
+namespace {
+
+void CheckConstraintBounds(const std::string& who, int size, const Eigen::VectorXd& lower,
+                           const Eigen::VectorXd& upper) {
+  std::ostringstream msg;
+  if (size < 1 || lower.size() != size || upper.size() != size) {
+    msg << who << ": size " << size << " with bounds of size " << lower.size() << "/"
+        << upper.size();
+    throw std::invalid_argument(msg.str());
+  }
+  for (int i = 0; i < size; ++i) {
+    if (!(lower(i) <= upper(i))) {
+      msg << who << ": bound " << i << " has lower " << lower(i) << " > upper " << upper(i);
+      throw std::invalid_argument(msg.str());
+    }
+  }
+}
+
+}  // namespace
+
+void DirectCollocation::AddPathConstraint(int p, int size, StateInputFunction g,
+                                          const Eigen::VectorXd& lower,
+                                          const Eigen::VectorXd& upper, std::string name) {
+  phase(p);
+  const std::string who = "DirectCollocation '" + name_ + "': path constraint '" + name + "'";
+  CheckConstraintBounds(who, size, lower, upper);
+  if (!g) throw std::invalid_argument(who + ": function is empty");
+  path_constraints_.push_back({p, kEveryNode, size, std::move(g), lower, upper, std::move(name)});
+}
+
+void DirectCollocation::AddNodeConstraint(int p, int node, int size, StateInputFunction c,
+                                          const Eigen::VectorXd& lower,
+                                          const Eigen::VectorXd& upper, std::string name) {
+  const int k = NodeIndex(p, node, "AddNodeConstraint");
+  const std::string who = "DirectCollocation '" + name_ + "': node constraint '" + name + "'";
+  CheckConstraintBounds(who, size, lower, upper);
+  if (!c) throw std::invalid_argument(who + ": function is empty");
+  node_constraints_.push_back({p, k, size, std::move(c), lower, upper, std::move(name)});
+}
+
+void DirectCollocation::SetNodeStateBounds(int p, int node, const Eigen::VectorXd& lower,
+                                           const Eigen::VectorXd& upper) {
+  const int k = NodeIndex(p, node, "SetNodeStateBounds");
+  CheckConstraintBounds("DirectCollocation '" + name_ + "'::SetNodeStateBounds, phase '" +
+                            phases_[p].name + "'",
+                        phases_[p].num_states, lower, upper);
+  node_bounds_.push_back({p, k, lower, upper});
+}
+
+void DirectCollocation::SetTransition(int p, StateFunction reset) {
+  if (p < 0 || p + 1 >= num_phases()) {
+    std::ostringstream msg;
+    msg << "DirectCollocation '" << name_ << "'::SetTransition: phase " << p
+        << " has no successor (" << num_phases() << " phases)";
+    throw std::out_of_range(msg.str());
+  }
+  transitions_[p] = std::move(reset);
+}
+
+void DirectCollocation::SetTerminalCost(ScalarStateInputFunction cost) {
+  terminal_cost_ = std::move(cost);
+}
+
+void DirectCollocation::SetInitialGuess(int p, const Eigen::MatrixXd& states,
+                                        const Eigen::MatrixXd& inputs, double duration) {
+  const CollocationPhase& ph = phase(p);
+  if (states.rows() != ph.num_states || states.cols() != ph.num_nodes ||
+      inputs.rows() != ph.num_inputs || inputs.cols() != ph.num_nodes || !(duration > 0.0)) {
+    std::ostringstream msg;
+    msg << "DirectCollocation '" << name_ << "'::SetInitialGuess, phase '" << ph.name
+        << "': expected states " << ph.num_states << "x" << ph.num_nodes << ", inputs "
+        << ph.num_inputs << "x" << ph.num_nodes << ", duration > 0; got " << states.rows() << "x"
+        << states.cols() << ", " << inputs.rows() << "x" << inputs.cols() << ", " << duration;
+    throw std::invalid_argument(msg.str());
+  }
+  guesses_[p] = {states, inputs, duration, true};
+}
+
+std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
+  for (size_t p = 0; p + 1 < phases_.size(); ++p) {
+    if (!transitions_[p] && phases_[p].num_states != phases_[p + 1].num_states) {
+      std::ostringstream msg;
+      msg << "DirectCollocation '" << name_ << "': phases '" << phases_[p].name << "' ("
+          << phases_[p].num_states << " states) and '" << phases_[p + 1].name << "' ("
+          << phases_[p + 1].num_states << " states) need a transition map (SetTransition)";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+  int num_variables = 0;
+  const std::vector<PhaseLayout> layout = MakeLayout(phases_, &num_variables);
+  int num_constraints = 0;
+  for (const auto& L : layout) num_constraints += (L.N - 1) * L.nx;
+  for (size_t p = 1; p < layout.size(); ++p) num_constraints += layout[p].nx;
+  std::vector<NodeConstraint> constraints = path_constraints_;
+  constraints.insert(constraints.end(), node_constraints_.begin(), node_constraints_.end());
+  Eigen::VectorXd g_lower(0), g_upper(0);
+  std::vector<double> lo, hi;
+  for (const auto& c : constraints) {
+    const int count = c.node == kEveryNode ? layout[c.phase].N : 1;
+    for (int k = 0; k < count; ++k) {
+      lo.insert(lo.end(), c.lower.data(), c.lower.data() + c.size);
+      hi.insert(hi.end(), c.upper.data(), c.upper.data() + c.size);
+    }
+  }
+  const int num_dynamic = num_constraints;
+  num_constraints += static_cast<int>(lo.size());
+
+  auto nlp = std::make_unique<CollocationNlp>(name_, phases_, layout, num_variables,
+                                              num_constraints, constraints, transitions_,
+                                              terminal_cost_, InitialGuessVector());
+  Eigen::VectorXd gl = Eigen::VectorXd::Zero(num_constraints);
+  Eigen::VectorXd gu = Eigen::VectorXd::Zero(num_constraints);
+  for (size_t i = 0; i < lo.size(); ++i) {
+    gl(num_dynamic + i) = lo[i];
+    gu(num_dynamic + i) = hi[i];
+  }
+  nlp->SetConstraintBounds(gl, gu);
+
+  Eigen::VectorXd xl(num_variables), xu(num_variables);
+  for (size_t p = 0; p < phases_.size(); ++p) {
+    const CollocationPhase& ph = phases_[p];
+    const PhaseLayout& L = layout[p];
+    for (int k = 0; k < L.N; ++k) {
+      xl.segment(L.x(k), L.nx) = ph.state_lower;
+      xu.segment(L.x(k), L.nx) = ph.state_upper;
+      xl.segment(L.u(k), L.nu) = ph.input_lower;
+      xu.segment(L.u(k), L.nu) = ph.input_upper;
+    }
+    if (L.T_index >= 0) {
+      xl(L.T_index) = ph.min_duration;
+      xu(L.T_index) = ph.max_duration;
+    }
+  }
+  for (const auto& b : node_bounds_) {
+    const PhaseLayout& L = layout[b.phase];
+    for (int i = 0; i < L.nx; ++i) {
+      const int v = L.x(b.node) + i;
+      xl(v) = std::max(xl(v), b.lower(i));
+      xu(v) = std::min(xu(v), b.upper(i));
+      if (xl(v) > xu(v)) {
+        std::ostringstream msg;
+        msg << "DirectCollocation '" << name_ << "': state " << i << " at node " << b.node
+            << " of phase '" << phases_[b.phase].name << "' has empty bounds [" << xl(v) << ", "
+            << xu(v) << "]";
+        throw std::invalid_argument(msg.str());
+      }
+    }
+  }
+  nlp->SetVariableBounds(xl, xu);
+  return nlp;
+}
+
+Eigen::VectorXd DirectCollocation::InitialGuessVector() const {
+  int num_variables = 0;
+  const std::vector<PhaseLayout> layout = MakeLayout(phases_, &num_variables);
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(num_variables);
+  for (size_t p = 0; p < phases_.size(); ++p) {
+    const CollocationPhase& ph = phases_[p];
+    const PhaseLayout& L = layout[p];
+    const Guess& guess = guesses_[p];
+    for (int k = 0; k < L.N; ++k) {
+      if (guess.set) {
+        z.segment(L.x(k), L.nx) = guess.states.col(k);
+        z.segment(L.u(k), L.nu) = guess.inputs.col(k);
+      } else {
+        z.segment(L.x(k), L.nx) =
+            Eigen::VectorXd::Zero(L.nx).cwiseMax(ph.state_lower).cwiseMin(ph.state_upper);
+        z.segment(L.u(k), L.nu) =
+            Eigen::VectorXd::Zero(L.nu).cwiseMax(ph.input_lower).cwiseMin(ph.input_upper);
+      }
+    }
+    if (L.T_index >= 0) {
+      z(L.T_index) = guess.set ? std::clamp(guess.duration, ph.min_duration, ph.max_duration)
+                               : 0.5 * (ph.min_duration + ph.max_duration);
+    }
+  }
+  // Node bounds (boundary conditions) are applied to the default guess as well.
+  for (const auto& b : node_bounds_) {
+    const PhaseLayout& L = layout[b.phase];
+    z.segment(L.x(b.node), L.nx) =
+        z.segment(L.x(b.node), L.nx).cwiseMax(b.lower).cwiseMin(b.upper);
+  }
+  return z;
+}
+
+CollocationResult DirectCollocation::Unpack(const Eigen::VectorXd& z) const {
+  int num_variables = 0;
+  const std::vector<PhaseLayout> layout = MakeLayout(phases_, &num_variables);
+  if (z.size() != num_variables) {
+    std::ostringstream msg;
+    msg << "DirectCollocation '" << name_ << "'::Unpack: decision vector has size " << z.size()
+        << ", expected " << num_variables;
+    throw std::invalid_argument(msg.str());
+  }
+  CollocationResult result;
+  double t0 = 0.0;
+  Eigen::VectorXd value;
+  Eigen::MatrixXd J;
+  for (size_t p = 0; p < phases_.size(); ++p) {
+    const CollocationPhase& ph = phases_[p];
+    const PhaseLayout& L = layout[p];
+    CollocationPhaseSolution s;
+    s.name = ph.name;
+    s.start_time = t0;
+    s.duration = L.T_index >= 0 ? z(L.T_index) : L.fixed_T;
+    const double h = s.duration / (L.N - 1);
+    s.times = Eigen::VectorXd::LinSpaced(L.N, t0, t0 + s.duration);
+    s.states.resize(L.nx, L.N);
+    s.inputs.resize(L.nu, L.N);
+    s.state_derivatives.resize(L.nx, L.N);
+    for (int k = 0; k < L.N; ++k) {
+      s.states.col(k) = z.segment(L.x(k), L.nx);
+      s.inputs.col(k) = z.segment(L.u(k), L.nu);
+      EvalWithJacobian(ph.dynamics, L.nx, s.states.col(k), s.inputs.col(k),
+                       "dynamics of phase '" + ph.name + "'", &value, &J);
+      s.state_derivatives.col(k) = value;
+    }
+    for (int k = 0; k + 1 < L.N; ++k) {
+      const Eigen::VectorXd defect = s.states.col(k + 1) - s.states.col(k) -
+                                     0.5 * h * (s.state_derivatives.col(k) +
+                                                s.state_derivatives.col(k + 1));
+      result.max_defect = std::max(result.max_defect, defect.cwiseAbs().maxCoeff());
+    }
+    s.state_trajectory = PiecewisePolynomial::CubicHermite(s.times, s.states, s.state_derivatives);
+    if (L.nu > 0) s.input_trajectory = PiecewisePolynomial::FirstOrderHold(s.times, s.inputs);
+    t0 += s.duration;
+    result.phases.push_back(std::move(s));
+  }
+  return result;
+}
+
+CollocationResult DirectCollocation::Solve(const IpoptSolverOptions& options) const {
+  std::unique_ptr<NlpProblem> nlp = BuildNlp();
+  IpoptSolverOptions opts = options;
+  opts.use_limited_memory_hessian = true;
+  NlpResult nlp_result = IpoptSolver(opts).Solve(*nlp, InitialGuessVector());
+  CollocationResult result = Unpack(nlp_result.x);
+  result.nlp = std::move(nlp_result);
+  return result;
+}
+
+namespace {
+
+PiecewisePolynomial Concatenate(const std::vector<CollocationPhaseSolution>& phases, bool states) {
+  PiecewisePolynomial joined;
+  for (const auto& s : phases) {
+    const PiecewisePolynomial& piece = states ? s.state_trajectory : s.input_trajectory;
+    if (!joined.empty() && piece.rows() != joined.rows()) {
+      std::ostringstream msg;
+      msg << "CollocationResult: cannot concatenate " << (states ? "state" : "input")
+          << " trajectories, phase '" << s.name << "' has " << piece.rows() << " rows, earlier "
+          << "phases " << joined.rows();
+      throw std::invalid_argument(msg.str());
+    }
+    joined.Append(piece);
+  }
+  return joined;
+}
+
+}  // namespace
+
+PiecewisePolynomial CollocationResult::ConcatenatedStateTrajectory() const {
+  return Concatenate(phases, true);
+}
+
+PiecewisePolynomial CollocationResult::ConcatenatedInputTrajectory() const {
+  return Concatenate(phases, false);
+}
+
+}  // namespace rome
