@@ -1,0 +1,1286 @@
+#include "solvers/qp/dense_qp_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+
+// Hot kernels are compiled twice on x86-64 with GCC (AVX2/FMA and baseline) and picked at load time by the
+// dynamic loader (function multi-versioning); other compilers/architectures get the baseline version only.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROME_QP_NO_TARGET_CLONES)
+#define ROME_QP_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define ROME_QP_HOT
+#endif
+
+namespace rome {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Relative Cholesky pivot threshold below which H is treated as singular (see header): beyond a condition
+// number of ~1e8 the direct solve could not deliver KKT residuals of 1e-9, the proximal iterations can.
+constexpr double kPivotTolerance = 1e-8;
+// Relative symmetry tolerance for H.
+constexpr double kSymmetryTolerance = 1e-10;
+// Coefficients of the dependence certificate below this fraction of the largest one are treated as zero.
+constexpr double kCertificateTolerance = 1e-9;
+
+// Applies the rotation [c s; -s c] to the column pair (a, b) of length n: a <- c a + s b, b <- -s a + c b.
+[[gnu::always_inline]] inline void RotateColumns(double* a, double* b, int n, double c, double s) {
+  for (int i = 0; i < n; ++i) {
+    const double ai = a[i];
+    const double bi = b[i];
+    a[i] = c * ai + s * bi;
+    b[i] = c * bi - s * ai;
+  }
+}
+
+// y = M v for a column-major block (leading dimension ld): axpys over four columns at a time (one pass over y
+// per four columns), vectorized by the compiler.
+[[gnu::always_inline]] inline void Gemv(const double* __restrict m, Eigen::Index ld, int rows, int cols, const double* __restrict v,
+                 double* __restrict y) {
+  int c = 0;
+  if (cols >= 4) {
+    const double* __restrict m0 = m;
+    const double* __restrict m1 = m + ld;
+    const double* __restrict m2 = m + 2 * ld;
+    const double* __restrict m3 = m + 3 * ld;
+    const double v0 = v[0], v1 = v[1], v2 = v[2], v3 = v[3];
+    for (int i = 0; i < rows; ++i) y[i] = v0 * m0[i] + v1 * m1[i] + v2 * m2[i] + v3 * m3[i];
+    c = 4;
+  } else {
+    for (int i = 0; i < rows; ++i) y[i] = 0.0;
+  }
+  for (; c + 4 <= cols; c += 4) {
+    const double* __restrict m0 = m + c * ld;
+    const double* __restrict m1 = m0 + ld;
+    const double* __restrict m2 = m0 + 2 * ld;
+    const double* __restrict m3 = m0 + 3 * ld;
+    const double v0 = v[c], v1 = v[c + 1], v2 = v[c + 2], v3 = v[c + 3];
+    for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i] + v1 * m1[i] + v2 * m2[i] + v3 * m3[i];
+  }
+  // Remaining 1-3 columns in one pass.
+  const double* __restrict m0 = m + c * ld;
+  switch (cols - c) {
+    case 3: {
+      const double v0 = v[c], v1 = v[c + 1], v2 = v[c + 2];
+      for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i] + v1 * m0[i + ld] + v2 * m0[i + 2 * ld];
+      break;
+    }
+    case 2: {
+      const double v0 = v[c], v1 = v[c + 1];
+      for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i] + v1 * m0[i + ld];
+      break;
+    }
+    case 1: {
+      const double v0 = v[c];
+      for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i];
+      break;
+    }
+    default:
+      break;
+  }
+}
+
+// Two-lane double vector (GCC/Clang vector extension; SSE2 on x86-64, generic code elsewhere).
+typedef double Double2 __attribute__((vector_size(16)));
+[[gnu::always_inline]] inline Double2 Load2(const double* p) {
+  Double2 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+
+// y_c = M(:, c) . x for a column-major block: two columns per pass, two-lane vector accumulators.
+[[gnu::always_inline]] inline void GemvTransposed(const double* m, Eigen::Index ld, int rows, int cols,
+                                                  const double* x, double* y) {
+  const int rows2 = rows & ~1;
+  int c = 0;
+  for (; c + 2 <= cols; c += 2) {
+    const double* m0 = m + c * ld;
+    const double* m1 = m0 + ld;
+    Double2 acc0 = {0.0, 0.0};
+    Double2 acc1 = {0.0, 0.0};
+    for (int i = 0; i < rows2; i += 2) {
+      const Double2 xv = Load2(x + i);
+      acc0 += Load2(m0 + i) * xv;
+      acc1 += Load2(m1 + i) * xv;
+    }
+    double s0 = acc0[0] + acc0[1];
+    double s1 = acc1[0] + acc1[1];
+    if (rows2 < rows) {
+      s0 += m0[rows2] * x[rows2];
+      s1 += m1[rows2] * x[rows2];
+    }
+    y[c] = s0;
+    y[c + 1] = s1;
+  }
+  if (c < cols) {
+    const double* m0 = m + c * ld;
+    Double2 acc0 = {0.0, 0.0};
+    for (int i = 0; i < rows2; i += 2) acc0 += Load2(m0 + i) * Load2(x + i);
+    double s0 = acc0[0] + acc0[1];
+    if (rows2 < rows) s0 += m0[rows2] * x[rows2];
+    y[c] = s0;
+  }
+}
+
+// True when every entry is finite: x * 0 is 0 for finite x and NaN for inf / NaN (vectorized accumulation).
+[[gnu::always_inline]] inline bool AllFinite(const double* p, Eigen::Index size) {
+  Double2 acc0 = {0.0, 0.0};
+  Double2 acc1 = {0.0, 0.0};
+  Eigen::Index i = 0;
+  for (; i + 4 <= size; i += 4) {
+    acc0 += Load2(p + i) * 0.0;
+    acc1 += Load2(p + i + 2) * 0.0;
+  }
+  double tail = 0.0;
+  for (; i < size; ++i) tail += p[i] * 0.0;
+  const Double2 acc = acc0 + acc1;
+  return acc[0] + acc[1] + tail == 0.0;
+}
+
+// True when no entry is NaN or +inf (lower sides; sign = +1) or NaN or -inf (upper sides; sign = -1).
+[[gnu::always_inline]] inline bool BoundsValid(const double* p, Eigen::Index size, double sign) {
+  int ok = 1;
+  if (sign > 0) {
+    for (Eigen::Index i = 0; i < size; ++i) ok &= static_cast<int>(p[i] < kInf);
+  } else {
+    for (Eigen::Index i = 0; i < size; ++i) ok &= static_cast<int>(p[i] > -kInf);
+  }
+  return ok != 0;
+}
+
+[[gnu::always_inline]] inline double SquaredNorm(const double* x, int n) {
+  return n > 0 ? Eigen::Map<const Eigen::VectorXd>(x, n).squaredNorm() : 0.0;
+}
+
+}  // namespace
+
+std::string_view to_string(QpStatus status) {
+  switch (status) {
+    case QpStatus::kOptimal: return "optimal";
+    case QpStatus::kInfeasible: return "infeasible";
+    case QpStatus::kNonConvex: return "non-convex";
+    case QpStatus::kUnbounded: return "unbounded";
+    case QpStatus::kMaxIterations: return "max-iterations";
+    case QpStatus::kInvalidInput: return "invalid-input";
+  }
+  return "unknown";
+}
+
+DenseQpSolver::DenseQpSolver(int n, int n_eq, int n_ineq, QpSettings settings) : settings_(settings) {
+  Resize(n, n_eq, n_ineq);
+}
+
+void DenseQpSolver::Resize(int n, int n_eq, int n_ineq) {
+  if (n < 0 || n_eq < 0 || n_ineq < 0) {
+    throw std::invalid_argument("DenseQpSolver::Resize: sizes must be non-negative, got n=" + std::to_string(n) +
+                                ", n_eq=" + std::to_string(n_eq) + ", n_ineq=" + std::to_string(n_ineq));
+  }
+  n_ = n;
+  n_eq_ = n_eq;
+  n_ineq_ = n_ineq;
+  n_ids_ = n_eq + 2 * n_ineq + 2 * n;
+
+  H = Eigen::MatrixXd::Zero(n, n);
+  g = Eigen::VectorXd::Zero(n);
+  A_eq = Eigen::MatrixXd::Zero(n_eq, n);
+  b_eq = Eigen::VectorXd::Zero(n_eq);
+  A = Eigen::MatrixXd::Zero(n_ineq, n);
+  l = Eigen::VectorXd::Constant(n_ineq, -kInf);
+  u = Eigen::VectorXd::Constant(n_ineq, kInf);
+  lb = Eigen::VectorXd::Constant(n, -kInf);
+  ub = Eigen::VectorXd::Constant(n, kInf);
+
+  L_.setZero(n, n);
+  inv_diag_.setZero(n);
+  J0_.setZero(n, n);
+  J_.setZero(n, n);
+  R_.setZero(n, n);
+  J_eq_.setZero(n, n);
+  R_eq_.setZero(n, n);
+  A_eq_cached_.setZero(n_eq, n);
+  active_eq_cached_.assign(n_eq, 0);
+  dependent_eq_cached_.assign(n_eq, 0);
+  q_eq_cached_ = 0;
+  num_dependent_cached_ = 0;
+  eq_cache_valid_ = false;
+  use_eq_cache_ = false;
+  store_eq_cache_ = false;
+  M_.setZero(n, n + 1);
+  T_.setZero(n + 2, n);
+  t_col_.setZero(n + 2);
+  G_.setZero(n, n);
+  j0_valid_ = false;
+  H_cached_.setZero(n, n);
+  factor_cached_ = false;
+  factor_regularized_ = false;
+  d_.setZero(n);
+  row_.setZero(n);
+  z_.setZero(n);
+  r_.setZero(n);
+  v_.setZero(n);
+  w_.setZero(n);
+  Ax_.setZero(n_ineq);
+  inv_row_norm_.setZero(n_ineq);
+  g_eff_.setZero(n);
+  g_eff_refine_.setZero(n);
+  b_refine_.setZero(n + 1);
+  x_prev_.setZero(n);
+  dx_prev_.setZero(n);
+  u_active_.setZero(n + 1);
+  active_.assign(n + 1, -1);
+  is_active_.assign(n_ids_, 0);
+  dependent_eq_.assign(n_eq, -1);
+  warm_active_.assign(n + 1, -1);
+  warm_count_ = 0;
+  warm_valid_ = false;
+  q_ = 0;
+  q_eq_ = 0;
+
+  status_ = QpStatus::kInvalidInput;
+  input_error_ = InputError::kNone;
+  x_.setZero(n);
+  y_eq_.setZero(n_eq);
+  y_ineq_.setZero(n_ineq);
+  y_bounds_.setZero(n);
+  iterations_ = 0;
+  objective_ = 0.0;
+  infeasible_flat_.clear();
+  infeasible_ids_.clear();
+  infeasible_flat_.reserve(n + 2);
+  infeasible_ids_.reserve(n + 2);
+}
+
+void DenseQpSolver::ResetWarmStart() {
+  warm_valid_ = false;
+  warm_count_ = 0;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Constraint helpers.
+
+int DenseQpSolver::FlatIndex(int id) const {
+  if (id < n_eq_) return id;
+  if (id < n_eq_ + 2 * n_ineq_) return n_eq_ + (id - n_eq_) / 2;
+  return n_eq_ + n_ineq_ + (id - n_eq_ - 2 * n_ineq_) / 2;
+}
+
+double DenseQpSolver::Rhs(int id) const {
+  if (id < n_eq_) return b_eq[id];
+  if (id < n_eq_ + 2 * n_ineq_) {
+    const int k = id - n_eq_;
+    return (k & 1) ? -u[k >> 1] : l[k >> 1];
+  }
+  const int k = id - n_eq_ - 2 * n_ineq_;
+  return (k & 1) ? -ub[k >> 1] : lb[k >> 1];
+}
+
+double DenseQpSolver::NormalDot(int id, const Eigen::VectorXd& v) const {
+  if (id < n_eq_) return A_eq.row(id).dot(v);
+  if (id < n_eq_ + 2 * n_ineq_) {
+    const int k = id - n_eq_;
+    const double a = A.row(k >> 1).dot(v);
+    return (k & 1) ? -a : a;
+  }
+  const int k = id - n_eq_ - 2 * n_ineq_;
+  return (k & 1) ? -v[k >> 1] : v[k >> 1];
+}
+
+bool DenseQpSolver::SideIsFinite(int id) const {
+  if (id < n_eq_) return true;
+  return std::abs(Rhs(id)) < settings_.infinity;
+}
+
+ROME_QP_HOT void DenseQpSolver::ComputeD(int id) {
+  // d = J^T n_id (rows of A / A_eq are strided: copied to a contiguous buffer first).
+  const int n = n_;
+  double* d = d_.data();
+  if (id < n_eq_ + 2 * n_ineq_) {
+    double* row = row_.data();
+    double sign = 1.0;
+    if (id < n_eq_) {
+      for (int i = 0; i < n; ++i) row[i] = A_eq(id, i);
+    } else {
+      const int k = id - n_eq_;
+      for (int i = 0; i < n; ++i) row[i] = A(k >> 1, i);
+      if (k & 1) sign = -1.0;
+    }
+    GemvTransposed(J_.data(), n, n, n, row, d);
+    if (sign < 0.0) {
+      for (int i = 0; i < n; ++i) d[i] = -d[i];
+    }
+  } else {
+    const int k = id - n_eq_ - 2 * n_ineq_;
+    const double sign = (k & 1) ? -1.0 : 1.0;
+    const double* jrow = J_.data() + (k >> 1);
+    for (int i = 0; i < n; ++i) d[i] = sign * jrow[static_cast<Eigen::Index>(i) * n];
+  }
+}
+
+bool DenseQpSolver::DIsDependent() const {
+  const double d2 = SquaredNorm(d_.data() + q_, n_ - q_);
+  const double tol = settings_.linear_dependence_tolerance;
+  return d2 <= tol * tol * (d2 + SquaredNorm(d_.data(), q_));
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Factorization.
+
+ROME_QP_HOT bool DenseQpSolver::Factorize(double shift) {
+  // Left-looking Cholesky of H + shift I (lower triangle of H): column j is
+  //   L(j:n, j) = (H(j:n, j) - L(j:n, 0:j) L(j, 0:j)^T) / L(j, j),
+  // one unrolled gemv per column with the row L(j, 0:j) gathered into a contiguous buffer.
+  const int n = n_;
+  double max_diag = 0.0;
+  for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, std::abs(H(j, j)));
+  const double pivot_min = kPivotTolerance * (max_diag + shift);
+  double* lrow = row_.data();
+  double* tmp = z_.data();
+  for (int j = 0; j < n; ++j) {
+    double* __restrict lj = L_.col(j).data();
+    const double* __restrict hj = H.col(j).data();
+    const int rows = n - j;
+    if (j > 0) {
+      for (int k = 0; k < j; ++k) lrow[k] = L_(j, k);
+      Gemv(L_.data() + j, n, rows, j, lrow, tmp);
+    } else {
+      for (int i = 0; i < rows; ++i) tmp[i] = 0.0;
+    }
+    const double pivot = hj[j] + shift - tmp[0];
+    if (!(pivot > pivot_min)) return false;
+    const double ljj = std::sqrt(pivot);
+    const double inv = 1.0 / ljj;
+    lj[j] = ljj;
+    inv_diag_[j] = inv;
+    for (int i = 1; i < rows; ++i) lj[j + i] = (hj[j + i] - tmp[i]) * inv;
+  }
+  return true;
+}
+
+ROME_QP_HOT void DenseQpSolver::ComputeJ0() {
+  // J0 = L^{-T} (upper triangular). Row j of L^{-1} is (e_j - L(j, 0:j) L^{-1}(0:j, :)) / L(j, j); transposed,
+  // column j of J0 is (e_j - J0(0:j, 0:j) L(j, 0:j)^T) / L(j, j): one unrolled gemv per column.
+  const int n = n_;
+  J0_.setZero();
+  double* lrow = row_.data();
+  for (int j = 0; j < n; ++j) {
+    double* __restrict cj = J0_.col(j).data();
+    const double inv = inv_diag_[j];
+    if (j > 0) {
+      for (int k = 0; k < j; ++k) lrow[k] = L_(j, k);
+      Gemv(J0_.data(), n, j, j, lrow, cj);
+      for (int i = 0; i < j; ++i) cj[i] *= -inv;
+    }
+    cj[j] = inv;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Active-set updates (Givens rotations keep J^T N = [R; 0]).
+
+ROME_QP_HOT void DenseQpSolver::AddConstraint(int id, double multiplier) {
+  // d_ holds J^T n_id. One Householder reflection P (symmetric, orthogonal) maps d[q..n) onto alpha e_q;
+  // applying it to J's trailing columns (J2 <- J2 P) keeps J^T H J = I and makes J^T N = [R; 0] again.
+  const int n = n_;
+  const int q = q_;
+  const int m = n - q;
+  double* d2 = d_.data() + q;
+  double tail = 0.0;
+  for (int i = 1; i < m; ++i) tail += d2[i] * d2[i];
+  if (tail > 0.0) {
+    const double norm = std::sqrt(d2[0] * d2[0] + tail);
+    const double alpha = d2[0] > 0.0 ? -norm : norm;
+    d2[0] -= alpha;  // v = d2 - alpha e_0 (stored in place)
+    const double beta = 2.0 / (d2[0] * d2[0] + tail);
+    // w = J2 v, then J2 -= beta w v^T.
+    double* __restrict w = z_.data();
+    Gemv(J_.col(q).data(), n, n, m, d2, w);
+    for (int k = 0; k < m; ++k) {
+      const double s = beta * d2[k];
+      double* __restrict jk = J_.col(q + k).data();
+      for (int i = 0; i < n; ++i) jk[i] -= s * w[i];
+    }
+    d2[0] = alpha;
+    for (int i = 1; i < m; ++i) d2[i] = 0.0;
+  }
+  double* rq = R_.col(q).data();
+  for (int i = 0; i <= q; ++i) rq[i] = d_[i];
+  active_[q] = id;
+  u_active_[q] = multiplier;
+  is_active_[id] = 1;
+  ++q_;
+}
+
+ROME_QP_HOT void DenseQpSolver::DropConstraint(int position) {
+  const int n = n_;
+  const int q = q_;
+  is_active_[active_[position]] = 0;
+  for (int j = position; j < q - 1; ++j) {
+    double* dst = R_.col(j).data();
+    const double* src = R_.col(j + 1).data();
+    for (int i = 0; i <= j + 1; ++i) dst[i] = src[i];
+    active_[j] = active_[j + 1];
+    u_active_[j] = u_active_[j + 1];
+  }
+  // Columns position..q-2 are now upper Hessenberg: zero R(j+1, j) with row rotations (= J column rotations).
+  for (int j = position; j < q - 1; ++j) {
+    const double b = R_(j + 1, j);
+    if (b == 0.0) continue;
+    const double a = R_(j, j);
+    const double h = std::sqrt(a * a + b * b);
+    const double inv_h = 1.0 / h;
+    const double c = a * inv_h;
+    const double s = b * inv_h;
+    R_(j, j) = h;
+    R_(j + 1, j) = 0.0;
+    for (int col = j + 1; col < q - 1; ++col) {
+      const double t1 = R_(j, col);
+      const double t2 = R_(j + 1, col);
+      R_(j, col) = c * t1 + s * t2;
+      R_(j + 1, col) = c * t2 - s * t1;
+    }
+    RotateColumns(J_.col(j).data(), J_.col(j + 1).data(), n, c, s);
+  }
+  --q_;
+}
+
+ROME_QP_HOT void DenseQpSolver::SolveR(int q) {
+  // r = R^{-1} d[0..q), column-oriented back substitution on the upper triangular R (contiguous axpys).
+  double* r = r_.data();
+  const double* d = d_.data();
+  for (int i = 0; i < q; ++i) r[i] = d[i];
+  for (int j = q - 1; j >= 0; --j) {
+    const double* rj = R_.col(j).data();
+    const double xj = r[j] / rj[j];
+    r[j] = xj;
+    for (int i = 0; i < j; ++i) r[i] -= xj * rj[i];
+  }
+}
+
+ROME_QP_HOT void DenseQpSolver::ComputeActiveSetSolution(const Eigen::VectorXd& g_eff) {
+  // With x = J w: w1 = R^{-T} b_A, w2 = -J2^T g, u = R^{-1} (w1 + J1^T g) (derivation in the header).
+  const int n = n_;
+  const int q = q_;
+  for (int i = 0; i < q; ++i) {
+    double s = Rhs(active_[i]);
+    const double* ri = R_.col(i).data();
+    for (int j = 0; j < i; ++j) s -= ri[j] * w_[j];
+    w_[i] = s / ri[i];
+  }
+  GemvTransposed(J_.data(), n, n, n, g_eff.data(), v_.data());
+  // x = J1 w1 - J2 v2: flip the sign of v2 in place and use one product with [w1; -v2].
+  for (int i = 0; i < q; ++i) z_[i] = w_[i];
+  for (int i = q; i < n; ++i) z_[i] = -v_[i];
+  Gemv(J_.data(), n, n, n, z_.data(), x_.data());
+  for (int i = q - 1; i >= 0; --i) {
+    double s = w_[i] + v_[i];
+    for (int j = i + 1; j < q; ++j) s -= R_(i, j) * u_active_[j];
+    u_active_[i] = s / R_(i, i);
+  }
+}
+
+void DenseQpSolver::RefineActiveSetSolution(const Eigen::VectorXd& g_eff, double shift) {
+  // One step of iterative refinement of the active-set KKT system (H + shift I) x + g = N u, N^T x = b_A with
+  // the current factors: residuals r_d = (H + shift I) x + g - N u, r_p = b_A - N^T x; the correction solves the
+  // same system with g = r_d, b_A = r_p (same formulas as ComputeActiveSetSolution).
+  const int n = n_;
+  const int q = q_;
+  double* rd = g_eff_refine_.data();
+  Gemv(H.data(), n, n, n, x_.data(), rd);
+  for (int i = 0; i < n; ++i) rd[i] += shift * x_[i] + g_eff[i];
+  for (int c = 0; c < q; ++c) {
+    const int id = active_[c];
+    ComputeNormal(id, row_.data());
+    const double uc = u_active_[c];
+    for (int i = 0; i < n; ++i) rd[i] -= uc * row_[i];
+    b_refine_[c] = Rhs(id) - NormalDot(id, x_);
+  }
+  // w1 = R^{-T} r_p, v = J^T r_d, dx = J1 w1 - J2 v2, du = R^{-1} (w1 + v1).
+  for (int i = 0; i < q; ++i) {
+    double sum = b_refine_[i];
+    const double* ri = R_.col(i).data();
+    for (int j = 0; j < i; ++j) sum -= ri[j] * w_[j];
+    w_[i] = sum / ri[i];
+  }
+  GemvTransposed(J_.data(), n, n, n, rd, v_.data());
+  for (int i = 0; i < q; ++i) z_[i] = w_[i];
+  for (int i = q; i < n; ++i) z_[i] = -v_[i];
+  Gemv(J_.data(), n, n, n, z_.data(), d_.data());
+  for (int i = 0; i < n; ++i) x_[i] += d_[i];
+  for (int i = q - 1; i >= 0; --i) {
+    double sum = w_[i] + v_[i];
+    for (int j = i + 1; j < q; ++j) sum -= R_(i, j) * r_[j];
+    r_[i] = sum / R_(i, i);
+  }
+  for (int i = 0; i < q; ++i) u_active_[i] += r_[i];
+}
+
+void DenseQpSolver::ComputeNormal(int id, double* out) const {
+  const int n = n_;
+  if (id < n_eq_) {
+    for (int i = 0; i < n; ++i) out[i] = A_eq(id, i);
+  } else if (id < n_eq_ + 2 * n_ineq_) {
+    const int k = id - n_eq_;
+    const double sign = (k & 1) ? -1.0 : 1.0;
+    for (int i = 0; i < n; ++i) out[i] = sign * A(k >> 1, i);
+  } else {
+    const int k = id - n_eq_ - 2 * n_ineq_;
+    for (int i = 0; i < n; ++i) out[i] = 0.0;
+    out[k >> 1] = (k & 1) ? -1.0 : 1.0;
+  }
+}
+
+ROME_QP_HOT int DenseQpSolver::FindMostViolated(double* slack) {
+  // Most violated inactive constraint, scored by violation / ||row|| (distance to the constraint plane).
+  // Active constraints hold to rounding error, far below the tolerance, so they are practically never
+  // candidates; the is_active_ test only guards that assumption (a skipped candidate triggers a rescan).
+  const double tol = settings_.feasibility_tolerance;
+  const int m = n_ineq_;
+  const int n = n_;
+  if (m > 0) Gemv(A.data(), m, m, n, x_.data(), Ax_.data());
+  const double* __restrict ax = Ax_.data();
+  const double* __restrict inv = inv_row_norm_.data();
+  const double* __restrict xv = x_.data();
+  int best_k = -1;
+  double best_score = 0.0;
+  for (int i = 0; i < m; ++i) {
+    const double v = std::max(l[i] - ax[i], ax[i] - u[i]);
+    if (v > tol && v * inv[i] > best_score) {
+      best_score = v * inv[i];
+      best_k = i;
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    const double v = std::max(lb[j] - xv[j], xv[j] - ub[j]);
+    if (v > tol && v > best_score) {
+      best_score = v;
+      best_k = m + j;
+    }
+  }
+  if (best_k < 0) return -1;
+  int id;
+  if (best_k < m) {
+    const bool lower = ax[best_k] < l[best_k];
+    id = IneqId(best_k, lower ? 0 : 1);
+    *slack = lower ? ax[best_k] - l[best_k] : u[best_k] - ax[best_k];
+  } else {
+    const int j = best_k - m;
+    const bool lower = xv[j] < lb[j];
+    id = BoundId(j, lower ? 0 : 1);
+    *slack = lower ? xv[j] - lb[j] : ub[j] - xv[j];
+  }
+  if (!is_active_[id]) return id;
+  // Rare: the best candidate is already active (rounding). Full scan that skips active constraints.
+  int best = -1;
+  best_score = 0.0;
+  for (int i = 0; i < m; ++i) {
+    const bool lower = ax[i] < l[i];
+    const double v = lower ? l[i] - ax[i] : ax[i] - u[i];
+    const int cand = IneqId(i, lower ? 0 : 1);
+    if (v > tol && v * inv[i] > best_score && !is_active_[cand]) {
+      best_score = v * inv[i];
+      best = cand;
+      *slack = -v;
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    const bool lower = xv[j] < lb[j];
+    const double v = lower ? lb[j] - xv[j] : xv[j] - ub[j];
+    const int cand = BoundId(j, lower ? 0 : 1);
+    if (v > tol && v > best_score && !is_active_[cand]) {
+      best_score = v;
+      best = cand;
+      *slack = -v;
+    }
+  }
+  return best;
+}
+
+void DenseQpSolver::RecordInfeasible(int id, int num_certificate) {
+  // The violated constraint `id` plus the active constraints with nonzero coefficients r_ (n_id = N r).
+  infeasible_ids_.clear();
+  infeasible_ids_.push_back(id);
+  double r_max = 0.0;
+  for (int j = 0; j < num_certificate; ++j) r_max = std::max(r_max, std::abs(r_[j]));
+  for (int j = 0; j < num_certificate; ++j) {
+    if (std::abs(r_[j]) > kCertificateTolerance * r_max) infeasible_ids_.push_back(active_[j]);
+  }
+  infeasible_flat_.clear();
+  for (int i : infeasible_ids_) infeasible_flat_.push_back(FlatIndex(i));
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Goldfarb-Idnani iterations for one factorization of H and one linear term g_eff.
+
+ROME_QP_HOT QpStatus DenseQpSolver::SolveFromFactor(const Eigen::VectorXd& g_eff, bool use_warm_start) {
+  const int n = n_;
+  for (int i = 0; i < q_; ++i) is_active_[active_[i]] = 0;
+  q_ = 0;
+
+  // Equalities are always active. Dependent ones are checked for consistency after x is known.
+  // J and R after the equalities depend only on H and A_eq: reused when both are unchanged (MPC).
+  int num_dependent = 0;
+  if (use_eq_cache_) {
+    J_ = J_eq_;
+    q_ = q_eq_cached_;
+    R_.topLeftCorner(q_, q_) = R_eq_.topLeftCorner(q_, q_);
+    for (int i = 0; i < q_; ++i) {
+      active_[i] = EqId(active_eq_cached_[i]);
+      u_active_[i] = 0.0;
+      is_active_[active_[i]] = 1;
+    }
+    num_dependent = num_dependent_cached_;
+    for (int k = 0; k < num_dependent; ++k) dependent_eq_[k] = dependent_eq_cached_[k];
+  } else {
+    J_ = J0_;
+    for (int i = 0; i < n_eq_; ++i) {
+      ComputeD(EqId(i));
+      if (DIsDependent()) {
+        dependent_eq_[num_dependent++] = i;
+      } else {
+        AddConstraint(EqId(i), 0.0);
+      }
+    }
+    if (store_eq_cache_) {
+      J_eq_ = J_;
+      R_eq_.topLeftCorner(q_, q_) = R_.topLeftCorner(q_, q_);
+      for (int i = 0; i < q_; ++i) active_eq_cached_[i] = active_[i];
+      for (int k = 0; k < num_dependent; ++k) dependent_eq_cached_[k] = dependent_eq_[k];
+      q_eq_cached_ = q_;
+      num_dependent_cached_ = num_dependent;
+      A_eq_cached_ = A_eq;
+      eq_cache_valid_ = true;
+      use_eq_cache_ = true;  // later proximal iterations of this Solve() reuse it
+    }
+  }
+  q_eq_ = q_;
+  bool x_current = false;  // x_ and u_active_ correspond to the current active set
+  if (num_dependent > 0 || !(use_warm_start && warm_count_ > 0)) {
+    ComputeActiveSetSolution(g_eff);
+    x_current = true;
+  }
+  for (int k = 0; k < num_dependent; ++k) {
+    const int i = dependent_eq_[k];
+    const double residual = A_eq.row(i).dot(x_) - b_eq[i];
+    if (std::abs(residual) > settings_.feasibility_tolerance) {
+      ComputeD(EqId(i));
+      SolveR(q_);
+      RecordInfeasible(EqId(i), q_);
+      return QpStatus::kInfeasible;
+    }
+  }
+
+  // Warm start: install the previous active inequality sides, then drop negative multipliers until the
+  // active set is dual feasible (a valid starting point of the dual method).
+  if (use_warm_start && warm_count_ > 0) {
+    for (int k = 0; k < warm_count_ && q_ < n; ++k) {
+      const int id = warm_active_[k];
+      if (!SideIsFinite(id) || is_active_[id]) continue;
+      ComputeD(id);
+      if (DIsDependent()) continue;
+      AddConstraint(id, 0.0);
+    }
+    ComputeActiveSetSolution(g_eff);
+    while (true) {
+      int worst = -1;
+      double worst_u = 0.0;
+      for (int j = q_eq_; j < q_; ++j) {
+        if (u_active_[j] < worst_u) {
+          worst_u = u_active_[j];
+          worst = j;
+        }
+      }
+      if (worst < 0) break;
+      DropConstraint(worst);
+      ComputeActiveSetSolution(g_eff);
+    }
+    x_current = true;
+  }
+
+  // Main loop.
+  while (true) {
+    double s_p = 0.0;
+    const int p = FindMostViolated(&s_p);
+    if (p < 0) break;
+    double u_p = 0.0;
+    x_current = false;
+    while (true) {
+      if (iterations_ >= settings_.max_iterations) return QpStatus::kMaxIterations;
+      ++iterations_;
+      ComputeD(p);
+      const int q = q_;
+      SolveR(q);
+      // Partial (dual) step length: first active inequality whose multiplier reaches zero.
+      int k_drop = -1;
+      double t1 = kInf;
+      for (int j = q_eq_; j < q; ++j) {
+        if (r_[j] > 0.0) {
+          const double t = u_active_[j] / r_[j];
+          if (t < t1) {
+            t1 = t;
+            k_drop = j;
+          }
+        }
+      }
+      const bool dependent = DIsDependent();
+      if (dependent) {
+        if (k_drop < 0) {
+          RecordInfeasible(p, q);
+          return QpStatus::kInfeasible;
+        }
+        // Step in the dual space only, then remove the blocking constraint.
+        for (int j = 0; j < q; ++j) u_active_[j] -= t1 * r_[j];
+        u_p += t1;
+        DropConstraint(k_drop);
+        continue;
+      }
+      const double zn = SquaredNorm(d_.data() + q, n - q);  // z^T n_p with z = J2 J2^T n_p
+      const double t2 = -s_p / zn;
+      const double t = std::min(t1, t2);
+      Gemv(J_.data() + static_cast<Eigen::Index>(q) * n, n, n, n - q, d_.data() + q, z_.data());
+      for (int i = 0; i < n; ++i) x_[i] += t * z_[i];
+      for (int j = 0; j < q; ++j) u_active_[j] -= t * r_[j];
+      u_p += t;
+      if (t2 <= t1) {
+        AddConstraint(p, u_p);
+        break;
+      }
+      DropConstraint(k_drop);
+      s_p = NormalDot(p, x_) - Rhs(p);
+    }
+  }
+  // Recompute x and the multipliers from the final factorization (removes drift of the incremental updates).
+  if (!x_current) ComputeActiveSetSolution(g_eff);
+  return QpStatus::kOptimal;
+}
+
+ROME_QP_HOT bool DenseQpSolver::TryWarmActiveSet() {
+  // Range-space solve of the equality-constrained QP on the previous active set W (all equalities plus the
+  // warm inequality sides): with H = L L^T, M = L^{-1} N_W, h = L^{-1} g,
+  //   (M^T M) u = b_W + M^T h,   x = L^{-T} (M u - h),   so that H x + g = N_W u.
+  // Accepted only if it is the optimum: u >= 0 on inequality sides, every other constraint satisfied and the
+  // active rows reproduced to the feasibility tolerance (guards against an ill-conditioned M^T M).
+  const int n = n_;
+  int q = 0;
+  for (int i = 0; i < q_; ++i) is_active_[active_[i]] = 0;
+  q_ = 0;
+  // At most n independent constraints (active_ holds n + 1; M_ holds h in column q <= n).
+  if (n_eq_ + warm_count_ > n) return false;
+  for (int i = 0; i < n_eq_; ++i) active_[q++] = EqId(i);
+  for (int k = 0; k < warm_count_; ++k) {
+    if (!SideIsFinite(warm_active_[k])) return false;
+    active_[q++] = warm_active_[k];
+  }
+  // T = [N_W g]^T (row c of T = constraint normal c, row q = g); column j of T holds the j-th components of all
+  // q + 1 vectors contiguously, so the forward substitution L [M h] = [N_W g] becomes T.col(j) =
+  // (T.col(j) - T(:, 0:j) L(j, 0:j)^T) / L(j, j): unrolled gemv passes of length q + 1.
+  const int ld = static_cast<int>(T_.rows());
+  const int q1 = q + 1;
+  double* t = T_.data();
+  for (int c = 0; c < q; ++c) {
+    const int id = active_[c];
+    if (id < n_eq_) {
+      for (int j = 0; j < n; ++j) t[c + j * ld] = A_eq(id, j);
+    } else if (id < n_eq_ + 2 * n_ineq_) {
+      const int k = id - n_eq_;
+      const double sign = (k & 1) ? -1.0 : 1.0;
+      for (int j = 0; j < n; ++j) t[c + j * ld] = sign * A(k >> 1, j);
+    } else {
+      const int k = id - n_eq_ - 2 * n_ineq_;
+      for (int j = 0; j < n; ++j) t[c + j * ld] = 0.0;
+      t[c + (k >> 1) * ld] = (k & 1) ? -1.0 : 1.0;
+    }
+  }
+  for (int j = 0; j < n; ++j) t[q + j * ld] = g[j];
+  double* lrow = row_.data();
+  double* tmp = t_col_.data();  // q + 1 <= n + 1 entries
+  for (int j = 0; j < n; ++j) {
+    double* tj = t + j * ld;
+    if (j > 0) {
+      for (int k = 0; k < j; ++k) lrow[k] = L_(j, k);
+      Gemv(t, ld, q1, j, lrow, tmp);
+      for (int i = 0; i < q1; ++i) tj[i] -= tmp[i];
+    }
+    const double inv = inv_diag_[j];
+    for (int i = 0; i < q1; ++i) tj[i] *= inv;
+  }
+  // Back to columns: M_ = T(0:q, :)^T, h = T(q, :)^T.
+  for (int c = 0; c < q1; ++c) {
+    double* m = M_.col(c).data();
+    for (int j = 0; j < n; ++j) m[j] = t[c + j * ld];
+  }
+  const double* h = M_.col(q).data();
+  // G = M^T M (lower triangle, dot products of contiguous columns) and its Cholesky factor, in place.
+  for (int j = 0; j < q; ++j) GemvTransposed(M_.col(j).data(), n, n, q - j, M_.col(j).data(), G_.col(j).data() + j);
+  double g_max = 0.0;
+  for (int j = 0; j < q; ++j) g_max = std::max(g_max, G_(j, j));
+  const double tol = settings_.linear_dependence_tolerance;
+  for (int j = 0; j < q; ++j) {
+    double* __restrict gj = G_.col(j).data();
+    for (int k = 0; k < j; ++k) {
+      const double* __restrict gk = G_.col(k).data();
+      const double gjk = gk[j];
+      for (int i = j; i < q; ++i) gj[i] -= gjk * gk[i];
+    }
+    if (!(gj[j] > tol * tol * g_max)) return false;  // (nearly) dependent active set: use the GI path
+    const double gjj = std::sqrt(gj[j]);
+    gj[j] = gjj;
+    const double inv = 1.0 / gjj;
+    for (int i = j + 1; i < q; ++i) gj[i] *= inv;
+  }
+  // u = G^{-1} (b_W + M^T h).
+  double* uu = u_active_.data();
+  GemvTransposed(M_.data(), n, n, q, h, uu);
+  for (int c = 0; c < q; ++c) uu[c] += Rhs(active_[c]);
+  for (int j = 0; j < q; ++j) {  // forward: G_L w = rhs
+    const double* __restrict gj = G_.col(j).data();
+    const double wj = uu[j] / gj[j];
+    uu[j] = wj;
+    for (int i = j + 1; i < q; ++i) uu[i] -= wj * gj[i];
+  }
+  for (int i = q - 1; i >= 0; --i) {  // backward: G_L^T u = w
+    const double* gi = G_.col(i).data();
+    double sum = uu[i];
+    for (int j = i + 1; j < q; ++j) sum -= gi[j] * uu[j];
+    uu[i] = sum / gi[i];
+  }
+  for (int c = n_eq_; c < q; ++c) {
+    if (uu[c] < 0.0) return false;
+  }
+  // y = M u - h, x = L^{-T} y (dot products with the contiguous columns of L).
+  double* y = z_.data();
+  Gemv(M_.data(), n, n, q, uu, y);
+  for (int i = 0; i < n; ++i) y[i] -= h[i];
+  double* x = x_.data();
+  for (int i = n - 1; i >= 0; --i) {
+    double sum = 0.0;
+    GemvTransposed(L_.col(i).data() + i + 1, n, n - i - 1, 1, x + i + 1, &sum);
+    x[i] = (y[i] - sum) * inv_diag_[i];
+  }
+  q_ = q;
+  q_eq_ = n_eq_;
+  for (int c = 0; c < q; ++c) is_active_[active_[c]] = 1;
+  double slack = 0.0;
+  if (FindMostViolated(&slack) >= 0) return false;  // also computes Ax_
+  // Active rows must be reproduced (accuracy check of the normal equations, whose error grows with
+  // cond(M)^2): residual * max(1, |u|) (the complementarity error it causes) well below the tolerance.
+  // Otherwise the QR-based GI path, accurate to rounding, takes over.
+  const double feas_tol = 0.01 * settings_.feasibility_tolerance;
+  for (int c = 0; c < q; ++c) {
+    const int id = active_[c];
+    double value;
+    if (id < n_eq_) {
+      value = A_eq.row(id).dot(x_);
+    } else if (id < n_eq_ + 2 * n_ineq_) {
+      const int k = id - n_eq_;
+      value = (k & 1) ? -Ax_[k >> 1] : Ax_[k >> 1];
+    } else {
+      const int k = id - n_eq_ - 2 * n_ineq_;
+      value = (k & 1) ? -x[k >> 1] : x[k >> 1];
+    }
+    if (std::abs(value - Rhs(id)) * std::max(1.0, std::abs(u_active_[c])) > feas_tol) return false;
+  }
+  return true;
+}
+
+void DenseQpSolver::SaveWarmStart() {
+  warm_count_ = 0;
+  for (int j = q_eq_; j < q_; ++j) warm_active_[warm_count_++] = active_[j];
+  warm_valid_ = true;
+}
+
+ROME_QP_HOT void DenseQpSolver::FillOutputs() {
+  // Convert GI multipliers (H x + g = N u, u >= 0 on inequality sides) to the OSQP convention.
+  y_eq_.setZero();
+  y_ineq_.setZero();
+  y_bounds_.setZero();
+  for (int j = 0; j < q_; ++j) {
+    const int id = active_[j];
+    const double uj = u_active_[j];
+    if (id < n_eq_) {
+      y_eq_[id] = -uj;
+    } else if (id < n_eq_ + 2 * n_ineq_) {
+      const int k = id - n_eq_;
+      y_ineq_[k >> 1] = (k & 1) ? uj : -uj;
+    } else {
+      const int k = id - n_eq_ - 2 * n_ineq_;
+      y_bounds_[k >> 1] = (k & 1) ? uj : -uj;
+    }
+  }
+  Gemv(H.data(), n_, n_, n_, x_.data(), v_.data());
+  objective_ = 0.5 * x_.dot(v_) + g.dot(x_);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Input validation.
+
+ROME_QP_HOT bool DenseQpSolver::ValidateInput() {
+  input_error_ = InputError::kNone;
+  auto size_error = [this](const char* field, Eigen::Index rows, Eigen::Index cols, int er, int ec) {
+    if (rows == er && cols == ec) return false;
+    input_error_ = InputError::kSize;
+    bad_field_ = field;
+    bad_row_ = static_cast<int>(rows);
+    bad_col_ = static_cast<int>(cols);
+    bad_rows_expected_ = er;
+    bad_cols_expected_ = ec;
+    return true;
+  };
+  if (size_error("H", H.rows(), H.cols(), n_, n_) || size_error("g", g.rows(), g.cols(), n_, 1) ||
+      size_error("A_eq", A_eq.rows(), A_eq.cols(), n_eq_, n_) ||
+      size_error("b_eq", b_eq.rows(), b_eq.cols(), n_eq_, 1) ||
+      size_error("A", A.rows(), A.cols(), n_ineq_, n_) || size_error("l", l.rows(), l.cols(), n_ineq_, 1) ||
+      size_error("u", u.rows(), u.cols(), n_ineq_, 1) || size_error("lb", lb.rows(), lb.cols(), n_, 1) ||
+      size_error("ub", ub.rows(), ub.cols(), n_, 1)) {
+    return false;
+  }
+  // (m * 0).sum() is 0 exactly when every entry is finite (inf * 0 and NaN give NaN); vectorized by Eigen.
+  auto finite_error = [this](const char* field, const Eigen::MatrixXd& m) {
+    if (AllFinite(m.data(), m.size())) return false;
+    for (Eigen::Index c = 0; c < m.cols(); ++c) {
+      for (Eigen::Index r = 0; r < m.rows(); ++r) {
+        if (!std::isfinite(m(r, c))) {
+          input_error_ = InputError::kNotFinite;
+          bad_field_ = field;
+          bad_row_ = static_cast<int>(r);
+          bad_col_ = static_cast<int>(c);
+          bad_value_ = m(r, c);
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  auto finite_vec_error = [this](const char* field, const Eigen::VectorXd& v) {
+    if (AllFinite(v.data(), v.size())) return false;
+    for (Eigen::Index r = 0; r < v.size(); ++r) {
+      if (!std::isfinite(v[r])) {
+        input_error_ = InputError::kNotFinite;
+        bad_field_ = field;
+        bad_row_ = static_cast<int>(r);
+        bad_col_ = -1;
+        bad_value_ = v[r];
+        return true;
+      }
+    }
+    return false;
+  };
+  if (finite_error("H", H) || finite_vec_error("g", g) || finite_error("A_eq", A_eq) ||
+      finite_vec_error("b_eq", b_eq) || finite_error("A", A)) {
+    return false;
+  }
+  // Bounds: NaN is invalid, and so is an infinity on the wrong side (l = +inf, u = -inf, ...).
+  auto bound_error = [this](const char* field, const Eigen::VectorXd& v, double forbidden_sign) {
+    // Vectorized check first: no NaN (v != v) and no infinity of the forbidden sign.
+    // (NaN compares false.)
+    if (BoundsValid(v.data(), v.size(), forbidden_sign)) return false;
+    for (Eigen::Index r = 0; r < v.size(); ++r) {
+      const double value = v[r];
+      if (std::isnan(value) || (std::isinf(value) && (value > 0) == (forbidden_sign > 0))) {
+        input_error_ = InputError::kWrongInfinity;
+        bad_field_ = field;
+        bad_row_ = static_cast<int>(r);
+        bad_col_ = -1;
+        bad_value_ = value;
+        return true;
+      }
+    }
+    return false;
+  };
+  if (bound_error("l", l, +1.0) || bound_error("u", u, -1.0) || bound_error("lb", lb, +1.0) ||
+      bound_error("ub", ub, -1.0)) {
+    return false;
+  }
+  // Symmetry of H.
+  double scale = 0.0;
+  for (int j = 0; j < n_; ++j) scale = std::max(scale, std::abs(H(j, j)));
+  const double sym_tol = kSymmetryTolerance * std::max(scale, 1.0);
+  for (int j = 0; j < n_; ++j) {
+    for (int i = j + 1; i < n_; ++i) {
+      if (std::abs(H(i, j) - H(j, i)) > sym_tol) {
+        input_error_ = InputError::kNotSymmetric;
+        bad_field_ = "H";
+        bad_row_ = i;
+        bad_col_ = j;
+        bad_value_ = H(i, j);
+        bad_value2_ = H(j, i);
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+QpStatus DenseQpSolver::Solve() {
+  iterations_ = 0;
+  proximal_iterations_ = 0;
+  infeasible_flat_.clear();
+  infeasible_ids_.clear();
+  input_error_ = InputError::kNone;
+  objective_ = std::numeric_limits<double>::quiet_NaN();
+  if (!ValidateInput()) {
+    factor_cached_ = false;
+    return status_ = QpStatus::kInvalidInput;
+  }
+  const double tol = settings_.feasibility_tolerance;
+  // Contradictory two-sided rows / bounds need no iterations.
+  for (int i = 0; i < n_ineq_; ++i) {
+    if (l[i] - u[i] > tol) {
+      input_error_ = InputError::kContradictoryBounds;
+      infeasible_ids_.push_back(IneqId(i, 0));
+      infeasible_flat_.push_back(n_eq_ + i);
+      bad_value_ = l[i];
+      bad_value2_ = u[i];
+      return status_ = QpStatus::kInfeasible;
+    }
+  }
+  for (int j = 0; j < n_; ++j) {
+    if (lb[j] - ub[j] > tol) {
+      input_error_ = InputError::kContradictoryBounds;
+      infeasible_ids_.push_back(BoundId(j, 0));
+      infeasible_flat_.push_back(n_eq_ + n_ineq_ + j);
+      bad_value_ = lb[j];
+      bad_value2_ = ub[j];
+      return status_ = QpStatus::kInfeasible;
+    }
+  }
+
+  // Factorization of H, reused when H did not change since the last solve.
+  const bool factor_reused = factor_cached_ && H == H_cached_;
+  if (!factor_reused) {
+    factor_cached_ = false;
+    eq_cache_valid_ = false;
+    if (Factorize(0.0)) {
+      factor_regularized_ = false;
+    } else if (Factorize(settings_.regularization)) {
+      factor_regularized_ = true;
+    } else {
+      return status_ = QpStatus::kNonConvex;
+    }
+    H_cached_ = H;
+    factor_cached_ = true;
+    j0_valid_ = false;
+  }
+  if (n_ineq_ > 0) {
+    double* __restrict rn = inv_row_norm_.data();
+    for (int i = 0; i < n_ineq_; ++i) rn[i] = 0.0;
+    for (int j = 0; j < n_; ++j) {
+      const double* __restrict aj = A.col(j).data();
+      for (int i = 0; i < n_ineq_; ++i) rn[i] += aj[i] * aj[i];
+    }
+    for (int i = 0; i < n_ineq_; ++i) {
+      inv_row_norm_[i] = inv_row_norm_[i] > 0.0 ? 1.0 / std::sqrt(inv_row_norm_[i]) : 0.0;
+    }
+  }
+
+  // Equality part of the factorization: reused when H and A_eq are unchanged; stored only when H was
+  // unchanged (a constant-H problem such as MPC), so problems with a new H every tick pay no copy.
+  use_eq_cache_ = factor_reused && eq_cache_valid_ && A_eq == A_eq_cached_;
+  store_eq_cache_ = !use_eq_cache_ && (factor_reused || factor_regularized_);
+
+  const bool warm = settings_.warm_start && warm_valid_;
+  QpStatus status;
+  // With the equality part cached, re-adding the warm inequalities in the GI factorization is cheaper than the
+  // range-space solve (which is O(n^2 (n_eq + n_active))).
+  if (!factor_regularized_ && warm && !use_eq_cache_ && TryWarmActiveSet()) {
+    status = QpStatus::kOptimal;
+  } else if (!factor_regularized_) {
+    if (!j0_valid_) ComputeJ0();
+    j0_valid_ = true;
+    status = SolveFromFactor(g, warm);
+    if (status == QpStatus::kOptimal) SaveWarmStart();
+  } else {
+    if (!j0_valid_) ComputeJ0();
+    j0_valid_ = true;
+    // Proximal-point iterations on H + rho I (see header).
+    const double rho = settings_.regularization;
+    if (!warm) x_.setZero();
+    x_prev_ = x_;
+    status = QpStatus::kMaxIterations;
+    bool use_warm = warm;
+    double previous_step = kInf;
+    int previous_q = -1;
+    for (int k = 0; k < settings_.max_proximal_iterations; ++k) {
+      ++proximal_iterations_;
+      g_eff_ = g;
+      g_eff_.noalias() -= rho * x_prev_;
+      const QpStatus inner = SolveFromFactor(g_eff_, use_warm);
+      if (inner != QpStatus::kOptimal) {
+        status = inner;
+        break;
+      }
+      // cond(H + rho I) ~ 1/rho amplifies round-off: refine the inner KKT solution once.
+      RefineActiveSetSolution(g_eff_, rho);
+      SaveWarmStart();
+      use_warm = true;
+      // Stationarity residual of the original problem: H x + g + N^T y = rho (x_prev - x).
+      z_ = x_ - x_prev_;
+      const double step = z_.lpNorm<Eigen::Infinity>();
+      if (rho * step <= settings_.proximal_tolerance) {
+        status = QpStatus::kOptimal;
+        break;
+      }
+      // Iterates moving along a fixed ray at constant speed: unbounded objective.
+      if (k > 2 && q_ == previous_q && (z_ - dx_prev_).lpNorm<Eigen::Infinity>() <= 1e-9 * step &&
+          step >= 0.999 * previous_step) {
+        status = QpStatus::kUnbounded;
+        break;
+      }
+      previous_step = step;
+      previous_q = q_;
+      dx_prev_ = z_;
+      x_prev_ = x_;
+    }
+  }
+  if (status != QpStatus::kOptimal) warm_valid_ = false;
+  if (status != QpStatus::kInfeasible) FillOutputs();
+  return status_ = status;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+std::string DenseQpSolver::status_message() const {
+  auto describe = [this](int id) {
+    char buf[160];
+    if (id < n_eq_) {
+      std::snprintf(buf, sizeof(buf), "equality row %d (A_eq.row(%d) x = b_eq[%d] = %g)", id, id, id, b_eq[id]);
+    } else if (id < n_eq_ + 2 * n_ineq_) {
+      const int k = id - n_eq_;
+      const int i = k >> 1;
+      if (k & 1) {
+        std::snprintf(buf, sizeof(buf), "inequality row %d upper side (A.row(%d) x <= u[%d] = %g)", i, i, i, u[i]);
+      } else {
+        std::snprintf(buf, sizeof(buf), "inequality row %d lower side (A.row(%d) x >= l[%d] = %g)", i, i, i, l[i]);
+      }
+    } else {
+      const int k = id - n_eq_ - 2 * n_ineq_;
+      const int j = k >> 1;
+      if (k & 1) {
+        std::snprintf(buf, sizeof(buf), "upper bound on x[%d] (ub[%d] = %g)", j, j, ub[j]);
+      } else {
+        std::snprintf(buf, sizeof(buf), "lower bound on x[%d] (lb[%d] = %g)", j, j, lb[j]);
+      }
+    }
+    return std::string(buf);
+  };
+  char buf[256];
+  switch (status_) {
+    case QpStatus::kOptimal:
+      std::snprintf(buf, sizeof(buf), "DenseQpSolver: optimal after %d iterations, objective %.17g, %d active constraints",
+                    iterations_, objective_, q_);
+      return buf;
+    case QpStatus::kNonConvex:
+      std::snprintf(buf, sizeof(buf),
+                    "DenseQpSolver: H (%dx%d) is not positive semidefinite: Cholesky of H + %g I failed "
+                    "(QpSettings::regularization)",
+                    n_, n_, settings_.regularization);
+      return buf;
+    case QpStatus::kUnbounded:
+      return "DenseQpSolver: H is only positive semidefinite and the objective is unbounded below on the "
+             "feasible set";
+    case QpStatus::kMaxIterations:
+      std::snprintf(buf, sizeof(buf),
+                    "DenseQpSolver: iteration limit reached (%d iterations, %d proximal iterations; "
+                    "QpSettings::max_iterations = %d, max_proximal_iterations = %d)",
+                    iterations_, proximal_iterations_, settings_.max_iterations, settings_.max_proximal_iterations);
+      return buf;
+    case QpStatus::kInfeasible: {
+      std::string msg;
+      if (input_error_ == InputError::kContradictoryBounds && !infeasible_ids_.empty()) {
+        const int id = infeasible_ids_[0];
+        if (id < n_eq_ + 2 * n_ineq_) {
+          std::snprintf(buf, sizeof(buf), "DenseQpSolver: infeasible: inequality row %d has l[%d] = %g > u[%d] = %g",
+                        infeasible_flat_[0] - n_eq_, infeasible_flat_[0] - n_eq_, bad_value_,
+                        infeasible_flat_[0] - n_eq_, bad_value2_);
+        } else {
+          const int j = infeasible_flat_[0] - n_eq_ - n_ineq_;
+          std::snprintf(buf, sizeof(buf), "DenseQpSolver: infeasible: bound on x[%d] has lb[%d] = %g > ub[%d] = %g", j,
+                        j, bad_value_, j, bad_value2_);
+        }
+        return buf;
+      }
+      msg = "DenseQpSolver: infeasible; these constraints cannot hold together: ";
+      for (size_t k = 0; k < infeasible_ids_.size(); ++k) {
+        if (k > 0) msg += ", ";
+        msg += describe(infeasible_ids_[k]);
+      }
+      return msg;
+    }
+    case QpStatus::kInvalidInput:
+      switch (input_error_) {
+        case InputError::kSize:
+          std::snprintf(buf, sizeof(buf),
+                        "DenseQpSolver: invalid input: %s has size %dx%d, expected %dx%d (n=%d, n_eq=%d, n_ineq=%d; "
+                        "use Resize to change sizes)",
+                        bad_field_, bad_row_, bad_col_, bad_rows_expected_, bad_cols_expected_, n_, n_eq_, n_ineq_);
+          return buf;
+        case InputError::kNotFinite:
+          if (bad_col_ >= 0) {
+            std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: %s(%d, %d) = %g is not finite", bad_field_,
+                          bad_row_, bad_col_, bad_value_);
+          } else {
+            std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: %s[%d] = %g is not finite", bad_field_,
+                          bad_row_, bad_value_);
+          }
+          return buf;
+        case InputError::kWrongInfinity:
+          std::snprintf(buf, sizeof(buf),
+                        "DenseQpSolver: invalid input: %s[%d] = %g (NaN, or an infinity of the wrong sign)", bad_field_,
+                        bad_row_, bad_value_);
+          return buf;
+        case InputError::kNotSymmetric:
+          std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: H is not symmetric: H(%d, %d) = %.17g but H(%d, %d) = %.17g",
+                        bad_row_, bad_col_, bad_value_, bad_col_, bad_row_, bad_value2_);
+          return buf;
+        default:
+          return "DenseQpSolver: Solve() has not been called";
+      }
+  }
+  return "DenseQpSolver: unknown status";
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+double QpKktResiduals::Max() const {
+  return std::max(std::max(stationarity, primal_feasibility), std::max(dual_feasibility, complementarity));
+}
+
+QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp, const Eigen::VectorXd& x, const Eigen::VectorXd& y_eq,
+                                     const Eigen::VectorXd& y_ineq, const Eigen::VectorXd& y_bounds) {
+  QpKktResiduals res;
+  Eigen::VectorXd grad = qp.H * x + qp.g + qp.A_eq.transpose() * y_eq + qp.A.transpose() * y_ineq + y_bounds;
+  res.stationarity = grad.size() > 0 ? grad.lpNorm<Eigen::Infinity>() : 0.0;
+  auto side_residuals = [&res](double value, double lo, double hi, double y) {
+    res.primal_feasibility = std::max(res.primal_feasibility, std::max(lo - value, value - hi));
+    if (y > 0.0) {
+      if (std::isinf(hi)) {
+        res.dual_feasibility = std::max(res.dual_feasibility, y);
+      } else {
+        res.complementarity = std::max(res.complementarity, y * std::abs(hi - value));
+      }
+    } else if (y < 0.0) {
+      if (std::isinf(lo)) {
+        res.dual_feasibility = std::max(res.dual_feasibility, -y);
+      } else {
+        res.complementarity = std::max(res.complementarity, -y * std::abs(value - lo));
+      }
+    }
+  };
+  for (Eigen::Index i = 0; i < qp.A_eq.rows(); ++i) {
+    res.primal_feasibility = std::max(res.primal_feasibility, std::abs(qp.A_eq.row(i).dot(x) - qp.b_eq[i]));
+  }
+  for (Eigen::Index i = 0; i < qp.A.rows(); ++i) side_residuals(qp.A.row(i).dot(x), qp.l[i], qp.u[i], y_ineq[i]);
+  for (Eigen::Index j = 0; j < x.size(); ++j) side_residuals(x[j], qp.lb[j], qp.ub[j], y_bounds[j]);
+  return res;
+}
+
+QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp) {
+  return ComputeQpKktResiduals(qp, qp.x(), qp.y_eq(), qp.y_ineq(), qp.y_bounds());
+}
+
+}  // namespace rome

@@ -1,0 +1,337 @@
+#include "systems/controllers/task_space_qp_controller.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "systems/multibody/multibody_dynamics.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/multibody/multibody_workspace.h"
+#include "systems/plants/hybrid_contact_plant.h"
+
+namespace rome {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Where one active contact's force rows sit in x = [q̈; u; F] and which inequality rows it owns.
+struct ContactBlock {
+  int contact = -1;
+  int x_offset = 0;     // first F entry of this contact in x
+  int num_rows = 0;     // F rows of this contact
+  int normal = 0;       // x index of F_z
+  int ineq_offset = 0;  // first inequality row
+  int num_ineq = 0;
+  bool cop = false;     // planar line/flat foot: CoP rows
+  double mu = 1.0;
+};
+
+int InequalityRows(const MultibodyModel& model, const ContactInfo& c, const std::string& system) {
+  if (model.is_planar()) return c.type == ContactType::kPoint ? 2 : 4;
+  if (c.type == ContactType::kPoint) return 4;
+  throw std::invalid_argument("system '" + system + "': contact '" + c.name + "' of robot '" + model.name() + "' is a " + ToString(c.type) +
+                              " contact on a 3D model; the task-space QP supports point contacts in 3D and every contact type in planar models");
+}
+}  // namespace
+
+struct TaskSpaceQpController::Scratch {
+  struct ModeQp {
+    ModeQp(int n, int n_eq, int n_ineq, const QpSettings& settings) : qp(n, n_eq, n_ineq, settings) {}
+    ContactSet active = 0;
+    int rows = 0;  // constraint force rows (contacts + loop closures)
+    std::vector<ContactBlock> contacts;
+    std::vector<int> zero_u;
+    DenseQpSolver qp;
+  };
+  explicit Scratch(const MultibodyModel& model) : ws(model) {}
+  MultibodyWorkspace ws;
+  std::vector<ModeQp> modes;
+  Eigen::VectorXd y, ydot, Jdot_qdot, ydd_star, w_rows;
+  Eigen::MatrixXd Jy, WJy;
+  int last_mode = 0;
+};
+
+std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant) {
+  std::vector<ContactSet> sets;
+  for (int m = 0; m < plant.num_modes(); ++m) sets.push_back(plant.active_contacts(m));
+  return sets;
+}
+
+TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
+                                             std::vector<std::shared_ptr<const TaskSpaceTask>> tasks, TaskSpaceQpParams params)
+    : LeafSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), tasks_(std::move(tasks)), params_(std::move(params)) {
+  if (!model_) ThrowError("null MultibodyModel");
+  const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
+  if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
+  if (!(params_.update_period_s > 0.0) || !std::isfinite(params_.update_period_s))
+    ThrowError("params.update_period_s = " + std::to_string(params_.update_period_s) + " must be positive");
+  auto check_nonneg = [&](double value, const char* what) {
+    if (!(value >= 0.0) || !std::isfinite(value)) ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be finite and >= 0");
+  };
+  check_nonneg(params_.qdd_regularization, "qdd_regularization");
+  check_nonneg(params_.u_regularization, "u_regularization");
+  check_nonneg(params_.force_regularization, "force_regularization");
+  check_nonneg(params_.min_normal_force_N, "min_normal_force_N");
+  check_nonneg(params_.contact_alpha_per_s, "contact_alpha_per_s");
+  check_nonneg(params_.loop_beta_per_s, "loop_beta_per_s");
+  if (params_.qdd_regularization + params_.u_regularization + params_.force_regularization == 0.0 && tasks_.empty())
+    ThrowError("no tasks and no regularisation: the QP cost is zero");
+
+  for (size_t i = 0; i < tasks_.size(); ++i) {
+    if (!tasks_[i]) ThrowError("task " + std::to_string(i) + " is null");
+    task_offsets_.push_back(ny_);
+    ny_ += tasks_[i]->size();
+    for (int m : tasks_[i]->active_modes())
+      if (m >= static_cast<int>(mode_contacts_.size()))
+        ThrowError("task '" + tasks_[i]->name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) +
+                   " modes were given");
+  }
+
+  u_max_ = params_.torque_limits.size() == 0 ? model_->torque_limits() : params_.torque_limits;
+  if (u_max_.size() != nu) ThrowError("params.torque_limits has size " + std::to_string(u_max_.size()) + "; robot '" + model_->name() + "' has nu = " + std::to_string(nu));
+  for (int j = 0; j < nu; ++j)
+    if (!(u_max_[j] >= 0.0))
+      ThrowError("torque limit of actuator '" + model_->actuators()[j].joint + "' is " + std::to_string(u_max_[j]) + " N m; it must be >= 0");
+
+  // Per mode: which actuators are forced to zero torque.
+  zero_torque_.resize(mode_contacts_.size());
+  for (const auto& [contact, joint] : params_.zero_torque_in_contact) {
+    int c = -1;
+    try {
+      c = model_->ContactIndex(contact);
+    } catch (const std::exception&) {
+      ThrowError("params.zero_torque_in_contact names contact '" + contact + "', which robot '" + model_->name() + "' does not have");
+    }
+    int actuator = -1;
+    for (int j = 0; j < nu; ++j)
+      if (model_->actuators()[j].joint == joint) actuator = j;
+    if (actuator < 0) ThrowError("params.zero_torque_in_contact names joint '" + joint + "', which is not an actuated joint of robot '" + model_->name() + "'");
+    for (size_t m = 0; m < mode_contacts_.size(); ++m)
+      if (mode_contacts_[m] & ContactBit(c)) zero_torque_[m].push_back(actuator);
+  }
+  // Validate the contact sets and contact types now (errors at construction, not mid-run).
+  for (size_t m = 0; m < mode_contacts_.size(); ++m) {
+    try {
+      CountConstraintRows(*model_, mode_contacts_[m]);
+    } catch (const std::exception& e) {
+      ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what());
+    }
+    for (int c = 0; c < nc; ++c)
+      if (mode_contacts_[m] & ContactBit(c)) InequalityRows(*model_, model_->contacts()[c], this->name());
+  }
+
+  state_port_ = DeclareInputPort("state", 2 * nv);
+  mode_port_ = DeclareInputPort("mode", 1);
+  desired_port_ = DeclareInputPort("desired", 3 * ny_);
+
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(status_offset() + 1);
+  xd0[status_offset()] = -1;  // no QP solved yet
+  DeclareDiscreteState(xd0);
+  DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
+  DeclareOutputPort("qdd", nv, [this, nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(qdd_offset(), nv); }, Feedthrough::None());
+  DeclareOutputPort("contact_forces", 3 * nc, [this, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(forces_offset(), 3 * nc); },
+                    Feedthrough::None());
+  DeclareOutputPort("qp_failures", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[failures_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
+  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
+}
+
+std::any TaskSpaceQpController::AllocateScratch() const {
+  const MultibodyModel& model = *model_;
+  const int nv = model.nv(), nu = model.nu();
+  Scratch s(model);
+  s.y.setZero(ny_);
+  s.ydot.setZero(ny_);
+  s.Jdot_qdot.setZero(ny_);
+  s.ydd_star.setZero(ny_);
+  s.w_rows.setZero(ny_);
+  s.Jy.setZero(ny_, nv);
+  s.WJy.setZero(ny_, nv);
+  s.modes.reserve(mode_contacts_.size());
+  for (size_t m = 0; m < mode_contacts_.size(); ++m) {
+    const ContactSet active = mode_contacts_[m];
+    const int rows = CountConstraintRows(model, active);
+    std::vector<ContactBlock> blocks;
+    int f_row = 0, ineq = 0;
+    for (int c = 0; c < model.num_contacts(); ++c) {
+      if (!(active & ContactBit(c))) continue;
+      const ContactInfo& info = model.contacts()[c];
+      ContactBlock b;
+      b.contact = c;
+      b.x_offset = nv + nu + f_row;
+      b.num_rows = info.num_rows;
+      b.normal = model.is_planar() ? b.x_offset + info.num_rows - 1 : b.x_offset + 2;
+      b.ineq_offset = ineq;
+      b.num_ineq = InequalityRows(model, info, name());
+      b.cop = model.is_planar() && info.type != ContactType::kPoint;
+      b.mu = params_.friction_coefficient >= 0.0 ? params_.friction_coefficient : info.friction_coefficient;
+      blocks.push_back(b);
+      f_row += info.num_rows;
+      ineq += b.num_ineq;
+    }
+    const int nx = nv + nu + rows;
+    Scratch::ModeQp mq(nx, nv + rows, ineq, params_.qp);
+    mq.active = active;
+    mq.rows = rows;
+    mq.contacts = blocks;
+    mq.zero_u = zero_torque_[m];
+    DenseQpSolver& qp = mq.qp;
+    // Constant data: −B in the dynamics rows, friction rows, bounds.
+    qp.A_eq.block(0, nv, nv, nu) = -model.B();
+    for (int j = 0; j < nu; ++j) {
+      qp.lb[nv + j] = -u_max_[j];
+      qp.ub[nv + j] = u_max_[j];
+    }
+    for (int j : mq.zero_u) qp.lb[nv + j] = qp.ub[nv + j] = 0.0;
+    for (const ContactBlock& b : blocks) {
+      qp.lb[b.normal] = params_.min_normal_force_N;
+      const int r = b.ineq_offset;
+      if (model.is_planar()) {
+        const int fx = b.normal - 1;
+        // F_x − μ F_z ≤ 0 and F_x + μ F_z ≥ 0.
+        qp.A(r, fx) = 1.0, qp.A(r, b.normal) = -b.mu, qp.l[r] = -kInf, qp.u[r] = 0.0;
+        qp.A(r + 1, fx) = 1.0, qp.A(r + 1, b.normal) = b.mu, qp.l[r + 1] = 0.0, qp.u[r + 1] = kInf;
+        if (b.cop) {
+          // x_min F_z ≤ −τ_y ≤ x_max F_z; the F_z coefficients depend on the foot pose (set in SolveQp).
+          qp.A(r + 2, b.x_offset) = -1.0, qp.l[r + 2] = 0.0, qp.u[r + 2] = kInf;
+          qp.A(r + 3, b.x_offset) = -1.0, qp.l[r + 3] = -kInf, qp.u[r + 3] = 0.0;
+        }
+      } else {
+        // ±F_x − μ F_z ≤ 0, ±F_y − μ F_z ≤ 0.
+        for (int k = 0; k < 4; ++k) {
+          qp.A(r + k, b.x_offset + k / 2) = (k % 2 == 0) ? 1.0 : -1.0;
+          qp.A(r + k, b.normal) = -b.mu;
+          qp.l[r + k] = -kInf;
+          qp.u[r + k] = 0.0;
+        }
+      }
+    }
+    s.modes.push_back(std::move(mq));
+  }
+  return s;
+}
+
+int TaskSpaceQpController::ModeFromInput(const LeafContext& context) const {
+  const double value = EvalInput(context, mode_port_)[0];
+  const long mode = std::lround(value);
+  if (!std::isfinite(value) || std::abs(value - static_cast<double>(mode)) > 1e-9 || mode < 0 || mode >= static_cast<long>(mode_contacts_.size())) {
+    std::ostringstream os;
+    os << "system '" << name() << "': input port 'mode' has value " << value << "; expected an integer mode index in [0, " << mode_contacts_.size() << ")";
+    throw std::runtime_error(os.str());
+  }
+  return static_cast<int>(mode);
+}
+
+QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
+  const MultibodyModel& model = *model_;
+  const int nv = model.nv(), nu = model.nu();
+  const int mode = ModeFromInput(context);
+  Scratch& s = context.scratch<Scratch>();
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  s.last_mode = mode;
+  MultibodyWorkspace& ws = s.ws;
+
+  const Eigen::VectorXd& x = EvalInput(context, state_port_);
+  const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
+  const auto q = x.head(nv);
+  const auto v = x.tail(nv);
+
+  // Tasks: y, J_y, J̇_y q̇ and the PD output dynamics ÿ* (Eq. (29), (30)).
+  for (size_t i = 0; i < tasks_.size(); ++i) {
+    const TaskSpaceTask& task = *tasks_[i];
+    const int off = task_offsets_[i], n = task.size();
+    task.Calc(model, ws, q, v, s.y.segment(off, n), s.Jy.middleRows(off, n), s.Jdot_qdot.segment(off, n));
+    const TaskGains& g = task.gains();
+    s.w_rows.segment(off, n).setConstant(task.IsActiveIn(mode) ? g.weight : 0.0);
+    s.ydot.segment(off, n).noalias() = s.Jy.middleRows(off, n) * v;
+    s.ydd_star.segment(off, n) = desired.segment(2 * ny_ + off, n) + g.kp * (desired.segment(off, n) - s.y.segment(off, n)) +
+                                 g.kd * (desired.segment(ny_ + off, n) - s.ydot.segment(off, n));
+  }
+  // Cost: 1/2 xᵀHx + gᵀx with H_q̈q̈ = J_yᵀ W J_y, g_q̈ = J_yᵀ W (J̇_y q̇ − ÿ*), plus the regularisation.
+  qp.H.setZero();
+  qp.g.setZero();
+  if (ny_ > 0) {
+    s.WJy.noalias() = s.w_rows.asDiagonal() * s.Jy;
+    qp.H.topLeftCorner(nv, nv).noalias() = s.Jy.transpose() * s.WJy;
+    s.ydd_star = s.Jdot_qdot - s.ydd_star;  // reuse: J̇_y q̇ − ÿ*
+    qp.g.head(nv).noalias() = s.WJy.transpose() * s.ydd_star;
+  }
+  // Regularisation relative to the largest task curvature, so that H stays well conditioned (DenseQpSolver
+  // treats pivots below 1e-8 max H_jj as singular) whatever the task weights are.
+  const double scale = ny_ > 0 && qp.H.diagonal().head(nv).maxCoeff() > 0.0 ? qp.H.diagonal().head(nv).maxCoeff() : 1.0;
+  qp.H.diagonal().head(nv).array() += scale * params_.qdd_regularization;
+  qp.H.diagonal().segment(nv, nu).array() += scale * params_.u_regularization;
+  qp.H.diagonal().tail(mq.rows).array() += scale * params_.force_regularization;
+
+  // Dynamics rows: M q̈ − B u − J_cᵀ F = τ_spring − h.
+  qp.A_eq.topLeftCorner(nv, nv) = CalcMassMatrix(model, ws, q);
+  qp.b_eq.head(nv) = CalcSpringTorques(model, ws, q, v) - CalcBiasForces(model, ws, q, v);
+  // Contact rows: J_c q̈ = −J̇_c q̇ − 2α J_c q̇ − β² φ.
+  const int rows = CalcConstraintJacobian(model, ws, q, v, mq.active);
+  if (rows > 0) {
+    const auto Jc = ws.J.topRows(rows);
+    qp.A_eq.block(0, nv + nu, nv, rows) = -Jc.transpose();
+    qp.A_eq.bottomLeftCorner(rows, nv) = Jc;
+    qp.b_eq.tail(rows) = -ws.Jdot_qdot.head(rows) - ws.phi.head(rows) * (params_.loop_beta_per_s * params_.loop_beta_per_s);
+    qp.b_eq.tail(rows).noalias() -= (2.0 * params_.contact_alpha_per_s) * (Jc * v);
+  }
+  // CoP rows of planar line/flat feet: x_min, x_max of the contact points relative to the frame origin.
+  for (const ContactBlock& b : mq.contacts) {
+    if (!b.cop) continue;
+    const ContactInfo& info = model.contacts()[b.contact];
+    const double origin_x = CalcPointPosition(model, ws, q, info.body, info.frame_origin).x();
+    double x_min = kInf, x_max = -kInf;
+    for (int p = 0; p < static_cast<int>(info.points.size()); ++p) {
+      const double dx = CalcContactPointPosition(model, ws, q, b.contact, p).x() - origin_x;
+      x_min = std::min(x_min, dx);
+      x_max = std::max(x_max, dx);
+    }
+    qp.A(b.ineq_offset + 2, b.normal) = -x_min;
+    qp.A(b.ineq_offset + 3, b.normal) = -x_max;
+  }
+  return qp.Solve();
+}
+
+EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
+  const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
+  QpStatus status;
+  try {
+    status = SolveQp(context);
+  } catch (const std::exception& e) {
+    return EventStatus::Failed(e.what());
+  }
+  Scratch& s = context.scratch<Scratch>();
+  const Scratch::ModeQp& mq = s.modes[s.last_mode];
+  (*next)[status_offset()] = static_cast<double>(status);
+  if (status == QpStatus::kOptimal) {
+    const Eigen::VectorXd& x = mq.qp.x();
+    next->segment(u_offset(), nu) = x.segment(nv, nu);
+    next->segment(qdd_offset(), nv) = x.head(nv);
+    auto forces = next->segment(forces_offset(), 3 * nc);
+    forces.setZero();
+    const auto q = EvalInput(context, state_port_).head(nv);
+    for (const ContactBlock& b : mq.contacts)
+      forces.segment<3>(3 * b.contact) = ExtractContactWrench(*model_, s.ws, q, mq.active, x.tail(mq.rows), b.contact).force;
+  } else {
+    (*next)[failures_offset()] += 1.0;
+    if (params_.failure_policy == QpFailurePolicy::kZeroTorque) next->segment(u_offset(), nu).setZero();
+    // kHoldPrevious: next starts as a copy of the current discrete state.
+  }
+  return EventStatus::Succeeded();
+}
+
+const DenseQpSolver& TaskSpaceQpController::last_qp(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.modes[s.last_mode].qp;
+}
+
+int TaskSpaceQpController::last_mode(const LeafContext& context) const { return context.scratch<Scratch>().last_mode; }
+
+int TaskSpaceQpController::last_num_force_rows(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.modes[s.last_mode].rows;
+}
+
+}  // namespace rome

@@ -1,0 +1,131 @@
+#pragma once
+// TaskSpaceQpController: task-space (TSC) QP controller of the stepping-stones paper, Sec. V, Eq. (29)–(31).
+//
+// inputs:  state (2 nv)              [q; v] of the plant (HybridContactPlant "state")
+//          mode (1)                  index of the plant's active contact mode (HybridContactPlant "mode")
+//          desired (3 ny)            [y_d; ẏ_d; ÿ_d], each ny = Σ task sizes, tasks in construction order
+//                                    (units of each task: m, rad; m/s, rad/s; m/s², rad/s²). Rows of tasks that
+//                                    are inactive in the current mode are ignored.
+// outputs: u (nu)                    actuator torques [N m], zero-order held between updates (no feedthrough)
+//          qdd (nv)                  the QP's planned generalized acceleration q̈ [m/s², rad/s²]
+//          contact_forces (3 nc)     the QP's planned ground force on each contact [N], world axes, zero when
+//                                    the contact is inactive (same layout as the plant's "contact_forces")
+//          qp_failures (1)           number of updates whose QP failed so far [-]
+//          qp_status (1)             QpStatus of the last update as an integer (0 = kOptimal; dense_qp_solver.h)
+// discrete state: [u (nu); qdd (nv); contact_forces (3 nc); qp_failures; qp_status], updated periodically
+// (params.update_period_s, 1 kHz as in the paper); every output reads only the discrete state.
+//
+// Formulation (TSID style). The paper eliminates q̈ and F and optimises u alone (q̈ = A_q u + b_q); we keep
+// x = [q̈ (nv); u (nu); F (rows)] with the dynamics as equalities, which is the same QP in a sparser, better
+// conditioned form (no M⁻¹), and gives q̈ and F directly:
+//   minimise   Σ_tasks w_i ||J_i q̈ + J̇_i q̇ − ÿ*_i||²  +  s (ρ_q̈ ||q̈||² + ρ_u ||u||² + ρ_F ||F||²)  (Eq. (30))
+//              ÿ*_i = ÿ_d + Kp (y_d − y) + Kd (ẏ_d − J_i q̇)                       (PD output dynamics)
+//   subject to M q̈ + h = B u + τ_spring + J_cᵀ F                                   (Eq. (3) of the paper)
+//              J_c q̈ + J̇_c q̇ = −2α J_c q̇ − β² φ                                 (stance contact; α = β = 0 is the
+//                                                                                paper's J_c q̈ + J̇_c q̇ = 0)
+//              F_z ≥ F_min, |F_x| ≤ μ F_z (|F_y| too for 3D point feet)          (GRF, Eq. (31))
+//              line/flat planar foot [τ_y, F_x, F_z]: CoP inside the foot, x_min F_z ≤ −τ_y ≤ x_max F_z
+//              −u_max ≤ u ≤ u_max                                                 (torque limit, Eq. (31))
+//              u_j = 0 for the joints listed with an active contact                (e.g. Cassie's stance toe)
+// J_c stacks the active contacts of the mode and every loop closure (contact_dynamics.h row order); loop-closure
+// forces are free. The point-foot stance ankle torque is zero by construction (there is no ankle actuator).
+// One DenseQpSolver per contact mode (sized for that mode) lives in the context scratch and is warm-started
+// from its previous active set; an update allocates no heap memory.
+//
+// On QP failure (infeasible, iteration limit, bad data) the update holds the previous u (and previous q̈, F),
+// increments qp_failures, records the status in qp_status and continues: the caller decides whether a failure
+// ends the run (e.g. a monitor on qp_failures). QpFailurePolicy::kZeroTorque outputs u = 0 instead.
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "framework/system.h"
+#include "solvers/qp/dense_qp_solver.h"
+#include "systems/controllers/task_space_tasks.h"
+#include "systems/multibody/contact_dynamics.h"
+
+namespace rome {
+
+class HybridContactPlant;
+
+enum class QpFailurePolicy {
+  kHoldPrevious,  ///< keep the previous update's u (the default)
+  kZeroTorque,    ///< output u = 0
+};
+
+struct TaskSpaceQpParams {
+  double update_period_s = 1e-3;       ///< [s] QP rate (the paper solves its low-level QP at 1 kHz).
+  // Regularisation weights are relative: each is multiplied by the largest diagonal entry s of J_yᵀ W J_y, so the
+  // QP stays well conditioned for any task weights. They bias task accelerations that the robot could meet exactly
+  // by about ρ s |u| / (w |∂ÿ/∂u|²); the PD loop turns that into a steady output error of bias / Kp (measured on
+  // AMBER with the defaults: below 1e-4 m). Keep them ≥ 1e-7: DenseQpSolver treats pivots < 1e-8 max H_jj as singular.
+  double qdd_regularization = 1e-6;    ///< ρ_q̈ [s⁴/m² relative] on ||q̈||².
+  double u_regularization = 1e-6;      ///< ρ_u [1/(N m)² relative] on ||u||² (picks the least-torque solution).
+  double force_regularization = 1e-6;  ///< ρ_F [1/N² relative] on ||F||² (internal forces in double support).
+  double min_normal_force_N = 0.0;     ///< [N] F_z ≥ this on every active contact (unilateral contact).
+  double friction_coefficient = -1.0;  ///< [-] μ of the friction pyramid; < 0 uses each contact's model value.
+  Eigen::VectorXd torque_limits;       ///< [N m] per actuator; empty = the model's torque limits.
+  double contact_alpha_per_s = 0.0;    ///< α [1/s] of the contact rows (0 = paper; the plant's value matches its flow).
+  double loop_beta_per_s = 0.0;        ///< β [1/s] on loop-closure position errors φ.
+  /// {contact, joint}: the actuator on `joint` gets u = 0 while `contact` is active (the paper zeroes Cassie's
+  /// stance toe torque). Empty for point-foot robots.
+  std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;
+  QpFailurePolicy failure_policy = QpFailurePolicy::kHoldPrevious;
+  QpSettings qp;                       ///< DenseQpSolver tolerances (warm start on by default).
+};
+
+/// The active contact set of each of the plant's modes (mode index order).
+std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant);
+
+class TaskSpaceQpController final : public LeafSystem {
+ public:
+  /// `mode_contacts[m]`: the contacts active in the plant's mode m (see ActiveContactsPerMode). Tasks are
+  /// stacked in the given order in the desired port.
+  TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
+                        std::vector<std::shared_ptr<const TaskSpaceTask>> tasks, TaskSpaceQpParams params = {});
+
+  const MultibodyModel& model() const { return *model_; }
+  const TaskSpaceQpParams& params() const { return params_; }
+  const std::vector<std::shared_ptr<const TaskSpaceTask>>& tasks() const { return tasks_; }
+  /// ny: total size of the stacked task outputs.
+  int num_task_outputs() const { return ny_; }
+  /// Offset of task `i` in the stacked outputs (and in each third of the desired port).
+  int task_offset(int i) const { return task_offsets_.at(i); }
+  const Eigen::VectorXd& torque_limits() const { return u_max_; }
+
+  /// Builds and solves the QP at the context's inputs, without touching the discrete state (the periodic
+  /// update calls this). Throws std::runtime_error naming the port for a bad mode input.
+  QpStatus SolveQp(const LeafContext& context) const;
+  /// The QP solved last in `context` (data, solution, multipliers) and its layout: x = [q̈; u; F].
+  const DenseQpSolver& last_qp(const LeafContext& context) const;
+  int last_mode(const LeafContext& context) const;
+  /// Number of constraint force rows F in the last QP (active contacts of its mode + loop closures).
+  int last_num_force_rows(const LeafContext& context) const;
+
+  // Discrete-state layout.
+  int u_offset() const { return 0; }
+  int qdd_offset() const { return model_->nu(); }
+  int forces_offset() const { return model_->nu() + model_->nv(); }
+  int failures_offset() const { return forces_offset() + 3 * model_->num_contacts(); }
+  int status_offset() const { return failures_offset() + 1; }
+
+  struct Scratch;
+
+ private:
+  std::any AllocateScratch() const override;
+  EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
+  int ModeFromInput(const LeafContext& context) const;
+
+  std::shared_ptr<const MultibodyModel> model_;
+  std::vector<ContactSet> mode_contacts_;
+  std::vector<std::shared_ptr<const TaskSpaceTask>> tasks_;
+  TaskSpaceQpParams params_;
+  std::vector<int> task_offsets_;
+  int ny_ = 0;
+  Eigen::VectorXd u_max_;
+  std::vector<std::vector<int>> zero_torque_;  // per mode: actuator indices forced to 0
+  int state_port_ = -1, mode_port_ = -1, desired_port_ = -1;
+};
+
+}  // namespace rome

@@ -1,0 +1,130 @@
+#include "systems/controllers/task_space_tasks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rome {
+
+namespace {
+void CheckAxes(const std::string& task, const std::vector<Axis>& axes) {
+  if (axes.empty()) throw std::invalid_argument("task '" + task + "': no axes given");
+  for (size_t i = 0; i < axes.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (axes[i] == axes[j]) throw std::invalid_argument("task '" + task + "': axis " + std::to_string(static_cast<int>(axes[i])) + " is listed twice");
+}
+}  // namespace
+
+TaskSpaceTask::TaskSpaceTask(std::string name, int size, TaskGains gains, std::vector<int> active_modes)
+    : name_(std::move(name)), size_(size), gains_(gains), active_modes_(std::move(active_modes)) {
+  if (size_ <= 0) throw std::invalid_argument("task '" + name_ + "': size " + std::to_string(size_) + " must be positive");
+  if (!(gains_.weight >= 0.0) || !std::isfinite(gains_.weight))
+    throw std::invalid_argument("task '" + name_ + "': weight " + std::to_string(gains_.weight) + " must be finite and >= 0");
+  if (!std::isfinite(gains_.kp) || !std::isfinite(gains_.kd))
+    throw std::invalid_argument("task '" + name_ + "': gains kp = " + std::to_string(gains_.kp) + ", kd = " + std::to_string(gains_.kd) + " must be finite");
+  for (int m : active_modes_)
+    if (m < 0) throw std::invalid_argument("task '" + name_ + "': active mode index " + std::to_string(m) + " is negative");
+}
+
+bool TaskSpaceTask::IsActiveIn(int mode) const {
+  return active_modes_.empty() || std::find(active_modes_.begin(), active_modes_.end(), mode) != active_modes_.end();
+}
+
+void TaskSpaceTask::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+                         Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  if (y.size() != size_ || J.rows() != size_ || J.cols() != model.nv() || Jdot_qdot.size() != size_)
+    throw std::invalid_argument("task '" + name_ + "': Calc outputs have sizes y " + std::to_string(y.size()) + ", J " + std::to_string(J.rows()) + "x" +
+                                std::to_string(J.cols()) + ", Jdot_qdot " + std::to_string(Jdot_qdot.size()) + "; expected " + std::to_string(size_) +
+                                " and nv = " + std::to_string(model.nv()));
+  DoCalc(model, ws, q, v, y, J, Jdot_qdot);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+ComPositionTask::ComPositionTask(std::string name, std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes)
+    : TaskSpaceTask(std::move(name), static_cast<int>(axes.size()), gains, std::move(active_modes)), axes_(std::move(axes)) {
+  CheckAxes(this->name(), axes_);
+}
+
+void ComPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+                             Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  const Eigen::Vector3d p = CalcComPosition(model, ws, q);
+  const Eigen::Vector3d a = CalcComJdotQdot(model, ws, q, v);
+  auto J3 = ws.J_point.topRows(3);
+  CalcComJacobian(model, ws, q, J3);
+  for (int i = 0; i < size(); ++i) {
+    const int k = static_cast<int>(axes_[i]);
+    y[i] = p[k];
+    J.row(i) = J3.row(k);
+    Jdot_qdot[i] = a[k];
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+BodyPitchTask::BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains, std::vector<int> active_modes)
+    : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)) {
+  if (!model.is_planar())
+    throw std::invalid_argument("task '" + this->name() + "': BodyPitchTask needs a planar model; robot '" + model.name() + "' has a " +
+                                ToString(model.floating_base()) + " floating base");
+  body_ = model.BodyIndex(body);
+}
+
+void BodyPitchTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+                           Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  ws.SetPositions(model, q);
+  // R_y(θ) = [[c, 0, s], [0, 1, 0], [−s, 0, c]].
+  const Eigen::Matrix3d& R = ws.R_world_link(body_);
+  y[0] = std::atan2(R(0, 2), R(0, 0));
+  auto J6 = ws.J_point.topRows(6);
+  CalcFrameJacobian(model, ws, q, body_, Eigen::Vector3d::Zero(), J6);
+  J.row(0) = J6.row(1);  // ω_y
+  Jdot_qdot[0] = CalcFrameJdotQdot(model, ws, q, v, body_, Eigen::Vector3d::Zero())[1];
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+PointPositionTask::PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body, const Eigen::Vector3d& p_link,
+                                     std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes)
+    : TaskSpaceTask(std::move(name), static_cast<int>(axes.size()), gains, std::move(active_modes)),
+      body_(model.BodyIndex(body)),
+      p_link_(p_link),
+      axes_(std::move(axes)) {
+  CheckAxes(this->name(), axes_);
+}
+
+std::shared_ptr<PointPositionTask> PointPositionTask::ForContact(std::string name, const MultibodyModel& model, const std::string& contact,
+                                                                 std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes) {
+  const ContactInfo& c = model.contacts()[model.ContactIndex(contact)];
+  return std::make_shared<PointPositionTask>(std::move(name), model, c.link, c.frame_origin, std::move(axes), gains, std::move(active_modes));
+}
+
+void PointPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+                               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  const Eigen::Vector3d p = CalcPointPosition(model, ws, q, body_, p_link_);
+  const Eigen::Vector3d a = CalcPointJdotQdot(model, ws, q, v, body_, p_link_);
+  auto J3 = ws.J_point.topRows(3);
+  CalcPointJacobian(model, ws, q, body_, p_link_, J3);
+  for (int i = 0; i < size(); ++i) {
+    const int k = static_cast<int>(axes_[i]);
+    y[i] = p[k];
+    J.row(i) = J3.row(k);
+    Jdot_qdot[i] = a[k];
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+JointPositionTask::JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint, TaskGains gains,
+                                     std::vector<int> active_modes)
+    : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)), index_(model.VelocityIndex(joint)) {}
+
+void JointPositionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const VectorRef& q, const VectorRef&, Eigen::Ref<Eigen::VectorXd> y,
+                               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  y[0] = q[index_];
+  J.setZero();
+  J(0, index_) = 1.0;
+  Jdot_qdot[0] = 0.0;
+}
+
+}  // namespace rome

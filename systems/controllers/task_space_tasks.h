@@ -1,0 +1,119 @@
+#pragma once
+// Tasks (outputs to track) for the task-space QP controller (task_space_qp_controller.h).
+//
+// A task is a relative-degree-two output y(q) of the robot (stepping-stones paper, Eq. (19)): it reports
+//   y (size),  J_y = ∂y/∂q (size × nv),  J̇_y q̇ (size),
+// so that ÿ = J_y q̈ + J̇_y q̇ (Eq. (29)). The controller asks for the PD output dynamics
+//   ÿ* = ÿ_d + Kp (y_d − y) + Kd (ẏ_d − J_y q̇)
+// and penalises weight · ||ÿ − ÿ*||² (Eq. (30)). Each task carries its own gains and weight (TaskGains) and
+// the contact modes it is active in (a swing-foot task only in the single-support mode of the other foot).
+//
+// Concrete tasks (all world frame, SI units):
+//   ComPositionTask     p_com along the chosen axes [m]
+//   BodyPitchTask       pitch of a body about world +y [rad] (planar models; the torso angle φ_torso)
+//   PointPositionTask   position of a point fixed on a body along the chosen axes [m] (e.g. the swing foot);
+//                       ForContact() places it at a contact's frame origin
+//   JointPositionTask   one generalized coordinate q_i [rad or m]
+// Tasks are immutable after construction (names are resolved against the model then) and may be shared
+// between controllers; all scratch lives in the MultibodyWorkspace handed to Calc (no heap allocation).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "systems/multibody/multibody_kinematics.h"
+
+namespace rome {
+
+/// PD gains and cost weight of one task (the same for every row of the task).
+struct TaskGains {
+  double weight = 1.0;  ///< [-] weight of ||ÿ − ÿ*||² in the QP cost (Eq. (30) uses 1 for every output).
+  double kp = 100.0;    ///< [1/s²] Kp of ÿ* (the paper gives no values; 100 with kd 20 is critically damped, 10 rad/s).
+  double kd = 20.0;     ///< [1/s] Kd of ÿ*.
+};
+
+enum class Axis { kX = 0, kY = 1, kZ = 2 };
+
+class TaskSpaceTask {
+ public:
+  /// `active_modes`: indices of the plant's contact modes in which the task is tracked (empty = all modes).
+  TaskSpaceTask(std::string name, int size, TaskGains gains, std::vector<int> active_modes = {});
+  virtual ~TaskSpaceTask() = default;
+  TaskSpaceTask(const TaskSpaceTask&) = delete;
+  TaskSpaceTask& operator=(const TaskSpaceTask&) = delete;
+
+  const std::string& name() const { return name_; }
+  int size() const { return size_; }
+  const TaskGains& gains() const { return gains_; }
+  const std::vector<int>& active_modes() const { return active_modes_; }
+  bool IsActiveIn(int mode) const;
+
+  /// y (size), J (size × nv) and J̇q̇ (size) at (q, v). The outputs are preallocated by the caller; the
+  /// workspace's J_point scratch may be overwritten. Throws std::invalid_argument on wrong sizes.
+  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+            Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const;
+
+ protected:
+  virtual void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+                      Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const = 0;
+
+ private:
+  std::string name_;
+  int size_;
+  TaskGains gains_;
+  std::vector<int> active_modes_;
+};
+
+/// Centre of mass position along `axes` (e.g. {Axis::kZ} for the paper's p_com^z).
+class ComPositionTask final : public TaskSpaceTask {
+ public:
+  ComPositionTask(std::string name, std::vector<Axis> axes, TaskGains gains = {}, std::vector<int> active_modes = {});
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  std::vector<Axis> axes_;
+};
+
+/// Pitch angle θ of a body about world +y, θ ∈ (−π, π] (R_world_body = R_y(θ) in a planar model). For the
+/// root link of a planar floating base this is q[2]. Planar models only (the error names the model).
+class BodyPitchTask final : public TaskSpaceTask {
+ public:
+  BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {}, std::vector<int> active_modes = {});
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int body_;
+};
+
+/// World position of the point `p_link` (body frame) along `axes`.
+class PointPositionTask final : public TaskSpaceTask {
+ public:
+  PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body, const Eigen::Vector3d& p_link, std::vector<Axis> axes,
+                    TaskGains gains = {}, std::vector<int> active_modes = {});
+  /// The frame origin of contact `contact` (e.g. the swing foot "right_foot").
+  static std::shared_ptr<PointPositionTask> ForContact(std::string name, const MultibodyModel& model, const std::string& contact,
+                                                       std::vector<Axis> axes, TaskGains gains = {}, std::vector<int> active_modes = {});
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int body_;
+  Eigen::Vector3d p_link_;
+  std::vector<Axis> axes_;
+};
+
+/// One generalized coordinate q[i] of the joint `joint` (or a base coordinate such as "base_pitch").
+class JointPositionTask final : public TaskSpaceTask {
+ public:
+  JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint, TaskGains gains = {}, std::vector<int> active_modes = {});
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int index_;
+};
+
+}  // namespace rome

@@ -1,0 +1,213 @@
+#include "systems/multibody/multibody_dynamics.h"
+
+#include <stdexcept>
+#include <string>
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+
+#include "systems/multibody/bullet_scratch.h"
+
+namespace rome {
+
+namespace {
+
+void CheckSize(const MultibodyModel& model, Eigen::Index got, Eigen::Index expected, const char* what) {
+  if (got != expected)
+    throw std::invalid_argument("robot '" + model.name() + "': " + what + " has size " +
+                                std::to_string(got) + ", expected " + std::to_string(expected));
+}
+
+// Runs Bullet's ABA once at the current q so that its cached articulated inertias (needed by
+// calcAccelerationDeltasMultiDof) are valid.
+void EnsureBulletMinv(const MultibodyModel& model, MultibodyWorkspace& ws) {
+  if (ws.valid.bullet_minv) return;
+  btMultiBody& mb = ws.bullet();
+  mb.clearForcesAndTorques();
+  for (int i = 0; i < model.num_bodies(); ++i)
+    if (model.body(i).v_index >= 0) mb.setJointVel(i, 0.0);
+  ws.valid.bullet_v = false;
+  auto& s = ws.bullet_scratch();
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, s.scratch_r, s.scratch_v, s.scratch_m,
+                                                          false, false, false);
+  ws.valid.bullet_minv = true;
+}
+
+// Rigid (Bullet) M_r^-1 applied to ws.bullet_in (6 base entries + nv), result in ws.bullet_out.
+void BulletMinv(MultibodyWorkspace& ws) {
+  auto& s = ws.bullet_scratch();
+  ws.bullet().calcAccelerationDeltasMultiDof(ws.bullet_in.data(), ws.bullet_out.data(), s.scratch_r2,
+                                             s.scratch_v2);
+}
+
+void EnsureArmature(const MultibodyModel& model, MultibodyWorkspace& ws) {
+  if (ws.valid.armature || ws.armature_dofs.empty()) return;
+  EnsureBulletMinv(model, ws);
+  const int nv = model.nv();
+  const int na = static_cast<int>(ws.armature_dofs.size());
+  for (int a = 0; a < na; ++a) {
+    ws.bullet_in.setZero();
+    ws.bullet_in[6 + ws.armature_dofs[a]] = 1.0;
+    BulletMinv(ws);
+    ws.Minv_P.col(a) = ws.bullet_out.tail(nv);
+  }
+  for (int a = 0; a < na; ++a) {
+    for (int b = 0; b < na; ++b) ws.armature_system(a, b) = ws.Minv_P(ws.armature_dofs[a], b);
+    ws.armature_system(a, a) += 1.0 / model.reflected_inertia()[ws.armature_dofs[a]];
+  }
+  ws.armature_llt.compute(ws.armature_system);
+  ws.valid.armature = true;
+}
+
+// x <- x - M_r^-1 P (D^-1 + P^T M_r^-1 P)^-1 P^T x, turning x = M_r^-1 f into M^-1 f.
+void ApplyArmatureCorrection(MultibodyWorkspace& ws, Eigen::Ref<Eigen::VectorXd> x) {
+  const int na = static_cast<int>(ws.armature_dofs.size());
+  if (na == 0) return;
+  for (int a = 0; a < na; ++a) ws.armature_y[a] = x[ws.armature_dofs[a]];
+  ws.armature_llt.solveInPlace(ws.armature_y);
+  x.noalias() -= ws.Minv_P * ws.armature_y;
+}
+
+}  // namespace
+
+const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
+                                      const VectorRef& q) {
+  ws.SetPositions(model, q);
+  if (ws.valid.M) return ws.M;
+  // CRBA in world axes at O: M_kj = S_j^T (Ic_i S_i) for j an ancestor of (or equal to) i.
+  for (int i = 0; i < model.num_bodies(); ++i) {
+    const int k = model.body(i).v_index;
+    if (k < 0) continue;
+    const Vector6d F = ws.composite_inertia(i) * ws.S(i);
+    ws.M(k, k) = ws.S(i).dot(F) + model.reflected_inertia()[k];
+    for (int j = model.body(i).parent; j >= 0; j = model.body(j).parent) {
+      const int kj = model.body(j).v_index;
+      if (kj < 0) continue;
+      const double Mkj = ws.S(j).dot(F);
+      ws.M(kj, k) = Mkj;
+      ws.M(k, kj) = Mkj;
+    }
+  }
+  // Entries of joints on different branches stay at their initial zero.
+  ws.valid.M = true;
+  return ws.M;
+}
+
+const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWorkspace& ws,
+                                      const VectorRef& q, const VectorRef& v) {
+  ws.SetState(model, q, v);
+  if (ws.valid.h) return ws.h;
+  // RNEA with qdd = 0; gravity enters as a fictitious base acceleration a_0 = [0; -g].
+  Vector6d a0 = Vector6d::Zero();
+  a0.tail<3>() = -model.gravity();
+  const int nb = model.num_bodies();
+  for (int b = 0; b < nb; ++b) {
+    const SpatialInertia& I = ws.inertia(b);
+    if (I.m == 0.0) {
+      ws.f_[b].setZero();
+      continue;
+    }
+    const Vector6d& V = ws.V(b);
+    const Vector6d IV = I * V;
+    Vector6d a = ws.A_bias(b) + a0;
+    Vector6d f = I * a;
+    // V x* (I V) = [w x n + v x f; w x f]
+    f.head<3>() += V.head<3>().cross(IV.head<3>()) + V.tail<3>().cross(IV.tail<3>());
+    f.tail<3>() += V.head<3>().cross(IV.tail<3>());
+    ws.f_[b] = f;
+  }
+  for (int b = nb - 1; b >= 0; --b) {
+    const int k = model.body(b).v_index;
+    if (k >= 0) ws.h[k] = ws.S(b).dot(ws.f_[b]);
+    const int p = model.body(b).parent;
+    if (p >= 0) ws.f_[p] += ws.f_[b];
+  }
+  ws.valid.h = true;
+  return ws.h;
+}
+
+const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyWorkspace& ws,
+                                         const VectorRef& q, const VectorRef& v) {
+  CheckSize(model, q.size(), model.nq(), "q");
+  CheckSize(model, v.size(), model.nv(), "v");
+  ws.tau_spring.array() = -model.spring_stiffness().array() * (q - model.spring_rest()).array() -
+                          model.spring_damping().array() * v.array();
+  return ws.tau_spring;
+}
+
+void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                         const VectorRef& v, const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau) {
+  CheckSize(model, qdd.size(), model.nv(), "qdd");
+  CheckSize(model, tau.size(), model.nv(), "tau");
+  const Eigen::MatrixXd& M = CalcMassMatrix(model, ws, q);
+  const Eigen::VectorXd& h = CalcBiasForces(model, ws, q, v);
+  const Eigen::VectorXd& ts = CalcSpringTorques(model, ws, q, v);
+  tau.noalias() = M.selfadjointView<Eigen::Lower>() * qdd;
+  tau += h - ts;
+}
+
+void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                            const VectorRef& f, Eigen::Ref<Eigen::VectorXd> out) {
+  CheckSize(model, f.size(), model.nv(), "f");
+  CheckSize(model, out.size(), model.nv(), "M^-1 f output");
+  ws.SetPositions(model, q);
+  EnsureBulletMinv(model, ws);
+  EnsureArmature(model, ws);
+  ws.bullet_in.head<6>().setZero();
+  ws.bullet_in.tail(model.nv()) = f;
+  BulletMinv(ws);
+  out = ws.bullet_out.tail(model.nv());
+  ApplyArmatureCorrection(ws, out);
+}
+
+void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                     Eigen::Ref<Eigen::MatrixXd> inout) {
+  CheckSize(model, inout.rows(), model.nv(), "M^-1 operand rows");
+  CalcMassMatrix(model, ws, q);
+  if (!ws.valid.M_factor) {
+    ws.M_llt.compute(ws.M);
+    if (ws.M_llt.info() != Eigen::Success)
+      throw std::runtime_error("robot '" + model.name() + "': mass matrix is not positive definite");
+    ws.valid.M_factor = true;
+  }
+  ws.M_llt.solveInPlace(inout);
+}
+
+void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                         const VectorRef& v, const VectorRef& u, const VectorRef& tau_ext,
+                         Eigen::Ref<Eigen::VectorXd> qdd) {
+  CheckSize(model, u.size(), model.nu(), "u");
+  CheckSize(model, qdd.size(), model.nv(), "qdd");
+  if (tau_ext.size() != 0) CheckSize(model, tau_ext.size(), model.nv(), "tau_ext");
+  ws.SetState(model, q, v);
+  const Eigen::VectorXd& ts = CalcSpringTorques(model, ws, q, v);
+  ws.tau_total = ts;
+  ws.tau_total.noalias() += model.B() * u;
+  if (tau_ext.size() != 0) ws.tau_total += tau_ext;
+
+  btMultiBody& mb = ws.bullet();
+  mb.clearForcesAndTorques();
+  const btVector3 g(model.gravity().x(), model.gravity().y(), model.gravity().z());
+  for (int i = 0; i < model.num_bodies(); ++i) {
+    const MultibodyBody& b = model.body(i);
+    if (b.mass > 0.0) mb.addLinkForce(i, b.mass * g);
+    if (b.v_index >= 0) {
+      mb.setJointVel(i, ws.v()[b.v_index]);
+      mb.addJointTorque(i, ws.tau_total[b.v_index]);
+    }
+  }
+  auto& s = ws.bullet_scratch();
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, s.scratch_r, s.scratch_v, s.scratch_m,
+                                                          false, false, false);
+  mb.clearForcesAndTorques();
+  ws.valid.bullet_minv = true;
+  ws.valid.bullet_v = true;
+  const int nv = model.nv();
+  // Bullet's output block: scratch_r[nv .. nv + 6) base, then nv joint accelerations.
+  for (int k = 0; k < nv; ++k) qdd[k] = s.scratch_r[nv + 6 + k];
+  if (!ws.armature_dofs.empty()) {
+    EnsureArmature(model, ws);
+    ApplyArmatureCorrection(ws, qdd);
+  }
+}
+
+}  // namespace rome

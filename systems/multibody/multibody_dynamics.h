@@ -1,0 +1,44 @@
+#pragma once
+// Unconstrained dynamics of a MultibodyModel:
+//   M(q) qdd + h(q, v) = B u + tau_spring(q, v) + tau_ext
+//   M = M_rigid (CRBA, Featherstone 2008 Sec. 6.2) + diag(reflected rotor inertia)
+//   h = C(q, v) v + g(q)   (RNEA with qdd = 0, gravity (0, 0, -9.81) m/s^2)
+//   tau_spring = -K (q - q_rest) - D v   (sidecar springs; restoring, right-hand side)
+// Forward dynamics uses Bullet's articulated-body algorithm; Bullet knows nothing of the
+// reflected inertia, which is added exactly through the Woodbury identity
+//   (M_r + P D P^T)^-1 = M_r^-1 - M_r^-1 P (D^-1 + P^T M_r^-1 P)^-1 P^T M_r^-1
+// using one Bullet M_r^-1 application per armature dof (cached per q).
+// All functions write into the workspace or into caller-provided outputs; no heap allocation.
+#include <Eigen/Core>
+
+#include "systems/multibody/multibody_kinematics.h"
+
+namespace rome {
+
+// Returns ws.M (valid until the next call with a different q).
+const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
+                                      const VectorRef& q);
+// Returns ws.h = C(q, v) v + g(q).
+const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWorkspace& ws,
+                                      const VectorRef& q, const VectorRef& v);
+// Returns ws.tau_spring = -K (q - rest) - D v.
+const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyWorkspace& ws,
+                                         const VectorRef& q, const VectorRef& v);
+// Inverse dynamics: tau = M qdd + h - tau_spring (the generalized force that produces qdd).
+void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                         const VectorRef& v, const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau);
+
+// out = M(q)^-1 f, via Bullet's calcAccelerationDeltasMultiDof (+ armature correction).
+void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                            const VectorRef& f, Eigen::Ref<Eigen::VectorXd> out);
+// Same product through the Cholesky factor of the CRBA mass matrix (faster for many columns).
+void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                     Eigen::Ref<Eigen::MatrixXd> inout);
+
+// Forward dynamics with Bullet's ABA: qdd = M^-1 (B u + tau_spring + tau_ext - h).
+// tau_ext may be empty (size 0) for none.
+void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                         const VectorRef& v, const VectorRef& u, const VectorRef& tau_ext,
+                         Eigen::Ref<Eigen::VectorXd> qdd);
+
+}  // namespace rome

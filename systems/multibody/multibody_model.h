@@ -1,0 +1,190 @@
+#pragma once
+// MultibodyModel: the immutable description of a legged robot (Pinocchio's "Model").
+//
+// Loaded from a URDF (urdfdom) plus the ROME JSON sidecar (see robots/README or the
+// sidecar schema): floating base type, actuators, springs, contacts, loop closures and
+// the nominal pose. Everything that changes while a simulation runs lives in
+// MultibodyWorkspace (multibody_workspace.h); every computation takes
+// (const MultibodyModel&, MultibodyWorkspace&, ...).
+//
+// Generalized coordinates (nq == nv, v = dq/dt everywhere):
+//   floating_base "fixed"  : q = [joints]
+//   floating_base "planar" : q = [x, z, pitch, joints]          (motion in the world x-z plane,
+//                                                                pitch about +y)
+//   floating_base "spatial": q = [x, y, z, yaw, pitch, roll, joints]
+//                            R_world_base = Rz(yaw) Ry(pitch) Rx(roll) (ZYX Euler).
+//                            SINGULAR at pitch = +-90 deg (yaw and roll axes align); walking
+//                            postures stay far from it.
+// The floating base is modelled as a chain of massless virtual joints (prismatic x, [y], z,
+// revolute [yaw about z], pitch about y, [roll about x]) ending in the URDF root link, so the
+// whole robot is a fixed-base kinematic tree and dq/dt is the velocity.
+// Joint coordinates follow a depth-first walk of the URDF tree (children in urdfdom's order);
+// use VelocityIndex("joint_name") rather than hard-coded indices.
+//
+// Equations of motion (all quantities in SI units):
+//   (M_rigid(q) + diag(I_reflected)) qdd + h(q, v) = B u + tau_spring(q, v) + J(q)^T F
+//   h           = C(q, v) v + g(q): Coriolis, centrifugal and gravity (gravity 9.81 m/s^2 along -z)
+//   tau_spring  = -K (q - q_rest) - D v on the sidecar's spring joints (a restoring torque,
+//                 on the right-hand side; NOT part of h)
+//   B           = nv x nu selection matrix (u are joint-side torques, N m or N)
+//   I_reflected = gear_ratio^2 rotor inertia from the sidecar, added to M's diagonal on the
+//                 actuated joints (rotor gyroscopic coupling neglected, as in MuJoCo's armature).
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace rome {
+
+enum class FloatingBaseType { kFixed, kPlanar, kSpatial };
+enum class MultibodyJointType { kFixed, kRevolute, kPrismatic };
+enum class ContactType { kPoint, kLine, kFlat };
+
+const char* ToString(FloatingBaseType type);
+const char* ToString(ContactType type);
+
+// One rigid body of the kinematic tree (one Bullet link). Bodies are in topological order
+// (parent index < own index). Virtual floating-base bodies are massless.
+struct MultibodyBody {
+  std::string name;        // URDF link name; virtual bodies are "floating_base_x" etc.
+  std::string joint_name;  // inboard joint; virtual joints are "base_x", "base_z", "base_pitch"...
+  int parent = -1;         // parent body index, -1 = world
+  MultibodyJointType joint_type = MultibodyJointType::kFixed;
+  int v_index = -1;                                     // dof index in q and v, -1 if fixed
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();      // joint axis in this link frame (unit)
+  Eigen::Isometry3d X_parent_joint = Eigen::Isometry3d::Identity();  // this link frame in the
+                                                        // parent link frame at q = 0
+  double mass = 0.0;                                    // kg
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();        // COM in the link frame, m
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();    // about the COM, link axes, kg m^2
+  // Bullet needs a diagonal inertia: inertia = R_link_principal diag(principal_moments) R^T.
+  // The Bullet link frame is the principal frame at the COM; the link frame is recovered as
+  // X_world_link = X_world_principal * X_link_principal^-1.
+  Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R_link_principal = Eigen::Matrix3d::Identity();
+  bool is_virtual = false;
+};
+
+struct ActuatorInfo {
+  std::string joint;
+  int v_index = -1;
+  double gear_ratio = 1.0;
+  double reflected_inertia_kgm2 = 0.0;
+  double torque_limit_Nm = 0.0;  // joint-side limit (N m, or N for prismatic)
+};
+
+struct SpringInfo {
+  std::string joint;
+  int v_index = -1;
+  double stiffness_Nm_per_rad = 0.0;
+  double damping_Nms_per_rad = 0.0;
+  double rest_angle_rad = 0.0;
+};
+
+struct ContactInfo {
+  std::string name;
+  std::string link;
+  int body = -1;
+  ContactType type = ContactType::kPoint;
+  std::vector<Eigen::Vector3d> points;  // in the link frame, m
+  double friction_coefficient = 1.0;
+  // Constraint rows this contact contributes when active (see contact_dynamics.h):
+  // planar model: point 2 (x, z), line/flat 3 (x, z, pitch of the contact frame)
+  // otherwise   : point 3, line 5 (toe xyz + heel across the line), flat 6 (frame)
+  int num_rows = 0;
+  // Contact frame origin in the link frame: the point, the midpoint of the line or the
+  // centroid of the corners.
+  Eigen::Vector3d frame_origin = Eigen::Vector3d::Zero();
+};
+
+struct LoopClosureInfo {
+  std::string name;
+  std::string link_a, link_b;
+  int body_a = -1, body_b = -1;
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // link_a frame, m
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  // link_b frame, m
+  double distance_m = 0.0;                             // |p_a - p_b| = distance_m
+};
+
+class MultibodyModel {
+ public:
+  // Loads URDF + sidecar. sidecar_path "" means: same directory and stem as the URDF with
+  // extension ".rome.json"; if that file does not exist the model is fixed-base with no
+  // actuators/contacts. Throws std::runtime_error naming the file, element and problem.
+  static MultibodyModel Load(const std::string& urdf_path, const std::string& sidecar_path = "");
+  // Loads from a sidecar alone (its "urdf" entry is resolved relative to the sidecar).
+  static MultibodyModel LoadFromSidecar(const std::string& sidecar_path);
+
+  const std::string& name() const { return name_; }
+  const std::string& urdf_path() const { return urdf_path_; }
+  const std::string& sidecar_path() const { return sidecar_path_; }
+  FloatingBaseType floating_base() const { return floating_base_; }
+  int num_base_dofs() const;  // 0, 3 or 6
+  bool is_planar() const { return floating_base_ == FloatingBaseType::kPlanar; }
+
+  int nq() const { return nv_; }
+  int nv() const { return nv_; }
+  int nu() const { return static_cast<int>(actuators_.size()); }
+  int num_bodies() const { return static_cast<int>(bodies_->size()); }
+  const std::vector<MultibodyBody>& bodies() const { return *bodies_; }
+  const std::shared_ptr<const std::vector<MultibodyBody>>& shared_bodies() const { return bodies_; }
+  const MultibodyBody& body(int i) const { return (*bodies_)[i]; }
+
+  // Lookups (throw std::invalid_argument naming the robot and the missing name).
+  int BodyIndex(const std::string& link_name) const;
+  int VelocityIndex(const std::string& joint_name) const;  // == position index
+  int ContactIndex(const std::string& contact_name) const;
+  bool HasBody(const std::string& link_name) const { return body_index_.count(link_name) > 0; }
+  bool HasJoint(const std::string& joint_name) const { return joint_index_.count(joint_name) > 0; }
+  const std::string& JointName(int v_index) const { return joint_names_[v_index]; }
+  const std::vector<std::string>& joint_names() const { return joint_names_; }
+  int BodyOfVelocity(int v_index) const { return body_of_v_[v_index]; }
+
+  const Eigen::Vector3d& gravity() const { return gravity_; }  // (0, 0, -9.81) m/s^2
+  double total_mass() const { return total_mass_; }
+
+  const std::vector<ActuatorInfo>& actuators() const { return actuators_; }
+  const Eigen::MatrixXd& B() const { return B_; }                            // nv x nu
+  const Eigen::VectorXd& torque_limits() const { return torque_limits_; }    // nu
+  const Eigen::VectorXd& reflected_inertia() const { return reflected_inertia_; }  // nv
+  const std::vector<SpringInfo>& springs() const { return springs_; }
+  const Eigen::VectorXd& spring_stiffness() const { return spring_stiffness_; }  // nv
+  const Eigen::VectorXd& spring_damping() const { return spring_damping_; }      // nv
+  const Eigen::VectorXd& spring_rest() const { return spring_rest_; }            // nv
+  const std::vector<ContactInfo>& contacts() const { return contacts_; }
+  const std::vector<LoopClosureInfo>& loop_closures() const { return loop_closures_; }
+  int num_contacts() const { return static_cast<int>(contacts_.size()); }
+  int num_loop_closures() const { return static_cast<int>(loop_closures_.size()); }
+  int max_constraint_rows() const { return max_constraint_rows_; }  // all contacts + loops
+  const Eigen::VectorXd& position_lower_limits() const { return q_lower_; }  // -inf if none
+  const Eigen::VectorXd& position_upper_limits() const { return q_upper_; }
+  const Eigen::VectorXd& q_nominal() const { return q_nominal_; }
+
+ private:
+  MultibodyModel() = default;
+  friend class MultibodyModelLoader;
+
+  std::string name_, urdf_path_, sidecar_path_;
+  FloatingBaseType floating_base_ = FloatingBaseType::kFixed;
+  int nv_ = 0;
+  std::shared_ptr<const std::vector<MultibodyBody>> bodies_;
+  std::map<std::string, int> body_index_, joint_index_, contact_index_;
+  std::vector<std::string> joint_names_;
+  std::vector<int> body_of_v_;
+  Eigen::Vector3d gravity_{0.0, 0.0, -9.81};
+  double total_mass_ = 0.0;
+  std::vector<ActuatorInfo> actuators_;
+  Eigen::MatrixXd B_;
+  Eigen::VectorXd torque_limits_, reflected_inertia_;
+  std::vector<SpringInfo> springs_;
+  Eigen::VectorXd spring_stiffness_, spring_damping_, spring_rest_;
+  std::vector<ContactInfo> contacts_;
+  std::vector<LoopClosureInfo> loop_closures_;
+  int max_constraint_rows_ = 0;
+  Eigen::VectorXd q_lower_, q_upper_, q_nominal_;
+};
+
+}  // namespace rome

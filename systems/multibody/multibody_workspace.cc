@@ -1,0 +1,260 @@
+#include "systems/multibody/multibody_workspace.h"
+
+#include <stdexcept>
+#include <string>
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLink.h>
+
+#include "systems/multibody/bullet_scratch.h"
+
+namespace rome {
+
+namespace {
+
+btVector3 ToBt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+
+btQuaternion ToBtQuat(const Eigen::Matrix3d& R) {
+  Eigen::Quaterniond q(R);
+  q.normalize();
+  return btQuaternion(q.x(), q.y(), q.z(), q.w());
+}
+
+}  // namespace
+
+MultibodyWorkspace::MultibodyWorkspace(const MultibodyModel& model) { Build(model); }
+MultibodyWorkspace::~MultibodyWorkspace() = default;
+MultibodyWorkspace::MultibodyWorkspace(MultibodyWorkspace&&) noexcept = default;
+MultibodyWorkspace& MultibodyWorkspace::operator=(MultibodyWorkspace&&) noexcept = default;
+
+MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
+    : valid(), M(other.M), M_llt(other.M_llt), h(other.h), tau_spring(other.tau_spring),
+      tmp_nv(other.tmp_nv), tmp2_nv(other.tmp2_nv), tau_total(other.tau_total), f_(other.f_),
+      bullet_in(other.bullet_in), bullet_out(other.bullet_out),
+      armature_dofs(other.armature_dofs), Minv_P(other.Minv_P),
+      armature_system(other.armature_system), armature_llt(other.armature_llt),
+      armature_y(other.armature_y), J(other.J), Jdot_qdot(other.Jdot_qdot), phi(other.phi),
+      Minv_JT(other.Minv_JT), Lambda(other.Lambda), Lambda_L(other.Lambda_L), rhs(other.rhs),
+      lambda_sol(other.lambda_sol), residual(other.residual),
+      J_point(other.J_point), bodies_(other.bodies_), q_(other.q_), v_(other.v_),
+      has_q_(false), has_v_(false), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
+      c_w_(other.c_w_), S_(other.S_), V_(other.V_), A_bias_(other.A_bias_), I_(other.I_),
+      Ic_(other.Ic_) {
+  BuildBullet();
+}
+
+MultibodyWorkspace& MultibodyWorkspace::operator=(const MultibodyWorkspace& other) {
+  if (this != &other) {
+    MultibodyWorkspace copy(other);
+    *this = std::move(copy);
+  }
+  return *this;
+}
+
+void MultibodyWorkspace::Build(const MultibodyModel& model) {
+  bodies_ = model.shared_bodies();
+  const int nv = model.nv();
+  const int nb = model.num_bodies();
+  const int rows = model.max_constraint_rows();
+  q_.setZero(nv);
+  v_.setZero(nv);
+  R_wl_.assign(nb, Eigen::Matrix3d::Identity());
+  p_wl_.assign(nb, Eigen::Vector3d::Zero());
+  c_w_.assign(nb, Eigen::Vector3d::Zero());
+  S_.assign(nb, Vector6d::Zero());
+  V_.assign(nb, Vector6d::Zero());
+  A_bias_.assign(nb, Vector6d::Zero());
+  f_.assign(nb, Vector6d::Zero());
+  I_.assign(nb, SpatialInertia());
+  Ic_.assign(nb, SpatialInertia());
+  M.setZero(nv, nv);
+  M_llt.compute(Eigen::MatrixXd::Identity(nv, nv));  // sizes the factor storage once
+  h.setZero(nv);
+  tau_spring.setZero(nv);
+  tmp_nv.setZero(nv);
+  tmp2_nv.setZero(nv);
+  tau_total.setZero(nv);
+  bullet_in.setZero(6 + nv);
+  bullet_out.setZero(6 + nv);
+  armature_dofs.clear();
+  for (int k = 0; k < nv; ++k)
+    if (model.reflected_inertia()[k] > 0.0) armature_dofs.push_back(k);
+  const int na = static_cast<int>(armature_dofs.size());
+  Minv_P.setZero(nv, na);
+  armature_system.setZero(na, na);
+  armature_llt.compute(Eigen::MatrixXd::Identity(na, na));
+  armature_y.setZero(na);
+  J.setZero(rows, nv);
+  Jdot_qdot.setZero(rows);
+  phi.setZero(rows);
+  Minv_JT.setZero(nv, rows);
+  Lambda.setZero(rows, rows);
+  Lambda_L.setZero(rows, rows);
+  rhs.setZero(rows);
+  lambda_sol.setZero(rows);
+  residual.setZero(rows);
+  J_point.setZero(6, nv);
+  BuildBullet();
+}
+
+void MultibodyWorkspace::BuildBullet() {
+  const std::vector<MultibodyBody>& bodies = *bodies_;
+  const int nb = static_cast<int>(bodies.size());
+  scratch_ = std::make_unique<BulletScratch>();
+  // Fixed, massless Bullet base at the world origin; every body is a Bullet link.
+  bullet_ = std::make_unique<btMultiBody>(nb, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true,
+                                          /*canSleep=*/false);
+  bullet_->setBasePos(btVector3(0, 0, 0));
+  bullet_->setWorldToBaseRot(btQuaternion(0, 0, 0, 1));
+  for (int i = 0; i < nb; ++i) {
+    const MultibodyBody& b = bodies[i];
+    Eigen::Matrix3d V_parent = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d c_parent = Eigen::Vector3d::Zero();
+    if (b.parent >= 0) {
+      V_parent = bodies[b.parent].R_link_principal;
+      c_parent = bodies[b.parent].com;
+    }
+    const Eigen::Matrix3d& V = b.R_link_principal;
+    const Eigen::Matrix3d R_pp_cp = V_parent.transpose() * b.X_parent_joint.linear() * V;
+    // Bullet: rotParentToThis rotates parent-frame vectors into this frame (at q = 0).
+    const btQuaternion rot_parent_to_this = ToBtQuat(R_pp_cp.transpose());
+    const btVector3 parent_com_to_pivot =
+        ToBt(V_parent.transpose() * (b.X_parent_joint.translation() - c_parent));
+    const btVector3 pivot_to_com = ToBt(V.transpose() * b.com);
+    const btVector3 inertia = ToBt(b.principal_moments);
+    switch (b.joint_type) {
+      case MultibodyJointType::kRevolute:
+        bullet_->setupRevolute(i, b.mass, inertia, b.parent, rot_parent_to_this,
+                               ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com,
+                               true);
+        break;
+      case MultibodyJointType::kPrismatic:
+        bullet_->setupPrismatic(i, b.mass, inertia, b.parent, rot_parent_to_this,
+                                ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com,
+                                true);
+        break;
+      case MultibodyJointType::kFixed:
+        bullet_->setupFixed(i, b.mass, inertia, b.parent, rot_parent_to_this, parent_com_to_pivot,
+                            pivot_to_com, true);
+        break;
+    }
+  }
+  bullet_->finalizeMultiDof();
+  bullet_->setLinearDamping(0.0);
+  bullet_->setAngularDamping(0.0);
+  bullet_->setMaxCoordinateVelocity(1e300);
+  bullet_->setUseGyroTerm(true);
+  bullet_->setCanSleep(false);
+  // Size Bullet's scratch arrays once (later calls resize to the same sizes: no allocation).
+  bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
+  bullet_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(
+      0.0, scratch_->scratch_r, scratch_->scratch_v, scratch_->scratch_m, false, false, false);
+  bullet_in.setZero();
+  bullet_->calcAccelerationDeltasMultiDof(bullet_in.data(), bullet_out.data(),
+                                          scratch_->scratch_r2, scratch_->scratch_v2);
+  valid = Flags();
+  has_q_ = has_v_ = false;
+}
+
+void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
+                                      const Eigen::Ref<const Eigen::VectorXd>& q) {
+  if (q.size() != model.nq())
+    throw std::invalid_argument("robot '" + model.name() + "': q has size " +
+                                std::to_string(q.size()) + ", expected nq = " +
+                                std::to_string(model.nq()));
+  if (has_q_ && q == q_) return;
+  q_ = q;
+  has_q_ = true;
+  has_v_ = false;  // velocity kinematics depend on q
+  valid = Flags();
+
+  const std::vector<MultibodyBody>& bodies = *bodies_;
+  const int nb = static_cast<int>(bodies.size());
+  for (int i = 0; i < nb; ++i)
+    if (bodies[i].v_index >= 0) bullet_->setJointPos(i, q_[bodies[i].v_index]);
+  bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
+  valid.bullet_q = true;
+
+  // Link poses from Bullet's principal frames: R_wl = R_wb V^T, p_wl = c_w - R_wl c_link.
+  for (int i = 0; i < nb; ++i) {
+    const btTransform& X = bullet_->getLink(i).m_cachedWorldTransform;
+    const btMatrix3x3& Rb = X.getBasis();
+    Eigen::Matrix3d R_wb;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R_wb(r, c) = Rb[r][c];
+    const btVector3& o = X.getOrigin();
+    c_w_[i] = Eigen::Vector3d(o.x(), o.y(), o.z());
+    R_wl_[i].noalias() = R_wb * bodies[i].R_link_principal.transpose();
+    p_wl_[i] = c_w_[i] - R_wl_[i] * bodies[i].com;
+  }
+  // Reference point O for all spatial quantities: the root link origin (keeps lever arms small).
+  O_ = p_wl_[model.num_base_dofs() > 0 ? model.num_base_dofs() - 1 : 0];
+  for (int i = 0; i < nb; ++i) {
+    const MultibodyBody& b = bodies[i];
+    // Motion subspace in world axes at O.
+    const Eigen::Vector3d axis = R_wl_[i] * b.axis;
+    switch (b.joint_type) {
+      case MultibodyJointType::kRevolute:
+        S_[i].head<3>() = axis;
+        S_[i].tail<3>() = (p_wl_[i] - O_).cross(axis);
+        break;
+      case MultibodyJointType::kPrismatic:
+        S_[i].head<3>().setZero();
+        S_[i].tail<3>() = axis;
+        break;
+      case MultibodyJointType::kFixed:
+        S_[i].setZero();
+        break;
+    }
+    // Spatial inertia at O: I_O = R I_c R^T + m (|c|^2 1 - c c^T), h = m c.
+    SpatialInertia& I = I_[i];
+    const Eigen::Vector3d c = c_w_[i] - O_;
+    I.m = b.mass;
+    I.h = b.mass * c;
+    I.I.noalias() = R_wl_[i] * b.inertia * R_wl_[i].transpose();
+    I.I += b.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  }
+  // Composite inertias (leaves to root); all at the same point, so they simply add.
+  for (int i = 0; i < nb; ++i) Ic_[i] = I_[i];
+  for (int i = nb - 1; i >= 0; --i)
+    if (bodies[i].parent >= 0) Ic_[bodies[i].parent] += Ic_[i];
+}
+
+void MultibodyWorkspace::SetVelocities(const MultibodyModel& model,
+                                       const Eigen::Ref<const Eigen::VectorXd>& v) {
+  if (!has_q_)
+    throw std::logic_error("robot '" + model.name() + "': SetVelocities called before SetPositions");
+  if (v.size() != model.nv())
+    throw std::invalid_argument("robot '" + model.name() + "': v has size " +
+                                std::to_string(v.size()) + ", expected nv = " +
+                                std::to_string(model.nv()));
+  if (has_v_ && v == v_) return;
+  v_ = v;
+  has_v_ = true;
+  valid.h = false;
+  valid.bullet_v = false;
+  const std::vector<MultibodyBody>& bodies = *bodies_;
+  const int nb = static_cast<int>(bodies.size());
+  for (int i = 0; i < nb; ++i) {
+    const int p = bodies[i].parent;
+    const int k = bodies[i].v_index;
+    if (p >= 0) {
+      V_[i] = V_[p];
+      A_bias_[i] = A_bias_[p];
+    } else {
+      V_[i].setZero();
+      A_bias_[i].setZero();
+    }
+    if (k >= 0) {
+      const Vector6d vj = S_[i] * v_[k];
+      V_[i] += vj;
+      // Featherstone: c_i = v_i x (S_i qd_i) (spatial motion cross product).
+      const Eigen::Vector3d w = V_[i].head<3>();
+      const Eigen::Vector3d vo = V_[i].tail<3>();
+      A_bias_[i].head<3>() += w.cross(vj.head<3>());
+      A_bias_[i].tail<3>() += w.cross(vj.tail<3>()) + vo.cross(vj.head<3>());
+    }
+  }
+}
+
+}  // namespace rome

@@ -1,0 +1,141 @@
+#pragma once
+// MultibodyWorkspace: all mutable state and scratch of the multibody computations
+// (Pinocchio's "Data"). Sized once from a MultibodyModel; no heap allocation afterwards.
+//
+// It owns the Bullet btMultiBody (double precision) built from the model:
+//  * one Bullet link per MultibodyBody, with the fixed Bullet base at the world origin;
+//  * Bullet link frames are the principal inertia frames at each COM (Bullet only accepts
+//    diagonal inertia); see MultibodyBody::R_link_principal;
+//  * Bullet damping is switched off and the coordinate velocity clamp is disabled.
+// Bullet provides the forward kinematics (link world transforms), the articulated-body
+// forward dynamics and the M^-1 operator (calcAccelerationDeltasMultiDof). Everything else
+// (M by CRBA, h by RNEA, Jacobians, J̇q̇, COM, centroidal momentum) is computed in
+// multibody_kinematics.cc / multibody_dynamics.cc from Bullet's link poses and joint axes.
+//
+// The state is cached by value: SetPositions(q) / SetVelocities(v) recompute only when q or v
+// changed, and derived quantities (M, h, ...) are computed lazily once per state.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Cholesky>
+
+#include "systems/multibody/multibody_model.h"
+
+class btMultiBody;
+
+namespace rome {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+// Rigid-body spatial inertia about the workspace reference point O, world axes:
+//   I * [omega; v_O] = [I_O omega + h x v_O ; m v_O - h x omega],  h = m (c - O).
+struct SpatialInertia {
+  double m = 0.0;
+  Eigen::Vector3d h = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+  Vector6d operator*(const Vector6d& V) const {
+    Vector6d f;
+    f.head<3>() = I * V.head<3>() + h.cross(V.tail<3>());
+    f.tail<3>() = m * V.tail<3>() - h.cross(V.head<3>());
+    return f;
+  }
+  SpatialInertia& operator+=(const SpatialInertia& o) {
+    m += o.m; h += o.h; I += o.I;
+    return *this;
+  }
+};
+
+class MultibodyWorkspace {
+ public:
+  explicit MultibodyWorkspace(const MultibodyModel& model);
+  ~MultibodyWorkspace();
+  MultibodyWorkspace(const MultibodyWorkspace& other);  // rebuilds its own btMultiBody
+  MultibodyWorkspace& operator=(const MultibodyWorkspace& other);
+  MultibodyWorkspace(MultibodyWorkspace&&) noexcept;
+  MultibodyWorkspace& operator=(MultibodyWorkspace&&) noexcept;
+
+  // Sets q (nq) and v (nv); throw std::invalid_argument on a size mismatch.
+  void SetPositions(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& q);
+  void SetVelocities(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& v);
+  void SetState(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                const Eigen::Ref<const Eigen::VectorXd>& v) {
+    SetPositions(model, q);
+    SetVelocities(model, v);
+  }
+  const Eigen::VectorXd& q() const { return q_; }
+  const Eigen::VectorXd& v() const { return v_; }
+  bool has_positions() const { return has_q_; }
+  bool has_velocities() const { return has_v_; }
+
+  // ---- per-body kinematics at the current q (world frame) ----
+  const Eigen::Matrix3d& R_world_link(int body) const { return R_wl_[body]; }
+  const Eigen::Vector3d& p_world_link(int body) const { return p_wl_[body]; }
+  const Eigen::Vector3d& com_world(int body) const { return c_w_[body]; }
+  // Motion subspace column of the body's inboard joint, [axis; (p_joint - O) x axis] for
+  // revolute, [0; axis] for prismatic, zero for fixed (world axes, reference point O).
+  const Vector6d& S(int body) const { return S_[body]; }
+  const Eigen::Vector3d& reference_point() const { return O_; }
+  // Spatial velocity [omega; v_O] at O and velocity-product acceleration (qdd = 0, no gravity).
+  const Vector6d& V(int body) const { return V_[body]; }
+  const Vector6d& A_bias(int body) const { return A_bias_[body]; }
+  const SpatialInertia& inertia(int body) const { return I_[body]; }
+  const SpatialInertia& composite_inertia(int body) const { return Ic_[body]; }
+
+  btMultiBody& bullet() { return *bullet_; }
+
+  // ---------------- internal scratch (used by the free functions) ----------------
+  struct Flags {
+    bool M = false, M_factor = false, h = false, bullet_q = false, bullet_v = false,
+         bullet_minv = false, armature = false;
+  } valid;
+
+  Eigen::MatrixXd M;              // nv x nv
+  Eigen::LLT<Eigen::MatrixXd> M_llt;
+  Eigen::VectorXd h;              // nv: C v + g
+  Eigen::VectorXd tau_spring;     // nv
+  Eigen::VectorXd tmp_nv, tmp2_nv, tau_total;
+  std::vector<Vector6d> f_;       // per-body spatial forces (RNEA)
+
+  // Bullet scratch (sized 6 + nv) and M^-1 armature correction.
+  Eigen::VectorXd bullet_in, bullet_out;
+  std::vector<int> armature_dofs;    // dofs with reflected inertia
+  Eigen::MatrixXd Minv_P;            // nv x na: rigid M^-1 columns of armature dofs
+  Eigen::MatrixXd armature_system;   // na x na: D^-1 + P^T M_rigid^-1 P
+  Eigen::LLT<Eigen::MatrixXd> armature_llt;
+  Eigen::VectorXd armature_y;
+
+  // Constraint scratch (rows up to model.max_constraint_rows()).
+  Eigen::MatrixXd J;          // rows x nv
+  Eigen::VectorXd Jdot_qdot;  // rows
+  Eigen::VectorXd phi;        // rows (position error; zero for contact rows)
+  Eigen::MatrixXd Minv_JT;    // nv x rows
+  Eigen::MatrixXd Lambda;     // rows x rows: J M^-1 J^T
+  Eigen::MatrixXd Lambda_L;   // rows x rows: Cholesky factor of J M^-1 J^T + eps I
+  Eigen::VectorXd rhs, lambda_sol, residual;
+  Eigen::MatrixXd J_point;    // 6 x nv scratch for point/frame Jacobians
+
+ private:
+  void Build(const MultibodyModel& model);
+  void BuildBullet();
+
+  std::shared_ptr<const std::vector<MultibodyBody>> bodies_;
+  std::unique_ptr<btMultiBody> bullet_;
+  struct BulletScratch;
+  std::unique_ptr<BulletScratch> scratch_;
+
+  Eigen::VectorXd q_, v_;
+  bool has_q_ = false, has_v_ = false;
+  Eigen::Vector3d O_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Matrix3d> R_wl_;
+  std::vector<Eigen::Vector3d> p_wl_, c_w_;
+  std::vector<Vector6d> S_, V_, A_bias_;
+  std::vector<SpatialInertia> I_, Ic_;
+
+ public:
+  // Bullet scratch arrays (opaque to users).
+  BulletScratch& bullet_scratch() { return *scratch_; }
+};
+
+}  // namespace rome

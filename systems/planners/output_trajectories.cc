@@ -1,0 +1,176 @@
+#include "systems/planners/output_trajectories.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace rome {
+namespace {
+
+std::string Num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+// de Casteljau evaluation of the Bernstein polynomial with coefficients c[0..n] (degree n) at τ.
+double DeCasteljau(const double* c, int n, double tau) {
+  double w[BezierCurve::kMaxControlPoints] = {};
+  for (int k = 0; k <= n; ++k) w[k] = c[k];
+  for (int r = 1; r <= n; ++r)
+    for (int k = 0; k <= n - r; ++k) w[k] = (1 - tau) * w[k] + tau * w[k + 1];
+  return w[0];
+}
+
+}  // namespace
+
+ScalarDerivatives ToTimeDerivatives(const ScalarDerivatives& y, const Phase& phase) {
+  return {y.value, y.first * phase.tau_dot, y.second * phase.tau_dot * phase.tau_dot + y.first * phase.tau_ddot};
+}
+
+Phase PhaseVariable::Saturate(Phase phase) const {
+  if (!params_.saturate) return phase;
+  if (phase.tau < 0) return {0.0, 0.0, 0.0};
+  if (phase.tau > 1) return {1.0, 0.0, 0.0};
+  return phase;
+}
+
+Phase PhaseVariable::StateBased(double p_com_x, double pdot_com_x, double pddot_com_x, double p_com_x0, double p_com_xf) const {
+  const double span = p_com_xf - p_com_x0;
+  if (!(span != 0 && std::isfinite(span)))
+    throw std::invalid_argument("PhaseVariable (Eq. (20)): the final COM position ε l_des (" + Num(p_com_xf) +
+                                " m) must differ from the start position p_com0^x (" + Num(p_com_x0) + " m)");
+  // Eq. (20).
+  return Saturate({(p_com_x - p_com_x0) / span, pdot_com_x / span, pddot_com_x / span});
+}
+
+Phase PhaseVariable::TimeBased(double t, double step_start_time, double step_duration) const {
+  if (!(step_duration > 0 && std::isfinite(step_duration)))
+    throw std::invalid_argument("PhaseVariable (time-based, Sec. VI-D): step duration T_s must be positive, got " + Num(step_duration) + " s");
+  return Saturate({(t - step_start_time) / step_duration, 1.0 / step_duration, 0.0});
+}
+
+TorsoPitchCubic::TorsoPitchCubic(double phi_0, double phi_f) {
+  // Eq. (22): c = [1 0 0 0; 0 1 0 0; 1 1 1 1; 0 1 2 3]⁻¹ [φ_0; 0; φ_f; 0], in closed form.
+  const double d = phi_f - phi_0;
+  c_ << phi_0, 0.0, 3.0 * d, -2.0 * d;
+}
+
+ScalarDerivatives TorsoPitchCubic::Evaluate(double tau) const {
+  return {c_[0] + tau * (c_[1] + tau * (c_[2] + tau * c_[3])), c_[1] + tau * (2 * c_[2] + 3 * tau * c_[3]), 2 * c_[2] + 6 * tau * c_[3]};
+}
+
+BezierCurve::BezierCurve(const Eigen::Ref<const Eigen::VectorXd>& control_points) {
+  const int n = static_cast<int>(control_points.size());
+  if (n < 2 || n > kMaxControlPoints)
+    throw std::invalid_argument("BezierCurve: needs 2.." + std::to_string(kMaxControlPoints) + " control points, got " + std::to_string(n));
+  for (int k = 0; k < n; ++k) gamma_[k] = control_points[k];
+  num_points_ = n;
+}
+
+ScalarDerivatives BezierCurve::Evaluate(double tau) const {
+  const int M = degree();
+  ScalarDerivatives out;
+  out.value = DeCasteljau(gamma_, M, tau);
+  double d1[kMaxControlPoints] = {}, d2[kMaxControlPoints] = {};
+  for (int k = 0; k < M; ++k) d1[k] = gamma_[k + 1] - gamma_[k];
+  out.first = M >= 1 ? M * DeCasteljau(d1, M - 1, tau) : 0.0;
+  for (int k = 0; k + 1 < M; ++k) d2[k] = d1[k + 1] - d1[k];
+  out.second = M >= 2 ? M * (M - 1) * DeCasteljau(d2, M - 2, tau) : 0.0;
+  return out;
+}
+
+SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, double p_sw0_z, double step_length, double step_height)
+    : params_(params), p_sw0_x_(p_sw0_x), step_length_(step_length) {
+  if (!(params_.strike_depth < 0))
+    throw std::invalid_argument("SwingFootBezier: parameter strike_depth (z_sw^neg) must be negative so that the foot strikes, got " +
+                                Num(params_.strike_depth) + " m");
+  if (!std::isfinite(p_sw0_x) || !std::isfinite(p_sw0_z) || !std::isfinite(step_length) || !std::isfinite(step_height))
+    throw std::invalid_argument("SwingFootBezier: start position and step must be finite");
+  apex_ = params_.apex_reference == SwingApexReference::kStanceFoot ? params_.clearance : std::max(p_sw0_z, step_height) + params_.clearance;
+  // Table under Eq. (24): b_h: [0, 0, 0, 1, 1, 1]; b_v: [p_sw0^z, z_max 1_3, h_des, h_des + z_neg].
+  using Vector6d = Eigen::Matrix<double, 6, 1>;
+  b_h_ = BezierCurve((Vector6d() << 0, 0, 0, 1, 1, 1).finished());
+  b_v_ = BezierCurve((Vector6d() << p_sw0_z, apex_, apex_, apex_, step_height, step_height + params_.strike_depth).finished());
+  if (params_.apex_shape == SwingApexShape::kExactPeak) {
+    if (!(apex_ > std::max(p_sw0_z, step_height)))
+      throw std::invalid_argument("SwingFootBezier: exact apex height " + Num(apex_) + " m must lie above both the start height " + Num(p_sw0_z) +
+                                  " m and the foothold height " + Num(step_height) + " m");
+    // F(c) = max_τ b_v(τ; c) is convex and increasing in c (γ_1..3 = c); dF/dc = B_1 + B_2 + B_3 at the argmax.
+    double c = apex_;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      for (int k = 1; k <= 3; ++k) b_v_.set_control_point(k, c);
+      double tau_max = 0;
+      const double F = MaxHeight(&tau_max);
+      const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) - std::pow(tau_max, 5);
+      if (std::abs(F - apex_) <= 1e-14 * (1 + std::abs(apex_)) || !(m > 0)) break;
+      c -= (F - apex_) / m;
+    }
+  }
+}
+
+ScalarDerivatives SwingFootBezier::X(double tau) const {
+  // Eq. (23).
+  const ScalarDerivatives b = b_h_.Evaluate(tau);
+  const double span = step_length_ - p_sw0_x_;
+  return {(1 - b.value) * p_sw0_x_ + b.value * step_length_, b.first * span, b.second * span};
+}
+
+ScalarDerivatives SwingFootBezier::Z(double tau) const { return b_v_.Evaluate(tau); }  // Eq. (24)
+
+double SwingFootBezier::MaxHeight(double* tau_at_max) const {
+  constexpr int kSamples = 200;
+  int best = 0;
+  double best_value = -INFINITY;
+  for (int k = 0; k <= kSamples; ++k) {
+    const double v = b_v_.Evaluate(static_cast<double>(k) / kSamples).value;
+    if (v > best_value) best_value = v, best = k;
+  }
+  double tau = static_cast<double>(best) / kSamples;
+  if (best > 0 && best < kSamples) {
+    // Newton on dz/dτ = 0 from the best sample.
+    for (int iteration = 0; iteration < 30; ++iteration) {
+      const ScalarDerivatives z = b_v_.Evaluate(tau);
+      if (!(z.second < 0)) break;
+      const double step = z.first / z.second;
+      tau = std::clamp(tau - step, 0.0, 1.0);
+      if (std::abs(step) < 1e-15) break;
+    }
+  }
+  const double value = b_v_.Evaluate(tau).value;
+  if (value < best_value) tau = static_cast<double>(best) / kSamples;
+  if (tau_at_max != nullptr) *tau_at_max = tau;
+  return std::max(value, best_value);
+}
+
+SteppingStonesOutputTrajectories::SteppingStonesOutputTrajectories(PhaseVariableParams phase_params, SwingFootBezierParams swing_params,
+                                                                   const StepOutputParameters& step)
+    : phase_(phase_params),
+      step_(step),
+      torso_(step.phi_0, step.phi_f),
+      swing_(swing_params, step.p_sw0_x, step.p_sw0_z, step.step_length, step.step_height) {}
+
+Phase SteppingStonesOutputTrajectories::CalcPhase(double t, double p_com_x, double pdot_com_x, double pddot_com_x) const {
+  if (phase_.params().type == PhaseType::kTimeBased) return phase_.TimeBased(t, step_.step_start_time, step_.step_duration);
+  return phase_.StateBased(p_com_x, pdot_com_x, pddot_com_x, step_.p_com_x0, step_.impact_fraction * step_.step_length);
+}
+
+DesiredOutputs SteppingStonesOutputTrajectories::Evaluate(double t, double p_com_x, double pdot_com_x, double pddot_com_x,
+                                                          const Eigen::Vector3d& com_height_desired) const {
+  DesiredOutputs out;
+  out.phase = CalcPhase(t, p_com_x, pdot_com_x, pddot_com_x);
+  const double tau = out.phase.tau;
+  const ScalarDerivatives parts[4] = {ToTimeDerivatives(torso_.Evaluate(tau), out.phase),
+                                      {com_height_desired[0], com_height_desired[1], com_height_desired[2]},
+                                      ToTimeDerivatives(swing_.X(tau), out.phase), ToTimeDerivatives(swing_.Z(tau), out.phase)};
+  for (int i = 0; i < 4; ++i) {
+    out.y[i] = parts[i].value;
+    out.ydot[i] = parts[i].first;
+    out.yddot[i] = parts[i].second;
+  }
+  return out;
+}
+
+}  // namespace rome

@@ -1,0 +1,62 @@
+#pragma once
+// VerticalComMpcSystem: VerticalComMpc (stepping-stones paper, Eq. (28)) re-solved at the control rate.
+//
+// inputs:  com_vertical_state (2) = [p^z (m), ṗ^z (m/s)] measured COM height/velocity (same frame as the target;
+//                                   relative to the stance foot in the paper)
+//          target (3)             = [p_comf^{z,d} (m), u_des (m/s), T̂_s (s)] (MomentumRegulationPlannerSystem's
+//                                   'vertical_com_target', Eq. (26)-(27))
+// discrete state (8 + N): [t_plan (s), p_plan (m), v_plan (m/s), dt (s), last QP status (QpStatus as a number),
+//                          QP failures, QP solves, terminal relaxations, u_0..u_{N−1} (m/s²)] — the plan that started at t_plan from the
+//                          measured state (p_plan, v_plan).
+// periodic update (period = params.control_period_s, offset 0): solve Eq. (28) from the measured state
+//          (warm-started QP, no heap allocation). If the terminal equality is infeasible the weighted terminal
+//          cost is used instead (VerticalComMpcParams::relax_terminal_on_infeasible; counted in
+//          'terminal_relaxations'). On QP failure (any status other than kOptimal, including
+//          non-finite inputs) the previous plan is kept and continues in time (the "shifted" plan: at time t it
+//          is evaluated at t − t_plan), and the failure counter is incremented.
+// outputs (no direct feedthrough): 
+//          com_height_desired (3) = [p^{z,d} (m), ṗ^{z,d} (m/s), p̈^{z,d} (m/s²)] = the plan at the current time.
+//                                   Right after a solve this is [measured p^z, measured ṗ^z, u_0^z]: as in the
+//                                   paper (Fig. 5), the MPC effectively commands the acceleration u_0^z.
+//          planned_inputs (N)     = u_0..u_{N−1} (m/s²)
+//          qp_failures (1)        = number of failed solves so far
+//          qp_status (1)          = status of the last solve (0 = kOptimal; see QpStatus)
+//          terminal_relaxations (1) = number of solves that fell back to the weighted terminal cost
+
+#include <memory>
+#include <string>
+
+#include "framework/system.h"
+#include "systems/planners/vertical_com_mpc.h"
+
+namespace rome {
+
+struct VerticalComMpcSystemParams {
+  VerticalComMpcParams mpc{};
+  /// [s] period of the re-solve. The paper runs its QP controller at 1 kHz and updates u_des "constantly";
+  /// we re-solve at the same 1 kHz.
+  double control_period_s = 1e-3;
+};
+
+class VerticalComMpcSystem final : public LeafSystem {
+ public:
+  // Indices into the discrete state.
+  static constexpr int kPlanTime = 0, kPlanPosition = 1, kPlanVelocity = 2, kPlanDt = 3, kLastStatus = 4, kFailures = 5, kSolves = 6,
+                       kRelaxations = 7, kInputs = 8;
+
+  explicit VerticalComMpcSystem(std::string name = "vertical_com_mpc", VerticalComMpcSystemParams params = {});
+  const VerticalComMpcSystemParams& params() const { return params_; }
+  int horizon_steps() const { return params_.mpc.horizon_steps; }
+  /// The MPC workspace of a context (for inspection in tests).
+  const VerticalComMpc& workspace(const LeafContext& context) const { return *context.scratch<std::shared_ptr<VerticalComMpc>>(); }
+
+ protected:
+  std::any AllocateScratch() const override { return std::make_shared<VerticalComMpc>(params_.mpc); }
+
+ private:
+  EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
+  VerticalComMpcSystemParams params_;
+  int state_port_, target_port_;
+};
+
+}  // namespace rome

@@ -1,0 +1,42 @@
+#pragma once
+// Terrain for the hybrid contact plant: flat ground, or a row of stepping stones along world x.
+// Stones are infinitely wide in y (the planar robots never leave the sagittal plane; for 3D robots they
+// are bands across the walking direction).
+
+#include <string>
+#include <vector>
+
+namespace rome {
+
+struct SteppingStone {
+  double x_center_m = 0.0;    ///< [m] centre of the stone's top along x.
+  double top_height_m = 0.0;  ///< [m] height of the stone's top.
+  double length_m = 0.1;      ///< [m] extent of the stone's top along x.
+};
+
+class Terrain {
+ public:
+  static Terrain Flat(double height_m = 0.0);
+  /// Stones sorted by x (they are sorted here); an error naming the stone for non-positive length or overlap.
+  static Terrain Stones(std::vector<SteppingStone> stones);
+  /// Reads a CSV with one stone a line: x,z[,length]; a header line is allowed; `default_length_m`
+  /// when the length column is missing. Errors name the file and the line.
+  static Terrain FromCsv(const std::string& path, double default_length_m);
+
+  bool is_flat() const { return stones_.empty(); }
+  const std::vector<SteppingStone>& stones() const { return stones_; }
+  /// Height used by touchdown witnesses at x: the ground, or the top of the stone under x, or, between
+  /// stones, the top of the nearest stone (so a foot that misses every stone still produces a touchdown,
+  /// which the plant then reports as a fall).
+  double SurfaceHeight(double x) const;
+  /// Index of the stone whose top contains x (with `tolerance_m` margin), or -1.
+  int StoneAt(double x, double tolerance_m = 0.0) const;
+  /// Index of the stone whose centre is nearest to x (-1 on flat ground).
+  int NearestStone(double x) const;
+
+ private:
+  double flat_height_ = 0.0;
+  std::vector<SteppingStone> stones_;
+};
+
+}  // namespace rome

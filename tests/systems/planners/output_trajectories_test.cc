@@ -1,0 +1,186 @@
+// Output trajectories, Eq. (19)-(24): Bézier end-point and derivative conditions, exact apex, torso cubic
+// against Eq. (22) solved numerically, derivatives against finite differences, chain rule through τ̇.
+#include "systems/planners/output_trajectories.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include <Eigen/Dense>
+
+namespace rome {
+namespace {
+
+// Central finite differences of f at x.
+ScalarDerivatives FiniteDifferences(const std::function<double(double)>& f, double x, double h = 1e-4) {
+  return {f(x), (f(x + h) - f(x - h)) / (2 * h), (f(x + h) - 2 * f(x) + f(x - h)) / (h * h)};
+}
+
+TEST(OutputTrajectories, BezierDerivativesMatchFiniteDifferences) {
+  const BezierCurve b((Eigen::VectorXd(6) << 0.02, 0.3, -0.1, 0.25, 0.1, 0.05).finished());
+  for (double tau = 0.05; tau < 1.0; tau += 0.1) {
+    const ScalarDerivatives exact = b.Evaluate(tau);
+    const ScalarDerivatives fd = FiniteDifferences([&](double s) { return b.Evaluate(s).value; }, tau);
+    EXPECT_NEAR(exact.first, fd.first, 1e-6);  // central differences: O(h²) = 1e-8 × |b'''|
+    EXPECT_NEAR(exact.second, fd.second, 1e-5);
+  }
+  // Bernstein form against the explicit sum Σ γ_k C(5,k) τ^k (1−τ)^{5−k}.
+  const double gamma[6] = {0.02, 0.3, -0.1, 0.25, 0.1, 0.05}, binomial[6] = {1, 5, 10, 10, 5, 1};
+  for (double tau : {0.0, 0.3, 0.77, 1.0}) {
+    double sum = 0;
+    for (int k = 0; k < 6; ++k) sum += gamma[k] * binomial[k] * std::pow(tau, k) * std::pow(1 - tau, 5 - k);
+    EXPECT_NEAR(b.Evaluate(tau).value, sum, 1e-15);
+  }
+  EXPECT_THROW(BezierCurve(Eigen::VectorXd::Zero(1)), std::invalid_argument);
+}
+
+TEST(OutputTrajectories, SwingFootEndPointsAndDerivatives) {
+  const double p_sw0_x = -0.35, p_sw0_z = 0.0, l = 0.45, h = 0.15;
+  SwingFootBezierParams params;
+  params.clearance = 0.2;
+  params.strike_depth = -0.02;
+  const SwingFootBezier swing(params, p_sw0_x, p_sw0_z, l, h);
+  // Eq. (23): x from p_sw0^x to l_des with zero velocity and acceleration in τ at both ends (γ = [0,0,0,1,1,1]).
+  EXPECT_DOUBLE_EQ(swing.X(0).value, p_sw0_x);
+  EXPECT_DOUBLE_EQ(swing.X(1).value, l);
+  for (double tau : {0.0, 1.0}) {
+    EXPECT_NEAR(swing.X(tau).first, 0.0, 1e-14);
+    EXPECT_NEAR(swing.X(tau).second, 0.0, 1e-13);
+  }
+  // Eq. (24): z from p_sw0^z to h + z_neg (below the foothold: the foot strikes), descending at impact with
+  // dz/dτ = 5 z_neg; lifting off with dz/dτ = 5 (z_max − p_sw0^z).
+  EXPECT_DOUBLE_EQ(swing.Z(0).value, p_sw0_z);
+  EXPECT_DOUBLE_EQ(swing.Z(1).value, h - 0.02);
+  EXPECT_LT(swing.Z(1).value, h);
+  EXPECT_NEAR(swing.Z(1).first, 5 * -0.02, 1e-14);
+  EXPECT_NEAR(swing.Z(0).first, 5 * (0.2 - p_sw0_z), 1e-14);
+  // Second derivatives at the ends: 20 (γ_2 − 2γ_1 + γ_0) and 20 (γ_5 − 2γ_4 + γ_3).
+  EXPECT_NEAR(swing.Z(0).second, 20 * (0.2 - 2 * 0.2 + p_sw0_z), 1e-13);
+  EXPECT_NEAR(swing.Z(1).second, 20 * ((h - 0.02) - 2 * h + 0.2), 1e-13);
+  // Derivatives against finite differences in the interior.
+  for (double tau = 0.05; tau < 1.0; tau += 0.15) {
+    const ScalarDerivatives fx = FiniteDifferences([&](double s) { return swing.X(s).value; }, tau);
+    const ScalarDerivatives fz = FiniteDifferences([&](double s) { return swing.Z(s).value; }, tau);
+    EXPECT_NEAR(swing.X(tau).first, fx.first, 1e-6);
+    EXPECT_NEAR(swing.X(tau).second, fx.second, 1e-5);
+    EXPECT_NEAR(swing.Z(tau).first, fz.first, 1e-6);
+    EXPECT_NEAR(swing.Z(tau).second, fz.second, 1e-5);
+  }
+  // The paper's control-point apex stays below z_max (convex hull property) and above the end points.
+  const double peak = swing.MaxHeight();
+  EXPECT_LT(peak, 0.2);
+  EXPECT_GT(peak, h);
+  SwingFootBezierParams bad = params;
+  bad.strike_depth = 0.0;
+  EXPECT_THROW(SwingFootBezier(bad, p_sw0_x, p_sw0_z, l, h), std::invalid_argument);
+}
+
+TEST(OutputTrajectories, ExactApexReachesTheClearance) {
+  for (const auto& [p0, h] : {std::pair{0.0, 0.0}, std::pair{0.0, 0.2}, std::pair{0.1, -0.15}}) {
+    SwingFootBezierParams params;
+    params.clearance = 0.08;
+    params.apex_shape = SwingApexShape::kExactPeak;
+    params.apex_reference = SwingApexReference::kHigherFoothold;
+    const SwingFootBezier swing(params, -0.3, p0, 0.4, h);
+    const double apex = std::max(p0, h) + 0.08;
+    EXPECT_DOUBLE_EQ(swing.apex_height(), apex);
+    double tau_max = 0;
+    const double peak = swing.MaxHeight(&tau_max);
+    EXPECT_NEAR(peak, apex, 1e-12) << "p0 = " << p0 << ", h = " << h;
+    // It is a true interior maximum: zero slope, negative curvature, and no sample above it.
+    EXPECT_NEAR(swing.Z(tau_max).first, 0.0, 1e-9);
+    EXPECT_LT(swing.Z(tau_max).second, 0.0);
+    for (int k = 0; k <= 1000; ++k) EXPECT_LE(swing.Z(k / 1000.0).value, apex + 1e-12);
+    // End points are unchanged by the apex fit.
+    EXPECT_DOUBLE_EQ(swing.Z(0).value, p0);
+    EXPECT_DOUBLE_EQ(swing.Z(1).value, h + params.strike_depth);
+  }
+  SwingFootBezierParams too_low;
+  too_low.clearance = 0.05;
+  too_low.apex_shape = SwingApexShape::kExactPeak;  // relative to the stance foot, below a 0.2 m foothold
+  EXPECT_THROW(SwingFootBezier(too_low, -0.3, 0.0, 0.4, 0.2), std::invalid_argument);
+}
+
+TEST(OutputTrajectories, TorsoCubicSolvesEq22) {
+  const double phi0 = 0.12, phif = -0.05;
+  Eigen::Matrix4d M;
+  M << 1, 0, 0, 0, 0, 1, 0, 0, 1, 1, 1, 1, 0, 1, 2, 3;
+  const Eigen::Vector4d c = M.partialPivLu().solve(Eigen::Vector4d(phi0, 0, phif, 0));
+  const TorsoPitchCubic torso(phi0, phif);
+  EXPECT_NEAR((torso.coefficients() - c).norm(), 0.0, 1e-15);
+  EXPECT_DOUBLE_EQ(torso.Evaluate(0).value, phi0);
+  EXPECT_NEAR(torso.Evaluate(1).value, phif, 1e-15);
+  EXPECT_EQ(torso.Evaluate(0).first, 0.0);
+  EXPECT_NEAR(torso.Evaluate(1).first, 0.0, 1e-15);
+  for (double tau = 0.1; tau < 1; tau += 0.2) {
+    const ScalarDerivatives fd = FiniteDifferences([&](double s) { return torso.Evaluate(s).value; }, tau);
+    EXPECT_NEAR(torso.Evaluate(tau).first, fd.first, 1e-8);  // h² |φ'''| / 6 = 3.4e-9
+    EXPECT_NEAR(torso.Evaluate(tau).second, fd.second, 1e-6);
+  }
+}
+
+TEST(OutputTrajectories, PhaseVariables) {
+  const PhaseVariable state_based({.type = PhaseType::kStateBased, .saturate = true});
+  // Eq. (20): τ = (p − p0)/(ε l − p0).
+  const Phase p = state_based.StateBased(0.05, 0.8, 2.0, -0.16, 0.24);
+  EXPECT_NEAR(p.tau, 0.21 / 0.4, 1e-15);
+  EXPECT_NEAR(p.tau_dot, 0.8 / 0.4, 1e-15);
+  EXPECT_NEAR(p.tau_ddot, 2.0 / 0.4, 1e-15);
+  // Saturation past the pre-impact position.
+  const Phase late = state_based.StateBased(0.3, 0.8, 2.0, -0.16, 0.24);
+  EXPECT_EQ(late.tau, 1.0);
+  EXPECT_EQ(late.tau_dot, 0.0);
+  EXPECT_GT(PhaseVariable({.saturate = false}).StateBased(0.3, 0.8, 2.0, -0.16, 0.24).tau, 1.0);
+  // Sec. VI-D: τ_t = (t − t0)/T_s.
+  const Phase t = state_based.TimeBased(1.3, 1.1, 0.4);
+  EXPECT_NEAR(t.tau, 0.5, 1e-15);
+  EXPECT_NEAR(t.tau_dot, 2.5, 1e-15);
+  EXPECT_EQ(t.tau_ddot, 0.0);
+  EXPECT_THROW(state_based.TimeBased(1.0, 0.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(state_based.StateBased(0.0, 0.0, 0.0, 0.2, 0.2), std::invalid_argument);
+}
+
+TEST(OutputTrajectories, TimeDerivativesFollowTheChainRuleAlongALipStep) {
+  // Along a LIP step (x(t) = flow of Eq. (12)), Y_d(t) differentiated numerically in time must equal Ẏ_d, Ÿ_d.
+  const double z0 = 0.8, g = 9.81, lambda = std::sqrt(g / z0);
+  const double x0 = -0.16, xdot0 = 0.9;
+  auto x_of_t = [&](double t) { return x0 * std::cosh(lambda * t) + xdot0 / lambda * std::sinh(lambda * t); };
+  auto xdot_of_t = [&](double t) { return x0 * lambda * std::sinh(lambda * t) + xdot0 * std::cosh(lambda * t); };
+  StepOutputParameters step;
+  step.phi_0 = 0.1;
+  step.phi_f = -0.02;
+  step.p_com_x0 = x0;
+  step.p_sw0_x = -0.32;
+  step.p_sw0_z = 0.0;
+  step.step_length = 0.4;
+  step.step_height = 0.1;
+  step.impact_fraction = 0.6;
+  step.step_start_time = 0.0;
+  step.step_duration = 0.35;
+  SwingFootBezierParams swing;
+  swing.clearance = 0.18;
+  for (PhaseType type : {PhaseType::kStateBased, PhaseType::kTimeBased}) {
+    const SteppingStonesOutputTrajectories outputs({.type = type, .saturate = true}, swing, step);
+    const Eigen::Vector3d com_height(0.8, 0.0, 0.0);  // the MPC part is passed through
+    auto y_of_t = [&](double t, int i) {
+      const double x = x_of_t(t);
+      return outputs.Evaluate(t, x, xdot_of_t(t), lambda * lambda * x, com_height).y[i];
+    };
+    for (double t = 0.03; t < 0.3; t += 0.05) {
+      const double x = x_of_t(t);
+      const DesiredOutputs d = outputs.Evaluate(t, x, xdot_of_t(t), lambda * lambda * x, com_height);
+      ASSERT_GT(d.phase.tau, 0.0);
+      ASSERT_LT(d.phase.tau, 1.0);
+      for (int i : {0, 2, 3}) {
+        const ScalarDerivatives fd = FiniteDifferences([&](double s) { return y_of_t(s, i); }, t, 1e-4);
+        EXPECT_NEAR(d.ydot[i], fd.first, 1e-6 * (1 + std::abs(fd.first))) << "output " << i << " t = " << t;
+        EXPECT_NEAR(d.yddot[i], fd.second, 1e-4 * (1 + std::abs(fd.second))) << "output " << i << " t = " << t;
+      }
+      EXPECT_EQ(d.y[1], 0.8);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rome
