@@ -1,0 +1,110 @@
+// TaskSpaceQpController: the periodic update (tasks, M, h, J, QP assembly, warm-started solve, GRF extraction)
+// allocates no heap memory once the context exists. Global operator new and, outside sanitizer builds, glibc's
+// malloc family are replaced in this binary and count allocations while updates run. Kept in its own binary.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "systems/controllers/task_space_qp_controller.h"
+#include "tests/systems/controllers/amber_test_setup.h"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kCountsMalloc = false;
+#else
+constexpr bool kCountsMalloc = true;
+#endif
+[[gnu::noinline]] void* CountedAllocate(std::size_t size) {
+  if (!kCountsMalloc && g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+[[gnu::noinline]] void Release(void* p) noexcept { std::free(p); }
+}  // namespace
+
+#if !defined(__SANITIZE_ADDRESS__)
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* malloc(std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_calloc(count, size);
+}
+void* realloc(void* p, std::size_t size) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_realloc(p, size);
+}
+}
+#endif
+
+void* operator new(std::size_t size) { return CountedAllocate(size); }
+void* operator new[](std::size_t size) { return CountedAllocate(size); }
+void operator delete(void* p) noexcept { Release(p); }
+void operator delete[](void* p) noexcept { Release(p); }
+void operator delete(void* p, std::size_t) noexcept { Release(p); }
+void operator delete[](void* p, std::size_t) noexcept { Release(p); }
+
+namespace rome {
+namespace {
+
+TEST(TaskSpaceQpControllerAllocation, CountingWorks) {
+  static double* volatile sink = nullptr;
+  g_allocations = 0;
+  g_counting = true;
+  sink = new double[16];
+  g_counting = false;
+  delete[] sink;
+  EXPECT_EQ(g_allocations, 1);
+}
+
+TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
+  auto model = test::LoadRobot("amber");
+  // Two modes (left stance, double support): the update switches between their QPs.
+  const ContactSet left = ContactBit(0), both = ContactBit(0) | ContactBit(1);
+  const auto tasks = test::AmberWalkingTasks(*model);
+  TaskSpaceQpController controller("tsc", model, {left, both}, tasks);
+  auto context = controller.CreateDefaultLeafContext();
+  const Eigen::VectorXd q_ss = test::AmberSingleSupportPose(*model), q_ds = test::AmberDoubleSupportPose(*model);
+  Eigen::VectorXd x_ss(14), x_ds(14), v = Eigen::VectorXd::Zero(7);
+  x_ss << q_ss, v;
+  x_ds << q_ds, v;
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
+  desired.head(4) = test::TaskValues(*model, tasks, q_ss, v) + Eigen::Vector4d(0.02, -0.01, 0.03, 0.02);
+  context->FixInputPort(0, x_ss);
+  context->FixInputPort(1, Eigen::VectorXd::Zero(1));
+  context->FixInputPort(2, desired);
+  const auto& update = controller.periodic_events().at(0).update;
+  Eigen::VectorXd next = context->discrete_state();
+  ASSERT_TRUE(update(*context, &next).ok());
+  long allocations = 0;
+  for (int tick = 0; tick < 200; ++tick) {
+    // Change the state in place (a fixed input keeps its storage) and switch modes every 50 ticks.
+    auto& fixed = const_cast<Eigen::VectorXd&>(controller.EvalInput(*context, 0));
+    const bool ds = (tick / 50) % 2 == 1;
+    fixed = ds ? x_ds : x_ss;
+    fixed[7 + 3] = 0.1 * std::sin(0.1 * tick);  // hip velocity, so J̇q̇ and the PD terms change
+    auto& mode = const_cast<Eigen::VectorXd&>(controller.EvalInput(*context, 1));
+    mode[0] = ds ? 1.0 : 0.0;
+    context->InvalidateCache();
+    g_allocations = 0;
+    g_counting = true;
+    const EventStatus status = update(*context, &next);
+    g_counting = false;
+    allocations += g_allocations;
+    ASSERT_TRUE(status.ok()) << status.message;
+    ASSERT_EQ(controller.last_qp(*context).status(), QpStatus::kOptimal) << controller.last_qp(*context).status_message();
+  }
+  EXPECT_EQ(allocations, 0);
+}
+
+}  // namespace
+}  // namespace rome
