@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+
+#include "solvers/nlp/ipopt_solver.h"  // rome::IpoptMutex(): the one process-wide Ipopt lock
 #include <random>
 
 #include "solvers/qp/dense_qp_solver.h"
@@ -16,11 +18,6 @@ namespace rome {
 namespace {
 
 using qp_test::QpProblem;
-
-std::mutex& IpoptMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
 
 // The QP as an Ipopt NLP: constraints [A_eq; A] x with bounds [b_eq, b_eq; l, u], variable bounds lb, ub.
 class QpTnlp : public Ipopt::TNLP {
