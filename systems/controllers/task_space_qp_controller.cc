@@ -254,7 +254,8 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
   qp.g.setZero();
   if (ny_ > 0) {
     s.WJy.noalias() = s.w_rows.asDiagonal() * s.Jy;
-    qp.H.topLeftCorner(nv, nv).noalias() = s.Jy.transpose() * s.WJy;
+    // lazyProduct: coefficient-based, so Eigen sets up no heap GEMM blocking space for these small sizes.
+    qp.H.topLeftCorner(nv, nv).noalias() = s.Jy.transpose().lazyProduct(s.WJy);
     s.ydd_star = s.Jdot_qdot - s.ydd_star;  // reuse: J̇_y q̇ − ÿ*
     qp.g.head(nv).noalias() = s.WJy.transpose() * s.ydd_star;
   }

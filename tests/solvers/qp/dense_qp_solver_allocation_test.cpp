@@ -12,58 +12,12 @@
 #include "solvers/qp/dense_qp_solver.h"
 #include "tests/solvers/qp/qp_test_problems.h"
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
+#include "tests/common/allocation_counter.h"  // replaces operator new/malloc in this binary
 
 namespace {
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kCountsMalloc = false;
-#else
-constexpr bool kCountsMalloc = true;
-#endif
-// Out-of-line malloc/free so the compiler does not pair them with the replaced operators below.
-[[gnu::noinline]] void* CountedAllocate(std::size_t size) {
-  // With ROME_COUNT_MALLOC the malloc below is counted already.
-  if (!kCountsMalloc && g_counting.load(std::memory_order_relaxed)) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
-  }
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-[[gnu::noinline]] void Release(void* p) noexcept { std::free(p); }
+[[maybe_unused]] constexpr bool kCountsMalloc = ROME_COUNT_MALLOC;
+[[maybe_unused]] constexpr bool kMallocReplaced = ROME_COUNT_MALLOC;
 }  // namespace
-
-#if defined(__SANITIZE_ADDRESS__)
-#define ROME_COUNT_MALLOC 0  // the sanitizer owns malloc; only operator new is counted
-#else
-#define ROME_COUNT_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* p, std::size_t size);
-void* malloc(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(count, size);
-}
-void* realloc(void* p, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, size);
-}
-}
-#endif
-
-void* operator new(std::size_t size) { return CountedAllocate(size); }
-void* operator new[](std::size_t size) { return CountedAllocate(size); }
-void operator delete(void* p) noexcept { Release(p); }
-void operator delete[](void* p) noexcept { Release(p); }
-void operator delete(void* p, std::size_t) noexcept { Release(p); }
-void operator delete[](void* p, std::size_t) noexcept { Release(p); }
 
 namespace rome {
 namespace {

@@ -11,48 +11,12 @@
 #include "systems/multibody/contact_dynamics.h"
 #include "tests/systems/multibody/test_models.h"
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
+#include "tests/common/allocation_counter.h"  // replaces operator new/malloc in this binary
 
-// Count every heap allocation by interposing glibc's malloc family (Eigen and Bullet call
-// malloc directly; operator new calls malloc too). Not possible under AddressSanitizer, which
-// owns malloc itself: the allocation test is skipped there.
-#if defined(__SANITIZE_ADDRESS__)
-#define ROME_COUNT_MALLOC 0
-#else
-#define ROME_COUNT_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-void* malloc(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(n);
-}
-void* calloc(std::size_t a, std::size_t b) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(a, b);
-}
-void* realloc(void* p, std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, n);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  *out = __libc_memalign(alignment, n);
-  return *out ? 0 : 12;  // ENOMEM
-}
-void* aligned_alloc(std::size_t alignment, std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(alignment, n);
-}
-void free(void* p) { __libc_free(p); }
-}
-#endif
+namespace {
+[[maybe_unused]] constexpr bool kCountsMalloc = ROME_COUNT_MALLOC;
+[[maybe_unused]] constexpr bool kMallocReplaced = ROME_COUNT_MALLOC;
+}  // namespace
 
 namespace rome {
 namespace {

@@ -10,48 +10,12 @@
 #include "systems/planners/vertical_com_mpc.h"
 #include "systems/planners/vertical_com_mpc_system.h"
 
+#include "tests/common/allocation_counter.h"  // replaces operator new/malloc in this binary
+
 namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kMallocReplaced = false;
-#else
-constexpr bool kMallocReplaced = true;
-#endif
-[[gnu::noinline]] void* CountedNew(std::size_t size) {
-  if (!kMallocReplaced && g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-[[gnu::noinline]] void CountedDelete(void* p) noexcept { std::free(p); }
+[[maybe_unused]] constexpr bool kCountsMalloc = ROME_COUNT_MALLOC;
+[[maybe_unused]] constexpr bool kMallocReplaced = ROME_COUNT_MALLOC;
 }  // namespace
-
-#if !defined(__SANITIZE_ADDRESS__)
-extern "C" {
-void* __libc_malloc(std::size_t size);
-void* __libc_calloc(std::size_t count, std::size_t size);
-void* __libc_realloc(void* p, std::size_t size);
-void* malloc(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t count, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(count, size);
-}
-void* realloc(void* p, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, size);
-}
-}
-#endif
-
-void* operator new(std::size_t size) { return CountedNew(size); }
-void* operator new[](std::size_t size) { return CountedNew(size); }
-void operator delete(void* p) noexcept { CountedDelete(p); }
-void operator delete[](void* p) noexcept { CountedDelete(p); }
-void operator delete(void* p, std::size_t) noexcept { CountedDelete(p); }
-void operator delete[](void* p, std::size_t) noexcept { CountedDelete(p); }
 
 namespace rome {
 namespace {
