@@ -124,14 +124,22 @@ int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, cons
 }
 
 // Lambda = J M^-1 J^T (ws.Lambda) and the Cholesky factor of Lambda + eps I (ws.Lambda_L,
-// lower, with a pivot floor); also leaves M^-1 J^T in ws.Minv_JT.
+// lower, with a pivot floor). With the tree factor M = L^T D L: Z = D^-1/2 L^-T J^T (in
+// ws.Minv_JT) and Lambda = Z^T Z; otherwise ws.Minv_JT = M^-1 J^T and Lambda = J M^-1 J^T.
 void FactorDelassus(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int k,
                     double regularization) {
-  auto MinvJT = ws.Minv_JT.leftCols(k);
-  MinvJT = ws.J.topRows(k).transpose();
-  SolveMassMatrix(model, ws, q, MinvJT);
+  auto Z = ws.Minv_JT.leftCols(k);
+  Z = ws.J.topRows(k).transpose();
   auto A = ws.Lambda.topLeftCorner(k, k);
-  A.noalias() = ws.J.topRows(k) * MinvJT;
+  FactorMassMatrix(model, ws, q);
+  if (ws.use_tree_factor) {
+    SolveMassMatrixTransposeFactor(ws, Z);
+    for (int i = 0; i < model.nv(); ++i) Z.row(i) *= 1.0 / std::sqrt(ws.M_LTDL(i, i));
+    A.noalias() = Z.transpose() * Z;
+  } else {
+    SolveMassMatrix(model, ws, q, Z);
+    A.noalias() = ws.J.topRows(k) * Z;
+  }
   double mean_diag = k > 0 ? A.diagonal().mean() : 0.0;
   if (!(mean_diag > 0.0)) mean_diag = 1.0;
   const double eps = regularization * mean_diag;
@@ -229,7 +237,10 @@ int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspa
   rhs -= (beta * beta) * ws.phi.head(k);
   SolveDelassus(ws, k);
   F.head(k) = ws.lambda_sol.head(k);
-  qdd.noalias() += ws.Minv_JT.leftCols(k) * ws.lambda_sol.head(k);
+  // qdd += M^-1 J^T F
+  ws.tmp_nv.noalias() = ws.J.topRows(k).transpose() * ws.lambda_sol.head(k);
+  SolveMassMatrix(model, ws, q, ws.tmp_nv);
+  qdd += ws.tmp_nv;
   return k;
 }
 
@@ -260,7 +271,10 @@ int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const Vec
   ws.rhs.head(k) = -ws.rhs.head(k);
   SolveDelassus(ws, k);
   impulse.head(k) = ws.lambda_sol.head(k);
-  v_plus.noalias() += ws.Minv_JT.leftCols(k) * ws.lambda_sol.head(k);
+  // v_plus += M^-1 J^T impulse
+  ws.tmp_nv.noalias() = ws.J.topRows(k).transpose() * ws.lambda_sol.head(k);
+  SolveMassMatrix(model, ws, q, ws.tmp_nv);
+  v_plus += ws.tmp_nv;
   return k;
 }
 

@@ -21,6 +21,7 @@ void CheckSize(const MultibodyModel& model, Eigen::Index got, Eigen::Index expec
 // calcAccelerationDeltasMultiDof) are valid.
 void EnsureBulletMinv(const MultibodyModel& model, MultibodyWorkspace& ws) {
   if (ws.valid.bullet_minv) return;
+  ws.EnsureBulletPositions();
   btMultiBody& mb = ws.bullet();
   mb.clearForcesAndTorques();
   for (int i = 0; i < model.num_bodies(); ++i)
@@ -159,17 +160,72 @@ void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
   ApplyArmatureCorrection(ws, out);
 }
 
-void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                     Eigen::Ref<Eigen::MatrixXd> inout) {
-  CheckSize(model, inout.rows(), model.nv(), "M^-1 operand rows");
+void FactorMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q) {
   CalcMassMatrix(model, ws, q);
-  if (!ws.valid.M_factor) {
+  if (ws.valid.M_factor) return;
+  const int nv = model.nv();
+  if (ws.use_tree_factor) {
+    // LTDL (Featherstone, RBDA Table 6.3): M = L^T D L, fill-in confined to ancestor pairs.
+    const std::vector<int>& lambda = ws.dof_parent;
+    Eigen::MatrixXd& H = ws.M_LTDL;
+    H.triangularView<Eigen::Lower>() = ws.M.triangularView<Eigen::Lower>();
+    for (int k = nv - 1; k >= 0; --k) {
+      const double Hkk = H(k, k);
+      if (!(Hkk > 0.0))
+        throw std::runtime_error("robot '" + model.name() +
+                                 "': mass matrix is not positive definite (pivot " +
+                                 std::to_string(Hkk) + " at dof " + std::to_string(k) + ")");
+      for (int i = lambda[k]; i >= 0; i = lambda[i]) {
+        const double a = H(k, i) / Hkk;
+        for (int j = i; j >= 0; j = lambda[j]) H(i, j) -= a * H(k, j);
+        H(k, i) = a;
+      }
+    }
+  } else {
     ws.M_llt.compute(ws.M);
     if (ws.M_llt.info() != Eigen::Success)
       throw std::runtime_error("robot '" + model.name() + "': mass matrix is not positive definite");
-    ws.valid.M_factor = true;
   }
-  ws.M_llt.solveInPlace(inout);
+  ws.valid.M_factor = true;
+}
+
+void SolveMassMatrixTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> inout) {
+  const std::vector<int>& lambda = ws.dof_parent;
+  const Eigen::MatrixXd& H = ws.M_LTDL;
+  const int nv = static_cast<int>(H.rows());
+  for (Eigen::Index c = 0; c < inout.cols(); ++c) {
+    double* x = inout.col(c).data();
+    // L^T y = b, leaves to root; zero entries (other branches) cost nothing.
+    for (int i = nv - 1; i >= 0; --i) {
+      const double xi = x[i];
+      if (xi == 0.0) continue;
+      for (int j = lambda[i]; j >= 0; j = lambda[j]) x[j] -= H(i, j) * xi;
+    }
+  }
+}
+
+void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                     Eigen::Ref<Eigen::MatrixXd> inout) {
+  CheckSize(model, inout.rows(), model.nv(), "M^-1 operand rows");
+  FactorMassMatrix(model, ws, q);
+  if (!ws.use_tree_factor) {
+    ws.M_llt.solveInPlace(inout);
+    return;
+  }
+  SolveMassMatrixTransposeFactor(ws, inout);
+  const int nv = model.nv();
+  const std::vector<int>& lambda = ws.dof_parent;
+  const Eigen::MatrixXd& H = ws.M_LTDL;
+  for (Eigen::Index c = 0; c < inout.cols(); ++c) {
+    double* x = inout.col(c).data();
+    // y <- D^-1 y, then L x = y (root to leaves).
+    for (int i = 0; i < nv; ++i) x[i] /= H(i, i);
+    for (int i = 0; i < nv; ++i) {
+      double xi = x[i];
+      for (int j = lambda[i]; j >= 0; j = lambda[j]) xi -= H(i, j) * x[j];
+      x[i] = xi;
+    }
+  }
 }
 
 void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
@@ -184,6 +240,7 @@ void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, co
   ws.tau_total.noalias() += model.B() * u;
   if (tau_ext.size() != 0) ws.tau_total += tau_ext;
 
+  ws.EnsureBulletPositions();
   btMultiBody& mb = ws.bullet();
   mb.clearForcesAndTorques();
   const btVector3 g(model.gravity().x(), model.gravity().y(), model.gravity().z());

@@ -1,5 +1,6 @@
 #include "systems/multibody/multibody_workspace.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -28,7 +29,8 @@ MultibodyWorkspace::MultibodyWorkspace(MultibodyWorkspace&&) noexcept = default;
 MultibodyWorkspace& MultibodyWorkspace::operator=(MultibodyWorkspace&&) noexcept = default;
 
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
-    : valid(), M(other.M), M_llt(other.M_llt), h(other.h), tau_spring(other.tau_spring),
+    : valid(), M(other.M), M_LTDL(other.M_LTDL), dof_parent(other.dof_parent),
+      use_tree_factor(other.use_tree_factor), M_llt(other.M_llt), h(other.h), tau_spring(other.tau_spring),
       tmp_nv(other.tmp_nv), tmp2_nv(other.tmp2_nv), tau_total(other.tau_total), f_(other.f_),
       bullet_in(other.bullet_in), bullet_out(other.bullet_out),
       armature_dofs(other.armature_dofs), Minv_P(other.Minv_P),
@@ -69,6 +71,20 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   Ic_.assign(nb, SpatialInertia());
   M.setZero(nv, nv);
   M_llt.compute(Eigen::MatrixXd::Identity(nv, nv));  // sizes the factor storage once
+  M_LTDL.setZero(nv, nv);
+  dof_parent.assign(nv, -1);
+  use_tree_factor = true;
+  {
+    const std::vector<MultibodyBody>& bodies = *bodies_;
+    for (int i = 0; i < nb; ++i) {
+      const int k = bodies[i].v_index;
+      if (k < 0) continue;
+      int j = bodies[i].parent;
+      while (j >= 0 && bodies[j].v_index < 0) j = bodies[j].parent;
+      dof_parent[k] = j >= 0 ? bodies[j].v_index : -1;
+      if (dof_parent[k] >= k) use_tree_factor = false;
+    }
+  }
   h.setZero(nv);
   tau_spring.setZero(nv);
   tmp_nv.setZero(nv);
@@ -170,22 +186,52 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
 
   const std::vector<MultibodyBody>& bodies = *bodies_;
   const int nb = static_cast<int>(bodies.size());
-  for (int i = 0; i < nb; ++i)
-    if (bodies[i].v_index >= 0) bullet_->setJointPos(i, q_[bodies[i].v_index]);
-  bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
-  valid.bullet_q = true;
-
-  // Link poses from Bullet's principal frames: R_wl = R_wb V^T, p_wl = c_w - R_wl c_link.
+  // Forward kinematics with fixed-size Eigen math (the URDF joint chain), root to leaves:
+  //   R_wl = R_wp R_pj R_axis(q),  p_wl = p_wp + R_wp (t_pj + R_pj axis q) (prismatic).
+  // Bullet's joint positions are only pushed (lazily, EnsureBulletPositions) when a Bullet
+  // algorithm (ABA, M^-1) is called; the test suite checks these poses against Bullet's
+  // forwardKinematics to 1e-12.
   for (int i = 0; i < nb; ++i) {
-    const btTransform& X = bullet_->getLink(i).m_cachedWorldTransform;
-    const btMatrix3x3& Rb = X.getBasis();
-    Eigen::Matrix3d R_wb;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) R_wb(r, c) = Rb[r][c];
-    const btVector3& o = X.getOrigin();
-    c_w_[i] = Eigen::Vector3d(o.x(), o.y(), o.z());
-    R_wl_[i].noalias() = R_wb * bodies[i].R_link_principal.transpose();
-    p_wl_[i] = c_w_[i] - R_wl_[i] * bodies[i].com;
+    const MultibodyBody& b = bodies[i];
+    const int p = b.parent;
+    const auto R_pj = b.X_parent_joint.linear();
+    const auto t_pj = b.X_parent_joint.translation();
+    Eigen::Matrix3d R_wj;  // joint frame at q = 0 in world
+    Eigen::Vector3d p_wj;
+    if (p >= 0) {
+      R_wj.noalias() = R_wl_[p].lazyProduct(R_pj);
+      p_wj.noalias() = R_wl_[p] * t_pj;
+      p_wj += p_wl_[p];
+    } else {
+      R_wj = R_pj;
+      p_wj = t_pj;
+    }
+    const double qi = b.v_index >= 0 ? q_[b.v_index] : 0.0;
+    switch (b.joint_type) {
+      case MultibodyJointType::kRevolute: {
+        // Rodrigues: R_axis(q) = cos q I + sin q [a]x + (1 - cos q) a a^T, so with w = R_wj a
+        // column j of R_wj R_axis is cos q r_j + sin q (w x r_j) + (1 - cos q) a_j w.
+        const double s = std::sin(qi), c = std::cos(qi), c1 = 1.0 - c;
+        const Eigen::Vector3d& a = b.axis;
+        const Eigen::Vector3d w = R_wj * a;
+        for (int j = 0; j < 3; ++j) {
+          const Eigen::Vector3d r = R_wj.col(j);
+          R_wl_[i].col(j) = c * r + s * w.cross(r) + (c1 * a[j]) * w;
+        }
+        p_wl_[i] = p_wj;
+        break;
+      }
+      case MultibodyJointType::kPrismatic:
+        R_wl_[i] = R_wj;
+        p_wl_[i].noalias() = p_wj + (qi * R_wj) * b.axis;
+        break;
+      case MultibodyJointType::kFixed:
+        R_wl_[i] = R_wj;
+        p_wl_[i] = p_wj;
+        break;
+    }
+    c_w_[i].noalias() = R_wl_[i] * b.com;
+    c_w_[i] += p_wl_[i];
   }
   // Reference point O for all spatial quantities: the root link origin (keeps lever arms small).
   O_ = p_wl_[model.num_base_dofs() > 0 ? model.num_base_dofs() - 1 : 0];
@@ -208,16 +254,52 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
     }
     // Spatial inertia at O: I_O = R I_c R^T + m (|c|^2 1 - c c^T), h = m c.
     SpatialInertia& I = I_[i];
+    if (b.mass == 0.0 && b.inertia.isZero(0.0)) {  // massless (virtual) body
+      I = SpatialInertia();
+      continue;
+    }
     const Eigen::Vector3d c = c_w_[i] - O_;
     I.m = b.mass;
     I.h = b.mass * c;
-    I.I.noalias() = R_wl_[i] * b.inertia * R_wl_[i].transpose();
-    I.I += b.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+    const Eigen::Matrix3d RI = R_wl_[i].lazyProduct(b.inertia);
+    I.I.noalias() = RI.lazyProduct(R_wl_[i].transpose());
+    I.I.noalias() -= (b.mass * c).lazyProduct(c.transpose());
+    I.I.diagonal().array() += b.mass * c.squaredNorm();
   }
   // Composite inertias (leaves to root); all at the same point, so they simply add.
   for (int i = 0; i < nb; ++i) Ic_[i] = I_[i];
   for (int i = nb - 1; i >= 0; --i)
     if (bodies[i].parent >= 0) Ic_[bodies[i].parent] += Ic_[i];
+}
+
+void MultibodyWorkspace::EnsureBulletPositions() {
+  if (valid.bullet_q) return;
+  const std::vector<MultibodyBody>& bodies = *bodies_;
+  const int nb = static_cast<int>(bodies.size());
+  for (int i = 0; i < nb; ++i)
+    if (bodies[i].v_index >= 0) bullet_->setJointPos(i, q_[bodies[i].v_index]);
+  valid.bullet_q = true;
+}
+
+void MultibodyWorkspace::CalcBulletLinkPoses(std::vector<Eigen::Isometry3d>& X_world_link) {
+  if (!has_q_) throw std::logic_error("CalcBulletLinkPoses called before SetPositions");
+  EnsureBulletPositions();
+  bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
+  const std::vector<MultibodyBody>& bodies = *bodies_;
+  const int nb = static_cast<int>(bodies.size());
+  X_world_link.assign(nb, Eigen::Isometry3d::Identity());
+  // Bullet link frames are the principal frames at the COM: R_wl = R_wb V^T, p_wl = c_w - R_wl c.
+  for (int i = 0; i < nb; ++i) {
+    const btTransform& X = bullet_->getLink(i).m_cachedWorldTransform;
+    const btMatrix3x3& Rb = X.getBasis();
+    Eigen::Matrix3d R_wb;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) R_wb(r, c) = Rb[r][c];
+    const btVector3& o = X.getOrigin();
+    X_world_link[i].linear() = R_wb * bodies[i].R_link_principal.transpose();
+    X_world_link[i].translation() =
+        Eigen::Vector3d(o.x(), o.y(), o.z()) - X_world_link[i].linear() * bodies[i].com;
+  }
 }
 
 void MultibodyWorkspace::SetVelocities(const MultibodyModel& model,

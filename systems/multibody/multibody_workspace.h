@@ -7,10 +7,12 @@
 //  * Bullet link frames are the principal inertia frames at each COM (Bullet only accepts
 //    diagonal inertia); see MultibodyBody::R_link_principal;
 //  * Bullet damping is switched off and the coordinate velocity clamp is disabled.
-// Bullet provides the forward kinematics (link world transforms), the articulated-body
-// forward dynamics and the M^-1 operator (calcAccelerationDeltasMultiDof). Everything else
-// (M by CRBA, h by RNEA, Jacobians, J̇q̇, COM, centroidal momentum) is computed in
-// multibody_kinematics.cc / multibody_dynamics.cc from Bullet's link poses and joint axes.
+// Bullet provides the articulated-body forward dynamics and the M^-1 operator
+// (calcAccelerationDeltasMultiDof). Link world poses come from a fixed-size Eigen pass over the
+// joint chain (R_wl = R_wp R_pj R_axis(q)), verified against Bullet's forwardKinematics to 1e-12
+// in the tests (CalcBulletLinkPoses); q is pushed into Bullet lazily, only when a Bullet
+// algorithm runs. Everything else (M by CRBA, h by RNEA, Jacobians, J̇q̇, COM, centroidal
+// momentum) is computed in multibody_kinematics.cc / multibody_dynamics.cc from these poses.
 //
 // The state is cached by value: SetPositions(q) / SetVelocities(v) recompute only when q or v
 // changed, and derived quantities (M, h, ...) are computed lazily once per state.
@@ -20,6 +22,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 
 #include "systems/multibody/multibody_model.h"
 
@@ -84,6 +87,13 @@ class MultibodyWorkspace {
   const SpatialInertia& composite_inertia(int body) const { return Ic_[body]; }
 
   btMultiBody& bullet() { return *bullet_; }
+  // Pushes the current q into Bullet's joint positions (lazily, once per q). The workspace's own
+  // link poses come from an Eigen forward-kinematics pass; Bullet needs q only for its ABA and
+  // M^-1 operator. Called by the Bullet-based functions in multibody_dynamics.cc.
+  void EnsureBulletPositions();
+  // Bullet's own forward kinematics at the current q, converted to link frames (allocates; for
+  // verification of the Eigen kinematics pass, not for hot paths).
+  void CalcBulletLinkPoses(std::vector<Eigen::Isometry3d>& X_world_link);
 
   // ---------------- internal scratch (used by the free functions) ----------------
   struct Flags {
@@ -92,6 +102,13 @@ class MultibodyWorkspace {
   } valid;
 
   Eigen::MatrixXd M;              // nv x nv
+  // Tree-sparse factor M = L^T D L (Featherstone's LTDL, RBDA 6.3): L unit lower triangular with
+  // L_ki != 0 only for dof i an ancestor of dof k (stored below the diagonal), D on the
+  // diagonal. Used when every dof's parent dof has a smaller index (dof_parent[k] < k);
+  // otherwise the dense Cholesky M_llt is used.
+  Eigen::MatrixXd M_LTDL;         // nv x nv
+  std::vector<int> dof_parent;    // nearest ancestor dof of each dof, -1 for none
+  bool use_tree_factor = false;
   Eigen::LLT<Eigen::MatrixXd> M_llt;
   Eigen::VectorXd h;              // nv: C v + g
   Eigen::VectorXd tau_spring;     // nv
@@ -110,7 +127,7 @@ class MultibodyWorkspace {
   Eigen::MatrixXd J;          // rows x nv
   Eigen::VectorXd Jdot_qdot;  // rows
   Eigen::VectorXd phi;        // rows (position error; zero for contact rows)
-  Eigen::MatrixXd Minv_JT;    // nv x rows
+  Eigen::MatrixXd Minv_JT;    // nv x rows: D^-1/2 L^-T J^T (tree factor) or M^-1 J^T (dense)
   Eigen::MatrixXd Lambda;     // rows x rows: J M^-1 J^T
   Eigen::MatrixXd Lambda_L;   // rows x rows: Cholesky factor of J M^-1 J^T + eps I
   Eigen::VectorXd rhs, lambda_sol, residual;

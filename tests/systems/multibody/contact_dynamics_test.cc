@@ -128,6 +128,33 @@ TEST_P(ContactDynamicsTest, ImpactMapStopsContactsAndDissipates) {
   }
 }
 
+// The tree-sparse path (J M^-1 J^T = Z^T Z, Z = D^-1/2 L^-T J^T) and the dense-Cholesky
+// fallback must give the same accelerations, forces and post-impact velocities.
+TEST_P(ContactDynamicsTest, TreeFactorAndDenseCholeskyAgree) {
+  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  MultibodyWorkspace tree(model), dense(model);
+  ASSERT_TRUE(tree.use_tree_factor);
+  dense.use_tree_factor = false;
+  const ContactSet active = AllIndependentContacts(model);
+  const ConstrainedDynamicsParameters params;
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 3; ++trial) {
+    Eigen::VectorXd q, v;
+    test::RandomState(model, rng, q, v);
+    const Eigen::VectorXd u = Eigen::VectorXd::Ones(model.nu());
+    const int rows = std::max(1, model.max_constraint_rows());
+    Eigen::VectorXd qdd_t(model.nv()), qdd_d(model.nv()), F_t(rows), F_d(rows);
+    const int k = CalcConstrainedForwardDynamics(model, tree, q, v, u, active, params, qdd_t, F_t);
+    CalcConstrainedForwardDynamics(model, dense, q, v, u, active, params, qdd_d, F_d);
+    EXPECT_LT((qdd_t - qdd_d).norm(), 1e-8 * std::max(1.0, qdd_d.norm()));
+    EXPECT_LT((F_t.head(k) - F_d.head(k)).norm(), 1e-8 * std::max(1.0, F_d.head(k).norm()));
+    Eigen::VectorXd vp_t(model.nv()), vp_d(model.nv());
+    CalcImpactMap(model, tree, q, v, active, params, vp_t, F_t);
+    CalcImpactMap(model, dense, q, v, active, params, vp_d, F_d);
+    EXPECT_LT((vp_t - vp_d).norm(), 1e-8 * std::max(1.0, vp_d.norm()));
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(AllModels, ContactDynamicsTest, ::testing::ValuesIn(test::AllModelUrdfs()),
                          [](const ::testing::TestParamInfo<std::string>& info) {
                            std::string name = info.param.substr(info.param.find_last_of('/') + 1);

@@ -23,7 +23,8 @@ Eigen::Vector3d RotationLog(const Eigen::Matrix3d& R) {
   return aa.angle() * aa.axis();
 }
 
-// Kinetic energy from finite differences of the link poses (Bullet forward kinematics only):
+// Kinetic energy from finite differences of the link poses (workspace forward kinematics, checked
+// against Bullet in multibody_workspace_test):
 // T = sum 1/2 m |cdot|^2 + 1/2 w^T I_world w + 1/2 sum I_r v^2. Independent of CRBA.
 double KineticEnergyFromPoses(const MultibodyModel& model, MultibodyWorkspace& ws,
                               const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
@@ -176,6 +177,36 @@ TEST(MultibodyDynamicsTest, BulletForwardDynamicsAndInverseMassMatchCrbaAndRnea)
       Eigen::VectorXd ref = f;
       SolveMassMatrix(model, ws, q, ref);
       EXPECT_LT((out - ref).norm(), 1e-9 * std::max(1.0, ref.norm()));
+    }
+  }
+}
+
+// The tree-sparse L^T D L factor (Featherstone's LTDL) must invert the CRBA mass matrix to
+// round-off: M (M^-1 X) = X for a random block X, and agree with a dense LLT solve.
+TEST(MultibodyDynamicsTest, TreeSparseFactorSolvesMassMatrix) {
+  for (const std::string& urdf : test::AllModelUrdfs()) {
+    SCOPED_TRACE(urdf);
+    const MultibodyModel model = MultibodyModel::Load(urdf);
+    MultibodyWorkspace ws(model);
+    EXPECT_TRUE(ws.use_tree_factor) << "dof order is not parent-first";
+    std::mt19937 rng(21);
+    for (int trial = 0; trial < 3; ++trial) {
+      Eigen::VectorXd q, v;
+      test::RandomState(model, rng, q, v);
+      const int n = model.nv();
+      const Eigen::MatrixXd M = CalcMassMatrix(model, ws, q);
+      const Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, 4);
+      Eigen::MatrixXd X = B;
+      SolveMassMatrix(model, ws, q, X);
+      EXPECT_LT((M * X - B).norm(), 1e-10 * B.norm()) << "M X - B";
+      const Eigen::MatrixXd X_dense = M.llt().solve(B);
+      EXPECT_LT((X - X_dense).norm(), 1e-9 * X_dense.norm()) << "vs dense LLT";
+      // The dense fallback (used when the dof order is not parent-first) gives the same.
+      MultibodyWorkspace dense(model);
+      dense.use_tree_factor = false;
+      Eigen::MatrixXd X_fallback = B;
+      SolveMassMatrix(model, dense, q, X_fallback);
+      EXPECT_LT((X_fallback - X_dense).norm(), 1e-12 * X_dense.norm()) << "fallback";
     }
   }
 }

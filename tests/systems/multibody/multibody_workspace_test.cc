@@ -96,6 +96,30 @@ INSTANTIATE_TEST_SUITE_P(AllModels, WorkspaceAllocationTest, ::testing::ValuesIn
                            return name.substr(0, name.find('.'));
                          });
 
+// The workspace's Eigen forward-kinematics pass must reproduce Bullet's forwardKinematics (the
+// reference) to round-off, for every model and several random states.
+TEST_P(WorkspaceAllocationTest, EigenKinematicsMatchBulletForwardKinematics) {
+  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  MultibodyWorkspace ws(model);
+  std::mt19937 rng(11);
+  std::vector<Eigen::Isometry3d> X_bullet;
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd q, v;
+    test::RandomState(model, rng, q, v);
+    ws.SetPositions(model, q);
+    ws.CalcBulletLinkPoses(X_bullet);
+    ASSERT_EQ(static_cast<int>(X_bullet.size()), model.num_bodies());
+    for (int b = 0; b < model.num_bodies(); ++b) {
+      EXPECT_LT((ws.R_world_link(b) - X_bullet[b].linear()).cwiseAbs().maxCoeff(), 1e-12)
+          << model.body(b).name;
+      EXPECT_LT((ws.p_world_link(b) - X_bullet[b].translation()).cwiseAbs().maxCoeff(), 1e-12)
+          << model.body(b).name;
+      EXPECT_LT((ws.com_world(b) - X_bullet[b] * model.body(b).com).cwiseAbs().maxCoeff(), 1e-12)
+          << model.body(b).name;
+    }
+  }
+}
+
 TEST(MultibodyWorkspaceTest, CopiesAreIndependentAndAgree) {
   const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"));
   MultibodyWorkspace a(model);
