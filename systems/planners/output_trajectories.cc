@@ -89,7 +89,11 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
                                 Num(params_.strike_depth) + " m");
   if (!std::isfinite(p_sw0_x) || !std::isfinite(p_sw0_z) || !std::isfinite(step_length) || !std::isfinite(step_height))
     throw std::invalid_argument("SwingFootBezier: start position and step must be finite");
-  apex_ = params_.apex_reference == SwingApexReference::kStanceFoot ? params_.clearance : std::max(p_sw0_z, step_height) + params_.clearance;
+  switch (params_.apex_reference) {
+    case SwingApexReference::kStanceFoot: apex_ = params_.clearance; break;
+    case SwingApexReference::kHigherFoothold: apex_ = std::max(p_sw0_z, step_height) + params_.clearance; break;
+    case SwingApexReference::kHighestStone: apex_ = std::max({p_sw0_z, 0.0, step_height}) + params_.clearance; break;
+  }
   // Table under Eq. (24): b_h: [0, 0, 0, 1, 1, 1]; b_v: [p_sw0^z, z_max 1_3, h_des, h_des + z_neg].
   using Vector6d = Eigen::Matrix<double, 6, 1>;
   b_h_ = BezierCurve((Vector6d() << 0, 0, 0, 1, 1, 1).finished());
@@ -109,16 +113,45 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
       c -= (F - apex_) / m;
     }
   }
+  // τ_td: where b_v comes down through h_des (b_v(1) = h_des + z_neg < h_des). Bisection between the apex and 1.
+  double tau_apex = 0;
+  const double peak = MaxHeight(&tau_apex);
+  if (peak > step_height) {
+    double lo = tau_apex, hi = 1.0;
+    for (int iteration = 0; iteration < 60; ++iteration) {
+      const double mid = 0.5 * (lo + hi);
+      (b_v_.Evaluate(mid).value > step_height ? lo : hi) = mid;
+    }
+    tau_touchdown_ = 0.5 * (lo + hi);
+  } else if (params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd) {
+    throw std::invalid_argument("SwingFootBezier: touchdown_timing kAtPhaseEnd needs the swing curve to rise above the foothold height " +
+                                Num(step_height) + " m; its peak is " + Num(peak) + " m");
+  } else {
+    tau_touchdown_ = 0.0;
+  }
 }
 
+double SwingFootBezier::touchdown_phase() const { return params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? 1.0 : tau_touchdown_; }
+
 ScalarDerivatives SwingFootBezier::X(double tau) const {
-  // Eq. (23).
+  // Eq. (23). Beyond τ = 1 (only reached with kAtPhaseEnd) the foot stays at l_des.
+  if (tau > 1.0) return {step_length_, 0.0, 0.0};
   const ScalarDerivatives b = b_h_.Evaluate(tau);
   const double span = step_length_ - p_sw0_x_;
   return {(1 - b.value) * p_sw0_x_ + b.value * step_length_, b.first * span, b.second * span};
 }
 
-ScalarDerivatives SwingFootBezier::Z(double tau) const { return b_v_.Evaluate(tau); }  // Eq. (24)
+ScalarDerivatives SwingFootBezier::Z(double tau) const {
+  if (params_.touchdown_timing == SwingTouchdownTiming::kPaperPhase) return b_v_.Evaluate(tau);  // Eq. (24)
+  // Eq. (24) re-timed: b_v(τ_td τ); past τ = 1 a straight continuation with the touchdown slope.
+  const double s = tau_touchdown_;
+  if (tau > 1.0) {
+    const ScalarDerivatives end = b_v_.Evaluate(s);
+    return {end.value + s * end.first * (tau - 1.0), s * end.first, 0.0};
+  }
+  const ScalarDerivatives b = b_v_.Evaluate(s * tau);
+  return {b.value, s * b.first, s * s * b.second};
+}
 
 double SwingFootBezier::MaxHeight(double* tau_at_max) const {
   constexpr int kSamples = 200;
@@ -148,6 +181,7 @@ double SwingFootBezier::MaxHeight(double* tau_at_max) const {
 SteppingStonesOutputTrajectories::SteppingStonesOutputTrajectories(PhaseVariableParams phase_params, SwingFootBezierParams swing_params,
                                                                    const StepOutputParameters& step)
     : phase_(phase_params),
+      raw_phase_({.type = phase_params.type, .saturate = false}),
       step_(step),
       torso_(step.phi_0, step.phi_f),
       swing_(swing_params, step.p_sw0_x, step.p_sw0_z, step.step_length, step.step_height) {}
@@ -162,9 +196,18 @@ DesiredOutputs SteppingStonesOutputTrajectories::Evaluate(double t, double p_com
   DesiredOutputs out;
   out.phase = CalcPhase(t, p_com_x, pdot_com_x, pddot_com_x);
   const double tau = out.phase.tau;
+  // kAtPhaseEnd: past τ = 1 the swing foot keeps descending along the unsaturated phase.
+  Phase swing_z_phase = out.phase;
+  if (swing_.params().touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd) {
+    const Phase raw = phase_.params().type == PhaseType::kTimeBased
+                          ? raw_phase_.TimeBased(t, step_.step_start_time, step_.step_duration)
+                          : raw_phase_.StateBased(p_com_x, pdot_com_x, pddot_com_x, step_.p_com_x0, step_.impact_fraction * step_.step_length);
+    if (raw.tau > 1.0) swing_z_phase = raw;
+  }
   const ScalarDerivatives parts[4] = {ToTimeDerivatives(torso_.Evaluate(tau), out.phase),
                                       {com_height_desired[0], com_height_desired[1], com_height_desired[2]},
-                                      ToTimeDerivatives(swing_.X(tau), out.phase), ToTimeDerivatives(swing_.Z(tau), out.phase)};
+                                      ToTimeDerivatives(swing_.X(tau), out.phase),
+                                      ToTimeDerivatives(swing_.Z(swing_z_phase.tau), swing_z_phase)};
   for (int i = 0; i < 4; ++i) {
     out.y[i] = parts[i].value;
     out.ydot[i] = parts[i].first;

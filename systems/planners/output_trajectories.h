@@ -97,9 +97,24 @@ enum class SwingApexShape {
   kControlPoints,  ///< Paper, Eq. (24): γ_1 = γ_2 = γ_3 = z_max (the curve peaks somewhat below z_max).
   kExactPeak,      ///< Ours: γ_1..γ_3 chosen so that the maximum of b_v over τ in [0, 1] is exactly z_max.
 };
+/// When the swing foot reaches the foothold height h_des along the phase (ours).
+enum class SwingTouchdownTiming {
+  /// Paper, Eq. (24) as written: b_v(τ). b_v passes h_des at some τ_td < 1 (because of z_sw^neg), so the foot
+  /// lands while the COM is still short of ε l_des (about 0.92 of the way for a 0.1 m clearance and a 1 cm
+  /// strike depth), not where Eq. (17), (25)-(27) assume the impact happens.
+  kPaperPhase,
+  /// b_v(τ_td τ): the same curve, re-timed so that it reaches h_des exactly at τ = 1, i.e. when the COM is at
+  /// p_comf^{x,d} = ε l_des, the pre-impact position of the impact map (17) and of Eq. (25)-(27). Past τ = 1 (a
+  /// late impact) the foot keeps descending at its touchdown speed dz/dτ = τ_td b_v'(τ_td) (the phase is not
+  /// saturated for this output), so it always strikes. Eq. (23) (x) is unchanged and reaches l_des at τ = 1.
+  kAtPhaseEnd,
+};
 enum class SwingApexReference {
   kStanceFoot,       ///< Paper: z_max is a height relative to the stance foot.
   kHigherFoothold,   ///< Ours: z_max = max(p_sw0^z, h_des) + clearance (stairs-friendly).
+  /// Ours: z_max = max(p_sw0^z, 0, h_des) + clearance: also clears the stance foot's stone, which the swing foot
+  /// passes over (on random stones both neighbours can lie below it).
+  kHighestStone,
 };
 
 struct SwingFootBezierParams {
@@ -107,6 +122,7 @@ struct SwingFootBezierParams {
   double strike_depth = -0.01;  ///< [m] z_sw^neg < 0: the foot aims this far below the next foothold (ours)
   SwingApexShape apex_shape = SwingApexShape::kControlPoints;
   SwingApexReference apex_reference = SwingApexReference::kStanceFoot;
+  SwingTouchdownTiming touchdown_timing = SwingTouchdownTiming::kPaperPhase;
 };
 
 /// Eq. (23)-(24): swing foot x and z relative to the stance foot as functions of τ.
@@ -121,8 +137,11 @@ class SwingFootBezier {
   double apex_height() const { return apex_; }
   /// Eq. (23): p_sw^x and its τ-derivatives.
   ScalarDerivatives X(double tau) const;
-  /// Eq. (24): p_sw^z and its τ-derivatives.
+  /// Eq. (24): p_sw^z and its τ-derivatives (for kAtPhaseEnd: b_v(τ_td τ), and linear beyond τ = 1).
   ScalarDerivatives Z(double tau) const;
+  /// τ at which p_sw^z comes down through h_des: τ_td of b_v for kPaperPhase (0 if b_v never rises above h_des),
+  /// 1 for kAtPhaseEnd.
+  double touchdown_phase() const;
   /// max over τ in [0, 1] of p_sw^z, and where (found by sampling and Newton on dp/dτ = 0).
   double MaxHeight(double* tau_at_max = nullptr) const;
 
@@ -131,6 +150,7 @@ class SwingFootBezier {
   double p_sw0_x_, step_length_;
   BezierCurve b_h_, b_v_;
   double apex_;
+  double tau_touchdown_ = 1.0;  // root of b_v(τ) = h_des on the descent
 };
 
 /// Per-step constants of the outputs: α_0 (post-impact) and α_f (pre-impact posture, Eq. (21)), the step, and
@@ -170,6 +190,7 @@ class SteppingStonesOutputTrajectories {
 
  private:
   PhaseVariable phase_;
+  PhaseVariable raw_phase_;  // unsaturated, for the swing foot past τ = 1 (SwingTouchdownTiming::kAtPhaseEnd)
   StepOutputParameters step_;
   TorsoPitchCubic torso_;
   SwingFootBezier swing_;

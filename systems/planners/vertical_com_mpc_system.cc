@@ -8,6 +8,8 @@ VerticalComMpcSystem::VerticalComMpcSystem(std::string name, VerticalComMpcSyste
     : LeafSystem(std::move(name)), params_(params) {
   if (!(params_.control_period_s > 0 && std::isfinite(params_.control_period_s)))
     ThrowError("parameter control_period_s must be positive (s), got " + std::to_string(params_.control_period_s));
+  if (!(params_.hold_plan_below_horizon_s >= 0 && std::isfinite(params_.hold_plan_below_horizon_s)))
+    ThrowError("parameter hold_plan_below_horizon_s must be finite and >= 0 (s), got " + std::to_string(params_.hold_plan_below_horizon_s));
   VerticalComMpc check(params_.mpc);  // validates the MPC parameters at construction
   const int N = params_.mpc.horizon_steps;
   state_port_ = DeclareInputPort("com_vertical_state", 2);
@@ -39,6 +41,8 @@ EventStatus VerticalComMpcSystem::Update(const LeafContext& context, Eigen::Vect
   VerticalComMpc& mpc = *context.scratch<std::shared_ptr<VerticalComMpc>>();
   const Eigen::VectorXd& z = EvalInput(context, state_port_);
   const Eigen::VectorXd& target = EvalInput(context, target_port_);
+  if (params_.hold_plan_below_horizon_s > 0 && mpc.has_plan() && target[2] < params_.hold_plan_below_horizon_s)
+    return EventStatus::Succeeded();  // hold: the previous plan continues in time
   const QpStatus status = mpc.Solve(z[0], z[1], target[0], target[1], target[2]);
   Eigen::VectorXd& xd = *next;
   xd[kLastStatus] = static_cast<double>(status);

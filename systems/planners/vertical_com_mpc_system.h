@@ -18,6 +18,8 @@
 //          com_height_desired (3) = [p^{z,d} (m), ṗ^{z,d} (m/s), p̈^{z,d} (m/s²)] = the plan at the current time.
 //                                   Right after a solve this is [measured p^z, measured ṗ^z, u_0^z]: as in the
 //                                   paper (Fig. 5), the MPC effectively commands the acceleration u_0^z.
+//                                   With hold_plan_below_horizon_s > 0, the last plan is held once T̂_s drops
+//                                   below it (see the parameter).
 //          planned_inputs (N)     = u_0..u_{N−1} (m/s²)
 //          qp_failures (1)        = number of failed solves so far
 //          qp_status (1)          = status of the last solve (0 = kOptimal; see QpStatus)
@@ -36,6 +38,12 @@ struct VerticalComMpcSystemParams {
   /// [s] period of the re-solve. The paper runs its QP controller at 1 kHz and updates u_des "constantly";
   /// we re-solve at the same 1 kHz.
   double control_period_s = 1e-3;
+  /// [s] When the predicted time to impact T̂_s (target[2]) is below this and a plan exists, the update does not
+  /// re-solve: the previous plan continues in time (the controller's PD on p^{z,d}, ṗ^{z,d} then tracks it).
+  /// Ours; 0 = re-solve at every update as in the paper. Why: dt = T̂_s/N shrinks with T̂_s, so in the last
+  /// few tens of milliseconds the re-solved plan turns into a deadbeat law whose accelerations grow like 1/T̂_s²
+  /// for any small tracking error, up to the bound −g and beyond it in the relaxed QP (hundreds of m/s²).
+  double hold_plan_below_horizon_s = 0.0;
 };
 
 class VerticalComMpcSystem final : public LeafSystem {

@@ -102,6 +102,67 @@ TEST(OutputTrajectories, ExactApexReachesTheClearance) {
   EXPECT_THROW(SwingFootBezier(too_low, -0.3, 0.0, 0.4, 0.2), std::invalid_argument);
 }
 
+TEST(OutputTrajectories, TouchdownAtPhaseEndRetimesTheSwingCurve) {
+  // kAtPhaseEnd: the same Eq. (24) curve b_v(τ_td τ), reaching h_des exactly at τ = 1 (COM at ε l_des), descending,
+  // and continuing straight down past τ = 1. Eq. (23) still reaches l_des at τ = 1.
+  for (const auto& [p0, h] : {std::pair{0.0, 0.0}, std::pair{0.0, 0.2}, std::pair{0.1, -0.15}}) {
+    SwingFootBezierParams paper;
+    paper.apex_reference = SwingApexReference::kHigherFoothold;
+    SwingFootBezierParams retimed = paper;
+    retimed.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
+    const SwingFootBezier a(paper, -0.3, p0, 0.4, h), b(retimed, -0.3, p0, 0.4, h);
+    const double tau_td = a.touchdown_phase();
+    EXPECT_GT(tau_td, 0.5);
+    EXPECT_LT(tau_td, 1.0);
+    EXPECT_NEAR(a.Z(tau_td).value, h, 1e-12);  // the paper's curve lands early, at τ_td
+    EXPECT_LT(a.Z(tau_td).first, 0.0);
+    EXPECT_DOUBLE_EQ(b.touchdown_phase(), 1.0);
+    EXPECT_NEAR(b.Z(1.0).value, h, 1e-12);
+    EXPECT_NEAR(b.Z(1.0).first, tau_td * a.Z(tau_td).first, 1e-12);
+    EXPECT_DOUBLE_EQ(b.Z(0.0).value, p0);
+    EXPECT_DOUBLE_EQ(b.X(1.0).value, 0.4);
+    for (double tau = 0.05; tau < 1.0; tau += 0.15) {
+      EXPECT_NEAR(b.Z(tau).value, a.Z(tau_td * tau).value, 1e-15);
+      const ScalarDerivatives fd = FiniteDifferences([&](double s) { return b.Z(s).value; }, tau);
+      EXPECT_NEAR(b.Z(tau).first, fd.first, 1e-6);
+      EXPECT_NEAR(b.Z(tau).second, fd.second, 1e-5);
+      if (tau > 0.5) {
+        EXPECT_GT(b.Z(tau).value, h);  // on the way down: above the foothold until τ = 1
+      }
+    }
+    // Past τ = 1 (late impact): a straight line with the touchdown slope, x held at l_des.
+    const ScalarDerivatives late = b.Z(1.2);
+    EXPECT_NEAR(late.value, h + 0.2 * b.Z(1.0).first, 1e-12);
+    EXPECT_NEAR(late.first, b.Z(1.0).first, 1e-15);
+    EXPECT_EQ(late.second, 0.0);
+    EXPECT_DOUBLE_EQ(b.X(1.2).value, 0.4);
+  }
+  // The full outputs use the unsaturated phase for the swing height past τ = 1 only.
+  StepOutputParameters step;
+  step.p_com_x0 = -0.16;
+  step.p_sw0_x = -0.4;
+  SwingFootBezierParams swing;
+  swing.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
+  const SteppingStonesOutputTrajectories outputs({.type = PhaseType::kStateBased, .saturate = true}, swing, step);
+  const DesiredOutputs late = outputs.Evaluate(0.0, 0.28, 0.8, 0.0, Eigen::Vector3d(0.8, 0, 0));  // τ = 1.1
+  EXPECT_DOUBLE_EQ(late.phase.tau, 1.0);
+  EXPECT_NEAR(late.y[3], outputs.swing_foot().Z(1.1).value, 1e-12);
+  EXPECT_LT(late.y[3], step.step_height);
+  EXPECT_NEAR(late.ydot[3], outputs.swing_foot().Z(1.1).first * 0.8 / 0.4, 1e-12);  // τ̇ = ṗx / (ε l − p_com0)
+}
+
+TEST(OutputTrajectories, HighestStoneApexClearsTheStanceStone) {
+  // Both neighbouring stones below the stance stone: z_max is measured from the stance stone (z = 0).
+  SwingFootBezierParams params;
+  params.clearance = 0.1;
+  params.apex_reference = SwingApexReference::kHighestStone;
+  EXPECT_DOUBLE_EQ(SwingFootBezier(params, -0.3, -0.2, 0.4, -0.15).apex_height(), 0.1);
+  EXPECT_DOUBLE_EQ(SwingFootBezier(params, -0.3, -0.2, 0.4, 0.15).apex_height(), 0.25);
+  EXPECT_DOUBLE_EQ(SwingFootBezier(params, -0.3, 0.05, 0.4, -0.15).apex_height(), 0.15);
+  params.apex_reference = SwingApexReference::kHigherFoothold;
+  EXPECT_DOUBLE_EQ(SwingFootBezier(params, -0.3, -0.2, 0.4, -0.15).apex_height(), -0.05);
+}
+
 TEST(OutputTrajectories, TorsoCubicSolvesEq22) {
   const double phi0 = 0.12, phif = -0.05;
   Eigen::Matrix4d M;

@@ -114,5 +114,40 @@ TEST(VerticalComMpcSystem, QpFailureKeepsThePreviousPlanAndCounts) {
   EXPECT_EQ(Eigen::Vector3d(system.EvalOutput(*context, "com_height_desired")), before);  // the old plan, continued in time
 }
 
+TEST(VerticalComMpcSystem, HoldsThePlanWhenTheImpactIsNear) {
+  VerticalComMpcSystemParams params;
+  params.hold_plan_below_horizon_s = 0.05;
+  VerticalComMpcSystem system("mpc", params);
+  auto context = system.CreateDefaultLeafContext();
+  const auto& update = system.periodic_events().at(0).update;
+  // Far from the impact: solved from the measured state.
+  system.FixInputPort(*context, 0, Eigen::Vector2d(0.80, 0.1));
+  system.FixInputPort(*context, 1, Eigen::Vector3d(0.80, -0.4, 0.3));
+  Eigen::VectorXd next = context->discrete_state();
+  ASSERT_TRUE(update(*context, &next).ok());
+  context->get_mutable_discrete_state() = next;
+  const Eigen::VectorXd plan = next;
+  EXPECT_EQ(plan[VerticalComMpcSystem::kSolves], 1.0);
+  // T̂ = 0.04 s < 0.05 s: no re-solve even though the measured state moved; the plan continues in time, so the
+  // output at t is the plan's state and acceleration at t (a piecewise-constant-acceleration double integrator).
+  context->SetTime(0.26);
+  system.FixInputPort(*context, 0, Eigen::Vector2d(0.79, -0.2));
+  system.FixInputPort(*context, 1, Eigen::Vector3d(0.80, -0.4, 0.04));
+  next = context->discrete_state();
+  ASSERT_TRUE(update(*context, &next).ok());
+  EXPECT_EQ(next, plan);
+  context->get_mutable_discrete_state() = next;
+  const Eigen::Vector3d held = system.EvalOutput(*context, "com_height_desired");
+  const Eigen::Vector3d expected = VerticalComMpc::EvaluatePlan(0.80, 0.1, plan.tail(system.horizon_steps()), plan[VerticalComMpcSystem::kPlanDt], 0.26);
+  EXPECT_NEAR((held - expected).norm(), 0.0, 1e-15);
+  // The held plan ends at the planned terminal state (0.80 m, −0.4 m/s) at its horizon 0.3 s (equality QP).
+  const Eigen::Vector3d end = VerticalComMpc::EvaluatePlan(0.80, 0.1, plan.tail(system.horizon_steps()), plan[VerticalComMpcSystem::kPlanDt], 0.3);
+  EXPECT_NEAR(end[0], 0.80, 1e-9);
+  EXPECT_NEAR(end[1], -0.4, 1e-9);
+  VerticalComMpcSystemParams bad;
+  bad.hold_plan_below_horizon_s = -1;
+  EXPECT_THROW(VerticalComMpcSystem("mpc", bad), std::exception);
+}
+
 }  // namespace
 }  // namespace rome

@@ -1,0 +1,127 @@
+#pragma once
+// The stepping-stones diagram (stepping-stones paper, Algorithm 1) on a planar point-foot biped:
+//
+//   plant (HybridContactPlant, stepping-stone terrain, SSP→SSP through impact)
+//     → supervisor (step sequence, α_0, pre-impact posture NLP Eq. (21))
+//     → planner (momentum regulation, Eq. (17)-(18), (25)-(27))
+//     → vertical_com_mpc (Eq. (28), 1 kHz, warm-started QP)
+//     → outputs (Eq. (19)-(24))
+//     → output_adapter (stance-foot frame → world, task layout of the controller)
+//     → controller (task-space QP, Eq. (29)-(31), 1 kHz, zero-order held)
+//     → plant
+//   plus a logger.
+// Every block is a framework system; swap one by building the diagram by hand from these pieces.
+//
+// Choices beyond the paper (each a named parameter below, with the reason next to it):
+//  * initial state: both feet at rest on the first stone (J_c v = 0; a base velocity alone would slide the stance
+//    foot), COM at initial_com_x_m on the E* orbit at supervisor.walking_com_height_m;
+//  * walking height: the posture NLP aims the pre-impact COM at walking_com_height_m (AMBER's nominal pose has
+//    nearly straight legs; a COM rising after impact then drives the stance knee into its singular straight
+//    position and the task-space QP infeasible);
+//  * swing foot touches down at τ = 1 (COM at ε l_des), where the impact map and the planner assume the impact;
+//  * the vertical-COM plan is held in the last 50 ms before the impact (the re-solved plan becomes deadbeat);
+//  * the supervisor's outputs switch to the new stance foot and step at the impact itself, not one control period
+//    later (see stepping_stones_supervisor.h);
+//  * falls: the supervisor watches the COM height above the stance foot; the plant's absolute base-height guard is
+//    shifted to the lowest stone.
+
+#include <memory>
+#include <string>
+
+#include "diagrams/stepping_stones/stepping_stones_supervisor.h"
+#include "framework/diagram.h"
+#include "framework/simulator.h"
+#include "framework/vector_logger.h"
+#include "systems/controllers/task_space_qp_controller.h"
+#include "systems/planners/momentum_regulation_planner_system.h"
+#include "systems/planners/stepping_stones_outputs_system.h"
+#include "systems/planners/vertical_com_mpc_system.h"
+#include "systems/plants/hybrid_contact_plant.h"
+
+namespace rome {
+
+struct SteppingStonesDiagramParams {
+  std::string robot_sidecar = "robots/amber/amber.rome.json";  ///< planar point-foot robot
+  double target_orbital_energy = 0.5;   ///< E* [m²/s²] (paper: 0.5 random stones, 0.3 in Fig. 6)
+  double impact_fraction = 0.6;         ///< ε [-] (paper: 0.6)
+  double log_period_s = 5e-3;           ///< [s]
+  /// [m] COM position relative to the stance foot at the start (ours; the paper gives no initial state). The
+  /// robot starts on the E* orbit there: ṗx = sqrt(E* + λ² x²), λ² = g / walking height (Eq. (16)). Starting
+  /// behind the foot gives the first swing (from standing, both feet on the first stone) time to lift; from
+  /// x = 0 the first step of a short random step lasts only about 0.2 s.
+  double initial_com_x_m = -0.1;
+  HybridContactPlantParams plant;  ///< min_base_height_m is taken above the lowest stone (see BuildSteppingStonesDiagram)
+  SteppingStonesSupervisorParams supervisor;
+  MomentumRegulationPlannerParams planner;
+  /// Eq. (28). Ours: the plan is held (not re-solved) in the last 50 ms before the predicted impact.
+  VerticalComMpcSystemParams mpc = DefaultMpcParams();
+  /// Eq. (19)-(24). Ours: the swing foot is re-timed to touch down when the COM reaches ε l_des
+  /// (SwingTouchdownTiming::kAtPhaseEnd), where Eq. (17), (25)-(27) put the impact, and its clearance is
+  /// measured from the highest of the start, stance and next stones (SwingApexReference::kHighestStone) and
+  /// reached exactly (SwingApexShape::kExactPeak; the paper's control points peak about 20 % lower).
+  SteppingStonesOutputsSystemParams outputs = DefaultOutputsParams();
+  TaskSpaceQpParams controller;
+  TaskGains torso_gains{1.0, 100.0, 20.0};
+  TaskGains com_height_gains{1.0, 100.0, 20.0};
+  TaskGains swing_foot_gains{1.0, 400.0, 40.0};
+
+  static VerticalComMpcSystemParams DefaultMpcParams() {
+    VerticalComMpcSystemParams p;
+    p.hold_plan_below_horizon_s = 0.05;
+    return p;
+  }
+  static SteppingStonesOutputsSystemParams DefaultOutputsParams() {
+    SteppingStonesOutputsSystemParams p;
+    p.swing_foot.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
+    p.swing_foot.apex_reference = SwingApexReference::kHighestStone;  // clears the start, stance and next stones
+    p.swing_foot.apex_shape = SwingApexShape::kExactPeak;  // the curve really reaches the clearance
+    return p;
+  }
+};
+
+struct SteppingStonesDiagram {
+  std::unique_ptr<Diagram> diagram;
+  const HybridContactPlant* plant = nullptr;
+  const SteppingStonesSupervisor* supervisor = nullptr;
+  const MomentumRegulationPlannerSystem* planner = nullptr;
+  const VerticalComMpcSystem* mpc = nullptr;
+  const SteppingStonesOutputsSystem* outputs = nullptr;
+  const TaskSpaceQpController* controller = nullptr;
+  const VectorLogger* logger = nullptr;
+  std::shared_ptr<const MultibodyModel> model;
+};
+
+/// Stones `step_length_m` apart along x, each `step_height_m` above the previous (0: flat ground; stairs), the
+/// first centred at x = 0, z = 0.
+Terrain PeriodicSteppingStones(double step_length_m, double step_height_m, int num_stones, double stone_length_m = 0.1);
+
+/// Random stones as in the paper's Sec. VI-C: distances uniform in [min_gap_m, max_gap_m], each stone's height
+/// changed from the previous one's by a uniform draw in [−max_rise_m, max_rise_m] (std::mt19937 with `seed`).
+struct RandomSteppingStonesParams {
+  int num_stones = 32;
+  double min_gap_m = 0.2;    ///< [m] paper: 0.2
+  double max_gap_m = 0.7;    ///< [m] paper: 0.7
+  double max_rise_m = 0.25;  ///< [m] paper: ±0.25
+  double stone_length_m = 0.1;
+  unsigned seed = 1;
+};
+Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
+
+/// Simulator settings of the example and the closed-loop tests (CVODE BDF, rtol 1e-6, atol 1e-8).
+SimulatorConfig SteppingStonesSimulatorConfig();
+
+/// Builds the diagram for `terrain` (the robot starts standing on its first stone).
+SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params);
+
+/// The initial plant state [q; v]: both feet on the centre of the first stone (left stance, right foot beside it),
+/// COM straight above them at params.supervisor.walking_com_height_m, torso upright; both feet at rest, torso not
+/// rotating, COM moving forward at the speed of the E* orbit at mid-stance (ṗ^x = sqrt(E*), Eq. (16)) and not
+/// vertically (the stance foot must not slide: J_c v = 0). Throws std::runtime_error naming the robot if no such
+/// pose exists.
+Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Terrain& terrain, const SteppingStonesDiagramParams& params);
+
+/// Sets SteppingStonesInitialState() in the plant (left stance) and initialises the supervisor. `context` is the
+/// diagram's.
+void SetSteppingStonesInitialState(const SteppingStonesDiagram& d, const SteppingStonesDiagramParams& params, Context& context);
+
+}  // namespace rome

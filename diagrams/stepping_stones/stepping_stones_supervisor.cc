@@ -1,0 +1,261 @@
+#include "diagrams/stepping_stones/stepping_stones_supervisor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "systems/multibody/contact_dynamics.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/planners/stepping_stones_outputs_system.h"
+
+namespace rome {
+
+namespace {
+// Discrete-state layout.
+constexpr int kMode = 0, kStanceX = 1, kStanceZ = 2, kStone = 3, kSteps = 4, kPhiF = 5, kComFz = 6, kParams = 7;
+constexpr int kLastUdes = kParams + SteppingStonesOutputsSystem::kNumStepParameters, kLastLdes = kLastUdes + 1, kLastVz = kLastUdes + 2,
+              kPostureFailures = kLastUdes + 3, kStepStart = kLastUdes + 4, kSize = kLastUdes + 5;
+}  // namespace
+
+struct SteppingStonesSupervisor::Scratch {
+  explicit Scratch(std::shared_ptr<const MultibodyModel> model, const PreImpactPostureParams& p)
+      : ws(*model), optimizer(std::make_shared<PreImpactPostureOptimizer>(model, p)), pending(Eigen::VectorXd::Zero(kSize)) {}
+  MultibodyWorkspace ws;
+  std::shared_ptr<PreImpactPostureOptimizer> optimizer;  // keeps its previous solution (fallback)
+  std::vector<StepRecord> steps;
+  // The posture NLP of Eq. (21) is solved once per step: the outputs (after an impact the update has not yet
+  // committed) and the update share the solution for the same request.
+  bool posture_cached = false;
+  double posture_l = 0, posture_h = 0;
+  int posture_stance = -1;
+  PreImpactPosture posture;
+  Eigen::VectorXd pending;  // step state after an impact that the periodic update has not committed yet
+};
+
+SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain,
+                                                   SteppingStonesSupervisorParams params)
+    : LeafSystem(std::move(name)), model_(std::move(model)), terrain_(std::move(terrain)), params_(params) {
+  if (!model_->is_planar()) ThrowError("robot '" + model_->name() + "' is not planar; the stepping-stones supervisor needs a planar model");
+  if (terrain_.is_flat()) ThrowError("needs a stepping-stone terrain (use evenly spaced stones for flat ground)");
+  if (!(params_.update_period_s > 0)) ThrowError("parameter update_period_s must be positive, got " + std::to_string(params_.update_period_s) + " s");
+  if (params_.max_steps < 1) ThrowError("parameter max_steps must be at least 1, got " + std::to_string(params_.max_steps));
+  if (!(params_.walking_com_height_m > 0))
+    ThrowError("parameter walking_com_height_m must be positive, got " + std::to_string(params_.walking_com_height_m) + " m");
+  contact_[0] = model_->ContactIndex("left_foot");
+  contact_[1] = model_->ContactIndex("right_foot");
+  const int nv = model_->nv();
+  DeclareInputPort("state", 2 * nv);
+  DeclareInputPort("mode", 1);
+  DeclareInputPort("u_des", 1);
+  DeclareInputPort("L_des", 1);
+  DeclareDiscreteState(Eigen::VectorXd::Zero(kSize));
+  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
+  // Every output reads the step state through StepState(), which depends on the plant's state and mode: right
+  // after an impact it already holds the new stance foot and step (see the header).
+  const Feedthrough plant_inputs = Feedthrough::From({0, 1});
+  DeclareOutputPort("com_state", 4, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    Eigen::Vector4d com;
+    double L;
+    ComRelative(c, StepState(c), EvalInput(c, 0), &com, &L);
+    *y = com;
+  }, plant_inputs);
+  DeclareOutputPort("angular_momentum", 1, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    Eigen::Vector4d com;
+    ComRelative(c, StepState(c), EvalInput(c, 0), &com, &(*y)[0]);
+  }, plant_inputs);
+  DeclareOutputPort("com_vertical_state", 2, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    Eigen::Vector4d com;
+    double L;
+    ComRelative(c, StepState(c), EvalInput(c, 0), &com, &L);
+    *y << com[1], com[3];
+  }, plant_inputs);
+  DeclareOutputPort("step", 2, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    const Eigen::VectorXd& xd = StepState(c);
+    *y << xd[kParams + 5], xd[kParams + 6];
+  }, plant_inputs);
+  DeclareOutputPort("pre_impact_com_height", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = StepState(c)[kComFz]; }, plant_inputs);
+  DeclareOutputPort("step_parameters", SteppingStonesOutputsSystem::kNumStepParameters,
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = StepState(c).segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters); },
+                    plant_inputs);
+  DeclareOutputPort("stance_foot", 2, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    const Eigen::VectorXd& xd = StepState(c);
+    *y << xd[kStanceX], xd[kStanceZ];
+  }, plant_inputs);
+  DeclareOutputPort("stone", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = StepState(c)[kStone]; }, plant_inputs);
+}
+
+std::any SteppingStonesSupervisor::AllocateScratch() const { return Scratch(model_, params_.posture); }
+
+const std::vector<StepRecord>& SteppingStonesSupervisor::steps(const LeafContext& context) const { return context.scratch<Scratch>().steps; }
+
+int SteppingStonesSupervisor::posture_failures(const LeafContext& context) const {
+  return static_cast<int>(context.discrete_state()[kPostureFailures]);
+}
+
+int SteppingStonesSupervisor::stance_mode(const LeafContext& context) const { return static_cast<int>(context.discrete_state()[kMode]); }
+int SteppingStonesSupervisor::stone(const LeafContext& context) const { return static_cast<int>(context.discrete_state()[kStone]); }
+int SteppingStonesSupervisor::num_steps(const LeafContext& context) const { return static_cast<int>(context.discrete_state()[kSteps]); }
+Eigen::Vector2d SteppingStonesSupervisor::stance_foot(const LeafContext& context) const {
+  return Eigen::Vector2d(context.discrete_state()[kStanceX], context.discrete_state()[kStanceZ]);
+}
+StepOutputParameters SteppingStonesSupervisor::step_parameters(const LeafContext& context) const {
+  return SteppingStonesOutputsSystem::UnpackStepParameters(context.discrete_state().segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters));
+}
+double SteppingStonesSupervisor::pre_impact_com_height(const LeafContext& context) const { return context.discrete_state()[kComFz]; }
+
+const Eigen::VectorXd& SteppingStonesSupervisor::StepState(const LeafContext& context) const {
+  const Eigen::VectorXd& xd = context.discrete_state();
+  const int mode = static_cast<int>(std::lround(EvalInput(context, 1)[0]));
+  if (mode == static_cast<int>(xd[kMode])) return xd;
+  // An impact happened after the last update: the step state the next update will commit, from the same inputs.
+  Scratch& s = context.scratch<Scratch>();
+  s.pending = xd;
+  ApplyImpact(context, EvalInput(context, 0), mode, &s.pending, nullptr);
+  return s.pending;
+}
+
+void SteppingStonesSupervisor::ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x, Eigen::Vector4d* com,
+                                           double* L) const {
+  auto& ws = context.scratch<Scratch>().ws;
+  const int nv = model_->nv();
+  const auto q = x.head(nv);
+  const auto v = x.tail(nv);
+  const Eigen::Vector3d p = CalcComPosition(*model_, ws, q);
+  const Eigen::Vector3d pd = CalcComVelocity(*model_, ws, q, v);
+  const Vector6d h = CalcCentroidalMomentum(*model_, ws, q, v);
+  const double rx = p.x() - xd[kStanceX], rz = p.z() - xd[kStanceZ];
+  *com << rx, rz, pd.x(), pd.z();
+  // Eq. (7): L about the stance foot = centroidal angular momentum + r × m v, per unit mass (y component).
+  *L = rz * pd.x() - rx * pd.z() + h[1] / model_->total_mass();
+}
+
+void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::VectorXd& x, int mode) const {
+  if (mode != 0 && mode != 1) ThrowError("Initialize: mode must be 0 (left stance) or 1 (right stance), got " + std::to_string(mode));
+  if (x.size() != 2 * model_->nv())
+    ThrowError("Initialize: plant state has size " + std::to_string(x.size()) + ", expected " + std::to_string(2 * model_->nv()));
+  auto& ws = context.scratch<Scratch>().ws;
+  const Eigen::Vector3d foot = CalcContactPointPosition(*model_, ws, x.head(model_->nv()), contact_[mode == 0 ? 0 : 1], 0);
+  const int stone = terrain_.StoneAt(foot.x(), 1e-9);
+  if (stone < 0)
+    ThrowError("the initial stance foot at x = " + std::to_string(foot.x()) + " m is not on any stone; the robot starts standing on the first stone");
+  if (stone + 1 >= static_cast<int>(terrain_.stones().size()))
+    ThrowError("the initial stance foot is on the last stone (" + std::to_string(stone) + "); there is no next stone to step to");
+  Eigen::VectorXd& xd = context.get_mutable_discrete_state();
+  xd.setZero();
+  xd[kMode] = mode;
+  xd[kStanceX] = foot.x();
+  xd[kStanceZ] = foot.z();
+  xd[kStone] = stone;
+  xd[kStepStart] = context.time();
+  PlanStep(context, x, mode, &xd, context.time());
+}
+
+const PreImpactPosture& SteppingStonesSupervisor::SolvePosture(const LeafContext& context, const PreImpactPostureRequest& request, int stance) const {
+  Scratch& s = context.scratch<Scratch>();
+  if (s.posture_cached && s.posture_l == request.step_length_m && s.posture_h == request.step_height_m && s.posture_stance == stance) return s.posture;
+  s.posture = s.optimizer->Solve(request);
+  s.posture_cached = true;
+  s.posture_l = request.step_length_m;
+  s.posture_h = request.step_height_m;
+  s.posture_stance = stance;
+  return s.posture;
+}
+
+void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const {
+  Scratch& s = context.scratch<Scratch>();
+  const int next_stone = static_cast<int>((*xd)[kStone]) + 1;
+  const auto& stones = terrain_.stones();
+  const double l = stones[next_stone].x_center_m - (*xd)[kStanceX];
+  const double h = stones[next_stone].top_height_m - (*xd)[kStanceZ];
+  const int stance = mode == 0 ? 0 : 1, swing = 1 - stance;
+  PreImpactPostureRequest request;
+  request.stance_contact = model_->contacts()[contact_[stance]].name;
+  request.swing_contact = model_->contacts()[contact_[swing]].name;
+  request.step_length_m = l;
+  request.step_height_m = h;
+  // Walking height above the lower of the two feet: stepping down, the landing leg must not arrive straight.
+  request.com_height_m = params_.walking_com_height_m + std::min(h, 0.0);
+  const PreImpactPosture& posture = SolvePosture(context, request, stance);
+  if (!posture.success) (*xd)[kPostureFailures] += 1;
+  (*xd)[kPhiF] = posture.torso_pitch_rad;
+  (*xd)[kComFz] = posture.com_height_m;
+  const int nv = model_->nv();
+  // α_0 relative to the new stance foot.
+  const double com_x0 = CalcComPosition(*model_, s.ws, x.head(nv)).x() - (*xd)[kStanceX];
+  const Eigen::Vector3d sw = CalcContactPointPosition(*model_, s.ws, x.head(nv), contact_[swing], 0);
+  StepOutputParameters step;
+  step.phi_0 = x[torso_pitch_index_];
+  step.phi_f = posture.torso_pitch_rad;
+  step.p_com_x0 = com_x0;
+  step.p_sw0_x = sw.x() - (*xd)[kStanceX];
+  step.p_sw0_z = sw.z() - (*xd)[kStanceZ];
+  step.step_length = l;
+  step.step_height = h;
+  step.impact_fraction = params_.impact_fraction;
+  step.step_start_time = time;
+  step.step_duration = params_.nominal_step_duration_s;
+  xd->segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters) = SteppingStonesOutputsSystem::PackStepParameters(step);
+}
+
+void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd_ptr,
+                                           StepRecord* rec) const {
+  Eigen::VectorXd& xd = *xd_ptr;
+  Scratch& s = context.scratch<Scratch>();
+  const int nv = model_->nv();
+  const int stance = mode == 0 ? 0 : 1;
+  const Eigen::Vector3d foot = CalcContactPointPosition(*model_, s.ws, x.head(nv), contact_[stance], 0);
+  const int stone = terrain_.NearestStone(foot.x());  // the plant already ended the run if it is off every stone
+  if (rec != nullptr) {
+    rec->start_time_s = xd[kStepStart];
+    rec->duration_s = context.time() - xd[kStepStart];
+    rec->step_length_m = xd[kParams + 5];
+    rec->step_height_m = xd[kParams + 6];
+    rec->pre_impact_com_vz_mps = xd[kLastVz];
+    rec->u_des_mps = xd[kLastUdes];
+    rec->L_des = xd[kLastLdes];
+    rec->stone = stone;
+    rec->planned_stone = static_cast<int>(xd[kStone]) + 1;
+    rec->foothold_error_m = std::abs(foot.x() - terrain_.stones()[stone].x_center_m);
+    const Eigen::Vector3d p = CalcComPosition(*model_, s.ws, x.head(nv));
+    const Eigen::Vector3d pd = CalcComVelocity(*model_, s.ws, x.head(nv), x.tail(nv));
+    const Vector6d hG = CalcCentroidalMomentum(*model_, s.ws, x.head(nv), x.tail(nv));
+    rec->post_impact_momentum = (p.z() - foot.z()) * pd.x() - (p.x() - foot.x()) * pd.z() + hG[1] / model_->total_mass();
+  }
+  xd[kMode] = mode;
+  xd[kStanceX] = foot.x();
+  xd[kStanceZ] = foot.z();
+  xd[kStone] = stone;
+  xd[kSteps] += 1;
+  xd[kStepStart] = context.time();
+  const int before = static_cast<int>(xd[kPostureFailures]);
+  if (stone + 1 < static_cast<int>(terrain_.stones().size())) PlanStep(context, x, mode, &xd, context.time());
+  if (rec != nullptr) rec->posture_ok = static_cast<int>(xd[kPostureFailures]) == before;
+}
+
+EventStatus SteppingStonesSupervisor::Update(const LeafContext& context, Eigen::VectorXd* next) const {
+  const Eigen::VectorXd& x = EvalInput(context, 0);
+  const int mode = static_cast<int>(std::lround(EvalInput(context, 1)[0]));
+  Eigen::VectorXd& xd = *next;
+  if (mode == static_cast<int>(xd[kMode])) {
+    Eigen::Vector4d com;
+    double L;
+    ComRelative(context, xd, x, &com, &L);
+    xd[kLastUdes] = EvalInput(context, 2)[0];
+    xd[kLastLdes] = EvalInput(context, 3)[0];
+    xd[kLastVz] = com[3];
+    if (com[1] < params_.min_com_height_m)
+      return EventStatus::ReachedTermination("robot fell: COM " + std::to_string(com[1]) + " m above the stance foot, below min_com_height_m = " +
+                                             std::to_string(params_.min_com_height_m) + " m");
+    return EventStatus::Succeeded();
+  }
+  // An impact happened since the last update: the new stance foot is on the next stone.
+  StepRecord rec;
+  ApplyImpact(context, x, mode, &xd, &rec);
+  context.scratch<Scratch>().steps.push_back(rec);
+  if (static_cast<int>(xd[kSteps]) >= params_.max_steps)
+    return EventStatus::ReachedTermination("completed " + std::to_string(params_.max_steps) + " steps");
+  if (rec.stone + 1 >= static_cast<int>(terrain_.stones().size())) return EventStatus::ReachedTermination("completed: the robot reached the last stone");
+  return EventStatus::Succeeded();
+}
+
+}  // namespace rome

@@ -1,0 +1,119 @@
+#pragma once
+// SteppingStonesSupervisor: the step sequencer of Algorithm 1 (stepping-stones paper). It knows which stone the
+// stance foot is on, measures the robot relative to the stance foot for the planner, and at every impact updates
+// α_0 from the post-impact state and solves the pre-impact posture NLP, Eq. (21), for the next stone (lines 8-10).
+//
+// inputs:  state (2 nv)               plant [q; v]
+//          mode (1)                   plant contact mode (AlternatingSingleSupport graph: 0 left stance, 1 right)
+//          u_des (1)                  planner's desired pre-impact vertical COM velocity [m/s] (for the step log)
+//          L_des (1)                  planner's desired post-impact momentum [m²/s] (for the step log)
+// outputs (all feedthrough from state and mode; see "impact timing" below):
+//          com_state (4)              [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
+//          angular_momentum (1)       L_y [m²/s], mass-normalised, about the stance foot: r_z ṗ^x − r_x ṗ^z + k_G,y/m
+//          com_vertical_state (2)     [p^z (m), ṗ^z (m/s)] relative to the stance foot
+//          step (2)                   [l_des, h_des] (m): next stone centre minus the stance foot
+//          pre_impact_com_height (1)  p_comf^{z,d} (m) from the posture NLP, relative to the stance foot
+//          step_parameters (10)       SteppingStonesOutputsSystem::PackStepParameters of the current step
+//          stance_foot (2)            world (x, z) of the stance foot (m)
+//          stone (1)                  index of the stone under the stance foot
+// discrete state: the committed step (see the kIndex constants in the .cc). Periodic update every
+// update_period_s: when the plant's mode changed, an impact happened: the new stance foot, the stone it landed on,
+// α_0 and the posture are committed and a StepRecord is appended.
+// Impact timing: the impact happens between two updates, and every 1 kHz block (this one, the MPC, the controller)
+// updates from the pre-update state of the others. So that the controller's first update after an impact does not
+// use the old stance foot and step (which would aim the new swing foot at the stone the new stance foot stands on),
+// the outputs do not read the committed state alone: when the plant's mode differs from the committed one, they
+// return the step state the next update will commit, computed from the same inputs (StepState()). The posture NLP
+// is solved once per step and shared by both (cached on (l, h, stance foot)).
+// The run ends (ReachedTermination) after max_steps steps, when the terrain has no next stone, or with "robot fell"
+// when the COM is less than min_com_height_m above the stance foot.
+// Posture NLP failure: the optimiser's own fallback (previous solution, else nominal pose) is used, the failure
+// is counted and reported in the step log; the walk goes on.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/system.h"
+#include "systems/multibody/multibody_model.h"
+#include "systems/planners/output_trajectories.h"
+#include "systems/plants/terrain.h"
+#include "systems/posture/pre_impact_posture_optimizer.h"
+
+namespace rome {
+
+struct SteppingStonesSupervisorParams {
+  double update_period_s = 1e-3;  ///< [s] same rate as the controller (paper: 1 kHz)
+  double impact_fraction = 0.6;   ///< ε [-]: desired pre-impact COM position ε l_des (paper: 0.6)
+  int max_steps = 30;             ///< the run ends after this many steps
+  /// [m] the run ends ("robot fell") when the COM is less than this above the stance foot (ours). The plant's own
+  /// fall guard uses an absolute base height, which cannot tell a fall from walking down a flight of stairs.
+  double min_com_height_m = 0.45;
+  double nominal_step_duration_s = 0.4;  ///< [s] T_s written into the step parameters (time-based phase only)
+  /// [m] COM height above the lower of the stance foot and the next stone that the pre-impact posture aims for (the
+  /// request's com_height_m, weighted by posture.com_height_weight), and at which the robot starts. Ours: the paper gives none. Eq. (21) alone leaves
+  /// the height to the posture term, which picks AMBER's nearly straight nominal legs (COM 0.90 m, 7 mm of leg
+  /// extension left), so the COM cannot rise after an impact without the stance knee reaching its singular straight
+  /// position. 0.80 m keeps the knees bent 0.6-0.9 rad over a 0.4 m step.
+  double walking_com_height_m = 0.80;
+  PreImpactPostureParams posture = DefaultPostureParams();  ///< Eq. (21)
+  static PreImpactPostureParams DefaultPostureParams() {
+    PreImpactPostureParams p;
+    // w_z [1/m²] (ours): small against w_x = 1 so that, when a long step cannot keep the COM at
+    // walking_com_height_m, the height gives way rather than the pre-impact COM position ε l.
+    p.com_height_weight = 0.1;
+    return p;
+  }
+};
+
+/// One completed step, for summaries.
+struct StepRecord {
+  double start_time_s = 0, duration_s = 0;
+  double step_length_m = 0, step_height_m = 0;       ///< l, h planned for the step
+  double pre_impact_com_vz_mps = 0;                  ///< ṗ^z⁻ measured just before touchdown
+  double u_des_mps = 0;                              ///< planner's u_des just before touchdown
+  double post_impact_momentum = 0;                   ///< L_y⁺ about the new stance foot [m²/s]
+  double L_des = 0;                                  ///< planner's L_des for the step [m²/s]
+  double foothold_error_m = 0;                       ///< |touchdown x − stone centre|
+  int stone = -1;                                    ///< stone the swing foot landed on (nearest to the foot)
+  int planned_stone = -1;                            ///< stone it was aimed at
+  bool posture_ok = true;
+};
+
+class SteppingStonesSupervisor final : public LeafSystem {
+ public:
+  SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain, SteppingStonesSupervisorParams params = {});
+
+  const std::vector<StepRecord>& steps(const LeafContext& context) const;
+  int posture_failures(const LeafContext& context) const;
+  // The committed step state of `context` (what the last update decided).
+  int stance_mode(const LeafContext& context) const;  ///< 0 left stance, 1 right stance
+  int stone(const LeafContext& context) const;        ///< stone under the stance foot
+  int num_steps(const LeafContext& context) const;    ///< impacts so far
+  Eigen::Vector2d stance_foot(const LeafContext& context) const;
+  StepOutputParameters step_parameters(const LeafContext& context) const;
+  double pre_impact_com_height(const LeafContext& context) const;
+  /// Sets up the first step from the plant state in `context`'s inputs (call after fixing the initial state).
+  void Initialize(LeafContext& context, const Eigen::VectorXd& plant_state, int plant_mode) const;
+
+  struct Scratch;
+
+ private:
+  std::any AllocateScratch() const override;
+  EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
+  /// The committed step state, or after an impact the one the next update will commit.
+  const Eigen::VectorXd& StepState(const LeafContext& context) const;
+  /// Impact bookkeeping on the step state xd (new stance foot, stone, α_0, posture); fills `rec` if given.
+  void ApplyImpact(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, StepRecord* rec) const;
+  void PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const;
+  const PreImpactPosture& SolvePosture(const LeafContext& context, const PreImpactPostureRequest& request, int stance) const;
+  void ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x, Eigen::Vector4d* com, double* L) const;
+
+  std::shared_ptr<const MultibodyModel> model_;
+  Terrain terrain_;
+  SteppingStonesSupervisorParams params_;
+  int contact_[2];  // left, right contact indices
+  int torso_pitch_index_ = 2;
+};
+
+}  // namespace rome

@@ -1,0 +1,265 @@
+// stepping_stones: AMBER walks over stepping stones with momentum regulation (stepping-stones paper, Algorithm 1).
+// Event-accurate hybrid plant, LIP momentum planner, vertical-COM MPC, pre-impact posture NLP, task-space QP.
+//
+// Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR): gait tiles over the stones,
+// COM height over time, and the phase portrait (p_com^x, L_y) against the LIP orbit of E*.
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "diagrams/stepping_stones/stepping_stones_diagram.h"
+#include "examples/common/cli.h"
+#include "examples/common/plot.h"
+#include "framework/simulator.h"
+#include "systems/multibody/multibody_kinematics.h"
+
+using namespace rome;
+
+namespace {
+
+Terrain MakeTerrain(const examples::CommandLine& cli, int steps) {
+  const std::string kind = cli.Get("terrain");
+  const double stone_length = cli.GetDouble("stone-length");
+  const int n = steps + 2;
+  if (kind == "flat" || kind == "stairs-up" || kind == "stairs-down") {
+    const double l = cli.GetDouble("step-length");
+    double h = 0.0;
+    if (kind != "flat") h = cli.Get("step-height") == "default" ? (kind == "stairs-up" ? 0.2 : -0.1) : cli.GetDouble("step-height");
+    if (!(l > 0)) throw std::invalid_argument("stepping_stones: --step-length must be positive, got " + cli.Get("step-length"));
+    return PeriodicSteppingStones(l, h, n, stone_length);
+  }
+  if (kind == "random") {
+    RandomSteppingStonesParams p;
+    p.num_stones = n;
+    p.min_gap_m = cli.GetDouble("min-gap");
+    p.max_gap_m = cli.GetDouble("max-gap");
+    p.max_rise_m = cli.GetDouble("max-rise");
+    p.stone_length_m = stone_length;
+    p.seed = static_cast<unsigned>(cli.GetInt("seed"));
+    return RandomSteppingStones(p);
+  }
+  return Terrain::FromCsv(kind, stone_length);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  examples::CommandLine cli("stepping_stones",
+                            "AMBER walks over stepping stones: LIP momentum regulation, vertical-COM MPC, pre-impact posture NLP and a task-space QP "
+                            "(stepping-stones paper, Algorithm 1), simulated event by event.");
+  cli.Option("terrain", "random", "flat | stairs-up | stairs-down | random | FILE.csv (x,z[,length] per line)")
+      .Option("step-length", "0.4", "[m] distance between stones for flat and stairs")
+      .Option("step-height", "default", "[m] height change per stone for stairs (default: +0.2 up, -0.1 down)")
+      .Option("stone-length", "0.1", "[m] length of each stone's top")
+      .Option("min-gap", "0.2", "[m] random terrain: smallest distance between stones")
+      .Option("max-gap", "0.7", "[m] random terrain: largest distance between stones")
+      .Option("max-rise", "0.25", "[m] random terrain: largest height change from one stone to the next")
+      .Option("seed", "1", "random seed of the random terrain")
+      .Option("steps", "30", "number of steps to walk")
+      .Option("energy", "0.5", "E* [m^2/s^2], desired orbital energy (paper: 0.5)")
+      .Option("epsilon", "0.6", "epsilon [-], desired pre-impact COM position as a fraction of the step (paper: 0.6)")
+      .Option("swing-clearance", "0.1", "[m] z_sw^max above the highest of the start, stance and next stones")
+      .Option("swing-apex", "exact", "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max)")
+      .Option("initial-com-x", "-0.1", "[m] COM position relative to the stance foot at the start (on the E* orbit)")
+      .Option("robot", "robots/amber/amber.rome.json", "planar point-foot robot sidecar")
+      .Option("log", "stepping_stones.csv", "CSV log")
+      .Option("summary", "stepping_stones.json", "JSON summary")
+      .Option("log-period", "0.005", "[s] sample period of the CSV log")
+      .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
+      .Option("plots", "", "directory for PNG plots (empty: none)");
+  try {
+    if (!cli.Parse(argc, argv)) return 0;
+    const int steps = cli.GetInt("steps");
+    if (steps < 1) throw std::invalid_argument("stepping_stones: --steps must be at least 1, got " + cli.Get("steps"));
+    const Terrain terrain = MakeTerrain(cli, steps);
+    SteppingStonesDiagramParams params;
+    params.robot_sidecar = cli.Get("robot");
+    params.target_orbital_energy = cli.GetDouble("energy");
+    params.impact_fraction = cli.GetDouble("epsilon");
+    params.supervisor.max_steps = steps;
+    params.log_period_s = cli.GetDouble("log-period");
+    params.initial_com_x_m = cli.GetDouble("initial-com-x");
+    params.outputs.swing_foot.clearance = cli.GetDouble("swing-clearance");
+    if (cli.Get("swing-apex") == "exact")
+      params.outputs.swing_foot.apex_shape = SwingApexShape::kExactPeak;
+    else if (cli.Get("swing-apex") == "paper")
+      params.outputs.swing_foot.apex_shape = SwingApexShape::kControlPoints;
+    else
+      throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper' or 'exact', got '" + cli.Get("swing-apex") + "'");
+    SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params);
+    Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
+    SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
+    sim.Initialize();
+
+    std::cout << "stepping_stones: " << terrain.stones().size() << " stones (" << cli.Get("terrain") << "), E* = " << params.target_orbital_energy
+              << ", epsilon = " << params.impact_fraction << ", " << steps << " steps\n";
+    const auto start = std::chrono::steady_clock::now();
+    SimulatorStatus status;
+    const LeafContext& sup_ctx = d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context());
+    size_t reported = 0;
+    const double max_time = 3.0 * steps + 2.0;
+    if (cli.GetFlag("report-qp-failures")) {
+      // Prints each new failure message of the task-space QP (e.g. which constraints cannot hold together).
+      std::string last;
+      sim.set_monitor([&d, last](const Context& c) mutable {
+        const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, c);
+        const std::string& message = d.controller->last_qp(cc).status_message();
+        if (!message.empty() && message != last && message.find("optimal") == std::string::npos) std::cerr << "t = " << c.time() << " s: " << message << "\n";
+        last = message;
+        return EventStatus::Succeeded();
+      });
+    }
+    for (double t = 0.5; t <= max_time + 1e-9; t += 0.5) {
+      status = sim.AdvanceTo(t);
+      const auto& recs = d.supervisor->steps(sup_ctx);
+      if (recs.size() != reported) {
+        std::cout << "  t = " << sim.get_context().time() << " s: " << recs.size() << " steps, last l = " << recs.back().step_length_m
+                  << " m, foothold error " << recs.back().foothold_error_m * 100 << " cm\n";
+        reported = recs.size();
+      }
+      if (!status.ok()) break;
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const auto& recs = d.supervisor->steps(sup_ctx);
+    const double sim_time = sim.get_context().time();
+    const bool fell = status.message.find("fell") != std::string::npos;
+    const bool completed = static_cast<int>(recs.size()) >= steps;
+    const LeafContext& plant_ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
+    const double x_end = d.plant->EvalOutput(plant_ctx, "com")[0];
+    const LeafContext& log_ctx = d.diagram->GetSubsystemContext(*d.logger, sim.get_context());
+    const auto& log = d.logger->log(log_ctx);
+    const double x_start = log.samples.empty() ? x_end : log.samples.front()[2 * d.model->nv() + 1];
+    double max_foothold = 0;
+    nlohmann::json step_list = nlohmann::json::array();
+    for (const auto& r : recs) {
+      max_foothold = std::max(max_foothold, r.foothold_error_m);
+      step_list.push_back({{"l", r.step_length_m},
+                           {"h", r.step_height_m},
+                           {"duration_s", r.duration_s},
+                           {"pre_impact_com_vz_mps", r.pre_impact_com_vz_mps},
+                           {"u_des_mps", r.u_des_mps},
+                           {"post_impact_momentum", r.post_impact_momentum},
+                           {"L_des", r.L_des},
+                           {"foothold_error_m", r.foothold_error_m},
+                           {"stone", r.stone},
+                           {"planned_stone", r.planned_stone},
+                           {"posture_ok", r.posture_ok}});
+    }
+    const LeafContext& ctrl_ctx = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
+    const LeafContext& mpc_ctx = d.diagram->GetSubsystemContext(*d.mpc, sim.get_context());
+    const int qp_failures = static_cast<int>(d.controller->EvalOutput(ctrl_ctx, "qp_failures")[0]) +
+                            static_cast<int>(d.mpc->EvalOutput(mpc_ctx, "qp_failures")[0]);
+    nlohmann::json summary = {{"success", completed && !fell},
+                              {"steps_completed", recs.size()},
+                              {"fell", fell},
+                              {"fall_reason", fell ? status.message : ""},
+                              {"status", status.ToString()},
+                              {"sim_time_s", sim_time},
+                              {"wall_time_s", wall},
+                              {"realtime_factor", wall > 0 ? sim_time / wall : 0.0},
+                              {"mean_forward_speed_mps", sim_time > 0 ? (x_end - x_start) / sim_time : 0.0},
+                              {"max_foothold_error_m", max_foothold},
+                              {"qp_failures", qp_failures},
+                              {"nlp_failures", d.supervisor->posture_failures(sup_ctx)},
+                              {"energy", params.target_orbital_energy},
+                              {"epsilon", params.impact_fraction},
+                              {"terrain", cli.Get("terrain")},
+                              {"seed", cli.GetInt("seed")},
+                              {"steps", step_list}};
+    nlohmann::json stone_list = nlohmann::json::array();
+    for (const auto& st : terrain.stones()) stone_list.push_back({st.x_center_m, st.top_height_m, st.length_m});
+    summary["stones"] = stone_list;
+    if (!cli.Get("summary").empty()) {
+      std::ofstream out(cli.Get("summary"));
+      if (!out) throw std::runtime_error("stepping_stones: cannot write summary '" + cli.Get("summary") + "'");
+      out << summary.dump(2) << "\n";
+    }
+    if (!cli.Get("log").empty()) d.logger->WriteCsv(log_ctx, cli.Get("log"));
+    if (!cli.Get("plots").empty()) {
+      const std::string dir = cli.Get("plots");
+      std::filesystem::create_directories(dir);
+      const int nv = d.model->nv();
+      const int com_off = 2 * nv + 1;            // plant.com after state and mode
+      const int rel_off = com_off + 6;           // supervisor.com_state
+      const int L_off = rel_off + 4;             // supervisor.angular_momentum
+      std::string err;
+      // COM height over time.
+      examples::Series zc{"COM height (world)", {}, {}, "lines"};
+      for (size_t k = 0; k < log.times.size(); ++k) {
+        zc.x.push_back(log.times[k]);
+        zc.y.push_back(log.samples[k][com_off + 2]);
+      }
+      if (!examples::WritePlot({"COM height", "time [s]", "z [m]", {zc}}, dir + "/com_height.png", &err)) std::cerr << "warning: " << err << "\n";
+      // Phase portrait against the LIP orbit of E*: L = z0 sqrt(E* + λ² x²).
+      examples::Series ph{"robot (p_com^x, L_y)", {}, {}, "lines"}, orbit{"LIP orbit of E*", {}, {}, "lines dt 2"};
+      double zsum = 0;
+      for (size_t k = 0; k < log.times.size(); ++k) {
+        ph.x.push_back(log.samples[k][rel_off]);
+        ph.y.push_back(log.samples[k][L_off]);
+        zsum += log.samples[k][rel_off + 1];
+      }
+      const double z0 = log.times.empty() ? 0.9 : zsum / log.times.size();
+      const double lambda2 = 9.81 / z0;
+      for (int i = -50; i <= 50; ++i) {
+        const double x = 0.5 * i / 50.0;
+        orbit.x.push_back(x);
+        orbit.y.push_back(z0 * std::sqrt(params.target_orbital_energy + lambda2 * x * x));
+      }
+      if (!examples::WritePlot({"Phase portrait, E* = " + cli.Get("energy"), "p_com^x relative to stance foot [m]", "L_y [m^2/s]", {ph, orbit}},
+                               dir + "/phase_portrait.png", &err))
+        std::cerr << "warning: " << err << "\n";
+      // Gait tiles: stick figures every 0.1 s over the stones.
+      MultibodyWorkspace ws(*d.model);
+      examples::Series sticks{"robot", {}, {}, "lines lc rgb '#3060c0'"}, stones{"stones", {}, {}, "lines lw 6 lc rgb '#808080'"};
+      for (const auto& s : terrain.stones()) {
+        stones.x.insert(stones.x.end(), {s.x_center_m - s.length_m / 2, s.x_center_m + s.length_m / 2, NAN});
+        stones.y.insert(stones.y.end(), {s.top_height_m, s.top_height_m, NAN});
+      }
+      const int hip = d.model->BodyIndex("torso");
+      double next_t = 0;
+      for (size_t k = 0; k < log.times.size(); ++k) {
+        if (log.times[k] < next_t) continue;
+        next_t = log.times[k] + 0.1;
+        const Eigen::VectorXd q = log.samples[k].head(nv);
+        const Eigen::Vector3d p_hip = CalcLinkPose(*d.model, ws, q, hip).translation();
+        const Eigen::Vector3d head = CalcPointPosition(*d.model, ws, q, hip, Eigen::Vector3d(0, 0, 0.5));
+        auto add = [&](const Eigen::Vector3d& a) {
+          sticks.x.push_back(a.x());
+          sticks.y.push_back(a.z());
+        };
+        add(head);
+        add(p_hip);
+        for (const char* side : {"left", "right"}) {
+          const Eigen::Vector3d knee = CalcLinkPose(*d.model, ws, q, d.model->BodyIndex(std::string(side) + "_shin")).translation();
+          const Eigen::Vector3d foot = CalcContactPointPosition(*d.model, ws, q, d.model->ContactIndex(std::string(side) + "_foot"), 0);
+          add(knee);
+          add(foot);
+          add(knee);
+          add(p_hip);
+        }
+        sticks.x.push_back(NAN);
+        sticks.y.push_back(NAN);
+      }
+      examples::PlotSpec tiles{"Gait tiles (every 0.1 s)", "x [m]", "z [m]", {stones, sticks}};
+      tiles.equal_axes = true;
+      tiles.width_px = 1600;
+      tiles.height_px = 500;
+      if (!examples::WritePlot(tiles, dir + "/gait_tiles.png", &err)) std::cerr << "warning: " << err << "\n";
+    }
+    std::cout << "\n"
+              << status.ToString() << "\n"
+              << recs.size() << " of " << steps << " steps" << (fell ? " (fell)" : "") << ", " << sim_time << " s simulated in " << wall
+              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time)\n"
+              << "mean forward speed " << summary["mean_forward_speed_mps"].get<double>() << " m/s, largest foothold error " << max_foothold * 100
+              << " cm, QP failures " << qp_failures << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n";
+    return completed && !fell ? 0 : 3;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}

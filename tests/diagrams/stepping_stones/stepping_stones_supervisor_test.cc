@@ -1,0 +1,213 @@
+// SteppingStonesSupervisor: impact bookkeeping of Algorithm 1 (lines 8-10). Stance foot, stone index and step
+// parameters after an impact (already in the outputs before the periodic update commits them, and identical
+// after), the step record, termination after max_steps, the fall check, and L_y about the stance foot against the
+// rigid-translation closed form L = r_z v_x − r_x v_z.
+#include "diagrams/stepping_stones/stepping_stones_supervisor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "diagrams/stepping_stones/stepping_stones_diagram.h"
+#include "systems/multibody/contact_dynamics.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/planners/stepping_stones_outputs_system.h"
+
+namespace rome {
+namespace {
+
+constexpr double kStep = 0.4;
+
+class SupervisorTest : public ::testing::Test {
+ protected:
+  SupervisorTest()
+      : model_(std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.rome.json"))),
+        terrain_(PeriodicSteppingStones(kStep, 0.0, 6)),
+        ws_(*model_) {
+    params_.max_steps = 3;
+    supervisor_ = std::make_unique<SteppingStonesSupervisor>("supervisor", model_, terrain_, params_);
+    context_ = supervisor_->CreateDefaultLeafContext();
+    left_ = model_->ContactIndex("left_foot");
+    right_ = model_->ContactIndex("right_foot");
+  }
+
+  Eigen::Vector3d Foot(const Eigen::VectorXd& x, int contact) { return CalcContactPointPosition(*model_, ws_, x.head(model_->nv()), contact, 0); }
+  Eigen::VectorXd Output(const std::string& port) { return supervisor_->EvalOutput(*context_, port); }
+  void SetInputs(const Eigen::VectorXd& x, int mode) {
+    supervisor_->FixInputPort(*context_, 0, x);
+    supervisor_->FixInputPort(*context_, 1, Eigen::VectorXd::Constant(1, mode));
+    supervisor_->FixInputPort(*context_, 2, Eigen::VectorXd::Constant(1, -0.3));
+    supervisor_->FixInputPort(*context_, 3, Eigen::VectorXd::Constant(1, 0.7));
+  }
+  EventStatus RunUpdate() {
+    Eigen::VectorXd next = context_->discrete_state();
+    const EventStatus status = supervisor_->periodic_events().at(0).update(*context_, &next);
+    context_->get_mutable_discrete_state() = next;
+    return status;
+  }
+  // A configuration with the `stance` foot at `stance_xz` and the other foot on the stone (l, h) ahead (Eq. (21)).
+  Eigen::VectorXd PreImpactState(const std::string& stance, const std::string& swing, const Eigen::Vector2d& stance_xz, double l) {
+    PreImpactPostureOptimizer optimizer(model_);
+    PreImpactPostureRequest request;
+    request.stance_contact = stance;
+    request.swing_contact = swing;
+    request.step_length_m = l;
+    request.step_height_m = 0.0;
+    request.stance_foot_position = stance_xz;
+    const PreImpactPosture posture = optimizer.Solve(request);
+    EXPECT_TRUE(posture.success) << posture.message;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * model_->nv());
+    x.head(model_->nv()) = posture.q;
+    x[model_->nv()] = 0.6;  // some forward base velocity
+    return x;
+  }
+
+  std::shared_ptr<const MultibodyModel> model_;
+  Terrain terrain_;
+  MultibodyWorkspace ws_;
+  SteppingStonesSupervisorParams params_;
+  std::unique_ptr<SteppingStonesSupervisor> supervisor_;
+  std::unique_ptr<LeafContext> context_;
+  int left_ = -1, right_ = -1;
+};
+
+TEST_F(SupervisorTest, InitialStepAndRigidTranslationMomentum) {
+  SteppingStonesDiagramParams dp;
+  Eigen::VectorXd x = SteppingStonesInitialState(*model_, terrain_, dp);
+  const int nv = model_->nv();
+  // The initial state stands on the first stone's centre with both feet at rest.
+  EXPECT_NEAR(Foot(x, left_).x(), 0.0, 1e-10);
+  EXPECT_NEAR(Foot(x, right_).z(), 0.0, 1e-10);
+  EXPECT_NEAR(CalcPointVelocity(*model_, ws_, x.head(nv), x.tail(nv), model_->contacts()[left_].body, model_->contacts()[left_].frame_origin).norm(), 0.0,
+              1e-10);
+  // ... with the COM at initial_com_x_m on the E* orbit of the LIP at the walking height (Eq. (16)).
+  const double x0 = dp.initial_com_x_m, lambda_squared = 9.81 / dp.supervisor.walking_com_height_m;
+  EXPECT_NEAR(CalcComPosition(*model_, ws_, x.head(nv)).x(), x0, 1e-10);
+  EXPECT_NEAR(CalcComPosition(*model_, ws_, x.head(nv)).z(), dp.supervisor.walking_com_height_m, 1e-10);
+  const double xdot = CalcComVelocity(*model_, ws_, x.head(nv), x.tail(nv)).x();
+  EXPECT_NEAR(xdot * xdot - lambda_squared * x0 * x0, dp.target_orbital_energy, 1e-9);
+  EXPECT_NEAR(CalcComVelocity(*model_, ws_, x.head(nv), x.tail(nv)).z(), 0.0, 1e-10);
+  EXPECT_NEAR(x[nv + 2], 0.0, 1e-12);  // torso not rotating
+
+  // Pure translation of the whole robot (no joint or pitch rates): the centroidal angular momentum is zero and
+  // L about the stance foot is the point-mass value r_z v_x − r_x v_z.
+  x.tail(nv).setZero();
+  x[nv] = 0.7;
+  x[nv + 1] = -0.2;
+  x[0] += 0.03;  // shift the robot (the feet stay on the 0.1 m stone)
+  SetInputs(x, 0);
+  supervisor_->Initialize(*context_, x, 0);
+  const Eigen::Vector2d st = supervisor_->stance_foot(*context_);
+  EXPECT_NEAR(st.x(), Foot(x, left_).x(), 1e-12);
+  EXPECT_EQ(supervisor_->stone(*context_), 0);
+  EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
+  const Eigen::Vector3d com = CalcComPosition(*model_, ws_, x.head(nv));
+  const double rx = com.x() - st.x(), rz = com.z() - st.y();
+  const Eigen::VectorXd com_state = Output("com_state");
+  EXPECT_NEAR(com_state[0], rx, 1e-12);
+  EXPECT_NEAR(com_state[1], rz, 1e-12);
+  EXPECT_NEAR(com_state[2], 0.7, 1e-12);
+  EXPECT_NEAR(com_state[3], -0.2, 1e-12);
+  EXPECT_NEAR(Output("angular_momentum")[0], rz * 0.7 - rx * (-0.2), 1e-12);
+  // The first step aims at stone 1 from the stance foot.
+  EXPECT_NEAR(Output("step")[0], kStep - st.x(), 1e-12);
+  EXPECT_NEAR(Output("step")[1], -st.y(), 1e-12);
+  const StepOutputParameters p = SteppingStonesOutputsSystem::UnpackStepParameters(Output("step_parameters"));
+  EXPECT_NEAR(p.p_com_x0, rx, 1e-12);
+  EXPECT_NEAR(p.p_sw0_x, Foot(x, right_).x() - st.x(), 1e-12);
+  EXPECT_NEAR(p.step_length, kStep - st.x(), 1e-12);
+  // The pre-impact COM height aims at the walking height: a soft target (weight 0.1 against the NLP's small posture
+  // term), so it lands within a couple of centimetres, well below the straight-leg height of about 0.9 m.
+  EXPECT_NEAR(Output("pre_impact_com_height")[0], params_.walking_com_height_m, 0.02);
+}
+
+TEST_F(SupervisorTest, ImpactBookkeeping) {
+  SteppingStonesDiagramParams dp;
+  const Eigen::VectorXd x0 = SteppingStonesInitialState(*model_, terrain_, dp);
+  SetInputs(x0, 0);
+  supervisor_->Initialize(*context_, x0, 0);
+  EXPECT_TRUE(RunUpdate().ok());  // no impact: nothing committed
+  EXPECT_EQ(supervisor_->num_steps(*context_), 0);
+
+  // Touchdown of the right foot on stone 1: the plant is in right stance (mode 1).
+  const Eigen::VectorXd x1 = PreImpactState("left_foot", "right_foot", Eigen::Vector2d(0.0, 0.0), kStep);
+  context_->SetTime(0.3);
+  SetInputs(x1, 1);
+  const Eigen::Vector3d foot = Foot(x1, right_);
+  // Before the periodic update: the outputs already describe the new step ...
+  const Eigen::VectorXd pending_params = Output("step_parameters");
+  EXPECT_NEAR(Output("stance_foot")[0], foot.x(), 1e-12);
+  EXPECT_EQ(Output("stone")[0], 1.0);
+  EXPECT_NEAR(Output("step")[0], 2 * kStep - foot.x(), 1e-12);
+  const StepOutputParameters p = SteppingStonesOutputsSystem::UnpackStepParameters(pending_params);
+  EXPECT_NEAR(p.p_sw0_x, Foot(x1, left_).x() - foot.x(), 1e-12);  // the old stance foot is the new swing foot
+  EXPECT_NEAR(p.p_com_x0, CalcComPosition(*model_, ws_, x1.head(model_->nv())).x() - foot.x(), 1e-12);
+  EXPECT_NEAR(p.phi_0, x1[2], 1e-15);
+  EXPECT_DOUBLE_EQ(p.step_start_time, 0.3);
+  const double L_pending = Output("angular_momentum")[0];
+  // ... while the committed state is still the old one.
+  EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
+  EXPECT_EQ(supervisor_->stone(*context_), 0);
+
+  // The update commits exactly what the outputs showed, and records the step.
+  EXPECT_TRUE(RunUpdate().ok());
+  EXPECT_EQ(supervisor_->stance_mode(*context_), 1);
+  EXPECT_EQ(supervisor_->stone(*context_), 1);
+  EXPECT_EQ(supervisor_->num_steps(*context_), 1);
+  EXPECT_EQ(Output("step_parameters"), pending_params);
+  EXPECT_NEAR(supervisor_->stance_foot(*context_).x(), foot.x(), 1e-12);
+  ASSERT_EQ(supervisor_->steps(*context_).size(), 1u);
+  const StepRecord& r = supervisor_->steps(*context_)[0];
+  EXPECT_EQ(r.stone, 1);
+  EXPECT_EQ(r.planned_stone, 1);
+  EXPECT_NEAR(r.foothold_error_m, std::abs(foot.x() - kStep), 1e-12);
+  EXPECT_LT(r.foothold_error_m, 1e-6);  // the posture NLP put the foot on the stone centre
+  EXPECT_NEAR(r.step_length_m, kStep, 1e-12);
+  EXPECT_NEAR(r.post_impact_momentum, L_pending, 1e-12);
+  EXPECT_NEAR(r.duration_s, 0.3, 1e-15);
+  EXPECT_TRUE(r.posture_ok);
+  EXPECT_EQ(supervisor_->posture_failures(*context_), 0);
+
+  // Second impact: left foot onto stone 2 (mode 0), third: right foot onto stone 3 ends the run (max_steps = 3).
+  const Eigen::VectorXd x2 = PreImpactState("right_foot", "left_foot", Eigen::Vector2d(foot.x(), foot.z()), 2 * kStep - foot.x());
+  SetInputs(x2, 0);
+  EXPECT_TRUE(RunUpdate().ok());
+  EXPECT_EQ(supervisor_->stone(*context_), 2);
+  EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
+  const Eigen::Vector3d foot2 = Foot(x2, left_);
+  const Eigen::VectorXd x3 = PreImpactState("left_foot", "right_foot", Eigen::Vector2d(foot2.x(), foot2.z()), 3 * kStep - foot2.x());
+  SetInputs(x3, 1);
+  const EventStatus end = RunUpdate();
+  EXPECT_EQ(end.kind, EventStatus::Kind::kReachedTermination);
+  EXPECT_NE(end.message.find("completed 3 steps"), std::string::npos) << end.message;
+  EXPECT_EQ(supervisor_->steps(*context_).size(), 3u);
+  EXPECT_EQ(supervisor_->steps(*context_).back().stone, 3);
+}
+
+TEST_F(SupervisorTest, FallAndBadInput) {
+  SteppingStonesDiagramParams dp;
+  Eigen::VectorXd x = SteppingStonesInitialState(*model_, terrain_, dp);
+  SetInputs(x, 0);
+  supervisor_->Initialize(*context_, x, 0);
+  // The COM sinks below min_com_height_m above the stance foot: "robot fell".
+  x[1] -= dp.supervisor.walking_com_height_m - params_.min_com_height_m + 0.01;
+  SetInputs(x, 0);
+  const EventStatus fell = RunUpdate();
+  EXPECT_EQ(fell.kind, EventStatus::Kind::kReachedTermination);
+  EXPECT_NE(fell.message.find("robot fell"), std::string::npos) << fell.message;
+  // A stance foot off every stone is rejected with a message naming it.
+  Eigen::VectorXd off = SteppingStonesInitialState(*model_, terrain_, dp);
+  off[0] += 0.2;
+  try {
+    supervisor_->Initialize(*context_, off, 0);
+    FAIL() << "expected an exception";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("not on any stone"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(SteppingStonesSupervisor("s", model_, Terrain::Flat(), params_), std::exception);
+}
+
+}  // namespace
+}  // namespace rome
