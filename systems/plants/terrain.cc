@@ -93,7 +93,14 @@ int Terrain::NearestStone(double x) const {
 double Terrain::SurfaceHeight(double x) const {
   if (stones_.empty()) return flat_height_;
   const int on = StoneAt(x);
-  return stones_[on >= 0 ? on : NearestStone(x)].top_height_m;
+  if (on >= 0) return stones_[on].top_height_m;
+  // In a gap: the lower of the two neighbouring tops (a foot over the gap only "touches down" once it is
+  // below both, i.e. inside the gap); before the first or after the last stone: that stone's top.
+  if (x < stones_.front().x_center_m) return stones_.front().top_height_m;
+  if (x > stones_.back().x_center_m) return stones_.back().top_height_m;
+  for (size_t i = 0; i + 1 < stones_.size(); ++i)
+    if (x < stones_[i + 1].x_center_m) return std::min(stones_[i].top_height_m, stones_[i + 1].top_height_m);
+  return stones_.back().top_height_m;
 }
 
 }  // namespace rome

@@ -25,9 +25,10 @@ class Terrain {
 
   bool is_flat() const { return stones_.empty(); }
   const std::vector<SteppingStone>& stones() const { return stones_; }
-  /// Height used by touchdown witnesses at x: the ground, or the top of the stone under x, or, between
-  /// stones, the top of the nearest stone (so a foot that misses every stone still produces a touchdown,
-  /// which the plant then reports as a fall).
+  /// Height used by touchdown witnesses at x: the ground, or the top of the stone under x, or, in a gap
+  /// between two stones, the lower of their tops (so a foot that misses every stone still produces a
+  /// touchdown once it is inside the gap, which the plant then reports as a fall). Stone sides are not
+  /// modelled: a toe that stubs a higher stone's side is not detected until it drops into a gap.
   double SurfaceHeight(double x) const;
   /// Index of the stone whose top contains x (with `tolerance_m` margin), or -1.
   int StoneAt(double x, double tolerance_m = 0.0) const;

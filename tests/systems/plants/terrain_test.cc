@@ -15,8 +15,10 @@ TEST(Terrain, StonesLookup) {
   EXPECT_EQ(t.StoneAt(0.5), -1);
   EXPECT_EQ(t.StoneAt(0.11, 0.02), 0);
   EXPECT_DOUBLE_EQ(t.SurfaceHeight(0.95), 0.2);
-  EXPECT_DOUBLE_EQ(t.SurfaceHeight(0.7), 0.2);  // between stones: nearest stone
+  EXPECT_DOUBLE_EQ(t.SurfaceHeight(0.7), 0.0);  // in the gap: the lower neighbour
   EXPECT_DOUBLE_EQ(t.SurfaceHeight(0.3), 0.0);
+  EXPECT_DOUBLE_EQ(t.SurfaceHeight(-1.0), 0.0);  // before the first stone
+  EXPECT_DOUBLE_EQ(t.SurfaceHeight(2.0), 0.2);   // after the last stone
   EXPECT_THROW(Terrain::Stones({{0, 0, 0.2}, {0.1, 0, 0.2}}), std::invalid_argument);
   EXPECT_THROW(Terrain::Stones({{0, 0, -0.2}}), std::invalid_argument);
 }
