@@ -39,6 +39,11 @@ using rome::test::g_counting;
 #define ROME_COUNT_MALLOC 0
 #else
 #define ROME_COUNT_MALLOC 1
+#endif
+/// Whether malloc-family calls are counted (false under AddressSanitizer: only operator new is).
+[[maybe_unused]] constexpr bool kCountsMalloc = ROME_COUNT_MALLOC;
+
+#if ROME_COUNT_MALLOC
 extern "C" {
 void* __libc_malloc(std::size_t);
 void* __libc_calloc(std::size_t, std::size_t);

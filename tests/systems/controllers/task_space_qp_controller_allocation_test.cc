@@ -12,11 +12,6 @@
 
 #include "tests/common/allocation_counter.h"  // replaces operator new/malloc in this binary
 
-namespace {
-[[maybe_unused]] constexpr bool kCountsMalloc = ROME_COUNT_MALLOC;
-[[maybe_unused]] constexpr bool kMallocReplaced = ROME_COUNT_MALLOC;
-}  // namespace
-
 namespace rome {
 namespace {
 

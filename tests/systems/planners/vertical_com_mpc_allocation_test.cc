@@ -12,22 +12,10 @@
 
 #include "tests/common/allocation_counter.h"  // replaces operator new/malloc in this binary
 
-namespace {
-[[maybe_unused]] constexpr bool kCountsMalloc = ROME_COUNT_MALLOC;
-[[maybe_unused]] constexpr bool kMallocReplaced = ROME_COUNT_MALLOC;
-}  // namespace
-
 namespace rome {
 namespace {
 
-template <class F>
-long CountAllocations(F&& f) {
-  g_allocations = 0;
-  g_counting = true;
-  f();
-  g_counting = false;
-  return g_allocations;
-}
+using rome::test::CountAllocations;
 
 TEST(VerticalComMpcAllocation, CounterSeesAllocations) {
   const long n = CountAllocations([] { Eigen::VectorXd v(1000); v.setZero(); std::vector<int> w(10); (void)w; });
