@@ -4,6 +4,7 @@
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <cmath>
 #include <exception>
@@ -54,6 +55,7 @@ struct Simulator::Impl {
   void* mem = nullptr;
   SUNMatrix A = nullptr;
   SUNLinearSolver LS = nullptr;
+  SUNNonlinearSolver NLS = nullptr;
   long acc_steps = 0, acc_rhs = 0, acc_g = 0;
   std::exception_ptr error;
   std::string cvode_message;
@@ -64,12 +66,14 @@ struct Simulator::Impl {
   ~Impl() { FreeCvode(); }
   void FreeCvode() {
     if (mem) CVodeFree(&mem);
+    if (NLS) SUNNonlinSolFree(NLS);
     if (LS) SUNLinSolFree(LS);
     if (A) SUNMatDestroy(A);
     if (y) N_VDestroy(y);
     if (sunctx) SUNContext_Free(&sunctx);
     mem = nullptr;
     LS = nullptr;
+    NLS = nullptr;
     A = nullptr;
     y = nullptr;
     sunctx = nullptr;
@@ -234,9 +238,16 @@ SimulatorStatus Simulator::Initialize() {
                                 ", absolute_tolerance = " + std::to_string(config_.absolute_tolerance) + ")");
   CVodeSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
   CVodeSetUserData(m.mem, &m);
-  m.A = SUNDenseMatrix(m.nx_integrated, m.nx_integrated, m.sunctx);
-  m.LS = SUNLinSol_Dense(m.y, m.A, m.sunctx);
-  CVodeSetLinearSolver(m.mem, m.LS, m.A);
+  if (config_.scheme == IntegrationScheme::kAdamsFunctional) {
+    // Fixed-point iteration with no Anderson acceleration: no Jacobian, no linear solver.
+    m.NLS = SUNNonlinSol_FixedPoint(m.y, 0, m.sunctx);
+    if (!m.NLS || CVodeSetNonlinearSolver(m.mem, m.NLS) != CV_SUCCESS)
+      throw std::runtime_error("Simulator: could not attach CVODE's fixed-point solver: " + m.cvode_message);
+  } else {
+    m.A = SUNDenseMatrix(m.nx_integrated, m.nx_integrated, m.sunctx);
+    m.LS = SUNLinSol_Dense(m.y, m.A, m.sunctx);
+    CVodeSetLinearSolver(m.mem, m.LS, m.A);
+  }
   if (config_.max_step_s > 0) CVodeSetMaxStep(m.mem, config_.max_step_s);
   if (config_.initial_step_s > 0) CVodeSetInitStep(m.mem, config_.initial_step_s);
   if (config_.max_order > 0) CVodeSetMaxOrd(m.mem, config_.max_order);

@@ -33,7 +33,10 @@
 
 namespace rome {
 
-enum class IntegrationScheme { kBdf, kAdams };
+/// kBdf and kAdams solve each implicit step by Newton iteration on a dense finite-difference Jacobian (robust for
+/// stiff plants). kAdamsFunctional uses Adams-Moulton with fixed-point (functional) iteration: no Jacobian at all,
+/// the cheapest choice for non-stiff plants whose integration is restarted often (e.g. by a 1 kHz zero-order hold).
+enum class IntegrationScheme { kBdf, kAdams, kAdamsFunctional };
 
 struct EventPolicy {
   /// [s] An event closer than this to the previous event counts as "at the same instant". Legged-robot events

@@ -161,6 +161,7 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& p) {
 
 SimulatorConfig SteppingStonesSimulatorConfig() {
   SimulatorConfig config;
+  config.scheme = IntegrationScheme::kAdamsFunctional;
   config.relative_tolerance = 1e-6;
   config.absolute_tolerance = 1e-8;
   return config;

@@ -1,5 +1,6 @@
 #include "systems/controllers/task_space_qp_controller.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -49,7 +50,9 @@ struct TaskSpaceQpController::Scratch {
   std::vector<ModeQp> modes;
   Eigen::VectorXd y, ydot, Jdot_qdot, ydd_star, w_rows;
   Eigen::MatrixXd Jy, WJy;
+  Eigen::VectorXd saved_l, saved_u;  // GRF row bounds while the relaxed QP runs
   int last_mode = 0;
+  long relaxed_solves = 0;
 };
 
 std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant) {
@@ -148,6 +151,7 @@ std::any TaskSpaceQpController::AllocateScratch() const {
   s.w_rows.setZero(ny_);
   s.Jy.setZero(ny_, nv);
   s.WJy.setZero(ny_, nv);
+  int max_ineq = 0;
   s.modes.reserve(mode_contacts_.size());
   for (size_t m = 0; m < mode_contacts_.size(); ++m) {
     const ContactSet active = mode_contacts_[m];
@@ -171,6 +175,7 @@ std::any TaskSpaceQpController::AllocateScratch() const {
       ineq += b.num_ineq;
     }
     const int nx = nv + nu + rows;
+    max_ineq = std::max(max_ineq, ineq);
     Scratch::ModeQp mq(nx, nv + rows, ineq, params_.qp);
     mq.active = active;
     mq.rows = rows;
@@ -209,6 +214,8 @@ std::any TaskSpaceQpController::AllocateScratch() const {
     }
     s.modes.push_back(std::move(mq));
   }
+  s.saved_l.setZero(max_ineq);
+  s.saved_u.setZero(max_ineq);
   return s;
 }
 
@@ -295,6 +302,28 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
   return qp.Solve();
 }
 
+QpStatus TaskSpaceQpController::SolveRelaxedQp(const LeafContext& context) const {
+  Scratch& s = context.scratch<Scratch>();
+  Scratch::ModeQp& mq = s.modes[s.last_mode];
+  DenseQpSolver& qp = mq.qp;
+  // Drop the GRF rows (their bounds become infinite) and the normal-force bounds; no allocation.
+  for (const ContactBlock& b : mq.contacts) {
+    qp.lb[b.normal] = -kInf;
+    for (int r = b.ineq_offset; r < b.ineq_offset + b.num_ineq; ++r) {
+      s.saved_l[r] = qp.l[r], s.saved_u[r] = qp.u[r];
+      qp.l[r] = -kInf, qp.u[r] = kInf;
+    }
+  }
+  const QpStatus status = qp.Solve();
+  for (const ContactBlock& b : mq.contacts) {
+    qp.lb[b.normal] = params_.min_normal_force_N;
+    for (int r = b.ineq_offset; r < b.ineq_offset + b.num_ineq; ++r) qp.l[r] = s.saved_l[r], qp.u[r] = s.saved_u[r];
+  }
+  return status;
+}
+
+long TaskSpaceQpController::relaxed_solves(const LeafContext& context) const { return context.scratch<Scratch>().relaxed_solves; }
+
 EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   QpStatus status;
@@ -306,7 +335,19 @@ EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::Vec
   Scratch& s = context.scratch<Scratch>();
   const Scratch::ModeQp& mq = s.modes[s.last_mode];
   (*next)[status_offset()] = static_cast<double>(status);
-  if (status == QpStatus::kOptimal) {
+  bool use_solution = status == QpStatus::kOptimal;
+  if (!use_solution && status != QpStatus::kInvalidInput && params_.failure_policy == QpFailurePolicy::kRelaxContactForces) {
+    (*next)[failures_offset()] += 1.0;
+    const QpStatus relaxed = SolveRelaxedQp(context);
+    if (relaxed == QpStatus::kOptimal) {
+      use_solution = true;
+      ++s.relaxed_solves;
+    } else {
+      (*next)[status_offset()] = static_cast<double>(relaxed);
+      return EventStatus::Succeeded();  // hold the previous u
+    }
+  }
+  if (use_solution) {
     const Eigen::VectorXd& x = mq.qp.x();
     next->segment(u_offset(), nu) = x.segment(nv, nu);
     next->segment(qdd_offset(), nv) = x.head(nv);

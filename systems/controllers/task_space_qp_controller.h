@@ -32,9 +32,14 @@
 // One DenseQpSolver per contact mode (sized for that mode) lives in the context scratch and is warm-started
 // from its previous active set; an update allocates no heap memory.
 //
-// On QP failure (infeasible, iteration limit, bad data) the update holds the previous u (and previous q̈, F),
-// increments qp_failures, records the status in qp_status and continues: the caller decides whether a failure
-// ends the run (e.g. a monitor on qp_failures). QpFailurePolicy::kZeroTorque outputs u = 0 instead.
+// On QP failure (infeasible, iteration limit) the default policy (QpFailurePolicy::kRelaxContactForces) solves the
+// same QP once more without the GRF rows (unilateral, friction, CoP), keeping the dynamics, the contact
+// accelerations and the torque limits: the robot gets the best torques its actuators can give, and the plant
+// then decides, through its own lift-off and slip physics, what the contact really does. Whenever the first QP
+// fails, qp_failures is incremented and qp_status records its status (so a relaxed solve is never silent); if the
+// relaxed QP fails too, the update holds the previous u (and q̈, F) and qp_status records that second status.
+// kHoldPrevious skips the relaxed solve; kZeroTorque outputs u = 0. The caller decides whether failures end the
+// run (e.g. a monitor on qp_failures). Bad data (a NaN in the state, a wrong mode) ends the run with an error.
 #include <memory>
 #include <string>
 #include <utility>
@@ -50,8 +55,9 @@ namespace rome {
 class HybridContactPlant;
 
 enum class QpFailurePolicy {
-  kHoldPrevious,  ///< keep the previous update's u (the default)
-  kZeroTorque,    ///< output u = 0
+  kRelaxContactForces,  ///< re-solve without the GRF inequality rows, then hold the previous u (the default)
+  kHoldPrevious,        ///< keep the previous update's u
+  kZeroTorque,          ///< output u = 0
 };
 
 struct TaskSpaceQpParams {
@@ -71,7 +77,7 @@ struct TaskSpaceQpParams {
   /// {contact, joint}: the actuator on `joint` gets u = 0 while `contact` is active (the paper zeroes Cassie's
   /// stance toe torque). Empty for point-foot robots.
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;
-  QpFailurePolicy failure_policy = QpFailurePolicy::kHoldPrevious;
+  QpFailurePolicy failure_policy = QpFailurePolicy::kRelaxContactForces;
   QpSettings qp;                       ///< DenseQpSolver tolerances (warm start on by default).
 };
 
@@ -97,6 +103,11 @@ class TaskSpaceQpController final : public LeafSystem {
   /// Builds and solves the QP at the context's inputs, without touching the discrete state (the periodic
   /// update calls this). Throws std::runtime_error naming the port for a bad mode input.
   QpStatus SolveQp(const LeafContext& context) const;
+  /// Re-solves the QP last built by SolveQp without its GRF inequality rows and normal-force bounds (dynamics,
+  /// contact accelerations and torque limits kept), then restores those rows for the next update.
+  QpStatus SolveRelaxedQp(const LeafContext& context) const;
+  /// Number of updates, so far in `context`, that used the relaxed QP's answer.
+  long relaxed_solves(const LeafContext& context) const;
   /// The QP solved last in `context` (data, solution, multipliers) and its layout: x = [q̈; u; F].
   const DenseQpSolver& last_qp(const LeafContext& context) const;
   int last_mode(const LeafContext& context) const;

@@ -1,5 +1,6 @@
 #include "systems/posture/pre_impact_posture_optimizer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -85,7 +86,9 @@ PreImpactPostureProblem::PreImpactPostureProblem(const MultibodyModel& model, co
   Eigen::VectorXd gl = Eigen::VectorXd::Zero(m), gu = Eigen::VectorXd::Zero(m);
   gl[0] = gu[0] = request.step_length_m;
   gl[1] = gu[1] = request.step_height_m;
-  gl[2] = params.min_com_height_m;
+  // The minimum COM height is measured from the lower of the two feet (stepping down, the COM may be less than
+  // p_com^{z,min} above the stance foot: the landing leg is below it).
+  gl[2] = params.min_com_height_m + std::min(request.step_height_m, 0.0);
   gu[2] = kInf;
   SetConstraintBounds(gl, gu);
   SparsityPattern pattern;
@@ -257,7 +260,15 @@ PreImpactPosture PreImpactPostureOptimizer::Solve(const PreImpactPostureRequest&
   PreImpactPostureProblem problem(*model_, params_, request);
   const int stance = model_->ContactIndex(request.stance_contact);
   const Eigen::VectorXd x0 = previous_[stance].size() > 0 ? previous_[stance] : problem.FromConfiguration(model_->q_nominal());
-  const NlpResult result = solver_.Solve(problem, x0);
+  NlpResult result = solver_.Solve(problem, x0);
+  if (!result.success() && previous_[stance].size() > 0) {
+    // A warm start from a very different step can lead Ipopt to a point of local infeasibility: retry once from
+    // the nominal pose before declaring the step infeasible.
+    NlpResult cold = solver_.Solve(problem, problem.FromConfiguration(model_->q_nominal()));
+    cold.wall_time += result.wall_time;
+    cold.iterations += result.iterations;
+    result = std::move(cold);
+  }
 
   // Ipopt's verdict, double-checked against the constraints (a "solved" point must satisfy them).
   bool success = result.success();

@@ -9,7 +9,9 @@
 //               + w_r ||q_joints − q_nominal,joints||²     [ours: a small posture term, see below]
 //   s.t.        q_lower ≤ q_joints ≤ q_upper                                               (joint limits)
 //               p_sw(q) − p_st(q) = (l, h)                                                 (stone)
-//               p_com^z(q) − p_st^z(q) ≥ p_com^{z,min}                                     (COM position)
+//               p_com^z(q) − p_st^z(q) ≥ p_com^{z,min} + min(h, 0)                        (COM position)
+//               (ours: the minimum height is measured from the lower of the two feet; the paper's bound on
+//               p_com^z relative to the stance foot alone makes every long step down a 0.25 m drop infeasible)
 //               loop closures |p_a − p_b| = d (planar Cassie's achilles rods) and, for line/flat feet,
 //               the swing and stance foot pitch equal to their flat (nominal-pose) pitch    [ours: physical validity]
 // with p_com,f^{x,d} = ε l (the paper's desired pre-impact COM position) unless the request gives it. All positions
@@ -44,8 +46,8 @@ namespace rome {
 
 struct PreImpactPostureParams {
   double com_x_fraction = 0.6;          ///< ε [-]: p_com,f^{x,d} = ε l (paper: ε ∈ [0, 1]; 0.6 in its random-stone runs).
-  double min_com_height_m = 0.7;        ///< p_com^{z,min} [m] above the stance foot (paper gives no value; AMBER's
-                                        ///< nominal COM is 0.97 m above its feet).
+  double min_com_height_m = 0.7;        ///< p_com^{z,min} [m] above the lower of the two feet (paper gives no value;
+                                        ///< AMBER's nominal COM is 0.90 m above its feet).
   double com_x_weight = 1.0;            ///< w_x [1/m²] (Eq. (21): 1).
   double torso_pitch_weight = 1.0;      ///< w_φ [1/rad²] (Eq. (21): 1).
   double com_height_weight = 0.0;       ///< w_z [1/m²] on a requested COM height (0: not in Eq. (21)).

@@ -223,6 +223,59 @@ TEST(TaskSpaceQpController, InfeasibleQpHoldsThePreviousTorqueAndCountsTheFailur
   }
 }
 
+TEST(TaskSpaceQpController, InfeasibleGrfRowsAreRelaxedKeepingDynamicsAndTorqueLimits) {
+  // The default failure policy: F_z >= 3 m g cannot hold (the robot would have to accelerate upwards at 2 g with
+  // its torso pitch and COM tasks asking for rest), so the first QP is infeasible; the relaxed QP drops the GRF
+  // rows and must then give exactly the answer of a controller that never had them.
+  auto model = LoadRobot("amber");
+  const ContactSet left = ContactBit(model->ContactIndex("left_foot"));
+  const Tasks tasks = AmberWalkingTasks(*model);
+  TaskSpaceQpParams strict;
+  strict.min_normal_force_N = 3.0 * model->total_mass() * 9.81;
+  ASSERT_EQ(strict.failure_policy, QpFailurePolicy::kRelaxContactForces);
+  TaskSpaceQpParams free_contact;
+  free_contact.friction_coefficient = 1e9;
+  free_contact.min_normal_force_N = 0.0;
+  TaskSpaceQpController relaxing("tsc", model, {left}, tasks, strict);
+  TaskSpaceQpController reference("reference", model, {left}, tasks, free_contact);
+  const Eigen::VectorXd q = AmberSingleSupportPose(*model);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(7);
+  v[0] = 0.3;  // a forward base velocity: the answer is not trivially static
+  Eigen::VectorXd x(14);
+  x << q, v;
+  const Eigen::VectorXd desired = Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero());
+  Eigen::VectorXd u[2];
+  int k = 0;
+  for (const TaskSpaceQpController* controller : {&relaxing, &reference}) {
+    auto context = controller->CreateDefaultLeafContext();
+    context->FixInputPort(controller->GetInputPortIndex("state"), x);
+    context->FixInputPort(controller->GetInputPortIndex("mode"), Eigen::VectorXd::Zero(1));
+    context->FixInputPort(controller->GetInputPortIndex("desired"), desired);
+    Eigen::VectorXd next = context->discrete_state();
+    ASSERT_TRUE(controller->periodic_events().at(0).update(*context, &next).ok());
+    context->get_mutable_discrete_state() = next;
+    u[k] = controller->EvalOutput(*context, "u");
+    const double failures = controller->EvalOutput(*context, "qp_failures")[0];
+    const double status = controller->EvalOutput(*context, "qp_status")[0];
+    if (controller == &relaxing) {
+      EXPECT_EQ(failures, 1.0);  // the relaxed answer is used, and still counted and reported
+      EXPECT_EQ(status, static_cast<double>(QpStatus::kInfeasible));
+      EXPECT_EQ(controller->relaxed_solves(*context), 1);
+      // The relaxed QP kept the dynamics and torque limits: KKT of the QP it solved.
+      const DenseQpSolver& qp = controller->last_qp(*context);
+      EXPECT_LT((qp.A_eq * qp.x() - qp.b_eq).cwiseAbs().maxCoeff(), 1e-8);
+      EXPECT_LE(u[k].cwiseAbs().maxCoeff(), model->torque_limits().maxCoeff() + 1e-9);
+      // Its GRF rows were restored for the next update.
+      EXPECT_EQ(qp.lb[7 + 4 + 1], strict.min_normal_force_N);
+    } else {
+      EXPECT_EQ(failures, 0.0);
+    }
+    ++k;
+  }
+  std::printf("  relaxed u = [%g %g %g %g], reference u = [%g %g %g %g]\n", u[0][0], u[0][1], u[0][2], u[0][3], u[1][0], u[1][1], u[1][2], u[1][3]);
+  EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-6 * (1.0 + u[1].cwiseAbs().maxCoeff()));
+}
+
 TEST(TaskSpaceQpController, BadInputsAndParametersAreNamed) {
   auto model = LoadRobot("amber");
   const ContactSet left = ContactBit(0);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -33,7 +34,7 @@ void ExpectFeasible(const MultibodyModel& model, const PreImpactPostureParams& p
   EXPECT_NEAR(sw.z() - st.z(), r.step_height_m, 1e-6);
   MultibodyWorkspace ws(model);
   const Eigen::Vector3d com = CalcComPosition(model, ws, p.q);
-  EXPECT_GE(com.z() - st.z(), params.min_com_height_m - 1e-6);
+  EXPECT_GE(com.z() - std::min(st.z(), sw.z()), params.min_com_height_m - 1e-6);  // above the lower foot
   EXPECT_NEAR(p.com_height_m, com.z() - st.z(), 1e-9);
   EXPECT_NEAR(p.com_x_m, com.x() - st.x(), 1e-9);
   EXPECT_EQ(p.torso_pitch_rad, p.q[2]);
@@ -135,14 +136,31 @@ TEST(PreImpactPostureOptimizer, MinimumComHeightBindsAndIsMet) {
   ASSERT_TRUE(high.success) << high.message;
   ASSERT_GT(high.com_height_m, free.com_height_m + 0.005);
   // Ask for a COM halfway between the free optimum and that: the bound becomes active.
-  params.min_com_height_m = 0.5 * (free.com_height_m + high.com_height_m);
+  const double bound_above_stance = 0.5 * (free.com_height_m + high.com_height_m);
+  params.min_com_height_m = bound_above_stance - std::min(r.step_height_m, 0.0);  // the bound is above the lower foot
   PreImpactPostureOptimizer optimizer(model, params);
   const PreImpactPosture p = optimizer.Solve(r);
   std::printf("  free COM height %.4f m, with p_com^{z,min} = %.4f m: %.4f m (%s)\n", free.com_height_m, params.min_com_height_m, p.com_height_m, p.message.c_str());
   ExpectFeasible(*model, params, r, p);
-  EXPECT_NEAR(p.com_height_m, params.min_com_height_m, 1e-6);
+  EXPECT_NEAR(p.com_height_m, bound_above_stance, 1e-6);
   EXPECT_GE(p.cost, free.cost - 1e-12);  // a tighter feasible set cannot lower the optimum
   ExpectLocalMinimum(*model, params, r, p);
+}
+
+TEST(PreImpactPostureOptimizer, LongStepDownKeepsTheMinimumHeightAboveTheLandingFoot) {
+  // 0.5 m forward and 0.25 m down (the largest random-stone drop of the paper): with the default 0.7 m bound measured
+  // from the stance foot, the COM would have to be 0.95 m above the landing foot, beyond AMBER's 0.87 m legs.
+  auto model = LoadRobot("amber");
+  PreImpactPostureParams params;
+  PreImpactPostureRequest r;
+  r.step_length_m = 0.5;
+  r.step_height_m = -0.25;
+  const PreImpactPosture p = PreImpactPostureOptimizer(model, params).Solve(r);
+  std::printf("  l = 0.5 m, h = -0.25 m: COM %.4f m above the stance foot, %.4f m above the landing foot (%s)\n", p.com_height_m,
+              p.com_height_m - r.step_height_m, p.message.c_str());
+  ExpectFeasible(*model, params, r, p);
+  EXPECT_GE(p.com_height_m - r.step_height_m, params.min_com_height_m - 1e-6);
+  EXPECT_LT(p.com_height_m - r.step_height_m, 0.87 + 0.05);  // geometry: legs of 0.87 m, COM about 4 cm above the hip
 }
 
 TEST(PreImpactPostureOptimizer, StoneOutOfReachIsReportedAsInfeasibleWithTheFallback) {
