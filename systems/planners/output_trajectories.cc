@@ -87,6 +87,8 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
   if (!(params_.strike_depth < 0))
     throw std::invalid_argument("SwingFootBezier: parameter strike_depth (z_sw^neg) must be negative so that the foot strikes, got " +
                                 Num(params_.strike_depth) + " m");
+  if (!(params_.horizontal_arrival_phase > 0 && params_.horizontal_arrival_phase <= 1))
+    throw std::invalid_argument("SwingFootBezier: parameter horizontal_arrival_phase must be in (0, 1], got " + Num(params_.horizontal_arrival_phase));
   if (!std::isfinite(p_sw0_x) || !std::isfinite(p_sw0_z) || !std::isfinite(step_length) || !std::isfinite(step_height))
     throw std::invalid_argument("SwingFootBezier: start position and step must be finite");
   switch (params_.apex_reference) {
@@ -135,10 +137,11 @@ double SwingFootBezier::touchdown_phase() const { return params_.touchdown_timin
 
 ScalarDerivatives SwingFootBezier::X(double tau) const {
   // Eq. (23). Beyond τ = 1 (only reached with kAtPhaseEnd) the foot stays at l_des.
-  if (tau > 1.0) return {step_length_, 0.0, 0.0};
-  const ScalarDerivatives b = b_h_.Evaluate(tau);
+  const double a = params_.horizontal_arrival_phase;
+  if (tau >= a) return {step_length_, 0.0, 0.0};
+  const ScalarDerivatives b = b_h_.Evaluate(tau / a);
   const double span = step_length_ - p_sw0_x_;
-  return {(1 - b.value) * p_sw0_x_ + b.value * step_length_, b.first * span, b.second * span};
+  return {(1 - b.value) * p_sw0_x_ + b.value * step_length_, b.first * span / a, b.second * span / (a * a)};
 }
 
 ScalarDerivatives SwingFootBezier::Z(double tau) const {

@@ -123,6 +123,10 @@ struct SwingFootBezierParams {
   SwingApexShape apex_shape = SwingApexShape::kControlPoints;
   SwingApexReference apex_reference = SwingApexReference::kStanceFoot;
   SwingTouchdownTiming touchdown_timing = SwingTouchdownTiming::kPaperPhase;
+  /// [-] τ_a in (0, 1]: Eq. (23) runs on τ / τ_a, so the foot is above the foothold (x = l_des, at rest in x) from
+  /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a
+  /// short, fast step then still lands on the stone centre instead of its near edge.
+  double horizontal_arrival_phase = 1.0;
 };
 
 /// Eq. (23)-(24): swing foot x and z relative to the stance foot as functions of τ.

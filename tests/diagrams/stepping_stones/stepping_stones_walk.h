@@ -19,8 +19,7 @@ struct WalkResult {
   double qp_failures = 0;
 };
 
-inline WalkResult Walk(const Terrain& terrain, int steps) {
-  SteppingStonesDiagramParams params;
+inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramParams params = {}) {
   params.supervisor.max_steps = steps;
   SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params);
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
@@ -34,6 +33,16 @@ inline WalkResult Walk(const Terrain& terrain, int steps) {
   r.mean_speed_mps = (d.plant->EvalOutput(plant_ctx, "com")[0] - x0) / sim.get_context().time();
   r.qp_failures = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, sim.get_context()), "qp_failures")[0];
   return r;
+}
+
+/// Speed of the converged gait: Σ l / Σ T over the last `n` steps [m/s].
+inline double LastStepsSpeed(const WalkResult& r, int n) {
+  double length = 0, duration = 0;
+  for (int k = static_cast<int>(r.steps.size()) - n; k < static_cast<int>(r.steps.size()); ++k) {
+    length += r.steps[k].step_length_m;
+    duration += r.steps[k].duration_s;
+  }
+  return length / duration;
 }
 
 inline void ExpectPeriodicWalk(const WalkResult& r, int steps, const std::string& what) {

@@ -1,9 +1,11 @@
 // Closed-loop stepping-stones walking on the paper's periodic footholds (Sec. VI-B, Fig. 4): 30 steps on flat ground
 // for every l = 0.2..0.8 m (0.1 m apart), upstairs (l, h) = (0.5, 0.2) m and downstairs (0.4, −0.1) m. Each walk
 // must converge to a periodic orbit (post-impact L_y of the last steps within 1 %) with touchdowns within 2 cm of
-// the stone centres. Plus one random-stone course that AMBER currently completes. Slow (about a minute): label slow.
+// the stone centres; ten random-stone courses; the speed trends of Fig. 6. Label slow (about 30 s).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "tests/diagrams/stepping_stones/stepping_stones_walk.h"
@@ -29,18 +31,62 @@ TEST(Stairs, DownstairsConvergesToAPeriodicOrbit) {
   test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.4, -0.1, kSteps + 2), kSteps), kSteps, "downstairs (0.4, -0.1)");
 }
 
-// Random stones (Sec. VI-C: 0.2-0.7 m apart, ±0.25 m, E* = 0.5, ε = 0.6). Only seed 7 of seeds 1-10 walks all 30
-// steps with every touchdown within 2 cm today (seed 2 completes with 2.3 cm); the others fall (see the report).
-TEST(RandomStones, Seed7WalksThirtySteps) {
-  RandomSteppingStonesParams p;
-  p.num_stones = kSteps + 2;
-  p.seed = 7;
-  const test::WalkResult r = test::Walk(RandomSteppingStones(p), kSteps);
-  ASSERT_EQ(r.status.reason, SimulatorStatus::Reason::kReachedTermination) << r.status.ToString();
-  ASSERT_EQ(static_cast<int>(r.steps.size()), kSteps) << r.status.message;
-  for (size_t k = 0; k < r.steps.size(); ++k) {
-    EXPECT_EQ(r.steps[k].stone, r.steps[k].planned_stone) << "step " << k;
-    EXPECT_LT(r.steps[k].foothold_error_m, 0.02) << "step " << k;
+// Random stones (Sec. VI-C: 0.2-0.7 m apart, ±0.25 m, E* = 0.5, ε = 0.6): seeds 1-10, 30 steps each without a fall.
+// Touchdowns: all but one of the 300 land on the planned stone within 2 cm of its centre. The exception (reported on
+// issue 5): seed 4, step 11 (l = 0.21 m, h = -0.23 m, right after a 0.16 m step up) - the swing foot, rising from
+// 0.15 m below the stance stone, grazes the stance stone's top 2.9 cm from its centre; the robot steps on from there
+// and reaches the planned stone with the next step. The test fails if there is more than that one.
+TEST(RandomStones, TenCoursesOfThirtyStepsWithoutAFall) {
+  int misplaced = 0;
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    RandomSteppingStonesParams p;
+    p.num_stones = kSteps + 2;
+    p.seed = seed;
+    const test::WalkResult r = test::Walk(RandomSteppingStones(p), kSteps);
+    EXPECT_EQ(r.status.reason, SimulatorStatus::Reason::kReachedTermination) << "seed " << seed << ": " << r.status.ToString();
+    EXPECT_EQ(static_cast<int>(r.steps.size()), kSteps) << "seed " << seed << ": " << r.status.message;
+    EXPECT_NE(r.status.message.find("completed"), std::string::npos) << "seed " << seed << ": " << r.status.message;
+    double worst = 0;
+    for (size_t k = 0; k < r.steps.size(); ++k) {
+      const StepRecord& s = r.steps[k];
+      if (s.stone != s.planned_stone || !(s.foothold_error_m < 0.02)) {
+        ++misplaced;
+        std::printf("  seed %u step %zu (l = %.3f m, h = %.3f m): landed on stone %d (planned %d), %.2f cm from its centre\n", seed, k + 1,
+                    s.step_length_m, s.step_height_m, s.stone, s.planned_stone, 100 * s.foothold_error_m);
+      }
+      worst = std::max(worst, s.foothold_error_m);
+    }
+    std::printf("  seed %u: %zu steps, mean speed %.3f m/s, largest foothold error %.2f cm, %g QP failures\n", seed, r.steps.size(),
+                r.mean_speed_mps, 100 * worst, r.qp_failures);
+  }
+  EXPECT_LE(misplaced, 1) << "touchdowns off the planned stone or more than 2 cm from its centre, over 300";
+}
+
+// Fig. 6 of the paper: the converged forward speed rises with the orbital energy E* (l = 0.4 m, Fig. 6(b)) and with
+// the step length l (E* = 0.3, Fig. 6(a)); ε = 0.6 throughout. Speed of the converged gait: the last 5 of 15 steps.
+TEST(Fig6Trends, SpeedRisesWithOrbitalEnergyAndWithStepLength) {
+  constexpr int kTrendSteps = 15;
+  auto speed = [&](double l, double energy) {
+    SteppingStonesDiagramParams params;
+    params.target_orbital_energy = energy;
+    const test::WalkResult r = test::Walk(PeriodicSteppingStones(l, 0.0, kTrendSteps + 2), kTrendSteps, params);
+    EXPECT_EQ(static_cast<int>(r.steps.size()), kTrendSteps) << "l = " << l << " m, E* = " << energy << ": " << r.status.message;
+    if (static_cast<int>(r.steps.size()) < kTrendSteps) return 0.0;
+    const double v = test::LastStepsSpeed(r, 5);
+    std::printf("  l = %.1f m, E* = %.1f m^2/s^2: converged speed %.3f m/s\n", l, energy, v);
+    return v;
+  };
+  double previous = 0;
+  for (double energy : {0.1, 0.3, 0.5, 0.7}) {
+    const double v = speed(0.4, energy);
+    EXPECT_GT(v, previous + 0.02) << "E* = " << energy;
+    previous = v;
+  }
+  previous = 0;
+  for (double l : {0.2, 0.4, 0.6, 0.8}) {
+    const double v = speed(l, 0.3);
+    EXPECT_GT(v, previous + 0.02) << "l = " << l;
+    previous = v;
   }
 }
 

@@ -151,6 +151,30 @@ TEST(OutputTrajectories, TouchdownAtPhaseEndRetimesTheSwingCurve) {
   EXPECT_NEAR(late.ydot[3], outputs.swing_foot().Z(1.1).first * 0.8 / 0.4, 1e-12);  // τ̇ = ṗx / (ε l − p_com0)
 }
 
+TEST(OutputTrajectories, HorizontalArrivalPhaseReachesTheFootholdEarlyAndSmoothly) {
+  // Eq. (23) on τ / τ_a: x = l_des with zero velocity and acceleration from τ_a on; before, the paper's curve at τ / τ_a
+  // (value equal, derivatives scaled by 1/τ_a and 1/τ_a²), checked against central differences.
+  SwingFootBezierParams paper, early;
+  early.horizontal_arrival_phase = 0.8;
+  const SwingFootBezier a(paper, -0.3, 0.0, 0.4, -0.1), b(early, -0.3, 0.0, 0.4, -0.1);
+  for (double tau : {0.8, 0.9, 1.0}) {
+    EXPECT_DOUBLE_EQ(b.X(tau).value, 0.4);
+    EXPECT_EQ(b.X(tau).first, 0.0);
+    EXPECT_EQ(b.X(tau).second, 0.0);
+  }
+  for (double tau : {0.1, 0.3, 0.5, 0.7, 0.79}) {
+    EXPECT_NEAR(b.X(tau).value, a.X(tau / 0.8).value, 1e-15);
+    const double h = 1e-6;
+    EXPECT_NEAR(b.X(tau).first, (b.X(tau + h).value - b.X(tau - h).value) / (2 * h), 1e-6);
+    EXPECT_NEAR(b.X(tau).second, (b.X(tau + h).first - b.X(tau - h).first) / (2 * h), 1e-5);
+  }
+  EXPECT_NEAR(b.X(0.8 - 1e-9).value, 0.4, 1e-8);  // continuous at τ_a, with zero slope
+  EXPECT_NEAR(b.X(0.8 - 1e-6).first, 0.0, 1e-5);
+  EXPECT_EQ(b.Z(0.5).value, a.Z(0.5).value);  // the vertical curve is unchanged
+  early.horizontal_arrival_phase = 0.0;
+  EXPECT_THROW(SwingFootBezier(early, -0.3, 0.0, 0.4, -0.1), std::invalid_argument);
+}
+
 TEST(OutputTrajectories, HighestStoneApexClearsTheStanceStone) {
   // Both neighbouring stones below the stance stone: z_max is measured from the stance stone (z = 0).
   SwingFootBezierParams params;
