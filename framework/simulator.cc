@@ -1,5 +1,6 @@
 #include "framework/simulator.h"
 
+#include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -63,9 +64,16 @@ struct Simulator::Impl {
   double last_event_time = -std::numeric_limits<double>::infinity();
   int events_at_instant = 0;
 
+  bool erk = false;  // IntegrationScheme::kExplicitRungeKutta: ARKODE's ERKStep instead of CVODE
+
   ~Impl() { FreeCvode(); }
   void FreeCvode() {
-    if (mem) CVodeFree(&mem);
+    if (mem) {
+      if (erk)
+        ERKStepFree(&mem);
+      else
+        CVodeFree(&mem);
+    }
     if (NLS) SUNNonlinSolFree(NLS);
     if (LS) SUNLinSolFree(LS);
     if (A) SUNMatDestroy(A);
@@ -93,14 +101,26 @@ struct Simulator::Impl {
     }
     if (nx_integrated == 1 && xc_offset.empty()) ydata[0] = 0.0;
   }
+  // Integrator counters since the last (re)initialisation: steps, RHS evaluations, root-function evaluations.
+  void Counters(long* steps, long* rhs, long* g) const {
+    *steps = *rhs = *g = 0;
+    if (!mem) return;
+    if (erk) {
+      ERKStepGetNumSteps(mem, steps);
+      ERKStepGetNumRhsEvals(mem, rhs);
+      ERKStepGetNumGEvals(mem, g);
+    } else {
+      CVodeGetNumSteps(mem, steps);
+      CVodeGetNumRhsEvals(mem, rhs);
+      CVodeGetNumGEvals(mem, g);
+    }
+  }
   void AccumulateCounters() {
-    long v = 0;
-    CVodeGetNumSteps(mem, &v);
-    acc_steps += v;
-    CVodeGetNumRhsEvals(mem, &v);
-    acc_rhs += v;
-    CVodeGetNumGEvals(mem, &v);
-    acc_g += v;
+    long steps = 0, rhs = 0, g = 0;
+    Counters(&steps, &rhs, &g);
+    acc_steps += steps;
+    acc_rhs += rhs;
+    acc_g += g;
   }
 };
 
@@ -229,33 +249,52 @@ SimulatorStatus Simulator::Initialize() {
   m.y = N_VNew_Serial(m.nx_integrated, m.sunctx);
   N_VConst(0.0, m.y);
   if (nx_ > 0) m.ContextsToState(N_VGetArrayPointer(m.y));
-  m.mem = CVodeCreate(config_.scheme == IntegrationScheme::kBdf ? CV_BDF : CV_ADAMS, m.sunctx);
-  if (!m.mem) throw std::runtime_error("Simulator: CVodeCreate failed");
-  CVodeSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
-  if (CVodeInit(m.mem, &SimulatorCallbacks::Rhs, t0, m.y) != CV_SUCCESS) throw std::runtime_error("Simulator: CVodeInit failed: " + m.cvode_message);
   if (!(config_.relative_tolerance > 0) || !(config_.absolute_tolerance > 0))
     throw std::invalid_argument("SimulatorConfig: tolerances must be positive (relative_tolerance = " + std::to_string(config_.relative_tolerance) +
                                 ", absolute_tolerance = " + std::to_string(config_.absolute_tolerance) + ")");
-  CVodeSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
-  CVodeSetUserData(m.mem, &m);
-  if (config_.scheme == IntegrationScheme::kAdamsFunctional) {
-    // Fixed-point iteration with no Anderson acceleration: no Jacobian, no linear solver.
-    m.NLS = SUNNonlinSol_FixedPoint(m.y, 0, m.sunctx);
-    if (!m.NLS || CVodeSetNonlinearSolver(m.mem, m.NLS) != CV_SUCCESS)
-      throw std::runtime_error("Simulator: could not attach CVODE's fixed-point solver: " + m.cvode_message);
+  m.erk = config_.scheme == IntegrationScheme::kExplicitRungeKutta;
+  if (m.erk) {
+    // Dormand-Prince 5(4), error-controlled; one-step, so a restart at every sample costs nothing extra.
+    m.mem = ERKStepCreate(&SimulatorCallbacks::Rhs, t0, m.y, m.sunctx);
+    if (!m.mem) throw std::runtime_error("Simulator: ERKStepCreate failed");
+    ERKStepSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
+    ERKStepSetTableNum(m.mem, ARKODE_DORMAND_PRINCE_7_4_5);
+    ERKStepSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
+    ERKStepSetUserData(m.mem, &m);
+    if (config_.max_step_s > 0) ERKStepSetMaxStep(m.mem, config_.max_step_s);
+    if (config_.initial_step_s > 0) ERKStepSetInitStep(m.mem, config_.initial_step_s);
+    ERKStepSetMaxNumSteps(m.mem, 100000);
+    if (m.nroots > 0) {
+      ERKStepRootInit(m.mem, m.nroots, &SimulatorCallbacks::Roots);
+      ERKStepSetRootDirection(m.mem, m.rootdir.data());
+      ERKStepSetNoInactiveRootWarn(m.mem);
+    }
   } else {
-    m.A = SUNDenseMatrix(m.nx_integrated, m.nx_integrated, m.sunctx);
-    m.LS = SUNLinSol_Dense(m.y, m.A, m.sunctx);
-    CVodeSetLinearSolver(m.mem, m.LS, m.A);
-  }
-  if (config_.max_step_s > 0) CVodeSetMaxStep(m.mem, config_.max_step_s);
-  if (config_.initial_step_s > 0) CVodeSetInitStep(m.mem, config_.initial_step_s);
-  if (config_.max_order > 0) CVodeSetMaxOrd(m.mem, config_.max_order);
-  CVodeSetMaxNumSteps(m.mem, 100000);
-  if (m.nroots > 0) {
-    CVodeRootInit(m.mem, m.nroots, &SimulatorCallbacks::Roots);
-    CVodeSetRootDirection(m.mem, m.rootdir.data());
-    CVodeSetNoInactiveRootWarn(m.mem);
+    m.mem = CVodeCreate(config_.scheme == IntegrationScheme::kBdf ? CV_BDF : CV_ADAMS, m.sunctx);
+    if (!m.mem) throw std::runtime_error("Simulator: CVodeCreate failed");
+    CVodeSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
+    if (CVodeInit(m.mem, &SimulatorCallbacks::Rhs, t0, m.y) != CV_SUCCESS) throw std::runtime_error("Simulator: CVodeInit failed: " + m.cvode_message);
+    CVodeSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
+    CVodeSetUserData(m.mem, &m);
+    if (config_.scheme == IntegrationScheme::kAdamsFunctional) {
+      // Fixed-point iteration with no Anderson acceleration: no Jacobian, no linear solver.
+      m.NLS = SUNNonlinSol_FixedPoint(m.y, 0, m.sunctx);
+      if (!m.NLS || CVodeSetNonlinearSolver(m.mem, m.NLS) != CV_SUCCESS)
+        throw std::runtime_error("Simulator: could not attach CVODE's fixed-point solver: " + m.cvode_message);
+    } else {
+      m.A = SUNDenseMatrix(m.nx_integrated, m.nx_integrated, m.sunctx);
+      m.LS = SUNLinSol_Dense(m.y, m.A, m.sunctx);
+      CVodeSetLinearSolver(m.mem, m.LS, m.A);
+    }
+    if (config_.max_step_s > 0) CVodeSetMaxStep(m.mem, config_.max_step_s);
+    if (config_.initial_step_s > 0) CVodeSetInitStep(m.mem, config_.initial_step_s);
+    if (config_.max_order > 0) CVodeSetMaxOrd(m.mem, config_.max_order);
+    CVodeSetMaxNumSteps(m.mem, 100000);
+    if (m.nroots > 0) {
+      CVodeRootInit(m.mem, m.nroots, &SimulatorCallbacks::Roots);
+      CVodeSetRootDirection(m.mem, m.rootdir.data());
+      CVodeSetNoInactiveRootWarn(m.mem);
+    }
   }
   // First sample index of every periodic event at or after t0.
   for (auto& p : m.periodic) {
@@ -312,15 +351,11 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
     stats_.steps = m.acc_steps;
     stats_.rhs_evals = m.acc_rhs;
     stats_.root_evals = m.acc_g;
-    long v = 0;
-    if (m.mem) {
-      CVodeGetNumSteps(m.mem, &v);
-      stats_.steps += v;
-      CVodeGetNumRhsEvals(m.mem, &v);
-      stats_.rhs_evals += v;
-      CVodeGetNumGEvals(m.mem, &v);
-      stats_.root_evals += v;
-    }
+    long steps = 0, rhs = 0, g = 0;
+    m.Counters(&steps, &rhs, &g);
+    stats_.steps += steps;
+    stats_.rhs_evals += rhs;
+    stats_.root_evals += g;
     if (reason == SimulatorStatus::Reason::kZeno && config_.event_policy.throw_on_violation) throw std::runtime_error(status.ToString());
     return status;
   };
@@ -331,7 +366,10 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
   auto reinit = [&]() {
     m.AccumulateCounters();
     m.ContextsToState(N_VGetArrayPointer(m.y));
-    CVodeReInit(m.mem, context_->time(), m.y);
+    if (m.erk)
+      ERKStepReInit(m.mem, &SimulatorCallbacks::Rhs, context_->time(), m.y);
+    else
+      CVodeReInit(m.mem, context_->time(), m.y);
   };
 
   long steps_this_advance = 0;
@@ -383,10 +421,18 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
 
     // (b) One CVODE step towards the next stop.
     const double t_stop = std::min(next_sample, t_final);
-    CVodeSetStopTime(m.mem, t_stop);
     double t_ret = t;
     m.cvode_message.clear();
-    const int flag = CVode(m.mem, t_stop, m.y, &t_ret, CV_ONE_STEP);
+    // CVODE and ARKODE share the return codes used here (success 0, tstop 1, root 2, errors < 0).
+    static_assert(CV_TSTOP_RETURN == ARK_TSTOP_RETURN && CV_ROOT_RETURN == ARK_ROOT_RETURN);
+    int flag = 0;
+    if (m.erk) {
+      ERKStepSetStopTime(m.mem, t_stop);
+      flag = ERKStepEvolve(m.mem, t_stop, m.y, &t_ret, ARK_ONE_STEP);
+    } else {
+      CVodeSetStopTime(m.mem, t_stop);
+      flag = CVode(m.mem, t_stop, m.y, &t_ret, CV_ONE_STEP);
+    }
     if (m.error) {
       std::exception_ptr e = m.error;
       m.error = nullptr;
@@ -395,7 +441,7 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
     }
     if (flag < 0) {
       if (!m.failure.empty()) return finish(SimulatorStatus::Reason::kFailed, "", m.failure);
-      return finish(SimulatorStatus::Reason::kFailed, "", "CVODE error " + std::to_string(flag) + ": " + m.cvode_message);
+      return finish(SimulatorStatus::Reason::kFailed, "", std::string(m.erk ? "ARKODE" : "CVODE") + " error " + std::to_string(flag) + ": " + m.cvode_message);
     }
     if (flag == CV_TSTOP_RETURN) t_ret = t_stop;  // exact sample times
     m.StateToContexts(t_ret, N_VGetArrayPointer(m.y));
@@ -410,7 +456,10 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
 
     // (c) Guards.
     if (flag == CV_ROOT_RETURN) {
-      CVodeGetRootInfo(m.mem, m.rootsfound.data());
+      if (m.erk)
+        ERKStepGetRootInfo(m.mem, m.rootsfound.data());
+      else
+        CVodeGetRootInfo(m.mem, m.rootsfound.data());
       for (const auto& g : m.guards) {
         const LeafSystem& sys = *m.systems[g.leaf];
         const LeafSystem::Guard& guard = sys.guards()[g.guard];

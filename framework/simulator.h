@@ -35,8 +35,12 @@ namespace rome {
 
 /// kBdf and kAdams solve each implicit step by Newton iteration on a dense finite-difference Jacobian (robust for
 /// stiff plants). kAdamsFunctional uses Adams-Moulton with fixed-point (functional) iteration: no Jacobian at all,
-/// the cheapest choice for non-stiff plants whose integration is restarted often (e.g. by a 1 kHz zero-order hold).
-enum class IntegrationScheme { kBdf, kAdams, kAdamsFunctional };
+/// the cheapest multistep choice for non-stiff plants whose integration is restarted often (e.g. by a 1 kHz
+/// zero-order hold). kExplicitRungeKutta is ARKODE's ERKStep with the Dormand-Prince 5(4) pair: a one-step method,
+/// so restarting at every sample costs nothing (a multistep method restarts at order 1 with small steps); for
+/// non-stiff plants sampled at kHz rates it needs the fewest derivative evaluations. max_order does not apply to it.
+/// Every scheme locates guard events by root finding on its own dense output.
+enum class IntegrationScheme { kBdf, kAdams, kAdamsFunctional, kExplicitRungeKutta };
 
 struct EventPolicy {
   /// [s] An event closer than this to the previous event counts as "at the same instant". Legged-robot events

@@ -161,9 +161,10 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& p) {
 
 SimulatorConfig SteppingStonesSimulatorConfig() {
   SimulatorConfig config;
-  config.scheme = IntegrationScheme::kAdamsFunctional;
+  config.scheme = IntegrationScheme::kExplicitRungeKutta;
   config.relative_tolerance = 1e-6;
   config.absolute_tolerance = 1e-8;
+  config.initial_step_s = 1e-3;
   return config;
 }
 

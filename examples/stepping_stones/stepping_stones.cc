@@ -10,6 +10,10 @@
 #include <fstream>
 #include <iostream>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <nlohmann/json.hpp>
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
@@ -49,6 +53,14 @@ Terrain MakeTerrain(const examples::CommandLine& cli, int steps) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // Real-time practice: keep freed heap memory instead of returning it to the OS after every posture NLP (Ipopt and
+  // MUMPS allocate and free their workspaces at each solve; giving the pages back and faulting them in again costs
+  // about 10 % of the closed loop). The 1 kHz loop itself allocates nothing.
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mallopt(M_TOP_PAD, 64 << 20);
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+#endif
   examples::CommandLine cli("stepping_stones",
                             "AMBER walks over stepping stones: LIP momentum regulation, vertical-COM MPC, pre-impact posture NLP and a task-space QP "
                             "(stepping-stones paper, Algorithm 1), simulated event by event.");
@@ -171,6 +183,12 @@ int main(int argc, char** argv) {
                               {"terrain", cli.Get("terrain")},
                               {"seed", cli.GetInt("seed")},
                               {"steps", step_list}};
+    const SimulatorStatistics& stats = sim.statistics();
+    summary["integrator"] = {{"steps", stats.steps},
+                             {"rhs_evaluations", stats.rhs_evals},
+                             {"root_evaluations", stats.root_evals},
+                             {"guard_events", stats.guard_events},
+                             {"discrete_samples", stats.discrete_samples}};
     nlohmann::json stone_list = nlohmann::json::array();
     for (const auto& st : terrain.stones()) stone_list.push_back({st.x_center_m, st.top_height_m, st.length_m});
     summary["stones"] = stone_list;

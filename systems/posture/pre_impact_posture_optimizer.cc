@@ -234,10 +234,12 @@ PreImpactPostureOptimizer::PreImpactPostureOptimizer(std::shared_ptr<const Multi
   if (!std::isfinite(params_.min_com_height_m) || !std::isfinite(params_.com_x_fraction))
     throw std::invalid_argument("PreImpactPostureParams: min_com_height_m and com_x_fraction must be finite");
   previous_.resize(model_->num_contacts());
+  previous_multipliers_.resize(model_->num_contacts());
 }
 
 void PreImpactPostureOptimizer::Reset() {
   for (auto& p : previous_) p.resize(0);
+  for (auto& m : previous_multipliers_) m = NlpMultipliers{};
 }
 
 PreImpactPosture PreImpactPostureOptimizer::Describe(PreImpactPostureProblem& problem, const PreImpactPostureRequest& request,
@@ -260,7 +262,8 @@ PreImpactPosture PreImpactPostureOptimizer::Solve(const PreImpactPostureRequest&
   PreImpactPostureProblem problem(*model_, params_, request);
   const int stance = model_->ContactIndex(request.stance_contact);
   const Eigen::VectorXd x0 = previous_[stance].size() > 0 ? previous_[stance] : problem.FromConfiguration(model_->q_nominal());
-  NlpResult result = solver_.Solve(problem, x0);
+  const bool warm = previous_[stance].size() > 0 && previous_multipliers_[stance].constraints.size() == problem.num_constraints();
+  NlpResult result = solver_.Solve(problem, x0, warm ? &previous_multipliers_[stance] : nullptr);
   if (!result.success() && previous_[stance].size() > 0) {
     // A warm start from a very different step can lead Ipopt to a point of local infeasibility: retry once from
     // the nominal pose before declaring the step infeasible.
@@ -285,6 +288,7 @@ PreImpactPosture PreImpactPostureOptimizer::Solve(const PreImpactPostureRequest&
   msg << RequestText(request) << ": ";
   if (success) {
     previous_[stance] = result.x;
+    previous_multipliers_[stance] = result.multipliers;
     out = Describe(problem, request, result.x);
     msg << "solved (" << ToString(result.status) << ", " << result.iterations << " iterations, " << result.wall_time * 1e3 << " ms)";
   } else {

@@ -153,6 +153,7 @@ class PreImpactPostureOptimizer {
   IpoptSolver solver_;
   // Last successful solution per stance contact (variables), for warm starts and the fallback.
   std::vector<Eigen::VectorXd> previous_;
+  std::vector<NlpMultipliers> previous_multipliers_;  // and its multipliers (Ipopt warm start)
 };
 
 }  // namespace rome

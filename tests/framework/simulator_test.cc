@@ -21,7 +21,7 @@ SimulatorConfig Tight() {
 
 TEST(Simulator, BouncingBallImpactTimesMatchClosedForm) {
   BouncingBall ball("ball", {.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0});
-  for (auto scheme : {IntegrationScheme::kBdf, IntegrationScheme::kAdams, IntegrationScheme::kAdamsFunctional}) {
+  for (auto scheme : {IntegrationScheme::kBdf, IntegrationScheme::kAdams, IntegrationScheme::kAdamsFunctional, IntegrationScheme::kExplicitRungeKutta}) {
     SimulatorConfig config = Tight();
     config.scheme = scheme;
     Simulator sim(ball, config);
@@ -161,7 +161,7 @@ class Pendulum final : public LeafSystem {
 
 TEST(Simulator, UndampedPendulumConservesEnergy) {
   Pendulum p;
-  for (auto scheme : {IntegrationScheme::kBdf, IntegrationScheme::kAdams, IntegrationScheme::kAdamsFunctional}) {
+  for (auto scheme : {IntegrationScheme::kBdf, IntegrationScheme::kAdams, IntegrationScheme::kAdamsFunctional, IntegrationScheme::kExplicitRungeKutta}) {
     SimulatorConfig config = Tight();
     config.scheme = scheme;
     config.relative_tolerance = 1e-13;

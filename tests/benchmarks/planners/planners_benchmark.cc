@@ -1,10 +1,16 @@
 // Solve times of the stepping-stones planning blocks (µs per call): the vertical-COM MPC, Eq. (28), for several
-// horizons, cold and warm, with the contact constraint inactive and active; the momentum planner; the outputs.
+// horizons, cold and warm, with the contact constraint inactive and active; the momentum planner; the outputs; the
+// pre-impact posture NLP, Eq. (21), with Ipopt (once per step in the closed loop).
 #include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <memory>
+#include <string>
 
 #include "systems/planners/momentum_regulation_planner.h"
 #include "systems/planners/output_trajectories.h"
 #include "systems/planners/vertical_com_mpc.h"
+#include "systems/posture/pre_impact_posture_optimizer.h"
 
 namespace rome {
 namespace {
@@ -53,6 +59,32 @@ void BM_OutputTrajectoriesEvaluate(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_OutputTrajectoriesEvaluate)->Unit(benchmark::kMicrosecond);
+
+// One random-stone-like sequence of steps, solved one after the other (warm start from the previous solution for the
+// same stance, as in the closed loop).
+void BM_PreImpactPostureSolve(benchmark::State& state) {
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.rome.json"));
+  PreImpactPostureOptimizer optimizer(model);
+  const double steps[][2] = {{0.4, 0.0}, {0.35, -0.1}, {0.5, 0.15}, {0.3, -0.2}, {0.6, 0.05}, {0.25, 0.2}};
+  int k = 0;
+  long iterations = 0, solves = 0;
+  for (auto _ : state) {
+    PreImpactPostureRequest r;
+    r.stance_contact = k % 2 == 0 ? "left_foot" : "right_foot";
+    r.swing_contact = k % 2 == 0 ? "right_foot" : "left_foot";
+    r.step_length_m = steps[k % 6][0];
+    r.step_height_m = steps[k % 6][1];
+    r.com_height_m = 0.8 + std::min(r.step_height_m, 0.0);
+    const PreImpactPosture p = optimizer.Solve(r);
+    if (!p.success) state.SkipWithError(p.message.c_str());
+    iterations += p.iterations;
+    ++solves;
+    ++k;
+  }
+  state.counters["ipopt_iterations"] = static_cast<double>(iterations) / static_cast<double>(solves);
+  state.SetLabel("AMBER, Eq. (21), warm-started");
+}
+BENCHMARK(BM_PreImpactPostureSolve)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rome
