@@ -57,8 +57,9 @@ struct SteppingStonesDiagramParams {
   VerticalComMpcSystemParams mpc = DefaultMpcParams();
   /// Eq. (19)-(24). Ours: the swing foot is re-timed to touch down when the COM reaches ε l_des
   /// (SwingTouchdownTiming::kAtPhaseEnd), where Eq. (17), (25)-(27) put the impact, and its clearance is
-  /// measured from the highest of the start, stance and next stones (SwingApexReference::kHighestStone) and
-  /// reached exactly (SwingApexShape::kExactPeak; the paper's control points peak about 20 % lower).
+  /// measured from the highest of the start, stance and next stones (SwingApexReference::kHighestStone),
+  /// reached exactly and held over the stance stone (SwingApexShape::kClearStanceStone; the paper's control points
+  /// peak about 20 % lower, near τ = 0.5 whatever the step).
   SteppingStonesOutputsSystemParams outputs = DefaultOutputsParams();
   TaskSpaceQpParams controller;
   TaskGains torso_gains{1.0, 100.0, 20.0};
@@ -76,7 +77,9 @@ struct SteppingStonesDiagramParams {
     SteppingStonesOutputsSystemParams p;
     p.swing_foot.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
     p.swing_foot.apex_reference = SwingApexReference::kHighestStone;  // clears the start, stance and next stones
-    p.swing_foot.apex_shape = SwingApexShape::kExactPeak;  // the curve really reaches the clearance
+    // The curve really reaches the clearance, and is at least that high over the stance stone (kExactPeak, raised
+    // where the foot passes over the stance stone late in the swing).
+    p.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
     return p;
   }
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -83,7 +84,7 @@ ScalarDerivatives BezierCurve::Evaluate(double tau) const {
 }
 
 SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, double p_sw0_z, double step_length, double step_height)
-    : params_(params), p_sw0_x_(p_sw0_x), step_length_(step_length) {
+    : params_(params), p_sw0_x_(p_sw0_x), step_length_(step_length), step_height_(step_height) {
   if (!(params_.strike_depth < 0))
     throw std::invalid_argument("SwingFootBezier: parameter strike_depth (z_sw^neg) must be negative so that the foot strikes, got " +
                                 Num(params_.strike_depth) + " m");
@@ -100,37 +101,76 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
   using Vector6d = Eigen::Matrix<double, 6, 1>;
   b_h_ = BezierCurve((Vector6d() << 0, 0, 0, 1, 1, 1).finished());
   b_v_ = BezierCurve((Vector6d() << p_sw0_z, apex_, apex_, apex_, step_height, step_height + params_.strike_depth).finished());
-  if (params_.apex_shape == SwingApexShape::kExactPeak) {
+  if (params_.apex_shape != SwingApexShape::kControlPoints) {
     if (!(apex_ > std::max(p_sw0_z, step_height)))
       throw std::invalid_argument("SwingFootBezier: exact apex height " + Num(apex_) + " m must lie above both the start height " + Num(p_sw0_z) +
                                   " m and the foothold height " + Num(step_height) + " m");
-    // F(c) = max_τ b_v(τ; c) is convex and increasing in c (γ_1..3 = c); dF/dc = B_1 + B_2 + B_3 at the argmax.
-    double c = apex_;
-    for (int iteration = 0; iteration < 100; ++iteration) {
+    SetExactPeak();
+  }
+  tau_touchdown_ = TouchdownParameter();
+  if (params_.apex_shape == SwingApexShape::kClearStanceStone) {
+    // The vertical curve runs on s τ (kAtPhaseEnd, s = τ_td, which depends on c) or on τ: a few fixed-point passes.
+    const double c_exact = b_v_.control_point(1);
+    for (int iteration = 0; iteration < 20; ++iteration) {
+      const double scale = params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? tau_touchdown_ : 1.0;
+      double c = c_exact;
+      for (double edge : {-params_.stance_stone_half_length, params_.stance_stone_half_length}) {
+        const double tau = CrossingPhase(edge);
+        if (!std::isfinite(tau)) continue;
+        const double sigma = scale * tau;
+        // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = z_max.
+        const double B0 = std::pow(1 - sigma, 5), B4 = 5 * std::pow(sigma, 4) * (1 - sigma), B5 = std::pow(sigma, 5);
+        const double middle = 1 - B0 - B4 - B5;
+        if (middle > 1e-6)
+          c = std::max(c, (apex_ - B0 * b_v_.control_point(0) - B4 * b_v_.control_point(4) - B5 * b_v_.control_point(5)) / middle);
+      }
       for (int k = 1; k <= 3; ++k) b_v_.set_control_point(k, c);
-      double tau_max = 0;
-      const double F = MaxHeight(&tau_max);
-      const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) - std::pow(tau_max, 5);
-      if (std::abs(F - apex_) <= 1e-14 * (1 + std::abs(apex_)) || !(m > 0)) break;
-      c -= (F - apex_) / m;
+      const double previous = tau_touchdown_;
+      tau_touchdown_ = TouchdownParameter();
+      if (std::abs(tau_touchdown_ - previous) < 1e-12) break;
     }
   }
+  if (!(tau_touchdown_ > 0) && params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd)
+    throw std::invalid_argument("SwingFootBezier: touchdown_timing kAtPhaseEnd needs the swing curve to rise above the foothold height " +
+                                Num(step_height) + " m; its peak is " + Num(MaxHeight()) + " m");
+}
+
+void SwingFootBezier::SetExactPeak() {
+  // F(c) = max_τ b_v(τ; c) is convex and increasing in c (γ_1..3 = c); dF/dc = B_1 + B_2 + B_3 at the argmax.
+  double c = apex_;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    for (int k = 1; k <= 3; ++k) b_v_.set_control_point(k, c);
+    double tau_max = 0;
+    const double F = MaxHeight(&tau_max);
+    const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) - std::pow(tau_max, 5);
+    if (std::abs(F - apex_) <= 1e-14 * (1 + std::abs(apex_)) || !(m > 0)) break;
+    c -= (F - apex_) / m;
+  }
+}
+
+double SwingFootBezier::TouchdownParameter() const {
   // τ_td: where b_v comes down through h_des (b_v(1) = h_des + z_neg < h_des). Bisection between the apex and 1.
   double tau_apex = 0;
   const double peak = MaxHeight(&tau_apex);
-  if (peak > step_height) {
-    double lo = tau_apex, hi = 1.0;
-    for (int iteration = 0; iteration < 60; ++iteration) {
-      const double mid = 0.5 * (lo + hi);
-      (b_v_.Evaluate(mid).value > step_height ? lo : hi) = mid;
-    }
-    tau_touchdown_ = 0.5 * (lo + hi);
-  } else if (params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd) {
-    throw std::invalid_argument("SwingFootBezier: touchdown_timing kAtPhaseEnd needs the swing curve to rise above the foothold height " +
-                                Num(step_height) + " m; its peak is " + Num(peak) + " m");
-  } else {
-    tau_touchdown_ = 0.0;
+  if (!(peak > step_height_)) return 0.0;
+  double lo = tau_apex, hi = 1.0;
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (b_v_.Evaluate(mid).value > step_height_ ? lo : hi) = mid;
   }
+  return 0.5 * (lo + hi);
+}
+
+double SwingFootBezier::CrossingPhase(double x) const {
+  if (!(p_sw0_x_ < x && x < step_length_)) return std::numeric_limits<double>::quiet_NaN();
+  // Eq. (23): p_sw^x = x where b_h = (x − p_sw0^x) / (l − p_sw0^x); b_h is increasing, so bisection.
+  const double target = (x - p_sw0_x_) / (step_length_ - p_sw0_x_);
+  double lo = 0.0, hi = 1.0;
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (b_h_.Evaluate(mid).value < target ? lo : hi) = mid;
+  }
+  return params_.horizontal_arrival_phase * 0.5 * (lo + hi);
 }
 
 double SwingFootBezier::touchdown_phase() const { return params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? 1.0 : tau_touchdown_; }

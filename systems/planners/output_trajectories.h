@@ -96,6 +96,11 @@ class BezierCurve {
 enum class SwingApexShape {
   kControlPoints,  ///< Paper, Eq. (24): γ_1 = γ_2 = γ_3 = z_max (the curve peaks somewhat below z_max).
   kExactPeak,      ///< Ours: γ_1..γ_3 chosen so that the maximum of b_v over τ in [0, 1] is exactly z_max.
+  /// Ours: kExactPeak, raised where needed so that the foot is at least z_max high wherever it passes over the stance
+  /// stone (|p_sw^x| <= stance_stone_half_length). The paper's curve peaks near τ = 0.5 whatever the step: after a
+  /// long step followed by a short one, the foot passes over the stance stone late, already on its way down, and
+  /// grazes it. γ_1 = γ_2 = γ_3 = c as in the paper, c = max(c of kExactPeak, c with b_v = z_max at both edges).
+  kClearStanceStone,
 };
 /// When the swing foot reaches the foothold height h_des along the phase (ours).
 enum class SwingTouchdownTiming {
@@ -123,6 +128,9 @@ struct SwingFootBezierParams {
   SwingApexShape apex_shape = SwingApexShape::kControlPoints;
   SwingApexReference apex_reference = SwingApexReference::kStanceFoot;
   SwingTouchdownTiming touchdown_timing = SwingTouchdownTiming::kPaperPhase;
+  /// [m] half the length of the stance stone's top, for SwingApexShape::kClearStanceStone (ours; the paper's stones
+  /// are 0.1 m long in our terrains).
+  double stance_stone_half_length = 0.05;
   /// [-] τ_a in (0, 1]: Eq. (23) runs on τ / τ_a, so the foot is above the foothold (x = l_des, at rest in x) from
   /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a
   /// short, fast step then still lands on the stone centre instead of its near edge.
@@ -148,10 +156,14 @@ class SwingFootBezier {
   double touchdown_phase() const;
   /// max over τ in [0, 1] of p_sw^z, and where (found by sampling and Newton on dp/dτ = 0).
   double MaxHeight(double* tau_at_max = nullptr) const;
+  /// τ at which p_sw^x passes x (e.g. an edge of the stance stone), or NaN if the swing does not pass it.
+  double CrossingPhase(double x) const;
 
  private:
+  void SetExactPeak();
+  double TouchdownParameter() const;  // root of b_v = h_des on the descent (0 if none)
   SwingFootBezierParams params_;
-  double p_sw0_x_, step_length_;
+  double p_sw0_x_, step_length_, step_height_;
   BezierCurve b_h_, b_v_;
   double apex_;
   double tau_touchdown_ = 1.0;  // root of b_v(τ) = h_des on the descent

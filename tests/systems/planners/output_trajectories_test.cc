@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -173,6 +174,39 @@ TEST(OutputTrajectories, HorizontalArrivalPhaseReachesTheFootholdEarlyAndSmoothl
   EXPECT_EQ(b.Z(0.5).value, a.Z(0.5).value);  // the vertical curve is unchanged
   early.horizontal_arrival_phase = 0.0;
   EXPECT_THROW(SwingFootBezier(early, -0.3, 0.0, 0.4, -0.1), std::invalid_argument);
+}
+
+TEST(OutputTrajectories, ClearStanceStoneRaisesTheCurveWhereTheFootPassesOverTheStanceStone) {
+  // After a long step up and before a short step down (start 0.52 m behind and 0.15 m below the stance foot, next stone
+  // 0.21 m ahead and 0.23 m below), the paper-shaped curve peaks early and passes over the stance stone on its way
+  // down; kClearStanceStone keeps the paper's family (γ_1 = γ_2 = γ_3) but raises it so that the foot is at least
+  // the clearance high over both edges of the stance stone (|x| <= 0.05 m). On a symmetric step it changes little.
+  SwingFootBezierParams exact, clear;
+  exact.touchdown_timing = clear.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
+  exact.apex_reference = clear.apex_reference = SwingApexReference::kHighestStone;
+  exact.apex_shape = SwingApexShape::kExactPeak;
+  clear.apex_shape = SwingApexShape::kClearStanceStone;
+  const SwingFootBezier e(exact, -0.52, -0.15, 0.21, -0.23), c(clear, -0.52, -0.15, 0.21, -0.23);
+  auto height_over_stone = [](const SwingFootBezier& b) {
+    double lowest = INFINITY;
+    for (int k = 0; k <= 10000; ++k) {
+      const double tau = k / 10000.0;
+      if (std::abs(b.X(tau).value) <= 0.05) lowest = std::min(lowest, b.Z(tau).value);
+    }
+    return lowest;
+  };
+  std::printf("  lowest height over the stance stone: exact peak %.4f m, clear stance stone %.4f m (clearance %.2f m)\n", height_over_stone(e),
+              height_over_stone(c), clear.clearance);
+  EXPECT_LT(height_over_stone(e), 0.06);  // the failure this shape fixes: the foot grazes the stance stone
+  EXPECT_GE(height_over_stone(c), clear.clearance - 1e-6);
+  EXPECT_EQ(c.vertical().control_point(1), c.vertical().control_point(2));
+  EXPECT_EQ(c.vertical().control_point(2), c.vertical().control_point(3));
+  EXPECT_NEAR(c.Z(1.0).value, -0.23, 1e-9);  // still lands at h_des at τ = 1
+  EXPECT_NEAR(c.X(1.0).value, 0.21, 1e-12);
+  // Symmetric step: the crossing is mid-swing, near the peak; the curve is raised by less than 1 cm.
+  const SwingFootBezier es(exact, -0.4, 0.0, 0.4, 0.0), cs(clear, -0.4, 0.0, 0.4, 0.0);
+  EXPECT_GE(height_over_stone(cs), clear.clearance - 1e-6);
+  EXPECT_LT(cs.MaxHeight() - es.MaxHeight(), 0.01);
 }
 
 TEST(OutputTrajectories, HighestStoneApexClearsTheStanceStone) {
