@@ -23,7 +23,15 @@
 //  * the supervisor's outputs switch to the new stance foot and step at the impact itself, not one control period
 //    later (see stepping_stones_supervisor.h);
 //  * falls: the supervisor watches the COM height above the stance foot; the plant's absolute base-height guard is
-//    shifted to the lowest stone.
+//    shifted to the lowest stone;
+//  * task weights: the swing foot 5, torso pitch and COM height 1 (when the torque limits bind, the foot keeps to its
+//    path and lands on the planned stone);
+//  * integration: ARKODE's explicit Dormand-Prince 5(4) with a 1 ms first step, i.e. one error-controlled step per
+//    controller sample (see SteppingStonesSimulatorConfig); touchdowns are still located by root finding.
+// Solver failures in the loop: the task-space QP re-solves without its GRF rows and counts the failure
+// (TaskSpaceQpController); the MPC relaxes its terminal equality (VerticalComMpc); the posture NLP retries from the
+// nominal pose, then falls back to the previous solution (PreImpactPostureOptimizer). The example counts QP and NLP
+// failures in its summary (qp_failures, nlp_failures).
 
 #include <memory>
 #include <string>
@@ -112,10 +120,13 @@ struct RandomSteppingStonesParams {
 };
 Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
 
-/// Simulator settings of the example and the closed-loop tests: CVODE Adams-Moulton with fixed-point iteration
-/// (IntegrationScheme::kAdamsFunctional), rtol 1e-6, atol 1e-8. The closed loop restarts the integrator at every
-/// 1 kHz controller sample; without a Jacobian to rebuild each time this runs about twice as fast as BDF with Newton
-/// (the plant is not stiff: contact stabilisation α = β = 10 1/s). Events are still located by root finding.
+/// Simulator settings of the example and the closed-loop tests: ARKODE's explicit Dormand-Prince 5(4)
+/// (IntegrationScheme::kExplicitRungeKutta), rtol 1e-6, atol 1e-8, first step 1 ms. The closed loop restarts the
+/// integrator at every 1 kHz controller sample (the zero-order-held torque jumps); a one-step method loses nothing
+/// by a restart, and the plant is not stiff (contact stabilisation α = β = 10 1/s), so one error-controlled step per
+/// sample suffices: 8 derivative evaluations per sample, against about 13 for CVODE Adams with fixed-point iteration
+/// and several times that for BDF with a finite-difference Jacobian rebuilt after every restart (measured on the
+/// 30-step demo: 32x, 20x and 10x real time). Touchdowns are still located by root finding on the dense output.
 SimulatorConfig SteppingStonesSimulatorConfig();
 
 /// Builds the diagram for `terrain` (the robot starts standing on its first stone).
