@@ -76,7 +76,9 @@ int main(int argc, char** argv) {
       .Option("energy", "0.5", "E* [m^2/s^2], desired orbital energy (paper: 0.5)")
       .Option("epsilon", "0.6", "epsilon [-], desired pre-impact COM position as a fraction of the step (paper: 0.6)")
       .Option("swing-clearance", "0.1", "[m] z_sw^max above the highest of the start, stance and next stones")
-      .Option("swing-apex", "exact", "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max)")
+      .Option("swing-apex", "clear",
+              "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max) | clear (exact, and at least "
+              "5 cm above the stance stone wherever the foot passes over it)")
       .Option("initial-com-x", "-0.1", "[m] COM position relative to the stance foot at the start (on the E* orbit)")
       .Option("robot", "robots/amber/amber.rome.json", "planar point-foot robot sidecar")
       .Option("log", "stepping_stones.csv", "CSV log")
@@ -97,12 +99,15 @@ int main(int argc, char** argv) {
     params.log_period_s = cli.GetDouble("log-period");
     params.initial_com_x_m = cli.GetDouble("initial-com-x");
     params.outputs.swing_foot.clearance = cli.GetDouble("swing-clearance");
-    if (cli.Get("swing-apex") == "exact")
+    params.outputs.swing_foot.stance_stone_half_length = 0.5 * cli.GetDouble("stone-length");
+    if (cli.Get("swing-apex") == "clear")
+      params.outputs.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
+    else if (cli.Get("swing-apex") == "exact")
       params.outputs.swing_foot.apex_shape = SwingApexShape::kExactPeak;
     else if (cli.Get("swing-apex") == "paper")
       params.outputs.swing_foot.apex_shape = SwingApexShape::kControlPoints;
     else
-      throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper' or 'exact', got '" + cli.Get("swing-apex") + "'");
+      throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
     SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params);
     Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
     SetSteppingStonesInitialState(d, params, sim.get_mutable_context());

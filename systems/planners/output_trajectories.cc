@@ -122,7 +122,8 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
         const double B0 = std::pow(1 - sigma, 5), B4 = 5 * std::pow(sigma, 4) * (1 - sigma), B5 = std::pow(sigma, 5);
         const double middle = 1 - B0 - B4 - B5;
         if (middle > 1e-6)
-          c = std::max(c, (apex_ - B0 * b_v_.control_point(0) - B4 * b_v_.control_point(4) - B5 * b_v_.control_point(5)) / middle);
+          c = std::max(c, (params_.stance_stone_clearance - B0 * b_v_.control_point(0) - B4 * b_v_.control_point(4) - B5 * b_v_.control_point(5)) /
+                              middle);
       }
       for (int k = 1; k <= 3; ++k) b_v_.set_control_point(k, c);
       const double previous = tau_touchdown_;

@@ -96,10 +96,11 @@ class BezierCurve {
 enum class SwingApexShape {
   kControlPoints,  ///< Paper, Eq. (24): γ_1 = γ_2 = γ_3 = z_max (the curve peaks somewhat below z_max).
   kExactPeak,      ///< Ours: γ_1..γ_3 chosen so that the maximum of b_v over τ in [0, 1] is exactly z_max.
-  /// Ours: kExactPeak, raised where needed so that the foot is at least z_max high wherever it passes over the stance
-  /// stone (|p_sw^x| <= stance_stone_half_length). The paper's curve peaks near τ = 0.5 whatever the step: after a
+  /// Ours: kExactPeak, raised where needed so that the foot is at least stance_stone_clearance above the stance stone
+  /// wherever it passes over it (|p_sw^x| <= stance_stone_half_length). The paper's curve peaks near τ = 0.5 whatever the step: after a
   /// long step followed by a short one, the foot passes over the stance stone late, already on its way down, and
-  /// grazes it. γ_1 = γ_2 = γ_3 = c as in the paper, c = max(c of kExactPeak, c with b_v = z_max at both edges).
+  /// grazes it. γ_1 = γ_2 = γ_3 = c as in the paper, c = max(c of kExactPeak, c that meets the stance clearance at
+  /// both edges).
   kClearStanceStone,
 };
 /// When the swing foot reaches the foothold height h_des along the phase (ours).
@@ -131,6 +132,8 @@ struct SwingFootBezierParams {
   /// [m] half the length of the stance stone's top, for SwingApexShape::kClearStanceStone (ours; the paper's stones
   /// are 0.1 m long in our terrains).
   double stance_stone_half_length = 0.05;
+  /// [m] for SwingApexShape::kClearStanceStone: the least height above the stance stone (ours).
+  double stance_stone_clearance = 0.05;
   /// [-] τ_a in (0, 1]: Eq. (23) runs on τ / τ_a, so the foot is above the foothold (x = l_des, at rest in x) from
   /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a
   /// short, fast step then still lands on the stone centre instead of its near edge.
