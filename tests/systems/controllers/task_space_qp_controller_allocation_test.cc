@@ -65,5 +65,40 @@ TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
   EXPECT_EQ(allocations, 0);
 }
 
+TEST(TaskSpaceQpControllerAllocation, RelaxedFallbackDoesNotAllocate) {
+  // An unattainable normal-force bound makes every QP infeasible; the fallback re-solves without the GRF rows.
+  auto model = test::LoadRobot("amber");
+  const auto tasks = test::AmberWalkingTasks(*model);
+  TaskSpaceQpParams params;
+  params.min_normal_force_N = 3.0 * model->total_mass() * 9.81;
+  TaskSpaceQpController controller("tsc", model, {ContactBit(0)}, tasks, params);
+  auto context = controller.CreateDefaultLeafContext();
+  const Eigen::VectorXd q = test::AmberSingleSupportPose(*model), v = Eigen::VectorXd::Zero(7);
+  Eigen::VectorXd x(14);
+  x << q, v;
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
+  desired.head(4) = test::TaskValues(*model, tasks, q, v);
+  context->FixInputPort(0, x);
+  context->FixInputPort(1, Eigen::VectorXd::Zero(1));
+  context->FixInputPort(2, desired);
+  const auto& update = controller.periodic_events().at(0).update;
+  Eigen::VectorXd next = context->discrete_state();
+  ASSERT_TRUE(update(*context, &next).ok());
+  long allocations = 0;
+  for (int tick = 0; tick < 50; ++tick) {
+    auto& fixed = const_cast<Eigen::VectorXd&>(controller.EvalInput(*context, 0));
+    fixed[7 + 3] = 0.1 * std::sin(0.1 * tick);
+    context->InvalidateCache();
+    g_allocations = 0;
+    g_counting = true;
+    const EventStatus status = update(*context, &next);
+    g_counting = false;
+    allocations += g_allocations;
+    ASSERT_TRUE(status.ok()) << status.message;
+  }
+  EXPECT_EQ(controller.relaxed_solves(*context), 51);
+  EXPECT_EQ(allocations, 0);
+}
+
 }  // namespace
 }  // namespace rome
