@@ -71,7 +71,12 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   pp.impact_fraction = params.impact_fraction;
   d.planner = b.AddSystem(std::make_unique<MomentumRegulationPlannerSystem>("planner", pp));
   d.mpc = b.AddSystem(std::make_unique<VerticalComMpcSystem>("vertical_com_mpc", params.mpc));
-  d.outputs = b.AddSystem(std::make_unique<SteppingStonesOutputsSystem>("outputs", params.outputs));
+  SteppingStonesOutputsSystemParams op = params.outputs;
+  if (std::isnan(op.swing_foot.stance_stone_half_length)) {
+    op.swing_foot.stance_stone_half_length = 0.0;
+    for (const SteppingStone& stone : terrain.stones()) op.swing_foot.stance_stone_half_length = std::max(op.swing_foot.stance_stone_half_length, 0.5 * stone.length_m);
+  }
+  d.outputs = b.AddSystem(std::make_unique<SteppingStonesOutputsSystem>("outputs", op));
   b.AddSystem(std::make_unique<OutputAdapter>());
 
   const int left_stance = 0, right_stance = 1;

@@ -33,6 +33,7 @@
 // nominal pose, then falls back to the previous solution (PreImpactPostureOptimizer). The example counts QP and NLP
 // failures in its summary (qp_failures, nlp_failures).
 
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -88,6 +89,8 @@ struct SteppingStonesDiagramParams {
     // The curve really reaches the clearance, and is at least that high over the stance stone (kExactPeak, raised
     // where the foot passes over the stance stone late in the swing).
     p.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
+    // NaN: BuildSteppingStonesDiagram uses half the longest stone of the terrain.
+    p.swing_foot.stance_stone_half_length = std::numeric_limits<double>::quiet_NaN();
     return p;
   }
 };

@@ -99,7 +99,6 @@ int main(int argc, char** argv) {
     params.log_period_s = cli.GetDouble("log-period");
     params.initial_com_x_m = cli.GetDouble("initial-com-x");
     params.outputs.swing_foot.clearance = cli.GetDouble("swing-clearance");
-    params.outputs.swing_foot.stance_stone_half_length = 0.5 * cli.GetDouble("stone-length");
     if (cli.Get("swing-apex") == "clear")
       params.outputs.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
     else if (cli.Get("swing-apex") == "exact")

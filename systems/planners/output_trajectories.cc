@@ -90,6 +90,10 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
                                 Num(params_.strike_depth) + " m");
   if (!(params_.horizontal_arrival_phase > 0 && params_.horizontal_arrival_phase <= 1))
     throw std::invalid_argument("SwingFootBezier: parameter horizontal_arrival_phase must be in (0, 1], got " + Num(params_.horizontal_arrival_phase));
+  if (params_.apex_shape == SwingApexShape::kClearStanceStone &&
+      !(params_.stance_stone_half_length >= 0 && std::isfinite(params_.stance_stone_half_length) && std::isfinite(params_.stance_stone_clearance)))
+    throw std::invalid_argument("SwingFootBezier: parameters stance_stone_half_length (" + Num(params_.stance_stone_half_length) +
+                                " m) and stance_stone_clearance (" + Num(params_.stance_stone_clearance) + " m) must be finite, the length >= 0");
   if (!std::isfinite(p_sw0_x) || !std::isfinite(p_sw0_z) || !std::isfinite(step_length) || !std::isfinite(step_height))
     throw std::invalid_argument("SwingFootBezier: start position and step must be finite");
   switch (params_.apex_reference) {

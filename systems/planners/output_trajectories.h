@@ -96,11 +96,11 @@ class BezierCurve {
 enum class SwingApexShape {
   kControlPoints,  ///< Paper, Eq. (24): γ_1 = γ_2 = γ_3 = z_max (the curve peaks somewhat below z_max).
   kExactPeak,      ///< Ours: γ_1..γ_3 chosen so that the maximum of b_v over τ in [0, 1] is exactly z_max.
-  /// Ours: kExactPeak, raised where needed so that the foot is at least stance_stone_clearance above the stance stone
-  /// wherever it passes over it (|p_sw^x| <= stance_stone_half_length). The paper's curve peaks near τ = 0.5 whatever the step: after a
-  /// long step followed by a short one, the foot passes over the stance stone late, already on its way down, and
-  /// grazes it. γ_1 = γ_2 = γ_3 = c as in the paper, c = max(c of kExactPeak, c that meets the stance clearance at
-  /// both edges).
+  /// Ours: kExactPeak, raised where needed so that the foot is at least stance_stone_clearance above the stance
+  /// stone wherever it passes over it (|p_sw^x| <= stance_stone_half_length). The paper's curve peaks near τ = 0.5
+  /// whatever the step: after a long step followed by a short one, the foot passes over the stance stone late,
+  /// already on its way down, and grazes it. γ_1 = γ_2 = γ_3 = c as in the paper, c = max(c of kExactPeak, c that
+  /// meets the stance clearance at both edges).
   kClearStanceStone,
 };
 /// When the swing foot reaches the foothold height h_des along the phase (ours).
