@@ -15,6 +15,18 @@
 namespace rome {
 namespace {
 
+// Fixes the controller's inputs (state, mode 0, desired outputs) and runs one update, which sizes everything lazily
+// built. Returns the next discrete state to reuse.
+Eigen::VectorXd FixInputsAndPrime(const TaskSpaceQpController& controller, LeafContext& context, const Eigen::VectorXd& x,
+                                  const Eigen::VectorXd& desired) {
+  context.FixInputPort(0, x);
+  context.FixInputPort(1, Eigen::VectorXd::Zero(1));
+  context.FixInputPort(2, desired);
+  Eigen::VectorXd next = context.discrete_state();
+  EXPECT_TRUE(controller.periodic_events().at(0).update(context, &next).ok());
+  return next;
+}
+
 TEST(TaskSpaceQpControllerAllocation, CountingWorks) {
   static double* volatile sink = nullptr;
   g_allocations = 0;
@@ -38,12 +50,8 @@ TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
   x_ds << q_ds, v;
   Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
   desired.head(4) = test::TaskValues(*model, tasks, q_ss, v) + Eigen::Vector4d(0.02, -0.01, 0.03, 0.02);
-  context->FixInputPort(0, x_ss);
-  context->FixInputPort(1, Eigen::VectorXd::Zero(1));
-  context->FixInputPort(2, desired);
+  Eigen::VectorXd next = FixInputsAndPrime(controller, *context, x_ss, desired);
   const auto& update = controller.periodic_events().at(0).update;
-  Eigen::VectorXd next = context->discrete_state();
-  ASSERT_TRUE(update(*context, &next).ok());
   long allocations = 0;
   for (int tick = 0; tick < 200; ++tick) {
     // Change the state in place (a fixed input keeps its storage) and switch modes every 50 ticks.
@@ -78,22 +86,15 @@ TEST(TaskSpaceQpControllerAllocation, RelaxedFallbackDoesNotAllocate) {
   x << q, v;
   Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
   desired.head(4) = test::TaskValues(*model, tasks, q, v);
-  context->FixInputPort(0, x);
-  context->FixInputPort(1, Eigen::VectorXd::Zero(1));
-  context->FixInputPort(2, desired);
+  Eigen::VectorXd next = FixInputsAndPrime(controller, *context, x, desired);
   const auto& update = controller.periodic_events().at(0).update;
-  Eigen::VectorXd next = context->discrete_state();
-  ASSERT_TRUE(update(*context, &next).ok());
   long allocations = 0;
   for (int tick = 0; tick < 50; ++tick) {
     auto& fixed = const_cast<Eigen::VectorXd&>(controller.EvalInput(*context, 0));
     fixed[7 + 3] = 0.1 * std::sin(0.1 * tick);
     context->InvalidateCache();
-    g_allocations = 0;
-    g_counting = true;
-    const EventStatus status = update(*context, &next);
-    g_counting = false;
-    allocations += g_allocations;
+    EventStatus status;
+    allocations += test::CountAllocations([&] { status = update(*context, &next); });
     ASSERT_TRUE(status.ok()) << status.message;
   }
   EXPECT_EQ(controller.relaxed_solves(*context), 51);
