@@ -254,11 +254,13 @@ SimulatorStatus Simulator::Initialize() {
                                 ", absolute_tolerance = " + std::to_string(config_.absolute_tolerance) + ")");
   m.erk = config_.scheme == IntegrationScheme::kExplicitRungeKutta;
   if (m.erk) {
-    // Dormand-Prince 5(4), error-controlled; one-step, so a restart at every sample costs nothing extra.
+    // Dormand-Prince 5(4) or Bogacki-Shampine 3(2), error-controlled; one-step, so a restart at every sample costs
+    // nothing extra.
     m.mem = ERKStepCreate(&SimulatorCallbacks::Rhs, t0, m.y, m.sunctx);
     if (!m.mem) throw std::runtime_error("Simulator: ERKStepCreate failed");
     ERKStepSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
-    ERKStepSetTableNum(m.mem, ARKODE_DORMAND_PRINCE_7_4_5);
+    ERKStepSetTableNum(m.mem, config_.explicit_rk_method == ExplicitRungeKuttaMethod::kBogackiShampine32 ? ARKODE_BOGACKI_SHAMPINE_4_2_3
+                                                                                                    : ARKODE_DORMAND_PRINCE_7_4_5);
     ERKStepSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
     ERKStepSetUserData(m.mem, &m);
     if (config_.max_step_s > 0) ERKStepSetMaxStep(m.mem, config_.max_step_s);

@@ -167,6 +167,7 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& p) {
 SimulatorConfig SteppingStonesSimulatorConfig() {
   SimulatorConfig config;
   config.scheme = IntegrationScheme::kExplicitRungeKutta;
+  config.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
   config.relative_tolerance = 1e-6;
   config.absolute_tolerance = 1e-8;
   config.initial_step_s = 1e-3;
