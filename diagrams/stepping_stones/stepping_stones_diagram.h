@@ -130,8 +130,8 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
 /// α = β = 10 1/s), so one error-controlled step per sample suffices: 4 derivative evaluations per sample, against 8
 /// with Dormand-Prince 5(4), about 13 with CVODE Adams and fixed-point iteration, and several times that with BDF and
 /// a finite-difference Jacobian rebuilt after every restart (30-step demo, same machine and hour: 39-43x, 32-35x,
-/// 20x and 10x real time). All four give the same footholds to 1e-8 m. Touchdowns are located by root finding on the
-/// dense output.
+/// 20x and 10x real time). The two explicit pairs give the same footholds to 1e-8 m. Touchdowns are located by root
+/// finding on the dense output.
 SimulatorConfig SteppingStonesSimulatorConfig();
 
 /// Builds the diagram for `terrain` (the robot starts standing on its first stone).
