@@ -122,7 +122,7 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
         const double tau = CrossingPhase(edge);
         if (!std::isfinite(tau)) continue;
         const double sigma = scale * tau;
-        // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = z_max.
+        // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = stance_stone_clearance.
         const double B0 = std::pow(1 - sigma, 5), B4 = 5 * std::pow(sigma, 4) * (1 - sigma), B5 = std::pow(sigma, 5);
         const double middle = 1 - B0 - B4 - B5;
         if (middle > 1e-6)
