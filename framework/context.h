@@ -41,6 +41,11 @@ class Context {
   std::uint64_t version() const { return *version_; }
   void InvalidateCache() { ++*version_; }
   virtual bool is_diagram_context() const = 0;
+  /// A deep copy: time, state, parameters, fixed inputs and per-run scratch (workspaces, warm starts, logs) are
+  /// copied; the copy has its own clock and cache and is wired to its own leaf contexts. Simulating the copy (a
+  /// branch: Monte Carlo, look-ahead) leaves this context untouched. Scratch is copied with its type's copy
+  /// constructor, so a block whose scratch shares a heavy object through a pointer must deep-copy it there.
+  virtual std::unique_ptr<Context> Clone() const = 0;
 
  protected:
   Context() = default;
@@ -48,6 +53,7 @@ class Context {
   std::shared_ptr<double> time_ = std::make_shared<double>(0.0);
   std::shared_ptr<std::uint64_t> version_ = std::make_shared<std::uint64_t>(1);
   friend class Diagram;
+  friend class DiagramContext;
 };
 
 /// Where an input port of a leaf gets its value from.
@@ -57,12 +63,14 @@ struct InputSource {
   const LeafSystem* upstream_system = nullptr;  // kUpstream
   const class LeafContext* upstream_context = nullptr;
   int upstream_port = -1;
-  const Eigen::VectorXd* fixed_value = nullptr;  // kFixed: points into fixed storage
+  const Eigen::VectorXd* fixed_value = nullptr;  // kFixed vector port: points into fixed storage
+  const std::any* fixed_abstract = nullptr;      // kFixed typed port: points into fixed storage
 };
 
 class LeafContext final : public Context {
  public:
   bool is_diagram_context() const override { return false; }
+  std::unique_ptr<Context> Clone() const override;
   const LeafSystem& system() const { return *system_; }
 
   const State& state() const { return state_; }
@@ -93,6 +101,8 @@ class LeafContext final : public Context {
   /// Gives input port `index` a fixed value (size checked). Replaces nothing that a diagram connected:
   /// fixing a connected input is an error.
   void FixInputPort(int index, const Eigen::VectorXd& value);
+  /// Same for a typed input port; the value's type is checked against the port's.
+  void FixAbstractInputPort(int index, std::any value);
 
   /// Per-run scratch (workspaces, logs, warm starts) created by LeafSystem::AllocateScratch().
   /// Mutable through a const context: it never changes a value that another system can observe.
@@ -106,11 +116,16 @@ class LeafContext final : public Context {
  private:
   friend class LeafSystem;
   friend class Diagram;
+  friend class DiagramContext;
   friend class Simulator;
   LeafContext() = default;
+  LeafContext(const LeafContext&) = default;
+  /// Copy with fixed inputs re-pointed at this copy's storage (upstream sources are re-wired by the diagram).
+  std::unique_ptr<LeafContext> CloneLeaf() const;
 
   struct OutputCache {
-    Eigen::VectorXd value;
+    Eigen::VectorXd value;   // vector ports
+    std::any abstract;       // typed ports
     std::uint64_t version = 0;
   };
 
@@ -119,6 +134,7 @@ class LeafContext final : public Context {
   std::vector<Eigen::VectorXd> parameters_;
   std::vector<InputSource> inputs_;
   std::vector<Eigen::VectorXd> fixed_inputs_;
+  std::vector<std::any> fixed_abstract_inputs_;
   mutable std::vector<OutputCache> outputs_;
   mutable std::any scratch_;
 };

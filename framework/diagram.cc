@@ -32,9 +32,14 @@ std::unique_ptr<DiagramContext> Diagram::CreateDefaultDiagramContext() const {
           src.upstream_port = w.upstream.port;
           break;
         case LeafInputWiring::Kind::kFixed:
-          lc.fixed_inputs_[p] = w.fixed_value;
           src.kind = InputSource::Kind::kFixed;
-          src.fixed_value = &lc.fixed_inputs_[p];
+          if (w.fixed_abstract.has_value()) {
+            lc.fixed_abstract_inputs_[p] = w.fixed_abstract;
+            src.fixed_abstract = &lc.fixed_abstract_inputs_[p];
+          } else {
+            lc.fixed_inputs_[p] = w.fixed_value;
+            src.fixed_value = &lc.fixed_inputs_[p];
+          }
           break;
         case LeafInputWiring::Kind::kExported:
           src.kind = InputSource::Kind::kUnconnected;  // until the diagram input is fixed
@@ -46,6 +51,33 @@ std::unique_ptr<DiagramContext> Diagram::CreateDefaultDiagramContext() const {
 }
 
 std::unique_ptr<Context> Diagram::CreateDefaultContext() const { return CreateDefaultDiagramContext(); }
+
+std::unique_ptr<Context> DiagramContext::Clone() const {
+  std::unique_ptr<DiagramContext> dc(new DiagramContext());
+  *dc->time_ = *time_;
+  *dc->version_ = *version_;
+  dc->fixed_inputs_ = fixed_inputs_;
+  dc->input_fixed_ = input_fixed_;
+  for (const auto& leaf : leaves_) {
+    std::unique_ptr<LeafContext> lc = leaf->CloneLeaf();
+    lc->time_ = dc->time_;
+    lc->version_ = dc->version_;
+    dc->leaves_.push_back(std::move(lc));
+  }
+  // Re-wire upstream sources and the diagram's fixed inputs to the copies.
+  for (size_t i = 0; i < leaves_.size(); ++i)
+    for (size_t p = 0; p < leaves_[i]->inputs_.size(); ++p) {
+      const InputSource& old_src = leaves_[i]->inputs_[p];
+      InputSource& src = dc->leaves_[i]->inputs_[p];
+      if (old_src.kind == InputSource::Kind::kUpstream) {
+        for (size_t k = 0; k < leaves_.size(); ++k)
+          if (leaves_[k].get() == old_src.upstream_context) src.upstream_context = dc->leaves_[k].get();
+      }
+      for (size_t k = 0; k < fixed_inputs_.size(); ++k)
+        if (old_src.fixed_value == &fixed_inputs_[k]) src.fixed_value = &dc->fixed_inputs_[k];
+    }
+  return dc;
+}
 
 const DiagramContext& Diagram::AsDiagramContext(const Context& context) const {
   if (!context.is_diagram_context()) throw std::invalid_argument("diagram '" + name() + "' was given a leaf context");
@@ -62,9 +94,18 @@ const Eigen::VectorXd& Diagram::EvalOutput(const Context& context, int index) co
   return leaves_[ref.leaf].system->EvalOutput(dc.leaf(ref.leaf), ref.port);
 }
 
+const std::any& Diagram::EvalAbstractOutput(const Context& context, int index) const {
+  const DiagramContext& dc = AsDiagramContext(context);
+  output_port(index);
+  const OutputRef& ref = exported_outputs_[index];
+  return leaves_[ref.leaf].system->EvalAbstractOutput(dc.leaf(ref.leaf), ref.port);
+}
+
 void Diagram::FixInputPort(Context& context, int index, const Eigen::VectorXd& value) const {
   auto& dc = const_cast<DiagramContext&>(AsDiagramContext(context));
   const PortInfo& port = input_port(index);
+  if (!port.is_vector())
+    throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' carries " + port.TypeString() + "; it cannot be fixed to a vector");
   if (value.size() != port.size)
     throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' has size " + std::to_string(port.size) +
                                 " but the fixed value has size " + std::to_string(value.size()));
@@ -162,6 +203,11 @@ void DiagramBuilder::FixInput(const std::string& system, const std::string& inpu
   fixed_.push_back({{s, systems_[s]->GetInputPortIndex(input_port)}, value});
 }
 
+void DiagramBuilder::FixAbstractInput(const std::string& system, const std::string& input_port, std::any value) {
+  const int s = SystemIndex(system);
+  fixed_abstract_.push_back({{s, systems_[s]->GetInputPortIndex(input_port)}, std::move(value)});
+}
+
 void DiagramBuilder::ExportInput(const std::string& system, const std::string& input_port, const std::string& name) {
   const int s = SystemIndex(system);
   const PortRef ref{s, systems_[s]->GetInputPortIndex(input_port)};
@@ -204,7 +250,7 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
     if (!systems_[s]->is_diagram()) {
       const auto* leaf = static_cast<const LeafSystem*>(systems_[s].get());
       d->leaves_.push_back({leaf, names_[s]});
-      d->wiring_.emplace_back(leaf->num_input_ports(), Wiring{Wiring::Kind::kExported, {-1, -1}, {}, -1});
+      d->wiring_.emplace_back(leaf->num_input_ports(), Wiring{Wiring::Kind::kExported, {-1, -1}, {}, {}, -1});
       for (int p = 0; p < leaf->num_input_ports(); ++p) pending.push_back({offset[s], p, s, p});
     } else {
       const auto* child = static_cast<const Diagram*>(systems_[s].get());
@@ -238,34 +284,60 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
     source[key] = std::move(w);
   };
   for (const Connection& c : connections_) {
-    const int out_size = systems_[c.from.system]->output_port(c.from.port).size;
-    const int in_size = systems_[c.to.system]->input_port(c.to.port).size;
+    const PortInfo& out_port = systems_[c.from.system]->output_port(c.from.port);
+    const PortInfo& in_port = systems_[c.to.system]->input_port(c.to.port);
+    if (!out_port.is_vector() || !in_port.is_vector()) {
+      if (!out_port.SameTypeAs(in_port))
+        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: " + port_name(c.from.system, c.from.port, false) +
+                                    " carries " + out_port.TypeString() + " but " + port_name(c.to.system, c.to.port, true) + " takes " +
+                                    in_port.TypeString());
+    }
+    const int out_size = out_port.size;
+    const int in_size = in_port.size;
     if (out_size != in_size)
       throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: " + port_name(c.from.system, c.from.port, false) +
                                   " has size " + std::to_string(out_size) + " but " + port_name(c.to.system, c.to.port, true) +
                                   " has size " + std::to_string(in_size));
-    add_source(c.to, Wiring{Wiring::Kind::kUpstream, leaf_output(c.from), {}, -1},
+    add_source(c.to, Wiring{Wiring::Kind::kUpstream, leaf_output(c.from), {}, {}, -1},
                "connection from " + port_name(c.from.system, c.from.port, false));
   }
   for (const auto& [in, value] : fixed_) {
-    const int in_size = systems_[in.system]->input_port(in.port).size;
+    const PortInfo& in_port = systems_[in.system]->input_port(in.port);
+    if (!in_port.is_vector())
+      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: " + port_name(in.system, in.port, true) + " takes " +
+                                  in_port.TypeString() + " but its fixed value is a vector (use FixTypedInput)");
+    const int in_size = in_port.size;
     if (value.size() != in_size)
       throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: " + port_name(in.system, in.port, true) +
                                   " has size " + std::to_string(in_size) + " but its fixed value has size " + std::to_string(value.size()));
-    add_source(in, Wiring{Wiring::Kind::kFixed, {-1, -1}, value, -1}, "a fixed value");
+    add_source(in, Wiring{Wiring::Kind::kFixed, {-1, -1}, value, {}, -1}, "a fixed value");
+  }
+  for (const auto& [in, value] : fixed_abstract_) {
+    const PortInfo& in_port = systems_[in.system]->input_port(in.port);
+    if (in_port.is_vector() || *in_port.value_type != value.type())
+      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: " + port_name(in.system, in.port, true) + " takes " +
+                                  in_port.TypeString() + " but its fixed value is " + DemangledTypeName(value.type()));
+    add_source(in, Wiring{Wiring::Kind::kFixed, {-1, -1}, {}, value, -1}, "a fixed value");
   }
   for (size_t k = 0; k < exported_inputs_.size(); ++k) {
     const auto& [ename, refs] = exported_inputs_[k];
-    const int size = systems_[refs[0].system]->input_port(refs[0].port).size;
+    const PortInfo& first = systems_[refs[0].system]->input_port(refs[0].port);
+    const int size = first.size;
     for (const PortRef& in : refs) {
       const int in_size = systems_[in.system]->input_port(in.port).size;
+      if (!systems_[in.system]->input_port(in.port).SameTypeAs(first))
+        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: exported input '" + ename + "' fans out to " +
+                                    port_name(in.system, in.port, true) + ", which takes " + systems_[in.system]->input_port(in.port).TypeString() +
+                                    ", and to a port that takes " + first.TypeString());
       if (in_size != size)
         throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: exported input '" + ename + "' fans out to " +
                                     port_name(in.system, in.port, true) + " of size " + std::to_string(in_size) + " and to a port of size " +
                                     std::to_string(size));
-      add_source(in, Wiring{Wiring::Kind::kExported, {-1, -1}, {}, static_cast<int>(k)}, "the diagram input '" + ename + "'");
+      add_source(in, Wiring{Wiring::Kind::kExported, {-1, -1}, {}, {}, static_cast<int>(k)}, "the diagram input '" + ename + "'");
     }
-    d->input_ports_.push_back({ename, size});
+    PortInfo exported = first;
+    exported.name = ename;
+    d->input_ports_.push_back(exported);
     d->exported_inputs_.emplace_back();
   }
   for (const Pending& p : pending) {
@@ -285,7 +357,9 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
                                     " is not connected (connect it, fix it with FixInput, or export it)");
 
   for (const auto& [ename, ref] : exported_outputs_) {
-    d->output_ports_.push_back({ename, systems_[ref.system]->output_port(ref.port).size});
+    PortInfo exported = systems_[ref.system]->output_port(ref.port);
+    exported.name = ename;
+    d->output_ports_.push_back(exported);
     d->exported_outputs_.push_back(leaf_output(ref));
   }
 
@@ -326,6 +400,7 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
   names_.clear();
   connections_.clear();
   fixed_.clear();
+  fixed_abstract_.clear();
   exported_inputs_.clear();
   exported_outputs_.clear();
   return d;

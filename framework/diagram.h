@@ -5,7 +5,7 @@
 // names ("walker/controller"), so evaluation never walks through layers. The nested Diagram objects stay
 // owned by their parent so their exported port names keep working.
 //
-// Build() rejects, naming the systems and ports: an unconnected input (unless fixed or exported), a size
+// Build() rejects, naming the systems and ports: an unconnected input (unless fixed or exported), a type or size
 // mismatch, a second connection into one input, and an algebraic loop among direct-feedthrough ports.
 
 #include <map>
@@ -21,6 +21,7 @@ namespace rome {
 class DiagramContext final : public Context {
  public:
   bool is_diagram_context() const override { return true; }
+  std::unique_ptr<Context> Clone() const override;
   int num_leaves() const { return static_cast<int>(leaves_.size()); }
   LeafContext& leaf(int i) { return *leaves_[i]; }
   const LeafContext& leaf(int i) const { return *leaves_[i]; }
@@ -40,6 +41,7 @@ class Diagram final : public System {
   std::unique_ptr<DiagramContext> CreateDefaultDiagramContext() const;
   const Eigen::VectorXd& EvalOutput(const Context& context, int index) const override;
   using System::EvalOutput;
+  const std::any& EvalAbstractOutput(const Context& context, int index) const override;
   void FixInputPort(Context& context, int index, const Eigen::VectorXd& value) const override;
 
   int num_leaves() const { return static_cast<int>(leaves_.size()); }
@@ -81,6 +83,7 @@ class Diagram final : public System {
     enum class Kind { kUpstream, kFixed, kExported } kind;
     OutputRef upstream{-1, -1};
     Eigen::VectorXd fixed_value;
+    std::any fixed_abstract;  // typed ports
     int exported_index = -1;
   };
   std::vector<std::unique_ptr<System>> owned_;
@@ -114,6 +117,12 @@ class DiagramBuilder {
   void Connect(const System& from, const System& to);
   /// Gives an input a fixed value inside the diagram.
   void FixInput(const std::string& system, const std::string& input_port, const Eigen::VectorXd& value);
+  /// Gives a typed input a fixed value (its type is checked by Build()).
+  template <class T>
+  void FixTypedInput(const std::string& system, const std::string& input_port, T value) {
+    FixAbstractInput(system, input_port, std::any(std::move(value)));
+  }
+  void FixAbstractInput(const std::string& system, const std::string& input_port, std::any value);
   /// Makes an input of a subsystem an input of the diagram, under `name` (default: the port's name).
   /// Several subsystem inputs may share one exported name (same size): they are fanned out.
   void ExportInput(const std::string& system, const std::string& input_port, const std::string& name = "");
@@ -141,6 +150,7 @@ class DiagramBuilder {
   std::vector<std::string> names_;
   std::vector<Connection> connections_;
   std::vector<std::pair<PortRef, Eigen::VectorXd>> fixed_;
+  std::vector<std::pair<PortRef, std::any>> fixed_abstract_;
   std::vector<std::pair<std::string, std::vector<PortRef>>> exported_inputs_;
   std::vector<std::pair<std::string, PortRef>> exported_outputs_;
 };

@@ -7,12 +7,32 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <sstream>
 
 namespace rome {
+
+SimulatorStatus::Kind SimulatorStatus::kind() const {
+  switch (reason) {
+    case Reason::kReachedTermination: return Kind::kSuccess;
+    case Reason::kFailed:
+    case Reason::kZeno: return Kind::kFailure;
+    case Reason::kReachedBoundaryTime: break;
+  }
+  return Kind::kLimit;
+}
+
+std::string SimulatorStatus::kind_name() const {
+  switch (kind()) {
+    case Kind::kSuccess: return "success";
+    case Kind::kFailure: return "failure";
+    case Kind::kLimit: break;
+  }
+  return "limit";
+}
 
 std::string SimulatorStatus::ToString() const {
   std::ostringstream os;
@@ -46,6 +66,14 @@ struct Simulator::Impl {
     double next_time() const { return offset + static_cast<double>(k) * period; }
   };
   std::vector<Periodic> periodic;
+  struct EventUpdateRef {
+    int leaf, update;
+    std::vector<int> guards;  // indices into `guards` that trigger it; empty with any = true
+    bool any = false;
+  };
+  std::vector<EventUpdateRef> event_updates;
+  std::vector<char> guard_fired;  // per entry of `guards`, at the current event instant
+  std::vector<EventRecord> fired_records;
   std::vector<Eigen::VectorXd> xdot, xd_next;
   std::vector<char> xd_touched;
   std::vector<State> state_buf;
@@ -221,6 +249,41 @@ Simulator::Simulator(const System& system, std::unique_ptr<Context> context, Sim
       m.periodic.push_back({static_cast<int>(i), e, pe.period, pe.offset, 0});
     }
   }
+  // Event updates: resolve the systems and guards their triggers name.
+  auto basename = [](const std::string& path) { return path.substr(path.rfind('/') + 1); };
+  for (size_t i = 0; i < m.systems.size(); ++i) {
+    const auto& ups = m.systems[i]->event_updates();
+    for (int u = 0; u < static_cast<int>(ups.size()); ++u) {
+      Impl::EventUpdateRef ref{static_cast<int>(i), u, {}, ups[u].trigger.any()};
+      for (const auto& name : ups[u].trigger.guards) {
+        int leaf = -1;
+        for (size_t k = 0; k < m.systems.size() && leaf < 0; ++k)
+          if (m.paths[k] == name.system) leaf = static_cast<int>(k);
+        for (size_t k = 0; k < m.systems.size() && leaf < 0; ++k)
+          if (basename(m.paths[k]) == name.system) leaf = static_cast<int>(k);
+        const std::string who = "system '" + m.paths[i] + "': event update '" + ups[u].name + "'";
+        if (leaf < 0) throw std::invalid_argument(who + " names system '" + name.system + "', which is not in '" + system.name() + "'");
+        const bool prefix = name.guard.back() == '*';
+        const std::string stem = prefix ? name.guard.substr(0, name.guard.size() - 1) : name.guard;
+        bool found = false;
+        std::string known;
+        for (size_t k = 0; k < m.guards.size(); ++k) {
+          if (m.guards[k].leaf != leaf) continue;
+          const std::string& gname = m.systems[leaf]->guards()[m.guards[k].guard].name;
+          known += (known.empty() ? "'" : ", '") + gname + "'";
+          if (prefix ? gname.compare(0, stem.size(), stem) == 0 : gname == stem) {
+            ref.guards.push_back(static_cast<int>(k));
+            found = true;
+          }
+        }
+        if (!found)
+          throw std::invalid_argument(who + " names guard '" + name.guard + "' of system '" + m.paths[leaf] + "', which has no such guard (it has " +
+                                      (known.empty() ? "none" : known) + ")");
+      }
+      m.event_updates.push_back(std::move(ref));
+    }
+  }
+  m.guard_fired.assign(m.guards.size(), 0);
   m.xd_touched.assign(m.systems.size(), 0);
   m.rootsfound.assign(m.nroots, 0);
   nx_ = offset;
@@ -462,7 +525,10 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
         ERKStepGetRootInfo(m.mem, m.rootsfound.data());
       else
         CVodeGetRootInfo(m.mem, m.rootsfound.data());
-      for (const auto& g : m.guards) {
+      std::fill(m.guard_fired.begin(), m.guard_fired.end(), 0);
+      m.fired_records.clear();
+      for (size_t gi = 0; gi < m.guards.size(); ++gi) {
+        const auto& g = m.guards[gi];
         const LeafSystem& sys = *m.systems[g.leaf];
         const LeafSystem::Guard& guard = sys.guards()[g.guard];
         LeafContext& ctx = *m.contexts[g.leaf];
@@ -497,7 +563,40 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
         ctx.get_mutable_state() = next;
         ++stats_.guard_events;
         stats_.events.push_back({t_ret, m.paths[g.leaf], guard.name, component, mode_before, next.mode});
+        m.guard_fired[gi] = 1;
+        m.fired_records.push_back(stats_.events.back());
         if (!es.ok()) return from_event(es, m.paths[g.leaf]);
+      }
+      // Event updates, in diagram order, each seeing the state left by the resets and earlier updates.
+      if (!m.fired_records.empty()) {
+        for (const auto& ref : m.event_updates) {
+          const EventRecord* trigger = nullptr;
+          if (ref.any) {
+            trigger = &m.fired_records.front();
+          } else {
+            for (int gi : ref.guards)
+              if (m.guard_fired[gi]) {
+                const auto& g = m.guards[gi];
+                const std::string& gname = m.systems[g.leaf]->guards()[g.guard].name;
+                for (const auto& rec : m.fired_records)
+                  if (rec.guard == gname && rec.system == m.paths[g.leaf]) trigger = &rec;
+                break;
+              }
+          }
+          if (trigger == nullptr) continue;
+          const LeafSystem& sys = *m.systems[ref.leaf];
+          LeafContext& ctx = *m.contexts[ref.leaf];
+          State& next = m.state_buf[ref.leaf];
+          next = ctx.state();
+          EventStatus es = sys.event_updates()[ref.update].update(ctx, *trigger, &next);
+          if (next.discrete.size() != sys.num_discrete_states() || next.mode < 0 || next.mode >= sys.num_modes())
+            throw std::runtime_error("system '" + m.paths[ref.leaf] + "': event update '" + sys.event_updates()[ref.update].name +
+                                     "' produced a discrete state of the wrong size or an unknown mode " + std::to_string(next.mode));
+          State& cur = ctx.get_mutable_state();
+          cur.discrete = next.discrete;
+          cur.mode = next.mode;
+          if (!es.ok()) return from_event(es, m.paths[ref.leaf]);
+        }
       }
       EventStatus es = RunEventPublishes(m);
       if (!es.ok()) return from_event(es, "");

@@ -14,13 +14,20 @@
 //        The monitor (if any) runs after each accepted step.
 //     c. If guards fired, their resets run in diagram order (systems as added to the builder), then in guard
 //        declaration order within a system. Each reset sees the state left by the earlier ones; a guard
-//        whose mode is no longer active after an earlier reset is skipped. Then event publishes run and
-//        CVODE is re-initialised (CVodeReInit) at the event time.
+//        whose mode is no longer active after an earlier reset is skipped. Then the event updates whose trigger
+//        matches one of the guards that fired run once each, in diagram order (then declaration order), each
+//        seeing the state left by the resets and by the earlier event updates (so a controller added after its
+//        planner re-solves with the planner's new plan at the same instant). Then event publishes run and the
+//        integrator is re-initialised at the event time.
 //  3. Zeno policy: events closer than EventPolicy::min_event_separation_s to the previous event count as the
 //     same instant; more than EventPolicy::max_events_per_instant of them end the run with kZeno (or throw,
 //     if EventPolicy::throw_on_violation).
-// Any system ends the run by returning EventStatus::ReachedTermination(reason) from a reset, update,
-// publish, or the monitor. A NaN or Inf in the continuous state ends the run with kFailed, naming the system.
+// Any system ends the run by returning EventStatus::ReachedTermination(reason) (goal reached: a success) or
+// EventStatus::Failed(reason) (a fall, a slip, a solver that gave up) from a reset, update, publish, or the monitor.
+// A NaN or Inf in the continuous state ends the run with kFailed, naming the system. SimulatorStatus::kind() tells
+// success, failure and limit (the run reached t_final, or a step limit, without a verdict) apart.
+// The simulator checks, when it is constructed, that every system and guard named by an event update's trigger
+// exists, and throws a one-line error naming the system, the event update and the unknown name otherwise.
 
 #include <functional>
 #include <memory>
@@ -68,14 +75,6 @@ struct SimulatorConfig {
   EventPolicy event_policy;
 };
 
-struct EventRecord {
-  double time = 0;
-  std::string system;  ///< Path of the system whose guard fired.
-  std::string guard;
-  int component = 0;
-  int mode_before = 0;
-  int mode_after = 0;
-};
 
 struct SimulatorStatistics {
   long steps = 0;
@@ -88,11 +87,18 @@ struct SimulatorStatistics {
 
 struct SimulatorStatus {
   enum class Reason { kReachedBoundaryTime, kReachedTermination, kZeno, kFailed };
+  /// kSuccess: a system ended the run because its goal was reached (ReachedTermination). kFailure: a system failed
+  /// (EventStatus::Failed: fell, slipped, solver gave up), a non-finite state, Zeno, or an integrator error. kLimit:
+  /// the run stopped at t_final (or a step limit) without either verdict.
+  enum class Kind { kSuccess, kFailure, kLimit };
   Reason reason = Reason::kReachedBoundaryTime;
   double time = 0;
   std::string system;   ///< The system that ended the run, if any.
   std::string message;  ///< Human-readable reason.
   bool ok() const { return reason == Reason::kReachedBoundaryTime; }
+  Kind kind() const;
+  /// "success", "failure" or "limit".
+  std::string kind_name() const;
   std::string ToString() const;
 };
 

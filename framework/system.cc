@@ -1,7 +1,10 @@
 #include "framework/system.h"
 
+#include <cxxabi.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 namespace rome {
@@ -9,6 +12,23 @@ namespace rome {
 namespace {
 std::string SizeString(const Eigen::VectorXd& v) { return std::to_string(v.size()); }
 }  // namespace
+
+std::string DemangledTypeName(const std::type_info& type) {
+  int status = 0;
+  char* name = abi::__cxa_demangle(type.name(), nullptr, nullptr, &status);
+  std::string out = (status == 0 && name != nullptr) ? name : type.name();
+  std::free(name);
+  return out;
+}
+
+std::string PortInfo::TypeString() const {
+  return is_vector() ? "a vector of size " + std::to_string(size) : DemangledTypeName(*value_type);
+}
+
+bool PortInfo::SameTypeAs(const PortInfo& other) const {
+  if (is_vector() != other.is_vector()) return false;
+  return is_vector() ? size == other.size : *value_type == *other.value_type;
+}
 
 bool Feedthrough::DependsOn(int input) const {
   return all_ || std::find(inputs_.begin(), inputs_.end(), input) != inputs_.end();
@@ -48,6 +68,12 @@ int System::GetOutputPortIndex(const std::string& port_name) const {
   throw std::invalid_argument("system '" + name_ + "' has no output port '" + port_name + "' (it has " + PortList(output_ports_) + ")");
 }
 
+void System::CheckPortType(const PortInfo& port, const std::type_info& type, const char* direction) const {
+  if (!port.is_vector() && *port.value_type == type) return;
+  throw std::invalid_argument("system '" + name_ + "': " + direction + " port '" + port.name + "' carries " + port.TypeString() + ", not " +
+                              DemangledTypeName(type));
+}
+
 bool System::HasInputPort(const std::string& port_name) const {
   return std::any_of(input_ports_.begin(), input_ports_.end(), [&](const PortInfo& p) { return p.name == port_name; });
 }
@@ -68,6 +94,9 @@ void LeafContext::set_mode(int mode) {
 
 void LeafContext::FixInputPort(int index, const Eigen::VectorXd& value) {
   const PortInfo& port = system_->input_port(index);
+  if (!port.is_vector())
+    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' carries " + port.TypeString() +
+                                "; fix it with a value of that type (FixTypedInputPort), not a vector");
   if (value.size() != port.size)
     throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' has size " + std::to_string(port.size) +
                                 " but the fixed value has size " + SizeString(value));
@@ -79,6 +108,39 @@ void LeafContext::FixInputPort(int index, const Eigen::VectorXd& value) {
   InvalidateCache();
 }
 
+void LeafContext::FixAbstractInputPort(int index, std::any value) {
+  const PortInfo& port = system_->input_port(index);
+  const std::type_info& given = value.type();
+  if (port.is_vector() || *port.value_type != given)
+    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' carries " + port.TypeString() +
+                                " but the fixed value is " + DemangledTypeName(given));
+  if (inputs_[index].kind == InputSource::Kind::kUpstream)
+    throw std::logic_error("input port '" + port.name + "' of system '" + system_->name() + "' is connected; it cannot also be fixed");
+  fixed_abstract_inputs_[index] = std::move(value);
+  inputs_[index].kind = InputSource::Kind::kFixed;
+  inputs_[index].fixed_abstract = &fixed_abstract_inputs_[index];
+  InvalidateCache();
+}
+
+std::unique_ptr<LeafContext> LeafContext::CloneLeaf() const {
+  std::unique_ptr<LeafContext> c(new LeafContext(*this));
+  c->time_ = std::make_shared<double>(*time_);
+  c->version_ = std::make_shared<std::uint64_t>(*version_);
+  for (size_t i = 0; i < c->inputs_.size(); ++i) {
+    InputSource& src = c->inputs_[i];
+    if (src.fixed_value != nullptr) src.fixed_value = &c->fixed_inputs_[i];
+    if (src.fixed_abstract != nullptr) src.fixed_abstract = &c->fixed_abstract_inputs_[i];
+  }
+  return c;
+}
+
+std::unique_ptr<Context> LeafContext::Clone() const {
+  for (const InputSource& src : inputs_)
+    if (src.kind == InputSource::Kind::kUpstream)
+      throw std::logic_error("LeafContext::Clone: system '" + system_->name() + "' is part of a diagram; clone the diagram's context");
+  return CloneLeaf();
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // LeafSystem
 
@@ -87,16 +149,45 @@ void LeafSystem::ThrowError(const std::string& what) const { throw std::runtime_
 int LeafSystem::DeclareInputPort(std::string port_name, int size) {
   if (size < 0) ThrowError("input port '" + port_name + "' has negative size " + std::to_string(size));
   if (HasInputPort(port_name)) ThrowError("input port '" + port_name + "' is declared twice");
-  input_ports_.push_back({std::move(port_name), size});
+  input_ports_.push_back({std::move(port_name), size, {}, nullptr});
   return num_input_ports() - 1;
+}
+
+int LeafSystem::DeclareInputPort(std::string port_name, std::vector<std::string> element_names) {
+  const int index = DeclareInputPort(std::move(port_name), static_cast<int>(element_names.size()));
+  input_ports_[index].element_names = std::move(element_names);
+  return index;
+}
+
+int LeafSystem::DeclareAbstractInputPort(std::string port_name, const std::type_info& type) {
+  if (HasInputPort(port_name)) ThrowError("input port '" + port_name + "' is declared twice");
+  input_ports_.push_back({std::move(port_name), 0, {}, &type});
+  return num_input_ports() - 1;
+}
+
+int LeafSystem::DeclareOutputPort(std::string port_name, std::vector<std::string> element_names, OutputCalc calc, Feedthrough feedthrough) {
+  const int index = DeclareOutputPort(std::move(port_name), static_cast<int>(element_names.size()), std::move(calc), std::move(feedthrough));
+  output_ports_[index].element_names = std::move(element_names);
+  return index;
+}
+
+int LeafSystem::DeclareAbstractOutputPort(std::string port_name, const std::type_info& type, std::any default_value, AbstractOutputCalc calc,
+                                          Feedthrough feedthrough) {
+  if (HasOutputPort(port_name)) ThrowError("output port '" + port_name + "' is declared twice");
+  if (!calc) ThrowError("output port '" + port_name + "' has no calculation function");
+  if (default_value.type() != type)
+    ThrowError("output port '" + port_name + "' carries " + DemangledTypeName(type) + " but its default value is " + DemangledTypeName(default_value.type()));
+  output_ports_.push_back({std::move(port_name), 0, {}, &type});
+  output_decls_.push_back({nullptr, std::move(calc), std::move(default_value), std::move(feedthrough)});
+  return num_output_ports() - 1;
 }
 
 int LeafSystem::DeclareOutputPort(std::string port_name, int size, OutputCalc calc, Feedthrough feedthrough) {
   if (size < 0) ThrowError("output port '" + port_name + "' has negative size " + std::to_string(size));
   if (HasOutputPort(port_name)) ThrowError("output port '" + port_name + "' is declared twice");
   if (!calc) ThrowError("output port '" + port_name + "' has no calculation function");
-  output_ports_.push_back({std::move(port_name), size});
-  output_decls_.push_back({std::move(calc), std::move(feedthrough)});
+  output_ports_.push_back({std::move(port_name), size, {}, nullptr});
+  output_decls_.push_back({std::move(calc), nullptr, {}, std::move(feedthrough)});
   return num_output_ports() - 1;
 }
 
@@ -154,6 +245,14 @@ void LeafSystem::DeclarePeriodicPublish(double period, double offset, Publish pu
 
 void LeafSystem::DeclareEventPublish(Publish publish) { event_publishes_.push_back(std::move(publish)); }
 
+void LeafSystem::DeclareEventUpdate(std::string update_name, EventTrigger trigger, EventUpdate update) {
+  if (!update) ThrowError("event update '" + update_name + "' has no update function");
+  for (const auto& g : trigger.guards)
+    if (g.system.empty() || g.guard.empty())
+      ThrowError("event update '" + update_name + "' names an empty system or guard ('" + g.system + "', '" + g.guard + "')");
+  event_updates_.push_back({std::move(update_name), std::move(trigger), std::move(update)});
+}
+
 int LeafSystem::DeclareGuard(std::string guard_name, int mode, int size, WitnessCalc witness, CrossingDirection direction, ResetMap reset) {
   if (size <= 0) ThrowError("guard '" + guard_name + "' needs a positive witness size, got " + std::to_string(size));
   if (mode != kAllModes && (mode < 0 || mode >= num_modes()))
@@ -179,8 +278,14 @@ std::unique_ptr<LeafContext> LeafSystem::CreateDefaultLeafContext() const {
   c->parameters_ = default_parameters_;
   c->inputs_.resize(num_input_ports());
   c->fixed_inputs_.resize(num_input_ports());
+  c->fixed_abstract_inputs_.resize(num_input_ports());
   c->outputs_.resize(num_output_ports());
-  for (int i = 0; i < num_output_ports(); ++i) c->outputs_[i].value = Eigen::VectorXd::Zero(output_ports_[i].size);
+  for (int i = 0; i < num_output_ports(); ++i) {
+    if (output_ports_[i].is_vector())
+      c->outputs_[i].value = Eigen::VectorXd::Zero(output_ports_[i].size);
+    else
+      c->outputs_[i].abstract = output_decls_[i].default_value;
+  }
   c->scratch_ = AllocateScratch();
   return c;
 }
@@ -198,7 +303,8 @@ static const LeafContext& AsLeafContext(const Context& context, const LeafSystem
 
 const Eigen::VectorXd& LeafSystem::EvalOutput(const Context& context, int index) const {
   const LeafContext& c = AsLeafContext(context, *this);
-  output_port(index);  // range check with a named error
+  const PortInfo& port = output_port(index);  // range check with a named error
+  if (!port.is_vector()) ThrowError("output port '" + port.name + "' carries " + port.TypeString() + "; read it with EvalTypedOutput<T>, not as a vector");
   auto& cache = c.outputs_[index];
   if (cache.version != c.version()) {
     output_decls_[index].calc(c, &cache.value);
@@ -210,12 +316,46 @@ const Eigen::VectorXd& LeafSystem::EvalOutput(const Context& context, int index)
   return cache.value;
 }
 
+const std::any& LeafSystem::EvalAbstractOutput(const Context& context, int index) const {
+  const LeafContext& c = AsLeafContext(context, *this);
+  const PortInfo& port = output_port(index);
+  if (port.is_vector()) ThrowError("output port '" + port.name + "' is a vector port; read it with EvalOutput");
+  auto& cache = c.outputs_[index];
+  if (cache.version != c.version()) {
+    output_decls_[index].abstract_calc(c, &cache.abstract);
+    cache.version = c.version();
+  }
+  return cache.abstract;
+}
+
 void LeafSystem::FixInputPort(Context& context, int index, const Eigen::VectorXd& value) const {
   const_cast<LeafContext&>(AsLeafContext(context, *this)).FixInputPort(index, value);
 }
 
+void LeafSystem::FixAbstractInputPort(Context& context, int index, std::any value) const {
+  const_cast<LeafContext&>(AsLeafContext(context, *this)).FixAbstractInputPort(index, std::move(value));
+}
+
+const std::any& LeafSystem::EvalAbstractInput(const LeafContext& context, int index) const {
+  const PortInfo& port = input_port(index);
+  if (port.is_vector()) ThrowError("input port '" + port.name + "' is a vector port; read it with EvalInput");
+  const InputSource& src = context.inputs_[index];
+  switch (src.kind) {
+    case InputSource::Kind::kFixed:
+      return *src.fixed_abstract;
+    case InputSource::Kind::kUpstream:
+      return src.upstream_system->EvalAbstractOutput(*src.upstream_context, src.upstream_port);
+    case InputSource::Kind::kUnconnected:
+      break;
+  }
+  throw std::runtime_error("input port '" + port.name + "' of system '" + name() + "' is not connected");
+}
+
 const Eigen::VectorXd& LeafSystem::EvalInput(const LeafContext& context, int index) const {
   const InputSource& src = context.inputs_[index];
+  if (src.kind != InputSource::Kind::kUnconnected && !input_ports_[index].is_vector())
+    ThrowError("input port '" + input_ports_[index].name + "' carries " + input_ports_[index].TypeString() +
+               "; read it with EvalTypedInput<T>, not as a vector");
   switch (src.kind) {
     case InputSource::Kind::kFixed:
       return *src.fixed_value;

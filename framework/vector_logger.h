@@ -1,7 +1,10 @@
 #pragma once
 // VectorLogger: records its inputs over time and writes them as CSV with a header naming every column.
 //
-// inputs: one per logged signal, each named by the user (e.g. "plant.q"), sizes as declared.
+// inputs: one per logged signal, each named by the user (e.g. "plant.q"), sizes as declared; a signal may also be a
+//         typed port carrying an int or a double (e.g. a contact mode), logged as one column.
+// Columns are named "<signal>.<element>" when the signal has element names (e.g. "plant.com.z"), else
+// "<signal>[i]"; ColumnIndex() finds a column by name, so a user reads the log by name, not by position.
 // Sampling: every `period_s` (periodic publish), or, with period_s = 0, at initialisation, after every guard
 // event and at every periodic sample time of the diagram ("every event and sample").
 
@@ -16,7 +19,8 @@ namespace rome {
 struct LoggedSignal {
   std::string name;                        ///< Input port name, also the column prefix.
   int size = 0;
-  std::vector<std::string> element_names;  ///< Optional column names (size entries); default name[i].
+  std::vector<std::string> element_names;  ///< Optional element names (size entries): columns name.element; default name[i].
+  const std::type_info* scalar_type = nullptr;  ///< typeid(int) or typeid(double) for a typed scalar port (size 1); nullptr: vector
 };
 
 struct LogData {
@@ -31,6 +35,9 @@ class VectorLogger final : public LeafSystem {
   const LogData& log(const LeafContext& context) const { return context.scratch<LogData>(); }
   /// Column names, starting with "time".
   std::vector<std::string> ColumnNames() const;
+  /// Index of the named column in each sample vector (LogData::samples; "time" is not in them). An error naming the
+  /// logger and the column, with the columns of the same signal, if there is no such column.
+  int ColumnIndex(const std::string& column) const;
   /// Writes the log as CSV; an error naming the file if it cannot be written.
   void WriteCsv(const LeafContext& context, const std::string& path) const;
 

@@ -8,45 +8,54 @@
 #include <Eigen/Dense>
 
 #include "systems/controllers/task_space_tasks.h"
+#include "systems/multibody/pose_constraints.h"
 
 namespace rome {
 
 namespace {
 
-// Maps Y_d of Eq. (19) (relative to the stance foot, order [φ_torso, p_com^z, p_sw^x, p_sw^z]) to the task
-// layout of the controller, in world coordinates: [torso pitch, COM z, left foot (x, z), right foot (x, z)],
-// stacked as [y_d; ẏ_d; ÿ_d]. The swing foot's rows go to the foot that swings in the current mode
-// (mode 0 = left stance → right foot swings); the stance foot's rows are unused (inactive task).
-class OutputAdapter final : public LeafSystem {
- public:
-  static constexpr int kNy = 6;
-  OutputAdapter() : LeafSystem("output_adapter") {
-    DeclareInputPort("y_desired", 4);
-    DeclareInputPort("ydot_desired", 4);
-    DeclareInputPort("yddot_desired", 4);
-    DeclareInputPort("stance_foot", 2);
-    DeclareInputPort("mode", 1);
-    DeclareOutputPort("desired", 3 * kNy, [this](const LeafContext& c, Eigen::VectorXd* out) {
-      const Eigen::VectorXd& st = EvalInput(c, 3);
-      const int mode = static_cast<int>(EvalInput(c, 4)[0]);
-      const int swing_offset = mode == 0 ? 4 : 2;  // right foot rows in left stance
-      out->setZero();
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::VectorXd& y = EvalInput(c, k);
-        const double shift_x = k == 0 ? st[0] : 0.0, shift_z = k == 0 ? st[1] : 0.0;
-        auto seg = out->segment(k * kNy, kNy);
-        seg[0] = y[0];
-        seg[1] = y[1] + shift_z;
-        seg[swing_offset] = y[2] + shift_x;
-        seg[swing_offset + 1] = y[3] + shift_z;
-      }
-    });
-  }
-};
+// Checks that `controller` has the seam's ports (see stepping_stones_diagram.h), naming the missing or wrong one.
+void CheckControllerPorts(const System& controller, int nv, int nu) {
+  auto check = [&](bool input, const std::string& port, const PortInfo& expected) {
+    const bool has = input ? controller.HasInputPort(port) : controller.HasOutputPort(port);
+    const std::string what = std::string(input ? "input" : "output") + " port '" + port + "'";
+    if (!has)
+      throw std::invalid_argument("BuildSteppingStonesDiagram: controller '" + controller.name() + "' has no " + what + " (" +
+                                  expected.TypeString() + "); a stepping-stones controller needs inputs state, mode, desired and outputs u, "
+                                  "qp_failures, qp_status");
+    const PortInfo& info = input ? controller.input_port(controller.GetInputPortIndex(port)) : controller.output_port(controller.GetOutputPortIndex(port));
+    if (!info.SameTypeAs(expected))
+      throw std::invalid_argument("BuildSteppingStonesDiagram: controller '" + controller.name() + "': " + what + " carries " + info.TypeString() +
+                                  ", expected " + expected.TypeString());
+  };
+  check(true, "state", {"state", 2 * nv, {}, nullptr});
+  check(true, "mode", {"mode", 0, {}, &typeid(int)});
+  check(true, "desired", {"desired", 3 * SteppingStonesOutputAdapter::kNumTaskRows, {}, nullptr});
+  check(false, "u", {"u", nu, {}, nullptr});
+  check(false, "qp_failures", {"qp_failures", 1, {}, nullptr});
+  check(false, "qp_status", {"qp_status", 1, {}, nullptr});
+}
 
 }  // namespace
 
-SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params) {
+SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStonesDiagramParams& params) {
+  return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
+    const MultibodyModel& model = *spec.model;
+    // Tasks in the order of SteppingStonesOutputAdapter's layout; a foot's task is active while it swings.
+    std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
+        std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
+        std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
+        PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
+        PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
+    };
+    TaskSpaceQpParams cp = params.controller;
+    cp.contact_stabilization = spec.contact_stabilization;
+    return std::make_unique<TaskSpaceQpController>(spec.name, spec.model, spec.mode_contacts, tasks, cp);
+  };
+}
+
+SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
+                                                 const SteppingStonesControllerFactory& controller) {
   SteppingStonesDiagram d;
   d.model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(params.robot_sidecar));
   const auto& model = *d.model;
@@ -77,17 +86,18 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
     for (const SteppingStone& stone : terrain.stones()) op.swing_foot.stance_stone_half_length = std::max(op.swing_foot.stance_stone_half_length, 0.5 * stone.length_m);
   }
   d.outputs = b.AddSystem(std::make_unique<SteppingStonesOutputsSystem>("outputs", op));
-  b.AddSystem(std::make_unique<OutputAdapter>());
+  d.output_adapter = b.AddSystem(std::make_unique<SteppingStonesOutputAdapter>("output_adapter"));
 
-  const int left_stance = 0, right_stance = 1;
-  std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
-      std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name,
-                                      params.torso_gains),
-      std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
-      PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {right_stance}),
-      PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {left_stance}),
-  };
-  d.controller = b.AddSystem(std::make_unique<TaskSpaceQpController>("controller", d.model, ActiveContactsPerMode(*d.plant), tasks, params.controller));
+  SteppingStonesControllerSpec spec;
+  spec.model = d.model;
+  spec.mode_contacts = ActiveContactsPerMode(*d.plant);
+  spec.contact_stabilization = plant_params.dynamics;
+  spec.left_stance_mode = d.plant->GetModeIndex("left_foot_stance");
+  spec.right_stance_mode = d.plant->GetModeIndex("right_foot_stance");
+  std::unique_ptr<LeafSystem> block = controller ? controller(spec) : TaskSpaceQpControllerFactory(params)(spec);
+  if (!block) throw std::invalid_argument("BuildSteppingStonesDiagram: the controller factory returned no block");
+  CheckControllerPorts(*block, model.nv(), model.nu());
+  d.controller = b.AddSystem(std::move(block), "controller");
 
   b.Connect("plant", "state", "supervisor", "state");
   b.Connect("plant", "mode", "supervisor", "mode");
@@ -124,6 +134,7 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
                               {"planner", "time_to_impact"},
                               {"supervisor", "pre_impact_com_height"},
                               {"vertical_com_mpc", "com_height_desired"},
+                              {"plant", "contact_forces"},
                               {"controller", "u"},
                               {"controller", "qp_status"},
                               {"vertical_com_mpc", "qp_status"},
@@ -179,48 +190,28 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   if (terrain.stones().empty()) throw std::runtime_error("SteppingStonesInitialState: the terrain has no stones");
   const auto& stones = terrain.stones();
   MultibodyWorkspace ws(model);
-  const ContactInfo& L = model.contacts()[model.ContactIndex("left_foot")];
-  const ContactInfo& R = model.contacts()[model.ContactIndex("right_foot")];
   const Eigen::Vector2d stone(stones[0].x_center_m, stones[0].top_height_m);
   const double com_height = params.supervisor.walking_com_height_m;
   const int pitch = model.num_base_dofs() - 1;
-  // Configuration: Newton with minimum-norm steps from the nominal pose.
-  Eigen::VectorXd q = model.q_nominal();
-  q[0] += stone.x();
-  q[1] += stone.y();
-  Eigen::MatrixXd J3(3, nv), C(7, nv);
-  Eigen::VectorXd c(7);
-  auto constraint_rows = [&](const Eigen::VectorXd& qq) {
-    CalcPointJacobian(model, ws, qq, L.body, L.frame_origin, J3);
-    C.row(0) = J3.row(0);
-    C.row(1) = J3.row(2);
-    CalcPointJacobian(model, ws, qq, R.body, R.frame_origin, J3);
-    C.row(2) = J3.row(0);
-    C.row(3) = J3.row(2);
-    CalcComJacobian(model, ws, qq, J3);
-    C.row(4) = J3.row(0);
-    C.row(5) = J3.row(2);
-    C.row(6) = Eigen::RowVectorXd::Unit(nv, pitch);
-  };
-  bool converged = false;
-  for (int it = 0; it < 100 && !converged; ++it) {
-    const Eigen::Vector3d pl = CalcPointPosition(model, ws, q, L.body, L.frame_origin);
-    const Eigen::Vector3d pr = CalcPointPosition(model, ws, q, R.body, R.frame_origin);
-    const Eigen::Vector3d com = CalcComPosition(model, ws, q);
-    c << pl.x() - stone.x(), pl.z() - stone.y(), pr.x() - stone.x(), pr.z() - stone.y(), com.x() - stone.x() - params.initial_com_x_m,
-        com.z() - stone.y() - com_height,
-        q[pitch];
-    if (c.norm() < 1e-12) {
-      converged = true;
-      break;
-    }
-    constraint_rows(q);
-    q -= C.completeOrthogonalDecomposition().solve(c);
-  }
-  if (!converged)
+  // Configuration: SolvePose (Newton with minimum-norm steps) from the nominal pose moved onto the stone.
+  Eigen::VectorXd q0 = model.q_nominal();
+  q0[0] += stone.x();
+  q0[1] += stone.y();
+  const std::vector<PoseConstraint> pose = {
+      PoseConstraint::ContactPoint(model, "left_foot", 0, stone.x()),  PoseConstraint::ContactPoint(model, "left_foot", 2, stone.y()),
+      PoseConstraint::ContactPoint(model, "right_foot", 0, stone.x()), PoseConstraint::ContactPoint(model, "right_foot", 2, stone.y()),
+      PoseConstraint::Com(0, stone.x() + params.initial_com_x_m),     PoseConstraint::Com(2, stone.y() + com_height),
+      PoseConstraint::Coordinate(pitch, 0.0)};
+  Eigen::VectorXd q;
+  try {
+    q = SolvePose(model, ws, q0, pose, {.max_iterations = 100, .tolerance = 1e-12});
+  } catch (const std::runtime_error& e) {
     throw std::runtime_error("SteppingStonesInitialState: robot '" + model.name() + "' cannot stand on the first stone with its COM " +
-                             std::to_string(com_height) + " m above the feet (supervisor.walking_com_height_m); residual " + std::to_string(c.norm()));
-  constraint_rows(q);
+                             std::to_string(com_height) + " m above the feet (supervisor.walking_com_height_m): " + e.what());
+  }
+  Eigen::MatrixXd C(7, nv);
+  Eigen::VectorXd c(7);
+  CalcPoseConstraints(model, ws, q, pose, c, C);  // C = d(constraints)/dq at the solution
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(7);
   const double lambda_squared = params.planner.gravity / com_height;
   rhs[4] = std::sqrt(std::max(params.target_orbital_energy + lambda_squared * params.initial_com_x_m * params.initial_com_x_m, 0.0));

@@ -6,11 +6,19 @@
 //     → planner (momentum regulation, Eq. (17)-(18), (25)-(27))
 //     → vertical_com_mpc (Eq. (28), 1 kHz, warm-started QP)
 //     → outputs (Eq. (19)-(24))
-//     → output_adapter (stance-foot frame → world, task layout of the controller)
-//     → controller (task-space QP, Eq. (29)-(31), 1 kHz, zero-order held)
+//     → output_adapter (SteppingStonesOutputAdapter: stance-foot frame → world, task layout of the controller)
+//     → controller (any block with the controller ports below; default: task-space QP, Eq. (29)-(31), 1 kHz)
 //     → plant
 //   plus a logger.
-// Every block is a framework system; swap one by building the diagram by hand from these pieces.
+// Every block is a framework system. The controller is a parameter of the builder (SteppingStonesControllerFactory):
+//   BuildSteppingStonesDiagram(terrain, params, MyControllerFactory)
+// Controller ports (the seam): inputs  state (2 nv, plant [q; v]), mode (int, plant contact mode),
+//                                      desired (18, SteppingStonesOutputAdapter's layout);
+//                              outputs u (nu, N m, held between updates), qp_failures (1), qp_status (1, 0 = solved).
+// The controller should re-solve at guard events (an event update) so that the new contact mode's torque acts from
+// the touchdown instant on. The plant and the controller get the same contact stabilisation parameters.
+// Event order at a touchdown: the plant's impact reset, then the event updates of the supervisor (new stance foot,
+// posture NLP), the MPC (re-solved about the new stance foot) and the controller (new contact set), in that order.
 //
 // Choices beyond the paper (each a named parameter below, with the reason next to it):
 //  * initial state: both feet at rest on the first stone (J_c v = 0; a base velocity alone would slide the stance
@@ -23,16 +31,19 @@
 //  * the supervisor's outputs switch to the new stance foot and step at the impact itself, not one control period
 //    later (see stepping_stones_supervisor.h);
 //  * falls: the supervisor watches the COM height above the stance foot; the plant's absolute base-height guard is
-//    shifted to the lowest stone;
+//    shifted to the lowest stone; a stance foot that would pull on the ground lifts off (flight mode), one that leaves
+//    the friction cone ends the run as a slip (HybridContactPlant);
 //  * task weights: the swing foot 5, torso pitch and COM height 1 (when the torque limits bind, the foot keeps to its
 //    path and lands on the planned stone);
 //  * integration: ARKODE's explicit Bogacki-Shampine 3(2) with a 1 ms first step, i.e. one error-controlled step per
 //    controller sample (see SteppingStonesSimulatorConfig); touchdowns are still located by root finding.
 // Solver failures in the loop: the task-space QP re-solves without its GRF rows and counts the failure
-// (TaskSpaceQpController); the MPC relaxes its terminal equality (VerticalComMpc); the posture NLP retries from the
+// (TaskSpaceQpController; the controller's GRF rows use a friction margin and a minimum normal force, see
+// DefaultControllerParams()); the MPC relaxes its terminal equality (VerticalComMpc); the posture NLP retries from the
 // nominal pose, then falls back to the previous solution (PreImpactPostureOptimizer). The example counts QP and NLP
 // failures in its summary (qp_failures, nlp_failures).
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -43,11 +54,23 @@
 #include "framework/vector_logger.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/planners/momentum_regulation_planner_system.h"
+#include "systems/planners/stepping_stones_output_adapter.h"
 #include "systems/planners/stepping_stones_outputs_system.h"
 #include "systems/planners/vertical_com_mpc_system.h"
 #include "systems/plants/hybrid_contact_plant.h"
 
 namespace rome {
+
+/// What the diagram hands a controller factory.
+struct SteppingStonesControllerSpec {
+  std::string name = "controller";                 ///< the block's name in the diagram
+  std::shared_ptr<const MultibodyModel> model;
+  std::vector<ContactSet> mode_contacts;           ///< active contacts of each plant mode (0 left, 1 right stance, 2 flight)
+  ConstrainedDynamicsParameters contact_stabilization;  ///< the plant's (HybridContactPlantParams::dynamics)
+  int left_stance_mode = 0, right_stance_mode = 1;
+};
+/// Builds the controller block: any leaf system with the controller ports (see the top of this file).
+using SteppingStonesControllerFactory = std::function<std::unique_ptr<LeafSystem>(const SteppingStonesControllerSpec&)>;
 
 struct SteppingStonesDiagramParams {
   std::string robot_sidecar = "robots/amber/amber.rome.json";  ///< planar point-foot robot
@@ -70,13 +93,22 @@ struct SteppingStonesDiagramParams {
   /// reached exactly and held over the stance stone (SwingApexShape::kClearStanceStone; the paper's control points
   /// peak about 20 % lower, near τ = 0.5 whatever the step).
   SteppingStonesOutputsSystemParams outputs = DefaultOutputsParams();
-  TaskSpaceQpParams controller;
+  TaskSpaceQpParams controller = DefaultControllerParams();
   TaskGains torso_gains{1.0, 100.0, 20.0};
   TaskGains com_height_gains{1.0, 100.0, 20.0};
   /// Weight 5 (ours): when the torque limits bind (short steep steps), the QP gives the swing foot priority over the
   /// COM height and torso pitch, so that it clears the stones and lands on the planned one.
   TaskGains swing_foot_gains{5.0, 400.0, 40.0};
 
+  static TaskSpaceQpParams DefaultControllerParams() {
+    TaskSpaceQpParams p;
+    // Ours: the QP's friction pyramid at 0.95 μ and F_z ≥ 2 N. The QP's forces hold at its solve instant; over the
+    // 1 ms zero-order hold the plant's forces drift with the state, and a QP that used the whole cone measured
+    // |F_x|/F_z up to 0.806 against μ = 0.8 in the plant.
+    p.friction_margin = 0.95;
+    p.min_normal_force_N = 2.0;
+    return p;
+  }
   static VerticalComMpcSystemParams DefaultMpcParams() {
     VerticalComMpcSystemParams p;
     p.hold_plan_below_horizon_s = 0.05;
@@ -102,7 +134,8 @@ struct SteppingStonesDiagram {
   const MomentumRegulationPlannerSystem* planner = nullptr;
   const VerticalComMpcSystem* mpc = nullptr;
   const SteppingStonesOutputsSystem* outputs = nullptr;
-  const TaskSpaceQpController* controller = nullptr;
+  const SteppingStonesOutputAdapter* output_adapter = nullptr;
+  const LeafSystem* controller = nullptr;  ///< whatever the factory built (read it through its ports)
   const VectorLogger* logger = nullptr;
   std::shared_ptr<const MultibodyModel> model;
 };
@@ -134,8 +167,15 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
 /// finding on the dense output.
 SimulatorConfig SteppingStonesSimulatorConfig();
 
-/// Builds the diagram for `terrain` (the robot starts standing on its first stone).
-SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params);
+/// The paper's controller: TaskSpaceQpController (Eq. (29)-(31)) with params.controller and the task gains of
+/// `params` (torso pitch, COM height, swing foot), the plant's contact stabilisation.
+SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStonesDiagramParams& params);
+
+/// Builds the diagram for `terrain` (the robot starts standing on its first stone). `controller`: the controller
+/// block's factory; empty = TaskSpaceQpControllerFactory(params). Throws, naming the port, if the block lacks a
+/// controller port or a port has the wrong type or size.
+SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
+                                                 const SteppingStonesControllerFactory& controller = nullptr);
 
 /// The initial plant state [q; v]: both feet on the centre of the first stone (left stance, right foot beside it),
 /// COM straight above them at params.supervisor.walking_com_height_m, torso upright; both feet at rest, torso not

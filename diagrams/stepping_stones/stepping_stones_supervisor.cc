@@ -19,17 +19,14 @@ constexpr int kLastUdes = kParams + SteppingStonesOutputsSystem::kNumStepParamet
 
 struct SteppingStonesSupervisor::Scratch {
   explicit Scratch(std::shared_ptr<const MultibodyModel> model, const PreImpactPostureParams& p)
-      : ws(*model), optimizer(std::make_shared<PreImpactPostureOptimizer>(model, p)), pending(Eigen::VectorXd::Zero(kSize)) {}
+      : ws(*model), optimizer(std::make_shared<PreImpactPostureOptimizer>(model, p)) {}
   MultibodyWorkspace ws;
   std::shared_ptr<PreImpactPostureOptimizer> optimizer;  // keeps its previous solution (fallback)
   std::vector<StepRecord> steps;
-  // The posture NLP of Eq. (21) is solved once per step: the outputs (after an impact the update has not yet
-  // committed) and the update share the solution for the same request.
-  bool posture_cached = false;
-  double posture_l = 0, posture_h = 0;
-  int posture_stance = -1;
-  PreImpactPosture posture;
-  Eigen::VectorXd pending;  // step state after an impact that the periodic update has not committed yet
+  // A branch of a simulation (Context::Clone) gets its own optimiser, with the same previous solution.
+  Scratch(const Scratch& other)
+      : ws(other.ws), optimizer(std::make_shared<PreImpactPostureOptimizer>(*other.optimizer)), steps(other.steps) {}
+  Scratch& operator=(const Scratch&) = delete;
 };
 
 SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain,
@@ -45,43 +42,43 @@ SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared
   contact_[1] = model_->ContactIndex("right_foot");
   const int nv = model_->nv();
   DeclareInputPort("state", 2 * nv);
-  DeclareInputPort("mode", 1);
+  DeclareTypedInputPort<int>("mode");
   DeclareInputPort("u_des", 1);
   DeclareInputPort("L_des", 1);
   DeclareDiscreteState(Eigen::VectorXd::Zero(kSize));
   DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
-  // Every output reads the step state through StepState(), which depends on the plant's state and mode: right
-  // after an impact it already holds the new stance foot and step (see the header).
-  const Feedthrough plant_inputs = Feedthrough::From({0, 1});
-  DeclareOutputPort("com_state", 4, [this](const LeafContext& c, Eigen::VectorXd* y) {
+  DeclareEventUpdate("impact", EventTrigger::AnyGuard(),
+                     [this](const LeafContext& c, const EventRecord&, State* next) { return ImpactUpdate(c, &next->discrete); });
+  // Outputs read the committed step (discrete state); the COM outputs also read the plant state.
+  const Feedthrough plant_state = Feedthrough::From({0});
+  DeclareOutputPort("com_state", {"x", "z", "vx", "vz"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     Eigen::Vector4d com;
     double L;
-    ComRelative(c, StepState(c), EvalInput(c, 0), &com, &L);
+    ComRelative(c, c.discrete_state(), EvalInput(c, 0), &com, &L);
     *y = com;
-  }, plant_inputs);
-  DeclareOutputPort("angular_momentum", 1, [this](const LeafContext& c, Eigen::VectorXd* y) {
+  }, plant_state);
+  DeclareOutputPort("angular_momentum", {"L"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     Eigen::Vector4d com;
-    ComRelative(c, StepState(c), EvalInput(c, 0), &com, &(*y)[0]);
-  }, plant_inputs);
-  DeclareOutputPort("com_vertical_state", 2, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    ComRelative(c, c.discrete_state(), EvalInput(c, 0), &com, &(*y)[0]);
+  }, plant_state);
+  DeclareOutputPort("com_vertical_state", {"z", "vz"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     Eigen::Vector4d com;
     double L;
-    ComRelative(c, StepState(c), EvalInput(c, 0), &com, &L);
+    ComRelative(c, c.discrete_state(), EvalInput(c, 0), &com, &L);
     *y << com[1], com[3];
-  }, plant_inputs);
-  DeclareOutputPort("step", 2, [this](const LeafContext& c, Eigen::VectorXd* y) {
-    const Eigen::VectorXd& xd = StepState(c);
-    *y << xd[kParams + 5], xd[kParams + 6];
-  }, plant_inputs);
-  DeclareOutputPort("pre_impact_com_height", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = StepState(c)[kComFz]; }, plant_inputs);
-  DeclareOutputPort("step_parameters", SteppingStonesOutputsSystem::kNumStepParameters,
-                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = StepState(c).segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters); },
-                    plant_inputs);
-  DeclareOutputPort("stance_foot", 2, [this](const LeafContext& c, Eigen::VectorXd* y) {
-    const Eigen::VectorXd& xd = StepState(c);
-    *y << xd[kStanceX], xd[kStanceZ];
-  }, plant_inputs);
-  DeclareOutputPort("stone", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = StepState(c)[kStone]; }, plant_inputs);
+  }, plant_state);
+  DeclareOutputPort("step", {"l", "h"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    const StepOutputParameters step = step_parameters(c);
+    *y << step.step_length, step.step_height;
+  }, Feedthrough::None());
+  DeclareOutputPort("pre_impact_com_height", {"z"}, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kComFz]; },
+                    Feedthrough::None());
+  DeclareTypedOutputPort<StepOutputParameters>(
+      "step_parameters", [this](const LeafContext& c, StepOutputParameters* y) { *y = step_parameters(c); }, Feedthrough::None());
+  DeclareOutputPort("stance_foot", {"x", "z"}, [](const LeafContext& c, Eigen::VectorXd* y) {
+    *y << c.discrete_state()[kStanceX], c.discrete_state()[kStanceZ];
+  }, Feedthrough::None());
+  DeclareOutputPort("stone", {"index"}, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kStone]; }, Feedthrough::None());
 }
 
 std::any SteppingStonesSupervisor::AllocateScratch() const { return Scratch(model_, params_.posture); }
@@ -102,17 +99,6 @@ StepOutputParameters SteppingStonesSupervisor::step_parameters(const LeafContext
   return SteppingStonesOutputsSystem::UnpackStepParameters(context.discrete_state().segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters));
 }
 double SteppingStonesSupervisor::pre_impact_com_height(const LeafContext& context) const { return context.discrete_state()[kComFz]; }
-
-const Eigen::VectorXd& SteppingStonesSupervisor::StepState(const LeafContext& context) const {
-  const Eigen::VectorXd& xd = context.discrete_state();
-  const int mode = static_cast<int>(std::lround(EvalInput(context, 1)[0]));
-  if (mode == static_cast<int>(xd[kMode])) return xd;
-  // An impact happened after the last update: the step state the next update will commit, from the same inputs.
-  Scratch& s = context.scratch<Scratch>();
-  s.pending = xd;
-  ApplyImpact(context, EvalInput(context, 0), mode, &s.pending, nullptr);
-  return s.pending;
-}
 
 void SteppingStonesSupervisor::ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x, Eigen::Vector4d* com,
                                            double* L) const {
@@ -150,16 +136,6 @@ void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::Vec
   PlanStep(context, x, mode, &xd, context.time());
 }
 
-const PreImpactPosture& SteppingStonesSupervisor::SolvePosture(const LeafContext& context, const PreImpactPostureRequest& request, int stance) const {
-  Scratch& s = context.scratch<Scratch>();
-  if (s.posture_cached && s.posture_l == request.step_length_m && s.posture_h == request.step_height_m && s.posture_stance == stance) return s.posture;
-  s.posture = s.optimizer->Solve(request);
-  s.posture_cached = true;
-  s.posture_l = request.step_length_m;
-  s.posture_h = request.step_height_m;
-  s.posture_stance = stance;
-  return s.posture;
-}
 
 void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const {
   Scratch& s = context.scratch<Scratch>();
@@ -175,7 +151,7 @@ void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen:
   request.step_height_m = h;
   // Walking height above the lower of the two feet: stepping down, the landing leg must not arrive straight.
   request.com_height_m = params_.walking_com_height_m + std::min(h, 0.0);
-  const PreImpactPosture& posture = SolvePosture(context, request, stance);
+  const PreImpactPosture posture = s.optimizer->Solve(request);
   if (!posture.success) (*xd)[kPostureFailures] += 1;
   (*xd)[kPhiF] = posture.torso_pitch_rad;
   (*xd)[kComFz] = posture.com_height_m;
@@ -208,8 +184,9 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
   if (rec != nullptr) {
     rec->start_time_s = xd[kStepStart];
     rec->duration_s = context.time() - xd[kStepStart];
-    rec->step_length_m = xd[kParams + 5];
-    rec->step_height_m = xd[kParams + 6];
+    const StepOutputParameters step = SteppingStonesOutputsSystem::UnpackStepParameters(xd.segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters));
+    rec->step_length_m = step.step_length;
+    rec->step_height_m = step.step_height;
     rec->pre_impact_com_vz_mps = xd[kLastVz];
     rec->u_des_mps = xd[kLastUdes];
     rec->L_des = xd[kLastLdes];
@@ -234,23 +211,27 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
 
 EventStatus SteppingStonesSupervisor::Update(const LeafContext& context, Eigen::VectorXd* next) const {
   const Eigen::VectorXd& x = EvalInput(context, 0);
-  const int mode = static_cast<int>(std::lround(EvalInput(context, 1)[0]));
   Eigen::VectorXd& xd = *next;
-  if (mode == static_cast<int>(xd[kMode])) {
-    Eigen::Vector4d com;
-    double L;
-    ComRelative(context, xd, x, &com, &L);
-    xd[kLastUdes] = EvalInput(context, 2)[0];
-    xd[kLastLdes] = EvalInput(context, 3)[0];
-    xd[kLastVz] = com[3];
-    if (com[1] < params_.min_com_height_m)
-      return EventStatus::ReachedTermination("robot fell: COM " + std::to_string(com[1]) + " m above the stance foot, below min_com_height_m = " +
-                                             std::to_string(params_.min_com_height_m) + " m");
-    return EventStatus::Succeeded();
-  }
-  // An impact happened since the last update: the new stance foot is on the next stone.
+  Eigen::Vector4d com;
+  double L;
+  ComRelative(context, xd, x, &com, &L);
+  xd[kLastUdes] = EvalInput(context, 2)[0];
+  xd[kLastLdes] = EvalInput(context, 3)[0];
+  xd[kLastVz] = com[3];
+  if (com[1] < params_.min_com_height_m)
+    return EventStatus::Failed("robot fell: COM " + std::to_string(com[1]) + " m above the stance foot, below min_com_height_m = " +
+                               std::to_string(params_.min_com_height_m) + " m");
+  return EventStatus::Succeeded();
+}
+
+EventStatus SteppingStonesSupervisor::ImpactUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
+  const int mode = EvalTypedInput<int>(context, 1);
+  Eigen::VectorXd& xd = *next;
+  // Flight (mode 2), or a touchdown from flight onto the committed stance foot: no new step.
+  if ((mode != 0 && mode != 1) || mode == static_cast<int>(xd[kMode])) return EventStatus::Succeeded();
+  // The swing foot touched down: the new stance foot is on the next stone.
   StepRecord rec;
-  ApplyImpact(context, x, mode, &xd, &rec);
+  ApplyImpact(context, EvalInput(context, 0), mode, &xd, &rec);
   context.scratch<Scratch>().steps.push_back(rec);
   if (static_cast<int>(xd[kSteps]) >= params_.max_steps)
     return EventStatus::ReachedTermination("completed " + std::to_string(params_.max_steps) + " steps");

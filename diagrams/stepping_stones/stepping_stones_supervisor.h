@@ -4,29 +4,28 @@
 // α_0 from the post-impact state and solves the pre-impact posture NLP, Eq. (21), for the next stone (lines 8-10).
 //
 // inputs:  state (2 nv)               plant [q; v]
-//          mode (1)                   plant contact mode (AlternatingSingleSupport graph: 0 left stance, 1 right)
+//          mode (int, typed)          plant contact mode (AlternatingSingleSupport graph: 0 left stance, 1 right
+//                                     stance, 2 flight)
 //          u_des (1)                  planner's desired pre-impact vertical COM velocity [m/s] (for the step log)
 //          L_des (1)                  planner's desired post-impact momentum [m²/s] (for the step log)
-// outputs (all feedthrough from state and mode; see "impact timing" below):
-//          com_state (4)              [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
+// outputs: com_state (4)              [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
 //          angular_momentum (1)       L_y [m²/s], mass-normalised, about the stance foot: r_z ṗ^x − r_x ṗ^z + k_G,y/m
 //          com_vertical_state (2)     [p^z (m), ṗ^z (m/s)] relative to the stance foot
 //          step (2)                   [l_des, h_des] (m): next stone centre minus the stance foot
 //          pre_impact_com_height (1)  p_comf^{z,d} (m) from the posture NLP, relative to the stance foot
-//          step_parameters (10)       SteppingStonesOutputsSystem::PackStepParameters of the current step
+//          step_parameters (typed)    StepOutputParameters of the current step (output_trajectories.h)
 //          stance_foot (2)            world (x, z) of the stance foot (m)
 //          stone (1)                  index of the stone under the stance foot
-// discrete state: the committed step (see the kIndex constants in the .cc). Periodic update every
-// update_period_s: when the plant's mode changed, an impact happened: the new stance foot, the stone it landed on,
-// α_0 and the posture are committed and a StepRecord is appended.
-// Impact timing: the impact happens between two updates, and every 1 kHz block (this one, the MPC, the controller)
-// updates from the pre-update state of the others. So that the controller's first update after an impact does not
-// use the old stance foot and step (which would aim the new swing foot at the stone the new stance foot stands on),
-// the outputs do not read the committed state alone: when the plant's mode differs from the committed one, they
-// return the step state the next update will commit, computed from the same inputs (StepState()). The posture NLP
-// is solved once per step and shared by both (cached on (l, h, stance foot)).
-// The run ends (ReachedTermination) after max_steps steps, when the terrain has no next stone, or with "robot fell"
-// when the COM is less than min_com_height_m above the stance foot.
+// Every output is a pure function of the committed step (discrete state) and, for the COM outputs, the plant state.
+// discrete state: the committed step (see the kIndex constants in the .cc).
+// Event update "impact" (at every guard event of the diagram, right after the plant's reset): when the plant's
+// stance foot differs from the committed one, an impact happened: the new stance foot, the stone it landed on, α_0
+// and the pre-impact posture for the next stone (NLP, Eq. (21)) are committed and a StepRecord is appended
+// (Algorithm 1, lines 8-10). Blocks added after the supervisor (MPC, outputs, controller) see the new step in their
+// own event updates at the same instant. A touchdown from flight onto the committed stance foot is no new step.
+// Periodic update every update_period_s: the step log's last u_des, L_des and ṗ^z, and the fall check.
+// The run ends with ReachedTermination (success) after max_steps steps or when the robot stands on the last stone,
+// and with Failed ("robot fell") when the COM is less than min_com_height_m above the stance foot.
 // Posture NLP failure: the optimiser's own fallback (previous solution, else nominal pose) is used, the failure
 // is counted and reported in the step log; the walk goes on.
 
@@ -103,12 +102,10 @@ class SteppingStonesSupervisor final : public LeafSystem {
  private:
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
-  /// The committed step state, or after an impact the one the next update will commit.
-  const Eigen::VectorXd& StepState(const LeafContext& context) const;
+  EventStatus ImpactUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
   /// Impact bookkeeping on the step state xd (new stance foot, stone, α_0, posture); fills `rec` if given.
   void ApplyImpact(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, StepRecord* rec) const;
   void PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const;
-  const PreImpactPosture& SolvePosture(const LeafContext& context, const PreImpactPostureRequest& request, int stance) const;
   void ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x, Eigen::Vector4d* com, double* L) const;
 
   std::shared_ptr<const MultibodyModel> model_;

@@ -21,6 +21,7 @@
 #include "examples/common/plot.h"
 #include "framework/simulator.h"
 #include "systems/multibody/multibody_kinematics.h"
+#include "systems/plants/contact_force_statistics.h"
 
 using namespace rome;
 
@@ -84,6 +85,9 @@ int main(int argc, char** argv) {
       .Option("log", "stepping_stones.csv", "CSV log")
       .Option("summary", "stepping_stones.json", "JSON summary")
       .Option("log-period", "0.005", "[s] sample period of the CSV log")
+      .Option("friction-margin", "0.95", "[-] the controller's friction pyramid uses this fraction of mu (1 = the paper's cone)")
+      .Option("min-normal-force", "2", "[N] the controller's smallest stance normal force (0 = the paper's F_z >= 0)")
+      .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
       .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
       .Option("plots", "", "directory for PNG plots (empty: none)");
   try {
@@ -99,6 +103,11 @@ int main(int argc, char** argv) {
     params.log_period_s = cli.GetDouble("log-period");
     params.initial_com_x_m = cli.GetDouble("initial-com-x");
     params.outputs.swing_foot.clearance = cli.GetDouble("swing-clearance");
+    params.controller.friction_margin = cli.GetDouble("friction-margin");
+    params.controller.min_normal_force_N = cli.GetDouble("min-normal-force");
+    if (cli.Get("resolve-at-events") != "on" && cli.Get("resolve-at-events") != "off")
+      throw std::invalid_argument("stepping_stones: --resolve-at-events must be 'on' or 'off', got '" + cli.Get("resolve-at-events") + "'");
+    params.controller.resolve_at_events = params.mpc.resolve_at_events = cli.Get("resolve-at-events") == "on";
     if (cli.Get("swing-apex") == "clear")
       params.outputs.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
     else if (cli.Get("swing-apex") == "exact")
@@ -119,17 +128,19 @@ int main(int argc, char** argv) {
     const LeafContext& sup_ctx = d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context());
     size_t reported = 0;
     const double max_time = 3.0 * steps + 2.0;
-    if (cli.GetFlag("report-qp-failures")) {
-      // Prints each new failure message of the task-space QP (e.g. which constraints cannot hold together).
-      std::string last;
-      sim.set_monitor([&d, last](const Context& c) mutable {
-        const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, c);
-        const std::string& message = d.controller->last_qp(cc).status_message();
-        if (!message.empty() && message != last && message.find("optimal") == std::string::npos) std::cerr << "t = " << c.time() << " s: " << message << "\n";
-        last = message;
-        return EventStatus::Succeeded();
-      });
-    }
+    // The plant's own contact forces after every integrator step and event (not the controller's plan).
+    ContactForceStatistics contact;
+    const bool report_qp = cli.GetFlag("report-qp-failures");
+    double last_qp_status = 0;
+    sim.set_monitor([&](const Context& c) {
+      contact.Record(*d.plant, d.diagram->GetSubsystemContext(*d.plant, c));
+      if (report_qp) {  // each change of the controller's QP status (0 = solved), through its qp_status port
+        const double qp_status = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "qp_status")[0];
+        if (qp_status != last_qp_status) std::cerr << "t = " << c.time() << " s: controller qp_status " << qp_status << "\n";
+        last_qp_status = qp_status;
+      }
+      return EventStatus::Succeeded();
+    });
     for (double t = 0.5; t <= max_time + 1e-9; t += 0.5) {
       status = sim.AdvanceTo(t);
       const auto& recs = d.supervisor->steps(sup_ctx);
@@ -143,13 +154,15 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const auto& recs = d.supervisor->steps(sup_ctx);
     const double sim_time = sim.get_context().time();
-    const bool fell = status.message.find("fell") != std::string::npos;
-    const bool completed = static_cast<int>(recs.size()) >= steps;
+    const bool failed = status.kind() == SimulatorStatus::Kind::kFailure;
+    const bool fell = failed && status.message.find("fell") != std::string::npos;
+    const bool success = status.kind() == SimulatorStatus::Kind::kSuccess && contact.violations == 0;
     const LeafContext& plant_ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
     const double x_end = d.plant->EvalOutput(plant_ctx, "com")[0];
     const LeafContext& log_ctx = d.diagram->GetSubsystemContext(*d.logger, sim.get_context());
     const auto& log = d.logger->log(log_ctx);
-    const double x_start = log.samples.empty() ? x_end : log.samples.front()[2 * d.model->nv() + 1];
+    const int com_x = d.logger->ColumnIndex("plant.com.x"), com_z = d.logger->ColumnIndex("plant.com.z");
+    const double x_start = log.samples.empty() ? x_end : log.samples.front()[com_x];
     double max_foothold = 0;
     nlohmann::json step_list = nlohmann::json::array();
     for (const auto& r : recs) {
@@ -170,11 +183,17 @@ int main(int argc, char** argv) {
     const LeafContext& mpc_ctx = d.diagram->GetSubsystemContext(*d.mpc, sim.get_context());
     const int qp_failures = static_cast<int>(d.controller->EvalOutput(ctrl_ctx, "qp_failures")[0]) +
                             static_cast<int>(d.mpc->EvalOutput(mpc_ctx, "qp_failures")[0]);
-    nlohmann::json summary = {{"success", completed && !fell},
+    nlohmann::json summary = {{"success", success},
+                              {"status_kind", status.kind_name()},
+                              {"controller", d.controller->name()},
                               {"steps_completed", recs.size()},
                               {"fell", fell},
                               {"fall_reason", fell ? status.message : ""},
                               {"status", status.ToString()},
+                              {"min_stance_normal_force_N", contact.samples > 0 ? contact.min_normal_force_N : 0.0},
+                              {"max_friction_ratio", contact.max_friction_ratio},
+                              {"contact_violations", contact.violations},
+                              {"first_contact_violation", contact.first_violation},
                               {"sim_time_s", sim_time},
                               {"wall_time_s", wall},
                               {"realtime_factor", wall > 0 ? sim_time / wall : 0.0},
@@ -206,24 +225,24 @@ int main(int argc, char** argv) {
       const std::string dir = cli.Get("plots");
       std::filesystem::create_directories(dir);
       const int nv = d.model->nv();
-      const int com_off = 2 * nv + 1;            // plant.com after state and mode
-      const int rel_off = com_off + 6;           // supervisor.com_state
-      const int L_off = rel_off + 4;             // supervisor.angular_momentum
+      const int rel_x = d.logger->ColumnIndex("supervisor.com_state.x"), rel_z = d.logger->ColumnIndex("supervisor.com_state.z");
+      const int L_col = d.logger->ColumnIndex("supervisor.angular_momentum.L");
+      const int q0 = d.logger->ColumnIndex("plant.state.q_" + d.model->JointName(0));
       std::string err;
       // COM height over time.
       examples::Series zc{"COM height (world)", {}, {}, "lines"};
       for (size_t k = 0; k < log.times.size(); ++k) {
         zc.x.push_back(log.times[k]);
-        zc.y.push_back(log.samples[k][com_off + 2]);
+        zc.y.push_back(log.samples[k][com_z]);
       }
       if (!examples::WritePlot({"COM height", "time [s]", "z [m]", {zc}}, dir + "/com_height.png", &err)) std::cerr << "warning: " << err << "\n";
       // Phase portrait against the LIP orbit of E*: L = z0 sqrt(E* + λ² x²).
       examples::Series ph{"robot (p_com^x, L_y)", {}, {}, "lines"}, orbit{"LIP orbit of E*", {}, {}, "lines dt 2"};
       double zsum = 0;
       for (size_t k = 0; k < log.times.size(); ++k) {
-        ph.x.push_back(log.samples[k][rel_off]);
-        ph.y.push_back(log.samples[k][L_off]);
-        zsum += log.samples[k][rel_off + 1];
+        ph.x.push_back(log.samples[k][rel_x]);
+        ph.y.push_back(log.samples[k][L_col]);
+        zsum += log.samples[k][rel_z];
       }
       const double z0 = log.times.empty() ? 0.9 : zsum / log.times.size();
       const double lambda2 = 9.81 / z0;
@@ -247,7 +266,7 @@ int main(int argc, char** argv) {
       for (size_t k = 0; k < log.times.size(); ++k) {
         if (log.times[k] < next_t) continue;
         next_t = log.times[k] + 0.1;
-        const Eigen::VectorXd q = log.samples[k].head(nv);
+        const Eigen::VectorXd q = log.samples[k].segment(q0, nv);
         const Eigen::Vector3d p_hip = CalcLinkPose(*d.model, ws, q, hip).translation();
         const Eigen::Vector3d head = CalcPointPosition(*d.model, ws, q, hip, Eigen::Vector3d(0, 0, 0.5));
         auto add = [&](const Eigen::Vector3d& a) {
@@ -276,10 +295,18 @@ int main(int argc, char** argv) {
     std::cout << "\n"
               << status.ToString() << "\n"
               << recs.size() << " of " << steps << " steps" << (fell ? " (fell)" : "") << ", " << sim_time << " s simulated in " << wall
-              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time)\n"
+              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time), controller '" << d.controller->name() << "'\n"
               << "mean forward speed " << summary["mean_forward_speed_mps"].get<double>() << " m/s, largest foothold error " << max_foothold * 100
-              << " cm, QP failures " << qp_failures << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n";
-    return completed && !fell ? 0 : 3;
+              << " cm, QP failures " << qp_failures << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
+              << "plant contact forces: min stance F_n " << summary["min_stance_normal_force_N"].get<double>() << " N, max |F_t|/F_n "
+              << contact.max_friction_ratio << ", violations " << contact.violations << " of " << contact.samples << " samples\n";
+    if (success) {
+      std::cout << "result: success (" << status.message << ")\n";
+      return 0;
+    }
+    std::cout << "result: failed run (" << (contact.violations > 0 ? "contact violation: " + contact.first_violation : status.kind_name() + ": " + status.ToString())
+              << ")\n";
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

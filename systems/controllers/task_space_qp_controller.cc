@@ -76,8 +76,10 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   check_nonneg(params_.u_regularization, "u_regularization");
   check_nonneg(params_.force_regularization, "force_regularization");
   check_nonneg(params_.min_normal_force_N, "min_normal_force_N");
-  check_nonneg(params_.contact_alpha_per_s, "contact_alpha_per_s");
-  check_nonneg(params_.loop_beta_per_s, "loop_beta_per_s");
+  if (!(params_.friction_margin > 0.0 && params_.friction_margin <= 1.0))
+    ThrowError("params.friction_margin = " + std::to_string(params_.friction_margin) + " must be in (0, 1]");
+  check_nonneg(params_.contact_stabilization.baumgarte_alpha_per_s, "contact_stabilization.baumgarte_alpha_per_s");
+  check_nonneg(params_.contact_stabilization.baumgarte_beta_per_s, "contact_stabilization.baumgarte_beta_per_s");
   if (params_.qdd_regularization + params_.u_regularization + params_.force_regularization == 0.0 && tasks_.empty())
     ThrowError("no tasks and no regularisation: the QP cost is zero");
 
@@ -125,7 +127,7 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   }
 
   state_port_ = DeclareInputPort("state", 2 * nv);
-  mode_port_ = DeclareInputPort("mode", 1);
+  mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
 
   Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(status_offset() + 1);
@@ -138,6 +140,9 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   DeclareOutputPort("qp_failures", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[failures_offset()]; }, Feedthrough::None());
   DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
   DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
+  if (params_.resolve_at_events)
+    DeclareEventUpdate("resolve_qp", params_.resolve_at,
+                       [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
 }
 
 std::any TaskSpaceQpController::AllocateScratch() const {
@@ -169,7 +174,7 @@ std::any TaskSpaceQpController::AllocateScratch() const {
       b.ineq_offset = ineq;
       b.num_ineq = InequalityRows(model, info, name());
       b.cop = model.is_planar() && info.type != ContactType::kPoint;
-      b.mu = params_.friction_coefficient >= 0.0 ? params_.friction_coefficient : info.friction_coefficient;
+      b.mu = params_.friction_margin * (params_.friction_coefficient >= 0.0 ? params_.friction_coefficient : info.friction_coefficient);
       blocks.push_back(b);
       f_row += info.num_rows;
       ineq += b.num_ineq;
@@ -220,14 +225,11 @@ std::any TaskSpaceQpController::AllocateScratch() const {
 }
 
 int TaskSpaceQpController::ModeFromInput(const LeafContext& context) const {
-  const double value = EvalInput(context, mode_port_)[0];
-  const long mode = std::lround(value);
-  if (!std::isfinite(value) || std::abs(value - static_cast<double>(mode)) > 1e-9 || mode < 0 || mode >= static_cast<long>(mode_contacts_.size())) {
-    std::ostringstream os;
-    os << "system '" << name() << "': input port 'mode' has value " << value << "; expected an integer mode index in [0, " << mode_contacts_.size() << ")";
-    throw std::runtime_error(os.str());
-  }
-  return static_cast<int>(mode);
+  const int mode = EvalTypedInput<int>(context, mode_port_);
+  if (mode < 0 || mode >= static_cast<int>(mode_contacts_.size()))
+    throw std::runtime_error("system '" + name() + "': input port 'mode' has value " + std::to_string(mode) + "; expected a mode index in [0, " +
+                             std::to_string(mode_contacts_.size()) + ")");
+  return mode;
 }
 
 QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
@@ -282,8 +284,8 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
     const auto Jc = ws.J.topRows(rows);
     qp.A_eq.block(0, nv + nu, nv, rows) = -Jc.transpose();
     qp.A_eq.bottomLeftCorner(rows, nv) = Jc;
-    qp.b_eq.tail(rows) = -ws.Jdot_qdot.head(rows) - ws.phi.head(rows) * (params_.loop_beta_per_s * params_.loop_beta_per_s);
-    qp.b_eq.tail(rows).noalias() -= (2.0 * params_.contact_alpha_per_s) * (Jc * v);
+    qp.b_eq.tail(rows) = -ws.Jdot_qdot.head(rows) - ws.phi.head(rows) * (params_.contact_stabilization.baumgarte_beta_per_s * params_.contact_stabilization.baumgarte_beta_per_s);
+    qp.b_eq.tail(rows).noalias() -= (2.0 * params_.contact_stabilization.baumgarte_alpha_per_s) * (Jc * v);
   }
   // CoP rows of planar line/flat feet: x_min, x_max of the contact points relative to the frame origin.
   for (const ContactBlock& b : mq.contacts) {

@@ -2,7 +2,7 @@
 // TaskSpaceQpController: task-space (TSC) QP controller of the stepping-stones paper, Sec. V, Eq. (29)–(31).
 //
 // inputs:  state (2 nv)              [q; v] of the plant (HybridContactPlant "state")
-//          mode (1)                  index of the plant's active contact mode (HybridContactPlant "mode")
+//          mode (int, typed)         index of the plant's active contact mode (HybridContactPlant "mode")
 //          desired (3 ny)            [y_d; ẏ_d; ÿ_d], each ny = Σ task sizes, tasks in construction order
 //                                    (units of each task: m, rad; m/s, rad/s; m/s², rad/s²). Rows of tasks that
 //                                    are inactive in the current mode are ignored.
@@ -13,7 +13,10 @@
 //          qp_failures (1)           number of updates whose QP failed so far [-]
 //          qp_status (1)             QpStatus of the last update as an integer (0 = kOptimal; dense_qp_solver.h)
 // discrete state: [u (nu); qdd (nv); contact_forces (3 nc); qp_failures; qp_status], updated periodically
-// (params.update_period_s, 1 kHz as in the paper); every output reads only the discrete state.
+// (params.update_period_s, 1 kHz as in the paper) and, by an event update, at every guard event that
+// params.resolve_at selects (default: every guard event of the diagram), so that at a touchdown or lift-off the
+// torque of the new contact mode acts from the event instant on (no torque computed for the previous mode is held
+// into the new one). Every output reads only the discrete state.
 //
 // Formulation (TSID style). The paper eliminates q̈ and F and optimises u alone (q̈ = A_q u + b_q); we keep
 // x = [q̈ (nv); u (nu); F (rows)] with the dynamics as equalities, which is the same QP in a sparser, better
@@ -21,8 +24,11 @@
 //   minimise   Σ_tasks w_i ||J_i q̈ + J̇_i q̇ − ÿ*_i||²  +  s (ρ_q̈ ||q̈||² + ρ_u ||u||² + ρ_F ||F||²)  (Eq. (30))
 //              ÿ*_i = ÿ_d + Kp (y_d − y) + Kd (ẏ_d − J_i q̇)                       (PD output dynamics)
 //   subject to M q̈ + h = B u + τ_spring + J_cᵀ F                                   (Eq. (3) of the paper)
-//              J_c q̈ + J̇_c q̇ = −2α J_c q̇ − β² φ                                 (stance contact; α = β = 0 is the
-//                                                                                paper's J_c q̈ + J̇_c q̇ = 0)
+//              J_c q̈ + J̇_c q̇ = −2α J_c q̇ − β² φ                                 (stance contact and loop closures,
+//                                                                                α, β from params.contact_stabilization:
+//                                                                                pass the plant's, so that the QP's
+//                                                                                forces are the plant's; α = β = 0 is
+//                                                                                the paper's J_c q̈ + J̇_c q̇ = 0)
 //              F_z ≥ F_min, |F_x| ≤ μ F_z (|F_y| too for 3D point feet)          (GRF, Eq. (31))
 //              line/flat planar foot [τ_y, F_x, F_z]: CoP inside the foot, x_min F_z ≤ −τ_y ≤ x_max F_z
 //              −u_max ≤ u ≤ u_max                                                 (torque limit, Eq. (31))
@@ -71,9 +77,18 @@ struct TaskSpaceQpParams {
   double force_regularization = 1e-6;  ///< ρ_F [1/N² relative] on ||F||² (internal forces in double support).
   double min_normal_force_N = 0.0;     ///< [N] F_z ≥ this on every active contact (unilateral contact).
   double friction_coefficient = -1.0;  ///< [-] μ of the friction pyramid; < 0 uses each contact's model value.
+  /// [-] the pyramid uses friction_margin · μ (1 = the paper's cone; < 1 keeps the plant's forces, which drift over a
+  /// zero-order-held sample, inside the true cone).
+  double friction_margin = 1.0;
   Eigen::VectorXd torque_limits;       ///< [N m] per actuator; empty = the model's torque limits.
-  double contact_alpha_per_s = 0.0;    ///< α [1/s] of the contact rows (0 = paper; the plant's value matches its flow).
-  double loop_beta_per_s = 0.0;        ///< β [1/s] on loop-closure position errors φ.
+  /// α [1/s] on contact and loop-closure velocities, β [1/s] on loop-closure position errors φ: the same struct the
+  /// plant integrates with (HybridContactPlantParams::dynamics), so the planned forces are the forces the plant applies.
+  /// Default: the plant's default (α = β = 10 1/s; ours); the paper's J_c q̈ + J̇_c q̇ = 0 is α = β = 0.
+  ConstrainedDynamicsParameters contact_stabilization;
+  /// Re-solve at guard events (touchdown, lift-off) as well as periodically, so the new mode's torque acts from the
+  /// event on. false reproduces a plain 1 kHz zero-order hold (the previous mode's torque is held until the next sample).
+  bool resolve_at_events = true;
+  EventTrigger resolve_at = EventTrigger::AnyGuard();  ///< which guard events re-solve the QP
   /// {contact, joint}: the actuator on `joint` gets u = 0 while `contact` is active (the paper zeroes Cassie's
   /// stance toe torque). Empty for point-foot robots.
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;

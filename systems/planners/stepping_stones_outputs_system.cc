@@ -8,13 +8,14 @@ namespace rome {
 SteppingStonesOutputsSystem::SteppingStonesOutputsSystem(std::string name, SteppingStonesOutputsSystemParams params)
     : LeafSystem(std::move(name)), params_(params) {
   if (!(params_.gravity > 0)) ThrowError("parameter gravity must be positive (m/s²), got " + std::to_string(params_.gravity));
-  com_port_ = DeclareInputPort("com_state", 4);
-  step_port_ = DeclareInputPort("step_parameters", kNumStepParameters);
-  height_port_ = DeclareInputPort("com_height_desired", 3);
-  DeclareOutputPort("y_desired", 4, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = CalcOutputs(c).y; });
-  DeclareOutputPort("ydot_desired", 4, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = CalcOutputs(c).ydot; });
-  DeclareOutputPort("yddot_desired", 4, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = CalcOutputs(c).yddot; });
-  DeclareOutputPort("phase", 3, [this](const LeafContext& c, Eigen::VectorXd* y) {
+  com_port_ = DeclareInputPort("com_state", {"x", "z", "vx", "vz"});
+  step_port_ = DeclareTypedInputPort<StepOutputParameters>("step_parameters");
+  height_port_ = DeclareInputPort("com_height_desired", {"z", "vz", "az"});
+  const std::vector<std::string> names{"torso_pitch", "com_z", "swing_x", "swing_z"};
+  DeclareOutputPort("y_desired", names, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = CalcOutputs(c).y; });
+  DeclareOutputPort("ydot_desired", names, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = CalcOutputs(c).ydot; });
+  DeclareOutputPort("yddot_desired", names, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = CalcOutputs(c).yddot; });
+  DeclareOutputPort("phase", {"tau", "tau_dot", "tau_ddot"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     const Phase p = CalcOutputs(c).phase;
     *y << p.tau, p.tau_dot, p.tau_ddot;
   });
@@ -47,7 +48,7 @@ StepOutputParameters SteppingStonesOutputsSystem::UnpackStepParameters(const Eig
 
 DesiredOutputs SteppingStonesOutputsSystem::CalcOutputs(const LeafContext& context) const {
   const Eigen::VectorXd& com = EvalInput(context, com_port_);
-  const Eigen::VectorXd& packed = EvalInput(context, step_port_);
+  const Eigen::Matrix<double, kNumStepParameters, 1> packed = PackStepParameters(EvalTypedInput<StepOutputParameters>(context, step_port_));
   const Eigen::VectorXd& height = EvalInput(context, height_port_);
   Cache& cache = context.scratch<Cache>();
   try {

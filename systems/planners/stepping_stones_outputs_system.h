@@ -3,10 +3,10 @@
 // block (wraps SteppingStonesOutputTrajectories; see output_trajectories.h for the equations).
 //
 // inputs:  com_state (4)          = [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
-//          step_parameters (10)   = StepOutputParameters packed by PackStepParameters():
-//                                   [φ_0 (rad), φ_f (rad), p_com0^x (m), p_sw0^x (m), p_sw0^z (m), l_des (m), h_des (m),
-//                                    ε (-), t_0 (s), T_s (s)] — constant during a step, updated at impact (Algorithm 1,
-//                                    lines 8-10) by whoever owns the step sequence.
+//          step_parameters (typed StepOutputParameters, output_trajectories.h): φ_0 (rad), φ_f (rad), p_com0^x (m),
+//                                   p_sw0^x (m), p_sw0^z (m), l_des (m), h_des (m), ε (-), t_0 (s), T_s (s) — constant
+//                                   during a step, updated at impact (Algorithm 1, lines 8-10) by whoever owns the step
+//                                   sequence. PackStepParameters() stores them in a vector (e.g. a discrete state).
 //          com_height_desired (3) = [p^{z,d}, ṗ^{z,d}, p̈^{z,d}] from VerticalComMpcSystem
 // outputs: y_desired (4), ydot_desired (4), yddot_desired (4) = Y_d, Ẏ_d, Ÿ_d in the order
 //                                   [φ_torso (rad), p_com^z (m), p_sw^x (m), p_sw^z (m)] and their time derivatives

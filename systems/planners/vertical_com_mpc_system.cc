@@ -20,6 +20,9 @@ VerticalComMpcSystem::VerticalComMpcSystem(std::string name, VerticalComMpcSyste
   DeclareDiscreteState(xd);
   DeclarePeriodicDiscreteUpdate(params_.control_period_s, 0.0,
                                 [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
+  if (params_.resolve_at_events)
+    DeclareEventUpdate("resolve_mpc", EventTrigger::AnyGuard(),
+                       [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
   DeclareOutputPort(
       "com_height_desired", 3,
       [N](const LeafContext& c, Eigen::VectorXd* y) {

@@ -14,7 +14,10 @@
 //          'terminal_relaxations'). On QP failure (any status other than kOptimal, including
 //          non-finite inputs) the previous plan is kept and continues in time (the "shifted" plan: at time t it
 //          is evaluated at t − t_plan), and the failure counter is incremented.
-// outputs (no direct feedthrough): 
+// event update (params.resolve_at_events, default on): the same solve at every guard event of the diagram, right
+//          after the resets, so that after an impact the plan starts from the state measured about the new stance
+//          foot at the impact instant (not one period later).
+// outputs (no direct feedthrough):
 //          com_height_desired (3) = [p^{z,d} (m), ṗ^{z,d} (m/s), p̈^{z,d} (m/s²)] = the plan at the current time.
 //                                   Right after a solve this is [measured p^z, measured ṗ^z, u_0^z]: as in the
 //                                   paper (Fig. 5), the MPC effectively commands the acceleration u_0^z.
@@ -44,6 +47,8 @@ struct VerticalComMpcSystemParams {
   /// few tens of milliseconds the re-solved plan turns into a deadbeat law whose accelerations grow like 1/T̂_s²
   /// for any small tracking error, up to the bound −g and beyond it in the relaxed QP (hundreds of m/s²).
   double hold_plan_below_horizon_s = 0.0;
+  /// Re-solve at every guard event as well (ours): the measured state jumps at an impact (new stance foot).
+  bool resolve_at_events = true;
 };
 
 class VerticalComMpcSystem final : public LeafSystem {

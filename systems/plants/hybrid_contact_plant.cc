@@ -107,9 +107,14 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
 
   DeclareOutputPort("q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nv); }, Feedthrough::None());
   DeclareOutputPort("v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().tail(nv); }, Feedthrough::None());
-  DeclareOutputPort("state", 2 * nv, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
-  DeclareOutputPort("mode", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.mode(); }, Feedthrough::None());
-  DeclareOutputPort("contact_forces", 3 * nc, [this, nc, nv](const LeafContext& c, Eigen::VectorXd* y) {
+  std::vector<std::string> state_names, force_names;
+  for (const std::string& j : model_->joint_names()) state_names.push_back("q_" + j);
+  for (const std::string& j : model_->joint_names()) state_names.push_back("v_" + j);
+  for (const ContactInfo& contact : model_->contacts())
+    for (const char* axis : {"fx", "fy", "fz"}) force_names.push_back(contact.name + "_" + axis);
+  DeclareOutputPort("state", state_names, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+  DeclareTypedOutputPort<int>("mode", [](const LeafContext& c, int* y) { *y = c.mode(); }, Feedthrough::None());
+  DeclareOutputPort("contact_forces", force_names, [this, nc, nv](const LeafContext& c, Eigen::VectorXd* y) {
     const Scratch& s = EvalDynamics(c);
     y->setZero();
     for (int i = 0; i < nc; ++i)
@@ -130,7 +135,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
         (*y)[i] = (check.unilateral_ok ? 0 : 1) + (check.friction_ok ? 0 : 2);
       }
   });
-  DeclareOutputPort("com", 6, [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
+  DeclareOutputPort("com", {"x", "y", "z", "vx", "vy", "vz"}, [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
     auto& ws = c.scratch<Scratch>().ws;
     const auto q = c.continuous_state().head(nv);
     const auto v = c.continuous_state().tail(nv);

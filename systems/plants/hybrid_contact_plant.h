@@ -5,10 +5,10 @@
 // outputs: q (nv)                      generalized positions (see multibody_model.h for the coordinates)
 //          v (nv)                      generalized velocities
 //          state (2 nv)                [q; v]
-//          mode (1)                    index of the active contact mode (ContactModeGraph::modes order)
+//          mode (int, typed)           index of the active contact mode (ContactModeGraph::modes order)
 //          contact_forces (3 nc)       ground force on each contact [N], world axes; zero when not in contact
 //          contact_violation (nc)      per contact: 0 ok, +1 negative normal force, +2 outside the friction cone
-//          com (6)                     [p_com (m); v_com (m/s)], world
+//          com (6)                     [p_com (m); v_com (m/s)], world; elements x, y, z, vx, vy, vz
 // continuous state: [q; v]; discrete state: [time the current mode began (s)]; modes: the graph's modes.
 //
 // Flow in mode m with active contacts C(m) (plus every loop closure of the model):

@@ -27,7 +27,7 @@ void Run(benchmark::State& state, bool double_support) {
   Eigen::VectorXd desired = Eigen::VectorXd::Zero(3 * ny);
   desired.head(ny) = test::TaskValues(*model, tasks, q, Eigen::VectorXd::Zero(7)) + Eigen::VectorXd::Constant(ny, 0.01);
   context->FixInputPort(0, x);
-  context->FixInputPort(1, Eigen::VectorXd::Zero(1));
+  context->FixAbstractInputPort(1, std::any(0));
   context->FixInputPort(2, desired);
   const auto& update = controller.periodic_events().at(0).update;
   Eigen::VectorXd next = context->discrete_state();

@@ -16,6 +16,109 @@ TEST(SteppingStonesDiagram, FlatGroundConvergesToAPeriodicOrbit) {
   test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.4, 0.0, steps + 2), steps), steps, "flat l = 0.4 m");
 }
 
+// Outputs are pure: evaluating every output of every block twice, at a mid-step state, changes no state and gives
+// the same values.
+TEST(SteppingStonesDiagram, EvaluatingOutputsChangesNothing) {
+  SteppingStonesDiagramParams params;
+  params.supervisor.max_steps = 4;
+  const Terrain terrain = PeriodicSteppingStones(0.4, 0.0, 8);
+  SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params);
+  Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
+  SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
+  ASSERT_TRUE(sim.AdvanceTo(1.2345).ok());
+  ASSERT_GE(sim.statistics().guard_events, 1);  // past the first touchdown
+  auto& dc = static_cast<DiagramContext&>(sim.get_mutable_context());
+  std::vector<State> before;
+  for (int i = 0; i < dc.num_leaves(); ++i) before.push_back(dc.leaf(i).state());
+  const size_t steps_before = d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, dc)).size();
+  std::vector<Eigen::VectorXd> first;
+  for (int pass = 0; pass < 2; ++pass) {
+    int k = 0;
+    for (int i = 0; i < d.diagram->num_leaves(); ++i) {
+      const LeafSystem& sys = d.diagram->leaf(i);
+      for (int p = 0; p < sys.num_output_ports(); ++p) {
+        dc.InvalidateCache();
+        if (!sys.output_port(p).is_vector()) {
+          sys.EvalAbstractOutput(dc.leaf(i), p);
+          continue;
+        }
+        const Eigen::VectorXd value = sys.EvalOutput(dc.leaf(i), p);
+        if (pass == 0)
+          first.push_back(value);
+        else
+          EXPECT_EQ(value, first[k]) << d.diagram->leaf_path(i) << "." << sys.output_port(p).name;
+        ++k;
+      }
+    }
+  }
+  for (int i = 0; i < dc.num_leaves(); ++i) {
+    EXPECT_EQ(dc.leaf(i).state().continuous, before[i].continuous) << d.diagram->leaf_path(i);
+    EXPECT_EQ(dc.leaf(i).state().discrete, before[i].discrete) << d.diagram->leaf_path(i);
+    EXPECT_EQ(dc.leaf(i).state().mode, before[i].mode) << d.diagram->leaf_path(i);
+  }
+  EXPECT_EQ(d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, dc)).size(), steps_before);
+}
+
+// The controller is a parameter of the builder: a factory with other gains walks; a block without the seam's ports
+// is refused with its name.
+class NoStatusController final : public LeafSystem {
+ public:
+  explicit NoStatusController(int nv, int nu) : LeafSystem("bare") {
+    DeclareInputPort("state", 2 * nv);
+    DeclareTypedInputPort<int>("mode");
+    DeclareInputPort("desired", 18);
+    DeclareOutputPort("u", nu, [nu](const LeafContext&, Eigen::VectorXd* y) { y->setZero(nu); }, Feedthrough::None());
+    DeclareOutputPort("qp_failures", 1, [](const LeafContext&, Eigen::VectorXd* y) { y->setZero(1); }, Feedthrough::None());
+  }
+};
+
+TEST(SteppingStonesDiagram, ControllerIsAParameterOfTheBuilder) {
+  const int steps = 6;
+  SteppingStonesDiagramParams params;
+  params.swing_foot_gains = {5.0, 300.0, 35.0};  // a differently tuned task-space QP, through the same seam
+  SteppingStonesDiagramParams tuned = params;
+  const test::WalkResult r = test::Walk(PeriodicSteppingStones(0.4, 0.0, steps + 2), steps, params, TaskSpaceQpControllerFactory(tuned));
+  ASSERT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << r.status.ToString();
+  EXPECT_EQ(static_cast<int>(r.steps.size()), steps);
+  test::ExpectPhysicalContact(r, "tuned TSC");
+  try {
+    BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 8), params,
+                               [](const SteppingStonesControllerSpec& spec) { return std::make_unique<NoStatusController>(spec.model->nv(), spec.model->nu()); });
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "BuildSteppingStonesDiagram: controller 'bare' has no output port 'qp_status' (a vector of size 1); a stepping-stones controller needs "
+              "inputs state, mode, desired and outputs u, qp_failures, qp_status");
+  }
+}
+
+// Every touchdown is followed, at the same instant, by the supervisor's, the MPC's and the controller's event updates:
+// the plant never runs a touchdown's new contact mode on the torque of the previous mode.
+TEST(SteppingStonesDiagram, ControllerResolvesAtEveryTouchdown) {
+  SteppingStonesDiagramParams params;
+  params.supervisor.max_steps = 3;
+  SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 6), params);
+  Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
+  SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
+  // Record, right after each step, the controller's u and the u a fresh solve gives at that instant.
+  const auto& ctrl = *static_cast<const TaskSpaceQpController*>(d.controller);
+  int checked = 0;
+  long events_seen = 0;
+  sim.set_monitor([&](const Context& c) {
+    if (sim.statistics().guard_events == events_seen) return EventStatus::Succeeded();
+    events_seen = sim.statistics().guard_events;
+    const LeafContext& cc = d.diagram->GetSubsystemContext(ctrl, c);
+    const EventRecord& e = sim.statistics().events.back();
+    if (std::abs(c.time() - e.time) > 1e-12) return EventStatus::Succeeded();  // only the step that ended at the event
+    EXPECT_EQ(ctrl.last_mode(cc), d.diagram->GetSubsystemContext(*d.plant, c).mode()) << "t = " << c.time();
+    ++checked;
+    return EventStatus::Succeeded();
+  });
+  const SimulatorStatus status = sim.AdvanceTo(10.0);
+  EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kSuccess) << status.ToString();
+  EXPECT_GE(checked, 2);
+}
+
 TEST(SteppingStonesDiagram, TerrainHelpersRejectBadInput) {
   EXPECT_THROW(PeriodicSteppingStones(0.05, 0.0, 10), std::invalid_argument);  // stones would overlap
   EXPECT_THROW(PeriodicSteppingStones(0.4, 0.0, 1), std::invalid_argument);

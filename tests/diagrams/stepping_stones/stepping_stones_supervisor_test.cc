@@ -1,7 +1,6 @@
-// SteppingStonesSupervisor: impact bookkeeping of Algorithm 1 (lines 8-10). Stance foot, stone index and step
-// parameters after an impact (already in the outputs before the periodic update commits them, and identical
-// after), the step record, termination after max_steps, the fall check, and L_y about the stance foot against the
-// rigid-translation closed form L = r_z v_x − r_x v_z.
+// SteppingStonesSupervisor: impact bookkeeping of Algorithm 1 (lines 8-10) in its event update. Stance foot, stone
+// index and step parameters after an impact, the step record, termination after max_steps, the fall check, pure
+// outputs, and L_y about the stance foot against the rigid-translation closed form L = r_z v_x − r_x v_z.
 #include "diagrams/stepping_stones/stepping_stones_supervisor.h"
 
 #include <gtest/gtest.h>
@@ -37,7 +36,7 @@ class SupervisorTest : public ::testing::Test {
   Eigen::VectorXd Output(const std::string& port) { return supervisor_->EvalOutput(*context_, port); }
   void SetInputs(const Eigen::VectorXd& x, int mode) {
     supervisor_->FixInputPort(*context_, 0, x);
-    supervisor_->FixInputPort(*context_, 1, Eigen::VectorXd::Constant(1, mode));
+    supervisor_->FixTypedInputPort(*context_, 1, mode);
     supervisor_->FixInputPort(*context_, 2, Eigen::VectorXd::Constant(1, -0.3));
     supervisor_->FixInputPort(*context_, 3, Eigen::VectorXd::Constant(1, 0.7));
   }
@@ -45,6 +44,13 @@ class SupervisorTest : public ::testing::Test {
     Eigen::VectorXd next = context_->discrete_state();
     const EventStatus status = supervisor_->periodic_events().at(0).update(*context_, &next);
     context_->get_mutable_discrete_state() = next;
+    return status;
+  }
+  // The event update the simulator runs right after a guard's reset (here: a touchdown).
+  EventStatus RunEventUpdate() {
+    State next = context_->state();
+    const EventStatus status = supervisor_->event_updates().at(0).update(*context_, EventRecord{context_->time(), "plant", "touchdown", 0, 0, 0}, &next);
+    context_->get_mutable_state() = next;
     return status;
   }
   // A configuration with the `stance` foot at `stance_xz` and the other foot on the stone (l, h) ahead (Eq. (21)).
@@ -114,7 +120,7 @@ TEST_F(SupervisorTest, InitialStepAndRigidTranslationMomentum) {
   // The first step aims at stone 1 from the stance foot.
   EXPECT_NEAR(Output("step")[0], kStep - st.x(), 1e-12);
   EXPECT_NEAR(Output("step")[1], -st.y(), 1e-12);
-  const StepOutputParameters p = SteppingStonesOutputsSystem::UnpackStepParameters(Output("step_parameters"));
+  const StepOutputParameters p = supervisor_->EvalTypedOutput<StepOutputParameters>(*context_, "step_parameters");
   EXPECT_NEAR(p.p_com_x0, rx, 1e-12);
   EXPECT_NEAR(p.p_sw0_x, Foot(x, right_).x() - st.x(), 1e-12);
   EXPECT_NEAR(p.step_length, kStep - st.x(), 1e-12);
@@ -136,28 +142,39 @@ TEST_F(SupervisorTest, ImpactBookkeeping) {
   context_->SetTime(0.3);
   SetInputs(x1, 1);
   const Eigen::Vector3d foot = Foot(x1, right_);
-  // Before the periodic update: the outputs already describe the new step ...
-  const Eigen::VectorXd pending_params = Output("step_parameters");
+  // Until the event update runs, the outputs describe the committed (old) step: they are pure functions of it.
+  EXPECT_EQ(Output("stone")[0], 0.0);
+  EXPECT_TRUE(RunUpdate().ok());  // a periodic update commits nothing about the impact
+  EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
+  // The event update commits the new step.
+  EXPECT_TRUE(RunEventUpdate().ok());
+  EXPECT_EQ(supervisor_->stance_mode(*context_), 1);
+  EXPECT_EQ(supervisor_->stone(*context_), 1);
+  EXPECT_EQ(supervisor_->num_steps(*context_), 1);
   EXPECT_NEAR(Output("stance_foot")[0], foot.x(), 1e-12);
   EXPECT_EQ(Output("stone")[0], 1.0);
   EXPECT_NEAR(Output("step")[0], 2 * kStep - foot.x(), 1e-12);
-  const StepOutputParameters p = SteppingStonesOutputsSystem::UnpackStepParameters(pending_params);
+  const StepOutputParameters p = supervisor_->EvalTypedOutput<StepOutputParameters>(*context_, "step_parameters");
   EXPECT_NEAR(p.p_sw0_x, Foot(x1, left_).x() - foot.x(), 1e-12);  // the old stance foot is the new swing foot
   EXPECT_NEAR(p.p_com_x0, CalcComPosition(*model_, ws_, x1.head(model_->nv())).x() - foot.x(), 1e-12);
   EXPECT_NEAR(p.phi_0, x1[2], 1e-15);
   EXPECT_DOUBLE_EQ(p.step_start_time, 0.3);
-  const double L_pending = Output("angular_momentum")[0];
-  // ... while the committed state is still the old one.
-  EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
-  EXPECT_EQ(supervisor_->stone(*context_), 0);
-
-  // The update commits exactly what the outputs showed, and records the step.
-  EXPECT_TRUE(RunUpdate().ok());
-  EXPECT_EQ(supervisor_->stance_mode(*context_), 1);
-  EXPECT_EQ(supervisor_->stone(*context_), 1);
+  const double L_after = Output("angular_momentum")[0];
+  // A second event at the same stance (e.g. a touchdown from flight onto the same foot) is no new step.
+  EXPECT_TRUE(RunEventUpdate().ok());
   EXPECT_EQ(supervisor_->num_steps(*context_), 1);
-  EXPECT_EQ(Output("step_parameters"), pending_params);
-  EXPECT_NEAR(supervisor_->stance_foot(*context_).x(), foot.x(), 1e-12);
+  // Evaluating any output twice changes nothing (outputs are pure).
+  const Eigen::VectorXd xd_before = context_->discrete_state();
+  for (int k = 0; k < 2; ++k)
+    for (int i = 0; i < supervisor_->num_output_ports(); ++i) {
+      context_->InvalidateCache();
+      if (supervisor_->output_port(i).is_vector())
+        supervisor_->EvalOutput(*context_, i);
+      else
+        supervisor_->EvalAbstractOutput(*context_, i);
+    }
+  EXPECT_EQ(context_->discrete_state(), xd_before);
+  EXPECT_EQ(supervisor_->steps(*context_).size(), 1u);
   ASSERT_EQ(supervisor_->steps(*context_).size(), 1u);
   const StepRecord& r = supervisor_->steps(*context_)[0];
   EXPECT_EQ(r.stone, 1);
@@ -165,7 +182,7 @@ TEST_F(SupervisorTest, ImpactBookkeeping) {
   EXPECT_NEAR(r.foothold_error_m, std::abs(foot.x() - kStep), 1e-12);
   EXPECT_LT(r.foothold_error_m, 1e-6);  // the posture NLP put the foot on the stone centre
   EXPECT_NEAR(r.step_length_m, kStep, 1e-12);
-  EXPECT_NEAR(r.post_impact_momentum, L_pending, 1e-12);
+  EXPECT_NEAR(r.post_impact_momentum, L_after, 1e-12);
   EXPECT_NEAR(r.duration_s, 0.3, 1e-15);
   EXPECT_TRUE(r.posture_ok);
   EXPECT_EQ(supervisor_->posture_failures(*context_), 0);
@@ -173,13 +190,13 @@ TEST_F(SupervisorTest, ImpactBookkeeping) {
   // Second impact: left foot onto stone 2 (mode 0), third: right foot onto stone 3 ends the run (max_steps = 3).
   const Eigen::VectorXd x2 = PreImpactState("right_foot", "left_foot", Eigen::Vector2d(foot.x(), foot.z()), 2 * kStep - foot.x());
   SetInputs(x2, 0);
-  EXPECT_TRUE(RunUpdate().ok());
+  EXPECT_TRUE(RunEventUpdate().ok());
   EXPECT_EQ(supervisor_->stone(*context_), 2);
   EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
   const Eigen::Vector3d foot2 = Foot(x2, left_);
   const Eigen::VectorXd x3 = PreImpactState("left_foot", "right_foot", Eigen::Vector2d(foot2.x(), foot2.z()), 3 * kStep - foot2.x());
   SetInputs(x3, 1);
-  const EventStatus end = RunUpdate();
+  const EventStatus end = RunEventUpdate();
   EXPECT_EQ(end.kind, EventStatus::Kind::kReachedTermination);
   EXPECT_NE(end.message.find("completed 3 steps"), std::string::npos) << end.message;
   EXPECT_EQ(supervisor_->steps(*context_).size(), 3u);
@@ -195,7 +212,7 @@ TEST_F(SupervisorTest, FallAndBadInput) {
   x[1] -= dp.supervisor.walking_com_height_m - params_.min_com_height_m + 0.01;
   SetInputs(x, 0);
   const EventStatus fell = RunUpdate();
-  EXPECT_EQ(fell.kind, EventStatus::Kind::kReachedTermination);
+  EXPECT_EQ(fell.kind, EventStatus::Kind::kFailed);
   EXPECT_NE(fell.message.find("robot fell"), std::string::npos) << fell.message;
   // A stance foot off every stone is rejected with a message naming it.
   Eigen::VectorXd off = SteppingStonesInitialState(*model_, terrain_, dp);

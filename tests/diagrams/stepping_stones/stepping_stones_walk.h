@@ -1,7 +1,8 @@
 #pragma once
 // Shared by the closed-loop stepping-stones tests: runs the example's diagram and checks the paper's claims for
 // periodic footholds (no fall, periodic orbit: post-impact L_y of the last steps within 1 %, Sec. VI-B; L+ near
-// the planner's L_des, Eq. (17)-(18); touchdowns within 2 cm of the stone centres; speed in 0.4-1.6 m/s).
+// the planner's L_des, Eq. (17)-(18); touchdowns within 2 cm of the stone centres; speed in 0.4-1.6 m/s), and the
+// plant's own contact forces over every integrator step (a simulator monitor): F_n ≥ 0 and |F_t| ≤ μ F_n + 1e-6.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
+#include "systems/plants/contact_force_statistics.h"
 
 namespace rome::test {
 
@@ -17,18 +19,26 @@ struct WalkResult {
   std::vector<StepRecord> steps;
   double mean_speed_mps = 0;
   double qp_failures = 0;
+  ContactForceStatistics contact;  ///< the plant's contact forces, after every integrator step and event
+  long touchdowns = 0;             ///< the plant's touchdown events
 };
 
-inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramParams params = {}) {
+inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramParams params = {},
+                       const SteppingStonesControllerFactory& controller = nullptr) {
   params.supervisor.max_steps = steps;
-  SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params);
+  SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller);
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
   sim.Initialize();
+  WalkResult r;
+  sim.set_monitor([&](const Context& c) {
+    r.contact.Record(*d.plant, d.diagram->GetSubsystemContext(*d.plant, c));
+    return EventStatus::Succeeded();
+  });
   const LeafContext& plant_ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
   const double x0 = d.plant->EvalOutput(plant_ctx, "com")[0];
-  WalkResult r;
   r.status = sim.AdvanceTo(3.0 * steps);
+  for (const EventRecord& e : sim.statistics().events) r.touchdowns += e.guard.rfind("touchdown_", 0) == 0 ? 1 : 0;
   r.steps = d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context()));
   r.mean_speed_mps = (d.plant->EvalOutput(plant_ctx, "com")[0] - x0) / sim.get_context().time();
   r.qp_failures = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, sim.get_context()), "qp_failures")[0];
@@ -45,8 +55,17 @@ inline double LastStepsSpeed(const WalkResult& r, int n) {
   return length / duration;
 }
 
+/// The plant's own contact forces stayed unilateral and inside the friction cone over every integrator step.
+inline void ExpectPhysicalContact(const WalkResult& r, const std::string& what) {
+  EXPECT_GT(r.contact.samples, 0) << what;
+  EXPECT_EQ(r.contact.violations, 0) << what << ": first " << r.contact.first_violation;
+  EXPECT_GE(r.contact.min_normal_force_N, 0.0) << what;
+  EXPECT_LE(r.contact.max_cone_excess_N, 1e-6) << what << ": largest |F_t|/F_n " << r.contact.max_friction_ratio;
+}
+
 inline void ExpectPeriodicWalk(const WalkResult& r, int steps, const std::string& what) {
-  ASSERT_EQ(r.status.reason, SimulatorStatus::Reason::kReachedTermination) << what << ": " << r.status.ToString();
+  ASSERT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << what << ": " << r.status.ToString();
+  ExpectPhysicalContact(r, what);
   EXPECT_NE(r.status.message.find("completed"), std::string::npos) << what << ": " << r.status.message;
   ASSERT_EQ(static_cast<int>(r.steps.size()), steps) << what;
   for (size_t k = 0; k < r.steps.size(); ++k) {

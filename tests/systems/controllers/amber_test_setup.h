@@ -1,9 +1,8 @@
 #pragma once
 // Shared AMBER setups for the task-space QP tests and the controllers benchmark: the model, a single-support
-// posture found by Newton iterations (stance foot, COM above it, torso upright, swing foot in the air), and
+// posture found by SolvePose (stance foot, COM above it, torso upright, swing foot in the air), and
 // the paper's output set of Eq. (19) (torso pitch, COM height, swing-foot x and z).
 #include <memory>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -11,6 +10,7 @@
 
 #include "systems/controllers/task_space_tasks.h"
 #include "systems/multibody/contact_dynamics.h"
+#include "systems/multibody/pose_constraints.h"
 
 namespace rome::test {
 
@@ -20,63 +20,26 @@ inline std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot)
 }
 
 /// AMBER standing on its left foot at (0, 0) with the COM straight above it, the torso upright and the right
-/// foot at (swing_x, swing_z). Minimum-norm Newton steps from the nominal pose.
+/// foot at (swing_x, swing_z): SolvePose (minimum-norm Newton steps) from the nominal pose. Joint limits are not
+/// imposed: at the default swing point the stance knee is at -0.333 rad (straightened past 0).
 inline Eigen::VectorXd AmberSingleSupportPose(const MultibodyModel& model, double swing_x = 0.12, double swing_z = 0.08) {
   MultibodyWorkspace ws(model);
-  const int lf = model.ContactIndex("left_foot"), rf = model.ContactIndex("right_foot");
-  const ContactInfo& L = model.contacts()[lf];
-  const ContactInfo& R = model.contacts()[rf];
-  Eigen::VectorXd q = model.q_nominal();
-  Eigen::MatrixXd J3(3, model.nv()), C(6, model.nv());
-  Eigen::VectorXd c(6);
-  for (int it = 0; it < 50; ++it) {
-    const Eigen::Vector3d pl = CalcPointPosition(model, ws, q, L.body, L.frame_origin);
-    const Eigen::Vector3d pr = CalcPointPosition(model, ws, q, R.body, R.frame_origin);
-    const Eigen::Vector3d com = CalcComPosition(model, ws, q);
-    c << pl.x(), pl.z(), com.x() - pl.x(), q[2], pr.x() - swing_x, pr.z() - swing_z;
-    if (c.norm() < 1e-13) return q;
-    CalcPointJacobian(model, ws, q, L.body, L.frame_origin, J3);
-    C.row(0) = J3.row(0);
-    C.row(1) = J3.row(2);
-    C.row(2) = -J3.row(0);
-    CalcComJacobian(model, ws, q, J3);
-    C.row(2) += J3.row(0);
-    C.row(3) = Eigen::RowVectorXd::Unit(model.nv(), 2);
-    CalcPointJacobian(model, ws, q, R.body, R.frame_origin, J3);
-    C.row(4) = J3.row(0);
-    C.row(5) = J3.row(2);
-    q -= C.completeOrthogonalDecomposition().solve(c);
-  }
-  throw std::runtime_error("AmberSingleSupportPose: Newton did not converge, residual " + std::to_string(c.norm()));
+  return SolvePose(model, ws, model.q_nominal(),
+                   {PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0), PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
+                    PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0),  // q[2] = torso pitch
+                    PoseConstraint::ContactPoint(model, "right_foot", 0, swing_x), PoseConstraint::ContactPoint(model, "right_foot", 2, swing_z)},
+                   {.max_iterations = 50, .tolerance = 1e-13});
 }
 
 /// AMBER in double support with the feet `stance_width` apart (left behind, right ahead), the COM midway
-/// between them and the torso upright. Minimum-norm Newton steps from the nominal pose (legs are symmetric).
+/// between them and the torso upright: SolvePose from the nominal pose (legs are symmetric).
 inline Eigen::VectorXd AmberDoubleSupportPose(const MultibodyModel& model, double stance_width = 0.3) {
   MultibodyWorkspace ws(model);
-  const ContactInfo& L = model.contacts()[model.ContactIndex("left_foot")];
-  const ContactInfo& R = model.contacts()[model.ContactIndex("right_foot")];
-  Eigen::VectorXd q = model.q_nominal();
-  Eigen::MatrixXd J3(3, model.nv()), C(6, model.nv());
-  Eigen::VectorXd c(6);
-  for (int it = 0; it < 50; ++it) {
-    const Eigen::Vector3d pl = CalcPointPosition(model, ws, q, L.body, L.frame_origin);
-    const Eigen::Vector3d pr = CalcPointPosition(model, ws, q, R.body, R.frame_origin);
-    const Eigen::Vector3d com = CalcComPosition(model, ws, q);
-    c << pl.x() + stance_width / 2, pl.z(), pr.x() - stance_width / 2, pr.z(), com.x(), q[2];
-    if (c.norm() < 1e-13) return q;
-    CalcPointJacobian(model, ws, q, L.body, L.frame_origin, J3);
-    C.row(0) = J3.row(0);
-    C.row(1) = J3.row(2);
-    CalcPointJacobian(model, ws, q, R.body, R.frame_origin, J3);
-    C.row(2) = J3.row(0);
-    C.row(3) = J3.row(2);
-    CalcComJacobian(model, ws, q, J3);
-    C.row(4) = J3.row(0);
-    C.row(5) = Eigen::RowVectorXd::Unit(model.nv(), 2);
-    q -= C.completeOrthogonalDecomposition().solve(c);
-  }
-  throw std::runtime_error("AmberDoubleSupportPose: Newton did not converge, residual " + std::to_string(c.norm()));
+  return SolvePose(model, ws, model.q_nominal(),
+                   {PoseConstraint::ContactPoint(model, "left_foot", 0, -stance_width / 2), PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
+                    PoseConstraint::ContactPoint(model, "right_foot", 0, stance_width / 2), PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0),
+                    PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0)},
+                   {.max_iterations = 50, .tolerance = 1e-13});
 }
 
 /// The paper's outputs (Eq. (19)): torso pitch, COM height, swing-foot (right foot) x and z; ny = 4.

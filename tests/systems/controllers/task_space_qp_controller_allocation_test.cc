@@ -20,7 +20,7 @@ namespace {
 Eigen::VectorXd FixInputsAndPrime(const TaskSpaceQpController& controller, LeafContext& context, const Eigen::VectorXd& x,
                                   const Eigen::VectorXd& desired) {
   context.FixInputPort(0, x);
-  context.FixInputPort(1, Eigen::VectorXd::Zero(1));
+  context.FixAbstractInputPort(1, std::any(0));
   context.FixInputPort(2, desired);
   Eigen::VectorXd next = context.discrete_state();
   EXPECT_TRUE(controller.periodic_events().at(0).update(context, &next).ok());
@@ -59,8 +59,8 @@ TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
     const bool ds = (tick / 50) % 2 == 1;
     fixed = ds ? x_ds : x_ss;
     fixed[7 + 3] = 0.1 * std::sin(0.1 * tick);  // hip velocity, so J̇q̇ and the PD terms change
-    auto& mode = const_cast<Eigen::VectorXd&>(controller.EvalInput(*context, 1));
-    mode[0] = ds ? 1.0 : 0.0;
+    auto& mode = const_cast<int&>(controller.EvalTypedInput<int>(*context, 1));
+    mode = ds ? 1 : 0;
     context->InvalidateCache();
     g_allocations = 0;
     g_counting = true;

@@ -54,7 +54,7 @@ QpAnswer SolveAndCheck(const TaskSpaceQpController& controller, LeafContext& con
   Eigen::VectorXd x(2 * nv);
   x << q, v;
   context.FixInputPort(0, x);
-  context.FixInputPort(1, Eigen::VectorXd::Constant(1, mode));
+  context.FixAbstractInputPort(1, std::any(static_cast<int>(mode)));
   context.FixInputPort(2, desired);
   const QpStatus status = controller.SolveQp(context);
   const DenseQpSolver& qp = controller.last_qp(context);
@@ -203,7 +203,7 @@ TEST(TaskSpaceQpController, InfeasibleQpHoldsThePreviousTorqueAndCountsTheFailur
     Eigen::VectorXd x(14);
     x << q, v;
     context->FixInputPort(controller.GetInputPortIndex("state"), x);
-    context->FixInputPort(controller.GetInputPortIndex("mode"), Eigen::VectorXd::Zero(1));
+    context->FixAbstractInputPort(controller.GetInputPortIndex("mode"), std::any(0));
     context->FixInputPort(controller.GetInputPortIndex("desired"), Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero()));
     const Eigen::Vector4d u_previous(1.0, -2.0, 3.0, -4.0);
     context->get_mutable_discrete_state().head(4) = u_previous;
@@ -249,7 +249,7 @@ TEST(TaskSpaceQpController, InfeasibleGrfRowsAreRelaxedKeepingDynamicsAndTorqueL
   for (const TaskSpaceQpController* controller : {&relaxing, &reference}) {
     auto context = controller->CreateDefaultLeafContext();
     context->FixInputPort(controller->GetInputPortIndex("state"), x);
-    context->FixInputPort(controller->GetInputPortIndex("mode"), Eigen::VectorXd::Zero(1));
+    context->FixAbstractInputPort(controller->GetInputPortIndex("mode"), std::any(0));
     context->FixInputPort(controller->GetInputPortIndex("desired"), desired);
     Eigen::VectorXd next = context->discrete_state();
     ASSERT_TRUE(controller->periodic_events().at(0).update(*context, &next).ok());
@@ -283,7 +283,7 @@ TEST(TaskSpaceQpController, BadInputsAndParametersAreNamed) {
   EXPECT_EQ(controller.input_port(controller.GetInputPortIndex("desired")).size, 12);
   auto context = controller.CreateDefaultLeafContext();
   context->FixInputPort(0, Stack(model->q_nominal(), Eigen::VectorXd::Zero(7), Eigen::VectorXd(0)));
-  context->FixInputPort(1, Eigen::VectorXd::Constant(1, 3.0));
+  context->FixAbstractInputPort(1, std::any(3));
   context->FixInputPort(2, Eigen::VectorXd::Zero(12));
   Eigen::VectorXd next = context->discrete_state();
   const EventStatus status = controller.periodic_events().at(0).update(*context, &next);
@@ -322,7 +322,7 @@ TEST(TaskSpaceQpController, ZeroTorqueJointOptionPinsTheActuatorInContact) {
   // In flight (mode 1, no contact) the knee is free again.
   Eigen::VectorXd x(14);
   x << q, v;
-  context->FixInputPort(1, Eigen::VectorXd::Constant(1, 1.0));
+  context->FixAbstractInputPort(1, std::any(1));
   ASSERT_EQ(controller.SolveQp(*context), QpStatus::kOptimal);
   EXPECT_GT(std::abs(controller.last_qp(*context).x()[7 + 1]), 1e-3);
 }

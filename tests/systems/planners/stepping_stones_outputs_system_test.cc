@@ -31,7 +31,7 @@ TEST(SteppingStonesOutputsSystem, MatchesThePureMathTrajectories) {
   EXPECT_EQ(SteppingStonesOutputsSystem::PackStepParameters(SteppingStonesOutputsSystem::UnpackStepParameters(
                 SteppingStonesOutputsSystem::PackStepParameters(step))),
             SteppingStonesOutputsSystem::PackStepParameters(step));
-  system.FixInputPort(*context, system.GetInputPortIndex("step_parameters"), SteppingStonesOutputsSystem::PackStepParameters(step));
+  system.FixTypedInputPort(*context, system.GetInputPortIndex("step_parameters"), step);
   system.FixInputPort(*context, system.GetInputPortIndex("com_height_desired"), Eigen::Vector3d(0.9, 0.1, -0.5));
   const SteppingStonesOutputTrajectories reference({}, {}, step);
   const double z0 = 0.8;
@@ -52,12 +52,12 @@ TEST(SteppingStonesOutputsSystem, MatchesThePureMathTrajectories) {
   StepOutputParameters next = step;
   next.step_length = 0.3;
   next.step_height = 0.0;
-  system.FixInputPort(*context, system.GetInputPortIndex("step_parameters"), SteppingStonesOutputsSystem::PackStepParameters(next));
+  system.FixTypedInputPort(*context, system.GetInputPortIndex("step_parameters"), next);
   system.FixInputPort(*context, system.GetInputPortIndex("com_state"), Eigen::Vector4d(0.18, 0.8, 0.9, 0.0));
   EXPECT_NEAR(system.EvalOutput(*context, "y_desired")[2], 0.3, 1e-15);
   // Bad step parameters are named.
   next.step_length = 0.0;
-  system.FixInputPort(*context, system.GetInputPortIndex("step_parameters"), SteppingStonesOutputsSystem::PackStepParameters(next));
+  system.FixTypedInputPort(*context, system.GetInputPortIndex("step_parameters"), next);
   try {
     system.EvalOutput(*context, "y_desired");
     FAIL();
@@ -72,7 +72,7 @@ TEST(SteppingStonesOutputsSystem, TimeBasedPhase) {
   params.phase.type = PhaseType::kTimeBased;
   SteppingStonesOutputsSystem system("outputs", params);
   auto context = system.CreateDefaultLeafContext();
-  system.FixInputPort(*context, system.GetInputPortIndex("step_parameters"), SteppingStonesOutputsSystem::PackStepParameters(Step()));
+  system.FixTypedInputPort(*context, system.GetInputPortIndex("step_parameters"), Step());
   system.FixInputPort(*context, system.GetInputPortIndex("com_height_desired"), Eigen::Vector3d(0.9, 0.0, 0.0));
   system.FixInputPort(*context, system.GetInputPortIndex("com_state"), Eigen::Vector4d(0.0, 0.8, 0.9, 0.0));
   context->SetTime(2.1);

@@ -13,7 +13,7 @@ namespace rome {
 namespace {
 
 TEST(LinearInvertedPendulum, LambdaMatchesClosedForm) {
-  // Reference value from robots.md: z0 = 0.75 m gives λ = 3.6166 1/s; z0 = 0.34 m gives 5.3715.
+  // Reference values λ = sqrt(g/z0), g = 9.81, to 4 decimals: z0 = 0.75 m gives 3.6166 1/s; z0 = 0.34 m gives 5.3715.
   EXPECT_NEAR(LinearInvertedPendulum({.z0 = 0.75}).lambda(), 3.6166, 5e-5);
   EXPECT_NEAR(LinearInvertedPendulum({.z0 = 0.34}).lambda(), 5.3715, 5e-5);
   const LinearInvertedPendulum lip({.z0 = 0.8, .gravity = 9.81});

@@ -1,0 +1,39 @@
+#include "systems/planners/stepping_stones_output_adapter.h"
+
+namespace rome {
+
+std::vector<std::string> SteppingStonesOutputAdapter::TaskRowNames() {
+  return {"torso_pitch", "com_z", "left_foot_x", "left_foot_z", "right_foot_x", "right_foot_z"};
+}
+
+SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name) : LeafSystem(std::move(name)) {
+  const std::vector<std::string> y_names{"torso_pitch", "com_z", "swing_x", "swing_z"};
+  DeclareInputPort("y_desired", y_names);
+  DeclareInputPort("ydot_desired", y_names);
+  DeclareInputPort("yddot_desired", y_names);
+  DeclareInputPort("stance_foot", {"x", "z"});
+  DeclareTypedInputPort<int>("mode");
+  std::vector<std::string> names;
+  for (const char* prefix : {"", "d_", "dd_"})
+    for (const std::string& n : TaskRowNames()) names.push_back(prefix + n);
+  DeclareOutputPort("desired", names, [this](const LeafContext& c, Eigen::VectorXd* out) {
+    const Eigen::VectorXd& stance = EvalInput(c, 3);
+    const int mode = EvalTypedInput<int>(c, 4);
+    // Left stance: the right foot's rows (4, 5) swing; right stance: the left foot's (2, 3); flight: none.
+    const int swing_offset = mode == 0 ? 4 : mode == 1 ? 2 : -1;
+    out->setZero();
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::VectorXd& y = EvalInput(c, k);
+      const double shift_x = k == 0 ? stance[0] : 0.0, shift_z = k == 0 ? stance[1] : 0.0;
+      auto seg = out->segment(k * kNumTaskRows, kNumTaskRows);
+      seg[0] = y[0];
+      seg[1] = y[1] + shift_z;
+      if (swing_offset >= 0) {
+        seg[swing_offset] = y[2] + shift_x;
+        seg[swing_offset + 1] = y[3] + shift_z;
+      }
+    }
+  });
+}
+
+}  // namespace rome
