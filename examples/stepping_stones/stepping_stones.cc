@@ -51,6 +51,12 @@ Terrain MakeTerrain(const examples::CommandLine& cli, int steps) {
   return Terrain::FromCsv(kind, stone_length);
 }
 
+/// The controller block's C++ class without its namespace, e.g. "TaskSpaceQpController".
+std::string ControllerKind(const System& controller) {
+  const std::string type = DemangledTypeName(typeid(controller));
+  return type.substr(type.rfind(':') + 1);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -185,7 +191,7 @@ int main(int argc, char** argv) {
                             static_cast<int>(d.mpc->EvalOutput(mpc_ctx, "qp_failures")[0]);
     nlohmann::json summary = {{"success", success},
                               {"status_kind", status.kind_name()},
-                              {"controller", d.controller->name()},
+                              {"controller", ControllerKind(*d.controller)},
                               {"steps_completed", recs.size()},
                               {"fell", fell},
                               {"fall_reason", fell ? status.message : ""},
@@ -295,7 +301,7 @@ int main(int argc, char** argv) {
     std::cout << "\n"
               << status.ToString() << "\n"
               << recs.size() << " of " << steps << " steps" << (fell ? " (fell)" : "") << ", " << sim_time << " s simulated in " << wall
-              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time), controller '" << d.controller->name() << "'\n"
+              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time), controller " << ControllerKind(*d.controller) << "\n"
               << "mean forward speed " << summary["mean_forward_speed_mps"].get<double>() << " m/s, largest foothold error " << max_foothold * 100
               << " cm, QP failures " << qp_failures << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
               << "plant contact forces: min stance F_n " << summary["min_stance_normal_force_N"].get<double>() << " N, max |F_t|/F_n "
