@@ -1,0 +1,531 @@
+#include "systems/controllers/clf_qp_controller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+
+#include "solvers/riccati/rapidly_exponentially_stabilizing_clf.h"
+#include "systems/multibody/multibody_dynamics.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/multibody/multibody_workspace.h"
+
+namespace rome {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Relative-degree-one outputs
+
+RelativeDegreeOneOutput::RelativeDegreeOneOutput(std::string name, int size, double weight, std::vector<int> active_modes)
+    : name_(std::move(name)), size_(size), weight_(weight), active_modes_(std::move(active_modes)) {
+  if (size_ <= 0) throw std::invalid_argument("output '" + name_ + "': size must be positive, got " + std::to_string(size_));
+  if (!(weight_ > 0) || !std::isfinite(weight_)) throw std::invalid_argument("output '" + name_ + "': weight must be positive, got " + std::to_string(weight_));
+}
+
+bool RelativeDegreeOneOutput::IsActiveIn(int mode) const {
+  return active_modes_.empty() || std::find(active_modes_.begin(), active_modes_.end(), mode) != active_modes_.end();
+}
+
+CentroidalPitchMomentumOutput::CentroidalPitchMomentumOutput(std::string name, double weight, std::vector<int> active_modes)
+    : RelativeDegreeOneOutput(std::move(name), 1, weight, std::move(active_modes)) {}
+
+void CentroidalPitchMomentumOutput::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                                         Eigen::Ref<Eigen::VectorXd> y1, Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const {
+  // A_G rows: [angular about the COM (x, y, z); linear]; the pitch row is the angular y row (Eq. (39)).
+  CalcCentroidalMomentumMatrix(model, ws, q, ws.J_point);
+  A = ws.J_point.row(1);
+  y1[0] = ws.J_point.row(1).dot(v);
+  Adot_v[0] = CalcCentroidalMomentumBias(model, ws, q, v)[1];
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Controller
+
+struct ClfQpController::Scratch {
+  struct ModeQp {
+    ModeQp(int n, int n_eq, int n_ineq, const QpSettings& settings) : qp(n, n_eq, n_ineq, settings) {}
+    ContactSet active = 0;
+    int rows = 0;  // constraint force rows: active contacts, then loop closures
+    std::vector<ContactWrenchConstraints> wrench;
+    std::vector<int> force_offset, ineq_offset;
+    int band_offset = -1;
+    std::vector<int> rd1, rd2;  // active outputs
+    int o1 = 0, o2 = 0, nout = 0, nx = 0, delta = 0;
+    std::vector<int> zero_u;
+    DenseQpSolver qp;
+    Eigen::LLT<Eigen::MatrixXd> llt;
+    Eigen::MatrixXd MinvJT, Lambda, Av, JMinvB, Q, Aout, WAout, Gc;
+    Eigen::VectorXd bv, stab, Lf, w, eta, Peta, LGV, clf_row, lc, uc, F;
+  };
+  explicit Scratch(const MultibodyModel& model) : ws(model) {}
+  MultibodyWorkspace ws;
+  std::vector<ModeQp> modes;
+  Eigen::MatrixXd MinvB, Jy, JyMinvB;
+  Eigen::VectorXd rhs_free, minv_rhs, qdd0, y, Jdv;
+  int last_mode = 0;
+};
+
+ClfQpController::ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
+                                 std::vector<ClfOutput> outputs, ClfQpParams params)
+    : LeafSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), outputs_(std::move(outputs)), params_(std::move(params)) {
+  if (!model_) ThrowError("null MultibodyModel");
+  const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
+  if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
+  auto positive = [&](double value, const char* what) {
+    if (!(value > 0.0) || !std::isfinite(value)) ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be positive and finite");
+  };
+  positive(params_.update_period_s, "update_period_s");
+  positive(params_.epsilon, "epsilon");
+  positive(params_.relaxation_weight, "relaxation_weight");
+  if (!(params_.u_regularization >= 0.0)) ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
+  if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
+    ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
+  if (!(params_.contact.friction_margin > 0.0 && params_.contact.friction_margin <= 1.0))
+    ThrowError("params.contact.friction_margin = " + std::to_string(params_.contact.friction_margin) + " must be in (0, 1]");
+  for (size_t i = 0; i < outputs_.size(); ++i) {
+    const ClfOutput& o = outputs_[i];
+    if (!o.rd1 == !o.rd2) ThrowError("output " + std::to_string(i) + " must be exactly one of a relative-degree-1 and a relative-degree-2 output");
+    offsets_.push_back(ny_);
+    ny_ += o.size();
+    const std::vector<int>& modes = o.rd2 ? o.rd2->active_modes() : o.rd1->active_modes();
+    for (int m : modes)
+      if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
+        ThrowError("output '" + o.name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
+  }
+  u_max_ = params_.torque_limits.size() == 0 ? model_->torque_limits() : params_.torque_limits;
+  if (u_max_.size() != nu) ThrowError("params.torque_limits has size " + std::to_string(u_max_.size()) + "; robot '" + model_->name() + "' has nu = " + std::to_string(nu));
+  zero_torque_.resize(mode_contacts_.size());
+  for (const auto& [contact, joint] : params_.zero_torque_in_contact) {
+    int c = -1;
+    try {
+      c = model_->ContactIndex(contact);
+    } catch (const std::exception&) {
+      ThrowError("params.zero_torque_in_contact names contact '" + contact + "', which robot '" + model_->name() + "' does not have");
+    }
+    int actuator = -1;
+    for (int j = 0; j < nu; ++j)
+      if (model_->actuators()[j].joint == joint) actuator = j;
+    if (actuator < 0) ThrowError("params.zero_torque_in_contact names joint '" + joint + "', which is not an actuated joint of robot '" + model_->name() + "'");
+    for (size_t m = 0; m < mode_contacts_.size(); ++m)
+      if (mode_contacts_[m] & ContactBit(c)) zero_torque_[m].push_back(actuator);
+  }
+  // RES-CLF of every mode (Eq. (26)-(30)), Q = I.
+  for (size_t m = 0; m < mode_contacts_.size(); ++m) {
+    try {
+      CountConstraintRows(*model_, mode_contacts_[m]);
+      for (int c = 0; c < nc; ++c)
+        if (mode_contacts_[m] & ContactBit(c)) ContactWrenchConstraints(*model_, c, params_.contact, this->name());
+    } catch (const std::invalid_argument& e) {
+      ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what());
+    }
+    int o1 = 0, o2 = 0;
+    for (const ClfOutput& o : outputs_)
+      if (o.IsActiveIn(static_cast<int>(m))) (o.rd1 ? o1 : o2) += o.size();
+    ModeClf clf;
+    if (o1 + o2 > 0) {
+      MakeOutputDynamics(o1, o2, &clf.F, &clf.G);
+      RapidlyExponentiallyStabilizingClfParameters p;
+      p.num_relative_degree_one_outputs = o1;
+      p.num_relative_degree_two_outputs = o2;
+      p.epsilon = params_.epsilon;
+      const int n_eta = o1 + 2 * o2;
+      const RapidlyExponentiallyStabilizingClf res = ComputeRapidlyExponentiallyStabilizingClf(clf.F, clf.G, Eigen::MatrixXd::Identity(n_eta, n_eta), p);
+      clf.P_epsilon = res.P_epsilon;
+      clf.convergence_rate = params_.gamma > 0.0 ? params_.gamma / params_.epsilon : res.convergence_rate;
+    }
+    clf_.push_back(std::move(clf));
+  }
+
+  state_port_ = DeclareInputPort("state", 2 * nv);
+  mode_port_ = DeclareTypedInputPort<int>("mode");
+  desired_port_ = DeclareInputPort("desired", 3 * ny_);
+  if (params_.force_band) force_ref_port_ = DeclareInputPort("normal_force_reference", nc);
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(fallbacks_offset() + 3);
+  xd0[status_offset()] = -1;  // no QP solved yet
+  DeclareDiscreteState(xd0);
+  DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
+  DeclareOutputPort("contact_forces", 3 * nc, [this, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(forces_offset(), 3 * nc); },
+                    Feedthrough::None());
+  DeclareOutputPort("V", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[V_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[delta_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("qp_failures", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[failures_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("fallbacks", {"band_dropped", "cop_dropped", "held"},
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(fallbacks_offset()); }, Feedthrough::None());
+  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
+  if (params_.resolve_at_events)
+    DeclareEventUpdate("resolve_qp", params_.resolve_at,
+                       [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
+}
+
+std::any ClfQpController::AllocateScratch() const {
+  const MultibodyModel& model = *model_;
+  const int nv = model.nv(), nu = model.nu();
+  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+  Scratch s(model);
+  s.MinvB.setZero(nv, nu);
+  s.Jy.setZero(std::max(ny_, 1), nv);
+  s.JyMinvB.setZero(std::max(ny_, 1), nu);
+  s.rhs_free.setZero(nv);
+  s.minv_rhs.setZero(nv);
+  s.qdd0.setZero(nv);
+  s.y.setZero(std::max(ny_, 1));
+  s.Jdv.setZero(std::max(ny_, 1));
+  s.modes.reserve(mode_contacts_.size());
+  for (size_t m = 0; m < mode_contacts_.size(); ++m) {
+    const ContactSet active = mode_contacts_[m];
+    const int rows = CountConstraintRows(model, active);
+    std::vector<ContactWrenchConstraints> wrench;
+    std::vector<int> force_offset, ineq_offset;
+    int f = 0, ineq = 1;  // row 0: the CLF row
+    int max_wrench_rows = 0, max_force_rows = 0;
+    for (int c = 0; c < model.num_contacts(); ++c) {
+      if (!(active & ContactBit(c))) continue;
+      wrench.emplace_back(model, c, params_.contact, name());
+      force_offset.push_back(f);
+      ineq_offset.push_back(ineq);
+      f += wrench.back().num_force_rows();
+      ineq += wrench.back().num_rows();
+      max_wrench_rows = std::max(max_wrench_rows, wrench.back().num_rows());
+      max_force_rows = std::max(max_force_rows, wrench.back().num_force_rows());
+    }
+    const int band_offset = params_.force_band ? ineq : -1;
+    if (params_.force_band) ineq += static_cast<int>(wrench.size());
+    const int nx = nu + (augmented ? rows : 0) + 1;
+    Scratch::ModeQp mq(nx, augmented ? rows : 0, ineq, params_.qp);
+    mq.active = active;
+    mq.rows = rows;
+    mq.wrench = std::move(wrench);
+    mq.force_offset = std::move(force_offset);
+    mq.ineq_offset = std::move(ineq_offset);
+    mq.band_offset = band_offset;
+    mq.nx = nx;
+    mq.delta = nx - 1;
+    mq.zero_u = zero_torque_[m];
+    for (size_t i = 0; i < outputs_.size(); ++i)
+      if (outputs_[i].IsActiveIn(static_cast<int>(m))) {
+        if (outputs_[i].rd1) {
+          mq.rd1.push_back(static_cast<int>(i));
+          mq.o1 += outputs_[i].size();
+        } else {
+          mq.rd2.push_back(static_cast<int>(i));
+          mq.o2 += outputs_[i].size();
+        }
+      }
+    mq.nout = mq.o1 + mq.o2;
+    mq.llt = Eigen::LLT<Eigen::MatrixXd>(rows);
+    mq.MinvJT.setZero(nv, rows);
+    mq.Lambda.setZero(rows, rows);
+    mq.Av.setZero(rows, nu);
+    mq.JMinvB.setZero(rows, nu);
+    mq.Q.setZero(nv, nu);
+    mq.bv.setZero(rows);
+    mq.stab.setZero(rows);
+    mq.F.setZero(std::max(rows, 1));
+    mq.Aout.setZero(mq.nout, nx);
+    mq.WAout.setZero(mq.nout, nx);
+    mq.Lf.setZero(mq.nout);
+    mq.w.setZero(mq.nout);
+    mq.eta.setZero(mq.o1 + 2 * mq.o2);
+    mq.Peta.setZero(mq.o1 + 2 * mq.o2);
+    mq.LGV.setZero(mq.nout);
+    mq.clf_row.setZero(nx);
+    mq.Gc.setZero(std::max(max_wrench_rows, 1), std::max(max_force_rows, 1));
+    mq.lc.setZero(std::max(max_wrench_rows, 1));
+    mq.uc.setZero(std::max(max_wrench_rows, 1));
+    // Constant data: torque bounds, δ ≥ 0 (F free).
+    DenseQpSolver& qp = mq.qp;
+    for (int j = 0; j < nu; ++j) qp.lb[j] = -u_max_[j], qp.ub[j] = u_max_[j];
+    for (int j : mq.zero_u) qp.lb[j] = qp.ub[j] = 0.0;
+    qp.lb[mq.delta] = 0.0;
+    qp.l[0] = -kInf;
+    s.modes.push_back(std::move(mq));
+  }
+  return s;
+}
+
+int ClfQpController::ModeFromInput(const LeafContext& context) const {
+  const int mode = EvalTypedInput<int>(context, mode_port_);
+  if (mode < 0 || mode >= static_cast<int>(mode_contacts_.size()))
+    throw std::runtime_error("system '" + name() + "': input port 'mode' has value " + std::to_string(mode) + "; expected a mode index in [0, " +
+                             std::to_string(mode_contacts_.size()) + ")");
+  return mode;
+}
+
+QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
+  const MultibodyModel& model = *model_;
+  const int nv = model.nv(), nu = model.nu();
+  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+  const int mode = ModeFromInput(context);
+  Scratch& s = context.scratch<Scratch>();
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  s.last_mode = mode;
+  MultibodyWorkspace& ws = s.ws;
+  const Eigen::VectorXd& x = EvalInput(context, state_port_);
+  const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
+  if (!x.allFinite()) throw std::runtime_error("system '" + name() + "': input port 'state' is not finite");
+  const auto q = x.head(nv);
+  const auto v = x.tail(nv);
+  const double alpha = params_.contact_stabilization.baumgarte_alpha_per_s, beta = params_.contact_stabilization.baumgarte_beta_per_s;
+
+  // Free dynamics: M q̈ = τ_s − h + B u + Jᵀ F.
+  s.rhs_free = CalcSpringTorques(model, ws, q, v) - CalcBiasForces(model, ws, q, v);
+  s.minv_rhs = s.rhs_free;
+  SolveMassMatrix(model, ws, q, Eigen::Map<Eigen::MatrixXd>(s.minv_rhs.data(), nv, 1));
+  s.MinvB = model.B();
+  SolveMassMatrix(model, ws, q, s.MinvB);
+  const int rows = CalcConstraintJacobian(model, ws, q, v, mq.active);
+  s.qdd0 = s.minv_rhs;
+  if (rows > 0) {
+    const auto J = ws.J.topRows(rows);
+    mq.MinvJT = J.transpose();
+    SolveMassMatrix(model, ws, q, mq.MinvJT);
+    mq.Lambda.noalias() = J.lazyProduct(mq.MinvJT);
+    mq.JMinvB.noalias() = J.lazyProduct(s.MinvB);
+    // J q̈ + J̇ q̇ + 2α J q̇ + β² φ = 0  ⇔  Λ F + J M⁻¹ B u = −(J M⁻¹ (τ_s − h) + J̇ q̇ + 2α J q̇ + β² φ).
+    mq.stab = ws.Jdot_qdot.head(rows) + (beta * beta) * ws.phi.head(rows);
+    mq.stab.noalias() += (2.0 * alpha) * (J * v);
+    mq.stab.noalias() += J * s.minv_rhs;
+    if (augmented) {
+      qp.A_eq.leftCols(nu) = mq.JMinvB;
+      qp.A_eq.middleCols(nu, rows) = mq.Lambda;
+      qp.b_eq = -mq.stab;
+    } else {
+      mq.llt.compute(mq.Lambda);
+      if (mq.llt.info() != Eigen::Success) return QpStatus::kInvalidInput;
+      mq.Av = -mq.JMinvB;
+      mq.llt.solveInPlace(mq.Av);  // A_v = −Λ⁻¹ J M⁻¹ B (Eq. (21))
+      mq.bv = -mq.stab;
+      mq.llt.solveInPlace(mq.bv);  // b_v (Eq. (22))
+      mq.Q = s.MinvB;
+      mq.Q.noalias() += mq.MinvJT.lazyProduct(mq.Av);
+      s.qdd0.noalias() += mq.MinvJT * mq.bv;
+    }
+  } else {
+    mq.Q = s.MinvB;
+  }
+  // q̈ = q̈0 + Qu u (+ M⁻¹ Jᵀ F when augmented).
+  const Eigen::MatrixXd& Qu = augmented ? s.MinvB : mq.Q;
+
+  // Outputs: μ rows [RD1; RD2] = Aout x + L_f; η = [y1; y2; ẏ2] errors.
+  int r = 0;
+  int e = 0;
+  double reg_scale = 0.0;
+  auto add_rows = [&](int off, int n, double weight, const Eigen::Ref<const Eigen::VectorXd>& target) {
+    const auto Jrows = s.Jy.middleRows(off, n);
+    mq.Aout.block(r, 0, n, nu).noalias() = Jrows.lazyProduct(Qu);
+    if (augmented && rows > 0) mq.Aout.block(r, nu, n, rows).noalias() = Jrows.lazyProduct(mq.MinvJT);
+    mq.Lf.segment(r, n).noalias() = Jrows * s.qdd0;
+    mq.Lf.segment(r, n) += s.Jdv.segment(off, n) - target;
+    mq.w.segment(r, n).setConstant(weight);
+    // Curvature scale of the regularisation from J_y M⁻¹ B (the same in both formulations).
+    s.JyMinvB.topRows(n).noalias() = Jrows.lazyProduct(s.MinvB);
+    reg_scale = std::max(reg_scale, weight * s.JyMinvB.topRows(n).colwise().squaredNorm().maxCoeff());
+    r += n;
+  };
+  for (int i : mq.rd1) {
+    const ClfOutput& o = outputs_[i];
+    const int off = offsets_[i], n = o.size();
+    o.rd1->Calc(model, ws, q, v, s.y.segment(off, n), s.Jy.middleRows(off, n), s.Jdv.segment(off, n));
+    mq.eta.segment(e, n) = s.y.segment(off, n) - desired.segment(off, n);
+    e += n;
+    add_rows(off, n, o.weight(), desired.segment(ny_ + off, n));
+  }
+  for (int i : mq.rd2) {
+    const ClfOutput& o = outputs_[i];
+    const int off = offsets_[i], n = o.size();
+    o.rd2->Calc(model, ws, q, v, s.y.segment(off, n), s.Jy.middleRows(off, n), s.Jdv.segment(off, n));
+    mq.eta.segment(e, n) = s.y.segment(off, n) - desired.segment(off, n);
+    mq.eta.segment(e + mq.o2, n).noalias() = s.Jy.middleRows(off, n) * v;
+    mq.eta.segment(e + mq.o2, n) -= desired.segment(ny_ + off, n);
+    e += n;
+    add_rows(off, n, o.weight(), desired.segment(2 * ny_ + off, n));
+  }
+
+  // Cost ½||W^½(Aout x + L_f)||² + ½ ρ s ||u||² + ½ p δ².
+  qp.H.setZero();
+  qp.g.setZero();
+  if (mq.nout > 0) {
+    mq.WAout.noalias() = mq.w.asDiagonal() * mq.Aout;
+    qp.H.noalias() = mq.Aout.transpose().lazyProduct(mq.WAout);
+    qp.g.noalias() = mq.WAout.transpose() * mq.Lf;
+  }
+  const double scale = reg_scale > 0.0 ? reg_scale : 1.0;
+  qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
+  // δ enters as δ' = √p δ, so that ½ p δ² = ½ δ'² keeps H well scaled (DenseQpSolver's pivot test is relative).
+  qp.H(mq.delta, mq.delta) = 1.0;
+  if (augmented && rows > 0) {
+    // ½ ρ ||A_eq x − b_eq||²: zero on the feasible set, so the optimum is unchanged, but it gives H curvature along F
+    // (the output cost sees F only through the outputs), so H is positive definite and needs no proximal iterations.
+    const double rho = scale / std::max(mq.Lambda.diagonal().maxCoeff() * mq.Lambda.diagonal().maxCoeff(), 1e-300);
+    qp.H.topLeftCorner(nu + rows, nu + rows).noalias() += rho * qp.A_eq.leftCols(nu + rows).transpose().lazyProduct(qp.A_eq.leftCols(nu + rows));
+    qp.g.head(nu + rows).noalias() -= rho * (qp.A_eq.leftCols(nu + rows).transpose() * qp.b_eq);
+  }
+
+  // CLF row (Eq. (36)-(37)): L_G V Aout x − δ ≤ −(γ/ε) V − L_F V − L_G V L_f, normalised.
+  if (mq.nout > 0) {
+    const ModeClf& clf = clf_[mode];
+    mq.Peta.noalias() = clf.P_epsilon * mq.eta;
+    const double V = mq.eta.dot(mq.Peta);
+    // L_F V = 2 ηᵀ P_ε F η; F η moves ẏ2 into the y2 slots.
+    const double LFV = 2.0 * mq.Peta.segment(mq.o1, mq.o2).dot(mq.eta.tail(mq.o2));
+    // L_G V = 2 ηᵀ P_ε G: G picks the y1 and ẏ2 slots.
+    mq.LGV.head(mq.o1) = 2.0 * mq.Peta.head(mq.o1);
+    mq.LGV.tail(mq.o2) = 2.0 * mq.Peta.tail(mq.o2);
+    mq.clf_row.noalias() = mq.Aout.transpose() * mq.LGV;
+    mq.clf_row[mq.delta] = -1.0 / std::sqrt(params_.relaxation_weight);
+    const double rhs = -clf.convergence_rate * V - LFV - mq.LGV.dot(mq.Lf);
+    const double norm = 1.0 + mq.clf_row.head(mq.delta).norm();
+    qp.A.row(0) = mq.clf_row.transpose() / norm;
+    qp.u[0] = rhs / norm;
+  } else {
+    qp.A.row(0).setZero();
+    qp.u[0] = kInf;
+  }
+
+  // Contact-wrench rows of each active contact, and the force band.
+  const Eigen::VectorXd* force_ref = params_.force_band ? &EvalInput(context, force_ref_port_) : nullptr;
+  for (size_t k = 0; k < mq.wrench.size(); ++k) {
+    const ContactWrenchConstraints& cw = mq.wrench[k];
+    const int nr = cw.num_rows(), nf = cw.num_force_rows(), fo = mq.force_offset[k], io = mq.ineq_offset[k];
+    auto G = mq.Gc.topLeftCorner(nr, nf);
+    cw.Fill(model, ws, q, G, mq.lc.head(nr), mq.uc.head(nr));
+    auto A = qp.A.middleRows(io, nr);
+    A.setZero();
+    if (augmented) {
+      A.middleCols(nu + fo, nf) = G;
+      qp.l.segment(io, nr) = mq.lc.head(nr);
+      qp.u.segment(io, nr) = mq.uc.head(nr);
+    } else {
+      A.leftCols(nu).noalias() = G.lazyProduct(mq.Av.middleRows(fo, nf));
+      for (int i = 0; i < nr; ++i) {
+        const double shift = G.row(i).dot(mq.bv.segment(fo, nf));
+        qp.l[io + i] = mq.lc[i] - shift;
+        qp.u[io + i] = mq.uc[i] - shift;
+      }
+    }
+    if (force_ref != nullptr) {
+      const int br = mq.band_offset + static_cast<int>(k);
+      const int fz = fo + cw.normal_index();
+      const double f_ref = std::max((*force_ref)[cw.contact()], 0.0);
+      const double c = params_.force_band_halfwidth;
+      qp.A.row(br).setZero();
+      double shift = 0.0;
+      if (augmented) {
+        qp.A(br, nu + fz) = 1.0;
+      } else {
+        qp.A.row(br).head(nu) = mq.Av.row(fz);
+        shift = mq.bv[fz];
+      }
+      qp.l[br] = (1.0 - c) * f_ref - shift;
+      qp.u[br] = (1.0 + c) * f_ref - shift;
+    }
+  }
+  const QpStatus status = qp.Solve();
+  if (status == QpStatus::kOptimal) {
+    // Planned constraint forces.
+    if (rows > 0) {
+      if (augmented) {
+        mq.F.head(rows) = qp.x().segment(nu, rows);
+      } else {
+        mq.F.head(rows) = mq.bv;
+        mq.F.head(rows).noalias() += mq.Av * qp.x().head(nu);
+      }
+    }
+  }
+  return status;
+}
+
+void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool cop) const {
+  Scratch& s = context.scratch<Scratch>();
+  Scratch::ModeQp& mq = s.modes[s.last_mode];
+  DenseQpSolver& qp = mq.qp;
+  if (!band && mq.band_offset >= 0)
+    for (size_t k = 0; k < mq.wrench.size(); ++k) qp.l[mq.band_offset + k] = -kInf, qp.u[mq.band_offset + k] = kInf;
+  if (!cop)
+    for (size_t k = 0; k < mq.wrench.size(); ++k)
+      for (int i = 0; i < mq.wrench[k].num_rows(); ++i)
+        if (mq.wrench[k].kind(i) == ContactWrenchConstraints::RowKind::kCenterOfPressure)
+          qp.l[mq.ineq_offset[k] + i] = -kInf, qp.u[mq.ineq_offset[k] + i] = kInf;
+}
+
+EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
+  const int nu = model_->nu(), nc = model_->num_contacts();
+  QpStatus status;
+  try {
+    status = SolveQp(context);
+  } catch (const std::exception& e) {
+    return EventStatus::Failed(e.what());
+  }
+  Scratch& s = context.scratch<Scratch>();
+  Scratch::ModeQp& mq = s.modes[s.last_mode];
+  if (status != QpStatus::kOptimal && status != QpStatus::kInvalidInput) {
+    (*next)[failures_offset()] += 1.0;
+    // Fallback 1: drop the force band; 2: also drop the CoP rows (each counted); else hold the previous u.
+    if (mq.band_offset >= 0) {
+      SetRowsEnabled(context, false, true);
+      status = mq.qp.Solve();
+      (*next)[fallbacks_offset()] += 1.0;
+    }
+    if (status != QpStatus::kOptimal) {
+      SetRowsEnabled(context, false, false);
+      status = mq.qp.Solve();
+      (*next)[fallbacks_offset() + 1] += 1.0;
+    }
+    if (status == QpStatus::kOptimal && mq.rows > 0) {
+      if (params_.formulation == ClfQpFormulation::kAugmentedInput) {
+        mq.F.head(mq.rows) = mq.qp.x().segment(nu, mq.rows);
+      } else {
+        mq.F.head(mq.rows) = mq.bv;
+        mq.F.head(mq.rows).noalias() += mq.Av * mq.qp.x().head(nu);
+      }
+    }
+  }
+  (*next)[status_offset()] = static_cast<double>(status);
+  if (status != QpStatus::kOptimal) {
+    (*next)[fallbacks_offset() + 2] += 1.0;
+    if (status == QpStatus::kInvalidInput) (*next)[failures_offset()] += 1.0;
+    return EventStatus::Succeeded();  // hold the previous u
+  }
+  const Eigen::VectorXd& x = mq.qp.x();
+  next->segment(u_offset(), nu) = x.head(nu);
+  (*next)[delta_offset()] = x[mq.delta] / std::sqrt(params_.relaxation_weight);
+  (*next)[V_offset()] = mq.eta.size() > 0 ? mq.eta.dot(mq.Peta) : 0.0;
+  auto forces = next->segment(forces_offset(), 3 * nc);
+  forces.setZero();
+  const auto q = EvalInput(context, state_port_).head(model_->nv());
+  for (const ContactWrenchConstraints& cw : mq.wrench)
+    forces.segment<3>(3 * cw.contact()) = ExtractContactWrench(*model_, s.ws, q, mq.active, mq.F.head(std::max(mq.rows, 1)), cw.contact()).force;
+  return EventStatus::Succeeded();
+}
+
+const DenseQpSolver& ClfQpController::last_qp(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.modes[s.last_mode].qp;
+}
+int ClfQpController::last_mode(const LeafContext& context) const { return context.scratch<Scratch>().last_mode; }
+const Eigen::VectorXd& ClfQpController::last_eta(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.modes[s.last_mode].eta;
+}
+Eigen::Ref<const Eigen::MatrixXd> ClfQpController::last_output_matrix(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.modes[s.last_mode].Aout;
+}
+Eigen::Ref<const Eigen::VectorXd> ClfQpController::last_output_drift(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.modes[s.last_mode].Lf;
+}
+Eigen::Ref<const Eigen::VectorXd> ClfQpController::last_constraint_forces(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  const auto& mq = s.modes[s.last_mode];
+  return mq.F.head(mq.rows);
+}
+
+}  // namespace rome

@@ -1,0 +1,185 @@
+#pragma once
+// ClfQpController: a CLF-QP controller block configured by data (hopping paper Eq. (22)-(37), (45)-(51); walking paper
+// Eq. (18)-(25)). One block serves AMBER, planar Cassie, the exoskeleton and Cassie: the robot, its contact modes and
+// its outputs are arguments, not subclasses.
+//
+// inputs:  state (2 nv)                [q; v] of the plant (HybridContactPlant "state")
+//          mode (int, typed)           the plant's contact mode (an index into mode_contacts)
+//          desired (3 ny)              [y_d; ẏ_d; ÿ_d], ny = Σ output sizes, outputs in construction order. For a
+//                                      relative-degree-2 output the three thirds hold y_d (m, rad), ẏ_d, ÿ_d; for a
+//                                      relative-degree-1 output y_d holds y1_d (its own unit, e.g. N m s), ẏ_d holds
+//                                      ẏ1_d and ÿ_d is unused. Rows of outputs inactive in the current mode are ignored.
+//          normal_force_reference (nc) [N] only with params.force_band: the reference normal force of each contact
+//                                      (walking paper Eq. (25); e.g. the aSLIP's leg force); inactive contacts ignored
+// outputs: u (nu)                      actuator torques [N m], zero-order held between updates (no feedthrough)
+//          contact_forces (3 nc)       the QP's planned ground force on each contact [N], world axes
+//          V (1)                       V_ε(η) at the last update [-]
+//          delta (1)                   the CLF relaxation δ of the last update
+//          qp_failures (1)             updates whose first QP failed (each then took a fallback below)
+//          qp_status (1)               QpStatus of the last update's final solve (0 = kOptimal)
+//          fallbacks (3)               [band_dropped, cop_dropped, held]: how many updates used each fallback
+// discrete state: [u; contact_forces; V; δ; qp_failures; qp_status; fallbacks (3)]. Updated periodically
+// (params.update_period_s) and by an event update at the guard events params.resolve_at selects (default: every
+// guard event), so the new contact mode's torque acts from the event instant on.
+//
+// Output dynamics (Eq. (24)): μ = [ẏ1 − ẏ1_d; ÿ2 − ÿ2_d] = 𝒜 x + L_f, affine in the decision variables x.
+// RES-CLF (Eq. (26)-(33)): η = [y1 − y1_d; y2 − y2_d; ẏ2 − ẏ2_d] over the outputs active in the mode,
+// F, G of Eq. (26), P from the CARE Fᵀ P + P F − P G Gᵀ P + Q = 0 (Q = I), V = ηᵀ P_ε η, P_ε = I_ε P I_ε,
+// γ = λ_min(Q)/λ_max(P) (params.gamma > 0 overrides). CLF row (Eq. (36)-(37)):
+//   L_G V 𝒜 x ≤ −(γ/ε) V − L_F V − L_G V L_f + δ,   normalised by 1 + ||L_G V 𝒜||.
+// QP:  minimise  ½ ||W (𝒜 x + L_f)||² + ½ ρ_u s ||u||² + ½ p δ²     (s: largest diagonal of 𝒜ᵀW𝒜 on u)
+//      subject to the CLF row, the contact-wrench rows of every active contact (contact_wrench_constraints.h),
+//      the force band (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref (optional), torque limits, δ ≥ 0.
+// Two formulations (params.formulation), the same QP in two coordinates, so they give the same torques:
+//   kEliminateContactForces (walking Eq. (20)-(22)): x = [u; δ]; the contact and loop-closure forces are the affine
+//      function F = A_v u + b_v of u that keeps J q̈ + J̇ q̇ = −2α J q̇ − β² φ, A_v = −Λ⁻¹ J M⁻¹ B,
+//      b_v = −Λ⁻¹ (J M⁻¹ (τ_s − h) + J̇ q̇ + 2α J q̇ + β² φ), Λ = J M⁻¹ Jᵀ.
+//   kAugmentedInput (hopping Eq. (45)-(51)): x = [u; F; δ] with the holonomic equalities J M⁻¹ (B u + Jᵀ F) =
+//      −J M⁻¹ (τ_s − h) − J̇ q̇ − 2α J q̇ − β² φ (contacts and loop closures such as Cassie's achilles rods).
+// α, β come from params.contact_stabilization: pass the plant's (HybridContactPlantParams::dynamics).
+//
+// Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
+//   1. drop the force band and re-solve; 2. also drop the centre-of-pressure rows and re-solve; 3. hold the previous u.
+// One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "framework/system.h"
+#include "solvers/qp/dense_qp_solver.h"
+#include "systems/controllers/contact_wrench_constraints.h"
+#include "systems/controllers/task_space_tasks.h"
+#include "systems/multibody/contact_dynamics.h"
+
+namespace rome {
+
+/// A relative-degree-one output y1 = A(q) q̇ (e.g. a momentum): reports y1, A (size × nv) and Ȧ q̇.
+class RelativeDegreeOneOutput {
+ public:
+  RelativeDegreeOneOutput(std::string name, int size, double weight = 1.0, std::vector<int> active_modes = {});
+  virtual ~RelativeDegreeOneOutput() = default;
+  RelativeDegreeOneOutput(const RelativeDegreeOneOutput&) = delete;
+  RelativeDegreeOneOutput& operator=(const RelativeDegreeOneOutput&) = delete;
+  const std::string& name() const { return name_; }
+  int size() const { return size_; }
+  double weight() const { return weight_; }
+  const std::vector<int>& active_modes() const { return active_modes_; }
+  bool IsActiveIn(int mode) const;
+  virtual void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y1,
+                    Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const = 0;
+
+ private:
+  std::string name_;
+  int size_;
+  double weight_;
+  std::vector<int> active_modes_;
+};
+
+/// Centroidal angular momentum about the COM around world y, H_pitch = A_pitch(q) q̇ [N m s] (hopping paper
+/// Eq. (38)-(40)); Ȧ_pitch q̇ from the centroidal momentum bias.
+class CentroidalPitchMomentumOutput final : public RelativeDegreeOneOutput {
+ public:
+  explicit CentroidalPitchMomentumOutput(std::string name = "centroidal_pitch_momentum", double weight = 1.0, std::vector<int> active_modes = {});
+  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y1,
+            Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const override;
+};
+
+/// One output of the CLF-QP: relative degree 2 (a TaskSpaceTask: COM, a point, a body's pitch, a joint; its weight
+/// and active modes are used, its PD gains are not) or relative degree 1.
+struct ClfOutput {
+  std::shared_ptr<const TaskSpaceTask> rd2;
+  std::shared_ptr<const RelativeDegreeOneOutput> rd1;
+  static ClfOutput RelativeDegreeTwo(std::shared_ptr<const TaskSpaceTask> task) { return {std::move(task), nullptr}; }
+  static ClfOutput RelativeDegreeOne(std::shared_ptr<const RelativeDegreeOneOutput> output) { return {nullptr, std::move(output)}; }
+  const std::string& name() const { return rd2 ? rd2->name() : rd1->name(); }
+  int size() const { return rd2 ? rd2->size() : rd1->size(); }
+  bool IsActiveIn(int mode) const { return rd2 ? rd2->IsActiveIn(mode) : rd1->IsActiveIn(mode); }
+  double weight() const { return rd2 ? rd2->gains().weight : rd1->weight(); }
+};
+
+enum class ClfQpFormulation {
+  kEliminateContactForces,  ///< x = [u; δ], F = A_v u + b_v (walking paper Eq. (20)-(22))
+  kAugmentedInput,          ///< x = [u; F; δ] with holonomic equalities (hopping paper Eq. (45)-(51))
+};
+
+struct ClfQpParams {
+  double update_period_s = 1e-3;  ///< [s] QP rate (walking [R]: 1 kHz; hopping paper: 2 kHz)
+  ClfQpFormulation formulation = ClfQpFormulation::kEliminateContactForces;
+  double epsilon = 0.1;           ///< ε [-] of the RES-CLF (ours; spec [R]: 0.02-0.1)
+  double gamma = -1.0;            ///< γ [-]; ≤ 0: λ_min(Q)/λ_max(P) (spec [R])
+  double relaxation_weight = 1e5;  ///< p [-] on ½ δ² (walking spec [R]: 1e5)
+  double u_regularization = 1e-6;  ///< ρ_u [-], relative to the largest output curvature on u (ours)
+  ContactWrenchParams contact;     ///< unilateral, friction, CoP and yaw rows per contact
+  bool force_band = false;         ///< walking Eq. (25): declares the normal_force_reference input
+  double force_band_halfwidth = 0.1;  ///< c [-] of Eq. (25) (walking paper: 0.1)
+  Eigen::VectorXd torque_limits;   ///< [N m]; empty: the model's
+  /// {contact, joint}: the actuator of `joint` gets u = 0 while `contact` is active (e.g. a passive stance ankle).
+  std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;
+  ConstrainedDynamicsParameters contact_stabilization;  ///< α, β: pass the plant's
+  bool resolve_at_events = true;   ///< also re-solve at guard events (see the header)
+  EventTrigger resolve_at = EventTrigger::AnyGuard();
+  QpSettings qp;                   ///< DenseQpSolver tolerances (warm start on by default)
+};
+
+class ClfQpController final : public LeafSystem {
+ public:
+  ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts, std::vector<ClfOutput> outputs,
+                  ClfQpParams params = {});
+
+  const MultibodyModel& model() const { return *model_; }
+  const ClfQpParams& params() const { return params_; }
+  int num_outputs() const { return ny_; }
+  int output_offset(int i) const { return offsets_.at(i); }
+  /// P_ε, F, G and γ/ε of the RES-CLF of mode `mode` (outputs active there).
+  const Eigen::MatrixXd& P_epsilon(int mode) const { return clf_.at(mode).P_epsilon; }
+  double convergence_rate(int mode) const { return clf_.at(mode).convergence_rate; }
+
+  /// Builds and solves the QP at the context's inputs (no fallback), without touching the discrete state.
+  QpStatus SolveQp(const LeafContext& context) const;
+  /// The QP of the last solve (data and solution) and its layout.
+  const DenseQpSolver& last_qp(const LeafContext& context) const;
+  int last_mode(const LeafContext& context) const;
+  /// After SolveQp: η, the output Jacobian 𝒜 and drift L_f over the decision variables (rows: active RD1 rows, then
+  /// active RD2 rows), for checks of V̇ = L_F V + L_G V (𝒜 x + L_f).
+  const Eigen::VectorXd& last_eta(const LeafContext& context) const;
+  Eigen::Ref<const Eigen::MatrixXd> last_output_matrix(const LeafContext& context) const;
+  Eigen::Ref<const Eigen::VectorXd> last_output_drift(const LeafContext& context) const;
+  /// The planned contact forces of the last solve, stacked in contact_dynamics.h row order (active contacts, loops).
+  Eigen::Ref<const Eigen::VectorXd> last_constraint_forces(const LeafContext& context) const;
+
+  // Discrete-state layout.
+  int u_offset() const { return 0; }
+  int forces_offset() const { return model_->nu(); }
+  int V_offset() const { return forces_offset() + 3 * model_->num_contacts(); }
+  int delta_offset() const { return V_offset() + 1; }
+  int failures_offset() const { return V_offset() + 2; }
+  int status_offset() const { return V_offset() + 3; }
+  int fallbacks_offset() const { return V_offset() + 4; }
+
+  struct Scratch;
+
+ private:
+  std::any AllocateScratch() const override;
+  EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
+  int ModeFromInput(const LeafContext& context) const;
+  void SetRowsEnabled(const LeafContext& context, bool band, bool cop) const;
+
+  std::shared_ptr<const MultibodyModel> model_;
+  std::vector<ContactSet> mode_contacts_;
+  std::vector<ClfOutput> outputs_;
+  ClfQpParams params_;
+  std::vector<int> offsets_;
+  int ny_ = 0;
+  Eigen::VectorXd u_max_;
+  std::vector<std::vector<int>> zero_torque_;
+  struct ModeClf {
+    Eigen::MatrixXd P_epsilon, F, G;
+    double convergence_rate = 0;
+  };
+  std::vector<ModeClf> clf_;
+  int state_port_ = -1, mode_port_ = -1, desired_port_ = -1, force_ref_port_ = -1;
+};
+
+}  // namespace rome

@@ -1,0 +1,100 @@
+#include "systems/controllers/contact_wrench_constraints.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "systems/multibody/multibody_kinematics.h"
+
+namespace rome {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+}
+
+ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, int contact, const ContactWrenchParams& params,
+                                                   const std::string& system)
+    : contact_(contact), planar_(model.is_planar()), min_normal_(params.min_normal_force_N), yaw_(params.yaw_moment_coefficient_m) {
+  const ContactInfo& info = model.contacts().at(contact);
+  num_force_rows_ = info.num_rows;
+  const double mu = params.friction_coefficient >= 0.0 ? params.friction_coefficient : info.friction_coefficient;
+  mu_ = params.friction_margin * mu;
+  if (!(mu_ >= 0.0) || !std::isfinite(mu_))
+    throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' has friction coefficient " + std::to_string(mu_));
+  // Sole extent relative to the frame origin, in the link (foot) frame.
+  x_min_ = y_min_ = kInf;
+  x_max_ = y_max_ = -kInf;
+  for (const Eigen::Vector3d& p : info.points) {
+    const Eigen::Vector3d d = p - info.frame_origin;
+    x_min_ = std::min(x_min_, d.x()), x_max_ = std::max(x_max_, d.x());
+    y_min_ = std::min(y_min_, d.y()), y_max_ = std::max(y_max_, d.y());
+  }
+  if (planar_) {
+    normal_ = num_force_rows_ - 1;
+    cop_ = info.type != ContactType::kPoint;
+    kinds_ = {RowKind::kNormal, RowKind::kFriction, RowKind::kFriction};
+    if (cop_) kinds_.insert(kinds_.end(), {RowKind::kCenterOfPressure, RowKind::kCenterOfPressure});
+  } else if (info.type == ContactType::kPoint) {
+    normal_ = 2;
+    if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
+    kinds_ = {RowKind::kNormal, RowKind::kFriction, RowKind::kFriction, RowKind::kFriction, RowKind::kFriction};
+  } else if (info.type == ContactType::kFlat) {
+    flat3d_ = cop_ = true;
+    normal_ = 5;
+    if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
+    kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,         RowKind::kFriction,        RowKind::kFriction,
+              RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
+    if (yaw_ >= 0.0) kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
+  } else {
+    throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' of robot '" + model.name() + "' is a " + ToString(info.type) +
+                                " contact on a 3D model; contact-wrench rows exist for point and flat contacts in 3D and every contact in planar models");
+  }
+}
+
+void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> G,
+                                    Eigen::Ref<Eigen::VectorXd> l, Eigen::Ref<Eigen::VectorXd> u) const {
+  G.setZero();
+  int r = 0;
+  // Unilateral: F_z ≥ F_min.
+  G(r, normal_) = 1.0, l[r] = min_normal_, u[r] = kInf, ++r;
+  if (planar_) {
+    const int fx = normal_ - 1;
+    G(r, fx) = 1.0, G(r, normal_) = -mu_, l[r] = -kInf, u[r] = 0.0, ++r;  // F_x − μ F_z ≤ 0
+    G(r, fx) = 1.0, G(r, normal_) = mu_, l[r] = 0.0, u[r] = kInf, ++r;    // F_x + μ F_z ≥ 0
+    if (cop_) {
+      // x_min F_z ≤ −τ_y ≤ x_max F_z, x along world x (planar: the foot's x axis is pitched with the foot; the
+      // contact points' world x offsets give the extent at this pose).
+      const ContactInfo& info = model.contacts()[contact_];
+      const double origin_x = CalcPointPosition(model, ws, q, info.body, info.frame_origin).x();
+      double lo = kInf, hi = -kInf;
+      for (int p = 0; p < static_cast<int>(info.points.size()); ++p) {
+        const double dx = CalcContactPointPosition(model, ws, q, contact_, p).x() - origin_x;
+        lo = std::min(lo, dx), hi = std::max(hi, dx);
+      }
+      G(r, 0) = -1.0, G(r, normal_) = -lo, l[r] = 0.0, u[r] = kInf, ++r;   // −τ_y − x_min F_z ≥ 0
+      G(r, 0) = -1.0, G(r, normal_) = -hi, l[r] = -kInf, u[r] = 0.0, ++r;  // −τ_y − x_max F_z ≤ 0
+    }
+    return;
+  }
+  const int fx = normal_ - 2, fy = normal_ - 1;
+  for (int k = 0; k < 4; ++k) {  // ±F_x − μ F_z ≤ 0, ±F_y − μ F_z ≤ 0
+    G(r, k < 2 ? fx : fy) = (k % 2 == 0) ? 1.0 : -1.0;
+    G(r, normal_) = -mu_;
+    l[r] = -kInf, u[r] = 0.0, ++r;
+  }
+  if (!flat3d_) return;
+  // Centre of pressure in the foot frame: τ' = Rᵀ τ, CoP_x = −τ'_y / f_z, CoP_y = τ'_x / f_z (flat ground).
+  const Eigen::Matrix3d R = CalcLinkPose(model, ws, q, model.contacts()[contact_].body).linear();
+  const Eigen::RowVector3d ex = R.col(0).transpose(), ey = R.col(1).transpose();
+  G.block<1, 3>(r, 0) = -ey, G(r, normal_) = -x_max_, l[r] = -kInf, u[r] = 0.0, ++r;  // −τ'_y − x_max f_z ≤ 0
+  G.block<1, 3>(r, 0) = -ey, G(r, normal_) = -x_min_, l[r] = 0.0, u[r] = kInf, ++r;   // −τ'_y − x_min f_z ≥ 0
+  G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_max_, l[r] = -kInf, u[r] = 0.0, ++r;   // τ'_x − y_max f_z ≤ 0
+  G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_min_, l[r] = 0.0, u[r] = kInf, ++r;    // τ'_x − y_min f_z ≥ 0
+  if (yaw_ >= 0.0) {
+    const Eigen::RowVector3d ez = R.col(2).transpose();
+    G.block<1, 3>(r, 0) = ez, G(r, normal_) = -yaw_, l[r] = -kInf, u[r] = 0.0, ++r;  // τ'_z − c f_z ≤ 0
+    G.block<1, 3>(r, 0) = ez, G(r, normal_) = yaw_, l[r] = 0.0, u[r] = kInf, ++r;    // τ'_z + c f_z ≥ 0
+  }
+}
+
+}  // namespace rome

@@ -1,0 +1,62 @@
+#pragma once
+// ContactWrenchConstraints: the inequality rows l ≤ G F ≤ u that keep one contact's constraint force F physical, per
+// contact type, in the row convention of contact_dynamics.h (world axes):
+//   planar point   F = [F_x, F_z]          F_z ≥ F_min; |F_x| ≤ μ' F_z                                   (3 rows)
+//   planar line / flat  F = [τ_y, F_x, F_z]  the same, plus the centre of pressure between the contact points:
+//                                           x_min F_z ≤ −τ_y ≤ x_max F_z (x relative to the frame origin) (5 rows)
+//   (planar rows: unilateral 1, friction 2, CoP 2; 3D: unilateral 1, friction 4, CoP 4, yaw 2)
+//   3D point       F = [F_x, F_y, F_z]      F_z ≥ F_min; |F_x|, |F_y| ≤ μ' F_z (friction pyramid)        (5 rows)
+//   3D flat        F = [τ; f]               f_z ≥ F_min; |f_x|, |f_y| ≤ μ' f_z; centre of pressure inside the
+//                                           sole rectangle (in the foot frame, from the contact points):
+//                                           x_min f_z ≤ −τ'_y ≤ x_max f_z, y_min f_z ≤ τ'_x ≤ y_max f_z with
+//                                           τ' = R_footᵀ τ; optionally |τ'_z| ≤ yaw_coefficient · f_z   (9 or 11 rows)
+// μ' = friction_margin · μ (μ: the contact's model value, or friction_coefficient if ≥ 0); for 3D contacts the
+// pyramid is inscribed in the cone (μ' /= √2) when inscribe_pyramid is set, as the hopping spec recommends.
+// The rows are numbered so that callers can drop a class of rows (the CoP rows) in a fallback: RowKind says which.
+// Sole geometry rows depend on the foot pose: Fill() recomputes them at each q (no allocation).
+// 3D line contacts (Cassie's feet) are not supported yet: the constructor names the contact.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "systems/multibody/contact_dynamics.h"
+
+namespace rome {
+
+struct ContactWrenchParams {
+  double min_normal_force_N = 0.0;      ///< [N] F_z ≥ this (0: the paper's unilateral contact)
+  double friction_coefficient = -1.0;   ///< [-] μ; < 0 uses each contact's model value
+  double friction_margin = 1.0;         ///< [-] the pyramid uses friction_margin · μ (1: the full cone)
+  bool inscribe_pyramid = true;         ///< 3D: |F_x|, |F_y| ≤ μ'/√2 F_z, inside the cone (hopping spec [R])
+  double yaw_moment_coefficient_m = -1.0;  ///< [m] 3D flat: |τ_z| ≤ this · f_z; < 0: no yaw-moment bound
+};
+
+class ContactWrenchConstraints {
+ public:
+  enum class RowKind { kNormal, kFriction, kCenterOfPressure, kYawMoment };
+  ContactWrenchConstraints(const MultibodyModel& model, int contact, const ContactWrenchParams& params, const std::string& system);
+
+  int contact() const { return contact_; }
+  int num_force_rows() const { return num_force_rows_; }  ///< size of this contact's F
+  int num_rows() const { return static_cast<int>(kinds_.size()); }
+  RowKind kind(int row) const { return kinds_[row]; }
+  int normal_index() const { return normal_; }  ///< index of F_z in this contact's F
+  /// G (num_rows × num_force_rows), l, u at configuration q (ws is used for the foot pose). Rows are written in place.
+  void Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> G, Eigen::Ref<Eigen::VectorXd> l,
+            Eigen::Ref<Eigen::VectorXd> u) const;
+
+ private:
+  int contact_ = -1;
+  int num_force_rows_ = 0;
+  int normal_ = 0;
+  bool planar_ = false, flat3d_ = false, cop_ = false;
+  double mu_ = 1.0;
+  double min_normal_ = 0.0;
+  double yaw_ = -1.0;
+  double x_min_ = 0, x_max_ = 0, y_min_ = 0, y_max_ = 0;  // sole, foot frame, relative to the frame origin
+  std::vector<RowKind> kinds_;
+};
+
+}  // namespace rome

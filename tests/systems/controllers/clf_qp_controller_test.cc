@@ -1,0 +1,307 @@
+// ClfQpController: the CLF condition against closed forms and an independent forward-dynamics path, the two
+// formulations against each other and against the plant's constraint forces, the force band at F_ref = 0, each
+// fallback on a problem built to need it, and the flat-foot CoP rows on the exoskeleton under a lateral push.
+//
+// Independent references:
+//  * for one relative-degree-2 output with Q = I the CARE has the closed form P = [[√3, 1], [1, √3]] (hopping spec A4.2),
+//    so γ = 1/λ_max(P) = 1/(√3 + 1) and P_ε = diag(1/ε, 1) P diag(1/ε, 1);
+//  * q̈ from Bullet's articulated-body forward dynamics (CalcForwardDynamics), not the controller's M⁻¹ path;
+//  * contact forces from the plant's constrained dynamics (CalcConstrainedForwardDynamics).
+#include "systems/controllers/clf_qp_controller.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "systems/multibody/multibody_dynamics.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "tests/systems/controllers/amber_test_setup.h"
+
+namespace rome {
+namespace {
+
+std::shared_ptr<const MultibodyModel> LoadTestModel(const std::string& name) {
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/tests/systems/controllers/data/" + name + ".rome.json"));
+}
+
+Eigen::VectorXd Stack(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  Eigen::VectorXd s(a.size() + b.size());
+  s << a, b;
+  return s;
+}
+
+struct Solved {
+  Eigen::VectorXd u;
+  double delta = 0, V = 0;
+  QpStatus status = QpStatus::kInvalidInput;
+  Eigen::VectorXd fallbacks;
+  double failures = 0;
+};
+
+Solved RunUpdate(const ClfQpController& controller, LeafContext& context, const Eigen::VectorXd& x, int mode, const Eigen::VectorXd& desired) {
+  context.FixInputPort(0, x);
+  context.FixAbstractInputPort(1, std::any(mode));
+  context.FixInputPort(2, desired);
+  Eigen::VectorXd next = context.discrete_state();
+  const EventStatus es = controller.periodic_events().at(0).update(context, &next);
+  EXPECT_TRUE(es.ok()) << es.message;
+  context.get_mutable_discrete_state() = next;
+  Solved r;
+  r.u = next.segment(controller.u_offset(), controller.model().nu());
+  r.delta = next[controller.delta_offset()];
+  r.V = next[controller.V_offset()];
+  r.status = static_cast<QpStatus>(static_cast<int>(next[controller.status_offset()]));
+  r.fallbacks = next.segment<3>(controller.fallbacks_offset());
+  r.failures = next[controller.failures_offset()];
+  return r;
+}
+
+// P_ε of n decoupled relative-degree-2 outputs, η = [y; ẏ], from the closed-form CARE solution.
+Eigen::MatrixXd ClosedFormPEpsilon(int n, double eps) {
+  Eigen::MatrixXd P(2 * n, 2 * n);
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+  P << std::sqrt(3.0) / (eps * eps) * I, 1.0 / eps * I, 1.0 / eps * I, std::sqrt(3.0) * I;
+  return P;
+}
+
+TEST(ClfQpController, DoubleIntegratorMeetsTheClfConditionWheneverDeltaIsZero) {
+  auto model = LoadTestModel("slider");
+  ClfQpParams params;
+  params.epsilon = 0.2;
+  ClfQpController controller("clf", model, {0}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"))}, params);
+  const double gamma = 1.0 / (std::sqrt(3.0) + 1.0), rate = gamma / params.epsilon;
+  EXPECT_NEAR(controller.convergence_rate(0), rate, 1e-9);
+  EXPECT_LT((controller.P_epsilon(0) - ClosedFormPEpsilon(1, params.epsilon)).cwiseAbs().maxCoeff(), 1e-8);
+  auto context = controller.CreateDefaultLeafContext();
+  const Eigen::MatrixXd P = ClosedFormPEpsilon(1, params.epsilon);
+  int unrelaxed = 0, relaxed = 0;
+  for (double q : {-0.5, -0.1, 0.0, 0.05, 0.3, 2.0})
+    for (double v : {-1.0, -0.2, 0.0, 0.4, 3.0}) {
+      const Solved s = RunUpdate(controller, *context, Eigen::Vector2d(q, v), 0, Eigen::VectorXd::Zero(3));
+      ASSERT_EQ(s.status, QpStatus::kOptimal);
+      const double qdd = s.u[0] / 2.0;  // m = 2 kg: q̈ = u / m, closed form
+      const Eigen::Vector2d eta(q, v), eta_dot(v, qdd);
+      const double V = eta.dot(P * eta), Vdot = 2.0 * eta.dot(P * eta_dot);
+      EXPECT_NEAR(s.V, V, 1e-9 * (1.0 + V));
+      // δ is exactly 0 where the CLF row is inactive, O(1/p) where it binds against the output cost, and large only
+      // where the 20 N limit makes the condition unreachable.
+      if (s.delta == 0.0) {
+        ++unrelaxed;
+        EXPECT_LE(Vdot, -rate * V + 1e-9 * (1.0 + V)) << "q = " << q << ", v = " << v << ", u = " << s.u[0];
+      } else if (s.delta < 1e-4) {
+        EXPECT_LE(Vdot, -rate * V + 1e-4 * (1.0 + V)) << "q = " << q << ", v = " << v << ", u = " << s.u[0];
+      } else {
+        ++relaxed;
+        EXPECT_NEAR(std::abs(s.u[0]), 20.0, 1e-9) << "a large δ only where the 20 N limit binds; q = " << q << ", v = " << v;
+      }
+    }
+  EXPECT_GE(unrelaxed, 3);
+  EXPECT_GE(relaxed, 3);
+}
+
+TEST(ClfQpController, TwoLinkArmMeetsTheClfConditionAgainstIndependentDynamics) {
+  auto model = LoadTestModel("arm");
+  ClfQpParams params;
+  params.epsilon = 0.1;
+  ClfQpController controller("clf", model, {0},
+                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
+                              ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))},
+                             params);
+  auto context = controller.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(*model);
+  const Eigen::MatrixXd P = ClosedFormPEpsilon(2, params.epsilon);
+  const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
+  int checked = 0;
+  for (int k = 0; k < 12; ++k) {
+    Eigen::VectorXd q(2), v(2);
+    q << 0.3 + 0.05 * k, -0.2 + 0.04 * k;
+    v << 0.3 - 0.07 * k, 0.1 * std::sin(k);
+    Eigen::VectorXd desired = Eigen::VectorXd::Zero(6);
+    desired[0] = 0.35;  // y_d = (0.35, 0); ẏ_d = ÿ_d = 0
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    Eigen::VectorXd qdd(2);
+    CalcForwardDynamics(*model, ws, q, v, s.u, Eigen::VectorXd(0), qdd);  // Bullet ABA
+    Eigen::VectorXd eta(4), eta_dot(4);
+    for (int i = 0; i < 2; ++i) {  // η = [y − y_d; ẏ], η̇ = [ẏ; ÿ] with y = q
+      eta[i] = q[i] - desired[i];
+      eta[2 + i] = v[i];
+      eta_dot[i] = v[i];
+      eta_dot[2 + i] = qdd[i];
+    }
+    const double V = eta.dot(P * eta), Vdot = 2.0 * eta.dot(P * eta_dot);
+    if (s.delta < 1e-4) {  // δ = 0, or O(1/p) where the CLF row binds against the output cost
+      ++checked;
+      EXPECT_LE(Vdot, -rate * V + 1e-4 * (1.0 + V)) << "sample " << k << ", delta " << s.delta;
+    }
+  }
+  EXPECT_GE(checked, 8);
+}
+
+// AMBER in single support, the paper's four outputs away from their targets: both formulations give the same torques,
+// and their planned forces are the plant's constrained-dynamics forces for those torques.
+TEST(ClfQpController, FormulationsAgreeAndMatchThePlantsForces) {
+  auto model = test::LoadRobot("amber");
+  const Eigen::VectorXd q = test::AmberSingleSupportPose(*model);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
+  v[0] = 0.4;  // a base velocity consistent with the welded stance foot: project below
+  MultibodyWorkspace ws(*model);
+  const ContactSet left = ContactBit(model->ContactIndex("left_foot"));
+  const int rows = CalcConstraintJacobian(*model, ws, q, v, left);
+  const Eigen::MatrixXd J = ws.J.topRows(rows);
+  v -= J.completeOrthogonalDecomposition().solve(J * v);
+  const auto tasks = test::AmberWalkingTasks(*model);
+  std::vector<ClfOutput> outputs;
+  for (const auto& t : tasks) outputs.push_back(ClfOutput::RelativeDegreeTwo(t));
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
+  desired.head(4) = test::TaskValues(*model, tasks, q, v) + Eigen::Vector4d(0.03, -0.01, 0.02, 0.03);
+  Eigen::VectorXd u[2];
+  for (int f = 0; f < 2; ++f) {
+    ClfQpParams params;
+    params.formulation = f == 0 ? ClfQpFormulation::kEliminateContactForces : ClfQpFormulation::kAugmentedInput;
+    ClfQpController controller("clf", model, {left}, outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    const QpKktResiduals kkt = ComputeQpKktResiduals(controller.last_qp(*context));
+    EXPECT_LT(kkt.Max(), 1e-7) << "formulation " << f;
+    u[f] = s.u;
+    // The plant, given these torques, applies the planned forces.
+    Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+    CalcConstrainedForwardDynamics(*model, ws, q, v, s.u, left, ConstrainedDynamicsParameters{}, qdd, F);
+    EXPECT_LT((F.head(rows) - controller.last_constraint_forces(*context)).cwiseAbs().maxCoeff(), 1e-6) << "formulation " << f;
+    std::printf("  formulation %d: u = [%.6f %.6f %.6f %.6f], delta %.3g, V %.4g\n", f, s.u[0], s.u[1], s.u[2], s.u[3], s.delta, s.V);
+  }
+  EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-8 * (1.0 + u[0].cwiseAbs().maxCoeff()));
+}
+
+// With a reference of 0 N on the left foot in double support, the band (1 ± c) · 0 makes the left normal force 0.
+TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
+  auto model = test::LoadRobot("amber");
+  const Eigen::VectorXd q = test::AmberDoubleSupportPose(*model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
+  const int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
+  const ContactSet both = ContactBit(l) | ContactBit(r);
+  std::vector<ClfOutput> outputs = {
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
+  for (int f = 0; f < 2; ++f) {
+    ClfQpParams params;
+    params.formulation = f == 0 ? ClfQpFormulation::kEliminateContactForces : ClfQpFormulation::kAugmentedInput;
+    params.force_band = true;
+    ClfQpController controller("clf", model, {both}, outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
+    desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
+                                                std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
+                                       q, v);
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[r] = model->total_mass() * 9.81;
+    context->FixInputPort(3, f_ref);
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    EXPECT_EQ(s.fallbacks.sum(), 0.0);
+    MultibodyWorkspace ws(*model);
+    Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+    CalcConstrainedForwardDynamics(*model, ws, q, v, s.u, both, ConstrainedDynamicsParameters{}, qdd, F);
+    const double fz_left = ExtractContactWrench(*model, ws, q, both, F, l).force.z();
+    const double fz_right = ExtractContactWrench(*model, ws, q, both, F, r).force.z();
+    std::printf("  formulation %d: plant F_z left %.3g N, right %.4g N\n", f, fz_left, fz_right);
+    EXPECT_NEAR(fz_left, 0.0, 1e-6);
+    EXPECT_NEAR(fz_right, model->total_mass() * 9.81, 0.1 * model->total_mass() * 9.81 + 1e-6);
+  }
+}
+
+TEST(ClfQpController, EachFallbackFiresOnAProblemBuiltToNeedIt) {
+  auto model = test::LoadRobot("amber");
+  const Eigen::VectorXd q = test::AmberSingleSupportPose(*model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
+  const int l = model->ContactIndex("left_foot");
+  const auto tasks = test::AmberWalkingTasks(*model);
+  std::vector<ClfOutput> outputs;
+  for (const auto& t : tasks) outputs.push_back(ClfOutput::RelativeDegreeTwo(t));
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
+  desired.head(4) = test::TaskValues(*model, tasks, q, v);
+  // 1. A band at 20 m g on the stance foot: out of reach of the 100 N m motors; dropping the band solves.
+  {
+    ClfQpParams params;
+    params.force_band = true;
+    ClfQpController controller("clf", model, {ContactBit(l)}, outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[l] = 20.0 * model->total_mass() * 9.81;
+    context->FixInputPort(3, f_ref);
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    EXPECT_EQ(s.status, QpStatus::kOptimal);
+    EXPECT_EQ(s.fallbacks, Eigen::Vector3d(1, 0, 0));
+    EXPECT_EQ(s.failures, 1.0);
+  }
+  // 3. F_z ≥ 20 m g cannot be met even without the band and CoP rows: the previous u is held.
+  {
+    ClfQpParams params;
+    params.contact.min_normal_force_N = 20.0 * model->total_mass() * 9.81;
+    ClfQpController controller("clf", model, {ContactBit(l)}, outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    context->get_mutable_discrete_state().head(4) = Eigen::Vector4d(1, 2, 3, 4);  // "previous" u
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    EXPECT_NE(s.status, QpStatus::kOptimal);
+    EXPECT_EQ(s.fallbacks, Eigen::Vector3d(0, 1, 1));
+    EXPECT_EQ(s.u, Eigen::Vector4d(1, 2, 3, 4));
+  }
+}
+
+// A planar foot (a 0.1 m line contact) carrying a pendulum swinging at 4 rad/s on a 0.5 m pivot, its motor limited to
+// 0 N m: the passive pivot force times the pivot height puts the centre of pressure off the sole, so the QP is
+// infeasible with the CoP rows and feasible without them (friction is made non-binding).
+TEST(ClfQpController, CopFallbackFiresWhenOnlyTheCopRowsConflict) {
+  auto model = LoadTestModel("footed_pendulum");
+  const Eigen::VectorXd q = model->q_nominal();
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
+  v[3] = 4.0;  // pendulum rate; the foot is at rest
+  const int sole = model->ContactIndex("sole");
+  const ContactSet on = ContactBit(sole);
+  // The independent check that the problem is built right: the plant's passive forces put the CoP off the sole.
+  MultibodyWorkspace ws(*model);
+  Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+  CalcConstrainedForwardDynamics(*model, ws, q, v, Eigen::VectorXd::Zero(1), on, ConstrainedDynamicsParameters{}, qdd, F);
+  const ContactForceCheck check = CheckContactForce(*model, ws, q, sole, ExtractContactWrench(*model, ws, q, on, F, sole));
+  std::printf("  passive footed pendulum: F_z %.2f N, CoP (%.3f, %.3f) m, CoP on the sole %d\n", check.normal_force_N, check.cop.x(), check.cop.y(), check.cop_ok);
+  ASSERT_TRUE(check.unilateral_ok);
+  ASSERT_FALSE(check.cop_ok);
+  ClfQpParams params;
+  params.torque_limits = Eigen::VectorXd::Zero(1);
+  params.contact.friction_coefficient = 100.0;
+  ClfQpController controller("clf", model, {on}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pivot", *model, "pivot"))}, params);
+  auto context = controller.CreateDefaultLeafContext();
+  const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, Eigen::VectorXd::Zero(3));
+  EXPECT_EQ(s.status, QpStatus::kOptimal);
+  EXPECT_EQ(s.fallbacks, Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(s.failures, 1.0);
+}
+
+TEST(ClfQpController, BadParametersAndInputsAreNamed) {
+  auto model = LoadTestModel("slider");
+  const auto out = ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"));
+  ClfQpParams params;
+  params.epsilon = 0.0;
+  try {
+    ClfQpController("clf", model, {0}, {out}, params);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "system 'clf': params.epsilon = 0.000000 must be positive and finite");
+  }
+  ClfQpController controller("clf", model, {0}, {out});
+  auto context = controller.CreateDefaultLeafContext();
+  context->FixInputPort(0, Eigen::Vector2d(0, 0));
+  context->FixAbstractInputPort(1, std::any(4));
+  context->FixInputPort(2, Eigen::VectorXd::Zero(3));
+  Eigen::VectorXd next = context->discrete_state();
+  const EventStatus status = controller.periodic_events().at(0).update(*context, &next);
+  EXPECT_EQ(status.kind, EventStatus::Kind::kFailed);
+  EXPECT_EQ(status.message, "system 'clf': input port 'mode' has value 4; expected a mode index in [0, 1)");
+}
+
+}  // namespace
+}  // namespace rome
