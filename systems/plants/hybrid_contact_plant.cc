@@ -60,6 +60,11 @@ struct HybridContactPlant::Scratch {
   ContactSet active = 0;
   std::uint64_t version = 0;
   std::uint64_t forces_version = 0;
+  // Violations present right after an event (set by the event publish, see the header): contacts that lift off /
+  // slip at pending_time + params.immediate_event_delay_s, valid while the mode is pending_mode.
+  double pending_time = 0;
+  int pending_mode = -1;
+  ContactSet pending_liftoff = 0, pending_slip = 0;
 };
 
 namespace {
@@ -189,12 +194,24 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           }
       const std::string contact_name = model_->contacts()[c].name;
       DeclareGuard(
-          "liftoff_" + contact_name, m, [this, c](const LeafContext& ctx) { return EvalContactForces(ctx)(2, c); }, CrossingDirection::kFalling,
-          [this, m, to, contact_name](const LeafContext& ctx, int, State* next) {
+          "liftoff_" + contact_name, m,
+          [this, c](const LeafContext& ctx) {
+            const Scratch& s = ctx.scratch<Scratch>();
+            if (s.pending_mode == ctx.mode() && (s.pending_liftoff & ContactBit(c))) return PendingWitness(ctx);
+            return EvalContactForces(ctx)(2, c);
+          },
+          CrossingDirection::kFalling,
+          [this, m, c, to, contact_name](const LeafContext& ctx, int, State* next) {
             if (to < 0) {
+              const Scratch& s = ctx.scratch<Scratch>();
+              const bool pending = s.pending_mode == ctx.mode() && (s.pending_liftoff & ContactBit(c));
               std::ostringstream os;
-              os << "'" << contact_name << "' lifted off at t = " << ctx.time() << " s (normal force 0 N in mode '" << graph_.modes[m].name
-                 << "'), but the contact-mode graph has no mode to lift off into";
+              os << "'" << contact_name << "' lifted off at t = " << (pending ? s.pending_time : ctx.time()) << " s (normal force ";
+              if (pending)
+                os << EvalContactForces(ctx)(2, c) << " N right after an event";
+              else
+                os << "0 N";
+              os << " in mode '" << graph_.modes[m].name << "'), but the contact-mode graph has no mode to lift off into";
               return EventStatus::Failed(os.str());
             }
             EnterMode(ctx.time(), m, to, next);
@@ -208,20 +225,45 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
         [this, nc](const LeafContext& ctx, Eigen::Ref<Eigen::VectorXd> w) {
           const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
           const ContactSet active = mode_contacts_[ctx.mode()];
+          const Scratch& s = ctx.scratch<Scratch>();
+          const ContactSet pending = s.pending_mode == ctx.mode() ? s.pending_slip : 0;
           for (int c = 0; c < nc; ++c)
-            w[c] = (active & ContactBit(c)) ? model_->contacts()[c].friction_coefficient * f(2, c) - f.col(c).head<2>().norm() : 1.0;
+            w[c] = !(active & ContactBit(c))   ? 1.0
+                   : (pending & ContactBit(c)) ? PendingWitness(ctx)
+                                               : FrictionMargin(f, c);
         },
         CrossingDirection::kFalling,
         [this](const LeafContext& ctx, int c, State*) {
+          const Scratch& s = ctx.scratch<Scratch>();
+          const bool pending = s.pending_mode == ctx.mode() && (s.pending_slip & ContactBit(c));
           const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
           const double ft = f.col(c).head<2>().norm(), fn = f(2, c);
           std::ostringstream os;
-          os << "'" << model_->contacts()[c].name << "' slipped at t = " << ctx.time() << " s: |F_t|/F_n = " << ft / fn
-             << " reached the friction coefficient mu = " << model_->contacts()[c].friction_coefficient << " (|F_t| = " << ft << " N, F_n = " << fn
-             << " N)";
+          os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time()) << " s: |F_t|/F_n = " << ft / fn
+             << (pending ? " exceeded" : " reached") << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient
+             << " (|F_t| = " << ft << " N, F_n = " << fn << " N" << (pending ? "; already outside the cone right after an event" : "") << ")";
           return EventStatus::Failed(os.str());
         });
   }
+
+  // Violations that no guard can see: right after an event (initialisation, a reset, another system's discrete
+  // update such as a zero-order-held input) the witnesses restart from the new values, so a normal force or a
+  // friction margin that jumped below 0 would never cross. Such contacts lift off / slip just after the event.
+  DeclareEventPublish([this, nc](const LeafContext& ctx) {
+    Scratch& s = ctx.scratch<Scratch>();
+    const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
+    s.pending_time = ctx.time();
+    s.pending_mode = ctx.mode();
+    s.pending_liftoff = s.pending_slip = 0;
+    for (int c = 0; c < nc; ++c) {
+      if (!(s.active & ContactBit(c))) continue;
+      if (f(2, c) < 0)
+        s.pending_liftoff |= ContactBit(c);
+      else if (FrictionMargin(f, c) < 0)
+        s.pending_slip |= ContactBit(c);
+    }
+    return EventStatus::Succeeded();
+  });
 
   // Touchdowns from the graph.
   for (const Touchdown& td : touchdowns) {
@@ -299,6 +341,15 @@ const Eigen::Matrix3Xd& HybridContactPlant::EvalContactForces(const LeafContext&
     s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force : Eigen::Vector3d::Zero();
   s.forces_version = s.version;
   return s.forces;
+}
+
+double HybridContactPlant::FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const {
+  return model_->contacts()[contact].friction_coefficient * forces(2, contact) - forces.col(contact).head<2>().norm();
+}
+
+double HybridContactPlant::PendingWitness(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.pending_time + params_.immediate_event_delay_s - context.time();
 }
 
 void HybridContactPlant::DoCalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd* xdot) const {

@@ -37,8 +37,14 @@
 //     Lift-off guards of a mode are declared before its slip guard: a contact that unloads with F_t = 0 (the cone's
 //     apex, both witnesses reach 0 at once) lifts off, and the old mode's slip guard is then inactive.
 //   fall  (all modes; floating bases only): base height below min_base_height_m: Failed("robot fell: ...").
-// A normal force or cone violation already present when a mode begins (e.g. right after an impact) does not
-// cross and is not caught by the guards; it shows in contact_violation.
+// Violations no witness can see: after every event (initialisation, a guard reset, another system's discrete update
+// such as a zero-order-held u) the plant's event publish checks every active contact. Its witnesses restart from the
+// post-event values, so a normal force (friction margin) that jumped below 0 at the event would never cross: such
+// a contact's liftoff_<contact> (slip component) witness becomes immediate_event_delay_s − (t − t_event), so it
+// lifts off (slips) immediate_event_delay_s after the event through the same reset and target rules as above; the
+// messages then give t_event and the force right after the event. Example: a touchdown whose held input makes the
+// new stance foot pull lifts that foot off again at once. (The pending set lives in the context's scratch, not in the
+// state: every event publish recomputes it, and it only applies while the mode it was found in is active.)
 
 #include <memory>
 #include <string>
@@ -88,6 +94,10 @@ struct HybridContactPlantParams {
   double min_base_height_m = 0.2;          ///< [m] base below this height ends the run as a fall.
   double stone_tolerance_m = 0.0;          ///< [m] how far beyond a stone's edge a touchdown still counts.
   bool saturate_torques = true;            ///< clip u to the model's torque limits before applying it.
+  /// [s] A contact whose normal force is already < 0 (or that is already outside its friction cone) right after an
+  /// event (initialisation, a reset, another system's discrete update, e.g. a zero-order-held input) lifts off (or
+  /// slips) this long after the event: its witness is replaced by a ramp that crosses 0 then (see the header).
+  double immediate_event_delay_s = 1e-9;
 };
 
 class HybridContactPlant final : public LeafSystem {
@@ -119,6 +129,10 @@ class HybridContactPlant final : public LeafSystem {
   double TouchdownWitness(const LeafContext& context, int contact) const;
   /// Mode change at time t: discrete[0] = t, contacts active in `from` but not in `to` left the ground at t.
   void EnterMode(double t, int from, int to, State* next) const;
+  /// mu F_n - |F_t| of a contact [N].
+  double FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const;
+  /// Witness of a violation found right after an event: > 0 at the event, crossing 0 immediate_event_delay_s later.
+  double PendingWitness(const LeafContext& context) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   ContactModeGraph graph_;

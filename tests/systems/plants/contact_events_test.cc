@@ -157,6 +157,56 @@ TEST(ContactEvents, BallTouchesDownFromFlightAtTheFreeFallTime) {
   EXPECT_NEAR(plant.EvalOutput(*ctx, "contact_forces")[2], 2.0 * kG, 1e-9);
 }
 
+// A force that jumps out of bounds at another system's discrete update never crosses 0 while integrating: the plant
+// checks right after every event. Input u(t) = step(t - t_jump) * u_jump, sampled by a zero-order hold at t_jump.
+struct HeldStepDiagram {
+  std::unique_ptr<Diagram> diagram;
+  const HybridContactPlant* plant = nullptr;
+};
+HeldStepDiagram BuildHeldStep(std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, double t_jump, double u_jump) {
+  DiagramBuilder b;
+  HeldStepDiagram d;
+  d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, std::move(graph), Terrain::Flat()));
+  b.AddSystem(std::make_unique<TrajectorySource>("step", 1, [=](double t, Eigen::Ref<Eigen::VectorXd> out) { out[0] = t < 0.5 * t_jump ? 0.0 : u_jump; }));
+  b.AddSystem(std::make_unique<ZeroOrderHold>("hold", t_jump, 1));
+  b.Connect("step", "y", "hold", "u");
+  b.Connect("hold", "y", "plant", "u");
+  d.diagram = b.Build("held_step");
+  return d;
+}
+
+// Held lift of 3 m g from t = 0.25 s: F_n jumps from m g to -2 m g at the sample, the ball lifts off then.
+TEST(ContactEvents, NormalForceJumpingBelowZeroAtADiscreteUpdateLiftsOffAtOnce) {
+  auto model = LoadTestModel("ball_on_table");
+  const double m = 2.0, t_jump = 0.25;
+  HeldStepDiagram d = BuildHeldStep(model, StanceFlight("ball", false), t_jump, 3 * m * kG);
+  Simulator sim(*d.diagram, Tight());
+  const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
+  const SimulatorStatus status = sim.AdvanceTo(t_jump + 0.1);
+  ASSERT_TRUE(status.ok()) << status.ToString();
+  ASSERT_EQ(sim.statistics().events.size(), 1u);
+  const EventRecord& ev = sim.statistics().events[0];
+  EXPECT_EQ(ev.guard, "liftoff_ball");
+  EXPECT_EQ(ev.mode_after, d.plant->GetModeIndex("flight"));
+  EXPECT_NEAR(ev.time, t_jump + d.plant->params().immediate_event_delay_s, 1e-12);
+  // Then free flight under 3 m g - m g: z - z0 = g (t - t_jump)^2.
+  const double tau = ctx.time() - t_jump;
+  EXPECT_NEAR(ctx.continuous_state()[0] - 0.1, kG * tau * tau, 1e-8);
+}
+
+// Held push of 1.5 mu m g from t = 0.25 s: outside the friction cone at once, the run fails at the sample.
+TEST(ContactEvents, PushJumpingOutOfTheFrictionConeAtADiscreteUpdateFails) {
+  auto model = LoadTestModel("pushed_block");
+  const double m = 2.0, mu = 0.5, t_jump = 0.25;
+  HeldStepDiagram d = BuildHeldStep(model, StanceFlight("block_bottom", false), t_jump, 1.5 * mu * m * kG);
+  Simulator sim(*d.diagram, Tight());
+  const SimulatorStatus status = sim.AdvanceTo(1.0);
+  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed) << status.ToString();
+  EXPECT_NEAR(status.time, t_jump + d.plant->params().immediate_event_delay_s, 1e-12);
+  EXPECT_EQ(status.message, "'block_bottom' slipped at t = 0.25 s: |F_t|/F_n = 0.75 exceeded the friction coefficient mu = 0.5 (|F_t| = 14.715 N, "
+                            "F_n = 19.62 N; already outside the cone right after an event)");
+}
+
 TEST(ContactEvents, AlternatingSingleSupportHasAFlightModeAtIndexTwo) {
   const ContactModeGraph g = ContactModeGraph::AlternatingSingleSupport("l", "r");
   ASSERT_EQ(g.modes.size(), 3u);
