@@ -207,6 +207,39 @@ TEST(ContactEvents, PushJumpingOutOfTheFrictionConeAtADiscreteUpdateFails) {
                             "F_n = 19.62 N; already outside the cone right after an event)");
 }
 
+// AlternatingSingleSupport("a", "b") on two independent balls. Ball a stands, pulled up by u_a = m j t: it lifts off
+// at t1 = g / j into flight. Ball b falls freely from h_b and lands at t2 = sqrt(2 h_b / g), only 20 ms after t1 (less
+// than min_time_in_mode_s): b was not in contact before flight, so its touchdown is armed at once and is found at t2.
+TEST(ContactEvents, AlternatingSingleSupportLiftsOffIntoFlightAndLandsTheOtherFootAtOnce) {
+  auto model = LoadTestModel("two_balls");
+  const double m = 2.0, t1 = 0.2, j = kG / t1, t2 = 0.22, h_b = 0.5 * kG * t2 * t2;
+  DiagramBuilder b;
+  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, ContactModeGraph::AlternatingSingleSupport("a", "b"), Terrain::Flat()));
+  ASSERT_LT(t2 - t1, plant->params().min_time_in_mode_s);
+  ASSERT_GT(t1, plant->params().min_time_in_mode_s);  // SetState holds both touchdown guards that long
+  b.AddSystem(std::make_unique<TrajectorySource>("lift", 2, [=](double t, Eigen::Ref<Eigen::VectorXd> out) { out << m * j * t, 0.0; }));
+  b.Connect("lift", "y", "plant", "u");
+  auto diagram = b.Build("two_balls");
+  Simulator sim(*diagram, Tight());
+  LeafContext& ctx = diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context());
+  plant->SetState(ctx, Eigen::Vector2d(0.1, 0.1 + h_b), Eigen::Vector2d::Zero(), "a_stance");
+  const SimulatorStatus status = sim.AdvanceTo(0.3);
+  ASSERT_TRUE(status.ok()) << status.ToString();
+  const auto& events = sim.statistics().events;
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].guard, "liftoff_a");
+  EXPECT_EQ(events[0].mode_before, 0);
+  EXPECT_EQ(events[0].mode_after, 2);
+  EXPECT_NEAR(events[0].time, t1, 1e-9);
+  EXPECT_EQ(events[1].guard, "touchdown_b");
+  EXPECT_EQ(events[1].mode_after, 1);
+  EXPECT_NEAR(events[1].time, t2, 1e-9);
+  std::printf("lift-off of a at %.3e s from g/j, touchdown of b at %.3e s from sqrt(2 h / g)\n", events[0].time - t1, events[1].time - t2);
+  // Discrete state: mode began at t2; a left the ground at t1.
+  EXPECT_EQ(ctx.discrete_state()[0], events[1].time);
+  EXPECT_EQ(ctx.discrete_state()[1], events[0].time);
+}
+
 TEST(ContactEvents, AlternatingSingleSupportHasAFlightModeAtIndexTwo) {
   const ContactModeGraph g = ContactModeGraph::AlternatingSingleSupport("l", "r");
   ASSERT_EQ(g.modes.size(), 3u);
