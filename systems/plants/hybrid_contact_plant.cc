@@ -53,18 +53,21 @@ struct HybridContactPlant::Scratch {
         F(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
         impulse(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
         v_plus(Eigen::VectorXd::Zero(model.nv())),
-        forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
+        forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
+        event_forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
   MultibodyWorkspace ws;
   Eigen::VectorXd u, qdd, F, impulse, v_plus;
   Eigen::Matrix3Xd forces;  ///< ground force on each contact [N], world axes (zero when inactive)
   ContactSet active = 0;
   std::uint64_t version = 0;
   std::uint64_t forces_version = 0;
-  // Violations present right after an event (set by the event publish, see the header): contacts that lift off /
-  // slip at pending_time + params.immediate_event_delay_s, valid while the mode is pending_mode.
+  // Set by the event publish (see the header), valid while the mode is pending_mode: contacts beyond a bound right
+  // after the event at pending_time (they lift off / slip at pending_time + immediate_event_delay_s), contacts within
+  // event_tolerance_N beyond it (their witness is offset by event_tolerance_N), and the forces at the event.
   double pending_time = 0;
   int pending_mode = -1;
-  ContactSet pending_liftoff = 0, pending_slip = 0;
+  ContactSet pending_liftoff = 0, pending_slip = 0, grace_liftoff = 0, grace_slip = 0;
+  Eigen::Matrix3Xd event_forces;
 };
 
 namespace {
@@ -197,8 +200,10 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           "liftoff_" + contact_name, m,
           [this, c](const LeafContext& ctx) {
             const Scratch& s = ctx.scratch<Scratch>();
-            if (s.pending_mode == ctx.mode() && (s.pending_liftoff & ContactBit(c))) return PendingWitness(ctx);
-            return EvalContactForces(ctx)(2, c);
+            const bool valid = s.pending_mode == ctx.mode();
+            if (valid && (s.pending_liftoff & ContactBit(c))) return PendingWitness(ctx);
+            const double fn = EvalContactForces(ctx)(2, c);
+            return valid && (s.grace_liftoff & ContactBit(c)) ? fn + params_.event_tolerance_N : fn;
           },
           CrossingDirection::kFalling,
           [this, m, c, to, contact_name](const LeafContext& ctx, int, State* next) {
@@ -208,7 +213,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
               std::ostringstream os;
               os << "'" << contact_name << "' lifted off at t = " << (pending ? s.pending_time : ctx.time()) << " s (normal force ";
               if (pending)
-                os << EvalContactForces(ctx)(2, c) << " N right after an event";
+                os << s.event_forces(2, c) << " N right after an event";
               else
                 os << "0 N";
               os << " in mode '" << graph_.modes[m].name << "'), but the contact-mode graph has no mode to lift off into";
@@ -226,17 +231,19 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
           const ContactSet active = mode_contacts_[ctx.mode()];
           const Scratch& s = ctx.scratch<Scratch>();
-          const ContactSet pending = s.pending_mode == ctx.mode() ? s.pending_slip : 0;
+          const bool valid = s.pending_mode == ctx.mode();
+          const ContactSet pending = valid ? s.pending_slip : 0, grace = valid ? s.grace_slip : 0;
           for (int c = 0; c < nc; ++c)
             w[c] = !(active & ContactBit(c))   ? 1.0
                    : (pending & ContactBit(c)) ? PendingWitness(ctx)
+                   : (grace & ContactBit(c))   ? FrictionMargin(f, c) + params_.event_tolerance_N
                                                : FrictionMargin(f, c);
         },
         CrossingDirection::kFalling,
         [this](const LeafContext& ctx, int c, State*) {
           const Scratch& s = ctx.scratch<Scratch>();
           const bool pending = s.pending_mode == ctx.mode() && (s.pending_slip & ContactBit(c));
-          const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
+          const Eigen::Matrix3Xd& f = pending ? s.event_forces : EvalContactForces(ctx);
           const double ft = f.col(c).head<2>().norm(), fn = f(2, c);
           std::ostringstream os;
           os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time()) << " s: |F_t|/F_n = " << ft / fn
@@ -254,13 +261,18 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
     s.pending_time = ctx.time();
     s.pending_mode = ctx.mode();
-    s.pending_liftoff = s.pending_slip = 0;
+    s.event_forces = f;
+    s.pending_liftoff = s.pending_slip = s.grace_liftoff = s.grace_slip = 0;
+    const double tol = params_.event_tolerance_N;
     for (int c = 0; c < nc; ++c) {
       if (!(s.active & ContactBit(c))) continue;
-      if (f(2, c) < 0)
+      const double fn = f(2, c), margin = FrictionMargin(f, c);
+      if (fn < -tol)
         s.pending_liftoff |= ContactBit(c);
-      else if (FrictionMargin(f, c) < 0)
+      else if (margin < -tol)
         s.pending_slip |= ContactBit(c);
+      if (fn < 0 && fn >= -tol) s.grace_liftoff |= ContactBit(c);
+      if (margin < 0 && margin >= -tol) s.grace_slip |= ContactBit(c);
     }
     return EventStatus::Succeeded();
   });

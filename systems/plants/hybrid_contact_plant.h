@@ -43,7 +43,9 @@
 // a contact's liftoff_<contact> (slip component) witness becomes immediate_event_delay_s − (t − t_event), so it
 // lifts off (slips) immediate_event_delay_s after the event through the same reset and target rules as above; the
 // messages then give t_event and the force right after the event. Example: a touchdown whose held input makes the
-// new stance foot pull lifts that foot off again at once. (The pending set lives in the context's scratch, not in the
+// new stance foot pull lifts that foot off again at once. A value within event_tolerance_N beyond its bound (rounding,
+// when a controller holds the force on the cone or at F_n = 0) is taken as on the bound: until the next event that
+// contact's witness is the value + event_tolerance_N, so it still fires if the force then leaves the bound. (The pending set lives in the context's scratch, not in the
 // state: every event publish recomputes it, and it only applies while the mode it was found in is active.)
 
 #include <memory>
@@ -98,6 +100,9 @@ struct HybridContactPlantParams {
   /// event (initialisation, a reset, another system's discrete update, e.g. a zero-order-held input) lifts off (or
   /// slips) this long after the event: its witness is replaced by a ramp that crosses 0 then (see the header).
   double immediate_event_delay_s = 1e-9;
+  /// [N] Right after an event, a normal force or friction margin (mu F_n - |F_t|) between -event_tolerance_N and 0 is
+  /// rounding on the bound, not a violation (see the header). The guards' crossings themselves are exact.
+  double event_tolerance_N = 1e-6;
 };
 
 class HybridContactPlant final : public LeafSystem {
