@@ -96,7 +96,7 @@ struct HybridContactPlantParams {
   double min_base_height_m = 0.2;          ///< [m] base below this height ends the run as a fall.
   double stone_tolerance_m = 0.0;          ///< [m] how far beyond a stone's edge a touchdown still counts.
   bool saturate_torques = true;            ///< clip u to the model's torque limits before applying it.
-  /// [s] A contact whose normal force is already < 0 (or that is already outside its friction cone) right after an
+  /// [s] A contact whose normal force is already < -event_tolerance_N (or friction margin, likewise) right after an
   /// event (initialisation, a reset, another system's discrete update, e.g. a zero-order-held input) lifts off (or
   /// slips) this long after the event: its witness is replaced by a ramp that crosses 0 then (see the header).
   double immediate_event_delay_s = 1e-9;
