@@ -36,21 +36,34 @@ void CheckControllerPorts(const System& controller, int nv, int nu) {
   check(false, "qp_status", {"qp_status", 1, {}, nullptr});
 }
 
+// The outputs of Eq. (19) in SteppingStonesOutputAdapter's layout; a foot's output is active while it swings.
+std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec) {
+  const MultibodyModel& model = *spec.model;
+  return {
+      std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
+      std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
+      PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
+      PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
+  };
+}
+
 }  // namespace
+
+SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagramParams& params) {
+  return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
+    std::vector<ClfOutput> outputs;
+    for (auto& task : SteppingStonesTasks(params, spec)) outputs.push_back(ClfOutput::RelativeDegreeTwo(std::move(task)));
+    ClfQpParams cp = params.clf_controller;
+    cp.contact_stabilization = spec.contact_stabilization;
+    return std::make_unique<ClfQpController>(spec.name, spec.model, spec.mode_contacts, std::move(outputs), cp);
+  };
+}
 
 SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStonesDiagramParams& params) {
   return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
-    const MultibodyModel& model = *spec.model;
-    // Tasks in the order of SteppingStonesOutputAdapter's layout; a foot's task is active while it swings.
-    std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
-        std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
-        std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
-        PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
-        PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
-    };
     TaskSpaceQpParams cp = params.controller;
     cp.contact_stabilization = spec.contact_stabilization;
-    return std::make_unique<TaskSpaceQpController>(spec.name, spec.model, spec.mode_contacts, tasks, cp);
+    return std::make_unique<TaskSpaceQpController>(spec.name, spec.model, spec.mode_contacts, SteppingStonesTasks(params, spec), cp);
   };
 }
 

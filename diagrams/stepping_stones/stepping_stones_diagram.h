@@ -52,6 +52,7 @@
 #include "framework/diagram.h"
 #include "framework/simulator.h"
 #include "framework/vector_logger.h"
+#include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/planners/momentum_regulation_planner_system.h"
 #include "systems/planners/stepping_stones_output_adapter.h"
@@ -94,6 +95,8 @@ struct SteppingStonesDiagramParams {
   /// peak about 20 % lower, near τ = 0.5 whatever the step).
   SteppingStonesOutputsSystemParams outputs = DefaultOutputsParams();
   TaskSpaceQpParams controller = DefaultControllerParams();
+  /// The CLF-QP alternative (ClfQpControllerFactory): the same outputs (Eq. (19)), GRF rows and torque limits.
+  ClfQpParams clf_controller = DefaultClfParams();
   TaskGains torso_gains{1.0, 100.0, 20.0};
   TaskGains com_height_gains{1.0, 100.0, 20.0};
   /// Weight 5 (ours): when the torque limits bind (short steep steps), the QP gives the swing foot priority over the
@@ -107,6 +110,13 @@ struct SteppingStonesDiagramParams {
     // |F_x|/F_z up to 0.806 against μ = 0.8 in the plant.
     p.friction_margin = 0.95;
     p.min_normal_force_N = 2.0;
+    return p;
+  }
+  static ClfQpParams DefaultClfParams() {
+    ClfQpParams p;
+    // The same GRF rows as the task-space QP's (see DefaultControllerParams).
+    p.contact.friction_margin = 0.95;
+    p.contact.min_normal_force_N = 2.0;
     return p;
   }
   static VerticalComMpcSystemParams DefaultMpcParams() {
@@ -170,6 +180,11 @@ SimulatorConfig SteppingStonesSimulatorConfig();
 /// The paper's controller: TaskSpaceQpController (Eq. (29)-(31)) with params.controller and the task gains of
 /// `params` (torso pitch, COM height, swing foot), the plant's contact stabilisation.
 SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStonesDiagramParams& params);
+
+/// The CLF-QP controller (ClfQpController) tracking the same outputs as the task-space QP: torso pitch, COM height and
+/// the swing foot's x and z (Eq. (19)), as relative-degree-2 outputs with the task weights of `params`, with
+/// params.clf_controller and the plant's contact stabilisation.
+SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagramParams& params);
 
 /// Builds the diagram for `terrain` (the robot starts standing on its first stone). `controller`: the controller
 /// block's factory; empty = TaskSpaceQpControllerFactory(params). Throws, naming the port, if the block lacks a

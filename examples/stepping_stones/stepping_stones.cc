@@ -93,6 +93,8 @@ int main(int argc, char** argv) {
       .Option("log-period", "0.005", "[s] sample period of the CSV log")
       .Option("friction-margin", "0.95", "[-] the controller's friction pyramid uses this fraction of mu (1 = the paper's cone)")
       .Option("min-normal-force", "2", "[N] the controller's smallest stance normal force (0 = the paper's F_z >= 0)")
+      .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
+      .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
       .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
       .Option("plots", "", "directory for PNG plots (empty: none)");
@@ -113,7 +115,15 @@ int main(int argc, char** argv) {
     params.controller.min_normal_force_N = cli.GetDouble("min-normal-force");
     if (cli.Get("resolve-at-events") != "on" && cli.Get("resolve-at-events") != "off")
       throw std::invalid_argument("stepping_stones: --resolve-at-events must be 'on' or 'off', got '" + cli.Get("resolve-at-events") + "'");
-    params.controller.resolve_at_events = params.mpc.resolve_at_events = cli.Get("resolve-at-events") == "on";
+    params.controller.resolve_at_events = params.mpc.resolve_at_events = params.clf_controller.resolve_at_events = cli.Get("resolve-at-events") == "on";
+    params.clf_controller.contact.friction_margin = params.controller.friction_margin;
+    params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
+    if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
+    SteppingStonesControllerFactory controller;
+    if (cli.Get("controller") == "clf-qp")
+      controller = ClfQpControllerFactory(params);
+    else if (cli.Get("controller") != "tsc-qp")
+      throw std::invalid_argument("stepping_stones: --controller must be 'tsc-qp' or 'clf-qp', got '" + cli.Get("controller") + "'");
     if (cli.Get("swing-apex") == "clear")
       params.outputs.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
     else if (cli.Get("swing-apex") == "exact")
@@ -122,7 +132,7 @@ int main(int argc, char** argv) {
       params.outputs.swing_foot.apex_shape = SwingApexShape::kControlPoints;
     else
       throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
-    SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params);
+    SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller);
     Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
     SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
     sim.Initialize();

@@ -14,9 +14,10 @@ namespace rome {
 
 ContactModeGraph ContactModeGraph::AlternatingSingleSupport(const std::string& left, const std::string& right, bool start_on_left) {
   ContactModeGraph g;
-  const std::string ls = left + "_stance", rs = right + "_stance";
-  g.modes = {{ls, {left}}, {rs, {right}}};
-  g.transitions = {{ls, rs, Kind::kTouchdown, right}, {rs, ls, Kind::kTouchdown, left}};
+  const std::string ls = left + "_stance", rs = right + "_stance", fl = "flight";
+  g.modes = {{ls, {left}}, {rs, {right}}, {fl, {}}};  // indices 0, 1, 2: other code relies on them
+  g.transitions = {{ls, rs, Kind::kTouchdown, right}, {rs, ls, Kind::kTouchdown, left}, {ls, fl, Kind::kLiftoff, left},
+                   {rs, fl, Kind::kLiftoff, right},   {fl, ls, Kind::kTouchdown, left}, {fl, rs, Kind::kTouchdown, right}};
   g.initial_mode = start_on_left ? ls : rs;
   return g;
 }
@@ -51,11 +52,22 @@ struct HybridContactPlant::Scratch {
         qdd(Eigen::VectorXd::Zero(model.nv())),
         F(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
         impulse(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
-        v_plus(Eigen::VectorXd::Zero(model.nv())) {}
+        v_plus(Eigen::VectorXd::Zero(model.nv())),
+        forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
+        event_forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
   MultibodyWorkspace ws;
   Eigen::VectorXd u, qdd, F, impulse, v_plus;
+  Eigen::Matrix3Xd forces;  ///< ground force on each contact [N], world axes (zero when inactive)
   ContactSet active = 0;
   std::uint64_t version = 0;
+  std::uint64_t forces_version = 0;
+  // Set by the event publish (see the header), valid while the mode is pending_mode: contacts beyond a bound right
+  // after the event at pending_time (they lift off / slip at pending_time + immediate_event_delay_s), contacts within
+  // event_tolerance_N beyond it (their witness is offset by event_tolerance_N), and the forces at the event.
+  double pending_time = 0;
+  int pending_mode = -1;
+  ContactSet pending_liftoff = 0, pending_slip = 0, grace_liftoff = 0, grace_slip = 0;
+  Eigen::Matrix3Xd event_forces;
 };
 
 namespace {
@@ -73,6 +85,13 @@ int HybridContactPlant::base_height_index() const {
     case FloatingBaseType::kFixed: return -1;
   }
   return -1;
+}
+
+void HybridContactPlant::EnterMode(double t, int from, int to, State* next) const {
+  next->discrete[0] = t;
+  for (int c = 0; c < model_->num_contacts(); ++c)
+    if ((mode_contacts_[from] & ContactBit(c)) && !(mode_contacts_[to] & ContactBit(c))) next->discrete[1 + c] = t;
+  next->mode = to;
 }
 
 HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
@@ -96,13 +115,16 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     mode_contacts_.push_back(set);
     names.push_back(m.name);
   }
+  const int num_modes = static_cast<int>(graph_.modes.size());
   const int initial = FindMode(graph_, graph_.initial_mode.empty() ? graph_.modes[0].name : graph_.initial_mode, this->name());
   DeclareModes(names, initial);
 
   Eigen::VectorXd x0(2 * nv);
   x0 << model_->q_nominal(), Eigen::VectorXd::Zero(nv);
   DeclareContinuousState(x0);
-  DeclareDiscreteState(Eigen::VectorXd::Zero(1));  // time the current mode began
+  // [time the current mode began; per contact: time it last left the ground] (see the header). Zeros: every
+  // touchdown guard arms min_time_in_mode_s after t = 0.
+  DeclareDiscreteState(Eigen::VectorXd::Zero(1 + nc));
   DeclareInputPort("u", nu);
 
   DeclareOutputPort("q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nv); }, Feedthrough::None());
@@ -114,14 +136,9 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     for (const char* axis : {"fx", "fy", "fz"}) force_names.push_back(contact.name + "_" + axis);
   DeclareOutputPort("state", state_names, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   DeclareTypedOutputPort<int>("mode", [](const LeafContext& c, int* y) { *y = c.mode(); }, Feedthrough::None());
-  DeclareOutputPort("contact_forces", force_names, [this, nc, nv](const LeafContext& c, Eigen::VectorXd* y) {
-    const Scratch& s = EvalDynamics(c);
-    y->setZero();
-    for (int i = 0; i < nc; ++i)
-      if (s.active & ContactBit(i)) {
-        auto& ws = const_cast<Scratch&>(s).ws;
-        y->segment<3>(3 * i) = ExtractContactWrench(*model_, ws, c.continuous_state().head(nv), s.active, s.F, i).force;
-      }
+  DeclareOutputPort("contact_forces", force_names, [this, nc](const LeafContext& c, Eigen::VectorXd* y) {
+    const Eigen::Matrix3Xd& f = EvalContactForces(c);
+    for (int i = 0; i < nc; ++i) y->segment<3>(3 * i) = f.col(i);
   });
   DeclareOutputPort("contact_violation", nc, [this, nc, nv](const LeafContext& c, Eigen::VectorXd* y) {
     const Scratch& s = EvalDynamics(c);
@@ -143,7 +160,12 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
   }, Feedthrough::None());
 
-  // Guards from the mode graph.
+  // Check the graph's transitions; remember the explicit lift-off targets.
+  std::vector<std::vector<int>> liftoff_target(num_modes, std::vector<int>(nc, -1));
+  struct Touchdown {
+    int from, to, contact;
+  };
+  std::vector<Touchdown> touchdowns;
   for (const auto& t : graph_.transitions) {
     const int from = FindMode(graph_, t.from, this->name());
     const int to = FindMode(graph_, t.to, this->name());
@@ -153,49 +175,138 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     } catch (const std::exception&) {
       ThrowError("transition '" + t.from + "' -> '" + t.to + "' names contact '" + t.contact + "', which robot '" + model_->name() + "' does not have");
     }
-    const std::string contact_name = t.contact;
     if (t.kind == ContactModeGraph::Kind::kTouchdown) {
       if (mode_contacts_[from] & ContactBit(contact))
         ThrowError("touchdown of '" + t.contact + "' from mode '" + t.from + "', where that contact is already active");
-      DeclareGuard(
-          "touchdown_" + contact_name, from, [this, contact](const LeafContext& c) { return TouchdownWitness(c, contact); }, CrossingDirection::kFalling,
-          [this, contact, contact_name, to, nv](const LeafContext& c, int, State* next) {
-            auto& s = c.scratch<Scratch>();
-            const auto q = c.continuous_state().head(nv);
-            if (!terrain_.is_flat()) {
-              const Eigen::Vector3d p = CalcContactPointPosition(*model_, s.ws, q, contact, 0);
-              if (terrain_.StoneAt(p.x(), params_.stone_tolerance_m) < 0) {
-                std::ostringstream os;
-                const int near = terrain_.NearestStone(p.x());
-                os << "robot fell: '" << contact_name << "' touched down at x = " << p.x() << " m, not on any stone (nearest stone " << near
-                   << " spans " << terrain_.stones()[near].x_center_m - terrain_.stones()[near].length_m / 2 << " .. "
-                   << terrain_.stones()[near].x_center_m + terrain_.stones()[near].length_m / 2 << " m)";
-                return EventStatus::ReachedTermination(os.str());
-              }
-            }
-            CalcImpactMap(*model_, s.ws, q, c.continuous_state().tail(nv), mode_contacts_[to], params_.dynamics, s.v_plus, s.impulse);
-            next->continuous.tail(nv) = s.v_plus;
-            next->discrete[0] = c.time();
-            next->mode = to;
-            return EventStatus::Succeeded();
-          });
+      touchdowns.push_back({from, to, contact});
     } else {
       if (!(mode_contacts_[from] & ContactBit(contact)))
         ThrowError("lift-off of '" + t.contact + "' from mode '" + t.from + "', where that contact is not active");
+      if (liftoff_target[from][contact] < 0) liftoff_target[from][contact] = to;
+    }
+  }
+
+  // Unilateral contact: in every mode, every active contact lifts off when its normal force crosses 0 falling.
+  // Target: the graph's lift-off transition, else the mode with exactly the remaining contacts, else failure.
+  // Declared before the slip guards of the same mode: when a contact unloads with no tangential force
+  // (|F_t| = F_n = 0 at the same instant) the lift-off wins and the mode's slip guard is then inactive.
+  for (int m = 0; m < num_modes; ++m) {
+    for (int c = 0; c < nc; ++c) {
+      if (!(mode_contacts_[m] & ContactBit(c))) continue;
+      int to = liftoff_target[m][c];
+      if (to < 0)
+        for (int k = 0; k < num_modes; ++k)
+          if (mode_contacts_[k] == (mode_contacts_[m] & ~ContactBit(c))) {
+            to = k;
+            break;
+          }
+      const std::string contact_name = model_->contacts()[c].name;
       DeclareGuard(
-          "liftoff_" + contact_name, from,
-          [this, contact, nv](const LeafContext& c) {
-            const Scratch& s = EvalDynamics(c);
-            auto& ws = const_cast<Scratch&>(s).ws;
-            return ExtractContactWrench(*model_, ws, c.continuous_state().head(nv), s.active, s.F, contact).force.z();
+          "liftoff_" + contact_name, m,
+          [this, c](const LeafContext& ctx) {
+            const Scratch& s = ctx.scratch<Scratch>();
+            const bool valid = s.pending_mode == ctx.mode();
+            if (valid && (s.pending_liftoff & ContactBit(c))) return PendingWitness(ctx);
+            const double fn = EvalContactForces(ctx)(2, c);
+            return valid && (s.grace_liftoff & ContactBit(c)) ? fn + params_.event_tolerance_N : fn;
           },
           CrossingDirection::kFalling,
-          [to](const LeafContext& c, int, State* next) {
-            next->discrete[0] = c.time();
-            next->mode = to;
+          [this, m, c, to, contact_name](const LeafContext& ctx, int, State* next) {
+            if (to < 0) {
+              const Scratch& s = ctx.scratch<Scratch>();
+              const bool pending = s.pending_mode == ctx.mode() && (s.pending_liftoff & ContactBit(c));
+              std::ostringstream os;
+              os << "'" << contact_name << "' lifted off at t = " << (pending ? s.pending_time : ctx.time()) << " s (normal force ";
+              if (pending)
+                os << s.event_forces(2, c) << " N right after an event";
+              else
+                os << "0 N";
+              os << " in mode '" << graph_.modes[m].name << "'), but the contact-mode graph has no mode to lift off into";
+              return EventStatus::Failed(os.str());
+            }
+            EnterMode(ctx.time(), m, to, next);
             return EventStatus::Succeeded();
           });
     }
+    if (mode_contacts_[m] == 0) continue;
+    // Friction: one component per contact, mu F_n - |F_t| (inactive contacts: +1, never crossing).
+    DeclareGuard(
+        "slip", m, nc,
+        [this, nc](const LeafContext& ctx, Eigen::Ref<Eigen::VectorXd> w) {
+          const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
+          const ContactSet active = mode_contacts_[ctx.mode()];
+          const Scratch& s = ctx.scratch<Scratch>();
+          const bool valid = s.pending_mode == ctx.mode();
+          const ContactSet pending = valid ? s.pending_slip : 0, grace = valid ? s.grace_slip : 0;
+          for (int c = 0; c < nc; ++c)
+            w[c] = !(active & ContactBit(c))   ? 1.0
+                   : (pending & ContactBit(c)) ? PendingWitness(ctx)
+                   : (grace & ContactBit(c))   ? FrictionMargin(f, c) + params_.event_tolerance_N
+                                               : FrictionMargin(f, c);
+        },
+        CrossingDirection::kFalling,
+        [this](const LeafContext& ctx, int c, State*) {
+          const Scratch& s = ctx.scratch<Scratch>();
+          const bool pending = s.pending_mode == ctx.mode() && (s.pending_slip & ContactBit(c));
+          const Eigen::Matrix3Xd& f = pending ? s.event_forces : EvalContactForces(ctx);
+          const double ft = f.col(c).head<2>().norm(), fn = f(2, c);
+          std::ostringstream os;
+          os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time()) << " s: |F_t|/F_n = " << ft / fn
+             << (pending ? " exceeded" : " reached") << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient
+             << " (|F_t| = " << ft << " N, F_n = " << fn << " N" << (pending ? "; already outside the cone right after an event" : "") << ")";
+          return EventStatus::Failed(os.str());
+        });
+  }
+
+  // Violations that no guard can see: right after an event (initialisation, a reset, another system's discrete
+  // update such as a zero-order-held input) the witnesses restart from the new values, so a normal force or a
+  // friction margin that jumped below 0 would never cross. Such contacts lift off / slip just after the event.
+  DeclareEventPublish([this, nc](const LeafContext& ctx) {
+    Scratch& s = ctx.scratch<Scratch>();
+    const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
+    s.pending_time = ctx.time();
+    s.pending_mode = ctx.mode();
+    s.event_forces = f;
+    s.pending_liftoff = s.pending_slip = s.grace_liftoff = s.grace_slip = 0;
+    const double tol = params_.event_tolerance_N;
+    for (int c = 0; c < nc; ++c) {
+      if (!(s.active & ContactBit(c))) continue;
+      const double fn = f(2, c), margin = FrictionMargin(f, c);
+      if (fn < -tol)
+        s.pending_liftoff |= ContactBit(c);
+      else if (margin < -tol)
+        s.pending_slip |= ContactBit(c);
+      if (fn < 0 && fn >= -tol) s.grace_liftoff |= ContactBit(c);
+      if (margin < 0 && margin >= -tol) s.grace_slip |= ContactBit(c);
+    }
+    return EventStatus::Succeeded();
+  });
+
+  // Touchdowns from the graph.
+  for (const Touchdown& td : touchdowns) {
+    const int from = td.from, to = td.to, contact = td.contact;
+    const std::string contact_name = model_->contacts()[contact].name;
+    DeclareGuard(
+        "touchdown_" + contact_name, from, [this, contact](const LeafContext& c) { return TouchdownWitness(c, contact); }, CrossingDirection::kFalling,
+        [this, contact, contact_name, from, to, nv](const LeafContext& c, int, State* next) {
+          auto& s = c.scratch<Scratch>();
+          const auto q = c.continuous_state().head(nv);
+          if (!terrain_.is_flat()) {
+            const Eigen::Vector3d p = CalcContactPointPosition(*model_, s.ws, q, contact, 0);
+            if (terrain_.StoneAt(p.x(), params_.stone_tolerance_m) < 0) {
+              std::ostringstream os;
+              const int near = terrain_.NearestStone(p.x());
+              os << "robot fell: '" << contact_name << "' touched down at x = " << p.x() << " m, not on any stone (nearest stone " << near
+                 << " spans " << terrain_.stones()[near].x_center_m - terrain_.stones()[near].length_m / 2 << " .. "
+                 << terrain_.stones()[near].x_center_m + terrain_.stones()[near].length_m / 2 << " m)";
+              return EventStatus::Failed(os.str());
+            }
+          }
+          CalcImpactMap(*model_, s.ws, q, c.continuous_state().tail(nv), mode_contacts_[to], params_.dynamics, s.v_plus, s.impulse);
+          next->continuous.tail(nv) = s.v_plus;
+          EnterMode(c.time(), from, to, next);
+          return EventStatus::Succeeded();
+        });
   }
   if (base_height_index() >= 0) {
     DeclareGuard(
@@ -204,7 +315,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           std::ostringstream os;
           os << "robot fell: base height " << c.continuous_state()[base_height_index()] << " m is below min_base_height_m = " << params_.min_base_height_m
              << " m";
-          return EventStatus::ReachedTermination(os.str());
+          return EventStatus::Failed(os.str());
         });
   }
 }
@@ -219,7 +330,7 @@ void HybridContactPlant::SetState(LeafContext& context, const Eigen::VectorXd& q
   State& s = context.get_mutable_state();
   s.continuous << q, v;
   s.mode = FindMode(graph_, mode, name());
-  s.discrete[0] = context.time();
+  s.discrete.setConstant(context.time());  // the mode clock starts now; inactive contacts count as just lifted off
 }
 
 const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafContext& context) const {
@@ -239,6 +350,25 @@ const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafCo
   return s;
 }
 
+const Eigen::Matrix3Xd& HybridContactPlant::EvalContactForces(const LeafContext& context) const {
+  Scratch& s = const_cast<Scratch&>(EvalDynamics(context));
+  if (s.forces_version == s.version) return s.forces;
+  const auto q = context.continuous_state().head(model_->nv());
+  for (int i = 0; i < model_->num_contacts(); ++i)
+    s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force : Eigen::Vector3d::Zero();
+  s.forces_version = s.version;
+  return s.forces;
+}
+
+double HybridContactPlant::FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const {
+  return model_->contacts()[contact].friction_coefficient * forces(2, contact) - forces.col(contact).head<2>().norm();
+}
+
+double HybridContactPlant::PendingWitness(const LeafContext& context) const {
+  const Scratch& s = context.scratch<Scratch>();
+  return s.pending_time + params_.immediate_event_delay_s - context.time();
+}
+
 void HybridContactPlant::DoCalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd* xdot) const {
   const int nv = model_->nv();
   const Scratch& s = EvalDynamics(context);
@@ -247,7 +377,8 @@ void HybridContactPlant::DoCalcTimeDerivatives(const LeafContext& context, Eigen
 }
 
 double HybridContactPlant::TouchdownWitness(const LeafContext& context, int contact) const {
-  if (context.time() - context.discrete_state()[0] < params_.min_time_in_mode_s) return 1.0;  // not armed yet
+  // Only a contact that left the ground less than min_time_in_mode_s ago is held unarmed (it starts at height ~0).
+  if (context.time() - context.discrete_state()[1 + contact] < params_.min_time_in_mode_s) return 1.0;
   auto& ws = context.scratch<Scratch>().ws;
   const auto q = context.continuous_state().head(model_->nv());
   double lowest = std::numeric_limits<double>::infinity();

@@ -9,18 +9,44 @@
 //          contact_forces (3 nc)       ground force on each contact [N], world axes; zero when not in contact
 //          contact_violation (nc)      per contact: 0 ok, +1 negative normal force, +2 outside the friction cone
 //          com (6)                     [p_com (m); v_com (m/s)], world; elements x, y, z, vx, vy, vz
-// continuous state: [q; v]; discrete state: [time the current mode began (s)]; modes: the graph's modes.
+// continuous state: [q; v]
+// discrete state (1 + nc): [0]     time the current mode began [s]
+//                          [1 + i] time contact i last left the ground (lift-off, or the old stance of an impact) [s];
+//                                  SetState sets every entry to the context time, the default context to 0
+// modes: the graph's modes, in ContactModeGraph::modes order.
 //
 // Flow in mode m with active contacts C(m) (plus every loop closure of the model):
 //   M q̈ + h = B sat(u) + τ_spring + Jᵀ F,  J q̈ + J̇ q̇ = −2α J q̇ − β² φ   (contact_dynamics.h)
-// Guards (all directional, on CVODE's rootfinder):
-//   touchdown of contact c ∉ C(m): lowest contact point height above the terrain crosses 0 falling.
-//     Armed only min_time_in_mode_s after the mode began (a foot that just lifted off starts at 0).
+// Guards (all directional, on CVODE's rootfinder; names are stable):
+//   touchdown_<contact>  (modes with a touchdown transition of <contact>): lowest contact point height above the
+//     terrain crosses 0 falling. A contact that left the ground less than min_time_in_mode_s ago is not armed (it
+//     starts at height ~0); every other contact is armed at once.
 //     Reset: plastic impact q̇⁺ = (I − M⁻¹Jᵀ(JM⁻¹Jᵀ)⁻¹J) q̇⁻ with the TARGET mode's contact set; on a
-//     stepping-stone terrain a touchdown that is not on a stone ends the run ("robot fell: ...").
-//   lift-off of contact c ∈ C(m): its normal force crosses 0 falling. Reset: mode change only.
-//   fall: base height below min_base_height_m (all modes) ends the run ("robot fell: ...").
-// Unilateral and friction violations are not hidden: they appear in contact_violation.
+//     stepping-stone terrain a touchdown that is not on a stone ends the run: Failed("robot fell: ...").
+//   liftoff_<contact>  (every mode, every contact c ∈ C(m)): the normal force on c (world z of the ground force,
+//     ExtractContactWrench) crosses 0 falling. Contact is unilateral in every graph. Reset: mode change only, to the
+//     graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
+//     C(m) \ {c}, else the run ends: Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no
+//     mode to lift off into").
+//   slip  (every mode with contacts; one witness component per contact, index = contact index): μ_c F_n − |F_t|
+//     crosses 0 falling (inactive contacts: +1). μ_c = ContactInfo::friction_coefficient. Ends the run:
+//     Failed("'<c>' slipped at t = ... s: |F_t|/F_n = ... reached the friction coefficient mu = ..."). A slip is a
+//     failure, not a switch to a Coulomb sliding mode: the walking controllers keep every stance inside the cone,
+//     so leaving it means the controller or the plan is wrong; a sliding mode would need a second, non-welded
+//     contact model (and its own impact law) that nothing here needs yet, and would hide those errors.
+//     Lift-off guards of a mode are declared before its slip guard: a contact that unloads with F_t = 0 (the cone's
+//     apex, both witnesses reach 0 at once) lifts off, and the old mode's slip guard is then inactive.
+//   fall  (all modes; floating bases only): base height below min_base_height_m: Failed("robot fell: ...").
+// Violations no witness can see: after every event (initialisation, a guard reset, another system's discrete update
+// such as a zero-order-held u) the plant's event publish checks every active contact. Its witnesses restart from the
+// post-event values, so a normal force (friction margin) that jumped below 0 at the event would never cross: such
+// a contact's liftoff_<contact> (slip component) witness becomes immediate_event_delay_s − (t − t_event), so it
+// lifts off (slips) immediate_event_delay_s after the event through the same reset and target rules as above; the
+// messages then give t_event and the force right after the event. Example: a touchdown whose held input makes the
+// new stance foot pull lifts that foot off again at once. A value within event_tolerance_N beyond its bound (rounding,
+// when a controller holds the force on the cone or at F_n = 0) is taken as on the bound: until the next event that
+// contact's witness is the value + event_tolerance_N, so it still fires if the force then leaves the bound. (The pending set lives in the context's scratch, not in the
+// state: every event publish recomputes it, and it only applies while the mode it was found in is active.)
 
 #include <memory>
 #include <string>
@@ -50,7 +76,9 @@ struct ContactModeGraph {
   std::string initial_mode;
 
   /// Point-foot walking: single support on one foot, the swing foot's touchdown swaps stance through an
-  /// impact (the old stance foot leaves the ground at once). Modes "<left>_stance", "<right>_stance".
+  /// impact (the old stance foot leaves the ground at once). Modes (fixed indices): 0 "<left>_stance",
+  /// 1 "<right>_stance", 2 "flight" (no contacts). Lift-off of the stance foot leads to flight; touchdown
+  /// of either foot in flight leads to that foot's stance (plastic impact).
   static ContactModeGraph AlternatingSingleSupport(const std::string& left_contact, const std::string& right_contact,
                                                    bool start_on_left = true);
   /// Walking with double support: left_stance, double_support, right_stance; touchdown leads to double
@@ -64,10 +92,17 @@ struct ContactModeGraph {
 
 struct HybridContactPlantParams {
   ConstrainedDynamicsParameters dynamics;  ///< Baumgarte gains and regularisation (contact_dynamics.h)
-  double min_time_in_mode_s = 0.05;        ///< [s] touchdown guards arm this long after a mode begins.
+  double min_time_in_mode_s = 0.05;        ///< [s] a contact's touchdown guard arms this long after it left the ground.
   double min_base_height_m = 0.2;          ///< [m] base below this height ends the run as a fall.
   double stone_tolerance_m = 0.0;          ///< [m] how far beyond a stone's edge a touchdown still counts.
   bool saturate_torques = true;            ///< clip u to the model's torque limits before applying it.
+  /// [s] A contact whose normal force is already < -event_tolerance_N (or friction margin, likewise) right after an
+  /// event (initialisation, a reset, another system's discrete update, e.g. a zero-order-held input) lifts off (or
+  /// slips) this long after the event: its witness is replaced by a ramp that crosses 0 then (see the header).
+  double immediate_event_delay_s = 1e-9;
+  /// [N] Right after an event, a normal force or friction margin (mu F_n - |F_t|) between -event_tolerance_N and 0 is
+  /// rounding on the bound, not a violation (see the header). The guards' crossings themselves are exact.
+  double event_tolerance_N = 1e-6;
 };
 
 class HybridContactPlant final : public LeafSystem {
@@ -83,7 +118,8 @@ class HybridContactPlant final : public LeafSystem {
   ContactSet active_contacts(int mode) const { return mode_contacts_.at(mode); }
   int base_height_index() const;
 
-  /// Sets q, v and the mode in a context (sizes checked); the mode clock starts at the context time.
+  /// Sets q, v and the mode in a context (sizes checked); the mode clock starts at the context time, and every
+  /// contact counts as having left the ground then (touchdown guards arm min_time_in_mode_s later).
   void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const;
 
   struct Scratch;
@@ -93,7 +129,15 @@ class HybridContactPlant final : public LeafSystem {
   std::any AllocateScratch() const override;
   /// Constrained dynamics at the context's state, computed once per context version.
   const Scratch& EvalDynamics(const LeafContext& context) const;
+  /// Ground force on each contact [N], world axes, 3 x nc (zero columns for inactive contacts), cached per version.
+  const Eigen::Matrix3Xd& EvalContactForces(const LeafContext& context) const;
   double TouchdownWitness(const LeafContext& context, int contact) const;
+  /// Mode change at time t: discrete[0] = t, contacts active in `from` but not in `to` left the ground at t.
+  void EnterMode(double t, int from, int to, State* next) const;
+  /// mu F_n - |F_t| of a contact [N].
+  double FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const;
+  /// Witness of a violation found right after an event: > 0 at the event, crossing 0 immediate_event_delay_s later.
+  double PendingWitness(const LeafContext& context) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   ContactModeGraph graph_;

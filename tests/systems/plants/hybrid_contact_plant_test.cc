@@ -70,7 +70,7 @@ TEST(HybridContactPlant, PassiveRobotCollapsesAndTheRunEndsAsAFall) {
   context->FixInputPort(0, Eigen::VectorXd::Zero(model->nu()));
   Simulator sim(plant, std::move(context));
   const SimulatorStatus status = sim.AdvanceTo(5.0);
-  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kReachedTermination) << status.ToString();
+  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed) << status.ToString();
   EXPECT_NE(status.message.find("robot fell"), std::string::npos) << status.message;
   EXPECT_EQ(status.system, "amber");
 }
@@ -89,7 +89,7 @@ TEST(HybridContactPlant, TouchdownBetweenStonesIsAFall) {
   const double z0 = CalcContactHeight(*model, ws, model->q_nominal(), 0);
   Simulator sim(plant, std::move(context), Tight());
   const SimulatorStatus status = sim.AdvanceTo(2.0);
-  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kReachedTermination);
+  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed);
   EXPECT_NE(status.message.find("not on any stone"), std::string::npos) << status.message;
   EXPECT_NEAR(status.time, std::sqrt(2 * (0.1 + z0) / 9.81), 1e-8);
 }
