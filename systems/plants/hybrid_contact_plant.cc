@@ -54,12 +54,19 @@ struct HybridContactPlant::Scratch {
         impulse(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
         v_plus(Eigen::VectorXd::Zero(model.nv())),
         forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
+        x_key(Eigen::VectorXd::Zero(2 * model.nv())),
+        u_key(Eigen::VectorXd::Zero(model.nu())),
         event_forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
   MultibodyWorkspace ws;
   Eigen::VectorXd u, qdd, F, impulse, v_plus;
   Eigen::Matrix3Xd forces;  ///< ground force on each contact [N], world axes (zero when inactive)
   ContactSet active = 0;
   std::uint64_t version = 0;
+  // The inputs of the last computation: a root-function evaluation at the state and input of the step's last stage
+  // (or of the next step's first stage) reuses it although the context's version changed.
+  Eigen::VectorXd x_key, u_key;
+  int mode_key = -1;
+  std::uint64_t dynamics_id = 0;  // bumps when qdd and F are recomputed
   std::uint64_t forces_version = 0;
   // Set by the event publish (see the header), valid while the mode is pending_mode: contacts beyond a bound right
   // after the event at pending_time (they lift off / slip at pending_time + immediate_event_delay_s), contacts within
@@ -193,6 +200,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   for (int m = 0; m < num_modes; ++m) {
     for (int c = 0; c < nc; ++c) {
       if (!(mode_contacts_[m] & ContactBit(c))) continue;
+      if (!params_.unilateral_contact && liftoff_target[m][c] < 0) continue;  // welded: only the graph's lift-offs
       int to = liftoff_target[m][c];
       if (to < 0)
         for (int k = 0; k < num_modes; ++k)
@@ -228,7 +236,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
             return EventStatus::Succeeded();
           });
     }
-    if (mode_contacts_[m] == 0) continue;
+    if (mode_contacts_[m] == 0 || !params_.unilateral_contact) continue;
     // Friction: one component per contact, mu F_n - |F_t| (inactive contacts: +1, never crossing).
     DeclareGuard(
         "slip", m, nc,
@@ -261,7 +269,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   // Violations that no guard can see: right after an event (initialisation, a reset, another system's discrete
   // update such as a zero-order-held input) the witnesses restart from the new values, so a normal force or a
   // friction margin that jumped below 0 would never cross. Such contacts lift off / slip just after the event.
-  DeclareEventPublish([this, nc](const LeafContext& ctx) {
+  if (params_.unilateral_contact) DeclareEventPublish([this, nc](const LeafContext& ctx) {
     Scratch& s = ctx.scratch<Scratch>();
     const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
     s.pending_time = ctx.time();
@@ -340,6 +348,14 @@ const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafCo
   const auto q = context.continuous_state().head(nv);
   const auto v = context.continuous_state().tail(nv);
   const Eigen::VectorXd& u = EvalInput(context, 0);
+  if (s.mode_key == context.mode() && s.x_key == context.continuous_state() && s.u_key == u) {
+    s.version = context.version();
+    return s;
+  }
+  s.mode_key = context.mode();
+  s.x_key = context.continuous_state();
+  s.u_key = u;
+  ++s.dynamics_id;
   if (params_.saturate_torques)
     s.u = u.cwiseMax(-model_->torque_limits()).cwiseMin(model_->torque_limits());
   else
@@ -352,11 +368,11 @@ const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafCo
 
 const Eigen::Matrix3Xd& HybridContactPlant::EvalContactForces(const LeafContext& context) const {
   Scratch& s = const_cast<Scratch&>(EvalDynamics(context));
-  if (s.forces_version == s.version) return s.forces;
+  if (s.forces_version == s.dynamics_id) return s.forces;
   const auto q = context.continuous_state().head(model_->nv());
   for (int i = 0; i < model_->num_contacts(); ++i)
     s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force : Eigen::Vector3d::Zero();
-  s.forces_version = s.version;
+  s.forces_version = s.dynamics_id;
   return s.forces;
 }
 

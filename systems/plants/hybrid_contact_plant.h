@@ -103,6 +103,10 @@ struct HybridContactPlantParams {
   /// [N] Right after an event, a normal force or friction margin (mu F_n - |F_t|) between -event_tolerance_N and 0 is
   /// rounding on the bound, not a violation (see the header). The guards' crossings themselves are exact.
   double event_tolerance_N = 1e-6;
+  /// true: every stance contact lifts off at F_n = 0 and the run fails when one leaves the friction cone (the
+  /// guards above). false: contacts stay welded except at the graph's own lift-off transitions, whatever their
+  /// forces (the plant before unilateral contact; kept to measure what an idealised plant hides).
+  bool unilateral_contact = true;
 };
 
 class HybridContactPlant final : public LeafSystem {
