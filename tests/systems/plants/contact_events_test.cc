@@ -262,3 +262,114 @@ TEST(ContactEvents, AlternatingSingleSupportHasAFlightModeAtIndexTwo) {
 
 }  // namespace
 }  // namespace rome
+
+namespace rome {
+namespace {
+
+// Counts the plant's touchdowns through an event update triggered by the plant's "touchdown_*" guards only, and
+// records, at each, the plant's mode and the time (the update runs right after the reset).
+class TouchdownCounter final : public LeafSystem {
+ public:
+  TouchdownCounter() : LeafSystem("counter") {
+    DeclareTypedInputPort<int>("mode");
+    DeclareDiscreteState(Eigen::VectorXd::Zero(1));
+    DeclareEventUpdate("count_touchdowns", EventTrigger::Guards({{"plant", "touchdown_*"}}),
+                       [this](const LeafContext& c, const EventRecord& e, State* next) {
+                         next->discrete[0] += 1;
+                         seen.push_back({c.time(), e.guard, EvalTypedInput<int>(c, 0)});
+                         return EventStatus::Succeeded();
+                       });
+  }
+  struct Seen {
+    double time;
+    std::string guard;
+    int mode;
+  };
+  mutable std::vector<Seen> seen;
+};
+
+// A ball in flight dropped from h bounces plastically: one touchdown at sqrt(2h/g); then a ramp lifts it off again at
+// a known time (lift-offs must not reach the counter) and it lands a second time. The counter sees exactly the
+// plant's touchdowns, at their times, in the post-impact mode.
+TEST(ContactEvents, AnEventUpdateSeesExactlyThePlantsTouchdowns) {
+  auto model = LoadTestModel("ball_on_table");
+  DiagramBuilder b;
+  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("ball", true), Terrain::Flat()));
+  // u = 0 until 0.5 s, then 3 m g upwards for 0.05 s (lift-off at 0.5 s), then 0: the ball flies and lands again.
+  const double m = 2.0;
+  b.AddSystem(std::make_unique<TrajectorySource>("push", 1, [m](double t, Eigen::Ref<Eigen::VectorXd> out) {
+    out[0] = (t >= 0.5 && t < 0.55) ? 3.0 * m * kG : 0.0;
+  }));
+  auto* hold = b.AddSystem(std::make_unique<ZeroOrderHold>("hold", 0.05, 1));
+  b.Connect("push", "y", "hold", "u");
+  b.Connect("hold", "y", "plant", "u");
+  auto* counter = b.AddSystem(std::make_unique<TouchdownCounter>());
+  b.Connect("plant", "mode", "counter", "mode");
+  auto diagram = b.Build("touchdowns");
+  (void)hold;
+  Simulator sim(*diagram, Tight());
+  const double h = 0.3, t_td = std::sqrt(2 * h / kG);
+  plant->SetState(diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context()), Eigen::VectorXd::Constant(1, 0.1 + h),
+                  Eigen::VectorXd::Zero(1), "flight");
+  const SimulatorStatus status = sim.AdvanceTo(1.5);
+  ASSERT_TRUE(status.ok()) << status.ToString();
+  std::vector<EventRecord> touchdowns;
+  int liftoffs = 0;
+  for (const EventRecord& e : sim.statistics().events) {
+    if (e.guard == "touchdown_ball") touchdowns.push_back(e);
+    if (e.guard == "liftoff_ball") ++liftoffs;
+  }
+  ASSERT_EQ(touchdowns.size(), 2u);
+  EXPECT_EQ(liftoffs, 1);
+  EXPECT_NEAR(touchdowns[0].time, t_td, 1e-9);
+  // Held push of 3 m g for 0.05 s from rest: net acceleration 2 g up, then free flight; lands when
+  // z = g t1² (up, after t1 = 0.05 s with speed 2 g t1) returns: t_land = t1 + (2 g t1 + sqrt((2 g t1)² + 2 g · g t1²)) / g.
+  const double t1 = 0.05, v1 = 2 * kG * t1, z1 = kG * t1 * t1;
+  const double t_land = 0.5 + t1 + (v1 + std::sqrt(v1 * v1 + 2 * kG * z1)) / kG;
+  EXPECT_NEAR(touchdowns[1].time, t_land, 1e-8);
+  ASSERT_EQ(counter->seen.size(), touchdowns.size());
+  for (size_t k = 0; k < touchdowns.size(); ++k) {
+    EXPECT_EQ(counter->seen[k].time, touchdowns[k].time);
+    EXPECT_EQ(counter->seen[k].guard, "touchdown_ball");
+    EXPECT_EQ(counter->seen[k].mode, plant->GetModeIndex("stance"));
+  }
+  EXPECT_EQ(diagram->GetSubsystemContext(*counter, sim.get_context()).discrete_state()[0], 2.0);
+  std::printf("touchdowns at %.12f s (sqrt(2h/g) %.12f) and %.12f s (closed form %.12f)\n", touchdowns[0].time, t_td, touchdowns[1].time, t_land);
+}
+
+TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
+  auto model = LoadTestModel("ball_on_table");
+  ContactModeGraph g = StanceFlight("ball", true);
+  g.modes[0].contacts = {"bal"};
+  try {
+    HybridContactPlant("plant", model, g, Terrain::Flat());
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "system 'plant': mode 'stance' names contact 'bal', which robot 'ball_on_table' does not have");
+  }
+  DiagramBuilder b;
+  b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("ball", true), Terrain::Flat()));
+  b.FixInput("plant", "u", Eigen::VectorXd::Zero(1));
+  class Listener final : public LeafSystem {
+   public:
+    Listener() : LeafSystem("listener") {
+      DeclareEventUpdate("on_touchdown", EventTrigger::Guards({{"plant", "touchdown_bal"}}), [](const LeafContext&, const EventRecord&, State*) {
+        return EventStatus::Succeeded();
+      });
+    }
+  };
+  b.AddSystem(std::make_unique<Listener>());
+  auto diagram = b.Build("bad");
+  try {
+    Simulator sim(*diagram);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.substr(0, what.find(" (it has")),
+              "system 'listener': event update 'on_touchdown' names guard 'touchdown_bal' of system 'plant', which has no such guard");
+    EXPECT_NE(what.find("'touchdown_ball'"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace rome
