@@ -93,6 +93,7 @@ int main(int argc, char** argv) {
       .Option("log-period", "0.005", "[s] sample period of the CSV log")
       .Option("friction-margin", "0.95", "[-] the controller's friction pyramid uses this fraction of mu (1 = the paper's cone)")
       .Option("min-normal-force", "2", "[N] the controller's smallest stance normal force (0 = the paper's F_z >= 0)")
+      .Option("clf-cone-offset", "default", "[N] CLF-QP: apex of the friction pyramid, |F_t| <= mu' (F_z - offset) (default: the diagram's)")
       .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
       .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
@@ -119,6 +120,7 @@ int main(int argc, char** argv) {
     params.clf_controller.contact.friction_margin = params.controller.friction_margin;
     params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
     if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
+    if (cli.Get("clf-cone-offset") != "default") params.clf_controller.contact.friction_cone_offset_N = cli.GetDouble("clf-cone-offset");
     SteppingStonesControllerFactory controller;
     if (cli.Get("controller") == "clf-qp")
       controller = ClfQpControllerFactory(params);

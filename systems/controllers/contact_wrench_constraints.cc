@@ -14,7 +14,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, int contact, const ContactWrenchParams& params,
                                                    const std::string& system)
-    : contact_(contact), planar_(model.is_planar()), min_normal_(params.min_normal_force_N), yaw_(params.yaw_moment_coefficient_m) {
+    : contact_(contact),
+      planar_(model.is_planar()),
+      min_normal_(params.min_normal_force_N),
+      offset_(params.friction_cone_offset_N),
+      yaw_(params.yaw_moment_coefficient_m) {
   const ContactInfo& info = model.contacts().at(contact);
   num_force_rows_ = info.num_rows;
   const double mu = params.friction_coefficient >= 0.0 ? params.friction_coefficient : info.friction_coefficient;
@@ -59,8 +63,8 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
   G(r, normal_) = 1.0, l[r] = min_normal_, u[r] = kInf, ++r;
   if (planar_) {
     const int fx = normal_ - 1;
-    G(r, fx) = 1.0, G(r, normal_) = -mu_, l[r] = -kInf, u[r] = 0.0, ++r;  // F_x − μ F_z ≤ 0
-    G(r, fx) = 1.0, G(r, normal_) = mu_, l[r] = 0.0, u[r] = kInf, ++r;    // F_x + μ F_z ≥ 0
+    G(r, fx) = 1.0, G(r, normal_) = -mu_, l[r] = -kInf, u[r] = -mu_ * offset_, ++r;  // F_x − μ (F_z − F_0) ≤ 0
+    G(r, fx) = 1.0, G(r, normal_) = mu_, l[r] = mu_ * offset_, u[r] = kInf, ++r;    // F_x + μ (F_z − F_0) ≥ 0
     if (cop_) {
       // x_min F_z ≤ −τ_y ≤ x_max F_z, x along world x (planar: the foot's x axis is pitched with the foot; the
       // contact points' world x offsets give the extent at this pose).
@@ -77,10 +81,10 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
     return;
   }
   const int fx = normal_ - 2, fy = normal_ - 1;
-  for (int k = 0; k < 4; ++k) {  // ±F_x − μ F_z ≤ 0, ±F_y − μ F_z ≤ 0
+  for (int k = 0; k < 4; ++k) {  // ±F_x − μ (F_z − F_0) ≤ 0, ±F_y − μ (F_z − F_0) ≤ 0
     G(r, k < 2 ? fx : fy) = (k % 2 == 0) ? 1.0 : -1.0;
     G(r, normal_) = -mu_;
-    l[r] = -kInf, u[r] = 0.0, ++r;
+    l[r] = -kInf, u[r] = -mu_ * offset_, ++r;
   }
   if (!flat3d_) return;
   // Centre of pressure in the foot frame: τ' = Rᵀ τ, CoP_x = −τ'_y / f_z, CoP_y = τ'_x / f_z (flat ground).

@@ -29,6 +29,10 @@ struct ContactWrenchParams {
   double min_normal_force_N = 0.0;      ///< [N] F_z ≥ this (0: the paper's unilateral contact)
   double friction_coefficient = -1.0;   ///< [-] μ; < 0 uses each contact's model value
   double friction_margin = 1.0;         ///< [-] the pyramid uses friction_margin · μ (1: the full cone)
+  /// [N] the pyramid's apex is shifted up to F_z = this: |F_t| ≤ μ' (F_z − offset). At small loads (a foot about to
+  /// lift off) the ratio |F_t|/F_z then stays well inside the cone while the plant's forces drift over a held sample.
+  /// 0: the paper's cone.
+  double friction_cone_offset_N = 0.0;
   bool inscribe_pyramid = true;         ///< 3D: |F_x|, |F_y| ≤ μ'/√2 F_z, inside the cone (hopping spec [R])
   double yaw_moment_coefficient_m = -1.0;  ///< [m] 3D flat: |τ_z| ≤ this · f_z; < 0: no yaw-moment bound
 };
@@ -54,6 +58,7 @@ class ContactWrenchConstraints {
   bool planar_ = false, flat3d_ = false, cop_ = false;
   double mu_ = 1.0;
   double min_normal_ = 0.0;
+  double offset_ = 0.0;
   double yaw_ = -1.0;
   double x_min_ = 0, x_max_ = 0, y_min_ = 0, y_max_ = 0;  // sole, foot frame, relative to the frame origin
   std::vector<RowKind> kinds_;
