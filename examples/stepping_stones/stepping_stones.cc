@@ -4,6 +4,7 @@
 // Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR): gait tiles over the stones,
 // COM height over time, and the phase portrait (p_com^x, L_y) against the LIP orbit of E*.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -49,6 +50,44 @@ Terrain MakeTerrain(const examples::CommandLine& cli, int steps) {
     return RandomSteppingStones(p);
   }
   return Terrain::FromCsv(kind, stone_length);
+}
+
+/// RMS tracking errors of the stepping-stones outputs (Eq. (19)) against the output adapter's world-frame desired
+/// values: torso pitch [rad], COM height [m], swing-foot position (x, z) [m] (the foot that swings in the mode).
+class TrackingStatistics {
+ public:
+  explicit TrackingStatistics(const MultibodyModel& model)
+      : model_(model), ws_(model), left_(model.ContactIndex("left_foot")), right_(model.ContactIndex("right_foot")) {}
+  void Record(const Eigen::VectorXd& x, int mode, const Eigen::VectorXd& desired) {
+    const int nv = model_.nv();
+    const Eigen::VectorXd q = x.head(nv);
+    const double pitch = q[model_.num_base_dofs() - 1];
+    const double com_z = CalcComPosition(model_, ws_, q).z();
+    sum_[0] += std::pow(pitch - desired[0], 2);
+    sum_[1] += std::pow(com_z - desired[1], 2);
+    ++n_;
+    if (mode == 0 || mode == 1) {  // the swing foot's rows: right foot in left stance (4, 5), left foot in right stance (2, 3)
+      const int contact = mode == 0 ? right_ : left_, row = mode == 0 ? 4 : 2;
+      const ContactInfo& info = model_.contacts()[contact];
+      const Eigen::Vector3d p = CalcPointPosition(model_, ws_, q, info.body, info.frame_origin);
+      sum_[2] += std::pow(p.x() - desired[row], 2) + std::pow(p.z() - desired[row + 1], 2);
+      ++n_swing_;
+    }
+  }
+  double rms(int k) const { return std::sqrt(sum_[k] / std::max<long>(k == 2 ? n_swing_ : n_, 1)); }
+
+ private:
+  const MultibodyModel& model_;
+  MultibodyWorkspace ws_;
+  int left_, right_;
+  double sum_[3] = {0, 0, 0};
+  long n_ = 0, n_swing_ = 0;
+};
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size() - 1) + 0.5))];
 }
 
 /// The controller block's C++ class without its namespace, e.g. "TaskSpaceQpController".
@@ -150,8 +189,28 @@ int main(int argc, char** argv) {
     ContactForceStatistics contact;
     const bool report_qp = cli.GetFlag("report-qp-failures");
     double last_qp_status = 0;
+    // Controller comparison figures, read through the seam's ports and the plant: output tracking error against the
+    // output adapter's desired values (torso pitch, COM height, swing foot x and z), ∫u² dt, and the update's wall time.
+    TrackingStatistics tracking(*d.model);
+    std::vector<double> solve_times;
+    solve_times.reserve(static_cast<size_t>(max_time * 1000.0) + 1000);
+    double u2_integral = 0, last_time = 0, last_solve_time = -1;
+    Eigen::VectorXd last_u = Eigen::VectorXd::Zero(d.model->nu());
+    const bool has_solve_time = d.controller->HasOutputPort("solve_time_s");
     sim.set_monitor([&](const Context& c) {
-      contact.Record(*d.plant, d.diagram->GetSubsystemContext(*d.plant, c));
+      const LeafContext& plant_context = d.diagram->GetSubsystemContext(*d.plant, c);
+      const LeafContext& controller_context = d.diagram->GetSubsystemContext(*d.controller, c);
+      contact.Record(*d.plant, plant_context);
+      u2_integral += last_u.squaredNorm() * (c.time() - last_time);  // u is held between updates
+      last_time = c.time();
+      last_u = d.controller->EvalOutput(controller_context, "u");
+      tracking.Record(plant_context.continuous_state(), d.plant->EvalTypedOutput<int>(plant_context, "mode"),
+                      d.output_adapter->EvalOutput(d.diagram->GetSubsystemContext(*d.output_adapter, c), "desired"));
+      if (has_solve_time) {
+        const double st = d.controller->EvalOutput(controller_context, "solve_time_s")[0];
+        if (st != last_solve_time && st > 0) solve_times.push_back(st);
+        last_solve_time = st;
+      }
       if (report_qp) {  // each change of the controller's QP status (0 = solved), through its qp_status port
         const double qp_status = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "qp_status")[0];
         if (qp_status != last_qp_status) std::cerr << "t = " << c.time() << " s: controller qp_status " << qp_status << "\n";
@@ -212,6 +271,10 @@ int main(int argc, char** argv) {
                               {"max_friction_ratio", contact.max_friction_ratio},
                               {"contact_violations", contact.violations},
                               {"first_contact_violation", contact.first_violation},
+                              {"tracking_rms", {{"torso_pitch_rad", tracking.rms(0)}, {"com_height_m", tracking.rms(1)}, {"swing_foot_m", tracking.rms(2)}}},
+                              {"u_squared_integral_per_step_N2m2s", recs.empty() ? 0.0 : u2_integral / static_cast<double>(recs.size())},
+                              {"controller_update_us", {{"median", 1e6 * Percentile(solve_times, 0.5)}, {"p99", 1e6 * Percentile(solve_times, 0.99)},
+                                                        {"updates", solve_times.size()}}},
                               {"sim_time_s", sim_time},
                               {"wall_time_s", wall},
                               {"realtime_factor", wall > 0 ? sim_time / wall : 0.0},

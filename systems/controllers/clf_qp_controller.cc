@@ -1,6 +1,7 @@
 #include "systems/controllers/clf_qp_controller.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -145,7 +146,7 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
   if (params_.force_band) force_ref_port_ = DeclareInputPort("normal_force_reference", nc);
-  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(fallbacks_offset() + 3);
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(solve_time_offset() + 1);
   xd0[status_offset()] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
   DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
@@ -157,6 +158,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
   DeclareOutputPort("fallbacks", {"band_dropped", "cop_dropped", "held"},
                     [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(fallbacks_offset()); }, Feedthrough::None());
+  DeclareOutputPort("solve_time_s", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[solve_time_offset()]; },
+                    Feedthrough::None());
   DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
   if (params_.resolve_at_events)
     DeclareEventUpdate("resolve_qp", params_.resolve_at,
@@ -456,6 +459,13 @@ void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool
 }
 
 EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
+  const auto start = std::chrono::steady_clock::now();
+  const EventStatus status = DoUpdate(context, next);
+  (*next)[solve_time_offset()] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return status;
+}
+
+EventStatus ClfQpController::DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const int nu = model_->nu(), nc = model_->num_contacts();
   QpStatus status;
   try {

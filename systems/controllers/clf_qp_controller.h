@@ -18,7 +18,8 @@
 //          qp_failures (1)             updates whose first QP failed (each then took a fallback below)
 //          qp_status (1)               QpStatus of the last update's final solve (0 = kOptimal)
 //          fallbacks (3)               [band_dropped, cop_dropped, held]: how many updates used each fallback
-// discrete state: [u; contact_forces; V; δ; qp_failures; qp_status; fallbacks (3)]. Updated periodically
+//          solve_time_s (1)            wall time of the last update [s] (QP assembly, solves, fallbacks; steady_clock)
+// discrete state: [u; contact_forces; V; δ; qp_failures; qp_status; fallbacks (3); solve_time_s]. Updated periodically
 // (params.update_period_s) and by an event update at the guard events params.resolve_at selects (default: every
 // guard event), so the new contact mode's torque acts from the event instant on.
 //
@@ -157,12 +158,14 @@ class ClfQpController final : public LeafSystem {
   int failures_offset() const { return V_offset() + 2; }
   int status_offset() const { return V_offset() + 3; }
   int fallbacks_offset() const { return V_offset() + 4; }
+  int solve_time_offset() const { return fallbacks_offset() + 3; }
 
   struct Scratch;
 
  private:
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
+  EventStatus DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
   void SetRowsEnabled(const LeafContext& context, bool band, bool cop) const;
 

@@ -1,6 +1,7 @@
 #include "systems/controllers/task_space_qp_controller.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -130,7 +131,7 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
 
-  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(status_offset() + 1);
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(solve_time_offset() + 1);
   xd0[status_offset()] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
   DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
@@ -139,6 +140,8 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
                     Feedthrough::None());
   DeclareOutputPort("qp_failures", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[failures_offset()]; }, Feedthrough::None());
   DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("solve_time_s", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[solve_time_offset()]; },
+                    Feedthrough::None());
   DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
   if (params_.resolve_at_events)
     DeclareEventUpdate("resolve_qp", params_.resolve_at,
@@ -327,6 +330,13 @@ QpStatus TaskSpaceQpController::SolveRelaxedQp(const LeafContext& context) const
 long TaskSpaceQpController::relaxed_solves(const LeafContext& context) const { return context.scratch<Scratch>().relaxed_solves; }
 
 EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
+  const auto start = std::chrono::steady_clock::now();
+  const EventStatus status = DoUpdate(context, next);
+  (*next)[solve_time_offset()] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return status;
+}
+
+EventStatus TaskSpaceQpController::DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   QpStatus status;
   try {

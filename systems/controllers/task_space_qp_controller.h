@@ -12,7 +12,8 @@
 //                                    the contact is inactive (same layout as the plant's "contact_forces")
 //          qp_failures (1)           number of updates whose QP failed so far [-]
 //          qp_status (1)             QpStatus of the last update as an integer (0 = kOptimal; dense_qp_solver.h)
-// discrete state: [u (nu); qdd (nv); contact_forces (3 nc); qp_failures; qp_status], updated periodically
+//          solve_time_s (1)          wall time of the last update [s] (QP assembly and solve; steady_clock)
+// discrete state: [u (nu); qdd (nv); contact_forces (3 nc); qp_failures; qp_status; solve_time_s], updated periodically
 // (params.update_period_s, 1 kHz as in the paper) and, by an event update, at every guard event that
 // params.resolve_at selects (default: every guard event of the diagram), so that at a touchdown or lift-off the
 // torque of the new contact mode acts from the event instant on (no torque computed for the previous mode is held
@@ -135,12 +136,14 @@ class TaskSpaceQpController final : public LeafSystem {
   int forces_offset() const { return model_->nu() + model_->nv(); }
   int failures_offset() const { return forces_offset() + 3 * model_->num_contacts(); }
   int status_offset() const { return failures_offset() + 1; }
+  int solve_time_offset() const { return status_offset() + 1; }
 
   struct Scratch;
 
  private:
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
+  EventStatus DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
 
   std::shared_ptr<const MultibodyModel> model_;
