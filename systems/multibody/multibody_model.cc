@@ -974,10 +974,12 @@ class MultibodyModelLoader {
       const bool prismatic = b.joint_type == MultibodyJointType::kPrismatic;
       if (value[i] > (prismatic ? tol_prismatic : tol_revolute)) continue;
       const std::string carried = b.is_virtual ? "the whole robot" : "link '" + Excerpt(b.name) + "' and its descendants";
+      const std::string verb = b.is_virtual ? " is" : " are";
       throw std::runtime_error(
           ufile + ": joint '" + Excerpt(b.joint_name) + "' moves " +
-          (m[i] == 0.0 ? "no mass (" + carried + " are massless)"
-                       : "no inertia about its axis (" + carried + " have all their mass on the axis)") +
+          (m[i] == 0.0 ? "no mass (" + carried + verb + " massless)"
+                       : "no inertia about its axis (" + carried + (b.is_virtual ? " has" : " have") +
+                             " all the mass on the axis)") +
           ", so the mass matrix is singular; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
     }
   }

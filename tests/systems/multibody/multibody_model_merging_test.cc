@@ -218,6 +218,7 @@ TEST(MultibodyModelMergingTest, MergedMassMatrixEqualsHingedModelHeldAtZero) {
 TEST(MultibodyModelMergingTest, RobotsAndTestModelsMatchTheirFixedJointsTurnedRevolute) {
   // For every model with fixed joints, M (fixed base, no sidecar) equals the model whose fixed
   // joints are revolute joints held at 0, with their rows and columns removed.
+  int checked = 0;
   for (const std::string& path : test::AllModelUrdfs()) {
     std::ifstream in(path);
     std::string urdf((std::istreambuf_iterator<char>(in)), {});
@@ -243,6 +244,46 @@ TEST(MultibodyModelMergingTest, RobotsAndTestModelsMatchTheirFixedJointsTurnedRe
         err = std::max(err, std::abs(Mw(a, b) - Mh(h.VelocityIndex(w.JointName(a)), h.VelocityIndex(w.JointName(b)))));
     EXPECT_LT(err, 1e-12 * std::max(1.0, Mw.norm())) << path;
     EXPECT_NEAR(w.total_mass(), h.total_mass(), 1e-12) << path;
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);  // biped3d (test model) and cassie_planar
+}
+
+TEST(MultibodyModelMergingTest, MasslessIntermediateLinkOfAUniversalJoint) {
+  // hip_roll (no <inertial>) only connects two joint axes; M stays regular and Bullet's ABA
+  // agrees with the CRBA mass matrix.
+  const std::string path = ::testing::TempDir() + "/rome_universal.urdf";
+  std::ofstream(path) << R"(<robot name="u">
+    <link name="base"><inertial><mass value="3"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+    <joint name="roll" type="continuous"><parent link="base"/><child link="hip_roll"/><axis xyz="1 0 0"/></joint>
+    <link name="hip_roll"/>
+    <joint name="pitch" type="continuous"><parent link="hip_roll"/><child link="leg"/><axis xyz="0 1 0"/></joint>
+    <link name="leg"><inertial><origin xyz="0.02 0 -0.3"/><mass value="2"/>
+      <inertia ixx="0.06" ixy="0" ixz="0" iyy="0.06" iyz="0" izz="0.004"/></inertial></link></robot>)";
+  const MultibodyModel model = MultibodyModel::Load(path);
+  ASSERT_EQ(model.nv(), 2);
+  MultibodyWorkspace ws(model);
+  const Eigen::Vector2d q(0.3, -0.5), v(0.7, -1.1);
+  const Eigen::VectorXd u(0);
+  Eigen::VectorXd qdd(2);
+  CalcForwardDynamics(model, ws, q, v, u, Eigen::VectorXd(), qdd);
+  const Eigen::MatrixXd M = CalcMassMatrix(model, ws, q);
+  const Eigen::VectorXd h = CalcBiasForces(model, ws, q, v);
+  EXPECT_LT((M * qdd + h).norm(), 1e-10);
+  EXPECT_GT(M.determinant(), 0.0);
+}
+
+TEST(MultibodyModelMergingTest, MasslessFloatingRobotIsRejected) {
+  const std::string urdf = ::testing::TempDir() + "/rome_ghost.urdf";
+  const std::string sidecar = ::testing::TempDir() + "/rome_ghost.rome.json";
+  std::ofstream(urdf) << R"(<robot name="ghost"><link name="a"/></robot>)";
+  std::ofstream(sidecar) << R"({"floating_base": "planar"})";
+  try {
+    MultibodyModel::Load(urdf, sidecar);
+    ADD_FAILURE();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'base_x' moves no mass (the whole robot is massless)"), std::string::npos)
+        << e.what();
   }
 }
 
