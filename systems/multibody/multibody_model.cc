@@ -324,7 +324,7 @@ struct SidecarReader {
       std::string nearest, all;
       size_t best = std::numeric_limits<size_t>::max();
       for (const char* k : known) {
-        const size_t d = EditDistance(it.key(), k);
+        const size_t d = it.key().size() > 64 ? it.key().size() : EditDistance(it.key(), k);
         if (d < best) { best = d; nearest = k; }
         all += std::string(all.empty() ? "" : ", ") + k;
       }
