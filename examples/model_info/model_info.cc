@@ -1,11 +1,14 @@
 // model_info: load a ROME robot (URDF + sidecar) and print a JSON summary.
-//   model_info ROBOT.urdf [--sidecar FILE]
+//   model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia]
 // Default sidecar: ROBOT.rome.json next to the URDF. Exits 1 with a one-line error naming the
 // file, the element and the problem for any bad input; never crashes.
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
@@ -15,21 +18,36 @@
 namespace {
 
 void PrintHelp() {
-  std::cout << "usage: model_info ROBOT.urdf [--sidecar FILE]\n"
+  std::cout << "usage: model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia]\n"
                "Loads a ROME robot description (URDF + JSON sidecar; default sidecar is\n"
                "ROBOT.rome.json next to the URDF) and prints JSON with dof, floating_base,\n"
-               "total_mass_kg, actuated_joints (with torque limits), spring_joints, contacts,\n"
-               "loop_closures and mass_matrix_condition at the nominal pose.\n";
+               "total_mass_kg, warnings (one line per merged link, massless frame, repaired\n"
+               "inertia, ...), bodies (after merging fixed joints), frames (every URDF link),\n"
+               "actuated_joints (with torque limits), spring_joints, contacts, loop_closures,\n"
+               "load_time_ms and mass_matrix_condition at the nominal pose (omitted for a\n"
+               "robot with 0 degrees of freedom, or when M is singular: see warnings).\n"
+               "  --repair-inertia  project a non-physical <inertia> onto the nearest physical\n"
+               "                    one (with a warning) instead of rejecting the file\n";
 }
 
-std::string OneLine(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  return s;
+// One printable line: control bytes become spaces or \xNN, bytes >= 0x80 that are not part of
+// valid UTF-8 would already have been escaped by the loader; cut at 2000 characters.
+std::string OneLine(const std::string& s) {
+  std::string out;
+  char buf[8];
+  for (char ch : s) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '\n' || c == '\r' || c == '\t') out += ' ';
+    else if (c < 0x20 || c == 0x7F) { std::snprintf(buf, sizeof(buf), "\\x%02X", c); out += buf; }
+    else out += ch;
+    if (out.size() >= 2000) { out += "..."; break; }
+  }
+  return out;
 }
 
 int Run(int argc, char** argv) {
   std::string urdf, sidecar;
+  rome::LoadOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -38,6 +56,8 @@ int Run(int argc, char** argv) {
     } else if (arg == "--sidecar") {
       if (i + 1 >= argc) throw std::invalid_argument("--sidecar needs a file name");
       sidecar = argv[++i];
+    } else if (arg == "--repair-inertia") {
+      options.repair_inertia = true;
     } else if (!arg.empty() && arg[0] == '-') {
       throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
     } else if (urdf.empty()) {
@@ -49,13 +69,26 @@ int Run(int argc, char** argv) {
   if (urdf.empty()) throw std::invalid_argument("no URDF given (usage: model_info ROBOT.urdf [--sidecar FILE])");
 
   using rome::MultibodyModel;
-  const MultibodyModel model = MultibodyModel::Load(urdf, sidecar);
+  const auto t0 = std::chrono::steady_clock::now();
+  const MultibodyModel model = MultibodyModel::Load(urdf, sidecar, options);
+  const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   rome::MultibodyWorkspace ws(model);
-  const Eigen::MatrixXd M = rome::CalcMassMatrix(model, ws, model.q_nominal());
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
-  const double cond = eig.eigenvalues().minCoeff() > 0.0
-                          ? eig.eigenvalues().maxCoeff() / eig.eigenvalues().minCoeff()
-                          : -1.0;
+  std::vector<std::string> warnings = model.warnings();
+  // cond(M) from the eigenvalues only (O(n^3) with a small constant; the loader caps n at
+  // rome::kMaxDofs). A 0-DOF robot has no mass matrix and no condition number.
+  double cond = 0.0;
+  bool has_cond = false;
+  if (model.nv() > 0) {
+    const Eigen::MatrixXd M = rome::CalcMassMatrix(model, ws, model.q_nominal());
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M, Eigen::EigenvaluesOnly);
+    const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+    if (eig.info() == Eigen::Success && lo > 0.0 && std::isfinite(hi / lo)) {
+      cond = hi / lo;
+      has_cond = true;
+    } else {
+      warnings.push_back("the mass matrix at the nominal pose is singular or not finite: no condition number");
+    }
+  }
 
   nlohmann::ordered_json out;
   out["robot"] = model.name();
@@ -64,6 +97,24 @@ int Run(int argc, char** argv) {
   out["dof"] = model.nv();
   out["floating_base"] = rome::ToString(model.floating_base());
   out["total_mass_kg"] = model.total_mass();
+  out["warnings"] = warnings;
+  auto bodies = nlohmann::ordered_json::array();
+  for (const auto& b : model.bodies()) {
+    if (b.is_virtual) continue;
+    nlohmann::ordered_json j;
+    j["name"] = b.name;
+    j["joint"] = b.joint_name;
+    j["mass_kg"] = b.mass;
+    j["merged_links"] = b.merged_links;
+    bodies.push_back(j);
+  }
+  out["bodies"] = bodies;
+  auto frames = nlohmann::ordered_json::array();
+  for (const auto& f : model.frames()) {
+    const Eigen::Vector3d p = f.X_body_frame.translation();
+    frames.push_back({{"name", f.name}, {"body", model.body(f.body).name}, {"position_in_body_m", {p.x(), p.y(), p.z()}}});
+  }
+  out["frames"] = frames;
   out["joints"] = model.joint_names();
   auto acts = nlohmann::ordered_json::array();
   for (const auto& a : model.actuators())
@@ -101,8 +152,10 @@ int Run(int argc, char** argv) {
   out["loop_closures"] = loops;
   const Eigen::Vector3d com = rome::CalcComPosition(model, ws, model.q_nominal());
   out["nominal_com_m"] = {com.x(), com.y(), com.z()};
-  out["mass_matrix_condition"] = cond;
-  std::cout << out.dump(2) << std::endl;
+  out["load_time_ms"] = load_ms;
+  if (has_cond) out["mass_matrix_condition"] = cond;
+  // The loader rejects names that are not valid UTF-8; replace is a backstop, never a throw.
+  std::cout << out.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << std::endl;
   return 0;
 }
 

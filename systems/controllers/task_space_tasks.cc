@@ -68,6 +68,13 @@ BodyPitchTask::BodyPitchTask(std::string name, const MultibodyModel& model, cons
     throw std::invalid_argument("task '" + this->name() + "': BodyPitchTask needs a planar model; robot '" + model.name() + "' has a " +
                                 ToString(model.floating_base()) + " floating base");
   body_ = model.BodyIndex(body);
+  if (model.HasFrame(body)) {
+    const Eigen::Matrix3d& R = model.Frame(body).X_body_frame.linear();
+    if (std::abs(R(1, 1) - 1.0) > 1e-12)
+      throw std::invalid_argument("task '" + this->name() + "': link '" + body + "' is welded to body '" + model.body(body_).name +
+                                  "' with a rotation that is not about y");
+    pitch_offset_ = std::atan2(R(0, 2), R(0, 0));
+  }
 }
 
 void BodyPitchTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
@@ -75,7 +82,7 @@ void BodyPitchTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, 
   ws.SetPositions(model, q);
   // R_y(θ) = [[c, 0, s], [0, 1, 0], [−s, 0, c]].
   const Eigen::Matrix3d& R = ws.R_world_link(body_);
-  y[0] = std::atan2(R(0, 2), R(0, 0));
+  y[0] = std::atan2(R(0, 2), R(0, 0)) + pitch_offset_;
   auto J6 = ws.J_point.topRows(6);
   CalcFrameJacobian(model, ws, q, body_, Eigen::Vector3d::Zero(), J6);
   J.row(0) = J6.row(1);  // ω_y
@@ -88,7 +95,7 @@ PointPositionTask::PointPositionTask(std::string name, const MultibodyModel& mod
                                      std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes)
     : TaskSpaceTask(std::move(name), static_cast<int>(axes.size()), gains, std::move(active_modes)),
       body_(model.BodyIndex(body)),
-      p_link_(p_link),
+      p_link_(model.HasFrame(body) ? Eigen::Vector3d(model.Frame(body).X_body_frame * p_link) : p_link),
       axes_(std::move(axes)) {
   CheckAxes(this->name(), axes_);
 }
@@ -96,7 +103,8 @@ PointPositionTask::PointPositionTask(std::string name, const MultibodyModel& mod
 std::shared_ptr<PointPositionTask> PointPositionTask::ForContact(std::string name, const MultibodyModel& model, const std::string& contact,
                                                                  std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes) {
   const ContactInfo& c = model.contacts()[model.ContactIndex(contact)];
-  return std::make_shared<PointPositionTask>(std::move(name), model, c.link, c.frame_origin, std::move(axes), gains, std::move(active_modes));
+  // frame_origin is in the body frame (c.link may have been merged into that body).
+  return std::make_shared<PointPositionTask>(std::move(name), model, model.body(c.body).name, c.frame_origin, std::move(axes), gains, std::move(active_modes));
 }
 
 void PointPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,

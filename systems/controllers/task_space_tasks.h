@@ -80,17 +80,21 @@ class ComPositionTask final : public TaskSpaceTask {
 /// root link of a planar floating base this is q[2]. Planar models only (the error names the model).
 class BodyPitchTask final : public TaskSpaceTask {
  public:
+  /// `body` may be any URDF link; a link merged into a body through a fixed joint adds its fixed pitch
+  /// offset (its fixed rotation must be about y, else std::invalid_argument).
   BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {}, std::vector<int> active_modes = {});
 
  private:
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int body_;
+  double pitch_offset_ = 0.0;  // pitch of the link frame in the body frame (merged links)
 };
 
 /// World position of the point `p_link` (body frame) along `axes`.
 class PointPositionTask final : public TaskSpaceTask {
  public:
+  /// p_link is in the frame of link `body` (any URDF link, also one merged through a fixed joint).
   PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body, const Eigen::Vector3d& p_link, std::vector<Axis> axes,
                     TaskGains gains = {}, std::vector<int> active_modes = {});
   /// The frame origin of contact `contact` (e.g. the swing foot "right_foot").
@@ -101,7 +105,7 @@ class PointPositionTask final : public TaskSpaceTask {
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int body_;
-  Eigen::Vector3d p_link_;
+  Eigen::Vector3d p_link_;  // in the body frame (a link merged through a fixed joint is converted)
   std::vector<Axis> axes_;
 };
 

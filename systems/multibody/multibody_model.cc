@@ -1,9 +1,13 @@
 #include "systems/multibody/multibody_model.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <limits>
 #include <mutex>
 #include <sstream>
@@ -50,6 +54,13 @@ int MultibodyModel::BodyIndex(const std::string& link_name) const {
   return it->second;
 }
 
+int MultibodyModel::FrameIndex(const std::string& link_name) const {
+  auto it = frame_index_.find(link_name);
+  if (it == frame_index_.end())
+    throw std::invalid_argument("robot '" + name_ + "': no link or frame named '" + link_name + "'");
+  return it->second;
+}
+
 int MultibodyModel::VelocityIndex(const std::string& joint_name) const {
   auto it = joint_index_.find(joint_name);
   if (it == joint_index_.end())
@@ -67,15 +78,16 @@ int MultibodyModel::ContactIndex(const std::string& contact_name) const {
 namespace {
 
 using json = nlohmann::json;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Captures urdfdom's console_bridge messages so that parse errors can be reported in the
 // exception instead of being printed to stderr. console_bridge's handler is process global.
 class CaptureHandler : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && errors.size() < 4096) {
       if (!errors.empty()) errors += "; ";
-      errors += text;
+      errors += text.substr(0, 1024);
     }
   }
   std::string errors;
@@ -86,14 +98,166 @@ std::mutex& ConsoleMutex() {
   return m;
 }
 
-std::string ReadFile(const std::string& path, const char* what) {
-  if (!std::filesystem::exists(path))
-    throw std::runtime_error(std::string(what) + " " + path + ": file does not exist");
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(std::string(what) + " " + path + ": cannot be opened");
+// Length of the valid UTF-8 sequence starting at s[i], or 0 if it is not valid UTF-8.
+size_t Utf8SequenceLength(const std::string& s, size_t i) {
+  const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = b(i);
+  if (c < 0x80) return 1;
+  size_t n = 0;
+  unsigned lo = 0x80, hi = 0xBF;
+  if (c >= 0xC2 && c <= 0xDF) n = 2;
+  else if (c >= 0xE0 && c <= 0xEF) { n = 3; if (c == 0xE0) lo = 0xA0; if (c == 0xED) hi = 0x9F; }
+  else if (c >= 0xF0 && c <= 0xF4) { n = 4; if (c == 0xF0) lo = 0x90; if (c == 0xF4) hi = 0x8F; }
+  else return 0;
+  if (i + n > s.size()) return 0;
+  if (b(i + 1) < lo || b(i + 1) > hi) return 0;
+  for (size_t k = 2; k < n; ++k)
+    if (b(i + k) < 0x80 || b(i + k) > 0xBF) return 0;
+  return n;
+}
+
+bool IsValidUtf8(const std::string& s) {
+  for (size_t i = 0; i < s.size();) {
+    const size_t n = Utf8SequenceLength(s, i);
+    if (n == 0) return false;
+    i += n;
+  }
+  return true;
+}
+
+// A short, printable, one-line excerpt of untrusted text for error messages: control bytes
+// and invalid UTF-8 are escaped as \xNN, and text beyond max_chars is cut ("... (N bytes)").
+std::string Excerpt(const std::string& s, size_t max_chars = 80) {
+  std::string out;
+  size_t i = 0, shown = 0;
+  char buf[8];
+  for (; i < s.size() && shown < max_chars; ++shown) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const size_t n = Utf8SequenceLength(s, i);
+    if (n == 1 && c >= 0x20 && c != 0x7F) {
+      out += static_cast<char>(c);
+    } else if (n > 1) {
+      out.append(s, i, n);
+    } else {
+      std::snprintf(buf, sizeof(buf), "\\x%02X", c);
+      out += buf;
+      i += 1;
+      continue;
+    }
+    i += n;
+  }
+  if (i < s.size()) out += "... (" + std::to_string(s.size()) + " bytes)";
+  return out;
+}
+
+std::string Num(double x) {
+  if (std::isnan(x)) return "NaN";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", x);
+  return buf;
+}
+
+std::string Num3(const Eigen::Vector3d& v) { return Num(v[0]) + " " + Num(v[1]) + " " + Num(v[2]); }
+
+// Levenshtein distance, case-insensitive.
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string ReadFile(const std::string& path, const char* what, std::uintmax_t max_bytes) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": file does not exist");
+  if (std::filesystem::is_directory(path, ec))
+    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": is a directory, not a file");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size > max_bytes)
+    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": file is " + std::to_string(size) +
+                             " bytes; the limit is " + std::to_string(max_bytes) + " bytes");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": cannot be opened");
   std::stringstream ss;
   ss << in.rdbuf();
-  return ss.str();
+  std::string text = ss.str();
+  if (text.size() > max_bytes)
+    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": file is larger than the limit of " +
+                             std::to_string(max_bytes) + " bytes");
+  return text;
+}
+
+// Nesting depth of the XML elements, scanned without building a tree, so that a pathological
+// file is rejected before the (recursive) XML parser sees it. Handles comments, CDATA,
+// processing instructions, declarations and quoted attribute values.
+void CheckXmlDepth(const std::string& xml, const std::string& path) {
+  int depth = 0;
+  size_t line = 1;
+  const size_t n = xml.size();
+  auto skip_to = [&](size_t& i, const char* end) {
+    const size_t k = xml.find(end, i);
+    for (size_t j = i; j < (k == std::string::npos ? n : k); ++j) line += xml[j] == '\n';
+    i = k == std::string::npos ? n : k + std::strlen(end);
+  };
+  for (size_t i = 0; i < n;) {
+    const char c = xml[i];
+    if (c == '\n') ++line;
+    if (c != '<') { ++i; continue; }
+    if (xml.compare(i, 4, "<!--") == 0) { i += 4; skip_to(i, "-->"); continue; }
+    if (xml.compare(i, 9, "<![CDATA[") == 0) { i += 9; skip_to(i, "]]>"); continue; }
+    if (xml.compare(i, 2, "<?") == 0) { i += 2; skip_to(i, "?>"); continue; }
+    if (xml.compare(i, 2, "<!") == 0) { i += 2; skip_to(i, ">"); continue; }
+    const bool closing = i + 1 < n && xml[i + 1] == '/';
+    // Scan to the end of the tag, skipping quoted attribute values.
+    size_t j = i + 1;
+    char quote = 0;
+    for (; j < n; ++j) {
+      if (xml[j] == '\n') ++line;
+      if (quote) { if (xml[j] == quote) quote = 0; }
+      else if (xml[j] == '"' || xml[j] == '\'') quote = xml[j];
+      else if (xml[j] == '>') break;
+    }
+    const bool self_closing = j < n && j > i + 1 && xml[j - 1] == '/';
+    if (closing) --depth;
+    else if (!self_closing && ++depth > kMaxXmlDepth)
+      throw std::runtime_error("URDF " + Excerpt(path, 200) + ": line " + std::to_string(line) +
+                               ": XML elements nested more than " + std::to_string(kMaxXmlDepth) +
+                               " deep (a URDF needs fewer than 10 levels)");
+    i = j + 1;
+  }
+}
+
+// " (line N: NaN in name="...")" for the first attribute value holding a NaN or an infinity
+// (urdfdom only says "not a valid double"), else "".
+std::string NonFiniteNumberHint(const std::string& xml) {
+  size_t line = 1;
+  for (size_t i = 0; i < xml.size(); ++i) {
+    if (xml[i] == '\n') { ++line; continue; }
+    if (xml[i] != '"' && xml[i] != '\'' && xml[i] != ' ') continue;
+    size_t j = i + 1;
+    if (j < xml.size() && (xml[j] == '-' || xml[j] == '+')) ++j;
+    std::string word;
+    while (j < xml.size() && word.size() < 8 && std::isalpha(static_cast<unsigned char>(xml[j])))
+      word += static_cast<char>(std::tolower(static_cast<unsigned char>(xml[j++])));
+    if (j >= xml.size() || (xml[j] != '"' && xml[j] != '\'' && xml[j] != ' ')) continue;
+    if (word == "nan" || word == "inf" || word == "infinity") {
+      const size_t tag = xml.rfind('<', i);
+      const size_t end = tag == std::string::npos ? std::string::npos : xml.find('>', tag);
+      const std::string element = tag == std::string::npos ? "" : xml.substr(tag, end == std::string::npos ? 120 : end - tag + 1);
+      return " (line " + std::to_string(line) + ": " + (word == "nan" ? "NaN" : "infinity") + " in " + Excerpt(element, 120) + ")";
+    }
+  }
+  return "";
 }
 
 Eigen::Vector3d ToEigen(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
@@ -106,24 +270,74 @@ Eigen::Isometry3d ToEigen(const urdf::Pose& p) {
   return X;
 }
 
+// Euclidean projection of principal moments onto the physical cone
+// {l : l_i + l_j >= l_k for every permutation} (which implies l >= 0): the nearest physical
+// inertia in the Frobenius norm keeps the principal axes. Enumerates the faces of the cone
+// (active sets of the 3 constraints); the closest feasible face projection is the projection.
+Eigen::Vector3d ProjectPhysicalMoments(const Eigen::Vector3d& l) {
+  Eigen::Matrix3d A;  // rows a_k: a_k . x >= 0
+  A << 1, 1, -1, 1, -1, 1, -1, 1, 1;
+  Eigen::Vector3d best = Eigen::Vector3d::Zero();
+  double best_dist = (l - best).squaredNorm();
+  for (int mask = 0; mask < 8; ++mask) {
+    std::vector<int> rows;
+    for (int k = 0; k < 3; ++k)
+      if (mask & (1 << k)) rows.push_back(k);
+    Eigen::Vector3d x = l;
+    if (!rows.empty()) {
+      Eigen::MatrixXd Aa(rows.size(), 3);
+      for (size_t r = 0; r < rows.size(); ++r) Aa.row(r) = A.row(rows[r]);
+      // x = l - Aa^T (Aa Aa^T)^-1 Aa l
+      const Eigen::MatrixXd G = Aa * Aa.transpose();
+      x = l - Aa.transpose() * G.ldlt().solve(Aa * l);
+    }
+    if ((A * x).minCoeff() < -1e-14 * (1.0 + l.cwiseAbs().maxCoeff())) continue;
+    const double d = (l - x).squaredNorm();
+    if (d < best_dist) { best_dist = d; best = x; }
+  }
+  return best.cwiseMax(0.0);
+}
+
 // Small helpers that throw "sidecar <file>: <context>: <problem>".
 struct SidecarReader {
   std::string file;
 
   [[noreturn]] void Fail(const std::string& context, const std::string& problem) const {
-    throw std::runtime_error("sidecar " + file + ": " + context + ": " + problem);
+    throw std::runtime_error("sidecar " + Excerpt(file, 200) + ": " + context + ": " + problem);
+  }
+  static std::string Dump(const json& v) {
+    return Excerpt(v.dump(-1, ' ', false, json::error_handler_t::replace), 60);
   }
   const json& Get(const json& obj, const std::string& key, const std::string& context) const {
-    if (!obj.is_object()) Fail(context, "expected a JSON object");
+    if (!obj.is_object()) Fail(context, "expected a JSON object, got " + Dump(obj));
     auto it = obj.find(key);
     if (it == obj.end()) Fail(context, "missing required entry '" + key + "'");
     return *it;
   }
+  // Rejects keys that are not in `known`, suggesting the nearest known key.
+  void CheckKeys(const json& obj, std::initializer_list<const char*> known, const std::string& context) const {
+    if (!obj.is_object()) Fail(context, "expected a JSON object, got " + Dump(obj));
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      bool ok = false;
+      for (const char* k : known) ok |= it.key() == k;
+      if (ok) continue;
+      std::string nearest, all;
+      size_t best = std::numeric_limits<size_t>::max();
+      for (const char* k : known) {
+        const size_t d = it.key().size() > 64 ? it.key().size() : EditDistance(it.key(), k);
+        if (d < best) { best = d; nearest = k; }
+        all += std::string(all.empty() ? "" : ", ") + k;
+      }
+      std::string hint = best <= std::max<size_t>(2, nearest.size() / 3) ? " (did you mean '" + nearest + "'?)"
+                                                                           : " (known keys: " + all + ")";
+      Fail(context, "unknown key '" + Excerpt(it.key(), 60) + "'" + hint);
+    }
+  }
   double Number(const json& obj, const std::string& key, const std::string& context) const {
     const json& v = Get(obj, key, context);
-    if (!v.is_number()) Fail(context, "'" + key + "' must be a number, got " + v.dump());
+    if (!v.is_number()) Fail(context, "'" + key + "' must be a number, got " + Dump(v));
     const double x = v.get<double>();
-    if (!std::isfinite(x)) Fail(context, "'" + key + "' is not finite");
+    if (!std::isfinite(x)) Fail(context, "'" + key + "' is not finite (" + Dump(v) + ")");
     return x;
   }
   double NumberOr(const json& obj, const std::string& key, double fallback,
@@ -133,35 +347,54 @@ struct SidecarReader {
   }
   std::string String(const json& obj, const std::string& key, const std::string& context) const {
     const json& v = Get(obj, key, context);
-    if (!v.is_string()) Fail(context, "'" + key + "' must be a string, got " + v.dump());
+    if (!v.is_string()) Fail(context, "'" + key + "' must be a string, got " + Dump(v));
     return v.get<std::string>();
   }
+  // A point or offset in metres: finite and within +-kMaxLength_m.
   Eigen::Vector3d Vec3(const json& v, const std::string& context) const {
-    if (!v.is_array() || v.size() != 3) Fail(context, "expected [x, y, z], got " + v.dump());
+    if (!v.is_array() || v.size() != 3) Fail(context, "expected [x, y, z], got " + Dump(v));
     Eigen::Vector3d out;
     for (int i = 0; i < 3; ++i) {
-      if (!v[i].is_number()) Fail(context, "expected numbers in [x, y, z], got " + v.dump());
+      if (!v[i].is_number()) Fail(context, "expected numbers in [x, y, z], got " + Dump(v));
       out[i] = v[i].get<double>();
     }
+    if (!out.allFinite() || out.cwiseAbs().maxCoeff() > kMaxLength_m)
+      Fail(context, "coordinates " + Num3(out) + " m are not finite or exceed " + Num(kMaxLength_m) + " m");
     return out;
   }
   const json& Array(const json& obj, const std::string& key, const std::string& context) const {
     static const json kEmpty = json::array();
     if (!obj.contains(key)) return kEmpty;
     const json& v = obj.at(key);
-    if (!v.is_array()) Fail(context, "'" + key + "' must be an array");
+    if (!v.is_array()) Fail(context, "'" + key + "' must be an array, got " + Dump(v));
     return v;
   }
+};
+
+// Mass properties of one URDF link in its own frame (inertia about the COM, link axes).
+struct LinkMass {
+  double mass = 0.0;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+};
+
+// One contribution to a body: a link's mass properties expressed in the body frame.
+struct BodyPart {
+  double mass;
+  Eigen::Vector3d com;
+  Eigen::Matrix3d inertia;
 };
 
 }  // namespace
 
 class MultibodyModelLoader {
  public:
-  static MultibodyModel Load(const std::string& urdf_path, std::string sidecar_path,
-                             bool sidecar_required) {
+  static MultibodyModel Load(const std::string& urdf_path, std::string sidecar_path, bool sidecar_required,
+                             const LoadOptions& options) {
     MultibodyModel model;
     model.urdf_path_ = urdf_path;
+    const std::string ufile = "URDF " + Excerpt(urdf_path, 200);
+    auto warn = [&](const std::string& w) { model.warnings_.push_back(w); };
 
     // ---------------- sidecar (parsed first: it decides the floating base) ----------------
     json sidecar = json::object();
@@ -169,19 +402,23 @@ class MultibodyModelLoader {
       std::filesystem::path p(urdf_path);
       std::string stem = p.stem().string();
       sidecar_path = (p.parent_path() / (stem + ".rome.json")).string();
-      if (!std::filesystem::exists(sidecar_path)) sidecar_path.clear();
+      std::error_code ec;
+      if (!std::filesystem::exists(sidecar_path, ec)) sidecar_path.clear();
     } else {
       sidecar_required = true;
     }
     SidecarReader sc{sidecar_path};
     if (!sidecar_path.empty() || sidecar_required) {
-      const std::string text = ReadFile(sidecar_path, "sidecar");
+      const std::string text = ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
       try {
         sidecar = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
       } catch (const json::exception& e) {
-        throw std::runtime_error("sidecar " + sidecar_path + ": malformed JSON: " + e.what());
+        throw std::runtime_error("sidecar " + Excerpt(sidecar_path, 200) + ": malformed JSON: " + Excerpt(e.what(), 200));
       }
       if (!sidecar.is_object()) sc.Fail("top level", "expected a JSON object");
+      sc.CheckKeys(sidecar, {"robot", "urdf", "floating_base", "actuators", "springs", "contacts", "loop_closures",
+                             "nominal_pose"},
+                   "top level");
     }
     model.sidecar_path_ = sidecar_path;
 
@@ -191,11 +428,12 @@ class MultibodyModelLoader {
       if (fb == "fixed") model.floating_base_ = FloatingBaseType::kFixed;
       else if (fb == "planar") model.floating_base_ = FloatingBaseType::kPlanar;
       else if (fb == "spatial") model.floating_base_ = FloatingBaseType::kSpatial;
-      else sc.Fail("floating_base", "unknown type '" + fb + "' (expected fixed, planar or spatial)");
+      else sc.Fail("floating_base", "unknown type '" + Excerpt(fb) + "' (expected fixed, planar or spatial)");
     }
 
     // ---------------- URDF ----------------
-    const std::string xml = ReadFile(urdf_path, "URDF");
+    const std::string xml = ReadFile(urdf_path, "URDF", kMaxUrdfBytes);
+    CheckXmlDepth(xml, urdf_path);
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
       std::lock_guard<std::mutex> lock(ConsoleMutex());
@@ -209,10 +447,20 @@ class MultibodyModelLoader {
         urdf_model.reset();
       }
       console_bridge::useOutputHandler(previous);
-      if (!urdf_model)
-        throw std::runtime_error("URDF " + urdf_path + ": malformed or invalid URDF: " +
-                                 (handler.errors.empty() ? "urdfdom could not parse it" : handler.errors));
+      // urdfdom logs some errors (e.g. an unparsable number) and still returns a model with
+      // zeros in their place: any logged error rejects the file.
+      if (!urdf_model || !handler.errors.empty())
+        throw std::runtime_error(ufile + ": malformed or invalid URDF: " +
+                                 (handler.errors.empty() ? "urdfdom could not parse it" : Excerpt(handler.errors, 300)) +
+                                 NonFiniteNumberHint(xml));
     }
+    auto check_name = [&](const char* what, const std::string& name) {
+      if (!IsValidUtf8(name))
+        throw std::runtime_error(ufile + ": " + what + " name '" + Excerpt(name) + "' is not valid UTF-8");
+    };
+    check_name("robot", urdf_model->getName());
+    for (const auto& [name, link] : urdf_model->links_) check_name("link", name);
+    for (const auto& [name, joint] : urdf_model->joints_) check_name("joint", name);
     model.name_ = urdf_model->getName();
     if (sidecar.contains("robot")) model.name_ = sc.String(sidecar, "robot", "robot");
 
@@ -230,7 +478,6 @@ class MultibodyModelLoader {
     const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(),
                           ez = Eigen::Vector3d::UnitZ();
     // The last virtual joint's child is the URDF root link itself.
-    std::function<void(const std::string&, MultibodyJointType, Eigen::Vector3d)> root_joint;
     MultibodyJointType root_type = MultibodyJointType::kFixed;
     Eigen::Vector3d root_axis = ez;
     std::string root_joint_name = "world_fixed";
@@ -251,41 +498,82 @@ class MultibodyModelLoader {
         break;
     }
 
-    auto fill_inertia = [&](MultibodyBody& b, const urdf::Link& link, bool fixed_joint) {
-      const std::string where = "URDF " + urdf_path + ": link '" + link.name + "'";
-      if (!link.inertial) throw std::runtime_error(where + ": missing <inertial> (mass and inertia are required)");
+    // Mass properties of one link, checked (and repaired if asked). Massless: mass 0.
+    auto link_mass = [&](const urdf::Link& link) -> LinkMass {
+      const std::string where = ufile + ": link '" + Excerpt(link.name) + "'";
+      LinkMass lm;
+      if (!link.inertial) {
+        warn("link '" + Excerpt(link.name) + "': no <inertial>: massless frame");
+        return lm;
+      }
       const urdf::Inertial& in = *link.inertial;
-      b.mass = in.mass;
-      Eigen::Isometry3d X = ToEigen(in.origin);
-      b.com = X.translation();
+      const std::pair<const char*, double> values[] = {
+          {"<mass value>", in.mass}, {"<inertia ixx>", in.ixx}, {"<inertia ixy>", in.ixy},
+          {"<inertia ixz>", in.ixz}, {"<inertia iyy>", in.iyy}, {"<inertia iyz>", in.iyz},
+          {"<inertia izz>", in.izz}, {"<origin xyz> x", in.origin.position.x},
+          {"<origin xyz> y", in.origin.position.y}, {"<origin xyz> z", in.origin.position.z},
+          {"<origin rpy>", in.origin.rotation.w + in.origin.rotation.x + in.origin.rotation.y + in.origin.rotation.z}};
+      for (const auto& [what, x] : values)
+        if (!std::isfinite(x)) throw std::runtime_error(where + ": <inertial> " + what + " is " + Num(x));
+      if (in.mass < 0.0) throw std::runtime_error(where + ": <mass> must be >= 0, got " + Num(in.mass) + " kg");
+      if (in.mass > kMaxMass_kg)
+        throw std::runtime_error(where + ": <mass> " + Num(in.mass) + " kg exceeds " + Num(kMaxMass_kg) + " kg");
+      const Eigen::Isometry3d X = ToEigen(in.origin);
+      if (X.translation().cwiseAbs().maxCoeff() > kMaxLength_m)
+        throw std::runtime_error(where + ": <inertial> <origin xyz> " + Num3(X.translation()) + " m exceeds " +
+                                 Num(kMaxLength_m) + " m");
       Eigen::Matrix3d I_in;
       I_in << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-      b.inertia = X.linear() * I_in * X.linear().transpose();
-      if (!std::isfinite(b.mass) || !b.inertia.allFinite())
-        throw std::runtime_error(where + ": <inertial> has non-finite values");
-      const bool pure_frame = fixed_joint && b.mass == 0.0 && b.inertia.isZero(0.0);
-      if (!pure_frame && !(b.mass > 0.0))
-        throw std::runtime_error(where + ": <mass> must be positive, got " + std::to_string(b.mass));
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.inertia);
-      if (!pure_frame && !(eig.eigenvalues().minCoeff() > 0.0)) {
-        std::ostringstream os;
-        os << where << ": <inertia> is not positive definite (eigenvalues "
-           << eig.eigenvalues().transpose() << " kg m^2)";
-        throw std::runtime_error(os.str());
+      if (in.mass == 0.0) {
+        warn("link '" + Excerpt(link.name) + "': mass 0: massless frame" +
+             (I_in.isZero(0.0) ? "" : " (its nonzero <inertia> is ignored)"));
+        return lm;
       }
-      if (pure_frame) {
-        b.principal_moments.setZero();
-        b.R_link_principal.setIdentity();
-      } else {
-        b.principal_moments = eig.eigenvalues();
-        b.R_link_principal = eig.eigenvectors();
-        if (b.R_link_principal.determinant() < 0) b.R_link_principal.col(2) *= -1.0;
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I_in);
+      const Eigen::Vector3d l = eig.eigenvalues();  // ascending
+      const double tol = kInertiaRelativeTolerance * l.cwiseAbs().maxCoeff();
+      const bool not_psd = l[0] < -tol;
+      const bool not_triangle = l[0] + l[1] < l[2] - tol;
+      if (not_psd || not_triangle) {
+        const std::string problem =
+            std::string(not_psd ? "is not positive semi-definite" : "violates the triangle inequality I1 + I2 >= I3") +
+            " (principal moments " + Num3(l) + " kg m^2)";
+        if (!options.repair_inertia)
+          throw std::runtime_error(where + ": <inertia> " + problem +
+                                   "; fix it, or repair it with model_info --repair-inertia / LoadOptions::repair_inertia");
+        const Eigen::Vector3d fixed = ProjectPhysicalMoments(l);
+        I_in = eig.eigenvectors() * fixed.asDiagonal() * eig.eigenvectors().transpose();
+        warn("link '" + Excerpt(link.name) + "': <inertia> " + problem + ": repaired to the nearest physical inertia " +
+             "(principal moments " + Num3(fixed) + " kg m^2)");
       }
+      lm.mass = in.mass;
+      lm.com = X.translation();
+      lm.inertia = X.linear() * I_in * X.linear().transpose();
+      return lm;
     };
 
-    // Depth-first walk of the URDF tree, parents before children.
+    // Depth-first walk of the URDF tree, parents before children (iterative: a long chain must
+    // not overflow the stack). Links on fixed joints are merged into their parent's body.
     urdf::LinkConstSharedPtr root = urdf_model->getRoot();
-    if (!root) throw std::runtime_error("URDF " + urdf_path + ": no root link");
+    if (!root) throw std::runtime_error(ufile + ": no root link");
+    std::vector<std::vector<BodyPart>> parts;  // per body
+    std::vector<std::pair<double, double>> limits;  // per body
+    auto add_frame = [&](const std::string& link, int body, const Eigen::Isometry3d& X_body_link) {
+      model.frame_index_[link] = static_cast<int>(model.frames_.size());
+      model.frames_.push_back({link, body, X_body_link});
+      model.body_index_[link] = body;
+    };
+    auto add_part = [&](int body, const LinkMass& lm, const Eigen::Isometry3d* X_body_link) {
+      if (lm.mass == 0.0) return;
+      if (!X_body_link) {
+        parts[body].push_back({lm.mass, lm.com, lm.inertia});
+      } else {
+        const Eigen::Matrix3d& R = X_body_link->linear();
+        parts[body].push_back({lm.mass, *X_body_link * lm.com, R * lm.inertia * R.transpose()});
+      }
+    };
+    parts.resize(bodies->size());
+    limits.assign(bodies->size(), {-kInf, kInf});
     {
       MultibodyBody b;
       b.name = root->name;
@@ -293,57 +581,136 @@ class MultibodyModelLoader {
       b.parent = static_cast<int>(bodies->size()) - 1;
       b.joint_type = root_type;
       b.axis = root_axis;
-      fill_inertia(b, *root, model.floating_base_ == FloatingBaseType::kFixed);
       bodies->push_back(b);
+      parts.emplace_back();
+      limits.push_back({-kInf, kInf});
+      add_frame(root->name, static_cast<int>(bodies->size()) - 1, Eigen::Isometry3d::Identity());
+      add_part(static_cast<int>(bodies->size()) - 1, link_mass(*root), nullptr);
     }
-    std::vector<std::pair<double, double>> limits;  // per body
-    limits.assign(bodies->size(), {-std::numeric_limits<double>::infinity(),
-                                   std::numeric_limits<double>::infinity()});
-    std::function<void(const urdf::Link&, int)> walk = [&](const urdf::Link& link, int parent_body) {
-      for (const auto& joint : link.child_joints) {
-        const std::string where = "URDF " + urdf_path + ": joint '" + joint->name + "'";
-        auto child_it = urdf_model->links_.find(joint->child_link_name);
-        if (child_it == urdf_model->links_.end())
-          throw std::runtime_error(where + ": child link '" + joint->child_link_name + "' does not exist");
-        const urdf::Link& child = *child_it->second;
-        MultibodyBody b;
-        b.name = child.name;
-        b.joint_name = joint->name;
-        b.parent = parent_body;
-        b.X_parent_joint = ToEigen(joint->parent_to_joint_origin_transform);
-        std::pair<double, double> lim{-std::numeric_limits<double>::infinity(),
-                                      std::numeric_limits<double>::infinity()};
-        switch (joint->type) {
-          case urdf::Joint::REVOLUTE:
-          case urdf::Joint::CONTINUOUS: b.joint_type = MultibodyJointType::kRevolute; break;
-          case urdf::Joint::PRISMATIC: b.joint_type = MultibodyJointType::kPrismatic; break;
-          case urdf::Joint::FIXED: b.joint_type = MultibodyJointType::kFixed; break;
-          default:
-            throw std::runtime_error(where + ": unsupported joint type (only revolute, continuous, "
-                                     "prismatic and fixed are supported)");
-        }
-        if (b.joint_type != MultibodyJointType::kFixed) {
-          Eigen::Vector3d axis = ToEigen(joint->axis);
-          if (!(axis.norm() > 1e-9)) throw std::runtime_error(where + ": <axis> is zero");
-          b.axis = axis.normalized();
-          if (joint->type != urdf::Joint::CONTINUOUS && joint->limits &&
-              joint->limits->lower < joint->limits->upper)
-            lim = {joint->limits->lower, joint->limits->upper};
-        }
-        fill_inertia(b, child, b.joint_type == MultibodyJointType::kFixed);
-        const int index = static_cast<int>(bodies->size());
-        bodies->push_back(b);
-        limits.push_back(lim);
-        walk(child, index);
-      }
+    struct Item {
+      const urdf::Link* link;
+      int body;
+      bool merged;                  // link is not the body's own frame
+      Eigen::Isometry3d X_body_link;
+      size_t next_child;
     };
-    walk(*root, static_cast<int>(bodies->size()) - 1);
+    std::vector<Item> stack;
+    stack.push_back({root.get(), static_cast<int>(bodies->size()) - 1, false, Eigen::Isometry3d::Identity(), 0});
+    int nv_count = static_cast<int>(bodies->size()) - (root_type == MultibodyJointType::kFixed ? 1 : 0);
+    while (!stack.empty()) {
+      if (stack.back().next_child >= stack.back().link->child_joints.size()) {
+        stack.pop_back();
+        continue;
+      }
+      const Item parent = stack.back();
+      const auto& joint = parent.link->child_joints[stack.back().next_child++];
+      const std::string jname = Excerpt(joint->name);
+      const std::string where = ufile + ": joint '" + jname + "'";
+      auto child_it = urdf_model->links_.find(joint->child_link_name);
+      if (child_it == urdf_model->links_.end())
+        throw std::runtime_error(where + ": child link '" + Excerpt(joint->child_link_name) + "' does not exist");
+      const urdf::Link& child = *child_it->second;
+      const Eigen::Isometry3d X_link_joint = ToEigen(joint->parent_to_joint_origin_transform);
+      if (!X_link_joint.matrix().allFinite() || X_link_joint.translation().cwiseAbs().maxCoeff() > kMaxLength_m)
+        throw std::runtime_error(where + ": <origin> " + Num3(X_link_joint.translation()) +
+                                 " m is not finite or exceeds " + Num(kMaxLength_m) + " m");
+      const Eigen::Isometry3d X_body_joint = parent.merged ? parent.X_body_link * X_link_joint : X_link_joint;
+      MultibodyJointType type;
+      switch (joint->type) {
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS: type = MultibodyJointType::kRevolute; break;
+        case urdf::Joint::PRISMATIC: type = MultibodyJointType::kPrismatic; break;
+        case urdf::Joint::FIXED: type = MultibodyJointType::kFixed; break;
+        default:
+          throw std::runtime_error(where + ": unsupported joint type (only revolute, continuous, "
+                                   "prismatic and fixed are supported)");
+      }
+      if (type == MultibodyJointType::kFixed) {
+        // Weld the child link into the parent's body.
+        const int body = parent.body;
+        (*bodies)[body].merged_links.push_back(child.name);
+        add_frame(child.name, body, X_body_joint);
+        add_part(body, link_mass(child), &X_body_joint);
+        warn("link '" + Excerpt(child.name) + "': merged into body '" + Excerpt((*bodies)[body].name) +
+             "' (fixed joint '" + jname + "')");
+        stack.push_back({&child, body, true, X_body_joint, 0});
+        continue;
+      }
+      if (++nv_count > kMaxDofs)
+        throw std::runtime_error(ufile + ": more than " + std::to_string(kMaxDofs) +
+                                 " degrees of freedom (at joint '" + jname + "'); ROME's dense mass matrix supports at most " +
+                                 std::to_string(kMaxDofs));
+      MultibodyBody b;
+      b.name = child.name;
+      b.joint_name = joint->name;
+      b.parent = parent.body;
+      b.joint_type = type;
+      b.X_parent_joint = X_body_joint;
+      const Eigen::Vector3d axis = ToEigen(joint->axis);
+      if (!axis.allFinite()) throw std::runtime_error(where + ": <axis> " + Num3(axis) + " is not finite");
+      if (!(axis.norm() > 1e-9)) throw std::runtime_error(where + ": <axis> is zero");
+      b.axis = axis.normalized();
+      std::pair<double, double> lim{-kInf, kInf};
+      if (joint->type != urdf::Joint::CONTINUOUS && joint->limits) {
+        const double lo = joint->limits->lower, hi = joint->limits->upper;
+        if (std::isnan(lo) || std::isnan(hi) || lo > hi)
+          throw std::runtime_error(where + ": <limit> lower " + Num(lo) + " must not exceed upper " + Num(hi));
+        if (lo < hi) lim = {lo, hi};
+        else warn("joint '" + jname + "': <limit> lower == upper (" + Num(lo) + "): treated as no position limit");
+      }
+      const int index = static_cast<int>(bodies->size());
+      bodies->push_back(b);
+      parts.emplace_back();
+      limits.push_back(lim);
+      add_frame(child.name, index, Eigen::Isometry3d::Identity());
+      add_part(index, link_mass(child), nullptr);
+      stack.push_back({&child, index, false, Eigen::Isometry3d::Identity(), 0});
+    }
+
+    // Combine the parts of each body (exact; parallel-axis theorem about the combined COM) and
+    // find its principal frame.
+    for (size_t i = 0; i < bodies->size(); ++i) {
+      MultibodyBody& b = (*bodies)[i];
+      const std::vector<BodyPart>& p = parts[i];
+      if (p.size() == 1) {
+        b.mass = p[0].mass;
+        b.com = p[0].com;
+        b.inertia = p[0].inertia;
+      } else if (p.size() > 1) {
+        b.mass = 0.0;
+        Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();
+        for (const BodyPart& part : p) {
+          b.mass += part.mass;
+          first_moment += part.mass * part.com;
+        }
+        b.com = first_moment / b.mass;
+        b.inertia.setZero();
+        for (const BodyPart& part : p) {
+          const Eigen::Vector3d d = part.com - b.com;
+          b.inertia += part.inertia + part.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+        }
+        b.inertia = 0.5 * (b.inertia + b.inertia.transpose()).eval();
+      }
+      if (b.inertia.isZero(0.0)) {
+        b.principal_moments.setZero();
+        b.R_link_principal.setIdentity();
+      } else {
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.inertia);
+        b.principal_moments = eig.eigenvalues();
+        b.R_link_principal = eig.eigenvectors();
+        if (b.R_link_principal.determinant() < 0) b.R_link_principal.col(2) *= -1.0;
+        if (b.principal_moments.minCoeff() < 0.0) {  // rounding within the tolerance
+          b.principal_moments = b.principal_moments.cwiseMax(0.0);
+          b.inertia = b.R_link_principal * b.principal_moments.asDiagonal() * b.R_link_principal.transpose();
+        }
+      }
+    }
 
     // Degrees of freedom in body order (matches Bullet's dof order).
     int nv = 0;
     for (int i = 0; i < static_cast<int>(bodies->size()); ++i) {
       MultibodyBody& b = (*bodies)[i];
-      model.body_index_[b.name] = i;
+      if (b.is_virtual) model.body_index_[b.name] = i;
       if (b.joint_type != MultibodyJointType::kFixed) {
         b.v_index = nv++;
         model.joint_index_[b.joint_name] = b.v_index;
@@ -353,8 +720,8 @@ class MultibodyModelLoader {
       model.total_mass_ += b.mass;
     }
     model.nv_ = nv;
-    model.q_lower_.setConstant(nv, -std::numeric_limits<double>::infinity());
-    model.q_upper_.setConstant(nv, std::numeric_limits<double>::infinity());
+    model.q_lower_.setConstant(nv, -kInf);
+    model.q_upper_.setConstant(nv, kInf);
     for (int i = 0; i < static_cast<int>(bodies->size()); ++i) {
       const int k = (*bodies)[i].v_index;
       if (k >= 0) { model.q_lower_[k] = limits[i].first; model.q_upper_[k] = limits[i].second; }
@@ -364,37 +731,48 @@ class MultibodyModelLoader {
     auto movable_joint = [&](const std::string& joint, const std::string& context) {
       if (!model.joint_index_.count(joint)) {
         if (urdf_model->joints_.count(joint))
-          sc.Fail(context, "joint '" + joint + "' is fixed in URDF " + urdf_path + " and cannot be used here");
-        sc.Fail(context, "joint '" + joint + "' does not exist in URDF " + urdf_path);
+          sc.Fail(context, "joint '" + Excerpt(joint) + "' is fixed in " + ufile + " and cannot be used here");
+        sc.Fail(context, "joint '" + Excerpt(joint) + "' does not exist in " + ufile);
       }
       return model.joint_index_.at(joint);
     };
-    auto existing_link = [&](const std::string& link, const std::string& context) {
-      if (!model.body_index_.count(link))
-        sc.Fail(context, "link '" + link + "' does not exist in URDF " + urdf_path);
-      return model.body_index_.at(link);
+    auto existing_frame = [&](const std::string& link, const std::string& context) -> const MultibodyFrame& {
+      if (!model.frame_index_.count(link))
+        sc.Fail(context, "link '" + Excerpt(link) + "' does not exist in " + ufile);
+      return model.frames_[model.frame_index_.at(link)];
+    };
+    auto to_body = [](const MultibodyFrame& f, const Eigen::Vector3d& p) -> Eigen::Vector3d {
+      return f.X_body_frame.isApprox(Eigen::Isometry3d::Identity(), 0.0) ? p : Eigen::Vector3d(f.X_body_frame * p);
     };
 
     // ---------------- actuators ----------------
     model.reflected_inertia_.setZero(nv);
     const json& acts = sc.Array(sidecar, "actuators", "actuators");
     for (size_t i = 0; i < acts.size(); ++i) {
-      const std::string ctx = "actuators[" + std::to_string(i) + "]";
+      std::string ctx = "actuators[" + std::to_string(i) + "]";
+      sc.CheckKeys(acts[i], {"joint", "gear_ratio", "reflected_inertia_kgm2", "torque_limit_Nm"}, ctx);
       ActuatorInfo a;
       a.joint = sc.String(acts[i], "joint", ctx);
-      a.v_index = movable_joint(a.joint, ctx + " (joint '" + a.joint + "')");
+      ctx += " (joint '" + Excerpt(a.joint) + "')";
+      a.v_index = movable_joint(a.joint, ctx);
       a.gear_ratio = sc.NumberOr(acts[i], "gear_ratio", 1.0, ctx);
       a.reflected_inertia_kgm2 = sc.NumberOr(acts[i], "reflected_inertia_kgm2", 0.0, ctx);
-      double urdf_effort = std::numeric_limits<double>::infinity();
-      auto jit = urdf_model->joints_.find(a.joint);
-      if (jit != urdf_model->joints_.end() && jit->second->limits && jit->second->limits->effort > 0)
-        urdf_effort = jit->second->limits->effort;
-      a.torque_limit_Nm = sc.NumberOr(acts[i], "torque_limit_Nm", urdf_effort, ctx);
-      if (!(a.torque_limit_Nm > 0.0)) sc.Fail(ctx, "torque_limit_Nm must be positive");
-      if (a.reflected_inertia_kgm2 < 0.0) sc.Fail(ctx, "reflected_inertia_kgm2 must be >= 0");
-      if (!(a.gear_ratio > 0.0)) sc.Fail(ctx, "gear_ratio must be positive");
+      if (acts[i].contains("torque_limit_Nm")) {
+        a.torque_limit_Nm = sc.Number(acts[i], "torque_limit_Nm", ctx);
+        if (!(a.torque_limit_Nm > 0.0)) sc.Fail(ctx, "torque_limit_Nm must be positive, got " + Num(a.torque_limit_Nm));
+      } else {
+        auto jit = urdf_model->joints_.find(a.joint);
+        const double effort = jit != urdf_model->joints_.end() && jit->second->limits ? jit->second->limits->effort : kInf;
+        if (!std::isfinite(effort) || !(effort > 0.0))
+          sc.Fail(ctx, "no torque limit: no torque_limit_Nm here and the URDF <limit effort> is " +
+                           (effort == kInf ? std::string("missing") : Num(effort)) +
+                           " (give a positive torque_limit_Nm)");
+        a.torque_limit_Nm = effort;
+      }
+      if (!(a.reflected_inertia_kgm2 >= 0.0)) sc.Fail(ctx, "reflected_inertia_kgm2 must be >= 0, got " + Num(a.reflected_inertia_kgm2));
+      if (!(a.gear_ratio > 0.0)) sc.Fail(ctx, "gear_ratio must be positive, got " + Num(a.gear_ratio));
       for (const auto& other : model.actuators_)
-        if (other.v_index == a.v_index) sc.Fail(ctx, "joint '" + a.joint + "' is actuated twice");
+        if (other.v_index == a.v_index) sc.Fail(ctx, "joint '" + Excerpt(a.joint) + "' is actuated twice");
       model.reflected_inertia_[a.v_index] += a.reflected_inertia_kgm2;
       model.actuators_.push_back(a);
     }
@@ -406,21 +784,29 @@ class MultibodyModelLoader {
       model.torque_limits_[i] = model.actuators_[i].torque_limit_Nm;
     }
 
+    // ---------------- a moving joint must move some mass (else M is singular) ----------------
+    CheckEveryJointMovesMass(model, ufile);
+
     // ---------------- springs ----------------
     model.spring_stiffness_.setZero(nv);
     model.spring_damping_.setZero(nv);
     model.spring_rest_.setZero(nv);
     const json& springs = sc.Array(sidecar, "springs", "springs");
     for (size_t i = 0; i < springs.size(); ++i) {
-      const std::string ctx = "springs[" + std::to_string(i) + "]";
+      std::string ctx = "springs[" + std::to_string(i) + "]";
+      sc.CheckKeys(springs[i], {"joint", "stiffness_Nm_per_rad", "damping_Nms_per_rad", "rest_angle_rad"}, ctx);
       SpringInfo s;
       s.joint = sc.String(springs[i], "joint", ctx);
-      s.v_index = movable_joint(s.joint, ctx + " (joint '" + s.joint + "')");
+      ctx += " (joint '" + Excerpt(s.joint) + "')";
+      s.v_index = movable_joint(s.joint, ctx);
       s.stiffness_Nm_per_rad = sc.Number(springs[i], "stiffness_Nm_per_rad", ctx);
       s.damping_Nms_per_rad = sc.NumberOr(springs[i], "damping_Nms_per_rad", 0.0, ctx);
       s.rest_angle_rad = sc.NumberOr(springs[i], "rest_angle_rad", 0.0, ctx);
       if (s.stiffness_Nm_per_rad < 0.0 || s.damping_Nms_per_rad < 0.0)
-        sc.Fail(ctx, "stiffness and damping must be >= 0");
+        sc.Fail(ctx, "stiffness and damping must be >= 0, got " + Num(s.stiffness_Nm_per_rad) + " and " +
+                         Num(s.damping_Nms_per_rad));
+      for (const auto& other : model.springs_)
+        if (other.v_index == s.v_index) sc.Fail(ctx, "joint '" + Excerpt(s.joint) + "' has a second spring");
       model.spring_stiffness_[s.v_index] = s.stiffness_Nm_per_rad;
       model.spring_damping_[s.v_index] = s.damping_Nms_per_rad;
       model.spring_rest_[s.v_index] = s.rest_angle_rad;
@@ -430,27 +816,31 @@ class MultibodyModelLoader {
     // ---------------- contacts ----------------
     const bool planar = model.floating_base_ == FloatingBaseType::kPlanar;
     const json& contacts = sc.Array(sidecar, "contacts", "contacts");
+    if (contacts.size() > 64) sc.Fail("contacts", "at most 64 contacts are supported, got " + std::to_string(contacts.size()));
     for (size_t i = 0; i < contacts.size(); ++i) {
       ContactInfo c;
       c.name = sc.String(contacts[i], "name", "contacts[" + std::to_string(i) + "]");
-      const std::string ctx = "contacts[" + std::to_string(i) + "] ('" + c.name + "')";
+      const std::string ctx = "contacts[" + std::to_string(i) + "] ('" + Excerpt(c.name) + "')";
+      sc.CheckKeys(contacts[i], {"name", "link", "type", "points", "friction_coefficient"}, ctx);
       c.link = sc.String(contacts[i], "link", ctx);
-      c.body = existing_link(c.link, ctx);
+      const MultibodyFrame& frame = existing_frame(c.link, ctx);
+      c.body = frame.body;
       const std::string type = sc.String(contacts[i], "type", ctx);
       size_t min_points = 1, max_points = 1;
       if (type == "point") { c.type = ContactType::kPoint; }
       else if (type == "line") { c.type = ContactType::kLine; min_points = max_points = 2; }
       else if (type == "flat") { c.type = ContactType::kFlat; min_points = 3; max_points = 64; }
-      else sc.Fail(ctx, "unknown contact type '" + type + "' (expected point, line or flat)");
+      else sc.Fail(ctx, "unknown contact type '" + Excerpt(type) + "' (expected point, line or flat)");
       const json& pts = sc.Get(contacts[i], "points", ctx);
       if (!pts.is_array() || pts.size() < min_points || pts.size() > max_points)
         sc.Fail(ctx, "a " + type + " contact needs " + std::to_string(min_points) +
-                         (max_points > min_points ? "+" : "") + " points, got " + pts.dump());
+                         (max_points > min_points ? "+" : "") + " points, got " + SidecarReader::Dump(pts));
       for (const auto& p : pts) c.points.push_back(sc.Vec3(p, ctx + " points"));
       c.friction_coefficient = sc.NumberOr(contacts[i], "friction_coefficient", 1.0, ctx);
-      if (!(c.friction_coefficient > 0.0)) sc.Fail(ctx, "friction_coefficient must be positive");
+      if (!(c.friction_coefficient > 0.0)) sc.Fail(ctx, "friction_coefficient must be positive, got " + Num(c.friction_coefficient));
       if (c.type == ContactType::kLine && (c.points[0] - c.points[1]).norm() < 1e-6)
         sc.Fail(ctx, "line contact points coincide");
+      for (auto& p : c.points) p = to_body(frame, p);
       c.frame_origin.setZero();
       for (const auto& p : c.points) c.frame_origin += p;
       c.frame_origin /= static_cast<double>(c.points.size());
@@ -461,22 +851,27 @@ class MultibodyModelLoader {
       model.max_constraint_rows_ += c.num_rows;
       model.contacts_.push_back(c);
     }
-    if (model.contacts_.size() > 64) sc.Fail("contacts", "at most 64 contacts are supported");
 
     // ---------------- loop closures ----------------
     const json& loops = sc.Array(sidecar, "loop_closures", "loop_closures");
     for (size_t i = 0; i < loops.size(); ++i) {
       LoopClosureInfo l;
       l.name = sc.String(loops[i], "name", "loop_closures[" + std::to_string(i) + "]");
-      const std::string ctx = "loop_closures[" + std::to_string(i) + "] ('" + l.name + "')";
+      const std::string ctx = "loop_closures[" + std::to_string(i) + "] ('" + Excerpt(l.name) + "')";
+      sc.CheckKeys(loops[i], {"name", "link_a", "point_a", "link_b", "point_b", "distance_m"}, ctx);
+      for (const auto& other : model.loop_closures_)
+        if (other.name == l.name) sc.Fail(ctx, "duplicate loop closure name");
       l.link_a = sc.String(loops[i], "link_a", ctx);
       l.link_b = sc.String(loops[i], "link_b", ctx);
-      l.body_a = existing_link(l.link_a, ctx + " link_a");
-      l.body_b = existing_link(l.link_b, ctx + " link_b");
-      l.point_a = sc.Vec3(sc.Get(loops[i], "point_a", ctx), ctx + " point_a");
-      l.point_b = sc.Vec3(sc.Get(loops[i], "point_b", ctx), ctx + " point_b");
+      const MultibodyFrame& fa = existing_frame(l.link_a, ctx + " link_a");
+      const MultibodyFrame& fb = existing_frame(l.link_b, ctx + " link_b");
+      l.body_a = fa.body;
+      l.body_b = fb.body;
+      l.point_a = to_body(fa, sc.Vec3(sc.Get(loops[i], "point_a", ctx), ctx + " point_a"));
+      l.point_b = to_body(fb, sc.Vec3(sc.Get(loops[i], "point_b", ctx), ctx + " point_b"));
       l.distance_m = sc.Number(loops[i], "distance_m", ctx);
-      if (!(l.distance_m > 0.0)) sc.Fail(ctx, "distance_m must be positive");
+      if (!(l.distance_m > 0.0) || l.distance_m > kMaxLength_m)
+        sc.Fail(ctx, "distance_m must be positive and at most " + Num(kMaxLength_m) + " m, got " + Num(l.distance_m));
       model.max_constraint_rows_ += 1;
       model.loop_closures_.push_back(l);
     }
@@ -485,50 +880,129 @@ class MultibodyModelLoader {
     model.q_nominal_.setZero(nv);
     if (sidecar.contains("nominal_pose")) {
       const json& pose = sidecar.at("nominal_pose");
-      if (!pose.is_object()) sc.Fail("nominal_pose", "expected a JSON object");
+      sc.CheckKeys(pose, {"base", "joints"}, "nominal_pose");
       const json& base = sc.Array(pose, "base", "nominal_pose");
       const int nb = model.num_base_dofs();
       if (pose.contains("base")) {
         if (static_cast<int>(base.size()) != nb)
           sc.Fail("nominal_pose.base", "expected " + std::to_string(nb) + " numbers for a " +
-                                           ToString(model.floating_base_) + " base, got " + base.dump());
+                                           ToString(model.floating_base_) + " base, got " + SidecarReader::Dump(base));
         for (int k = 0; k < nb; ++k) {
-          if (!base[k].is_number()) sc.Fail("nominal_pose.base", "expected numbers, got " + base.dump());
-          model.q_nominal_[k] = base[k].get<double>();
+          if (!base[k].is_number()) sc.Fail("nominal_pose.base", "expected numbers, got " + SidecarReader::Dump(base));
+          const double x = base[k].get<double>();
+          if (!std::isfinite(x) || std::abs(x) > kMaxLength_m)
+            sc.Fail("nominal_pose.base", "entry " + std::to_string(k) + " is " + Num(x) + " (not finite or beyond " +
+                                             Num(kMaxLength_m) + ")");
+          model.q_nominal_[k] = x;
         }
       }
       if (pose.contains("joints")) {
         const json& joints = pose.at("joints");
         if (!joints.is_object()) sc.Fail("nominal_pose.joints", "expected an object {joint: angle}");
         for (auto it = joints.begin(); it != joints.end(); ++it) {
-          const std::string ctx = "nominal_pose.joints['" + it.key() + "']";
+          const std::string ctx = "nominal_pose.joints['" + Excerpt(it.key()) + "']";
           const int k = movable_joint(it.key(), ctx);
-          if (!it.value().is_number()) sc.Fail(ctx, "expected a number");
-          model.q_nominal_[k] = it.value().get<double>();
+          if (!it.value().is_number()) sc.Fail(ctx, "expected a number, got " + SidecarReader::Dump(it.value()));
+          const double x = it.value().get<double>();
+          if (!std::isfinite(x) || std::abs(x) > kMaxLength_m)
+            sc.Fail(ctx, "value " + Num(x) + " is not finite or beyond " + Num(kMaxLength_m));
+          model.q_nominal_[k] = x;
         }
       }
     }
     return model;
   }
+
+ private:
+  // Rejects a moving joint whose diagonal entry of M at q = 0 (without armature) is zero: the
+  // mass it moves (prismatic), or the moment of inertia of everything it moves about its axis
+  // (revolute), relative to the robot's scale. A sidecar armature (reflected inertia) on the
+  // joint makes the row nonsingular and is accepted.
+  static void CheckEveryJointMovesMass(const MultibodyModel& model, const std::string& ufile) {
+    const std::vector<MultibodyBody>& bodies = *model.bodies_;
+    const int nb = static_cast<int>(bodies.size());
+    std::vector<Eigen::Isometry3d> X_w(nb);
+    for (int i = 0; i < nb; ++i)
+      X_w[i] = bodies[i].parent >= 0 ? X_w[bodies[i].parent] * bodies[i].X_parent_joint : bodies[i].X_parent_joint;
+    // Subtree mass, first moment and second moment about the world origin (world axes).
+    std::vector<double> m(nb, 0.0);
+    std::vector<Eigen::Vector3d> h(nb, Eigen::Vector3d::Zero());
+    std::vector<Eigen::Matrix3d> J(nb, Eigen::Matrix3d::Zero());
+    for (int i = 0; i < nb; ++i) {
+      const MultibodyBody& b = bodies[i];
+      const Eigen::Vector3d c = X_w[i] * b.com;
+      const Eigen::Matrix3d& R = X_w[i].linear();
+      m[i] = b.mass;
+      h[i] = b.mass * c;
+      J[i] = R * b.inertia * R.transpose() + b.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+    }
+    for (int i = nb - 1; i >= 0; --i) {
+      const int p = bodies[i].parent;
+      if (p < 0) continue;
+      m[p] += m[i];
+      h[p] += h[i];
+      J[p] += J[i];
+    }
+    std::vector<double> value(nb, 0.0);
+    double max_prismatic = 0.0, max_revolute = 0.0, total_m = 0.0;
+    Eigen::Matrix3d total_J = Eigen::Matrix3d::Zero();
+    for (int i = 0; i < nb; ++i) {
+      if (bodies[i].parent < 0) { total_m += m[i]; total_J += J[i]; }
+      if (bodies[i].joint_type == MultibodyJointType::kFixed) continue;
+      if (bodies[i].joint_type == MultibodyJointType::kPrismatic) {
+        value[i] = m[i];
+        max_prismatic = std::max(max_prismatic, value[i]);
+      } else {
+        const Eigen::Vector3d a = X_w[i].linear() * bodies[i].axis;
+        const Eigen::Vector3d o = X_w[i].translation();
+        Eigen::Matrix3d I_o = J[i];
+        if (m[i] > 0.0) {
+          const Eigen::Vector3d c = h[i] / m[i];
+          const Eigen::Vector3d d = c - o;
+          I_o = J[i] - m[i] * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose()) +
+                m[i] * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+        }
+        value[i] = a.dot(I_o * a);
+        max_revolute = std::max(max_revolute, value[i]);
+      }
+    }
+    const double tol_prismatic = 1e-12 * std::max(max_prismatic, total_m);
+    const double tol_revolute = 1e-12 * std::max(max_revolute, total_J.trace());
+    for (int i = 0; i < nb; ++i) {
+      const MultibodyBody& b = bodies[i];
+      if (b.joint_type == MultibodyJointType::kFixed || model.reflected_inertia_[b.v_index] > 0.0) continue;
+      const bool prismatic = b.joint_type == MultibodyJointType::kPrismatic;
+      if (value[i] > (prismatic ? tol_prismatic : tol_revolute)) continue;
+      const std::string carried = b.is_virtual ? "the whole robot" : "link '" + Excerpt(b.name) + "' and its descendants";
+      const std::string verb = b.is_virtual ? " is" : " are";
+      throw std::runtime_error(
+          ufile + ": joint '" + Excerpt(b.joint_name) + "' moves " +
+          (m[i] == 0.0 ? "no mass (" + carried + verb + " massless)"
+                       : "no inertia about its axis (" + carried + (b.is_virtual ? " has" : " have") +
+                             " all the mass on the axis)") +
+          ", so the mass matrix is singular; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
+    }
+  }
 };
 
-MultibodyModel MultibodyModel::Load(const std::string& urdf_path, const std::string& sidecar_path) {
-  return MultibodyModelLoader::Load(urdf_path, sidecar_path, false);
+MultibodyModel MultibodyModel::Load(const std::string& urdf_path, const std::string& sidecar_path,
+                                    const LoadOptions& options) {
+  return MultibodyModelLoader::Load(urdf_path, sidecar_path, false, options);
 }
 
-MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& sidecar_path) {
-  const std::string text = ReadFile(sidecar_path, "sidecar");
+MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& sidecar_path, const LoadOptions& options) {
+  const std::string text = ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
   json j;
   try {
     j = json::parse(text, nullptr, true, true);
   } catch (const json::exception& e) {
-    throw std::runtime_error("sidecar " + sidecar_path + ": malformed JSON: " + e.what());
+    throw std::runtime_error("sidecar " + Excerpt(sidecar_path, 200) + ": malformed JSON: " + Excerpt(e.what(), 200));
   }
   SidecarReader sc{sidecar_path};
   const std::string urdf = sc.String(j, "urdf", "top level");
   const std::string urdf_path =
       (std::filesystem::path(sidecar_path).parent_path() / urdf).string();
-  return MultibodyModelLoader::Load(urdf_path, sidecar_path, true);
+  return MultibodyModelLoader::Load(urdf_path, sidecar_path, true, options);
 }
 
 }  // namespace rome

@@ -21,6 +21,29 @@
 // Joint coordinates follow a depth-first walk of the URDF tree (children in urdfdom's order);
 // use VelocityIndex("joint_name") rather than hard-coded indices.
 //
+// URDF semantics (as Drake and Pinocchio read URDF):
+//  * Links joined by a fixed joint are merged into ONE rigid body (the body of the fixed joint's
+//    parent): masses, COMs and inertias are combined exactly (parallel-axis theorem). Every URDF
+//    link stays addressable by name as a frame: Frame("link") gives the body it belongs to and
+//    the fixed pose X_body_frame. BodyIndex("merged_link") returns the body it was merged into;
+//    sidecar contacts and loop closures on a merged link are converted to that body's frame.
+//  * A link without <inertial>, or with mass 0, is a massless frame (a nonzero inertia on a
+//    zero mass is ignored, with a warning).
+//  * Every <inertial> is checked: finite (a NaN is named), mass >= 0, inertia positive
+//    semi-definite and satisfying the triangle inequality (I1 + I2 >= I3 for the principal
+//    moments), each with a tolerance of kInertiaRelativeTolerance times the largest principal
+//    moment. LoadOptions::repair_inertia projects a violating inertia onto the nearest physical
+//    one (Frobenius norm, same principal axes) instead of rejecting it, with a warning.
+//  * A moving joint that moves no mass (its row of M would be zero, M singular) is rejected,
+//    naming the joint, unless the sidecar gives it a reflected inertia (armature).
+//  * <limit> with lower > upper is rejected; lower == upper (urdfdom reads a <limit> without
+//    lower/upper as 0, 0) means "no position limit", with a warning.
+//  * Input caps (one-line errors): URDF file <= kMaxUrdfBytes and XML nesting depth
+//    <= kMaxXmlDepth (checked before the XML parser runs), at most kMaxDofs degrees of freedom,
+//    lengths (joint origins, COMs, contact and loop-closure points) within +-kMaxLength_m,
+//    masses <= kMaxMass_kg. Names must be valid UTF-8.
+// Warnings (merged links, massless frames, repaired inertias, ...) are in warnings().
+//
 // Equations of motion (all quantities in SI units):
 //   (M_rigid(q) + diag(I_reflected)) qdd + h(q, v) = B u + tau_spring(q, v) + J(q)^T F
 //   h           = C(q, v) v + g(q): Coriolis, centrifugal and gravity (gravity 9.81 m/s^2 along -z)
@@ -29,6 +52,7 @@
 //   B           = nv x nu selection matrix (u are joint-side torques, N m or N)
 //   I_reflected = gear_ratio^2 rotor inertia from the sidecar, added to M's diagonal on the
 //                 actuated joints (rotor gyroscopic coupling neglected, as in MuJoCo's armature).
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <string>
@@ -49,7 +73,8 @@ const char* ToString(ContactType type);
 // One rigid body of the kinematic tree (one Bullet link). Bodies are in topological order
 // (parent index < own index). Virtual floating-base bodies are massless.
 struct MultibodyBody {
-  std::string name;        // URDF link name; virtual bodies are "floating_base_x" etc.
+  std::string name;        // URDF link name (of the first link, if links were merged into it);
+                           // virtual bodies are "floating_base_x" etc.
   std::string joint_name;  // inboard joint; virtual joints are "base_x", "base_z", "base_pitch"...
   int parent = -1;         // parent body index, -1 = world
   MultibodyJointType joint_type = MultibodyJointType::kFixed;
@@ -66,14 +91,38 @@ struct MultibodyBody {
   Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();
   Eigen::Matrix3d R_link_principal = Eigen::Matrix3d::Identity();
   bool is_virtual = false;
+  std::vector<std::string> merged_links;  // URDF links welded into this body by fixed joints
 };
+
+// A named frame rigidly attached to a body: one per URDF link (a link that is a body has
+// X_body_frame = identity; a merged link has the fixed pose of its frame in the body).
+struct MultibodyFrame {
+  std::string name;  // URDF link name
+  int body = -1;
+  Eigen::Isometry3d X_body_frame = Eigen::Isometry3d::Identity();
+};
+
+struct LoadOptions {
+  // Projects a non-physical <inertia> onto the nearest physical inertia (and warns) instead of
+  // rejecting the file.
+  bool repair_inertia = false;
+};
+
+inline constexpr double kInertiaRelativeTolerance = 1e-6;
+inline constexpr std::size_t kMaxUrdfBytes = 16u << 20;  // 16 MiB
+inline constexpr int kMaxXmlDepth = 64;
+inline constexpr int kMaxDofs = 1000;
+inline constexpr double kMaxLength_m = 1e3;
+inline constexpr double kMaxMass_kg = 1e6;
 
 struct ActuatorInfo {
   std::string joint;
   int v_index = -1;
   double gear_ratio = 1.0;
   double reflected_inertia_kgm2 = 0.0;
-  double torque_limit_Nm = 0.0;  // joint-side limit (N m, or N for prismatic)
+  // Joint-side limit (N m, or N for prismatic): the sidecar's torque_limit_Nm, else the URDF
+  // <limit effort>; one of them is required and must be positive and finite.
+  double torque_limit_Nm = 0.0;
 };
 
 struct SpringInfo {
@@ -89,13 +138,15 @@ struct ContactInfo {
   std::string link;
   int body = -1;
   ContactType type = ContactType::kPoint;
-  std::vector<Eigen::Vector3d> points;  // in the link frame, m
+  // In the BODY frame, m (the link frame, unless the link was merged into a body through a fixed
+  // joint; the sidecar gives them in the link frame).
+  std::vector<Eigen::Vector3d> points;
   double friction_coefficient = 1.0;
   // Constraint rows this contact contributes when active (see contact_dynamics.h):
   // planar model: point 2 (x, z), line/flat 3 (x, z, pitch of the contact frame)
   // otherwise   : point 3, line 5 (toe xyz + heel across the line), flat 6 (frame)
   int num_rows = 0;
-  // Contact frame origin in the link frame: the point, the midpoint of the line or the
+  // Contact frame origin in the body frame: the point, the midpoint of the line or the
   // centroid of the corners.
   Eigen::Vector3d frame_origin = Eigen::Vector3d::Zero();
 };
@@ -104,8 +155,8 @@ struct LoopClosureInfo {
   std::string name;
   std::string link_a, link_b;
   int body_a = -1, body_b = -1;
-  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // link_a frame, m
-  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  // link_b frame, m
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // body_a frame, m (sidecar: link_a frame)
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  // body_b frame, m (sidecar: link_b frame)
   double distance_m = 0.0;                             // |p_a - p_b| = distance_m
 };
 
@@ -114,9 +165,10 @@ class MultibodyModel {
   // Loads URDF + sidecar. sidecar_path "" means: same directory and stem as the URDF with
   // extension ".rome.json"; if that file does not exist the model is fixed-base with no
   // actuators/contacts. Throws std::runtime_error naming the file, element and problem.
-  static MultibodyModel Load(const std::string& urdf_path, const std::string& sidecar_path = "");
+  static MultibodyModel Load(const std::string& urdf_path, const std::string& sidecar_path = "",
+                             const LoadOptions& options = {});
   // Loads from a sidecar alone (its "urdf" entry is resolved relative to the sidecar).
-  static MultibodyModel LoadFromSidecar(const std::string& sidecar_path);
+  static MultibodyModel LoadFromSidecar(const std::string& sidecar_path, const LoadOptions& options = {});
 
   const std::string& name() const { return name_; }
   const std::string& urdf_path() const { return urdf_path_; }
@@ -134,7 +186,15 @@ class MultibodyModel {
   const MultibodyBody& body(int i) const { return (*bodies_)[i]; }
 
   // Lookups (throw std::invalid_argument naming the robot and the missing name).
+  // BodyIndex accepts every URDF link name; for a link merged through a fixed joint it returns
+  // the body it was merged into (use Frame() for points given in that link's frame).
   int BodyIndex(const std::string& link_name) const;
+  int FrameIndex(const std::string& link_name) const;
+  const MultibodyFrame& Frame(const std::string& link_name) const { return frames_[FrameIndex(link_name)]; }
+  const std::vector<MultibodyFrame>& frames() const { return frames_; }
+  bool HasFrame(const std::string& link_name) const { return frame_index_.count(link_name) > 0; }
+  // One line per merged link, massless frame, repaired inertia, unlimited joint, ...
+  const std::vector<std::string>& warnings() const { return warnings_; }
   int VelocityIndex(const std::string& joint_name) const;  // == position index
   int ContactIndex(const std::string& contact_name) const;
   bool HasBody(const std::string& link_name) const { return body_index_.count(link_name) > 0; }
@@ -171,7 +231,9 @@ class MultibodyModel {
   FloatingBaseType floating_base_ = FloatingBaseType::kFixed;
   int nv_ = 0;
   std::shared_ptr<const std::vector<MultibodyBody>> bodies_;
-  std::map<std::string, int> body_index_, joint_index_, contact_index_;
+  std::map<std::string, int> body_index_, joint_index_, contact_index_, frame_index_;
+  std::vector<MultibodyFrame> frames_;
+  std::vector<std::string> warnings_;
   std::vector<std::string> joint_names_;
   std::vector<int> body_of_v_;
   Eigen::Vector3d gravity_{0.0, 0.0, -9.81};

@@ -33,7 +33,8 @@ PoseConstraint PoseConstraint::Point(const MultibodyModel& model, const std::str
   c.kind = Kind::kPoint;
   c.axis = axis;
   c.body = model.BodyIndex(link);
-  c.p_link = p_link;
+  // p_link is in the link's frame; a link merged through a fixed joint is converted to its body.
+  c.p_link = model.HasFrame(link) ? Eigen::Vector3d(model.Frame(link).X_body_frame * p_link) : p_link;
   c.target = target;
   return c;
 }

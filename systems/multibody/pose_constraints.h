@@ -39,7 +39,7 @@ struct PoseConstraint {
   Kind kind = Kind::kCoordinate;
   int axis = 0;                                        ///< kPoint, kCom: world axis, 0 = x, 1 = y, 2 = z
   int body = -1;                                       ///< kPoint: body index (MultibodyModel::BodyIndex)
-  Eigen::Vector3d p_link = Eigen::Vector3d::Zero();    ///< kPoint: point in the link frame, m
+  Eigen::Vector3d p_link = Eigen::Vector3d::Zero();    ///< kPoint: point in the body frame, m (Point() converts from the link frame)
   int coordinate = -1;                                 ///< kCoordinate: index into q
   double target = 0.0;                                 ///< m for kPoint/kCom, units of q for kCoordinate
   std::string name;                                    ///< for error messages; "" = generated from the fields

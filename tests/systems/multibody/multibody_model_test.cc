@@ -96,8 +96,12 @@ TEST(MultibodyModelTest, PrincipalFrameReproducesInertia) {
     EXPECT_LT((I - b.inertia).norm(), 1e-14) << b.name;
     EXPECT_NEAR(b.R_link_principal.determinant(), 1.0, 1e-12);
   }
-  // Fixed-joint link is a body without a dof.
-  EXPECT_EQ(model.body(model.BodyIndex("left_toe_cap")).v_index, -1);
+  // A fixed-joint link is merged into its parent's body and stays addressable as a frame.
+  EXPECT_EQ(model.BodyIndex("left_toe_cap"), model.BodyIndex("left_foot"));
+  EXPECT_EQ(model.Frame("left_toe_cap").body, model.BodyIndex("left_foot"));
+  EXPECT_LT((model.Frame("left_toe_cap").X_body_frame.translation() - Eigen::Vector3d(0.1, 0, -0.05)).norm(), 1e-15);
+  EXPECT_EQ(model.contacts()[2].body, model.BodyIndex("left_foot"));
+  EXPECT_LT((model.contacts()[2].points[0] - Eigen::Vector3d(0.12, 0, -0.05)).norm(), 1e-15);
 }
 
 TEST(MultibodyModelTest, NoSidecarMeansFixedBase) {
@@ -131,14 +135,20 @@ TEST_F(ModelFiles, MalformedXml) {
 }
 
 TEST_F(ModelFiles, MissingInertia) {
+  // left_leg without <inertial> is a massless frame: the only thing left_hip moves, so M is
+  // singular and the joint is named ...
   const std::string bad = ReadText(DataPath("bad_missing_inertia.urdf"));
-  ExpectError(Write(bad, sidecar_), {"walker2d.urdf", "link 'left_leg'", "missing <inertial>"});
+  ExpectError(Write(bad, Replace(sidecar_, R"("reflected_inertia_kgm2": 0.05)", R"("reflected_inertia_kgm2": 0.0)")),
+              {"walker2d.urdf", "joint 'left_hip' moves no mass", "link 'left_leg'"});
+  // ... unless the sidecar gives that joint a reflected (rotor) inertia.
+  const MultibodyModel model = MultibodyModel::Load(Write(bad, sidecar_));
+  EXPECT_NEAR(model.body(model.BodyIndex("left_leg")).mass, 0.0, 0.0);
 }
 
 TEST_F(ModelFiles, NonPositiveDefiniteInertia) {
   ExpectError(Write(Replace(urdf_, R"(ixx="0.4" ixy="0" ixz="0" iyy="0.4")", R"(ixx="0.4" ixy="0.9" ixz="0" iyy="0.4")"),
                     sidecar_),
-              {"walker2d.urdf", "link 'left_leg'", "not positive definite"});
+              {"walker2d.urdf", "link 'left_leg'", "not positive semi-definite"});
 }
 
 TEST_F(ModelFiles, NonPositiveMass) {
