@@ -132,6 +132,8 @@ int main(int argc, char** argv) {
       .Option("log-period", "0.005", "[s] sample period of the CSV log")
       .Option("friction-margin", "0.95", "[-] the controller's friction pyramid uses this fraction of mu (1 = the paper's cone)")
       .Option("min-normal-force", "2", "[N] the controller's smallest stance normal force (0 = the paper's F_z >= 0)")
+      .Option("clf-relaxation-weight", "default", "CLF-QP: weight p of the CLF relaxation (default: the diagram's)")
+      .Option("clf-rate", "default", "[Hz] CLF-QP update rate (default: the diagram's)")
       .Option("clf-cone-offset", "default", "[N] CLF-QP: apex of the friction pyramid, |F_t| <= mu' (F_z - offset) (default: the diagram's)")
       .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
       .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
@@ -159,6 +161,12 @@ int main(int argc, char** argv) {
     params.clf_controller.contact.friction_margin = params.controller.friction_margin;
     params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
     if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
+    if (cli.Get("clf-relaxation-weight") != "default") params.clf_controller.relaxation_weight = cli.GetDouble("clf-relaxation-weight");
+    if (cli.Get("clf-rate") != "default") {
+      const double rate = cli.GetDouble("clf-rate");
+      if (!(rate > 0 && rate <= 1e5)) throw std::invalid_argument("stepping_stones: --clf-rate must be in (0, 1e5] Hz, got " + cli.Get("clf-rate"));
+      params.clf_controller.update_period_s = 1.0 / rate;
+    }
     if (cli.Get("clf-cone-offset") != "default") params.clf_controller.contact.friction_cone_offset_N = cli.GetDouble("clf-cone-offset");
     SteppingStonesControllerFactory controller;
     if (cli.Get("controller") == "clf-qp")

@@ -119,6 +119,27 @@ TEST(SteppingStonesDiagram, ControllerResolvesAtEveryTouchdown) {
   EXPECT_GE(checked, 2);
 }
 
+// The controller swap users make: one builder call per controller on the same terrain; both walk it with physical
+// contact forces (the plant's) and land every step within 2 cm of its stone.
+TEST(SteppingStonesDiagram, TaskSpaceQpAndClfQpWalkTheSameTerrain) {
+  const int steps = 12;
+  const Terrain terrain = PeriodicSteppingStones(0.5, 0.0, steps + 2);
+  SteppingStonesDiagramParams params;
+  for (const auto& [name, factory] : {std::pair<std::string, SteppingStonesControllerFactory>{"tsc-qp", TaskSpaceQpControllerFactory(params)},
+                                      std::pair<std::string, SteppingStonesControllerFactory>{"clf-qp", ClfQpControllerFactory(params)}}) {
+    const test::WalkResult r = test::Walk(terrain, steps, params, factory);
+    ASSERT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << name << ": " << r.status.ToString();
+    ASSERT_EQ(static_cast<int>(r.steps.size()), steps) << name;
+    test::ExpectPhysicalContact(r, name);
+    for (const StepRecord& s : r.steps) {
+      EXPECT_EQ(s.stone, s.planned_stone) << name;
+      EXPECT_LT(s.foothold_error_m, 0.02) << name;
+    }
+    EXPECT_EQ(r.qp_failures, 0) << name;
+    EXPECT_EQ(r.touchdowns, steps) << name;
+  }
+}
+
 TEST(SteppingStonesDiagram, TerrainHelpersRejectBadInput) {
   EXPECT_THROW(PeriodicSteppingStones(0.05, 0.0, 10), std::invalid_argument);  // stones would overlap
   EXPECT_THROW(PeriodicSteppingStones(0.4, 0.0, 1), std::invalid_argument);
