@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
                               {"gravity_mps2", params.gravity},
                               {"duration_s", duration},
                               {"status", status.ToString()},
+                              {"status_kind", status.kind_name()},
                               {"ended_early", !status.ok()},
                               {"impact_times", impacts},
                               {"analytic_impact_times", analytic},
@@ -108,6 +109,12 @@ int main(int argc, char** argv) {
               << impacts.size() << " impacts; largest impact-time error against the closed form: " << max_err << " s\n"
               << sim.statistics().steps << " integrator steps, " << sim.statistics().rhs_evals << " right-hand-side evaluations, " << wall * 1e3
               << " ms wall time\n";
+    // The run is meant to reach its duration: a limit is success here; a failure (Zeno, non-finite state) is not.
+    if (status.kind() == SimulatorStatus::Kind::kFailure) {
+      std::cout << "result: failed run (" << status.ToString() << ")\n";
+      return 3;
+    }
+    std::cout << "result: success (reached " << duration << " s)\n";
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

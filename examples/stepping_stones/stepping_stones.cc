@@ -137,6 +137,7 @@ int main(int argc, char** argv) {
       .Option("clf-cone-offset", "default", "[N] CLF-QP: apex of the friction pyramid, |F_t| <= mu' (F_z - offset) (default: the diagram's)")
       .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
       .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
+      .Option("unilateral-contact", "on", "on | off: the plant's stance feet lift off at F_n = 0 and a slip fails the run (off: welded feet, as before)")
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
       .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
       .Option("plots", "", "directory for PNG plots (empty: none)");
@@ -157,6 +158,9 @@ int main(int argc, char** argv) {
     params.controller.min_normal_force_N = cli.GetDouble("min-normal-force");
     if (cli.Get("resolve-at-events") != "on" && cli.Get("resolve-at-events") != "off")
       throw std::invalid_argument("stepping_stones: --resolve-at-events must be 'on' or 'off', got '" + cli.Get("resolve-at-events") + "'");
+    if (cli.Get("unilateral-contact") != "on" && cli.Get("unilateral-contact") != "off")
+      throw std::invalid_argument("stepping_stones: --unilateral-contact must be 'on' or 'off', got '" + cli.Get("unilateral-contact") + "'");
+    params.plant.unilateral_contact = cli.Get("unilateral-contact") == "on";
     params.controller.resolve_at_events = params.mpc.resolve_at_events = params.clf_controller.resolve_at_events = cli.Get("resolve-at-events") == "on";
     params.clf_controller.contact.friction_margin = params.controller.friction_margin;
     params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
