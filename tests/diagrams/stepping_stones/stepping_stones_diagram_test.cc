@@ -93,30 +93,36 @@ TEST(SteppingStonesDiagram, ControllerIsAParameterOfTheBuilder) {
 }
 
 // Every touchdown is followed, at the same instant, by the supervisor's, the MPC's and the controller's event updates:
-// the plant never runs a touchdown's new contact mode on the torque of the previous mode.
+// the plant never runs a touchdown's new contact mode on the torque of the previous mode. Checked through the
+// controller's planned contact forces (a port of both controllers): right after each touchdown they load the new
+// stance foot and leave the old one at zero.
 TEST(SteppingStonesDiagram, ControllerResolvesAtEveryTouchdown) {
   SteppingStonesDiagramParams params;
   params.supervisor.max_steps = 3;
-  SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 6), params);
-  Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
-  SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
-  // Record, right after each step, the controller's u and the u a fresh solve gives at that instant.
-  const auto& ctrl = *static_cast<const TaskSpaceQpController*>(d.controller);
-  int checked = 0;
-  long events_seen = 0;
-  sim.set_monitor([&](const Context& c) {
-    if (sim.statistics().guard_events == events_seen) return EventStatus::Succeeded();
-    events_seen = sim.statistics().guard_events;
-    const LeafContext& cc = d.diagram->GetSubsystemContext(ctrl, c);
-    const EventRecord& e = sim.statistics().events.back();
-    if (std::abs(c.time() - e.time) > 1e-12) return EventStatus::Succeeded();  // only the step that ended at the event
-    EXPECT_EQ(ctrl.last_mode(cc), d.diagram->GetSubsystemContext(*d.plant, c).mode()) << "t = " << c.time();
-    ++checked;
-    return EventStatus::Succeeded();
-  });
-  const SimulatorStatus status = sim.AdvanceTo(10.0);
-  EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kSuccess) << status.ToString();
-  EXPECT_GE(checked, 2);
+  for (const auto& factory : {TaskSpaceQpControllerFactory(params), ClfQpControllerFactory(params)}) {
+    SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 6), params, factory);
+    Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
+    SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
+    const int left = d.model->ContactIndex("left_foot"), right = d.model->ContactIndex("right_foot");
+    int checked = 0;
+    long events_seen = 0;
+    sim.set_monitor([&](const Context& c) {
+      if (sim.statistics().guard_events == events_seen) return EventStatus::Succeeded();
+      events_seen = sim.statistics().guard_events;
+      const EventRecord& e = sim.statistics().events.back();
+      if (std::abs(c.time() - e.time) > 1e-12 || e.guard.rfind("touchdown_", 0) != 0) return EventStatus::Succeeded();
+      const int mode = d.plant->EvalTypedOutput<int>(d.diagram->GetSubsystemContext(*d.plant, c), "mode");
+      const Eigen::VectorXd& planned = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "contact_forces");
+      const int stance = mode == 0 ? left : right, old = mode == 0 ? right : left;
+      EXPECT_GT(planned[3 * stance + 2], 1.0) << "t = " << c.time() << ": the new stance foot carries the robot";
+      EXPECT_EQ(planned.segment<3>(3 * old).norm(), 0.0) << "t = " << c.time() << ": the old stance foot carries nothing";
+      ++checked;
+      return EventStatus::Succeeded();
+    });
+    const SimulatorStatus status = sim.AdvanceTo(10.0);
+    EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kSuccess) << status.ToString();
+    EXPECT_GE(checked, 2);
+  }
 }
 
 // The controller swap users make: one builder call per controller on the same terrain; both walk it with physical
