@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 
 #include "solvers/riccati/rapidly_exponentially_stabilizing_clf.h"
+#include "systems/controllers/controller_setup.h"
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_workspace.h"
@@ -98,23 +99,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
       if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
         ThrowError("output '" + o.name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
   }
-  u_max_ = params_.torque_limits.size() == 0 ? model_->torque_limits() : params_.torque_limits;
-  if (u_max_.size() != nu) ThrowError("params.torque_limits has size " + std::to_string(u_max_.size()) + "; robot '" + model_->name() + "' has nu = " + std::to_string(nu));
-  zero_torque_.resize(mode_contacts_.size());
-  for (const auto& [contact, joint] : params_.zero_torque_in_contact) {
-    int c = -1;
-    try {
-      c = model_->ContactIndex(contact);
-    } catch (const std::exception&) {
-      ThrowError("params.zero_torque_in_contact names contact '" + contact + "', which robot '" + model_->name() + "' does not have");
-    }
-    int actuator = -1;
-    for (int j = 0; j < nu; ++j)
-      if (model_->actuators()[j].joint == joint) actuator = j;
-    if (actuator < 0) ThrowError("params.zero_torque_in_contact names joint '" + joint + "', which is not an actuated joint of robot '" + model_->name() + "'");
-    for (size_t m = 0; m < mode_contacts_.size(); ++m)
-      if (mode_contacts_[m] & ContactBit(c)) zero_torque_[m].push_back(actuator);
-  }
+  u_max_ = ResolveTorqueLimits(*model_, params_.torque_limits, this->name());
+  zero_torque_ = ZeroTorqueActuatorsPerMode(*model_, mode_contacts_, params_.zero_torque_in_contact, this->name());
   // RES-CLF of every mode (Eq. (26)-(30)), Q = I.
   for (size_t m = 0; m < mode_contacts_.size(); ++m) {
     try {
@@ -253,11 +239,7 @@ std::any ClfQpController::AllocateScratch() const {
 }
 
 int ClfQpController::ModeFromInput(const LeafContext& context) const {
-  const int mode = EvalTypedInput<int>(context, mode_port_);
-  if (mode < 0 || mode >= static_cast<int>(mode_contacts_.size()))
-    throw std::runtime_error("system '" + name() + "': input port 'mode' has value " + std::to_string(mode) + "; expected a mode index in [0, " +
-                             std::to_string(mode_contacts_.size()) + ")");
-  return mode;
+  return CheckedModeIndex(EvalTypedInput<int>(context, mode_port_), static_cast<int>(mode_contacts_.size()), name());
 }
 
 QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
