@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
+#include "examples/common/animation.h"
 #include "examples/common/cli.h"
 #include "examples/common/plot.h"
 #include "framework/simulator.h"
@@ -140,7 +141,8 @@ int main(int argc, char** argv) {
       .Option("unilateral-contact", "on", "on | off: the plant's stance feet lift off at F_n = 0 and a slip fails the run (off: welded feet, as before)")
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
       .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
-      .Option("plots", "", "directory for PNG plots (empty: none)");
+      .Option("plots", "", "directory for PNG plots (empty: none)")
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   try {
     if (!cli.Parse(argc, argv)) return 0;
     const int steps = cli.GetInt("steps");
@@ -185,7 +187,12 @@ int main(int argc, char** argv) {
       params.outputs.swing_foot.apex_shape = SwingApexShape::kControlPoints;
     else
       throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
+    std::string animation_error;
+    if (!cli.Get("animation").empty() && !examples::AnimationRecorder::CheckWritable(cli.Get("animation"), &animation_error))
+      throw std::invalid_argument("stepping_stones: --animation: " + animation_error);
     SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller);
+    std::unique_ptr<examples::AnimationRecorder> animation;
+    if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*d.model);
     Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
     SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
     sim.Initialize();
@@ -213,6 +220,11 @@ int main(int argc, char** argv) {
       const LeafContext& plant_context = d.diagram->GetSubsystemContext(*d.plant, c);
       const LeafContext& controller_context = d.diagram->GetSubsystemContext(*d.controller, c);
       contact.Record(*d.plant, plant_context);
+      if (animation) {
+        const int mode = d.plant->EvalTypedOutput<int>(plant_context, "mode");
+        animation->Record(c.time(), plant_context.continuous_state().head(d.model->nv()), d.plant->mode_name(mode),
+                          d.plant->EvalOutput(plant_context, "contact_forces"));
+      }
       u2_integral += last_u.squaredNorm() * (c.time() - last_time);  // u is held between updates
       last_time = c.time();
       last_u = d.controller->EvalOutput(controller_context, "u");
@@ -314,6 +326,14 @@ int main(int argc, char** argv) {
       out << summary.dump(2) << "\n";
     }
     if (!cli.Get("log").empty()) d.logger->WriteCsv(log_ctx, cli.Get("log"));
+    if (animation) {
+      std::vector<examples::AnimationStone> stones;
+      for (const auto& st : terrain.stones()) stones.push_back({st.x_center_m, st.top_height_m, st.length_m});
+      if (!animation->WriteHtml(cli.Get("animation"), "ROME stepping stones, " + ControllerKind(*d.controller), stones, &animation_error))
+        std::cerr << "warning: " << animation_error << "\n";
+      else
+        std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
+    }
     if (!cli.Get("plots").empty()) {
       const std::string dir = cli.Get("plots");
       std::filesystem::create_directories(dir);
