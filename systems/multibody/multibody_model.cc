@@ -1,4 +1,5 @@
 #include "systems/multibody/multibody_model.h"
+#include "systems/multibody/robot_files.h"
 
 #include <algorithm>
 #include <cctype>
@@ -987,10 +988,11 @@ class MultibodyModelLoader {
 
 MultibodyModel MultibodyModel::Load(const std::string& urdf_path, const std::string& sidecar_path,
                                     const LoadOptions& options) {
-  return MultibodyModelLoader::Load(urdf_path, sidecar_path, false, options);
+  return MultibodyModelLoader::Load(FindRobotFile(urdf_path), sidecar_path.empty() ? sidecar_path : FindRobotFile(sidecar_path), false, options);
 }
 
-MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& sidecar_path, const LoadOptions& options) {
+MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& given_sidecar_path, const LoadOptions& options) {
+  const std::string sidecar_path = FindRobotFile(given_sidecar_path);
   const std::string text = ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
   json j;
   try {
