@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "examples/common/animation.h"
 #include "examples/common/cli.h"
 #include "examples/common/plot.h"
 #include "framework/simulator.h"
@@ -29,7 +30,8 @@ int main(int argc, char** argv) {
       .Option("rest-velocity", "0", "impact speed below which the ball comes to rest [m/s]; 0 = never (Zeno)")
       .Option("log", "bouncing_ball.csv", "CSV log file (time, height, velocity every 1 ms)")
       .Option("summary", "bouncing_ball.json", "JSON summary file")
-      .Option("plots", "", "directory for PNG plots (empty: no plots)");
+      .Option("plots", "", "directory for PNG plots (empty: no plots)")
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   try {
     if (!cli.Parse(argc, argv)) return 0;
     BouncingBallParams params;
@@ -53,6 +55,19 @@ int main(int argc, char** argv) {
               << " m/s^2, simulating " << duration << " s\n";
     const auto start = std::chrono::steady_clock::now();
     SimulatorStatus status;
+    std::string animation_error;
+    if (!cli.Get("animation").empty() && !examples::AnimationRecorder::CheckWritable(cli.Get("animation"), &animation_error))
+      throw std::invalid_argument("bouncing_ball: --animation: " + animation_error);
+    std::unique_ptr<examples::AnimationRecorder> animation;
+    if (!cli.Get("animation").empty()) {
+      animation = std::make_unique<examples::AnimationRecorder>(0.05);
+      const LeafContext& ball_context = diagram->GetSubsystemContext(*ball, sim.get_context());
+      sim.set_monitor([&, ball_context_ptr = &ball_context](const Context& c) {
+        // The ball's centre is one radius above its contact point (the state's height).
+        animation->RecordPoint(c.time(), Eigen::Vector3d(0, 0, ball_context_ptr->continuous_state()[0] + 0.05), "flight");
+        return EventStatus::Succeeded();
+      });
+    }
     const int chunks = 10;
     for (int k = 1; k <= chunks; ++k) {
       status = sim.AdvanceTo(duration * k / chunks);
@@ -90,6 +105,8 @@ int main(int argc, char** argv) {
       if (!out) throw std::runtime_error("bouncing_ball: cannot write summary file '" + summary_path + "'");
       out << summary.dump(2) << "\n";
     }
+    if (animation && !animation->WriteHtml(cli.Get("animation"), "ROME bouncing ball, e = " + cli.Get("restitution"), {}, &animation_error))
+      std::cerr << "warning: " << animation_error << "\n";
     const std::string plots = cli.Get("plots");
     if (!plots.empty()) {
       std::filesystem::create_directories(plots);

@@ -38,6 +38,12 @@ std::string ReadFile(const std::string& path, std::string* error) {
   return os.str();
 }
 
+std::string Format(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
 void AppendFloats(std::ostringstream& os, const std::vector<float>& v, int decimals) {
   os << "[";
   char buf[48];
@@ -92,7 +98,7 @@ if (D.stones.length) {
     box.position.set(s[0], s[1] - Math.max(h, 0.02) / 2, 0); scene.add(box);
   }
 } else {
-  const g = new THREE.Mesh(new THREE.BoxGeometry(200, 0.02, 4), stoneMat); g.position.set(0, -0.01, 0); scene.add(g);
+  const g = new THREE.Mesh(new THREE.BoxGeometry(200, 0.02, 0.6), stoneMat); g.position.set(0, -0.01, 0); scene.add(g);
 }
 // Robot: a group per body; capsules (cylinder + sphere caps) and URDF visuals in body coordinates.
 const groups = D.bodies.map(b => {
@@ -120,7 +126,7 @@ const groups = D.bodies.map(b => {
   }
   scene.add(g); return g;
 });
-const com = new THREE.Mesh(new THREE.SphereGeometry(0.03, 16, 12), new THREE.MeshBasicMaterial({color: test ? 0x00ff00 : 0xe08000}));
+const com = new THREE.Mesh(new THREE.SphereGeometry(D.com_radius, 16, 12), new THREE.MeshBasicMaterial({color: test ? 0x00ff00 : 0xe08000}));
 scene.add(com);
 const arrows = D.contacts.map(() => { const a = new THREE.ArrowHelper(new THREE.Vector3(0, 1, 0), new THREE.Vector3(), 0.1, 0xc00000, 0.06, 0.04); scene.add(a); return a; });
 const nb = D.bodies.length, nc = D.contacts.length, T = D.t.length;
@@ -180,10 +186,28 @@ if (test) {
 }  // namespace
 
 AnimationRecorder::AnimationRecorder(const MultibodyModel& model, double fps, std::string three_js_path)
-    : model_(model), fps_(fps), three_js_path_(std::move(three_js_path)) {
-  for (int b = 0; b < model_.num_bodies(); ++b)
-    if (model_.body(b).name.rfind("floating_base", 0) != 0) drawn_bodies_.push_back(b);
-  ws_ = std::make_unique<MultibodyWorkspace>(model_);
+    : model_(&model), fps_(fps), three_js_path_(std::move(three_js_path)) {
+  for (int b = 0; b < model.num_bodies(); ++b)
+    if (model.body(b).name.rfind("floating_base", 0) != 0) drawn_bodies_.push_back(b);
+  ws_ = std::make_unique<MultibodyWorkspace>(model);
+}
+
+AnimationRecorder::AnimationRecorder(double radius_m, double fps, std::string three_js_path)
+    : point_radius_m_(radius_m), fps_(fps), three_js_path_(std::move(three_js_path)) {}
+
+void AnimationRecorder::RecordPoint(double t, const Eigen::Vector3d& p, const std::string& mode) {
+  if (!times_.empty() && t < times_.back() + 1.0 / fps_ - 1e-9) return;
+  times_.push_back(t);
+  int idx = -1;
+  for (size_t i = 0; i < modes_.size(); ++i)
+    if (modes_[i] == mode) idx = static_cast<int>(i);
+  if (idx < 0) {
+    modes_.push_back(mode);
+    idx = static_cast<int>(modes_.size()) - 1;
+  }
+  mode_index_.push_back(idx);
+  const Eigen::Vector3d c = ToThree() * p;
+  for (double v : {c.x(), c.y(), c.z()}) coms_.push_back(static_cast<float>(v));
 }
 
 AnimationRecorder::~AnimationRecorder() = default;
@@ -200,6 +224,7 @@ bool AnimationRecorder::CheckWritable(const std::string& path, std::string* erro
 }
 
 void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::string& mode, const Eigen::VectorXd& contact_forces) {
+  const MultibodyModel& model_ = *this->model_;
   if (!times_.empty() && t < times_.back() + 1.0 / fps_ - 1e-9) return;
   times_.push_back(t);
   int idx = -1;
@@ -231,6 +256,8 @@ void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::st
 bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, std::string* error) const {
   const std::string three = ReadFile(three_js_path_, error);
   if (three.empty()) return false;
+  if (model_ == nullptr) return WritePage(path, title, stones, three, "", error);
+  const MultibodyModel& model_ = *this->model_;
   // Visual geometry from the URDF (attached to the body its link was merged into).
   std::vector<std::string> visuals(model_.num_bodies());
   if (urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDFFile(model_.urdf_path())) {
@@ -283,7 +310,7 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
   }
   std::ostringstream data;
   data.precision(6);
-  data << "{\"bodies\":[";
+  data << "\"bodies\":[";
   for (size_t i = 0; i < drawn_bodies_.size(); ++i) {
     const int b = drawn_bodies_[i];
     data << (i ? "," : "") << "{\"name\":\"" << model_.body(b).name << "\",\"radius\":0.02,\"segments\":[";
@@ -318,11 +345,20 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
   }
   data << "],\"contacts\":[";
   for (int k = 0; k < model_.num_contacts(); ++k) data << (k ? "," : "") << "\"" << model_.contacts()[k].name << "\"";
-  data << "],\"modes\":[";
+  data << "],\"mg\":" << model_.total_mass() * 9.81 << ",\"com_radius\":0.03,";
+  return WritePage(path, title, stones, three, data.str(), error);
+}
+
+bool AnimationRecorder::WritePage(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, const std::string& three,
+                                  const std::string& model_json, std::string* error) const {
+  std::ostringstream data;
+  data.precision(6);
+  data << "{" << (model_json.empty() ? "\"bodies\":[],\"contacts\":[],\"mg\":1,\"com_radius\":" + Format(point_radius_m_) + "," : model_json);
+  data << "\"modes\":[";
   for (size_t i = 0; i < modes_.size(); ++i) data << (i ? "," : "") << "\"" << modes_[i] << "\"";
   double floor = 0.0;
   for (const AnimationStone& s : stones) floor = std::min(floor, s.top_height_m - 0.3);
-  data << "],\"mg\":" << model_.total_mass() * 9.81 << ",\"floor\":" << floor << ",\"stones\":[";
+  data << "],\"floor\":" << floor << ",\"stones\":[";
   for (size_t i = 0; i < stones.size(); ++i) data << (i ? "," : "") << "[" << stones[i].x_center_m << "," << stones[i].top_height_m << "," << stones[i].length_m << "]";
   data << "],\"t\":";
   std::vector<float> t(times_.begin(), times_.end());

@@ -29,11 +29,15 @@ class AnimationRecorder {
  public:
   /// `three_js_path`: the three.js build to inline (Debian's libjs-three by default).
   AnimationRecorder(const MultibodyModel& model, double fps = 60.0, std::string three_js_path = DefaultThreeJsPath());
+  /// A point mass drawn as a sphere of `radius_m` (e.g. the bouncing ball); record it with RecordPoint().
+  explicit AnimationRecorder(double radius_m, double fps = 60.0, std::string three_js_path = DefaultThreeJsPath());
   ~AnimationRecorder();
   static std::string DefaultThreeJsPath() { return "/usr/share/javascript/three/three.min.js"; }
 
   /// Records a frame if at least 1/fps has passed since the last one. contact_forces: 3 per contact, world axes [N].
   void Record(double t, const Eigen::VectorXd& q, const std::string& mode, const Eigen::VectorXd& contact_forces);
+  /// Records the point mass at `p` (world, z up) [m].
+  void RecordPoint(double t, const Eigen::Vector3d& p, const std::string& mode);
   int num_frames() const { return static_cast<int>(times_.size()); }
 
   /// Checks before a run that `path` can be written (creates and removes the file); false with `error` otherwise.
@@ -42,7 +46,10 @@ class AnimationRecorder {
   bool WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, std::string* error) const;
 
  private:
-  const MultibodyModel& model_;
+  bool WritePage(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, const std::string& three,
+                 const std::string& model_json, std::string* error) const;
+  const MultibodyModel* model_ = nullptr;  // null: a point mass
+  double point_radius_m_ = 0.03;
   double fps_;
   std::string three_js_path_;
   std::unique_ptr<MultibodyWorkspace> ws_;
