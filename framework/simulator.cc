@@ -133,14 +133,16 @@ struct Simulator::Impl {
   void Counters(long* steps, long* rhs, long* g) const {
     *steps = *rhs = *g = 0;
     if (!mem) return;
+    // Root-function evaluations only exist when root finding was initialised (ARKODE leaves its counter
+    // uninitialised otherwise).
     if (erk) {
       ERKStepGetNumSteps(mem, steps);
       ERKStepGetNumRhsEvals(mem, rhs);
-      ERKStepGetNumGEvals(mem, g);
+      if (nroots > 0) ERKStepGetNumGEvals(mem, g);
     } else {
       CVodeGetNumSteps(mem, steps);
       CVodeGetNumRhsEvals(mem, rhs);
-      CVodeGetNumGEvals(mem, g);
+      if (nroots > 0) CVodeGetNumGEvals(mem, g);
     }
   }
   void AccumulateCounters() {

@@ -69,6 +69,12 @@ SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStone
 
 SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
                                                  const SteppingStonesControllerFactory& controller) {
+  // E* > 0: the LIP crosses the stance foot and walks forwards (E* <= 0 turns back before reaching the stone).
+  if (!(params.target_orbital_energy > 0) || !std::isfinite(params.target_orbital_energy))
+    throw std::invalid_argument("BuildSteppingStonesDiagram: target_orbital_energy (E*) must be positive, got " + std::to_string(params.target_orbital_energy) +
+                                " m^2/s^2");
+  if (!(params.impact_fraction > 0 && params.impact_fraction < 1))
+    throw std::invalid_argument("BuildSteppingStonesDiagram: impact_fraction (epsilon) must be in (0, 1), got " + std::to_string(params.impact_fraction));
   SteppingStonesDiagram d;
   d.model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(params.robot_sidecar));
   const auto& model = *d.model;

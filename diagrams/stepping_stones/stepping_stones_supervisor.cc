@@ -192,7 +192,8 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
     rec->L_des = xd[kLastLdes];
     rec->stone = stone;
     rec->planned_stone = static_cast<int>(xd[kStone]) + 1;
-    rec->foothold_error_m = std::abs(foot.x() - terrain_.stones()[stone].x_center_m);
+    // Measured to the planned stone: a touchdown on another stone is an error of a whole step, not a small one.
+    rec->foothold_error_m = std::abs(foot.x() - terrain_.stones()[std::min(rec->planned_stone, static_cast<int>(terrain_.stones().size()) - 1)].x_center_m);
     const Eigen::Vector3d p = CalcComPosition(*model_, s.ws, x.head(nv));
     const Eigen::Vector3d pd = CalcComVelocity(*model_, s.ws, x.head(nv), x.tail(nv));
     const Vector6d hG = CalcCentroidalMomentum(*model_, s.ws, x.head(nv), x.tail(nv));
@@ -233,6 +234,11 @@ EventStatus SteppingStonesSupervisor::ImpactUpdate(const LeafContext& context, E
   StepRecord rec;
   ApplyImpact(context, EvalInput(context, 0), mode, &xd, &rec);
   context.scratch<Scratch>().steps.push_back(rec);
+  // A step counts only on the planned stone (a touchdown back on the stance stone, or beyond the next one, fails).
+  if (rec.stone != rec.planned_stone)
+    return EventStatus::Failed("robot missed its stone: touched down on stone " + std::to_string(rec.stone) + " at t = " + std::to_string(context.time()) +
+                               " s, " + std::to_string(100.0 * rec.foothold_error_m) + " cm from the centre of the planned stone " +
+                               std::to_string(rec.planned_stone));
   if (static_cast<int>(xd[kSteps]) >= params_.max_steps)
     return EventStatus::ReachedTermination("completed " + std::to_string(params_.max_steps) + " steps");
   if (rec.stone + 1 >= static_cast<int>(terrain_.stones().size())) return EventStatus::ReachedTermination("completed: the robot reached the last stone");

@@ -7,6 +7,12 @@
 
 namespace rome::examples {
 
+std::string FormatNumber(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
 CommandLine& CommandLine::Option(const std::string& name, const std::string& default_value, const std::string& help) {
   order_.push_back(name);
   decls_[name] = {default_value, help, false};
@@ -36,6 +42,8 @@ bool CommandLine::Parse(int argc, char** argv) {
     auto it = decls_.find(name);
     if (it == decls_.end()) throw std::invalid_argument(program_ + ": unknown option '--" + name + "' (see --help)");
     if (it->second.is_flag) {
+      if (eq != std::string::npos)
+        throw std::invalid_argument(program_ + ": '--" + name + "' is a flag and takes no value (got '" + arg.substr(2) + "'); leave it out to turn it off");
       values_[name] = "1";
       continue;
     }

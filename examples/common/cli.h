@@ -9,6 +9,9 @@
 
 namespace rome::examples {
 
+/// A number as a user would type it (shortest round-trip form, e.g. "1e-04" → "0.0001").
+std::string FormatNumber(double v);
+
 class CommandLine {
  public:
   CommandLine(std::string program, std::string summary) : program_(std::move(program)), summary_(std::move(summary)) {}

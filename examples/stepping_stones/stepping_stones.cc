@@ -146,7 +146,38 @@ int main(int argc, char** argv) {
   try {
     if (!cli.Parse(argc, argv)) return 0;
     const int steps = cli.GetInt("steps");
-    if (steps < 1) throw std::invalid_argument("stepping_stones: --steps must be at least 1, got " + cli.Get("steps"));
+    // Ranges (ours): bounded work and physically meaningful gaits; each error names the option and the value.
+    auto in_range = [&](const std::string& name, double lo, double hi, bool lo_open) {
+      const double v = cli.GetDouble(name);
+      if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi))
+        throw std::invalid_argument("stepping_stones: --" + name + " must be in " + (lo_open ? "(" : "[") + examples::FormatNumber(lo) + ", " +
+                                    examples::FormatNumber(hi) + "], got " + cli.Get(name));
+      return v;
+    };
+    if (steps < 1 || steps > 10000) throw std::invalid_argument("stepping_stones: --steps must be in [1, 10000], got " + cli.Get("steps"));
+    in_range("energy", 0.0, 10.0, true);  // E* > 0: the robot walks forwards (E* <= 0 turns back before the stone)
+    in_range("epsilon", 0.0, 1.0, true);
+    const double log_period = in_range("log-period", 1e-4, 10.0, false);
+    const double log_rows = (3.0 * steps + 2.0) / log_period;
+    if (!cli.Get("log").empty() && log_rows > 5e6)
+      throw std::invalid_argument("stepping_stones: --log-period " + cli.Get("log-period") + " s over up to " + std::to_string(3 * steps + 2) + " s would log " +
+                                  std::to_string(static_cast<long>(log_rows)) + " rows (limit 5e6); raise --log-period or lower --steps");
+    in_range("stone-length", 0.0, 1.0, true);
+    in_range("swing-clearance", 0.0, 1.0, true);
+    if (cli.Get("terrain") == "flat" || cli.Get("terrain") == "stairs-up" || cli.Get("terrain") == "stairs-down") in_range("step-length", 0.0, 5.0, true);
+    // Output files are checked before the simulation, so a long run is not lost to a typo.
+    for (const char* out : {"log", "summary"})
+      if (!cli.Get(out).empty()) {
+        std::string err;
+        if (!examples::AnimationRecorder::CheckWritable(cli.Get(out), &err))
+          throw std::invalid_argument("stepping_stones: --" + std::string(out) + ": cannot write '" + cli.Get(out) + "'");
+      }
+    if (!cli.Get("plots").empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(cli.Get("plots"), ec);
+      if (ec || !std::filesystem::is_directory(cli.Get("plots")))
+        throw std::invalid_argument("stepping_stones: --plots: cannot create the folder '" + cli.Get("plots") + "'");
+    }
     const Terrain terrain = MakeTerrain(cli, steps);
     SteppingStonesDiagramParams params;
     params.robot_sidecar = cli.Get("robot");

@@ -287,3 +287,24 @@ TEST(Simulator, ExceptionInDynamicsPropagates) {
 
 }  // namespace
 }  // namespace rome
+
+namespace rome {
+namespace {
+
+// e = 0: no rebound, the ball stays on the ground after its first impact (it must not fall through the floor);
+// a ball released on the ground stays there.
+TEST(Simulator, BallWithoutReboundOrHeightStaysOnTheGround) {
+  for (const BouncingBallParams& p : {BouncingBallParams{.restitution = 0.0, .initial_height = 1.0}, BouncingBallParams{.restitution = 0.8, .initial_height = 0.0}}) {
+    BouncingBall ball("ball", p);
+    Simulator sim(ball, Tight());
+    ASSERT_TRUE(sim.AdvanceTo(3.0).ok());
+    const auto& x = static_cast<const LeafContext&>(sim.get_context()).continuous_state();
+    EXPECT_EQ(x[0], 0.0) << "e = " << p.restitution << ", h0 = " << p.initial_height;
+    EXPECT_EQ(x[1], 0.0);
+    EXPECT_EQ(sim.statistics().guard_events, p.initial_height > 0 ? 1 : 0);
+    if (p.initial_height > 0) EXPECT_NEAR(sim.statistics().events[0].time, std::sqrt(2.0 / 9.81), 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace rome
