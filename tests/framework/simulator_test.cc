@@ -302,7 +302,9 @@ TEST(Simulator, BallWithoutReboundOrHeightStaysOnTheGround) {
     EXPECT_EQ(x[0], 0.0) << "e = " << p.restitution << ", h0 = " << p.initial_height;
     EXPECT_EQ(x[1], 0.0);
     EXPECT_EQ(sim.statistics().guard_events, p.initial_height > 0 ? 1 : 0);
-    if (p.initial_height > 0) EXPECT_NEAR(sim.statistics().events[0].time, std::sqrt(2.0 / 9.81), 1e-9);
+    if (p.initial_height > 0) {
+      EXPECT_NEAR(sim.statistics().events[0].time, std::sqrt(2.0 / 9.81), 1e-9);
+    }
   }
 }
 
