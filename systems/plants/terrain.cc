@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,7 +22,11 @@ Terrain Terrain::Stones(std::vector<SteppingStone> stones) {
   std::sort(stones.begin(), stones.end(), [](const SteppingStone& a, const SteppingStone& b) { return a.x_center_m < b.x_center_m; });
   for (size_t i = 0; i < stones.size(); ++i) {
     const auto& s = stones[i];
-    if (!(s.length_m > 0) || !std::isfinite(s.x_center_m) || !std::isfinite(s.top_height_m))
+    if (!std::isfinite(s.x_center_m)) throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " has x = " + std::to_string(s.x_center_m) + " m (must be finite)");
+    if (!std::isfinite(s.top_height_m))
+      throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " at x = " + std::to_string(s.x_center_m) + " m has height z = " +
+                                  std::to_string(s.top_height_m) + " m (must be finite)");
+    if (!(s.length_m > 0) || !std::isfinite(s.length_m))
       throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " at x = " + std::to_string(s.x_center_m) +
                                   " m has length " + std::to_string(s.length_m) + " m (must be positive and finite)");
     if (i > 0 && stones[i - 1].x_center_m + stones[i - 1].length_m / 2 > s.x_center_m - s.length_m / 2 + 1e-12)
@@ -31,15 +38,46 @@ Terrain Terrain::Stones(std::vector<SteppingStone> stones) {
   return t;
 }
 
+namespace {
+// A line as it may be shown in an error: at most 80 characters, control and non-ASCII bytes escaped.
+std::string Shown(const std::string& line) {
+  std::string out;
+  for (size_t i = 0; i < line.size() && out.size() < 80; ++i) {
+    const unsigned char c = static_cast<unsigned char>(line[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
+      out += buf;
+    }
+  }
+  if (out.size() >= 80) out += "...";
+  return out;
+}
+}  // namespace
+
 Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
-  std::ifstream in(path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error("terrain file '" + path + "' is a directory, not a CSV file");
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("terrain file '" + path + "' cannot be opened");
+  std::stringstream whole;
+  whole << in.rdbuf();
+  std::string text = whole.str();
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // UTF-8 byte-order mark
+  for (char& c : text)
+    if (c == '\r') c = '\n';  // CR-only and CRLF files: every CR ends a line (CRLF gives an empty line, skipped)
   std::vector<SteppingStone> stones;
+  std::vector<int> stone_lines;
+  std::stringstream lines(text);
   std::string line;
   int line_no = 0;
-  while (std::getline(in, line)) {
+  bool header_seen = false;
+  while (std::getline(lines, line)) {
     ++line_no;
-    if (line.empty() || line[0] == '#') continue;
+    const size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
     std::vector<std::string> cols;
     std::stringstream ss(line);
     std::string col;
@@ -56,14 +94,36 @@ Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
     };
     SteppingStone st;
     st.length_m = default_length_m;
-    if (cols.size() < 2 || cols.size() > 3 || !parse(cols[0], &st.x_center_m) || !parse(cols[1], &st.top_height_m) ||
-        (cols.size() == 3 && !parse(cols[2], &st.length_m))) {
-      if (line_no == 1 && stones.empty()) continue;  // header
-      throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": expected 'x,z[,length]' numbers, got '" + line + "'");
+    const bool numbers = cols.size() >= 2 && cols.size() <= 3 && parse(cols[0], &st.x_center_m) && parse(cols[1], &st.top_height_m) &&
+                         (cols.size() == 2 || parse(cols[2], &st.length_m));
+    if (!numbers) {
+      // A header is the first non-comment line, and only if it has no digit in it (a mistyped stone is an error).
+      const bool header = !header_seen && stones.empty() && line.find_first_of("0123456789") == std::string::npos;
+      if (header) {
+        header_seen = true;
+        continue;
+      }
+      throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": expected 'x,z[,length]' numbers, got '" + Shown(line) + "'");
     }
+    header_seen = true;
+    const char* bad = !std::isfinite(st.x_center_m) ? "x" : !std::isfinite(st.top_height_m) ? "z" : !(std::isfinite(st.length_m) && st.length_m > 0) ? "length" : nullptr;
+    if (bad != nullptr)
+      throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": " + bad + " must be finite" +
+                               (std::string(bad) == "length" ? " and positive" : "") + ", got '" + Shown(line) + "'");
     stones.push_back(st);
+    stone_lines.push_back(line_no);
   }
-  if (stones.empty()) throw std::runtime_error("terrain file '" + path + "' has no stones");
+  if (stones.empty()) throw std::runtime_error("terrain file '" + path + "' has no stones (expected lines 'x,z[,length]')");
+  // Overlaps, reported with the file's line numbers.
+  std::vector<size_t> order(stones.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return stones[a].x_center_m < stones[b].x_center_m; });
+  for (size_t k = 1; k < order.size(); ++k) {
+    const SteppingStone &a = stones[order[k - 1]], &b = stones[order[k]];
+    if (a.x_center_m + a.length_m / 2 > b.x_center_m - b.length_m / 2 + 1e-12)
+      throw std::runtime_error("terrain file '" + path + "': the stones of lines " + std::to_string(stone_lines[order[k - 1]]) + " and " +
+                               std::to_string(stone_lines[order[k]]) + " overlap (x = " + std::to_string(a.x_center_m) + " m and " + std::to_string(b.x_center_m) + " m)");
+  }
   try {
     return Stones(std::move(stones));
   } catch (const std::invalid_argument& e) {
@@ -71,23 +131,24 @@ Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
   }
 }
 
+// Stones are sorted by x and do not overlap: binary searches (O(log n) per query).
 int Terrain::StoneAt(double x, double tolerance_m) const {
-  for (size_t i = 0; i < stones_.size(); ++i)
-    if (std::abs(x - stones_[i].x_center_m) <= stones_[i].length_m / 2 + tolerance_m) return static_cast<int>(i);
+  if (stones_.empty()) return -1;
+  auto it = std::lower_bound(stones_.begin(), stones_.end(), x, [](const SteppingStone& s, double v) { return s.x_center_m < v; });
+  for (auto cand : {it, it == stones_.begin() ? it : std::prev(it)}) {
+    if (cand == stones_.end()) continue;
+    if (std::abs(x - cand->x_center_m) <= cand->length_m / 2 + tolerance_m) return static_cast<int>(cand - stones_.begin());
+  }
   return -1;
 }
 
 int Terrain::NearestStone(double x) const {
-  int best = -1;
-  double dist = 0;
-  for (size_t i = 0; i < stones_.size(); ++i) {
-    const double d = std::abs(x - stones_[i].x_center_m);
-    if (best < 0 || d < dist) {
-      best = static_cast<int>(i);
-      dist = d;
-    }
-  }
-  return best;
+  if (stones_.empty()) return -1;
+  auto it = std::lower_bound(stones_.begin(), stones_.end(), x, [](const SteppingStone& s, double v) { return s.x_center_m < v; });
+  if (it == stones_.end()) return static_cast<int>(stones_.size()) - 1;
+  if (it == stones_.begin()) return 0;
+  const auto before = std::prev(it);
+  return static_cast<int>((std::abs(x - before->x_center_m) <= std::abs(x - it->x_center_m) ? before : it) - stones_.begin());
 }
 
 double Terrain::SurfaceHeight(double x) const {
@@ -98,9 +159,8 @@ double Terrain::SurfaceHeight(double x) const {
   // below both, i.e. inside the gap); before the first or after the last stone: that stone's top.
   if (x < stones_.front().x_center_m) return stones_.front().top_height_m;
   if (x > stones_.back().x_center_m) return stones_.back().top_height_m;
-  for (size_t i = 0; i + 1 < stones_.size(); ++i)
-    if (x < stones_[i + 1].x_center_m) return std::min(stones_[i].top_height_m, stones_[i + 1].top_height_m);
-  return stones_.back().top_height_m;
+  auto next = std::upper_bound(stones_.begin(), stones_.end(), x, [](double v, const SteppingStone& s) { return v < s.x_center_m; });
+  return std::min(std::prev(next)->top_height_m, next->top_height_m);
 }
 
 }  // namespace rome
