@@ -274,7 +274,15 @@ int main(int argc, char** argv) {
       return EventStatus::Succeeded();
     });
     for (double t = 0.5; t <= max_time + 1e-9; t += 0.5) {
-      status = sim.AdvanceTo(t);
+      try {
+        status = sim.AdvanceTo(t);
+      } catch (const std::exception& e) {
+        // A block rejected its inputs mid-run (e.g. a step the planner cannot reach): a failed run, reported and
+        // summarised like a fall, not a crash of the program.
+        status.reason = SimulatorStatus::Reason::kFailed;
+        status.time = sim.get_context().time();
+        status.message = e.what();
+      }
       const auto& recs = d.supervisor->steps(sup_ctx);
       if (recs.size() != reported) {
         std::cout << "  t = " << sim.get_context().time() << " s: " << recs.size() << " steps, last l = " << recs.back().step_length_m
