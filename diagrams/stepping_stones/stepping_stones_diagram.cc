@@ -15,7 +15,7 @@ namespace rome {
 namespace {
 
 // Checks that `controller` has the seam's ports (see stepping_stones_diagram.h), naming the missing or wrong one.
-void CheckControllerPorts(const System& controller, int nv, int nu) {
+void CheckControllerPorts(const System& controller, int nv, int nu, int task_rows) {
   auto check = [&](bool input, const std::string& port, const PortInfo& expected) {
     const bool has = input ? controller.HasInputPort(port) : controller.HasOutputPort(port);
     const std::string what = std::string(input ? "input" : "output") + " port '" + port + "'";
@@ -30,7 +30,7 @@ void CheckControllerPorts(const System& controller, int nv, int nu) {
   };
   check(true, "state", {"state", 2 * nv, {}, nullptr});
   check(true, "mode", {"mode", 0, {}, &typeid(int)});
-  check(true, "desired", {"desired", 3 * SteppingStonesOutputAdapter::kNumTaskRows, {}, nullptr});
+  check(true, "desired", {"desired", 3 * task_rows, {}, nullptr});
   check(false, "u", {"u", nu, {}, nullptr});
   check(false, "qp_failures", {"qp_failures", 1, {}, nullptr});
   check(false, "qp_status", {"qp_status", 1, {}, nullptr});
@@ -39,15 +39,50 @@ void CheckControllerPorts(const System& controller, int nv, int nu) {
 // The outputs of Eq. (19) in SteppingStonesOutputAdapter's layout; a foot's output is active while it swings.
 std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec) {
   const MultibodyModel& model = *spec.model;
-  return {
+  std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
       std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
       std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
       PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
       PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
   };
+  // Line/flat feet: the fifth output, the swing foot's pitch (its sole lands parallel to the stone).
+  if (HasFootPitchOutput(model)) {
+    tasks.push_back(std::make_shared<BodyPitchTask>("left_swing_foot_pitch", model, model.contacts()[model.ContactIndex("left_foot")].link,
+                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.right_stance_mode}));
+    tasks.push_back(std::make_shared<BodyPitchTask>("right_swing_foot_pitch", model, model.contacts()[model.ContactIndex("right_foot")].link,
+                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.left_stance_mode}));
+  }
+  return tasks;
+}
+
+// {contact, joint} pairs whose actuator gets zero torque while the contact is active: the actuated inboard joint of a
+// line/flat foot's link (planar Cassie's toe), so that the stance ankle is passive like AMBER's point foot.
+std::vector<std::pair<std::string, std::string>> PassiveStanceAnkles(const SteppingStonesDiagramParams& params, const MultibodyModel& model) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (!params.passive_stance_ankle) return out;
+  for (const char* foot : {"left_foot", "right_foot"}) {
+    const ContactInfo& c = model.contacts()[model.ContactIndex(foot)];
+    if (c.type == ContactType::kPoint) continue;
+    const std::string& joint = model.body(c.body).joint_name;
+    for (const ActuatorInfo& a : model.actuators())
+      if (a.joint == joint) out.emplace_back(c.name, joint);
+  }
+  return out;
+}
+
+double FlatFootPitch(const MultibodyModel& model, const std::string& contact) {
+  MultibodyWorkspace ws(model);
+  ws.SetPositions(model, model.q_nominal());
+  const Eigen::Matrix3d& R = ws.R_world_link(model.contacts()[model.ContactIndex(contact)].body);
+  return std::atan2(R(0, 2), R(0, 0));
 }
 
 }  // namespace
+
+bool HasFootPitchOutput(const MultibodyModel& model) {
+  return model.contacts()[model.ContactIndex("left_foot")].type != ContactType::kPoint ||
+         model.contacts()[model.ContactIndex("right_foot")].type != ContactType::kPoint;
+}
 
 SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagramParams& params) {
   return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
@@ -55,6 +90,7 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
     for (auto& task : SteppingStonesTasks(params, spec)) outputs.push_back(ClfOutput::RelativeDegreeTwo(std::move(task)));
     ClfQpParams cp = params.clf_controller;
     cp.contact_stabilization = spec.contact_stabilization;
+    for (const auto& pair : PassiveStanceAnkles(params, *spec.model)) cp.zero_torque_in_contact.push_back(pair);
     return std::make_unique<ClfQpController>(spec.name, spec.model, spec.mode_contacts, std::move(outputs), cp);
   };
 }
@@ -63,6 +99,7 @@ SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStone
   return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
     TaskSpaceQpParams cp = params.controller;
     cp.contact_stabilization = spec.contact_stabilization;
+    for (const auto& pair : PassiveStanceAnkles(params, *spec.model)) cp.zero_torque_in_contact.push_back(pair);
     return std::make_unique<TaskSpaceQpController>(spec.name, spec.model, spec.mode_contacts, SteppingStonesTasks(params, spec), cp);
   };
 }
@@ -99,7 +136,13 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
     for (const SteppingStone& stone : terrain.stones()) op.swing_foot.stance_stone_half_length = std::max(op.swing_foot.stance_stone_half_length, 0.5 * stone.length_m);
   }
   d.outputs = b.AddSystem(std::make_unique<SteppingStonesOutputsSystem>("outputs", op));
-  d.output_adapter = b.AddSystem(std::make_unique<SteppingStonesOutputAdapter>("output_adapter"));
+  SteppingStonesOutputAdapterParams adapter_params;
+  if (HasFootPitchOutput(model)) {
+    adapter_params.foot_pitch = true;
+    adapter_params.left_foot_flat_pitch_rad = FlatFootPitch(model, "left_foot");
+    adapter_params.right_foot_flat_pitch_rad = FlatFootPitch(model, "right_foot");
+  }
+  d.output_adapter = b.AddSystem(std::make_unique<SteppingStonesOutputAdapter>("output_adapter", adapter_params));
 
   SteppingStonesControllerSpec spec;
   spec.model = d.model;
@@ -109,7 +152,7 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   spec.right_stance_mode = d.plant->GetModeIndex("right_foot_stance");
   std::unique_ptr<LeafSystem> block = controller ? controller(spec) : TaskSpaceQpControllerFactory(params)(spec);
   if (!block) throw std::invalid_argument("BuildSteppingStonesDiagram: the controller factory returned no block");
-  CheckControllerPorts(*block, model.nv(), model.nu());
+  CheckControllerPorts(*block, model.nv(), model.nu(), d.output_adapter->num_task_rows());
   d.controller = b.AddSystem(std::move(block), "controller");
 
   b.Connect("plant", "state", "supervisor", "state");
@@ -210,11 +253,23 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   Eigen::VectorXd q0 = model.q_nominal();
   q0[0] += stone.x();
   q0[1] += stone.y();
-  const std::vector<PoseConstraint> pose = {
-      PoseConstraint::ContactPoint(model, "left_foot", 0, stone.x()),  PoseConstraint::ContactPoint(model, "left_foot", 2, stone.y()),
-      PoseConstraint::ContactPoint(model, "right_foot", 0, stone.x()), PoseConstraint::ContactPoint(model, "right_foot", 2, stone.y()),
-      PoseConstraint::Com(0, stone.x() + params.initial_com_x_m),     PoseConstraint::Com(2, stone.y() + com_height),
-      PoseConstraint::Coordinate(pitch, 0.0)};
+  // Each foot on the stone centre: a point foot by its point; a line/flat foot by its frame origin's x and every
+  // contact point's z (the sole flat on the stone). Then the COM, the torso pitch and the loop closures.
+  std::vector<PoseConstraint> pose;
+  for (const char* foot : {"left_foot", "right_foot"}) {
+    const ContactInfo& info = model.contacts()[model.ContactIndex(foot)];
+    pose.push_back(PoseConstraint::ContactPoint(model, foot, 0, stone.x()));
+    if (info.type == ContactType::kPoint) {
+      pose.push_back(PoseConstraint::ContactPoint(model, foot, 2, stone.y()));
+    } else {
+      for (const Eigen::Vector3d& p : info.points) pose.push_back(PoseConstraint::Point(model, info.link, p, 2, stone.y()));
+    }
+  }
+  const int com_x_row = static_cast<int>(pose.size());
+  pose.push_back(PoseConstraint::Com(0, stone.x() + params.initial_com_x_m));
+  pose.push_back(PoseConstraint::Com(2, stone.y() + com_height));
+  pose.push_back(PoseConstraint::Coordinate(pitch, 0.0));
+  for (const PoseConstraint& c : PoseConstraint::LoopClosures(model)) pose.push_back(c);
   Eigen::VectorXd q;
   try {
     q = SolvePose(model, ws, q0, pose, {.max_iterations = 100, .tolerance = 1e-12});
@@ -222,12 +277,13 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
     throw std::runtime_error("SteppingStonesInitialState: robot '" + model.name() + "' cannot stand on the first stone with its COM " +
                              std::to_string(com_height) + " m above the feet (supervisor.walking_com_height_m): " + e.what());
   }
-  Eigen::MatrixXd C(7, nv);
-  Eigen::VectorXd c(7);
+  const int m = static_cast<int>(pose.size());
+  Eigen::MatrixXd C(m, nv);
+  Eigen::VectorXd c(m);
   CalcPoseConstraints(model, ws, q, pose, c, C);  // C = d(constraints)/dq at the solution
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(7);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
   const double lambda_squared = params.planner.gravity / com_height;
-  rhs[4] = std::sqrt(std::max(params.target_orbital_energy + lambda_squared * params.initial_com_x_m * params.initial_com_x_m, 0.0));
+  rhs[com_x_row] = std::sqrt(std::max(params.target_orbital_energy + lambda_squared * params.initial_com_x_m * params.initial_com_x_m, 0.0));
   const Eigen::VectorXd v = C.completeOrthogonalDecomposition().solve(rhs);
   if (!((C * v - rhs).norm() < 1e-9))
     throw std::runtime_error("SteppingStonesInitialState: no joint velocity moves the COM of robot '" + model.name() + "' with both feet at rest");

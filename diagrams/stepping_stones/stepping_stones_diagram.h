@@ -102,6 +102,13 @@ struct SteppingStonesDiagramParams {
   /// Weight 5 (ours): when the torque limits bind (short steep steps), the QP gives the swing foot priority over the
   /// COM height and torso pitch, so that it clears the stones and lands on the planned one.
   TaskGains swing_foot_gains{5.0, 400.0, 40.0};
+  /// Line/flat feet only (planar Cassie): the fifth output, the swing foot's pitch, held at its flat pitch so that
+  /// the sole lands parallel to the stone (hopping spec C.12). Not used for point feet.
+  TaskGains swing_foot_pitch_gains{1.0, 400.0, 40.0};
+  /// Line/flat feet: the actuator of the foot link's inboard joint (planar Cassie's toe) gets zero torque while that
+  /// foot stands (zero_torque_in_contact of either controller), so the stance ankle is passive as for a point foot
+  /// (stepping-stones paper, Sec. IV-A). No effect on point feet.
+  bool passive_stance_ankle = true;
 
   static TaskSpaceQpParams DefaultControllerParams() {
     TaskSpaceQpParams p;
@@ -176,6 +183,9 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
 /// 20x and 10x real time). The two explicit pairs give the same footholds to 1e-8 m. Touchdowns are located by root
 /// finding on the dense output.
 SimulatorConfig SteppingStonesSimulatorConfig();
+
+/// True if either foot of `model` is a line or flat contact: the diagram then adds the swing-foot pitch output.
+bool HasFootPitchOutput(const MultibodyModel& model);
 
 /// The paper's controller: TaskSpaceQpController (Eq. (29)-(31)) with params.controller and the task gains of
 /// `params` (torso pitch, COM height, swing foot), the plant's contact stabilisation.
