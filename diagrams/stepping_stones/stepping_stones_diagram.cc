@@ -79,6 +79,44 @@ double FlatFootPitch(const MultibodyModel& model, const std::string& contact) {
 
 }  // namespace
 
+double SoleLength(const MultibodyModel& model) {
+  double sole = 0.0;
+  for (const ContactInfo& c : model.contacts()) {
+    if (c.type == ContactType::kPoint) continue;
+    MultibodyWorkspace ws(model);
+    double x_min = 1e9, x_max = -1e9;
+    for (const Eigen::Vector3d& p : c.points) {
+      const double x = CalcPointPosition(model, ws, model.q_nominal(), c.body, p).x();
+      x_min = std::min(x_min, x), x_max = std::max(x_max, x);
+    }
+    sole = std::max(sole, x_max - x_min);
+  }
+  return sole;
+}
+
+double SteppingStoneLengthFor(const MultibodyModel& model) {
+  const double sole = SoleLength(model);
+  return sole > 0.0 ? sole + 0.04 : 0.1;
+}
+
+SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::string& sidecar) {
+  SteppingStonesDiagramParams p;
+  p.robot_sidecar = sidecar;
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(sidecar);
+  if (!HasFootPitchOutput(model)) return p;
+  // Line/flat feet (planar Cassie). z0 (hopping spec C.12): the nominal standing pose's COM height above its soles.
+  MultibodyWorkspace ws(model);
+  const Eigen::VectorXd& q = model.q_nominal();
+  const double sole_z = CalcPointPosition(model, ws, q, model.contacts()[0].body, model.contacts()[0].frame_origin).z();
+  p.supervisor.walking_com_height_m = CalcComPosition(model, ws, q).z() - sole_z;
+  // Swing foot Kp 900 1/s², Kd 60 1/s (critically damped, 30 rad/s; AMBER: 400, 40). With AMBER's gains, after a
+  // short steep step up (l ≈ 0.2 m, h ≈ +0.22 m) the rear foot lagged in z behind its lift and its sole touched its
+  // own stone again 4-7 cm ahead (random seeds 1003, 1015, 1016, 1018 of 1000-1019); with 900/60 seeds 1000-1029
+  // walk 30 steps with every touchdown within 1 cm. Cassie's legs are light, so the torques stay small.
+  p.swing_foot_gains = TaskGains{5.0, 900.0, 60.0};
+  return p;
+}
+
 bool HasFootPitchOutput(const MultibodyModel& model) {
   return model.contacts()[model.ContactIndex("left_foot")].type != ContactType::kPoint ||
          model.contacts()[model.ContactIndex("right_foot")].type != ContactType::kPoint;
@@ -134,6 +172,9 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   if (std::isnan(op.swing_foot.stance_stone_half_length)) {
     op.swing_foot.stance_stone_half_length = 0.0;
     for (const SteppingStone& stone : terrain.stones()) op.swing_foot.stance_stone_half_length = std::max(op.swing_foot.stance_stone_half_length, 0.5 * stone.length_m);
+    // A line/flat sole reaches half its length beyond its midpoint (the swing output): its heel and toe must clear
+    // the stance stone too (0 for point feet).
+    op.swing_foot.stance_stone_half_length += 0.5 * SoleLength(model);
   }
   d.outputs = b.AddSystem(std::make_unique<SteppingStonesOutputsSystem>("outputs", op));
   SteppingStonesOutputAdapterParams adapter_params;

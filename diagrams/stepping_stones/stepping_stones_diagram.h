@@ -110,6 +110,12 @@ struct SteppingStonesDiagramParams {
   /// (stepping-stones paper, Sec. IV-A). No effect on point feet.
   bool passive_stance_ankle = true;
 
+  /// The defaults above (tuned on AMBER, point feet) adapted to the robot of `sidecar` (sets robot_sidecar). Point
+  /// feet: the defaults unchanged. Line/flat feet (planar Cassie), see the .cc for each value and its reason:
+  /// walking height = the nominal standing pose's COM height above its soles (hopping spec C.12: z0), gains from the
+  /// RoMoCo-like Cassie anchors (Kp 150-600 1/s², Kd 2-40 1/s).
+  static SteppingStonesDiagramParams ForRobot(const std::string& sidecar);
+
   static TaskSpaceQpParams DefaultControllerParams() {
     TaskSpaceQpParams p;
     // Ours: the QP's friction pyramid at 0.95 μ and F_z ≥ 2 N. The QP's forces hold at its solve instant; over the
@@ -183,6 +189,14 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
 /// 20x and 10x real time). The two explicit pairs give the same footholds to 1e-8 m. Touchdowns are located by root
 /// finding on the dense output.
 SimulatorConfig SteppingStonesSimulatorConfig();
+
+/// [m] Length of the longest line/flat sole of `model` along x in the nominal pose (toe to heel); 0 for point feet.
+double SoleLength(const MultibodyModel& model);
+
+/// [m] Stone length (top, along x) the robot's feet need: 0.1 m (AMBER's stones) for point feet; for line/flat feet
+/// the longest sole plus 2 × 2 cm (a touchdown may be 2 cm off the centre and the whole sole must still stand on the
+/// stone, since the plant welds the foot and the controller's centre-of-pressure rows span the whole sole).
+double SteppingStoneLengthFor(const MultibodyModel& model);
 
 /// True if either foot of `model` is a line or flat contact: the diagram then adds the swing-foot pitch output.
 bool HasFootPitchOutput(const MultibodyModel& model);
