@@ -114,17 +114,18 @@ TEST(CassieRandomStones, TenCoursesOfThirtyStepsWithoutAFall) {
   EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over 300";
 }
 
-// Fig. 6: the converged speed rises with E* (l = 0.4 m) and with l (E* = 0.3); the last 5 of 15 steps.
-TEST(CassieFig6Trends, SpeedRisesWithOrbitalEnergyAndWithStepLength) {
+// Fig. 6: the converged speed rises with E* (l = 0.4 m) and with l (E* = 0.3); the last 5 of 15 steps. Both controllers.
+void ExpectFig6Trends(bool clf) {
   constexpr int kTrendSteps = 15;
   auto speed = [&](double l, double energy) {
     SteppingStonesDiagramParams params = CassieParams();
     params.target_orbital_energy = energy;
-    const test::WalkResult r = WalkCassie(PeriodicSteppingStones(l, 0.0, kTrendSteps + 2, StoneLength()), kTrendSteps, params);
+    const Terrain terrain = PeriodicSteppingStones(l, 0.0, kTrendSteps + 2, StoneLength());
+    const test::WalkResult r = clf ? WalkCassieClf(terrain, kTrendSteps, params) : WalkCassie(terrain, kTrendSteps, params);
     EXPECT_EQ(static_cast<int>(r.steps.size()), kTrendSteps) << "l = " << l << " m, E* = " << energy << ": " << r.status.message;
     if (static_cast<int>(r.steps.size()) < kTrendSteps) return 0.0;
     const double v = test::LastStepsSpeed(r, 5);
-    std::printf("  Cassie l = %.1f m, E* = %.1f m^2/s^2: converged speed %.3f m/s\n", l, energy, v);
+    std::printf("  Cassie %s l = %.1f m, E* = %.1f m^2/s^2: converged speed %.3f m/s\n", clf ? "CLF-QP" : "TSC-QP", l, energy, v);
     return v;
   };
   double previous = 0;
@@ -140,6 +141,9 @@ TEST(CassieFig6Trends, SpeedRisesWithOrbitalEnergyAndWithStepLength) {
     previous = v;
   }
 }
+
+TEST(CassieFig6Trends, SpeedRisesWithOrbitalEnergyAndWithStepLength) { ExpectFig6Trends(false); }
+TEST(CassieFig6Trends, ClfQpSpeedRisesWithOrbitalEnergyAndWithStepLength) { ExpectFig6Trends(true); }
 
 // The CLF-QP (ClfQpControllerFactory, ForRobot's ClfQpParams) on the same courses, with issue 10's criteria: 30 steps
 // without a fall, every touchdown on the planned stone within 2 cm of its centre, the plant's forces physical, no QP
