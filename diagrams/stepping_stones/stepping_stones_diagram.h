@@ -102,6 +102,19 @@ struct SteppingStonesDiagramParams {
   /// Weight 5 (ours): when the torque limits bind (short steep steps), the QP gives the swing foot priority over the
   /// COM height and torso pitch, so that it clears the stones and lands on the planned one.
   TaskGains swing_foot_gains{5.0, 400.0, 40.0};
+  /// Line/flat feet only (planar Cassie): the fifth output, the swing foot's pitch, held at its flat pitch so that
+  /// the sole lands parallel to the stone (hopping spec C.12). Not used for point feet.
+  TaskGains swing_foot_pitch_gains{1.0, 400.0, 40.0};
+  /// Line/flat feet: the actuator of the foot link's inboard joint (planar Cassie's toe) gets zero torque while that
+  /// foot stands (zero_torque_in_contact of either controller), so the stance ankle is passive as for a point foot
+  /// (stepping-stones paper, Sec. IV-A). No effect on point feet.
+  bool passive_stance_ankle = true;
+
+  /// The defaults above (tuned on AMBER, point feet) adapted to the robot of `sidecar` (sets robot_sidecar). Point
+  /// feet: the defaults unchanged. Line/flat feet (planar Cassie), see the .cc for each value and its reason:
+  /// walking height = the nominal standing pose's COM height above its soles (hopping spec C.12: z0), gains from the
+  /// RoMoCo-like Cassie anchors (Kp 150-600 1/s², Kd 2-40 1/s).
+  static SteppingStonesDiagramParams ForRobot(const std::string& sidecar);
 
   static TaskSpaceQpParams DefaultControllerParams() {
     TaskSpaceQpParams p;
@@ -184,6 +197,17 @@ Terrain RandomSteppingStones(const RandomSteppingStonesParams& params);
 /// 20x and 10x real time). The two explicit pairs give the same footholds to 1e-8 m. Touchdowns are located by root
 /// finding on the dense output.
 SimulatorConfig SteppingStonesSimulatorConfig();
+
+/// [m] Length of the longest line/flat sole of `model` along x in the nominal pose (toe to heel); 0 for point feet.
+double SoleLength(const MultibodyModel& model);
+
+/// [m] Stone length (top, along x) the robot's feet need: 0.1 m (AMBER's stones) for point feet; for line/flat feet
+/// the longest sole plus 2 × 2 cm (a touchdown may be 2 cm off the centre and the whole sole must still stand on the
+/// stone, since the plant welds the foot and the controller's centre-of-pressure rows span the whole sole).
+double SteppingStoneLengthFor(const MultibodyModel& model);
+
+/// True if either foot of `model` is a line or flat contact: the diagram then adds the swing-foot pitch output.
+bool HasFootPitchOutput(const MultibodyModel& model);
 
 /// The paper's controller: TaskSpaceQpController (Eq. (29)-(31)) with params.controller and the task gains of
 /// `params` (torso pitch, COM height, swing foot), the plant's contact stabilisation.

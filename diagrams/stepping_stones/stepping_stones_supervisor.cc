@@ -40,6 +40,14 @@ SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared
     ThrowError("parameter walking_com_height_m must be positive, got " + std::to_string(params_.walking_com_height_m) + " m");
   contact_[0] = model_->ContactIndex("left_foot");
   contact_[1] = model_->ContactIndex("right_foot");
+  for (int side = 0; side < 2; ++side) {
+    const ContactInfo& info = model_->contacts()[contact_[side]];
+    // The foothold is the contact frame origin (the point, the sole midpoint); L_y is taken about the point foot, or
+    // about the foot link's inboard joint (the ankle) of a line/flat foot, where the stance torque is 0.
+    foot_point_[side] = info.frame_origin;
+    pivot_is_foot_[side] = info.type == ContactType::kPoint;
+    pivot_point_[side] = pivot_is_foot_[side] ? info.frame_origin : Eigen::Vector3d::Zero();
+  }
   const int nv = model_->nv();
   DeclareInputPort("state", 2 * nv);
   DeclareTypedInputPort<int>("mode");
@@ -111,8 +119,16 @@ void SteppingStonesSupervisor::ComRelative(const LeafContext& context, const Eig
   const Vector6d h = CalcCentroidalMomentum(*model_, ws, q, v);
   const double rx = p.x() - xd[kStanceX], rz = p.z() - xd[kStanceZ];
   *com << rx, rz, pd.x(), pd.z();
-  // Eq. (7): L about the stance foot = centroidal angular momentum + r × m v, per unit mass (y component).
-  *L = rz * pd.x() - rx * pd.z() + h[1] / model_->total_mass();
+  // Eq. (7): L about the stance pivot = centroidal angular momentum + r × m v, per unit mass (y component).
+  // A point foot is its own pivot (the committed stance foot); a line/flat foot's ankle is measured.
+  const int stance = static_cast<int>(xd[kMode]) == 0 ? 0 : 1;
+  const Eigen::Vector3d a = pivot_is_foot_[stance] ? Eigen::Vector3d(xd[kStanceX], 0.0, xd[kStanceZ])
+                                                   : CalcPointPosition(*model_, ws, q, model_->contacts()[contact_[stance]].body, pivot_point_[stance]);
+  *L = (p.z() - a.z()) * pd.x() - (p.x() - a.x()) * pd.z() + h[1] / model_->total_mass();
+}
+
+Eigen::Vector3d SteppingStonesSupervisor::FootPosition(MultibodyWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q, int side) const {
+  return CalcPointPosition(*model_, ws, q, model_->contacts()[contact_[side]].body, foot_point_[side]);
 }
 
 void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::VectorXd& x, int mode) const {
@@ -120,7 +136,7 @@ void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::Vec
   if (x.size() != 2 * model_->nv())
     ThrowError("Initialize: plant state has size " + std::to_string(x.size()) + ", expected " + std::to_string(2 * model_->nv()));
   auto& ws = context.scratch<Scratch>().ws;
-  const Eigen::Vector3d foot = CalcContactPointPosition(*model_, ws, x.head(model_->nv()), contact_[mode == 0 ? 0 : 1], 0);
+  const Eigen::Vector3d foot = FootPosition(ws, x.head(model_->nv()), mode == 0 ? 0 : 1);
   const int stone = terrain_.StoneAt(foot.x(), 1e-9);
   if (stone < 0)
     ThrowError("the initial stance foot at x = " + std::to_string(foot.x()) + " m is not on any stone; the robot starts standing on the first stone");
@@ -158,7 +174,7 @@ void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen:
   const int nv = model_->nv();
   // α_0 relative to the new stance foot.
   const double com_x0 = CalcComPosition(*model_, s.ws, x.head(nv)).x() - (*xd)[kStanceX];
-  const Eigen::Vector3d sw = CalcContactPointPosition(*model_, s.ws, x.head(nv), contact_[swing], 0);
+  const Eigen::Vector3d sw = FootPosition(s.ws, x.head(nv), swing);
   StepOutputParameters step;
   step.phi_0 = x[torso_pitch_index_];
   step.phi_f = posture.torso_pitch_rad;
@@ -179,7 +195,7 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
   Scratch& s = context.scratch<Scratch>();
   const int nv = model_->nv();
   const int stance = mode == 0 ? 0 : 1;
-  const Eigen::Vector3d foot = CalcContactPointPosition(*model_, s.ws, x.head(nv), contact_[stance], 0);
+  const Eigen::Vector3d foot = FootPosition(s.ws, x.head(nv), stance);
   const int stone = terrain_.NearestStone(foot.x());  // the plant already ended the run if it is off every stone
   if (rec != nullptr) {
     rec->start_time_s = xd[kStepStart];
@@ -197,7 +213,8 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
     const Eigen::Vector3d p = CalcComPosition(*model_, s.ws, x.head(nv));
     const Eigen::Vector3d pd = CalcComVelocity(*model_, s.ws, x.head(nv), x.tail(nv));
     const Vector6d hG = CalcCentroidalMomentum(*model_, s.ws, x.head(nv), x.tail(nv));
-    rec->post_impact_momentum = (p.z() - foot.z()) * pd.x() - (p.x() - foot.x()) * pd.z() + hG[1] / model_->total_mass();
+    const Eigen::Vector3d a = CalcPointPosition(*model_, s.ws, x.head(nv), model_->contacts()[contact_[stance]].body, pivot_point_[stance]);
+    rec->post_impact_momentum = (p.z() - a.z()) * pd.x() - (p.x() - a.x()) * pd.z() + hG[1] / model_->total_mass();
   }
   xd[kMode] = mode;
   xd[kStanceX] = foot.x();

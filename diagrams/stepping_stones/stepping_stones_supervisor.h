@@ -9,12 +9,16 @@
 //          u_des (1)                  planner's desired pre-impact vertical COM velocity [m/s] (for the step log)
 //          L_des (1)                  planner's desired post-impact momentum [m²/s] (for the step log)
 // outputs: com_state (4)              [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
-//          angular_momentum (1)       L_y [m²/s], mass-normalised, about the stance foot: r_z ṗ^x − r_x ṗ^z + k_G,y/m
+//          angular_momentum (1)       L_y [m²/s], mass-normalised, about the stance pivot a: r_z ṗ^x − r_x ṗ^z + k_G,y/m,
+//                                     r = p_com − a; a = the point foot, or for a line/flat foot the origin of the foot
+//                                     link (its inboard joint: planar Cassie's toe joint, the passive stance ankle
+//                                     whose torque is 0; hopping spec C.12), not the sole midpoint
 //          com_vertical_state (2)     [p^z (m), ṗ^z (m/s)] relative to the stance foot
 //          step (2)                   [l_des, h_des] (m): next stone centre minus the stance foot
 //          pre_impact_com_height (1)  p_comf^{z,d} (m) from the posture NLP, relative to the stance foot
 //          step_parameters (typed)    StepOutputParameters of the current step (output_trajectories.h)
-//          stance_foot (2)            world (x, z) of the stance foot (m)
+//          stance_foot (2)            world (x, z) of the stance foot (m): its contact frame origin (the point foot,
+//                                     the sole midpoint of a line foot); footholds and stones are checked there
 //          stone (1)                  index of the stone under the stance foot
 // Every output is a pure function of the committed step (discrete state) and, for the COM outputs, the plant state.
 // discrete state: the committed step (see the kIndex constants in the .cc).
@@ -111,7 +115,13 @@ class SteppingStonesSupervisor final : public LeafSystem {
   std::shared_ptr<const MultibodyModel> model_;
   Terrain terrain_;
   SteppingStonesSupervisorParams params_;
+  /// World position of the foothold of foot `side` (0 left, 1 right): its contact frame origin.
+  Eigen::Vector3d FootPosition(MultibodyWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q, int side) const;
+
   int contact_[2];  // left, right contact indices
+  Eigen::Vector3d foot_point_[2];   // foothold (contact frame origin), foot link frame
+  bool pivot_is_foot_[2] = {true, true};
+  Eigen::Vector3d pivot_point_[2];  // pivot of L_y (point foot, or the ankle joint of a line/flat foot), foot link frame
   int torso_pitch_index_ = 2;
 };
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -29,9 +30,9 @@ using namespace rome;
 
 namespace {
 
-Terrain MakeTerrain(const examples::CommandLine& cli, int steps) {
+Terrain MakeTerrain(const examples::CommandLine& cli, int steps, double default_stone_length) {
   const std::string kind = cli.Get("terrain");
-  const double stone_length = cli.GetDouble("stone-length");
+  const double stone_length = cli.Get("stone-length") == "default" ? default_stone_length : cli.GetDouble("stone-length");
   const int n = steps + 2;
   if (kind == "flat" || kind == "stairs-up" || kind == "stairs-down") {
     const double l = cli.GetDouble("step-length");
@@ -109,12 +110,12 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 256 << 20);
 #endif
   examples::CommandLine cli("stepping_stones",
-                            "AMBER walks over stepping stones: LIP momentum regulation, vertical-COM MPC, pre-impact posture NLP and a task-space QP "
+                            "A planar biped (AMBER, planar Cassie) walks over stepping stones: LIP momentum regulation, vertical-COM MPC, pre-impact posture NLP and a task-space QP "
                             "(stepping-stones paper, Algorithm 1), simulated event by event.");
   cli.Option("terrain", "random", "flat | stairs-up | stairs-down | random | FILE.csv (x,z[,length] per line)")
       .Option("step-length", "0.4", "[m] distance between stones for flat and stairs")
       .Option("step-height", "default", "[m] height change per stone for stairs (default: +0.2 up, -0.1 down)")
-      .Option("stone-length", "0.1", "[m] length of each stone's top")
+      .Option("stone-length", "default", "[m] length of each stone's top (default: 0.1 for point feet, the sole + 4 cm for line feet)")
       .Option("min-gap", "0.2", "[m] random terrain: smallest distance between stones")
       .Option("max-gap", "0.7", "[m] random terrain: largest distance between stones")
       .Option("max-rise", "0.25", "[m] random terrain: largest height change from one stone to the next")
@@ -127,7 +128,12 @@ int main(int argc, char** argv) {
               "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max) | clear (exact, and at least "
               "5 cm above the stance stone wherever the foot passes over it)")
       .Option("initial-com-x", "-0.1", "[m] COM position relative to the stance foot at the start (on the E* orbit)")
-      .Option("robot", "robots/amber/amber.rome.json", "planar point-foot robot sidecar")
+      .Option("robot", "robots/amber/amber.rome.json", "planar robot sidecar (AMBER: point feet; planar Cassie: line feet)")
+      .Option("torso-gains", "default", "weight,kp,kd of the torso-pitch output (default: the robot's, SteppingStonesDiagramParams::ForRobot)")
+      .Option("com-gains", "default", "weight,kp,kd of the COM-height output")
+      .Option("swing-gains", "default", "weight,kp,kd of the swing-foot position output")
+      .Option("foot-pitch-gains", "default", "weight,kp,kd of the swing-foot pitch output (line feet only)")
+      .Option("walking-height", "default", "[m] supervisor.walking_com_height_m (default: the robot's)")
       .Option("log", "stepping_stones.csv", "CSV log")
       .Option("summary", "stepping_stones.json", "JSON summary")
       .Option("log-period", "0.005", "[s] sample period of the CSV log")
@@ -162,7 +168,7 @@ int main(int argc, char** argv) {
     if (!cli.Get("log").empty() && log_rows > 5e6)
       throw std::invalid_argument("stepping_stones: --log-period " + cli.Get("log-period") + " s over up to " + std::to_string(3 * steps + 2) + " s would log " +
                                   std::to_string(static_cast<long>(log_rows)) + " rows (limit 5e6); raise --log-period or lower --steps");
-    in_range("stone-length", 0.0, 1.0, true);
+    if (cli.Get("stone-length") != "default") in_range("stone-length", 0.0, 1.0, true);
     in_range("swing-clearance", 0.0, 1.0, true);
     if (cli.Get("terrain") == "flat" || cli.Get("terrain") == "stairs-up" || cli.Get("terrain") == "stairs-down") in_range("step-length", 0.0, 5.0, true);
     // Output files are checked before the simulation, so a long run is not lost to a typo.
@@ -178,9 +184,20 @@ int main(int argc, char** argv) {
       if (ec || !std::filesystem::is_directory(cli.Get("plots")))
         throw std::invalid_argument("stepping_stones: --plots: cannot create the folder '" + cli.Get("plots") + "'");
     }
-    const Terrain terrain = MakeTerrain(cli, steps);
-    SteppingStonesDiagramParams params;
-    params.robot_sidecar = cli.Get("robot");
+    SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot(cli.Get("robot"));
+    const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
+    auto gains = [&](const std::string& flag, TaskGains* g) {
+      if (cli.Get(flag) == "default") return;
+      std::istringstream in(cli.Get(flag));
+      char comma1 = 0, comma2 = 0;
+      if (!(in >> g->weight >> comma1 >> g->kp >> comma2 >> g->kd) || comma1 != ',' || comma2 != ',')
+        throw std::invalid_argument("stepping_stones: --" + flag + " must be weight,kp,kd, got '" + cli.Get(flag) + "'");
+    };
+    gains("torso-gains", &params.torso_gains);
+    gains("com-gains", &params.com_height_gains);
+    gains("swing-gains", &params.swing_foot_gains);
+    gains("foot-pitch-gains", &params.swing_foot_pitch_gains);
+    if (cli.Get("walking-height") != "default") params.supervisor.walking_com_height_m = cli.GetDouble("walking-height");
     params.target_orbital_energy = cli.GetDouble("energy");
     params.impact_fraction = cli.GetDouble("epsilon");
     params.supervisor.max_steps = steps;

@@ -55,6 +55,20 @@ PoseConstraint PoseConstraint::Coordinate(int index, double target) {
   return c;
 }
 
+PoseConstraint PoseConstraint::LoopClosure(int index) {
+  PoseConstraint c;
+  c.kind = Kind::kLoopClosure;
+  c.loop_closure = index;
+  c.target = 0.0;
+  return c;
+}
+
+std::vector<PoseConstraint> PoseConstraint::LoopClosures(const MultibodyModel& model) {
+  std::vector<PoseConstraint> out;
+  for (int i = 0; i < model.num_loop_closures(); ++i) out.push_back(LoopClosure(i));
+  return out;
+}
+
 std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstraint& c) {
   if (!c.name.empty()) return c.name;
   std::ostringstream s;
@@ -72,6 +86,13 @@ std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstr
     case PoseConstraint::Kind::kCoordinate:
       s << "q[" << c.coordinate << "]";
       if (c.coordinate >= 0 && c.coordinate < model.nq()) s << " (" << model.JointName(c.coordinate) << ")";
+      break;
+    case PoseConstraint::Kind::kLoopClosure:
+      s << "loop closure ";
+      if (c.loop_closure >= 0 && c.loop_closure < model.num_loop_closures())
+        s << model.loop_closures()[c.loop_closure].name;
+      else
+        s << c.loop_closure;
       break;
   }
   return s.str();
@@ -100,6 +121,11 @@ void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<Pose
         if (c.coordinate < 0 || c.coordinate >= model.nq())
           throw std::invalid_argument(what + "names coordinate " + std::to_string(c.coordinate) + ", the model has nq = " +
                                       std::to_string(model.nq()));
+        break;
+      case PoseConstraint::Kind::kLoopClosure:
+        if (c.loop_closure < 0 || c.loop_closure >= model.num_loop_closures())
+          throw std::invalid_argument(what + "names loop closure " + std::to_string(c.loop_closure) + ", the model has " +
+                                      std::to_string(model.num_loop_closures()));
         break;
     }
   }
@@ -137,6 +163,17 @@ void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws, co
         jacobian.row(r).setZero();
         jacobian(r, c.coordinate) = 1.0;
         break;
+      case PoseConstraint::Kind::kLoopClosure: {
+        const LoopClosureInfo& lc = model.loop_closures()[c.loop_closure];
+        const Eigen::Vector3d d = CalcPointPosition(model, ws, q, lc.body_a, lc.point_a) - CalcPointPosition(model, ws, q, lc.body_b, lc.point_b);
+        const double length = d.norm();
+        residual[r] = length - lc.distance_m - c.target;
+        CalcPointJacobian(model, ws, q, lc.body_a, lc.point_a, J3);
+        jacobian.row(r) = (d / length).transpose() * J3;
+        CalcPointJacobian(model, ws, q, lc.body_b, lc.point_b, J3);
+        jacobian.row(r) -= (d / length).transpose() * J3;
+        break;
+      }
     }
   }
 }

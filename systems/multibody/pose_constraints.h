@@ -3,7 +3,7 @@
 //
 // A pose request is a list of scalar constraints g_i(q) = target_i, each one world coordinate of a point on a
 // link (e.g. a contact frame origin), one world coordinate of the whole-body COM, or one generalized coordinate
-// (e.g. the base pitch). SolvePose() finds q by Newton iterations with minimum-norm steps from a start q0:
+// (e.g. the base pitch), or the length error of one of the model's loop closures. SolvePose() finds q by Newton iterations with minimum-norm steps from a start q0:
 //
 //   c_k = g(q_k) - target,   C_k = dg/dq (q_k)  (rows of CalcPointJacobian / CalcComJacobian / unit rows),
 //   q_{k+1} = q_k - C_k^+ c_k                    (C^+ from a complete orthogonal decomposition),
@@ -35,12 +35,14 @@ struct PoseConstraint {
     kPoint,       ///< world coordinate `axis` of the point `p_link` of link `body`
     kCom,         ///< world coordinate `axis` of the whole-body centre of mass
     kCoordinate,  ///< generalized coordinate q[coordinate]
+    kLoopClosure,  ///< |p_a − p_b| − distance_m of loop closure `loop_closure` (target 0 keeps the rod length)
   };
   Kind kind = Kind::kCoordinate;
   int axis = 0;                                        ///< kPoint, kCom: world axis, 0 = x, 1 = y, 2 = z
   int body = -1;                                       ///< kPoint: body index (MultibodyModel::BodyIndex)
   Eigen::Vector3d p_link = Eigen::Vector3d::Zero();    ///< kPoint: point in the body frame, m (Point() converts from the link frame)
   int coordinate = -1;                                 ///< kCoordinate: index into q
+  int loop_closure = -1;                               ///< kLoopClosure: index into MultibodyModel::loop_closures()
   double target = 0.0;                                 ///< m for kPoint/kCom, units of q for kCoordinate
   std::string name;                                    ///< for error messages; "" = generated from the fields
 
@@ -54,6 +56,10 @@ struct PoseConstraint {
   static PoseConstraint Com(int axis, double target);
   /// q[index] = target (e.g. index num_base_dofs() - 1 is the base pitch of a planar model).
   static PoseConstraint Coordinate(int index, double target);
+  /// Loop closure `index` holds its length (|p_a − p_b| = distance_m; e.g. planar Cassie's achilles rods).
+  static PoseConstraint LoopClosure(int index);
+  /// One LoopClosure() per loop closure of `model` (none for a tree).
+  static std::vector<PoseConstraint> LoopClosures(const MultibodyModel& model);
 };
 
 struct PoseSolverOptions {

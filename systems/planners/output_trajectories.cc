@@ -105,6 +105,7 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
   using Vector6d = Eigen::Matrix<double, 6, 1>;
   b_h_ = BezierCurve((Vector6d() << 0, 0, 0, 1, 1, 1).finished());
   b_v_ = BezierCurve((Vector6d() << p_sw0_z, apex_, apex_, apex_, step_height, step_height + params_.strike_depth).finished());
+  if (params_.lift_off_at_rest) b_v_.set_control_point(1, p_sw0_z);
   if (params_.apex_shape != SwingApexShape::kControlPoints) {
     if (!(apex_ > std::max(p_sw0_z, step_height)))
       throw std::invalid_argument("SwingFootBezier: exact apex height " + Num(apex_) + " m must lie above both the start height " + Num(p_sw0_z) +
@@ -114,7 +115,7 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
   tau_touchdown_ = TouchdownParameter();
   if (params_.apex_shape == SwingApexShape::kClearStanceStone) {
     // The vertical curve runs on s τ (kAtPhaseEnd, s = τ_td, which depends on c) or on τ: a few fixed-point passes.
-    const double c_exact = b_v_.control_point(1);
+    const double c_exact = b_v_.control_point(params_.lift_off_at_rest ? 2 : 1);
     for (int iteration = 0; iteration < 20; ++iteration) {
       const double scale = params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? tau_touchdown_ : 1.0;
       double c = c_exact;
@@ -124,12 +125,15 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
         const double sigma = scale * tau;
         // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = stance_stone_clearance.
         const double B0 = std::pow(1 - sigma, 5), B4 = 5 * std::pow(sigma, 4) * (1 - sigma), B5 = std::pow(sigma, 5);
-        const double middle = 1 - B0 - B4 - B5;
+        // lift_off_at_rest: γ_1 = γ_0 is fixed, so B_1 moves to the fixed part.
+        const double B1 = params_.lift_off_at_rest ? 5 * sigma * std::pow(1 - sigma, 4) : 0.0;
+        const double middle = 1 - B0 - B1 - B4 - B5;
         if (middle > 1e-6)
-          c = std::max(c, (params_.stance_stone_clearance - B0 * b_v_.control_point(0) - B4 * b_v_.control_point(4) - B5 * b_v_.control_point(5)) /
+          c = std::max(c, (params_.stance_stone_clearance - (B0 + B1) * b_v_.control_point(0) - B4 * b_v_.control_point(4) -
+                           B5 * b_v_.control_point(5)) /
                               middle);
       }
-      for (int k = 1; k <= 3; ++k) b_v_.set_control_point(k, c);
+      for (int k = params_.lift_off_at_rest ? 2 : 1; k <= 3; ++k) b_v_.set_control_point(k, c);
       const double previous = tau_touchdown_;
       tau_touchdown_ = TouchdownParameter();
       if (std::abs(tau_touchdown_ - previous) < 1e-12) break;
@@ -141,13 +145,16 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
 }
 
 void SwingFootBezier::SetExactPeak() {
-  // F(c) = max_τ b_v(τ; c) is convex and increasing in c (γ_1..3 = c); dF/dc = B_1 + B_2 + B_3 at the argmax.
+  // F(c) = max_τ b_v(τ; c) is convex and increasing in c (γ_1..3 = c); dF/dc = B_1 + B_2 + B_3 at the argmax
+  // (B_2 + B_3 with lift_off_at_rest).
   double c = apex_;
+  const int first = params_.lift_off_at_rest ? 2 : 1;  // γ_1 = γ_0 is fixed with lift_off_at_rest
   for (int iteration = 0; iteration < 100; ++iteration) {
-    for (int k = 1; k <= 3; ++k) b_v_.set_control_point(k, c);
+    for (int k = first; k <= 3; ++k) b_v_.set_control_point(k, c);
     double tau_max = 0;
     const double F = MaxHeight(&tau_max);
-    const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) - std::pow(tau_max, 5);
+    const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) - std::pow(tau_max, 5) -
+                     (first == 2 ? 5 * tau_max * std::pow(1 - tau_max, 4) : 0.0);
     if (std::abs(F - apex_) <= 1e-14 * (1 + std::abs(apex_)) || !(m > 0)) break;
     c -= (F - apex_) / m;
   }

@@ -138,6 +138,12 @@ struct SwingFootBezierParams {
   /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a
   /// short, fast step then still lands on the stone centre instead of its near edge.
   double horizontal_arrival_phase = 1.0;
+  /// Ours, off by default (the paper's table under Eq. (24)): the vertical curve's second control point equals its first,
+  /// [p_sw0^z, p_sw0^z, c, c, h_des, h_des + z_neg] instead of [p_sw0^z, c, c, c, ...], so the swing foot's desired
+  /// vertical velocity at lift-off is 0 like the foot's own (the horizontal curve already starts at rest). For
+  /// controllers that correct a velocity error fast (a CLF-QP with a small ε), which otherwise kick the swing leg at
+  /// the torque limits at every lift-off. The apex (kExactPeak, kClearStanceStone) is still met by raising c.
+  bool lift_off_at_rest = false;
 };
 
 /// Eq. (23)-(24): swing foot x and z relative to the stance foot as functions of τ.

@@ -6,7 +6,17 @@ std::vector<std::string> SteppingStonesOutputAdapter::TaskRowNames() {
   return {"torso_pitch", "com_z", "left_foot_x", "left_foot_z", "right_foot_x", "right_foot_z"};
 }
 
-SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name) : LeafSystem(std::move(name)) {
+std::vector<std::string> SteppingStonesOutputAdapter::task_row_names() const {
+  std::vector<std::string> names = TaskRowNames();
+  if (params_.foot_pitch) {
+    names.push_back("left_foot_pitch");
+    names.push_back("right_foot_pitch");
+  }
+  return names;
+}
+
+SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name, SteppingStonesOutputAdapterParams params)
+    : LeafSystem(std::move(name)), params_(params) {
   const std::vector<std::string> y_names{"torso_pitch", "com_z", "swing_x", "swing_z"};
   DeclareInputPort("y_desired", y_names);
   DeclareInputPort("ydot_desired", y_names);
@@ -15,8 +25,9 @@ SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name) : Lea
   DeclareTypedInputPort<int>("mode");
   std::vector<std::string> names;
   for (const char* prefix : {"", "d_", "dd_"})
-    for (const std::string& n : TaskRowNames()) names.push_back(prefix + n);
-  DeclareOutputPort("desired", names, [this](const LeafContext& c, Eigen::VectorXd* out) {
+    for (const std::string& n : task_row_names()) names.push_back(prefix + n);
+  const int rows = num_task_rows();
+  DeclareOutputPort("desired", names, [this, rows](const LeafContext& c, Eigen::VectorXd* out) {
     const Eigen::VectorXd& stance = EvalInput(c, 3);
     const int mode = EvalTypedInput<int>(c, 4);
     // Left stance: the right foot's rows (4, 5) swing; right stance: the left foot's (2, 3); flight: none.
@@ -25,7 +36,7 @@ SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name) : Lea
     for (int k = 0; k < 3; ++k) {
       const Eigen::VectorXd& y = EvalInput(c, k);
       const double shift_x = k == 0 ? stance[0] : 0.0, shift_z = k == 0 ? stance[1] : 0.0;
-      auto seg = out->segment(k * kNumTaskRows, kNumTaskRows);
+      auto seg = out->segment(k * rows, rows);
       seg[0] = y[0];
       seg[1] = y[1] + shift_z;
       if (swing_offset >= 0) {
@@ -33,6 +44,9 @@ SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name) : Lea
         seg[swing_offset + 1] = y[3] + shift_z;
       }
     }
+    // Swing-foot pitch: hold the sole horizontal (rate and acceleration 0).
+    if (params_.foot_pitch && swing_offset >= 0)
+      (*out)[mode == 0 ? 7 : 6] = mode == 0 ? params_.right_foot_flat_pitch_rad : params_.left_foot_flat_pitch_rad;
   });
 }
 

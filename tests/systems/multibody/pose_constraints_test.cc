@@ -159,6 +159,47 @@ TEST(PoseConstraintsTest, ExoskeletonAndPlanarCassieStancePoses) {
   }
 }
 
+TEST(PoseConstraintsTest, PlanarCassieFlatSolesAndClosedRods) {
+  const MultibodyModel model = LoadRobot("cassie_planar");
+  MultibodyWorkspace ws(model);
+  std::vector<PoseConstraint> pose;
+  for (const char* foot : {"left_foot", "right_foot"}) {
+    const ContactInfo& info = model.contacts()[model.ContactIndex(foot)];
+    pose.push_back(PoseConstraint::ContactPoint(model, foot, 0, 0.05));
+    for (const Eigen::Vector3d& p : info.points) pose.push_back(PoseConstraint::Point(model, info.link, p, 2, 0.1));  // sole flat at z = 0.1
+  }
+  pose.push_back(PoseConstraint::Com(0, 0.0));
+  pose.push_back(PoseConstraint::Com(2, 0.9));
+  pose.push_back(PoseConstraint::Coordinate(2, 0.0));
+  const std::vector<PoseConstraint> rods = PoseConstraint::LoopClosures(model);
+  ASSERT_EQ(rods.size(), 2u);
+  EXPECT_EQ(DescribePoseConstraint(model, rods[0]), "loop closure left_achilles");
+  pose.insert(pose.end(), rods.begin(), rods.end());
+  const Eigen::VectorXd q = SolvePose(model, ws, model.q_nominal(), pose);
+  MultibodyWorkspace fresh(model);
+  for (const LoopClosureInfo& lc : model.loop_closures())
+    EXPECT_NEAR((CalcPointPosition(model, fresh, q, lc.body_a, lc.point_a) - CalcPointPosition(model, fresh, q, lc.body_b, lc.point_b)).norm(),
+                lc.distance_m, 1e-10)
+        << lc.name;
+  for (int c = 0; c < 2; ++c)
+    for (const Eigen::Vector3d& p : model.contacts()[c].points) EXPECT_NEAR(CalcPointPosition(model, fresh, q, model.contacts()[c].body, p).z(), 0.1, 1e-10);
+  // The loop-closure rows' Jacobian matches finite differences.
+  Eigen::VectorXd qq = q;
+  for (int i = 0; i < model.nv(); ++i) qq[i] += 0.03 * std::cos(2.0 + i);
+  Eigen::VectorXd c(2), cp(2), cm(2);
+  Eigen::MatrixXd C(2, model.nv()), scratch(2, model.nv());
+  CalcPoseConstraints(model, ws, qq, rods, c, C);
+  for (int i = 0; i < model.nv(); ++i) {
+    Eigen::VectorXd qp = qq, qm = qq;
+    qp[i] += 1e-6;
+    qm[i] -= 1e-6;
+    CalcPoseConstraints(model, ws, qp, rods, cp, scratch);
+    CalcPoseConstraints(model, ws, qm, rods, cm, scratch);
+    EXPECT_LT((C.col(i) - (cp - cm) / 2e-6).norm(), 1e-7) << "column " << i;
+  }
+  EXPECT_THROW(ValidatePoseConstraints(model, {PoseConstraint::LoopClosure(2)}), std::invalid_argument);
+}
+
 TEST(PoseConstraintsTest, JacobianMatchesFiniteDifferences) {
   const MultibodyModel model = LoadRobot("exoskeleton");
   MultibodyWorkspace ws(model);

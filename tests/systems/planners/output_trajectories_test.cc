@@ -103,6 +103,35 @@ TEST(OutputTrajectories, ExactApexReachesTheClearance) {
   EXPECT_THROW(SwingFootBezier(too_low, -0.3, 0.0, 0.4, 0.2), std::invalid_argument);
 }
 
+TEST(OutputTrajectories, LiftOffAtRestStartsWithZeroVerticalVelocityAndKeepsTheApex) {
+  for (const auto shape : {SwingApexShape::kExactPeak, SwingApexShape::kClearStanceStone}) {
+    SwingFootBezierParams params;
+    params.clearance = 0.1;
+    params.apex_shape = shape;
+    params.apex_reference = SwingApexReference::kHighestStone;
+    params.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
+    params.stance_stone_half_length = 0.16;
+    const SwingFootBezier paper(params, -0.3, -0.1, 0.35, 0.15);
+    params.lift_off_at_rest = true;
+    const SwingFootBezier rest(params, -0.3, -0.1, 0.35, 0.15);
+    EXPECT_GT(paper.Z(0).first, 0.1);              // the paper's curve starts rising at once
+    EXPECT_NEAR(rest.Z(0).first, 0.0, 1e-12);      // ours starts at rest
+    EXPECT_DOUBLE_EQ(rest.Z(0).value, -0.1);
+    EXPECT_NEAR(rest.Z(1).value, 0.15, 1e-9);  // kAtPhaseEnd: the foothold height at τ = 1
+    EXPECT_GE(rest.MaxHeight(), 0.25 - 1e-9);      // the apex is still reached
+    if (shape == SwingApexShape::kExactPeak) {
+      EXPECT_NEAR(rest.MaxHeight(), 0.25, 1e-9);
+    }
+    // kClearStanceStone: at least stance_stone_clearance above the stance stone wherever the foot passes over it.
+    for (int k = 0; k <= 1000; ++k) {
+      const double tau = k / 1000.0, x = rest.X(tau).value;
+      if (std::abs(x) <= 0.16 && shape == SwingApexShape::kClearStanceStone) {
+        EXPECT_GE(rest.Z(tau).value, params.stance_stone_clearance - 1e-9) << "tau " << tau;
+      }
+    }
+  }
+}
+
 TEST(OutputTrajectories, TouchdownAtPhaseEndRetimesTheSwingCurve) {
   // kAtPhaseEnd: the same Eq. (24) curve b_v(τ_td τ), reaching h_des exactly at τ = 1 (COM at ε l_des), descending,
   // and continuing straight down past τ = 1. Eq. (23) still reaches l_des at τ = 1.
