@@ -3,6 +3,8 @@
 //   A: CLF-QP, 12 variables, 2 equalities, 21 inequality rows, 12 two-sided bounds;
 //   B: task-space QP with contact forces, 22 variables, 12 equalities, 30 inequality rows;
 //   C: double-integrator MPC over N steps, 3N variables (N = 20, 40), banded.
+//   D: condensed double-integrator MPC, N variables (N = 20, 40), dense H, 2N two-sided state rows, input bounds;
+//      H and A fixed, g and the row bounds follow the MPC's own closed loop (10 ms ticks, 10 s, then it repeats).
 // "Cold": every solve starts from the unconstrained minimum. "Warm": consecutive problems of a 1 kHz control
 // loop (t advances 1 ms per solve), each started from the previous active set.
 // Each solve is timed individually (std::chrono::steady_clock); counters report the median and 99th percentile
@@ -88,6 +90,18 @@ const std::vector<QpProblem>& FamilyCPool(int horizon) {
   return horizon == 20 ? pool20 : pool40;
 }
 
+const std::vector<QpProblem>& FamilyDPool(int horizon) {
+  auto make = [](int n) {
+    const qp_test::CondensedMpcSequence sequence(n, kPoolSize);
+    std::vector<QpProblem> pool;
+    for (int k = 0; k < sequence.size(); ++k) pool.push_back(sequence.Problem(k));
+    return pool;
+  };
+  static const std::vector<QpProblem> pool20 = make(20);
+  static const std::vector<QpProblem> pool40 = make(40);
+  return horizon == 20 ? pool20 : pool40;
+}
+
 void BM_QP_FamilyA_Cold(benchmark::State& state) { RunPool(state, FamilyAPool(), false); }
 void BM_QP_FamilyA_Warm(benchmark::State& state) { RunPool(state, FamilyAPool(), true); }
 void BM_QP_FamilyB_Cold(benchmark::State& state) { RunPool(state, FamilyBPool(), false); }
@@ -99,12 +113,21 @@ void BM_QP_FamilyC_Warm(benchmark::State& state) {
   RunPool(state, FamilyCPool(static_cast<int>(state.range(0))), true);
 }
 
+void BM_QP_FamilyD_Cold(benchmark::State& state) {
+  RunPool(state, FamilyDPool(static_cast<int>(state.range(0))), false);
+}
+void BM_QP_FamilyD_Warm(benchmark::State& state) {
+  RunPool(state, FamilyDPool(static_cast<int>(state.range(0))), true);
+}
+
 BENCHMARK(BM_QP_FamilyA_Cold)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_QP_FamilyA_Warm)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_QP_FamilyB_Cold)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_QP_FamilyB_Warm)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_QP_FamilyC_Cold)->Arg(20)->Arg(40)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_QP_FamilyC_Warm)->Arg(20)->Arg(40)->UseManualTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_QP_FamilyD_Cold)->Arg(20)->Arg(40)->UseManualTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_QP_FamilyD_Warm)->Arg(20)->Arg(40)->UseManualTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace rome
