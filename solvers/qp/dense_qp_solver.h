@@ -52,6 +52,10 @@
 // Memory: Resize() (or the constructor) allocates everything; Solve() performs no heap allocation.
 // Cost: O(n^3) for a new H, O(n^2) per GI iteration; see tests/benchmarks/qp/qp_benchmark.cpp for latencies.
 // On x86-64 with GCC the hot loops are compiled for AVX2/FMA and baseline x86-64 and chosen at load time.
+//
+// Files (one idea each): dense_qp_solver.cc, the method (factorizations, GI iterations, warm start);
+// dense_qp_kernels.h, the linear-algebra kernels and the CPU dispatch; dense_qp_diagnostics.cc, input
+// validation, status text and KKT residuals.
 
 #include <Eigen/Dense>
 
