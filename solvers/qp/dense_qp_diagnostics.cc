@@ -34,7 +34,7 @@ std::string_view to_string(QpStatus status) {
 // ---------------------------------------------------------------------------------------------------------
 // Input validation.
 
-ROME_QP_HOT bool DenseQpSolver::ValidateInput() {
+ROME_QP_HOT bool DenseQpSolver::ValidateInput(bool matrices) {
   input_error_ = InputError::kNone;
   auto size_error = [this](const char* field, Eigen::Index rows, Eigen::Index cols, int er, int ec) {
     if (rows == er && cols == ec) return false;
@@ -85,8 +85,8 @@ ROME_QP_HOT bool DenseQpSolver::ValidateInput() {
     }
     return false;
   };
-  if (finite_error("H", H) || finite_vec_error("g", g) || finite_error("A_eq", A_eq) ||
-      finite_vec_error("b_eq", b_eq) || finite_error("A", A)) {
+  if ((matrices && finite_error("H", H)) || finite_vec_error("g", g) || (matrices && finite_error("A_eq", A_eq)) ||
+      finite_vec_error("b_eq", b_eq) || (matrices && finite_error("A", A))) {
     return false;
   }
   // Bounds: NaN is invalid, and so is an infinity on the wrong side (l = +inf, u = -inf, ...).
@@ -111,6 +111,7 @@ ROME_QP_HOT bool DenseQpSolver::ValidateInput() {
       bound_error("ub", ub, -1.0)) {
     return false;
   }
+  if (!matrices) return true;
   // Symmetry of H.
   double scale = 0.0;
   for (int j = 0; j < n_; ++j) scale = std::max(scale, std::abs(H(j, j)));
