@@ -1,8 +1,7 @@
 // DenseQpSolver::Solve() performs no heap allocation once sized: global operator new (std::vector, strings) and,
 // outside sanitizer builds, malloc/calloc/realloc (Eigen allocates with std::malloc) are replaced in this test
 // binary and count allocations while Solve() runs, over cold, warm, hot (declared, detected, caught lie),
-// infeasible, PSD (proximal) and
-// invalid-input solves of every problem family.
+// infeasible, PSD (proximal) and invalid-input solves of every problem family.
 
 #include <gtest/gtest.h>
 
