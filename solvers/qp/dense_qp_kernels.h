@@ -8,6 +8,10 @@
 // they are written as plain loops over contiguous memory (vectorized by the compiler) or with the two-lane GCC
 // vector extension (SSE2 on x86-64, generic code elsewhere). Other compilers / architectures get the
 // baseline version only (define ROME_QP_NO_TARGET_CLONES to force that).
+// Small helpers called from inside the clones' loops must be inlined too (the solver's Rhs, NormalDot,
+// SideIsFinite are always_inline): out-of-line baseline bodies, compiled with legacy SSE encodings, made the
+// hot start 2.5-6x slower (N = 20 condensed MPC; the samples sat on the first VEX instruction after each call,
+// the signature of AVX/SSE transition stalls with the upper YMM state dirty).
 
 #include <Eigen/Core>
 

@@ -136,7 +136,7 @@ int DenseQpSolver::FlatIndex(int id) const {
 }
 
 // Rhs, NormalDot and SideIsFinite are always inlined: called from the AVX2 clones of the hot loops, an
-// out-of-line baseline (SSE) body would run with the upper YMM state dirty (transition stalls, measured 3x).
+// out-of-line baseline (SSE) body runs with the upper YMM state dirty (see dense_qp_kernels.h).
 [[gnu::always_inline]] inline double DenseQpSolver::Rhs(int id) const {
   if (id < n_eq_) return b_eq[id];
   if (id < n_eq_ + 2 * n_ineq_) {

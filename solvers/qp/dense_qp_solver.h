@@ -37,24 +37,29 @@
 //      matrix-vector products, O(n^2)). If every inequality multiplier is >= 0 and no constraint is violated,
 //      this is the optimum: the working set is unchanged, the step is feasible and Solve() returns after this
 //      single O(n^2 + n m) pass (iterations() == 0), with no re-factorization and no further verification.
-//   2. Otherwise working-set sides with negative multipliers (or whose bound became infinite) are dropped with
-//      Givens rotations, which restores dual feasibility, and the ordinary GI iterations continue: each
-//      constraint that enters costs one Householder reflection, each that leaves a sequence of Givens
-//      rotations (rank-one changes of the factorization, O(n^2) each), never a re-factorization.
+//   2. Otherwise working-set sides whose bound became infinite, then those with negative multipliers (the most
+//      negative first, x and u recomputed after each) are dropped with Givens rotations, which restores dual
+//      feasibility, and the ordinary GI iterations continue: each constraint that enters costs one Householder
+//      reflection, each that leaves a sequence of Givens rotations (rank-one changes of the factorization,
+//      O(n^2) each), never a re-factorization.
 //   This is the dual counterpart of qpOASES's online active-set strategy: instead of following the homotopy
 //   from the old to the new parameter with primal feasibility kept along the way, it keeps dual feasibility
 //   and the factorization and lets the dual method repair primal feasibility from the old working set; in a
 //   control loop the working set changes by a few constraints per tick, so a hot solve costs a few O(n^2)
-//   updates. After 400 rank-one updates on one kept factorization (round-off of the orthogonal updates), and
-//   whenever the matrices changed, the factorization is rebuilt by the warm-start path below.
+//   updates. The factorization is kept after a solve whose H equals the previous one (so problems whose H
+//   changes every tick pay nothing); it is rebuilt by the warm-start path above after 400 rank-one updates
+//   (round-off of the orthogonal updates), when the matrices changed, and when the hot solve does not end
+//   optimal (infeasible, iteration limit: the full path then decides and reports).
 //   "The matrices are unchanged" is known in one of two ways (Solve(QpDataChange)):
 //   - kUnknown (default): H, A_eq and A are compared bit for bit with the solver's copies (memcmp, O(n^2));
-//   - kVectorsOnly: the caller declares them unchanged. Nothing is compared; instead the hot answer is
-//     verified on the data as stored now (stationarity H x + g + A_eq^T y_eq + A^T y_ineq + y_bounds = 0 to
-//     1e-11 relative, every row and bound feasible, every working-set side held, multipliers of the right sign).
-//     If the caller changed a matrix anyway, the check fails and Solve() falls back to the full path, which
-//     detects the change, validates the matrices and re-factorizes: the answer is correct either way.
-//   QpSettings::hot_start = false or warm_start = false disables it; ResetWarmStart() makes the next solve cold.
+//   - kVectorsOnly: the caller declares them unchanged. Nothing is compared and the matrices are not
+//     re-validated; instead the hot answer is verified on the data as stored now (stationarity
+//     H x + g + A_eq^T y_eq + A^T y_ineq + y_bounds = 0 to 1e-11 relative to max(1, |g|, |H x|), every row and
+//     bound feasible, every working-set side held, multipliers of the right sign; O(n^2 + n m)). If the
+//     caller changed a matrix anyway, the check fails and Solve() falls back to the full path, which validates
+//     the matrices, detects the change and re-factorizes: the answer is correct either way.
+//   hot_started() tells whether the last Solve() was answered this way. QpSettings::hot_start = false or
+//   warm_start = false disables it; ResetWarmStart() makes the next solve cold.
 //
 // Multiplier sign convention (same as OSQP), so that users can check the KKT conditions:
 //   H x + g + A_eq^T y_eq + A^T y_ineq + y_bounds = 0,
