@@ -29,6 +29,38 @@
 //   - J and R after adding the equalities are reused while H and A_eq are unchanged (e.g. MPC with fixed
 //     dynamics, where only b_eq = initial state changes); then step 2 replaces step 1.
 //
+// Hot start (MPC and other parametric sequences: H, A_eq and A fixed, g, b_eq, l, u, lb, ub move):
+//   The GI factorization J, R of the final working set of the last solve is kept across solves, together with
+//   the working set itself. The next Solve() on the same matrices starts from it:
+//   1. x and the multipliers u are recomputed on the kept working set for the new g and right-hand sides
+//      (x = J1 R^{-T} b_W - J2 J2^T g, u = R^{-1} (R^{-T} b_W + J1^T g): two triangular solves and two
+//      matrix-vector products, O(n^2)). If every inequality multiplier is >= 0 and no constraint is violated,
+//      this is the optimum: the working set is unchanged, the step is feasible and Solve() returns after this
+//      single O(n^2 + n m) pass (iterations() == 0), with no re-factorization and no further verification.
+//   2. Otherwise working-set sides whose bound became infinite, then those with negative multipliers (the most
+//      negative first, x and u recomputed after each) are dropped with Givens rotations, which restores dual
+//      feasibility, and the ordinary GI iterations continue: each constraint that enters costs one Householder
+//      reflection, each that leaves a sequence of Givens rotations (rank-one changes of the factorization,
+//      O(n^2) each), never a re-factorization.
+//   This is the dual counterpart of qpOASES's online active-set strategy: instead of following the homotopy
+//   from the old to the new parameter with primal feasibility kept along the way, it keeps dual feasibility
+//   and the factorization and lets the dual method repair primal feasibility from the old working set; in a
+//   control loop the working set changes by a few constraints per tick, so a hot solve costs a few O(n^2)
+//   updates. The factorization is kept after a solve whose H equals the previous one (so problems whose H
+//   changes every tick pay nothing); it is rebuilt by the warm-start path above after 400 rank-one updates
+//   (round-off of the orthogonal updates), when the matrices changed, and when the hot solve does not end
+//   optimal (infeasible, iteration limit: the full path then decides and reports).
+//   "The matrices are unchanged" is known in one of two ways (Solve(QpDataChange)):
+//   - kUnknown (default): H, A_eq and A are compared bit for bit with the solver's copies (memcmp, O(n^2));
+//   - kVectorsOnly: the caller declares them unchanged. Nothing is compared and the matrices are not
+//     re-validated; instead the hot answer is verified on the data as stored now (stationarity
+//     H x + g + A_eq^T y_eq + A^T y_ineq + y_bounds = 0 to 1e-11 relative to max(1, |g|, |H x|), every row and
+//     bound feasible, every working-set side held, multipliers of the right sign; O(n^2 + n m)). If the
+//     caller changed a matrix anyway, the check fails and Solve() falls back to the full path, which validates
+//     the matrices, detects the change and re-factorizes: the answer is correct either way.
+//   hot_started() tells whether the last Solve() was answered this way. QpSettings::hot_start = false or
+//   warm_start = false disables it; ResetWarmStart() makes the next solve cold.
+//
 // Multiplier sign convention (same as OSQP), so that users can check the KKT conditions:
 //   H x + g + A_eq^T y_eq + A^T y_ineq + y_bounds = 0,
 //   y_ineq[i] > 0 only if row i is at its upper side u[i], y_ineq[i] < 0 only if it is at its lower side l[i];
@@ -52,6 +84,10 @@
 // Memory: Resize() (or the constructor) allocates everything; Solve() performs no heap allocation.
 // Cost: O(n^3) for a new H, O(n^2) per GI iteration; see tests/benchmarks/qp/qp_benchmark.cpp for latencies.
 // On x86-64 with GCC the hot loops are compiled for AVX2/FMA and baseline x86-64 and chosen at load time.
+//
+// Files (one idea each): dense_qp_solver.cc, the method (factorizations, GI iterations, warm and hot start);
+// dense_qp_kernels.h, the linear-algebra kernels and the CPU dispatch; dense_qp_diagnostics.cc, input
+// validation, status text and KKT residuals.
 
 #include <Eigen/Dense>
 
@@ -84,6 +120,15 @@ struct QpSettings {
   double infinity = 1e20;
   // Start Solve() from the active set of the previous optimal solve when the sizes did not change.
   bool warm_start = true;
+  // Keep the factorization of the working set across solves with unchanged H, A_eq and A and start from it
+  // (hot start, see the header comment). Requires warm_start.
+  bool hot_start = true;
+};
+
+// What the caller changed in the problem data since the last Solve().
+enum class QpDataChange {
+  kUnknown,      // anything: the matrices are compared with the solver's copies (bit for bit)
+  kVectorsOnly,  // declared: H, A_eq and A are unchanged, only g, b_eq, l, u, lb, ub moved (verified, see above)
 };
 
 enum class QpStatus {
@@ -116,7 +161,9 @@ class DenseQpSolver {
   Eigen::VectorXd lb, ub;  // n each, lb <= x <= ub
 
   // Solves the problem currently stored in the data members. Never allocates, never throws.
-  QpStatus Solve();
+  // `change` may declare that only the vectors changed (hot start without comparing the matrices; safe, see the
+  // header comment).
+  QpStatus Solve(QpDataChange change = QpDataChange::kUnknown);
   // The next Solve() starts from the unconstrained minimum (cold start).
   void ResetWarmStart();
 
@@ -134,6 +181,8 @@ class DenseQpSolver {
   // Goldfarb-Idnani iterations of the last Solve() (pricing-loop additions + removals; the installation of a
   // warm-start active set and of the equalities is not counted).
   int iterations() const { return iterations_; }
+  // True if the last Solve() was answered by the hot start (kept factorization of the previous working set).
+  bool hot_started() const { return hot_started_; }
   // Number of constraints (equalities, active inequality sides, active bounds) in the final active set.
   int active_set_size() const { return q_; }
   double objective() const { return objective_; }
@@ -155,7 +204,11 @@ class DenseQpSolver {
   double NormalDot(int id, const Eigen::VectorXd& v) const;
   bool SideIsFinite(int id) const;
 
-  bool ValidateInput();
+  bool ValidateInput(bool matrices);  // sizes, finiteness, bounds; finiteness / symmetry of H, A_eq, A if matrices
+  bool MatricesMatchHotCache() const;
+  QpStatus HotSolve(bool verify);
+  bool VerifyHotSolution();
+  QpStatus Iterate(const Eigen::VectorXd& g_eff, bool x_current);  // GI pricing loop from a dual feasible start
   bool Factorize(double shift);  // L_ = chol(H + shift I); false if not numerically PD
   void ComputeJ0();              // J0_ = L^{-T}
   QpStatus SolveFromFactor(const Eigen::VectorXd& g_eff, bool use_warm_start);
@@ -194,6 +247,12 @@ class DenseQpSolver {
   std::vector<int> warm_active_;
   int warm_count_ = 0;
   bool warm_valid_ = false;
+  // Hot start: J_, R_, active_, q_, q_eq_ and is_active_ are the factorization of the working set of the last
+  // optimal solve, for the matrices H_cached_, A_eq_hot_, A_hot_.
+  Eigen::MatrixXd A_eq_hot_, A_hot_;
+  bool hot_valid_ = false, hot_started_ = false;
+  int hot_updates_ = 0;  // rank-one updates of the kept factorization since it was built
+  int num_dependent_ = 0;  // dependent equalities skipped by the last SolveFromFactor()
 
   // Results.
   QpStatus status_ = QpStatus::kInvalidInput;

@@ -62,13 +62,14 @@ QpStatus VerticalComMpc::Solve(double p_z, double pdot_z, double p_final, double
   const double b_v = (v_final - pdot_z) / dt;
   DenseQpSolver& qp = *qp_;
   qp.b_eq << b_p, b_v;
-  status_ = qp.Solve();
+  // H and A_eq are fixed by the constructor (BuildQp); only b_eq moves: hot start without comparing matrices.
+  status_ = qp.Solve(QpDataChange::kVectorsOnly);
   if (status_ == QpStatus::kOptimal) {
     terminal_relaxed_ = false;
     StorePlan(qp.x(), p_z, pdot_z, dt);
   } else if (status_ == QpStatus::kInfeasible && soft_qp_) {
     soft_qp_->b_eq << b_p, b_v;
-    status_ = soft_qp_->Solve();
+    status_ = soft_qp_->Solve(QpDataChange::kVectorsOnly);
     if (status_ == QpStatus::kOptimal) {
       terminal_relaxed_ = true;
       StorePlan(soft_qp_->x(), p_z, pdot_z, dt);

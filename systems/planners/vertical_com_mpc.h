@@ -20,8 +20,9 @@
 // relax_terminal_on_infeasible is set, the weighted-cost QP is solved instead and terminal_relaxed() is true.
 // The equality rows are scaled by 1/dt² and 1/dt so that their coefficients are O(N).
 //
-// Memory: the constructor sizes the QP workspace; Solve() performs no heap allocation and warm-starts the
-// QP from the previous active set (rome::DenseQpSolver).
+// Memory: the constructor sizes the QP workspace; Solve() performs no heap allocation. H and A_eq never change
+// after construction, so the QP is hot-started (rome::DenseQpSolver keeps the factorization of its working set;
+// Solve(QpDataChange::kVectorsOnly), verified by the solver) when params.qp.warm_start and hot_start are set.
 
 #include <memory>
 

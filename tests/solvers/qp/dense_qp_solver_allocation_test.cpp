@@ -1,7 +1,7 @@
 // DenseQpSolver::Solve() performs no heap allocation once sized: global operator new (std::vector, strings) and,
 // outside sanitizer builds, malloc/calloc/realloc (Eigen allocates with std::malloc) are replaced in this test
-// binary and count allocations while Solve() runs, over cold, warm, infeasible, PSD (proximal) and
-// invalid-input solves of every problem family.
+// binary and count allocations while Solve() runs, over cold, warm, hot (declared, detected, caught lie),
+// infeasible, PSD (proximal) and invalid-input solves of every problem family.
 
 #include <gtest/gtest.h>
 
@@ -85,6 +85,28 @@ TEST(DenseQpSolverAllocationTest, SolveDoesNotAllocate) {
     solver.g[0] = std::numeric_limits<double>::quiet_NaN();
     EXPECT_EQ(CountAllocationsDuringSolve(&solver, &status), 0);
     EXPECT_EQ(status, QpStatus::kInvalidInput);
+  }
+  // Hot start on the condensed MPC (declared and detected unchanged matrices), including a caller that changes H
+  // behind a declaration (verification fails, full path) and an infeasible tick.
+  {
+    const qp_test::CondensedMpcSequence sequence(20, 60);
+    DenseQpSolver solver(20, 0, 40);
+    int hot = 0;
+    for (int k = 0; k < sequence.size(); ++k) {
+      qp_test::LoadInto(sequence.Problem(k), &solver);
+      if (k % 20 == 13) solver.H(0, 0) += 1.0;
+      if (k % 20 == 17) solver.ub[0] = solver.lb[0] - 1.0;
+      QpStatus status;
+      const QpDataChange change = k % 2 == 0 ? QpDataChange::kVectorsOnly : QpDataChange::kUnknown;
+      g_allocations = 0;
+      g_counting = true;
+      status = solver.Solve(change);
+      g_counting = false;
+      EXPECT_EQ(g_allocations, 0) << "tick " << k;
+      EXPECT_EQ(status, k % 20 == 17 ? QpStatus::kInfeasible : QpStatus::kOptimal) << "tick " << k;
+      hot += solver.hot_started();
+    }
+    EXPECT_GT(hot, 40);
   }
   // PSD H (proximal iterations) and random problems with inconsistent equalities.
   for (int trial = 0; trial < 10; ++trial) {

@@ -14,6 +14,9 @@
 //      (4 x (4 pyramid faces + 1 normal window) + 10 joint-torque rows), no bounds.
 //   C: MPC for a double integrator (H-LIP-like transition) over N steps, x = [u_k, p_{k+1}, v_{k+1}]_k, 3N
 //      variables, 2N dynamics equalities (banded), N input-rate rows, bounds on u, p, v. Tridiagonal-block H.
+//   D: condensed MPC of a double integrator (CondensedMpcSequence): N input variables, dense H, 2N two-sided
+//      state rows, input bounds; H and A are fixed and only g and the row bounds move with the initial state,
+//      which follows the closed loop of the MPC itself (the qpOASES "hot start" use case).
 //
 // Each family is a smooth function of time t (seconds) so that consecutive samples 1 ms apart form the slowly
 // changing sequence of a 1 kHz control loop.
@@ -23,6 +26,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "solvers/qp/dense_qp_solver.h"
 
@@ -350,6 +354,93 @@ class MpcQpFamily {
 
  private:
   int N_;
+};
+
+// ---------------------------------------------------------------------------------------------------------
+// Family D: condensed MPC of a double integrator (position p, velocity v, acceleration input a), N steps of
+// dt = 0.05 s. The states are eliminated, z_k = Phi_k z_0 + Gamma_k a (z_k = [p_k, v_k], k = 1..N):
+//   minimize  sum_k q_p (p_k - p_ref)^2 + q_v v_k^2 + r a_k^2      (written 1/2 a^T H a + g^T a, H dense)
+//   s.t.      -p_max <= p_k <= p_max, -v_max <= v_k <= v_max    (2N two-sided rows of the fixed matrix A)
+//             -a_max <= a_k <= a_max                              (bounds)
+// Only g and the row bounds l, u depend on the initial state z_0 and the reference p_ref. The sequence is a
+// closed loop: every tick (10 ms) the plant applies the first input of the (cold) MPC solution, plus a smooth
+// disturbance; p_ref is a square wave of +-1.2 m (beyond p_max = 1 m, so the position rows become active) with
+// period 2 s. Problems are generated once and stored (Problem(k)).
+class CondensedMpcSequence {
+ public:
+  CondensedMpcSequence(int horizon, int length) : N_(horizon) {
+    const int N = horizon;
+    // Prediction matrices.
+    Phi_.setZero(2 * N, 2);
+    Gamma_.setZero(2 * N, N);
+    for (int k = 0; k < N; ++k) {
+      const double t = (k + 1) * kDt;
+      Phi_.row(2 * k) << 1.0, t;
+      Phi_.row(2 * k + 1) << 0.0, 1.0;
+      for (int j = 0; j <= k; ++j) {
+        const double steps = k - j;  // a_j acts from interval j to k
+        Gamma_(2 * k, j) = kDt * kDt * (steps + 0.5);
+        Gamma_(2 * k + 1, j) = kDt;
+      }
+    }
+    Eigen::VectorXd q(2 * N);
+    for (int k = 0; k < N; ++k) q.segment<2>(2 * k) << kQp, kQv;
+    H_ = Gamma_.transpose() * q.asDiagonal() * Gamma_;
+    H_.diagonal().array() += kR;
+    H_ = 0.5 * (H_ + H_.transpose()).eval();
+    H_ *= 2.0;  // 1/2 a^T H a convention
+    qv_ = 2.0 * q;
+    // Closed loop.
+    DenseQpSolver solver(N, 0, 2 * N);
+    solver.settings().warm_start = false;
+    Eigen::Vector2d z(0.0, 0.0);
+    problems_.reserve(length);
+    for (int tick = 0; tick < length; ++tick) {
+      const double t = kTick * tick;
+      const double p_ref = std::fmod(t, 2.0) < 1.0 ? 1.2 : -1.2;
+      problems_.push_back(Build(z, p_ref));
+      LoadInto(problems_.back(), &solver);
+      const double a = solver.Solve() == QpStatus::kOptimal ? solver.x()[0] : 0.0;
+      const double w = a + 0.3 * std::sin(2.3 * t) + 0.2 * std::sin(7.1 * t);  // disturbance (m/s^2)
+      z = Eigen::Vector2d(z[0] + kTick * z[1] + 0.5 * kTick * kTick * w, z[1] + kTick * w);
+    }
+  }
+
+  int size() const { return static_cast<int>(problems_.size()); }
+  const QpProblem& Problem(int k) const { return problems_[k]; }
+
+ private:
+  static constexpr double kDt = 0.05, kTick = 0.01, kQp = 10.0, kQv = 1.0, kR = 0.1;
+  static constexpr double kPMax = 1.0, kVMax = 0.8, kAMax = 2.0;
+
+  QpProblem Build(const Eigen::Vector2d& z0, double p_ref) const {
+    const int N = N_;
+    QpProblem p;
+    p.H = H_;
+    const Eigen::VectorXd free = Phi_ * z0;  // states with a = 0
+    Eigen::VectorXd err = free;
+    for (int k = 0; k < N; ++k) err[2 * k] -= p_ref;
+    p.g = Gamma_.transpose() * qv_.cwiseProduct(err);
+    p.A_eq.setZero(0, N);
+    p.b_eq.setZero(0);
+    p.A = Gamma_;
+    p.l.resize(2 * N);
+    p.u.resize(2 * N);
+    for (int k = 0; k < N; ++k) {
+      p.l[2 * k] = -kPMax - free[2 * k];
+      p.u[2 * k] = kPMax - free[2 * k];
+      p.l[2 * k + 1] = -kVMax - free[2 * k + 1];
+      p.u[2 * k + 1] = kVMax - free[2 * k + 1];
+    }
+    p.lb.setConstant(N, -kAMax);
+    p.ub.setConstant(N, kAMax);
+    return p;
+  }
+
+  int N_;
+  Eigen::MatrixXd Phi_, Gamma_, H_;
+  Eigen::VectorXd qv_;
+  std::vector<QpProblem> problems_;
 };
 
 }  // namespace rome::qp_test

@@ -2,173 +2,34 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
-// Hot kernels are compiled twice on x86-64 with GCC (AVX2/FMA and baseline) and picked at load time by the
-// dynamic loader (function multi-versioning); other compilers/architectures get the baseline version only.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROME_QP_NO_TARGET_CLONES)
-#define ROME_QP_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define ROME_QP_HOT
-#endif
+#include "solvers/qp/dense_qp_kernels.h"
+
+// The method (Goldfarb-Idnani dual active set, warm and hot start) is described in dense_qp_solver.h.
+// Input validation, status text and KKT residuals are in dense_qp_diagnostics.cc; the linear-algebra kernels
+// and the CPU dispatch of the ROME_QP_HOT functions in dense_qp_kernels.h.
 
 namespace rome {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using namespace qp_kernels;  // NOLINT: the kernels are this file's vocabulary
+
 // Relative Cholesky pivot threshold below which H is treated as singular (see header): beyond a condition
 // number of ~1e8 the direct solve could not deliver KKT residuals of 1e-9, the proximal iterations can.
 constexpr double kPivotTolerance = 1e-8;
-// Relative symmetry tolerance for H.
-constexpr double kSymmetryTolerance = 1e-10;
 // Coefficients of the dependence certificate below this fraction of the largest one are treated as zero.
 constexpr double kCertificateTolerance = 1e-9;
 
-// Applies the rotation [c s; -s c] to the column pair (a, b) of length n: a <- c a + s b, b <- -s a + c b.
-[[gnu::always_inline]] inline void RotateColumns(double* a, double* b, int n, double c, double s) {
-  for (int i = 0; i < n; ++i) {
-    const double ai = a[i];
-    const double bi = b[i];
-    a[i] = c * ai + s * bi;
-    b[i] = c * bi - s * ai;
-  }
-}
-
-// y = M v for a column-major block (leading dimension ld): axpys over four columns at a time (one pass over y
-// per four columns), vectorized by the compiler.
-[[gnu::always_inline]] inline void Gemv(const double* __restrict m, Eigen::Index ld, int rows, int cols, const double* __restrict v,
-                 double* __restrict y) {
-  int c = 0;
-  if (cols >= 4) {
-    const double* __restrict m0 = m;
-    const double* __restrict m1 = m + ld;
-    const double* __restrict m2 = m + 2 * ld;
-    const double* __restrict m3 = m + 3 * ld;
-    const double v0 = v[0], v1 = v[1], v2 = v[2], v3 = v[3];
-    for (int i = 0; i < rows; ++i) y[i] = v0 * m0[i] + v1 * m1[i] + v2 * m2[i] + v3 * m3[i];
-    c = 4;
-  } else {
-    for (int i = 0; i < rows; ++i) y[i] = 0.0;
-  }
-  for (; c + 4 <= cols; c += 4) {
-    const double* __restrict m0 = m + c * ld;
-    const double* __restrict m1 = m0 + ld;
-    const double* __restrict m2 = m0 + 2 * ld;
-    const double* __restrict m3 = m0 + 3 * ld;
-    const double v0 = v[c], v1 = v[c + 1], v2 = v[c + 2], v3 = v[c + 3];
-    for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i] + v1 * m1[i] + v2 * m2[i] + v3 * m3[i];
-  }
-  // Remaining 1-3 columns in one pass.
-  const double* __restrict m0 = m + c * ld;
-  switch (cols - c) {
-    case 3: {
-      const double v0 = v[c], v1 = v[c + 1], v2 = v[c + 2];
-      for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i] + v1 * m0[i + ld] + v2 * m0[i + 2 * ld];
-      break;
-    }
-    case 2: {
-      const double v0 = v[c], v1 = v[c + 1];
-      for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i] + v1 * m0[i + ld];
-      break;
-    }
-    case 1: {
-      const double v0 = v[c];
-      for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i];
-      break;
-    }
-    default:
-      break;
-  }
-}
-
-// Two-lane double vector (GCC/Clang vector extension; SSE2 on x86-64, generic code elsewhere).
-typedef double Double2 __attribute__((vector_size(16)));
-[[gnu::always_inline]] inline Double2 Load2(const double* p) {
-  Double2 v;
-  std::memcpy(&v, p, sizeof(v));
-  return v;
-}
-
-// y_c = M(:, c) . x for a column-major block: two columns per pass, two-lane vector accumulators.
-[[gnu::always_inline]] inline void GemvTransposed(const double* m, Eigen::Index ld, int rows, int cols,
-                                                  const double* x, double* y) {
-  const int rows2 = rows & ~1;
-  int c = 0;
-  for (; c + 2 <= cols; c += 2) {
-    const double* m0 = m + c * ld;
-    const double* m1 = m0 + ld;
-    Double2 acc0 = {0.0, 0.0};
-    Double2 acc1 = {0.0, 0.0};
-    for (int i = 0; i < rows2; i += 2) {
-      const Double2 xv = Load2(x + i);
-      acc0 += Load2(m0 + i) * xv;
-      acc1 += Load2(m1 + i) * xv;
-    }
-    double s0 = acc0[0] + acc0[1];
-    double s1 = acc1[0] + acc1[1];
-    if (rows2 < rows) {
-      s0 += m0[rows2] * x[rows2];
-      s1 += m1[rows2] * x[rows2];
-    }
-    y[c] = s0;
-    y[c + 1] = s1;
-  }
-  if (c < cols) {
-    const double* m0 = m + c * ld;
-    Double2 acc0 = {0.0, 0.0};
-    for (int i = 0; i < rows2; i += 2) acc0 += Load2(m0 + i) * Load2(x + i);
-    double s0 = acc0[0] + acc0[1];
-    if (rows2 < rows) s0 += m0[rows2] * x[rows2];
-    y[c] = s0;
-  }
-}
-
-// True when every entry is finite: x * 0 is 0 for finite x and NaN for inf / NaN (vectorized accumulation).
-[[gnu::always_inline]] inline bool AllFinite(const double* p, Eigen::Index size) {
-  Double2 acc0 = {0.0, 0.0};
-  Double2 acc1 = {0.0, 0.0};
-  Eigen::Index i = 0;
-  for (; i + 4 <= size; i += 4) {
-    acc0 += Load2(p + i) * 0.0;
-    acc1 += Load2(p + i + 2) * 0.0;
-  }
-  double tail = 0.0;
-  for (; i < size; ++i) tail += p[i] * 0.0;
-  const Double2 acc = acc0 + acc1;
-  return acc[0] + acc[1] + tail == 0.0;
-}
-
-// True when no entry is NaN or +inf (lower sides; sign = +1) or NaN or -inf (upper sides; sign = -1).
-[[gnu::always_inline]] inline bool BoundsValid(const double* p, Eigen::Index size, double sign) {
-  int ok = 1;
-  if (sign > 0) {
-    for (Eigen::Index i = 0; i < size; ++i) ok &= static_cast<int>(p[i] < kInf);
-  } else {
-    for (Eigen::Index i = 0; i < size; ++i) ok &= static_cast<int>(p[i] > -kInf);
-  }
-  return ok != 0;
-}
-
-[[gnu::always_inline]] inline double SquaredNorm(const double* x, int n) {
-  return n > 0 ? Eigen::Map<const Eigen::VectorXd>(x, n).squaredNorm() : 0.0;
-}
+// Rank-one updates (constraint additions and removals) after which a kept factorization is rebuilt.
+constexpr int kHotRefreshUpdates = 400;
+// Stationarity residual accepted by the hot-start verification, relative to max(1, |g|, |H x|).
+constexpr double kHotStationarityTolerance = 1e-11;
 
 }  // namespace
-
-std::string_view to_string(QpStatus status) {
-  switch (status) {
-    case QpStatus::kOptimal: return "optimal";
-    case QpStatus::kInfeasible: return "infeasible";
-    case QpStatus::kNonConvex: return "non-convex";
-    case QpStatus::kUnbounded: return "unbounded";
-    case QpStatus::kMaxIterations: return "max-iterations";
-    case QpStatus::kInvalidInput: return "invalid-input";
-  }
-  return "unknown";
-}
 
 DenseQpSolver::DenseQpSolver(int n, int n_eq, int n_ineq, QpSettings settings) : settings_(settings) {
   Resize(n, n_eq, n_ineq);
@@ -237,6 +98,11 @@ void DenseQpSolver::Resize(int n, int n_eq, int n_ineq) {
   warm_active_.assign(n + 1, -1);
   warm_count_ = 0;
   warm_valid_ = false;
+  A_eq_hot_.setZero(n_eq, n);
+  A_hot_.setZero(n_ineq, n);
+  hot_valid_ = false;
+  hot_started_ = false;
+  hot_updates_ = 0;
   q_ = 0;
   q_eq_ = 0;
 
@@ -257,6 +123,7 @@ void DenseQpSolver::Resize(int n, int n_eq, int n_ineq) {
 void DenseQpSolver::ResetWarmStart() {
   warm_valid_ = false;
   warm_count_ = 0;
+  hot_valid_ = false;
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -268,7 +135,9 @@ int DenseQpSolver::FlatIndex(int id) const {
   return n_eq_ + n_ineq_ + (id - n_eq_ - 2 * n_ineq_) / 2;
 }
 
-double DenseQpSolver::Rhs(int id) const {
+// Rhs, NormalDot and SideIsFinite are always inlined: called from the AVX2 clones of the hot loops, an
+// out-of-line baseline (SSE) body runs with the upper YMM state dirty (see dense_qp_kernels.h).
+[[gnu::always_inline]] inline double DenseQpSolver::Rhs(int id) const {
   if (id < n_eq_) return b_eq[id];
   if (id < n_eq_ + 2 * n_ineq_) {
     const int k = id - n_eq_;
@@ -278,7 +147,7 @@ double DenseQpSolver::Rhs(int id) const {
   return (k & 1) ? -ub[k >> 1] : lb[k >> 1];
 }
 
-double DenseQpSolver::NormalDot(int id, const Eigen::VectorXd& v) const {
+[[gnu::always_inline]] inline double DenseQpSolver::NormalDot(int id, const Eigen::VectorXd& v) const {
   if (id < n_eq_) return A_eq.row(id).dot(v);
   if (id < n_eq_ + 2 * n_ineq_) {
     const int k = id - n_eq_;
@@ -289,7 +158,7 @@ double DenseQpSolver::NormalDot(int id, const Eigen::VectorXd& v) const {
   return (k & 1) ? -v[k >> 1] : v[k >> 1];
 }
 
-bool DenseQpSolver::SideIsFinite(int id) const {
+[[gnu::always_inline]] inline bool DenseQpSolver::SideIsFinite(int id) const {
   if (id < n_eq_) return true;
   return std::abs(Rhs(id)) < settings_.infinity;
 }
@@ -657,6 +526,7 @@ ROME_QP_HOT QpStatus DenseQpSolver::SolveFromFactor(const Eigen::VectorXd& g_eff
     }
   }
   q_eq_ = q_;
+  num_dependent_ = num_dependent;
   bool x_current = false;  // x_ and u_active_ correspond to the current active set
   if (num_dependent > 0 || !(use_warm_start && warm_count_ > 0)) {
     ComputeActiveSetSolution(g_eff);
@@ -700,7 +570,12 @@ ROME_QP_HOT QpStatus DenseQpSolver::SolveFromFactor(const Eigen::VectorXd& g_eff
     x_current = true;
   }
 
-  // Main loop.
+  return Iterate(g_eff, x_current);
+}
+
+ROME_QP_HOT QpStatus DenseQpSolver::Iterate(const Eigen::VectorXd& g_eff, bool x_current) {
+  // GI pricing loop from a dual feasible working set (x_current: x_ and u_active_ are its solution).
+  const int n = n_;
   while (true) {
     double s_p = 0.0;
     const int p = FindMostViolated(&s_p);
@@ -915,116 +790,128 @@ ROME_QP_HOT void DenseQpSolver::FillOutputs() {
 }
 
 // ---------------------------------------------------------------------------------------------------------
-// Input validation.
+// Hot start (see the header comment).
 
-ROME_QP_HOT bool DenseQpSolver::ValidateInput() {
-  input_error_ = InputError::kNone;
-  auto size_error = [this](const char* field, Eigen::Index rows, Eigen::Index cols, int er, int ec) {
-    if (rows == er && cols == ec) return false;
-    input_error_ = InputError::kSize;
-    bad_field_ = field;
-    bad_row_ = static_cast<int>(rows);
-    bad_col_ = static_cast<int>(cols);
-    bad_rows_expected_ = er;
-    bad_cols_expected_ = ec;
-    return true;
+bool DenseQpSolver::MatricesMatchHotCache() const {
+  // Bit-for-bit comparison with the matrices of the kept factorization (memcmp: no NaN can match, the copies
+  // were validated).
+  auto same = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+    return a.size() == 0 ||
+           std::memcmp(a.data(), b.data(), static_cast<size_t>(a.size()) * sizeof(double)) == 0;
   };
-  if (size_error("H", H.rows(), H.cols(), n_, n_) || size_error("g", g.rows(), g.cols(), n_, 1) ||
-      size_error("A_eq", A_eq.rows(), A_eq.cols(), n_eq_, n_) ||
-      size_error("b_eq", b_eq.rows(), b_eq.cols(), n_eq_, 1) ||
-      size_error("A", A.rows(), A.cols(), n_ineq_, n_) || size_error("l", l.rows(), l.cols(), n_ineq_, 1) ||
-      size_error("u", u.rows(), u.cols(), n_ineq_, 1) || size_error("lb", lb.rows(), lb.cols(), n_, 1) ||
-      size_error("ub", ub.rows(), ub.cols(), n_, 1)) {
-    return false;
+  return same(H, H_cached_) && same(A_eq, A_eq_hot_) && same(A, A_hot_);
+}
+
+ROME_QP_HOT QpStatus DenseQpSolver::HotSolve(bool verify) {
+  // J_, R_ and the working set active_[0, q_) are those of the last optimal solve for the same matrices.
+  if (hot_updates_ >= kHotRefreshUpdates) return QpStatus::kMaxIterations;  // rebuild the factorization
+  // Working-set sides whose bound became infinite leave first (from the top: lower positions stay valid).
+  for (int j = q_ - 1; j >= q_eq_; --j) {
+    if (!SideIsFinite(active_[j])) {
+      DropConstraint(j);
+      ++hot_updates_;
+    }
   }
-  // (m * 0).sum() is 0 exactly when every entry is finite (inf * 0 and NaN give NaN); vectorized by Eigen.
-  auto finite_error = [this](const char* field, const Eigen::MatrixXd& m) {
-    if (AllFinite(m.data(), m.size())) return false;
-    for (Eigen::Index c = 0; c < m.cols(); ++c) {
-      for (Eigen::Index r = 0; r < m.rows(); ++r) {
-        if (!std::isfinite(m(r, c))) {
-          input_error_ = InputError::kNotFinite;
-          bad_field_ = field;
-          bad_row_ = static_cast<int>(r);
-          bad_col_ = static_cast<int>(c);
-          bad_value_ = m(r, c);
-          return true;
-        }
+  // Solution on the kept working set for the new g and right-hand sides. Sides with negative multipliers leave,
+  // the most negative first, until none is left: the start of the dual method must be dual feasible.
+  ComputeActiveSetSolution(g);
+  while (true) {
+    int worst = -1;
+    double worst_u = 0.0;
+    for (int j = q_eq_; j < q_; ++j) {
+      if (u_active_[j] < worst_u) {
+        worst_u = u_active_[j];
+        worst = j;
       }
     }
-    return false;
-  };
-  auto finite_vec_error = [this](const char* field, const Eigen::VectorXd& v) {
-    if (AllFinite(v.data(), v.size())) return false;
-    for (Eigen::Index r = 0; r < v.size(); ++r) {
-      if (!std::isfinite(v[r])) {
-        input_error_ = InputError::kNotFinite;
-        bad_field_ = field;
-        bad_row_ = static_cast<int>(r);
-        bad_col_ = -1;
-        bad_value_ = v[r];
-        return true;
-      }
-    }
-    return false;
-  };
-  if (finite_error("H", H) || finite_vec_error("g", g) || finite_error("A_eq", A_eq) ||
-      finite_vec_error("b_eq", b_eq) || finite_error("A", A)) {
-    return false;
+    if (worst < 0) break;
+    DropConstraint(worst);
+    ++hot_updates_;
+    ComputeActiveSetSolution(g);
   }
-  // Bounds: NaN is invalid, and so is an infinity on the wrong side (l = +inf, u = -inf, ...).
-  auto bound_error = [this](const char* field, const Eigen::VectorXd& v, double forbidden_sign) {
-    // Vectorized check first: no NaN (v != v) and no infinity of the forbidden sign.
-    // (NaN compares false.)
-    if (BoundsValid(v.data(), v.size(), forbidden_sign)) return false;
-    for (Eigen::Index r = 0; r < v.size(); ++r) {
-      const double value = v[r];
-      if (std::isnan(value) || (std::isinf(value) && (value > 0) == (forbidden_sign > 0))) {
-        input_error_ = InputError::kWrongInfinity;
-        bad_field_ = field;
-        bad_row_ = static_cast<int>(r);
-        bad_col_ = -1;
-        bad_value_ = value;
-        return true;
-      }
-    }
-    return false;
-  };
-  if (bound_error("l", l, +1.0) || bound_error("u", u, -1.0) || bound_error("lb", lb, +1.0) ||
-      bound_error("ub", ub, -1.0)) {
-    return false;
+  // Unchanged working set with a feasible step: Iterate() finds no violated constraint and returns at once.
+  const QpStatus status = Iterate(g, /*x_current=*/true);
+  hot_updates_ += iterations_;
+  if (status != QpStatus::kOptimal) return status;
+  FillOutputs();
+  if (verify && !VerifyHotSolution()) return QpStatus::kInvalidInput;  // matrices changed after all
+  return QpStatus::kOptimal;
+}
+
+ROME_QP_HOT bool DenseQpSolver::VerifyHotSolution() {
+  // KKT conditions on the data as stored now (the caller declared the matrices unchanged; this checks it where
+  // it matters). Comparisons are written so that NaN fails them.
+  const int n = n_;
+  const double tol = settings_.feasibility_tolerance;
+  // Stationarity: H x + g + A_eq^T y_eq + A^T y_ineq + y_bounds = 0 (H x is in v_ from FillOutputs).
+  double* __restrict r = g_eff_refine_.data();
+  double* __restrict t = z_.data();
+  double scale = 1.0;
+  for (int i = 0; i < n; ++i) {
+    r[i] = v_[i] + g[i] + y_bounds_[i];
+    scale = std::max(scale, std::max(std::abs(g[i]), std::abs(v_[i])));
   }
-  // Symmetry of H.
-  double scale = 0.0;
-  for (int j = 0; j < n_; ++j) scale = std::max(scale, std::abs(H(j, j)));
-  const double sym_tol = kSymmetryTolerance * std::max(scale, 1.0);
-  for (int j = 0; j < n_; ++j) {
-    for (int i = j + 1; i < n_; ++i) {
-      if (std::abs(H(i, j) - H(j, i)) > sym_tol) {
-        input_error_ = InputError::kNotSymmetric;
-        bad_field_ = "H";
-        bad_row_ = i;
-        bad_col_ = j;
-        bad_value_ = H(i, j);
-        bad_value2_ = H(j, i);
-        return false;
-      }
+  if (n_eq_ > 0) {
+    GemvTransposed(A_eq.data(), n_eq_, n_eq_, n, y_eq_.data(), t);
+    for (int i = 0; i < n; ++i) r[i] += t[i];
+  }
+  if (n_ineq_ > 0) {
+    GemvTransposed(A.data(), n_ineq_, n_ineq_, n, y_ineq_.data(), t);
+    for (int i = 0; i < n; ++i) r[i] += t[i];
+  }
+  const double limit = kHotStationarityTolerance * scale;
+  for (int i = 0; i < n; ++i) {
+    if (!(std::abs(r[i]) <= limit)) return false;
+  }
+  // Primal feasibility of every row and bound (equalities are independent here, so n_eq <= n).
+  if (n_eq_ > 0) {
+    double* ax = b_refine_.data();
+    Gemv(A_eq.data(), n_eq_, n_eq_, n, x_.data(), ax);
+    for (int i = 0; i < n_eq_; ++i) {
+      if (!(std::abs(ax[i] - b_eq[i]) <= tol)) return false;
     }
+  }
+  if (n_ineq_ > 0) Gemv(A.data(), n_ineq_, n_ineq_, n, x_.data(), Ax_.data());
+  for (int i = 0; i < n_ineq_; ++i) {
+    if (!(Ax_[i] >= l[i] - tol && Ax_[i] <= u[i] + tol)) return false;
+  }
+  for (int j = 0; j < n; ++j) {
+    if (!(x_[j] >= lb[j] - tol && x_[j] <= ub[j] + tol)) return false;
+  }
+  // Complementarity and dual feasibility: every working-set side holds, with a multiplier of the right sign.
+  for (int c = q_eq_; c < q_; ++c) {
+    const int id = active_[c];
+    double value;
+    if (id < n_eq_ + 2 * n_ineq_) {
+      const int k = id - n_eq_;
+      value = (k & 1) ? -Ax_[k >> 1] : Ax_[k >> 1];
+    } else {
+      const int k = id - n_eq_ - 2 * n_ineq_;
+      value = (k & 1) ? -x_[k >> 1] : x_[k >> 1];
+    }
+    if (!(std::abs(value - Rhs(id)) <= tol) || !(u_active_[c] >= -tol)) return false;
   }
   return true;
 }
 
 // ---------------------------------------------------------------------------------------------------------
 
-QpStatus DenseQpSolver::Solve() {
+QpStatus DenseQpSolver::Solve(QpDataChange change) {
   iterations_ = 0;
   proximal_iterations_ = 0;
   infeasible_flat_.clear();
   infeasible_ids_.clear();
   input_error_ = InputError::kNone;
   objective_ = std::numeric_limits<double>::quiet_NaN();
-  if (!ValidateInput()) {
-    factor_cached_ = false;
+  hot_started_ = false;
+  // Hot start when the matrices are those of the kept factorization: declared by the caller (then verified),
+  // or compared bit for bit. Then only the vectors need validating (the cached matrices were validated).
+  const bool declared = change == QpDataChange::kVectorsOnly;
+  bool hot = hot_valid_ && settings_.hot_start && settings_.warm_start;
+  if (hot && !declared) hot = MatricesMatchHotCache();
+  if (!ValidateInput(/*matrices=*/!hot)) {
+    if (!hot) factor_cached_ = false;
     return status_ = QpStatus::kInvalidInput;
   }
   const double tol = settings_.feasibility_tolerance;
@@ -1049,6 +936,25 @@ QpStatus DenseQpSolver::Solve() {
       return status_ = QpStatus::kInfeasible;
     }
   }
+  if (hot) {
+    const QpStatus status = HotSolve(/*verify=*/declared);
+    if (status == QpStatus::kOptimal) {
+      hot_started_ = true;
+      SaveWarmStart();
+      return status_ = status;
+    }
+    // Not answered hot (refresh due, infeasible, iteration limit, or a declaration that did not hold): the
+    // full path below validates, compares, re-factorizes if needed and reports.
+    iterations_ = 0;
+    infeasible_flat_.clear();
+    infeasible_ids_.clear();
+    if (declared && !ValidateInput(/*matrices=*/true)) {
+      hot_valid_ = false;
+      factor_cached_ = false;
+      return status_ = QpStatus::kInvalidInput;
+    }
+  }
+  hot_valid_ = false;  // J_ and R_ are rebuilt below
 
   // Factorization of H, reused when H did not change since the last solve.
   const bool factor_reused = factor_cached_ && H == H_cached_;
@@ -1087,13 +993,25 @@ QpStatus DenseQpSolver::Solve() {
   QpStatus status;
   // With the equality part cached, re-adding the warm inequalities in the GI factorization is cheaper than the
   // range-space solve (which is O(n^2 (n_eq + n_active))).
-  if (!factor_regularized_ && warm && !use_eq_cache_ && TryWarmActiveSet()) {
+  // With a repeated H and hot starts enabled, the GI path is taken so that its factorization can be kept.
+  const bool keep_factorization = settings_.hot_start && settings_.warm_start && factor_reused;
+  if (!factor_regularized_ && warm && !use_eq_cache_ && !keep_factorization && TryWarmActiveSet()) {
     status = QpStatus::kOptimal;
   } else if (!factor_regularized_) {
     if (!j0_valid_) ComputeJ0();
     j0_valid_ = true;
     status = SolveFromFactor(g, warm);
-    if (status == QpStatus::kOptimal) SaveWarmStart();
+    if (status == QpStatus::kOptimal) {
+      SaveWarmStart();
+      // Keep the factorization for hot starts. Only when H repeated (a parametric sequence), so that problems
+      // whose H changes every tick (CLF-QP, task-space QP) pay no copies.
+      if (keep_factorization && num_dependent_ == 0) {
+        A_eq_hot_ = A_eq;
+        A_hot_ = A;
+        hot_valid_ = true;
+        hot_updates_ = 0;
+      }
+    }
   } else {
     if (!j0_valid_) ComputeJ0();
     j0_valid_ = true;
@@ -1140,147 +1058,6 @@ QpStatus DenseQpSolver::Solve() {
   if (status != QpStatus::kOptimal) warm_valid_ = false;
   if (status != QpStatus::kInfeasible) FillOutputs();
   return status_ = status;
-}
-
-// ---------------------------------------------------------------------------------------------------------
-
-std::string DenseQpSolver::status_message() const {
-  auto describe = [this](int id) {
-    char buf[160];
-    if (id < n_eq_) {
-      std::snprintf(buf, sizeof(buf), "equality row %d (A_eq.row(%d) x = b_eq[%d] = %g)", id, id, id, b_eq[id]);
-    } else if (id < n_eq_ + 2 * n_ineq_) {
-      const int k = id - n_eq_;
-      const int i = k >> 1;
-      if (k & 1) {
-        std::snprintf(buf, sizeof(buf), "inequality row %d upper side (A.row(%d) x <= u[%d] = %g)", i, i, i, u[i]);
-      } else {
-        std::snprintf(buf, sizeof(buf), "inequality row %d lower side (A.row(%d) x >= l[%d] = %g)", i, i, i, l[i]);
-      }
-    } else {
-      const int k = id - n_eq_ - 2 * n_ineq_;
-      const int j = k >> 1;
-      if (k & 1) {
-        std::snprintf(buf, sizeof(buf), "upper bound on x[%d] (ub[%d] = %g)", j, j, ub[j]);
-      } else {
-        std::snprintf(buf, sizeof(buf), "lower bound on x[%d] (lb[%d] = %g)", j, j, lb[j]);
-      }
-    }
-    return std::string(buf);
-  };
-  char buf[256];
-  switch (status_) {
-    case QpStatus::kOptimal:
-      std::snprintf(buf, sizeof(buf), "DenseQpSolver: optimal after %d iterations, objective %.17g, %d active constraints",
-                    iterations_, objective_, q_);
-      return buf;
-    case QpStatus::kNonConvex:
-      std::snprintf(buf, sizeof(buf),
-                    "DenseQpSolver: H (%dx%d) is not positive semidefinite: Cholesky of H + %g I failed "
-                    "(QpSettings::regularization)",
-                    n_, n_, settings_.regularization);
-      return buf;
-    case QpStatus::kUnbounded:
-      return "DenseQpSolver: H is only positive semidefinite and the objective is unbounded below on the "
-             "feasible set";
-    case QpStatus::kMaxIterations:
-      std::snprintf(buf, sizeof(buf),
-                    "DenseQpSolver: iteration limit reached (%d iterations, %d proximal iterations; "
-                    "QpSettings::max_iterations = %d, max_proximal_iterations = %d)",
-                    iterations_, proximal_iterations_, settings_.max_iterations, settings_.max_proximal_iterations);
-      return buf;
-    case QpStatus::kInfeasible: {
-      std::string msg;
-      if (input_error_ == InputError::kContradictoryBounds && !infeasible_ids_.empty()) {
-        const int id = infeasible_ids_[0];
-        if (id < n_eq_ + 2 * n_ineq_) {
-          std::snprintf(buf, sizeof(buf), "DenseQpSolver: infeasible: inequality row %d has l[%d] = %g > u[%d] = %g",
-                        infeasible_flat_[0] - n_eq_, infeasible_flat_[0] - n_eq_, bad_value_,
-                        infeasible_flat_[0] - n_eq_, bad_value2_);
-        } else {
-          const int j = infeasible_flat_[0] - n_eq_ - n_ineq_;
-          std::snprintf(buf, sizeof(buf), "DenseQpSolver: infeasible: bound on x[%d] has lb[%d] = %g > ub[%d] = %g", j,
-                        j, bad_value_, j, bad_value2_);
-        }
-        return buf;
-      }
-      msg = "DenseQpSolver: infeasible; these constraints cannot hold together: ";
-      for (size_t k = 0; k < infeasible_ids_.size(); ++k) {
-        if (k > 0) msg += ", ";
-        msg += describe(infeasible_ids_[k]);
-      }
-      return msg;
-    }
-    case QpStatus::kInvalidInput:
-      switch (input_error_) {
-        case InputError::kSize:
-          std::snprintf(buf, sizeof(buf),
-                        "DenseQpSolver: invalid input: %s has size %dx%d, expected %dx%d (n=%d, n_eq=%d, n_ineq=%d; "
-                        "use Resize to change sizes)",
-                        bad_field_, bad_row_, bad_col_, bad_rows_expected_, bad_cols_expected_, n_, n_eq_, n_ineq_);
-          return buf;
-        case InputError::kNotFinite:
-          if (bad_col_ >= 0) {
-            std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: %s(%d, %d) = %g is not finite", bad_field_,
-                          bad_row_, bad_col_, bad_value_);
-          } else {
-            std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: %s[%d] = %g is not finite", bad_field_,
-                          bad_row_, bad_value_);
-          }
-          return buf;
-        case InputError::kWrongInfinity:
-          std::snprintf(buf, sizeof(buf),
-                        "DenseQpSolver: invalid input: %s[%d] = %g (NaN, or an infinity of the wrong sign)", bad_field_,
-                        bad_row_, bad_value_);
-          return buf;
-        case InputError::kNotSymmetric:
-          std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: H is not symmetric: H(%d, %d) = %.17g but H(%d, %d) = %.17g",
-                        bad_row_, bad_col_, bad_value_, bad_col_, bad_row_, bad_value2_);
-          return buf;
-        default:
-          return "DenseQpSolver: Solve() has not been called";
-      }
-  }
-  return "DenseQpSolver: unknown status";
-}
-
-// ---------------------------------------------------------------------------------------------------------
-
-double QpKktResiduals::Max() const {
-  return std::max(std::max(stationarity, primal_feasibility), std::max(dual_feasibility, complementarity));
-}
-
-QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp, const Eigen::VectorXd& x, const Eigen::VectorXd& y_eq,
-                                     const Eigen::VectorXd& y_ineq, const Eigen::VectorXd& y_bounds) {
-  QpKktResiduals res;
-  Eigen::VectorXd grad = qp.H * x + qp.g + qp.A_eq.transpose() * y_eq + qp.A.transpose() * y_ineq + y_bounds;
-  res.stationarity = grad.size() > 0 ? grad.lpNorm<Eigen::Infinity>() : 0.0;
-  auto side_residuals = [&res](double value, double lo, double hi, double y) {
-    res.primal_feasibility = std::max(res.primal_feasibility, std::max(lo - value, value - hi));
-    if (y > 0.0) {
-      if (std::isinf(hi)) {
-        res.dual_feasibility = std::max(res.dual_feasibility, y);
-      } else {
-        res.complementarity = std::max(res.complementarity, y * std::abs(hi - value));
-      }
-    } else if (y < 0.0) {
-      if (std::isinf(lo)) {
-        res.dual_feasibility = std::max(res.dual_feasibility, -y);
-      } else {
-        res.complementarity = std::max(res.complementarity, -y * std::abs(value - lo));
-      }
-    }
-  };
-  for (Eigen::Index i = 0; i < qp.A_eq.rows(); ++i) {
-    res.primal_feasibility = std::max(res.primal_feasibility, std::abs(qp.A_eq.row(i).dot(x) - qp.b_eq[i]));
-  }
-  for (Eigen::Index i = 0; i < qp.A.rows(); ++i) side_residuals(qp.A.row(i).dot(x), qp.l[i], qp.u[i], y_ineq[i]);
-  for (Eigen::Index j = 0; j < x.size(); ++j) side_residuals(x[j], qp.lb[j], qp.ub[j], y_bounds[j]);
-  return res;
-}
-
-QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp) {
-  return ComputeQpKktResiduals(qp, qp.x(), qp.y_eq(), qp.y_ineq(), qp.y_bounds());
 }
 
 }  // namespace rome
