@@ -195,17 +195,17 @@ AnimationRecorder::AnimationRecorder(const MultibodyModel& model, double fps, st
 AnimationRecorder::AnimationRecorder(double radius_m, double fps, std::string three_js_path)
     : point_radius_m_(radius_m), fps_(fps), three_js_path_(std::move(three_js_path)) {}
 
-void AnimationRecorder::RecordPoint(double t, const Eigen::Vector3d& p, const std::string& mode) {
-  if (!times_.empty() && t < times_.back() + 1.0 / fps_ - 1e-9) return;
+bool AnimationRecorder::BeginFrame(double t, const std::string& mode) {
+  if (!times_.empty() && t < times_.back() + 1.0 / fps_ - 1e-9) return false;  // decimate to fps
   times_.push_back(t);
-  int idx = -1;
-  for (size_t i = 0; i < modes_.size(); ++i)
-    if (modes_[i] == mode) idx = static_cast<int>(i);
-  if (idx < 0) {
-    modes_.push_back(mode);
-    idx = static_cast<int>(modes_.size()) - 1;
-  }
-  mode_index_.push_back(idx);
+  auto it = std::find(modes_.begin(), modes_.end(), mode);
+  if (it == modes_.end()) it = modes_.insert(modes_.end(), mode);
+  mode_index_.push_back(static_cast<int>(it - modes_.begin()));
+  return true;
+}
+
+void AnimationRecorder::RecordPoint(double t, const Eigen::Vector3d& p, const std::string& mode) {
+  if (!BeginFrame(t, mode)) return;
   const Eigen::Vector3d c = ToThree() * p;
   for (double v : {c.x(), c.y(), c.z()}) coms_.push_back(static_cast<float>(v));
 }
@@ -225,16 +225,7 @@ bool AnimationRecorder::CheckWritable(const std::string& path, std::string* erro
 
 void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::string& mode, const Eigen::VectorXd& contact_forces) {
   const MultibodyModel& model_ = *this->model_;
-  if (!times_.empty() && t < times_.back() + 1.0 / fps_ - 1e-9) return;
-  times_.push_back(t);
-  int idx = -1;
-  for (size_t i = 0; i < modes_.size(); ++i)
-    if (modes_[i] == mode) idx = static_cast<int>(i);
-  if (idx < 0) {
-    modes_.push_back(mode);
-    idx = static_cast<int>(modes_.size()) - 1;
-  }
-  mode_index_.push_back(idx);
+  if (!BeginFrame(t, mode)) return;
   MultibodyWorkspace& ws = *ws_;
   const Eigen::Matrix3d& C = ToThree();
   for (int b : drawn_bodies_) {

@@ -46,6 +46,8 @@ class AnimationRecorder {
   bool WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, std::string* error) const;
 
  private:
+  /// Appends the frame's time and mode unless it comes sooner than 1/fps after the last frame.
+  bool BeginFrame(double t, const std::string& mode);
   bool WritePage(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, const std::string& three,
                  const std::string& model_json, std::string* error) const;
   const MultibodyModel* model_ = nullptr;  // null: a point mass
