@@ -207,7 +207,9 @@ std::any ClfQpController::AllocateScratch() const {
         }
       }
     mq.nout = mq.o1 + mq.o2;
-    mq.llt = Eigen::LLT<Eigen::MatrixXd>(rows);
+    // Sized (and its status set) here, so the per-update compute() on the same size allocates nothing. (LLT(size)
+    // leaves its status uninitialised, which a move would read.)
+    mq.llt.compute(Eigen::MatrixXd::Identity(rows, rows));
     mq.MinvJT.setZero(nv, rows);
     mq.Lambda.setZero(rows, rows);
     mq.Av.setZero(rows, nu);
