@@ -59,7 +59,7 @@ struct Sweep {
 
 const std::map<std::string, std::string> kExamples = {{"stepping-stones", "stepping_stones"}, {"bouncing-ball", "bouncing_ball"}};
 // Summary fields left out of the CSV: they measure the machine, not the run.
-const std::set<std::string> kTimingFields = {"wall_time_s", "realtime_factor", "controller_update_us", "status", "first_contact_violation"};
+const std::set<std::string> kTimingFields = {"wall_time_s", "realtime_factor", "controller_update_us"};
 
 void PrintHelp() {
   std::cout << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... --out DIR\n"
@@ -226,6 +226,7 @@ std::string FailureReason(const json& summary, int code) {
   const std::string status = summary.value("status", "");
   if (summary.value("contact_violations", 0) > 0) return "contact violation";
   if (status.find("slipped") != std::string::npos) return "slip";
+  if (status.find("missed its stone") != std::string::npos) return "missed stone";
   if (status.find("fell") != std::string::npos) return "fell";
   if (status.find("lifted off") != std::string::npos) return "lift-off with no mode";
   if (summary.value("status_kind", "") == "limit") return "time limit";
