@@ -1,7 +1,6 @@
 #include "systems/controllers/clf_qp_controller.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -74,7 +73,7 @@ struct ClfQpController::Scratch {
 
 ClfQpController::ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
                                  std::vector<ClfOutput> outputs, ClfQpParams params)
-    : LeafSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), outputs_(std::move(outputs)), params_(std::move(params)) {
+    : QpControllerSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), outputs_(std::move(outputs)), params_(std::move(params)) {
   if (!model_) ThrowError("null MultibodyModel");
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
@@ -140,16 +139,10 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
                     Feedthrough::None());
   DeclareOutputPort("V", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[V_offset()]; }, Feedthrough::None());
   DeclareOutputPort("delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[delta_offset()]; }, Feedthrough::None());
-  DeclareOutputPort("qp_failures", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[failures_offset()]; }, Feedthrough::None());
-  DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
   DeclareOutputPort("fallbacks", {"band_dropped", "cop_dropped", "held"},
                     [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(fallbacks_offset()); }, Feedthrough::None());
-  DeclareOutputPort("solve_time_s", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[solve_time_offset()]; },
-                    Feedthrough::None());
-  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
-  if (params_.resolve_at_events)
-    DeclareEventUpdate("resolve_qp", params_.resolve_at,
-                       [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
+  DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
+                           [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
 }
 
 std::any ClfQpController::AllocateScratch() const {
@@ -443,13 +436,6 @@ void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool
 }
 
 EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
-  const auto start = std::chrono::steady_clock::now();
-  const EventStatus status = DoUpdate(context, next);
-  (*next)[solve_time_offset()] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return status;
-}
-
-EventStatus ClfQpController::DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const int nu = model_->nu(), nc = model_->num_contacts();
   QpStatus status;
   try {

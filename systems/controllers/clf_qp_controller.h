@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "framework/system.h"
+#include "systems/controllers/controller_setup.h"
 #include "solvers/qp/dense_qp_solver.h"
 #include "systems/controllers/contact_wrench_constraints.h"
 #include "systems/controllers/task_space_tasks.h"
@@ -124,7 +125,7 @@ struct ClfQpParams {
   QpSettings qp;                   ///< DenseQpSolver tolerances (warm start on by default)
 };
 
-class ClfQpController final : public LeafSystem {
+class ClfQpController final : public QpControllerSystem {
  public:
   ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts, std::vector<ClfOutput> outputs,
                   ClfQpParams params = {});
@@ -165,7 +166,6 @@ class ClfQpController final : public LeafSystem {
  private:
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
-  EventStatus DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
   void SetRowsEnabled(const LeafContext& context, bool band, bool cop) const;
 

@@ -1,5 +1,6 @@
 #include "systems/controllers/controller_setup.h"
 
+#include <chrono>
 #include <stdexcept>
 
 namespace rome {
@@ -38,6 +39,25 @@ std::vector<std::vector<int>> ZeroTorqueActuatorsPerMode(const MultibodyModel& m
       if (mode_contacts[m] & ContactBit(c)) zero[m].push_back(actuator);
   }
   return zero;
+}
+
+void QpControllerSystem::DeclareQpPortsAndUpdates(int failures_offset, int status_offset, int solve_time_offset, double period_s,
+                                                  bool resolve_at_events, const EventTrigger& trigger, UpdateFunction update) {
+  auto scalar = [](int offset) {
+    return [offset](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[offset]; };
+  };
+  DeclareOutputPort("qp_failures", 1, scalar(failures_offset), Feedthrough::None());
+  DeclareOutputPort("qp_status", 1, scalar(status_offset), Feedthrough::None());
+  DeclareOutputPort("solve_time_s", 1, scalar(solve_time_offset), Feedthrough::None());
+  auto timed = [update = std::move(update), solve_time_offset](const LeafContext& c, Eigen::VectorXd* next) {
+    const auto start = std::chrono::steady_clock::now();
+    const EventStatus status = update(c, next);
+    (*next)[solve_time_offset] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return status;
+  };
+  DeclarePeriodicDiscreteUpdate(period_s, 0.0, timed);
+  if (resolve_at_events)
+    DeclareEventUpdate("resolve_qp", trigger, [timed](const LeafContext& c, const EventRecord&, State* next) { return timed(c, &next->discrete); });
 }
 
 int CheckedModeIndex(int mode, int num_modes, const std::string& system) {

@@ -1,7 +1,6 @@
 #include "systems/controllers/task_space_qp_controller.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -65,7 +64,7 @@ std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant) {
 
 TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
                                              std::vector<std::shared_ptr<const TaskSpaceTask>> tasks, TaskSpaceQpParams params)
-    : LeafSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), tasks_(std::move(tasks)), params_(std::move(params)) {
+    : QpControllerSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), tasks_(std::move(tasks)), params_(std::move(params)) {
   if (!model_) ThrowError("null MultibodyModel");
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
@@ -119,14 +118,8 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   DeclareOutputPort("qdd", nv, [this, nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(qdd_offset(), nv); }, Feedthrough::None());
   DeclareOutputPort("contact_forces", 3 * nc, [this, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(forces_offset(), 3 * nc); },
                     Feedthrough::None());
-  DeclareOutputPort("qp_failures", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[failures_offset()]; }, Feedthrough::None());
-  DeclareOutputPort("qp_status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[status_offset()]; }, Feedthrough::None());
-  DeclareOutputPort("solve_time_s", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[solve_time_offset()]; },
-                    Feedthrough::None());
-  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
-  if (params_.resolve_at_events)
-    DeclareEventUpdate("resolve_qp", params_.resolve_at,
-                       [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
+  DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
+                           [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
 }
 
 std::any TaskSpaceQpController::AllocateScratch() const {
@@ -307,13 +300,6 @@ QpStatus TaskSpaceQpController::SolveRelaxedQp(const LeafContext& context) const
 long TaskSpaceQpController::relaxed_solves(const LeafContext& context) const { return context.scratch<Scratch>().relaxed_solves; }
 
 EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
-  const auto start = std::chrono::steady_clock::now();
-  const EventStatus status = DoUpdate(context, next);
-  (*next)[solve_time_offset()] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return status;
-}
-
-EventStatus TaskSpaceQpController::DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   QpStatus status;
   try {

@@ -53,6 +53,7 @@
 #include <vector>
 
 #include "framework/system.h"
+#include "systems/controllers/controller_setup.h"
 #include "solvers/qp/dense_qp_solver.h"
 #include "systems/controllers/task_space_tasks.h"
 #include "systems/multibody/contact_dynamics.h"
@@ -100,7 +101,7 @@ struct TaskSpaceQpParams {
 /// The active contact set of each of the plant's modes (mode index order).
 std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant);
 
-class TaskSpaceQpController final : public LeafSystem {
+class TaskSpaceQpController final : public QpControllerSystem {
  public:
   /// `mode_contacts[m]`: the contacts active in the plant's mode m (see ActiveContactsPerMode). Tasks are
   /// stacked in the given order in the desired port.
@@ -143,7 +144,6 @@ class TaskSpaceQpController final : public LeafSystem {
  private:
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
-  EventStatus DoUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
 
   std::shared_ptr<const MultibodyModel> model_;
