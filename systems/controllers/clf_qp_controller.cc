@@ -105,7 +105,12 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
     try {
       CountConstraintRows(*model_, mode_contacts_[m]);
       for (int c = 0; c < nc; ++c)
-        if (mode_contacts_[m] & ContactBit(c)) ContactWrenchConstraints(*model_, c, params_.contact, this->name());
+        if (mode_contacts_[m] & ContactBit(c)) {
+          const ContactWrenchConstraints cw(*model_, c, params_.contact, this->name());
+          if (params_.force_band && !cw.has_normal_entry())
+            throw std::invalid_argument("params.force_band needs a single F_z entry per contact, which the 3D line contact '" + model_->contacts()[c].name +
+                                        "' does not have");
+        }
     } catch (const std::invalid_argument& e) {
       ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what());
     }

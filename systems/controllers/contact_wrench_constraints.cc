@@ -49,9 +49,16 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,         RowKind::kFriction,        RowKind::kFriction,
               RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
     if (yaw_ >= 0.0) kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
+  } else if (info.type == ContactType::kLine && info.points.size() == 2) {
+    line3d_ = cop_ = true;
+    normal_ = 2;  // f_0z; the total F_z is f_0z + f_1z
+    if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
+    kinds_ = {RowKind::kNormal,   RowKind::kFriction, RowKind::kFriction, RowKind::kFriction, RowKind::kFriction, RowKind::kCenterOfPressure,
+              RowKind::kCenterOfPressure};
   } else {
     throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' of robot '" + model.name() + "' is a " + ToString(info.type) +
-                                " contact on a 3D model; contact-wrench rows exist for point and flat contacts in 3D and every contact in planar models");
+                                " contact with " + std::to_string(info.points.size()) +
+                                " points on a 3D model; contact-wrench rows exist for point, two-point line and flat contacts in 3D");
   }
 }
 
@@ -59,6 +66,25 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
                                     Eigen::Ref<Eigen::VectorXd> l, Eigen::Ref<Eigen::VectorXd> u) const {
   G.setZero();
   int r = 0;
+  if (line3d_) {
+    // Rows over F = [f_0; a; b] with f_1 = a n1 + b n2 (n1, n2 as in contact_dynamics.h: n2 = z × d normalised,
+    // n1 = d × n2, d the unit toe-heel direction in the world); the total force is f = f_0 + f_1.
+    const Eigen::Vector3d d = (CalcContactPointPosition(model, ws, q, contact_, 1) - CalcContactPointPosition(model, ws, q, contact_, 0)).normalized();
+    Eigen::Vector3d n2 = Eigen::Vector3d::UnitZ().cross(d);
+    if (n2.norm() < 1e-6) n2 = Eigen::Vector3d::UnitX().cross(d);
+    n2.normalize();
+    const Eigen::Vector3d n1 = d.cross(n2);
+    Eigen::Matrix<double, 3, 5> total;  // f = total · F
+    total << Eigen::Matrix3d::Identity(), n1, n2;
+    G.row(r) = total.row(2), l[r] = min_normal_, u[r] = kInf, ++r;  // f_z ≥ F_min
+    for (int k = 0; k < 4; ++k) {  // ±f_x − μ (f_z − F_0) ≤ 0, ±f_y − μ (f_z − F_0) ≤ 0
+      G.row(r) = ((k % 2 == 0) ? 1.0 : -1.0) * total.row(k < 2 ? 0 : 1) - mu_ * total.row(2);
+      l[r] = -kInf, u[r] = -mu_ * offset_, ++r;
+    }
+    G(r, 2) = 1.0, l[r] = 0.0, u[r] = kInf, ++r;                               // f_0z ≥ 0 (heel/toe point 0)
+    G(r, 3) = n1.z(), G(r, 4) = n2.z(), l[r] = 0.0, u[r] = kInf, ++r;         // f_1z ≥ 0 (point 1)
+    return;
+  }
   // Unilateral: F_z ≥ F_min.
   G(r, normal_) = 1.0, l[r] = min_normal_, u[r] = kInf, ++r;
   if (planar_) {

@@ -10,11 +10,18 @@
 //                                           sole rectangle (in the foot frame, from the contact points):
 //                                           x_min f_z ≤ −τ'_y ≤ x_max f_z, y_min f_z ≤ τ'_x ≤ y_max f_z with
 //                                           τ' = R_footᵀ τ; optionally |τ'_z| ≤ yaw_coefficient · f_z   (9 or 11 rows)
+//   3D line        F = [f_0 (3); f_1 along n1; f_1 along n2] (contact_dynamics.h: point 0's force, point 1's force
+//                  in the plane normal to the line; f = f_0 + f_1)
+//                                           f_z ≥ F_min; |f_x|, |f_y| ≤ μ' f_z on the total force; centre of
+//                                           pressure between toe and heel: each point's own normal force
+//                                           f_0z ≥ 0, f_1z ≥ 0 (both points on the ground plane)         (7 rows)
+//                                           No yaw-moment rows (the hopping spec bounds none for a line foot; the
+//                                           plant checks none).
 // μ' = friction_margin · μ (μ: the contact's model value, or friction_coefficient if ≥ 0); for 3D contacts the
 // pyramid is inscribed in the cone (μ' /= √2) when inscribe_pyramid is set, as the hopping spec recommends.
 // The rows are numbered so that callers can drop a class of rows (the CoP rows) in a fallback: RowKind says which.
 // Sole geometry rows depend on the foot pose: Fill() recomputes them at each q (no allocation).
-// 3D line contacts (Cassie's feet) are not supported yet: the constructor names the contact.
+// normal_index() is the single entry of F that is F_z; a 3D line contact has none (has_normal_entry() is false).
 
 #include <string>
 #include <vector>
@@ -46,7 +53,9 @@ class ContactWrenchConstraints {
   int num_force_rows() const { return num_force_rows_; }  ///< size of this contact's F
   int num_rows() const { return static_cast<int>(kinds_.size()); }
   RowKind kind(int row) const { return kinds_[row]; }
-  int normal_index() const { return normal_; }  ///< index of F_z in this contact's F
+  int normal_index() const { return normal_; }  ///< index of F_z in this contact's F (if has_normal_entry())
+  /// false for a 3D line contact, whose F_z is the sum f_0z + f_1z of two entries (see the header).
+  bool has_normal_entry() const { return !line3d_; }
   /// G (num_rows × num_force_rows), l, u at configuration q (ws is used for the foot pose). Rows are written in place.
   void Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> G, Eigen::Ref<Eigen::VectorXd> l,
             Eigen::Ref<Eigen::VectorXd> u) const;
@@ -55,7 +64,7 @@ class ContactWrenchConstraints {
   int contact_ = -1;
   int num_force_rows_ = 0;
   int normal_ = 0;
-  bool planar_ = false, flat3d_ = false, cop_ = false;
+  bool planar_ = false, flat3d_ = false, line3d_ = false, cop_ = false;
   double mu_ = 1.0;
   double min_normal_ = 0.0;
   double offset_ = 0.0;

@@ -135,4 +135,26 @@ void JointPositionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const
   Jdot_qdot[0] = 0.0;
 }
 
+JointFunctionTask::JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function, TaskGains gains,
+                                     std::vector<int> active_modes, double second_derivative_step)
+    : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)), index_(model.VelocityIndex(joint)), function_(std::move(function)),
+      step_(second_derivative_step) {
+  if (!function_) throw std::invalid_argument("task '" + this->name() + "': no function given");
+  if (!(step_ > 0.0) || !std::isfinite(step_))
+    throw std::invalid_argument("task '" + this->name() + "': second_derivative_step = " + std::to_string(step_) + " must be positive");
+}
+
+void JointFunctionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+                               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  const double qi = q[index_];
+  double value = 0.0, slope = 0.0, unused = 0.0, slope_plus = 0.0, slope_minus = 0.0;
+  function_(qi, &value, &slope);
+  function_(qi + step_, &unused, &slope_plus);
+  function_(qi - step_, &unused, &slope_minus);
+  y[0] = value;
+  J.setZero();
+  J(0, index_) = slope;
+  Jdot_qdot[0] = (slope_plus - slope_minus) / (2.0 * step_) * v[index_] * v[index_];
+}
+
 }  // namespace rome

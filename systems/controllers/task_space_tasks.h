@@ -14,8 +14,11 @@
 //   PointPositionTask   position of a point fixed on a body along the chosen axes [m] (e.g. the swing foot);
 //                       ForContact() places it at a contact's frame origin
 //   JointPositionTask   one generalized coordinate q_i [rad or m]
+//   JointFunctionTask   a scalar function f(q_i) of one coordinate, e.g. Cassie's virtual leg length L(q_knee)
+//                       (hopping paper Eq. (13)) [the function's unit]
 // Tasks are immutable after construction (names are resolved against the model then) and may be shared
 // between controllers; all scratch lives in the MultibodyWorkspace handed to Calc (no heap allocation).
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -118,6 +121,25 @@ class JointPositionTask final : public TaskSpaceTask {
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int index_;
+};
+
+/// y = f(q_i), a scalar function of the generalized coordinate of `joint` (hopping paper Eq. (13): the virtual leg
+/// length L(q_knee) of Cassie, whose rod closure at zero spring deflection makes it a function of the knee alone).
+/// J = f'(q_i) e_iᵀ; J̇ q̇ = f''(q_i) q̇_i², with f'' a central difference of f' (step second_derivative_step).
+/// The function must be smooth (C¹, piecewise C²) near the operating range and must not allocate.
+class JointFunctionTask final : public TaskSpaceTask {
+ public:
+  /// Writes f(q) and f'(q).
+  using Function = std::function<void(double q, double* value, double* derivative)>;
+  JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function, TaskGains gains = {},
+                    std::vector<int> active_modes = {}, double second_derivative_step = 1e-5);
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int index_;
+  Function function_;
+  double step_;
 };
 
 }  // namespace rome

@@ -42,6 +42,16 @@ ContactModeGraph ContactModeGraph::Hopping(const std::string& left, const std::s
   return g;
 }
 
+ContactModeGraph ContactModeGraph::JumpFlightLanding(const std::string& left, const std::string& right) {
+  ContactModeGraph g;
+  g.modes = {{"jump", {left, right}}, {"flight", {}}, {"landing", {left, right}}};  // indices 0, 1, 2
+  g.transitions = {{"jump", "flight", Kind::kLiftoff, left},        {"jump", "flight", Kind::kLiftoff, right},
+                   {"flight", "landing", Kind::kTouchdown, left},   {"flight", "landing", Kind::kTouchdown, right},
+                   {"landing", "flight", Kind::kLiftoff, left},     {"landing", "flight", Kind::kLiftoff, right}};
+  g.initial_mode = "jump";
+  return g;
+}
+
 // ---------------------------------------------------------------------------------------------------------
 // Plant
 

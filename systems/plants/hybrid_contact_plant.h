@@ -88,6 +88,13 @@ struct ContactModeGraph {
   /// Hopping on both feet: stance (both feet) → flight when a foot's normal force reaches zero; flight →
   /// stance at touchdown of either foot (the impact puts both feet in contact).
   static ContactModeGraph Hopping(const std::string& left_contact, const std::string& right_contact);
+  /// The hopping paper's domain graph (Sec. IV-A, Fig. 5, Eq. (18)-(21)) with its three named domains:
+  /// 0 "jump" (both feet) → 1 "flight" when either foot's normal force reaches 0 (Eq. (19); identity reset, no
+  /// impact); "flight" → 2 "landing" (both feet) at touchdown of any sole point of either foot (Eq. (21)), with a
+  /// plastic impact on both feet at once. Landing is the paper's terminal domain; it also lifts off into "flight"
+  /// (a foot's force reaching 0 there is the next hop's take-off: with several hops the landing of one hop is the
+  /// crouch of the next, and the controller, not the plant, tells crouch from landing).
+  static ContactModeGraph JumpFlightLanding(const std::string& left_contact, const std::string& right_contact);
 };
 
 struct HybridContactPlantParams {

@@ -1,0 +1,72 @@
+#include "diagrams/hopping/hopping_diagram.h"
+
+namespace rome {
+
+HybridContactPlantParams HoppingDiagramParams::DefaultPlantParams() {
+  HybridContactPlantParams p;
+  p.min_base_height_m = 0.5;  // [m] pelvis below this is a fall (standing pelvis ~1.0 m, crouched ~0.85 m)
+  p.min_time_in_mode_s = 0.02;  // spec [R] A3: minimum 20 ms between events
+  return p;
+}
+
+ClfQpParams HoppingDiagramParams::DefaultControllerParams() {
+  ClfQpParams p;
+  p.formulation = ClfQpFormulation::kAugmentedInput;
+  p.update_period_s = 5e-4;
+  p.epsilon = 0.1;
+  return p;
+}
+
+HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
+                                   HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
+                                   const HoppingDiagramParams& params) {
+  HoppingDiagram d;
+  DiagramBuilder b;
+  d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat(),
+                                                             params.plant));
+  d.reference = b.AddSystem(
+      std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner), std::move(landing_planner), params.reference));
+  ClfQpParams controller = params.controller;
+  controller.contact_stabilization = params.plant.dynamics;
+  d.controller = b.AddSystem(std::make_unique<ClfQpController>("controller", model, ActiveContactsPerMode(*d.plant),
+                                                               MakeHoppingOutputs(*model, leg_length, params.outputs), controller));
+  b.Connect("plant", "state", "reference", "state");
+  b.Connect("plant", "mode", "reference", "mode");
+  b.Connect("reference", "desired", "controller", "desired");
+  b.Connect("reference", "domain", "controller", "mode");
+  b.Connect("plant", "state", "controller", "state");
+  b.Connect("controller", "u", "plant", "u");
+  d.logger = AddVectorLogger(b, "logger",
+                             {{"plant", "state"},
+                              {"plant", "mode"},
+                              {"plant", "com"},
+                              {"plant", "contact_forces"},
+                              {"reference", "domain"},
+                              {"reference", "desired"},
+                              {"controller", "u"},
+                              {"controller", "V"},
+                              {"controller", "qp_status"},
+                              {"controller", "solve_time_s"}},
+                             params.log_period_s);
+  d.diagram = b.Build("hopping");
+  return d;
+}
+
+void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q) {
+  LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, context);
+  d.plant->SetState(pc, q, Eigen::VectorXd::Zero(q.size()), "jump");
+  LeafContext& rc = d.diagram->GetMutableSubsystemContext(*d.reference, context);
+  d.reference->Initialize(rc, q);
+}
+
+SimulatorConfig HoppingSimulatorConfig() {
+  // CVODE BDF (the springs on light links make the flow stiff, spec [R] A5), moderate tolerances: the controller
+  // re-solves every 0.5 ms, so each integration interval is at most one sample long.
+  SimulatorConfig c;
+  c.scheme = IntegrationScheme::kBdf;
+  c.relative_tolerance = 1e-6;
+  c.absolute_tolerance = 1e-8;
+  return c;
+}
+
+}  // namespace rome

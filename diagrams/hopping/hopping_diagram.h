@@ -1,0 +1,61 @@
+#pragma once
+// The hopping diagram (hopping paper, Fig. 5 and Sec. IV): Cassie hops on the spring-mass ROM's plans.
+//
+//   plant (HybridContactPlant: 3D Cassie, springs live, achilles rods as loop closures, Jump → Flight → Landing,
+//          Eq. (18)-(21))
+//     → reference (HoppingReference: the domain and the desired outputs, Eq. (41)-(44), from the ROM's jump plan
+//                  (Eq. (14)-(15), solved from the measured standing state) and landing plan (Eq. (16), solved from
+//                  the post-impact state))
+//     → controller (ClfQpController: augmented input [u; F_h], Eq. (45)-(51), RES-CLF Eq. (29)-(37), line-foot wrench
+//                   rows and torque limits, 2 kHz and re-solved at every event; outputs per domain from
+//                   MakeHoppingOutputs)
+//     → plant
+//   plus a logger.
+// The ROM pieces enter as functions: the virtual leg length L(q_knee) (Eq. (13)) and the two planners, so the
+// builder does not depend on how the plans are computed.
+// Event order at a lift-off or touchdown: the plant's reset, then the reference's event update (new domain, motor
+// snapshot or landing plan), then the controller's re-solve for the new domain.
+#include <memory>
+#include <string>
+
+#include "diagrams/hopping/hopping_outputs.h"
+#include "framework/diagram.h"
+#include "framework/simulator.h"
+#include "framework/vector_logger.h"
+#include "systems/controllers/clf_qp_controller.h"
+#include "systems/controllers/task_space_qp_controller.h"
+#include "systems/planners/hopping_reference.h"
+#include "systems/plants/hybrid_contact_plant.h"
+
+namespace rome {
+
+struct HoppingDiagramParams {
+  HybridContactPlantParams plant = DefaultPlantParams();
+  ClfQpParams controller = DefaultControllerParams();  ///< contact_stabilization is overwritten with plant.dynamics
+  HoppingOutputParams outputs;
+  HoppingReferenceParams reference;
+  double log_period_s = 1e-3;  ///< [s]
+  static HybridContactPlantParams DefaultPlantParams();
+  /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid.
+  static ClfQpParams DefaultControllerParams();
+};
+
+struct HoppingDiagram {
+  std::unique_ptr<Diagram> diagram;
+  HybridContactPlant* plant = nullptr;
+  HoppingReference* reference = nullptr;
+  ClfQpController* controller = nullptr;
+  VectorLogger* logger = nullptr;
+};
+
+HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
+                                   HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
+                                   const HoppingDiagramParams& params = {});
+
+/// Puts the robot at q (at rest, plant mode "jump": both feet down) and the reference into its settle phase.
+void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);
+
+/// Integrator settings measured for the hopping loop (see hopping_diagram.cc).
+SimulatorConfig HoppingSimulatorConfig();
+
+}  // namespace rome

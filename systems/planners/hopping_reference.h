@@ -1,0 +1,117 @@
+#pragma once
+// HoppingReference: the hybrid domain and the desired outputs of the hopping CLF-QP (hopping paper Sec. IV, Fig. 5,
+// Eq. (41)-(44)), from the spring-mass ROM's leg-length plans (Eq. (14)-(16)).
+//
+// inputs:  state (2 nv)        plant [q; v]
+//          mode (int, typed)   plant contact mode (ContactModeGraph::JumpFlightLanding order: jump, flight, landing)
+// outputs: desired (3·17)      [y_d; ẏ_d; ÿ_d] in HoppingOutputIndex layout (diagrams/hopping/hopping_outputs.h order):
+//            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start
+//            flight:  motors = their positions at lift-off, toes corrected so the soles stay level once the springs
+//                     unload (see below)
+//            landing: L_L = L_R = L_plan(t − t_touchdown); COM x: quintic from its post-impact value and rate to the
+//                     support centre over landing_blend_s; pitch: quintic from its post-impact value and rate to 0
+//                     (spec [R], C10); COM y = support centre; yaw as in jump
+//          domain (int, typed) 0 jump, 1 flight, 2 landing: the controller's mode. It follows the plant's mode at lift-off
+//                              and touchdown; the first "landing" domain (before any hop) is the settle phase, and a
+//                              landing domain turns into jump after settle_time_s (the first hop) or rest_time_s (the
+//                              next hops, if hops remain).
+//          plan_status (3)     [jump plans solved, landing plans solved, planner failures]
+// discrete state: see the k* offsets in the source; the leg-length plans (node times, L, L̇) live there.
+//
+// Event work: a periodic update (update_period_s) switches landing → jump when its time is up (solving the jump plan
+// from the measured state, JumpPlanner); an event update at the plant's guards records the lift-off snapshot (motor
+// targets) and, at touchdown, the post-impact state and the landing plan (LandingPlanner, warm start is the planner's
+// business). A planner that fails is counted on plan_status and its plan replaced by the documented fallback: jump:
+// the run cannot hop, the domain stays landing and the block reports failure through EventStatus::Failed; landing: a
+// quintic from the post-impact leg length to the standing leg length over landing_fallback_s.
+//
+// Flight toe targets: holding the motors keeps the soles level while the pelvis pitch holds, except that the shin and
+// heel springs unload in flight, which turns the tarsus back onto the rigid rule q_knee + q_tarsus = c (c from the
+// model's nominal pose, springs undeflected; 13.0° for Cassie). The toe target compensates that rotation, found by
+// evaluating the sole's pitch at the predicted unloaded configuration (one finite difference of the toe angle).
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "framework/system.h"
+#include "systems/multibody/multibody_model.h"
+
+namespace rome {
+
+/// A leg-length plan: nodes (t_k from the start of the domain, L_k, L̇_k), evaluated as a cubic Hermite (spec [R]).
+struct LegLengthPlan {
+  Eigen::VectorXd t, L, Ldot;  ///< [s], [m], [m/s]
+  double duration() const { return t.size() > 0 ? t[t.size() - 1] : 0.0; }
+};
+
+/// The ROM state the planners start from (hopping spec A2): x = mean real leg length L_r (hip-pitch joint to toe
+/// joint) [m], ẋ = COM vertical velocity [m/s], L = mean virtual leg length L(q_knee) [m], L̇ = mean dL/dq_knee q̇_knee.
+struct RomState {
+  double x = 0, xdot = 0, L = 0, Ldot = 0;
+};
+
+struct HoppingReferenceParams {
+  double update_period_s = 5e-4;       ///< [s] periodic check for the timed landing → jump switch (hopping: 2 kHz)
+  double settle_time_s = 1.5;          ///< [s] settle in landing before the first jump (spec [R] A5: 1.5 s)
+  double rest_time_s = 1.5;            ///< [s] between a touchdown and the next jump when hops remain (ours)
+  int hops = 1;                        ///< number of hops (≥ 1)
+  double landing_blend_s = 0.3;        ///< [s] COM x and pitch quintics after touchdown (spec [R] C10: 0.3 s)
+  double landing_fallback_s = 0.5;     ///< [s] fallback landing quintic (ours)
+  int max_plan_nodes = 201;            ///< nodes a plan may have
+  std::string left_knee = "left_knee", right_knee = "right_knee";
+  std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";
+  std::string left_tarsus = "left_tarsus", right_tarsus = "right_tarsus";
+  std::string left_toe = "left_toe", right_toe = "right_toe";
+  std::string left_hip_pitch_link = "left_hip_pitch", right_hip_pitch_link = "right_hip_pitch";
+  std::string left_toe_link = "left_foot", right_toe_link = "right_foot";  ///< link whose frame origin is the toe joint
+  std::string left_contact = "left_foot", right_contact = "right_foot";  ///< the feet's line contacts
+};
+
+class HoppingReference final : public LeafSystem {
+ public:
+  using LegLengthFunction = std::function<void(double q_knee, double* L, double* dL_dq)>;
+  /// Jump plan from the measured standing ROM state (Eq. (14)-(15)); returns false (and a message) on failure.
+  using JumpPlanner = std::function<bool(const RomState& start, LegLengthPlan* plan, std::string* message)>;
+  /// Landing plan from the post-impact ROM state (Eq. (16)); returns false on failure.
+  using LandingPlanner = std::function<bool(const RomState& post_impact, LegLengthPlan* plan, std::string* message)>;
+
+  HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
+                   LandingPlanner landing_planner, HoppingReferenceParams params = {});
+
+  const HoppingReferenceParams& params() const { return params_; }
+  /// The ROM state of the robot at (q, v) (see RomState).
+  RomState MeasureRomState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const;
+  /// Sets the state to "settle in landing" at the context's time with the standing leg length of q held.
+  void Initialize(LeafContext& context, const Eigen::VectorXd& q) const;
+  /// Node plans currently held (for logs and tests).
+  LegLengthPlan jump_plan(const LeafContext& context) const;
+  LegLengthPlan landing_plan(const LeafContext& context) const;
+  /// Time the current domain began [s].
+  double domain_start_time(const LeafContext& context) const;
+  /// L, L̇, L̈ of a plan at time s from its start (held at the last node after the end).
+  static Eigen::Vector3d Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t, const Eigen::Ref<const Eigen::VectorXd>& L,
+                                  const Eigen::Ref<const Eigen::VectorXd>& Ldot, int n, double s);
+
+ private:
+  EventStatus PeriodicUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
+  EventStatus GuardUpdate(const LeafContext& context, const EventRecord& event, State* next) const;
+  void CalcDesired(const LeafContext& context, Eigen::VectorXd* y) const;
+  void WritePlan(int offset, const LegLengthPlan& plan, Eigen::VectorXd* xd) const;
+  void SnapshotSupport(const Eigen::VectorXd& q, Eigen::VectorXd* xd) const;
+  double SolePitch(const Eigen::VectorXd& q, int contact) const;
+
+  std::shared_ptr<const MultibodyModel> model_;
+  LegLengthFunction leg_length_;
+  JumpPlanner jump_planner_;
+  LandingPlanner landing_planner_;
+  HoppingReferenceParams params_;
+  int knee_[2], shin_[2], tarsus_[2], toe_[2], hip_link_[2], toe_link_[2], contact_[2];
+  double rigid_knee_plus_tarsus_ = 0;
+  int jump_plan_offset_ = 0, landing_plan_offset_ = 0, size_ = 0;
+  int state_port_ = -1, mode_port_ = -1;
+};
+
+}  // namespace rome
