@@ -1,7 +1,7 @@
 // The hopping CLF-QP (ClfQpController with the augmented input [u; F], hopping Eq. (45)-(51), and the per-domain
 // outputs of MakeHoppingOutputs, Eq. (41)-(44)) on 3D Cassie with live springs and achilles rods, in double support
 // on line feet:
-//   * under the Landing output set Cassie crouches from its nominal leg length by 8 cm and holds it: the virtual leg
+//   * under the Landing output set (and under the Jump set, H_pitch = 0 instead of the pitch) Cassie crouches from its nominal leg length by 8 cm and holds it: the virtual leg
 //     lengths reach the command, the COM stays above the support centre, and at rest the plant's total normal force
 //     equals m g (Newton, with the robot at rest); the plant's own contact forces are unilateral, inside the friction
 //     cone and with the CoP between toe and heel at every integrator step (the plant's contact_violation output);
@@ -57,7 +57,10 @@ Eigen::Vector3d Quintic(double t, double t0, double t1, double a, double b) {
   return {a + (b - a) * p, inside ? (b - a) * dp : 0.0, inside ? (b - a) * ddp : 0.0};
 }
 
-TEST(HoppingController, LandingOutputsCrouchAndHoldWithPhysicalContactForces) {
+// Jump outputs (H_pitch instead of the pelvis pitch) or Landing outputs.
+class HoppingCrouch : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HoppingCrouch, CrouchAndHoldWithPhysicalContactForces) {
   auto model = LoadCassie();
   const int nv = model->nv();
   const ContactModeGraph graph = ContactModeGraph::JumpFlightLanding("left_foot", "right_foot");
@@ -90,7 +93,7 @@ TEST(HoppingController, LandingOutputsCrouchAndHoldWithPhysicalContactForces) {
   config.absolute_tolerance = 1e-8;
   Simulator sim(*diagram, config);
   LeafContext& pc = diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context());
-  plant->SetState(pc, q0, Eigen::VectorXd::Zero(nv), "landing");
+  plant->SetState(pc, q0, Eigen::VectorXd::Zero(nv), GetParam());
   MultibodyWorkspace ws(*model);
   long steps = 0, violations = 0;
   double max_qp_plant_force_gap = 0.0, min_fz = 1e9;
@@ -133,6 +136,8 @@ TEST(HoppingController, LandingOutputsCrouchAndHoldWithPhysicalContactForces) {
   EXPECT_LT(q[2], q0[2] - 0.05);  // the pelvis went down with the legs
   EXPECT_LT(max_qp_plant_force_gap, 0.05 * weight);
 }
+
+INSTANTIATE_TEST_SUITE_P(Domains, HoppingCrouch, ::testing::Values("landing", "jump"));
 
 TEST(HoppingController, UpdateAllocatesNothingInAnyDomain) {
   auto model = LoadCassie();
