@@ -32,12 +32,16 @@ namespace rome {
 struct HoppingDiagramParams {
   HybridContactPlantParams plant = DefaultPlantParams();
   ClfQpParams controller = DefaultControllerParams();  ///< contact_stabilization is overwritten with plant.dynamics
-  HoppingOutputParams outputs;
+  HoppingOutputParams outputs = DefaultOutputParams();
   HoppingReferenceParams reference;
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid.
   static ClfQpParams DefaultControllerParams();
+  /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)): with H_pitch as the relative-degree-1
+  /// output, the Jump outputs let an antisymmetric fore-aft force between the feet grow until a foot slipped within
+  /// 10-50 ms of entering Jump, even standing still (tests/diagrams/hopping, HOP_MOMENTUM=1 reproduces it).
+  static HoppingOutputParams DefaultOutputParams();
 };
 
 struct HoppingDiagram {

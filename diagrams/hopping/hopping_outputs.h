@@ -2,7 +2,7 @@
 // The hopping paper's CLF-QP outputs for Cassie, per domain (Sec. IV-D, Eq. (41)-(44)), as data for ClfQpController.
 // Domains are the controller's modes, in ContactModeGraph::JumpFlightLanding order: 0 jump, 1 flight, 2 landing.
 //
-// Outputs, in this order (the layout of the controller's 'desired' input; HoppingOutputIndex names each offset):
+// Outputs, in this order (the layout of the controller's 'desired' input; MakeHoppingOutputLayout gives the offsets):
 //   centroidal_pitch_momentum  RD1  jump             H_pitch = A_pitch(q) q̇ [N m s] (Eq. (38)-(42), y1^J)
 //   leg_length_left            RD2  jump, landing    L_L = L(q_knee_left) [m] (Eq. (13), virtual leg length)
 //   leg_length_right           RD2  jump, landing    L_R [m]
@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "systems/controllers/clf_qp_controller.h"
+#include "systems/planners/hopping_reference.h"
 
 namespace rome {
 
@@ -31,15 +32,15 @@ struct HoppingOutputParams {
   double com_weight = 1.0;          ///< [-]
   double pelvis_weight = 1.0;       ///< [-] yaw and pitch
   double motor_weight = 1.0;        ///< [-] flight motor positions
+  /// true: Jump tracks H_pitch (Eq. (41)); false: Jump tracks the pelvis pitch as Landing does and the momentum output
+  /// is left out (ours, a deviation: see the README for what we measured with H_pitch).
+  bool jump_tracks_momentum = true;
 };
 
-/// Offsets of each output in the stacked output vector y (size kSize).
-struct HoppingOutputIndex {
-  static constexpr int kMomentum = 0, kLegLeft = 1, kLegRight = 2, kComX = 3, kComY = 4, kYaw = 5, kPitch = 6, kMotors = 7, kSize = 17;
-};
-
-/// The outputs above for `model` (Cassie: joints left_/right_ knee etc.; the 10 actuated joints in actuator order).
+/// The outputs above for `model` (Cassie: joints left_/right_ knee etc.; the 10 actuated joints in actuator order),
+/// and their offsets in the stacked output vector y (HoppingOutputLayout; momentum = -1 when Jump tracks the pitch).
 /// `leg_length(q_knee, &L, &dL/dq_knee)` is Eq. (13).
 std::vector<ClfOutput> MakeHoppingOutputs(const MultibodyModel& model, const JointFunctionTask::Function& leg_length, const HoppingOutputParams& params = {});
+HoppingOutputLayout MakeHoppingOutputLayout(const HoppingOutputParams& params = {});
 
 }  // namespace rome

@@ -11,8 +11,6 @@
 namespace rome {
 
 namespace {
-// Layout of the desired vector (diagrams/hopping/hopping_outputs.h, HoppingOutputIndex).
-constexpr int kMomentum = 0, kLegLeft = 1, kLegRight = 2, kComX = 3, kComY = 4, kYaw = 5, kPitch = 6, kMotors = 7, kNy = 17;
 constexpr int kJump = 0, kFlight = 1, kLanding = 2;
 // Discrete state.
 constexpr int kDomain = 0, kDomainStart = 1, kCentreX = 2, kCentreY = 3, kYaw0 = 4, kMotorTargets = 5;  // 10 motor targets
@@ -32,12 +30,13 @@ Eigen::Vector3d Blend(double s, double T, double p0, double v0, double p1) {
 }  // namespace
 
 HoppingReference::HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
-                                   LandingPlanner landing_planner, HoppingReferenceParams params)
+                                   LandingPlanner landing_planner, HoppingOutputLayout layout, HoppingReferenceParams params)
     : LeafSystem(std::move(name)),
       model_(std::move(model)),
       leg_length_(std::move(leg_length)),
       jump_planner_(std::move(jump_planner)),
       landing_planner_(std::move(landing_planner)),
+      layout_(layout),
       params_(std::move(params)) {
   if (!model_) ThrowError("null MultibodyModel");
   if (!leg_length_) ThrowError("no leg-length function given");
@@ -80,7 +79,7 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   const int nv = model_->nv();
   state_port_ = DeclareInputPort("state", 2 * nv);
   mode_port_ = DeclareTypedInputPort<int>("mode");
-  DeclareOutputPort("desired", 3 * kNy, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); }, Feedthrough::None());
+  DeclareOutputPort("desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); }, Feedthrough::None());
   DeclareTypedOutputPort<int>("domain", [](const LeafContext& c, int* y) { *y = static_cast<int>(c.discrete_state()[kDomain]); }, Feedthrough::None());
   DeclareOutputPort("plan_status", {"jump_plans", "landing_plans", "planner_failures"},
                     [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(kJumpPlans); }, Feedthrough::None());
@@ -181,7 +180,8 @@ double HoppingReference::domain_start_time(const LeafContext& context) const { r
 
 void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* y) const {
   const Eigen::VectorXd& xd = context.discrete_state();
-  const int N = params_.max_plan_nodes;
+  const int N = params_.max_plan_nodes, kNy = layout_.size;
+  const int kComX = layout_.com_x, kComY = layout_.com_y, kYaw = layout_.yaw, kPitch = layout_.pitch, kMotors = layout_.motors;
   y->setZero();
   auto set = [&](int index, const Eigen::Vector3d& value) {
     for (int k = 0; k < 3; ++k) (*y)[k * kNy + index] = value[k];
@@ -191,7 +191,7 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
   (*y)[kComX] = xd[kCentreX];
   (*y)[kComY] = xd[kCentreY];
   (*y)[kYaw] = xd[kYaw0];
-  (*y)[kMomentum] = 0.0;  // Eq. (42): H_pitch^d = 0
+  // Eq. (42): H_pitch^d = 0 (layout_.momentum, if present, stays 0).
   if (domain == kFlight) {
     y->segment(kMotors, 10) = xd.segment(kMotorTargets, 10);
     return;
@@ -206,8 +206,8 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
     set(kComX, Blend(s, params_.landing_blend_s, xd[kLandComX], xd[kLandComXdot], xd[kCentreX]));
     set(kPitch, Blend(s, params_.landing_blend_s, xd[kLandPitch], xd[kLandPitchRate], 0.0));
   }
-  set(kLegLeft, L);
-  set(kLegRight, L);
+  set(layout_.leg_left, L);
+  set(layout_.leg_right, L);
 }
 
 EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::VectorXd* next) const {

@@ -4,7 +4,7 @@
 //
 // inputs:  state (2 nv)        plant [q; v]
 //          mode (int, typed)   plant contact mode (ContactModeGraph::JumpFlightLanding order: jump, flight, landing)
-// outputs: desired (3·17)      [y_d; ẏ_d; ÿ_d] in HoppingOutputIndex layout (diagrams/hopping/hopping_outputs.h order):
+// outputs: desired (3·ny)      [y_d; ẏ_d; ÿ_d] in the HoppingOutputLayout given (diagrams/hopping/hopping_outputs.h):
 //            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start
 //            flight:  motors = their positions at lift-off, toes corrected so the soles stay level once the springs
 //                     unload (see below)
@@ -40,6 +40,12 @@
 #include "systems/multibody/multibody_model.h"
 
 namespace rome {
+
+/// Offsets of the hopping outputs in the CLF-QP's stacked output vector (diagrams/hopping/hopping_outputs.h);
+/// momentum = -1 when the Jump outputs do not include H_pitch. motors: 10 entries from there.
+struct HoppingOutputLayout {
+  int momentum = 0, leg_left = 1, leg_right = 2, com_x = 3, com_y = 4, yaw = 5, pitch = 6, motors = 7, size = 17;
+};
 
 /// A leg-length plan: nodes (t_k from the start of the domain, L_k, L̇_k), evaluated as a cubic Hermite (spec [R]).
 struct LegLengthPlan {
@@ -79,7 +85,7 @@ class HoppingReference final : public LeafSystem {
   using LandingPlanner = std::function<bool(const RomState& post_impact, LegLengthPlan* plan, std::string* message)>;
 
   HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
-                   LandingPlanner landing_planner, HoppingReferenceParams params = {});
+                   LandingPlanner landing_planner, HoppingOutputLayout layout, HoppingReferenceParams params = {});
 
   const HoppingReferenceParams& params() const { return params_; }
   /// The ROM state of the robot at (q, v) (see RomState).
@@ -107,6 +113,7 @@ class HoppingReference final : public LeafSystem {
   LegLengthFunction leg_length_;
   JumpPlanner jump_planner_;
   LandingPlanner landing_planner_;
+  HoppingOutputLayout layout_;
   HoppingReferenceParams params_;
   int knee_[2], shin_[2], tarsus_[2], toe_[2], hip_link_[2], toe_link_[2], contact_[2];
   double rigid_knee_plus_tarsus_ = 0;

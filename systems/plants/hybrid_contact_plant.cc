@@ -225,7 +225,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
             const Scratch& s = ctx.scratch<Scratch>();
             const bool valid = s.pending_mode == ctx.mode();
             if (valid && (s.pending_liftoff & ContactBit(c))) return PendingWitness(ctx);
-            const double fn = EvalContactForces(ctx)(2, c);
+            const double fn = EvalContactForces(ctx)(2, c) - params_.liftoff_normal_force_N;
             return valid && (s.grace_liftoff & ContactBit(c)) ? fn + params_.event_tolerance_N : fn;
           },
           CrossingDirection::kFalling,
@@ -289,7 +289,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     const double tol = params_.event_tolerance_N;
     for (int c = 0; c < nc; ++c) {
       if (!(s.active & ContactBit(c))) continue;
-      const double fn = f(2, c), margin = FrictionMargin(f, c);
+      const double fn = f(2, c) - params_.liftoff_normal_force_N, margin = FrictionMargin(f, c);
       if (fn < -tol)
         s.pending_liftoff |= ContactBit(c);
       else if (margin < -tol)

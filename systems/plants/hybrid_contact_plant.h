@@ -24,7 +24,7 @@
 //     Reset: plastic impact q̇⁺ = (I − M⁻¹Jᵀ(JM⁻¹Jᵀ)⁻¹J) q̇⁻ with the TARGET mode's contact set; on a
 //     stepping-stone terrain a touchdown that is not on a stone ends the run: Failed("robot fell: ...").
 //   liftoff_<contact>  (every mode, every contact c ∈ C(m)): the normal force on c (world z of the ground force,
-//     ExtractContactWrench) crosses 0 falling. Contact is unilateral in every graph. Reset: mode change only, to the
+//     ExtractContactWrench) crosses liftoff_normal_force_N (default 0) falling. Contact is unilateral in every graph. Reset: mode change only, to the
 //     graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
 //     C(m) \ {c}, else the run ends: Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no
 //     mode to lift off into").
@@ -114,6 +114,10 @@ struct HybridContactPlantParams {
   /// guards above). false: contacts stay welded except at the graph's own lift-off transitions, whatever their
   /// forces (the plant before unilateral contact; kept to measure what an idealised plant hides).
   bool unilateral_contact = true;
+  /// [N] A stance contact lifts off when its normal force falls to this value (0: the exact unilateral crossing). A
+  /// controller that plans F_n ≥ 0 may hold a foot at F_n ≈ 0 while its tangential force drifts over a held sample, so
+  /// that the cone's apex would report a slip before the lift-off; the hopping spec ([R] A3) fires at 1 % of m g.
+  double liftoff_normal_force_N = 0.0;
 };
 
 class HybridContactPlant final : public LeafSystem {
