@@ -177,9 +177,9 @@ class CollocationNlp final : public NlpProblem {
   }
 
   void EvaluateConstraints(const Eigen::VectorXd& z, Eigen::VectorXd& g, JacobianWriter& writer) {
-    // Defects, Eq. x_{k+1} − x_k − (h/2)(f_k + f_{k+1}) = 0.
-    Eigen::VectorXd f_k, f_next, value;
-    Eigen::MatrixXd J_k, J_next, J;
+    // Defects, x_{k+1} − x_k − (h/2)(f_k + f_{k+1}) = 0 (trapezoid) or the Hermite–Simpson form.
+    Eigen::VectorXd f_k, f_next, f_c, value;
+    Eigen::MatrixXd J_k, J_next, J_c, J;
     int row = 0;
     for (size_t p = 0; p < phases_.size(); ++p) {
       const CollocationPhase& phase = phases_[p];
@@ -193,13 +193,45 @@ class CollocationNlp final : public NlpProblem {
       for (int k = 0; k + 1 < L.N; ++k) {
         EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(k + 1), L.nx),
                          z.segment(L.u(k + 1), L.nu), what, &f_next, &J_next);
-        g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) -
-                               0.5 * h * (f_k + f_next);
-        writer.Block(row, L.x(k), -I - 0.5 * h * J_k.leftCols(L.nx));
-        if (L.nu > 0) writer.Block(row, L.u(k), -0.5 * h * J_k.rightCols(L.nu));
-        writer.Block(row, L.x(k + 1), I - 0.5 * h * J_next.leftCols(L.nx));
-        if (L.nu > 0) writer.Block(row, L.u(k + 1), -0.5 * h * J_next.rightCols(L.nu));
-        if (L.T_index >= 0) writer.Block(row, L.T_index, -(f_k + f_next) / (2.0 * (L.N - 1)));
+        if (phase.method == CollocationMethod::kHermiteSimpson) {
+          // x_c = (x_k + x_{k+1})/2 + (h/8)(f_k − f_{k+1}), u_c = (u_k + u_{k+1})/2,
+          // defect x_{k+1} − x_k − (h/6)(f_k + 4 f(x_c, u_c) + f_{k+1}).
+          const Eigen::VectorXd x_c = 0.5 * (z.segment(L.x(k), L.nx) + z.segment(L.x(k + 1), L.nx)) +
+                                      (h / 8.0) * (f_k - f_next);
+          const Eigen::VectorXd u_c = 0.5 * (z.segment(L.u(k), L.nu) + z.segment(L.u(k + 1), L.nu));
+          EvalWithJacobian(phase.dynamics, L.nx, x_c, u_c, what, &f_c, &J_c);
+          const Eigen::MatrixXd Jcx = J_c.leftCols(L.nx);
+          g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) -
+                                 (h / 6.0) * (f_k + 4.0 * f_c + f_next);
+          writer.Block(row, L.x(k),
+                       -I - (h / 6.0) * (J_k.leftCols(L.nx) + 4.0 * Jcx * (0.5 * I + (h / 8.0) * J_k.leftCols(L.nx))));
+          if (L.nu > 0) {
+            writer.Block(row, L.u(k),
+                         -(h / 6.0) * (J_k.rightCols(L.nu) +
+                                       4.0 * (Jcx * ((h / 8.0) * J_k.rightCols(L.nu)) + 0.5 * J_c.rightCols(L.nu))));
+          }
+          writer.Block(row, L.x(k + 1),
+                       I - (h / 6.0) * (J_next.leftCols(L.nx) +
+                                        4.0 * Jcx * (0.5 * I - (h / 8.0) * J_next.leftCols(L.nx))));
+          if (L.nu > 0) {
+            writer.Block(row, L.u(k + 1),
+                         -(h / 6.0) * (J_next.rightCols(L.nu) +
+                                       4.0 * (Jcx * (-(h / 8.0) * J_next.rightCols(L.nu)) + 0.5 * J_c.rightCols(L.nu))));
+          }
+          if (L.T_index >= 0) {
+            const double dh = 1.0 / (L.N - 1);  // ∂h/∂T
+            writer.Block(row, L.T_index,
+                         -(dh / 6.0) * (f_k + 4.0 * f_c + f_next) - (h / 6.0) * 4.0 * Jcx * ((dh / 8.0) * (f_k - f_next)));
+          }
+        } else {
+          g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) -
+                                 0.5 * h * (f_k + f_next);
+          writer.Block(row, L.x(k), -I - 0.5 * h * J_k.leftCols(L.nx));
+          if (L.nu > 0) writer.Block(row, L.u(k), -0.5 * h * J_k.rightCols(L.nu));
+          writer.Block(row, L.x(k + 1), I - 0.5 * h * J_next.leftCols(L.nx));
+          if (L.nu > 0) writer.Block(row, L.u(k + 1), -0.5 * h * J_next.rightCols(L.nu));
+          if (L.T_index >= 0) writer.Block(row, L.T_index, -(f_k + f_next) / (2.0 * (L.N - 1)));
+        }
         row += L.nx;
         f_k.swap(f_next);
         J_k.swap(J_next);
@@ -573,9 +605,15 @@ CollocationResult DirectCollocation::Unpack(const Eigen::VectorXd& z) const {
       s.state_derivatives.col(k) = value;
     }
     for (int k = 0; k + 1 < L.N; ++k) {
-      const Eigen::VectorXd defect = s.states.col(k + 1) - s.states.col(k) -
-                                     0.5 * h * (s.state_derivatives.col(k) +
-                                                s.state_derivatives.col(k + 1));
+      Eigen::VectorXd slope = 0.5 * (s.state_derivatives.col(k) + s.state_derivatives.col(k + 1));
+      if (ph.method == CollocationMethod::kHermiteSimpson) {
+        const Eigen::VectorXd x_c = 0.5 * (s.states.col(k) + s.states.col(k + 1)) +
+                                    (h / 8.0) * (s.state_derivatives.col(k) - s.state_derivatives.col(k + 1));
+        const Eigen::VectorXd u_c = 0.5 * (s.inputs.col(k) + s.inputs.col(k + 1));
+        EvalWithJacobian(ph.dynamics, L.nx, x_c, u_c, "dynamics of phase '" + ph.name + "'", &value, &J);
+        slope = (s.state_derivatives.col(k) + 4.0 * value + s.state_derivatives.col(k + 1)) / 6.0;
+      }
+      const Eigen::VectorXd defect = s.states.col(k + 1) - s.states.col(k) - h * slope;
       result.max_defect = std::max(result.max_defect, defect.cwiseAbs().maxCoeff());
     }
     s.state_trajectory = PiecewisePolynomial::CubicHermite(s.times, s.states, s.state_derivatives);

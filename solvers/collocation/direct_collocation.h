@@ -7,7 +7,10 @@
 //
 // Decision variables (per phase, in this order): x_0 … x_{N−1}, u_0 … u_{N−1}, [T].
 // Constraints:
-//   defects      x_{k+1} − x_k − (h/2)(f(x_k, u_k) + f(x_{k+1}, u_{k+1})) = 0   (trapezoid rule)
+//   defects      x_{k+1} − x_k − (h/2)(f(x_k, u_k) + f(x_{k+1}, u_{k+1})) = 0   (trapezoid rule, default), or
+//                x_{k+1} − x_k − (h/6)(f_k + 4 f(x_c, u_c) + f_{k+1}) = 0 with x_c = (x_k + x_{k+1})/2 +
+//                (h/8)(f_k − f_{k+1}), u_c = (u_k + u_{k+1})/2   (compressed Hermite–Simpson, 4th order; the
+//                midpoint input is the first-order hold, so the plan re-integrates with that hold)
 //   transitions  x_0^{p+1} − Δ^p(x_{N−1}^p) = 0   (reset map Δ, default identity)
 //   path         g_lo ≤ g(x_k, u_k) ≤ g_hi at every node of a phase
 //   node         c_lo ≤ c(x_k, u_k) ≤ c_hi at one node (boundary conditions, e.g. apex ż = 0)
@@ -46,12 +49,15 @@ using StateFunction = std::function<void(const VectorXad& x, VectorXad& y)>;
 // Scalar L(x, u) (running and terminal costs).
 using ScalarStateInputFunction = std::function<AutoDiffXd(const VectorXad& x, const VectorXad& u)>;
 
+enum class CollocationMethod { kTrapezoidal, kHermiteSimpson };
+
 struct CollocationPhase {
   std::string name;               // used in every message about this phase
   int num_states = 0;             // n_x ≥ 1
   int num_inputs = 0;             // n_u ≥ 0
   int num_nodes = 21;             // N ≥ 2
   StateInputFunction dynamics;    // ẋ = f(x, u), required
+  CollocationMethod method = CollocationMethod::kTrapezoidal;  // defect rule (cost: trapezoid quadrature always)
   double min_duration = 1.0;      // [s], > 0
   double max_duration = 1.0;      // [s], ≥ min_duration; equal ⇒ fixed duration
   Eigen::VectorXd state_lower;    // size n_x or empty (unbounded), applied at every node
