@@ -1,0 +1,88 @@
+#include "diagrams/hopping/hopping_plans.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rome {
+
+LegLengthTable::LegLengthTable(const MultibodyModel& model, const std::string& side, int nodes) {
+  if (nodes < 2) throw std::invalid_argument("LegLengthTable: nodes = " + std::to_string(nodes) + " must be at least 2");
+  const CassieVirtualLeg leg(model, side);
+  const int k = leg.knee_index();
+  const double lo = model.position_lower_limits()[k], hi = model.position_upper_limits()[k];
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo))
+    throw std::invalid_argument("LegLengthTable: robot '" + model.name() + "': joint '" + side + "_knee' needs finite limits");
+  knee_.resize(nodes), length_.resize(nodes), slope_.resize(nodes);
+  for (int i = 0; i < nodes; ++i) {
+    knee_[i] = lo + (hi - lo) * i / (nodes - 1);
+    length_[i] = leg.Length(knee_[i]);
+    slope_[i] = leg.LengthJacobian(knee_[i]);
+  }
+}
+
+void LegLengthTable::operator()(double q_knee, double* L, double* dL_dq) const {
+  // Cubic Hermite in q_knee (HoppingReference::Evaluate with the knee angle as the abscissa); outside the joint range
+  // the end value is held (slope 0).
+  const Eigen::Vector3d y = HoppingReference::Evaluate(knee_, length_, slope_, static_cast<int>(knee_.size()), q_knee);
+  *L = y[0];
+  *dL_dq = y[1];
+}
+
+LegLengthPlan ToLegLengthPlan(const SpringMassPlan& plan) { return {plan.times, plan.states.row(2).transpose(), plan.states.row(3).transpose()}; }
+
+HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
+                                                        std::shared_ptr<double> rest_height) {
+  auto planner = std::make_shared<SpringMassJumpPlanner>(rom, params);
+  return [planner, records, rest_height](const RomState& start, LegLengthPlan* out, std::string* message) {
+    const Eigen::Vector4d z0 = planner->rom().StaticState(start.L);  // spec A2 [R]: static ROM state at the measured L
+    SpringMassPlan plan;
+    try {
+      plan = planner->Solve(z0);
+    } catch (const std::exception& e) {
+      *message = e.what();
+      return false;
+    }
+    if (records) records->push_back({PlannerRecord::Kind::kJump, 0.0, plan});
+    if (!plan.success()) {
+      *message = plan.message;
+      return false;
+    }
+    *rest_height = z0[0];
+    *out = ToLegLengthPlan(plan);
+    return true;
+  };
+}
+
+HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom, const SpringMassLandingParams& params, PlannerRecords records,
+                                                              std::shared_ptr<double> rest_height) {
+  struct State {
+    std::unique_ptr<SpringMassLandingPlanner> planner;
+    double rest_height = -1;
+  };
+  auto state = std::make_shared<State>();
+  return [rom, params, state, records, rest_height](const RomState& post, LegLengthPlan* out, std::string* message) {
+    if (!state->planner || state->rest_height != *rest_height) {
+      SpringMassLandingParams p = params;
+      p.rest_height = *rest_height;
+      state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);
+      state->rest_height = *rest_height;
+    }
+    const Eigen::Vector4d z0(post.x, post.xdot, post.L, post.Ldot);
+    SpringMassPlan plan;
+    try {
+      plan = state->planner->Resolve(z0);  // warm start from the previous landing solution, if any
+    } catch (const std::exception& e) {
+      *message = e.what();
+      return false;
+    }
+    if (records) records->push_back({PlannerRecord::Kind::kLanding, 0.0, plan});
+    if (!plan.success()) {
+      *message = plan.message;
+      return false;
+    }
+    *out = ToLegLengthPlan(plan);
+    return true;
+  };
+}
+
+}  // namespace rome

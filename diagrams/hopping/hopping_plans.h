@@ -1,0 +1,48 @@
+#pragma once
+// The spring-mass ROM's pieces in the form the hopping diagram takes them (hopping_diagram.h):
+//   LegLengthTable            Cassie's virtual leg length L(q_knee) (Eq. (13), CassieVirtualLeg) tabulated once as a
+//                             cubic Hermite through (L, dL/dq_knee) over the knee's joint range, so that the control
+//                             loop evaluates it without Newton solves or allocation;
+//   MakeSpringMassJumpPlanner the jump NLP (Eq. (14)-(15)) from the measured standing state (the ROM's static state at
+//                             the measured L, spec A2 [R]);
+//   MakeSpringMassLandingPlanner the landing NLP (Eq. (16)) from the measured post-impact state, warm-started from the
+//                             previous landing solution; its rest height is the jump's initial mass height (spec A2 [R]).
+// Every solve is appended to a shared record (for the example's summary: time, iterations, violation).
+#include <memory>
+#include <vector>
+
+#include "systems/planners/hopping_reference.h"
+#include "systems/planners/spring_mass_hop_planner.h"
+#include "systems/rom/cassie_leg_stiffness.h"
+
+namespace rome {
+
+class LegLengthTable {
+ public:
+  /// `side`: "left" or "right" (both legs are the same; one table serves both). `nodes` ≥ 2 over [q_min, q_max].
+  LegLengthTable(const MultibodyModel& model, const std::string& side = "left", int nodes = 241);
+  void operator()(double q_knee, double* L, double* dL_dq) const;
+  const Eigen::VectorXd& knee() const { return knee_; }
+  const Eigen::VectorXd& length() const { return length_; }
+
+ private:
+  Eigen::VectorXd knee_, length_, slope_;
+};
+
+struct PlannerRecord {
+  enum class Kind { kJump, kLanding };
+  Kind kind = Kind::kJump;
+  double time_s = 0.0;  ///< simulated time of the solve [s]
+  SpringMassPlan plan;
+};
+using PlannerRecords = std::shared_ptr<std::vector<PlannerRecord>>;
+
+/// The jump plan as HoppingReference's node plan (times, L, L̇ of the collocation nodes).
+LegLengthPlan ToLegLengthPlan(const SpringMassPlan& plan);
+
+HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
+                                                        std::shared_ptr<double> rest_height);
+HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom, const SpringMassLandingParams& params, PlannerRecords records,
+                                                              std::shared_ptr<double> rest_height);
+
+}  // namespace rome

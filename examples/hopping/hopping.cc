@@ -1,0 +1,244 @@
+// hopping: Cassie hops on the spring-mass ROM's plans (hopping paper: jump NLP Eq. (14)-(15), landing NLP Eq. (16),
+// Jump/Flight/Landing CLF-QP with the augmented input Eq. (45)-(51)). 3D Cassie with live springs and achilles rods.
+//
+// Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR): robot vs ROM normal GRF, COM
+// height, pelvis pitch. Exit 0: hopped and came to rest; 3: the run failed (fell, slipped, a planner gave up: Ipopt's
+// status in the message); 1: bad input.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "diagrams/hopping/hopping_diagram.h"
+#include "diagrams/hopping/hopping_plans.h"
+#include "examples/common/cli.h"
+#include "examples/common/plot.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/multibody/robot_files.h"
+#include "systems/rom/cassie_leg_stiffness.h"
+
+using namespace rome;
+
+namespace {
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+double Nrmse(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty()) return NAN;
+  double se = 0, peak = 0;
+  for (size_t i = 0; i < a.size(); ++i) se += (a[i] - b[i]) * (a[i] - b[i]), peak = std::max(peak, std::abs(b[i]));
+  return std::sqrt(se / a.size()) / std::max(peak, 1e-9);
+}
+
+double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  const double n = static_cast<double>(a.size());
+  if (n < 2) return NAN;
+  double ma = 0, mb = 0;
+  for (size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < a.size(); ++i) sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma), sbb += (b[i] - mb) * (b[i] - mb);
+  return sab / std::sqrt(saa * sbb);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  examples::CommandLine cli("hopping", "Cassie hops on the spring-mass ROM's jump and landing plans (hopping paper).");
+  cli.Option("apex-rise", "0.2194", "H [m]: COM rise above the take-off height (0.2194: the ROM's air time is 0.423 s)")
+      .Option("leg-stiffness", "identified", "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
+      .Option("hops", "1", "number of hops (>= 1); the landing of one hop is the crouch of the next")
+      .Option("duration", "0", "[s] simulated time; 0: settle + hops + 2.5 s after the last touchdown")
+      .Option("log", "", "CSV log path (empty: none)")
+      .Option("summary", "", "JSON summary path (empty: none)")
+      .Option("plots", "", "directory for PNG plots (empty: none)");
+  double apex_rise = 0;
+  int hops = 0;
+  LegStiffnessVariant variant = LegStiffnessVariant::kIdentified;
+  try {
+    if (!cli.Parse(argc, argv)) return 0;
+    apex_rise = cli.GetDouble("apex-rise");
+    hops = cli.GetInt("hops");
+    if (!(apex_rise > 0.0 && apex_rise <= 0.35))
+      throw std::invalid_argument("--apex-rise " + cli.Get("apex-rise") + ": outside what the legs can reach (0 < H <= 0.35 m)");
+    if (hops < 1) throw std::invalid_argument("--hops " + cli.Get("hops") + ": must be at least 1");
+    try {
+      variant = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
+    } catch (const std::exception&) {
+      throw std::invalid_argument("--leg-stiffness " + cli.Get("leg-stiffness") + ": unknown variant (published or identified)");
+    }
+    for (const char* path : {"log", "summary"})
+      if (!cli.Get(path).empty()) {
+        std::ofstream probe(cli.Get(path), std::ios::app);
+        if (!probe) throw std::invalid_argument(std::string("--") + path + " " + cli.Get(path) + ": cannot write there");
+      }
+    if (!cli.Get("plots").empty()) std::filesystem::create_directories(cli.Get("plots"));
+  } catch (const std::exception& e) {
+    std::cerr << "hopping: " << e.what() << "\n";
+    return 1;
+  }
+
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+  SpringMassParams rom;
+  rom.mass = model->total_mass();
+  if (variant == LegStiffnessVariant::kIdentified) rom.leg = IdentifyCassieLegStiffness(CassieVirtualLeg(*model, "left")).leg;
+  SpringMassJumpParams jump_params;
+  jump_params.apex_rise = apex_rise;
+  auto records = std::make_shared<std::vector<PlannerRecord>>();
+  auto rest_height = std::make_shared<double>(0.0);
+  const LegLengthTable leg_length(*model);
+  HoppingDiagramParams params;
+  params.reference.hops = hops;
+  HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump_params, records, rest_height),
+                                         MakeSpringMassLandingPlanner(rom, {}, records, rest_height), params);
+  Simulator sim(*d.diagram, HoppingSimulatorConfig());
+  SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
+
+  const int nv = model->nv();
+  MultibodyWorkspace ws(*model);
+  const int pitch_index = model->VelocityIndex("base_pitch");
+  const int shin[2] = {model->VelocityIndex("left_shin_spring"), model->VelocityIndex("right_shin_spring")};
+  struct Sample {
+    double t, grf, rom_grf, shin_torque, com_z, pitch;
+    int domain;
+  };
+  std::vector<Sample> samples;
+  double liftoff = -1, touchdown = -1, jump_start = -1, clearance = 0, com_liftoff = 0, com_max = 0, pitch_liftoff = 0, pitch_change = 0;
+  int last_domain = HoppingDomain::kLanding;
+  double last_progress = 0;
+  sim.set_monitor([&](const Context& c) {
+    const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
+    const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
+    const Eigen::VectorXd x = pc.continuous_state();
+    const Eigen::VectorXd q = x.head(nv);
+    const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
+    const double t = pc.time();
+    const Eigen::VectorXd& f = d.plant->EvalOutput(pc, "contact_forces");
+    const double com_z = CalcComPosition(*model, ws, q).z();
+    if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) jump_start = t;
+    if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && liftoff < 0) {
+      liftoff = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
+    }
+    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && touchdown < 0) touchdown = t;
+    if (domain == HoppingDomain::kFlight && touchdown < 0) {
+      double lowest = 1e9;
+      for (int k = 0; k < model->num_contacts(); ++k) lowest = std::min(lowest, CalcContactHeight(*model, ws, q, k));
+      clearance = std::max(clearance, lowest);
+      com_max = std::max(com_max, com_z);
+      pitch_change = std::max(pitch_change, std::abs(q[pitch_index] - pitch_liftoff));
+    }
+    // ROM force of the active plan (Jump: the jump plan from jump_start; Landing after a hop: the landing plan).
+    double rom_grf = NAN;
+    if (domain == HoppingDomain::kJump && !records->empty()) rom_grf = records->back().plan.LegForce(rom, t - jump_start);
+    if (domain == HoppingDomain::kLanding && touchdown > 0 && !records->empty() && records->back().kind == PlannerRecord::Kind::kLanding)
+      rom_grf = records->back().plan.LegForce(rom, t - touchdown);
+    const double shin_torque = -model->spring_stiffness()[shin[0]] * x[shin[0]] - model->spring_stiffness()[shin[1]] * x[shin[1]];
+    samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], domain});
+    last_domain = domain;
+    if (t - last_progress >= 0.5) {
+      last_progress = t;
+      std::cerr << "  t = " << t << " s, domain " << domain << "\n";
+    }
+    return EventStatus::Succeeded();
+  });
+
+  const double duration =
+      cli.GetDouble("duration") > 0 ? cli.GetDouble("duration") : params.reference.settle_time_s + hops * 1.0 + (hops - 1) * params.reference.rest_time_s + 2.5;
+  const auto wall0 = std::chrono::steady_clock::now();
+  SimulatorStatus status;
+  try {
+    status = sim.AdvanceTo(duration);
+  } catch (const std::exception& e) {
+    std::cerr << "hopping: " << e.what() << "\n";
+    return 3;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+
+  // Metrics.
+  std::vector<double> jr, jm, lr, lm, st, sg;
+  for (const Sample& s : samples) {
+    if (s.domain == HoppingDomain::kJump && std::isfinite(s.rom_grf)) jr.push_back(s.grf), jm.push_back(s.rom_grf);
+    if (s.domain == HoppingDomain::kLanding && touchdown > 0 && s.t > touchdown + 0.02 && std::isfinite(s.rom_grf)) lr.push_back(s.grf), lm.push_back(s.rom_grf);
+    if (s.domain != HoppingDomain::kFlight && jump_start > 0 && s.t >= jump_start) st.push_back(s.shin_torque), sg.push_back(s.grf);
+  }
+  const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
+  const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
+  const Eigen::VectorXd v_end = pc.continuous_state().tail(nv);
+  const bool settled = touchdown > 0 && pc.time() >= touchdown + 2.0 && v_end.cwiseAbs().maxCoeff() < 0.05;
+  const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, sim.get_context()));
+  std::vector<double> solve_us;
+  const int solve_col = d.logger->ColumnIndex("controller.solve_time_s[0]");
+  for (const Eigen::VectorXd& row : log.samples) solve_us.push_back(1e6 * row[solve_col]);
+  double takeoff_error = NAN;
+  if (liftoff > 0 && !records->empty()) takeoff_error = (liftoff - jump_start) - records->front().plan.duration;
+  const bool ok = status.ok() && liftoff > 0 && touchdown > 0 && settled;
+
+  nlohmann::json summary;
+  summary["success"] = ok;
+  summary["status_kind"] = status.ok() ? (ok ? "success" : "limit") : status.kind_name();
+  summary["status"] = status.ToString();
+  summary["air_time_s"] = liftoff > 0 && touchdown > 0 ? touchdown - liftoff : NAN;
+  summary["foot_clearance_m"] = clearance;
+  summary["com_rise_m"] = liftoff > 0 ? com_max - com_liftoff : NAN;
+  summary["takeoff_time_error_s"] = takeoff_error;
+  summary["grf_nrmse_jump"] = Nrmse(jr, jm);
+  summary["grf_nrmse_landing"] = Nrmse(lr, lm);
+  summary["spring_torque_grf_correlation"] = Correlation(st, sg);
+  summary["settled"] = settled;
+  summary["max_pelvis_pitch_change_flight_rad"] = pitch_change;
+  summary["qp_infeasible_ticks"] = d.controller->EvalOutput(cc, "qp_failures")[0];
+  summary["qp_solve_us_median"] = Percentile(solve_us, 0.5);
+  summary["qp_solve_us_p99"] = Percentile(solve_us, 0.99);
+  summary["realtime_factor"] = pc.time() / wall;
+  summary["leg_stiffness"] = cli.Get("leg-stiffness");
+  summary["apex_rise_m"] = apex_rise;
+  nlohmann::json nlp = nlohmann::json::array();
+  for (const PlannerRecord& r : *records)
+    nlp.push_back({{"problem", r.kind == PlannerRecord::Kind::kJump ? "jump" : "landing"},
+                   {"time_s", r.plan.solve_time_s},
+                   {"iterations", r.plan.iterations},
+                   {"violation", r.plan.max_violation},
+                   {"duration_s", r.plan.duration},
+                   {"status", r.plan.message}});
+  summary["nlp"] = nlp;
+  if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << summary.dump(2) << "\n";
+  if (!cli.Get("log").empty()) {
+    std::ofstream out(cli.Get("log"));
+    const std::vector<std::string> names = d.logger->ColumnNames();
+    for (size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << names[i];
+    out << "\n";
+    for (size_t k = 0; k < log.times.size(); ++k) {
+      out << log.times[k];
+      for (int i = 0; i < log.samples[k].size(); ++i) out << "," << log.samples[k][i];
+      out << "\n";
+    }
+  }
+  if (!cli.Get("plots").empty()) {
+    examples::PlotSpec grf{"Normal GRF: robot vs spring-mass ROM", "t [s]", "F [N]", {}};
+    examples::PlotSpec com{"COM height", "t [s]", "z [m]", {}};
+    examples::Series robot{"robot", {}, {}}, romf{"ROM", {}, {}}, comz{"COM z", {}, {}};
+    for (const Sample& s : samples) {
+      robot.x.push_back(s.t), robot.y.push_back(s.grf), comz.x.push_back(s.t), comz.y.push_back(s.com_z);
+      if (std::isfinite(s.rom_grf)) romf.x.push_back(s.t), romf.y.push_back(s.rom_grf);
+    }
+    grf.series = {robot, romf};
+    com.series = {comz};
+    std::string error;
+    for (auto& [spec, file] : {std::pair{grf, "grf.png"}, std::pair{com, "com_height.png"}})
+      if (!examples::WritePlot(spec, cli.Get("plots") + "/" + file, &error)) std::cerr << "hopping: plot " << file << ": " << error << "\n";
+  }
+  std::cout << "hopping: " << status.ToString() << "\n"
+            << "  air time " << summary["air_time_s"] << " s (paper 0.423), foot clearance " << clearance << " m (paper ~0.18), COM rise "
+            << summary["com_rise_m"] << " m, lift-off vs ROM " << takeoff_error << " s\n"
+            << "  GRF NRMSE jump " << summary["grf_nrmse_jump"] << ", landing " << summary["grf_nrmse_landing"] << "; pitch change in flight "
+            << pitch_change * 180 / M_PI << " deg; settled " << (settled ? "yes" : "no") << "; QP median " << summary["qp_solve_us_median"]
+            << " us; real-time factor " << summary["realtime_factor"] << "\n";
+  return ok ? 0 : 3;
+}
