@@ -1,5 +1,6 @@
 #include "diagrams/hopping/hopping_plans.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -67,12 +68,17 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
       state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);
       state->rest_height = *rest_height;
     }
-    const Eigen::Vector4d z0(post.x, post.xdot, post.L, post.Ldot);
+    // The measured leg length may sit a hair outside the NLP's L bounds (the jump ends at max_leg_length and the flight
+    // holds the knees there): clamp it into them (ours), else the NLP rejects its own initial state.
+    const double L0 = std::clamp(post.L, params.min_leg_length, params.max_leg_length);
+    const Eigen::Vector4d z0(post.x, post.xdot, L0, post.Ldot);
     SpringMassPlan plan;
     try {
       plan = state->planner->Resolve(z0);  // warm start from the previous landing solution, if any
     } catch (const std::exception& e) {
       *message = e.what();
+      plan.message = e.what();
+      if (records) records->push_back({PlannerRecord::Kind::kLanding, 0.0, plan});
       return false;
     }
     if (records) records->push_back({PlannerRecord::Kind::kLanding, 0.0, plan});

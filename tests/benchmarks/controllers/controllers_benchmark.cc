@@ -2,12 +2,15 @@
 // DenseQpSolver solve, GRF extraction):
 //   TaskSpaceQpController on AMBER, single support (paper outputs, Eq. (19)) and double support;
 //   ClfQpController on AMBER single support (the same outputs, both formulations) and on the 18-DOF exoskeleton in
-//   double support on flat feet (COM and pelvis roll/pitch/yaw, both formulations).
+//   double support on flat feet (COM and pelvis roll/pitch/yaw, both formulations); ClfQpController on 3D Cassie with
+//   the hopping outputs and the augmented input in each domain (Jump with H_pitch, Landing, Flight).
 //   ./controllers_benchmark
 #include <cmath>
 
 #include <benchmark/benchmark.h>
 
+#include "diagrams/hopping/hopping_diagram.h"
+#include "diagrams/hopping/hopping_plans.h"
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/multibody/multibody_kinematics.h"
@@ -112,12 +115,43 @@ void ClfExoskeleton(benchmark::State& state, ClfQpFormulation formulation) {
   Loop(state, controller, *context, nv);
 }
 
+// Cassie (22 DOF, springs, achilles rods) with the hopping outputs (diagrams/hopping) and the augmented input [u; F]
+// (hopping Eq. (45)-(51)): 10 torques + 12 constraint forces (two line feet, two rods) + δ; domain `mode`.
+void ClfCassieHopping(benchmark::State& state, int mode) {
+  auto model = test::LoadRobot("cassie");
+  HybridContactPlant plant("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat());
+  const LegLengthTable leg_length(*model);
+  HoppingOutputParams outputs;
+  outputs.jump_tracks_momentum = mode == HoppingDomain::kJump;  // the paper's Jump set (H_pitch) in the jump case
+  ClfQpParams params = HoppingDiagramParams::DefaultControllerParams();
+  params.contact_stabilization = plant.params().dynamics;
+  ClfQpController controller("clf", model, ActiveContactsPerMode(plant), MakeHoppingOutputs(*model, leg_length, outputs), params);
+  const HoppingOutputLayout layout = MakeHoppingOutputLayout(outputs);
+  auto context = controller.CreateDefaultLeafContext();
+  const int nv = model->nv();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * nv);
+  x.head(nv) = model->q_nominal();
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(3 * layout.size);
+  desired.segment(layout.leg_left, 2).setConstant(0.85);
+  for (int i = 0; i < model->nu(); ++i) desired[layout.motors + i] = model->q_nominal()[model->actuators()[i].v_index] + 0.01;
+  context->FixInputPort(0, x);
+  context->FixAbstractInputPort(1, std::any(mode));
+  context->FixInputPort(2, desired);
+  Loop(state, controller, *context, nv);
+}
+
 void BM_AmberSingleSupport(benchmark::State& state) { Run(state, false); }
+void BM_ClfQpCassieHoppingJumpAugmented(benchmark::State& state) { ClfCassieHopping(state, HoppingDomain::kJump); }
+void BM_ClfQpCassieHoppingLandingAugmented(benchmark::State& state) { ClfCassieHopping(state, HoppingDomain::kLanding); }
+void BM_ClfQpCassieHoppingFlightAugmented(benchmark::State& state) { ClfCassieHopping(state, HoppingDomain::kFlight); }
 void BM_ClfQpAmberSingleSupportEliminated(benchmark::State& state) { ClfAmber(state, ClfQpFormulation::kEliminateContactForces); }
 void BM_ClfQpAmberSingleSupportAugmented(benchmark::State& state) { ClfAmber(state, ClfQpFormulation::kAugmentedInput); }
 void BM_ClfQpExoskeletonDoubleSupportEliminated(benchmark::State& state) { ClfExoskeleton(state, ClfQpFormulation::kEliminateContactForces); }
 void BM_ClfQpExoskeletonDoubleSupportAugmented(benchmark::State& state) { ClfExoskeleton(state, ClfQpFormulation::kAugmentedInput); }
 BENCHMARK(BM_ClfQpAmberSingleSupportEliminated)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ClfQpCassieHoppingJumpAugmented)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ClfQpCassieHoppingLandingAugmented)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ClfQpCassieHoppingFlightAugmented)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ClfQpAmberSingleSupportAugmented)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ClfQpExoskeletonDoubleSupportEliminated)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ClfQpExoskeletonDoubleSupportAugmented)->Unit(benchmark::kMicrosecond);

@@ -1,0 +1,51 @@
+// LegLengthTable (the tabulated Eq. (13) the hopping controller evaluates every tick) against the hopping spec's
+// independently derived L(q_knee) table (shared/specs/hopping.md A1.3: L to 1 mm, dL/dq_knee to 1e-3 m/rad), and
+// ToLegLengthPlan against the plan it converts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "diagrams/hopping/hopping_plans.h"
+
+namespace rome {
+namespace {
+
+TEST(LegLengthTable, MatchesTheSpecTable) {
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json");
+  const LegLengthTable table(model);
+  const double q_deg[] = {-45, -54.4, -60, -70, -80, -90, -100, -110, -120};
+  const double L_m[] = {0.9577, 0.9235, 0.9003, 0.8535, 0.8002, 0.7407, 0.6757, 0.6055, 0.5308};
+  const double dL[] = {0.188, 0.227, 0.249, 0.287, 0.323, 0.357, 0.388, 0.416, 0.440};
+  const double lo = model.position_lower_limits()[model.VelocityIndex("left_knee")], hi = model.position_upper_limits()[model.VelocityIndex("left_knee")];
+  int checked = 0;
+  for (int i = 0; i < 9; ++i) {
+    const double q = q_deg[i] * M_PI / 180;
+    if (q < lo || q > hi) continue;  // outside our model's knee range
+    double L = 0, slope = 0;
+    table(q, &L, &slope);
+    EXPECT_NEAR(L, L_m[i], 1e-3) << "q_knee = " << q_deg[i] << " deg";
+    EXPECT_NEAR(slope, dL[i], 2e-3) << "q_knee = " << q_deg[i] << " deg";
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+}
+
+TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
+  SpringMassPlan plan;
+  plan.times = Eigen::Vector3d(0.0, 0.1, 0.2);
+  plan.states.setZero(4, 3);
+  plan.states.row(2) << 0.8, 0.85, 0.9;
+  plan.states.row(3) << 0.0, 0.5, 0.0;
+  const LegLengthPlan p = ToLegLengthPlan(plan);
+  EXPECT_EQ(p.t, plan.times);
+  EXPECT_EQ(p.L, Eigen::Vector3d(0.8, 0.85, 0.9));
+  EXPECT_EQ(p.Ldot, Eigen::Vector3d(0.0, 0.5, 0.0));
+  // The reference's Hermite passes through the nodes with the node rates.
+  const Eigen::Vector3d mid = HoppingReference::Evaluate(p.t, p.L, p.Ldot, 3, 0.1);
+  EXPECT_NEAR(mid[0], 0.85, 1e-12);
+  EXPECT_NEAR(mid[1], 0.5, 1e-12);
+  EXPECT_EQ(HoppingReference::Evaluate(p.t, p.L, p.Ldot, 3, 0.5), Eigen::Vector3d(0.9, 0.0, 0.0));  // held after T
+}
+
+}  // namespace
+}  // namespace rome
