@@ -24,8 +24,8 @@
 //     Reset: plastic impact q̇⁺ = (I − M⁻¹Jᵀ(JM⁻¹Jᵀ)⁻¹J) q̇⁻ with the TARGET mode's contact set; on a
 //     stepping-stone terrain a touchdown that is not on a stone ends the run: Failed("robot fell: ...").
 //   liftoff_<contact>  (every mode, every contact c ∈ C(m)): the normal force on c (world z of the ground force,
-//     ExtractContactWrench) crosses liftoff_normal_force_N (default 0) falling. Contact is unilateral in every graph. Reset: mode change only, to the
-//     graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
+//     ExtractContactWrench) crosses liftoff_normal_force_N (default 0) falling. Contact is unilateral in every graph.
+//     Reset: mode change only, to the graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
 //     C(m) \ {c}, else the run ends: Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no
 //     mode to lift off into").
 //   slip  (every mode with contacts; one witness component per contact, index = contact index): μ_c F_n − |F_t|
