@@ -22,9 +22,8 @@ SpringMassParams Rom(LegStiffnessVariant variant) {
   if (variant == LegStiffnessVariant::kIdentified) {
     static const MultibodyModel model =
         MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf");
-    static const LegStiffness identified = IdentifyCassieLegStiffness(CassieVirtualLeg(model, "left")).leg;
-    p.leg = identified;
-    p.mass = model.total_mass();
+    static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
+    p = identified;
   }
   return p;
 }
