@@ -80,8 +80,9 @@ struct SpringMassPlan {
 };
 
 struct SpringMassJumpParams {
-  double apex_rise = 0.2194;          ///< H [m]: COM rise above take-off (default: the ROM air time is 0.423 s,
-                                      ///< the paper's figure; see ApexRiseForAirTime and the README)
+  double apex_rise = 0.2205;          ///< H [m]: COM rise above take-off. Default: the ROM air time is the paper's
+                                      ///< 0.423 s with the identified K(L) from standing at L = 0.85 m
+                                      ///< (ApexRiseForAirTime; 0.2286 m with the published K(L))
   int num_intervals = 30;             ///< N (spec A2 [R]: 40 trapezoid intervals; 30 Hermite–Simpson intervals
                                       ///< re-integrate to ~1e-4, measured)
   double min_duration = 0.15;         ///< [s] (spec A2 [R])
@@ -90,7 +91,8 @@ struct SpringMassJumpParams {
   double max_leg_length = 0.92;       ///< [m] (spec A2 [R]: Caltech knee limit −54.4°)
   double max_leg_speed = 2.5;         ///< [m/s] (knee 8.5 rad/s × dL/dq ≈ 0.3 m/rad)
   double max_leg_acceleration = 100;  ///< [m/s²] (spec A2 [R])
-  double initial_guess_duration = 0.4;  ///< [s] (ours)
+  double initial_guess_duration = 0.0;  ///< [s] (ours); ≤ 0: automatic, 2.75 π / sqrt(n_legs K(L_0) / m) (the
+                                        ///< stance times of both K variants are ~2.5-3 loaded half-periods)
   IpoptSolverOptions solver = SpringMassPlannerSolverOptions();
 };
 

@@ -185,6 +185,14 @@ TEST_P(SpringMassHop, ApexRiseForPaperAirTime) {
               plan.FinalState()(1), flight.apex_height);
 }
 
+TEST(SpringMassHopPlanner, DefaultApexRiseGivesPaperAirTimeWithIdentifiedLegs) {
+  const SpringMassParams params = Rom(LegStiffnessVariant::kIdentified);
+  const SpringMassModel rom(params);
+  const SpringMassPlan plan = SpringMassJumpPlanner(params, {}).Solve(rom.StaticState(kStandingLegLength));
+  ASSERT_TRUE(plan.success()) << plan.message;
+  EXPECT_NEAR(PredictFlight(rom, plan.FinalState()).air_time, 0.423, 1e-3);
+}
+
 TEST(SpringMassHopPlanner, BadInputIsNamed) {
   SpringMassJumpParams jp;
   jp.apex_rise = -0.1;
