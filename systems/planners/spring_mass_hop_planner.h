@@ -69,7 +69,8 @@ struct SpringMassPlan {
   bool success() const { return status == NlpStatus::kSolved || status == NlpStatus::kSolvedToAcceptableLevel; }
   Eigen::Vector4d InitialState() const { return states.col(0); }
   Eigen::Vector4d FinalState() const { return states.col(states.cols() - 1); }
-  /// z(t) for t ∈ [0, T] (clamped); after T: [x(T), ẋ(T), L(T), 0] is NOT a prediction of the mass, only of L.
+  /// z(t) on the collocation interpolant for t ∈ [0, T]; t outside [0, T] is clamped (no flight prediction:
+  /// use PredictFlight after a jump).
   Eigen::Vector4d State(double t) const;
   /// L^des(t), L̇^des(t), L̈^des(t): the plan for t ∈ [0, T], L(T) held with zero rates afterwards (and L(0) before 0).
   double LegLength(double t) const;
