@@ -201,7 +201,13 @@ SpringMassPlan SpringMassJumpPlanner::Solve(const Eigen::Vector4d& z0) const {
                        "lift-off: leg force = 0");
   // Initial guess: extend from the standing state to a lift-off at full extension with the lift-off speed.
   const Eigen::Vector4d z_end(P.max_leg_length, v_liftoff, P.max_leg_length, 0.0);
-  dc.SetInitialGuess(0, Interpolate(z0, z_end, N), Eigen::MatrixXd::Zero(1, N), P.initial_guess_duration);
+  double T_guess = P.initial_guess_duration;
+  if (T_guess <= 0.0) {
+    // Automatic: 2.75 half-periods of the loaded spring, π / sqrt(n_legs K(L_0) / m) (fits both K variants).
+    const double K0 = std::max(rom_.Stiffness(z0(2)), 1.0);
+    T_guess = std::clamp(2.75 * M_PI / std::sqrt(rom.n_legs * K0 / rom.mass), P.min_duration, P.max_duration);
+  }
+  dc.SetInitialGuess(0, Interpolate(z0, z_end, N), Eigen::MatrixXd::Zero(1, N), T_guess);
   return SolveCollocation(dc, rom, P.solver, nullptr, false);
 }
 

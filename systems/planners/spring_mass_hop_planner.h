@@ -69,7 +69,8 @@ struct SpringMassPlan {
   bool success() const { return status == NlpStatus::kSolved || status == NlpStatus::kSolvedToAcceptableLevel; }
   Eigen::Vector4d InitialState() const { return states.col(0); }
   Eigen::Vector4d FinalState() const { return states.col(states.cols() - 1); }
-  /// z(t) for t ∈ [0, T] (clamped); after T: [x(T), ẋ(T), L(T), 0] is NOT a prediction of the mass, only of L.
+  /// z(t) on the collocation interpolant for t ∈ [0, T]; t outside [0, T] is clamped (no flight prediction:
+  /// use PredictFlight after a jump).
   Eigen::Vector4d State(double t) const;
   /// L^des(t), L̇^des(t), L̈^des(t): the plan for t ∈ [0, T], L(T) held with zero rates afterwards (and L(0) before 0).
   double LegLength(double t) const;
@@ -80,8 +81,9 @@ struct SpringMassPlan {
 };
 
 struct SpringMassJumpParams {
-  double apex_rise = 0.2194;          ///< H [m]: COM rise above take-off (default: the ROM air time is 0.423 s,
-                                      ///< the paper's figure; see ApexRiseForAirTime and the README)
+  double apex_rise = 0.2205;          ///< H [m]: COM rise above take-off. Default: the ROM air time is the paper's
+                                      ///< 0.423 s with the identified K(L) from standing at L = 0.85 m
+                                      ///< (ApexRiseForAirTime; 0.2286 m with the published K(L))
   int num_intervals = 30;             ///< N (spec A2 [R]: 40 trapezoid intervals; 30 Hermite–Simpson intervals
                                       ///< re-integrate to ~1e-4, measured)
   double min_duration = 0.15;         ///< [s] (spec A2 [R])
@@ -90,7 +92,8 @@ struct SpringMassJumpParams {
   double max_leg_length = 0.92;       ///< [m] (spec A2 [R]: Caltech knee limit −54.4°)
   double max_leg_speed = 2.5;         ///< [m/s] (knee 8.5 rad/s × dL/dq ≈ 0.3 m/rad)
   double max_leg_acceleration = 100;  ///< [m/s²] (spec A2 [R])
-  double initial_guess_duration = 0.4;  ///< [s] (ours)
+  double initial_guess_duration = 0.0;  ///< [s] (ours); ≤ 0: automatic, 2.75 π / sqrt(n_legs K(L_0) / m) (the
+                                        ///< stance times of both K variants are ~2.5-3 loaded half-periods)
   IpoptSolverOptions solver = SpringMassPlannerSolverOptions();
 };
 

@@ -231,4 +231,13 @@ LegStiffnessIdentification IdentifyCassieLegStiffness(const CassieVirtualLeg& le
   return out;
 }
 
+SpringMassParams CassieSpringMassParams(const MultibodyModel& model, LegStiffnessVariant variant) {
+  SpringMassParams p;
+  p.mass = model.total_mass();
+  p.n_legs = 2;
+  p.leg = variant == LegStiffnessVariant::kPublished ? PublishedLegStiffness()
+                                                      : IdentifyCassieLegStiffness(CassieVirtualLeg(model, "left")).leg;
+  return p;
+}
+
 }  // namespace rome

@@ -10,6 +10,8 @@
 //   leg.RealLength(q)                             L_r(q): hip-pitch joint -> toe joint distance at a full q [m]
 //   leg.Stiffness(q_knee), leg.Damping(q_knee)    Eq. (12) along the leg, tangential displacement blocked [N/m, N s/m]
 //   IdentifyCassieLegStiffness(leg)               the 4-term regression of footnote 1 -> LegStiffness (+ samples)
+//   CassieSpringMassParams(model, variant)        ROM params for Cassie: m = model total mass, 2 legs, K/D variant
+//                                                 (kIdentified is what the plant matches: standing-deflection test)
 //
 // Definitions:
 //   L_r(q) = |p_toe − p_hip|, p_hip the hip-pitch joint (origin of the hip-pitch link frame), p_toe the toe
@@ -105,5 +107,11 @@ struct LegStiffnessIdentification {
 /// c0 + c1 L + c2 L² + c4 L⁴ by least squares. Throws std::invalid_argument for bad options (named).
 LegStiffnessIdentification IdentifyCassieLegStiffness(const CassieVirtualLeg& leg,
                                                       const LegStiffnessIdentificationOptions& options = {});
+
+/// Spring-mass ROM parameters for a Cassie model: mass = model.total_mass(), n_legs = 2, gravity 9.81 m/s², and the
+/// `published` or the `identified` (IdentifyCassieLegStiffness on the model's left leg, default options) K(L), D(L).
+/// The identified variant is the one our plant matches (tests/systems/rom/spring_mass_standing_deflection_test.cc).
+SpringMassParams CassieSpringMassParams(const MultibodyModel& model,
+                                        LegStiffnessVariant variant = LegStiffnessVariant::kIdentified);
 
 }  // namespace rome

@@ -19,9 +19,8 @@ SpringMassParams Rom(bool identified) {
   if (identified) {
     static const MultibodyModel model =
         MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf");
-    static const LegStiffness leg = IdentifyCassieLegStiffness(CassieVirtualLeg(model, "left")).leg;
-    p.leg = leg;
-    p.mass = model.total_mass();
+    static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
+    p = identified;
   }
   return p;
 }

@@ -22,9 +22,8 @@ SpringMassParams Rom(LegStiffnessVariant variant) {
   if (variant == LegStiffnessVariant::kIdentified) {
     static const MultibodyModel model =
         MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf");
-    static const LegStiffness identified = IdentifyCassieLegStiffness(CassieVirtualLeg(model, "left")).leg;
-    p.leg = identified;
-    p.mass = model.total_mass();
+    static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
+    p = identified;
   }
   return p;
 }
@@ -184,6 +183,14 @@ TEST_P(SpringMassHop, ApexRiseForPaperAirTime) {
               "L_N = %.4f m, xdot_N = %.4f m/s, apex %.4f m\n",
               ToString(GetParam()).c_str(), H, 9.81 * 0.423 * 0.423 / 8.0, plan.FinalState()(0), L,
               plan.FinalState()(1), flight.apex_height);
+}
+
+TEST(SpringMassHopPlanner, DefaultApexRiseGivesPaperAirTimeWithIdentifiedLegs) {
+  const SpringMassParams params = Rom(LegStiffnessVariant::kIdentified);
+  const SpringMassModel rom(params);
+  const SpringMassPlan plan = SpringMassJumpPlanner(params, {}).Solve(rom.StaticState(kStandingLegLength));
+  ASSERT_TRUE(plan.success()) << plan.message;
+  EXPECT_NEAR(PredictFlight(rom, plan.FinalState()).air_time, 0.423, 1e-3);
 }
 
 TEST(SpringMassHopPlanner, BadInputIsNamed) {

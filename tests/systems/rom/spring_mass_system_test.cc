@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "framework/simulator.h"
+#include "tests/common/allocation_counter.h"
 
 namespace rome {
 namespace {
@@ -120,6 +121,28 @@ TEST(SpringMassSystem, FlightIsBallistic) {
   EXPECT_NEAR(z(0), 0.9 + 2.0 * 0.3 - 0.5 * 9.81 * 0.09, 1e-8);
   EXPECT_NEAR(z(1), 2.0 - 9.81 * 0.3, 1e-8);
   EXPECT_EQ(system.EvalOutput(sim.get_context(), "leg_force")[0], 0.0);
+}
+
+TEST(SpringMassSystem, FlowAndOutputsAllocateNothing) {
+  SpringMassSystem system("rom", {});
+  auto context = system.CreateDefaultContext();
+  auto& leaf = static_cast<LeafContext&>(*context);
+  system.FixInputPort(leaf, 0, Eigen::VectorXd::Constant(1, 1.5));
+  Eigen::VectorXd xdot(4);
+  system.CalcTimeDerivatives(leaf, &xdot);
+  system.EvalOutput(leaf, "energy");
+  system.EvalOutput(leaf, "leg_force");
+  long allocations = 0;
+  for (int k = 0; k < 20; ++k) {
+    leaf.get_mutable_continuous_state()(0) = 0.75 + 0.001 * k;
+    leaf.InvalidateCache();
+    allocations += test::CountAllocations([&] {
+      system.CalcTimeDerivatives(leaf, &xdot);
+      system.EvalOutput(leaf, "leg_force");
+      system.EvalOutput(leaf, "energy");
+    });
+  }
+  EXPECT_EQ(allocations, 0);
 }
 
 }  // namespace
