@@ -52,7 +52,8 @@ double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("hopping", "Cassie hops on the spring-mass ROM's jump and landing plans (hopping paper).");
-  cli.Option("apex-rise", "0.2194", "H [m]: COM rise above the take-off height (0.2194: the ROM's air time is 0.423 s)")
+  cli.Option("apex-rise", examples::FormatNumber(SpringMassJumpParams{}.apex_rise),
+             "H [m]: COM rise above the take-off height (default: the ROM's air time is 0.423 s with the identified K(L))")
       .Option("leg-stiffness", "identified", "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
       .Option("hops", "1", "number of hops (>= 1); the landing of one hop is the crouch of the next")
       .Option("duration", "0", "[s] simulated time; 0: settle + hops + 2.5 s after the last touchdown")
@@ -86,9 +87,7 @@ int main(int argc, char** argv) {
   }
 
   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
-  SpringMassParams rom;
-  rom.mass = model->total_mass();
-  if (variant == LegStiffnessVariant::kIdentified) rom.leg = IdentifyCassieLegStiffness(CassieVirtualLeg(*model, "left")).leg;
+  const SpringMassParams rom = CassieSpringMassParams(*model, variant);
   SpringMassJumpParams jump_params;
   jump_params.apex_rise = apex_rise;
   auto records = std::make_shared<std::vector<PlannerRecord>>();
