@@ -7,21 +7,11 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
 
+#include "systems/multibody/bullet_multibody.h"
 #include "systems/multibody/bullet_scratch.h"
 
 namespace rome {
 
-namespace {
-
-btVector3 ToBt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
-
-btQuaternion ToBtQuat(const Eigen::Matrix3d& R) {
-  Eigen::Quaterniond q(R);
-  q.normalize();
-  return btQuaternion(q.x(), q.y(), q.z(), q.w());
-}
-
-}  // namespace
 
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyModel& model) { Build(model); }
 MultibodyWorkspace::~MultibodyWorkspace() = default;
@@ -114,53 +104,9 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
 }
 
 void MultibodyWorkspace::BuildBullet() {
-  const std::vector<MultibodyBody>& bodies = *bodies_;
-  const int nb = static_cast<int>(bodies.size());
   scratch_ = std::make_unique<BulletScratch>();
-  // Fixed, massless Bullet base at the world origin; every body is a Bullet link.
-  bullet_ = std::make_unique<btMultiBody>(nb, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true,
-                                          /*canSleep=*/false);
-  bullet_->setBasePos(btVector3(0, 0, 0));
-  bullet_->setWorldToBaseRot(btQuaternion(0, 0, 0, 1));
-  for (int i = 0; i < nb; ++i) {
-    const MultibodyBody& b = bodies[i];
-    Eigen::Matrix3d V_parent = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d c_parent = Eigen::Vector3d::Zero();
-    if (b.parent >= 0) {
-      V_parent = bodies[b.parent].R_link_principal;
-      c_parent = bodies[b.parent].com;
-    }
-    const Eigen::Matrix3d& V = b.R_link_principal;
-    const Eigen::Matrix3d R_pp_cp = V_parent.transpose() * b.X_parent_joint.linear() * V;
-    // Bullet: rotParentToThis rotates parent-frame vectors into this frame (at q = 0).
-    const btQuaternion rot_parent_to_this = ToBtQuat(R_pp_cp.transpose());
-    const btVector3 parent_com_to_pivot =
-        ToBt(V_parent.transpose() * (b.X_parent_joint.translation() - c_parent));
-    const btVector3 pivot_to_com = ToBt(V.transpose() * b.com);
-    const btVector3 inertia = ToBt(b.principal_moments);
-    switch (b.joint_type) {
-      case MultibodyJointType::kRevolute:
-        bullet_->setupRevolute(i, b.mass, inertia, b.parent, rot_parent_to_this,
-                               ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com,
-                               true);
-        break;
-      case MultibodyJointType::kPrismatic:
-        bullet_->setupPrismatic(i, b.mass, inertia, b.parent, rot_parent_to_this,
-                                ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com,
-                                true);
-        break;
-      case MultibodyJointType::kFixed:
-        bullet_->setupFixed(i, b.mass, inertia, b.parent, rot_parent_to_this, parent_com_to_pivot,
-                            pivot_to_com, true);
-        break;
-    }
-  }
+  bullet_ = BuildBulletMultiBody(*bodies_);
   bullet_->finalizeMultiDof();
-  bullet_->setLinearDamping(0.0);
-  bullet_->setAngularDamping(0.0);
-  bullet_->setMaxCoordinateVelocity(1e300);
-  bullet_->setUseGyroTerm(true);
-  bullet_->setCanSleep(false);
   // Size Bullet's scratch arrays once (later calls resize to the same sizes: no allocation).
   bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
   bullet_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(
