@@ -40,6 +40,7 @@ struct BulletWorldPlant::World {
     for (auto& c : colliders) world->removeCollisionObject(c.get());
     for (auto& t : terrain) world->removeCollisionObject(t.get());
     world->removeMultiBody(mb.get());
+    for (auto& r : rotors) world->removeMultiBody(r.get());
   }
 
   void Build();
@@ -52,6 +53,7 @@ struct BulletWorldPlant::World {
   std::unique_ptr<btMultiBodyConstraintSolver> solver;
   std::unique_ptr<btMultiBodyDynamicsWorld> world;
   std::unique_ptr<btMultiBody> mb;
+  std::vector<std::unique_ptr<btMultiBody>> rotors;  // one per geared armature
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btCollisionObject>> terrain;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
@@ -82,28 +84,35 @@ void BulletWorldPlant::World::Build() {
   info.m_restitution = p.restitution;
   info.m_splitImpulse = 0;
 
-  // The robot: the model's tree, then one rotor link per actuated joint with reflected inertia.
+  // The robot: the model's tree; then one rotor per actuated joint with reflected inertia, each its own one-link
+  // btMultiBody on a fixed base (a wheel about a fixed axis), geared to the joint.
   const int nr = plant->num_rotors();
-  mb = BuildBulletMultiBody(model.bodies(), nr);
-  for (int r = 0; r < nr; ++r) {
-    const double I = model.reflected_inertia()[plant->rotor_dofs_[r]];
-    mb->setupRevolute(nb + r, 0.0, btVector3(I, I, I), -1, btQuaternion(0, 0, 0, 1), btVector3(0, 0, 1), btVector3(0, 0, 0),
-                      btVector3(0, 0, 0), true);
-  }
+  mb = BuildBulletMultiBody(model.bodies());
   mb->finalizeMultiDof();
   mb->setMaxAppliedImpulse(p.max_impulse_Ns);
   world->addMultiBody(mb.get());
   for (int r = 0; r < nr; ++r) {
+    const double I = model.reflected_inertia()[plant->rotor_dofs_[r]];
+    auto rotor = std::make_unique<btMultiBody>(1, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true, /*canSleep=*/false);
+    rotor->setupRevolute(0, 0.0, btVector3(I, I, I), -1, btQuaternion(0, 0, 0, 1), btVector3(0, 0, 1), btVector3(0, 0, 0), btVector3(0, 0, 0), true);
+    rotor->finalizeMultiDof();
+    rotor->setLinearDamping(0.0);
+    rotor->setAngularDamping(0.0);
+    rotor->setMaxCoordinateVelocity(1e300);
+    rotor->setCanSleep(false);
+    rotor->setMaxAppliedImpulse(p.max_impulse_Ns);
+    world->addMultiBody(rotor.get());
     const int link = model.BodyOfVelocity(plant->rotor_dofs_[r]);
     // Row: q̇_joint + ratio q̇_rotor = 0 with ratio −1, i.e. the rotor turns with the joint. No position error term: the
     // rotor angle enters nothing.
-    auto gear = std::make_unique<btMultiBodyGearConstraint>(mb.get(), link, mb.get(), nb + r, btVector3(0, 0, 0), btVector3(0, 0, 0),
+    auto gear = std::make_unique<btMultiBodyGearConstraint>(mb.get(), link, rotor.get(), 0, btVector3(0, 0, 0), btVector3(0, 0, 0),
                                                             btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity());
     gear->setGearRatio(-1.0);
     gear->setErp(0.0);
     gear->setMaxAppliedImpulse(p.max_impulse_Ns);
     world->addMultiBodyConstraint(gear.get());
     constraints.push_back(std::move(gear));
+    rotors.push_back(std::move(rotor));
   }
   if (p.enable_joint_limits)
     for (int i = 0; i < nb; ++i) {
@@ -118,7 +127,7 @@ void BulletWorldPlant::World::Build() {
     }
 
   // Feet: a compound of spheres, one per contact point, on the contact's body.
-  link_points.assign(nb + nr, {});
+  link_points.assign(nb, {});
   std::vector<double> link_mu(nb, 1.0);
   for (int c = 0; c < model.num_contacts(); ++c) {
     const ContactInfo& contact = model.contacts()[c];
@@ -127,7 +136,19 @@ void BulletWorldPlant::World::Build() {
     link_mu[contact.body] = contact.friction_coefficient;
   }
   for (int i = 0; i < nb; ++i) {
-    if (link_points[i].empty()) continue;
+    if (link_points[i].empty()) {
+      // Bullet solves a multibody constraint (the armature gears, joint limits) only within the simulation island of
+      // its links' colliders: a link without one has its gear silently ignored (measured: the hips' gears applied no
+      // impulse until their thighs had colliders). An empty compound that collides with nothing gives it one.
+      auto empty = std::make_unique<btCompoundShape>(false, 0);
+      auto collider = std::make_unique<btMultiBodyLinkCollider>(mb.get(), i);
+      collider->setCollisionShape(empty.get());
+      shapes.push_back(std::move(empty));
+      world->addCollisionObject(collider.get(), kRobotGroup, 0);
+      mb->getLink(i).m_collider = collider.get();
+      colliders.push_back(std::move(collider));
+      continue;
+    }
     auto compound = std::make_unique<btCompoundShape>(false, static_cast<int>(link_points[i].size()));
     for (const auto& [centre, c] : link_points[i]) {
       (void)c;
@@ -362,9 +383,8 @@ void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, 
 
 double BulletWorldPlant::GearVelocityError(const LeafContext& context) const {
   World& w = context.scratch<World>();
-  const int nb = model_->num_bodies();
   double err = 0;
-  for (int r = 0; r < num_rotors(); ++r) err = std::max(err, std::abs(w.mb->getJointVel(model_->BodyOfVelocity(rotor_dofs_[r])) - w.mb->getJointVel(nb + r)));
+  for (int r = 0; r < num_rotors(); ++r) err = std::max(err, std::abs(w.mb->getJointVel(model_->BodyOfVelocity(rotor_dofs_[r])) - w.rotors[r]->getJointVel(0)));
   return err;
 }
 
@@ -382,7 +402,7 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     w.mb->setJointPos(i, w.q[k]);
     w.mb->setJointVel(i, w.v[k]);
   }
-  for (int r = 0; r < num_rotors(); ++r) w.mb->setJointVel(nb + r, w.v[rotor_dofs_[r]]);
+  for (int r = 0; r < num_rotors(); ++r) w.rotors[r]->setJointVel(0, w.v[rotor_dofs_[r]]);
   w.mb->forwardKinematics(w.world_to_local, w.local_origin);
   w.mb->updateCollisionObjectWorldTransforms(w.world_to_local, w.local_origin);
 
