@@ -42,35 +42,41 @@ PlantRun Start(const ContactPlant& plant, const Eigen::VectorXd& q, const Eigen:
   return r;
 }
 
-// Semi-implicit Euler (Bullet's integrator) is symplectic for a separable Hamiltonian: the energy error stays bounded,
-// of order h (1e-3 s) times the energy exchanged, and does not grow. Double pendulum (tests/systems/multibody/data),
-// released from 1.0 rad and 0.5 rad: |E(t) - E(0)| over 10 s at 1 kHz below 1 % of the potential energy swing
-// m g Δz ~ 10 J (bound ours; Bullet's explicit velocity update before the position update gives an O(h) oscillation).
+// Bullet steps a multibody by semi-implicit Euler with explicit velocity-product terms: for a double pendulum (its
+// mass matrix depends on q) that is not symplectic, and the energy drifts, at first order in the step. Double pendulum
+// (tests/systems/multibody/data), released from 1.0 rad and 0.5 rad, energy from our own kinematics (not Bullet's):
+// over 10 s at 1 kHz |E(t) - E(0)| stays below 2.5 % of the potential-energy swing m g Δz ~ 22.6 J (bound ours;
+// measured 1.3 %, growing steadily), and 10 substeps (0.1 ms) cut it at least fivefold (first order).
 TEST(BulletWorldPlant, FreePendulumEnergyDriftIsBoundedOver10sAt1kHz) {
   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::Load(Source("tests/systems/multibody/data/double_pendulum.urdf")));
-  BulletWorldPlantParams params;
-  params.enable_joint_limits = false;
-  BulletWorldPlant plant("pendulum", model, NoContacts(), Terrain::Flat(-100.0), params);
-  Eigen::VectorXd q(2);
-  q << 1.0, 0.5;
-  PlantRun run = Start(plant, q, Eigen::VectorXd::Zero(2), "free", Eigen::VectorXd::Zero(model->nu()));
   MultibodyWorkspace ws(*model);
   auto energy = [&](const Eigen::VectorXd& x) {
     return CalcKineticEnergy(*model, ws, x.head(2), x.tail(2)) + CalcPotentialEnergy(*model, ws, x.head(2));
   };
-  const double e0 = energy(run.context->discrete_state().head(4));
-  double worst = 0, e_min = e0, e_max = e0;
-  for (int k = 1; k <= 10000; ++k) {
-    ASSERT_TRUE(run.sim->AdvanceTo(k * 1e-3).ok());
-    const double e = energy(run.context->discrete_state().head(4));
-    worst = std::max(worst, std::abs(e - e0));
-    e_min = std::min(e_min, e), e_max = std::max(e_max, e);
+  double drift[2];
+  for (int i = 0; i < 2; ++i) {
+    BulletWorldPlantParams params;
+    params.enable_joint_limits = false;
+    params.substeps = i == 0 ? 1 : 10;
+    BulletWorldPlant plant("pendulum", model, NoContacts(), Terrain::Flat(-100.0), params);
+    Eigen::VectorXd q(2);
+    q << 1.0, 0.5;
+    PlantRun run = Start(plant, q, Eigen::VectorXd::Zero(2), "free", Eigen::VectorXd::Zero(model->nu()));
+    const double e0 = energy(run.context->discrete_state().head(4));
+    drift[i] = 0;
+    double max_speed = 0;
+    for (int k = 1; k <= 10000; ++k) {
+      ASSERT_TRUE(run.sim->AdvanceTo(k * 1e-3).ok());
+      drift[i] = std::max(drift[i], std::abs(energy(run.context->discrete_state().head(4)) - e0));
+      max_speed = std::max(max_speed, run.context->discrete_state().tail(2).norm());
+    }
+    EXPECT_GT(max_speed, 1.0) << "it swung";
   }
   const double pe_swing = 2.3 * 9.81 * 1.0;  // total mass x g x ~1 m of height change
-  RecordProperty("energy_drift_J", std::to_string(worst));
-  EXPECT_LT(worst, 0.01 * pe_swing) << "energy range " << e_min << " .. " << e_max << " J";
-  // It really swung (kinetic energy exchanged), so the bound is not met by standing still.
-  EXPECT_GT(run.context->discrete_state().tail(2).norm(), 0.1);
+  RecordProperty("energy_drift_1ms_J", std::to_string(drift[0]));
+  RecordProperty("energy_drift_0.1ms_J", std::to_string(drift[1]));
+  EXPECT_LT(drift[0], 0.025 * pe_swing);
+  EXPECT_LT(drift[1], 0.2 * drift[0]);
 }
 
 // A box dropped flat from 0.2 m comes to rest with its bottom on the plane: base height = half its height 0.05 m
@@ -81,11 +87,14 @@ TEST(BulletWorldPlant, DroppedBoxRestsOnThePlaneAtItsHalfHeight) {
   graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
   graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
   graph.initial_mode = "flight";
-  BulletWorldPlant plant("box", model, graph, Terrain::Flat());
+  BulletWorldPlantParams params;
+  params.min_base_height_m = -1.0;
+  BulletWorldPlant plant("box", model, graph, Terrain::Flat(), params);
   Eigen::VectorXd q(3);
   q << 0.0, 0.25, 0.0;
   PlantRun run = Start(plant, q, Eigen::VectorXd::Zero(3), "flight", Eigen::VectorXd::Zero(0));
-  ASSERT_TRUE(run.sim->AdvanceTo(1.5).ok());
+  const auto status = run.sim->AdvanceTo(1.5);
+  ASSERT_TRUE(status.ok()) << status.ToString();
   EXPECT_EQ(run.context->mode(), plant.GetModeIndex("resting"));
   ASSERT_GE(run.sim->statistics().events.size(), 1u);
   EXPECT_EQ(run.sim->statistics().events[0].guard, "touchdown_bottom");
@@ -106,47 +115,48 @@ TEST(BulletWorldPlant, DroppedBoxRestsOnThePlaneAtItsHalfHeight) {
   EXPECT_LT(x.segment(3, 3).norm(), 1e-6);
 }
 
-// A ball whose bottom is 5 mm beyond the right edge of a stone falls into the gap (no stone top under it), moving left
-// at 0.3 m/s: its left side hits the stone's right side face, which pushes it along +x (a horizontal normal), and it
-// never passes into the stone. The stepping-stone plant must not hold it at the stone's top height.
+// A ball sliding at 1 m/s with its bottom on a stone's top, 1 cm before the right edge, slides off the edge and falls
+// into the gap (no stone top under it, so nothing holds it at the stone's height). Sent back left at 1 m/s while in
+// the gap, its left side hits the stone's right side face, which pushes it along +x (a horizontal normal), and it never
+// passes into the stone.
 TEST(BulletWorldPlant, BallOnAStoneEdgeFallsIntoTheGapAndHitsTheSide) {
   auto model = LoadSidecar("tests/systems/plants/data/planar_ball.rome.json");
   ContactModeGraph graph;
-  graph.modes = {{"flight", {}}};
+  graph.modes = {{"free", {}}};
   const Terrain stones = Terrain::Stones({{0.0, 0.0, 0.2}, {1.0, 0.0, 0.2}});  // stone 0 spans -0.1 .. 0.1 m
   BulletWorldPlantParams params;
   params.min_base_height_m = -10.0;
   BulletWorldPlant plant("ball", model, graph, stones, params);
   Eigen::VectorXd q(3), v(3);
-  q << 0.1 + 0.005, 0.06, 0.0;  // bottom 1 cm above the stone top, 5 mm beyond its edge; left side 4.5 cm inside the edge
-  v << 0.0, 0.0, 0.0;
-  PlantRun run = Start(plant, q, v, "flight", Eigen::VectorXd::Zero(0));
-  // First the ball falls: its left side must pass the stone's corner, which it does not touch (x - 0.05 > ... no:
-  // the side point is inside the stone's x-range but above its top, so the ball lands on the corner and rolls off).
-  double min_x = q[0], max_fx = 0;
-  const int back = model->ContactIndex("back"), bottom = model->ContactIndex("bottom");
-  (void)bottom;
-  bool pushed_left = false;
-  for (int k = 1; k <= 600; ++k) {
+  q << 0.09, 0.05, 0.0;
+  v << 1.0, 0.0, 0.0;
+  PlantRun run = Start(plant, q, v, "free", Eigen::VectorXd::Zero(0));
+  const int surface = model->ContactIndex("surface");
+  double min_x_after_push = 1e9, max_side_fx = 0;
+  // 0.42 s: still above the floor plane (1 m below the stone tops), so every +x force comes from the side face.
+  for (int k = 1; k <= 420; ++k) {
     ASSERT_TRUE(run.sim->AdvanceTo(k * 1e-3).ok());
-    const Eigen::VectorXd x = run.context->discrete_state();
-    if (k == 200 && !pushed_left) {
-      // Now below the stone top: send it left, into the stone's side.
-      ASSERT_LT(x[1], -0.06) << "the ball did not fall into the gap";
+    if (k == 200) {
+      const Eigen::VectorXd& x = run.context->discrete_state();
+      ASSERT_GT(x[0] - 0.05, 0.1) << "the ball is not past the edge";
+      ASSERT_LT(x[1] + 0.05, -0.05) << "the ball did not fall into the gap";
       Eigen::VectorXd& xd = const_cast<LeafContext*>(run.context)->get_mutable_discrete_state();
-      xd[3] = -0.3;
-      pushed_left = true;
+      xd[3] = -1.0;
+      xd[5] = 0.0;
       run.sim->Initialize();
     }
-    min_x = std::min(min_x, x[0]);
-    const Eigen::VectorXd f = plant.EvalOutput(*run.context, "contact_forces");
-    max_fx = std::max(max_fx, f[3 * back + 0]);
+    if (k > 200) {
+      min_x_after_push = std::min(min_x_after_push, run.context->discrete_state()[0]);
+      max_side_fx = std::max(max_side_fx, plant.EvalOutput(*run.context, "contact_forces")[3 * surface + 0]);
+    }
   }
   const Eigen::VectorXd x = run.context->discrete_state();
-  EXPECT_LT(x[1], -0.5) << "fell to the floor below the stones";
-  // The side face is at x = 0.1: the ball's left point (x - 0.05) stays outside it (sphere radius 1 mm, 1 mm slack).
-  EXPECT_GT(min_x - 0.05, 0.1 - 2e-3);
-  EXPECT_GT(max_fx, 1.0) << "the side face pushed the ball along +x";
+  EXPECT_LT(x[1], -0.5) << "fell deep into the gap";
+  // The side face is at x = 0.1: the ball's left side (x - 0.05) stays outside it (1 mm between its points, 1 mm slack).
+  EXPECT_GT(min_x_after_push - 0.05, 0.1 - 2e-3);
+  EXPECT_LT(min_x_after_push - 0.05, 0.1 + 2e-3) << "it reached the side face";
+  EXPECT_GT(max_side_fx, 1.0) << "the side face pushed the ball along +x";
+  EXPECT_GT(x[3], -1e-3) << "it no longer moves into the face";
 }
 
 // AMBER in flight, far above the ground, under the same constant torques on both plants for 0.2 s: Bullet's
