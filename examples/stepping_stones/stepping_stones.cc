@@ -1,5 +1,6 @@
 // stepping_stones: AMBER walks over stepping stones with momentum regulation (stepping-stones paper, Algorithm 1).
-// Event-accurate hybrid plant, LIP momentum planner, vertical-COM MPC, pre-impact posture NLP, task-space QP.
+// Event-accurate hybrid plant (or Bullet's physics world: --plant bullet), LIP momentum planner, vertical-COM MPC,
+// pre-impact posture NLP, task-space QP (or CLF-QP: --controller clf-qp).
 //
 // Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR): gait tiles over the stones,
 // COM height over time, and the phase portrait (p_com^x, L_y) against the LIP orbit of E*.

@@ -31,9 +31,7 @@ MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
       J_point(other.J_point), bodies_(other.bodies_), q_(other.q_), v_(other.v_),
       has_q_(false), has_v_(false), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
       c_w_(other.c_w_), S_(other.S_), V_(other.V_), A_bias_(other.A_bias_), I_(other.I_),
-      Ic_(other.Ic_) {
-  BuildBullet();
-}
+      Ic_(other.Ic_) {}
 
 MultibodyWorkspace& MultibodyWorkspace::operator=(const MultibodyWorkspace& other) {
   if (this != &other) {
@@ -100,7 +98,16 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   lambda_sol.setZero(rows);
   residual.setZero(rows);
   J_point.setZero(6, nv);
-  BuildBullet();
+}
+
+btMultiBody& MultibodyWorkspace::bullet() {
+  if (!bullet_) BuildBullet();
+  return *bullet_;
+}
+
+MultibodyWorkspace::BulletScratch& MultibodyWorkspace::bullet_scratch() {
+  if (!bullet_) BuildBullet();
+  return *scratch_;
 }
 
 void MultibodyWorkspace::BuildBullet() {
@@ -111,11 +118,11 @@ void MultibodyWorkspace::BuildBullet() {
   bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
   bullet_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(
       0.0, scratch_->scratch_r, scratch_->scratch_v, scratch_->scratch_m, false, false, false);
-  bullet_in.setZero();
-  bullet_->calcAccelerationDeltasMultiDof(bullet_in.data(), bullet_out.data(),
-                                          scratch_->scratch_r2, scratch_->scratch_v2);
-  valid = Flags();
-  has_q_ = has_v_ = false;
+  // Own buffers: a lazy build must not overwrite bullet_in, which a caller may have filled already.
+  Eigen::VectorXd in = Eigen::VectorXd::Zero(bullet_in.size()), out(bullet_out.size());
+  bullet_->calcAccelerationDeltasMultiDof(in.data(), out.data(), scratch_->scratch_r2, scratch_->scratch_v2);
+  // Nothing was pushed into the new tree yet; the kinematics and M of the current state stay valid.
+  valid.bullet_q = valid.bullet_v = valid.bullet_minv = valid.armature = false;
 }
 
 void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
@@ -219,6 +226,7 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
 }
 
 void MultibodyWorkspace::EnsureBulletPositions() {
+  if (!bullet_) BuildBullet();
   if (valid.bullet_q) return;
   const std::vector<MultibodyBody>& bodies = *bodies_;
   const int nb = static_cast<int>(bodies.size());
