@@ -79,6 +79,14 @@ double FlatFootPitch(const MultibodyModel& model, const std::string& contact) {
 
 }  // namespace
 
+const char* ToString(SteppingStonesPlant plant) { return plant == SteppingStonesPlant::kBullet ? "bullet" : "hybrid"; }
+
+SteppingStonesPlant ParseSteppingStonesPlant(const std::string& name) {
+  if (name == "hybrid") return SteppingStonesPlant::kHybrid;
+  if (name == "bullet") return SteppingStonesPlant::kBullet;
+  throw std::invalid_argument("unknown plant '" + name + "' (expected hybrid or bullet)");
+}
+
 double SoleLength(const MultibodyModel& model) {
   double sole = 0.0;
   for (const ContactInfo& c : model.contacts()) {
@@ -157,7 +165,7 @@ SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStone
 }
 
 SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
-                                                 const SteppingStonesControllerFactory& controller) {
+                                                 const SteppingStonesControllerFactory& controller, SteppingStonesPlant plant) {
   // E* > 0: the LIP crosses the stance foot and walks forwards (E* <= 0 turns back before reaching the stone).
   if (!(params.target_orbital_energy > 0) || !std::isfinite(params.target_orbital_energy))
     throw std::invalid_argument("BuildSteppingStonesDiagram: target_orbital_energy (E*) must be positive, got " + std::to_string(params.target_orbital_energy) +
@@ -176,7 +184,13 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   double lowest_stone = 0.0;
   for (const SteppingStone& s : terrain.stones()) lowest_stone = std::min(lowest_stone, s.top_height_m);
   plant_params.min_base_height_m += lowest_stone;
-  d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", d.model, graph, terrain, plant_params));
+  if (plant == SteppingStonesPlant::kBullet) {
+    BulletWorldPlantParams bullet_params = params.bullet_plant;
+    bullet_params.min_base_height_m += lowest_stone;
+    d.plant = b.AddSystem(std::make_unique<BulletWorldPlant>("plant", d.model, graph, terrain, bullet_params));
+  } else {
+    d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", d.model, graph, terrain, plant_params));
+  }
 
   SteppingStonesSupervisorParams sp = params.supervisor;
   sp.impact_fraction = params.impact_fraction;

@@ -1,5 +1,6 @@
 // stepping_stones: AMBER walks over stepping stones with momentum regulation (stepping-stones paper, Algorithm 1).
-// Event-accurate hybrid plant, LIP momentum planner, vertical-COM MPC, pre-impact posture NLP, task-space QP.
+// Event-accurate hybrid plant (or Bullet's physics world: --plant bullet), LIP momentum planner, vertical-COM MPC,
+// pre-impact posture NLP, task-space QP (or CLF-QP: --controller clf-qp).
 //
 // Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR): gait tiles over the stones,
 // COM height over time, and the phase portrait (p_com^x, L_y) against the LIP orbit of E*.
@@ -142,6 +143,7 @@ int main(int argc, char** argv) {
       .Option("clf-relaxation-weight", "default", "CLF-QP: weight p of the CLF relaxation (default: the diagram's)")
       .Option("clf-rate", "default", "[Hz] CLF-QP update rate (default: the diagram's)")
       .Option("clf-cone-offset", "default", "[N] CLF-QP: apex of the friction pyramid, |F_t| <= mu' (F_z - offset) (default: the diagram's)")
+      .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
       .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
       .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
       .Option("unilateral-contact", "on", "on | off: the plant's stance feet lift off at F_n = 0 and a slip fails the run (off: welded feet, as before)")
@@ -238,14 +240,15 @@ int main(int argc, char** argv) {
     std::string animation_error;
     if (!cli.Get("animation").empty() && !examples::AnimationRecorder::CheckWritable(cli.Get("animation"), &animation_error))
       throw std::invalid_argument("stepping_stones: --animation: " + animation_error);
-    SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller);
+    const SteppingStonesPlant plant_kind = ParseSteppingStonesPlant(cli.Get("plant"));
+    SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller, plant_kind);
     std::unique_ptr<examples::AnimationRecorder> animation;
     if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*d.model);
     Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
     SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
     sim.Initialize();
 
-    std::cout << "stepping_stones: " << terrain.stones().size() << " stones (" << cli.Get("terrain") << "), E* = " << params.target_orbital_energy
+    std::cout << "stepping_stones: " << ToString(plant_kind) << " plant, " << terrain.stones().size() << " stones (" << cli.Get("terrain") << "), E* = " << params.target_orbital_energy
               << ", epsilon = " << params.impact_fraction << ", " << steps << " steps\n";
     const auto start = std::chrono::steady_clock::now();
     SimulatorStatus status;
@@ -270,13 +273,13 @@ int main(int argc, char** argv) {
       contact.Record(*d.plant, plant_context);
       if (animation) {
         const int mode = d.plant->EvalTypedOutput<int>(plant_context, "mode");
-        animation->Record(c.time(), plant_context.continuous_state().head(d.model->nv()), d.plant->mode_name(mode),
+        animation->Record(c.time(), d.plant->EvalOutput(plant_context, "q"), d.plant->mode_name(mode),
                           d.plant->EvalOutput(plant_context, "contact_forces"));
       }
       u2_integral += last_u.squaredNorm() * (c.time() - last_time);  // u is held between updates
       last_time = c.time();
       last_u = d.controller->EvalOutput(controller_context, "u");
-      tracking.Record(plant_context.continuous_state(), d.plant->EvalTypedOutput<int>(plant_context, "mode"),
+      tracking.Record(d.plant->EvalOutput(plant_context, "state"), d.plant->EvalTypedOutput<int>(plant_context, "mode"),
                       d.output_adapter->EvalOutput(d.diagram->GetSubsystemContext(*d.output_adapter, c), "desired"));
       if (has_solve_time) {
         const double st = d.controller->EvalOutput(controller_context, "solve_time_s")[0];
@@ -343,6 +346,7 @@ int main(int argc, char** argv) {
     nlohmann::json summary = {{"success", success},
                               {"status_kind", status.kind_name()},
                               {"controller", ControllerKind(*d.controller)},
+                              {"plant", ToString(plant_kind)},
                               {"steps_completed", recs.size()},
                               {"fell", fell},
                               {"fall_reason", fell ? status.message : ""},
@@ -464,7 +468,8 @@ int main(int argc, char** argv) {
     std::cout << "\n"
               << status.ToString() << "\n"
               << recs.size() << " of " << steps << " steps" << (fell ? " (fell)" : "") << ", " << sim_time << " s simulated in " << wall
-              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time), controller " << ControllerKind(*d.controller) << "\n"
+              << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time), controller " << ControllerKind(*d.controller) << ", plant "
+              << ToString(plant_kind) << "\n"
               << "mean forward speed " << summary["mean_forward_speed_mps"].get<double>() << " m/s, largest foothold error " << max_foothold * 100
               << " cm, QP failures " << qp_failures << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
               << "plant contact forces: min stance F_n " << summary["min_stance_normal_force_N"].get<double>() << " N, max |F_t|/F_n "

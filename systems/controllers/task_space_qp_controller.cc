@@ -56,11 +56,6 @@ struct TaskSpaceQpController::Scratch {
   long relaxed_solves = 0;
 };
 
-std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant) {
-  std::vector<ContactSet> sets;
-  for (int m = 0; m < plant.num_modes(); ++m) sets.push_back(plant.active_contacts(m));
-  return sets;
-}
 
 TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
                                              std::vector<std::shared_ptr<const TaskSpaceTask>> tasks, TaskSpaceQpParams params)

@@ -98,9 +98,6 @@ struct TaskSpaceQpParams {
   QpSettings qp;                       ///< DenseQpSolver tolerances (warm start on by default).
 };
 
-/// The active contact set of each of the plant's modes (mode index order).
-std::vector<ContactSet> ActiveContactsPerMode(const HybridContactPlant& plant);
-
 class TaskSpaceQpController final : public QpControllerSystem {
  public:
   /// `mode_contacts[m]`: the contacts active in the plant's mode m (see ActiveContactsPerMode). Tasks are

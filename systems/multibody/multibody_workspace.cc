@@ -7,21 +7,11 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLink.h>
 
+#include "systems/multibody/bullet_multibody.h"
 #include "systems/multibody/bullet_scratch.h"
 
 namespace rome {
 
-namespace {
-
-btVector3 ToBt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
-
-btQuaternion ToBtQuat(const Eigen::Matrix3d& R) {
-  Eigen::Quaterniond q(R);
-  q.normalize();
-  return btQuaternion(q.x(), q.y(), q.z(), q.w());
-}
-
-}  // namespace
 
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyModel& model) { Build(model); }
 MultibodyWorkspace::~MultibodyWorkspace() = default;
@@ -41,9 +31,7 @@ MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
       J_point(other.J_point), bodies_(other.bodies_), q_(other.q_), v_(other.v_),
       has_q_(false), has_v_(false), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
       c_w_(other.c_w_), S_(other.S_), V_(other.V_), A_bias_(other.A_bias_), I_(other.I_),
-      Ic_(other.Ic_) {
-  BuildBullet();
-}
+      Ic_(other.Ic_) {}
 
 MultibodyWorkspace& MultibodyWorkspace::operator=(const MultibodyWorkspace& other) {
   if (this != &other) {
@@ -110,66 +98,31 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   lambda_sol.setZero(rows);
   residual.setZero(rows);
   J_point.setZero(6, nv);
-  BuildBullet();
+}
+
+btMultiBody& MultibodyWorkspace::bullet() {
+  if (!bullet_) BuildBullet();
+  return *bullet_;
+}
+
+MultibodyWorkspace::BulletScratch& MultibodyWorkspace::bullet_scratch() {
+  if (!bullet_) BuildBullet();
+  return *scratch_;
 }
 
 void MultibodyWorkspace::BuildBullet() {
-  const std::vector<MultibodyBody>& bodies = *bodies_;
-  const int nb = static_cast<int>(bodies.size());
   scratch_ = std::make_unique<BulletScratch>();
-  // Fixed, massless Bullet base at the world origin; every body is a Bullet link.
-  bullet_ = std::make_unique<btMultiBody>(nb, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true,
-                                          /*canSleep=*/false);
-  bullet_->setBasePos(btVector3(0, 0, 0));
-  bullet_->setWorldToBaseRot(btQuaternion(0, 0, 0, 1));
-  for (int i = 0; i < nb; ++i) {
-    const MultibodyBody& b = bodies[i];
-    Eigen::Matrix3d V_parent = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d c_parent = Eigen::Vector3d::Zero();
-    if (b.parent >= 0) {
-      V_parent = bodies[b.parent].R_link_principal;
-      c_parent = bodies[b.parent].com;
-    }
-    const Eigen::Matrix3d& V = b.R_link_principal;
-    const Eigen::Matrix3d R_pp_cp = V_parent.transpose() * b.X_parent_joint.linear() * V;
-    // Bullet: rotParentToThis rotates parent-frame vectors into this frame (at q = 0).
-    const btQuaternion rot_parent_to_this = ToBtQuat(R_pp_cp.transpose());
-    const btVector3 parent_com_to_pivot =
-        ToBt(V_parent.transpose() * (b.X_parent_joint.translation() - c_parent));
-    const btVector3 pivot_to_com = ToBt(V.transpose() * b.com);
-    const btVector3 inertia = ToBt(b.principal_moments);
-    switch (b.joint_type) {
-      case MultibodyJointType::kRevolute:
-        bullet_->setupRevolute(i, b.mass, inertia, b.parent, rot_parent_to_this,
-                               ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com,
-                               true);
-        break;
-      case MultibodyJointType::kPrismatic:
-        bullet_->setupPrismatic(i, b.mass, inertia, b.parent, rot_parent_to_this,
-                                ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com,
-                                true);
-        break;
-      case MultibodyJointType::kFixed:
-        bullet_->setupFixed(i, b.mass, inertia, b.parent, rot_parent_to_this, parent_com_to_pivot,
-                            pivot_to_com, true);
-        break;
-    }
-  }
+  bullet_ = BuildBulletMultiBody(*bodies_);
   bullet_->finalizeMultiDof();
-  bullet_->setLinearDamping(0.0);
-  bullet_->setAngularDamping(0.0);
-  bullet_->setMaxCoordinateVelocity(1e300);
-  bullet_->setUseGyroTerm(true);
-  bullet_->setCanSleep(false);
   // Size Bullet's scratch arrays once (later calls resize to the same sizes: no allocation).
   bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
   bullet_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(
       0.0, scratch_->scratch_r, scratch_->scratch_v, scratch_->scratch_m, false, false, false);
-  bullet_in.setZero();
-  bullet_->calcAccelerationDeltasMultiDof(bullet_in.data(), bullet_out.data(),
-                                          scratch_->scratch_r2, scratch_->scratch_v2);
-  valid = Flags();
-  has_q_ = has_v_ = false;
+  // Own buffers: a lazy build must not overwrite bullet_in, which a caller may have filled already.
+  Eigen::VectorXd in = Eigen::VectorXd::Zero(bullet_in.size()), out(bullet_out.size());
+  bullet_->calcAccelerationDeltasMultiDof(in.data(), out.data(), scratch_->scratch_r2, scratch_->scratch_v2);
+  // Nothing was pushed into the new tree yet; the kinematics and M of the current state stay valid.
+  valid.bullet_q = valid.bullet_v = valid.bullet_minv = valid.armature = false;
 }
 
 void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
@@ -273,6 +226,7 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
 }
 
 void MultibodyWorkspace::EnsureBulletPositions() {
+  if (!bullet_) BuildBullet();
   if (valid.bullet_q) return;
   const std::vector<MultibodyBody>& bodies = *bodies_;
   const int nb = static_cast<int>(bodies.size());

@@ -2,7 +2,10 @@
 // MultibodyWorkspace: all mutable state and scratch of the multibody computations
 // (Pinocchio's "Data"). Sized once from a MultibodyModel; no heap allocation afterwards.
 //
-// It owns the Bullet btMultiBody (double precision) built from the model:
+// It owns the Bullet btMultiBody (double precision) built from the model, built lazily by the first Bullet call (ABA,
+// M⁻¹, CalcBulletLinkPoses, bullet()): the hybrid plant, the controllers and the planners never call Bullet, so their
+// workspaces never build one (its construction and copy cost nothing there). A test or benchmark that counts
+// allocations makes one Bullet call before counting.
 //  * one Bullet link per MultibodyBody, with the fixed Bullet base at the world origin;
 //  * Bullet link frames are the principal inertia frames at each COM (Bullet only accepts
 //    diagonal inertia); see MultibodyBody::R_link_principal;
@@ -54,7 +57,7 @@ class MultibodyWorkspace {
  public:
   explicit MultibodyWorkspace(const MultibodyModel& model);
   ~MultibodyWorkspace();
-  MultibodyWorkspace(const MultibodyWorkspace& other);  // rebuilds its own btMultiBody
+  MultibodyWorkspace(const MultibodyWorkspace& other);  // its own btMultiBody, built on its first Bullet call
   MultibodyWorkspace& operator=(const MultibodyWorkspace& other);
   MultibodyWorkspace(MultibodyWorkspace&&) noexcept;
   MultibodyWorkspace& operator=(MultibodyWorkspace&&) noexcept;
@@ -86,7 +89,7 @@ class MultibodyWorkspace {
   const SpatialInertia& inertia(int body) const { return I_[body]; }
   const SpatialInertia& composite_inertia(int body) const { return Ic_[body]; }
 
-  btMultiBody& bullet() { return *bullet_; }
+  btMultiBody& bullet();  // builds the tree on first use
   // Pushes the current q into Bullet's joint positions (lazily, once per q). The workspace's own
   // link poses come from an Eigen forward-kinematics pass; Bullet needs q only for its ABA and
   // M^-1 operator. Called by the Bullet-based functions in multibody_dynamics.cc.
@@ -152,7 +155,7 @@ class MultibodyWorkspace {
 
  public:
   // Bullet scratch arrays (opaque to users).
-  BulletScratch& bullet_scratch() { return *scratch_; }
+  BulletScratch& bullet_scratch();  // builds the tree on first use
 };
 
 }  // namespace rome

@@ -5,7 +5,7 @@
 
 namespace rome {
 
-void ContactForceStatistics::Record(const HybridContactPlant& plant, const LeafContext& context) {
+void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext& context) {
   const ContactSet active = plant.active_contacts(context.mode());
   if (active == 0) return;
   const Eigen::VectorXd& forces = plant.EvalOutput(context, "contact_forces");

@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-#include "systems/plants/hybrid_contact_plant.h"
+#include "systems/plants/contact_plant.h"
 
 namespace rome {
 
@@ -21,7 +21,7 @@ struct ContactForceStatistics {
   long violations = 0;                ///< samples that violated unilateral contact or the friction cone
   std::string first_violation;        ///< "t = … s: contact 'left_foot' F_n = … N, |F_t|/F_n = …" of the first one
 
-  void Record(const HybridContactPlant& plant, const LeafContext& plant_context);
+  void Record(const ContactPlant& plant, const LeafContext& plant_context);
 };
 
 }  // namespace rome

@@ -10,49 +10,6 @@
 namespace rome {
 
 // ---------------------------------------------------------------------------------------------------------
-// Mode graphs
-
-ContactModeGraph ContactModeGraph::AlternatingSingleSupport(const std::string& left, const std::string& right, bool start_on_left) {
-  ContactModeGraph g;
-  const std::string ls = left + "_stance", rs = right + "_stance", fl = "flight";
-  g.modes = {{ls, {left}}, {rs, {right}}, {fl, {}}};  // indices 0, 1, 2: other code relies on them
-  g.transitions = {{ls, rs, Kind::kTouchdown, right}, {rs, ls, Kind::kTouchdown, left}, {ls, fl, Kind::kLiftoff, left},
-                   {rs, fl, Kind::kLiftoff, right},   {fl, ls, Kind::kTouchdown, left}, {fl, rs, Kind::kTouchdown, right}};
-  g.initial_mode = start_on_left ? ls : rs;
-  return g;
-}
-
-ContactModeGraph ContactModeGraph::WithDoubleSupport(const std::string& left, const std::string& right, const std::string& initial_mode) {
-  ContactModeGraph g;
-  const std::string ls = left + "_stance", rs = right + "_stance", ds = "double_support";
-  g.modes = {{ls, {left}}, {ds, {left, right}}, {rs, {right}}};
-  g.transitions = {{ls, ds, Kind::kTouchdown, right}, {rs, ds, Kind::kTouchdown, left}, {ds, rs, Kind::kLiftoff, left}, {ds, ls, Kind::kLiftoff, right}};
-  g.initial_mode = initial_mode;
-  return g;
-}
-
-ContactModeGraph ContactModeGraph::Hopping(const std::string& left, const std::string& right) {
-  ContactModeGraph g;
-  g.modes = {{"stance", {left, right}}, {"flight", {}}};
-  g.transitions = {{"stance", "flight", Kind::kLiftoff, left},
-                   {"stance", "flight", Kind::kLiftoff, right},
-                   {"flight", "stance", Kind::kTouchdown, left},
-                   {"flight", "stance", Kind::kTouchdown, right}};
-  g.initial_mode = "stance";
-  return g;
-}
-
-ContactModeGraph ContactModeGraph::JumpFlightLanding(const std::string& left, const std::string& right) {
-  ContactModeGraph g;
-  g.modes = {{"jump", {left, right}}, {"flight", {}}, {"landing", {left, right}}};  // indices 0, 1, 2
-  g.transitions = {{"jump", "flight", Kind::kLiftoff, left},        {"jump", "flight", Kind::kLiftoff, right},
-                   {"flight", "landing", Kind::kTouchdown, left},   {"flight", "landing", Kind::kTouchdown, right},
-                   {"landing", "flight", Kind::kLiftoff, left},     {"landing", "flight", Kind::kLiftoff, right}};
-  g.initial_mode = "jump";
-  return g;
-}
-
-// ---------------------------------------------------------------------------------------------------------
 // Plant
 
 struct HybridContactPlant::Scratch {
@@ -87,23 +44,6 @@ struct HybridContactPlant::Scratch {
   Eigen::Matrix3Xd event_forces;
 };
 
-namespace {
-int FindMode(const ContactModeGraph& g, const std::string& name, const std::string& plant) {
-  for (size_t i = 0; i < g.modes.size(); ++i)
-    if (g.modes[i].name == name) return static_cast<int>(i);
-  throw std::invalid_argument("system '" + plant + "': the contact-mode graph has no mode named '" + name + "'");
-}
-}  // namespace
-
-int HybridContactPlant::base_height_index() const {
-  switch (model_->floating_base()) {
-    case FloatingBaseType::kPlanar: return 1;
-    case FloatingBaseType::kSpatial: return 2;
-    case FloatingBaseType::kFixed: return -1;
-  }
-  return -1;
-}
-
 void HybridContactPlant::EnterMode(double t, int from, int to, State* next) const {
   next->discrete[0] = t;
   for (int c = 0; c < model_->num_contacts(); ++c)
@@ -113,28 +53,9 @@ void HybridContactPlant::EnterMode(double t, int from, int to, State* next) cons
 
 HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
                                        HybridContactPlantParams params)
-    : LeafSystem(std::move(name)), model_(std::move(model)), graph_(std::move(graph)), terrain_(std::move(terrain)), params_(params) {
-  if (!model_) ThrowError("null MultibodyModel");
-  if (graph_.modes.empty()) ThrowError("the contact-mode graph has no modes");
+    : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
-  std::vector<std::string> names;
-  for (const auto& m : graph_.modes) {
-    ContactSet set = 0;
-    for (const auto& c : m.contacts) {
-      int idx = -1;
-      try {
-        idx = model_->ContactIndex(c);
-      } catch (const std::exception&) {
-        ThrowError("mode '" + m.name + "' names contact '" + c + "', which robot '" + model_->name() + "' does not have");
-      }
-      set |= ContactBit(idx);
-    }
-    mode_contacts_.push_back(set);
-    names.push_back(m.name);
-  }
   const int num_modes = static_cast<int>(graph_.modes.size());
-  const int initial = FindMode(graph_, graph_.initial_mode.empty() ? graph_.modes[0].name : graph_.initial_mode, this->name());
-  DeclareModes(names, initial);
 
   Eigen::VectorXd x0(2 * nv);
   x0 << model_->q_nominal(), Eigen::VectorXd::Zero(nv);
@@ -184,8 +105,8 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   };
   std::vector<Touchdown> touchdowns;
   for (const auto& t : graph_.transitions) {
-    const int from = FindMode(graph_, t.from, this->name());
-    const int to = FindMode(graph_, t.to, this->name());
+    const int from = graph_.ModeIndex(t.from, this->name());
+    const int to = graph_.ModeIndex(t.to, this->name());
     int contact = -1;
     try {
       contact = model_->ContactIndex(t.contact);
@@ -347,7 +268,7 @@ void HybridContactPlant::SetState(LeafContext& context, const Eigen::VectorXd& q
                "' has nv = " + std::to_string(nv));
   State& s = context.get_mutable_state();
   s.continuous << q, v;
-  s.mode = FindMode(graph_, mode, name());
+  s.mode = graph_.ModeIndex(mode, name());
   s.discrete.setConstant(context.time());  // the mode clock starts now; inactive contacts count as just lifted off
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // HybridContactPlant: a MultibodyModel as an event-accurate hybrid framework system.
+// Its ports are ContactPlant's (contact_plant.h); BulletWorldPlant has the same ones.
 //
 // inputs:  u (nu)                      actuator torques [N m], joint side, in MultibodyModel::actuators() order
 // outputs: q (nv)                      generalized positions (see multibody_model.h for the coordinates)
@@ -52,50 +53,9 @@
 #include <string>
 #include <vector>
 
-#include "framework/system.h"
-#include "systems/multibody/contact_dynamics.h"
-#include "systems/multibody/multibody_model.h"
-#include "systems/plants/terrain.h"
+#include "systems/plants/contact_plant.h"
 
 namespace rome {
-
-/// The contact-mode graph is data: each diagram supplies its own (walking SSP→SSP, DSP/SSP, hopping).
-struct ContactModeGraph {
-  struct Mode {
-    std::string name;
-    std::vector<std::string> contacts;  ///< contact names (MultibodyModel::contacts()) active in this mode
-  };
-  enum class Kind { kTouchdown, kLiftoff };
-  struct Transition {
-    std::string from, to;
-    Kind kind = Kind::kTouchdown;
-    std::string contact;  ///< the contact that touches down or lifts off
-  };
-  std::vector<Mode> modes;
-  std::vector<Transition> transitions;
-  std::string initial_mode;
-
-  /// Point-foot walking: single support on one foot, the swing foot's touchdown swaps stance through an
-  /// impact (the old stance foot leaves the ground at once). Modes (fixed indices): 0 "<left>_stance",
-  /// 1 "<right>_stance", 2 "flight" (no contacts). Lift-off of the stance foot leads to flight; touchdown
-  /// of either foot in flight leads to that foot's stance (plastic impact).
-  static ContactModeGraph AlternatingSingleSupport(const std::string& left_contact, const std::string& right_contact,
-                                                   bool start_on_left = true);
-  /// Walking with double support: left_stance, double_support, right_stance; touchdown leads to double
-  /// support, lift-off of the trailing foot to single support.
-  static ContactModeGraph WithDoubleSupport(const std::string& left_contact, const std::string& right_contact,
-                                            const std::string& initial_mode = "double_support");
-  /// Hopping on both feet: stance (both feet) → flight when a foot's normal force reaches zero; flight →
-  /// stance at touchdown of either foot (the impact puts both feet in contact).
-  static ContactModeGraph Hopping(const std::string& left_contact, const std::string& right_contact);
-  /// The hopping paper's domain graph (Sec. IV-A, Fig. 5, Eq. (18)-(21)) with its three named domains:
-  /// 0 "jump" (both feet) → 1 "flight" when either foot's normal force reaches 0 (Eq. (19); identity reset, no
-  /// impact); "flight" → 2 "landing" (both feet) at touchdown of any sole point of either foot (Eq. (21)), with a
-  /// plastic impact on both feet at once. Landing is the paper's terminal domain; it also lifts off into "flight"
-  /// (a foot's force reaching 0 there is the next hop's take-off: with several hops the landing of one hop is the
-  /// crouch of the next, and the controller, not the plant, tells crouch from landing).
-  static ContactModeGraph JumpFlightLanding(const std::string& left_contact, const std::string& right_contact);
-};
 
 struct HybridContactPlantParams {
   ConstrainedDynamicsParameters dynamics;  ///< Baumgarte gains and regularisation (contact_dynamics.h)
@@ -120,22 +80,16 @@ struct HybridContactPlantParams {
   double liftoff_normal_force_N = 0.0;
 };
 
-class HybridContactPlant final : public LeafSystem {
+class HybridContactPlant final : public ContactPlant {
  public:
   HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
                      HybridContactPlantParams params = {});
 
-  const MultibodyModel& model() const { return *model_; }
-  const Terrain& terrain() const { return terrain_; }
-  const ContactModeGraph& graph() const { return graph_; }
   const HybridContactPlantParams& params() const { return params_; }
-  /// Active contact set of a mode (bit i = contact i).
-  ContactSet active_contacts(int mode) const { return mode_contacts_.at(mode); }
-  int base_height_index() const;
 
   /// Sets q, v and the mode in a context (sizes checked); the mode clock starts at the context time, and every
   /// contact counts as having left the ground then (touchdown guards arm min_time_in_mode_s later).
-  void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const;
+  void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const override;
 
   struct Scratch;
 
@@ -154,11 +108,7 @@ class HybridContactPlant final : public LeafSystem {
   /// Witness of a violation found right after an event: > 0 at the event, crossing 0 immediate_event_delay_s later.
   double PendingWitness(const LeafContext& context) const;
 
-  std::shared_ptr<const MultibodyModel> model_;
-  ContactModeGraph graph_;
-  Terrain terrain_;
   HybridContactPlantParams params_;
-  std::vector<ContactSet> mode_contacts_;
 };
 
 }  // namespace rome

@@ -125,6 +125,40 @@ TEST(SteppingStonesDiagram, ControllerResolvesAtEveryTouchdown) {
   }
 }
 
+// The plant swap (sim-to-sim): one builder argument puts the same diagram on Bullet's physics world. The supervisor
+// learns of every touchdown through the Bullet plant's touchdown_<foot> guards (mode changes), exactly as on the hybrid
+// plant: each committed step coincides with a touchdown event, and both plants walk the same 4 steps onto the planned
+// stones, their footholds within 1 cm of each other (bound ours: Bullet's 1 ms step and its non-instantaneous impact).
+TEST(SteppingStonesDiagram, BulletPlantIsOneBuilderArgumentAndTheSupervisorSeesItsTouchdowns) {
+  SteppingStonesDiagramParams params;
+  params.supervisor.max_steps = 4;
+  const Terrain terrain = PeriodicSteppingStones(0.4, 0.0, 7);
+  std::vector<double> footholds[2];
+  for (const SteppingStonesPlant kind : {SteppingStonesPlant::kHybrid, SteppingStonesPlant::kBullet}) {
+    SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, nullptr, kind);
+    EXPECT_NE(dynamic_cast<const BulletWorldPlant*>(d.plant) != nullptr, kind == SteppingStonesPlant::kHybrid);
+    Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
+    SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
+    const SimulatorStatus status = sim.AdvanceTo(10.0);
+    ASSERT_EQ(status.kind(), SimulatorStatus::Kind::kSuccess) << ToString(kind) << ": " << status.ToString();
+    const auto& steps = d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context()));
+    ASSERT_EQ(steps.size(), 4u);
+    std::vector<double> touchdowns;
+    for (const EventRecord& e : sim.statistics().events)
+      if (e.system == "plant" && e.guard.rfind("touchdown_", 0) == 0) touchdowns.push_back(e.time);
+    ASSERT_GE(touchdowns.size(), steps.size()) << ToString(kind);
+    for (const StepRecord& r : steps) {
+      const double end = r.start_time_s + r.duration_s;
+      double nearest = 1e9;
+      for (double t : touchdowns) nearest = std::min(nearest, std::abs(t - end));
+      EXPECT_LT(nearest, 1e-9) << ToString(kind) << ": a step was committed away from a touchdown";
+      EXPECT_LT(r.foothold_error_m, 0.02) << ToString(kind);
+      footholds[kind == SteppingStonesPlant::kBullet].push_back(r.foothold_error_m);
+    }
+  }
+  for (size_t i = 0; i < footholds[0].size(); ++i) EXPECT_NEAR(footholds[0][i], footholds[1][i], 0.01) << "step " << i;
+}
+
 // The controller swap users make: one builder call per controller on the same terrain; both walk it with physical
 // contact forces (the plant's) and land every step within 2 cm of its stone.
 TEST(SteppingStonesDiagram, TaskSpaceQpAndClfQpWalkTheSameTerrain) {

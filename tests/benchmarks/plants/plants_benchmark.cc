@@ -1,0 +1,44 @@
+// plants_benchmark: one 1 ms step of AMBER's Bullet world (BulletWorldPlant) with both feet on the ground (µs per step;
+// target <= 30 µs), and the same for 10 substeps. Each iteration runs the plant's periodic update from the same
+// standing state (both feet touching, at rest, torques holding the nominal pose roughly), so it pays collision
+// detection, two contact manifolds, four armature gears and the joint limits every time.
+//   ./plants_benchmark
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "systems/multibody/contact_dynamics.h"
+#include "systems/multibody/multibody_workspace.h"
+#include "systems/plants/bullet_world_plant.h"
+
+namespace rome {
+namespace {
+
+void BulletWorldStep(benchmark::State& state) {
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.rome.json"));
+  BulletWorldPlantParams params;
+  params.substeps = static_cast<int>(state.range(0));
+  params.solver_iterations = static_cast<int>(state.range(1));
+  BulletWorldPlant plant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), params);
+  auto context = plant.CreateDefaultLeafContext();
+  plant.SetState(*context, model->q_nominal(), Eigen::VectorXd::Zero(model->nv()), "stance");
+  context->FixInputPort(0, Eigen::VectorXd::Constant(model->nu(), 5.0));
+  Eigen::VectorXd next = context->discrete_state();
+  const auto& update = plant.periodic_events().at(0).update;
+  for (int i = 0; i < 10; ++i) update(*context, &next);  // contacts established, solver warm
+  const int fz_left = plant.forces_offset() + 2, fz_right = plant.forces_offset() + 5;
+  for (auto _ : state) {
+    next = context->discrete_state();
+    update(*context, &next);
+    benchmark::DoNotOptimize(next.data());
+  }
+  state.counters["Fz_left_N"] = next[fz_left];
+  state.counters["Fz_right_N"] = next[fz_right];
+}
+BENCHMARK(BulletWorldStep)->Args({1, 100})->Args({1, 30})->Args({1, 10})->Args({10, 100})->ArgNames({"substeps", "iterations"})->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace rome
+
+BENCHMARK_MAIN();
