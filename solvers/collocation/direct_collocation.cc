@@ -88,13 +88,14 @@ class CollocationNlp final : public NlpProblem {
   CollocationNlp(const std::string& name, const std::vector<CollocationPhase>& phases,
                  const std::vector<PhaseLayout>& layout, int num_variables, int num_constraints,
                  const std::vector<DirectCollocation::NodeConstraint>& constraints,
-                 const std::vector<StateFunction>& transitions,
+                 const std::vector<StateFunction>& transitions, const StateFunction& periodic_transition,
                  const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe)
       : NlpProblem(name, num_variables, num_constraints),
         phases_(phases),
         layout_(layout),
         constraints_(constraints),
         transitions_(transitions),
+        periodic_transition_(periodic_transition),
         terminal_cost_(terminal_cost) {
     SparsityPattern pattern;
     JacobianWriter writer(&pattern);
@@ -230,6 +231,23 @@ class CollocationNlp final : public NlpProblem {
       writer.Block(row, A.x(A.N - 1), -J);
       row += B.nx;
     }
+    // Periodicity x_0^0 − Δ(x_{N−1}^{P−1}) = 0.
+    if (periodic_transition_) {
+      const PhaseLayout& A = layout_.back();
+      const PhaseLayout& B = layout_.front();
+      VectorXad y;
+      periodic_transition_(InitializeAutoDiff(z.segment(A.x(A.N - 1), A.nx)), y);
+      if (y.size() != B.nx) {
+        std::ostringstream msg;
+        msg << "periodic transition from phase '" << phases_.back().name << "' to '" << phases_.front().name
+            << "' returned " << y.size() << " values, expected " << B.nx;
+        throw std::runtime_error(msg.str());
+      }
+      g.segment(row, B.nx) = z.segment(B.x(0), B.nx) - ExtractValue(y);
+      writer.Block(row, B.x(0), Eigen::MatrixXd::Identity(B.nx, B.nx));
+      writer.Block(row, A.x(A.N - 1), -ExtractJacobian(y, A.nx));
+      row += B.nx;
+    }
     // Path and node constraints.
     for (const auto& c : constraints_) {
       const PhaseLayout& L = layout_[c.phase];
@@ -252,6 +270,7 @@ class CollocationNlp final : public NlpProblem {
   std::vector<PhaseLayout> layout_;
   std::vector<DirectCollocation::NodeConstraint> constraints_;
   std::vector<StateFunction> transitions_;
+  StateFunction periodic_transition_;
   ScalarStateInputFunction terminal_cost_;
   Eigen::VectorXd cost_z_, constraint_z_;
   double cost_ = 0.0;
@@ -414,6 +433,13 @@ void DirectCollocation::SetTransition(int p, StateFunction reset) {
   transitions_[p] = std::move(reset);
 }
 
+void DirectCollocation::SetPeriodicTransition(StateFunction reset) {
+  if (!reset) {
+    throw std::invalid_argument("DirectCollocation '" + name_ + "'::SetPeriodicTransition: function is empty");
+  }
+  periodic_transition_ = std::move(reset);
+}
+
 void DirectCollocation::SetTerminalCost(ScalarStateInputFunction cost) {
   terminal_cost_ = std::move(cost);
 }
@@ -448,6 +474,7 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
   int num_constraints = 0;
   for (const auto& L : layout) num_constraints += (L.N - 1) * L.nx;
   for (size_t p = 1; p < layout.size(); ++p) num_constraints += layout[p].nx;
+  if (periodic_transition_) num_constraints += layout.front().nx;
   std::vector<NodeConstraint> constraints = path_constraints_;
   constraints.insert(constraints.end(), node_constraints_.begin(), node_constraints_.end());
   Eigen::VectorXd g_lower(0), g_upper(0);
@@ -464,7 +491,7 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
 
   auto nlp = std::make_unique<CollocationNlp>(name_, phases_, layout, num_variables,
                                               num_constraints, constraints, transitions_,
-                                              terminal_cost_, InitialGuessVector());
+                                              periodic_transition_, terminal_cost_, InitialGuessVector());
   Eigen::VectorXd gl = Eigen::VectorXd::Zero(num_constraints);
   Eigen::VectorXd gu = Eigen::VectorXd::Zero(num_constraints);
   for (size_t i = 0; i < lo.size(); ++i) {

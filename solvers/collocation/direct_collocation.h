@@ -9,6 +9,7 @@
 // Constraints:
 //   defects      x_{k+1} − x_k − (h/2)(f(x_k, u_k) + f(x_{k+1}, u_{k+1})) = 0   (trapezoid rule)
 //   transitions  x_0^{p+1} − Δ^p(x_{N−1}^p) = 0   (reset map Δ, default identity)
+//   periodicity  x_0^0 − Δ^P(x_{N−1}^{P−1}) = 0   (optional, SetPeriodicTransition: a periodic gait)
 //   path         g_lo ≤ g(x_k, u_k) ≤ g_hi at every node of a phase
 //   node         c_lo ≤ c(x_k, u_k) ≤ c_hi at one node (boundary conditions, e.g. apex ż = 0)
 //   bounds       state/input bounds at every node, per-node state bounds (initial/final states)
@@ -107,6 +108,9 @@ class DirectCollocation {
                           const Eigen::VectorXd& upper);
   // x_0^{p+1} = Δ(x_{N−1}^p) with Δ: R^{n_x^p} → R^{n_x^{p+1}}. Default: identity (needs equal n_x).
   void SetTransition(int p, StateFunction reset);
+  // Closes the phase sequence into a cycle: x_0^0 = Δ(x_{N−1}^{P−1}) with Δ: R^{n_x^{P−1}} → R^{n_x^0}
+  // (e.g. the reset of a periodic gait that re-expresses the state about the new stance foot).
+  void SetPeriodicTransition(StateFunction reset);
   // Φ(x, u) at the last node of the last phase.
   void SetTerminalCost(ScalarStateInputFunction cost);
   // Initial guess of phase p: states n_x × N, inputs n_u × N, duration [s].
@@ -152,6 +156,7 @@ class DirectCollocation {
   std::vector<NodeConstraint> node_constraints_;
   std::vector<NodeBounds> node_bounds_;
   std::vector<StateFunction> transitions_;  // size P − 1, empty function = identity
+  StateFunction periodic_transition_;        // empty: not periodic
   ScalarStateInputFunction terminal_cost_;
   std::vector<Guess> guesses_;
 };
