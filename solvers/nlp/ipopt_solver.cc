@@ -261,6 +261,7 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
     opts->SetIntegerValue("max_iter", options_.max_iterations);
     opts->SetNumericValue("max_cpu_time", options_.max_cpu_time);
     opts->SetStringValue("linear_solver", options_.linear_solver);
+    opts->SetStringValue("mu_strategy", options_.mu_strategy);
     if (options_.use_limited_memory_hessian || !problem.has_lagrangian_hessian()) {
       opts->SetStringValue("hessian_approximation", "limited-memory");
       opts->SetIntegerValue("limited_memory_max_history", options_.limited_memory_history);

@@ -30,6 +30,7 @@ struct IpoptSolverOptions {
   int print_level = 0;                           // 0 = silent … 5 = Ipopt default, 12 = max
   bool use_limited_memory_hessian = false;       // force L-BFGS even if an exact Hessian exists
   int limited_memory_history = 6;                // Ipopt `limited_memory_max_history` [-]
+  std::string mu_strategy = "monotone";          // Ipopt `mu_strategy`: "monotone" or "adaptive"
   // Warm start: when Solve() receives multipliers, use them (Ipopt `warm_start_init_point`).
   double warm_start_bound_push = 1e-9;           // Ipopt `warm_start_bound_push` [-]
   double warm_start_mult_bound_push = 1e-9;      // Ipopt `warm_start_mult_bound_push` [-]

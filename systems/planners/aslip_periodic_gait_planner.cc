@@ -86,6 +86,7 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
     c.running_cost = [](const VectorXad&, const VectorXad& u) { return AutoDiffXd(u(0) * u(0) + u(1) * u(1)); };  // Eq. (4)
   }
   DirectCollocation problem("aslip_periodic_gait", std::move(phases));
+  problem.SetExactHessian(q.exact_hessian);
   const double mu = q.friction_coefficient, l = q.step_length;
   // Eq. (5) path rows: SSP leg 0; DSP both legs.
   Eigen::VectorXd lo1(4), hi1(4);
@@ -175,6 +176,8 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& probl
   options.tolerance = params_.tolerance;
   options.constraint_violation_tolerance = params_.constraint_tolerance;
   options.max_iterations = params_.max_iterations;
+  options.limited_memory_history = params_.limited_memory_history;
+  options.mu_strategy = params_.mu_strategy;
   AslipPeriodicGait gait;
   gait.collocation = problem.Solve(options);
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();

@@ -358,6 +358,18 @@ TEST(DirectCollocation, ConstraintJacobianMatchesFiniteDifferences) {
   EXPECT_LT(check.max_gradient_error, 1e-7);
   EXPECT_LT(check.max_jacobian_error, 1e-7);
   EXPECT_EQ(check.max_missing_jacobian_entry, 0.0);
+  // The same problems with the Lagrangian Hessian (forward differences of exact gradients inside, so compare to the
+  // checker's finite differences at the 1e-5 level), then solved with it.
+  pendulum.SetExactHessian(true);
+  auto nlp3 = pendulum.BuildNlp();
+  ASSERT_TRUE(nlp3->has_lagrangian_hessian());
+  check = CheckDerivatives(*nlp3, z2);
+  EXPECT_LT(check.max_hessian_error, 1e-5);
+  DirectCollocation ball = MakeBouncingBall(1.5, 4.0, 0.8, 6);
+  ball.SetExactHessian(true);
+  auto nlp4 = ball.BuildNlp();
+  check = CheckDerivatives(*nlp4, z);
+  EXPECT_LT(check.max_hessian_error, 1e-5);
   std::printf("pendulum NLP: %d variables, %d constraints, %d Jacobian nonzeros\n",
               nlp2->num_variables(), nlp2->num_constraints(),
               nlp2->constraint_jacobian_sparsity().nnz());
@@ -400,6 +412,12 @@ TEST(DirectCollocation, PeriodicTransitionClosesTheCycle) {
   const double y0 = r.phases[0].states(1, 0), y1 = r.phases[0].states(1, 10);
   EXPECT_NEAR(y0, 2 * y1 * y1 + 0.5 * y1, 1e-8);
   EXPECT_THROW(dc.SetPeriodicTransition(StateFunction()), std::invalid_argument);
+  // Same answer with the Lagrangian Hessian.
+  dc.SetExactHessian(true);
+  const CollocationResult r2 = dc.Solve();
+  ASSERT_TRUE(r2.success()) << r2.nlp.message;
+  EXPECT_NEAR(r2.nlp.cost, 1.0, 1e-7);
+  EXPECT_LE(r2.nlp.iterations, r.nlp.iterations);
 }
 
 TEST(DirectCollocation, RejectsBadDefinitions) {
