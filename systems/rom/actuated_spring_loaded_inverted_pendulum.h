@@ -118,6 +118,11 @@ Eigen::Matrix<T, 8, 1> AslipDynamics(const AslipParams& p, const AslipContact& c
   return xdot;
 }
 
+/// Rest length L with K(L)(L − r) = F for a leg of actual length r carrying the static leg force F ≥ 0 (spec §3.2:
+/// "L is recovered by force balance ... needs Newton's method, since K depends on L"). Newton from L = r + F/K(r);
+/// throws std::invalid_argument if it does not converge to 1e-12 m in 50 steps or leaves L > 0.2807 m (K > 0).
+double AslipRestLengthForForce(const AslipParams& params, double r, double F);
+
 /// Appendix 2, the SSP→DSP touchdown in polar coordinates (leg 1 = stance, leg 2 = landing):
 ///   ṙ2⁺ = ṙ1 cos Δq − q̇1 r1 sin Δq,  q̇2⁺ = (q̇1 r1 cos Δq + ṙ1 sin Δq) / r2   (spec [P-fix]: q̇1 r1, not q̇1 ṙ1),
 /// with Δq = q1 − q2 and the leg angle convention e = (−sin q, cos q). Returns (ṙ2⁺, q̇2⁺).
