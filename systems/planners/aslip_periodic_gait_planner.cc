@@ -165,21 +165,62 @@ void AslipPeriodicGaitPlanner::SetRandomInitialGuess(DirectCollocation* problem,
   }
 }
 
-AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(std::uint32_t seed) const {
+AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(std::uint32_t seed, const PlanCache* cache) const {
   DirectCollocation problem = BuildProblem();
   SetRandomInitialGuess(&problem, seed);
-  return Solve(problem);
+  const PlanCacheKey key = CacheKey(seed);
+  if (cache != nullptr) {
+    if (std::optional<CollocationResult> hit = LoadCachedCollocation(problem, *cache, key)) {
+      AslipPeriodicGait gait = Summarize(std::move(*hit), problem);
+      return gait;
+    }
+  }
+  AslipPeriodicGait gait = Solve(problem);
+  if (cache != nullptr && gait.success()) cache->Store(key, gait.collocation.nlp.x);
+  return gait;
 }
 
-AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& problem) const {
-  IpoptSolverOptions options;
-  options.tolerance = params_.tolerance;
-  options.constraint_violation_tolerance = params_.constraint_tolerance;
-  options.max_iterations = params_.max_iterations;
-  options.limited_memory_history = params_.limited_memory_history;
-  options.mu_strategy = params_.mu_strategy;
+PlanCacheKey AslipPeriodicGaitPlanner::CacheKey(std::uint32_t seed) const {
+  PlanCacheKey key("aslip_periodic_gait");
+  AddToCacheKey(params_, &key);
+  key.Add("seed", seed);
+  return key;
+}
+
+void AddToCacheKey(const AslipPeriodicGaitParams& q, PlanCacheKey* key) {
+  const AslipParams& a = q.aslip;
+  key->Add("mass", a.mass).Add("gravity", a.gravity).Add("c", a.spring_scale).Add("k4", a.k4).Add("k2", a.k2);
+  key->Add("k1", a.k1).Add("k0", a.k0).Add("d4", a.d4).Add("d2", a.d2).Add("d1", a.d1).Add("d0", a.d0);
+  key->Add("L_h", a.heel_length).Add("L_t", a.toe_length);
+  key->Add("l", q.step_length).Add("T_SSP", q.ssp_duration).Add("T_DSP", q.dsp_duration).Add("N", q.nodes_per_domain);
+  key->Add("mu", q.friction_coefficient).Add("s_min", q.spring_min).Add("s_max", q.spring_max);
+  key->Add("L_min", q.leg_length_min).Add("L_max", q.leg_length_max).Add("z_min", q.height_min);
+  key->Add("z_max", q.height_max).Add("Ldd_max", q.max_leg_length_acceleration).Add("v_max", q.max_speed);
+  key->Add("smooth", q.smooth_touchdown).Add("tol", q.tolerance).Add("constr_tol", q.constraint_tolerance);
+  key->Add("max_iter", q.max_iterations).Add("history", q.limited_memory_history).Add("hessian", q.exact_hessian);
+  key->Add(q.mu_strategy == "adaptive" ? "mu_adaptive" : "mu_monotone", 1.0);
+}
+
+std::optional<CollocationResult> LoadCachedCollocation(const DirectCollocation& problem, const PlanCache& cache,
+                                                       const PlanCacheKey& key) {
+  std::optional<Eigen::VectorXd> z = cache.Load(key);
+  std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();
+  if (!z || z->size() != nlp->num_variables()) return std::nullopt;
+  if (!(MaxConstraintViolation(*nlp, *z) <= 1e-6)) return std::nullopt;
+  CollocationResult result = problem.Unpack(*z);
+  result.nlp.status = NlpStatus::kSolved;
+  result.nlp.iterations = 0;
+  result.nlp.x = *z;
+  result.nlp.cost = nlp->EvalCost(*z);
+  result.nlp.constraints.resize(nlp->num_constraints());
+  nlp->EvalConstraints(*z, result.nlp.constraints);
+  result.nlp.message = "NLP '" + nlp->name() + "': loaded from " + cache.FileFor(key);
+  return result;
+}
+
+AslipPeriodicGait AslipPeriodicGaitPlanner::Summarize(CollocationResult result, const DirectCollocation& problem) const {
   AslipPeriodicGait gait;
-  gait.collocation = problem.Solve(options);
+  gait.collocation = std::move(result);
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();
   gait.max_constraint_violation = MaxConstraintViolation(*nlp, gait.collocation.nlp.x);
   double integral = 0.0, total = 0.0;
@@ -191,6 +232,16 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& probl
   }
   gait.mean_height = integral / total;
   return gait;
+}
+
+AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& problem) const {
+  IpoptSolverOptions options;
+  options.tolerance = params_.tolerance;
+  options.constraint_violation_tolerance = params_.constraint_tolerance;
+  options.max_iterations = params_.max_iterations;
+  options.limited_memory_history = params_.limited_memory_history;
+  options.mu_strategy = params_.mu_strategy;
+  return Summarize(problem.Solve(options), problem);
 }
 
 Eigen::MatrixXd AslipPeriodicGait::GroundReactions(const AslipParams& params, double step_length, int phase) const {

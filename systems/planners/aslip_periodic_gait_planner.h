@@ -15,11 +15,13 @@
 //     periodic  the last DSP state re-expressed about the new stance foot (x − l) with the legs swapped equals the
 //               first SSP state, so the gait repeats with speed l/(T_SSP + T_DSP).
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
 
 #include "solvers/collocation/direct_collocation.h"
+#include "systems/planners/plan_cache.h"
 #include "systems/rom/actuated_spring_loaded_inverted_pendulum.h"
 
 namespace rome {
@@ -70,18 +72,31 @@ class AslipPeriodicGaitPlanner {
   /// Random initial guess (spec [R]): x at the gait speed, z, L and L̇ around a standing posture with uniform noise,
   /// noisy inputs; deterministic in `seed`.
   void SetRandomInitialGuess(DirectCollocation* problem, std::uint32_t seed) const;
-  /// Builds, guesses with `seed`, solves.
-  AslipPeriodicGait Solve(std::uint32_t seed) const;
+  /// Builds, guesses with `seed`, solves. With a cache: a stored plan for the same parameters and seed is loaded
+  /// instead (0 iterations; its constraints are re-checked, and a plan violating them by > 1e-6 is re-solved), and a
+  /// new successful plan is stored.
+  AslipPeriodicGait Solve(std::uint32_t seed, const PlanCache* cache = nullptr) const;
   /// Solves a problem that already has its initial guess.
   AslipPeriodicGait Solve(const DirectCollocation& problem) const;
+  /// Every parameter and the seed.
+  PlanCacheKey CacheKey(std::uint32_t seed) const;
   /// The contact of phase p (0 = SSP, 1 = DSP) in plan coordinates.
   AslipContact PhaseContact(int phase) const;
 
  private:
+  AslipPeriodicGait Summarize(CollocationResult result, const DirectCollocation& problem) const;
   AslipPeriodicGaitParams params_;
 };
 
 /// ‖violation‖_∞ of g_lo ≤ g(z) ≤ g_hi and z_lo ≤ z ≤ z_hi.
 double MaxConstraintViolation(NlpProblem& nlp, const Eigen::VectorXd& z);
+
+/// The model and bounds of the shared aSLIP NLP parameters, appended to a cache key.
+void AddToCacheKey(const AslipPeriodicGaitParams& params, PlanCacheKey* key);
+
+/// A collocation result for a stored decision vector z of `problem`, if it meets every row and bound to 1e-6
+/// (status kSolved, 0 iterations, message naming the file).
+std::optional<CollocationResult> LoadCachedCollocation(const DirectCollocation& problem, const PlanCache& cache,
+                                                       const PlanCacheKey& key);
 
 }  // namespace rome

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -171,7 +172,20 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
   return problem;
 }
 
-AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data) const {
+PlanCacheKey AslipTransitionPlanner::CacheKey(const AslipTransitionData& data) const {
+  PlanCacheKey key("aslip_transition");
+  AddToCacheKey(params_.bounds, &key);
+  key.Add("T_DSP_min", params_.min_dsp_duration).Add("T_DSP_max", params_.max_dsp_duration);
+  key.Add("T_SSP_min", params_.min_ssp_duration).Add("T_SSP_max", params_.max_ssp_duration);
+  key.Add("u_max", params_.max_ankle_torque).Add("u_scale", params_.torque_cost_scale);
+  key.Add("x0", Eigen::MatrixXd(data.initial_state)).Add("xf", Eigen::MatrixXd(data.final_state));
+  key.Add("foot_L", data.left_foot_x).Add("foot_R", data.right_foot_x).Add("lift", data.lifting_leg);
+  key.Add("guess_dsp", data.dsp_state_guess).Add("guess_ssp", data.ssp_state_guess);
+  key.Add("guess_T_DSP", data.dsp_duration_guess).Add("guess_T_SSP", data.ssp_duration_guess);
+  return key;
+}
+
+AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, const PlanCache* cache) const {
   const DirectCollocation problem = BuildProblem(data);
   const AslipPeriodicGaitParams& q = params_.bounds;
   IpoptSolverOptions options;
@@ -181,7 +195,11 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data) c
   options.limited_memory_history = q.limited_memory_history;
   options.mu_strategy = q.mu_strategy;
   AslipTransition out;
-  out.collocation = problem.Solve(options);
+  const PlanCacheKey key = CacheKey(data);
+  std::optional<CollocationResult> hit;
+  if (cache != nullptr) hit = LoadCachedCollocation(problem, *cache, key);
+  out.collocation = hit ? std::move(*hit) : problem.Solve(options);
+  if (cache != nullptr && !hit && out.success()) cache->Store(key, out.collocation.nlp.x);
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();
   out.max_constraint_violation = MaxConstraintViolation(*nlp, out.collocation.nlp.x);
   double integral = 0.0, total = 0.0;

@@ -59,7 +59,11 @@ class AslipTransitionPlanner {
   DirectCollocation BuildProblem(const AslipTransitionData& data) const;
   /// Initial guess: data's guess if given, else states linear from the initial to the final state, durations at
   /// mid-range; zero inputs.
-  AslipTransition Solve(const AslipTransitionData& data) const;
+  /// With a cache: a stored plan for the same parameters and data is loaded instead (re-checked to 1e-6), and a new
+  /// successful plan is stored.
+  AslipTransition Solve(const AslipTransitionData& data, const PlanCache* cache = nullptr) const;
+  /// Every parameter and every number of the data.
+  PlanCacheKey CacheKey(const AslipTransitionData& data) const;
 
   /// Standing at rest in DSP with both pivots at x = 0 and the mass at height z, each leg carrying m g / 2
   /// (rest lengths by AslipRestLengthForForce).

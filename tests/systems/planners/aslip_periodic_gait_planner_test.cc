@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 #include <stdexcept>
 
 namespace rome {
@@ -115,6 +118,39 @@ TEST(AslipPeriodicGaitPlanner, ConvergesFromRandomGuessesAndMeetsEveryConstraint
     RecordProperty("worst_reintegration_l" + std::to_string(static_cast<int>(l * 100)), std::to_string(worst_reintegration));
     std::printf("l = %.2f: %d/10 converged, worst re-integration error %.3g\n", l, converged, worst_reintegration);
   }
+}
+
+TEST(AslipPeriodicGaitPlanner, CachedPlanIsReusedOnlyForTheSameParameters) {
+  const std::string dir = ::testing::TempDir() + "/aslip_plan_cache_test";
+  std::filesystem::remove_all(dir);
+  const PlanCache cache(dir);
+  AslipPeriodicGaitParams params;
+  const AslipPeriodicGaitPlanner planner(params);
+  const AslipPeriodicGait solved = planner.Solve(3, &cache);
+  ASSERT_TRUE(solved.success());
+  EXPECT_GT(solved.collocation.nlp.iterations, 0);
+  ASSERT_TRUE(std::filesystem::exists(cache.FileFor(planner.CacheKey(3))));
+  const AslipPeriodicGait loaded = planner.Solve(3, &cache);
+  ASSERT_TRUE(loaded.success());
+  EXPECT_EQ(loaded.collocation.nlp.iterations, 0);
+  EXPECT_NE(loaded.collocation.nlp.message.find("loaded from"), std::string::npos);
+  EXPECT_EQ((loaded.collocation.nlp.x - solved.collocation.nlp.x).cwiseAbs().maxCoeff(), 0.0);  // 17 digits round-trip
+  EXPECT_LE(loaded.max_constraint_violation, 1e-6);
+  EXPECT_EQ(loaded.mean_height, solved.mean_height);
+  // Another step length is another key (and another plan).
+  params.step_length = 0.31;
+  const AslipPeriodicGaitPlanner other(params);
+  EXPECT_NE(cache.FileFor(other.CacheKey(3)), cache.FileFor(planner.CacheKey(3)));
+  EXPECT_FALSE(cache.Load(other.CacheKey(3)).has_value());
+  // A corrupted file is a miss, and the plan is solved again.
+  {
+    std::ofstream out(cache.FileFor(planner.CacheKey(3)));
+    out << planner.CacheKey(3).text() << "\n3\n1 2 3\n";
+  }
+  const AslipPeriodicGait resolved = planner.Solve(3, &cache);
+  EXPECT_TRUE(resolved.success());
+  EXPECT_GT(resolved.collocation.nlp.iterations, 0);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(AslipPeriodicGaitPlanner, RejectsBadParameters) {

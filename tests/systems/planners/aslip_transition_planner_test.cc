@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <string>
 #include <stdexcept>
 
 namespace rome {
@@ -98,7 +100,19 @@ TEST(AslipTransitionPlanner, StandingToGaitA) {
   d.initial_state = AslipTransitionPlanner::StandingState(gait_a.aslip, 0.9);
   d.final_state = a.collocation.phases[0].states.col(gait_a.nodes_per_domain - 1);  // left stance, landing at +l
   d.lifting_leg = 1;
-  CheckTransition(planner, d, planner.Solve(d));
+  const std::string dir = ::testing::TempDir() + "/aslip_transition_cache_test";
+  std::filesystem::remove_all(dir);
+  const PlanCache cache(dir);
+  const AslipTransition t = planner.Solve(d, &cache);
+  CheckTransition(planner, d, t);
+  // A second run with the same data starts at once from the cache; other data is another key.
+  const AslipTransition again = planner.Solve(d, &cache);
+  EXPECT_EQ(again.collocation.nlp.iterations, 0);
+  EXPECT_EQ((again.collocation.nlp.x - t.collocation.nlp.x).cwiseAbs().maxCoeff(), 0.0);
+  AslipTransitionData other = d;
+  other.initial_state = AslipTransitionPlanner::StandingState(gait_a.aslip, 0.89);
+  EXPECT_NE(cache.FileFor(planner.CacheKey(other)), cache.FileFor(planner.CacheKey(d)));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(AslipTransitionPlanner, GaitAToGaitB) {
