@@ -139,6 +139,15 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         y(0) = AslipLegState<AutoDiffXd>(p, x, lift, lift_x, u(2 + lift)).grf_z / (p.mass * p.gravity);
       },
       Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "liftoff");
+  if (params_.zero_final_ankle_torque) {
+    problem.AddNodeConstraint(
+        1, -1, 1,
+        [stance](const VectorXad&, const VectorXad& u, VectorXad& y) {
+          y.resize(1);
+          y(0) = u(2 + stance) / 100.0;
+        },
+        Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "final_ankle_torque");
+  }
   problem.SetNodeStateBounds(0, 0, data.initial_state, data.initial_state);
   problem.SetNodeStateBounds(1, -1, data.final_state, data.final_state);
   // Initial guess: straight line in state space, mid-range durations.
@@ -178,6 +187,7 @@ PlanCacheKey AslipTransitionPlanner::CacheKey(const AslipTransitionData& data) c
   key.Add("T_DSP_min", params_.min_dsp_duration).Add("T_DSP_max", params_.max_dsp_duration);
   key.Add("T_SSP_min", params_.min_ssp_duration).Add("T_SSP_max", params_.max_ssp_duration);
   key.Add("u_max", params_.max_ankle_torque).Add("u_scale", params_.torque_cost_scale);
+  key.Add("zero_final_u", params_.zero_final_ankle_torque);
   key.Add("x0", Eigen::MatrixXd(data.initial_state)).Add("xf", Eigen::MatrixXd(data.final_state));
   key.Add("foot_L", data.left_foot_x).Add("foot_R", data.right_foot_x).Add("lift", data.lifting_leg);
   key.Add("guess_dsp", data.dsp_state_guess).Add("guess_ssp", data.ssp_state_guess);

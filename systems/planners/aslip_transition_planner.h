@@ -9,7 +9,8 @@
 //   Constraints:   the initial and final states are fixed (the start and the end of the motion [P]);
 //                  Eq. (10) ZMP −L_h G_z ≤ u ≤ L_t G_z and |u| ≤ u_max per leg on the ground and node; u = 0 in the
 //                  air; F ≥ 0, friction, spring range and the periodic NLP's bounds as in AslipPeriodicGaitPlanner;
-//                  lift-off: the lifting leg's vertical GRF G_z = 0 at the last DSP node.
+//                  lift-off: the lifting leg's vertical GRF G_z = 0 at the last DSP node; optionally u = 0 at the
+//                  last node (zero_final_ankle_torque).
 // The final state is normally a periodic gait's pre-impact state (end of its SSP), so touchdown (s = 0) holds there.
 #include <cstdint>
 
@@ -26,6 +27,9 @@ struct AslipTransitionParams {
   double min_ssp_duration = 0.3, max_ssp_duration = 0.6;  ///< [s] (spec [R])
   double max_ankle_torque = 150.0;   ///< [N m] u_y,max, ankle pitch limit (spec §1.1 [R])
   double torque_cost_scale = 100.0;  ///< [N m] u_s in Eq. (9) (spec [R])
+  /// u = 0 at the last SSP node (ours): the transition then joins a point-foot periodic gait without a jump in the
+  /// ground reaction (the state is continuous there; the torque would not be).
+  bool zero_final_ankle_torque = true;
 };
 
 struct AslipTransitionData {

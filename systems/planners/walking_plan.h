@@ -14,6 +14,8 @@
 
 #include "solvers/collocation/piecewise_polynomial.h"
 #include "systems/planners/aslip_periodic_gait_planner.h"
+#include "systems/planners/aslip_transition_planner.h"
+#include "systems/planners/footed_hlip_transition_planner.h"
 #include "systems/rom/hybrid_linear_inverted_pendulum.h"
 
 namespace rome {
@@ -42,6 +44,13 @@ struct WalkingPlanSegment {
   Eigen::Vector2d lateral_start = Eigen::Vector2d::Zero();  ///< [y (m), ẏ (m/s)] world, at the segment start
   double lateral_pivot_y = 0.0;  ///< [m] stance foot y (SSP)
   double lambda = 0.0;           ///< [1/s] H-LIP λ
+  /// Footed H-LIP (transitions): lateral node times (relative to the segment start), node states [y; ẏ] (world) and
+  /// the torque driving each interval (u_stance in SSP, u_L + u_R in DSP), held constant; m z0 of the model. Empty:
+  /// the point-foot H-LIP from lateral_start.
+  Eigen::VectorXd lateral_node_times;
+  Eigen::MatrixXd lateral_nodes;
+  Eigen::VectorXd lateral_torques;
+  double mass_height = 0.0;  ///< [kg m] m z0
   Eigen::Vector2d left_foothold = Eigen::Vector2d::Zero(), right_foothold = Eigen::Vector2d::Zero();
 };
 
@@ -56,8 +65,19 @@ class WalkingPlan {
   /// (kLeftStance or kRightStance) at world x = stance_x, feet at y = ±W/2. The lateral motion is the H-LIP P2 orbit
   /// with z0 = the gait's mean height, T_SSP and T_DSP from the gait, and foot separation W (spec §2.2).
   /// Throws std::invalid_argument naming the argument for steps < 1, W <= 0, a failed gait, or a non-stance domain.
+  /// With begin_with_double_support, the first step contributes only its DSP (e.g. after a transition that ended
+  /// at this gait's pre-impact state).
   void AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
-                           WalkingDomain first_stance, double stance_x, double step_width);
+                           WalkingDomain first_stance, double stance_x, double step_width,
+                           bool begin_with_double_support = false);
+
+  /// Appends a transition (spec §3.2-3.3): the footed-aSLIP NLP's DSP and SSP (world x = x_offset + plan x, legs as
+  /// labelled there) and the footed H-LIP QP's lateral plan on the same node grid (its node_times start at 0 at the
+  /// DSP start; its single_support flags mark the SSP). Throws std::invalid_argument if either is not solved or the
+  /// grids differ. landing_x: world x where the lifting foot lands at the end of the SSP.
+  void AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
+                        const AslipTransitionData& data, double x_offset, const FootedHlipTransitionData& lateral_data,
+                        const FootedHlipTransitionPlan& lateral, double mass, double landing_x);
 
  private:
   std::vector<WalkingPlanSegment> segments_;

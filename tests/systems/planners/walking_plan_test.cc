@@ -79,6 +79,76 @@ TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) 
   EXPECT_EQ(source.EvalOutput(*context, "footholds").head<2>(), r.left_foothold);
 }
 
+TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
+  // The paper's pipeline (spec §0): periodic aSLIP → transition footed aSLIP (standing → gait A, right foot lifts) →
+  // footed H-LIP QP on the transition's grid and forces → composition with gait A's steps.
+  AslipPeriodicGaitParams gait_params;
+  const AslipPeriodicGaitPlanner periodic(gait_params);
+  const AslipPeriodicGait gait = periodic.Solve(1);
+  ASSERT_TRUE(gait.success());
+  AslipTransitionParams tp;
+  tp.bounds = gait_params;
+  const AslipTransitionPlanner transition_planner(tp);
+  AslipTransitionData data;
+  data.initial_state = AslipTransitionPlanner::StandingState(gait_params.aslip, 0.9);
+  data.final_state = gait.collocation.phases[0].states.col(gait_params.nodes_per_domain - 1);
+  data.lifting_leg = 1;
+  const AslipTransition transition = transition_planner.Solve(data);
+  ASSERT_TRUE(transition.success());
+  // Lateral QP on the same nodes (the DSP's last node is the SSP's first).
+  const double W = 0.25, m = gait_params.aslip.mass;
+  FootedHlipTransitionData lat;
+  const int N = gait_params.nodes_per_domain;
+  lat.node_times.resize(2 * N - 1);
+  lat.left_normal_force.resize(2 * N - 1);
+  lat.right_normal_force.resize(2 * N - 1);
+  for (int ph = 0; ph < 2; ++ph) {
+    const Eigen::MatrixXd G = transition.GroundReactions(gait_params.aslip, data, ph);
+    const CollocationPhaseSolution& s = transition.collocation.phases[ph];
+    for (int k = ph; k < N; ++k) {
+      const int j = ph * (N - 1) + k;
+      lat.node_times(j) = s.times(k);
+      lat.left_normal_force(j) = std::max(0.0, G(1, k));
+      lat.right_normal_force(j) = std::max(0.0, G(3, k));
+    }
+  }
+  for (int k = 0; k + 1 < 2 * N - 1; ++k) lat.single_support.push_back(k >= N - 1);
+  lat.stance_left = true;
+  lat.left_foot_y = W / 2;
+  lat.right_foot_y = -W / 2;
+  lat.z0 = transition.mean_height;
+  lat.initial_state = Eigen::Vector2d(0.0, 0.0);
+  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = 0.4, .dsp_duration = 0.1});
+  const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
+  lat.final_state = Eigen::Vector2d(W / 2 + pre(0), pre(1));
+  const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner().Solve(lat);
+  ASSERT_TRUE(lateral.success()) << lateral.message;
+
+  WalkingPlan plan;
+  plan.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral, m, gait_params.step_length);
+  plan.AppendPeriodicSteps(periodic, gait, 3, WalkingDomain::kLeftStance, 0.0, W, /*begin_with_double_support=*/true);
+  ASSERT_EQ(plan.segments().size(), 2u + 1u + 2u * 2u);
+  EXPECT_EQ(plan.segments()[2].domain, WalkingDomain::kDoubleSupport);
+  // Standing start at rest between the feet; continuous everywhere after.
+  const WalkingReference start = plan.Sample(0.0);
+  EXPECT_LT(start.com_velocity.norm(), 1e-9);
+  EXPECT_NEAR(start.com_position(1), 0.0, 1e-9);
+  EXPECT_NEAR(start.normal_force(0), 0.5 * m * 9.81, 1e-6);
+  for (size_t i = 0; i + 1 < plan.segments().size(); ++i) {
+    const double t = plan.segments()[i].start_time + plan.segments()[i].duration;
+    const WalkingReference a = plan.Sample(t - 1e-9), b = plan.Sample(t + 1e-9);
+    EXPECT_LT((a.com_position - b.com_position).norm(), 1e-6) << "boundary " << i;
+    EXPECT_LT((a.com_velocity - b.com_velocity).norm(), 1e-6) << "boundary " << i;
+    EXPECT_LT((a.normal_force - b.normal_force).norm(), 1e-3 * m) << "boundary " << i;
+  }
+  // The lateral reference follows the footed H-LIP nodes exactly.
+  for (int j = 0; j < 2 * N - 1; j += 5) {
+    EXPECT_NEAR(plan.Sample(lat.node_times(j)).com_position(1), lateral.states(0, j), 1e-9) << "node " << j;
+  }
+  // The right foot lands one step ahead at the end of the transition.
+  EXPECT_NEAR(plan.Sample(plan.segments()[1].start_time + 0.1).right_foothold(0), gait_params.step_length, 1e-12);
+}
+
 TEST(WalkingPlan, RejectsBadArguments) {
   const AslipPeriodicGaitPlanner planner;
   AslipPeriodicGait unsolved;
