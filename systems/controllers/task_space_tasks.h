@@ -14,6 +14,9 @@
 //   PointPositionTask   position of a point fixed on a body along the chosen axes [m] (e.g. the swing foot);
 //                       ForContact() places it at a contact's frame origin
 //   JointPositionTask   one generalized coordinate q_i [rad or m]
+//   BodyOrientationTask orientation of a body in 3D as the rotation vector log(R_world_body) [rad] (target 0 = the
+//                       body aligned with the world: a flat foot with zero yaw, walking paper Eq. (17)); ẏ is taken
+//                       as the world angular velocity ω, exact at y = 0 (the error of d/dt log R is O(|y| |ω|))
 // Tasks are immutable after construction (names are resolved against the model then) and may be shared
 // between controllers; all scratch lives in the MultibodyWorkspace handed to Calc (no heap allocation).
 #include <memory>
@@ -118,6 +121,19 @@ class JointPositionTask final : public TaskSpaceTask {
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int index_;
+};
+
+/// Orientation of a body as the rotation vector log(R_world_body) [rad], with J = the world angular-velocity Jacobian
+/// (3D models; see the header for the small-angle reading of ẏ).
+class BodyOrientationTask final : public TaskSpaceTask {
+ public:
+  BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {}, std::vector<int> active_modes = {});
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int body_;
+  Eigen::Matrix3d R_body_link_ = Eigen::Matrix3d::Identity();  // a link merged through a fixed joint
 };
 
 }  // namespace rome

@@ -24,7 +24,7 @@
 //     Reset: plastic impact q̇⁺ = (I − M⁻¹Jᵀ(JM⁻¹Jᵀ)⁻¹J) q̇⁻ with the TARGET mode's contact set; on a
 //     stepping-stone terrain a touchdown that is not on a stone ends the run: Failed("robot fell: ...").
 //   liftoff_<contact>  (every mode, every contact c ∈ C(m)): the normal force on c (world z of the ground force,
-//     ExtractContactWrench) crosses 0 falling. Contact is unilateral in every graph. Reset: mode change only, to the
+//     ExtractContactWrench) crosses 0 falling (params.planned_liftoff_force_N for the graph's own lift-off transitions). Contact is unilateral in every graph. Reset: mode change only, to the
 //     graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
 //     C(m) \ {c}, else the run ends: Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no
 //     mode to lift off into").
@@ -107,6 +107,11 @@ struct HybridContactPlantParams {
   /// guards above). false: contacts stay welded except at the graph's own lift-off transitions, whatever their
   /// forces (the plant before unilateral contact; kept to measure what an idealised plant hides).
   bool unilateral_contact = true;
+  /// [N] A contact whose lift-off is a transition of the graph (e.g. the trailing foot, double → single support) lifts
+  /// off when its normal force falls through this value instead of 0 (walking spec §7.5 [R]: 1 % of m g). As F_n → 0
+  /// the ratio |F_t|/F_n of a force held over a control sample is ill-conditioned and would end the run as a slip just
+  /// before the lift-off; the controller unloads the foot to ~0 and the plant then releases it. 0: exactly at F_n = 0.
+  double planned_liftoff_force_N = 0.0;
 };
 
 class HybridContactPlant final : public LeafSystem {
@@ -148,6 +153,7 @@ class HybridContactPlant final : public LeafSystem {
   Terrain terrain_;
   HybridContactPlantParams params_;
   std::vector<ContactSet> mode_contacts_;
+  std::vector<std::vector<double>> liftoff_threshold_;  // [mode][contact] N: planned_liftoff_force_N or 0
 };
 
 }  // namespace rome
