@@ -10,6 +10,13 @@
 //       normal force reaches 0, no impact; SSP → DSP when the swing sole reaches the ground, plastic impact; flat
 //       feet with 6 constraints each)
 //
+// Choices beyond the paper (each a named parameter): the trailing foot is released at 1 % of m g (spec §7.5 [R],
+// HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
+// the run would end as a slip at ~0.1 N); the QP keeps the CoP 5 mm inside the sole (cop_margin_m) and uses half the
+// spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
+// Status: the robot stands, shifts its weight along the transition plan with its plant normal forces in the Eq. (25)
+// band and lifts the trailing foot on schedule; it does not yet complete the first step (see the walking test).
+//
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
 // Controller outputs (order of WalkingOutputReference): COM x, y, z; pelvis roll, pitch, yaw (the base's ZYX angles);
 // left ankle position and foot orientation (active in right stance); right ankle position and orientation (active in
