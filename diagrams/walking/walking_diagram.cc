@@ -76,7 +76,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
 }
 
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                                 double standing_height_m) {
+                                 double standing_height_m, double zmp_margin_m) {
   using Clock = std::chrono::steady_clock;
   AslipPeriodicGaitParams gp;
   gp.step_length = g.step_length_m;
@@ -89,6 +89,10 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   if (!gait.success()) throw std::runtime_error("BuildStandToWalkPlan: the periodic aSLIP NLP failed: " + gait.collocation.nlp.message);
   AslipTransitionParams tp;
   tp.bounds = gp;
+  tp.bounds.aslip.heel_length -= zmp_margin_m;
+  tp.bounds.aslip.toe_length -= zmp_margin_m;
+  if (!(tp.bounds.aslip.heel_length > 0 && tp.bounds.aslip.toe_length > 0))
+    throw std::invalid_argument("BuildStandToWalkPlan: zmp_margin_m = " + std::to_string(zmp_margin_m) + " leaves no sole");
   const AslipTransitionPlanner transition_planner(tp);
   AslipTransitionData data;
   data.initial_state = AslipTransitionPlanner::StandingState(gp.aslip, standing_height_m);
@@ -106,7 +110,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   lat.left_normal_force.resize(2 * N - 1);
   lat.right_normal_force.resize(2 * N - 1);
   for (int ph = 0; ph < 2; ++ph) {
-    const Eigen::MatrixXd G = transition.GroundReactions(gp.aslip, data, ph);
+    const Eigen::MatrixXd G = transition.GroundReactions(tp.bounds.aslip, data, ph);
     const CollocationPhaseSolution& s = transition.collocation.phases[ph];
     for (int k = ph; k < N; ++k) {
       const int j = ph * (N - 1) + k;

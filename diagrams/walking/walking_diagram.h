@@ -65,14 +65,16 @@ struct WalkingGait {
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
 /// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. Standing height standing_height_m. NLPs
-/// use `cache` if given. Throws std::runtime_error naming the problem that failed.
+/// use `cache` if given. zmp_margin_m (ours) shrinks the footed aSLIP's ZMP bounds L_h, L_t of Eq. (10) so that the
+/// whole-body controller keeps room on the sole. Default 0: with gait A, 0.015 m already makes the transition NLP
+/// infeasible (the standing -> gait A transition uses the whole heel). Throws std::runtime_error naming the problem that failed.
 struct WalkingPlanReport {
   double periodic_solve_s = 0, transition_solve_s = 0;
   int periodic_iterations = 0, transition_iterations = 0;
   double periodic_violation = 0, transition_violation = 0;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
-                                 WalkingPlanReport* report = nullptr, double standing_height_m = 0.9);
+                                 WalkingPlanReport* report = nullptr, double standing_height_m = 0.9, double zmp_margin_m = 0.0);
 
 /// A standing configuration for the plan's start: pelvis level with zero yaw, both feet flat on the ground with the
 /// ankles at the plan's footholds at t = 0, and the COM at the plan's COM (Newton on the 15 remaining coordinates,
