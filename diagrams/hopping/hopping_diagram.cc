@@ -8,7 +8,7 @@ HybridContactPlantParams HoppingDiagramParams::DefaultPlantParams() {
   p.min_time_in_mode_s = 0.02;  // spec [R] A3: minimum 20 ms between events
   // [N] ours: lift-off at 8 N (2.4 % of m g). The spec's 1 % of m g (3.3 N, [R] A3) is measured too low: at take-off the
   // plant's |F_t|/F_n reached the friction coefficient at F_n = 3.7 N (a slip) before the normal force fell to 3.3 N.
-  p.liftoff_normal_force_N = 8.0;
+  p.planned_liftoff_force_N = 8.0;
   return p;
 }
 

@@ -88,13 +88,15 @@ class CollocationNlp final : public NlpProblem {
   CollocationNlp(const std::string& name, const std::vector<CollocationPhase>& phases,
                  const std::vector<PhaseLayout>& layout, int num_variables, int num_constraints,
                  const std::vector<DirectCollocation::NodeConstraint>& constraints,
-                 const std::vector<StateFunction>& transitions,
-                 const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe)
+                 const std::vector<StateFunction>& transitions, const StateFunction& periodic_transition,
+                 const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe,
+                 bool exact_hessian)
       : NlpProblem(name, num_variables, num_constraints),
         phases_(phases),
         layout_(layout),
         constraints_(constraints),
         transitions_(transitions),
+        periodic_transition_(periodic_transition),
         terminal_cost_(terminal_cost) {
     SparsityPattern pattern;
     JacobianWriter writer(&pattern);
@@ -104,6 +106,90 @@ class CollocationNlp final : public NlpProblem {
     jacobian_values_.resize(writer.count());
     g_values_.resize(num_constraints);
     gradient_.resize(num_variables);
+    if (exact_hessian) DeclareHessian();
+  }
+
+  // Hessian of the Lagrangian σ f + λᵀ g. Every nonlinear term of the NLP depends on the (x_k, u_k) of one node
+  // (and the phase duration), so the Hessian is block diagonal over nodes plus the duration rows:
+  //   node block  Σ of λ-weighted second derivatives of the dynamics (weight −(h/2)(λ_{k−1} + λ_k) of the two
+  //               adjacent defects), path/node constraints, resets, running cost (σ h c_k) and terminal cost;
+  //               each is the forward difference of the exact AutoDiff gradient of λᵀF (step √ε max(1, |z_j|)),
+  //               symmetrised;
+  //   (T, node)   exact: −(1/(2(N−1))) ∂f_kᵀ(λ_{k−1} + λ_k) + σ c_k/(N−1) ∇L_k (h = T/(N−1) enters linearly).
+  void EvalLagrangianHessian(const Eigen::Ref<const Eigen::VectorXd>& z, double sigma,
+                             const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                             Eigen::Ref<Eigen::VectorXd> values) override {
+    const Eigen::VectorXd zz = z;
+    int next = 0;
+    for (size_t p = 0; p < phases_.size(); ++p) {
+      const CollocationPhase& phase = phases_[p];
+      const PhaseLayout& L = layout_[p];
+      const int n = L.nx + L.nu;
+      const double T = Duration(L, zz);
+      const double h = T / (L.N - 1);
+      for (int k = 0; k < L.N; ++k) {
+        const Eigen::VectorXd xk = zz.segment(L.x(k), L.nx), uk = zz.segment(L.u(k), L.nu);
+        Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+        Eigen::VectorXd hT = Eigen::VectorXd::Zero(n);
+        // Dynamics through the adjacent defects.
+        Eigen::VectorXd mu = Eigen::VectorXd::Zero(L.nx);
+        if (k > 0) mu += lambda.segment(L.defect_row + (k - 1) * L.nx, L.nx);
+        if (k + 1 < L.N) mu += lambda.segment(L.defect_row + k * L.nx, L.nx);
+        if (mu.cwiseAbs().maxCoeff() > 0) {
+          AddWeightedHessian(phase.dynamics, L.nx, xk, uk, -0.5 * h * mu, &H);
+          if (L.T_index >= 0) {
+            Eigen::VectorXd f;
+            Eigen::MatrixXd J;
+            EvalWithJacobian(phase.dynamics, L.nx, xk, uk, "dynamics", &f, &J);
+            hT -= J.transpose() * mu / (2.0 * (L.N - 1));
+          }
+        }
+        // Running cost with trapezoid weights.
+        if (phase.running_cost && sigma != 0.0) {
+          const double c = (k == 0 || k == L.N - 1) ? 0.5 : 1.0;
+          AddScalarHessian(phase.running_cost, xk, uk, sigma * c * h, &H);
+          if (L.T_index >= 0) {
+            double value;
+            Eigen::VectorXd grad;
+            EvalScalar(phase.running_cost, xk, uk, &value, &grad);
+            hT += sigma * c / (L.N - 1) * grad;
+          }
+        }
+        // Path and node constraints at this node.
+        for (size_t ci = 0; ci < constraints_.size(); ++ci) {
+          const auto& c = constraints_[ci];
+          if (static_cast<size_t>(c.phase) != p) continue;
+          int row = -1;
+          if (c.node == kEveryNode) {
+            row = constraint_rows_[ci] + k * c.size;
+          } else if (c.node == k) {
+            row = constraint_rows_[ci];
+          }
+          if (row < 0) continue;
+          AddWeightedHessian(c.function, c.size, xk, uk, lambda.segment(row, c.size), &H);
+        }
+        if (k == L.N - 1) {
+          // Resets out of this phase act on its last state: rows x_0^{next} − Δ(x) carry −Δ.
+          if (p + 1 < phases_.size() && transitions_[p]) {
+            AddResetHessian(transitions_[p], xk, -lambda.segment(transition_rows_[p], layout_[p + 1].nx), &H);
+          }
+          if (p + 1 == phases_.size() && periodic_transition_) {
+            AddResetHessian(periodic_transition_, xk, -lambda.segment(periodic_row_, layout_.front().nx), &H);
+          }
+          if (p + 1 == phases_.size() && terminal_cost_ && sigma != 0.0) {
+            AddScalarHessian(terminal_cost_, xk, uk, sigma, &H);
+          }
+        }
+        // Write the lower triangle in the pattern's order (see DeclareHessian).
+        const std::vector<int> idx = NodeVariables(L, k);
+        for (int a = 0; a < n; ++a) {
+          for (int b = 0; b <= a; ++b) values(next++) = 0.5 * (H(a, b) + H(b, a));
+        }
+        if (L.T_index >= 0) {
+          for (int a = 0; a < n; ++a) values(next++) = hT(a);
+        }
+      }
+    }
   }
 
   double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& z) override {
@@ -167,6 +253,99 @@ class CollocationNlp final : public NlpProblem {
       gradient_.segment(L.u(L.N - 1), L.nu) += grad.tail(L.nu);
     }
     cost_z_ = z;
+  }
+
+  static std::vector<int> NodeVariables(const PhaseLayout& L, int k) {
+    std::vector<int> idx;
+    for (int i = 0; i < L.nx; ++i) idx.push_back(L.x(k) + i);
+    for (int i = 0; i < L.nu; ++i) idx.push_back(L.u(k) + i);
+    return idx;
+  }
+
+  void DeclareHessian() {
+    // Rows of the transition, periodic and path/node constraints, in EvaluateConstraints' order.
+    int row = 0;
+    for (const auto& L : layout_) row += (L.N - 1) * L.nx;
+    transition_rows_.assign(phases_.size(), -1);
+    for (size_t p = 0; p + 1 < phases_.size(); ++p) {
+      transition_rows_[p] = row;
+      row += layout_[p + 1].nx;
+    }
+    if (periodic_transition_) {
+      periodic_row_ = row;
+      row += layout_.front().nx;
+    }
+    for (const auto& c : constraints_) {
+      constraint_rows_.push_back(row);
+      row += c.node == kEveryNode ? layout_[c.phase].N * c.size : c.size;
+    }
+    SparsityPattern pattern;
+    for (const auto& L : layout_) {
+      for (int k = 0; k < L.N; ++k) {
+        const std::vector<int> idx = NodeVariables(L, k);
+        const int n = static_cast<int>(idx.size());
+        for (int a = 0; a < n; ++a) {
+          for (int b = 0; b <= a; ++b) pattern.Add(std::max(idx[a], idx[b]), std::min(idx[a], idx[b]));
+        }
+        if (L.T_index >= 0) {
+          for (int a = 0; a < n; ++a) pattern.Add(L.T_index, idx[a]);  // T comes after the phase's nodes
+        }
+      }
+    }
+    SetLagrangianHessianSparsity(std::move(pattern));
+  }
+
+  static double FdStep(double v) { return 1.5e-8 * std::max(1.0, std::abs(v)); }
+
+  // H += ∇²(wᵀF)(x, u) by forward differences of the exact gradient Jᵀw.
+  static void AddWeightedHessian(const StateInputFunction& F, int size, const Eigen::VectorXd& x,
+                                 const Eigen::VectorXd& u, const Eigen::VectorXd& w, Eigen::MatrixXd* H) {
+    if (w.cwiseAbs().maxCoeff() == 0.0) return;
+    const int nx = static_cast<int>(x.size()), n = nx + static_cast<int>(u.size());
+    Eigen::VectorXd f;
+    Eigen::MatrixXd J;
+    EvalWithJacobian(F, size, x, u, "Hessian", &f, &J);
+    const Eigen::VectorXd g0 = J.transpose() * w;
+    for (int j = 0; j < n; ++j) {
+      Eigen::VectorXd xp = x, up = u;
+      double& v = j < nx ? xp(j) : up(j - nx);
+      const double step = FdStep(v);
+      v += step;
+      EvalWithJacobian(F, size, xp, up, "Hessian", &f, &J);
+      H->col(j) += (J.transpose() * w - g0) / step;
+    }
+  }
+  static void AddScalarHessian(const ScalarStateInputFunction& F, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
+                               double weight, Eigen::MatrixXd* H) {
+    const int nx = static_cast<int>(x.size()), n = nx + static_cast<int>(u.size());
+    double value;
+    Eigen::VectorXd g0, g;
+    EvalScalar(F, x, u, &value, &g0);
+    for (int j = 0; j < n; ++j) {
+      Eigen::VectorXd xp = x, up = u;
+      double& v = j < nx ? xp(j) : up(j - nx);
+      const double step = FdStep(v);
+      v += step;
+      EvalScalar(F, xp, up, &value, &g);
+      H->col(j) += weight * (g - g0) / step;
+    }
+  }
+  static void AddResetHessian(const StateFunction& F, const Eigen::VectorXd& x, const Eigen::VectorXd& w,
+                              Eigen::MatrixXd* H) {
+    if (w.cwiseAbs().maxCoeff() == 0.0) return;
+    const int nx = static_cast<int>(x.size());
+    auto gradient = [&](const Eigen::VectorXd& xx) {
+      VectorXad y;
+      F(InitializeAutoDiff(xx), y);
+      return Eigen::VectorXd(ExtractJacobian(y, nx).transpose() * w);
+    };
+    const Eigen::VectorXd g0 = gradient(x);
+    for (int j = 0; j < nx; ++j) {
+      Eigen::VectorXd xp = x;
+      const double step = FdStep(xp(j));
+      xp(j) += step;
+      H->col(j).head(nx) += (gradient(xp) - g0) / step;
+    }
   }
 
   void UpdateConstraints(const Eigen::Ref<const Eigen::VectorXd>& z) {
@@ -262,6 +441,23 @@ class CollocationNlp final : public NlpProblem {
       writer.Block(row, A.x(A.N - 1), -J);
       row += B.nx;
     }
+    // Periodicity x_0^0 − Δ(x_{N−1}^{P−1}) = 0.
+    if (periodic_transition_) {
+      const PhaseLayout& A = layout_.back();
+      const PhaseLayout& B = layout_.front();
+      VectorXad y;
+      periodic_transition_(InitializeAutoDiff(z.segment(A.x(A.N - 1), A.nx)), y);
+      if (y.size() != B.nx) {
+        std::ostringstream msg;
+        msg << "periodic transition from phase '" << phases_.back().name << "' to '" << phases_.front().name
+            << "' returned " << y.size() << " values, expected " << B.nx;
+        throw std::runtime_error(msg.str());
+      }
+      g.segment(row, B.nx) = z.segment(B.x(0), B.nx) - ExtractValue(y);
+      writer.Block(row, B.x(0), Eigen::MatrixXd::Identity(B.nx, B.nx));
+      writer.Block(row, A.x(A.N - 1), -ExtractJacobian(y, A.nx));
+      row += B.nx;
+    }
     // Path and node constraints.
     for (const auto& c : constraints_) {
       const PhaseLayout& L = layout_[c.phase];
@@ -284,7 +480,10 @@ class CollocationNlp final : public NlpProblem {
   std::vector<PhaseLayout> layout_;
   std::vector<DirectCollocation::NodeConstraint> constraints_;
   std::vector<StateFunction> transitions_;
+  StateFunction periodic_transition_;
   ScalarStateInputFunction terminal_cost_;
+  std::vector<int> transition_rows_, constraint_rows_;
+  int periodic_row_ = -1;
   Eigen::VectorXd cost_z_, constraint_z_;
   double cost_ = 0.0;
   Eigen::VectorXd gradient_, g_values_, jacobian_values_;
@@ -446,6 +645,15 @@ void DirectCollocation::SetTransition(int p, StateFunction reset) {
   transitions_[p] = std::move(reset);
 }
 
+void DirectCollocation::SetPeriodicTransition(StateFunction reset) {
+  if (!reset) {
+    throw std::invalid_argument("DirectCollocation '" + name_ + "'::SetPeriodicTransition: function is empty");
+  }
+  periodic_transition_ = std::move(reset);
+}
+
+void DirectCollocation::SetExactHessian(bool exact) { exact_hessian_ = exact; }
+
 void DirectCollocation::SetTerminalCost(ScalarStateInputFunction cost) {
   terminal_cost_ = std::move(cost);
 }
@@ -480,6 +688,7 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
   int num_constraints = 0;
   for (const auto& L : layout) num_constraints += (L.N - 1) * L.nx;
   for (size_t p = 1; p < layout.size(); ++p) num_constraints += layout[p].nx;
+  if (periodic_transition_) num_constraints += layout.front().nx;
   std::vector<NodeConstraint> constraints = path_constraints_;
   constraints.insert(constraints.end(), node_constraints_.begin(), node_constraints_.end());
   Eigen::VectorXd g_lower(0), g_upper(0);
@@ -496,7 +705,8 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
 
   auto nlp = std::make_unique<CollocationNlp>(name_, phases_, layout, num_variables,
                                               num_constraints, constraints, transitions_,
-                                              terminal_cost_, InitialGuessVector());
+                                              periodic_transition_, terminal_cost_, InitialGuessVector(),
+                                              exact_hessian_);
   Eigen::VectorXd gl = Eigen::VectorXd::Zero(num_constraints);
   Eigen::VectorXd gu = Eigen::VectorXd::Zero(num_constraints);
   for (size_t i = 0; i < lo.size(); ++i) {
@@ -627,7 +837,7 @@ CollocationResult DirectCollocation::Unpack(const Eigen::VectorXd& z) const {
 CollocationResult DirectCollocation::Solve(const IpoptSolverOptions& options) const {
   std::unique_ptr<NlpProblem> nlp = BuildNlp();
   IpoptSolverOptions opts = options;
-  opts.use_limited_memory_hessian = true;
+  opts.use_limited_memory_hessian = !exact_hessian_;
   NlpResult nlp_result = IpoptSolver(opts).Solve(*nlp, InitialGuessVector());
   CollocationResult result = Unpack(nlp_result.x);
   result.nlp = std::move(nlp_result);

@@ -12,6 +12,7 @@
 //                (h/8)(f_k − f_{k+1}), u_c = (u_k + u_{k+1})/2   (compressed Hermite–Simpson, 4th order; the
 //                midpoint input is the first-order hold, so the plan re-integrates with that hold)
 //   transitions  x_0^{p+1} − Δ^p(x_{N−1}^p) = 0   (reset map Δ, default identity)
+//   periodicity  x_0^0 − Δ^P(x_{N−1}^{P−1}) = 0   (optional, SetPeriodicTransition: a periodic gait)
 //   path         g_lo ≤ g(x_k, u_k) ≤ g_hi at every node of a phase
 //   node         c_lo ≤ c(x_k, u_k) ≤ c_hi at one node (boundary conditions, e.g. apex ż = 0)
 //   bounds       state/input bounds at every node, per-node state bounds (initial/final states)
@@ -24,8 +25,11 @@
 //                                             const Eigen::Matrix<T,-1,1>& u,
 //                                             Eigen::Matrix<T,-1,1>& y) const
 // converts to StateInputFunction directly. The constraint Jacobian is exact and sparse: each
-// user function contributes a dense block over the (x_k, u_k) of its node only. The Hessian of the
-// Lagrangian is NOT formed: Ipopt's limited-memory quasi-Newton (L-BFGS) approximation is used.
+// user function contributes a dense block over the (x_k, u_k) of its node only. By default the
+// Hessian of the Lagrangian is NOT formed: Ipopt's limited-memory quasi-Newton (L-BFGS)
+// approximation is used. SetExactHessian(true) declares it instead (block diagonal over nodes plus
+// the duration rows; node blocks are forward differences of the exact AutoDiff gradients, the
+// duration rows exact), which cuts Ipopt's iterations several-fold on stiff hybrid ROMs.
 //
 // Evaluation callbacks allocate (AutoDiff derivative vectors); this is an offline planner.
 #include <memory>
@@ -113,6 +117,11 @@ class DirectCollocation {
                           const Eigen::VectorXd& upper);
   // x_0^{p+1} = Δ(x_{N−1}^p) with Δ: R^{n_x^p} → R^{n_x^{p+1}}. Default: identity (needs equal n_x).
   void SetTransition(int p, StateFunction reset);
+  // Closes the phase sequence into a cycle: x_0^0 = Δ(x_{N−1}^{P−1}) with Δ: R^{n_x^{P−1}} → R^{n_x^0}
+  // (e.g. the reset of a periodic gait that re-expresses the state about the new stance foot).
+  void SetPeriodicTransition(StateFunction reset);
+  // Ipopt with the Lagrangian Hessian (true) or with L-BFGS (false, the default).
+  void SetExactHessian(bool exact);
   // Φ(x, u) at the last node of the last phase.
   void SetTerminalCost(ScalarStateInputFunction cost);
   // Initial guess of phase p: states n_x × N, inputs n_u × N, duration [s].
@@ -124,7 +133,7 @@ class DirectCollocation {
   std::unique_ptr<NlpProblem> BuildNlp() const;
   Eigen::VectorXd InitialGuessVector() const;
 
-  // Builds the NLP, solves it with Ipopt (limited-memory Hessian is forced) and unpacks it.
+  // Builds the NLP, solves it with Ipopt (L-BFGS unless SetExactHessian(true)) and unpacks it.
   CollocationResult Solve(const IpoptSolverOptions& options = {}) const;
 
   // Unpacks a decision vector of BuildNlp() into per-phase trajectories.
@@ -158,6 +167,8 @@ class DirectCollocation {
   std::vector<NodeConstraint> node_constraints_;
   std::vector<NodeBounds> node_bounds_;
   std::vector<StateFunction> transitions_;  // size P − 1, empty function = identity
+  StateFunction periodic_transition_;        // empty: not periodic
+  bool exact_hessian_ = false;
   ScalarStateInputFunction terminal_cost_;
   std::vector<Guess> guesses_;
 };

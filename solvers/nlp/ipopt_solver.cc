@@ -262,6 +262,7 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
     opts->SetNumericValue("max_cpu_time", options_.max_cpu_time);
     opts->SetStringValue("linear_solver", options_.linear_solver);
     opts->SetNumericValue("bound_relax_factor", options_.bound_relax_factor);
+    opts->SetStringValue("mu_strategy", options_.mu_strategy);
     if (options_.use_limited_memory_hessian || !problem.has_lagrangian_hessian()) {
       opts->SetStringValue("hessian_approximation", "limited-memory");
       opts->SetIntegerValue("limited_memory_max_history", options_.limited_memory_history);

@@ -33,6 +33,7 @@ struct IpoptSolverOptions {
   // Ipopt `bound_relax_factor` [-] (Ipopt's default): bounds are relaxed by this relative amount while solving and
   // x is moved back inside them at the end, so g(x) can differ from the last iterate's; 0 solves on exact bounds.
   double bound_relax_factor = 1e-8;
+  std::string mu_strategy = "monotone";          // Ipopt `mu_strategy`: "monotone" or "adaptive"
   // Warm start: when Solve() receives multipliers, use them (Ipopt `warm_start_init_point`).
   double warm_start_bound_push = 1e-9;           // Ipopt `warm_start_bound_push` [-]
   double warm_start_mult_bound_push = 1e-9;      // Ipopt `warm_start_mult_bound_push` [-]

@@ -1,5 +1,6 @@
 #include "systems/controllers/contact_wrench_constraints.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -33,6 +34,9 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     x_min_ = std::min(x_min_, d.x()), x_max_ = std::max(x_max_, d.x());
     y_min_ = std::min(y_min_, d.y()), y_max_ = std::max(y_max_, d.y());
   }
+  // The CoP rows keep the centre of pressure cop_margin_m inside the sole's edges (never past its middle).
+  const double mx = std::clamp(params.cop_margin_m, 0.0, 0.5 * (x_max_ - x_min_)), my = std::clamp(params.cop_margin_m, 0.0, 0.5 * (y_max_ - y_min_));
+  if (info.type != ContactType::kPoint) x_min_ += mx, x_max_ -= mx, y_min_ += my, y_max_ -= my;
   if (planar_) {
     normal_ = num_force_rows_ - 1;
     cop_ = info.type != ContactType::kPoint;

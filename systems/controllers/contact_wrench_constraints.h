@@ -41,6 +41,9 @@ struct ContactWrenchParams {
   /// 0: the paper's cone.
   double friction_cone_offset_N = 0.0;
   bool inscribe_pyramid = true;         ///< 3D: |F_x|, |F_y| ≤ μ'/√2 F_z, inside the cone (hopping spec [R])
+  /// [m] line/flat contacts: the CoP rows keep the centre of pressure this far inside the sole's edges (0: the edges;
+  /// ours: the plant's CoP drifts over a held sample, so a CoP held on the edge leaves the sole between samples)
+  double cop_margin_m = 0.0;
   double yaw_moment_coefficient_m = -1.0;  ///< [m] 3D flat: |τ_z| ≤ this · f_z; < 0: no yaw-moment bound
 };
 

@@ -155,6 +155,26 @@ void JointFunctionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const
   J.setZero();
   J(0, index_) = slope;
   Jdot_qdot[0] = (slope_plus - slope_minus) / (2.0 * step_) * v[index_] * v[index_];
+// ---------------------------------------------------------------------------------------------------------
+
+BodyOrientationTask::BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains,
+                                         std::vector<int> active_modes)
+    : TaskSpaceTask(std::move(name), 3, gains, std::move(active_modes)), body_(model.BodyIndex(body)) {
+  if (model.is_planar())
+    throw std::invalid_argument("task '" + this->name() + "': BodyOrientationTask needs a 3D model; robot '" + model.name() + "' is planar");
+  if (model.HasFrame(body)) R_body_link_ = model.Frame(body).X_body_frame.linear();
+}
+
+void BodyOrientationTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                                 Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+  ws.SetPositions(model, q);
+  const Eigen::Matrix3d R = ws.R_world_link(body_) * R_body_link_;
+  const Eigen::AngleAxisd aa(R);
+  y = aa.angle() * aa.axis();
+  auto J6 = ws.J_point.topRows(6);
+  CalcFrameJacobian(model, ws, q, body_, Eigen::Vector3d::Zero(), J6);
+  J = J6.topRows(3);  // ω (world): the same for every frame on the body
+  Jdot_qdot = CalcFrameJdotQdot(model, ws, q, v, body_, Eigen::Vector3d::Zero()).head<3>();
 }
 
 }  // namespace rome

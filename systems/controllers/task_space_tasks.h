@@ -16,6 +16,9 @@
 //   JointPositionTask   one generalized coordinate q_i [rad or m]
 //   JointFunctionTask   a scalar function f(q_i) of one coordinate, e.g. Cassie's virtual leg length L(q_knee)
 //                       (hopping paper Eq. (13)) [the function's unit]
+//   BodyOrientationTask orientation of a body in 3D as the rotation vector log(R_world_body) [rad] (target 0 = the
+//                       body aligned with the world: a flat foot with zero yaw, walking paper Eq. (17)); ẏ is taken
+//                       as the world angular velocity ω, exact at y = 0 (the error of d/dt log R is O(|y| |ω|))
 // Tasks are immutable after construction (names are resolved against the model then) and may be shared
 // between controllers; all scratch lives in the MultibodyWorkspace handed to Calc (no heap allocation).
 #include <functional>
@@ -133,6 +136,11 @@ class JointFunctionTask final : public TaskSpaceTask {
   using Function = std::function<void(double q, double* value, double* derivative)>;
   JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function, TaskGains gains = {},
                     std::vector<int> active_modes = {}, double second_derivative_step = 1e-5);
+/// Orientation of a body as the rotation vector log(R_world_body) [rad], with J = the world angular-velocity Jacobian
+/// (3D models; see the header for the small-angle reading of ẏ).
+class BodyOrientationTask final : public TaskSpaceTask {
+ public:
+  BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {}, std::vector<int> active_modes = {});
 
  private:
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
@@ -140,6 +148,8 @@ class JointFunctionTask final : public TaskSpaceTask {
   int index_;
   Function function_;
   double step_;
+  int body_;
+  Eigen::Matrix3d R_body_link_ = Eigen::Matrix3d::Identity();  // a link merged through a fixed joint
 };
 
 }  // namespace rome

@@ -128,6 +128,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   // Target: the graph's lift-off transition, else the mode with exactly the remaining contacts, else failure.
   // Declared before the slip guards of the same mode: when a contact unloads with no tangential force
   // (|F_t| = F_n = 0 at the same instant) the lift-off wins and the mode's slip guard is then inactive.
+  liftoff_threshold_.assign(num_modes, std::vector<double>(nc, 0.0));
   for (int m = 0; m < num_modes; ++m) {
     for (int c = 0; c < nc; ++c) {
       if (!(mode_contacts_[m] & ContactBit(c))) continue;
@@ -140,13 +141,16 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
             break;
           }
       const std::string contact_name = model_->contacts()[c].name;
+      // A planned lift-off (the graph's own transition) may fire at a small positive load (params: walking spec §7.5).
+      const double threshold = liftoff_target[m][c] >= 0 ? params_.planned_liftoff_force_N : 0.0;
+      liftoff_threshold_[m][c] = threshold;
       DeclareGuard(
           "liftoff_" + contact_name, m,
-          [this, c](const LeafContext& ctx) {
+          [this, c, threshold](const LeafContext& ctx) {
             const Scratch& s = ctx.scratch<Scratch>();
             const bool valid = s.pending_mode == ctx.mode();
             if (valid && (s.pending_liftoff & ContactBit(c))) return PendingWitness(ctx);
-            const double fn = EvalContactForces(ctx)(2, c) - params_.liftoff_normal_force_N;
+            const double fn = EvalContactForces(ctx)(2, c) - threshold;
             return valid && (s.grace_liftoff & ContactBit(c)) ? fn + params_.event_tolerance_N : fn;
           },
           CrossingDirection::kFalling,
@@ -210,7 +214,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     const double tol = params_.event_tolerance_N;
     for (int c = 0; c < nc; ++c) {
       if (!(s.active & ContactBit(c))) continue;
-      const double fn = f(2, c) - params_.liftoff_normal_force_N, margin = FrictionMargin(f, c);
+      const double fn = f(2, c) - liftoff_threshold_[ctx.mode()][c], margin = FrictionMargin(f, c);
       if (fn < -tol)
         s.pending_liftoff |= ContactBit(c);
       else if (margin < -tol)

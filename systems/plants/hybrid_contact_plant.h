@@ -25,8 +25,8 @@
 //     Reset: plastic impact q̇⁺ = (I − M⁻¹Jᵀ(JM⁻¹Jᵀ)⁻¹J) q̇⁻ with the TARGET mode's contact set; on a
 //     stepping-stone terrain a touchdown that is not on a stone ends the run: Failed("robot fell: ...").
 //   liftoff_<contact>  (every mode, every contact c ∈ C(m)): the normal force on c (world z of the ground force,
-//     ExtractContactWrench) crosses liftoff_normal_force_N (default 0) falling. Contact is unilateral in every graph.
-//     Reset: mode change only, to the graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
+//     ExtractContactWrench) crosses 0 falling (params.planned_liftoff_force_N for the graph's own lift-off transitions). Contact is unilateral in every graph. Reset: mode change only, to the
+//     graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
 //     C(m) \ {c}, else the run ends: Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no
 //     mode to lift off into").
 //   slip  (every mode with contacts; one witness component per contact, index = contact index): μ_c F_n − |F_t|
@@ -74,10 +74,11 @@ struct HybridContactPlantParams {
   /// guards above). false: contacts stay welded except at the graph's own lift-off transitions, whatever their
   /// forces (the plant before unilateral contact; kept to measure what an idealised plant hides).
   bool unilateral_contact = true;
-  /// [N] A stance contact lifts off when its normal force falls to this value (0: the exact unilateral crossing). A
-  /// controller that plans F_n ≥ 0 may hold a foot at F_n ≈ 0 while its tangential force drifts over a held sample, so
-  /// that the cone's apex would report a slip before the lift-off; the hopping spec ([R] A3) fires at 1 % of m g.
-  double liftoff_normal_force_N = 0.0;
+  /// [N] A contact whose lift-off is a transition of the graph (e.g. the trailing foot, double → single support) lifts
+  /// off when its normal force falls through this value instead of 0 (walking spec §7.5 [R]: 1 % of m g). As F_n → 0
+  /// the ratio |F_t|/F_n of a force held over a control sample is ill-conditioned and would end the run as a slip just
+  /// before the lift-off; the controller unloads the foot to ~0 and the plant then releases it. 0: exactly at F_n = 0.
+  double planned_liftoff_force_N = 0.0;
 };
 
 class HybridContactPlant final : public ContactPlant {
@@ -109,6 +110,7 @@ class HybridContactPlant final : public ContactPlant {
   double PendingWitness(const LeafContext& context) const;
 
   HybridContactPlantParams params_;
+  std::vector<std::vector<double>> liftoff_threshold_;  // [mode][contact] N: planned_liftoff_force_N or 0
 };
 
 }  // namespace rome

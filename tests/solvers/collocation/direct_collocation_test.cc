@@ -358,9 +358,66 @@ TEST(DirectCollocation, ConstraintJacobianMatchesFiniteDifferences) {
   EXPECT_LT(check.max_gradient_error, 1e-7);
   EXPECT_LT(check.max_jacobian_error, 1e-7);
   EXPECT_EQ(check.max_missing_jacobian_entry, 0.0);
+  // The same problems with the Lagrangian Hessian (forward differences of exact gradients inside, so compare to the
+  // checker's finite differences at the 1e-5 level), then solved with it.
+  pendulum.SetExactHessian(true);
+  auto nlp3 = pendulum.BuildNlp();
+  ASSERT_TRUE(nlp3->has_lagrangian_hessian());
+  check = CheckDerivatives(*nlp3, z2);
+  EXPECT_LT(check.max_hessian_error, 1e-5);
+  DirectCollocation ball = MakeBouncingBall(1.5, 4.0, 0.8, 6);
+  ball.SetExactHessian(true);
+  auto nlp4 = ball.BuildNlp();
+  check = CheckDerivatives(*nlp4, z);
+  EXPECT_LT(check.max_hessian_error, 1e-5);
   std::printf("pendulum NLP: %d variables, %d constraints, %d Jacobian nonzeros\n",
               nlp2->num_variables(), nlp2->num_constraints(),
               nlp2->constraint_jacobian_sparsity().nnz());
+}
+
+TEST(DirectCollocation, PeriodicTransitionClosesTheCycle) {
+  // ẋ = u on [0, 1], min ∫ u², with the periodic reset x_0 = x_{N-1} − 1 (a "step" of length 1, as a walking gait
+  // re-expressed about the next foot): the optimum is u ≡ 1, cost 1 (Cauchy-Schwarz). A second state with ẏ = −y and
+  // the swap-free reset y_0 = 2 y_{N-1} tests the Jacobian of a non-identity map.
+  CollocationPhase phase;
+  phase.name = "step";
+  phase.num_states = 2;
+  phase.num_inputs = 1;
+  phase.num_nodes = 11;
+  phase.dynamics = [](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+    y.resize(2);
+    y(0) = u(0);
+    y(1) = -x(1) + 0.0 * u(0);
+  };
+  phase.running_cost = [](const VectorXad&, const VectorXad& u) -> AutoDiffXd { return u(0) * u(0); };
+  DirectCollocation dc("periodic", {phase});
+  dc.SetPeriodicTransition([](const VectorXad& x, VectorXad& y) {
+    y.resize(2);
+    y(0) = x(0) - 1.0;
+    y(1) = 2.0 * x(1) * x(1) + 0.5 * x(1);
+  });
+  auto nlp = dc.BuildNlp();
+  EXPECT_EQ(nlp->num_constraints(), 10 * 2 + 2);
+  Eigen::VectorXd z = Eigen::VectorXd::Random(nlp->num_variables());
+  const DerivativeCheckResult check = CheckDerivatives(*nlp, z);
+  EXPECT_LT(check.max_jacobian_error, 1e-7);
+  EXPECT_EQ(check.max_missing_jacobian_entry, 0.0);
+  const CollocationResult r = dc.Solve();
+  ASSERT_TRUE(r.success()) << r.nlp.message;
+  EXPECT_NEAR(r.nlp.cost, 1.0, 1e-7);
+  EXPECT_NEAR(r.phases[0].states(0, 10) - r.phases[0].states(0, 0), 1.0, 1e-8);
+  EXPECT_LT((r.phases[0].inputs.array() - 1.0).abs().maxCoeff(), 1e-5);
+  // y: y_0 = 2 y_end² + y_end/2 with y_end ≈ e^{-1} y_0 (trapezoid: ((1 − h/2)/(1 + h/2))^10 y_0); y = 0 is one fixed
+  // point, the other satisfies 1 = 2 ρ y_0 ρ + ρ/2 ⇒ check the reset equation itself.
+  const double y0 = r.phases[0].states(1, 0), y1 = r.phases[0].states(1, 10);
+  EXPECT_NEAR(y0, 2 * y1 * y1 + 0.5 * y1, 1e-8);
+  EXPECT_THROW(dc.SetPeriodicTransition(StateFunction()), std::invalid_argument);
+  // Same answer with the Lagrangian Hessian.
+  dc.SetExactHessian(true);
+  const CollocationResult r2 = dc.Solve();
+  ASSERT_TRUE(r2.success()) << r2.nlp.message;
+  EXPECT_NEAR(r2.nlp.cost, 1.0, 1e-7);
+  EXPECT_LE(r2.nlp.iterations, r.nlp.iterations);
 }
 
 TEST(DirectCollocation, RejectsBadDefinitions) {

@@ -53,6 +53,34 @@ TEST(TaskSpaceTasks, JacobiansAndBiasMatchFiniteDifferencesOnAmber) {
   CheckAgainstFiniteDifferences(*model, JointPositionTask("knee", *model, "left_knee"), q, v);
 }
 
+// BodyOrientationTask on the 3D exoskeleton: y = the rotation vector (a base yaw ψ turns the flat foot by ψ about world
+// z: y = (0, 0, ψ)), and at a flat, unyawed foot (y = 0, where ẏ = ω exactly) J equals finite differences of y(q).
+TEST(TaskSpaceTasks, BodyOrientationIsTheRotationVectorWithTheAngularVelocityJacobian) {
+  auto model = Load("exoskeleton");
+  const BodyOrientationTask task("foot", *model, "left_foot");
+  MultibodyWorkspace ws(*model);
+  Eigen::VectorXd q = model->q_nominal(), y(3), Jdq(3);
+  Eigen::MatrixXd J(3, model->nv());
+  q[model->VelocityIndex("base_yaw")] = 0.3;
+  task.Calc(*model, ws, q, Eigen::VectorXd::Zero(model->nv()), y, J, Jdq);
+  EXPECT_LT((y - Eigen::Vector3d(0, 0, 0.3)).norm(), 1e-9) << y.transpose();
+  q = model->q_nominal();
+  task.Calc(*model, ws, q, Eigen::VectorXd::Zero(model->nv()), y, J, Jdq);
+  EXPECT_LT(y.norm(), 1e-9);
+  const double h = 1e-6;
+  Eigen::VectorXd yp(3), ym(3);
+  Eigen::MatrixXd Jx(3, model->nv());
+  for (int k = 0; k < model->nv(); ++k) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp[k] += h;
+    qm[k] -= h;
+    task.Calc(*model, ws, qp, Eigen::VectorXd::Zero(model->nv()), yp, Jx, Jdq);
+    task.Calc(*model, ws, qm, Eigen::VectorXd::Zero(model->nv()), ym, Jx, Jdq);
+    EXPECT_LT(((yp - ym) / (2 * h) - J.col(k)).norm(), 1e-6) << "column " << k;
+  }
+  EXPECT_THROW(BodyOrientationTask("bad", *Load("amber"), "torso"), std::invalid_argument);
+}
+
 TEST(TaskSpaceTasks, AmberCoordinatesAndTorsoPitchIsTheBasePitch) {
   auto model = Load("amber");
   // q = [x, z, pitch, left_hip, left_knee, right_hip, right_knee].

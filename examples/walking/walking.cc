@@ -1,0 +1,220 @@
+// walking: the 12-joint exoskeleton walks from standing (walking paper: aSLIP + H-LIP planning composed into a 3D COM
+// reference, CLF-QP with force matching). The ROM plan is built offline (NLPs cached in --cache), then the diagram of
+// diagrams/walking runs. Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR: COM desired
+// vs actual, per-foot normal force in its band). Exit 0 success, 3 failed run (fell, slipped, QP gave up), 1 bad input.
+// Not yet: --scenario gait-change (the gait A → B transition is not composed); see the report in the README.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "diagrams/walking/walking_diagram.h"
+#include "examples/common/cli.h"
+#include "examples/common/plot.h"
+#include "framework/simulator.h"
+#include "systems/multibody/multibody_kinematics.h"
+
+using namespace rome;
+
+namespace {
+
+WalkingGait ParseGait(const std::string& flag, const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    try {
+      size_t used = 0;
+      v.push_back(std::stod(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("walking: --" + flag + " expects L,T_SSP,T_DSP,W (numbers), got '" + text + "'");
+    }
+  }
+  if (v.size() != 4) throw std::invalid_argument("walking: --" + flag + " expects 4 numbers L,T_SSP,T_DSP,W, got '" + text + "'");
+  if (!(v[0] > 0 && v[1] > 0 && v[2] > 0 && v[3] > 0))
+    throw std::invalid_argument("walking: --" + flag + " values must be positive, got '" + text + "'");
+  return WalkingGait{v[0], v[1], v[2], v[3]};
+}
+
+double Percentile(std::vector<double> x, double p) {
+  if (x.empty()) return 0.0;
+  std::sort(x.begin(), x.end());
+  return x[std::min(x.size() - 1, static_cast<size_t>(p * (x.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (gait-change: not implemented yet)")
+      .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
+      .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
+      .Option("steps", "10", "periodic steps per gait")
+      .Option("force-band", "0.1", "c of the force band, Eq. (25)")
+      .Option("seed", "1", "seed of the NLP initial guesses")
+      .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
+      .Option("cache", "walking_plans", "directory of cached ROM plans")
+      .Option("log", "", "CSV log file (empty: none)")
+      .Option("summary", "", "JSON summary file (empty: none)")
+      .Option("plots", "", "directory for PNG plots (empty: none)");
+  WalkingGait gait_a;
+  int steps = 0;
+  double band = 0.1;
+  try {
+    if (!cli.Parse(argc, argv)) return 0;
+    if (cli.Get("scenario") == "gait-change")
+      throw std::invalid_argument("walking: --scenario gait-change is not implemented yet (only stand-to-walk)");
+    if (cli.Get("scenario") != "stand-to-walk")
+      throw std::invalid_argument("walking: --scenario must be stand-to-walk or gait-change, got '" + cli.Get("scenario") + "'");
+    gait_a = ParseGait("gait-a", cli.Get("gait-a"));
+    ParseGait("gait-b", cli.Get("gait-b"));
+    steps = cli.GetInt("steps");
+    if (steps < 1) throw std::invalid_argument("walking: --steps must be >= 1, got " + cli.Get("steps"));
+    band = cli.GetDouble("force-band");
+    if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band must be in (0, 1), got " + cli.Get("force-band"));
+    for (const char* f : {"log", "summary"}) {
+      const std::string path = cli.Get(f);
+      if (path.empty()) continue;
+      std::ofstream probe(path);
+      if (!probe) throw std::invalid_argument(std::string("walking: --") + f + ": cannot write '" + path + "'");
+    }
+    if (!cli.Get("plots").empty()) std::filesystem::create_directories(cli.Get("plots"));
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
+
+  std::shared_ptr<const MultibodyModel> model;
+  try {
+    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(cli.Get("robot")));
+  } catch (const std::exception& e) {
+    std::cerr << "walking: --robot: " << e.what() << "\n";
+    return 1;
+  }
+  const PlanCache cache(cli.Get("cache"));
+  WalkingPlanReport nlp;
+  WalkingPlan plan;
+  try {
+    std::cout << "planning: periodic aSLIP, standing transition, footed H-LIP ...\n";
+    plan = BuildStandToWalkPlan(gait_a, steps, static_cast<std::uint32_t>(cli.GetInt("seed")), &cache, &nlp);
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 3;
+  }
+  WalkingDiagramParams params;
+  params.controller.force_band_halfwidth = band;
+  WalkingDiagram d = BuildWalkingDiagram(model, plan, params);
+  SimulatorConfig config;
+  config.scheme = IntegrationScheme::kExplicitRungeKutta;
+  config.relative_tolerance = 1e-6;
+  config.absolute_tolerance = 1e-8;
+  Simulator sim(*d.diagram, config);
+  LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
+  d.plant->SetState(pc, WalkingStandingPose(*model, plan), Eigen::VectorXd::Zero(model->nv()), "double_support");
+
+  const int nv = model->nv();
+  const double mg = model->total_mass() * 9.81;
+  MultibodyWorkspace ws(*model);
+  std::ofstream log;
+  if (!cli.Get("log").empty()) {
+    log.open(cli.Get("log"));
+    log << "t,mode,com_x,com_y,com_z,com_des_x,com_des_y,com_des_z,fz_left,fz_right,fz_ref_left,fz_ref_right\n";
+  }
+  long tick = -1, band_ticks = 0, band_in = 0, n_err = 0;
+  int touchdowns = 0, last_mode = 1;
+  double last_touchdown = -1.0, liftoff_max = 0.0, pelvis_max = 0.0;
+  Eigen::Vector2d last_fz = Eigen::Vector2d::Zero();
+  Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), err_max = Eigen::Vector3d::Zero();
+  std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
+  const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
+  sim.set_monitor([&](const Context& c) {
+    const double t = c.time();
+    const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
+    const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
+    const Eigen::VectorXd& f = d.plant->EvalOutput(ctx, "contact_forces");
+    if (mode == 1 && last_mode != 1) ++touchdowns, last_touchdown = t;
+    if (mode != 1 && last_mode == 1) liftoff_max = std::max(liftoff_max, mode == 0 ? last_fz[1] : last_fz[0]);
+    last_mode = mode;
+    last_fz << f[2], f[5];
+    const long k = static_cast<long>(std::floor(t * 1000.0 + 1e-9));
+    if (k == tick) return EventStatus::Succeeded();
+    tick = k;  // once per control tick
+    const Eigen::VectorXd q = ctx.continuous_state().head(nv);
+    const Eigen::Vector3d com = CalcComPosition(*model, ws, q);
+    const WalkingReference r = plan.Sample(t);
+    const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, c);
+    solve_us.push_back(1e6 * d.controller->EvalOutput(cc, "solve_time_s")[0]);
+    for (const char* a : {"base_roll", "base_pitch", "base_yaw"}) pelvis_max = std::max(pelvis_max, std::abs(q[model->VelocityIndex(a)]));
+    if (t > after_first_step) {
+      const Eigen::Vector3d e = (com - r.com_position).cwiseAbs();
+      sum_sq += e.cwiseProduct(e);
+      err_max = err_max.cwiseMax(e);
+      ++n_err;
+    }
+    if (last_touchdown < 0 || t > last_touchdown + 0.02) {
+      for (int foot = 0; foot < 2; ++foot) {
+        const double fz = f[3 * foot + 2], ref = r.normal_force[foot];
+        band_in += (fz >= (1 - band) * ref - 0.02 * mg && fz <= (1 + band) * ref + 0.02 * mg) ? 1 : 0;
+        ++band_ticks;
+      }
+    }
+    if (log.is_open())
+      log << t << ',' << mode << ',' << com.x() << ',' << com.y() << ',' << com.z() << ',' << r.com_position.x() << ',' << r.com_position.y() << ','
+          << r.com_position.z() << ',' << f[2] << ',' << f[5] << ',' << r.normal_force[0] << ',' << r.normal_force[1] << '\n';
+    t_s.push_back(t), cx.push_back(com.x()), cxd.push_back(r.com_position.x()), cy.push_back(com.y()), cyd.push_back(r.com_position.y());
+    cz.push_back(com.z()), czd.push_back(r.com_position.z()), fl.push_back(f[2]), fr.push_back(f[5]);
+    fl_ref.push_back(r.normal_force[0]), fr_ref.push_back(r.normal_force[1]);
+    if (k % 500 == 0) std::cout << "  t = " << t << " s, steps " << touchdowns << "\n";
+    return EventStatus::Succeeded();
+  });
+  std::cout << "simulating " << plan.end_time() << " s ...\n";
+  const auto wall0 = std::chrono::steady_clock::now();
+  const SimulatorStatus status = sim.AdvanceTo(plan.end_time());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double t_end = sim.get_context().time();
+  const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
+  const bool fell = status.kind() != SimulatorStatus::Kind::kLimit;
+  const bool success = !fell && touchdowns >= steps;
+  Eigen::Vector3d rms = Eigen::Vector3d::Zero();
+  if (n_err > 0) rms = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
+  const Eigen::VectorXd& fb = d.controller->EvalOutput(cc, "fallbacks");
+  nlohmann::json s;
+  s["success"] = success;
+  s["status_kind"] = fell ? "failed" : "limit";
+  s["status"] = status.ToString();
+  s["fell"] = fell;
+  s["steps_completed"] = touchdowns;
+  s["com_rms_error_m"] = {rms.x(), rms.y(), rms.z()};
+  s["com_max_error_m"] = {err_max.x(), err_max.y(), err_max.z()};
+  s["pelvis_max_orientation_error_rad"] = pelvis_max;
+  s["force_in_band_fraction"] = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
+  s["liftoff_normal_force_max_N"] = liftoff_max;
+  s["qp_infeasible_ticks"] = d.controller->EvalOutput(cc, "qp_failures")[0];
+  s["qp_fallbacks"] = fb.sum();
+  s["qp_solve_us_median"] = Percentile(solve_us, 0.5);
+  s["qp_solve_us_p99"] = Percentile(solve_us, 0.99);
+  s["nlp"] = {{"periodic_aslip", {{"solve_s", nlp.periodic_solve_s}, {"iterations", nlp.periodic_iterations}, {"constraint_violation", nlp.periodic_violation}}},
+              {"transition_aslip", {{"solve_s", nlp.transition_solve_s}, {"iterations", nlp.transition_iterations}, {"constraint_violation", nlp.transition_violation}}}};
+  s["realtime_factor"] = wall > 0 ? t_end / wall : 0.0;
+  s["simulated_s"] = t_end;
+  if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << s.dump(2) << "\n";
+  if (!cli.Get("plots").empty()) {
+    std::string err;
+    const std::string dir = cli.Get("plots");
+    examples::PlotSpec com{"COM desired vs actual (Fig. 5a)", "t [s]", "m", {{"x", t_s, cx}, {"x desired", t_s, cxd}, {"y", t_s, cy}, {"y desired", t_s, cyd},
+                                                                          {"z", t_s, cz}, {"z desired", t_s, czd}}};
+    if (!examples::WritePlot(com, dir + "/com.png", &err)) std::cerr << "plot: " << err << "\n";
+    examples::PlotSpec force{"plant normal forces and the aSLIP reference (Fig. 5d)", "t [s]", "N",
+                             {{"left", t_s, fl}, {"left reference", t_s, fl_ref}, {"right", t_s, fr}, {"right reference", t_s, fr_ref}}};
+    if (!examples::WritePlot(force, dir + "/normal_forces.png", &err)) std::cerr << "plot: " << err << "\n";
+  }
+  std::cout << (success ? "walked" : "FAILED") << ": " << status.ToString() << "\n  " << touchdowns << " steps, COM RMS error (after the first step) "
+            << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n";
+  return success ? 0 : 3;
+}

@@ -1,0 +1,80 @@
+#pragma once
+// AslipTransitionPlanner: the transitional footed-aSLIP NLP of the walking paper, Eq. (9)-(10) (spec §3.2), by
+// trapezoidal direct collocation on Ipopt. Offline: solved once per transition (standing → walking, gait A → B).
+//
+// Exactly two domains, DSP then SSP, with free durations T_DSP ∈ [0.1, 1.0] s and T_SSP ∈ [0.3, 0.6] s (spec [R]).
+// Legs keep their labels (0 = left, 1 = right). State [x, z, ẋ, ż, L_L, L_R, L̇_L, L̇_R], input
+// [L̈_L, L̈_R, u_L, u_R] (u the ankle pitch torques). One leg (`lifting_leg`) lifts at the end of the DSP.
+//   Cost, Eq. (9):  Σ (dt/2)(L̈_L² + L̈_R² + (u_L/u_s)² + (u_R/u_s)²), u_s = 100 N m (spec [R] scaling).
+//   Constraints:   the initial and final states are fixed (the start and the end of the motion [P]);
+//                  Eq. (10) ZMP −L_h G_z ≤ u ≤ L_t G_z and |u| ≤ u_max per leg on the ground and node; u = 0 in the
+//                  air; F ≥ 0, friction, spring range and the periodic NLP's bounds as in AslipPeriodicGaitPlanner;
+//                  lift-off: the lifting leg's vertical GRF G_z = 0 at the last DSP node; optionally u = 0 at the
+//                  last node (zero_final_ankle_torque).
+// The final state is normally a periodic gait's pre-impact state (end of its SSP), so touchdown (s = 0) holds there.
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "solvers/collocation/direct_collocation.h"
+#include "systems/planners/aslip_periodic_gait_planner.h"
+
+namespace rome {
+
+struct AslipTransitionParams {
+  AslipPeriodicGaitParams bounds{};  ///< model, bounds, N, μ, tolerances (shared with the periodic NLP)
+  double min_dsp_duration = 0.1, max_dsp_duration = 1.0;  ///< [s] (spec [R])
+  double min_ssp_duration = 0.3, max_ssp_duration = 0.6;  ///< [s] (spec [R])
+  double max_ankle_torque = 150.0;   ///< [N m] u_y,max, ankle pitch limit (spec §1.1 [R])
+  double torque_cost_scale = 100.0;  ///< [N m] u_s in Eq. (9) (spec [R])
+  /// u = 0 at the last SSP node (ours): the transition then joins a point-foot periodic gait without a jump in the
+  /// ground reaction (the state is continuous there; the torque would not be).
+  bool zero_final_ankle_torque = true;
+};
+
+struct AslipTransitionData {
+  Eigen::Matrix<double, 8, 1> initial_state;  ///< at the start of the DSP
+  Eigen::Matrix<double, 8, 1> final_state;    ///< at the end of the SSP (pre-impact)
+  double left_foot_x = 0.0;                   ///< [m] pivots during the DSP
+  double right_foot_x = 0.0;
+  int lifting_leg = 1;                        ///< 0 = left, 1 = right (spec [R] default: right)
+  /// Optional initial guess of the states (8 × N per domain) and durations [s], e.g. the source gait's DSP and the
+  /// target gait's SSP for a gait change. Empty: straight line from the initial to the final state, mid-range
+  /// durations.
+  Eigen::MatrixXd dsp_state_guess, ssp_state_guess;
+  double dsp_duration_guess = 0.0, ssp_duration_guess = 0.0;
+};
+
+struct AslipTransition {
+  CollocationResult collocation;  ///< phases 0 = "dsp", 1 = "ssp"
+  double max_constraint_violation = 0.0;
+  double mean_height = 0.0;  ///< [m] time average of z (the footed H-LIP z0, spec §2.3)
+  bool success() const { return collocation.success(); }
+  /// [G_Lx, G_Lz, G_Rx, G_Rz] (N) at every node of phase p (4 × N), with the ankle torques.
+  Eigen::MatrixXd GroundReactions(const AslipParams& params, const AslipTransitionData& data, int phase) const;
+};
+
+class AslipTransitionPlanner {
+ public:
+  explicit AslipTransitionPlanner(AslipTransitionParams params = {});
+  const AslipTransitionParams& params() const { return params_; }
+  /// Contact of phase p (0 = DSP, 1 = SSP).
+  static AslipContact PhaseContact(const AslipTransitionData& data, int phase);
+  DirectCollocation BuildProblem(const AslipTransitionData& data) const;
+  /// Initial guess: data's guess if given, else states linear from the initial to the final state, durations at
+  /// mid-range; zero inputs.
+  /// With a cache: a stored plan for the same parameters and data is loaded instead (re-checked to 1e-6), and a new
+  /// successful plan is stored.
+  AslipTransition Solve(const AslipTransitionData& data, const PlanCache* cache = nullptr) const;
+  /// Every parameter and every number of the data.
+  PlanCacheKey CacheKey(const AslipTransitionData& data) const;
+
+  /// Standing at rest in DSP with both pivots at x = 0 and the mass at height z, each leg carrying m g / 2
+  /// (rest lengths by AslipRestLengthForForce).
+  static Eigen::Matrix<double, 8, 1> StandingState(const AslipParams& params, double z);
+
+ private:
+  AslipTransitionParams params_;
+};
+
+}  // namespace rome

@@ -1,0 +1,182 @@
+#include "systems/planners/walking_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace rome {
+
+WalkingReference WalkingPlan::Sample(double t) const {
+  if (segments_.empty()) throw std::logic_error("WalkingPlan::Sample: the plan is empty");
+  t = std::clamp(t, 0.0, end_time());
+  // Last segment that has started (segments are contiguous and ordered).
+  auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
+                             [](double time, const WalkingPlanSegment& s) { return time < s.start_time; });
+  const WalkingPlanSegment& s = *(it == segments_.begin() ? it : it - 1);
+  const double tau = std::clamp(t - s.start_time, 0.0, s.duration);
+  WalkingReference r;
+  const Eigen::VectorXd sag = s.sagittal.Value(tau);
+  const Eigen::VectorXd acc = s.sagittal_acceleration.Value(tau);
+  r.com_position << s.sagittal_x_offset + sag(0), 0.0, sag(1);
+  r.com_velocity << sag(2), 0.0, sag(3);
+  r.com_acceleration << acc(0), 0.0, acc(1);
+  // Lateral, closed form.
+  if (s.lateral_nodes.cols() > 0) {
+    // Footed H-LIP with the torque held on [t_k, t_{k+1}).
+    const Eigen::Index n = s.lateral_node_times.size();
+    Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n, tau) -
+                     s.lateral_node_times.data() - 1;
+    k = std::clamp<Eigen::Index>(k, 0, n - 2);
+    const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / s.mass_height;
+    const double y0 = s.lateral_nodes(0, k), v0 = s.lateral_nodes(1, k);
+    if (s.domain == WalkingDomain::kDoubleSupport) {
+      r.com_position(1) = y0 + v0 * dt + 0.5 * a_u * dt * dt;
+      r.com_velocity(1) = v0 + a_u * dt;
+      r.com_acceleration(1) = a_u;
+    } else {
+      // ÿ = λ² (y − y_s) + a_u = λ² (y − c), c = y_s − a_u/λ².
+      const double l2 = s.lambda * s.lambda, c = s.lateral_pivot_y - a_u / l2;
+      const double ch = std::cosh(s.lambda * dt), sh = std::sinh(s.lambda * dt);
+      const double y = (y0 - c) * ch + v0 / s.lambda * sh;
+      r.com_position(1) = c + y;
+      r.com_velocity(1) = (y0 - c) * s.lambda * sh + v0 * ch;
+      r.com_acceleration(1) = l2 * y;
+    }
+  } else if (s.domain == WalkingDomain::kDoubleSupport) {
+    r.com_position(1) = s.lateral_start(0) + s.lateral_start(1) * tau;
+    r.com_velocity(1) = s.lateral_start(1);
+    r.com_acceleration(1) = 0.0;
+  } else {
+    const double y0 = s.lateral_start(0) - s.lateral_pivot_y, v0 = s.lateral_start(1);
+    const double ch = std::cosh(s.lambda * tau), sh = std::sinh(s.lambda * tau);
+    const double y = y0 * ch + v0 / s.lambda * sh;
+    r.com_position(1) = s.lateral_pivot_y + y;
+    r.com_velocity(1) = y0 * s.lambda * sh + v0 * ch;
+    r.com_acceleration(1) = s.lambda * s.lambda * y;
+  }
+  r.normal_force = s.normal_forces.Value(tau);
+  r.left_foothold = s.left_foothold;
+  r.right_foothold = s.right_foothold;
+  r.domain = s.domain;
+  return r;
+}
+
+void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
+                                      WalkingDomain first_stance, double stance_x, double step_width,
+                                      bool begin_with_double_support) {
+  std::ostringstream msg;
+  if (steps < 1) msg << "steps must be >= 1, got " << steps;
+  if (!(step_width > 0) || !std::isfinite(step_width)) msg << "step_width must be > 0 m, got " << step_width;
+  if (first_stance == WalkingDomain::kDoubleSupport) msg << "first_stance must be kLeftStance or kRightStance";
+  if (!gait.success()) msg << "the gait is not solved (" << gait.collocation.nlp.message << ")";
+  if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendPeriodicSteps: " + msg.str());
+  const AslipPeriodicGaitParams& q = planner.params();
+  const HybridLinearInvertedPendulum hlip(
+      {.z0 = gait.mean_height, .ssp_duration = q.ssp_duration, .dsp_duration = q.dsp_duration, .gravity = q.aslip.gravity});
+  const Eigen::Vector2d pre_left = hlip.P2PreImpactState(step_width);  // end of a left stance, about the left foot
+  double t0 = end_time();
+  bool left = first_stance == WalkingDomain::kLeftStance;
+  double x0 = stance_x;
+  const double half = 0.5 * step_width;
+  for (int step = 0; step < steps; ++step) {
+    const double stance_y = left ? half : -half;
+    // Pre-impact lateral state about this stance foot: (p, v) for a left stance, −(p, v) for a right stance; by the
+    // symmetry of the P2 orbit the SSP starts at (p, −v) (left) or (−p, v) (right).
+    const Eigen::Vector2d pre = left ? pre_left : Eigen::Vector2d(-pre_left);
+    const Eigen::Vector2d start(pre(0), -pre(1));
+    const int stance_leg = left ? 0 : 1;  // world leg standing in this SSP (plan leg 0)
+    for (int ph = (step == 0 && begin_with_double_support) ? 1 : 0; ph < 2; ++ph) {
+      const CollocationPhaseSolution& s = gait.collocation.phases[ph];
+      WalkingPlanSegment seg;
+      seg.start_time = t0;
+      seg.duration = s.duration;
+      seg.domain = ph == 1 ? WalkingDomain::kDoubleSupport : (left ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance);
+      seg.sagittal_x_offset = x0;
+      seg.sagittal = PiecewisePolynomial::CubicHermite(s.times.array() - s.start_time, s.states.topRows(4),
+                                                       s.state_derivatives.topRows(4));
+      seg.sagittal_acceleration =
+          PiecewisePolynomial::FirstOrderHold(s.times.array() - s.start_time, s.state_derivatives.middleRows(2, 2));
+      const Eigen::MatrixXd G = gait.GroundReactions(q.aslip, q.step_length, ph);
+      Eigen::MatrixXd F(2, G.cols());
+      F.row(stance_leg) = G.row(1);
+      F.row(1 - stance_leg) = G.row(3);
+      seg.normal_forces = PiecewisePolynomial::FirstOrderHold(s.times.array() - s.start_time, F);
+      seg.lambda = hlip.lambda();
+      seg.lateral_pivot_y = stance_y;
+      if (ph == 0) {
+        seg.lateral_start = Eigen::Vector2d(stance_y + start(0), start(1));
+      } else {
+        seg.lateral_start = Eigen::Vector2d(stance_y + pre(0), pre(1));
+      }
+      // Footholds at the end of this segment: the stance foot at x0, the other at x0 + l (landing point in SSP).
+      const Eigen::Vector2d stance_foot(x0, stance_y), other_foot(x0 + q.step_length, -stance_y);
+      seg.left_foothold = left ? stance_foot : other_foot;
+      seg.right_foothold = left ? other_foot : stance_foot;
+      t0 += s.duration;
+      segments_.push_back(std::move(seg));
+    }
+    x0 += q.step_length;
+    left = !left;
+  }
+}
+
+void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
+                                   const AslipTransitionData& data, double x_offset,
+                                   const FootedHlipTransitionData& lateral_data, const FootedHlipTransitionPlan& lateral,
+                                   double mass, double landing_x) {
+  std::ostringstream msg;
+  if (!transition.success()) msg << "the footed-aSLIP transition is not solved (" << transition.collocation.nlp.message << ")";
+  if (!lateral.success()) msg << "the footed H-LIP transition is not solved (" << lateral.message << ")";
+  if (!(mass > 0)) msg << "mass must be > 0 kg, got " << mass;
+  const int Nd = static_cast<int>(transition.collocation.phases.empty() ? 0 : transition.collocation.phases[0].times.size());
+  const int Ns = static_cast<int>(transition.collocation.phases.size() < 2 ? 0 : transition.collocation.phases[1].times.size());
+  if (msg.str().empty() && lateral_data.node_times.size() != Nd + Ns - 1) {
+    msg << "the lateral plan has " << lateral_data.node_times.size() << " nodes, the sagittal grid " << Nd + Ns - 1;
+  }
+  if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendTransition: " + msg.str());
+  const AslipParams& p = planner.params().bounds.aslip;
+  const double z0 = lateral_data.z0, lambda = std::sqrt(p.gravity / z0);
+  double t0 = end_time();
+  const int stance = 1 - data.lifting_leg;
+  for (int ph = 0; ph < 2; ++ph) {
+    const CollocationPhaseSolution& s = transition.collocation.phases[ph];
+    WalkingPlanSegment seg;
+    seg.start_time = t0;
+    seg.duration = s.duration;
+    seg.domain = ph == 0 ? WalkingDomain::kDoubleSupport : (stance == 0 ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance);
+    seg.sagittal_x_offset = x_offset;
+    const Eigen::VectorXd tau = s.times.array() - s.start_time;
+    seg.sagittal = PiecewisePolynomial::CubicHermite(tau, s.states.topRows(4), s.state_derivatives.topRows(4));
+    seg.sagittal_acceleration = PiecewisePolynomial::FirstOrderHold(tau, s.state_derivatives.middleRows(2, 2));
+    const Eigen::MatrixXd G = transition.GroundReactions(p, data, ph);
+    Eigen::MatrixXd F(2, G.cols());
+    F.row(0) = G.row(1);
+    F.row(1) = G.row(3);
+    seg.normal_forces = PiecewisePolynomial::FirstOrderHold(tau, F);
+    seg.lambda = lambda;
+    seg.lateral_pivot_y = stance == 0 ? lateral_data.left_foot_y : lateral_data.right_foot_y;
+    seg.mass_height = mass * z0;
+    const int first = ph == 0 ? 0 : Nd - 1;
+    const int count = ph == 0 ? Nd : Ns;
+    seg.lateral_node_times = lateral_data.node_times.segment(first, count).array() - lateral_data.node_times(first);
+    seg.lateral_nodes = lateral.states.middleCols(first, count);
+    seg.lateral_torques.resize(count);
+    for (int k = 0; k < count; ++k) {
+      const int j = first + k;
+      seg.lateral_torques(k) = ph == 0 ? lateral.left_torque(j) + lateral.right_torque(j)
+                                       : (stance == 0 ? lateral.left_torque(j) : lateral.right_torque(j));
+    }
+    seg.lateral_start = seg.lateral_nodes.col(0);
+    // Footholds at the end of the segment: in the SSP the lifting foot lands at the final state's step.
+    Eigen::Vector2d left(x_offset + data.left_foot_x, lateral_data.left_foot_y);
+    Eigen::Vector2d right(x_offset + data.right_foot_x, lateral_data.right_foot_y);
+    if (ph == 1) (data.lifting_leg == 0 ? left : right)(0) = landing_x;
+    seg.left_foothold = left;
+    seg.right_foothold = right;
+    t0 += s.duration;
+    segments_.push_back(std::move(seg));
+  }
+}
+
+}  // namespace rome

@@ -1,0 +1,152 @@
+// Footed H-LIP transition QP, Eq. (11)-(15): a standing start (DSP, the right foot unloading, then a left SSP) that
+// must end on the lateral P2 orbit. Checks: the terminal state to 1e-9, Eq. (14) at every node (so the unloaded foot
+// has u = 0), the torque limit, the node states against a fine RK4 integration of the continuous footed H-LIP under the
+// held torques (independent of the ZOH matrices), and the KKT conditions of Eq. (15) rebuilt here from the plan.
+#include "systems/planners/footed_hlip_transition_planner.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "systems/rom/hybrid_linear_inverted_pendulum.h"
+
+namespace rome {
+namespace {
+
+FootedHlipTransitionData StandingStart(double dsp_duration, int dsp_intervals, double ssp_duration, int ssp_intervals) {
+  const double m = 76, g = 9.81, mg = m * g;
+  FootedHlipTransitionData d;
+  const int N = dsp_intervals + ssp_intervals + 1;
+  d.node_times.resize(N);
+  d.left_normal_force.resize(N);
+  d.right_normal_force.resize(N);
+  for (int k = 0; k < N; ++k) {
+    if (k <= dsp_intervals) {
+      const double s = static_cast<double>(k) / dsp_intervals;
+      d.node_times(k) = dsp_duration * s;
+      d.left_normal_force(k) = 0.5 * mg * (1 + s);
+      d.right_normal_force(k) = 0.5 * mg * (1 - s);
+    } else {
+      const double s = static_cast<double>(k - dsp_intervals) / ssp_intervals;
+      d.node_times(k) = dsp_duration + ssp_duration * s;
+      d.left_normal_force(k) = mg * (1 + 0.2 * std::sin(M_PI * s));  // the height oscillates: F ≠ m g (footnote 1)
+      d.right_normal_force(k) = 0.0;
+    }
+  }
+  for (int k = 0; k + 1 < N; ++k) d.single_support.push_back(k >= dsp_intervals);
+  d.stance_left = true;
+  d.left_foot_y = 0.125;
+  d.right_foot_y = -0.125;
+  d.z0 = 0.9;
+  d.initial_state = Eigen::Vector2d(0.0, 0.0);  // standing: the mid-point of the feet, at rest
+  // End of the left stance on the P2 orbit of gait A (W = 0.25 m).
+  const HybridLinearInvertedPendulum h({.z0 = 0.9, .ssp_duration = 0.4, .dsp_duration = 0.1});
+  const Eigen::Vector2d pre = h.P2PreImpactState(0.25);
+  d.final_state = Eigen::Vector2d(d.left_foot_y + pre(0), pre(1));
+  return d;
+}
+
+TEST(FootedHlipTransitionPlanner, HitsTheTerminalStateWithinTheZmpBounds) {
+  const FootedHlipTransitionPlanner planner;
+  const FootedHlipTransitionParams& p = planner.params();
+  // A short DSP, so that the ZMP bounds bind.
+  const FootedHlipTransitionData d = StandingStart(0.3, 15, 0.4, 20);
+  const FootedHlipTransitionPlan plan = planner.Solve(d);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const int N = static_cast<int>(d.node_times.size());
+  EXPECT_LT((plan.states.col(0) - d.initial_state).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((plan.states.col(N - 1) - d.final_state).cwiseAbs().maxCoeff(), 1e-9);
+  for (int k = 0; k < N; ++k) {
+    const double tol = 1e-9;
+    EXPECT_GE(plan.left_torque(k), -p.foot_width_left_of_ankle * d.left_normal_force(k) - tol);
+    EXPECT_LE(plan.left_torque(k), p.foot_width_right_of_ankle * d.left_normal_force(k) + tol);
+    EXPECT_GE(plan.right_torque(k), -p.foot_width_left_of_ankle * d.right_normal_force(k) - tol);
+    EXPECT_LE(plan.right_torque(k), p.foot_width_right_of_ankle * d.right_normal_force(k) + tol);
+    EXPECT_LE(std::abs(plan.left_torque(k)), p.max_ankle_roll_torque + tol);
+  }
+  // The swing foot (F = 0) has no torque in SSP.
+  EXPECT_LT(plan.right_torque.tail(20).cwiseAbs().maxCoeff(), 1e-9);
+  // The ZMP bounds bind somewhere (otherwise the test would not exercise Eq. (14)).
+  int active = 0;
+  for (int k = 0; k < N; ++k) {
+    if (std::abs(std::abs(plan.left_torque(k)) - 0.06 * d.left_normal_force(k)) < 1e-6 && d.left_normal_force(k) > 0) ++active;
+  }
+  EXPECT_GT(active, 0);
+
+  // Fine RK4 of ÿ = λ²(y − y_stance) + u/(m z0) (SSP) or (u_L + u_R)/(m z0) (DSP) with the torques held.
+  const double lambda2 = p.gravity / d.z0, mz = p.mass * d.z0;
+  Eigen::Vector2d x = d.initial_state;
+  double worst = 0.0;
+  for (int k = 0; k + 1 < N; ++k) {
+    const bool ssp = d.single_support[k];
+    const double u = ssp ? plan.left_torque(k) : plan.left_torque(k) + plan.right_torque(k);
+    auto f = [&](const Eigen::Vector2d& s) {
+      return Eigen::Vector2d(s(1), (ssp ? lambda2 * (s(0) - d.left_foot_y) : 0.0) + u / mz);
+    };
+    const int sub = 500;
+    const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
+    for (int j = 0; j < sub; ++j) {
+      const Eigen::Vector2d k1 = f(x), k2 = f(x + 0.5 * h * k1), k3 = f(x + 0.5 * h * k2), k4 = f(x + h * k3);
+      x += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    worst = std::max(worst, (x - plan.states.col(k + 1)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-10);
+
+  // KKT of Eq. (15) on the torques alone: with the dynamics eliminated, Y^{N-1} = c + Σ_k M_k u^k is affine in the
+  // torques, so optimality means 2u = −M^T ν + (ZMP/limit multipliers) for some ν ∈ R²: at every node whose torque is
+  // strictly inside its bounds, 2 u_i^k lies on the span of the rows of M_k. Check that with a least-squares ν.
+  // M_k (effect of u^k on the final state) from the continuous model: propagate a unit torque impulse by RK4 as above.
+  // Here we use the interior-node condition only (independent of the solver's multipliers).
+  std::vector<int> interior;
+  for (int k = 0; k + 1 < N; ++k) {
+    const double F = d.left_normal_force(k), uk = plan.left_torque(k);
+    if (std::abs(uk) < 0.06 * F - 1e-6 && std::abs(uk) < p.max_ankle_roll_torque - 1e-6) interior.push_back(k);
+  }
+  ASSERT_GE(interior.size(), 3u);
+  auto propagate = [&](int k0) {  // dY_final / du_L^{k0} by finite sensitivity of the linear flow (exact: linear)
+    Eigen::Vector2d s(0, 0);
+    for (int k = k0; k + 1 < N; ++k) {
+      const bool ssp = d.single_support[k];
+      const double u = k == k0 ? 1.0 : 0.0;
+      auto f = [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(q(1), (ssp ? lambda2 * q(0) : 0.0) + u / mz); };
+      const int sub = 200;
+      const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
+      for (int j = 0; j < sub; ++j) {
+        const Eigen::Vector2d k1 = f(s), k2 = f(s + 0.5 * h * k1), k3 = f(s + 0.5 * h * k2), k4 = f(s + h * k3);
+        s += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      }
+    }
+    return s;
+  };
+  Eigen::MatrixXd M(interior.size(), 2);
+  Eigen::VectorXd rhs(interior.size());
+  for (size_t i = 0; i < interior.size(); ++i) {
+    M.row(i) = propagate(interior[i]).transpose();
+    rhs(i) = 2 * plan.left_torque(interior[i]);
+  }
+  const Eigen::Vector2d nu = M.colPivHouseholderQr().solve(rhs);
+  EXPECT_LT((M * nu - rhs).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, rhs.cwiseAbs().maxCoeff()));
+}
+
+TEST(FootedHlipTransitionPlanner, ReportsAnInfeasibleTransition) {
+  FootedHlipTransitionData d = StandingStart(0.1, 5, 0.4, 20);
+  d.final_state = Eigen::Vector2d(1.0, 0.0);  // a metre sideways in half a second with ±45 N m of ankle roll
+  const FootedHlipTransitionPlan plan = FootedHlipTransitionPlanner().Solve(d);
+  EXPECT_EQ(plan.status, QpStatus::kInfeasible);
+  EXPECT_NE(plan.message.find("footed H-LIP transition QP"), std::string::npos);
+}
+
+TEST(FootedHlipTransitionPlanner, RejectsBadData) {
+  FootedHlipTransitionData d = StandingStart(0.6, 30, 0.4, 20);
+  d.left_normal_force(3) = -1.0;
+  EXPECT_THROW(FootedHlipTransitionPlanner().Solve(d), std::invalid_argument);
+  d = StandingStart(0.6, 30, 0.4, 20);
+  d.single_support.pop_back();
+  EXPECT_THROW(FootedHlipTransitionPlanner().Solve(d), std::invalid_argument);
+  EXPECT_THROW(FootedHlipTransitionPlanner({.mass = 0.0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rome

@@ -1,0 +1,71 @@
+// WalkingOutputReference: the swing-foot reference against its boundary conditions (spec §5.1 [R]) — at the planned
+// lift-off the ankle is at its previous foothold at rest on the ground, at mid-SSP it is at the apex height with zero
+// vertical speed, at T_SSP it is at the new foothold on the ground descending at the touchdown speed, and after T_SSP
+// it keeps descending at that speed; velocities and accelerations equal central finite differences of the position;
+// the COM rows pass the input through, the pelvis rows are 0.
+#include "systems/planners/walking_output_reference.h"
+
+#include <gtest/gtest.h>
+
+namespace rome {
+namespace {
+
+TEST(WalkingOutputReference, SwingFootMeetsItsBoundaryConditionsAndIsSmooth) {
+  const AslipPeriodicGaitPlanner planner;
+  const PlanCache cache("walking_output_reference_test_plans");
+  const AslipPeriodicGait gait = planner.Solve(2, &cache);
+  ASSERT_TRUE(gait.success());
+  WalkingPlan plan;
+  plan.AppendPeriodicSteps(planner, gait, 3, WalkingDomain::kLeftStance, 0.0, 0.25);
+  SwingFootTrajectoryParams params;
+  params.ankle_height_m = 0.08;
+  const WalkingOutputReference ref("outputs", plan, params);
+  // Segment 2 is the second SSP (right stance): the left foot swings.
+  const WalkingPlanSegment& ssp = plan.segments().at(2);
+  ASSERT_EQ(ssp.domain, WalkingDomain::kRightStance);
+  const Eigen::Vector2d start = plan.segments().at(1).left_foothold, end = ssp.left_foothold;
+  ASSERT_GT((end - start).norm(), 0.5);  // one stride
+  Eigen::Vector3d p, v, a, pp, vp, ap, pm, vm, am;
+  const double t0 = ssp.start_time, T = ssp.duration;
+  ref.SwingFoot(0, t0 + 1e-12, p, v, a);
+  EXPECT_LT((p.head<2>() - start).norm(), 1e-9);
+  EXPECT_NEAR(p.z(), 0.08, 1e-9);
+  EXPECT_LT(v.norm(), 1e-9);
+  ref.SwingFoot(0, t0 + 0.5 * T, p, v, a);
+  EXPECT_NEAR(p.z(), 0.08 + params.apex_height_m, 1e-9);
+  EXPECT_NEAR(v.z(), 0.0, 1e-9);
+  ref.SwingFoot(0, t0 + T - 1e-12, p, v, a);
+  EXPECT_LT((p.head<2>() - end).norm(), 1e-9);
+  EXPECT_NEAR(p.z(), 0.08, 1e-9);
+  EXPECT_NEAR(v.z(), -params.touchdown_velocity_mps, 1e-9);
+  EXPECT_LT(v.head<2>().norm(), 1e-9);
+  ref.SwingFoot(0, t0 + T + 0.02, p, v, a);  // late touchdown
+  EXPECT_NEAR(p.z(), 0.08 - 0.02 * params.touchdown_velocity_mps, 1e-9);
+  const double h = 1e-5;
+  for (double s : {0.1, 0.3, 0.6, 0.9}) {
+    const double t = t0 + s * T;
+    ref.SwingFoot(0, t, p, v, a);
+    ref.SwingFoot(0, t + h, pp, vp, ap);
+    ref.SwingFoot(0, t - h, pm, vm, am);
+    EXPECT_LT(((pp - pm) / (2 * h) - v).norm(), 1e-6) << "s = " << s;
+    EXPECT_LT(((vp - vm) / (2 * h) - a).norm(), 1e-4) << "s = " << s;
+  }
+  // The block: COM rows pass through, pelvis rows 0, left-foot rows = SwingFoot.
+  auto context = ref.CreateDefaultLeafContext();
+  Eigen::VectorXd com(9);
+  com << 1, 2, 3, 4, 5, 6, 7, 8, 9;
+  context->FixInputPort(0, com);
+  context->SetTime(t0 + 0.3 * T);
+  const Eigen::VectorXd& d = ref.EvalOutput(*context, "desired");
+  const int n = WalkingOutputReference::kNumOutputs;
+  EXPECT_EQ(d.head<3>(), com.head<3>());
+  EXPECT_EQ(d.segment<3>(n), com.segment<3>(3));
+  EXPECT_EQ(d.segment<3>(2 * n), com.tail<3>());
+  EXPECT_EQ(d.segment<3>(3).norm(), 0.0);
+  ref.SwingFoot(0, t0 + 0.3 * T, p, v, a);
+  EXPECT_EQ(d.segment<3>(6), p);
+  EXPECT_EQ(d.segment<3>(n + 6), v);
+}
+
+}  // namespace
+}  // namespace rome

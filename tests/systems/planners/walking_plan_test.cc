@@ -1,0 +1,162 @@
+// WalkingPlan / WalkingTrajectorySource: the composition of a periodic aSLIP gait and the lateral H-LIP P2 orbit
+// (spec §4). Checks: the COM reference is continuous (position and velocity) across every domain switch; x advances by
+// the step length per step; the lateral motion is the P2 orbit (pre-impact state about each stance foot = ±(p, v) of
+// the closed form, feet at ±W/2); vertical Newton's law m (z̈ + g) = F_L + F_R at the collocation nodes; lateral
+// ÿ = λ² (y − y_stance) in SSP; and the block reports the same values on the global clock.
+#include "systems/planners/walking_plan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "systems/planners/walking_trajectory_source.h"
+
+namespace rome {
+namespace {
+
+TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) {
+  const AslipPeriodicGaitPlanner planner;
+  const AslipPeriodicGait gait = planner.Solve(2);
+  ASSERT_TRUE(gait.success());
+  const double W = 0.25, l = planner.params().step_length, m = planner.params().aslip.mass, g = 9.81;
+  WalkingPlan plan;
+  plan.AppendPeriodicSteps(planner, gait, 4, WalkingDomain::kLeftStance, 0.0, W);
+  ASSERT_EQ(plan.segments().size(), 8u);
+  EXPECT_NEAR(plan.end_time(), 4 * 0.5, 1e-12);
+  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = 0.4, .dsp_duration = 0.1});
+  const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
+  for (size_t i = 0; i < plan.segments().size(); ++i) {
+    const WalkingPlanSegment& s = plan.segments()[i];
+    const double t_end = s.start_time + s.duration;
+    const WalkingReference before = plan.Sample(t_end - 1e-9);
+    if (i + 1 < plan.segments().size()) {
+      const WalkingReference after = plan.Sample(t_end + 1e-9);
+      EXPECT_LT((after.com_position - before.com_position).norm(), 1e-6) << "segment " << i;
+      EXPECT_LT((after.com_velocity - before.com_velocity).norm(), 1e-6) << "segment " << i;
+    }
+    if (s.domain != WalkingDomain::kDoubleSupport) {
+      const bool left = s.domain == WalkingDomain::kLeftStance;
+      const double stance_y = left ? W / 2 : -W / 2;
+      // Pre-impact lateral state about the stance foot: (p, v) after a left stance, −(p, v) after a right one.
+      EXPECT_NEAR(before.com_position(1) - stance_y, left ? pre(0) : -pre(0), 1e-6);
+      EXPECT_NEAR(before.com_velocity(1), left ? pre(1) : -pre(1), 1e-6);
+      // ÿ = λ² (y − y_stance) in SSP.
+      const WalkingReference mid = plan.Sample(s.start_time + 0.13);
+      EXPECT_NEAR(mid.com_acceleration(1), hlip.lambda() * hlip.lambda() * (mid.com_position(1) - stance_y), 1e-9);
+      // The stance foot carries everything; the other foot is in the air.
+      EXPECT_EQ(mid.normal_force(left ? 1 : 0), 0.0);
+      // Footholds: stance foot where it stands, the swing foot lands one step ahead on the other side.
+      const Eigen::Vector2d stance = left ? mid.left_foothold : mid.right_foothold;
+      const Eigen::Vector2d swing = left ? mid.right_foothold : mid.left_foothold;
+      EXPECT_NEAR(swing(0) - stance(0), l, 1e-12);
+      EXPECT_NEAR(stance(1), stance_y, 1e-12);
+      EXPECT_NEAR(swing(1), -stance_y, 1e-12);
+    }
+    // Vertical Newton at the nodes: m (z̈ + g) = F_L + F_R.
+    for (int k = 0; k < 21; ++k) {
+      const WalkingReference r = plan.Sample(s.start_time + s.duration * k / 20.0 + (k == 20 ? -1e-12 : 0.0));
+      EXPECT_NEAR(m * (r.com_acceleration(2) + g), r.normal_force.sum(), 1e-6 * m * g) << "segment " << i << " node " << k;
+    }
+  }
+  // x advances one step length per step at the gait's mean speed.
+  EXPECT_NEAR(plan.Sample(1.0).com_position(0) - plan.Sample(0.0).com_position(0), 2 * l, 1e-9);
+  // Lateral sway about the walking line is the P2 orbit's: symmetric, about ±0.03 m.
+  double y_max = 0.0;
+  for (double t = 0.0; t <= plan.end_time(); t += 0.001) y_max = std::max(y_max, std::abs(plan.Sample(t).com_position(1)));
+  EXPECT_GT(y_max, 0.02);
+  EXPECT_LT(y_max, 0.05);
+
+  // The block on the global clock.
+  WalkingTrajectorySource source("walking_reference", plan);
+  auto context = source.CreateDefaultLeafContext();
+  context->SetTime(0.73);
+  const WalkingReference r = plan.Sample(0.73);
+  const Eigen::VectorXd& com = source.EvalOutput(*context, "com");
+  EXPECT_EQ(com.head<3>(), r.com_position);
+  EXPECT_EQ(com.tail<3>(), r.com_acceleration);
+  EXPECT_EQ(source.EvalOutput(*context, "normal_force_reference"), Eigen::VectorXd(r.normal_force));
+  EXPECT_EQ(source.EvalOutput(*context, "footholds").head<2>(), r.left_foothold);
+}
+
+TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
+  // The paper's pipeline (spec §0): periodic aSLIP → transition footed aSLIP (standing → gait A, right foot lifts) →
+  // footed H-LIP QP on the transition's grid and forces → composition with gait A's steps.
+  AslipPeriodicGaitParams gait_params;
+  const AslipPeriodicGaitPlanner periodic(gait_params);
+  const AslipPeriodicGait gait = periodic.Solve(1);
+  ASSERT_TRUE(gait.success());
+  AslipTransitionParams tp;
+  tp.bounds = gait_params;
+  const AslipTransitionPlanner transition_planner(tp);
+  AslipTransitionData data;
+  data.initial_state = AslipTransitionPlanner::StandingState(gait_params.aslip, 0.9);
+  data.final_state = gait.collocation.phases[0].states.col(gait_params.nodes_per_domain - 1);
+  data.lifting_leg = 1;
+  const AslipTransition transition = transition_planner.Solve(data);
+  ASSERT_TRUE(transition.success());
+  // Lateral QP on the same nodes (the DSP's last node is the SSP's first).
+  const double W = 0.25, m = gait_params.aslip.mass;
+  FootedHlipTransitionData lat;
+  const int N = gait_params.nodes_per_domain;
+  lat.node_times.resize(2 * N - 1);
+  lat.left_normal_force.resize(2 * N - 1);
+  lat.right_normal_force.resize(2 * N - 1);
+  for (int ph = 0; ph < 2; ++ph) {
+    const Eigen::MatrixXd G = transition.GroundReactions(gait_params.aslip, data, ph);
+    const CollocationPhaseSolution& s = transition.collocation.phases[ph];
+    for (int k = ph; k < N; ++k) {
+      const int j = ph * (N - 1) + k;
+      lat.node_times(j) = s.times(k);
+      lat.left_normal_force(j) = std::max(0.0, G(1, k));
+      lat.right_normal_force(j) = std::max(0.0, G(3, k));
+    }
+  }
+  for (int k = 0; k + 1 < 2 * N - 1; ++k) lat.single_support.push_back(k >= N - 1);
+  lat.stance_left = true;
+  lat.left_foot_y = W / 2;
+  lat.right_foot_y = -W / 2;
+  lat.z0 = transition.mean_height;
+  lat.initial_state = Eigen::Vector2d(0.0, 0.0);
+  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = 0.4, .dsp_duration = 0.1});
+  const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
+  lat.final_state = Eigen::Vector2d(W / 2 + pre(0), pre(1));
+  const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner().Solve(lat);
+  ASSERT_TRUE(lateral.success()) << lateral.message;
+
+  WalkingPlan plan;
+  plan.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral, m, gait_params.step_length);
+  plan.AppendPeriodicSteps(periodic, gait, 3, WalkingDomain::kLeftStance, 0.0, W, /*begin_with_double_support=*/true);
+  ASSERT_EQ(plan.segments().size(), 2u + 1u + 2u * 2u);
+  EXPECT_EQ(plan.segments()[2].domain, WalkingDomain::kDoubleSupport);
+  // Standing start at rest between the feet; continuous everywhere after.
+  const WalkingReference start = plan.Sample(0.0);
+  EXPECT_LT(start.com_velocity.norm(), 1e-9);
+  EXPECT_NEAR(start.com_position(1), 0.0, 1e-9);
+  EXPECT_NEAR(start.normal_force(0), 0.5 * m * 9.81, 1e-6);
+  for (size_t i = 0; i + 1 < plan.segments().size(); ++i) {
+    const double t = plan.segments()[i].start_time + plan.segments()[i].duration;
+    const WalkingReference a = plan.Sample(t - 1e-9), b = plan.Sample(t + 1e-9);
+    EXPECT_LT((a.com_position - b.com_position).norm(), 1e-6) << "boundary " << i;
+    EXPECT_LT((a.com_velocity - b.com_velocity).norm(), 1e-6) << "boundary " << i;
+    EXPECT_LT((a.normal_force - b.normal_force).norm(), 1e-3 * m) << "boundary " << i;
+  }
+  // The lateral reference follows the footed H-LIP nodes exactly.
+  for (int j = 0; j < 2 * N - 1; j += 5) {
+    EXPECT_NEAR(plan.Sample(lat.node_times(j)).com_position(1), lateral.states(0, j), 1e-9) << "node " << j;
+  }
+  // The right foot lands one step ahead at the end of the transition.
+  EXPECT_NEAR(plan.Sample(plan.segments()[1].start_time + 0.1).right_foothold(0), gait_params.step_length, 1e-12);
+}
+
+TEST(WalkingPlan, RejectsBadArguments) {
+  const AslipPeriodicGaitPlanner planner;
+  AslipPeriodicGait unsolved;
+  WalkingPlan plan;
+  EXPECT_THROW(plan.AppendPeriodicSteps(planner, unsolved, 2, WalkingDomain::kLeftStance, 0.0, 0.25), std::invalid_argument);
+  EXPECT_THROW(plan.Sample(0.0), std::logic_error);
+  EXPECT_THROW(WalkingTrajectorySource("empty", WalkingPlan()), std::exception);
+}
+
+}  // namespace
+}  // namespace rome
