@@ -155,6 +155,8 @@ void JointFunctionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const
   J.setZero();
   J(0, index_) = slope;
   Jdot_qdot[0] = (slope_plus - slope_minus) / (2.0 * step_) * v[index_] * v[index_];
+}
+
 // ---------------------------------------------------------------------------------------------------------
 
 BodyOrientationTask::BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains,

@@ -136,6 +136,15 @@ class JointFunctionTask final : public TaskSpaceTask {
   using Function = std::function<void(double q, double* value, double* derivative)>;
   JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function, TaskGains gains = {},
                     std::vector<int> active_modes = {}, double second_derivative_step = 1e-5);
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
+              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int index_;
+  Function function_;
+  double step_;
+};
+
 /// Orientation of a body as the rotation vector log(R_world_body) [rad], with J = the world angular-velocity Jacobian
 /// (3D models; see the header for the small-angle reading of ẏ).
 class BodyOrientationTask final : public TaskSpaceTask {
@@ -145,9 +154,6 @@ class BodyOrientationTask final : public TaskSpaceTask {
  private:
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
-  int index_;
-  Function function_;
-  double step_;
   int body_;
   Eigen::Matrix3d R_body_link_ = Eigen::Matrix3d::Identity();  // a link merged through a fixed joint
 };
