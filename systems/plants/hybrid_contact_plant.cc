@@ -56,6 +56,8 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   const int num_modes = static_cast<int>(graph_.modes.size());
+  if (!(params_.planned_liftoff_force_N >= 0.0) || !std::isfinite(params_.planned_liftoff_force_N))
+    ThrowError("params.planned_liftoff_force_N = " + std::to_string(params_.planned_liftoff_force_N) + " N must be >= 0 and finite");
 
   Eigen::VectorXd x0(2 * nv);
   x0 << model_->q_nominal(), Eigen::VectorXd::Zero(nv);

@@ -1,6 +1,8 @@
 // HybridContactPlant: touchdown times against free fall, the impact reset, falls, and static stances.
 #include "systems/plants/hybrid_contact_plant.h"
 
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -101,6 +103,20 @@ TEST(HybridContactPlant, UnknownContactInModeGraphIsNamed) {
     FAIL();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("'left_toe'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(HybridContactPlant, NegativeOrNanPlannedLiftoffForceIsNamed) {
+  auto model = Load("amber");
+  for (double bad : {-1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    HybridContactPlantParams params;
+    params.planned_liftoff_force_N = bad;
+    try {
+      HybridContactPlant plant("amber", model, ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot"), Terrain::Flat(), params);
+      FAIL() << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("planned_liftoff_force_N"), std::string::npos) << e.what();
+    }
   }
 }
 
