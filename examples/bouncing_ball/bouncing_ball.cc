@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
     std::cout << "result: success (reached " << duration << " s)\n";
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    std::cerr << "error: " << examples::OneLine(e.what()) << "\n";
     return 1;
   }
 }

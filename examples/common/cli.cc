@@ -1,6 +1,7 @@
 #include "examples/common/cli.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -8,6 +9,19 @@
 #include <stdexcept>
 
 namespace rome::examples {
+
+std::string OneLine(const std::string& message) {
+  std::string out;
+  char buf[8];
+  for (char ch : message) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '\n' || c == '\r' || c == '\t') out += ' ';
+    else if (c < 0x20 || c == 0x7F) { std::snprintf(buf, sizeof(buf), "\\x%02X", c); out += buf; }
+    else out += ch;
+    if (out.size() >= 2000) { out += "..."; break; }
+  }
+  return out;
+}
 
 std::string FormatNumber(double v) {
   std::ostringstream os;

@@ -10,6 +10,10 @@
 
 namespace rome::examples {
 
+/// An error message as the examples print it: one line (newlines, CRs and tabs become spaces, other control bytes
+/// \xNN), cut at 2000 characters.
+std::string OneLine(const std::string& message);
+
 /// A number as a user would type it (shortest round-trip form, e.g. "1e-04" → "0.0001").
 std::string FormatNumber(double v);
 

@@ -51,6 +51,7 @@ Terrain MakeTerrain(const examples::CommandLine& cli, int steps, double default_
     p.seed = static_cast<unsigned>(cli.GetInt("seed"));
     return RandomSteppingStones(p);
   }
+  if (kind.empty()) throw std::invalid_argument("stepping_stones: --terrain must be flat, stairs-up, stairs-down, random or a CSV file, got ''");
   return Terrain::FromCsv(kind, stone_length);
 }
 
@@ -464,7 +465,7 @@ int main(int argc, char** argv) {
               << ")\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    std::cerr << "error: " << examples::OneLine(e.what()) << "\n";
     return 1;
   }
 }

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -27,11 +28,11 @@ std::string Meters(double v) {
 }
 
 // Whether stone b (b.x >= a.x) overlaps stone a. Touching stones (a's right edge on b's left edge up to rounding) do
-// not: the rounding allowance is 1e-12 relative to the coordinates, but never more than a quarter of the shorter
-// stone, so two stones centred on one x always overlap, however short they are.
+// not: the rounding allowance is 16 units in the last place of the coordinates, and never more than a quarter of the
+// shorter stone, so two stones centred on one x always overlap, however short they are.
 bool Overlap(const SteppingStone& a, const SteppingStone& b) {
-  const double rounding = std::min(1e-12 * std::max({1.0, std::abs(a.x_center_m), std::abs(b.x_center_m)}),
-                                   0.25 * std::min(a.length_m, b.length_m));
+  const double ulp = std::numeric_limits<double>::epsilon() * std::max({1.0, std::abs(a.x_center_m), std::abs(b.x_center_m)});
+  const double rounding = std::min(16.0 * ulp, 0.25 * std::min(a.length_m, b.length_m));
   return a.x_center_m + a.length_m / 2 > b.x_center_m - b.length_m / 2 + rounding;
 }
 }  // namespace

@@ -12,7 +12,7 @@
 # exit 1, print exactly one line on stderr, of at most 2000 bytes, with no control bytes (truncated, escaped).
 # The programs run in an empty scratch folder, so default outputs never land in the source tree.
 set -u
-bin="$1"; catalogue="$2"; inputs="$3"
+bin="$(cd "$1" && pwd)"; catalogue="$2"; inputs="$(cd "$3" && pwd)"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/run"
