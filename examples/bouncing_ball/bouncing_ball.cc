@@ -42,6 +42,8 @@ int main(int argc, char** argv) {
     const double duration = cli.GetDouble("duration");
     // Bounded work (ours): the 1 kHz log holds at most 5e6 rows.
     if (!(duration > 0 && duration <= 5000)) throw std::invalid_argument("bouncing_ball: --duration must be in (0, 5000] s, got " + cli.Get("duration"));
+    // Output files are checked before the simulation, so a run is not lost to a typo.
+    cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
 
     DiagramBuilder builder;
     auto* ball = builder.AddSystem(std::make_unique<BouncingBall>("ball", params));
@@ -57,8 +59,6 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     SimulatorStatus status;
     std::string animation_error;
-    if (!cli.Get("animation").empty() && !examples::AnimationRecorder::CheckWritable(cli.Get("animation"), &animation_error))
-      throw std::invalid_argument("bouncing_ball: --animation: " + animation_error);
     std::unique_ptr<examples::AnimationRecorder> animation;
     if (!cli.Get("animation").empty()) {
       animation = std::make_unique<examples::AnimationRecorder>(0.05);
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
     std::cout << "result: success (reached " << duration << " s)\n";
     return 0;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    std::cerr << "error: " << examples::OneLine(e.what()) << "\n";
     return 1;
   }
 }

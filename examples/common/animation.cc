@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -213,13 +214,15 @@ void AnimationRecorder::RecordPoint(double t, const Eigen::Vector3d& p, const st
 AnimationRecorder::~AnimationRecorder() = default;
 
 bool AnimationRecorder::CheckWritable(const std::string& path, std::string* error) {
-  std::ofstream out(path);
-  if (!out) {
+  std::error_code ec;
+  const bool existed = std::filesystem::exists(path, ec);
+  std::ofstream out(path, std::ios::app);  // append: an existing file is not truncated by the check
+  if (!out || std::filesystem::is_directory(path, ec)) {
     *error = "cannot write the animation '" + path + "' (check the folder exists and is writable)";
     return false;
   }
   out.close();
-  std::remove(path.c_str());
+  if (!existed) std::remove(path.c_str());
   return true;
 }
 

@@ -1,11 +1,27 @@
 #include "examples/common/cli.h"
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
 
 namespace rome::examples {
+
+std::string OneLine(const std::string& message) {
+  std::string out;
+  char buf[8];
+  for (char ch : message) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if (c == '\n' || c == '\r' || c == '\t') out += ' ';
+    else if (c < 0x20 || c == 0x7F) { std::snprintf(buf, sizeof(buf), "\\x%02X", c); out += buf; }
+    else out += ch;
+    if (out.size() >= 2000) { out += "..."; break; }
+  }
+  return out;
+}
 
 std::string FormatNumber(double v) {
   std::ostringstream os;
@@ -102,6 +118,33 @@ std::string CommandLine::Help() const {
   }
   os << "  --help\n      Print this help and exit.\n";
   return os.str();
+}
+
+void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::initializer_list<const char*> folders) const {
+  namespace fs = std::filesystem;
+  for (const char* name : files) {
+    const std::string path = Get(name);
+    if (path.empty()) continue;
+    std::error_code ec;
+    if (fs::is_directory(path, ec))
+      throw std::invalid_argument(program_ + ": --" + name + ": cannot write '" + path + "': it is a folder, not a file");
+    const bool existed = fs::exists(path, ec);
+    {
+      std::ofstream out(path, std::ios::app);  // append: an existing file is not truncated by the check
+      if (!out)
+        throw std::invalid_argument(program_ + ": --" + name + ": cannot write '" + path +
+                                    "' (check the folder exists and is writable)");
+    }
+    if (!existed) fs::remove(path, ec);
+  }
+  for (const char* name : folders) {
+    const std::string path = Get(name);
+    if (path.empty()) continue;
+    std::error_code ec;
+    fs::create_directories(path, ec);
+    if (ec || !fs::is_directory(path, ec))
+      throw std::invalid_argument(program_ + ": --" + name + ": cannot create the folder '" + path + "'");
+  }
 }
 
 }  // namespace rome::examples

@@ -2,12 +2,17 @@
 // Tiny command-line parser shared by ROME's example programs: --name value options, --flags, and --help.
 // Unknown options and malformed values are errors that name the option and the value.
 
+#include <initializer_list>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace rome::examples {
+
+/// An error message as the examples print it: one line (newlines, CRs and tabs become spaces, other control bytes
+/// \xNN), cut at 2000 characters.
+std::string OneLine(const std::string& message);
 
 /// A number as a user would type it (shortest round-trip form, e.g. "1e-04" → "0.0001").
 std::string FormatNumber(double v);
@@ -30,6 +35,10 @@ class CommandLine {
   int GetInt(const std::string& name) const;
   bool GetFlag(const std::string& name) const;
   std::string Help() const;
+  /// Checks, before a long run, that the output options can be written: each of `files` (when not empty) can be
+  /// created or appended to (an existing file is left as it is), each of `folders` (when not empty) exists or can
+  /// be created. Throws std::invalid_argument "PROGRAM: --NAME: cannot write 'PATH' ..." naming the first that fails.
+  void CheckOutputs(std::initializer_list<const char*> files, std::initializer_list<const char*> folders) const;
 
  private:
   struct Decl {

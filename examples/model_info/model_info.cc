@@ -13,6 +13,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
+#include "examples/common/cli.h"
 #include "systems/multibody/contact_dynamics.h"
 
 namespace {
@@ -28,21 +29,6 @@ void PrintHelp() {
                "robot with 0 degrees of freedom, or when M is singular: see warnings).\n"
                "  --repair-inertia  project a non-physical <inertia> onto the nearest physical\n"
                "                    one (with a warning) instead of rejecting the file\n";
-}
-
-// One printable line: control bytes become spaces or \xNN, bytes >= 0x80 that are not part of
-// valid UTF-8 would already have been escaped by the loader; cut at 2000 characters.
-std::string OneLine(const std::string& s) {
-  std::string out;
-  char buf[8];
-  for (char ch : s) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (c == '\n' || c == '\r' || c == '\t') out += ' ';
-    else if (c < 0x20 || c == 0x7F) { std::snprintf(buf, sizeof(buf), "\\x%02X", c); out += buf; }
-    else out += ch;
-    if (out.size() >= 2000) { out += "..."; break; }
-  }
-  return out;
 }
 
 int Run(int argc, char** argv) {
@@ -165,7 +151,7 @@ int main(int argc, char** argv) {
   try {
     return Run(argc, argv);
   } catch (const std::exception& e) {
-    std::cerr << "model_info: error: " << OneLine(e.what()) << std::endl;
+    std::cerr << "model_info: error: " << rome::examples::OneLine(e.what()) << std::endl;
   } catch (...) {
     std::cerr << "model_info: error: unknown exception" << std::endl;
   }

@@ -52,6 +52,7 @@ Terrain MakeTerrain(const examples::CommandLine& cli, int steps, double default_
     p.seed = static_cast<unsigned>(cli.GetInt("seed"));
     return RandomSteppingStones(p);
   }
+  if (kind.empty()) throw std::invalid_argument("stepping_stones: --terrain must be flat, stairs-up, stairs-down, random or a CSV file, got ''");
   return Terrain::FromCsv(kind, stone_length);
 }
 
@@ -174,18 +175,7 @@ int main(int argc, char** argv) {
     in_range("swing-clearance", 0.0, 1.0, true);
     if (cli.Get("terrain") == "flat" || cli.Get("terrain") == "stairs-up" || cli.Get("terrain") == "stairs-down") in_range("step-length", 0.0, 5.0, true);
     // Output files are checked before the simulation, so a long run is not lost to a typo.
-    for (const char* out : {"log", "summary"})
-      if (!cli.Get(out).empty()) {
-        std::string err;
-        if (!examples::AnimationRecorder::CheckWritable(cli.Get(out), &err))
-          throw std::invalid_argument("stepping_stones: --" + std::string(out) + ": cannot write '" + cli.Get(out) + "'");
-      }
-    if (!cli.Get("plots").empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(cli.Get("plots"), ec);
-      if (ec || !std::filesystem::is_directory(cli.Get("plots")))
-        throw std::invalid_argument("stepping_stones: --plots: cannot create the folder '" + cli.Get("plots") + "'");
-    }
+    cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
     SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot(cli.Get("robot"));
     const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
     auto gains = [&](const std::string& flag, TaskGains* g) {
@@ -238,8 +228,6 @@ int main(int argc, char** argv) {
     else
       throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
     std::string animation_error;
-    if (!cli.Get("animation").empty() && !examples::AnimationRecorder::CheckWritable(cli.Get("animation"), &animation_error))
-      throw std::invalid_argument("stepping_stones: --animation: " + animation_error);
     const SteppingStonesPlant plant_kind = ParseSteppingStonesPlant(cli.Get("plant"));
     SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller, plant_kind);
     std::unique_ptr<examples::AnimationRecorder> animation;
@@ -482,7 +470,7 @@ int main(int argc, char** argv) {
               << ")\n";
     return 3;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    std::cerr << "error: " << examples::OneLine(e.what()) << "\n";
     return 1;
   }
 }

@@ -198,6 +198,14 @@ std::string ReadFile(const std::string& path, const char* what, std::uintmax_t m
   return text;
 }
 
+// Text given in memory instead of a file: the same size cap as ReadFile.
+const std::string& CheckTextSize(const std::string& text, const char* what, const std::string& name, std::uintmax_t max_bytes) {
+  if (text.size() > max_bytes)
+    throw std::runtime_error(std::string(what) + " " + Excerpt(name, 200) + ": text is " + std::to_string(text.size()) +
+                             " bytes; the limit is " + std::to_string(max_bytes) + " bytes");
+  return text;
+}
+
 // Nesting depth of the XML elements, scanned without building a tree, so that a pathological
 // file is rejected before the (recursive) XML parser sees it. Handles comments, CDATA,
 // processing instructions, declarations and quoted attribute values.
@@ -390,8 +398,11 @@ struct BodyPart {
 
 class MultibodyModelLoader {
  public:
+  // urdf_text / sidecar_text, when given, are the files' contents (urdf_path and sidecar_path then only name them,
+  // and no sidecar is looked for next to the URDF).
   static MultibodyModel Load(const std::string& urdf_path, std::string sidecar_path, bool sidecar_required,
-                             const LoadOptions& options) {
+                             const LoadOptions& options, const std::string* urdf_text = nullptr,
+                             const std::string* sidecar_text = nullptr) {
     MultibodyModel model;
     model.urdf_path_ = urdf_path;
     const std::string ufile = "URDF " + Excerpt(urdf_path, 200);
@@ -399,7 +410,10 @@ class MultibodyModelLoader {
 
     // ---------------- sidecar (parsed first: it decides the floating base) ----------------
     json sidecar = json::object();
-    if (sidecar_path.empty()) {
+    if (urdf_text) {
+      sidecar_required = sidecar_text != nullptr;
+      if (!sidecar_text) sidecar_path.clear();
+    } else if (sidecar_path.empty()) {
       std::filesystem::path p(urdf_path);
       std::string stem = p.stem().string();
       sidecar_path = (p.parent_path() / (stem + ".rome.json")).string();
@@ -410,7 +424,8 @@ class MultibodyModelLoader {
     }
     SidecarReader sc{sidecar_path};
     if (!sidecar_path.empty() || sidecar_required) {
-      const std::string text = ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
+      const std::string text = sidecar_text ? CheckTextSize(*sidecar_text, "sidecar", sidecar_path, kMaxUrdfBytes)
+                                            : ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
       try {
         sidecar = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
       } catch (const json::exception& e) {
@@ -433,7 +448,8 @@ class MultibodyModelLoader {
     }
 
     // ---------------- URDF ----------------
-    const std::string xml = ReadFile(urdf_path, "URDF", kMaxUrdfBytes);
+    const std::string xml = urdf_text ? CheckTextSize(*urdf_text, "URDF", urdf_path, kMaxUrdfBytes)
+                                      : ReadFile(urdf_path, "URDF", kMaxUrdfBytes);
     CheckXmlDepth(xml, urdf_path);
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
@@ -1005,6 +1021,13 @@ MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& given_sidecar_
   const std::string urdf_path =
       (std::filesystem::path(sidecar_path).parent_path() / urdf).string();
   return MultibodyModelLoader::Load(urdf_path, sidecar_path, true, options);
+}
+
+MultibodyModel MultibodyModel::LoadFromText(const std::string& urdf_xml, const std::string& sidecar_json,
+                                            const std::string& urdf_name, const std::string& sidecar_name,
+                                            const LoadOptions& options) {
+  return MultibodyModelLoader::Load(urdf_name, sidecar_json.empty() ? "" : sidecar_name, false, options, &urdf_xml,
+                                    sidecar_json.empty() ? nullptr : &sidecar_json);
 }
 
 }  // namespace rome

@@ -169,6 +169,14 @@ class MultibodyModel {
                              const LoadOptions& options = {});
   // Loads from a sidecar alone (its "urdf" entry is resolved relative to the sidecar).
   static MultibodyModel LoadFromSidecar(const std::string& sidecar_path, const LoadOptions& options = {});
+  // Loads from text in memory: a URDF's XML and a sidecar's JSON (sidecar_json "" means no
+  // sidecar: fixed base, no actuators or contacts; the sidecar's "urdf" entry is not followed).
+  // urdf_name and sidecar_name stand for the files in error messages. The same checks and caps
+  // as Load (the size cap applies to the text); throws std::runtime_error.
+  static MultibodyModel LoadFromText(const std::string& urdf_xml, const std::string& sidecar_json,
+                                     const std::string& urdf_name = "<URDF text>",
+                                     const std::string& sidecar_name = "<sidecar text>",
+                                     const LoadOptions& options = {});
 
   const std::string& name() const { return name_; }
   const std::string& urdf_path() const { return urdf_path_; }

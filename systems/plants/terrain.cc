@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,21 +19,41 @@ Terrain Terrain::Flat(double height_m) {
   return t;
 }
 
+namespace {
+// A coordinate as an error shows it: six significant digits ("1e+300 m", not 300 digits).
+std::string Meters(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.6g", v);
+  return buf;
+}
+
+// Whether stone b (b.x >= a.x) overlaps stone a. Touching stones (a's right edge on b's left edge up to rounding) do
+// not: the rounding allowance is 16 units in the last place of the coordinates, and never more than a quarter of the
+// shorter stone, so two stones centred on one x always overlap, however short they are.
+bool Overlap(const SteppingStone& a, const SteppingStone& b) {
+  const double ulp = std::numeric_limits<double>::epsilon() * std::max({1.0, std::abs(a.x_center_m), std::abs(b.x_center_m)});
+  const double rounding = std::min(16.0 * ulp, 0.25 * std::min(a.length_m, b.length_m));
+  return a.x_center_m + a.length_m / 2 > b.x_center_m - b.length_m / 2 + rounding;
+}
+}  // namespace
+
 Terrain Terrain::Stones(std::vector<SteppingStone> stones) {
   if (stones.empty()) throw std::invalid_argument("Terrain::Stones: no stones given");
   std::sort(stones.begin(), stones.end(), [](const SteppingStone& a, const SteppingStone& b) { return a.x_center_m < b.x_center_m; });
   for (size_t i = 0; i < stones.size(); ++i) {
     const auto& s = stones[i];
-    if (!std::isfinite(s.x_center_m)) throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " has x = " + std::to_string(s.x_center_m) + " m (must be finite)");
-    if (!std::isfinite(s.top_height_m))
-      throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " at x = " + std::to_string(s.x_center_m) + " m has height z = " +
-                                  std::to_string(s.top_height_m) + " m (must be finite)");
-    if (!(s.length_m > 0) || !std::isfinite(s.length_m))
-      throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " at x = " + std::to_string(s.x_center_m) +
-                                  " m has length " + std::to_string(s.length_m) + " m (must be positive and finite)");
-    if (i > 0 && stones[i - 1].x_center_m + stones[i - 1].length_m / 2 > s.x_center_m - s.length_m / 2 + 1e-12)
+    if (!(std::abs(s.x_center_m) <= kMaxTerrainCoordinate_m))
+      throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " has x = " + Meters(s.x_center_m) + " m (must be finite, within +-" +
+                                  Meters(kMaxTerrainCoordinate_m) + " m)");
+    if (!(std::abs(s.top_height_m) <= kMaxTerrainCoordinate_m))
+      throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " at x = " + Meters(s.x_center_m) + " m has height z = " +
+                                  Meters(s.top_height_m) + " m (must be finite, within +-" + Meters(kMaxTerrainCoordinate_m) + " m)");
+    if (!(s.length_m >= kMinStoneLength_m) || !std::isfinite(s.length_m))
+      throw std::invalid_argument("Terrain::Stones: stone " + std::to_string(i) + " at x = " + Meters(s.x_center_m) + " m has length " +
+                                  Meters(s.length_m) + " m (must be finite and at least " + Meters(kMinStoneLength_m) + " m)");
+    if (i > 0 && Overlap(stones[i - 1], s))
       throw std::invalid_argument("Terrain::Stones: stones " + std::to_string(i - 1) + " and " + std::to_string(i) + " overlap (x = " +
-                                  std::to_string(stones[i - 1].x_center_m) + " m and " + std::to_string(s.x_center_m) + " m)");
+                                  Meters(stones[i - 1].x_center_m) + " m and " + Meters(s.x_center_m) + " m)");
   }
   Terrain t;
   t.stones_ = std::move(stones);
@@ -64,7 +86,10 @@ Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
   if (!in) throw std::runtime_error("terrain file '" + path + "' cannot be opened");
   std::stringstream whole;
   whole << in.rdbuf();
-  std::string text = whole.str();
+  return FromCsvText(whole.str(), default_length_m, path);
+}
+
+Terrain Terrain::FromCsvText(std::string text, double default_length_m, const std::string& path) {
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // UTF-8 byte-order mark
   for (char& c : text)
     if (c == '\r') c = '\n';  // CR-only and CRLF files: every CR ends a line (CRLF gives an empty line, skipped)
@@ -106,10 +131,13 @@ Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
       throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": expected 'x,z[,length]' numbers, got '" + Shown(line) + "'");
     }
     header_seen = true;
-    const char* bad = !std::isfinite(st.x_center_m) ? "x" : !std::isfinite(st.top_height_m) ? "z" : !(std::isfinite(st.length_m) && st.length_m > 0) ? "length" : nullptr;
+    const bool bad_length = !(std::isfinite(st.length_m) && st.length_m >= kMinStoneLength_m);
+    const char* bad = !(std::abs(st.x_center_m) <= kMaxTerrainCoordinate_m) ? "x" : !(std::abs(st.top_height_m) <= kMaxTerrainCoordinate_m) ? "z" : bad_length ? "length" : nullptr;
     if (bad != nullptr)
       throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": " + bad + " must be finite" +
-                               (std::string(bad) == "length" ? " and positive" : "") + ", got '" + Shown(line) + "'");
+                               (bad_length && !std::strcmp(bad, "length") ? " and at least " + Meters(kMinStoneLength_m) + " m"
+                                                                          : " and within +-" + Meters(kMaxTerrainCoordinate_m) + " m") +
+                               ", got '" + Shown(line) + "'");
     stones.push_back(st);
     stone_lines.push_back(line_no);
   }
@@ -120,9 +148,9 @@ Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return stones[a].x_center_m < stones[b].x_center_m; });
   for (size_t k = 1; k < order.size(); ++k) {
     const SteppingStone &a = stones[order[k - 1]], &b = stones[order[k]];
-    if (a.x_center_m + a.length_m / 2 > b.x_center_m - b.length_m / 2 + 1e-12)
+    if (Overlap(a, b))
       throw std::runtime_error("terrain file '" + path + "': the stones of lines " + std::to_string(stone_lines[order[k - 1]]) + " and " +
-                               std::to_string(stone_lines[order[k]]) + " overlap (x = " + std::to_string(a.x_center_m) + " m and " + std::to_string(b.x_center_m) + " m)");
+                               std::to_string(stone_lines[order[k]]) + " overlap (x = " + Meters(a.x_center_m) + " m and " + Meters(b.x_center_m) + " m)");
   }
   try {
     return Stones(std::move(stones));

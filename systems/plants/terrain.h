@@ -8,6 +8,11 @@
 
 namespace rome {
 
+/// Limits on a stone (ours): within them a stone's edges x +- length/2 are resolved in double precision (at 1e6 m one
+/// unit in the last place is 1.2e-10 m), so stones that overlap are told apart from stones that touch.
+inline constexpr double kMaxTerrainCoordinate_m = 1e6;  ///< [m] |x| and |z| of a stone at most this.
+inline constexpr double kMinStoneLength_m = 1e-6;       ///< [m] a stone is at least this long.
+
 struct SteppingStone {
   double x_center_m = 0.0;    ///< [m] centre of the stone's top along x.
   double top_height_m = 0.0;  ///< [m] height of the stone's top.
@@ -17,11 +22,14 @@ struct SteppingStone {
 class Terrain {
  public:
   static Terrain Flat(double height_m = 0.0);
-  /// Stones sorted by x (they are sorted here); an error naming the stone for non-positive length or overlap.
+  /// Stones sorted by x (they are sorted here); an error naming the stone for a coordinate beyond
+  /// kMaxTerrainCoordinate_m, a length below kMinStoneLength_m (or not finite), or an overlap.
   static Terrain Stones(std::vector<SteppingStone> stones);
   /// Reads a CSV with one stone a line: x,z[,length]; a header line is allowed; `default_length_m`
   /// when the length column is missing. Errors name the file and the line.
   static Terrain FromCsv(const std::string& path, double default_length_m);
+  /// The same from the CSV's text in memory; `name` stands for the file in error messages.
+  static Terrain FromCsvText(std::string text, double default_length_m, const std::string& name = "<terrain text>");
 
   bool is_flat() const { return stones_.empty(); }
   const std::vector<SteppingStone>& stones() const { return stones_; }

@@ -1,6 +1,8 @@
 // MultibodyModel loading: structure of the loaded tree, sidecar contents, and one test per
 // malformed-input case (each error must name the file, the element and the problem).
 #include "systems/multibody/multibody_model.h"
+#include "systems/multibody/multibody_dynamics.h"
+#include "systems/multibody/multibody_workspace.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -197,6 +199,49 @@ TEST_F(ModelFiles, WrongValueType) {
   ],)", R"("torque_limit_Nm": "lots"}
   ],)")),
               {"actuators[1]", "'torque_limit_Nm' must be a number"});
+}
+
+// LoadFromText (the fuzz harness's entry) reads the same robot as Load from the files: the same coordinates, the same
+// mass, and the same mass matrix at the nominal pose, computed from the file-loaded model's workspace.
+TEST(LoadFromText, SameRobotAsFromTheFiles) {
+  for (const std::string robot : {"amber", "cassie"}) {
+    const std::string urdf = std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".urdf";
+    const std::string sidecar = std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".rome.json";
+    const MultibodyModel from_files = MultibodyModel::Load(urdf, sidecar);
+    const MultibodyModel from_text = MultibodyModel::LoadFromText(ReadText(urdf), ReadText(sidecar));
+    ASSERT_EQ(from_text.nv(), from_files.nv()) << robot;
+    EXPECT_EQ(from_text.joint_names(), from_files.joint_names()) << robot;
+    EXPECT_EQ(from_text.num_contacts(), from_files.num_contacts()) << robot;
+    EXPECT_EQ(from_text.nu(), from_files.nu()) << robot;
+    EXPECT_DOUBLE_EQ(from_text.total_mass(), from_files.total_mass()) << robot;
+    EXPECT_EQ(from_text.q_nominal(), from_files.q_nominal()) << robot;
+    MultibodyWorkspace ws_text(from_text), ws_files(from_files);
+    const Eigen::MatrixXd M_text = CalcMassMatrix(from_text, ws_text, from_text.q_nominal());
+    const Eigen::MatrixXd M_files = CalcMassMatrix(from_files, ws_files, from_files.q_nominal());
+    EXPECT_TRUE(M_text.isApprox(M_files, 1e-14)) << robot;
+  }
+  // No sidecar text: a fixed-base model with no actuators, and no file is looked for next to the "URDF".
+  const std::string amber_urdf = ReadText(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.urdf");
+  const MultibodyModel fixed = MultibodyModel::LoadFromText(amber_urdf, "");
+  EXPECT_EQ(fixed.floating_base(), FloatingBaseType::kFixed);
+  EXPECT_EQ(fixed.nu(), 0);
+}
+
+TEST(LoadFromText, ErrorsNameTheGivenNamesAndTheSizeCapHolds) {
+  auto error_of = [](const std::string& urdf, const std::string& sidecar) {
+    try {
+      MultibodyModel::LoadFromText(urdf, sidecar, "given.urdf", "given.rome.json");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string amber_urdf = ReadText(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.urdf");
+  EXPECT_NE(error_of("<robot", "").find("URDF given.urdf: malformed"), std::string::npos) << error_of("<robot", "");
+  EXPECT_NE(error_of(amber_urdf, "{").find("sidecar given.rome.json: malformed JSON"), std::string::npos);
+  const std::string big(kMaxUrdfBytes + 1, ' ');
+  EXPECT_NE(error_of(big, "").find("URDF given.urdf: text is " + std::to_string(kMaxUrdfBytes + 1) + " bytes"), std::string::npos);
+  EXPECT_NE(error_of(amber_urdf, big).find("sidecar given.rome.json: text is"), std::string::npos);
 }
 
 }  // namespace

@@ -78,7 +78,7 @@ TEST(TerrainCsv, BomCarriageReturnsAndHeaders) {
 TEST(TerrainCsv, EveryErrorNamesTheLineAndTheField) {
   EXPECT_EQ(ErrorOf(WriteTemp("typo.csv", "O,0\n0.4,0\n")), "terrain file '" + ::testing::TempDir() + "/typo.csv' line 1: expected 'x,z[,length]' numbers, got 'O,0'");
   EXPECT_NE(ErrorOf(WriteTemp("nan.csv", "0,0\n0.4,nan\n")).find("line 2: z must be finite"), std::string::npos);
-  EXPECT_NE(ErrorOf(WriteTemp("inf.csv", "0,0,inf\n")).find("line 1: length must be finite and positive"), std::string::npos);
+  EXPECT_NE(ErrorOf(WriteTemp("inf.csv", "0,0,inf\n")).find("line 1: length must be finite and at least 1e-06 m"), std::string::npos);
   EXPECT_NE(ErrorOf(WriteTemp("overlap.csv", "0,0\n# gap\n0.4,0.1\n0.45,0.1\n")).find("the stones of lines 3 and 4 overlap"), std::string::npos);
   EXPECT_NE(ErrorOf(::testing::TempDir()).find("is a directory"), std::string::npos);
   EXPECT_NE(ErrorOf(WriteTemp("empty.csv", "# nothing\n")).find("has no stones"), std::string::npos);
@@ -101,6 +101,55 @@ TEST(TerrainLookup, MillionStonesMatchALinearScan) {
     const bool on = std::abs(x - t.stones()[scan].x_center_m) <= 0.05;
     EXPECT_EQ(t.StoneAt(x), on ? scan : -1) << x;
   }
+}
+
+// FromCsvText (the fuzz harness's entry) parses the text exactly as FromCsv parses the file, and names the text as given.
+TEST(TerrainCsv, TextParsesAsTheFile) {
+  const std::string text = "x,z,length\r\n1.2,0.1,0.3\r\n0,0\r\n0.6,-0.05\r\n";
+  const Terrain from_file = Terrain::FromCsv(WriteTemp("text.csv", text), 0.2);
+  const Terrain from_text = Terrain::FromCsvText(text, 0.2);
+  ASSERT_EQ(from_text.stones().size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(from_text.stones()[i].x_center_m, from_file.stones()[i].x_center_m);
+    EXPECT_EQ(from_text.stones()[i].top_height_m, from_file.stones()[i].top_height_m);
+    EXPECT_EQ(from_text.stones()[i].length_m, from_file.stones()[i].length_m);
+  }
+  EXPECT_EQ(from_text.stones()[2].length_m, 0.3);  // sorted by x: the 1.2 m stone is last and keeps its length
+  try {
+    Terrain::FromCsvText("0,0\n0.4,zz\n", 0.1, "my stones");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("terrain file 'my stones' line 2"), std::string::npos) << e.what();
+  }
+}
+
+// Found by tests/fuzz/terrain_csv_fuzzer: "1e200,0\n1e200,0\n" was accepted as two stones. At x = 1e200 a 0.1 m
+// stone's edges x +- 0.05 round to x, so the overlap test (with its absolute 1e-12 m allowance) passed, and
+// StoneAt(x) could not tell the two stones apart. The class: a stone whose length is not resolved at its coordinate.
+// Now coordinates are capped at kMaxTerrainCoordinate_m and lengths are at least kMinStoneLength_m, and the overlap
+// allowance for rounding is relative to the coordinates but never more than a quarter of the shorter stone.
+TEST(Terrain, StonesMustBeResolvedAtTheirCoordinates) {
+  auto error_of = [](const std::string& text) {
+    try {
+      Terrain::FromCsvText(text, 0.1, "fuzz.csv");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error_of("1e200,0\n1e200,0\n"), "terrain file 'fuzz.csv' line 1: x must be finite and within +-1e+06 m, got '1e200,0'");
+  EXPECT_NE(error_of("0,1e7\n").find("line 1: z must be finite and within +-1e+06 m"), std::string::npos);
+  EXPECT_NE(error_of("0,0,1e-7\n").find("line 1: length must be finite and at least 1e-06 m"), std::string::npos);
+  EXPECT_THROW(Terrain::Stones({{1e7, 0.0, 0.1}}), std::invalid_argument);
+  EXPECT_THROW(Terrain::Stones({{0.0, 0.0, 1e-9}}), std::invalid_argument);
+  // At the limits, two stones on one x overlap, and so do two stones overlapping by a tenth of their length.
+  EXPECT_NE(error_of("1e6,0,1e-6\n1e6,0.1,1e-6\n").find("the stones of lines 1 and 2 overlap (x = 1e+06 m and 1e+06 m)"), std::string::npos)
+      << error_of("1e6,0,1e-6\n1e6,0.1,1e-6\n");
+  EXPECT_THROW(Terrain::Stones({{-1e6, 0.0, 1e-6}, {-1e6 + 0.9e-6, 0.0, 1e-6}}), std::invalid_argument);
+  // Touching stones (0.1 + 0.2 is not exactly 0.3 in binary: the edges meet only up to rounding) are accepted, and
+  // StoneAt finds each at its centre, near the origin and at the coordinate limit.
+  const Terrain touching = Terrain::Stones({{0.1, 0.0, 0.2}, {0.3, 0.0, 0.2}, {1e6 - 0.2, 0.0, 0.2}, {1e6, 0.0, 0.2}});
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(touching.StoneAt(touching.stones()[i].x_center_m), i);
 }
 
 }  // namespace
