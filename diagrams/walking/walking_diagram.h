@@ -12,7 +12,7 @@
 //
 // Choices beyond the paper (each a named parameter): the trailing foot is released at 1 % of m g (spec §7.5 [R],
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
-// the run would end as a slip at ~0.1 N); the QP keeps the CoP 5 mm inside the sole (cop_margin_m) and uses half the
+// the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
 // Status: the robot stands, shifts its weight along the transition plan with its plant normal forces in the Eq. (25)
 // band and lifts the trailing foot on schedule; it does not yet complete the first step (see the walking test).

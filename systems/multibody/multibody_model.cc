@@ -206,6 +206,23 @@ const std::string& CheckTextSize(const std::string& text, const char* what, cons
   return text;
 }
 
+// The XML text must be UTF-8 without NUL bytes: TinyXML 2.6.2 (under urdfdom) steps over a NUL that ends a truncated
+// multi-byte sequence and reads past the buffer (a heap overflow found by tests/fuzz/urdf_sidecar_fuzzer).
+void CheckXmlEncoding(const std::string& xml, const std::string& path) {
+  size_t line = 1;
+  for (size_t i = 0; i < xml.size();) {
+    const size_t n = xml[i] == '\0' ? 0 : Utf8SequenceLength(xml, i);
+    if (n == 0) {
+      char byte[8];
+      std::snprintf(byte, sizeof(byte), "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(xml[i])));
+      throw std::runtime_error("URDF " + Excerpt(path, 200) + ": line " + std::to_string(line) + ": byte " + byte + " at offset " + std::to_string(i) +
+                               (xml[i] == '\0' ? " is a NUL byte" : " is not valid UTF-8") + "; a URDF must be UTF-8 text");
+    }
+    line += xml[i] == '\n';
+    i += n;
+  }
+}
+
 // Nesting depth of the XML elements, scanned without building a tree, so that a pathological
 // file is rejected before the (recursive) XML parser sees it. Handles comments, CDATA,
 // processing instructions, declarations and quoted attribute values.
@@ -450,6 +467,7 @@ class MultibodyModelLoader {
     // ---------------- URDF ----------------
     const std::string xml = urdf_text ? CheckTextSize(*urdf_text, "URDF", urdf_path, kMaxUrdfBytes)
                                       : ReadFile(urdf_path, "URDF", kMaxUrdfBytes);
+    CheckXmlEncoding(xml, urdf_path);
     CheckXmlDepth(xml, urdf_path);
     urdf::ModelInterfaceSharedPtr urdf_model;
     {

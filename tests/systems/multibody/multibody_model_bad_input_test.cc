@@ -222,7 +222,7 @@ TEST_F(BadInput, NonUtf8NamesGiveAClearError) {
   std::string urdf = urdf_;
   for (size_t i = 0; (i = urdf.find("\"left_leg\"", i)) != std::string::npos;) urdf.replace(i, 10, "\"left_\xff\xfeleg\"");
   ExpectError(Write(urdf, Replace(sidecar_, R"("link": "left_leg")", R"("link": "right_leg")")),
-              {"walker2d.urdf", "link name 'left_\\xFF\\xFEleg' is not valid UTF-8"});
+              {"walker2d.urdf", "line 10: byte 0xFF at offset", "is not valid UTF-8"});
   // Invalid UTF-8 in the sidecar: the JSON parser's error, escaped.
   ExpectError(Write(urdf_, Replace(sidecar_, R"("robot": "walker2d")", "\"robot\": \"walker\xff\"")),
               {"walker2d.rome.json", "malformed JSON"});

@@ -244,5 +244,27 @@ TEST(LoadFromText, ErrorsNameTheGivenNamesAndTheSizeCapHolds) {
   EXPECT_NE(error_of(amber_urdf, big).find("sidecar given.rome.json: text is"), std::string::npos);
 }
 
+// The fuzzer's finding: a truncated 4-byte UTF-8 sequence followed by a NUL inside an attribute made TinyXML (under
+// urdfdom) read past the buffer. Every URDF that is not UTF-8 text is refused before the XML parser sees it, naming
+// the line and the byte; a valid multi-byte name still loads.
+TEST(LoadFromText, UrdfThatIsNotUtf8TextIsRefusedBeforeParsing) {
+  auto error_of = [](const std::string& urdf) {
+    try {
+      MultibodyModel::LoadFromText(urdf, "", "given.urdf", "");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string head = "<robot name=\"r\">\n<link name=\"base\"/>\n<joint name=\"j\" type=\"revolute\"><limit lower=\"ca";
+  const std::string truncated = head + std::string("\xF3\0u", 3);
+  EXPECT_NE(error_of(truncated).find("URDF given.urdf: line 3: byte 0xF3 at offset"), std::string::npos) << error_of(truncated);
+  const std::string nul = head + std::string("\0\"/></joint></robot>", 14);
+  EXPECT_NE(error_of(nul).find("is a NUL byte"), std::string::npos) << error_of(nul);
+  const std::string latin1 = "<robot name=\"r\xE9\"><link name=\"base\"/></robot>";
+  EXPECT_NE(error_of(latin1).find("line 1: byte 0xE9"), std::string::npos) << error_of(latin1);
+  EXPECT_EQ(error_of("<robot name=\"r\xC3\xA9\"><link name=\"base\"/></robot>"), "no error");
+}
+
 }  // namespace
 }  // namespace rome
