@@ -12,6 +12,8 @@
 // to see the full run.
 #include "diagrams/walking/walking_diagram.h"
 
+#include <filesystem>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +29,7 @@ namespace {
 
 void RunStandToWalk(bool full_run) {
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache("walking_diagram_test_plans");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());  // not the source tree
   WalkingPlan plan = BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache);
   WalkingDiagram d = BuildWalkingDiagram(model, plan);
   SimulatorConfig config;

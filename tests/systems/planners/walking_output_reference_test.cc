@@ -5,6 +5,8 @@
 // the COM rows pass the input through, the pelvis rows are 0.
 #include "systems/planners/walking_output_reference.h"
 
+#include <filesystem>
+
 #include <gtest/gtest.h>
 
 namespace rome {
@@ -12,7 +14,7 @@ namespace {
 
 TEST(WalkingOutputReference, SwingFootMeetsItsBoundaryConditionsAndIsSmooth) {
   const AslipPeriodicGaitPlanner planner;
-  const PlanCache cache("walking_output_reference_test_plans");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_output_reference_test_plans").string());  // not the source tree
   const AslipPeriodicGait gait = planner.Solve(2, &cache);
   ASSERT_TRUE(gait.success());
   WalkingPlan plan;
