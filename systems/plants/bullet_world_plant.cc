@@ -270,20 +270,10 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
 
   // Mode changes, announced by guards (see the header). Touchdowns from the graph.
   const int num_modes = static_cast<int>(graph_.modes.size());
-  std::vector<std::vector<int>> liftoff_target(num_modes, std::vector<int>(nc, -1));
-  for (const auto& t : graph_.transitions) {
-    const int from = graph_.ModeIndex(t.from, this->name()), to = graph_.ModeIndex(t.to, this->name());
-    int c = -1;
-    try {
-      c = model_->ContactIndex(t.contact);
-    } catch (const std::exception&) {
-      ThrowError("transition '" + t.from + "' -> '" + t.to + "' names contact '" + t.contact + "', which robot '" + model_->name() + "' does not have");
-    }
-    if (t.kind == ContactModeGraph::Kind::kLiftoff) {
-      if (liftoff_target[from][c] < 0) liftoff_target[from][c] = to;
-      continue;
-    }
-    const std::string contact_name = t.contact;
+  for (const ResolvedTransition& t : transitions_) {
+    if (t.kind != ContactModeGraph::Kind::kTouchdown) continue;
+    const int from = t.from, to = t.to, c = t.contact;
+    const std::string contact_name = model_->contacts()[c].name;
     DeclareGuard(
         "touchdown_" + contact_name, from,
         [this, c](const LeafContext& ctx) {
@@ -314,13 +304,7 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   for (int m = 0; m < num_modes; ++m)
     for (int c = 0; c < nc; ++c) {
       if (!(mode_contacts_[m] & ContactBit(c))) continue;
-      int to = liftoff_target[m][c];
-      if (to < 0)
-        for (int k = 0; k < num_modes; ++k)
-          if (mode_contacts_[k] == (mode_contacts_[m] & ~ContactBit(c))) {
-            to = k;
-            break;
-          }
+      const int to = LiftoffMode(m, c);
       const std::string contact_name = model_->contacts()[c].name;
       DeclareGuard(
           "liftoff_" + contact_name, m,

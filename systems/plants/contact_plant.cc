@@ -71,6 +71,35 @@ ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyMode
   }
   const int initial = graph_.ModeIndex(graph_.initial_mode.empty() ? graph_.modes[0].name : graph_.initial_mode, this->name());
   DeclareModes(names, initial);
+
+  // Transitions: modes and contact resolved; a touchdown needs the contact inactive, a lift-off active.
+  graph_liftoff_.assign(graph_.modes.size(), std::vector<int>(model_->num_contacts(), -1));
+  for (const auto& t : graph_.transitions) {
+    ResolvedTransition r;
+    r.from = graph_.ModeIndex(t.from, this->name());
+    r.to = graph_.ModeIndex(t.to, this->name());
+    r.kind = t.kind;
+    try {
+      r.contact = model_->ContactIndex(t.contact);
+    } catch (const std::exception&) {
+      ThrowError("transition '" + t.from + "' -> '" + t.to + "' names contact '" + t.contact + "', which robot '" + model_->name() + "' does not have");
+    }
+    const bool active = mode_contacts_[r.from] & ContactBit(r.contact);
+    if (t.kind == ContactModeGraph::Kind::kTouchdown && active)
+      ThrowError("touchdown of '" + t.contact + "' from mode '" + t.from + "', where that contact is already active");
+    if (t.kind == ContactModeGraph::Kind::kLiftoff) {
+      if (!active) ThrowError("lift-off of '" + t.contact + "' from mode '" + t.from + "', where that contact is not active");
+      if (graph_liftoff_[r.from][r.contact] < 0) graph_liftoff_[r.from][r.contact] = r.to;
+    }
+    transitions_.push_back(r);
+  }
+}
+
+int ContactPlant::LiftoffMode(int m, int c) const {
+  if (graph_liftoff_[m][c] >= 0) return graph_liftoff_[m][c];
+  for (size_t k = 0; k < mode_contacts_.size(); ++k)
+    if (mode_contacts_[k] == (mode_contacts_[m] & ~ContactBit(c))) return static_cast<int>(k);
+  return -1;
 }
 
 int ContactPlant::base_height_index() const {

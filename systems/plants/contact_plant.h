@@ -86,10 +86,23 @@ class ContactPlant : public LeafSystem {
   /// the first). Errors name this system, the mode and the contact.
   ContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain);
 
+  /// A transition of the graph with its modes and contact resolved to indices.
+  struct ResolvedTransition {
+    int from = -1, to = -1, contact = -1;
+    ContactModeGraph::Kind kind = ContactModeGraph::Kind::kTouchdown;
+  };
+  /// The mode that contact `c` lifts off into from mode `m`: the graph's own lift-off transition if it has one, else
+  /// the mode whose contact set is exactly C(m) \ {c}, else -1.
+  int LiftoffMode(int m, int c) const;
+  /// Whether the graph itself has a lift-off transition of contact `c` from mode `m` (a planned lift-off).
+  bool IsGraphLiftoff(int m, int c) const { return graph_liftoff_[m][c] >= 0; }
+
   std::shared_ptr<const MultibodyModel> model_;
   ContactModeGraph graph_;
   Terrain terrain_;
   std::vector<ContactSet> mode_contacts_;
+  std::vector<ResolvedTransition> transitions_;  ///< graph_.transitions, checked (errors name the transition)
+  std::vector<std::vector<int>> graph_liftoff_;  ///< [mode][contact]: the first lift-off transition's target, or -1
 };
 
 /// The active contact set of every mode of `plant`, in mode order (what a controller needs to know of the plant).

@@ -100,32 +100,6 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
   }, Feedthrough::None());
 
-  // Check the graph's transitions; remember the explicit lift-off targets.
-  std::vector<std::vector<int>> liftoff_target(num_modes, std::vector<int>(nc, -1));
-  struct Touchdown {
-    int from, to, contact;
-  };
-  std::vector<Touchdown> touchdowns;
-  for (const auto& t : graph_.transitions) {
-    const int from = graph_.ModeIndex(t.from, this->name());
-    const int to = graph_.ModeIndex(t.to, this->name());
-    int contact = -1;
-    try {
-      contact = model_->ContactIndex(t.contact);
-    } catch (const std::exception&) {
-      ThrowError("transition '" + t.from + "' -> '" + t.to + "' names contact '" + t.contact + "', which robot '" + model_->name() + "' does not have");
-    }
-    if (t.kind == ContactModeGraph::Kind::kTouchdown) {
-      if (mode_contacts_[from] & ContactBit(contact))
-        ThrowError("touchdown of '" + t.contact + "' from mode '" + t.from + "', where that contact is already active");
-      touchdowns.push_back({from, to, contact});
-    } else {
-      if (!(mode_contacts_[from] & ContactBit(contact)))
-        ThrowError("lift-off of '" + t.contact + "' from mode '" + t.from + "', where that contact is not active");
-      if (liftoff_target[from][contact] < 0) liftoff_target[from][contact] = to;
-    }
-  }
-
   // Unilateral contact: in every mode, every active contact lifts off when its normal force crosses 0 falling.
   // Target: the graph's lift-off transition, else the mode with exactly the remaining contacts, else failure.
   // Declared before the slip guards of the same mode: when a contact unloads with no tangential force
@@ -134,17 +108,11 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   for (int m = 0; m < num_modes; ++m) {
     for (int c = 0; c < nc; ++c) {
       if (!(mode_contacts_[m] & ContactBit(c))) continue;
-      if (!params_.unilateral_contact && liftoff_target[m][c] < 0) continue;  // welded: only the graph's lift-offs
-      int to = liftoff_target[m][c];
-      if (to < 0)
-        for (int k = 0; k < num_modes; ++k)
-          if (mode_contacts_[k] == (mode_contacts_[m] & ~ContactBit(c))) {
-            to = k;
-            break;
-          }
+      if (!params_.unilateral_contact && !IsGraphLiftoff(m, c)) continue;  // welded: only the graph's lift-offs
+      const int to = LiftoffMode(m, c);
       const std::string contact_name = model_->contacts()[c].name;
       // A planned lift-off (the graph's own transition) may fire at a small positive load (params: walking spec §7.5).
-      const double threshold = liftoff_target[m][c] >= 0 ? params_.planned_liftoff_force_N : 0.0;
+      const double threshold = IsGraphLiftoff(m, c) ? params_.planned_liftoff_force_N : 0.0;
       liftoff_threshold_[m][c] = threshold;
       DeclareGuard(
           "liftoff_" + contact_name, m,
@@ -228,7 +196,8 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   });
 
   // Touchdowns from the graph.
-  for (const Touchdown& td : touchdowns) {
+  for (const ResolvedTransition& td : transitions_) {
+    if (td.kind != ContactModeGraph::Kind::kTouchdown) continue;
     const int from = td.from, to = td.to, contact = td.contact;
     const std::string contact_name = model_->contacts()[contact].name;
     DeclareGuard(
