@@ -127,6 +127,8 @@ class Simulator {
   SimulatorStatus AdvanceTo(double t_final);
 
   const SimulatorStatistics& statistics() const { return stats_; }
+  /// The system (usually a Diagram) this simulator advances.
+  const System& system() const { return system_; }
   /// Total continuous states integrated.
   int num_continuous_states() const { return nx_; }
 

@@ -1,4 +1,5 @@
 #include "systems/plants/terrain.h"
+#include "framework/text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -62,28 +63,13 @@ Terrain Terrain::Stones(std::vector<SteppingStone> stones) {
 
 namespace {
 // A line as it may be shown in an error: at most 80 characters, control and non-ASCII bytes escaped.
-std::string Shown(const std::string& line) {
-  std::string out;
-  for (size_t i = 0; i < line.size() && out.size() < 80; ++i) {
-    const unsigned char c = static_cast<unsigned char>(line[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
-      out += buf;
-    }
-  }
-  if (out.size() >= 80) out += "...";
-  return out;
-}
 }  // namespace
 
 Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error("terrain file '" + path + "' is a directory, not a CSV file");
+  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' is a directory, not a CSV file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("terrain file '" + path + "' cannot be opened");
+  if (!in) throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' cannot be opened");
   std::stringstream whole;
   whole << in.rdbuf();
   return FromCsvText(whole.str(), default_length_m, path);
@@ -128,20 +114,20 @@ Terrain Terrain::FromCsvText(std::string text, double default_length_m, const st
         header_seen = true;
         continue;
       }
-      throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": expected 'x,z[,length]' numbers, got '" + Shown(line) + "'");
+      throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' line " + std::to_string(line_no) + ": expected 'x,z[,length]' numbers, got '" + Excerpt(line) + "'");
     }
     header_seen = true;
     const bool bad_length = !(std::isfinite(st.length_m) && st.length_m >= kMinStoneLength_m);
     const char* bad = !(std::abs(st.x_center_m) <= kMaxTerrainCoordinate_m) ? "x" : !(std::abs(st.top_height_m) <= kMaxTerrainCoordinate_m) ? "z" : bad_length ? "length" : nullptr;
     if (bad != nullptr)
-      throw std::runtime_error("terrain file '" + path + "' line " + std::to_string(line_no) + ": " + bad + " must be finite" +
+      throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' line " + std::to_string(line_no) + ": " + bad + " must be finite" +
                                (bad_length && !std::strcmp(bad, "length") ? " and at least " + Meters(kMinStoneLength_m) + " m"
                                                                           : " and within +-" + Meters(kMaxTerrainCoordinate_m) + " m") +
-                               ", got '" + Shown(line) + "'");
+                               ", got '" + Excerpt(line) + "'");
     stones.push_back(st);
     stone_lines.push_back(line_no);
   }
-  if (stones.empty()) throw std::runtime_error("terrain file '" + path + "' has no stones (expected lines 'x,z[,length]')");
+  if (stones.empty()) throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' has no stones (expected lines 'x,z[,length]')");
   // Overlaps, reported with the file's line numbers.
   std::vector<size_t> order(stones.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -149,13 +135,13 @@ Terrain Terrain::FromCsvText(std::string text, double default_length_m, const st
   for (size_t k = 1; k < order.size(); ++k) {
     const SteppingStone &a = stones[order[k - 1]], &b = stones[order[k]];
     if (Overlap(a, b))
-      throw std::runtime_error("terrain file '" + path + "': the stones of lines " + std::to_string(stone_lines[order[k - 1]]) + " and " +
+      throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "': the stones of lines " + std::to_string(stone_lines[order[k - 1]]) + " and " +
                                std::to_string(stone_lines[order[k]]) + " overlap (x = " + Meters(a.x_center_m) + " m and " + Meters(b.x_center_m) + " m)");
   }
   try {
     return Stones(std::move(stones));
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error("terrain file '" + path + "': " + e.what());
+    throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "': " + e.what());
   }
 }
 

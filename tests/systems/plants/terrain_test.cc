@@ -85,6 +85,13 @@ TEST(TerrainCsv, EveryErrorNamesTheLineAndTheField) {
   const std::string binary = ErrorOf(WriteTemp("binary.csv", std::string("0,0\n\x01\x02,\xff") + std::string(10000, 'x') + "\n"));
   EXPECT_NE(binary.find("\\x01\\x02"), std::string::npos) << binary;
   EXPECT_LT(binary.size(), 250u);
+  // The file's path is untrusted text too: a newline and a control byte in it are escaped, a 10,000-character path cut.
+  const std::string odd_path = ErrorOf(::testing::TempDir() + "/no\nsuch\x07" "file.csv");
+  EXPECT_EQ(odd_path.find('\n'), std::string::npos) << odd_path;
+  EXPECT_NE(odd_path.find("no\\x0Asuch\\x07file.csv' cannot be opened"), std::string::npos) << odd_path;
+  const std::string long_path = ErrorOf(std::string(10000, 'p') + ".csv");
+  EXPECT_LT(long_path.size(), 300u) << long_path.substr(0, 300);
+  EXPECT_NE(long_path.find("(10004 bytes)"), std::string::npos) << long_path.substr(0, 300);
 }
 
 // A million stones: lookups are binary searches (checked here against a linear scan on sampled points).
