@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "systems/multibody/bullet_multibody.h"
+#include "systems/multibody/bullet_rod_constraint.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_workspace.h"
 
@@ -63,7 +64,8 @@ struct BulletWorldPlant::World {
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
   Eigen::VectorXd q, v, tau, u;
-  Eigen::Matrix3Xd impulse;  // per contact, summed over the step [N s]
+  Eigen::Matrix3Xd impulse;          // per contact, summed over the step [N s]
+  Eigen::Matrix3Xd angular_impulse;  // per contact, its moment about the world origin, summed over the step [N m s]
 };
 
 void BulletWorldPlant::World::Build() {
@@ -125,6 +127,15 @@ void BulletWorldPlant::World::Build() {
       world->addMultiBodyConstraint(limit.get());
       constraints.push_back(std::move(limit));
     }
+
+  // Loop closures: one rod (distance) row each, between the two points on their Bullet links.
+  for (const LoopClosureInfo& loop : model.loop_closures()) {
+    auto rod = std::make_unique<BulletRodConstraint>(mb.get(), loop.body_a, ToBt(BodyPointInBulletLink(model.body(loop.body_a), loop.point_a)), mb.get(),
+                                                     loop.body_b, ToBt(BodyPointInBulletLink(model.body(loop.body_b), loop.point_b)), loop.distance_m);
+    rod->setMaxAppliedImpulse(p.max_impulse_Ns);
+    world->addMultiBodyConstraint(rod.get());
+    constraints.push_back(std::move(rod));
+  }
 
   // Feet: a compound of spheres, one per contact point, on the contact's body.
   link_points.assign(nb, {});
@@ -206,6 +217,7 @@ void BulletWorldPlant::World::Build() {
   tau.setZero(nv);
   u.setZero(model.nu());
   impulse.setZero(3, model.num_contacts());
+  angular_impulse.setZero(3, model.num_contacts());
   mb->forwardKinematics(world_to_local, local_origin);
   mb->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
 }
@@ -226,9 +238,6 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
     if (c.points.empty()) ThrowError("contact '" + c.name + "' of robot '" + model_->name() + "' has no points, so it has no collision geometry");
   for (const SteppingStone& s : terrain_.stones())
     if (!(s.length_m > 0)) ThrowError("a stepping stone at x = " + Num(s.x_center_m) + " m has length " + Num(s.length_m) + " m; it must be positive");
-  if (model_->num_loop_closures() > 0)
-    ThrowError("robot '" + model_->name() + "' has loop closure '" + model_->loop_closures()[0].name +
-               "'; BulletWorldPlant does not support loop closures yet (Bullet's multibody constraints hold a point, not a rod length)");
   for (int k = 0; k < nv; ++k)
     if (model_->reflected_inertia()[k] > 0) rotor_dofs_.push_back(k);
 
@@ -365,6 +374,17 @@ void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, 
   s.mode = graph_.ModeIndex(mode, name());
 }
 
+ContactWrench BulletWorldPlant::LastStepContactWrench(const LeafContext& context, int contact) const {
+  if (contact < 0 || contact >= model_->num_contacts())
+    ThrowError("LastStepContactWrench: contact " + std::to_string(contact) + " is out of range; robot '" + model_->name() + "' has " +
+               std::to_string(model_->num_contacts()));
+  const World& w = context.scratch<World>();
+  ContactWrench wrench;
+  wrench.force = w.impulse.col(contact) / params_.step_s;
+  wrench.torque = w.angular_impulse.col(contact) / params_.step_s;
+  return wrench;
+}
+
 double BulletWorldPlant::GearVelocityError(const LeafContext& context) const {
   World& w = context.scratch<World>();
   double err = 0;
@@ -397,6 +417,7 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     w.u = u_in;
   const double h = params_.step_s / params_.substeps;
   w.impulse.setZero();
+  w.angular_impulse.setZero();
   for (int sub = 0; sub < params_.substeps; ++sub) {
     // Joint torques of this substep: B sat(u) + τ_spring at the substep's start.
     w.tau.noalias() = model.B() * w.u;
@@ -436,6 +457,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
         const btVector3 J = pt.m_normalWorldOnB * pt.m_appliedImpulse + pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
                             pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
         w.impulse.col(contact) += sign * FromBt(J);
+        const btVector3& at = sign > 0 ? pt.m_positionWorldOnA : pt.m_positionWorldOnB;
+        w.angular_impulse.col(contact) += sign * FromBt(at.cross(J));
       }
     }
   }
