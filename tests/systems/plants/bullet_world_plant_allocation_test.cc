@@ -69,8 +69,7 @@ TEST(BulletWorldPlantAllocation, AmberStepDoesNotAllocateOnceWarm) {
 
 // 3D Cassie (line feet, ten gears, two achilles rods) collapsing under no torque for 0.5 s: Bullet allocates while its
 // work arrays (solver rows, manifold points) reach a new high-water mark the first time more contacts or joint limits
-// engage (measured:
-// 30 allocations in 3 steps of the first run), and never again: the same 0.5 s repeated on the same world allocates
+// engage (measured: 30 allocations in 3 steps of the first run), and never again: the same 0.5 s repeated on the same world allocates
 // nothing.
 TEST(BulletWorldPlantAllocation, CassieStepAllocatesOnlyAtNewHighWaterMarks) {
   BulletWorldPlant cassie("cassie", Load("robots/cassie/cassie.rome.json"), ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat());
