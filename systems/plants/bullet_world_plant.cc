@@ -28,6 +28,32 @@ std::string Num(double x) {
   os << x;
   return os.str();
 }
+// Bullet's multibody solver with a stopping test that works for planar models. Bullet's own residual (the largest
+// squared velocity change of a row) is NaN when a row is singular — a planar model's out-of-plane friction row has a
+// zero Jacobian, so Bullet disables it with m_jacDiagABInv = 0 and its residual is 0 · (1/0) — and a NaN never passes
+// m_leastSquaresResidualThreshold. This solver returns instead the largest squared change of any multibody velocity
+// coordinate over the iteration [(m/s)² or (rad/s)²] (Bullet's m_data.m_deltaVelocities, which every row's impulse
+// updates), so the threshold means "the velocities moved less than sqrt(threshold) in the last sweep".
+class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
+ protected:
+  btScalar solveSingleIteration(int iteration, btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds, int num_manifolds,
+                                btTypedConstraint** constraints, int num_constraints, const btContactSolverInfo& info, btIDebugDraw* draw) override {
+    btMultiBodyConstraintSolver::solveSingleIteration(iteration, bodies, num_bodies, manifolds, num_manifolds, constraints, num_constraints, info, draw);
+    const btAlignedObjectArray<btScalar>& dv = m_data.m_deltaVelocities;
+    if (previous_.size() != dv.size()) previous_.resize(dv.size(), 0.0);  // grows to the high-water mark only
+    btScalar change = 0;
+    for (int i = 0; i < dv.size(); ++i) {
+      const btScalar d = dv[i] - previous_[i];
+      change = btMax(change, d * d);
+      previous_[i] = dv[i];
+    }
+    return iteration == 0 ? BT_LARGE_FLOAT : change;  // the first sweep has no predecessor to compare with
+  }
+
+ private:
+  btAlignedObjectArray<btScalar> previous_;
+};
+
 }  // namespace
 
 /// One run's Bullet world (scratch). Built from the plant; a copy builds a fresh world (see the header).
@@ -51,7 +77,7 @@ struct BulletWorldPlant::World {
   std::unique_ptr<btDefaultCollisionConfiguration> config;
   std::unique_ptr<btCollisionDispatcher> dispatcher;
   std::unique_ptr<btDbvtBroadphase> broadphase;
-  std::unique_ptr<btMultiBodyConstraintSolver> solver;
+  std::unique_ptr<ConvergingMultiBodySolver> solver;
   std::unique_ptr<btMultiBodyDynamicsWorld> world;
   std::unique_ptr<btMultiBody> mb;
   std::vector<std::unique_ptr<btMultiBody>> rotors;  // one per geared armature
@@ -75,11 +101,12 @@ void BulletWorldPlant::World::Build() {
   config = std::make_unique<btDefaultCollisionConfiguration>();
   dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
   broadphase = std::make_unique<btDbvtBroadphase>();
-  solver = std::make_unique<btMultiBodyConstraintSolver>();
+  solver = std::make_unique<ConvergingMultiBodySolver>();
   world = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher.get(), broadphase.get(), solver.get(), config.get());
   world->setGravity(ToBt(model.gravity()));
   btContactSolverInfo& info = world->getSolverInfo();
   info.m_numIterations = p.solver_iterations;
+  info.m_leastSquaresResidualThreshold = p.solver_residual_threshold;
   info.m_erp = p.joint_erp;
   info.m_erp2 = p.contact_erp;
   info.m_globalCfm = p.cfm;
@@ -231,6 +258,8 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   if (!(params_.update_offset_s >= 0 && params_.update_offset_s < params_.step_s))
     ThrowError("parameter update_offset_s must be in [0, step_s), got " + Num(params_.update_offset_s) + " s");
   if (!(params_.point_radius_m > 0)) ThrowError("parameter point_radius_m must be positive, got " + Num(params_.point_radius_m) + " m");
+  if (!(params_.solver_residual_threshold >= 0))
+    ThrowError("parameter solver_residual_threshold must be >= 0, got " + Num(params_.solver_residual_threshold) + " (m/s)^2");
   if (params_.solver_iterations < 1) ThrowError("parameter solver_iterations must be at least 1, got " + std::to_string(params_.solver_iterations));
   if (!(params_.mode_change_delay_s > 0 && params_.mode_change_delay_s < params_.step_s - params_.update_offset_s))
     ThrowError("parameter mode_change_delay_s must be in (0, step_s - update_offset_s), got " + Num(params_.mode_change_delay_s) + " s");
@@ -383,6 +412,12 @@ ContactWrench BulletWorldPlant::LastStepContactWrench(const LeafContext& context
   wrench.force = w.impulse.col(contact) / params_.step_s;
   wrench.torque = w.angular_impulse.col(contact) / params_.step_s;
   return wrench;
+}
+
+int BulletWorldPlant::SolverIterationsUsed(const LeafContext& context) const { return context.scratch<World>().solver->m_analyticsData.m_numIterationsUsed; }
+
+double BulletWorldPlant::SolverResidual(const LeafContext& context) const {
+  return context.scratch<World>().solver->m_analyticsData.m_remainingLeastSquaresResidual;
 }
 
 double BulletWorldPlant::GearVelocityError(const LeafContext& context) const {

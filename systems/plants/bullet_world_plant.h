@@ -46,7 +46,8 @@
 //    with one gets a rotor: a one-link btMultiBody on a fixed base (a massless wheel about a fixed axis, inertia
 //    I_reflected about it), geared 1:1 to the joint's velocity by a btMultiBodyGearConstraint. Its kinetic energy is
 //    ½ I_reflected q̇², exactly the model's armature term; the gear holds to the solver's convergence (measured on AMBER
-//    in flight: |q̇_joint − q̇_rotor| < 1e-13 rad/s, GearVelocityError). Bullet solves a multibody constraint only in
+//    in flight: |q̇_joint − q̇_rotor| < 1e-13 rad/s with all 100 iterations, ~6e-6 rad/s with the default
+//    solver_residual_threshold; GearVelocityError). Bullet solves a multibody constraint only in
 //    the simulation island of its links' colliders, so every robot link gets a collider (an empty one where it has no
 //    contact point); without it the gears of links without contacts were silently ignored.
 //  * Joint limits (the URDF's, where finite): btMultiBodyJointLimitConstraint (enable_joint_limits).
@@ -71,7 +72,11 @@ struct BulletWorldPlantParams {
   double step_s = 1e-3;            ///< [s] world step (ours: the controllers' 1 kHz)
   int substeps = 1;                ///< [-] Bullet steps per world step (each step_s / substeps long)
   double update_offset_s = 1e-6;   ///< [s] the update runs this long after each multiple of step_s (after the controllers' samples)
-  int solver_iterations = 100;     ///< [-] sequential-impulse iterations per substep (Bullet's default 10; ours: the armature gears need more)
+  int solver_iterations = 100;     ///< [-] most sequential-impulse iterations per substep (Bullet's default 10; ours: the armature gears need more)
+  /// [(m/s)², (rad/s)²] the solver stops before solver_iterations once no velocity coordinate changed by more than
+  /// its square root in the last iteration (Bullet's m_leastSquaresResidualThreshold, on our own residual: see
+  /// ConvergingMultiBodySolver in the .cc; 0: always solver_iterations)
+  double solver_residual_threshold = 1e-10;
   double contact_erp = 0.2;        ///< [-] contact penetration correction per substep (Bullet's m_erp2, default 0.2)
   double joint_erp = 0.2;          ///< [-] joint-limit error correction per substep (Bullet's m_erp, default 0.2)
   double cfm = 0.0;                ///< [-] constraint force mixing (Bullet's m_globalCfm, default 0: rigid)
@@ -107,6 +112,10 @@ class BulletWorldPlant final : public ContactPlant {
   void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const override;
   /// Number of rotor links (actuated joints with reflected inertia) added to the Bullet tree.
   int num_rotors() const { return static_cast<int>(rotor_dofs_.size()); }
+  /// Sequential-impulse iterations Bullet's solver used in the last substep of `context` (-1 before any step).
+  int SolverIterationsUsed(const LeafContext& context) const;
+  /// The solver's residual after its last iteration of the last substep (see solver_residual_threshold).
+  double SolverResidual(const LeafContext& context) const;
   /// Largest |q̇_joint − q̇_rotor| over the rotors after the last step of `context` [rad/s]: how well the gears held.
   double GearVelocityError(const LeafContext& context) const;
 
