@@ -1,5 +1,6 @@
 #include "systems/multibody/contact_dynamics.h"
 
+#include <Eigen/Dense>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -347,6 +348,16 @@ ContactWrench ExtractContactWrench(const MultibodyModel& model, MultibodyWorkspa
     w.force = F.segment<3>(row + 3);
   }
   return w;
+}
+
+Eigen::VectorXd CalcStanceGravityCompensation(const MultibodyModel& model, ContactSet active, const Eigen::VectorXd& q) {
+  MultibodyWorkspace ws(model);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv());
+  const int rows = CalcConstraintJacobian(model, ws, q, zero, active);
+  Eigen::MatrixXd A(model.nv(), model.nu() + rows);
+  A << model.B(), ws.J.topRows(rows).transpose();
+  const Eigen::VectorXd rhs = CalcBiasForces(model, ws, q, zero) - CalcSpringTorques(model, ws, q, zero);
+  return A.completeOrthogonalDecomposition().solve(rhs).head(model.nu());
 }
 
 ContactForceCheck CheckContactForce(const MultibodyModel& model, MultibodyWorkspace& ws,

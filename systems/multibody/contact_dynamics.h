@@ -69,6 +69,11 @@ int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspa
                                    const ConstrainedDynamicsParameters& params,
                                    Eigen::Ref<Eigen::VectorXd> qdd, Eigen::Ref<Eigen::VectorXd> F);
 
+// Static gravity compensation in a stance: the minimum-norm [u; F] of [B Jᵀ] [u; F] = h(q, 0) − τ_spring(q, 0) (the
+// motor torques and the active contacts' and loop closures' forces that hold q at rest); returns u (nu). Not
+// real-time (allocates; a dense complete orthogonal decomposition): a feedforward computed once, e.g. for a PD stance.
+Eigen::VectorXd CalcStanceGravityCompensation(const MultibodyModel& model, ContactSet active, const Eigen::VectorXd& q);
+
 // Plastic impact with the constraint set `active` (new stance contacts + loop closures).
 // Returns rows; impulse (first `rows` entries) in the row convention above.
 int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "systems/multibody/bullet_multibody.h"
+#include "systems/multibody/bullet_rod_constraint.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_workspace.h"
 
@@ -27,6 +28,32 @@ std::string Num(double x) {
   os << x;
   return os.str();
 }
+// Bullet's multibody solver with a stopping test that works for planar models. Bullet's own residual (the largest
+// squared velocity change of a row) is NaN when a row is singular — a planar model's out-of-plane friction row has a
+// zero Jacobian, so Bullet disables it with m_jacDiagABInv = 0 and its residual is 0 · (1/0) — and a NaN never passes
+// m_leastSquaresResidualThreshold. This solver returns instead the largest squared change of any multibody velocity
+// coordinate over the iteration [(m/s)² or (rad/s)²] (Bullet's m_data.m_deltaVelocities, which every row's impulse
+// updates), so the threshold means "the velocities moved less than sqrt(threshold) in the last sweep".
+class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
+ protected:
+  btScalar solveSingleIteration(int iteration, btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds, int num_manifolds,
+                                btTypedConstraint** constraints, int num_constraints, const btContactSolverInfo& info, btIDebugDraw* draw) override {
+    btMultiBodyConstraintSolver::solveSingleIteration(iteration, bodies, num_bodies, manifolds, num_manifolds, constraints, num_constraints, info, draw);
+    const btAlignedObjectArray<btScalar>& dv = m_data.m_deltaVelocities;
+    if (previous_.size() != dv.size()) previous_.resize(dv.size(), 0.0);  // grows to the high-water mark only
+    btScalar change = 0;
+    for (int i = 0; i < dv.size(); ++i) {
+      const btScalar d = dv[i] - previous_[i];
+      change = btMax(change, d * d);
+      previous_[i] = dv[i];
+    }
+    return iteration == 0 ? BT_LARGE_FLOAT : change;  // the first sweep has no predecessor to compare with
+  }
+
+ private:
+  btAlignedObjectArray<btScalar> previous_;
+};
+
 }  // namespace
 
 /// One run's Bullet world (scratch). Built from the plant; a copy builds a fresh world (see the header).
@@ -50,7 +77,7 @@ struct BulletWorldPlant::World {
   std::unique_ptr<btDefaultCollisionConfiguration> config;
   std::unique_ptr<btCollisionDispatcher> dispatcher;
   std::unique_ptr<btDbvtBroadphase> broadphase;
-  std::unique_ptr<btMultiBodyConstraintSolver> solver;
+  std::unique_ptr<ConvergingMultiBodySolver> solver;
   std::unique_ptr<btMultiBodyDynamicsWorld> world;
   std::unique_ptr<btMultiBody> mb;
   std::vector<std::unique_ptr<btMultiBody>> rotors;  // one per geared armature
@@ -63,7 +90,8 @@ struct BulletWorldPlant::World {
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
   Eigen::VectorXd q, v, tau, u;
-  Eigen::Matrix3Xd impulse;  // per contact, summed over the step [N s]
+  Eigen::Matrix3Xd impulse;          // per contact, summed over the step [N s]
+  Eigen::Matrix3Xd angular_impulse;  // per contact, its moment about the world origin, summed over the step [N m s]
 };
 
 void BulletWorldPlant::World::Build() {
@@ -73,11 +101,12 @@ void BulletWorldPlant::World::Build() {
   config = std::make_unique<btDefaultCollisionConfiguration>();
   dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
   broadphase = std::make_unique<btDbvtBroadphase>();
-  solver = std::make_unique<btMultiBodyConstraintSolver>();
+  solver = std::make_unique<ConvergingMultiBodySolver>();
   world = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher.get(), broadphase.get(), solver.get(), config.get());
   world->setGravity(ToBt(model.gravity()));
   btContactSolverInfo& info = world->getSolverInfo();
   info.m_numIterations = p.solver_iterations;
+  info.m_leastSquaresResidualThreshold = p.solver_residual_threshold;
   info.m_erp = p.joint_erp;
   info.m_erp2 = p.contact_erp;
   info.m_globalCfm = p.cfm;
@@ -125,6 +154,15 @@ void BulletWorldPlant::World::Build() {
       world->addMultiBodyConstraint(limit.get());
       constraints.push_back(std::move(limit));
     }
+
+  // Loop closures: one rod (distance) row each, between the two points on their Bullet links.
+  for (const LoopClosureInfo& loop : model.loop_closures()) {
+    auto rod = std::make_unique<BulletRodConstraint>(mb.get(), loop.body_a, ToBt(BodyPointInBulletLink(model.body(loop.body_a), loop.point_a)), mb.get(),
+                                                     loop.body_b, ToBt(BodyPointInBulletLink(model.body(loop.body_b), loop.point_b)), loop.distance_m);
+    rod->setMaxAppliedImpulse(p.max_impulse_Ns);
+    world->addMultiBodyConstraint(rod.get());
+    constraints.push_back(std::move(rod));
+  }
 
   // Feet: a compound of spheres, one per contact point, on the contact's body.
   link_points.assign(nb, {});
@@ -206,6 +244,7 @@ void BulletWorldPlant::World::Build() {
   tau.setZero(nv);
   u.setZero(model.nu());
   impulse.setZero(3, model.num_contacts());
+  angular_impulse.setZero(3, model.num_contacts());
   mb->forwardKinematics(world_to_local, local_origin);
   mb->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
 }
@@ -219,6 +258,8 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   if (!(params_.update_offset_s >= 0 && params_.update_offset_s < params_.step_s))
     ThrowError("parameter update_offset_s must be in [0, step_s), got " + Num(params_.update_offset_s) + " s");
   if (!(params_.point_radius_m > 0)) ThrowError("parameter point_radius_m must be positive, got " + Num(params_.point_radius_m) + " m");
+  if (!(params_.solver_residual_threshold >= 0))
+    ThrowError("parameter solver_residual_threshold must be >= 0, got " + Num(params_.solver_residual_threshold) + " (m/s)^2");
   if (params_.solver_iterations < 1) ThrowError("parameter solver_iterations must be at least 1, got " + std::to_string(params_.solver_iterations));
   if (!(params_.mode_change_delay_s > 0 && params_.mode_change_delay_s < params_.step_s - params_.update_offset_s))
     ThrowError("parameter mode_change_delay_s must be in (0, step_s - update_offset_s), got " + Num(params_.mode_change_delay_s) + " s");
@@ -226,9 +267,6 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
     if (c.points.empty()) ThrowError("contact '" + c.name + "' of robot '" + model_->name() + "' has no points, so it has no collision geometry");
   for (const SteppingStone& s : terrain_.stones())
     if (!(s.length_m > 0)) ThrowError("a stepping stone at x = " + Num(s.x_center_m) + " m has length " + Num(s.length_m) + " m; it must be positive");
-  if (model_->num_loop_closures() > 0)
-    ThrowError("robot '" + model_->name() + "' has loop closure '" + model_->loop_closures()[0].name +
-               "'; BulletWorldPlant does not support loop closures yet (Bullet's multibody constraints hold a point, not a rod length)");
   for (int k = 0; k < nv; ++k)
     if (model_->reflected_inertia()[k] > 0) rotor_dofs_.push_back(k);
 
@@ -365,6 +403,23 @@ void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, 
   s.mode = graph_.ModeIndex(mode, name());
 }
 
+ContactWrench BulletWorldPlant::LastStepContactWrench(const LeafContext& context, int contact) const {
+  if (contact < 0 || contact >= model_->num_contacts())
+    ThrowError("LastStepContactWrench: contact " + std::to_string(contact) + " is out of range; robot '" + model_->name() + "' has " +
+               std::to_string(model_->num_contacts()));
+  const World& w = context.scratch<World>();
+  ContactWrench wrench;
+  wrench.force = w.impulse.col(contact) / params_.step_s;
+  wrench.torque = w.angular_impulse.col(contact) / params_.step_s;
+  return wrench;
+}
+
+int BulletWorldPlant::SolverIterationsUsed(const LeafContext& context) const { return context.scratch<World>().solver->m_analyticsData.m_numIterationsUsed; }
+
+double BulletWorldPlant::SolverResidual(const LeafContext& context) const {
+  return context.scratch<World>().solver->m_analyticsData.m_remainingLeastSquaresResidual;
+}
+
 double BulletWorldPlant::GearVelocityError(const LeafContext& context) const {
   World& w = context.scratch<World>();
   double err = 0;
@@ -397,6 +452,7 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     w.u = u_in;
   const double h = params_.step_s / params_.substeps;
   w.impulse.setZero();
+  w.angular_impulse.setZero();
   for (int sub = 0; sub < params_.substeps; ++sub) {
     // Joint torques of this substep: B sat(u) + τ_spring at the substep's start.
     w.tau.noalias() = model.B() * w.u;
@@ -436,6 +492,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
         const btVector3 J = pt.m_normalWorldOnB * pt.m_appliedImpulse + pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
                             pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
         w.impulse.col(contact) += sign * FromBt(J);
+        const btVector3& at = sign > 0 ? pt.m_positionWorldOnA : pt.m_positionWorldOnB;
+        w.angular_impulse.col(contact) += sign * FromBt(at.cross(J));
       }
     }
   }

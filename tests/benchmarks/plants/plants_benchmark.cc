@@ -3,6 +3,7 @@
 // standing state (both feet touching, at rest, torques holding the nominal pose roughly), so it pays collision
 // detection, two contact manifolds, four armature gears and the joint limits every time.
 //   ./plants_benchmark
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -20,6 +21,7 @@ void BulletWorldStep(benchmark::State& state) {
   BulletWorldPlantParams params;
   params.substeps = static_cast<int>(state.range(0));
   params.solver_iterations = static_cast<int>(state.range(1));
+  params.solver_residual_threshold = state.range(2) > 0 ? std::pow(10.0, -static_cast<double>(state.range(2))) : 0.0;
   BulletWorldPlant plant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), params);
   auto context = plant.CreateDefaultLeafContext();
   plant.SetState(*context, model->q_nominal(), Eigen::VectorXd::Zero(model->nv()), "stance");
@@ -35,8 +37,15 @@ void BulletWorldStep(benchmark::State& state) {
   }
   state.counters["Fz_left_N"] = next[fz_left];
   state.counters["Fz_right_N"] = next[fz_right];
+  state.counters["iterations_used"] = plant.SolverIterationsUsed(*context);
+  state.counters["residual"] = plant.SolverResidual(*context);
+  state.counters["gear_error_rad_s"] = plant.GearVelocityError(*context);
 }
-BENCHMARK(BulletWorldStep)->Args({1, 100})->Args({1, 30})->Args({1, 10})->Args({10, 100})->ArgNames({"substeps", "iterations"})->Unit(benchmark::kMicrosecond);
+// residual: the solver's stopping threshold 10^-residual (m/s)² (0: none, always `iterations`).
+BENCHMARK(BulletWorldStep)
+    ->Args({1, 100, 0})->Args({1, 30, 0})->Args({1, 10, 0})->Args({10, 100, 0})
+    ->Args({1, 100, 14})->Args({1, 100, 12})->Args({1, 100, 10})->Args({1, 100, 8})
+    ->ArgNames({"substeps", "iterations", "residual"})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace rome

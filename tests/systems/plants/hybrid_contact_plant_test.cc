@@ -120,17 +120,6 @@ TEST(HybridContactPlant, NegativeOrNanPlannedLiftoffForceIsNamed) {
   }
 }
 
-// Gravity compensation in a stance: [B Jᵀ] [u; F] = h(q, 0) − τ_spring(q, 0), minimum norm.
-Eigen::VectorXd GravityCompensation(const MultibodyModel& model, ContactSet active, const Eigen::VectorXd& q) {
-  MultibodyWorkspace ws(model);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv());
-  const int rows = CalcConstraintJacobian(model, ws, q, zero, active);
-  Eigen::MatrixXd A(model.nv(), model.nu() + rows);
-  A << model.B(), ws.J.topRows(rows).transpose();
-  const Eigen::VectorXd rhs = CalcBiasForces(model, ws, q, zero) - CalcSpringTorques(model, ws, q, zero);
-  return A.completeOrthogonalDecomposition().solve(rhs).head(model.nu());
-}
-
 // Gravity compensation as the feedforward of a joint PD around the nominal pose (constant torques alone
 // leave the upright stance an unstable equilibrium: integration error grows at ~sqrt(g/l)).
 TEST(HybridContactPlant, FlatFootedStanceUnderGravityCompensationStaysStill) {
@@ -142,7 +131,7 @@ TEST(HybridContactPlant, FlatFootedStanceUnderGravityCompensationStaysStill) {
   auto* plant = builder.AddSystem(std::make_unique<HybridContactPlant>("exo", model, graph, Terrain::Flat()));
   const int nu = model->nu();
   JointPdGains gains{Eigen::VectorXd::Constant(nu, 500.0), Eigen::VectorXd::Constant(nu, 50.0), model->B().transpose() * model->q_nominal(),
-                     GravityCompensation(*model, plant->active_contacts(0), model->q_nominal())};
+                     CalcStanceGravityCompensation(*model, plant->active_contacts(0), model->q_nominal())};
   builder.AddSystem(std::make_unique<JointPdController>("pd", model->B(), gains));
   builder.Connect("exo", "state", "pd", "state");
   builder.Connect("pd", "u", "exo", "u");
