@@ -36,7 +36,8 @@ struct HoppingDiagramParams {
   HoppingReferenceParams reference;
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
-  /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid.
+  /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
+  /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).
   static ClfQpParams DefaultControllerParams();
   /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)). Measured cause: with H_pitch as the
   /// relative-degree-1 output the closed loop (plant + CLF-QP, linearised by central differences at the first Jump
