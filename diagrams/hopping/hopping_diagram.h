@@ -48,7 +48,8 @@ struct HoppingDiagramParams {
   /// adding the pelvis pitch as a seventh output next to H_pitch leaves +83 1/s (tarsus, heel spring, toe). A_pitch and
   /// Ȧ_pitch q̇ are right (finite differences and Newton-Euler with contact forces, tests/systems/multibody); the
   /// output's row and sign are right (the momentum weight 1e-4 ... 1e2 changes nothing). With the pelvis pitch output
-  /// the largest eigenvalue is +0.036 1/s. The momentum is steered instead through the pitch reference
+  /// the largest eigenvalue is +0.036 1/s. (With this diagram's ρ_u = 1e-4, at the start of the hand-made Jump of
+  /// tests/diagrams/hopping: +414 1/s with H_pitch, +0.05 1/s with the pitch; that test checks both.) The momentum is steered instead through the pitch reference
   /// (HoppingReferenceParams::jump_momentum_gain). HOP_MOMENTUM=1 in tests/diagrams/hopping reproduces the slip.
   static HoppingOutputParams DefaultOutputParams();
 };
