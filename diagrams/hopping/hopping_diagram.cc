@@ -17,6 +17,11 @@ ClfQpParams HoppingDiagramParams::DefaultControllerParams() {
   p.formulation = ClfQpFormulation::kAugmentedInput;
   p.update_period_s = 5e-4;
   p.epsilon = 0.1;
+  // ρ_u = 1e-4 (spec [R] A4.5). With the block's default 1e-6 the landing QP's Hessian reached a condition number of
+  // 1e9 right after the impact (smallest eigenvalue 2.3e-8 against 20: the 4 torque directions the 6 outputs leave
+  // free see only ρ_u); DenseQpSolver then took its proximal path and stopped at its iteration limit on every landing
+  // tick, so the flight torques were held and a foot slipped. 1e-4 gives 2.3e-6 and an optimal QP at every tick.
+  p.u_regularization = 1e-4;
   return p;
 }
 

@@ -36,11 +36,21 @@ struct HoppingDiagramParams {
   HoppingReferenceParams reference;
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
-  /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid.
+  /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
+  /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).
   static ClfQpParams DefaultControllerParams();
-  /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)): with H_pitch as the relative-degree-1
-  /// output, the Jump outputs let an antisymmetric fore-aft force between the feet grow until a foot slipped within
-  /// 10-50 ms of entering Jump, even standing still (tests/diagrams/hopping, HOP_MOMENTUM=1 reproduces it).
+  /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)). Measured cause: with H_pitch as the
+  /// relative-degree-1 output the closed loop (plant + CLF-QP, linearised by central differences at the first Jump
+  /// sample) has a real eigenvalue at +2305 1/s whose mode is the pelvis pitch, both hip pitches and the shin and heel
+  /// springs (H_pitch stays ~0 while the pelvis and the legs turn against each other through the springs). The 6 Jump
+  /// outputs leave 4 of the 10 torque directions to the QP's least-torque term, and that choice drives the mode: the
+  /// eigenvalue is +206 1/s with u_regularization 1e-3 and +6.9 1/s with 1e-1 (the pelvis pitch then drifts freely);
+  /// adding the pelvis pitch as a seventh output next to H_pitch leaves +83 1/s (tarsus, heel spring, toe). A_pitch and
+  /// Ȧ_pitch q̇ are right (finite differences and Newton-Euler with contact forces, tests/systems/multibody); the
+  /// output's row and sign are right (the momentum weight 1e-4 ... 1e2 changes nothing). With the pelvis pitch output
+  /// the largest eigenvalue is +0.036 1/s. (With this diagram's ρ_u = 1e-4, at the start of the hand-made Jump of
+  /// tests/diagrams/hopping: +414 1/s with H_pitch, +0.05 1/s with the pitch; that test checks both.) The momentum is steered instead through the pitch reference
+  /// (HoppingReferenceParams::jump_momentum_gain). HOP_MOMENTUM=1 in tests/diagrams/hopping reproduces the slip.
   static HoppingOutputParams DefaultOutputParams();
 };
 

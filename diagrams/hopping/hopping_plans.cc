@@ -65,13 +65,20 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
     if (!state->planner || state->rest_height != *rest_height) {
       SpringMassLandingParams p = params;
       p.rest_height = *rest_height;
-      state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);
+      try {  // e.g. a touchdown before any jump plan set the rest height: a failed plan (counted), not a crash
+        state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);
+      } catch (const std::exception& e) {
+        *message = e.what();
+        return false;
+      }
       state->rest_height = *rest_height;
     }
-    // The measured leg length may sit a hair outside the NLP's L bounds (the jump ends at max_leg_length and the flight
-    // holds the knees there): clamp it into them (ours), else the NLP rejects its own initial state.
+    // The measured leg length may sit outside the NLP's L bounds (the knees overshoot the jump's last L in the push and
+    // the flight holds them there): clamp it into them (ours), else the NLP rejects its own initial state, and shift
+    // the mass height with it so the spring deflection s = L − x (hence the ROM force) stays the measured one. (Clamping
+    // L alone once gave s = −5 cm, a plan starting at −1.9 kN, and a robot that rebounded.)
     const double L0 = std::clamp(post.L, params.min_leg_length, params.max_leg_length);
-    const Eigen::Vector4d z0(post.x, post.xdot, L0, post.Ldot);
+    const Eigen::Vector4d z0(post.x + (L0 - post.L), post.xdot, L0, post.Ldot);
     SpringMassPlan plan;
     try {
       plan = state->planner->Resolve(z0);  // warm start from the previous landing solution, if any

@@ -15,7 +15,8 @@ constexpr int kJump = 0, kFlight = 1, kLanding = 2;
 // Discrete state.
 constexpr int kDomain = 0, kDomainStart = 1, kCentreX = 2, kCentreY = 3, kYaw0 = 4, kMotorTargets = 5;  // 10 motor targets
 constexpr int kLandComX = 15, kLandComXdot = 16, kLandPitch = 17, kLandPitchRate = 18, kHopsDone = 19, kJumpPlans = 20, kLandingPlans = 21,
-              kPlanFailures = 22, kHoldL = 23, kFixed = 24;
+              kPlanFailures = 22, kHoldL = 23, kJumpPitch = 24, kJumpPitchRate = 25,
+              kJumpHipPerPitch = 26, kFixed = 28;  // kJumpHipPerPitch: 2 legs
 
 // Quintic from (p0, v0, a0 = 0) to (p1, 0, 0) over T; value, rate, acceleration at s (held after T).
 Eigen::Vector3d Blend(double s, double T, double p0, double v0, double p1) {
@@ -28,6 +29,26 @@ Eigen::Vector3d Blend(double s, double T, double p0, double v0, double p1) {
           (6 * c3 * tau + 12 * c4 * t2 + 20 * c5 * t3) / (T * T)};
 }
 }  // namespace
+
+struct HoppingReference::Scratch {
+  explicit Scratch(const MultibodyModel& model) : ws(model), A_G(6, model.nv()) {}
+  MultibodyWorkspace ws;
+  Eigen::MatrixXd A_G;
+};
+
+std::any HoppingReference::AllocateScratch() const { return Scratch(*model_); }
+
+double HoppingReference::HipPerPitch(const Eigen::VectorXd& q, int leg) const {
+  // (dθ_sole/dθ_base) / (dθ_sole/dq_hip): the hip turn that keeps the sole's world pitch when the pelvis pitches.
+  const double h = 1e-6, base = SolePitch(q, contact_[leg]);
+  Eigen::VectorXd dq = q;
+  dq[model_->VelocityIndex("base_pitch")] += h;
+  const double per_base = (SolePitch(dq, contact_[leg]) - base) / h;
+  dq = q;
+  dq[hip_pitch_[leg]] += h;
+  const double per_hip = (SolePitch(dq, contact_[leg]) - base) / h;
+  return std::abs(per_hip) > 1e-9 ? per_base / per_hip : 0.0;
+}
 
 HoppingReference::HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
                                    LandingPlanner landing_planner, HoppingOutputLayout layout, HoppingReferenceParams params)
@@ -51,7 +72,7 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   const std::string* shins[2] = {&params_.left_shin, &params_.right_shin};
   const std::string* tarsi[2] = {&params_.left_tarsus, &params_.right_tarsus};
   const std::string* toes[2] = {&params_.left_toe, &params_.right_toe};
-  const std::string* hips[2] = {&params_.left_hip_pitch_link, &params_.right_hip_pitch_link};
+  const std::string* hips[2] = {&params_.left_hip_pitch_link, &params_.right_hip_pitch_link};  // link and joint share the name
   const std::string* feet[2] = {&params_.left_toe_link, &params_.right_toe_link};
   try {
     for (int leg = 0; leg < 2; ++leg) {
@@ -59,6 +80,11 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
       shin_[leg] = model_->VelocityIndex(*shins[leg]);
       tarsus_[leg] = model_->VelocityIndex(*tarsi[leg]);
       toe_[leg] = model_->VelocityIndex(*toes[leg]);
+      hip_pitch_[leg] = model_->VelocityIndex(*hips[leg]);
+      hip_actuator_[leg] = -1;
+      for (int i = 0; i < model_->nu(); ++i)
+        if (model_->actuators()[i].v_index == hip_pitch_[leg]) hip_actuator_[leg] = i;
+      if (hip_actuator_[leg] < 0) throw std::invalid_argument("joint '" + *hips[leg] + "' has no actuator");
       hip_link_[leg] = model_->BodyIndex(*hips[leg]);
       toe_link_[leg] = model_->BodyIndex(*feet[leg]);
       contact_[leg] = model_->ContactIndex(leg == 0 ? params_.left_contact : params_.right_contact);
@@ -198,6 +224,7 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
   }
   Eigen::Vector3d L(xd[kHoldL], 0.0, 0.0);
   if (domain == kJump) {
+    set(kPitch, {xd[kJumpPitch], xd[kJumpPitchRate], 0.0});
     const int o = jump_plan_offset_;
     L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
   } else if (xd[kHopsDone] > 0) {  // landing after a hop (before the first hop: settle at the held length)
@@ -212,6 +239,23 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
 
 EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const Eigen::VectorXd& xd = context.discrete_state();
+  if (static_cast<int>(xd[kDomain]) == kJump && params_.jump_momentum_gain > 0.0) {
+    // Jump pitch reference from the centroidal pitch momentum (ours, in place of the H_pitch output of Eq. (41)): the
+    // pelvis is asked to turn at the rate that cancels H_pitch, θ̇_d = θ̇ − k H_pitch / I_p, with I_p = ∂H_pitch/∂θ̇ along
+    // "pelvis pitches, hips turn back, legs keep their world angle"; θ_d integrates θ̇_d. The pelvis pitch stays an
+    // RD2 output (its position anchored), which keeps the closed loop stable where H_pitch as an RD1 output is not.
+    Scratch& s = context.scratch<Scratch>();
+    const Eigen::VectorXd& x = EvalInput(context, state_port_);
+    const int nv = model_->nv(), pitch = model_->VelocityIndex("base_pitch");
+    CalcCentroidalMomentumMatrix(*model_, s.ws, x.head(nv), s.A_G);
+    const double H = s.A_G.row(1).dot(x.tail(nv));
+    double I_p = s.A_G(1, pitch);
+    for (int leg = 0; leg < 2; ++leg) I_p -= xd[kJumpHipPerPitch + leg] * s.A_G(1, hip_pitch_[leg]);
+    const double rate = std::abs(I_p) > 1e-6 ? x[nv + pitch] - params_.jump_momentum_gain * H / I_p : 0.0;
+    (*next)[kJumpPitchRate] = rate;
+    (*next)[kJumpPitch] = xd[kJumpPitch] + params_.update_period_s * rate;
+    return EventStatus::Succeeded();
+  }
   if (static_cast<int>(xd[kDomain]) != kLanding || xd[kHopsDone] >= params_.hops) return EventStatus::Succeeded();
   const double wait = xd[kHopsDone] == 0 ? params_.settle_time_s : params_.rest_time_s;
   if (context.time() - xd[kDomainStart] < wait - 1e-12) return EventStatus::Succeeded();
@@ -231,6 +275,9 @@ EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::
     return EventStatus::Failed(e.what());
   }
   (*next)[kJumpPlans] += 1.0;
+  (*next)[kJumpPitch] = q[model_->VelocityIndex("base_pitch")];
+  (*next)[kJumpPitchRate] = 0.0;
+  for (int leg = 0; leg < 2; ++leg) (*next)[kJumpHipPerPitch + leg] = HipPerPitch(q, leg);
   (*next)[kDomain] = kJump;
   (*next)[kDomainStart] = context.time();
   SnapshotSupport(q, next);

@@ -5,7 +5,8 @@
 // inputs:  state (2 nv)        plant [q; v]
 //          mode (int, typed)   plant contact mode (ContactModeGraph::JumpFlightLanding order: jump, flight, landing)
 // outputs: desired (3·ny)      [y_d; ẏ_d; ÿ_d] in the HoppingOutputLayout given (diagrams/hopping/hopping_outputs.h):
-//            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start
+//            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start;
+//                     pitch (when Jump tracks the pelvis pitch): θ_d, θ̇_d from the centroidal pitch momentum (below)
 //            flight:  motors = their positions at lift-off, toes corrected so the soles stay level once the springs
 //                     unload (see below)
 //            landing: L_L = L_R = L_plan(t − t_touchdown); COM x: quintic from its post-impact value and rate to the
@@ -24,6 +25,12 @@
 // business). A planner that fails is counted on plan_status and its plan replaced by the documented fallback: jump:
 // the run cannot hop, the domain stays landing and the block reports failure through EventStatus::Failed; landing: a
 // quintic from the post-impact leg length to the standing leg length over landing_fallback_s.
+//
+// Jump pitch reference (ours; used when the Jump outputs track the pelvis pitch instead of H_pitch, Eq. (41)): every
+// period θ̇_d = θ̇ − k H_pitch / I_p and θ_d += T θ̇_d, with I_p = ∂H_pitch/∂θ̇ along "the pelvis pitches, the hips turn
+// back so the soles keep their world pitch" (hip ratio from finite differences at the start of Jump). The pelvis thus
+// turns against the legs' angular momentum, so H_pitch at lift-off is smaller, while its pitch stays an RD2 output
+// (H_pitch itself as the RD1 output gives the closed loop an unstable mode, see diagrams/hopping/hopping_diagram.h).
 //
 // Flight toe targets: holding the motors keeps the soles level while the pelvis pitch holds, except that the shin and
 // heel springs unload in flight, which turns the tarsus back onto the rigid rule q_knee + q_tarsus = c (c from the
@@ -67,6 +74,8 @@ struct HoppingReferenceParams {
   double landing_blend_s = 0.3;        ///< [s] COM x and pitch quintics after touchdown (spec [R] C10: 0.3 s)
   double landing_fallback_s = 0.5;     ///< [s] fallback landing quintic (ours)
   int max_plan_nodes = 201;            ///< nodes a plan may have
+  /// k [-] of the Jump pitch reference θ̇_d = θ̇ − k H_pitch / I_p (see PeriodicUpdate; ours); 0: hold the pitch.
+  double jump_momentum_gain = 2.0;
   std::string left_knee = "left_knee", right_knee = "right_knee";
   std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";
   std::string left_tarsus = "left_tarsus", right_tarsus = "right_tarsus";
@@ -108,6 +117,9 @@ class HoppingReference final : public LeafSystem {
   void WritePlan(int offset, const LegLengthPlan& plan, Eigen::VectorXd* xd) const;
   void SnapshotSupport(const Eigen::VectorXd& q, Eigen::VectorXd* xd) const;
   double SolePitch(const Eigen::VectorXd& q, int contact) const;
+  double HipPerPitch(const Eigen::VectorXd& q, int leg) const;
+  struct Scratch;
+  std::any AllocateScratch() const override;
 
   std::shared_ptr<const MultibodyModel> model_;
   LegLengthFunction leg_length_;
@@ -115,7 +127,7 @@ class HoppingReference final : public LeafSystem {
   LandingPlanner landing_planner_;
   HoppingOutputLayout layout_;
   HoppingReferenceParams params_;
-  int knee_[2], shin_[2], tarsus_[2], toe_[2], hip_link_[2], toe_link_[2], contact_[2];
+  int hip_pitch_[2], hip_actuator_[2], knee_[2], shin_[2], tarsus_[2], toe_[2], hip_link_[2], toe_link_[2], contact_[2];
   double rigid_knee_plus_tarsus_ = 0;
   int jump_plan_offset_ = 0, landing_plan_offset_ = 0, size_ = 0;
   int state_port_ = -1, mode_port_ = -1;

@@ -1,11 +1,14 @@
 // LegLengthTable (the tabulated Eq. (13) the hopping controller evaluates every tick) against the hopping spec's
 // independently derived L(q_knee) table (shared/specs/hopping.md A1.3: L to 1 mm, dL/dq_knee to 1e-3 m/rad), and
-// ToLegLengthPlan against the plan it converts.
+// ToLegLengthPlan against the plan it converts; the landing planner's start state when the measured leg length is
+// outside the NLP's bounds (the spring deflection s = L − x, hence the ROM's ground force, is the measured one), and a
+// landing planner that cannot be built fails with a message instead of throwing.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "diagrams/hopping/hopping_plans.h"
+#include "systems/rom/cassie_leg_stiffness.h"
 
 namespace rome {
 namespace {
@@ -45,6 +48,34 @@ TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
   EXPECT_NEAR(mid[0], 0.85, 1e-12);
   EXPECT_NEAR(mid[1], 0.5, 1e-12);
   EXPECT_EQ(HoppingReference::Evaluate(p.t, p.L, p.Ldot, 3, 0.5), Eigen::Vector3d(0.9, 0.0, 0.0));  // held after T
+}
+
+TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection) {
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json");
+  const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
+  const SpringMassLandingParams params;
+  auto records = std::make_shared<std::vector<PlannerRecord>>();
+  auto rest = std::make_shared<double>(0.85);
+  auto planner = MakeSpringMassLandingPlanner(rom, params, records, rest);
+  // Post-impact: knees extended 4 cm beyond the NLP's max leg length, springs nearly unloaded (s = 5 mm), falling.
+  const RomState post{0.955, -1.5, params.max_leg_length + 0.04, 0.0};
+  LegLengthPlan plan;
+  std::string message;
+  ASSERT_TRUE(planner(post, &plan, &message)) << message;
+  const SpringMassPlan& p = records->back().plan;
+  EXPECT_NEAR(p.states(2, 0), params.max_leg_length, 1e-9);
+  EXPECT_NEAR(p.states(2, 0) - p.states(0, 0), post.L - post.x, 1e-9);  // s as measured
+  EXPECT_NEAR(p.states(1, 0), post.xdot, 1e-9);
+  // Hence the plan's first ground force is the measured spring force n (K s + D ṡ) (positive), not the large negative
+  // one of s = −3.5 cm that clamping L alone gave.
+  const double L0 = params.max_leg_length, s0 = post.L - post.x, sdot0 = post.Ldot - post.xdot;
+  const double expected = rom.n_legs * (rom.leg.stiffness.Evaluate(L0) * s0 + rom.leg.damping.Evaluate(L0) * sdot0);
+  EXPECT_GT(expected, 0.0);
+  EXPECT_NEAR(p.LegForce(rom, 0.0), expected, 1e-6 * std::abs(expected));
+
+  auto no_rest = MakeSpringMassLandingPlanner(rom, params, records, std::make_shared<double>(0.0));
+  EXPECT_FALSE(no_rest(post, &plan, &message));
+  EXPECT_NE(message.find("rest_height"), std::string::npos) << message;
 }
 
 }  // namespace
