@@ -65,7 +65,7 @@ struct ClfQpController::Scratch {
     DenseQpSolver qp;
     Eigen::LLT<Eigen::MatrixXd> llt;
     Eigen::MatrixXd MinvJT, Lambda, Av, JMinvB, Q, Aout, WAout, Gc;
-    Eigen::VectorXd bv, stab, Lf, w, eta, Peta, LGV, clf_row, lc, uc, F, drift;
+    Eigen::VectorXd bv, stab, Lf, w, eta, Peta, LGV, clf_row, lc, uc, F, drift, pd_shift;
   };
   explicit Scratch(const MultibodyModel& model) : ws(model) {}
   MultibodyWorkspace ws;
@@ -243,6 +243,7 @@ std::any ClfQpController::AllocateScratch() const {
     mq.Aout.setZero(mq.nout, nx);
     mq.WAout.setZero(mq.nout, nx);
     mq.Lf.setZero(mq.nout);
+    mq.pd_shift.setZero(mq.nout);  // nonzero only on relative-degree-2 CLF rows with params.cost_pd_feedback
     mq.w.setZero(mq.nout);
     mq.eta.setZero(mq.o1 + 2 * mq.o2);
     mq.Peta.setZero(mq.o1 + 2 * mq.o2);
@@ -363,14 +364,12 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     mq.eta.segment(e, n) = s.y.segment(off, n) - desired.segment(off, n);
     mq.eta.segment(e + mq.o2, n).noalias() = s.Jy.middleRows(off, n) * v;
     mq.eta.segment(e + mq.o2, n) -= desired.segment(ny_ + off, n);
+    // The CLF row needs μ = ÿ − ÿ_d; with params.cost_pd_feedback the cost's target is ÿ* = ÿ_d + pd_shift instead.
     if (params_.cost_pd_feedback) {
-      // ÿ* = ÿ_d − Kp e − Kd ė into s.y's rows (y is not needed after η).
       const TaskGains& gains = o.rd2->gains();
-      s.y.segment(off, n) = desired.segment(2 * ny_ + off, n) - gains.kp * mq.eta.segment(e, n) - gains.kd * mq.eta.segment(e + mq.o2, n);
-      add_rows(off, n, o.weight(), s.y.segment(off, n));
-    } else {
-      add_rows(off, n, o.weight(), desired.segment(2 * ny_ + off, n));
+      mq.pd_shift.segment(r, n) = -gains.kp * mq.eta.segment(e, n) - gains.kd * mq.eta.segment(e + mq.o2, n);
     }
+    add_rows(off, n, o.weight(), desired.segment(2 * ny_ + off, n));
     e += n;
   }
   // Cost-only outputs: target ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d) (s.y, s.Jdv rows as scratch for ÿ*).
@@ -393,6 +392,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     mq.WAout.noalias() = mq.w.asDiagonal() * mq.Aout;
     qp.H.noalias() = mq.Aout.transpose().lazyProduct(mq.WAout);
     qp.g.noalias() = mq.WAout.transpose() * mq.Lf;
+    if (params_.cost_pd_feedback) qp.g.noalias() -= mq.WAout.transpose() * mq.pd_shift;
   }
   const double scale = reg_scale > 0.0 ? reg_scale : 1.0;
   qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
