@@ -29,7 +29,8 @@
 // F, G of Eq. (26), P from the CARE Fᵀ P + P F − P G Gᵀ P + Q = 0 (Q = I), V = ηᵀ P_ε η, P_ε = I_ε P I_ε,
 // γ = λ_min(Q)/λ_max(P) (params.gamma > 0 overrides). CLF row (Eq. (36)-(37)):
 //   L_G V 𝒜 x ≤ −(γ/ε) V − L_F V − L_G V L_f + δ,   normalised by 1 + ||L_G V 𝒜||.
-// QP:  minimise  ½ ||W (𝒜 x + L_f)||² + ½ ρ_u s ||u||² + ½ p δ²     (s: largest diagonal of 𝒜ᵀW𝒜 on u)
+// QP:  minimise  ½ ||W (𝒜 x + L_f − σ)||² + ½ ρ_u s ||u||² + ½ p δ²     (s: largest diagonal of 𝒜ᵀW𝒜 on u;
+//      σ = −Kp e − Kd ė on the RD2 CLF rows with params.cost_pd_feedback, else 0; the CLF row always uses L_f)
 //      subject to the CLF row, the contact-wrench rows of every active contact (contact_wrench_constraints.h),
 //      the force band (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref (optional), torque limits, δ ≥ 0.
 // Two formulations (params.formulation), the same QP in two coordinates, so they give the same torques:
