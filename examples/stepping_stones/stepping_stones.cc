@@ -146,6 +146,9 @@ int main(int argc, char** argv) {
       .Option("clf-cone-offset", "default", "[N] CLF-QP: apex of the friction pyramid, |F_t| <= mu' (F_z - offset) (default: the diagram's)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
       .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
+      .Option("clf-cost-only", "default", "CLF-QP: comma-separated outputs kept out of the CLF and tracked in the cost with their PD gains (e.g. torso_pitch), or none (default: the diagram's)")
+      .Option("clf-hold-drift", "default", "on | off: CLF-QP: also keep the wrench rows at the force predicted at the end of the held sample (default: the diagram's)")
+      .Option("clf-cost-pd", "default", "on | off: CLF-QP: the cost tracks each output's PD target (task gains) instead of its feedforward (default: the diagram's)")
       .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
       .Option("unilateral-contact", "on", "on | off: the plant's stance feet lift off at F_n = 0 and a slip fails the run (off: welded feet, as before)")
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
@@ -214,6 +217,23 @@ int main(int argc, char** argv) {
       params.clf_controller.update_period_s = 1.0 / rate;
     }
     if (cli.Get("clf-cone-offset") != "default") params.clf_controller.contact.friction_cone_offset_N = cli.GetDouble("clf-cone-offset");
+    if (cli.Get("clf-cost-only") == "none") {
+      params.clf_controller.cost_only_outputs.clear();
+    } else if (cli.Get("clf-cost-only") != "default") {
+      params.clf_controller.cost_only_outputs.clear();
+      std::stringstream names(cli.Get("clf-cost-only"));
+      for (std::string name; std::getline(names, name, ',');) params.clf_controller.cost_only_outputs.push_back(name);
+    }
+    if (cli.Get("clf-hold-drift") != "default") {
+      if (cli.Get("clf-hold-drift") != "on" && cli.Get("clf-hold-drift") != "off")
+        throw std::invalid_argument("stepping_stones: --clf-hold-drift must be 'on', 'off' or 'default', got '" + cli.Get("clf-hold-drift") + "'");
+      params.clf_controller.predict_hold_drift = cli.Get("clf-hold-drift") == "on";
+    }
+    if (cli.Get("clf-cost-pd") != "default") {
+      if (cli.Get("clf-cost-pd") != "on" && cli.Get("clf-cost-pd") != "off")
+        throw std::invalid_argument("stepping_stones: --clf-cost-pd must be 'on', 'off' or 'default', got '" + cli.Get("clf-cost-pd") + "'");
+      params.clf_controller.cost_pd_feedback = cli.Get("clf-cost-pd") == "on";
+    }
     SteppingStonesControllerFactory controller;
     if (cli.Get("controller") == "clf-qp")
       controller = ClfQpControllerFactory(params);

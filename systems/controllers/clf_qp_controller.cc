@@ -55,13 +55,17 @@ struct ClfQpController::Scratch {
     std::vector<ContactWrenchConstraints> wrench;
     std::vector<int> force_offset, ineq_offset;
     int band_offset = -1;
-    std::vector<int> rd1, rd2;  // active outputs
-    int o1 = 0, o2 = 0, nout = 0, nx = 0, delta = 0;
+    int drift_offset = -1;      // first hold-drift row (params.predict_hold_drift), the wrench rows again
+    Eigen::VectorXd F_prev;     // planned constraint forces of the last solve in this mode, and its time
+    double t_prev = -kInf;
+    bool prev_valid = false;
+    std::vector<int> rd1, rd2, soft;  // active outputs: CLF (relative degree 1, 2), cost-only
+    int o1 = 0, o2 = 0, os = 0, nout = 0, nx = 0, delta = 0;
     std::vector<int> zero_u;
     DenseQpSolver qp;
     Eigen::LLT<Eigen::MatrixXd> llt;
     Eigen::MatrixXd MinvJT, Lambda, Av, JMinvB, Q, Aout, WAout, Gc;
-    Eigen::VectorXd bv, stab, Lf, w, eta, Peta, LGV, clf_row, lc, uc, F;
+    Eigen::VectorXd bv, stab, Lf, w, eta, Peta, LGV, clf_row, lc, uc, F, drift, pd_shift;
   };
   explicit Scratch(const MultibodyModel& model) : ws(model) {}
   MultibodyWorkspace ws;
@@ -86,6 +90,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   if (!(params_.u_regularization >= 0.0)) ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
   if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
     ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
+  if (params_.predict_hold_drift && params_.formulation != ClfQpFormulation::kEliminateContactForces)
+    ThrowError("params.predict_hold_drift needs formulation kEliminateContactForces");
   if (!(params_.contact.friction_margin > 0.0 && params_.contact.friction_margin <= 1.0))
     ThrowError("params.contact.friction_margin = " + std::to_string(params_.contact.friction_margin) + " must be in (0, 1]");
   for (size_t i = 0; i < outputs_.size(); ++i) {
@@ -97,6 +103,13 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
     for (int m : modes)
       if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
         ThrowError("output '" + o.name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
+  }
+  cost_only_.assign(outputs_.size(), false);
+  for (const std::string& name : params_.cost_only_outputs) {
+    const auto it = std::find_if(outputs_.begin(), outputs_.end(), [&](const ClfOutput& o) { return o.name() == name; });
+    if (it == outputs_.end()) ThrowError("params.cost_only_outputs names '" + name + "', which is not an output of this controller");
+    if (!it->rd2) ThrowError("params.cost_only_outputs names '" + name + "', a relative-degree-1 output; only relative-degree-2 outputs (with PD gains) may be cost-only");
+    cost_only_[it - outputs_.begin()] = true;
   }
   u_max_ = ResolveTorqueLimits(*model_, params_.torque_limits, this->name());
   zero_torque_ = ZeroTorqueActuatorsPerMode(*model_, mode_contacts_, params_.zero_torque_in_contact, this->name());
@@ -115,8 +128,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
       ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what());
     }
     int o1 = 0, o2 = 0;
-    for (const ClfOutput& o : outputs_)
-      if (o.IsActiveIn(static_cast<int>(m))) (o.rd1 ? o1 : o2) += o.size();
+    for (size_t i = 0; i < outputs_.size(); ++i)
+      if (outputs_[i].IsActiveIn(static_cast<int>(m)) && !cost_only_[i]) (outputs_[i].rd1 ? o1 : o2) += outputs_[i].size();
     ModeClf clf;
     if (o1 + o2 > 0) {
       MakeOutputDynamics(o1, o2, &clf.F, &clf.G);
@@ -183,6 +196,11 @@ std::any ClfQpController::AllocateScratch() const {
     }
     const int band_offset = params_.force_band ? ineq : -1;
     if (params_.force_band) ineq += static_cast<int>(wrench.size());
+    int drift_offset = -1;
+    if (params_.predict_hold_drift && !wrench.empty()) {
+      drift_offset = ineq;
+      for (const ContactWrenchConstraints& cw : wrench) ineq += cw.num_rows();
+    }
     const int nx = nu + (augmented ? rows : 0) + 1;
     Scratch::ModeQp mq(nx, augmented ? rows : 0, ineq, params_.qp);
     mq.active = active;
@@ -191,12 +209,18 @@ std::any ClfQpController::AllocateScratch() const {
     mq.force_offset = std::move(force_offset);
     mq.ineq_offset = std::move(ineq_offset);
     mq.band_offset = band_offset;
+    mq.drift_offset = drift_offset;
+    mq.F_prev.setZero(std::max(rows, 1));
+    mq.drift.setZero(std::max(rows, 1));
     mq.nx = nx;
     mq.delta = nx - 1;
     mq.zero_u = zero_torque_[m];
     for (size_t i = 0; i < outputs_.size(); ++i)
       if (outputs_[i].IsActiveIn(static_cast<int>(m))) {
-        if (outputs_[i].rd1) {
+        if (cost_only_[i]) {
+          mq.soft.push_back(static_cast<int>(i));
+          mq.os += outputs_[i].size();
+        } else if (outputs_[i].rd1) {
           mq.rd1.push_back(static_cast<int>(i));
           mq.o1 += outputs_[i].size();
         } else {
@@ -204,7 +228,7 @@ std::any ClfQpController::AllocateScratch() const {
           mq.o2 += outputs_[i].size();
         }
       }
-    mq.nout = mq.o1 + mq.o2;
+    mq.nout = mq.o1 + mq.o2 + mq.os;
     // Sized (and its status set) here, so the per-update compute() on the same size allocates nothing. (LLT(size)
     // leaves its status uninitialised, which a move would read.)
     mq.llt.compute(Eigen::MatrixXd::Identity(rows, rows));
@@ -219,6 +243,7 @@ std::any ClfQpController::AllocateScratch() const {
     mq.Aout.setZero(mq.nout, nx);
     mq.WAout.setZero(mq.nout, nx);
     mq.Lf.setZero(mq.nout);
+    mq.pd_shift.setZero(mq.nout);  // nonzero only on relative-degree-2 CLF rows with params.cost_pd_feedback
     mq.w.setZero(mq.nout);
     mq.eta.setZero(mq.o1 + 2 * mq.o2);
     mq.Peta.setZero(mq.o1 + 2 * mq.o2);
@@ -250,6 +275,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   Scratch& s = context.scratch<Scratch>();
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
+  const bool same_mode = s.last_mode == mode;
   s.last_mode = mode;
   MultibodyWorkspace& ws = s.ws;
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
@@ -291,6 +317,15 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
       mq.Q = s.MinvB;
       mq.Q.noalias() += mq.MinvJT.lazyProduct(mq.Av);
       s.qdd0.noalias() += mq.MinvJT * mq.bv;
+      // Hold drift: F(x_k, u_{k-1}) − F(x_{k-1}, u_{k-1}), per update period (0 without a previous solve in this mode).
+      mq.drift.head(rows).setZero();
+      const double dt = context.time() - mq.t_prev;
+      if (params_.predict_hold_drift && mq.prev_valid && same_mode && dt > 0.25 * params_.update_period_s &&
+          dt < 1.5 * params_.update_period_s) {
+        mq.drift.head(rows) = mq.bv - mq.F_prev.head(rows);
+        mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
+        mq.drift.head(rows) *= params_.update_period_s / dt;
+      }
     }
   } else {
     mq.Q = s.MinvB;
@@ -329,8 +364,25 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     mq.eta.segment(e, n) = s.y.segment(off, n) - desired.segment(off, n);
     mq.eta.segment(e + mq.o2, n).noalias() = s.Jy.middleRows(off, n) * v;
     mq.eta.segment(e + mq.o2, n) -= desired.segment(ny_ + off, n);
-    e += n;
+    // The CLF row needs μ = ÿ − ÿ_d; with params.cost_pd_feedback the cost's target is ÿ* = ÿ_d + pd_shift instead.
+    if (params_.cost_pd_feedback) {
+      const TaskGains& gains = o.rd2->gains();
+      mq.pd_shift.segment(r, n) = -gains.kp * mq.eta.segment(e, n) - gains.kd * mq.eta.segment(e + mq.o2, n);
+    }
     add_rows(off, n, o.weight(), desired.segment(2 * ny_ + off, n));
+    e += n;
+  }
+  // Cost-only outputs: target ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d) (s.y, s.Jdv rows as scratch for ÿ*).
+  for (int i : mq.soft) {
+    const ClfOutput& o = outputs_[i];
+    const int off = offsets_[i], n = o.size();
+    const TaskGains& gains = o.rd2->gains();
+    o.rd2->Calc(model, ws, q, v, s.y.segment(off, n), s.Jy.middleRows(off, n), s.Jdv.segment(off, n));
+    // ÿ* into s.y's rows (y is not needed after this).
+    s.y.segment(off, n) = desired.segment(2 * ny_ + off, n) - gains.kp * (s.y.segment(off, n) - desired.segment(off, n));
+    s.y.segment(off, n).noalias() -= gains.kd * (s.Jy.middleRows(off, n) * v);
+    s.y.segment(off, n) += gains.kd * desired.segment(ny_ + off, n);
+    add_rows(off, n, o.weight(), s.y.segment(off, n));
   }
 
   // Cost ½||W^½(Aout x + L_f)||² + ½ ρ s ||u||² + ½ p δ².
@@ -340,6 +392,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     mq.WAout.noalias() = mq.w.asDiagonal() * mq.Aout;
     qp.H.noalias() = mq.Aout.transpose().lazyProduct(mq.WAout);
     qp.g.noalias() = mq.WAout.transpose() * mq.Lf;
+    if (params_.cost_pd_feedback) qp.g.noalias() -= mq.WAout.transpose() * mq.pd_shift;
   }
   const double scale = reg_scale > 0.0 ? reg_scale : 1.0;
   qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
@@ -354,7 +407,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   }
 
   // CLF row (Eq. (36)-(37)): L_G V Aout x − δ ≤ −(γ/ε) V − L_F V − L_G V L_f, normalised.
-  if (mq.nout > 0) {
+  if (mq.o1 + mq.o2 > 0) {
     const ModeClf& clf = clf_[mode];
     mq.Peta.noalias() = clf.P_epsilon * mq.eta;
     const double V = mq.eta.dot(mq.Peta);
@@ -362,7 +415,8 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     const double LFV = 2.0 * mq.Peta.segment(mq.o1, mq.o2).dot(mq.eta.tail(mq.o2));
     // L_G V = 2 ηᵀ P_ε G: G picks the y1 and ẏ2 slots.
     mq.LGV.head(mq.o1) = 2.0 * mq.Peta.head(mq.o1);
-    mq.LGV.tail(mq.o2) = 2.0 * mq.Peta.tail(mq.o2);
+    mq.LGV.segment(mq.o1, mq.o2) = 2.0 * mq.Peta.tail(mq.o2);
+    mq.LGV.tail(mq.os).setZero();  // cost-only rows are not in V
     mq.clf_row.noalias() = mq.Aout.transpose() * mq.LGV;
     mq.clf_row[mq.delta] = -1.0 / std::sqrt(params_.relaxation_weight);
     const double rhs = -clf.convergence_rate * V - LFV - mq.LGV.dot(mq.Lf);
@@ -393,6 +447,16 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
         const double shift = G.row(i).dot(mq.bv.segment(fo, nf));
         qp.l[io + i] = mq.lc[i] - shift;
         qp.u[io + i] = mq.uc[i] - shift;
+      }
+      if (mq.drift_offset >= 0) {
+        // The same rows on F(u) + d (see params.predict_hold_drift).
+        const int dro = mq.drift_offset + (io - mq.ineq_offset[0]);
+        qp.A.middleRows(dro, nr) = A;
+        for (int i = 0; i < nr; ++i) {
+          const double shift = G.row(i).dot(mq.drift.segment(fo, nf));
+          qp.l[dro + i] = qp.l[io + i] - shift;
+          qp.u[dro + i] = qp.u[io + i] - shift;
+        }
       }
     }
     if (force_ref != nullptr) {
@@ -433,6 +497,9 @@ void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool
   DenseQpSolver& qp = mq.qp;
   if (!band && mq.band_offset >= 0)
     for (size_t k = 0; k < mq.wrench.size(); ++k) qp.l[mq.band_offset + k] = -kInf, qp.u[mq.band_offset + k] = kInf;
+  if (!band && mq.drift_offset >= 0)
+    for (int i = mq.drift_offset; i < mq.drift_offset + mq.ineq_offset.back() + mq.wrench.back().num_rows() - mq.ineq_offset[0]; ++i)
+      qp.l[i] = -kInf, qp.u[i] = kInf;
   if (!cop)
     for (size_t k = 0; k < mq.wrench.size(); ++k)
       for (int i = 0; i < mq.wrench[k].num_rows(); ++i)
@@ -452,8 +519,8 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   Scratch::ModeQp& mq = s.modes[s.last_mode];
   if (status != QpStatus::kOptimal && status != QpStatus::kInvalidInput) {
     (*next)[failures_offset()] += 1.0;
-    // Fallback 1: drop the force band; 2: also drop the CoP rows (each counted); else hold the previous u.
-    if (mq.band_offset >= 0) {
+    // Fallback 1: drop the force band and the hold-drift rows; 2: also drop the CoP rows (each counted); else hold the previous u.
+    if (mq.band_offset >= 0 || mq.drift_offset >= 0) {
       SetRowsEnabled(context, false, true);
       status = mq.qp.Solve();
       (*next)[fallbacks_offset()] += 1.0;
@@ -474,12 +541,16 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   }
   (*next)[status_offset()] = static_cast<double>(status);
   if (status != QpStatus::kOptimal) {
+    mq.prev_valid = false;
     (*next)[fallbacks_offset() + 2] += 1.0;
     if (status == QpStatus::kInvalidInput) (*next)[failures_offset()] += 1.0;
     return EventStatus::Succeeded();  // hold the previous u
   }
   const Eigen::VectorXd& x = mq.qp.x();
   next->segment(u_offset(), nu) = x.head(nu);
+  mq.F_prev = mq.F;  // the applied u's planned forces, for the next update's hold drift
+  mq.t_prev = context.time();
+  mq.prev_valid = true;
   (*next)[delta_offset()] = x[mq.delta] / std::sqrt(params_.relaxation_weight);
   (*next)[V_offset()] = mq.eta.size() > 0 ? mq.eta.dot(mq.Peta) : 0.0;
   auto forces = next->segment(forces_offset(), 3 * nc);

@@ -23,12 +23,14 @@
 // (params.update_period_s) and by an event update at the guard events params.resolve_at selects (default: every
 // guard event), so the new contact mode's torque acts from the event instant on.
 //
-// Output dynamics (Eq. (24)): μ = [ẏ1 − ẏ1_d; ÿ2 − ÿ2_d] = 𝒜 x + L_f, affine in the decision variables x.
-// RES-CLF (Eq. (26)-(33)): η = [y1 − y1_d; y2 − y2_d; ẏ2 − ẏ2_d] over the outputs active in the mode,
+// Output dynamics (Eq. (24)): μ = [ẏ1 − ẏ1_d; ÿ2 − ÿ2_d; ÿs − ÿs*] = 𝒜 x + L_f, affine in the decision variables x
+// (ys: the cost-only outputs of params.cost_only_outputs, ÿs* = ÿs_d − Kp es − Kd ės; none by default).
+// RES-CLF (Eq. (26)-(33)): η = [y1 − y1_d; y2 − y2_d; ẏ2 − ẏ2_d] over the CLF outputs active in the mode,
 // F, G of Eq. (26), P from the CARE Fᵀ P + P F − P G Gᵀ P + Q = 0 (Q = I), V = ηᵀ P_ε η, P_ε = I_ε P I_ε,
 // γ = λ_min(Q)/λ_max(P) (params.gamma > 0 overrides). CLF row (Eq. (36)-(37)):
 //   L_G V 𝒜 x ≤ −(γ/ε) V − L_F V − L_G V L_f + δ,   normalised by 1 + ||L_G V 𝒜||.
-// QP:  minimise  ½ ||W (𝒜 x + L_f)||² + ½ ρ_u s ||u||² + ½ p δ²     (s: largest diagonal of 𝒜ᵀW𝒜 on u)
+// QP:  minimise  ½ ||W (𝒜 x + L_f − σ)||² + ½ ρ_u s ||u||² + ½ p δ²     (s: largest diagonal of 𝒜ᵀW𝒜 on u;
+//      σ = −Kp e − Kd ė on the RD2 CLF rows with params.cost_pd_feedback, else 0; the CLF row always uses L_f)
 //      subject to the CLF row, the contact-wrench rows of every active contact (contact_wrench_constraints.h),
 //      the force band (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref (optional), torque limits, δ ≥ 0.
 // Two formulations (params.formulation), the same QP in two coordinates, so they give the same torques:
@@ -40,7 +42,7 @@
 // α, β come from params.contact_stabilization: pass the plant's (HybridContactPlantParams::dynamics).
 //
 // Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
-//   1. drop the force band and re-solve; 2. also drop the centre-of-pressure rows and re-solve; 3. hold the previous u.
+//   1. drop the force band and the hold-drift rows (params.predict_hold_drift) and re-solve; 2. also drop the centre-of-pressure rows and re-solve; 3. hold the previous u.
 // One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
 
 #include <memory>
@@ -123,6 +125,22 @@ struct ClfQpParams {
   bool resolve_at_events = true;   ///< also re-solve at guard events (see the header)
   EventTrigger resolve_at = EventTrigger::AnyGuard();
   QpSettings qp;                   ///< DenseQpSolver tolerances (warm start on by default)
+  /// Names of relative-degree-2 outputs kept out of the RES-CLF (ours; default none): such an output is tracked in the
+  /// cost only, toward ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d) with its task's gains (TaskGains kp [1/s²], kd [1/s]), as
+  /// in a task-space QP. When the torque or friction limits bind, the QP then trades that output's accuracy against
+  /// the others' in its cost instead of spending the limits on keeping V decreasing along it.
+  std::vector<std::string> cost_only_outputs;
+  /// Ours (default off; kEliminateContactForces only): the contact-wrench rows of every active contact are imposed a
+  /// second time on the force predicted at the end of the zero-order hold, F(u) + d, where d is how far the planned
+  /// force drifted with the state over the last held sample at constant u (F(x_k, u_{k−1}) − F(x_{k−1}, u_{k−1}), scaled
+  /// to one update period; 0 after a mode change). A stance force moving quickly toward the friction-pyramid edge keeps
+  /// that margin over the hold, since the plant sees the held u, not the QP's solve instant.
+  bool predict_hold_drift = false;
+  /// Ours (default off): the cost of every relative-degree-2 CLF output targets ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d)
+  /// with its task's gains (as the task-space QP's cost) instead of ÿ_d. With ÿ_d alone, an output's cost weight makes
+  /// correcting its error expensive, so the CLF row decreases V through the cheapest outputs; with the PD target the
+  /// weight ranks the outputs as in a task-space QP, and the CLF row still bounds V̇.
+  bool cost_pd_feedback = false;
 };
 
 class ClfQpController final : public QpControllerSystem {
@@ -144,7 +162,7 @@ class ClfQpController final : public QpControllerSystem {
   const DenseQpSolver& last_qp(const LeafContext& context) const;
   int last_mode(const LeafContext& context) const;
   /// After SolveQp: η, the output Jacobian 𝒜 and drift L_f over the decision variables (rows: active RD1 rows, then
-  /// active RD2 rows), for checks of V̇ = L_F V + L_G V (𝒜 x + L_f).
+  /// active RD2 rows, then active cost-only rows), for checks of V̇ = L_F V + L_G V (𝒜 x + L_f).
   const Eigen::VectorXd& last_eta(const LeafContext& context) const;
   Eigen::Ref<const Eigen::MatrixXd> last_output_matrix(const LeafContext& context) const;
   Eigen::Ref<const Eigen::VectorXd> last_output_drift(const LeafContext& context) const;
@@ -172,6 +190,7 @@ class ClfQpController final : public QpControllerSystem {
   std::shared_ptr<const MultibodyModel> model_;
   std::vector<ContactSet> mode_contacts_;
   std::vector<ClfOutput> outputs_;
+  std::vector<bool> cost_only_;  // per output: params.cost_only_outputs names it
   ClfQpParams params_;
   std::vector<int> offsets_;
   int ny_ = 0;

@@ -6,8 +6,8 @@
 // On every course the plant's own contact forces stay unilateral and inside the friction cone over every integrator
 // step. Parameters: SteppingStonesDiagramParams::ForRobot (tuned on random seeds >= 1000 only); stones the sole + 4 cm
 // long (SteppingStoneLengthFor). Controllers: the task-space QP (TaskSpaceQpControllerFactory) on every course; the
-// CLF-QP (ClfQpControllerFactory) on flat ground, stairs and random seeds 2-8 and 10, where it walks 30 steps within
-// 2 cm, but faster than the planner asks (see ExpectClfWalk); on random courses 7 of 10 (seeds 1, 5, 9 fail). Label slow.
+// CLF-QP (ClfQpControllerFactory) on flat ground, stairs and random seeds 1-8 and 10, where it walks 30 steps within
+// 2 cm, but faster than the planner asks (see ExpectClfWalk); on random courses 9 of 10 (seed 9 slips). Label slow.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -178,10 +178,11 @@ INSTANTIATE_TEST_SUITE_P(PeriodicFootholds, ClfCourses,
                                            Course{"flat_0_8", 0.8, 0.0}, Course{"upstairs", 0.5, 0.2}, Course{"downstairs", 0.4, -0.1}),
                          [](const ::testing::TestParamInfo<Course>& info) { return std::string(info.param.name); });
 
-// Random courses, seeds 1-10: at least 7 of 10 walked with issue 10's criteria. Measured: seeds 1, 5 and 9 fail
-// (seed 1 slips in step 4; seed 5 slips at 4.66 s; seed 9 lands off stone 13 in step 15). The CLF-QP's over-fast gait
-// makes these courses sensitive to round-off: the QP's hot start changed which seeds pass (before it: all but 1 and 9).
-TEST(ClfRandomStones, AtLeastSevenOfTenCourses) {
+// Random courses, seeds 1-10: at least 9 of 10 walked with issue 10's criteria. Measured: seed 9 slips in step 15
+// (t = 4.53 s). With the torso pitch in the CLF (before ForRobot's cost_only_outputs) seeds 1, 5 and 9 failed; the
+// parameters were chosen on seeds 1000-1049 (40 of 50 walked before, 46 after). The CLF-QP's over-fast gait makes
+// these courses sensitive to round-off.
+TEST(ClfRandomStones, AtLeastNineOfTenCourses) {
   int walked = 0;
   for (unsigned seed = 1; seed <= 10; ++seed) {
     RandomSteppingStonesParams p;
@@ -195,7 +196,7 @@ TEST(ClfRandomStones, AtLeastSevenOfTenCourses) {
     walked += ok ? 1 : 0;
     std::printf("  Cassie CLF-QP seed %u: %zu steps, %s\n", seed, r.steps.size(), ok ? "walked" : r.status.ToString().c_str());
   }
-  EXPECT_GE(walked, 7);
+  EXPECT_GE(walked, 9);
 }
 
 }  // namespace

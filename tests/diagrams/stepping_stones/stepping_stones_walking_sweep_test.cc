@@ -62,8 +62,9 @@ TEST(RandomStones, TenCoursesOfThirtyStepsWithoutAFall) {
 }
 
 // The CLF-QP (ClfQpControllerFactory) on the same courses: periodic footholds walk to a periodic orbit; the random
-// courses of seeds 1-10 must be walked with physical contact on at least 9 of 10 (seed 1 ends with a slip at 0.78 s
-// when the stance foot unloads to ~1.5 N under a bang-bang torque; see the README).
+// courses of seeds 1-10 must all be walked with physical contact and every touchdown within 2 cm (measured: at most
+// 0.74 cm). Before DefaultClfParams' PD cost, seed 1 ended with a slip at 0.78 s (the stance foot unloaded to ~1.5 N
+// under a bang-bang torque). Parameters chosen on seeds 1000-1099 only (92 of 100 walked before, 99 after).
 // L+ within 5 % of L_des (measured: up to 3.8 % upstairs) against the task-space QP's 3 %.
 constexpr double kClfMomentumTolerance = 0.05;
 class ClfFlatGround : public ::testing::TestWithParam<double> {};
@@ -83,7 +84,7 @@ TEST(ClfStairs, UpAndDownConvergeToPeriodicOrbits) {
                            "CLF-QP downstairs (0.4, -0.1)", kClfMomentumTolerance);
 }
 
-TEST(ClfRandomStones, NineOfTenCoursesWithPhysicalContact) {
+TEST(ClfRandomStones, AllTenCoursesWithPhysicalContact) {
   int walked = 0;
   SteppingStonesDiagramParams params;
   for (unsigned seed = 1; seed <= 10; ++seed) {
@@ -101,7 +102,7 @@ TEST(ClfRandomStones, NineOfTenCoursesWithPhysicalContact) {
     std::printf("  CLF-QP seed %u: %zu steps, largest foothold error %.2f cm, %s\n", seed, r.steps.size(), 100 * worst,
                 ok ? "walked" : r.status.ToString().c_str());
   }
-  EXPECT_GE(walked, 9);
+  EXPECT_EQ(walked, 10);
 }
 
 // Fig. 6 of the paper: the converged forward speed rises with the orbital energy E* (l = 0.4 m, Fig. 6(b)) and with

@@ -140,6 +140,166 @@ TEST(ClfQpController, TwoLinkArmMeetsTheClfConditionAgainstIndependentDynamics) 
   EXPECT_GE(checked, 8);
 }
 
+// A cost-only output (params.cost_only_outputs) leaves the RES-CLF: P_ε is the closed form of the one CLF output, the
+// CLF condition holds on the shoulder's V alone, and, since the CLF row does not see the elbow's row of the output
+// dynamics, the elbow's acceleration (Bullet's ABA, not the controller's path) is its PD target wherever no torque
+// limit binds: q̈_e = ÿ_d − Kp (q_e − y_d) − Kd (q̇_e − ẏ_d).
+TEST(ClfQpController, CostOnlyOutputTracksItsPdTargetOutsideTheClf) {
+  auto model = LoadTestModel("arm");
+  ClfQpParams params;
+  params.epsilon = 0.1;
+  params.cost_only_outputs = {"elbow"};
+  params.u_regularization = 0.0;  // the QP's optimum is then exactly the PD target
+  const TaskGains elbow_gains{1.0, 144.0, 24.0};
+  ClfQpController controller("clf", model, {0},
+                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
+                              ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow", elbow_gains))},
+                             params);
+  EXPECT_LT((controller.P_epsilon(0) - ClosedFormPEpsilon(1, params.epsilon)).cwiseAbs().maxCoeff(), 1e-8);
+  auto context = controller.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(*model);
+  const Eigen::MatrixXd P = ClosedFormPEpsilon(1, params.epsilon);
+  const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
+  int pd_checked = 0, clf_checked = 0;
+  for (int k = 0; k < 12; ++k) {
+    Eigen::VectorXd q(2), v(2);
+    q << 0.3 + 0.05 * k, -0.2 + 0.04 * k;
+    v << 0.3 - 0.07 * k, 0.1 * std::sin(k);
+    Eigen::VectorXd desired = Eigen::VectorXd::Zero(6);
+    desired << 0.35, 0.1, 0.2, -0.3, 0.5, 1.5;  // y_d, ẏ_d, ÿ_d of (shoulder, elbow)
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    Eigen::VectorXd qdd(2);
+    CalcForwardDynamics(*model, ws, q, v, s.u, Eigen::VectorXd(0), qdd);
+    const Eigen::Vector2d eta(q[0] - desired[0], v[0] - desired[2]), eta_dot(v[0] - desired[2], qdd[0] - desired[4]);
+    const double V = eta.dot(P * eta), Vdot = 2.0 * eta.dot(P * eta_dot);
+    EXPECT_NEAR(s.V, V, 1e-9 * (1.0 + V)) << "V is the shoulder's alone, sample " << k;
+    if (s.delta < 1e-4) {
+      ++clf_checked;
+      EXPECT_LE(Vdot, -rate * V + 1e-4 * (1.0 + V)) << "sample " << k;
+    }
+    if (std::abs(s.u[0]) < 60.0 - 1e-6 && std::abs(s.u[1]) < 40.0 - 1e-6) {
+      ++pd_checked;
+      const double target = desired[5] - elbow_gains.kp * (q[1] - desired[1]) - elbow_gains.kd * (v[1] - desired[3]);
+      EXPECT_NEAR(qdd[1], target, 1e-6 * (1.0 + std::abs(target))) << "sample " << k;
+    }
+  }
+  EXPECT_GE(clf_checked, 8);
+  EXPECT_GE(pd_checked, 8);
+  try {
+    ClfQpParams bad;
+    bad.cost_only_outputs = {"wrist"};
+    ClfQpController("clf", model, {0}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))}, bad);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "system 'clf': params.cost_only_outputs names 'wrist', which is not an output of this controller");
+  }
+}
+
+// params.cost_pd_feedback: where the CLF row is slack (V̇ strictly below −(γ/ε) V, from Bullet's ABA), the QP's optimum
+// is the unconstrained one, every output at its PD target: q̈ = ÿ_d − Kp (q − y_d) − Kd (q̇ − ẏ_d); where it binds the
+// CLF condition holds.
+TEST(ClfQpController, CostPdFeedbackTracksThePdTargetsWhereTheClfRowIsSlack) {
+  auto model = LoadTestModel("arm");
+  ClfQpParams params;
+  params.epsilon = 1.0;
+  params.cost_pd_feedback = true;
+  params.u_regularization = 0.0;
+  const TaskGains gains{1.0, 100.0, 20.0};
+  ClfQpController controller("clf", model, {0},
+                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder", gains)),
+                              ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow", gains))},
+                             params);
+  auto context = controller.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(*model);
+  const Eigen::MatrixXd P = ClosedFormPEpsilon(2, params.epsilon);
+  const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
+  int slack = 0, binding = 0;
+  for (int k = 0; k < 16; ++k) {
+    Eigen::VectorXd q(2), v(2);
+    q << 0.3 + 0.02 * k, -0.2 + 0.03 * k;
+    v << 0.3 * std::cos(k), 0.2 * std::sin(2 * k);
+    Eigen::VectorXd desired = Eigen::VectorXd::Zero(6);
+    desired << 0.35, 0.0, 0.0, 0.0, 0.0, 0.0;
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    Eigen::VectorXd qdd(2);
+    CalcForwardDynamics(*model, ws, q, v, s.u, Eigen::VectorXd(0), qdd);
+    Eigen::VectorXd eta(4), eta_dot(4);
+    eta << q - desired.head(2), v;
+    eta_dot << v, qdd;
+    const double V = eta.dot(P * eta), Vdot = 2.0 * eta.dot(P * eta_dot);
+    if (Vdot < -rate * V - 1e-6 * (1.0 + V)) {
+      ++slack;
+      for (int i = 0; i < 2; ++i) {
+        const double target = -gains.kp * (q[i] - desired[i]) - gains.kd * v[i];
+        EXPECT_NEAR(qdd[i], target, 1e-6 * (1.0 + std::abs(target))) << "sample " << k << ", joint " << i;
+      }
+    } else {
+      ++binding;
+      if (s.delta < 1e-4) {  // else a torque limit binds
+        EXPECT_LE(Vdot, -rate * V + 1e-4 * (1.0 + V)) << "sample " << k;
+      }
+    }
+  }
+  std::printf("  cost PD: %d samples with the CLF row slack, %d binding\n", slack, binding);
+  EXPECT_GE(slack, 4);
+}
+
+// params.predict_hold_drift: AMBER in single support, updated at t = 0 and one period later at the state the plant
+// reaches under the held torque (constrained dynamics, semi-implicit Euler in 10 substeps). The drift d is computed
+// here from the plant's own constrained-dynamics forces, F(x1, u0) − F(x0, u0), not from the controller; the second
+// update's planned force plus d must satisfy the friction pyramid and the normal-force floor.
+TEST(ClfQpController, HoldDriftRowsKeepThePredictedForceInsideThePyramid) {
+  auto model = test::LoadRobot("amber");
+  const Eigen::VectorXd q0 = test::AmberSingleSupportPose(*model);
+  MultibodyWorkspace ws(*model);
+  const ContactSet left = ContactBit(model->ContactIndex("left_foot"));
+  Eigen::VectorXd v0 = Eigen::VectorXd::Zero(model->nv());
+  v0[0] = 0.8, v0[1] = -0.3, v0[3] = 2.0, v0[5] = -3.0;
+  const int rows = CalcConstraintJacobian(*model, ws, q0, v0, left);
+  const Eigen::MatrixXd J = ws.J.topRows(rows);
+  v0 -= J.completeOrthogonalDecomposition().solve(J * v0);
+  const auto tasks = test::AmberWalkingTasks(*model);
+  std::vector<ClfOutput> outputs;
+  for (const auto& t : tasks) outputs.push_back(ClfOutput::RelativeDegreeTwo(t));
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(12);
+  desired.head(4) = test::TaskValues(*model, tasks, q0, v0) + Eigen::Vector4d(0.1, -0.05, 0.08, 0.06);
+  ClfQpParams params;
+  params.predict_hold_drift = true;
+  params.contact.friction_margin = 0.95;
+  params.contact.min_normal_force_N = 2.0;
+  params.contact.friction_cone_offset_N = 1.5;
+  ClfQpController controller("clf", model, {left}, outputs, params);
+  auto context = controller.CreateDefaultLeafContext();
+  const Solved s0 = RunUpdate(controller, *context, Stack(q0, v0), 0, desired);
+  ASSERT_EQ(s0.status, QpStatus::kOptimal);
+  // One held period of the plant.
+  const double T = params.update_period_s;
+  Eigen::VectorXd q = q0, v = v0, qdd(model->nv()), F0(model->max_constraint_rows()), F1(model->max_constraint_rows());
+  CalcConstrainedForwardDynamics(*model, ws, q0, v0, s0.u, left, ConstrainedDynamicsParameters{}, qdd, F0);
+  for (int i = 0; i < 10; ++i) {
+    CalcConstrainedForwardDynamics(*model, ws, q, v, s0.u, left, ConstrainedDynamicsParameters{}, qdd, F1);
+    v += 0.1 * T * qdd;
+    q += 0.1 * T * v;
+  }
+  CalcConstrainedForwardDynamics(*model, ws, q, v, s0.u, left, ConstrainedDynamicsParameters{}, qdd, F1);
+  const Eigen::VectorXd d = F1.head(rows) - F0.head(rows);
+  context->SetTime(T);
+  const Solved s1 = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+  ASSERT_EQ(s1.status, QpStatus::kOptimal);
+  const Eigen::VectorXd predicted = controller.last_constraint_forces(*context) + d;
+  const double mu = 0.95 * model->contacts()[model->ContactIndex("left_foot")].friction_coefficient;
+  // Planar point contact: rows (F_x, F_z).
+  ASSERT_EQ(rows, 2);
+  std::printf("  hold drift d = (%.3f, %.3f) N, planned (%.3f, %.3f) N, predicted |F_x| %.3f <= %.3f\n", d[0], d[1],
+              controller.last_constraint_forces(*context)[0], controller.last_constraint_forces(*context)[1], std::abs(predicted[0]),
+              mu * (predicted[1] - 1.5));
+  EXPECT_GT(d.norm(), 1e-3) << "the state moved over the hold, so the plant's force drifts";
+  EXPECT_GE(predicted[1], 2.0 - 1e-6);
+  EXPECT_LE(std::abs(predicted[0]), mu * (predicted[1] - 1.5) + 1e-6);
+}
+
 // AMBER in single support, the paper's four outputs away from their targets: both formulations give the same torques,
 // and their planned forces are the plant's constrained-dynamics forces for those torques.
 TEST(ClfQpController, FormulationsAgreeAndMatchThePlantsForces) {
