@@ -347,10 +347,13 @@ struct SidecarReader {
 };
 
 // Mass properties of one URDF link in its own frame (inertia about the COM, link axes).
+// A link's mass properties in its link frame. A non-physical <inertia> is not rejected here: it
+// is judged with the body it ends up in (see CheckPhysical below), so `problem` records it.
 struct LinkMass {
   double mass = 0.0;
   Eigen::Vector3d com = Eigen::Vector3d::Zero();
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  std::string problem;  // empty, or why the <inertia> is not physical (with its principal moments)
 };
 
 // One contribution to a body: a link's mass properties expressed in the body frame.
@@ -358,7 +361,48 @@ struct BodyPart {
   double mass;
   Eigen::Vector3d com;
   Eigen::Matrix3d inertia;
+  std::string link;     // URDF link it comes from
+  std::string problem;  // LinkMass::problem
 };
+
+// Why a rotational inertia (about the COM) is not physical, or "" if it is: positive
+// semi-definite and I1 + I2 >= I3 for its principal moments, each within
+// kInertiaRelativeTolerance times its largest principal moment.
+std::string PhysicalInertiaProblem(const Eigen::Matrix3d& inertia) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d l = eig.eigenvalues();  // ascending
+  const double tol = kInertiaRelativeTolerance * l.cwiseAbs().maxCoeff();
+  const bool not_psd = l[0] < -tol;
+  const bool not_triangle = l[0] + l[1] < l[2] - tol;
+  if (!not_psd && !not_triangle) return "";
+  return std::string(not_psd ? "is not positive semi-definite" : "violates the triangle inequality I1 + I2 >= I3") +
+         " (principal moments " + Num3(l) + " kg m^2)";
+}
+
+// Mass, COM and rotational inertia about the COM of parts expressed in one frame (exact;
+// parallel-axis theorem).
+BodyPart CombineParts(const std::vector<BodyPart>& parts) {
+  BodyPart total{0.0, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Zero(), "", ""};
+  if (parts.size() == 1) {
+    total.mass = parts[0].mass;
+    total.com = parts[0].com;
+    total.inertia = parts[0].inertia;
+    return total;
+  }
+  Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();
+  for (const BodyPart& part : parts) {
+    total.mass += part.mass;
+    first_moment += part.mass * part.com;
+  }
+  if (total.mass == 0.0) return total;
+  total.com = first_moment / total.mass;
+  for (const BodyPart& part : parts) {
+    const Eigen::Vector3d d = part.com - total.com;
+    total.inertia += part.inertia + part.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  total.inertia = 0.5 * (total.inertia + total.inertia.transpose()).eval();
+  return total;
+}
 
 }  // namespace
 
@@ -513,26 +557,10 @@ class MultibodyModelLoader {
              (I_in.isZero(0.0) ? "" : " (its nonzero <inertia> is ignored)"));
         return lm;
       }
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I_in);
-      const Eigen::Vector3d l = eig.eigenvalues();  // ascending
-      const double tol = kInertiaRelativeTolerance * l.cwiseAbs().maxCoeff();
-      const bool not_psd = l[0] < -tol;
-      const bool not_triangle = l[0] + l[1] < l[2] - tol;
-      if (not_psd || not_triangle) {
-        const std::string problem =
-            std::string(not_psd ? "is not positive semi-definite" : "violates the triangle inequality I1 + I2 >= I3") +
-            " (principal moments " + Num3(l) + " kg m^2)";
-        if (!options.repair_inertia)
-          throw std::runtime_error(where + ": <inertia> " + problem +
-                                   "; fix it, or repair it with model_info --repair-inertia / LoadOptions::repair_inertia");
-        const Eigen::Vector3d fixed = ProjectPhysicalMoments(l);
-        I_in = eig.eigenvectors() * fixed.asDiagonal() * eig.eigenvectors().transpose();
-        warn("link '" + Excerpt(link.name) + "': <inertia> " + problem + ": repaired to the nearest physical inertia " +
-             "(principal moments " + Num3(fixed) + " kg m^2)");
-      }
       lm.mass = in.mass;
       lm.com = X.translation();
       lm.inertia = X.linear() * I_in * X.linear().transpose();
+      lm.problem = PhysicalInertiaProblem(I_in);
       return lm;
     };
 
@@ -547,13 +575,13 @@ class MultibodyModelLoader {
       model.frames_.push_back({link, body, X_body_link});
       model.body_index_[link] = body;
     };
-    auto add_part = [&](int body, const LinkMass& lm, const Eigen::Isometry3d* X_body_link) {
+    auto add_part = [&](int body, const urdf::Link& link, const LinkMass& lm, const Eigen::Isometry3d* X_body_link) {
       if (lm.mass == 0.0) return;
       if (!X_body_link) {
-        parts[body].push_back({lm.mass, lm.com, lm.inertia});
+        parts[body].push_back({lm.mass, lm.com, lm.inertia, link.name, lm.problem});
       } else {
         const Eigen::Matrix3d& R = X_body_link->linear();
-        parts[body].push_back({lm.mass, *X_body_link * lm.com, R * lm.inertia * R.transpose()});
+        parts[body].push_back({lm.mass, *X_body_link * lm.com, R * lm.inertia * R.transpose(), link.name, lm.problem});
       }
     };
     parts.resize(bodies->size());
@@ -569,7 +597,7 @@ class MultibodyModelLoader {
       parts.emplace_back();
       limits.push_back({-kInf, kInf});
       add_frame(root->name, static_cast<int>(bodies->size()) - 1, Eigen::Isometry3d::Identity());
-      add_part(static_cast<int>(bodies->size()) - 1, link_mass(*root), nullptr);
+      add_part(static_cast<int>(bodies->size()) - 1, *root, link_mass(*root), nullptr);
     }
     struct Item {
       const urdf::Link* link;
@@ -614,7 +642,7 @@ class MultibodyModelLoader {
         const int body = parent.body;
         (*bodies)[body].merged_links.push_back(child.name);
         add_frame(child.name, body, X_body_joint);
-        add_part(body, link_mass(child), &X_body_joint);
+        add_part(body, child, link_mass(child), &X_body_joint);
         warn("link '" + Excerpt(child.name) + "': merged into body '" + Excerpt((*bodies)[body].name) +
              "' (fixed joint '" + jname + "')");
         stack.push_back({&child, body, true, X_body_joint, 0});
@@ -647,8 +675,40 @@ class MultibodyModelLoader {
       parts.emplace_back();
       limits.push_back(lim);
       add_frame(child.name, index, Eigen::Isometry3d::Identity());
-      add_part(index, link_mass(child), nullptr);
+      add_part(index, child, link_mass(child), nullptr);
       stack.push_back({&child, index, false, Eigen::Isometry3d::Identity(), 0});
+    }
+
+    // Physical validity is a property of the rigid body the dynamics sees. A link whose own
+    // <inertia> is not physical (a dummy value on a sensor, foot or base frame) is accepted, with
+    // a warning, when it is welded into a body whose combined inertia is physical; otherwise it is
+    // rejected naming the link (or repaired with LoadOptions::repair_inertia).
+    for (size_t i = 0; i < bodies->size(); ++i) {
+      std::vector<BodyPart>& p = parts[i];
+      bool any_problem = false;
+      for (const BodyPart& part : p) any_problem = any_problem || !part.problem.empty();
+      if (!any_problem) continue;
+      const std::string body_name = Excerpt((*bodies)[i].name);
+      const bool welded = p.size() > 1;
+      const bool body_physical = welded && PhysicalInertiaProblem(CombineParts(p).inertia).empty();
+      for (BodyPart& part : p) {
+        if (part.problem.empty()) continue;
+        const std::string link = Excerpt(part.link);
+        if (body_physical) {
+          warn("link '" + link + "': <inertia> " + part.problem + ": accepted, because rigid body '" + body_name +
+               "' (its links merged over fixed joints) has a physical combined inertia");
+          continue;
+        }
+        if (!options.repair_inertia)
+          throw std::runtime_error(ufile + ": link '" + link + "': <inertia> " + part.problem +
+                                   (welded ? ", and so does rigid body '" + body_name + "' (its links merged over fixed joints)" : "") +
+                                   "; fix it, or repair it with model_info --repair-inertia / LoadOptions::repair_inertia");
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(part.inertia);
+        const Eigen::Vector3d fixed = ProjectPhysicalMoments(eig.eigenvalues());
+        part.inertia = eig.eigenvectors() * fixed.asDiagonal() * eig.eigenvectors().transpose();
+        warn("link '" + link + "': <inertia> " + part.problem + ": repaired to the nearest physical inertia " +
+             "(principal moments " + Num3(fixed) + " kg m^2)");
+      }
     }
 
     // Combine the parts of each body (exact; parallel-axis theorem about the combined COM) and
@@ -656,24 +716,11 @@ class MultibodyModelLoader {
     for (size_t i = 0; i < bodies->size(); ++i) {
       MultibodyBody& b = (*bodies)[i];
       const std::vector<BodyPart>& p = parts[i];
-      if (p.size() == 1) {
-        b.mass = p[0].mass;
-        b.com = p[0].com;
-        b.inertia = p[0].inertia;
-      } else if (p.size() > 1) {
-        b.mass = 0.0;
-        Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();
-        for (const BodyPart& part : p) {
-          b.mass += part.mass;
-          first_moment += part.mass * part.com;
-        }
-        b.com = first_moment / b.mass;
-        b.inertia.setZero();
-        for (const BodyPart& part : p) {
-          const Eigen::Vector3d d = part.com - b.com;
-          b.inertia += part.inertia + part.mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
-        }
-        b.inertia = 0.5 * (b.inertia + b.inertia.transpose()).eval();
+      if (!p.empty()) {
+        const BodyPart total = CombineParts(p);
+        b.mass = total.mass;
+        b.com = total.com;
+        b.inertia = total.inertia;
       }
       if (b.inertia.isZero(0.0)) {
         b.principal_moments.setZero();

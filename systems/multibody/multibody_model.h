@@ -32,8 +32,12 @@
 //  * Every <inertial> is checked: finite (a NaN is named), mass >= 0, inertia positive
 //    semi-definite and satisfying the triangle inequality (I1 + I2 >= I3 for the principal
 //    moments), each with a tolerance of kInertiaRelativeTolerance times the largest principal
-//    moment. LoadOptions::repair_inertia projects a violating inertia onto the nearest physical
-//    one (Frobenius norm, same principal axes) instead of rejecting it, with a warning.
+//    moment. Physical validity is required of each rigid body the dynamics sees: a link whose own
+//    <inertia> violates it (typically a dummy value such as every entry 1e-6 on a sensor, foot or
+//    base frame) is accepted, with a warning naming it, when the body it is merged into over
+//    fixed joints has a physical combined inertia; otherwise the file is rejected naming the link.
+//    LoadOptions::repair_inertia projects a rejected inertia onto the nearest physical one
+//    (Frobenius norm, same principal axes) instead, with a warning.
 //  * A moving joint that moves no mass (its row of M would be zero, M singular) is rejected,
 //    naming the joint, unless the sidecar gives it a reflected inertia (armature).
 //  * <limit> with lower > upper is rejected; lower == upper (urdfdom reads a <limit> without

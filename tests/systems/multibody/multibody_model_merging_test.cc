@@ -144,6 +144,53 @@ TEST(MultibodyModelMergingTest, NonPhysicalInertiaRejectedOrRepaired) {
   EXPECT_LT((model.body(model.BodyIndex("paddle")).inertia - expected).norm(), 1e-12);
 }
 
+// Public robot descriptions put dummy inertias (every entry 1e-6) on frame links welded into
+// real bodies; each rigid body the dynamics sees is physical, so the robot loads with a warning.
+TEST(MultibodyModelMergingTest, DummyInertiaWeldedIntoAPhysicalBodyIsAccepted) {
+  const MultibodyModel model = MultibodyModel::Load(DataPath("welded_dummy_inertia.urdf"));
+  EXPECT_EQ(model.nv(), 1);
+  EXPECT_TRUE(HasWarning(model, "link 'footprint': <inertia> violates the triangle inequality"));
+  EXPECT_TRUE(HasWarning(model, "accepted, because rigid body 'footprint' (its links merged"));
+  EXPECT_TRUE(HasWarning(model, "link 'tip': <inertia> violates the triangle inequality"));
+  EXPECT_TRUE(HasWarning(model, "accepted, because rigid body 'arm' (its links merged"));
+  // The dummy parts are kept, not dropped: closed form of the merged arm body (arm + tip), by the
+  // parallel-axis theorem about the combined COM.
+  const double m_arm = 1.0, m_tip = 1e-6;
+  const Eigen::Vector3d c_arm(0, 0, -0.2), c_tip(0, 0, -0.4);
+  const double m = m_arm + m_tip;
+  const Eigen::Vector3d c = (m_arm * c_arm + m_tip * c_tip) / m;
+  auto shift = [](double mass, const Eigen::Vector3d& d) {
+    return Eigen::Matrix3d(mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+  };
+  const Eigen::Matrix3d I = Eigen::Vector3d(0.01, 0.01, 0.001).asDiagonal().toDenseMatrix() +
+                            Eigen::Matrix3d::Constant(1e-6) + shift(m_arm, c_arm - c) + shift(m_tip, c_tip - c);
+  const MultibodyBody& arm = model.body(model.BodyIndex("tip"));
+  EXPECT_EQ(arm.name, "arm");
+  EXPECT_NEAR(arm.mass, m, 1e-15);
+  EXPECT_LT((arm.com - c).norm(), 1e-15);
+  EXPECT_LT((arm.inertia - I).norm(), 1e-15);
+  // Every body is physical: principal moments >= 0 and I1 + I2 >= I3.
+  for (const MultibodyBody& b : model.bodies()) {
+    const Eigen::Vector3d l = b.principal_moments;
+    EXPECT_GE(l.minCoeff(), 0.0) << b.name;
+    EXPECT_GE(l.sum() - 2.0 * l.maxCoeff(), -1e-12 * l.maxCoeff()) << b.name;
+  }
+}
+
+TEST(MultibodyModelMergingTest, NonPhysicalInertiaWeldedIntoANonPhysicalBodyIsRejected) {
+  const std::string what = LoadError(DataPath("welded_nonphysical_inertia.urdf"));
+  EXPECT_NE(what.find("welded_nonphysical_inertia.urdf: link 'plate': <inertia> violates the triangle inequality"),
+            std::string::npos) << what;
+  EXPECT_NE(what.find("principal moments 1 1 3"), std::string::npos) << what;
+  EXPECT_NE(what.find("and so does rigid body 'chassis' (its links merged over fixed joints)"), std::string::npos) << what;
+  const MultibodyModel model =
+      MultibodyModel::Load(DataPath("welded_nonphysical_inertia.urdf"), "", {.repair_inertia = true});
+  EXPECT_TRUE(HasWarning(model, "link 'plate': <inertia> violates the triangle inequality"));
+  // chassis (0.001 I) + plate repaired to (4/3, 4/3, 8/3), both at the body origin.
+  const Eigen::Matrix3d expected = Eigen::Vector3d(0.001 + 4.0 / 3.0, 0.001 + 4.0 / 3.0, 0.001 + 8.0 / 3.0).asDiagonal();
+  EXPECT_LT((model.body(model.BodyIndex("plate")).inertia - expected).norm(), 1e-12);
+}
+
 TEST(MultibodyModelMergingTest, NearlySingularInertiaOfTheIssue) {
   // Principal moments -3.5e-8 against 9e-8: a real violation, not rounding.
   const std::string dir = ::testing::TempDir();
