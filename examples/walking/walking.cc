@@ -57,6 +57,8 @@ int main(int argc, char** argv) {
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic steps per gait")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
+      .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
+      .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
       .Option("cache", "walking_plans", "directory of cached ROM plans")
@@ -65,7 +67,7 @@ int main(int argc, char** argv) {
       .Option("plots", "", "directory for PNG plots (empty: none)");
   WalkingGait gait_a;
   int steps = 0;
-  double band = 0.1;
+  double band = 0.1, stagger = 0.4, rom_margin = 0.05;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     if (cli.Get("scenario") == "gait-change")
@@ -76,6 +78,10 @@ int main(int argc, char** argv) {
     ParseGait("gait-b", cli.Get("gait-b"));
     steps = cli.GetInt("steps");
     if (steps < 1) throw std::invalid_argument("walking: --steps must be >= 1, got " + cli.Get("steps"));
+    stagger = cli.GetDouble("stance-stagger");
+    if (!(stagger >= 0 && stagger <= 0.5)) throw std::invalid_argument("walking: --stance-stagger must be in [0, 0.5] m, got " + cli.Get("stance-stagger"));
+    rom_margin = cli.GetDouble("rom-cop-margin");
+    if (!(rom_margin >= 0 && rom_margin < 0.07)) throw std::invalid_argument("walking: --rom-cop-margin must be in [0, 0.07) m, got " + cli.Get("rom-cop-margin"));
     band = cli.GetDouble("force-band");
     if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band must be in (0, 1), got " + cli.Get("force-band"));
     for (const char* f : {"log", "summary"}) {
@@ -102,7 +108,11 @@ int main(int argc, char** argv) {
   WalkingPlan plan;
   try {
     std::cout << "planning: periodic aSLIP, standing transition, footed H-LIP ...\n";
-    plan = BuildStandToWalkPlan(gait_a, steps, static_cast<std::uint32_t>(cli.GetInt("seed")), &cache, &nlp);
+    StandToWalkParams stand;
+    stand.sole = SoleOf(*model, "left_foot");
+    stand.stance_stagger_m = stagger;
+    stand.sagittal_cop_margin_m = rom_margin;
+    plan = BuildStandToWalkPlan(gait_a, steps, static_cast<std::uint32_t>(cli.GetInt("seed")), &cache, &nlp, stand);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;

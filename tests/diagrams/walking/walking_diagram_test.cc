@@ -30,7 +30,9 @@ namespace {
 void RunStandToWalk(bool full_run) {
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());  // not the source tree
-  WalkingPlan plan = BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache);
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  WalkingPlan plan = BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache, nullptr, stand);
   WalkingDiagram d = BuildWalkingDiagram(model, plan);
   SimulatorConfig config;
   config.scheme = IntegrationScheme::kExplicitRungeKutta;
