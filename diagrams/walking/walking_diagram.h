@@ -14,8 +14,10 @@
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
-// Status: the robot stands, shifts its weight along the transition plan with its plant normal forces in the Eq. (25)
-// band and lifts the trailing foot on schedule; it does not yet complete the first step (see the walking test).
+// Status: from a 0.4 m step stance the robot shifts its weight along the transition plan (COM within 1 mm, plant normal
+// forces in the Eq. (25) band) and lifts the trailing foot on schedule; it does not yet complete the first step: the
+// swing leg's angular momentum, which the point-mass ROMs do not model, needs more CoP than the stance sole has (see
+// the walking test).
 //
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
 // Controller outputs (order of WalkingOutputReference): COM x, y, z; pelvis roll, pitch, yaw (the base's ZYX angles);

@@ -5,11 +5,13 @@
 // μ and has its centre of pressure inside the sole (CheckContactForce), and the plant's own contact_violation port
 // reports nothing; the plant's normal forces stay in the Eq. (25) band (c = 0.1, ± 2 % m g) over the DSP, and the
 // lift-off happens below 5 % of m g.
-// NOT YET: the full stand-to-walk run. After lift-off the COM, which has drifted ~2 cm behind the plan over the
-// transition's DSP (the plan moves it back to x = -0.05 m, 2 cm ahead of the heel, where the CoP limit binds), falls
-// behind and the robot does not reach its first touchdown (the run ends with the stance foot unloading at t ≈ 1.7 s).
-// The test therefore stops 50 ms after the lift-off; run with WALKING_TEST_TRACE=1 and --gtest_also_run_disabled_tests
-// to see the full run.
+// NOT YET: the full stand-to-walk run. With the plan of BuildStandToWalkPlan (0.4 m step stance, ROM CoP 5 cm inside
+// heel and toe, lateral motion in the transition NLP) the double support tracks the COM to < 1 mm and the trailing foot
+// lifts at 0.999 s (planned 1.000 s) with 1.2 % of m g. In the transition's single support the swing leg (15 kg moving
+// 0.7 m in 0.4 s) needs the stance CoP 0.10-0.17 m ahead of the point-mass ROM's (the ankle): the stance ankle pitch
+// saturates at 150 N m, the swing foot lags 12 cm, the COM falls 4 cm behind, the foot does not touch down before the
+// plan unloads the stance foot, and the run ends at 1.5 s. The test therefore stops 50 ms after the lift-off; run with
+// WALKING_TEST_TRACE=1 and --gtest_also_run_disabled_tests to see the full run.
 #include "diagrams/walking/walking_diagram.h"
 
 #include <filesystem>
@@ -19,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "framework/simulator.h"
 #include "systems/multibody/multibody_kinematics.h"
@@ -152,6 +155,17 @@ void RunStandToWalk(bool full_run) {
   if (full_run) {
     EXPECT_GE(touchdowns, 3);
   }
+}
+
+// The ROMs' ZMP bounds come from the robot: the exoskeleton sidecar's sole corners are x ∈ [−0.07, 0.18] m and
+// y ∈ [−0.05, 0.05] m about the ankle; a point foot has no sole.
+TEST(WalkingDiagram, SoleOfReadsTheRobotsSoleCorners) {
+  const SoleGeometry s = SoleOf(*test::LoadRobot("exoskeleton"), "right_foot");
+  EXPECT_DOUBLE_EQ(s.heel_m, 0.07);
+  EXPECT_DOUBLE_EQ(s.toe_m, 0.18);
+  EXPECT_DOUBLE_EQ(s.left_m, 0.05);
+  EXPECT_DOUBLE_EQ(s.right_m, 0.05);
+  EXPECT_THROW(SoleOf(*test::LoadRobot("amber"), "left_foot"), std::invalid_argument);
 }
 
 TEST(WalkingDiagram, StandsShiftsWeightAndLiftsTheTrailingFootWithPhysicalContactForces) { RunStandToWalk(false); }
