@@ -120,8 +120,8 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   tp.bounds = gp;
   tp.bounds.aslip.heel_length = sole.heel_m - sag;  // Eq. (10) on the robot's sole
   tp.bounds.aslip.toe_length = sole.toe_m - sag;
-  tp.min_ssp_duration = std::max(tp.min_ssp_duration, g.ssp_duration_s);
-  tp.max_ssp_duration = std::max(tp.max_ssp_duration, g.ssp_duration_s);
+  tp.min_ssp_duration = std::max({tp.min_ssp_duration, g.ssp_duration_s, sp.transition_min_ssp_duration_s});
+  tp.max_ssp_duration = std::max(tp.max_ssp_duration, tp.min_ssp_duration);
   if (sp.point_foot_transition_ssp) tp.max_ssp_ankle_torque = 0.0;
   tp.min_dsp_stance_force_fraction = sp.min_dsp_stance_force_fraction;
   tp.lateral = sp.lateral_in_transition_nlp;

@@ -108,6 +108,10 @@ struct StandToWalkParams {
   /// [-] the transition's stance leg carries at least this fraction of m g through the DSP (ours; without it the plan
   /// unloads the front foot mid-DSP and the plant's lift-off guard fires there).
   double min_dsp_stance_force_fraction = 0.1;
+  /// [s] lower bound of the transition's SSP duration (ours; 0: the gait's T_SSP). The first swing carries the foot
+  /// from stance_stagger_m behind to a step ahead; a longer SSP lowers its peak acceleration (minimum jerk: 5.77 d/T²)
+  /// and so the swing leg's reaction on the stance foot.
+  double transition_min_ssp_duration_s = 0.0;
   /// The lateral transition QP moves the mass on the feet's normal forces (FootedHlipTransitionParams::
   /// normal_force_pivots, ours) rather than the paper's ÿ = u/(m z0) in DSP. Measured with the paper's model and a
   /// 0.3 m step stance: the rear foot carries ~85 % of the weight in the push-off, the robot's CoP sits on the sole's
