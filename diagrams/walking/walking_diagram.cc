@@ -21,6 +21,7 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.force_band_halfwidth = 0.1;
   p.contact.friction_coefficient = 0.6;
   p.contact.min_normal_force_N = 0.0;
+  p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
   p.contact.friction_margin = 0.5;  // ours: room for the force drift over a held sample as a foot unloads
   p.contact.yaw_moment_coefficient_m = 0.02;
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
