@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +21,7 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.force_band_halfwidth = 0.1;
   p.contact.friction_coefficient = 0.6;
   p.contact.min_normal_force_N = 0.0;
+  p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
   p.contact.friction_margin = 0.5;  // ours: room for the force drift over a held sample as a foot unloads
   p.contact.yaw_moment_coefficient_m = 0.02;
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
@@ -75,13 +78,40 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   return d;
 }
 
+SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact) {
+  const ContactInfo& c = model.contacts()[model.ContactIndex(contact)];
+  if (c.type != ContactType::kFlat || c.points.empty())
+    throw std::invalid_argument("SoleOf: robot '" + model.name() + "': contact '" + contact + "' is not a flat foot");
+  SoleGeometry s;
+  s.heel_m = s.toe_m = s.left_m = s.right_m = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& p : c.points) {
+    s.toe_m = std::max(s.toe_m, p.x());
+    s.heel_m = std::max(s.heel_m, -p.x());
+    s.left_m = std::max(s.left_m, p.y());
+    s.right_m = std::max(s.right_m, -p.y());
+  }
+  if (!(s.heel_m > 0 && s.toe_m > 0 && s.left_m > 0 && s.right_m > 0))
+    throw std::invalid_argument("SoleOf: robot '" + model.name() + "': contact '" + contact + "': the ankle is not over the sole");
+  return s;
+}
+
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                                 double standing_height_m, double zmp_margin_m) {
+                                 const StandToWalkParams& sp) {
   using Clock = std::chrono::steady_clock;
+  const SoleGeometry& sole = sp.sole;
+  const double margin = sp.lateral_cop_margin_m, sag = sp.sagittal_cop_margin_m;
+  if (!(sag >= 0) || !(sole.heel_m - sag > 0 && sole.toe_m - sag > 0))
+    throw std::invalid_argument("BuildStandToWalkPlan: sagittal_cop_margin_m = " + std::to_string(sag) + " must be >= 0 and leave a sole");
+  if (!(margin >= 0) || !(sole.left_m - margin > 0 && sole.right_m - margin > 0))
+    throw std::invalid_argument("BuildStandToWalkPlan: lateral_cop_margin_m = " + std::to_string(margin) + " must be >= 0 and leave a sole");
+  if (!(sp.stance_stagger_m >= 0) || !std::isfinite(sp.stance_stagger_m))
+    throw std::invalid_argument("BuildStandToWalkPlan: stance_stagger_m must be >= 0 m, got " + std::to_string(sp.stance_stagger_m));
   AslipPeriodicGaitParams gp;
   gp.step_length = g.step_length_m;
   gp.ssp_duration = g.ssp_duration_s;
   gp.dsp_duration = g.dsp_duration_s;
+  gp.height_min = sp.height_min_m;
+  gp.height_max = sp.height_max_m;
   const AslipPeriodicGaitPlanner periodic(gp);
   auto t0 = Clock::now();
   const AslipPeriodicGait gait = periodic.Solve(seed, cache);
@@ -89,14 +119,27 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   if (!gait.success()) throw std::runtime_error("BuildStandToWalkPlan: the periodic aSLIP NLP failed: " + gait.collocation.nlp.message);
   AslipTransitionParams tp;
   tp.bounds = gp;
-  tp.bounds.aslip.heel_length -= zmp_margin_m;
-  tp.bounds.aslip.toe_length -= zmp_margin_m;
-  if (!(tp.bounds.aslip.heel_length > 0 && tp.bounds.aslip.toe_length > 0))
-    throw std::invalid_argument("BuildStandToWalkPlan: zmp_margin_m = " + std::to_string(zmp_margin_m) + " leaves no sole");
+  tp.bounds.aslip.heel_length = sole.heel_m - sag;  // Eq. (10) on the robot's sole
+  tp.bounds.aslip.toe_length = sole.toe_m - sag;
+  tp.min_ssp_duration = std::max({tp.min_ssp_duration, g.ssp_duration_s, sp.transition_min_ssp_duration_s});
+  tp.max_ssp_duration = std::max(tp.max_ssp_duration, tp.min_ssp_duration);
+  if (sp.point_foot_transition_ssp) tp.max_ssp_ankle_torque = 0.0;
+  tp.min_dsp_stance_force_fraction = sp.min_dsp_stance_force_fraction;
+  tp.lateral = sp.lateral_in_transition_nlp;
+  tp.foot_width_left_of_ankle = sole.left_m - margin;
+  tp.foot_width_right_of_ankle = sole.right_m - margin;
   const AslipTransitionPlanner transition_planner(tp);
   AslipTransitionData data;
-  data.initial_state = AslipTransitionPlanner::StandingState(gp.aslip, standing_height_m);
+  data.left_foot_x = 0.0;
+  data.right_foot_x = -sp.stance_stagger_m;
+  data.initial_state = AslipTransitionPlanner::StandingState(gp.aslip, sp.standing_height_m, data.left_foot_x, data.right_foot_x);
   data.final_state = gait.collocation.phases[0].states.col(gp.nodes_per_domain - 1);
+  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = g.ssp_duration_s, .dsp_duration = g.dsp_duration_s});
+  const Eigen::Vector2d pre = hlip.P2PreImpactState(g.step_width_m);  // end of a left stance, about the left foot
+  data.left_foot_y = g.step_width_m / 2;
+  data.right_foot_y = -g.step_width_m / 2;
+  data.initial_lateral_state = Eigen::Vector2d(0.0, 0.0);
+  data.final_lateral_state = Eigen::Vector2d(data.left_foot_y + pre(0), pre(1));
   data.lifting_leg = 1;
   t0 = Clock::now();
   const AslipTransition transition = transition_planner.Solve(data, cache);
@@ -125,10 +168,13 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   lat.right_foot_y = -W / 2;
   lat.z0 = transition.mean_height;
   lat.initial_state = Eigen::Vector2d(0.0, 0.0);
-  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = g.ssp_duration_s, .dsp_duration = g.dsp_duration_s});
-  const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
-  lat.final_state = Eigen::Vector2d(W / 2 + pre(0), pre(1));
-  const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner().Solve(lat);
+  lat.final_state = data.final_lateral_state;
+  FootedHlipTransitionParams lp;
+  lp.mass = m;
+  lp.foot_width_left_of_ankle = sole.left_m - margin;  // Eq. (14) on the robot's sole
+  lp.foot_width_right_of_ankle = sole.right_m - margin;
+  lp.normal_force_pivots = sp.lateral_normal_force_pivots;
+  const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner(lp).Solve(lat);
   if (!lateral.success()) throw std::runtime_error("BuildStandToWalkPlan: the footed H-LIP transition QP failed: " + lateral.message);
   WalkingPlan plan;
   plan.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral, m, gp.step_length);

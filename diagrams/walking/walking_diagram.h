@@ -14,8 +14,11 @@
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
-// Status: the robot stands, shifts its weight along the transition plan with its plant normal forces in the Eq. (25)
-// band and lifts the trailing foot on schedule; it does not yet complete the first step (see the walking test).
+// Status: from a 0.4 m step stance the robot shifts its weight along the transition plan (COM within 1 mm, plant normal
+// forces in the Eq. (25) band) and lifts the trailing foot on schedule; it does not yet complete the first step: the
+// swing leg's angular momentum, which the point-mass ROMs do not model, needs more CoP than the stance sole has (see
+// the walking test). A short first step (L = 0.2 m from a 0.3 m step stance) touches down flat, 0.11 s late, after
+// which the plan has no double support left.
 //
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
 // Controller outputs (order of WalkingOutputReference): COM x, y, z; pelvis roll, pitch, yaw (the base's ZYX angles);
@@ -23,6 +26,7 @@
 // left stance).
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include "framework/diagram.h"
 #include "systems/controllers/clf_qp_controller.h"
@@ -62,19 +66,75 @@ struct WalkingGait {
   double step_length_m = 0.30, ssp_duration_s = 0.40, dsp_duration_s = 0.10, step_width_m = 0.25;  ///< gait A (spec §3.1)
 };
 
+/// The sole of a flat foot about its ankle (the foot frame's origin), from the robot's contact corners [m].
+struct SoleGeometry {
+  double heel_m = 0.07, toe_m = 0.18;    ///< L_h, L_t of Eq. (10): ankle to heel and to toe along the foot's x
+  double left_m = 0.05, right_m = 0.05;  ///< W1, W2 of Eq. (14): ankle to the sole's left and right edges
+};
+/// The sole of flat contact `contact` of `model` (its corner points in the foot frame). Throws std::invalid_argument
+/// naming the robot and contact if the contact is not flat or the ankle is not over the sole.
+SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact);
+
+/// Choices of the stand-to-walk plan beyond the gait.
+struct StandToWalkParams {
+  /// [m] COM (ROM mass) height standing, and the aSLIP height range of the periodic and transition NLPs (ours;
+  /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m). Measured with the spec's heights: the exoskeleton's COM is
+  /// 0.94 m high with the knees bent 0.2 rad, so at 0.92 m over a foot 0.4 m behind (the lift-off of the step-stance
+  /// transition) the trailing knee is straight (0.09 rad), and in the swing it flips to −1.5 rad (the CLF-QP has no
+  /// joint limits); with 0.84 m in 0.80-0.88 m the knees stay above 0.7 rad.
+  double standing_height_m = 0.84;
+  double height_min_m = 0.80, height_max_m = 0.88;
+  /// [m] the lifting (right) foot starts this far behind the stance (left) foot (ours; spec [R]: 0, feet side by
+  /// side). Measured: side by side, the transition must reach gait A's pre-impact state (COM 0.121 m ahead of the
+  /// stance ankle at 0.660 m/s) over one sole; a LIP with its CoP on the heel reaches at most ω (x_f + L_h) =
+  /// 3.27 × 0.191 = 0.62 m/s there, so the NLP only solves with the CoP on the heel edge for 1.4 s and vertical
+  /// pumping to 1.9 m g, and is infeasible with any CoP margin (5 mm); the robot then falls backward at lift-off.
+  /// A step stance lets the double support push off the rear heel.
+  double stance_stagger_m = 0.40;
+  /// [m] the footed ROMs' ZMP bounds are the sole's, this much inside (ours): sagittal (Eq. (10) L_h, L_t) and
+  /// lateral (Eq. (14) W1, W2). The whole-body controller keeps its own CoP margin (ClfQpParams
+  /// contact.cop_margin_m, 10 mm) and needs room for the legs' angular momentum, which the point-mass ROM does not see.
+  /// Measured (0.4 m step stance): in the push-off the robot's CoP must lie 3-4.5 cm behind the point mass's ZMP
+  /// (the legs' angular momentum as the knees extend at ~5 rad/s); with 0.02 m the COM falls 9 mm behind by 0.9 s,
+  /// with 0.05 m it tracks to 0.5 mm up to lift-off.
+  double sagittal_cop_margin_m = 0.05;
+  double lateral_cop_margin_m = 0.02;
+  SoleGeometry sole;  ///< the robot's sole (set it with SoleOf(model, "left_foot"))
+  /// The transition's SSP is point-foot (u = 0, CoP at the ankle, as in the periodic gait) and lasts at least the
+  /// gait's T_SSP (ours; the spec's [R] lets T_SSP go down to 0.3 s with ankle torque). Measured with the ankle free:
+  /// the NLP keeps the stance CoP on the heel bound through the SSP; on the robot the swing leg (15 kg, 0.6 m in
+  /// 0.36 s) needs the CoP 0.15-0.2 m ahead of the ROM's, the stance ankle pitch saturates at 150 N m and the swing
+  /// foot lags 9 cm.
+  bool point_foot_transition_ssp = true;
+  /// [-] the transition's stance leg carries at least this fraction of m g through the DSP (ours; without it the plan
+  /// unloads the front foot mid-DSP and the plant's lift-off guard fires there).
+  double min_dsp_stance_force_fraction = 0.1;
+  /// [s] lower bound of the transition's SSP duration (ours; 0: the gait's T_SSP). The first swing carries the foot
+  /// from stance_stagger_m behind to a step ahead; a longer SSP lowers its peak acceleration (minimum jerk: 5.77 d/T²)
+  /// and so the swing leg's reaction on the stance foot.
+  double transition_min_ssp_duration_s = 0.0;
+  /// The lateral transition QP moves the mass on the feet's normal forces (FootedHlipTransitionParams::
+  /// normal_force_pivots, ours) rather than the paper's ÿ = u/(m z0) in DSP. Measured with the paper's model and a
+  /// 0.3 m step stance: the rear foot carries ~85 % of the weight in the push-off, the robot's CoP sits on the sole's
+  /// lateral edge on both feet from 0.3 s and the COM drifts 0.12 m sideways before lift-off.
+  bool lateral_normal_force_pivots = true;
+  /// The footed-aSLIP transition NLP carries the lateral motion too (AslipTransitionParams::lateral, ours), so that its
+  /// vertical force split is one the lateral motion can realise; the footed H-LIP QP then plans y on those forces
+  /// (without it, that QP with normal_force_pivots is infeasible for the 0.3 and 0.4 m step stances).
+  bool lateral_in_transition_nlp = true;
+};
+
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
-/// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. Standing height standing_height_m. NLPs
-/// use `cache` if given. zmp_margin_m (ours) shrinks the footed aSLIP's ZMP bounds L_h, L_t of Eq. (10) so that the
-/// whole-body controller keeps room on the sole. Default 0: with gait A, 0.015 m already makes the transition NLP
-/// infeasible (the standing -> gait A transition uses the whole heel). Throws std::runtime_error naming the problem that failed.
+/// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given.
+/// Throws std::runtime_error naming the problem that failed, std::invalid_argument for a bad parameter.
 struct WalkingPlanReport {
   double periodic_solve_s = 0, transition_solve_s = 0;
   int periodic_iterations = 0, transition_iterations = 0;
   double periodic_violation = 0, transition_violation = 0;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
-                                 WalkingPlanReport* report = nullptr, double standing_height_m = 0.9, double zmp_margin_m = 0.0);
+                                 WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});
 
 /// A standing configuration for the plan's start: pelvis level with zero yaw, both feet flat on the ground with the
 /// ankles at the plan's footholds at t = 0, and the COM at the plan's COM (Newton on the 15 remaining coordinates,

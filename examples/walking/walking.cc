@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic steps per gait")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
+      .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
+      .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
+      .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
       .Option("cache", "walking_plans", "directory of cached ROM plans")
@@ -65,7 +68,7 @@ int main(int argc, char** argv) {
       .Option("plots", "", "directory for PNG plots (empty: none)");
   WalkingGait gait_a;
   int steps = 0;
-  double band = 0.1;
+  double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     if (cli.Get("scenario") == "gait-change")
@@ -76,6 +79,13 @@ int main(int argc, char** argv) {
     ParseGait("gait-b", cli.Get("gait-b"));
     steps = cli.GetInt("steps");
     if (steps < 1) throw std::invalid_argument("walking: --steps must be >= 1, got " + cli.Get("steps"));
+    stagger = cli.GetDouble("stance-stagger");
+    if (!(stagger >= 0 && stagger <= 0.5)) throw std::invalid_argument("walking: --stance-stagger must be in [0, 0.5] m, got " + cli.Get("stance-stagger"));
+    rom_margin = cli.GetDouble("rom-cop-margin");
+    if (!(rom_margin >= 0 && rom_margin < 0.07)) throw std::invalid_argument("walking: --rom-cop-margin must be in [0, 0.07) m, got " + cli.Get("rom-cop-margin"));
+    transition_ssp = cli.GetDouble("transition-ssp");
+    if (!(transition_ssp == 0 || (transition_ssp >= 0.3 && transition_ssp <= 1.0)))
+      throw std::invalid_argument("walking: --transition-ssp must be 0 or in [0.3, 1.0] s, got " + cli.Get("transition-ssp"));
     band = cli.GetDouble("force-band");
     if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band must be in (0, 1), got " + cli.Get("force-band"));
     for (const char* f : {"log", "summary"}) {
@@ -102,7 +112,12 @@ int main(int argc, char** argv) {
   WalkingPlan plan;
   try {
     std::cout << "planning: periodic aSLIP, standing transition, footed H-LIP ...\n";
-    plan = BuildStandToWalkPlan(gait_a, steps, static_cast<std::uint32_t>(cli.GetInt("seed")), &cache, &nlp);
+    StandToWalkParams stand;
+    stand.sole = SoleOf(*model, "left_foot");
+    stand.stance_stagger_m = stagger;
+    stand.sagittal_cop_margin_m = rom_margin;
+    stand.transition_min_ssp_duration_s = transition_ssp;
+    plan = BuildStandToWalkPlan(gait_a, steps, static_cast<std::uint32_t>(cli.GetInt("seed")), &cache, &nlp, stand);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;
@@ -121,10 +136,13 @@ int main(int argc, char** argv) {
   const int nv = model->nv();
   const double mg = model->total_mass() * 9.81;
   MultibodyWorkspace ws(*model);
+  const int right_foot = model->BodyIndex("right_foot");
   std::ofstream log;
   if (!cli.Get("log").empty()) {
     log.open(cli.Get("log"));
-    log << "t,mode,com_x,com_y,com_z,com_des_x,com_des_y,com_des_z,fz_left,fz_right,fz_ref_left,fz_ref_right\n";
+    log << "t,mode,com_x,com_y,com_z,com_des_x,com_des_y,com_des_z,fz_left,fz_right,fz_ref_left,fz_ref_right,right_ankle_x,right_ankle_y,right_ankle_z,right_ankle_des_x,right_ankle_des_y,right_ankle_des_z,right_ankle_des_ax";
+    for (const ActuatorInfo& a : model->actuators()) log << ",u_" << a.joint << ",q_" << a.joint;
+    log << '\n';
   }
   long tick = -1, band_ticks = 0, band_in = 0, n_err = 0;
   int touchdowns = 0, last_mode = 1;
@@ -166,7 +184,16 @@ int main(int argc, char** argv) {
     }
     if (log.is_open())
       log << t << ',' << mode << ',' << com.x() << ',' << com.y() << ',' << com.z() << ',' << r.com_position.x() << ',' << r.com_position.y() << ','
-          << r.com_position.z() << ',' << f[2] << ',' << f[5] << ',' << r.normal_force[0] << ',' << r.normal_force[1] << '\n';
+          << r.com_position.z() << ',' << f[2] << ',' << f[5] << ',' << r.normal_force[0] << ',' << r.normal_force[1];
+    if (log.is_open()) {
+      const Eigen::Vector3d ankle = CalcLinkPose(*model, ws, q, right_foot).translation();
+      Eigen::Vector3d p, v, a;
+      d.outputs->SwingFoot(1, t, p, v, a);
+      log << ',' << ankle.x() << ',' << ankle.y() << ',' << ankle.z() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << a.x();
+      const Eigen::VectorXd& u = d.controller->EvalOutput(cc, "u");
+      for (int j = 0; j < model->nu(); ++j) log << ',' << u[j] << ',' << q[model->actuators()[j].v_index];
+      log << '\n';
+    }
     t_s.push_back(t), cx.push_back(com.x()), cxd.push_back(r.com_position.x()), cy.push_back(com.y()), cyd.push_back(r.com_position.y());
     cz.push_back(com.z()), czd.push_back(r.com_position.z()), fl.push_back(f[2]), fr.push_back(f[5]);
     fl_ref.push_back(r.normal_force[0]), fr_ref.push_back(r.normal_force[1]);

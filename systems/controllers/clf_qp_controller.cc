@@ -430,6 +430,12 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
 
   // Contact-wrench rows of each active contact, and the force band.
   const Eigen::VectorXd* force_ref = params_.force_band ? &EvalInput(context, force_ref_port_) : nullptr;
+  double active_ref = 0.0, inactive_ref = 0.0;  // force_band_carry_inactive: the load of the contacts not in the mode
+  if (force_ref != nullptr && params_.force_band_carry_inactive && !mq.wrench.empty()) {
+    for (int c = 0; c < force_ref->size(); ++c) inactive_ref += std::max((*force_ref)[c], 0.0);
+    for (const ContactWrenchConstraints& cw : mq.wrench) active_ref += std::max((*force_ref)[cw.contact()], 0.0);
+    inactive_ref -= active_ref;
+  }
   for (size_t k = 0; k < mq.wrench.size(); ++k) {
     const ContactWrenchConstraints& cw = mq.wrench[k];
     const int nr = cw.num_rows(), nf = cw.num_force_rows(), fo = mq.force_offset[k], io = mq.ineq_offset[k];
@@ -462,7 +468,9 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     if (force_ref != nullptr) {
       const int br = mq.band_offset + static_cast<int>(k);
       const int fz = fo + cw.normal_index();
-      const double f_ref = std::max((*force_ref)[cw.contact()], 0.0);
+      double f_ref = std::max((*force_ref)[cw.contact()], 0.0);
+      if (inactive_ref > 0.0)
+        f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
       const double c = params_.force_band_halfwidth;
       qp.A.row(br).setZero();
       double shift = 0.0;

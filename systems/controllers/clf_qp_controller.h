@@ -118,6 +118,10 @@ struct ClfQpParams {
   ContactWrenchParams contact;     ///< unilateral, friction, CoP and yaw rows per contact
   bool force_band = false;         ///< walking Eq. (25): declares the normal_force_reference input
   double force_band_halfwidth = 0.1;  ///< c [-] of Eq. (25) (walking paper: 0.1)
+  /// The reference load of contacts the plan loads but the current mode lacks (a late touchdown) goes to the active
+  /// contacts, in proportion to their references (evenly if those are 0), so the band keeps the total (ours; off:
+  /// each active contact keeps its own reference).
+  bool force_band_carry_inactive = false;
   Eigen::VectorXd torque_limits;   ///< [N m]; empty: the model's
   /// {contact, joint}: the actuator of `joint` gets u = 0 while `contact` is active (e.g. a passive stance ankle).
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;

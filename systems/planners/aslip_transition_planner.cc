@@ -10,7 +10,7 @@
 namespace rome {
 namespace {
 
-constexpr int kNx = 8, kNu = 4;
+constexpr int kNx8 = 8, kNu4 = 4;
 
 // Rows of one leg on the ground: F/(m g) ≥ 0, (μ G_z ∓ G_x)/(m g) ≥ 0, s ∈ [s_min, s_max], Eq. (10)
 // (L_t G_z − u)/(m g L_t) ≥ 0 and (u + L_h G_z)/(m g L_h) ≥ 0.
@@ -40,6 +40,8 @@ AslipTransitionPlanner::AslipTransitionPlanner(AslipTransitionParams params) : p
           "min_dsp_duration must be in (0, max_dsp_duration] s", params_.min_dsp_duration);
   require(params_.min_ssp_duration > 0 && params_.min_ssp_duration <= params_.max_ssp_duration,
           "min_ssp_duration must be in (0, max_ssp_duration] s", params_.min_ssp_duration);
+  require(params_.min_dsp_stance_force_fraction >= 0 && params_.min_dsp_stance_force_fraction < 1,
+          "min_dsp_stance_force_fraction must be in [0, 1)", params_.min_dsp_stance_force_fraction);
   require(params_.max_ankle_torque > 0, "max_ankle_torque must be > 0 N m", params_.max_ankle_torque);
   require(params_.torque_cost_scale > 0, "torque_cost_scale must be > 0 N m", params_.torque_cost_scale);
 }
@@ -54,9 +56,16 @@ AslipContact AslipTransitionPlanner::PhaseContact(const AslipTransitionData& dat
 }
 
 Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipParams& params, double z) {
-  const double L = AslipRestLengthForForce(params, z, 0.5 * params.mass * params.gravity);
+  return StandingState(params, z, 0.0, 0.0);
+}
+
+Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipParams& params, double z, double left_foot_x,
+                                                                  double right_foot_x) {
+  const double half = 0.5 * std::abs(left_foot_x - right_foot_x), r = std::hypot(half, z);
+  // Leg force F along the leg with vertical component F z / r = m g / 2.
+  const double L = AslipRestLengthForForce(params, r, 0.5 * params.mass * params.gravity * r / z);
   Eigen::Matrix<double, 8, 1> x;
-  x << 0, z, 0, 0, L, L, 0, 0;
+  x << 0.5 * (left_foot_x + right_foot_x), z, 0, 0, L, L, 0, 0;
   return x;
 }
 
@@ -71,11 +80,18 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
   const AslipPeriodicGaitParams& q = params_.bounds;
   const AslipParams p = q.aslip;
   const double v = q.max_speed, umax = params_.max_ankle_torque, us = params_.torque_cost_scale;
+  const bool lat = params_.lateral;
+  const int kNx = lat ? 10 : kNx8, kNu = lat ? 6 : kNu4;
   Eigen::VectorXd xl(kNx), xu(kNx);
   const double xmin = std::min(data.initial_state(0), data.final_state(0)) - 1.0;
   const double xmax = std::max(data.initial_state(0), data.final_state(0)) + 1.0;
-  xl << xmin, q.height_min, -v, -v, q.leg_length_min, q.leg_length_min, -v, -v;
-  xu << xmax, q.height_max, v, v, q.leg_length_max, q.leg_length_max, v, v;
+  xl.head(8) << xmin, q.height_min, -v, -v, q.leg_length_min, q.leg_length_min, -v, -v;
+  xu.head(8) << xmax, q.height_max, v, v, q.leg_length_max, q.leg_length_max, v, v;
+  if (lat) {
+    xl.tail(2) << std::min(data.left_foot_y, data.right_foot_y) - 1.0, -v;
+    xu.tail(2) << std::max(data.left_foot_y, data.right_foot_y) + 1.0, v;
+  }
+  const double foot_y[2] = {data.left_foot_y, data.right_foot_y};
   std::vector<CollocationPhase> phases(2);
   for (int ph = 0; ph < 2; ++ph) {
     CollocationPhase& c = phases[ph];
@@ -86,21 +102,46 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     c.min_duration = ph == 0 ? params_.min_dsp_duration : params_.min_ssp_duration;
     c.max_duration = ph == 0 ? params_.max_dsp_duration : params_.max_ssp_duration;
     const AslipContact contact = PhaseContact(data, ph);
-    c.dynamics = [p, contact](const VectorXad& x, const VectorXad& u, VectorXad& y) {
-      y = AslipDynamics<AutoDiffXd>(p, contact, x, u);
+    c.dynamics = [p, contact, lat, foot_y](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+      if (!lat) {
+        y = AslipDynamics<AutoDiffXd>(p, contact, x, u);
+        return;
+      }
+      y.resize(10);
+      y.head(8) = AslipDynamics<AutoDiffXd>(p, contact, VectorXad(x.head(8)), VectorXad(u.head(4)));
+      AutoDiffXd fy = 0.0 * x(8);
+      for (int leg = 0; leg < 2; ++leg) {
+        if (!contact.in_contact(leg)) continue;
+        const AslipLeg<AutoDiffXd> g = AslipLegState<AutoDiffXd>(p, x, leg, contact.foot_x(leg), u(2 + leg));
+        fy += g.grf_z * (x(8) - foot_y[leg]) + u(4 + leg);
+      }
+      y(8) = x(9);
+      y(9) = fy / (p.mass * x(1));
     };
     c.state_lower = xl;
     c.state_upper = xu;
     c.input_lower.resize(kNu);
     c.input_upper.resize(kNu);
-    c.input_lower << -q.max_leg_length_acceleration, -q.max_leg_length_acceleration, -umax, -umax;
-    c.input_upper << q.max_leg_length_acceleration, q.max_leg_length_acceleration, umax, umax;
+    c.input_lower.head(4) << -q.max_leg_length_acceleration, -q.max_leg_length_acceleration, -umax, -umax;
+    c.input_upper.head(4) << q.max_leg_length_acceleration, q.max_leg_length_acceleration, umax, umax;
+    if (lat) {
+      c.input_lower.tail(2).setConstant(-params_.max_ankle_roll_torque);
+      c.input_upper.tail(2).setConstant(params_.max_ankle_roll_torque);
+    }
     if (ph == 1) {  // no torque at a foot in the air
       c.input_lower(2 + data.lifting_leg) = 0.0;
       c.input_upper(2 + data.lifting_leg) = 0.0;
+      if (lat) c.input_lower(4 + data.lifting_leg) = c.input_upper(4 + data.lifting_leg) = 0.0;
+      if (params_.max_ssp_ankle_torque >= 0) {
+        const double ssp_max = std::min(umax, params_.max_ssp_ankle_torque);
+        c.input_lower(3 - data.lifting_leg) = -ssp_max;
+        c.input_upper(3 - data.lifting_leg) = ssp_max;
+      }
     }
-    c.running_cost = [us](const VectorXad&, const VectorXad& u) {  // Eq. (9)
-      return AutoDiffXd(u(0) * u(0) + u(1) * u(1) + (u(2) / us) * (u(2) / us) + (u(3) / us) * (u(3) / us));
+    c.running_cost = [us, lat](const VectorXad&, const VectorXad& u) {  // Eq. (9)
+      AutoDiffXd cost = u(0) * u(0) + u(1) * u(1) + (u(2) / us) * (u(2) / us) + (u(3) / us) * (u(3) / us);
+      if (lat) cost += (u(4) / us) * (u(4) / us) + (u(5) / us) * (u(5) / us);  // Eq. (15)'s torques, same scale
+      return cost;
     };
   }
   DirectCollocation problem("aslip_transition", std::move(phases));
@@ -123,6 +164,16 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
       lo2, hi2, "legs_force_friction_spring_zmp");
   const int stance = 1 - data.lifting_leg;
   const double stance_x = dsp.foot_x(stance);
+  if (params_.min_dsp_stance_force_fraction > 0) {
+    problem.AddPathConstraint(
+        0, 1,
+        [p, stance, stance_x](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+          y.resize(1);
+          y(0) = AslipLegState<AutoDiffXd>(p, x, stance, stance_x, u(2 + stance)).grf_z / (p.mass * p.gravity);
+        },
+        Eigen::VectorXd::Constant(1, params_.min_dsp_stance_force_fraction), Eigen::VectorXd::Constant(1, inf),
+        "dsp_stance_leg_min_force");
+  }
   problem.AddPathConstraint(
       1, 6,
       [p, mu, stance, stance_x](const VectorXad& x, const VectorXad& u, VectorXad& y) {
@@ -130,6 +181,25 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         LegRows(p, mu, x, u, stance, stance_x, y, 0);
       },
       lo1, hi1, "stance_leg_force_friction_spring_zmp");
+  if (lat) {  // Eq. (14): −W1 G_z ≤ u_x ≤ W2 G_z per leg on the ground, rows scaled by m g
+    const double W1 = params_.foot_width_left_of_ankle, W2 = params_.foot_width_right_of_ankle;
+    for (int ph = 0; ph < 2; ++ph) {
+      const AslipContact contact = PhaseContact(data, ph);
+      problem.AddPathConstraint(
+          ph, 4,
+          [p, contact, W1, W2](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+            y.resize(4);
+            for (int leg = 0; leg < 2; ++leg) {
+              const AutoDiffXd gz = contact.in_contact(leg)
+                                        ? AslipLegState<AutoDiffXd>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z
+                                        : AutoDiffXd(0.0 * x(0));
+              y(2 * leg) = (u(4 + leg) + W1 * gz) / (p.mass * p.gravity * W1);
+              y(2 * leg + 1) = (W2 * gz - u(4 + leg)) / (p.mass * p.gravity * W2);
+            }
+          },
+          Eigen::VectorXd::Zero(4), Eigen::VectorXd::Constant(4, inf), ph == 0 ? "lateral_zmp_dsp" : "lateral_zmp_ssp");
+    }
+  }
   const int lift = data.lifting_leg;
   const double lift_x = dsp.foot_x(lift);
   problem.AddNodeConstraint(
@@ -148,8 +218,15 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         },
         Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "final_ankle_torque");
   }
-  problem.SetNodeStateBounds(0, 0, data.initial_state, data.initial_state);
-  problem.SetNodeStateBounds(1, -1, data.final_state, data.final_state);
+  Eigen::VectorXd x0(kNx), xf(kNx);
+  x0.head(8) = data.initial_state;
+  xf.head(8) = data.final_state;
+  if (lat) {
+    x0.tail(2) = data.initial_lateral_state;
+    xf.tail(2) = data.final_lateral_state;
+  }
+  problem.SetNodeStateBounds(0, 0, x0, x0);
+  problem.SetNodeStateBounds(1, -1, xf, xf);
   // Initial guess: straight line in state space, mid-range durations.
   const int N = q.nodes_per_domain;
   const bool guessed = data.dsp_state_guess.size() > 0 || data.ssp_state_guess.size() > 0;
@@ -157,7 +234,7 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     if (data.dsp_state_guess.rows() != kNx || data.dsp_state_guess.cols() != N || data.ssp_state_guess.rows() != kNx ||
         data.ssp_state_guess.cols() != N || !(data.dsp_duration_guess > 0) || !(data.ssp_duration_guess > 0)) {
       std::ostringstream msg;
-      msg << "AslipTransitionPlanner: the state guesses must be 8 x " << N << " each with durations > 0, got "
+      msg << "AslipTransitionPlanner: the state guesses must be " << kNx << " x " << N << " each with durations > 0, got "
           << data.dsp_state_guess.rows() << "x" << data.dsp_state_guess.cols() << " and "
           << data.ssp_state_guess.rows() << "x" << data.ssp_state_guess.cols() << ", " << data.dsp_duration_guess
           << " and " << data.ssp_duration_guess << " s";
@@ -173,7 +250,7 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     Eigen::MatrixXd X(kNx, N);
     for (int k = 0; k < N; ++k) {
       const double t = (ph == 0 ? Td * k / (N - 1) : Td + Ts * k / (N - 1)) / (Td + Ts);
-      X.col(k) = (1 - t) * data.initial_state + t * data.final_state;
+      X.col(k) = (1 - t) * x0 + t * xf;
       X(2, k) = (data.final_state(0) - data.initial_state(0)) / (Td + Ts);
     }
     problem.SetInitialGuess(ph, X, Eigen::MatrixXd::Zero(kNu, N), ph == 0 ? Td : Ts);
@@ -187,9 +264,15 @@ PlanCacheKey AslipTransitionPlanner::CacheKey(const AslipTransitionData& data) c
   key.Add("T_DSP_min", params_.min_dsp_duration).Add("T_DSP_max", params_.max_dsp_duration);
   key.Add("T_SSP_min", params_.min_ssp_duration).Add("T_SSP_max", params_.max_ssp_duration);
   key.Add("u_max", params_.max_ankle_torque).Add("u_scale", params_.torque_cost_scale);
-  key.Add("zero_final_u", params_.zero_final_ankle_torque);
+  key.Add("zero_final_u", params_.zero_final_ankle_torque).Add("u_max_ssp", params_.max_ssp_ankle_torque);
+  key.Add("min_dsp_stance_force", params_.min_dsp_stance_force_fraction);
   key.Add("x0", Eigen::MatrixXd(data.initial_state)).Add("xf", Eigen::MatrixXd(data.final_state));
   key.Add("foot_L", data.left_foot_x).Add("foot_R", data.right_foot_x).Add("lift", data.lifting_leg);
+  if (params_.lateral) {
+    key.Add("lateral", true).Add("W1", params_.foot_width_left_of_ankle).Add("W2", params_.foot_width_right_of_ankle);
+    key.Add("u_x_max", params_.max_ankle_roll_torque).Add("foot_L_y", data.left_foot_y).Add("foot_R_y", data.right_foot_y);
+    key.Add("y0", Eigen::MatrixXd(data.initial_lateral_state)).Add("yf", Eigen::MatrixXd(data.final_lateral_state));
+  }
   key.Add("guess_dsp", data.dsp_state_guess).Add("guess_ssp", data.ssp_state_guess);
   key.Add("guess_T_DSP", data.dsp_duration_guess).Add("guess_T_SSP", data.ssp_duration_guess);
   return key;

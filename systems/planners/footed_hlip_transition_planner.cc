@@ -67,18 +67,29 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
   DenseQpSolver qp(n, n_eq, n_ineq);
   // Eq. (15) cost Σ (u_L² + u_R²) = ½ zᵀ H z with H = 2 I on the torques.
   for (int k = 0; k < 2 * N; ++k) qp.H(k, k) = 2.0;
-  // Dynamics.
+  // Dynamics: Y^{k+1} = A (Y^k − [c; 0]) + [c; 0] + B u^k on every interval.
   const double y_stance = d.stance_left ? d.left_foot_y : d.right_foot_y;
+  Eigen::VectorXd stiffness(N - 1), pivot(N - 1);
   for (int k = 0; k + 1 < N; ++k) {
     const double T = d.node_times(k + 1) - d.node_times(k);
     const bool ssp = d.single_support[k];
-    const FootedLinearInvertedPendulumStep s = FootedLinearInvertedPendulumDiscretization(lambda, T, m, d.z0, ssp);
+    double a = ssp ? lambda * lambda : 0.0, c = ssp ? y_stance : 0.0;
+    if (params_.normal_force_pivots) {
+      const double FL = 0.5 * (d.left_normal_force(k) + d.left_normal_force(k + 1));
+      const double FR = 0.5 * (d.right_normal_force(k) + d.right_normal_force(k + 1));
+      a = (FL + FR) / (m * d.z0);
+      c = FL + FR > 0 ? (FL * d.left_foot_y + FR * d.right_foot_y) / (FL + FR) : 0.0;
+    }
+    stiffness(k) = a;
+    pivot(k) = c;
+    const FootedLinearInvertedPendulumStep s =
+        FootedLinearInvertedPendulumDiscretization(a > 0 ? std::sqrt(a) : lambda, T, m, d.z0, a > 0);
     const int row = 2 * k;
     qp.A_eq.block<2, 2>(row, Y(k + 1)) = Eigen::Matrix2d::Identity();
     qp.A_eq.block<2, 2>(row, Y(k)) = -s.A;
-    if (ssp) {
+    qp.b_eq.segment<2>(row) = (Eigen::Matrix2d::Identity() - s.A) * Eigen::Vector2d(c, 0.0);
+    if (ssp && !params_.normal_force_pivots) {
       qp.A_eq.block<2, 1>(row, d.stance_left ? uL(k) : uR(k)) = -s.B;
-      qp.b_eq.segment<2>(row) = (Eigen::Matrix2d::Identity() - s.A) * Eigen::Vector2d(y_stance, 0.0);
     } else {
       qp.A_eq.block<2, 1>(row, uL(k)) = -s.B;
       qp.A_eq.block<2, 1>(row, uR(k)) = -s.B;
@@ -112,6 +123,8 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
   plan.left_torque = z.head(N);
   plan.right_torque = z.segment(N, N);
   plan.states = Eigen::Map<const Eigen::MatrixXd>(z.data() + 2 * N, 2, N);
+  plan.interval_stiffness = stiffness;
+  plan.interval_pivot = pivot;
   plan.cost = plan.left_torque.squaredNorm() + plan.right_torque.squaredNorm();
   return plan;
 }

@@ -11,6 +11,12 @@
 //   the dynamics (2(N−1) rows); Y^0 = [y0; ẏ0], Y^{N−1} = [y_f; ẏ_f] (4 rows);
 //   Eq. (14) ZMP  −W1 F_i^k ≤ u_i^k ≤ W2 F_i^k per foot and node (2N rows), |u_i^k| ≤ u_max (bounds).
 // Sign: u_x = −G_z y_cop (COP relative to the ankle, +y left), so Eq. (14) is y_cop ∈ [−W2, W1] (spec §2.3).
+// Option normal_force_pivots (ours, off by default): every interval follows the point mass on its legs with the
+// footed-aSLIP's vertical forces F_i held at the interval mean, ÿ = Σ_i F_i (y − y_i)/(m z0) + Σ_i u_i/(m z0), i.e.
+// ÿ = a (y − c) + u/(m z0) with a = (F_L + F_R)/(m z0) and c the force-weighted foot position. The paper's DSP row
+// ÿ = u/(m z0) leaves out the lateral push of unequally loaded feet, which a standing start in a step stance
+// (the rear foot carrying ~7/8 of the weight for 0.5 s) turns into a lateral drift the sole cannot correct.
+// Every interval's (a, c) is reported with the plan so that it can be re-sampled exactly (WalkingPlan).
 // Variables are ordered [u_L^0..u_L^{N−1}, u_R^0..u_R^{N−1}, y^0, ẏ^0, ..., y^{N−1}, ẏ^{N−1}].
 #include <string>
 #include <vector>
@@ -27,6 +33,7 @@ struct FootedHlipTransitionParams {
   double foot_width_left_of_ankle = 0.06;   ///< [m] W1 (robots.md; symmetric foot, spec §2.3 [R])
   double foot_width_right_of_ankle = 0.06;  ///< [m] W2
   double max_ankle_roll_torque = 80.0;      ///< [N m] u_x,max (spec §1.1 [R] ankle roll limit)
+  bool normal_force_pivots = false;         ///< see the header (ours); false: the paper's Eq. (11)-(13)
 };
 
 /// One transition: the grid, the footed-aSLIP normal forces on it, the feet and the boundary states.
@@ -49,6 +56,10 @@ struct FootedHlipTransitionPlan {
   Eigen::VectorXd left_torque;    ///< u_L^k [N m], N
   Eigen::VectorXd right_torque;   ///< u_R^k [N m], N
   Eigen::MatrixXd states;         ///< 2 × N, [y; ẏ] world
+  /// Per interval k (N − 1): ÿ = a_k (y − c_k) + u_k/(m z0) with u_k the torque driving it (u_stance in the paper's
+  /// SSP, u_L + u_R otherwise). a_k [1/s²] = λ² (paper SSP), 0 (paper DSP) or (F_L + F_R)/(m z0); c_k [m] world.
+  Eigen::VectorXd interval_stiffness;
+  Eigen::VectorXd interval_pivot;
   double cost = 0.0;              ///< Σ (u_L² + u_R²) [N² m²]
   int iterations = 0;
   bool success() const { return status == QpStatus::kOptimal; }

@@ -30,18 +30,19 @@ WalkingReference WalkingPlan::Sample(double t) const {
     k = std::clamp<Eigen::Index>(k, 0, n - 2);
     const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / s.mass_height;
     const double y0 = s.lateral_nodes(0, k), v0 = s.lateral_nodes(1, k);
-    if (s.domain == WalkingDomain::kDoubleSupport) {
+    const double a = s.lateral_stiffness(k);
+    if (a <= 0.0) {  // ÿ = a_u
       r.com_position(1) = y0 + v0 * dt + 0.5 * a_u * dt * dt;
       r.com_velocity(1) = v0 + a_u * dt;
       r.com_acceleration(1) = a_u;
     } else {
-      // ÿ = λ² (y − y_s) + a_u = λ² (y − c), c = y_s − a_u/λ².
-      const double l2 = s.lambda * s.lambda, c = s.lateral_pivot_y - a_u / l2;
-      const double ch = std::cosh(s.lambda * dt), sh = std::sinh(s.lambda * dt);
-      const double y = (y0 - c) * ch + v0 / s.lambda * sh;
+      // ÿ = a (y − c_k) + a_u = a (y − c), c = c_k − a_u/a.
+      const double l = std::sqrt(a), c = s.lateral_pivots(k) - a_u / a;
+      const double ch = std::cosh(l * dt), sh = std::sinh(l * dt);
+      const double y = (y0 - c) * ch + v0 / l * sh;
       r.com_position(1) = c + y;
-      r.com_velocity(1) = (y0 - c) * s.lambda * sh + v0 * ch;
-      r.com_acceleration(1) = l2 * y;
+      r.com_velocity(1) = (y0 - c) * l * sh + v0 * ch;
+      r.com_acceleration(1) = a * y;
     }
   } else if (s.domain == WalkingDomain::kDoubleSupport) {
     r.com_position(1) = s.lateral_start(0) + s.lateral_start(1) * tau;
@@ -134,6 +135,9 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
   if (msg.str().empty() && lateral_data.node_times.size() != Nd + Ns - 1) {
     msg << "the lateral plan has " << lateral_data.node_times.size() << " nodes, the sagittal grid " << Nd + Ns - 1;
   }
+  if (msg.str().empty() && lateral.interval_stiffness.size() != lateral_data.node_times.size() - 1) {
+    msg << "the lateral plan has " << lateral.interval_stiffness.size() << " interval models for " << lateral_data.node_times.size() << " nodes";
+  }
   if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendTransition: " + msg.str());
   const AslipParams& p = planner.params().bounds.aslip;
   const double z0 = lateral_data.z0, lambda = std::sqrt(p.gravity / z0);
@@ -167,6 +171,8 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
       seg.lateral_torques(k) = ph == 0 ? lateral.left_torque(j) + lateral.right_torque(j)
                                        : (stance == 0 ? lateral.left_torque(j) : lateral.right_torque(j));
     }
+    seg.lateral_stiffness = lateral.interval_stiffness.segment(first, count - 1);
+    seg.lateral_pivots = lateral.interval_pivot.segment(first, count - 1);
     seg.lateral_start = seg.lateral_nodes.col(0);
     // Footholds at the end of the segment: in the SSP the lifting foot lands at the final state's step.
     Eigen::Vector2d left(x_offset + data.left_foot_x, lateral_data.left_foot_y);

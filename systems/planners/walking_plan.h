@@ -50,6 +50,8 @@ struct WalkingPlanSegment {
   Eigen::VectorXd lateral_node_times;
   Eigen::MatrixXd lateral_nodes;
   Eigen::VectorXd lateral_torques;
+  /// Per lateral interval: ÿ = a_k (y − c_k) + u_k/(m z0), a_k [1/s²] and c_k [m, world] from the footed H-LIP plan.
+  Eigen::VectorXd lateral_stiffness, lateral_pivots;
   double mass_height = 0.0;  ///< [kg m] m z0
   Eigen::Vector2d left_foothold = Eigen::Vector2d::Zero(), right_foothold = Eigen::Vector2d::Zero();
 };

@@ -374,6 +374,47 @@ TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
   }
 }
 
+// force_band_carry_inactive: in left stance, the right foot's planned 0.7 m g moves to the left foot, so the band is
+// (1 ± c) · m g there; checked on the plant's own constrained dynamics at the QP's torques (off: the band holds 0.3 m g).
+TEST(ClfQpController, ForceBandCarriesTheInactiveContactsLoad) {
+  auto model = test::LoadRobot("amber");
+  const Eigen::VectorXd q = test::AmberDoubleSupportPose(*model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
+  const int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
+  const ContactSet left = ContactBit(l);
+  const double mg = model->total_mass() * 9.81;
+  std::vector<ClfOutput> outputs = {
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
+  for (int carry = 0; carry < 2; ++carry) {
+    ClfQpParams params;
+    params.force_band = true;
+    params.force_band_carry_inactive = carry == 1;
+    params.contact.cop_margin_m = 0.0;
+    ClfQpController controller("clf", model, {left}, outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
+    desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
+                                                std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
+                                       q, v);
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[l] = 0.3 * mg;
+    f_ref[r] = 0.7 * mg;
+    context->FixInputPort(3, f_ref);
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    MultibodyWorkspace ws(*model);
+    Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+    CalcConstrainedForwardDynamics(*model, ws, q, v, s.u, left, ConstrainedDynamicsParameters{}, qdd, F);
+    const double fz = ExtractContactWrench(*model, ws, q, left, F, l).force.z();
+    std::printf("  carry %d: plant F_z left %.4g N (m g %.4g N), fallbacks %.0f\n", carry, fz, mg, s.fallbacks.sum());
+    EXPECT_EQ(s.fallbacks.sum(), 0.0);  // the band held (not dropped)
+    const double total = carry == 1 ? mg : 0.3 * mg;
+    EXPECT_GE(fz, 0.9 * total - 1e-6);
+    EXPECT_LE(fz, 1.1 * total + 1e-6);
+  }
+}
+
 TEST(ClfQpController, EachFallbackFiresOnAProblemBuiltToNeedIt) {
   auto model = test::LoadRobot("amber");
   const Eigen::VectorXd q = test::AmberSingleSupportPose(*model);

@@ -2,10 +2,14 @@
 // 1e-6, free durations inside their bounds, the boundary states, Eq. (10) as a centre of pressure under the foot
 // (x_cop − x_ankle = u/G_z ∈ [−L_h, L_t], from the ground reaction recomputed here), the lift-off guard, and forward
 // re-integration (RK4) of the footed aSLIP under the planned inputs; and the static force balance behind the standing
-// state (AslipRestLengthForForce).
+// state (AslipRestLengthForForce). The lateral option (a step stance into gait A): the lateral ZMP rows of Eq. (14) as a
+// lateral centre of pressure, the point-foot SSP, the DSP stance force floor, and re-integration of the 3D point mass
+// with its lateral force from the CoP geometry (G_y = G_z (y − y_cop)/z).
 #include "systems/planners/aslip_transition_planner.h"
 
 #include <gtest/gtest.h>
+
+#include "systems/rom/hybrid_linear_inverted_pendulum.h"
 
 #include <cmath>
 #include <filesystem>
@@ -156,6 +160,130 @@ TEST(AslipTransitionPlanner, RestLengthBalancesTheStaticLoad) {
   const Eigen::Matrix<double, 8, 1> xdot = AslipDynamics<double>(p, AslipContact{true, true, 0, 0}, Vec(x), Vec::Zero(4));
   EXPECT_LT(xdot.segment<2>(2).norm(), 1e-9);
   EXPECT_THROW(AslipRestLengthForForce(p, -1.0, 100.0), std::invalid_argument);
+}
+
+TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
+  AslipPeriodicGaitParams gait_a;
+  gait_a.height_min = 0.80;  // the walking diagram's heights
+  gait_a.height_max = 0.88;
+  const AslipPeriodicGait a = AslipPeriodicGaitPlanner(gait_a).Solve(1);
+  ASSERT_TRUE(a.success()) << a.collocation.nlp.message;
+  AslipTransitionParams params;
+  params.bounds = gait_a;
+  params.bounds.aslip.heel_length = 0.02;  // the exoskeleton's sole (0.07, 0.18) less 0.05 m
+  params.bounds.aslip.toe_length = 0.13;
+  params.min_ssp_duration = gait_a.ssp_duration;
+  params.max_ssp_ankle_torque = 0.0;
+  params.min_dsp_stance_force_fraction = 0.1;
+  params.lateral = true;
+  params.foot_width_left_of_ankle = params.foot_width_right_of_ankle = 0.03;
+  const AslipTransitionPlanner planner(params);
+  const AslipParams& p = params.bounds.aslip;
+  AslipTransitionData d;
+  d.left_foot_x = 0.0;
+  d.right_foot_x = -0.4;
+  d.initial_state = AslipTransitionPlanner::StandingState(p, 0.84, d.left_foot_x, d.right_foot_x);
+  d.final_state = a.collocation.phases[0].states.col(gait_a.nodes_per_domain - 1);
+  d.lifting_leg = 1;
+  const double W = 0.25;
+  d.left_foot_y = W / 2;
+  d.right_foot_y = -W / 2;
+  const HybridLinearInvertedPendulum hlip({.z0 = a.mean_height, .ssp_duration = gait_a.ssp_duration, .dsp_duration = gait_a.dsp_duration});
+  const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
+  d.final_lateral_state = Eigen::Vector2d(W / 2 + pre(0), pre(1));
+  const AslipTransition t = planner.Solve(d);
+  ASSERT_TRUE(t.success()) << t.collocation.nlp.message;
+  EXPECT_LE(t.max_constraint_violation, 1e-6);
+  const CollocationPhaseSolution &dsp = t.collocation.phases[0], &ssp = t.collocation.phases[1];
+  ASSERT_EQ(dsp.states.rows(), 10);
+  ASSERT_EQ(dsp.inputs.rows(), 6);
+  EXPECT_LT((dsp.states.col(0).head(8) - Vec(d.initial_state)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((dsp.states.col(0).tail(2) - d.initial_lateral_state).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((ssp.states.col(ssp.states.cols() - 1).head(8) - Vec(d.final_state)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((ssp.states.col(ssp.states.cols() - 1).tail(2) - d.final_lateral_state).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GE(ssp.duration, gait_a.ssp_duration - 1e-9);
+  const double mg = p.mass * p.gravity, foot_y[2] = {d.left_foot_y, d.right_foot_y};
+  for (int ph = 0; ph < 2; ++ph) {
+    const CollocationPhaseSolution& s = t.collocation.phases[ph];
+    const Eigen::MatrixXd G = t.GroundReactions(p, d, ph);
+    const AslipContact c = AslipTransitionPlanner::PhaseContact(d, ph);
+    for (Eigen::Index k = 0; k < G.cols(); ++k) {
+      for (int leg = 0; leg < 2; ++leg) {
+        const double Gz = G(2 * leg + 1, k), ux = s.inputs(4 + leg, k);
+        if (!c.in_contact(leg)) {
+          EXPECT_EQ(ux, 0.0);
+          continue;
+        }
+        if (ph == 1) {
+          EXPECT_NEAR(s.inputs(2 + leg, k), 0.0, 1e-9) << "point-foot SSP, node " << k;
+        }
+        if (ph == 0 && leg != d.lifting_leg) {
+          EXPECT_GE(Gz, 0.1 * mg - 1e-6 * mg) << "DSP stance force floor, node " << k;
+        }
+        if (Gz > 0.01 * mg) {  // lateral CoP from u_x = −G_z y_cop (spec §2.3), inside [−W2, W1]
+          const double y_cop = -ux / Gz;
+          EXPECT_GE(y_cop, -0.03 - 1e-6) << "phase " << ph << " node " << k << " leg " << leg;
+          EXPECT_LE(y_cop, 0.03 + 1e-6) << "phase " << ph << " node " << k << " leg " << leg;
+        }
+      }
+    }
+  }
+  // Re-integration (RK4, inputs linear between nodes) of the 3D point mass: sagittal aSLIP, and laterally each leg's
+  // GRF points from its CoP (y_i + y_cop,i) to the mass, G_y = G_z (y − y_i − y_cop,i)/z with y_cop,i = −u_x,i/G_z.
+  Vec x = dsp.states.col(0);
+  double worst_y = 0.0;
+  for (int ph = 0; ph < 2; ++ph) {
+    const CollocationPhaseSolution& s = t.collocation.phases[ph];
+    const AslipContact c = AslipTransitionPlanner::PhaseContact(d, ph);
+    const int N = static_cast<int>(s.times.size());
+    const double h = s.duration / (N - 1);
+    for (int k = 0; k + 1 < N; ++k) {
+      const int sub = 100;
+      const double dt = h / sub;
+      auto u = [&](double tau) { return Vec(s.inputs.col(k) + (s.inputs.col(k + 1) - s.inputs.col(k)) * tau / h); };
+      auto f = [&](const Vec& y, double tau) {
+        const Vec ui = u(tau);
+        Vec out(10);
+        out.head(8) = AslipDynamics<double>(p, c, Vec(y.head(8)), Vec(ui.head(4)));
+        double fy = 0.0;
+        for (int leg = 0; leg < 2; ++leg) {
+          if (!c.in_contact(leg)) continue;
+          const AslipLeg<double> g = AslipLegState<double>(p, y, leg, c.foot_x(leg), ui(2 + leg));
+          const double y_cop = g.grf_z != 0.0 ? -ui(4 + leg) / g.grf_z : 0.0;
+          fy += g.grf_z * (y(8) - foot_y[leg] - y_cop) / y(1);
+        }
+        out(8) = y(9);
+        out(9) = fy / p.mass;
+        return out;
+      };
+      for (int j = 0; j < sub; ++j) {
+        const double tt = j * dt;
+        const Vec k1 = f(x, tt), k2 = f(x + 0.5 * dt * k1, tt + 0.5 * dt), k3 = f(x + 0.5 * dt * k2, tt + 0.5 * dt), k4 = f(x + dt * k3, tt + dt);
+        x += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      }
+      worst_y = std::max(worst_y, std::abs(x(8) - s.states(8, k + 1)));
+    }
+  }
+  // Stated bound: y within 2 cm over the open-loop 1.4 s (trapezoid defects, amplified by the SSP's divergence).
+  EXPECT_LT(worst_y, 2e-2);
+  std::printf("T_DSP %.3f s, T_SSP %.3f s, %d iterations, %.0f ms, lateral re-integration %.2g m\n", dsp.duration, ssp.duration,
+              t.collocation.nlp.iterations, 1e3 * t.collocation.nlp.wall_time, worst_y);
+}
+
+TEST(AslipTransitionPlanner, StepStanceStandingStateIsInStaticEquilibrium) {
+  const AslipParams p;
+  const Eigen::Matrix<double, 8, 1> x = AslipTransitionPlanner::StandingState(p, 0.84, 0.0, -0.4);
+  EXPECT_NEAR(x(0), -0.2, 1e-12);
+  // Sum of the two legs' ground reactions = (0, m g): zero acceleration of the mass.
+  double gx = 0.0, gz = 0.0;
+  for (int leg = 0; leg < 2; ++leg) {
+    const AslipLeg<double> g = AslipLegState<double>(p, Vec(x), leg, leg == 0 ? 0.0 : -0.4, 0.0);
+    gx += g.grf_x;
+    gz += g.grf_z;
+    EXPECT_NEAR(g.grf_z, 0.5 * p.mass * p.gravity, 1e-6);
+  }
+  EXPECT_NEAR(gx, 0.0, 1e-6);
+  EXPECT_NEAR(gz, p.mass * p.gravity, 1e-6);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // must end on the lateral P2 orbit. Checks: the terminal state to 1e-9, Eq. (14) at every node (so the unloaded foot
 // has u = 0), the torque limit, the node states against a fine RK4 integration of the continuous footed H-LIP under the
 // held torques (independent of the ZOH matrices), and the KKT conditions of Eq. (15) rebuilt here from the plan.
+// normal_force_pivots: the same checks against an RK4 integration of the point mass on its two loaded feet,
+// m z0 ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R with each interval's mean forces.
 #include "systems/planners/footed_hlip_transition_planner.h"
 
 #include <gtest/gtest.h>
@@ -128,6 +130,42 @@ TEST(FootedHlipTransitionPlanner, HitsTheTerminalStateWithinTheZmpBounds) {
   }
   const Eigen::Vector2d nu = M.colPivHouseholderQr().solve(rhs);
   EXPECT_LT((M * nu - rhs).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, rhs.cwiseAbs().maxCoeff()));
+}
+
+TEST(FootedHlipTransitionPlanner, NormalForcePivotsFollowThePointMassOnItsLoadedFeet) {
+  FootedHlipTransitionParams p;
+  p.normal_force_pivots = true;
+  const FootedHlipTransitionData d = StandingStart(0.8, 20, 0.4, 20);
+  const FootedHlipTransitionPlan plan = FootedHlipTransitionPlanner(p).Solve(d);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  const int N = static_cast<int>(d.node_times.size());
+  EXPECT_LT((plan.states.col(N - 1) - d.final_state).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((plan.states.col(0) - d.initial_state).cwiseAbs().maxCoeff(), 1e-9);
+  const double mz = p.mass * d.z0;
+  double worst = 0.0;
+  for (int k = 0; k + 1 < N; ++k) {
+    for (int foot = 0; foot < 2; ++foot) {  // Eq. (14)
+      const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k), u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
+      EXPECT_GE(u, -p.foot_width_left_of_ankle * F - 1e-9);
+      EXPECT_LE(u, p.foot_width_right_of_ankle * F + 1e-9);
+    }
+    const double FL = 0.5 * (d.left_normal_force(k) + d.left_normal_force(k + 1));
+    const double FR = 0.5 * (d.right_normal_force(k) + d.right_normal_force(k + 1));
+    EXPECT_NEAR(plan.interval_stiffness(k), (FL + FR) / mz, 1e-12);
+    const double u = plan.left_torque(k) + plan.right_torque(k);
+    auto f = [&](const Eigen::Vector2d& q) {
+      return Eigen::Vector2d(q(1), (FL * (q(0) - d.left_foot_y) + FR * (q(0) - d.right_foot_y) + u) / mz);
+    };
+    Eigen::Vector2d q = plan.states.col(k);
+    const int sub = 200;
+    const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
+    for (int j = 0; j < sub; ++j) {
+      const Eigen::Vector2d k1 = f(q), k2 = f(q + 0.5 * h * k1), k3 = f(q + 0.5 * h * k2), k4 = f(q + h * k3);
+      q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    worst = std::max(worst, (q - plan.states.col(k + 1)).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-9);
 }
 
 TEST(FootedHlipTransitionPlanner, ReportsAnInfeasibleTransition) {
