@@ -1,5 +1,6 @@
 #include "systems/plants/contact_force_statistics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -19,7 +20,7 @@ void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext
     min_normal_force_N = std::min(min_normal_force_N, fn);
     if (fn > 0) max_friction_ratio = std::max(max_friction_ratio, ft / fn);
     max_cone_excess_N = std::max(max_cone_excess_N, ft - mu * fn);
-    if (fn < -tolerance_N || ft > mu * fn + tolerance_N) {
+    if (Violates(fn, ft, mu)) {
       if (!violated && violations == 0) {
         std::ostringstream os;
         os << "t = " << context.time() << " s: contact '" << model.contacts()[c].name << "' F_n = " << fn << " N, |F_t| = " << ft
@@ -30,6 +31,11 @@ void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext
     }
   }
   if (violated) ++violations;
+}
+
+bool ContactForceStatistics::Violates(double normal_N, double tangential_N, double mu) const {
+  // Written so that NaN forces count as violations.
+  return !(normal_N >= -tolerance_N) || !(tangential_N <= mu * std::max(normal_N, 0.0) * (1 + relative_tolerance) + tolerance_N);
 }
 
 }  // namespace rome

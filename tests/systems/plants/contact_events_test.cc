@@ -7,6 +7,7 @@
 #include "framework/diagram.h"
 #include "framework/primitives.h"
 #include "framework/simulator.h"
+#include "systems/plants/contact_force_statistics.h"
 #include "systems/plants/hybrid_contact_plant.h"
 
 namespace rome {
@@ -373,3 +374,18 @@ TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
 
 }  // namespace
 }  // namespace rome
+
+// The contact check's rule, against numbers worked by hand: round-off at a clamped cone (Bullet's sliding foot, measured
+// |F_t|/F_n = 0.8 (1 + 7.8e-9) at F_n = 181.209 N) is not a violation; a 1e-4 excess, a pull of 1e-3 N or NaN is.
+TEST(ContactForceStatistics, ViolationRuleSeparatesRoundOffFromSliding) {
+  const rome::ContactForceStatistics stats;
+  const double fn = 181.209, mu = 0.8;
+  EXPECT_FALSE(stats.Violates(fn, mu * fn * (1 + 7.8e-9), mu));  // excess 1.1e-6 N: above the absolute 1e-6 N alone
+  EXPECT_FALSE(stats.Violates(fn, mu * fn, mu));
+  EXPECT_TRUE(stats.Violates(fn, mu * fn * (1 + 1e-4), mu));       // 0.0145 N beyond the cone
+  EXPECT_TRUE(stats.Violates(-1e-3, 0.0, mu));
+  EXPECT_FALSE(stats.Violates(-5e-7, 0.0, mu));
+  EXPECT_TRUE(stats.Violates(std::nan(""), 0.0, mu));
+  EXPECT_TRUE(stats.Violates(fn, std::nan(""), mu));
+  EXPECT_TRUE(stats.Violates(0.0, 1e-5, mu));                      // no normal force, a tangential one
+}
