@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   cli.Option("apex-rise", examples::FormatNumber(SpringMassJumpParams{}.apex_rise),
              "H [m]: COM rise above the take-off height (default: the ROM's air time is 0.423 s with the identified K(L))")
       .Option("leg-stiffness", "identified", "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
-      .Option("hops", "1", "number of hops (>= 1); the landing of one hop is the crouch of the next")
+      .Option("hops", "1", "number of hops (1 to 1000); the landing of one hop is the crouch of the next")
       .Option("duration", "0", "[s] simulated time; 0: settle + hops + 2.5 s after the last touchdown")
       .Option("log", "", "CSV log path (empty: none)")
       .Option("summary", "", "JSON summary path (empty: none)")
@@ -69,20 +69,16 @@ int main(int argc, char** argv) {
     hops = cli.GetInt("hops");
     if (!(apex_rise > 0.0 && apex_rise <= 0.35))
       throw std::invalid_argument("--apex-rise " + cli.Get("apex-rise") + ": outside what the legs can reach (0 < H <= 0.35 m)");
-    if (hops < 1) throw std::invalid_argument("--hops " + cli.Get("hops") + ": must be at least 1");
+    if (hops < 1 || hops > 1000) throw std::invalid_argument("--hops " + cli.Get("hops") + ": must be in [1, 1000]");
     try {
       variant = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
     } catch (const std::exception&) {
       throw std::invalid_argument("--leg-stiffness " + cli.Get("leg-stiffness") + ": unknown variant (published or identified)");
     }
-    for (const char* path : {"log", "summary"})
-      if (!cli.Get(path).empty()) {
-        std::ofstream probe(cli.Get(path), std::ios::app);
-        if (!probe) throw std::invalid_argument(std::string("--") + path + " " + cli.Get(path) + ": cannot write there");
-      }
-    if (!cli.Get("plots").empty()) std::filesystem::create_directories(cli.Get("plots"));
+    cli.CheckOutputs({"log", "summary"}, {"plots"});
   } catch (const std::exception& e) {
-    std::cerr << "hopping: " << e.what() << "\n";
+    const std::string what = e.what();
+    std::cerr << (what.rfind("hopping: ", 0) == 0 ? "" : "hopping: ") << what << "\n";
     return 1;
   }
 

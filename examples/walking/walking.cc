@@ -55,11 +55,12 @@ int main(int argc, char** argv) {
   cli.Option("scenario", "stand-to-walk", "stand-to-walk (gait-change: not implemented yet)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
-      .Option("steps", "10", "periodic steps per gait")
+      .Option("steps", "10", "periodic steps per gait (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
       .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
+      .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
       .Option("cache", "walking_plans", "directory of cached ROM plans")
@@ -68,7 +69,7 @@ int main(int argc, char** argv) {
       .Option("plots", "", "directory for PNG plots (empty: none)");
   WalkingGait gait_a;
   int steps = 0;
-  double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0;
+  double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     if (cli.Get("scenario") == "gait-change")
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
     gait_a = ParseGait("gait-a", cli.Get("gait-a"));
     ParseGait("gait-b", cli.Get("gait-b"));
     steps = cli.GetInt("steps");
-    if (steps < 1) throw std::invalid_argument("walking: --steps must be >= 1, got " + cli.Get("steps"));
+    if (steps < 1 || steps > 1000) throw std::invalid_argument("walking: --steps must be in [1, 1000], got " + cli.Get("steps"));
     stagger = cli.GetDouble("stance-stagger");
     if (!(stagger >= 0 && stagger <= 0.5)) throw std::invalid_argument("walking: --stance-stagger must be in [0, 0.5] m, got " + cli.Get("stance-stagger"));
     rom_margin = cli.GetDouble("rom-cop-margin");
@@ -88,13 +89,10 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("walking: --transition-ssp must be 0 or in [0.3, 1.0] s, got " + cli.Get("transition-ssp"));
     band = cli.GetDouble("force-band");
     if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band must be in (0, 1), got " + cli.Get("force-band"));
-    for (const char* f : {"log", "summary"}) {
-      const std::string path = cli.Get(f);
-      if (path.empty()) continue;
-      std::ofstream probe(path);
-      if (!probe) throw std::invalid_argument(std::string("walking: --") + f + ": cannot write '" + path + "'");
-    }
-    if (!cli.Get("plots").empty()) std::filesystem::create_directories(cli.Get("plots"));
+    foothold_tolerance = cli.GetDouble("foothold-tolerance");
+    if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
+      throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
+    cli.CheckOutputs({"log", "summary"}, {"plots"});
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;
@@ -145,8 +143,9 @@ int main(int argc, char** argv) {
     log << '\n';
   }
   long tick = -1, band_ticks = 0, band_in = 0, n_err = 0;
-  int touchdowns = 0, last_mode = 1;
-  double last_touchdown = -1.0, liftoff_max = 0.0, pelvis_max = 0.0;
+  int touchdowns = 0, off_target_touchdowns = 0, last_mode = 1;
+  double last_touchdown = -1.0, liftoff_max = 0.0, pelvis_max = 0.0, touchdown_error_max = 0.0;
+  const int left_foot = model->BodyIndex("left_foot");
   Eigen::Vector2d last_fz = Eigen::Vector2d::Zero();
   Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), err_max = Eigen::Vector3d::Zero();
   std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
@@ -156,7 +155,19 @@ int main(int argc, char** argv) {
     const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
     const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
     const Eigen::VectorXd& f = d.plant->EvalOutput(ctx, "contact_forces");
-    if (mode == 1 && last_mode != 1) ++touchdowns, last_touchdown = t;
+    // A touchdown: into double support, or straight from one stance into the other. Mode 0 is left stance (the right
+    // foot swings), 2 right stance. It is a step only on its planned foothold (the plan's (x, y) of that ankle).
+    if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {
+      const bool right_landed = last_mode == 0;
+      const Eigen::VectorXd q = ctx.continuous_state().head(nv);
+      const Eigen::Vector2d ankle = CalcLinkPose(*model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
+      const WalkingReference r = plan.Sample(t);
+      const double error = (ankle - (right_landed ? r.right_foothold : r.left_foothold)).norm();
+      touchdown_error_max = std::max(touchdown_error_max, error);
+      if (error <= foothold_tolerance) ++touchdowns;
+      else ++off_target_touchdowns;
+      last_touchdown = t;
+    }
     if (mode != 1 && last_mode == 1) liftoff_max = std::max(liftoff_max, mode == 0 ? last_fz[1] : last_fz[0]);
     last_mode = mode;
     last_fz << f[2], f[5];
@@ -217,6 +228,8 @@ int main(int argc, char** argv) {
   s["status"] = status.ToString();
   s["fell"] = fell;
   s["steps_completed"] = touchdowns;
+  s["touchdowns_off_target"] = off_target_touchdowns;
+  s["largest_touchdown_error_m"] = touchdown_error_max;
   s["com_rms_error_m"] = {rms.x(), rms.y(), rms.z()};
   s["com_max_error_m"] = {err_max.x(), err_max.y(), err_max.z()};
   s["pelvis_max_orientation_error_rad"] = pelvis_max;
@@ -241,7 +254,8 @@ int main(int argc, char** argv) {
                              {{"left", t_s, fl}, {"left reference", t_s, fl_ref}, {"right", t_s, fr}, {"right reference", t_s, fr_ref}}};
     if (!examples::WritePlot(force, dir + "/normal_forces.png", &err)) std::cerr << "plot: " << err << "\n";
   }
-  std::cout << (success ? "walked" : "FAILED") << ": " << status.ToString() << "\n  " << touchdowns << " steps, COM RMS error (after the first step) "
+  std::cout << (success ? "walked" : "FAILED") << ": " << status.ToString() << "\n  " << touchdowns << " steps (" << off_target_touchdowns << " touchdowns off their footholds, largest error "
+            << touchdown_error_max << " m), COM RMS error (after the first step) "
             << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n";
   return success ? 0 : 3;
 }
