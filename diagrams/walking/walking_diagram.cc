@@ -147,27 +147,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   if (!transition.success()) throw std::runtime_error("BuildStandToWalkPlan: the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
   // Footed H-LIP QP on the transition's nodes (the DSP's last node is the SSP's first), with its per-foot forces.
   const double W = g.step_width_m, m = gp.aslip.mass;
-  const int N = gp.nodes_per_domain;
-  FootedHlipTransitionData lat;
-  lat.node_times.resize(2 * N - 1);
-  lat.left_normal_force.resize(2 * N - 1);
-  lat.right_normal_force.resize(2 * N - 1);
-  for (int ph = 0; ph < 2; ++ph) {
-    const Eigen::MatrixXd G = transition.GroundReactions(tp.bounds.aslip, data, ph);
-    const CollocationPhaseSolution& s = transition.collocation.phases[ph];
-    for (int k = ph; k < N; ++k) {
-      const int j = ph * (N - 1) + k;
-      lat.node_times(j) = s.times(k);
-      lat.left_normal_force(j) = std::max(0.0, G(1, k));
-      lat.right_normal_force(j) = std::max(0.0, G(3, k));
-    }
-  }
-  for (int k = 0; k + 1 < 2 * N - 1; ++k) lat.single_support.push_back(k >= N - 1);
-  lat.stance_left = true;
-  lat.left_foot_y = W / 2;
-  lat.right_foot_y = -W / 2;
-  lat.z0 = transition.mean_height;
-  lat.initial_state = Eigen::Vector2d(0.0, 0.0);
+  FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, tp.bounds.aslip, data, gp.nodes_per_domain, W);
   lat.final_state = data.final_lateral_state;
   FootedHlipTransitionParams lp;
   lp.mass = m;

@@ -185,4 +185,30 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
   }
 }
 
+FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
+                                                      const AslipTransitionData& data, int nodes_per_domain, double step_width_m) {
+  const int N = nodes_per_domain;
+  FootedHlipTransitionData lat;
+  lat.node_times.resize(2 * N - 1);
+  lat.left_normal_force.resize(2 * N - 1);
+  lat.right_normal_force.resize(2 * N - 1);
+  for (int ph = 0; ph < 2; ++ph) {
+    const Eigen::MatrixXd G = transition.GroundReactions(aslip, data, ph);
+    const CollocationPhaseSolution& s = transition.collocation.phases[ph];
+    for (int k = ph; k < N; ++k) {
+      const int j = ph * (N - 1) + k;
+      lat.node_times(j) = s.times(k);
+      lat.left_normal_force(j) = std::max(0.0, G(1, k));
+      lat.right_normal_force(j) = std::max(0.0, G(3, k));
+    }
+  }
+  for (int k = 0; k + 1 < 2 * N - 1; ++k) lat.single_support.push_back(k >= N - 1);
+  lat.stance_left = true;
+  lat.left_foot_y = step_width_m / 2;
+  lat.right_foot_y = -step_width_m / 2;
+  lat.z0 = transition.mean_height;
+  lat.initial_state = Eigen::Vector2d(0.0, 0.0);
+  return lat;
+}
+
 }  // namespace rome

@@ -85,4 +85,11 @@ class WalkingPlan {
   std::vector<WalkingPlanSegment> segments_;
 };
 
+/// The footed H-LIP transition QP's data on the nodes of a solved standing transition (DSP then SSP; the DSP's last
+/// node is the SSP's first): node times, each foot's normal force from the transition's ground reactions (clipped at
+/// 0), the single-support flags, left stance, feet at ±step_width_m / 2, z0 = the transition's mean height and a zero
+/// initial lateral state. The caller sets the final state and any other option.
+FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
+                                                      const AslipTransitionData& data, int nodes_per_domain, double step_width_m);
+
 }  // namespace rome

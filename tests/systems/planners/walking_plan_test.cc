@@ -97,27 +97,8 @@ TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
   ASSERT_TRUE(transition.success());
   // Lateral QP on the same nodes (the DSP's last node is the SSP's first).
   const double W = 0.25, m = gait_params.aslip.mass;
-  FootedHlipTransitionData lat;
   const int N = gait_params.nodes_per_domain;
-  lat.node_times.resize(2 * N - 1);
-  lat.left_normal_force.resize(2 * N - 1);
-  lat.right_normal_force.resize(2 * N - 1);
-  for (int ph = 0; ph < 2; ++ph) {
-    const Eigen::MatrixXd G = transition.GroundReactions(gait_params.aslip, data, ph);
-    const CollocationPhaseSolution& s = transition.collocation.phases[ph];
-    for (int k = ph; k < N; ++k) {
-      const int j = ph * (N - 1) + k;
-      lat.node_times(j) = s.times(k);
-      lat.left_normal_force(j) = std::max(0.0, G(1, k));
-      lat.right_normal_force(j) = std::max(0.0, G(3, k));
-    }
-  }
-  for (int k = 0; k + 1 < 2 * N - 1; ++k) lat.single_support.push_back(k >= N - 1);
-  lat.stance_left = true;
-  lat.left_foot_y = W / 2;
-  lat.right_foot_y = -W / 2;
-  lat.z0 = transition.mean_height;
-  lat.initial_state = Eigen::Vector2d(0.0, 0.0);
+  FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, gait_params.aslip, data, N, W);
   const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = 0.4, .dsp_duration = 0.1});
   const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
   lat.final_state = Eigen::Vector2d(W / 2 + pre(0), pre(1));
