@@ -365,13 +365,16 @@ struct BodyPart {
   std::string problem;  // LinkMass::problem
 };
 
-// Why a rotational inertia (about the COM) is not physical, or "" if it is: positive
-// semi-definite and I1 + I2 >= I3 for its principal moments, each within
-// kInertiaRelativeTolerance times its largest principal moment.
-std::string PhysicalInertiaProblem(const Eigen::Matrix3d& inertia) {
+// Why a rotational inertia (about the COM) of a body of `mass` kg is not physical, or "" if it is:
+// positive semi-definite and I1 + I2 >= I3 for its principal moments, each within a tolerance on
+// the body's own scale: kInertiaRelativeTolerance times its largest principal moment, or
+// mass * kInertiaLengthTolerance_m^2 (a radius of gyration of 1 um) if larger, so that an inertia
+// of pure rounding noise (every entry ~1e-20, as exporters write a point mass) counts as zero.
+std::string PhysicalInertiaProblem(const Eigen::Matrix3d& inertia, double mass) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia, Eigen::EigenvaluesOnly);
   const Eigen::Vector3d l = eig.eigenvalues();  // ascending
-  const double tol = kInertiaRelativeTolerance * l.cwiseAbs().maxCoeff();
+  const double tol = std::max(kInertiaRelativeTolerance * l.cwiseAbs().maxCoeff(),
+                              mass * kInertiaLengthTolerance_m * kInertiaLengthTolerance_m);
   const bool not_psd = l[0] < -tol;
   const bool not_triangle = l[0] + l[1] < l[2] - tol;
   if (!not_psd && !not_triangle) return "";
@@ -492,6 +495,69 @@ class MultibodyModelLoader {
     model.name_ = urdf_model->getName();
     if (sidecar.contains("robot")) model.name_ = sc.String(sidecar, "robot", "robot");
 
+    // ---------------- a floating or planar joint out of a massless root (the world) ----------------
+    // The URDF way of writing a floating base (as Pinocchio and Drake read it): a massless root link,
+    // typically "world", joined to the robot by a 6-DOF floating joint (or a 3-DOF planar joint).
+    // The joint's child is then the robot's root, and the joint becomes ROME's spatial (planar)
+    // floating base, exactly as the sidecar's "floating_base" makes one for a URDF without the world
+    // link; the joint's <origin> is the default nominal base pose. The world link is not a frame of
+    // the robot (it does not move with it). A floating or planar joint anywhere else is rejected
+    // (in the walk below), naming it.
+    urdf::LinkConstSharedPtr root = urdf_model->getRoot();
+    if (!root) throw std::runtime_error(ufile + ": no root link");
+    Eigen::VectorXd base_nominal;  // default nominal_pose.base from the joint's <origin>
+    for (const auto& joint : root->child_joints) {
+      if (joint->type != urdf::Joint::FLOATING && joint->type != urdf::Joint::PLANAR) continue;
+      const bool floating = joint->type == urdf::Joint::FLOATING;
+      const FloatingBaseType type = floating ? FloatingBaseType::kSpatial : FloatingBaseType::kPlanar;
+      const std::string jname = Excerpt(joint->name), rname = Excerpt(root->name);
+      const std::string where = ufile + ": " + (floating ? "floating" : "planar") + " joint '" + jname + "'";
+      const std::string supported = std::string("; a ") + (floating ? "floating" : "planar") +
+                                    " joint is supported only as the single joint of a massless root link (the world), "
+                                    "where it becomes the robot's " + ToString(type) + " floating base";
+      if (root->inertial && root->inertial->mass != 0.0)
+        throw std::runtime_error(where + ": its parent, root link '" + rname + "', has mass " + Num(root->inertial->mass) +
+                                 " kg" + supported);
+      if (root->child_joints.size() != 1)
+        throw std::runtime_error(where + ": root link '" + rname + "' has " + std::to_string(root->child_joints.size()) +
+                                 " joints" + supported);
+      if (sidecar.contains("floating_base") && model.floating_base_ != type)
+        sc.Fail("floating_base", std::string("'") + ToString(model.floating_base_) + "' contradicts " + ufile + ", whose " +
+                                     (floating ? "floating" : "planar") + " joint '" + jname + "' makes a " +
+                                     ToString(type) + " floating base (remove the entry, or make it '" + ToString(type) + "')");
+      const Eigen::Isometry3d X = ToEigen(joint->parent_to_joint_origin_transform);
+      if (!X.matrix().allFinite() || X.translation().cwiseAbs().maxCoeff() > kMaxLength_m)
+        throw std::runtime_error(where + ": <origin> " + Num3(X.translation()) + " m is not finite or exceeds " +
+                                 Num(kMaxLength_m) + " m");
+      const Eigen::Matrix3d& R = X.linear();
+      if (floating) {
+        // q_base = [x, y, z, yaw, pitch, roll], R = Rz(yaw) Ry(pitch) Rx(roll).
+        base_nominal.resize(6);
+        base_nominal << X.translation(), std::atan2(R(1, 0), R(0, 0)), std::asin(std::clamp(-R(2, 0), -1.0, 1.0)),
+            std::atan2(R(2, 1), R(2, 2));
+      } else {
+        // ROME's planar base moves in the world x-z plane and pitches about +y: the URDF planar joint
+        // must have that plane (normal +y) and an <origin> within it.
+        const Eigen::Vector3d axis = ToEigen(joint->axis);
+        if (!axis.allFinite() || !(axis.norm() > 1e-9) || (axis.normalized() - Eigen::Vector3d::UnitY()).norm() > 1e-9)
+          throw std::runtime_error(where + ": <axis> " + Num3(axis) + " is not supported; ROME's planar base moves in the "
+                                   "world x-z plane, so the planar joint's axis (the plane's normal) must be 0 1 0");
+        if (std::abs(X.translation().y()) > 0.0 || std::abs(R(1, 1) - 1.0) > 1e-12)
+          throw std::runtime_error(where + ": <origin> (xyz " + Num3(X.translation()) + ") leaves the world x-z plane or "
+                                   "turns about an axis other than y; ROME's planar base needs y = 0 and rpy = (0, pitch, 0)");
+        base_nominal.resize(3);
+        base_nominal << X.translation().x(), X.translation().z(), std::atan2(R(0, 2), R(0, 0));
+      }
+      model.floating_base_ = type;
+      warn("link '" + rname + "': massless root of " + (floating ? "floating" : "planar") + " joint '" + jname +
+           "': the fixed world, not a frame of the robot; the joint is the robot's " + ToString(type) +
+           " floating base (its <origin> is the default nominal base pose)");
+      urdf::LinkConstSharedPtr child = urdf_model->getLink(joint->child_link_name);
+      if (!child) throw std::runtime_error(where + ": child link '" + Excerpt(joint->child_link_name) + "' does not exist");
+      root = child;
+      break;  // the root's only joint
+    }
+
     auto bodies = std::make_shared<std::vector<MultibodyBody>>();
     auto add_virtual = [&](const std::string& joint, MultibodyJointType type, Eigen::Vector3d axis) {
       MultibodyBody b;
@@ -560,14 +626,12 @@ class MultibodyModelLoader {
       lm.mass = in.mass;
       lm.com = X.translation();
       lm.inertia = X.linear() * I_in * X.linear().transpose();
-      lm.problem = PhysicalInertiaProblem(I_in);
+      lm.problem = PhysicalInertiaProblem(I_in, in.mass);
       return lm;
     };
 
     // Depth-first walk of the URDF tree, parents before children (iterative: a long chain must
     // not overflow the stack). Links on fixed joints are merged into their parent's body.
-    urdf::LinkConstSharedPtr root = urdf_model->getRoot();
-    if (!root) throw std::runtime_error(ufile + ": no root link");
     std::vector<std::vector<BodyPart>> parts;  // per body
     std::vector<std::pair<double, double>> limits;  // per body
     auto add_frame = [&](const std::string& link, int body, const Eigen::Isometry3d& X_body_link) {
@@ -633,6 +697,13 @@ class MultibodyModelLoader {
         case urdf::Joint::CONTINUOUS: type = MultibodyJointType::kRevolute; break;
         case urdf::Joint::PRISMATIC: type = MultibodyJointType::kPrismatic; break;
         case urdf::Joint::FIXED: type = MultibodyJointType::kFixed; break;
+        case urdf::Joint::FLOATING:
+        case urdf::Joint::PLANAR:
+          throw std::runtime_error(ufile + ": " + (joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
+                                   " joint '" + jname + "' between links '" + Excerpt(parent.link->name) + "' and '" +
+                                   Excerpt(child.name) + "' is not supported; a floating or planar joint is supported "
+                                   "only as the single joint of a massless root link (the world), where it becomes the "
+                                   "floating base");
         default:
           throw std::runtime_error(where + ": unsupported joint type (only revolute, continuous, "
                                    "prismatic and fixed are supported)");
@@ -690,7 +761,8 @@ class MultibodyModelLoader {
       if (!any_problem) continue;
       const std::string body_name = Excerpt((*bodies)[i].name);
       const bool welded = p.size() > 1;
-      const bool body_physical = welded && PhysicalInertiaProblem(CombineParts(p).inertia).empty();
+      const BodyPart combined = CombineParts(p);
+      const bool body_physical = welded && PhysicalInertiaProblem(combined.inertia, combined.mass).empty();
       for (BodyPart& part : p) {
         if (part.problem.empty()) continue;
         const std::string link = Excerpt(part.link);
@@ -816,7 +888,9 @@ class MultibodyModelLoader {
     }
 
     // ---------------- a moving joint must move some mass (else M is singular) ----------------
-    CheckEveryJointMovesMass(model, ufile);
+    bool any_inertial = false;
+    for (const auto& [name, link] : urdf_model->links_) any_inertial = any_inertial || link->inertial != nullptr;
+    CheckEveryJointMovesMass(model, ufile, any_inertial ? "" : " (no link in this URDF has an <inertial>: it describes kinematics only)");
 
     // ---------------- springs ----------------
     model.spring_stiffness_.setZero(nv);
@@ -909,6 +983,7 @@ class MultibodyModelLoader {
 
     // ---------------- nominal pose ----------------
     model.q_nominal_.setZero(nv);
+    if (base_nominal.size() == model.num_base_dofs()) model.q_nominal_.head(base_nominal.size()) = base_nominal;
     if (sidecar.contains("nominal_pose")) {
       const json& pose = sidecar.at("nominal_pose");
       sc.CheckKeys(pose, {"base", "joints"}, "nominal_pose");
@@ -949,7 +1024,7 @@ class MultibodyModelLoader {
   // mass it moves (prismatic), or the moment of inertia of everything it moves about its axis
   // (revolute), relative to the robot's scale. A sidecar armature (reflected inertia) on the
   // joint makes the row nonsingular and is accepted.
-  static void CheckEveryJointMovesMass(const MultibodyModel& model, const std::string& ufile) {
+  static void CheckEveryJointMovesMass(const MultibodyModel& model, const std::string& ufile, const std::string& hint) {
     const std::vector<MultibodyBody>& bodies = *model.bodies_;
     const int nb = static_cast<int>(bodies.size());
     std::vector<Eigen::Isometry3d> X_w(nb);
@@ -1011,7 +1086,7 @@ class MultibodyModelLoader {
           (m[i] == 0.0 ? "no mass (" + carried + verb + " massless)"
                        : "no inertia about its axis (" + carried + (b.is_virtual ? " has" : " have") +
                              " all the mass on the axis)") +
-          ", so the mass matrix is singular; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
+          ", so the mass matrix is singular" + hint + "; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
     }
   }
 };

@@ -27,12 +27,17 @@
 //    link stays addressable by name as a frame: Frame("link") gives the body it belongs to and
 //    the fixed pose X_body_frame. BodyIndex("merged_link") returns the body it was merged into;
 //    sidecar contacts and loop closures on a merged link are converted to that body's frame.
+//  * A massless root link (typically "world") whose single joint is of type "floating" (or
+//    "planar", with <axis> 0 1 0) is how URDF writes a floating base: the joint's child becomes the
+//    root and the joint the spatial (planar) floating base above, as the sidecar's floating_base
+//    makes one for a URDF without the world link; the joint's <origin> is the default nominal
+//    base pose. A floating or planar joint anywhere else is rejected, naming it.
 //  * A link without <inertial>, or with mass 0, is a massless frame (a nonzero inertia on a
 //    zero mass is ignored, with a warning).
 //  * Every <inertial> is checked: finite (a NaN is named), mass >= 0, inertia positive
 //    semi-definite and satisfying the triangle inequality (I1 + I2 >= I3 for the principal
 //    moments), each with a tolerance of kInertiaRelativeTolerance times the largest principal
-//    moment. Physical validity is required of each rigid body the dynamics sees: a link whose own
+//    moment or, if larger, the body's mass times kInertiaLengthTolerance_m^2. Physical validity is required of each rigid body the dynamics sees: a link whose own
 //    <inertia> violates it (typically a dummy value such as every entry 1e-6 on a sensor, foot or
 //    base frame) is accepted, with a warning naming it, when the body it is merged into over
 //    fixed joints has a physical combined inertia; otherwise the file is rejected naming the link.
@@ -113,6 +118,9 @@ struct LoadOptions {
 };
 
 inline constexpr double kInertiaRelativeTolerance = 1e-6;
+// Absolute floor of the inertia tolerance, as a radius of gyration (ours): principal moments within
+// mass * (1 um)^2 of the limits count as rounding (exporters write a point mass as entries ~1e-20).
+inline constexpr double kInertiaLengthTolerance_m = 1e-6;
 inline constexpr std::size_t kMaxUrdfBytes = 16u << 20;  // 16 MiB
 inline constexpr int kMaxXmlDepth = 64;
 inline constexpr int kMaxDofs = 1000;

@@ -89,6 +89,7 @@ if [ "$refused" -gt 0 ]; then
     else if (/not positive semi-definite/) c = "non-physical inertia (not positive semi-definite)"
     else if (/moves no mass/) c = "moving joint moves no mass (M singular)"
     else if (/unsupported joint type/) c = "unsupported joint type"
+    else if (/(floating|planar) joint .* is not supported|(floating|planar) joint .*: (its parent|root link|<axis>|<origin>)/) c = "floating/planar joint not from a massless root"
     else if (/malformed or invalid URDF/) c = "malformed URDF"
     n[c]++ }
     END { for (c in n) printf "  %3d  %s\n", n[c], c }' "$tmp/refusals" | LC_ALL=C sort -k1,1nr

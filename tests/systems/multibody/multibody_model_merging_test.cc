@@ -130,6 +130,15 @@ TEST(MultibodyModelMergingTest, MovingJointCarryingOnlyMasslessLinksIsRejected) 
   EXPECT_NE(what.find("massless_moving_link.urdf"), std::string::npos) << what;
   EXPECT_NE(what.find("joint 'wrist' moves no mass"), std::string::npos) << what;
   EXPECT_NE(what.find("singular"), std::string::npos) << what;
+  EXPECT_EQ(what.find("kinematics only"), std::string::npos) << what;
+  // A URDF without any <inertial> (a kinematics-only arm description) is told so.
+  const std::string path = ::testing::TempDir() + "/rome_kinematics_only.urdf";
+  std::ofstream(path) << R"(<robot name="k"><link name="a"/><link name="b"/>
+    <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>)";
+  const std::string kin = LoadError(path);
+  EXPECT_NE(kin.find("joint 'j' moves no mass"), std::string::npos) << kin;
+  EXPECT_NE(kin.find("no link in this URDF has an <inertial>: it describes kinematics only"), std::string::npos) << kin;
 }
 
 TEST(MultibodyModelMergingTest, NonPhysicalInertiaRejectedOrRepaired) {
@@ -202,6 +211,23 @@ TEST(MultibodyModelMergingTest, NearlySingularInertiaOfTheIssue) {
   EXPECT_NE(what.find("-3.5e-08"), std::string::npos) << what;
   const MultibodyModel model = MultibodyModel::Load(path, "", {.repair_inertia = true});
   EXPECT_GE(model.body(0).principal_moments.minCoeff(), 0.0);
+}
+
+TEST(MultibodyModelMergingTest, RoundingNoiseInertiaIsAPointMass) {
+  // Principal moments of -5e-20 on a 0.5 kg bob: rounding (a radius of gyration of 3e-10 m), within
+  // the absolute floor mass * (1 um)^2. The bob is then a point mass: M = m d^2 about the hinge.
+  const MultibodyModel model = MultibodyModel::Load(DataPath("point_mass_rounding_inertia.urdf"));
+  ASSERT_EQ(model.nv(), 1);
+  EXPECT_GE(model.body(model.BodyIndex("bob")).principal_moments.minCoeff(), 0.0);
+  MultibodyWorkspace ws(model);
+  for (const double q : {0.0, 0.7, -2.1})
+    EXPECT_NEAR(CalcMassMatrix(model, ws, Eigen::VectorXd::Constant(1, q))(0, 0), 0.5 * 0.4 * 0.4, 1e-15);
+  // The floor does not hide a real violation at the same mass: moments -1e-9 against 1e-9.
+  const std::string path = ::testing::TempDir() + "/rome_dust_inertia.urdf";
+  std::ofstream(path) << R"(<robot name="r"><link name="a"><inertial><mass value="0.5"/>
+    <inertia ixx="1e-9" ixy="0" ixz="0" iyy="1e-9" iyz="0" izz="-1e-9"/></inertial></link></robot>)";
+  const std::string what = LoadError(path);
+  EXPECT_NE(what.find("link 'a': <inertia> is not positive semi-definite"), std::string::npos) << what;
 }
 
 TEST(MultibodyModelMergingTest, TwoWeldedBoxesMatchTheClosedForm) {
