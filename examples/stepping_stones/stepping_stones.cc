@@ -349,6 +349,12 @@ int main(int argc, char** argv) {
     }
     const LeafContext& ctrl_ctx = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
     const LeafContext& mpc_ctx = d.diagram->GetSubsystemContext(*d.mpc, sim.get_context());
+    // CLF-QP only: how often the CLF inequality binds at the solution (clf_activity = [active, solved updates]).
+    nlohmann::json clf_activity = nullptr;
+    if (d.controller->HasOutputPort("clf_activity")) {
+      const Eigen::VectorXd a = d.controller->EvalOutput(ctrl_ctx, "clf_activity");
+      clf_activity = {{"active_updates", a[0]}, {"solved_updates", a[1]}, {"active_fraction", a[1] > 0 ? a[0] / a[1] : 0.0}};
+    }
     const int qp_failures = static_cast<int>(d.controller->EvalOutput(ctrl_ctx, "qp_failures")[0]) +
                             static_cast<int>(d.mpc->EvalOutput(mpc_ctx, "qp_failures")[0]);
     nlohmann::json summary = {{"success", success},
@@ -373,6 +379,7 @@ int main(int argc, char** argv) {
                               {"mean_forward_speed_mps", sim_time > 0 ? (x_end - x_start) / sim_time : 0.0},
                               {"max_foothold_error_m", max_foothold},
                               {"qp_failures", qp_failures},
+                              {"clf_row_activity", clf_activity},
                               {"nlp_failures", d.supervisor->posture_failures(sup_ctx)},
                               {"energy", params.target_orbital_energy},
                               {"epsilon", params.impact_fraction},
@@ -479,7 +486,9 @@ int main(int argc, char** argv) {
               << " s wall (" << (wall > 0 ? sim_time / wall : 0) << "x real time), controller " << ControllerKind(*d.controller) << ", plant "
               << ToString(plant_kind) << "\n"
               << "mean forward speed " << summary["mean_forward_speed_mps"].get<double>() << " m/s, largest foothold error " << max_foothold * 100
-              << " cm, QP failures " << qp_failures << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
+              << " cm, QP failures " << qp_failures
+              << (clf_activity.is_null() ? std::string() : ", CLF row active in " + examples::FormatNumber(100.0 * clf_activity["active_fraction"].get<double>()) + " % of updates")
+              << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
               << "plant contact forces: min stance F_n " << summary["min_stance_normal_force_N"].get<double>() << " N, max |F_t|/F_n "
               << contact.max_friction_ratio << ", violations " << contact.violations << " of " << contact.samples << " samples\n";
     if (success) {

@@ -111,6 +111,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
     if (!it->rd2) ThrowError("params.cost_only_outputs names '" + name + "', a relative-degree-1 output; only relative-degree-2 outputs (with PD gains) may be cost-only");
     cost_only_[it - outputs_.begin()] = true;
   }
+  if (!(params_.clf_active_tolerance >= 0.0) || !std::isfinite(params_.clf_active_tolerance))
+    ThrowError("params.clf_active_tolerance = " + std::to_string(params_.clf_active_tolerance) + " must be finite and >= 0");
   u_max_ = ResolveTorqueLimits(*model_, params_.torque_limits, this->name());
   zero_torque_ = ZeroTorqueActuatorsPerMode(*model_, mode_contacts_, params_.zero_torque_in_contact, this->name());
   // RES-CLF of every mode (Eq. (26)-(30)), Q = I.
@@ -149,7 +151,7 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
   if (params_.force_band) force_ref_port_ = DeclareInputPort("normal_force_reference", nc);
-  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(solve_time_offset() + 1);
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(clf_activity_offset() + 2);
   xd0[status_offset()] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
   DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
@@ -159,6 +161,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   DeclareOutputPort("delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[delta_offset()]; }, Feedthrough::None());
   DeclareOutputPort("fallbacks", {"band_dropped", "cop_dropped", "held"},
                     [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(fallbacks_offset()); }, Feedthrough::None());
+  DeclareOutputPort("clf_activity", {"clf_active", "solved"},
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<2>(clf_activity_offset()); }, Feedthrough::None());
   DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
                            [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
 }
@@ -555,6 +559,11 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
     return EventStatus::Succeeded();  // hold the previous u
   }
   const Eigen::VectorXd& x = mq.qp.x();
+  // CLF activity: δ > 0, or the CLF row (row 0, normalised) within clf_active_tolerance of its bound.
+  (*next)[clf_activity_offset() + 1] += 1.0;
+  // (At η = 0 the row is 0 ≤ δ, met with equality by every u: not counted.)
+  const bool clf_row = mq.o1 + mq.o2 > 0 && mq.eta.squaredNorm() > 0.0;
+  if (clf_row && (x[mq.delta] > 0.0 || mq.qp.u[0] - mq.qp.A.row(0).dot(x) <= params_.clf_active_tolerance)) (*next)[clf_activity_offset()] += 1.0;
   next->segment(u_offset(), nu) = x.head(nu);
   mq.F_prev = mq.F;  // the applied u's planned forces, for the next update's hold drift
   mq.t_prev = context.time();

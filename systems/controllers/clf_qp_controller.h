@@ -18,8 +18,11 @@
 //          qp_failures (1)             updates whose first QP failed (each then took a fallback below)
 //          qp_status (1)               QpStatus of the last update's final solve (0 = kOptimal)
 //          fallbacks (3)               [band_dropped, cop_dropped, held]: how many updates used each fallback
+//          clf_activity (2)            [clf_active, solved]: updates whose final QP solution has the CLF row active
+//                                      (δ > 0, or the normalised row's slack ≤ params.clf_active_tolerance; η ≠ 0), and
+//                                      updates solved (kOptimal); their ratio is how often the CLF constraint binds
 //          solve_time_s (1)            wall time of the last update [s] (QP assembly, solves, fallbacks; steady_clock)
-// discrete state: [u; contact_forces; V; δ; qp_failures; qp_status; fallbacks (3); solve_time_s]. Updated periodically
+// discrete state: [u; contact_forces; V; δ; qp_failures; qp_status; fallbacks (3); solve_time_s; clf_activity (2)]. Updated periodically
 // (params.update_period_s) and by an event update at the guard events params.resolve_at selects (default: every
 // guard event), so the new contact mode's torque acts from the event instant on.
 //
@@ -145,6 +148,9 @@ struct ClfQpParams {
   /// correcting its error expensive, so the CLF row decreases V through the cheapest outputs; with the PD target the
   /// weight ranks the outputs as in a task-space QP, and the CLF row still bounds V̇.
   bool cost_pd_feedback = false;
+  /// [-] the CLF row counts as active on the clf_activity port when δ > 0 or its slack u₀ − a₀ᵀx, in the row's
+  /// normalisation (see the header), is at most this (ours; DenseQpSolver's feasibility tolerance is 1e-9)
+  double clf_active_tolerance = 1e-7;
 };
 
 class ClfQpController final : public QpControllerSystem {
@@ -182,6 +188,7 @@ class ClfQpController final : public QpControllerSystem {
   int status_offset() const { return V_offset() + 3; }
   int fallbacks_offset() const { return V_offset() + 4; }
   int solve_time_offset() const { return fallbacks_offset() + 3; }
+  int clf_activity_offset() const { return solve_time_offset() + 1; }
 
   struct Scratch;
 

@@ -101,6 +101,46 @@ TEST(ClfQpController, DoubleIntegratorMeetsTheClfConditionWheneverDeltaIsZero) {
   EXPECT_GE(relaxed, 3);
 }
 
+// The clf_activity port counts an update as active exactly when the CLF row binds. On the double integrator with the
+// cost on ÿ_d = 0 the cost alone picks u = 0, so the row binds iff u = 0 would break it: V̇(u = 0) = 2 ηᵀ P_ε [ẏ; 0] >
+// −(γ/ε) V, from the closed-form P_ε (not the controller's), on states that are clearly on one side.
+TEST(ClfQpController, ClfActivityCountsTheUpdatesWhereTheClfRowBinds) {
+  auto model = LoadTestModel("slider");
+  ClfQpParams params;
+  params.epsilon = 0.2;
+  ClfQpController controller("clf", model, {0}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"))}, params);
+  const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
+  const Eigen::MatrixXd P = ClosedFormPEpsilon(1, params.epsilon);
+  auto context = controller.CreateDefaultLeafContext();
+  const int off = controller.clf_activity_offset();
+  int active = 0, slack = 0;
+  for (double q : {-0.5, -0.1, 0.0, 0.05, 0.3})
+    for (double v : {-1.0, -0.2, 0.0, 0.4, 3.0}) {
+      const Eigen::Vector2d eta(q, v);
+      const double V = eta.dot(P * eta), Vdot0 = 2.0 * eta.dot(P * Eigen::Vector2d(v, 0.0));
+      const Eigen::Vector2d before = context->discrete_state().segment<2>(off);
+      const Solved s = RunUpdate(controller, *context, eta, 0, Eigen::VectorXd::Zero(3));
+      ASSERT_EQ(s.status, QpStatus::kOptimal);
+      const Eigen::Vector2d counted = context->discrete_state().segment<2>(off) - before;
+      EXPECT_EQ(counted[1], 1.0);  // one solved update
+      if (V == 0.0) {
+        EXPECT_EQ(counted[0], 0.0) << "η = 0: the row 0 ≤ δ is not counted";
+      } else if (Vdot0 + rate * V > 1e-6 * (1.0 + V)) {
+        ++active;
+        EXPECT_EQ(counted[0], 1.0) << "q = " << q << ", v = " << v << ": u = 0 breaks the CLF condition, the row must bind";
+        EXPECT_GT(std::abs(s.u[0]), 1e-6);
+      } else if (Vdot0 + rate * V < -1e-6 * (1.0 + V)) {
+        ++slack;
+        EXPECT_EQ(counted[0], 0.0) << "q = " << q << ", v = " << v << ": u = 0 meets the CLF condition strictly";
+        EXPECT_NEAR(s.u[0], 0.0, 1e-9);
+      }
+    }
+  EXPECT_GE(active, 5);
+  EXPECT_GE(slack, 3);
+  auto fresh = controller.CreateDefaultLeafContext();
+  EXPECT_EQ(controller.EvalOutput(*fresh, "clf_activity"), Eigen::Vector2d::Zero());
+}
+
 TEST(ClfQpController, TwoLinkArmMeetsTheClfConditionAgainstIndependentDynamics) {
   auto model = LoadTestModel("arm");
   ClfQpParams params;
