@@ -160,7 +160,9 @@ TEST(HoppingDiagram, HandMadeExtensionLiftsOffFliesAndTouchesDown) {
   EXPECT_LT(r.H_flight_drift, 1e-3 * std::max(1.0, std::abs(r.H_liftoff)));
   // The motors do not always settle within the flight (the CLF-QP's cost_pd_feedback tracks them at 10 rad/s from their
   // lift-off speeds); when they do, the rigid-body rate is checked.
-  if (std::isfinite(r.flight_rate)) EXPECT_NEAR(r.flight_rate, r.H_liftoff / r.I_yy, 0.25 * std::abs(r.H_liftoff / r.I_yy) + 0.05);
+  if (std::isfinite(r.flight_rate)) {
+    EXPECT_NEAR(r.flight_rate, r.H_liftoff / r.I_yy, 0.25 * std::abs(r.H_liftoff / r.I_yy) + 0.05);
+  }
   // Not yet met (reported, not asserted): the landing itself (the robot rebounds and a foot slips within ~0.1 s of the
   // impact); see the README.
 }
