@@ -48,7 +48,7 @@ void AppendQuintic(double t0, double T, double a, double b, int n, LegLengthPlan
 
 struct HopRun {
   SimulatorStatus status;
-  double liftoff_time = -1, touchdown_time = -1, max_pitch_change = 0, H_liftoff = 0, I_yy = 0, flight_rate = 0, worst_rod = 0, qp_failures = 0, qp_failures_before_touchdown = -1;
+  double liftoff_time = -1, touchdown_time = -1, max_pitch_change = 0, H_liftoff = 0, I_yy = 0, flight_rate = 0, H_flight_drift = 0, worst_rod = 0, qp_failures = 0, qp_failures_before_touchdown = -1;
   Eigen::Vector3d vcom_liftoff = Eigen::Vector3d::Zero();
   long violations = 0, contact_samples = 0;
 };
@@ -69,6 +69,7 @@ HopRun RunHandMadeHop(double gain, double duration) {
   if (std::getenv("HOP_MOMENTUM")) params.outputs.jump_tracks_momentum = true;  // the paper's Eq. (41) (see hopping_diagram.h)
   // No landing planner: the reference's documented fallback (a quintic back to the standing leg length).
   HoppingDiagram d = BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params);
+  const HoppingOutputLayout layout = MakeHoppingOutputLayout(params.outputs);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const int nv = model->nv();
@@ -100,9 +101,22 @@ HopRun RunHandMadeHop(double gain, double duration) {
       pitch_liftoff = pitch;
       r.vcom_liftoff = CalcComVelocity(*model, ws, x.head(nv), x.tail(nv));
     }
+    if (domain == HoppingDomain::kFlight && last_domain == HoppingDomain::kFlight) {
+      CalcCentroidalMomentumMatrix(*model, ws, x.head(nv), A_G);
+      r.H_flight_drift = std::max(r.H_flight_drift, std::abs(A_G.row(1).dot(x.tail(nv)) - r.H_liftoff));
+    }
     if (domain == HoppingDomain::kFlight) {
       r.max_pitch_change = std::max(r.max_pitch_change, std::abs(pitch - pitch_liftoff));
-      if (pc.time() > r.liftoff_time + 0.1) flight_rate_sum += x[nv + model->VelocityIndex("base_pitch")], ++flight_samples;  // motors settled
+      // Only while the motors are held (every motor within 0.02 rad and 0.2 rad/s of its held target): the body then
+      // turns as one rigid body.
+      const Eigen::VectorXd& y_d = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, c), "desired");
+      double motor_error = 0.0, motor_rate = 0.0;
+      for (int i = 0; i < model->nu(); ++i) {
+        const int k = model->actuators()[i].v_index;
+        motor_error = std::max(motor_error, std::abs(x[k] - y_d[layout.motors + i]));
+        motor_rate = std::max(motor_rate, std::abs(x[nv + k]));
+      }
+      if (motor_error < 0.02 && motor_rate < 0.2) flight_rate_sum += x[nv + model->VelocityIndex("base_pitch")], ++flight_samples;
     }
     if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && r.touchdown_time < 0) {
       r.touchdown_time = pc.time();
@@ -126,10 +140,10 @@ TEST(HoppingDiagram, HandMadeExtensionLiftsOffFliesAndTouchesDown) {
   const double ballistic = 2.0 * r.vcom_liftoff.z() / 9.81;
   std::printf("  %s; lift-off %.4f s (COM vz %.3f m/s), touchdown %.4f s, air %.4f s vs ballistic %.4f s; pitch change %.2f deg; rod %.2e m;\n"
               "  violations %ld / %ld; qp_failures %.0f; H_pitch at lift-off %.3f N m s, I_yy %.3f kg m^2, flight pitch rate %.3f rad/s "
-              "vs H/I %.3f; qp failures before touchdown %.0f\n",
+              "vs H/I %.3f; qp failures before touchdown %.0f; H_pitch drift in flight %.2e N m s\n",
               r.status.ToString().c_str(), r.liftoff_time, r.vcom_liftoff.z(), r.touchdown_time, r.touchdown_time - r.liftoff_time, ballistic,
               r.max_pitch_change * 180 / M_PI, r.worst_rod, r.violations, r.contact_samples, r.qp_failures, r.H_liftoff, r.I_yy, r.flight_rate,
-              r.H_liftoff / r.I_yy, r.qp_failures_before_touchdown);
+              r.H_liftoff / r.I_yy, r.qp_failures_before_touchdown, r.H_flight_drift);
   ASSERT_GT(r.liftoff_time, 0.0) << r.status.ToString();
   ASSERT_GT(r.touchdown_time, r.liftoff_time) << r.status.ToString();
   EXPECT_GE(r.status.time, r.touchdown_time);  // nothing failed before the touchdown
@@ -140,9 +154,15 @@ TEST(HoppingDiagram, HandMadeExtensionLiftsOffFliesAndTouchesDown) {
   // After the touchdown (the landing, not met yet: see below) the QP failures are reported, not asserted: measured 0 in
   // the Release build (ρ_u = 1e-4 keeps the Hessian well conditioned after the impact) and 10 in the -O1 sanitizer build.
   EXPECT_LT(r.worst_rod, 1e-6);
-  // Conserved H_pitch: with the motors held the body turns nearly rigidly, θ̇ ≈ H / I_yy (I_yy at lift-off; the legs'
-  // small motion relative to the pelvis and the change of I_yy in flight account for the 25 %).
-  EXPECT_NEAR(r.flight_rate, r.H_liftoff / r.I_yy, 0.25 * std::abs(r.H_liftoff / r.I_yy) + 0.05);
+  // Conserved H_pitch: while the motors are held (the samples above) the body turns nearly rigidly, θ̇ ≈ H / I_yy (I_yy
+  // at lift-off; the springs' small motion and the change of I_yy in flight account for the 25 %).
+  // The controller's torques are internal: H_pitch about the COM stays that of the lift-off through the flight.
+  EXPECT_LT(r.H_flight_drift, 1e-3 * std::max(1.0, std::abs(r.H_liftoff)));
+  // The motors do not always settle within the flight (the CLF-QP's cost_pd_feedback tracks them at 10 rad/s from their
+  // lift-off speeds); when they do, the rigid-body rate is checked.
+  if (std::isfinite(r.flight_rate)) {
+    EXPECT_NEAR(r.flight_rate, r.H_liftoff / r.I_yy, 0.25 * std::abs(r.H_liftoff / r.I_yy) + 0.05);
+  }
   // Not yet met (reported, not asserted): the landing itself (the robot rebounds and a foot slips within ~0.1 s of the
   // impact); see the README.
 }
