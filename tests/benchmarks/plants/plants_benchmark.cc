@@ -1,8 +1,12 @@
 // plants_benchmark: one 1 ms step of AMBER's Bullet world (BulletWorldPlant) with both feet on the ground (µs per step;
 // target <= 30 µs), and the same for 10 substeps. Each iteration runs the plant's periodic update from the same
 // standing state (both feet touching, at rest, torques holding the nominal pose roughly), so it pays collision
-// detection, two contact manifolds, four armature gears and the joint limits every time.
-//   ./plants_benchmark
+// detection, two contact manifolds, four armature gears and the joint limits every time. The solver's warm start
+// (warm_start_factor, default 0.98) then starts from the impulses of the same problem one step earlier: the best case.
+// advance = 1 steps on from each result instead (a moving state), which is nearer to a closed loop; the counter
+// mean_iterations is the solver's mean over the timed steps. The plant's defaults are substeps 1, iterations 100,
+// residual 10, warm 98.
+//   ./plants_benchmark --benchmark_filter='residual:10/warm:98' --benchmark_repetitions=5
 #include <cmath>
 #include <memory>
 #include <string>
