@@ -12,6 +12,13 @@ HybridContactPlantParams HoppingDiagramParams::DefaultPlantParams() {
   return p;
 }
 
+BulletWorldPlantParams HoppingDiagramParams::DefaultBulletPlantParams() {
+  BulletWorldPlantParams p;
+  p.step_s = DefaultControllerParams().update_period_s;
+  p.min_base_height_m = DefaultPlantParams().min_base_height_m;
+  return p;
+}
+
 ClfQpParams HoppingDiagramParams::DefaultControllerParams() {
   ClfQpParams p;
   p.formulation = ClfQpFormulation::kAugmentedInput;
@@ -33,11 +40,11 @@ HoppingOutputParams HoppingDiagramParams::DefaultOutputParams() {
 
 HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
                                    HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
-                                   const HoppingDiagramParams& params) {
+                                   const HoppingDiagramParams& params, PlantKind plant) {
   HoppingDiagram d;
   DiagramBuilder b;
-  d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat(),
-                                                             params.plant));
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat(),
+                                         params.plant, params.bullet_plant));
   d.reference = b.AddSystem(
       std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner), std::move(landing_planner),
                                                                 MakeHoppingOutputLayout(params.outputs), params.reference));

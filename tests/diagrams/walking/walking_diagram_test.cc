@@ -46,7 +46,8 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   stand.sole = SoleOf(*model, "left_foot");
   stand.stance_stagger_m = stagger_m;
   WalkingPlan plan = BuildStandToWalkPlan(gait, 4, 1, &cache, nullptr, stand);
-  WalkingDiagram d = BuildWalkingDiagram(model, plan);
+  const WalkingDiagramParams params;
+  WalkingDiagram d = BuildWalkingDiagram(model, plan, params);
   SimulatorConfig config;
   config.scheme = IntegrationScheme::kExplicitRungeKutta;
   config.relative_tolerance = 1e-6;
@@ -91,7 +92,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     last_mode = mode;
     const ContactSet active = d.plant->active_contacts(mode);
     const Eigen::VectorXd& u = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "u");
-    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, d.plant->params().dynamics, qdd, F);
+    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, params.plant.dynamics, qdd, F);
     for (int ci = 0; ci < model->num_contacts(); ++ci) {
       if (!(active & ContactBit(ci))) continue;
       const ContactForceCheck check = CheckContactForce(*model, ws, q, ci, ExtractContactWrench(*model, ws, q, active, F, ci), cop_check);
