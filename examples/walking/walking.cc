@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
+      .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
       .Option("cache", "walking_plans", "directory of cached ROM plans")
@@ -76,6 +77,8 @@ int main(int argc, char** argv) {
   try {
     if (!cli.Parse(argc, argv)) return 0;
     plant_kind = ParsePlantKind(cli.Get("plant"), "walking: --plant");
+    if (cli.Get("joint-limits") != "on" && cli.Get("joint-limits") != "off")
+      throw std::invalid_argument("walking: --joint-limits must be 'on' or 'off', got '" + cli.Get("joint-limits") + "'");
     if (cli.Get("scenario") == "gait-change")
       throw std::invalid_argument("walking: --scenario gait-change is not implemented yet (only stand-to-walk)");
     if (cli.Get("scenario") != "stand-to-walk")
@@ -126,6 +129,7 @@ int main(int argc, char** argv) {
   }
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = band;
+  params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
   WalkingDiagram d = BuildWalkingDiagram(model, plan, params, plant_kind);
   SimulatorConfig config;
   config.scheme = IntegrationScheme::kExplicitRungeKutta;

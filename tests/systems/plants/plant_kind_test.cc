@@ -44,7 +44,9 @@ TEST(PlantKind, EitherPlantLetsAFlyingRobotFallFreely) {
     std::unique_ptr<ContactPlant> plant = MakeContactPlant(kind, "plant", model, graph, Terrain::Flat(), hybrid, bullet);
     const auto* as_bullet = dynamic_cast<const BulletWorldPlant*>(plant.get());
     ASSERT_EQ(as_bullet != nullptr, kind == PlantKind::kBullet);
-    if (as_bullet) EXPECT_EQ(as_bullet->params().step_s, 5e-4);
+    if (as_bullet) {
+      EXPECT_EQ(as_bullet->params().step_s, 5e-4);
+    }
     ASSERT_NE(dynamic_cast<const HybridContactPlant*>(plant.get()) != nullptr, kind == PlantKind::kBullet);
 
     Eigen::VectorXd q = model->q_nominal();
