@@ -15,7 +15,14 @@ HybridContactPlantParams HoppingDiagramParams::DefaultPlantParams() {
 BulletWorldPlantParams HoppingDiagramParams::DefaultBulletPlantParams() {
   BulletWorldPlantParams p;
   p.step_s = DefaultControllerParams().update_period_s;
+  // Ours, measured: 5 substeps of 0.1 ms. With the springs' torques recomputed only every 0.5 ms the settle's bounce is
+  // not damped (COM z range 9.4 mm over 1.0-1.45 s against 3.9 mm with 5 substeps, 3.6 mm with 10 and ~2 mm on the
+  // hybrid plant), and the jump planned from that state unloads the feet 0.19 s before the ROM's take-off.
+  p.substeps = 5;
   p.min_base_height_m = DefaultPlantParams().min_base_height_m;
+  // Take-off is a planned lift-off at the hybrid plant's 8 N (see bullet_world_plant.h), touchdowns 20 ms after it.
+  p.planned_liftoff_force_N = DefaultPlantParams().planned_liftoff_force_N;
+  p.min_time_in_mode_s = DefaultPlantParams().min_time_in_mode_s;
   return p;
 }
 

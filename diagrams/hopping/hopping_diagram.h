@@ -40,7 +40,8 @@ struct HoppingDiagramParams {
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
   /// The Bullet plant steps at the controller's 2 kHz (0.5 ms, ours: a 1 ms step would apply only every other torque)
-  /// and its fall height is the hybrid plant's (0.5 m).
+  /// in 5 substeps (ours, see the source), with the hybrid plant's fall height (0.5 m), lift-off force (8 N) and
+  /// minimum time between a lift-off and the next touchdown (20 ms).
   static BulletWorldPlantParams DefaultBulletPlantParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
   /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).

@@ -44,8 +44,12 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   WalkingDiagram d;
   HybridContactPlantParams plant_params = params.plant;
   if (plant_params.planned_liftoff_force_N <= 0.0) plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
+  // The Bullet plant releases the trailing foot at the same force (a planned lift-off; see bullet_world_plant.h).
+  BulletWorldPlantParams bullet_params = params.bullet_plant;
+  if (bullet_params.planned_liftoff_force_N < 0) bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
+  if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
   d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"), Terrain::Flat(),
-                                         plant_params, params.bullet_plant));
+                                         plant_params, bullet_params));
   const int left_stance = 0, right_stance = 2;
   TaskGains foot_gains;
   foot_gains.weight = params.swing_foot_weight;

@@ -58,6 +58,8 @@ int main(int argc, char** argv) {
       .Option("leg-stiffness", "identified", "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
       .Option("hops", "1", "number of hops (1 to 1000); the landing of one hop is the crouch of the next")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 2 kHz, BulletWorldPlant)")
+      .Option("bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
+              "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")
       .Option("duration", "0", "[s] simulated time; 0: settle + hops + 2.5 s after the last touchdown")
       .Option("log", "", "CSV log path (empty: none)")
       .Option("summary", "", "JSON summary path (empty: none)")
@@ -66,9 +68,12 @@ int main(int argc, char** argv) {
   int hops = 0;
   LegStiffnessVariant variant = LegStiffnessVariant::kIdentified;
   PlantKind plant_kind = PlantKind::kHybrid;
+  int substeps = HoppingDiagramParams::DefaultBulletPlantParams().substeps;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     plant_kind = ParsePlantKind(cli.Get("plant"), "--plant");
+    substeps = cli.GetInt("bullet-substeps");
+    if (substeps < 1 || substeps > 100) throw std::invalid_argument("--bullet-substeps " + cli.Get("bullet-substeps") + ": must be in [1, 100]");
     apex_rise = cli.GetDouble("apex-rise");
     hops = cli.GetInt("hops");
     if (!(apex_rise > 0.0 && apex_rise <= 0.35))
@@ -95,6 +100,7 @@ int main(int argc, char** argv) {
   const LegLengthTable leg_length(*model);
   HoppingDiagramParams params;
   params.reference.hops = hops;
+  params.bullet_plant.substeps = substeps;
   HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump_params, records, rest_height),
                                          MakeSpringMassLandingPlanner(rom, {}, records, rest_height), params, plant_kind);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
@@ -200,6 +206,7 @@ int main(int argc, char** argv) {
   summary["realtime_factor"] = pc.time() / wall;
   summary["leg_stiffness"] = cli.Get("leg-stiffness");
   summary["plant"] = ToString(plant_kind);
+  summary["bullet_substeps"] = substeps;
   summary["contact_violations"] = contact.violations;
   summary["first_contact_violation"] = contact.first_violation;
   summary["max_friction_ratio"] = contact.max_friction_ratio;

@@ -317,7 +317,7 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
         [this, c](const LeafContext& ctx) {
           const Eigen::VectorXd& xd = ctx.discrete_state();
           const double td = xd[td_time_offset_ + c];
-          const bool armed = xd[touching_offset() + c] > 0.5 && td > xd[mode_start_offset_];
+          const bool armed = xd[touching_offset() + c] > 0.5 && td > xd[mode_start_offset_] && td >= xd[lo_time_offset_ + c] + params_.min_time_in_mode_s;
           return armed ? td + params_.mode_change_delay_s - ctx.time() : 1.0;
         },
         CrossingDirection::kFalling,
@@ -509,7 +509,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     if (!was && f.z() > params_.touchdown_force_N) {
       x[touching_offset() + c] = 1.0;
       x[td_time_offset_ + c] = t;
-    } else if (was && f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) {
+    } else if (was && ((f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) ||
+                       (params_.planned_liftoff_force_N >= 0 && IsGraphLiftoff(context.mode(), c) && f.z() <= params_.planned_liftoff_force_N))) {
       x[touching_offset() + c] = 0.0;
       x[lo_time_offset_ + c] = t;
     }
