@@ -30,8 +30,8 @@
 //       target, else the mode with exactly the remaining contacts, else Failed.
 //   No velocity jump at a touchdown: Bullet's contact solver resolves the impact (restitution 0) within the step.
 // Planned lift-offs (planned_liftoff_force_N >= 0): a contact whose lift-off from the current mode is a transition of the
-//   graph also stops touching when the step's mean normal force is at most planned_liftoff_force_N; its next touchdown
-//   is announced only if it starts touching min_time_in_mode_s or more after that.
+//   graph also stops touching when the step's mean normal force is at most planned_liftoff_force_N. Any touchdown is
+//   announced no earlier than min_time_in_mode_s after its contact last stopped touching.
 // Falls: the update ends the run (Failed "robot fell") when the base height is below min_base_height_m.
 // contact_violation: +2 when a contact's |F_t| exceeds μ F_n (Bullet clamps each of its two friction directions at
 //   μ F_n, a pyramid, so this marks a sliding contact); +1 never occurs (Bullet's normal impulses are ≥ 0).
@@ -103,9 +103,9 @@ struct BulletWorldPlantParams {
   /// one whose stance torques assume contact would act on an airborne robot until its feet are 2 mm up (hopping:
   /// measured 10 ms, in which the pelvis pitch rate swung from +3.3 to −6.5 rad/s). Negative (default): off.
   double planned_liftoff_force_N = -1.0;
-  /// [s] A contact's touchdown is announced only if it started touching at least this long after it last stopped
-  /// touching (HybridContactPlantParams::min_time_in_mode_s): a foot released by planned_liftoff_force_N still rests on
-  /// the ground and touches again in the next step. 0 (default): at once.
+  /// [s] A contact's touchdown is announced no earlier than this long after it last stopped touching
+  /// (HybridContactPlantParams::min_time_in_mode_s): a foot released by planned_liftoff_force_N still rests on the
+  /// ground and touches again in the next step; if it is still touching then, the touchdown is announced. 0: at once.
   double min_time_in_mode_s = 0.0;
   double mode_change_delay_s = 1e-9;  ///< [s] the touchdown/lift-off guard fires this long after the update that saw it
   double min_base_height_m = 0.2;  ///< [m] base below this height ends the run as a fall

@@ -218,15 +218,17 @@ TEST(WalkingDiagram, DISABLED_ShortFirstStepTouchesDownNearItsFootholdWithPhysic
 // The full stand-to-walk run: does not walk yet (see the top of the file).
 TEST(WalkingDiagram, DISABLED_StandToWalkStepsWithPhysicalContactForces) { RunStandToWalk(RunUntil::kPlanEnd); }
 
-// The same diagram on the Bullet plant (PlantKind::kBullet, the one builder argument), through the double support up to
-// 50 ms before the planned lift-off. Checks, from the plant at every simulator step: Bullet's own contact forces are
-// unilateral and inside the friction cone (ContactForceStatistics), the plant stays in double support and does not
-// fail, and the two feet carry the aSLIP plan's total normal force (the plan's, not the controller's: m (g + z̈) of the
-// ROM) within 5 % + 2 % m g once the first 0.1 s of settling is over. Joint limits off: the plan's 0.4 m step stance
+// The same diagram on the Bullet plant (PlantKind::kBullet, the one builder argument), through the double support and
+// 50 ms past the trailing foot's lift-off. Checks, from the plant at every simulator step: Bullet's own contact forces
+// are unilateral and inside the friction cone (ContactForceStatistics); the plant stays in double support until the
+// lift-off and does not fail; the two feet carry the aSLIP plan's total normal force (the plan's, not the
+// controller's: m (g + z̈) of the ROM) within 5 % + 2 % m g from 0.1 s to 50 ms before the planned lift-off; and the
+// trailing (right) foot lifts off within 50 ms of the plan's, released at the hybrid plant's 1 % of m g (Bullet's
+// planned lift-off; measured at 1.000 s). Joint limits off: the plan's 0.4 m step stance
 // bends the trailing ankle to −0.76 rad, beyond the URDF's −0.35 rad (the hybrid plant and the CLF-QP have no joint
 // limits); with them on, Bullet's limit constraint kicks the ankle in the first step (measured: 2.8e5 N on the right
 // foot, the run ends at 52 ms with the robot thrown).
-TEST(WalkingDiagram, DoubleSupportOnTheBulletPlantCarriesThePlannedForcesWithPhysicalContactForces) {
+TEST(WalkingDiagram, DoubleSupportOnTheBulletPlantCarriesThePlannedForcesAndLiftsTheTrailingFoot) {
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
   StandToWalkParams stand;
@@ -242,13 +244,16 @@ TEST(WalkingDiagram, DoubleSupportOnTheBulletPlantCarriesThePlannedForcesWithPhy
   const int dsp = d.plant->GetModeIndex("double_support");
   const double mg = model->total_mass() * 9.81;
   ContactForceStatistics contact;
-  long other_mode = 0, force_samples = 0;
-  double worst_force_error = 0;
+  long force_samples = 0;
+  double worst_force_error = 0, liftoff_time = -1;
+  int liftoff_mode = -1;
+  const double planned_liftoff = plan.segments().at(0).duration;
   sim.set_monitor([&](const Context& c) {
     const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
     contact.Record(*d.plant, ctx);
-    other_mode += d.plant->EvalTypedOutput<int>(ctx, "mode") != dsp;
-    if (c.time() > 0.1) {
+    const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
+    if (mode != dsp && liftoff_time < 0) liftoff_time = c.time(), liftoff_mode = mode;
+    if (c.time() > 0.1 && c.time() < planned_liftoff - 0.05) {
       // The Bullet plant's state (and forces) after its update at t are those of the step ending at the next multiple
       // of 1 ms: compare with the plan there.
       const double t_step = std::ceil(c.time() / 1e-3 - 1e-6) * 1e-3;
@@ -260,14 +265,16 @@ TEST(WalkingDiagram, DoubleSupportOnTheBulletPlantCarriesThePlannedForcesWithPhy
     }
     return EventStatus::Succeeded();
   });
-  const SimulatorStatus status = sim.AdvanceTo(plan.segments().at(0).duration - 0.05);
-  std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; total F_z error / bound %.2f\n",
+  const SimulatorStatus status = sim.AdvanceTo(planned_liftoff + 0.1);
+  std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; total F_z error / bound %.2f; "
+              "lift-off at %.3f s (planned %.3f s) into mode %d\n",
               status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(), contact.min_normal_force_N,
-              contact.max_friction_ratio, worst_force_error);
+              contact.max_friction_ratio, worst_force_error, liftoff_time, planned_liftoff, liftoff_mode);
   EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit) << status.ToString();
   EXPECT_GT(contact.samples, 500);
   EXPECT_EQ(contact.violations, 0) << contact.first_violation;
-  EXPECT_EQ(other_mode, 0);
+  EXPECT_NEAR(liftoff_time, planned_liftoff, 0.05);
+  EXPECT_EQ(liftoff_mode, d.plant->GetModeIndex("left_foot_stance"));
   EXPECT_GT(force_samples, 500);
   EXPECT_LT(worst_force_error, 1.0);
 }
