@@ -228,7 +228,7 @@ TEST(HoppingDiagram, JumpClosedLoopIsStableWithPitchAndNotWithMomentumOutput) {
 // "jump" (both feet) and does not fail; Cassie stays upright (pelvis pitch and roll within 0.05 rad, pelvis above
 // 0.8 m); and the plant's ground forces carry the robot: their impulse over the window equals the COM's momentum change
 // plus m g T (impulse-momentum, from the plant's own state through our kinematics), within 1e-5 of m g T (measured:
-// 1.2e-4 N s of 399 N s over 1.25 s).
+// 2.6e-5 N s of 401 N s over 1.25 s).
 TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
   auto model = LoadCassie();
   auto no_jump = [](const RomState&, LegLengthPlan*, std::string* message) {
