@@ -1,8 +1,10 @@
 #pragma once
 // The hopping diagram (hopping paper, Fig. 5 and Sec. IV): Cassie hops on the spring-mass ROM's plans.
 //
-//   plant (HybridContactPlant: 3D Cassie, springs live, achilles rods as loop closures, Jump → Flight → Landing,
-//          Eq. (18)-(21))
+//   plant (PlantKind, one builder argument. HybridContactPlant: 3D Cassie, springs live, achilles rods as loop
+//          closures, Jump → Flight → Landing, Eq. (18)-(21). Or BulletWorldPlant on the same graph: springs as joint
+//          torques per substep, rods as Bullet rod constraints, each foot's toe and heel spheres on Bullet's ground
+//          plane, modes from which feet touch)
 //     → reference (HoppingReference: the domain and the desired outputs, Eq. (41)-(44), from the ROM's jump plan
 //                  (Eq. (14)-(15), solved from the measured standing state) and landing plan (Eq. (16), solved from
 //                  the post-impact state))
@@ -25,17 +27,22 @@
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/planners/hopping_reference.h"
-#include "systems/plants/hybrid_contact_plant.h"
+#include "systems/plants/plant_kind.h"
 
 namespace rome {
 
 struct HoppingDiagramParams {
-  HybridContactPlantParams plant = DefaultPlantParams();
+  HybridContactPlantParams plant = DefaultPlantParams();  ///< PlantKind::kHybrid; its dynamics are the controller's on either plant
+  BulletWorldPlantParams bullet_plant = DefaultBulletPlantParams();  ///< PlantKind::kBullet
   ClfQpParams controller = DefaultControllerParams();  ///< contact_stabilization is overwritten with plant.dynamics
   HoppingOutputParams outputs = DefaultOutputParams();
   HoppingReferenceParams reference;
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
+  /// The Bullet plant steps at the controller's 2 kHz (0.5 ms, ours: a 1 ms step would apply only every other torque)
+  /// in 5 substeps (ours, see the source), with the hybrid plant's fall height (0.5 m), lift-off force (8 N) and
+  /// minimum time between a lift-off and the next touchdown (20 ms).
+  static BulletWorldPlantParams DefaultBulletPlantParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
   /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).
   static ClfQpParams DefaultControllerParams();
@@ -56,7 +63,7 @@ struct HoppingDiagramParams {
 
 struct HoppingDiagram {
   std::unique_ptr<Diagram> diagram;
-  HybridContactPlant* plant = nullptr;
+  const ContactPlant* plant = nullptr;
   HoppingReference* reference = nullptr;
   ClfQpController* controller = nullptr;
   VectorLogger* logger = nullptr;
@@ -64,7 +71,7 @@ struct HoppingDiagram {
 
 HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
                                    HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
-                                   const HoppingDiagramParams& params = {});
+                                   const HoppingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid);
 
 /// Puts the robot at q (at rest, plant mode "jump": both feet down) and the reference into its settle phase.
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);

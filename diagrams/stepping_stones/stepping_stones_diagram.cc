@@ -79,14 +79,6 @@ double FlatFootPitch(const MultibodyModel& model, const std::string& contact) {
 
 }  // namespace
 
-const char* ToString(SteppingStonesPlant plant) { return plant == SteppingStonesPlant::kBullet ? "bullet" : "hybrid"; }
-
-SteppingStonesPlant ParseSteppingStonesPlant(const std::string& name) {
-  if (name == "hybrid") return SteppingStonesPlant::kHybrid;
-  if (name == "bullet") return SteppingStonesPlant::kBullet;
-  throw std::invalid_argument("unknown plant '" + name + "' (expected hybrid or bullet)");
-}
-
 double SoleLength(const MultibodyModel& model) {
   double sole = 0.0;
   for (const ContactInfo& c : model.contacts()) {
@@ -171,7 +163,7 @@ SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStone
 }
 
 SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
-                                                 const SteppingStonesControllerFactory& controller, SteppingStonesPlant plant) {
+                                                 const SteppingStonesControllerFactory& controller, PlantKind plant) {
   // E* > 0: the LIP crosses the stance foot and walks forwards (E* <= 0 turns back before reaching the stone).
   if (!(params.target_orbital_energy > 0) || !std::isfinite(params.target_orbital_energy))
     throw std::invalid_argument("BuildSteppingStonesDiagram: target_orbital_energy (E*) must be positive, got " + std::to_string(params.target_orbital_energy) +
@@ -190,13 +182,9 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   double lowest_stone = 0.0;
   for (const SteppingStone& s : terrain.stones()) lowest_stone = std::min(lowest_stone, s.top_height_m);
   plant_params.min_base_height_m += lowest_stone;
-  if (plant == SteppingStonesPlant::kBullet) {
-    BulletWorldPlantParams bullet_params = params.bullet_plant;
-    bullet_params.min_base_height_m += lowest_stone;
-    d.plant = b.AddSystem(std::make_unique<BulletWorldPlant>("plant", d.model, graph, terrain, bullet_params));
-  } else {
-    d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", d.model, graph, terrain, plant_params));
-  }
+  BulletWorldPlantParams bullet_params = params.bullet_plant;
+  bullet_params.min_base_height_m += lowest_stone;
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", d.model, graph, terrain, plant_params, bullet_params));
 
   SteppingStonesSupervisorParams sp = params.supervisor;
   sp.impact_fraction = params.impact_fraction;

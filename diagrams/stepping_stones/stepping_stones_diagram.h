@@ -1,7 +1,7 @@
 #pragma once
 // The stepping-stones diagram (stepping-stones paper, Algorithm 1) on a planar point-foot biped:
 //
-//   plant (HybridContactPlant, stepping-stone terrain, SSP→SSP through impact; or BulletWorldPlant: SteppingStonesPlant)
+//   plant (HybridContactPlant, stepping-stone terrain, SSP→SSP through impact; or BulletWorldPlant: PlantKind)
 //     → supervisor (step sequence, α_0, pre-impact posture NLP Eq. (21))
 //     → planner (momentum regulation, Eq. (17)-(18), (25)-(27))
 //     → vertical_com_mpc (Eq. (28), 1 kHz, warm-started QP)
@@ -60,6 +60,7 @@
 #include "systems/planners/vertical_com_mpc_system.h"
 #include "systems/plants/bullet_world_plant.h"
 #include "systems/plants/hybrid_contact_plant.h"
+#include "systems/plants/plant_kind.h"
 
 namespace rome {
 
@@ -85,7 +86,7 @@ struct SteppingStonesDiagramParams {
   /// x = 0 the first step of a short random step lasts only about 0.2 s.
   double initial_com_x_m = -0.1;
   HybridContactPlantParams plant;  ///< min_base_height_m is taken above the lowest stone (see BuildSteppingStonesDiagram)
-  /// The Bullet plant's (SteppingStonesPlant::kBullet); min_base_height_m likewise. Its contact points are 1 mm spheres
+  /// The Bullet plant's (PlantKind::kBullet); min_base_height_m likewise. Its contact points are 1 mm spheres
   /// on the stones' boxes, its step 1 ms, its update just after the controller's sample (bullet_world_plant.h).
   BulletWorldPlantParams bullet_plant;
   SteppingStonesSupervisorParams supervisor;
@@ -170,15 +171,6 @@ struct SteppingStonesDiagramParams {
   }
 };
 
-/// Which plant the diagram simulates: the event-accurate rigid plant (HybridContactPlant) or Bullet's physics world
-/// (BulletWorldPlant). Both have the same ports and announce touchdowns through touchdown_<foot> guards, so nothing
-/// else in the diagram changes (sim-to-sim).
-enum class SteppingStonesPlant { kHybrid, kBullet };
-/// "hybrid" or "bullet".
-const char* ToString(SteppingStonesPlant plant);
-/// Parses "hybrid" or "bullet"; an error naming the value otherwise.
-SteppingStonesPlant ParseSteppingStonesPlant(const std::string& name);
-
 struct SteppingStonesDiagram {
   std::unique_ptr<Diagram> diagram;
   const ContactPlant* plant = nullptr;
@@ -244,7 +236,7 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
 /// params.bullet_plant). Throws, naming the port, if the block lacks a controller port or a port has the wrong type or size.
 SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
                                                  const SteppingStonesControllerFactory& controller = nullptr,
-                                                 SteppingStonesPlant plant = SteppingStonesPlant::kHybrid);
+                                                 PlantKind plant = PlantKind::kHybrid);
 
 /// The initial plant state [q; v]: both feet on the centre of the first stone (left stance, right foot beside it),
 /// COM straight above them at params.supervisor.walking_com_height_m, torso upright; both feet at rest, torso not

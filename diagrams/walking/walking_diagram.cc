@@ -29,7 +29,8 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   return p;
 }
 
-WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params) {
+WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params,
+                                   PlantKind plant) {
   const MultibodyModel& m = *model;
   for (const char* foot : {"left_foot", "right_foot"}) {
     const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
@@ -43,8 +44,12 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   WalkingDiagram d;
   HybridContactPlantParams plant_params = params.plant;
   if (plant_params.planned_liftoff_force_N <= 0.0) plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
-  d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"),
-                                                             Terrain::Flat(), plant_params));
+  // The Bullet plant releases the trailing foot at the same force (a planned lift-off; see bullet_world_plant.h).
+  BulletWorldPlantParams bullet_params = params.bullet_plant;
+  if (bullet_params.planned_liftoff_force_N < 0) bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
+  if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"), Terrain::Flat(),
+                                         plant_params, bullet_params));
   const int left_stance = 0, right_stance = 2;
   TaskGains foot_gains;
   foot_gains.weight = params.swing_foot_weight;
@@ -64,7 +69,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
       ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("right_foot_orientation", m, "right_foot", foot_gains, std::vector<int>{left_stance})),
   };
   ClfQpParams cp = params.controller;
-  cp.contact_stabilization = d.plant->params().dynamics;
+  cp.contact_stabilization = plant_params.dynamics;
   d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>("walking_reference", plan));
   d.outputs = b.AddSystem(std::make_unique<WalkingOutputReference>("outputs", plan, swing));
   d.controller = b.AddSystem(std::make_unique<ClfQpController>("controller", model, ActiveContactsPerMode(*d.plant), std::move(outputs), cp));

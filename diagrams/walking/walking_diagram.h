@@ -6,9 +6,10 @@
 //     → outputs (WalkingOutputReference: Eq. (16) in DSP, Eq. (17) in SSP, swing foot to the planned foothold)
 //     → controller (ClfQpController: RES-CLF Eq. (18)-(19), F eliminated Eq. (20)-(22), flat-foot wrench rows
 //       Eq. (23), force band Eq. (25) on normal_force_reference, torque limits, 1 kHz, re-solved at every event)
-//     → plant (HybridContactPlant, DSP ↔ SSP: ContactModeGraph::WithDoubleSupport; DSP → SSP when the trailing foot's
-//       normal force reaches 0, no impact; SSP → DSP when the swing sole reaches the ground, plastic impact; flat
-//       feet with 6 constraints each)
+//     → plant (PlantKind, one builder argument: HybridContactPlant, DSP ↔ SSP: ContactModeGraph::WithDoubleSupport;
+//       DSP → SSP when the trailing foot's normal force reaches 0, no impact; SSP → DSP when the swing sole reaches the
+//       ground, plastic impact; flat feet with 6 constraints each. Or BulletWorldPlant on the same graph: each sole's
+//       four corners are spheres on Bullet's ground plane, modes from which feet touch, impacts inside Bullet's step)
 //
 // Choices beyond the paper (each a named parameter): the trailing foot is released at 1 % of m g (spec §7.5 [R],
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
@@ -34,12 +35,16 @@
 #include "systems/planners/walking_output_reference.h"
 #include "systems/planners/walking_plan.h"
 #include "systems/planners/walking_trajectory_source.h"
-#include "systems/plants/hybrid_contact_plant.h"
+#include "systems/plants/plant_kind.h"
 
 namespace rome {
 
 struct WalkingDiagramParams {
-  HybridContactPlantParams plant;
+  HybridContactPlantParams plant;  ///< PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
+  /// PlantKind::kBullet (defaults: 1 ms step, the controller's 1 kHz; rigid contact, μ from the sidecar). Its
+  /// planned_liftoff_force_N and min_time_in_mode_s, when left at their "off" defaults, are taken from `plant` (the
+  /// trailing foot is released at 1 % of m g on either plant).
+  BulletWorldPlantParams bullet_plant;
   ClfQpParams controller = DefaultWalkingControllerParams();
   SwingFootTrajectoryParams swing;  ///< ankle_height_m is set from the model's sole by the builder
   double swing_foot_weight = 5.0;   ///< [-] cost weight of the swing-foot outputs (ours: land on the foothold)
@@ -51,15 +56,16 @@ struct WalkingDiagramParams {
 
 struct WalkingDiagram {
   std::unique_ptr<Diagram> diagram;
-  HybridContactPlant* plant = nullptr;
+  const ContactPlant* plant = nullptr;
   WalkingTrajectorySource* reference = nullptr;
   WalkingOutputReference* outputs = nullptr;
   ClfQpController* controller = nullptr;
 };
 
-/// Builds the diagram above. The model must have flat contacts "left_foot" and "right_foot" on links of those names.
+/// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant). The model must have flat contacts
+/// "left_foot" and "right_foot" on links of those names.
 WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan,
-                                   const WalkingDiagramParams& params = {});
+                                   const WalkingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid);
 
 /// One gait of the issue's --gait flags: step length l, T_SSP, T_DSP, step width W.
 struct WalkingGait {

@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
     else
       throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
     std::string animation_error;
-    const SteppingStonesPlant plant_kind = ParseSteppingStonesPlant(cli.Get("plant"));
+    const PlantKind plant_kind = ParsePlantKind(cli.Get("plant"), "stepping_stones: --plant");
     SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller, plant_kind);
     std::unique_ptr<examples::AnimationRecorder> animation;
     if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*d.model);

@@ -17,6 +17,7 @@
 #include "examples/common/cli.h"
 #include "examples/common/plot.h"
 #include "framework/simulator.h"
+#include "systems/plants/contact_force_statistics.h"
 #include "systems/multibody/multibody_kinematics.h"
 
 using namespace rome;
@@ -61,6 +62,8 @@ int main(int argc, char** argv) {
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
+      .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
+      .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
       .Option("cache", "walking_plans", "directory of cached ROM plans")
@@ -70,8 +73,12 @@ int main(int argc, char** argv) {
   WalkingGait gait_a;
   int steps = 0;
   double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05;
+  PlantKind plant_kind = PlantKind::kHybrid;
   try {
     if (!cli.Parse(argc, argv)) return 0;
+    plant_kind = ParsePlantKind(cli.Get("plant"), "walking: --plant");
+    if (cli.Get("joint-limits") != "on" && cli.Get("joint-limits") != "off")
+      throw std::invalid_argument("walking: --joint-limits must be 'on' or 'off', got '" + cli.Get("joint-limits") + "'");
     if (cli.Get("scenario") == "gait-change")
       throw std::invalid_argument("walking: --scenario gait-change is not implemented yet (only stand-to-walk)");
     if (cli.Get("scenario") != "stand-to-walk")
@@ -122,7 +129,8 @@ int main(int argc, char** argv) {
   }
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = band;
-  WalkingDiagram d = BuildWalkingDiagram(model, plan, params);
+  params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
+  WalkingDiagram d = BuildWalkingDiagram(model, plan, params, plant_kind);
   SimulatorConfig config;
   config.scheme = IntegrationScheme::kExplicitRungeKutta;
   config.relative_tolerance = 1e-6;
@@ -131,7 +139,6 @@ int main(int argc, char** argv) {
   LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
   d.plant->SetState(pc, WalkingStandingPose(*model, plan), Eigen::VectorXd::Zero(model->nv()), "double_support");
 
-  const int nv = model->nv();
   const double mg = model->total_mass() * 9.81;
   MultibodyWorkspace ws(*model);
   const int right_foot = model->BodyIndex("right_foot");
@@ -150,16 +157,18 @@ int main(int argc, char** argv) {
   Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), err_max = Eigen::Vector3d::Zero();
   std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
   const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
+  ContactForceStatistics contact;  // the plant's own forces after every integrator step and event
   sim.set_monitor([&](const Context& c) {
     const double t = c.time();
     const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
+    contact.Record(*d.plant, ctx);
     const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
     const Eigen::VectorXd& f = d.plant->EvalOutput(ctx, "contact_forces");
     // A touchdown: into double support, or straight from one stance into the other. Mode 0 is left stance (the right
     // foot swings), 2 right stance. It is a step only on its planned foothold (the plan's (x, y) of that ankle).
     if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {
       const bool right_landed = last_mode == 0;
-      const Eigen::VectorXd q = ctx.continuous_state().head(nv);
+      const Eigen::VectorXd& q = d.plant->EvalOutput(ctx, "q");
       const Eigen::Vector2d ankle = CalcLinkPose(*model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
       const WalkingReference r = plan.Sample(t);
       const double error = (ankle - (right_landed ? r.right_foothold : r.left_foothold)).norm();
@@ -174,7 +183,7 @@ int main(int argc, char** argv) {
     const long k = static_cast<long>(std::floor(t * 1000.0 + 1e-9));
     if (k == tick) return EventStatus::Succeeded();
     tick = k;  // once per control tick
-    const Eigen::VectorXd q = ctx.continuous_state().head(nv);
+    const Eigen::VectorXd& q = d.plant->EvalOutput(ctx, "q");
     const Eigen::Vector3d com = CalcComPosition(*model, ws, q);
     const WalkingReference r = plan.Sample(t);
     const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, c);
@@ -211,14 +220,14 @@ int main(int argc, char** argv) {
     if (k % 500 == 0) std::cout << "  t = " << t << " s, steps " << touchdowns << "\n";
     return EventStatus::Succeeded();
   });
-  std::cout << "simulating " << plan.end_time() << " s ...\n";
+  std::cout << "simulating " << plan.end_time() << " s on the " << ToString(plant_kind) << " plant ...\n";
   const auto wall0 = std::chrono::steady_clock::now();
   const SimulatorStatus status = sim.AdvanceTo(plan.end_time());
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double t_end = sim.get_context().time();
   const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
   const bool fell = status.kind() != SimulatorStatus::Kind::kLimit;
-  const bool success = !fell && touchdowns >= steps;
+  const bool success = !fell && touchdowns >= steps && contact.violations == 0;
   Eigen::Vector3d rms = Eigen::Vector3d::Zero();
   if (n_err > 0) rms = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   const Eigen::VectorXd& fb = d.controller->EvalOutput(cc, "fallbacks");
@@ -235,6 +244,10 @@ int main(int argc, char** argv) {
   s["pelvis_max_orientation_error_rad"] = pelvis_max;
   s["force_in_band_fraction"] = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
   s["liftoff_normal_force_max_N"] = liftoff_max;
+  s["contact_violations"] = contact.violations;
+  s["first_contact_violation"] = contact.first_violation;
+  s["min_stance_normal_force_N"] = contact.samples > 0 ? contact.min_normal_force_N : 0.0;
+  s["max_friction_ratio"] = contact.max_friction_ratio;
   s["qp_infeasible_ticks"] = d.controller->EvalOutput(cc, "qp_failures")[0];
   s["qp_fallbacks"] = fb.sum();
   s["qp_solve_us_median"] = Percentile(solve_us, 0.5);
@@ -243,6 +256,7 @@ int main(int argc, char** argv) {
               {"transition_aslip", {{"solve_s", nlp.transition_solve_s}, {"iterations", nlp.transition_iterations}, {"constraint_violation", nlp.transition_violation}}}};
   s["realtime_factor"] = wall > 0 ? t_end / wall : 0.0;
   s["simulated_s"] = t_end;
+  s["plant"] = ToString(plant_kind);
   if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << s.dump(2) << "\n";
   if (!cli.Get("plots").empty()) {
     std::string err;
@@ -256,6 +270,8 @@ int main(int argc, char** argv) {
   }
   std::cout << (success ? "walked" : "FAILED") << ": " << status.ToString() << "\n  " << touchdowns << " steps (" << off_target_touchdowns << " touchdowns off their footholds, largest error "
             << touchdown_error_max << " m), COM RMS error (after the first step) "
-            << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n";
+            << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n  plant "
+            << ToString(plant_kind) << ": contact violations " << contact.violations << " (" << contact.samples << " samples)"
+            << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n " << contact.max_friction_ratio << "\n";
   return success ? 0 : 3;
 }

@@ -331,6 +331,9 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   if (!(params_.point_radius_m > 0)) ThrowError("parameter point_radius_m must be positive, got " + Num(params_.point_radius_m) + " m");
   if (!(params_.solver_residual_threshold >= 0))
     ThrowError("parameter solver_residual_threshold must be >= 0, got " + Num(params_.solver_residual_threshold) + " (m/s)^2");
+  if (!(params_.min_time_in_mode_s >= 0) || !std::isfinite(params_.min_time_in_mode_s))
+    ThrowError("parameter min_time_in_mode_s must be >= 0, got " + Num(params_.min_time_in_mode_s) + " s");
+  if (std::isnan(params_.planned_liftoff_force_N)) ThrowError("parameter planned_liftoff_force_N is NaN (negative: off)");
   if (params_.solver_iterations < 1) ThrowError("parameter solver_iterations must be at least 1, got " + std::to_string(params_.solver_iterations));
   if (!(params_.mode_change_delay_s > 0 && params_.mode_change_delay_s < params_.step_s - params_.update_offset_s))
     ThrowError("parameter mode_change_delay_s must be in (0, step_s - update_offset_s), got " + Num(params_.mode_change_delay_s) + " s");
@@ -389,7 +392,8 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
           const Eigen::VectorXd& xd = ctx.discrete_state();
           const double td = xd[td_time_offset_ + c];
           const bool armed = xd[touching_offset() + c] > 0.5 && td > xd[mode_start_offset_];
-          return armed ? td + params_.mode_change_delay_s - ctx.time() : 1.0;
+          // Announced no earlier than min_time_in_mode_s after the contact last stopped touching.
+          return armed ? std::max(td, xd[lo_time_offset_ + c] + params_.min_time_in_mode_s) + params_.mode_change_delay_s - ctx.time() : 1.0;
         },
         CrossingDirection::kFalling,
         [this, c, contact_name, to](const LeafContext& ctx, int, State* next) {
@@ -580,7 +584,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     if (!was && f.z() > params_.touchdown_force_N) {
       x[touching_offset() + c] = 1.0;
       x[td_time_offset_ + c] = t;
-    } else if (was && f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) {
+    } else if (was && ((f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) ||
+                       (params_.planned_liftoff_force_N >= 0 && IsGraphLiftoff(context.mode(), c) && f.z() <= params_.planned_liftoff_force_N))) {
       x[touching_offset() + c] = 0.0;
       x[lo_time_offset_ + c] = t;
     }

@@ -29,6 +29,9 @@
 //     liftoff_<contact> (every mode, every active contact): the contact stopped touching. Reset: the graph's lift-off
 //       target, else the mode with exactly the remaining contacts, else Failed.
 //   No velocity jump at a touchdown: Bullet's contact solver resolves the impact (restitution 0) within the step.
+// Planned lift-offs (planned_liftoff_force_N >= 0): a contact whose lift-off from the current mode is a transition of the
+//   graph also stops touching when the step's mean normal force is at most planned_liftoff_force_N. Any touchdown is
+//   announced no earlier than min_time_in_mode_s after its contact last stopped touching.
 // Falls: the update ends the run (Failed "robot fell") when the base height is below min_base_height_m.
 // contact_violation: +2 when a contact's |F_t| exceeds μ F_n (Bullet clamps each of its two friction directions at
 //   μ F_n, a pyramid, so this marks a sliding contact); +1 never occurs (Bullet's normal impulses are ≥ 0).
@@ -101,6 +104,17 @@ struct BulletWorldPlantParams {
   double stone_depth_m = 1.0;      ///< [m] stones reach this far below the lowest stone top, where a floor plane lies
   double touchdown_force_N = 1e-6; ///< [N] a contact starts touching when the step's mean normal force exceeds this (ours)
   double liftoff_height_m = 2e-3;  ///< [m] and stops when its lowest point is this far above the surface under it (ours)
+  /// [N] A planned lift-off (a lift-off transition of the graph from the current mode: the trailing foot of a double
+  /// support, both feet at a jump's take-off) also stops touching when the step's mean normal force falls to this value,
+  /// as HybridContactPlantParams::planned_liftoff_force_N, without waiting for the foot to rise liftoff_height_m: a
+  /// controller that unloads a foot and waits for the mode change to lift it would otherwise wait forever (walking), and
+  /// one whose stance torques assume contact would act on an airborne robot until its feet are 2 mm up (hopping:
+  /// measured 10 ms, in which the pelvis pitch rate swung from +3.3 to −6.5 rad/s). Negative (default): off.
+  double planned_liftoff_force_N = -1.0;
+  /// [s] A contact's touchdown is announced no earlier than this long after it last stopped touching
+  /// (HybridContactPlantParams::min_time_in_mode_s): a foot released by planned_liftoff_force_N still rests on the
+  /// ground and touches again in the next step; if it is still touching then, the touchdown is announced. 0: at once.
+  double min_time_in_mode_s = 0.0;
   double mode_change_delay_s = 1e-9;  ///< [s] the touchdown/lift-off guard fires this long after the update that saw it
   double min_base_height_m = 0.2;  ///< [m] base below this height ends the run as a fall
   double stone_tolerance_m = 0.0;  ///< [m] how far beyond a stone's edge a touchdown still counts

@@ -134,9 +134,9 @@ TEST(SteppingStonesDiagram, BulletPlantIsOneBuilderArgumentAndTheSupervisorSeesI
   params.supervisor.max_steps = 4;
   const Terrain terrain = PeriodicSteppingStones(0.4, 0.0, 7);
   std::vector<double> footholds[2];
-  for (const SteppingStonesPlant kind : {SteppingStonesPlant::kHybrid, SteppingStonesPlant::kBullet}) {
+  for (const PlantKind kind : {PlantKind::kHybrid, PlantKind::kBullet}) {
     SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, nullptr, kind);
-    EXPECT_NE(dynamic_cast<const BulletWorldPlant*>(d.plant) != nullptr, kind == SteppingStonesPlant::kHybrid);
+    EXPECT_NE(dynamic_cast<const BulletWorldPlant*>(d.plant) != nullptr, kind == PlantKind::kHybrid);
     Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
     SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
     const SimulatorStatus status = sim.AdvanceTo(10.0);
@@ -153,7 +153,7 @@ TEST(SteppingStonesDiagram, BulletPlantIsOneBuilderArgumentAndTheSupervisorSeesI
       for (double t : touchdowns) nearest = std::min(nearest, std::abs(t - end));
       EXPECT_LT(nearest, 1e-9) << ToString(kind) << ": a step was committed away from a touchdown";
       EXPECT_LT(r.foothold_error_m, 0.02) << ToString(kind);
-      footholds[kind == SteppingStonesPlant::kBullet].push_back(r.foothold_error_m);
+      footholds[kind == PlantKind::kBullet].push_back(r.foothold_error_m);
     }
   }
   for (size_t i = 0; i < footholds[0].size(); ++i) EXPECT_NEAR(footholds[0][i], footholds[1][i], 0.01) << "step " << i;

@@ -30,6 +30,7 @@
 #include <stdexcept>
 
 #include "framework/simulator.h"
+#include "systems/plants/contact_force_statistics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 
@@ -46,7 +47,8 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   stand.sole = SoleOf(*model, "left_foot");
   stand.stance_stagger_m = stagger_m;
   WalkingPlan plan = BuildStandToWalkPlan(gait, 4, 1, &cache, nullptr, stand);
-  WalkingDiagram d = BuildWalkingDiagram(model, plan);
+  const WalkingDiagramParams params;
+  WalkingDiagram d = BuildWalkingDiagram(model, plan, params);
   SimulatorConfig config;
   config.scheme = IntegrationScheme::kExplicitRungeKutta;
   config.relative_tolerance = 1e-6;
@@ -91,7 +93,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     last_mode = mode;
     const ContactSet active = d.plant->active_contacts(mode);
     const Eigen::VectorXd& u = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "u");
-    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, d.plant->params().dynamics, qdd, F);
+    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, params.plant.dynamics, qdd, F);
     for (int ci = 0; ci < model->num_contacts(); ++ci) {
       if (!(active & ContactBit(ci))) continue;
       const ContactForceCheck check = CheckContactForce(*model, ws, q, ci, ExtractContactWrench(*model, ws, q, active, F, ci), cop_check);
@@ -215,6 +217,67 @@ TEST(WalkingDiagram, DISABLED_ShortFirstStepTouchesDownNearItsFootholdWithPhysic
 
 // The full stand-to-walk run: does not walk yet (see the top of the file).
 TEST(WalkingDiagram, DISABLED_StandToWalkStepsWithPhysicalContactForces) { RunStandToWalk(RunUntil::kPlanEnd); }
+
+// The same diagram on the Bullet plant (PlantKind::kBullet, the one builder argument), through the double support and
+// 50 ms past the trailing foot's lift-off. Checks, from the plant at every simulator step: Bullet's own contact forces
+// are unilateral and inside the friction cone (ContactForceStatistics); the plant stays in double support until the
+// lift-off and does not fail; the two feet carry the aSLIP plan's total normal force (the plan's, not the
+// controller's: m (g + z̈) of the ROM) within 5 % + 2 % m g from 0.1 s to 50 ms before the planned lift-off; and the
+// trailing (right) foot lifts off within 50 ms of the plan's, released at the hybrid plant's 1 % of m g (Bullet's
+// planned lift-off; measured at 1.000 s). Joint limits off: the plan's 0.4 m step stance
+// bends the trailing ankle to −0.76 rad, beyond the URDF's −0.35 rad (the hybrid plant and the CLF-QP have no joint
+// limits); with them on, Bullet's limit constraint kicks the ankle in the first step (measured: 2.8e5 N on the right
+// foot, the run ends at 52 ms with the robot thrown).
+TEST(WalkingDiagram, DoubleSupportOnTheBulletPlantCarriesThePlannedForcesAndLiftsTheTrailingFoot) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingPlan plan = BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache, nullptr, stand);
+  WalkingDiagramParams params;
+  params.bullet_plant.enable_joint_limits = false;
+  WalkingDiagram d = BuildWalkingDiagram(model, plan, params, PlantKind::kBullet);
+  ASSERT_NE(dynamic_cast<const BulletWorldPlant*>(d.plant), nullptr);
+  Simulator sim(*d.diagram);
+  LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
+  d.plant->SetState(pc, WalkingStandingPose(*model, plan), Eigen::VectorXd::Zero(model->nv()), "double_support");
+  const int dsp = d.plant->GetModeIndex("double_support");
+  const double mg = model->total_mass() * 9.81;
+  ContactForceStatistics contact;
+  long force_samples = 0;
+  double worst_force_error = 0, liftoff_time = -1;
+  int liftoff_mode = -1;
+  const double planned_liftoff = plan.segments().at(0).duration;
+  sim.set_monitor([&](const Context& c) {
+    const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
+    contact.Record(*d.plant, ctx);
+    const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
+    if (mode != dsp && liftoff_time < 0) liftoff_time = c.time(), liftoff_mode = mode;
+    if (c.time() > 0.1 && c.time() < planned_liftoff - 0.05) {
+      // The Bullet plant's state (and forces) after its update at t are those of the step ending at the next multiple
+      // of 1 ms: compare with the plan there.
+      const double t_step = std::ceil(c.time() / 1e-3 - 1e-6) * 1e-3;
+      const Eigen::VectorXd& f = d.plant->EvalOutput(ctx, "contact_forces");
+      const WalkingReference r = plan.Sample(t_step);
+      const double planned = r.normal_force[0] + r.normal_force[1];
+      worst_force_error = std::max(worst_force_error, std::abs(f[2] + f[5] - planned) / (0.05 * planned + 0.02 * mg));
+      ++force_samples;
+    }
+    return EventStatus::Succeeded();
+  });
+  const SimulatorStatus status = sim.AdvanceTo(planned_liftoff + 0.1);
+  std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; total F_z error / bound %.2f; "
+              "lift-off at %.3f s (planned %.3f s) into mode %d\n",
+              status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(), contact.min_normal_force_N,
+              contact.max_friction_ratio, worst_force_error, liftoff_time, planned_liftoff, liftoff_mode);
+  EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit) << status.ToString();
+  EXPECT_GT(contact.samples, 500);
+  EXPECT_EQ(contact.violations, 0) << contact.first_violation;
+  EXPECT_NEAR(liftoff_time, planned_liftoff, 0.05);
+  EXPECT_EQ(liftoff_mode, d.plant->GetModeIndex("left_foot_stance"));
+  EXPECT_GT(force_samples, 500);
+  EXPECT_LT(worst_force_error, 1.0);
+}
 
 }  // namespace
 }  // namespace rome

@@ -122,6 +122,46 @@ TEST(BulletWorldPlant, DroppedBoxRestsOnThePlaneAtItsHalfHeight) {
   EXPECT_LT(x.segment(3, 3).norm(), 1e-6);
 }
 
+// Planned lift-offs (planned_liftoff_force_N): a 3 kg box resting on the plane carries m g = 29.4 N (statics). With the
+// threshold at 0.5 m g its planned lift-off never fires over 0.3 s; at 2 m g the plant releases it after its first step
+// (F_n = m g <= 2 m g: liftoff_bottom within 2 ms), it rests on and touches again in the next step, and that
+// touchdown is announced only min_time_in_mode_s = 50 ms after the release (touchdown_bottom 50-51 ms later). In
+// neither case does the mode change move the box (Bullet's physics does not see the mode): it stays at 0.05 m.
+TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
+  auto model = LoadSidecar("tests/systems/plants/data/planar_box.rome.json");
+  ContactModeGraph graph;
+  graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
+  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
+  graph.initial_mode = "resting";
+  const double mg = 3.0 * 9.81;
+  for (const double threshold : {0.5 * mg, 2.0 * mg}) {
+    SCOPED_TRACE(threshold);
+    BulletWorldPlantParams params;
+    params.min_base_height_m = -1.0;
+    params.planned_liftoff_force_N = threshold;
+    params.min_time_in_mode_s = 0.05;
+    BulletWorldPlant plant("box", model, graph, Terrain::Flat(), params);
+    Eigen::VectorXd q(3);
+    q << 0.0, 0.05, 0.0;
+    PlantRun run = Start(plant, q, Eigen::VectorXd::Zero(3), "resting", Eigen::VectorXd::Zero(0));
+    ASSERT_TRUE(run.sim->AdvanceTo(0.3).ok());
+    const auto& events = run.sim->statistics().events;
+    EXPECT_NEAR(run.context->discrete_state()[1], 0.05, 1e-3);
+    if (threshold < mg) {
+      EXPECT_TRUE(events.empty()) << events.front().guard << " at " << events.front().time;
+      EXPECT_EQ(run.context->mode(), plant.GetModeIndex("resting"));
+      EXPECT_NEAR(plant.EvalOutput(*run.context, "contact_forces")[2], mg, 1e-3 * mg);
+    } else {
+      ASSERT_GE(events.size(), 2u);
+      EXPECT_EQ(events[0].guard, "liftoff_bottom");
+      EXPECT_LT(events[0].time, 2e-3);
+      EXPECT_EQ(events[1].guard, "touchdown_bottom");
+      EXPECT_GE(events[1].time - events[0].time, params.min_time_in_mode_s - 1e-9);
+      EXPECT_LT(events[1].time - events[0].time, params.min_time_in_mode_s + 1e-3);
+    }
+  }
+}
+
 // A ball sliding at 1 m/s with its bottom on a stone's top, 1 cm before the right edge, slides off the edge and falls
 // into the gap (no stone top under it, so nothing holds it at the stone's height). Sent back left at 1 m/s while in
 // the gap, its left side hits the stone's right side face, which pushes it along +x (a horizontal normal), and it never
@@ -457,6 +497,9 @@ TEST(BulletWorldPlant, BadInputGetsOneLineErrors) {
   BulletWorldPlantParams no_substeps;
   no_substeps.substeps = 0;
   expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), no_substeps); }, "substeps must be at least 1");
+  BulletWorldPlantParams negative_min_time;
+  negative_min_time.min_time_in_mode_s = -0.01;
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), negative_min_time); }, "min_time_in_mode_s must be >= 0, got -0.01");
   // A stone of zero size: the terrain rejects it, naming the stone.
   expect_error([&] { Terrain::Stones({{0.0, 0.0, 0.2}, {1.0, 0.0, 0.0}}); }, "stone");
   // A sidecar contact with no points has no collision geometry: the sidecar loader rejects it, naming the contact.
