@@ -33,9 +33,11 @@ struct HoppingDiagramParams {
   HybridContactPlantParams plant = DefaultPlantParams();
   ClfQpParams controller = DefaultControllerParams();  ///< contact_stabilization is overwritten with plant.dynamics
   HoppingOutputParams outputs = DefaultOutputParams();
-  HoppingReferenceParams reference;
+  HoppingReferenceParams reference = DefaultReferenceParams();
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
+  /// The block's defaults, with flight_hip_pitch_follow = −1 (ours; see the source).
+  static HoppingReferenceParams DefaultReferenceParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
   /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).
   static ClfQpParams DefaultControllerParams();
