@@ -36,13 +36,15 @@ struct HoppingDiagramParams {
   BulletWorldPlantParams bullet_plant = DefaultBulletPlantParams();  ///< PlantKind::kBullet
   ClfQpParams controller = DefaultControllerParams();  ///< contact_stabilization is overwritten with plant.dynamics
   HoppingOutputParams outputs = DefaultOutputParams();
-  HoppingReferenceParams reference;
+  HoppingReferenceParams reference = DefaultReferenceParams();
   double log_period_s = 1e-3;  ///< [s]
   static HybridContactPlantParams DefaultPlantParams();
   /// The Bullet plant steps at the controller's 2 kHz (0.5 ms, ours: a 1 ms step would apply only every other torque)
   /// in 5 substeps (ours, see the source), with the hybrid plant's fall height (0.5 m), lift-off force (8 N) and
   /// minimum time between a lift-off and the next touchdown (20 ms).
   static BulletWorldPlantParams DefaultBulletPlantParams();
+  /// The block's defaults, with flight_hip_pitch_follow = −1 (ours; see the source).
+  static HoppingReferenceParams DefaultReferenceParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
   /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).
   static ClfQpParams DefaultControllerParams();

@@ -17,6 +17,8 @@ std::vector<ClfOutput> MakeHoppingOutputs(const MultibodyModel& model, const Joi
     g.weight = weight;
     return g;
   };
+  TaskGains motor_gains = gains(p.motor_weight);
+  motor_gains.kp = p.motor_kp, motor_gains.kd = p.motor_kd;
   std::vector<ClfOutput> outputs;
   if (p.jump_tracks_momentum)
     outputs.push_back(
@@ -32,7 +34,7 @@ std::vector<ClfOutput> MakeHoppingOutputs(const MultibodyModel& model, const Joi
                                                                        p.jump_tracks_momentum ? std::vector<int>{landing} : std::vector<int>{jump, landing}))};
   outputs.insert(outputs.end(), rest.begin(), rest.end());
   for (const ActuatorInfo& a : model.actuators())
-    outputs.push_back(ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("motor_" + a.joint, model, a.joint, gains(p.motor_weight), std::vector<int>{flight})));
+    outputs.push_back(ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("motor_" + a.joint, model, a.joint, motor_gains, std::vector<int>{flight})));
   return outputs;
 }
 

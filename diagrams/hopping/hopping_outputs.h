@@ -32,6 +32,9 @@ struct HoppingOutputParams {
   double com_weight = 1.0;          ///< [-]
   double pelvis_weight = 1.0;       ///< [-] yaw and pitch
   double motor_weight = 1.0;        ///< [-] flight motor positions
+  /// Kp [1/s²], Kd [1/s] of the flight motors' PD target ÿ* (with ClfQpParams::cost_pd_feedback; ours, the
+  /// TaskGains default 100, 20: 10 rad/s, critically damped).
+  double motor_kp = 100.0, motor_kd = 20.0;
   /// true: Jump tracks H_pitch (Eq. (41)); false: Jump tracks the pelvis pitch as Landing does and the momentum output
   /// is left out (ours, a deviation: see the README for what we measured with H_pitch).
   bool jump_tracks_momentum = true;

@@ -17,6 +17,7 @@
 #include "diagrams/hopping/hopping_plans.h"
 #include "examples/common/cli.h"
 #include "examples/common/plot.h"
+#include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/robot_files.h"
 #include "systems/plants/contact_force_statistics.h"
@@ -116,6 +117,16 @@ int main(int argc, char** argv) {
   };
   std::vector<Sample> samples;
   double liftoff = -1, touchdown = -1, jump_start = -1, clearance = 0, com_liftoff = 0, com_max = 0, pitch_liftoff = 0, pitch_change = 0;
+  // At touchdown: mean sole point x minus COM x [m] (+: feet ahead); after it: lowest pelvis height [m].
+  double touchdown_foot_com_x = NAN, liftoff_foot_com_x = NAN, pelvis_min_after_touchdown = NAN;
+  auto foot_com_x = [&](const Eigen::VectorXd& q) {
+    double x_sum = 0;
+    int points = 0;
+    for (int k = 0; k < model->num_contacts(); ++k)
+      for (size_t i = 0; i < model->contacts()[k].points.size(); ++i, ++points) x_sum += CalcContactPointPosition(*model, ws, q, k, static_cast<int>(i)).x();
+    return x_sum / points - CalcComPosition(*model, ws, q).x();
+  };
+  const int base_z = model->VelocityIndex("base_z");
   int last_domain = HoppingDomain::kLanding;
   double last_progress = 0;
   ContactForceStatistics contact;  // the plant's own forces after every integrator step and event
@@ -132,8 +143,13 @@ int main(int argc, char** argv) {
     if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) jump_start = t;
     if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && liftoff < 0) {
       liftoff = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
+      liftoff_foot_com_x = foot_com_x(q);
     }
-    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && touchdown < 0) touchdown = t;
+    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && touchdown < 0) {
+      touchdown = t;
+      touchdown_foot_com_x = foot_com_x(q);
+    }
+    if (touchdown > 0) pelvis_min_after_touchdown = std::isfinite(pelvis_min_after_touchdown) ? std::min(pelvis_min_after_touchdown, q[base_z]) : q[base_z];
     if (domain == HoppingDomain::kFlight && touchdown < 0) {
       double lowest = 1e9;
       for (int k = 0; k < model->num_contacts(); ++k) lowest = std::min(lowest, CalcContactHeight(*model, ws, q, k));
@@ -205,6 +221,9 @@ int main(int argc, char** argv) {
   summary["settled"] = settled;
   summary["hopped"] = hopped;
   summary["max_pelvis_pitch_change_flight_rad"] = pitch_change;
+  summary["liftoff_foot_com_offset_x_m"] = liftoff_foot_com_x;
+  summary["touchdown_foot_com_offset_x_m"] = touchdown_foot_com_x;
+  summary["min_pelvis_height_after_touchdown_m"] = pelvis_min_after_touchdown;
   summary["qp_infeasible_ticks"] = d.controller->EvalOutput(cc, "qp_failures")[0];
   summary["qp_solve_us_median"] = Percentile(solve_us, 0.5);
   summary["qp_solve_us_p99"] = Percentile(solve_us, 0.99);

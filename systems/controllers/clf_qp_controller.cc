@@ -71,7 +71,7 @@ struct ClfQpController::Scratch {
   MultibodyWorkspace ws;
   std::vector<ModeQp> modes;
   Eigen::MatrixXd MinvB, Jy, JyMinvB;
-  Eigen::VectorXd rhs_free, minv_rhs, qdd0, y, Jdv;
+  Eigen::VectorXd rhs_free, minv_rhs, qdd0, y, Jdv, Mb;
   int last_mode = 0;
 };
 
@@ -104,6 +104,18 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
       if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
         ThrowError("output '" + o.name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
   }
+  if (params_.u_regularization_weights.size() != 0) {
+    if (params_.u_regularization_weights.size() != nu)
+      ThrowError("params.u_regularization_weights has " + std::to_string(params_.u_regularization_weights.size()) + " entries, expected " + std::to_string(nu) +
+                 " (one per actuator)");
+    for (int j = 0; j < nu; ++j)
+      if (!(params_.u_regularization_weights[j] > 0.0) || !std::isfinite(params_.u_regularization_weights[j]))
+        ThrowError("params.u_regularization_weights[" + std::to_string(j) + "] = " + std::to_string(params_.u_regularization_weights[j]) +
+                   " must be positive and finite");
+  }
+  for (int m : params_.u_regularization_modes)
+    if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
+      ThrowError("params.u_regularization_modes names mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
   cost_only_.assign(outputs_.size(), false);
   for (const std::string& name : params_.cost_only_outputs) {
     const auto it = std::find_if(outputs_.begin(), outputs_.end(), [&](const ClfOutput& o) { return o.name() == name; });
@@ -180,6 +192,7 @@ std::any ClfQpController::AllocateScratch() const {
   s.qdd0.setZero(nv);
   s.y.setZero(std::max(ny_, 1));
   s.Jdv.setZero(std::max(ny_, 1));
+  s.Mb.setZero(nv);
   s.modes.reserve(mode_contacts_.size());
   for (size_t m = 0; m < mode_contacts_.size(); ++m) {
     const ContactSet active = mode_contacts_[m];
@@ -399,7 +412,25 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     if (params_.cost_pd_feedback) qp.g.noalias() -= mq.WAout.transpose() * mq.pd_shift;
   }
   const double scale = reg_scale > 0.0 ? reg_scale : 1.0;
-  qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
+  const bool per_actuator = params_.u_regularization_modes.empty() ||
+                            std::find(params_.u_regularization_modes.begin(), params_.u_regularization_modes.end(), mode) != params_.u_regularization_modes.end();
+  if (!per_actuator) {
+    qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
+  } else {
+    const bool inertia = params_.u_regularization_kind == TorqueRegularization::kInverseJointInertia;
+    const Eigen::MatrixXd* M = inertia ? &CalcMassMatrix(model, ws, q) : nullptr;
+    for (int j = 0; j < nu; ++j) {
+      double s_j = scale;
+      if (inertia) {
+        s.Mb.noalias() = *M * model.B().col(j);
+        const double m_j = model.B().col(j).dot(s.Mb);  // b_jᵀ M b_j [kg m²]
+        if (!(m_j > 0.0)) return QpStatus::kInvalidInput;
+        s_j = 1.0 / (m_j * m_j);
+      }
+      if (params_.u_regularization_weights.size() != 0) s_j *= params_.u_regularization_weights[j];
+      qp.H(j, j) += params_.u_regularization * s_j;
+    }
+  }
   // δ enters as δ' = √p δ, so that ½ p δ² = ½ δ'² keeps H well scaled (DenseQpSolver's pivot test is relative).
   qp.H(mq.delta, mq.delta) = 1.0;
   if (augmented && rows > 0) {

@@ -32,7 +32,8 @@
 // F, G of Eq. (26), P from the CARE Fᵀ P + P F − P G Gᵀ P + Q = 0 (Q = I), V = ηᵀ P_ε η, P_ε = I_ε P I_ε,
 // γ = λ_min(Q)/λ_max(P) (params.gamma > 0 overrides). CLF row (Eq. (36)-(37)):
 //   L_G V 𝒜 x ≤ −(γ/ε) V − L_F V − L_G V L_f + δ,   normalised by 1 + ||L_G V 𝒜||.
-// QP:  minimise  ½ ||W (𝒜 x + L_f − σ)||² + ½ ρ_u s ||u||² + ½ p δ²     (s: largest diagonal of 𝒜ᵀW𝒜 on u;
+// QP:  minimise  ½ ||W (𝒜 x + L_f − σ)||² + ½ ρ_u Σ_j s_j u_j² + ½ p δ²     (s_j = s: largest diagonal of 𝒜ᵀW𝒜 on u,
+//      by default; see params.u_regularization_kind for the per-actuator s_j = w_j / m_j², m_j = b_jᵀ M b_j;
 //      σ = −Kp e − Kd ė on the RD2 CLF rows with params.cost_pd_feedback, else 0; the CLF row always uses L_f)
 //      subject to the CLF row, the contact-wrench rows of every active contact (contact_wrench_constraints.h),
 //      the force band (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref (optional), torque limits, δ ≥ 0.
@@ -106,6 +107,15 @@ struct ClfOutput {
   double weight() const { return rd2 ? rd2->gains().weight : rd1->weight(); }
 };
 
+/// How the torque penalty ½ ρ_u Σ_j s_j u_j² scales each actuator (params.u_regularization_kind).
+enum class TorqueRegularization {
+  kUniform,              ///< s_j = s, the largest output curvature on u (diagonal of 𝒜ᵀW𝒜), times w_j
+  /// s_j = w_j / m_j², m_j = b_jᵀ M(q) b_j [kg m²] the effective inertia of actuator j's joint (b_j: column j of B):
+  /// ½ ρ_u s_j u_j² is ½ ρ_u w_j times the squared acceleration u_j alone gives that joint, the unit of the output
+  /// rows. Light joints (a toe) then no longer set the penalty of heavy ones (a hip), as the uniform s does.
+  kInverseJointInertia,
+};
+
 enum class ClfQpFormulation {
   kEliminateContactForces,  ///< x = [u; δ], F = A_v u + b_v (walking paper Eq. (20)-(22))
   kAugmentedInput,          ///< x = [u; F; δ] with holonomic equalities (hopping paper Eq. (45)-(51))
@@ -118,6 +128,13 @@ struct ClfQpParams {
   double gamma = -1.0;            ///< γ [-]; ≤ 0: λ_min(Q)/λ_max(P) (spec [R])
   double relaxation_weight = 1e5;  ///< p [-] on ½ δ² (walking spec [R]: 1e5)
   double u_regularization = 1e-6;  ///< ρ_u [-], relative to the largest output curvature on u (ours)
+  /// Ours (default kUniform, every mode): how ρ_u is spread over the actuators (see TorqueRegularization).
+  TorqueRegularization u_regularization_kind = TorqueRegularization::kUniform;
+  /// [-] per-actuator multipliers w_j of the torque penalty (actuator order); empty: all 1. Must be > 0.
+  Eigen::VectorXd u_regularization_weights;
+  /// The modes in which u_regularization_kind and u_regularization_weights apply; empty: every mode. Other modes use
+  /// kUniform with w_j = 1.
+  std::vector<int> u_regularization_modes;
   ContactWrenchParams contact;     ///< unilateral, friction, CoP and yaw rows per contact
   bool force_band = false;         ///< walking Eq. (25): declares the normal_force_reference input
   double force_band_halfwidth = 0.1;  ///< c [-] of Eq. (25) (walking paper: 0.1)

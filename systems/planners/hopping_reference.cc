@@ -16,7 +16,7 @@ constexpr int kJump = 0, kFlight = 1, kLanding = 2;
 constexpr int kDomain = 0, kDomainStart = 1, kCentreX = 2, kCentreY = 3, kYaw0 = 4, kMotorTargets = 5;  // 10 motor targets
 constexpr int kLandComX = 15, kLandComXdot = 16, kLandPitch = 17, kLandPitchRate = 18, kHopsDone = 19, kJumpPlans = 20, kLandingPlans = 21,
               kPlanFailures = 22, kHoldL = 23, kJumpPitch = 24, kJumpPitchRate = 25,
-              kJumpHipPerPitch = 26, kFixed = 28;  // kJumpHipPerPitch: 2 legs
+              kJumpHipPerPitch = 26, kFlightPitch0 = 28, kFlightHipPerPitch = 29, kFixed = 31;  // *HipPerPitch: 2 legs
 
 // Quintic from (p0, v0, a0 = 0) to (p1, 0, 0) over T; value, rate, acceleration at s (held after T).
 Eigen::Vector3d Blend(double s, double T, double p0, double v0, double p1) {
@@ -105,7 +105,9 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   const int nv = model_->nv();
   state_port_ = DeclareInputPort("state", 2 * nv);
   mode_port_ = DeclareTypedInputPort<int>("mode");
-  DeclareOutputPort("desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); }, Feedthrough::None());
+  // The flight hip targets read the state when params.flight_hip_pitch_follow ≠ 0.
+  DeclareOutputPort("desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); },
+                    params_.flight_hip_pitch_follow != 0.0 ? Feedthrough::From({state_port_}) : Feedthrough::None());
   DeclareTypedOutputPort<int>("domain", [](const LeafContext& c, int* y) { *y = static_cast<int>(c.discrete_state()[kDomain]); }, Feedthrough::None());
   DeclareOutputPort("plan_status", {"jump_plans", "landing_plans", "planner_failures"},
                     [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(kJumpPlans); }, Feedthrough::None());
@@ -220,6 +222,17 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
   // Eq. (42): H_pitch^d = 0 (layout_.momentum, if present, stays 0).
   if (domain == kFlight) {
     y->segment(kMotors, 10) = xd.segment(kMotorTargets, 10);
+    if (params_.flight_hip_pitch_follow != 0.0) {
+      // The hips turn with the pelvis pitch so the legs keep their lift-off world pitch (see the params).
+      const Eigen::VectorXd& x = EvalInput(context, state_port_);
+      const int pitch = model_->VelocityIndex("base_pitch"), nv = model_->nv();
+      for (int leg = 0; leg < 2; ++leg) {
+        // HipPerPitch is (dθ_sole/dθ) / (dθ_sole/dq_hip): the hip turn that keeps the sole's world pitch is −r dθ.
+        const double k = -params_.flight_hip_pitch_follow * xd[kFlightHipPerPitch + leg];
+        (*y)[kMotors + hip_actuator_[leg]] += k * (x[pitch] - xd[kFlightPitch0]);
+        (*y)[kNy + kMotors + hip_actuator_[leg]] = k * x[nv + pitch];
+      }
+    }
     return;
   }
   Eigen::Vector3d L(xd[kHoldL], 0.0, 0.0);
@@ -311,6 +324,8 @@ EventStatus HoppingReference::GuardUpdate(const LeafContext& context, const Even
       for (int i = 0; i < model_->nu(); ++i)
         if (model_->actuators()[i].v_index == toe_[leg]) (*next)[kMotorTargets + i] = predicted[toe_[leg]];
     }
+    (*next)[kFlightPitch0] = q[model_->VelocityIndex("base_pitch")];
+    for (int leg = 0; leg < 2; ++leg) (*next)[kFlightHipPerPitch + leg] = HipPerPitch(q, leg);
     (*next)[kDomain] = kFlight;
     (*next)[kDomainStart] = context.time();
   } else if (plant_mode != kFlight && domain == kFlight) {

@@ -8,7 +8,8 @@
 //            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start;
 //                     pitch (when Jump tracks the pelvis pitch): θ_d, θ̇_d from the centroidal pitch momentum (below)
 //            flight:  motors = their positions at lift-off, toes corrected so the soles stay level once the springs
-//                     unload (see below)
+//                     unload (see below); hips optionally turned with the pelvis pitch (params.flight_hip_pitch_follow,
+//                     then 'desired' depends on 'state')
 //            landing: L_L = L_R = L_plan(t − t_touchdown); COM x: quintic from its post-impact value and rate to the
 //                     support centre over landing_blend_s; pitch: quintic from its post-impact value and rate to 0
 //                     (spec [R], C10); COM y = support centre; yaw as in jump
@@ -76,6 +77,10 @@ struct HoppingReferenceParams {
   int max_plan_nodes = 201;            ///< nodes a plan may have
   /// k [-] of the Jump pitch reference θ̇_d = θ̇ − k H_pitch / I_p (see PeriodicUpdate; ours); 0: hold the pitch.
   double jump_momentum_gain = 2.0;
+  /// k [-] (ours; 0 holds the hips at their lift-off angles, Eq. (43)): in Flight the hip-pitch targets turn with the
+  /// pelvis pitch θ, q_hip_d = q_hip_lo − k r (θ − θ_lo), q̇_hip_d = −k r θ̇, r = HipPerPitch at lift-off; k = 1 keeps
+  /// the legs at their lift-off world pitch, so the feet stay under the hips as the pelvis rotates.
+  double flight_hip_pitch_follow = 0.0;
   std::string left_knee = "left_knee", right_knee = "right_knee";
   std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";
   std::string left_tarsus = "left_tarsus", right_tarsus = "right_tarsus";

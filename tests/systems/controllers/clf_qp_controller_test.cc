@@ -522,6 +522,79 @@ TEST(ClfQpController, CopFallbackFiresWhenOnlyTheCopRowsConflict) {
   EXPECT_EQ(s.failures, 1.0);
 }
 
+// Per-actuator torque penalty (params.u_regularization_kind = kInverseJointInertia, u_regularization_weights): the QP
+// answer meets its KKT conditions with the penalty ½ ρ_u Σ_j w_j (u_j / m_j)², m_j = M_jj, built here independently of
+// the controller: q̈(u) = q̈0 + Q u from Bullet's articulated-body forward dynamics (Q by finite differences, exact for
+// the affine map), M = Q⁻¹ (B = I on the arm), P_ε from the closed-form CARE. With the CLF row's multiplier λ = p δ
+// (stationarity in δ: p δ − λ − μ_δ = 0, μ_δ δ = 0, so λ = p δ), stationarity in u reads
+//   Qᵀ (q̈(u) − ÿ_d) + ρ_u diag(w_j / m_j²) u + p δ Qᵀ L_G V = 0     (torque limits inactive),
+// and the answer must differ from the uniform penalty's (the option changes the QP).
+TEST(ClfQpController, PerActuatorTorquePenaltyMeetsItsKktConditions) {
+  auto model = LoadTestModel("arm");
+  auto outputs = [&] {
+    return std::vector<ClfOutput>{ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
+                                  ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))};
+  };
+  ClfQpParams params;
+  params.epsilon = 0.1;
+  params.u_regularization = 0.05;
+  params.u_regularization_kind = TorqueRegularization::kInverseJointInertia;
+  params.u_regularization_weights = Eigen::Vector2d(1.0, 3.0);
+  params.u_regularization_modes = {0};
+  ClfQpParams uniform = params;
+  uniform.u_regularization_kind = TorqueRegularization::kUniform;
+  uniform.u_regularization_weights.resize(0);
+  ClfQpController controller("clf", model, {0}, outputs(), params);
+  ClfQpController reference("clf_uniform", model, {0}, outputs(), uniform);
+  auto context = controller.CreateDefaultLeafContext();
+  auto ref_context = reference.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(*model);
+  const Eigen::MatrixXd P = ClosedFormPEpsilon(2, params.epsilon);
+  const double p = params.relaxation_weight;
+  int checked = 0, clf_bound = 0;
+  double max_difference = 0.0;
+  for (int k = 0; k < 12; ++k) {
+    Eigen::VectorXd q(2), v(2);
+    q << 0.2 + 0.06 * k, -0.4 + 0.07 * k;
+    v << 0.4 - 0.08 * k, 0.3 * std::cos(k);
+    Eigen::VectorXd desired = Eigen::VectorXd::Zero(6);
+    desired[0] = 0.5, desired[1] = 0.2;  // y_d; ẏ_d = ÿ_d = 0
+    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    const Solved su = RunUpdate(reference, *ref_context, Stack(q, v), 0, desired);
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    ASSERT_EQ(su.status, QpStatus::kOptimal);
+    max_difference = std::max(max_difference, (s.u - su.u).norm());
+    if (std::abs(s.u[0]) > 59.0 || std::abs(s.u[1]) > 39.0) continue;  // a torque limit binds: stationarity has its term
+    Eigen::VectorXd qdd0(2), qdd(2);
+    CalcForwardDynamics(*model, ws, q, v, Eigen::Vector2d::Zero(), Eigen::VectorXd(0), qdd0);
+    Eigen::Matrix2d Q;
+    for (int j = 0; j < 2; ++j) {
+      CalcForwardDynamics(*model, ws, q, v, Eigen::Vector2d::Unit(j), Eigen::VectorXd(0), qdd);
+      Q.col(j) = qdd - qdd0;
+    }
+    const Eigen::Matrix2d M = Q.inverse();
+    Eigen::Vector4d eta;
+    eta << q - desired.head(2), v;
+    const Eigen::Vector4d Peta = P * eta;
+    const Eigen::Vector2d LGV = 2.0 * Peta.tail(2);
+    Eigen::Vector2d penalty;
+    for (int j = 0; j < 2; ++j) penalty[j] = params.u_regularization * params.u_regularization_weights[j] / (M(j, j) * M(j, j));
+    const Eigen::Vector2d grad = Q.transpose() * (qdd0 + Q * s.u) + penalty.cwiseProduct(s.u) + p * s.delta * Q.transpose() * LGV;
+    const double size = (Q.transpose() * (qdd0 + Q * s.u)).norm() + penalty.cwiseProduct(s.u).norm() + 1.0;
+    EXPECT_LT(grad.norm(), 1e-6 * size) << "sample " << k << ", delta " << s.delta << ", u " << s.u.transpose();
+    // Primal feasibility of the CLF row: V̇ ≤ −(γ/ε) V + δ.
+    const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
+    Eigen::Vector4d eta_dot;
+    eta_dot << v, qdd0 + Q * s.u;
+    EXPECT_LE(2.0 * eta.dot(P * eta_dot), -rate * eta.dot(Peta) + s.delta + 1e-6 * (1.0 + eta.dot(Peta))) << "sample " << k;
+    ++checked;
+    if (s.delta > 0.0) ++clf_bound;
+  }
+  EXPECT_GE(checked, 8);
+  EXPECT_GE(clf_bound, 1);  // the multiplier term was exercised
+  EXPECT_GT(max_difference, 1e-2);
+}
+
 TEST(ClfQpController, BadParametersAndInputsAreNamed) {
   auto model = LoadTestModel("slider");
   const auto out = ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"));
@@ -533,6 +606,21 @@ TEST(ClfQpController, BadParametersAndInputsAreNamed) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "system 'clf': params.epsilon = 0.000000 must be positive and finite");
   }
+  ClfQpParams bad_weights;
+  bad_weights.u_regularization_weights = Eigen::Vector2d(1.0, 2.0);
+  EXPECT_THROW(
+      {
+        try {
+          ClfQpController("clf", model, {0}, {out}, bad_weights);
+        } catch (const std::runtime_error& e) {
+          EXPECT_EQ(std::string(e.what()), "system 'clf': params.u_regularization_weights has 2 entries, expected 1 (one per actuator)");
+          throw;
+        }
+      },
+      std::runtime_error);
+  ClfQpParams bad_modes;
+  bad_modes.u_regularization_modes = {3};
+  EXPECT_THROW(ClfQpController("clf", model, {0}, {out}, bad_modes), std::runtime_error);
   ClfQpController controller("clf", model, {0}, {out});
   auto context = controller.CreateDefaultLeafContext();
   context->FixInputPort(0, Eigen::Vector2d(0, 0));
