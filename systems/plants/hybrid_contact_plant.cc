@@ -167,6 +167,10 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time()) << " s: |F_t|/F_n = " << ft / fn
              << (pending ? " exceeded" : " reached") << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient
              << " (|F_t| = " << ft << " N, F_n = " << fn << " N" << (pending ? "; already outside the cone right after an event" : "") << ")";
+          // A contact that unloads with a tangential force left (even round-off) meets the cone's apex just before its
+          // normal force reaches 0: say so, since the ratio of two near-zero forces alone reads like a violent slip.
+          if (std::abs(fn) <= params_.event_tolerance_N)
+            os << "; the contact was unloading (F_n within event_tolerance_N = " << params_.event_tolerance_N << " N of 0): it lost its load with a tangential force left";
           return EventStatus::Failed(os.str());
         });
   }

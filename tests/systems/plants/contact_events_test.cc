@@ -120,6 +120,32 @@ TEST(ContactEvents, PushedBlockSlipsWhenThePushReachesMuTimesTheWeight) {
   EXPECT_LT(worst, 1e-9 * m * kG);
 }
 
+// The same block lifted with u_z = m g t / T while a tiny constant push c holds sideways: |F_t| = c, F_n = m g (1 - t/T),
+// so |F_t| reaches mu F_n at t = T (1 - c / (mu m g)), an instant before F_n reaches 0. The run ends as a slip, and the
+// message says the contact was unloading (the ratio of two near-zero forces alone reads like a violent slip).
+TEST(ContactEvents, AContactUnloadingWithATangentialForceLeftSlipsAtTheConesApexAndSaysSo) {
+  auto model = LoadTestModel("lifted_block");
+  const double m = 2.0, mu = 0.5, c = 1e-9, T = 1.0, t_slip = T * (1 - c / (mu * m * kG));
+  ASSERT_EQ(model->actuators().size(), 2u);
+  DiagramBuilder b;
+  b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("block_bottom", false), Terrain::Flat()));
+  b.AddSystem(std::make_unique<TrajectorySource>("ramp", 2, [&](double t, Eigen::Ref<Eigen::VectorXd> out) {
+    out[0] = c;
+    out[1] = m * kG * t / T;
+  }));
+  b.Connect("ramp", "y", "plant", "u");
+  auto diagram = b.Build("lifted_block");
+  Simulator sim(*diagram, Tight());
+  const SimulatorStatus status = sim.AdvanceTo(2 * T);
+  ASSERT_EQ(status.reason, SimulatorStatus::Reason::kFailed) << status.ToString();
+  EXPECT_EQ(status.system, "plant");
+  EXPECT_NEAR(status.time, t_slip, 1e-9);
+  EXPECT_EQ(sim.statistics().events.back().guard, "slip");
+  EXPECT_NE(status.message.find("'block_bottom' slipped"), std::string::npos) << status.message;
+  EXPECT_NE(status.message.find("the contact was unloading"), std::string::npos) << status.message;
+  std::printf("%s\n", status.message.c_str());
+}
+
 TEST(ContactEvents, LiftOffWithNoModeToLiftOffIntoFails) {
   auto model = LoadTestModel("ball_on_table");
   ContactModeGraph graph;
