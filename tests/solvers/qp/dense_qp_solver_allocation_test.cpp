@@ -28,12 +28,8 @@ long CountAllocationsDuringSolve(DenseQpSolver* solver, QpStatus* status) {
 TEST(DenseQpSolverAllocationTest, CountingWorks) {
   // The counter must see an allocation made inside the counting window, or the test below proves nothing.
   static double* volatile sink = nullptr;  // volatile: the allocation cannot be elided
-  g_allocations = 0;
-  g_counting = true;
-  sink = new double[16];
-  g_counting = false;
+  EXPECT_EQ(rome::test::CountAllocations([] { sink = new double[16]; }), 1);
   delete[] sink;
-  EXPECT_EQ(g_allocations, 1);
 #if ROME_COUNT_MALLOC
   // Eigen allocates through malloc; that must be seen too.
   static Eigen::VectorXd* volatile eigen_sink = nullptr;

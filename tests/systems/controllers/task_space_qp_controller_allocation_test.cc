@@ -29,12 +29,8 @@ Eigen::VectorXd FixInputsAndPrime(const TaskSpaceQpController& controller, LeafC
 
 TEST(TaskSpaceQpControllerAllocation, CountingWorks) {
   static double* volatile sink = nullptr;
-  g_allocations = 0;
-  g_counting = true;
-  sink = new double[16];
-  g_counting = false;
+  EXPECT_EQ(rome::test::CountAllocations([] { sink = new double[16]; }), 1);
   delete[] sink;
-  EXPECT_EQ(g_allocations, 1);
 }
 
 TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {

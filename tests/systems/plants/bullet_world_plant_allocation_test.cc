@@ -21,12 +21,8 @@ std::shared_ptr<const MultibodyModel> Load(const std::string& sidecar) {
 
 TEST(BulletWorldPlantAllocation, CountingWorks) {
   static double* volatile sink = nullptr;
-  g_allocations = 0;
-  g_counting = true;
-  sink = new double[16];
-  g_counting = false;
+  EXPECT_EQ(rome::test::CountAllocations([] { sink = new double[16]; }), 1);
   delete[] sink;
-  EXPECT_EQ(g_allocations, 1);
 }
 
 // Runs `steps` periodic updates of `plant` from q_nominal at rest (both feet on the ground, no torque) after `warm`
