@@ -644,8 +644,11 @@ class MultibodyModelLoader {
       if (!X_body_link) {
         parts[body].push_back({lm.mass, lm.com, lm.inertia, link.name, lm.problem});
       } else {
-        const Eigen::Matrix3d& R = X_body_link->linear();
-        parts[body].push_back({lm.mass, *X_body_link * lm.com, R * lm.inertia * R.transpose(), link.name, lm.problem});
+        // Zero first: GCC 12 at -O1 warns (maybe-uninitialized) on a Matrix3d built straight from linear().
+        Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
+        R = X_body_link->linear();
+        const Eigen::Matrix3d inertia = R * lm.inertia * R.transpose();
+        parts[body].push_back({lm.mass, *X_body_link * lm.com, inertia, link.name, lm.problem});
       }
     };
     parts.resize(bodies->size());
