@@ -104,6 +104,9 @@ struct SteppingStonesDiagramParams {
   ClfQpParams clf_controller = DefaultClfParams();
   TaskGains torso_gains{1.0, 100.0, 20.0};
   TaskGains com_height_gains{1.0, 100.0, 20.0};
+  /// [-] The CLF-QP's cost weight on the COM-height output (ClfQpControllerFactory only; NaN: com_height_gains'
+  /// weight, as the task-space QP). Ours; ForRobot sets it for line feet (planar Cassie), see the .cc.
+  double clf_com_height_weight = std::numeric_limits<double>::quiet_NaN();
   /// Weight 5 (ours): when the torque limits bind (short steep steps), the QP gives the swing foot priority over the
   /// COM height and torso pitch, so that it clears the stones and lands on the planned one.
   TaskGains swing_foot_gains{5.0, 400.0, 40.0};
