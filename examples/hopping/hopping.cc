@@ -61,6 +61,14 @@ int main(int argc, char** argv) {
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 2 kHz, BulletWorldPlant)")
       .Option("bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
               "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")
+      .Option("jump-momentum-gain", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().jump_momentum_gain),
+              "k [-] of the Jump pitch reference, theta_dot_d = theta_dot - k H_pitch / I_p (0: hold the pitch; HoppingReferenceParams)")
+      .Option("flight-hip-follow", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().flight_hip_pitch_follow),
+              "k [-]: in Flight the hip-pitch targets turn with the pelvis pitch, q_hip_d = q_hip_lo - k r (theta - theta_lo) (HoppingReferenceParams)")
+      .Option("landing-min-force", examples::FormatNumber(SpringMassLandingParams{}.min_force_fraction),
+              "F_min / (m g) [-]: the landing plan's smallest leg force (spec [R] 0.25)")
+      .Option("landing-blend", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().landing_blend_s),
+              "[s] Landing: duration of the COM-x and pitch quintics to the support centre and 0 (spec [R] 0.3 s)")
       .Option("duration", "0", "[s] simulated time; 0: settle + hops + 2.5 s after the last touchdown")
       .Option("log", "", "CSV log path (empty: none)")
       .Option("summary", "", "JSON summary path (empty: none)")
@@ -70,6 +78,8 @@ int main(int argc, char** argv) {
   LegStiffnessVariant variant = LegStiffnessVariant::kIdentified;
   PlantKind plant_kind = PlantKind::kHybrid;
   int substeps = HoppingDiagramParams::DefaultBulletPlantParams().substeps;
+  double jump_momentum_gain = 0, flight_hip_follow = 0, landing_blend = 0;
+  SpringMassLandingParams landing_params;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     plant_kind = ParsePlantKind(cli.Get("plant"), "--plant");
@@ -79,6 +89,18 @@ int main(int argc, char** argv) {
     hops = cli.GetInt("hops");
     if (!(apex_rise > 0.0 && apex_rise <= 0.35))
       throw std::invalid_argument("--apex-rise " + cli.Get("apex-rise") + ": outside what the legs can reach (0 < H <= 0.35 m)");
+    jump_momentum_gain = cli.GetDouble("jump-momentum-gain");
+    if (!(jump_momentum_gain >= 0.0 && jump_momentum_gain <= 100.0))
+      throw std::invalid_argument("--jump-momentum-gain " + cli.Get("jump-momentum-gain") + ": must be in [0, 100]");
+    flight_hip_follow = cli.GetDouble("flight-hip-follow");
+    if (!(flight_hip_follow >= -10.0 && flight_hip_follow <= 10.0))
+      throw std::invalid_argument("--flight-hip-follow " + cli.Get("flight-hip-follow") + ": must be in [-10, 10]");
+    landing_params.min_force_fraction = cli.GetDouble("landing-min-force");
+    if (!(landing_params.min_force_fraction >= 0.0 && landing_params.min_force_fraction < 1.0))
+      throw std::invalid_argument("--landing-min-force " + cli.Get("landing-min-force") + ": must be in [0, 1)");
+    landing_blend = cli.GetDouble("landing-blend");
+    if (!(landing_blend > 0.0 && landing_blend <= 10.0))
+      throw std::invalid_argument("--landing-blend " + cli.Get("landing-blend") + ": must be in (0, 10] s");
     if (hops < 1 || hops > 1000) throw std::invalid_argument("--hops " + cli.Get("hops") + ": must be in [1, 1000]");
     try {
       variant = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
@@ -101,9 +123,12 @@ int main(int argc, char** argv) {
   const LegLengthTable leg_length(*model);
   HoppingDiagramParams params;
   params.reference.hops = hops;
+  params.reference.jump_momentum_gain = jump_momentum_gain;
+  params.reference.flight_hip_pitch_follow = flight_hip_follow;
+  params.reference.landing_blend_s = landing_blend;
   params.bullet_plant.substeps = substeps;
   HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump_params, records, rest_height),
-                                         MakeSpringMassLandingPlanner(rom, {}, records, rest_height), params, plant_kind);
+                                         MakeSpringMassLandingPlanner(rom, landing_params, records, rest_height), params, plant_kind);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
 
@@ -229,6 +254,10 @@ int main(int argc, char** argv) {
   summary["qp_solve_us_p99"] = Percentile(solve_us, 0.99);
   summary["realtime_factor"] = pc.time() / wall;
   summary["leg_stiffness"] = cli.Get("leg-stiffness");
+  summary["jump_momentum_gain"] = jump_momentum_gain;
+  summary["flight_hip_follow"] = flight_hip_follow;
+  summary["landing_min_force_fraction"] = landing_params.min_force_fraction;
+  summary["landing_blend_s"] = landing_blend;
   summary["plant"] = ToString(plant_kind);
   summary["bullet_substeps"] = substeps;
   summary["contact_violations"] = contact.violations;
