@@ -144,6 +144,7 @@ int main(int argc, char** argv) {
   double liftoff = -1, touchdown = -1, jump_start = -1, clearance = 0, com_liftoff = 0, com_max = 0, pitch_liftoff = 0, pitch_change = 0;
   // At touchdown: mean sole point x minus COM x [m] (+: feet ahead); after it: lowest pelvis height [m].
   double touchdown_foot_com_x = NAN, liftoff_foot_com_x = NAN, pelvis_min_after_touchdown = NAN;
+  double liftoff_pitch_momentum = NAN;  // H_pitch about the COM at lift-off [N m s] (spec: |H| < 0.3)
   auto foot_com_x = [&](const Eigen::VectorXd& q) {
     double x_sum = 0;
     int points = 0;
@@ -169,6 +170,7 @@ int main(int argc, char** argv) {
     if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && liftoff < 0) {
       liftoff = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
       liftoff_foot_com_x = foot_com_x(q);
+      liftoff_pitch_momentum = CalcCentroidalMomentum(*model, ws, q, x.tail(nv))[1];
     }
     if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && touchdown < 0) {
       touchdown = t;
@@ -247,6 +249,7 @@ int main(int argc, char** argv) {
   summary["hopped"] = hopped;
   summary["max_pelvis_pitch_change_flight_rad"] = pitch_change;
   summary["liftoff_foot_com_offset_x_m"] = liftoff_foot_com_x;
+  summary["liftoff_pitch_momentum_Nms"] = liftoff_pitch_momentum;
   summary["touchdown_foot_com_offset_x_m"] = touchdown_foot_com_x;
   summary["min_pelvis_height_after_touchdown_m"] = pelvis_min_after_touchdown;
   summary["qp_infeasible_ticks"] = d.controller->EvalOutput(cc, "qp_failures")[0];
