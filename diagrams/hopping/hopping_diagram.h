@@ -43,7 +43,8 @@ struct HoppingDiagramParams {
   /// in 5 substeps (ours, see the source), with the hybrid plant's fall height (0.5 m), lift-off force (8 N) and
   /// minimum time between a lift-off and the next touchdown (20 ms).
   static BulletWorldPlantParams DefaultBulletPlantParams();
-  /// The block's defaults, with flight_hip_pitch_follow = −1 (ours; see the source).
+  /// The block's defaults, with flight_hip_pitch_follow = −1, jump_momentum_gain = 10 and
+  /// landing_deflection_feedback = 0.7 (ours; see the source).
   static HoppingReferenceParams DefaultReferenceParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
   /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).

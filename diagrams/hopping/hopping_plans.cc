@@ -29,7 +29,9 @@ void LegLengthTable::operator()(double q_knee, double* L, double* dL_dq) const {
   *dL_dq = y[1];
 }
 
-LegLengthPlan ToLegLengthPlan(const SpringMassPlan& plan) { return {plan.times, plan.states.row(2).transpose(), plan.states.row(3).transpose()}; }
+LegLengthPlan ToLegLengthPlan(const SpringMassPlan& plan) {
+  return {plan.times, plan.states.row(2).transpose(), plan.states.row(3).transpose(), plan.states.row(0).transpose(), plan.states.row(1).transpose()};
+}
 
 HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
                                                         std::shared_ptr<double> rest_height) {

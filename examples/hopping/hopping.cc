@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
               "k [-] of the Jump pitch reference, theta_dot_d = theta_dot - k H_pitch / I_p (0: hold the pitch; HoppingReferenceParams)")
       .Option("flight-hip-follow", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().flight_hip_pitch_follow),
               "k [-]: in Flight the hip-pitch targets turn with the pelvis pitch, q_hip_d = q_hip_lo - k r (theta - theta_lo) (HoppingReferenceParams)")
+      .Option("landing-deflection-feedback", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().landing_deflection_feedback),
+              "g [-]: Landing leg-length target L_plan + g (x - x_plan), so the spring deflection follows the plan's (0: off; HoppingReferenceParams)")
       .Option("landing-min-force", examples::FormatNumber(SpringMassLandingParams{}.min_force_fraction),
               "F_min / (m g) [-]: the landing plan's smallest leg force (spec [R] 0.25)")
       .Option("landing-blend", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().landing_blend_s),
@@ -78,7 +80,7 @@ int main(int argc, char** argv) {
   LegStiffnessVariant variant = LegStiffnessVariant::kIdentified;
   PlantKind plant_kind = PlantKind::kHybrid;
   int substeps = HoppingDiagramParams::DefaultBulletPlantParams().substeps;
-  double jump_momentum_gain = 0, flight_hip_follow = 0, landing_blend = 0;
+  double jump_momentum_gain = 0, flight_hip_follow = 0, landing_blend = 0, deflection_feedback = 0;
   SpringMassLandingParams landing_params;
   try {
     if (!cli.Parse(argc, argv)) return 0;
@@ -95,6 +97,9 @@ int main(int argc, char** argv) {
     flight_hip_follow = cli.GetDouble("flight-hip-follow");
     if (!(flight_hip_follow >= -10.0 && flight_hip_follow <= 10.0))
       throw std::invalid_argument("--flight-hip-follow " + cli.Get("flight-hip-follow") + ": must be in [-10, 10]");
+    deflection_feedback = cli.GetDouble("landing-deflection-feedback");
+    if (!(deflection_feedback >= 0.0 && deflection_feedback <= 2.0))
+      throw std::invalid_argument("--landing-deflection-feedback " + cli.Get("landing-deflection-feedback") + ": must be in [0, 2]");
     landing_params.min_force_fraction = cli.GetDouble("landing-min-force");
     if (!(landing_params.min_force_fraction >= 0.0 && landing_params.min_force_fraction < 1.0))
       throw std::invalid_argument("--landing-min-force " + cli.Get("landing-min-force") + ": must be in [0, 1)");
@@ -126,6 +131,7 @@ int main(int argc, char** argv) {
   params.reference.jump_momentum_gain = jump_momentum_gain;
   params.reference.flight_hip_pitch_follow = flight_hip_follow;
   params.reference.landing_blend_s = landing_blend;
+  params.reference.landing_deflection_feedback = deflection_feedback;
   params.bullet_plant.substeps = substeps;
   HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump_params, records, rest_height),
                                          MakeSpringMassLandingPlanner(rom, landing_params, records, rest_height), params, plant_kind);
@@ -261,6 +267,7 @@ int main(int argc, char** argv) {
   summary["flight_hip_follow"] = flight_hip_follow;
   summary["landing_min_force_fraction"] = landing_params.min_force_fraction;
   summary["landing_blend_s"] = landing_blend;
+  summary["landing_deflection_feedback"] = deflection_feedback;
   summary["plant"] = ToString(plant_kind);
   summary["bullet_substeps"] = substeps;
   summary["contact_violations"] = contact.violations;

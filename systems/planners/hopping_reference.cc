@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "systems/multibody/contact_dynamics.h"
@@ -97,8 +98,8 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   rigid_knee_plus_tarsus_ = qn[knee_[0]] + qn[tarsus_[0]];
   const int n = params_.max_plan_nodes;
   jump_plan_offset_ = kFixed;
-  landing_plan_offset_ = kFixed + 1 + 3 * n;
-  size_ = landing_plan_offset_ + 1 + 3 * n;
+  landing_plan_offset_ = kFixed + 1 + 5 * n;  // per plan: node count, then t, L, L̇, x, ẋ (N each)
+  size_ = landing_plan_offset_ + 1 + 5 * n;
   Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(size_);
   xd0[kDomain] = kLanding;
   DeclareDiscreteState(xd0);
@@ -107,7 +108,8 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   mode_port_ = DeclareTypedInputPort<int>("mode");
   // The flight hip targets read the state when params.flight_hip_pitch_follow ≠ 0.
   DeclareOutputPort("desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); },
-                    params_.flight_hip_pitch_follow != 0.0 ? Feedthrough::From({state_port_}) : Feedthrough::None());
+                    params_.flight_hip_pitch_follow != 0.0 || params_.landing_deflection_feedback != 0.0 ? Feedthrough::From({state_port_})
+                                                                                                            : Feedthrough::None());
   DeclareTypedOutputPort<int>("domain", [](const LeafContext& c, int* y) { *y = static_cast<int>(c.discrete_state()[kDomain]); }, Feedthrough::None());
   DeclareOutputPort("plan_status", {"jump_plans", "landing_plans", "planner_failures"},
                     [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(kJumpPlans); }, Feedthrough::None());
@@ -117,6 +119,10 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
 
 RomState HoppingReference::MeasureRomState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
   MultibodyWorkspace ws(*model_);
+  return MeasureRomState(ws, q, v);
+}
+
+RomState HoppingReference::MeasureRomState(MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v) const {
   RomState r;
   for (int leg = 0; leg < 2; ++leg) {
     const Eigen::Vector3d hip = CalcLinkPose(*model_, ws, q, hip_link_[leg]).translation();
@@ -174,6 +180,9 @@ void HoppingReference::WritePlan(int offset, const LegLengthPlan& plan, Eigen::V
   xd->segment(offset + 1, n) = plan.t;
   xd->segment(offset + 1 + N, n) = plan.L;
   xd->segment(offset + 1 + 2 * N, n) = plan.Ldot;
+  const bool has_x = plan.x.size() == n && plan.xdot.size() == n;
+  if (has_x) xd->segment(offset + 1 + 3 * N, n) = plan.x, xd->segment(offset + 1 + 4 * N, n) = plan.xdot;
+  else xd->segment(offset + 1 + 3 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
 }
 
 Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t, const Eigen::Ref<const Eigen::VectorXd>& L,
@@ -195,13 +204,15 @@ Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorX
 LegLengthPlan HoppingReference::jump_plan(const LeafContext& context) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int n = static_cast<int>(xd[jump_plan_offset_]), N = params_.max_plan_nodes;
-  return {xd.segment(jump_plan_offset_ + 1, n), xd.segment(jump_plan_offset_ + 1 + N, n), xd.segment(jump_plan_offset_ + 1 + 2 * N, n)};
+  return {xd.segment(jump_plan_offset_ + 1, n), xd.segment(jump_plan_offset_ + 1 + N, n), xd.segment(jump_plan_offset_ + 1 + 2 * N, n), xd.segment(jump_plan_offset_ + 1 + 3 * N, n),
+          xd.segment(jump_plan_offset_ + 1 + 4 * N, n)};
 }
 
 LegLengthPlan HoppingReference::landing_plan(const LeafContext& context) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int n = static_cast<int>(xd[landing_plan_offset_]), N = params_.max_plan_nodes;
-  return {xd.segment(landing_plan_offset_ + 1, n), xd.segment(landing_plan_offset_ + 1 + N, n), xd.segment(landing_plan_offset_ + 1 + 2 * N, n)};
+  return {xd.segment(landing_plan_offset_ + 1, n), xd.segment(landing_plan_offset_ + 1 + N, n), xd.segment(landing_plan_offset_ + 1 + 2 * N, n), xd.segment(landing_plan_offset_ + 1 + 3 * N, n),
+          xd.segment(landing_plan_offset_ + 1 + 4 * N, n)};
 }
 
 double HoppingReference::domain_start_time(const LeafContext& context) const { return context.discrete_state()[kDomainStart]; }
@@ -243,6 +254,14 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
   } else if (xd[kHopsDone] > 0) {  // landing after a hop (before the first hop: settle at the held length)
     const int o = landing_plan_offset_;
     L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
+    if (params_.landing_deflection_feedback != 0.0 && std::isfinite(xd[o + 1 + 3 * N])) {
+      const Eigen::Vector3d x_plan = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + 3 * N, N), xd.segment(o + 1 + 4 * N, N), static_cast<int>(xd[o]), s);
+      const Eigen::VectorXd& x = EvalInput(context, state_port_);
+      const int nv = model_->nv();
+      const RomState r = MeasureRomState(context.scratch<Scratch>().ws, x.head(nv), x.tail(nv));
+      L[0] += params_.landing_deflection_feedback * (r.x - x_plan[0]);
+      L[1] += params_.landing_deflection_feedback * (r.xdot - x_plan[1]);
+    }
     set(kComX, Blend(s, params_.landing_blend_s, xd[kLandComX], xd[kLandComXdot], xd[kCentreX]));
     set(kPitch, Blend(s, params_.landing_blend_s, xd[kLandPitch], xd[kLandPitchRate], 0.0));
   }

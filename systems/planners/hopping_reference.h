@@ -45,7 +45,9 @@
 #include <Eigen/Core>
 
 #include "framework/system.h"
+#include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_model.h"
+#include "systems/multibody/multibody_workspace.h"
 
 namespace rome {
 
@@ -58,6 +60,9 @@ struct HoppingOutputLayout {
 /// A leg-length plan: nodes (t_k from the start of the domain, L_k, L̇_k), evaluated as a cubic Hermite (spec [R]).
 struct LegLengthPlan {
   Eigen::VectorXd t, L, Ldot;  ///< [s], [m], [m/s]
+  /// [m], [m/s] the ROM's mass height x (real leg length) and its rate at the nodes; empty: none (optional, for
+  /// HoppingReferenceParams::landing_deflection_feedback).
+  Eigen::VectorXd x, xdot;
   double duration() const { return t.size() > 0 ? t[t.size() - 1] : 0.0; }
 };
 
@@ -81,6 +86,11 @@ struct HoppingReferenceParams {
   /// pelvis pitch θ, q_hip_d = q_hip_lo − k r (θ − θ_lo), q̇_hip_d = −k r θ̇, r = HipPerPitch at lift-off; k = 1 keeps
   /// the legs at their lift-off world pitch, so the feet stay under the hips as the pelvis rotates.
   double flight_hip_pitch_follow = 0.0;
+  /// g [-] (ours; 0: off, the paper's L_d = L_plan): in the Landing after a hop, L_d = L_plan + g (x − x_plan),
+  /// L̇_d = L̇_plan + g (ẋ − ẋ_plan) with x the measured mean real leg length and ẋ the COM's vertical velocity
+  /// (RomState), so that at g = 1 the spring deflection s = L − x, hence the ROM's leg force, follows the plan's.
+  /// Needs plans with x (LegLengthPlan::x); makes 'desired' depend on 'state'.
+  double landing_deflection_feedback = 0.0;
   std::string left_knee = "left_knee", right_knee = "right_knee";
   std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";
   std::string left_tarsus = "left_tarsus", right_tarsus = "right_tarsus";
@@ -104,6 +114,8 @@ class HoppingReference final : public LeafSystem {
   const HoppingReferenceParams& params() const { return params_; }
   /// The ROM state of the robot at (q, v) (see RomState).
   RomState MeasureRomState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const;
+  /// The same with a caller's workspace (no allocation).
+  RomState MeasureRomState(MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v) const;
   /// Sets the state to "settle in landing" at the context's time with the standing leg length of q held.
   void Initialize(LeafContext& context, const Eigen::VectorXd& q) const;
   /// Node plans currently held (for logs and tests).
