@@ -85,7 +85,7 @@ struct Simulator::Impl {
   SUNMatrix A = nullptr;
   SUNLinearSolver LS = nullptr;
   SUNNonlinearSolver NLS = nullptr;
-  long acc_steps = 0, acc_rhs = 0, acc_g = 0;
+  SimulatorStatistics acc;  // integrator counters of the earlier integrator lives (only the counter fields are used)
   std::exception_ptr error;
   std::string cvode_message;
   std::string failure;  // non-finite derivative report from the RHS
@@ -129,29 +129,39 @@ struct Simulator::Impl {
     }
     if (nx_integrated == 1 && xc_offset.empty()) ydata[0] = 0.0;
   }
-  // Integrator counters since the last (re)initialisation: steps, RHS evaluations, root-function evaluations.
-  void Counters(long* steps, long* rhs, long* g) const {
-    *steps = *rhs = *g = 0;
+  // Integrator counters since the last (re)initialisation, added to `out`'s counter fields.
+  void AddCounters(SimulatorStatistics* out) const {
     if (!mem) return;
+    long steps = 0, rhs = 0, g = 0, jac = 0, jac_rhs = 0, nli = 0, etf = 0, ncf = 0;
     // Root-function evaluations only exist when root finding was initialised (ARKODE leaves its counter
     // uninitialised otherwise).
     if (erk) {
-      ERKStepGetNumSteps(mem, steps);
-      ERKStepGetNumRhsEvals(mem, rhs);
-      if (nroots > 0) ERKStepGetNumGEvals(mem, g);
+      ERKStepGetNumSteps(mem, &steps);
+      ERKStepGetNumRhsEvals(mem, &rhs);
+      ERKStepGetNumErrTestFails(mem, &etf);
+      if (nroots > 0) ERKStepGetNumGEvals(mem, &g);
     } else {
-      CVodeGetNumSteps(mem, steps);
-      CVodeGetNumRhsEvals(mem, rhs);
-      if (nroots > 0) CVodeGetNumGEvals(mem, g);
+      CVodeGetNumSteps(mem, &steps);
+      CVodeGetNumRhsEvals(mem, &rhs);
+      CVodeGetNumErrTestFails(mem, &etf);
+      CVodeGetNumNonlinSolvIters(mem, &nli);
+      CVodeGetNumNonlinSolvConvFails(mem, &ncf);
+      if (LS) {
+        CVodeGetNumJacEvals(mem, &jac);
+        CVodeGetNumLinRhsEvals(mem, &jac_rhs);
+      }
+      if (nroots > 0) CVodeGetNumGEvals(mem, &g);
     }
+    out->steps += steps;
+    out->rhs_evals += rhs + jac_rhs;
+    out->root_evals += g;
+    out->jacobian_evals += jac;
+    out->jacobian_rhs_evals += jac_rhs;
+    out->nonlinear_iterations += nli;
+    out->error_test_failures += etf;
+    out->convergence_failures += ncf;
   }
-  void AccumulateCounters() {
-    long steps = 0, rhs = 0, g = 0;
-    Counters(&steps, &rhs, &g);
-    acc_steps += steps;
-    acc_rhs += rhs;
-    acc_g += g;
-  }
+  void AccumulateCounters() { AddCounters(&acc); }
 };
 
 struct SimulatorCallbacks {
@@ -415,14 +425,16 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
       terminated_ = true;
       terminal_status_ = status;
     }
-    stats_.steps = m.acc_steps;
-    stats_.rhs_evals = m.acc_rhs;
-    stats_.root_evals = m.acc_g;
-    long steps = 0, rhs = 0, g = 0;
-    m.Counters(&steps, &rhs, &g);
-    stats_.steps += steps;
-    stats_.rhs_evals += rhs;
-    stats_.root_evals += g;
+    stats_.steps = m.acc.steps;
+    stats_.rhs_evals = m.acc.rhs_evals;
+    stats_.root_evals = m.acc.root_evals;
+    stats_.jacobian_evals = m.acc.jacobian_evals;
+    stats_.jacobian_rhs_evals = m.acc.jacobian_rhs_evals;
+    stats_.nonlinear_iterations = m.acc.nonlinear_iterations;
+    stats_.error_test_failures = m.acc.error_test_failures;
+    stats_.convergence_failures = m.acc.convergence_failures;
+    stats_.restarts = m.acc.restarts;
+    m.AddCounters(&stats_);
     if (reason == SimulatorStatus::Reason::kZeno && config_.event_policy.throw_on_violation) throw std::runtime_error(status.ToString());
     return status;
   };
@@ -430,13 +442,24 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
     return finish(es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed : SimulatorStatus::Reason::kReachedTermination, sys,
                   es.message);
   };
-  auto reinit = [&]() {
+  // carry_step: the continuous state did not jump (a discrete update only changed the inputs).
+  auto reinit = [&](bool carry_step) {
     m.AccumulateCounters();
+    ++m.acc.restarts;
     m.ContextsToState(N_VGetArrayPointer(m.y));
-    if (m.erk)
+    if (m.erk) {
+      // A one-step method needs no history: after a discrete update, start the new interval with the step size the
+      // error control asked for at the end of the last one instead of ARKODE's conservative initial-step estimate
+      // (which costs derivative evaluations and usually a few short steps). A step that is too long is rejected by
+      // the same error test. Not after a guard's reset: the state jumped, and the root finder's check of a guard
+      // that is 0 at the restart looks a fraction of the first step ahead.
+      double h_next = 0.0;
+      if (carry_step && config_.restart_with_last_step) ERKStepGetCurrentStep(m.mem, &h_next);
       ERKStepReInit(m.mem, &SimulatorCallbacks::Rhs, context_->time(), m.y);
-    else
+      if (h_next > 0.0) ERKStepSetInitStep(m.mem, h_next);
+    } else {
       CVodeReInit(m.mem, context_->time(), m.y);
+    }
   };
 
   long steps_this_advance = 0;
@@ -482,7 +505,7 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
       ++stats_.discrete_samples;
       EventStatus es = RunEventPublishes(m);
       if (!es.ok()) return from_event(es, "");
-      if (any_update) reinit();
+      if (any_update) reinit(true);
       continue;
     }
 
@@ -602,7 +625,7 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
       }
       EventStatus es = RunEventPublishes(m);
       if (!es.ok()) return from_event(es, "");
-      reinit();
+      reinit(false);
     }
     if (monitor_) {
       EventStatus es = monitor_(*context_);

@@ -284,6 +284,19 @@ int main(int argc, char** argv) {
                    {"duration_s", r.plan.duration},
                    {"status", r.plan.message}});
   summary["nlp"] = nlp;
+  const SimulatorStatistics& stats = sim.statistics();
+  summary["integrator"] = {{"steps", stats.steps},
+                           {"rhs_evaluations", stats.rhs_evals},
+                           {"jacobian_evaluations", stats.jacobian_evals},
+                           {"jacobian_rhs_evaluations", stats.jacobian_rhs_evals},
+                           {"nonlinear_iterations", stats.nonlinear_iterations},
+                           {"error_test_failures", stats.error_test_failures},
+                           {"convergence_failures", stats.convergence_failures},
+                           {"restarts", stats.restarts},
+                           {"root_evaluations", stats.root_evals},
+                           {"guard_events", stats.guard_events},
+                           {"discrete_samples", stats.discrete_samples},
+                           {"wall_s", wall}};
   if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << summary.dump(2) << "\n";
   if (!cli.Get("log").empty()) {
     std::ofstream out(cli.Get("log"));

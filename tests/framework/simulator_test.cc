@@ -21,12 +21,14 @@ SimulatorConfig Tight() {
 
 TEST(Simulator, BouncingBallImpactTimesMatchClosedForm) {
   BouncingBall ball("ball", {.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0});
-  // The four schemes, plus the explicit Runge-Kutta scheme with its second embedded pair (index 4).
-  for (int variant = 0; variant < 5; ++variant) {
+  // The four schemes, plus the explicit Runge-Kutta scheme with its second embedded pair (index 4), and that pair with
+  // restart_with_last_step (index 5: it must not apply after a reset, where the state jumps).
+  for (int variant = 0; variant < 6; ++variant) {
     const IntegrationScheme scheme = variant < 4 ? static_cast<IntegrationScheme>(variant) : IntegrationScheme::kExplicitRungeKutta;
     SimulatorConfig config = Tight();
     config.scheme = scheme;
-    if (variant == 4) config.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
+    if (variant >= 4) config.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
+    config.restart_with_last_step = variant == 5;
     Simulator sim(ball, config);
     const auto expected = ball.AnalyticImpactTimes(5);
     ASSERT_TRUE(sim.AdvanceTo(expected.back() + 0.01).ok());
@@ -149,6 +151,51 @@ TEST(Simulator, ZeroOrderHeldControlMatchesExactDiscretisation) {
     ASSERT_NEAR(diagram->EvalOutput(sim.get_context(), "x")[0], x, 1e-9) << "sample " << k;
   }
   EXPECT_EQ(sim.statistics().discrete_samples, 100);
+}
+
+TEST(Simulator, ZeroOrderHoldRestartsAndJacobianCounts) {
+  // The discretisation above, integrated by BDF, by Dormand-Prince, and by Dormand-Prince restarting each sample with
+  // the step size it ended the previous one with. Every sample changes the held u, so the integrator restarts at each
+  // of the 100 samples; CVODE's dense difference-quotient Jacobian costs one derivative evaluation per state (nx = 1).
+  const double a = 0.7, b = 2.0, K = 1.5, h = 0.01, x0 = 1.0;
+  const double Phi = std::exp(a * h), Gamma = (std::exp(a * h) - 1) * b / a;
+  long rk_steps[2] = {0, 0};
+  for (int variant = 0; variant < 3; ++variant) {
+    DiagramBuilder builder;
+    builder.AddSystem(std::make_unique<FirstOrderPlant>(a, b, x0));
+    builder.AddSystem(std::make_unique<Gain>("controller", -K, 1));
+    builder.AddSystem(std::make_unique<ZeroOrderHold>("zoh", h, 1));
+    builder.Connect("plant", "x", "controller", "u");
+    builder.Connect("controller", "y", "zoh", "u");
+    builder.Connect("zoh", "y", "plant", "u");
+    builder.ExportOutput("plant", "x");
+    auto diagram = builder.Build();
+    SimulatorConfig config = Tight();
+    config.scheme = variant == 0 ? IntegrationScheme::kBdf : IntegrationScheme::kExplicitRungeKutta;
+    config.restart_with_last_step = variant == 2;
+    Simulator sim(*diagram, config);
+    double x = x0;
+    for (int k = 1; k <= 100; ++k) {
+      x = (Phi - Gamma * K) * x;
+      ASSERT_TRUE(sim.AdvanceTo(k * h).ok());
+      ASSERT_NEAR(diagram->EvalOutput(sim.get_context(), "x")[0], x, 1e-9) << "variant " << variant << ", sample " << k;
+    }
+    const SimulatorStatistics& s = sim.statistics();
+    EXPECT_EQ(s.restarts, 100) << "variant " << variant;
+    if (variant == 0) {
+      EXPECT_GE(s.jacobian_evals, s.restarts);  // a restarted BDF starts with a new Jacobian
+      EXPECT_EQ(s.jacobian_rhs_evals, 1 * s.jacobian_evals);
+      EXPECT_GT(s.rhs_evals, s.jacobian_rhs_evals);
+      EXPECT_GT(s.nonlinear_iterations, 0);
+    } else {
+      EXPECT_EQ(s.jacobian_evals, 0);
+      EXPECT_EQ(s.jacobian_rhs_evals, 0);
+      EXPECT_EQ(s.nonlinear_iterations, 0);
+      rk_steps[variant - 1] = s.steps;
+    }
+  }
+  // Starting each sample with the last step size skips ARKODE's cautious first steps.
+  EXPECT_LT(rk_steps[1], rk_steps[0]);
 }
 
 // Undamped pendulum: θ̈ = −(g/l) sin θ.
