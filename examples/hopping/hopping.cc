@@ -146,7 +146,10 @@ int main(int argc, char** argv) {
     double t, grf, rom_grf, shin_torque, com_z, pitch;
     int domain;
   };
+  // GRF samples on a fixed 1 ms grid (the first integrator step at or after each tick): averages over integrator steps
+  // would weight each stretch by how finely that integrator happened to step.
   std::vector<Sample> samples;
+  double next_sample_t = 0.0;
   double liftoff = -1, touchdown = -1, jump_start = -1, clearance = 0, com_liftoff = 0, com_max = 0, pitch_liftoff = 0, pitch_change = 0;
   // At touchdown: mean sole point x minus COM x [m] (+: feet ahead); after it: lowest pelvis height [m].
   double touchdown_foot_com_x = NAN, liftoff_foot_com_x = NAN, pelvis_min_after_touchdown = NAN;
@@ -196,7 +199,10 @@ int main(int argc, char** argv) {
     if (domain == HoppingDomain::kLanding && touchdown > 0 && !records->empty() && records->back().kind == PlannerRecord::Kind::kLanding)
       rom_grf = records->back().plan.LegForce(rom, t - touchdown);
     const double shin_torque = -model->spring_stiffness()[shin[0]] * x[shin[0]] - model->spring_stiffness()[shin[1]] * x[shin[1]];
-    samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], domain});
+    if (t >= next_sample_t) {
+      samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], domain});
+      next_sample_t = std::floor(t / 1e-3 + 1.0) * 1e-3;
+    }
     last_domain = domain;
     if (t - last_progress >= 0.5) {
       last_progress = t;

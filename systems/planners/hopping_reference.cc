@@ -69,6 +69,8 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   for (double value : {params_.update_period_s, params_.landing_blend_s, params_.landing_fallback_s})
     if (!(value > 0.0) || !std::isfinite(value)) ThrowError("update_period_s, landing_blend_s and landing_fallback_s must be positive, got " + std::to_string(value));
   if (!(params_.settle_time_s >= 0.0) || !(params_.rest_time_s >= 0.0)) ThrowError("settle_time_s and rest_time_s must be >= 0");
+  if (!(params_.landing_deflection_feedback >= 0.0) || !std::isfinite(params_.landing_deflection_feedback))
+    ThrowError("params.landing_deflection_feedback = " + std::to_string(params_.landing_deflection_feedback) + " must be finite and >= 0");
   const std::string* knees[2] = {&params_.left_knee, &params_.right_knee};
   const std::string* shins[2] = {&params_.left_shin, &params_.right_shin};
   const std::string* tarsi[2] = {&params_.left_tarsus, &params_.right_tarsus};

@@ -37,12 +37,16 @@ TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
   SpringMassPlan plan;
   plan.times = Eigen::Vector3d(0.0, 0.1, 0.2);
   plan.states.setZero(4, 3);
+  plan.states.row(0) << 0.76, 0.8, 0.87;
+  plan.states.row(1) << -1.0, 0.2, 0.1;
   plan.states.row(2) << 0.8, 0.85, 0.9;
   plan.states.row(3) << 0.0, 0.5, 0.0;
   const LegLengthPlan p = ToLegLengthPlan(plan);
   EXPECT_EQ(p.t, plan.times);
   EXPECT_EQ(p.L, Eigen::Vector3d(0.8, 0.85, 0.9));
   EXPECT_EQ(p.Ldot, Eigen::Vector3d(0.0, 0.5, 0.0));
+  EXPECT_EQ(p.x, Eigen::Vector3d(0.76, 0.8, 0.87));  // the mass height and its rate (landing_deflection_feedback)
+  EXPECT_EQ(p.xdot, Eigen::Vector3d(-1.0, 0.2, 0.1));
   // The reference's Hermite passes through the nodes with the node rates.
   const Eigen::Vector3d mid = HoppingReference::Evaluate(p.t, p.L, p.Ldot, 3, 0.1);
   EXPECT_NEAR(mid[0], 0.85, 1e-12);

@@ -1,0 +1,142 @@
+// The default hop end to end, as the hopping example runs it: Cassie (3D, springs, achilles rods) settles, jumps on the
+// spring-mass ROM's jump plan (Eq. (14)-(15), Ipopt), flies, lands on the landing plan solved from the post-impact
+// state (Eq. (16)) and comes to rest, under the diagram's defaults (HoppingDiagramParams). Checks, with the hopping
+// spec's acceptance thresholds (shared/specs/hopping.md A6) where it gives one:
+//   * the domains run Jump → Flight → Landing once, and the simulation ends without a failure;
+//   * the plant's own contact forces are unilateral and inside the friction cone after every integrator step, through
+//     the landing until rest (ContactForceStatistics);
+//   * lift-off: |H_pitch| < 0.3 N m s (spec 5), from the centroidal momentum matrix; the air time agrees with the
+//     ballistic flight of the COM from its lift-off state to its touchdown height (closed form, 3 %);
+//   * flight: the pelvis pitch changes less than 5° (spec 5);
+//   * landing: the robot's total normal force follows the landing plan's ROM leg force (NRMSE < 25 % after the first
+//     20 ms, spec 6), and the vertical momentum balance ∫ΣF_z dt − m g T = m Δż holds over the landing (trapezoidal
+//     sum over integrator steps, to 1 % of m g T);
+//   * rest: every joint and base speed below 0.05 within 2 s of touchdown and the pelvis above 0.6 m throughout (spec 5);
+//   * the Landing reference (its deflection feedback reads the state) allocates nothing when evaluated.
+// Label slow.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "diagrams/hopping/hopping_diagram.h"
+#include "diagrams/hopping/hopping_plans.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/plants/contact_force_statistics.h"
+#include "tests/common/allocation_counter.h"
+
+namespace rome {
+namespace {
+
+TEST(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
+  auto records = std::make_shared<std::vector<PlannerRecord>>();
+  auto rest_height = std::make_shared<double>(0.0);
+  const LegLengthTable leg_length(*model);
+  const HoppingDiagramParams params;
+  HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, SpringMassJumpParams{}, records, rest_height),
+                                         MakeSpringMassLandingPlanner(rom, SpringMassLandingParams{}, records, rest_height), params);
+  Simulator sim(*d.diagram, HoppingSimulatorConfig());
+  SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
+
+  const int nv = model->nv(), pitch = model->VelocityIndex("base_pitch"), base_z = model->VelocityIndex("base_z");
+  const double mass = model->total_mass();
+  const double g = 9.81;
+  MultibodyWorkspace ws(*model);
+  ContactForceStatistics contact;
+  int last_domain = HoppingDomain::kLanding, jumps = 0, flights = 0, landings = 0;
+  double liftoff = -1, touchdown = -1, H_liftoff = NAN, z_liftoff = 0, vz_liftoff = 0, z_touchdown = 0, pitch_liftoff = 0, pitch_change = 0;
+  double pelvis_min = 1e9, rest_speed = NAN;
+  // Landing: (t, ΣF_z, ROM force) on the integrator's steps, and the COM's vertical speed at touchdown.
+  std::vector<double> land_t, land_fz, land_rom;
+  double vz_touchdown = 0, vz_end = 0;
+  sim.set_monitor([&](const Context& c) {
+    const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
+    const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
+    contact.Record(*d.plant, pc);
+    const Eigen::VectorXd& x = d.plant->EvalOutput(pc, "state");
+    const Eigen::VectorXd q = x.head(nv), v = x.tail(nv);
+    const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
+    const double t = pc.time();
+    pelvis_min = std::min(pelvis_min, q[base_z]);
+    if (domain != last_domain) {
+      jumps += domain == HoppingDomain::kJump, flights += domain == HoppingDomain::kFlight, landings += domain == HoppingDomain::kLanding;
+      if (domain == HoppingDomain::kFlight) {
+        liftoff = t, pitch_liftoff = q[pitch];
+        H_liftoff = CalcCentroidalMomentum(*model, ws, q, v)[1];
+        z_liftoff = CalcComPosition(*model, ws, q).z(), vz_liftoff = CalcComVelocity(*model, ws, q, v).z();
+      }
+      if (domain == HoppingDomain::kLanding && liftoff > 0) {
+        touchdown = t;
+        z_touchdown = CalcComPosition(*model, ws, q).z();
+      }
+    }
+    if (domain == HoppingDomain::kFlight) pitch_change = std::max(pitch_change, std::abs(q[pitch] - pitch_liftoff));
+    if (touchdown > 0 && t <= touchdown + 2.0) {
+      const Eigen::VectorXd& f = d.plant->EvalOutput(pc, "contact_forces");
+      if (land_t.empty()) vz_touchdown = CalcComVelocity(*model, ws, q, v).z();
+      land_t.push_back(t);
+      land_fz.push_back(f[2] + f[5]);
+      land_rom.push_back(records->back().plan.LegForce(rom, t - touchdown));
+      vz_end = CalcComVelocity(*model, ws, q, v).z();
+    }
+    if (touchdown > 0 && t >= touchdown + 2.0 && std::isnan(rest_speed)) rest_speed = v.cwiseAbs().maxCoeff();
+    last_domain = domain;
+    return EventStatus::Succeeded();
+  });
+  const SimulatorStatus status = sim.AdvanceTo(params.reference.settle_time_s + 1.0 + 2.5);
+  ASSERT_TRUE(status.ok()) << status.ToString();
+  EXPECT_EQ(jumps, 1);
+  EXPECT_EQ(flights, 1);
+  EXPECT_EQ(landings, 1);
+  ASSERT_GT(touchdown, liftoff);
+  ASSERT_EQ(records->size(), 2u);
+  EXPECT_EQ(records->back().kind, PlannerRecord::Kind::kLanding);
+  EXPECT_EQ(contact.violations, 0) << contact.first_violation;
+  EXPECT_GT(contact.samples, 1000);
+
+  // Lift-off and flight.
+  EXPECT_LT(std::abs(H_liftoff), 0.3) << "H_pitch at lift-off [N m s]";
+  EXPECT_LT(pitch_change, 5.0 * M_PI / 180.0);
+  // Ballistic COM: z_touchdown = z_liftoff + v t − g t²/2  =>  t = (v + sqrt(v² + 2 g (z_liftoff − z_touchdown))) / g.
+  const double t_ballistic = (vz_liftoff + std::sqrt(vz_liftoff * vz_liftoff + 2 * g * (z_liftoff - z_touchdown))) / g;
+  EXPECT_NEAR(touchdown - liftoff, t_ballistic, 0.03 * t_ballistic);
+
+  // Landing: the robot's normal force against the ROM's (spec 6), and the vertical momentum balance.
+  double se = 0, lo = 1e9, hi = -1e9, impulse = 0;
+  int n = 0;
+  for (size_t k = 0; k < land_t.size(); ++k) {
+    if (k > 0) impulse += 0.5 * (land_t[k] - land_t[k - 1]) * (land_fz[k] + land_fz[k - 1]);
+    if (land_t[k] < touchdown + 0.02) continue;
+    se += (land_fz[k] - land_rom[k]) * (land_fz[k] - land_rom[k]), ++n;
+    lo = std::min(lo, land_rom[k]), hi = std::max(hi, land_rom[k]);
+  }
+  ASSERT_GT(n, 100);
+  const double nrmse = std::sqrt(se / n) / (hi - lo);
+  std::printf("  lift-off H_pitch %.3f N m s, flight pitch change %.2f deg, air %.4f s (ballistic %.4f s), landing GRF NRMSE %.3f\n", H_liftoff,
+              pitch_change * 180 / M_PI, touchdown - liftoff, t_ballistic, nrmse);
+  EXPECT_LT(nrmse, 0.25);
+  const double T = land_t.back() - land_t.front();
+  EXPECT_NEAR(impulse - mass * g * T, mass * (vz_end - vz_touchdown), 0.01 * mass * g * T);
+
+  // The Landing reference (with its deflection feedback, which reads the state) allocates nothing per evaluation.
+  Context& context = sim.get_mutable_context();
+  const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, context);
+  ASSERT_EQ(d.reference->EvalTypedOutput<int>(rc, "domain"), HoppingDomain::kLanding);
+  d.reference->EvalOutput(rc, "desired");
+  EXPECT_EQ(test::CountAllocations([&] {
+              context.InvalidateCache();
+              d.reference->EvalOutput(rc, "desired");
+            }),
+            0);
+
+  // Rest.
+  ASSERT_TRUE(std::isfinite(rest_speed));
+  EXPECT_LT(rest_speed, 0.05);
+  EXPECT_GT(pelvis_min, 0.6);
+}
+
+}  // namespace
+}  // namespace rome
