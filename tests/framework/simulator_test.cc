@@ -129,10 +129,8 @@ class FirstOrderPlant final : public LeafSystem {
   double a_, b_;
 };
 
-TEST(Simulator, ZeroOrderHeldControlMatchesExactDiscretisation) {
-  // Plant ẋ = a x + b u under u_k = −K x(t_k) held over each period h: x_{k+1} = (Φ − Γ K) x_k,
-  // Φ = e^{a h}, Γ = (e^{a h} − 1) b / a.
-  const double a = 0.7, b = 2.0, K = 1.5, h = 0.01, x0 = 1.0;
+// ẋ = a x + b u under u_k = −K x(t_k) held over each period h (a zero-order hold), exported output "x".
+std::unique_ptr<Diagram> BuildZeroOrderHoldLoop(double a, double b, double K, double h, double x0) {
   DiagramBuilder builder;
   builder.AddSystem(std::make_unique<FirstOrderPlant>(a, b, x0));
   builder.AddSystem(std::make_unique<Gain>("controller", -K, 1));
@@ -141,7 +139,14 @@ TEST(Simulator, ZeroOrderHeldControlMatchesExactDiscretisation) {
   builder.Connect("controller", "y", "zoh", "u");
   builder.Connect("zoh", "y", "plant", "u");
   builder.ExportOutput("plant", "x");
-  auto diagram = builder.Build();
+  return builder.Build();
+}
+
+TEST(Simulator, ZeroOrderHeldControlMatchesExactDiscretisation) {
+  // Plant ẋ = a x + b u under u_k = −K x(t_k) held over each period h: x_{k+1} = (Φ − Γ K) x_k,
+  // Φ = e^{a h}, Γ = (e^{a h} − 1) b / a.
+  const double a = 0.7, b = 2.0, K = 1.5, h = 0.01, x0 = 1.0;
+  auto diagram = BuildZeroOrderHoldLoop(a, b, K, h, x0);
   Simulator sim(*diagram, Tight());
   const double Phi = std::exp(a * h), Gamma = (std::exp(a * h) - 1) * b / a;
   double x = x0;
@@ -161,15 +166,7 @@ TEST(Simulator, ZeroOrderHoldRestartsAndJacobianCounts) {
   const double Phi = std::exp(a * h), Gamma = (std::exp(a * h) - 1) * b / a;
   long rk_steps[2] = {0, 0};
   for (int variant = 0; variant < 3; ++variant) {
-    DiagramBuilder builder;
-    builder.AddSystem(std::make_unique<FirstOrderPlant>(a, b, x0));
-    builder.AddSystem(std::make_unique<Gain>("controller", -K, 1));
-    builder.AddSystem(std::make_unique<ZeroOrderHold>("zoh", h, 1));
-    builder.Connect("plant", "x", "controller", "u");
-    builder.Connect("controller", "y", "zoh", "u");
-    builder.Connect("zoh", "y", "plant", "u");
-    builder.ExportOutput("plant", "x");
-    auto diagram = builder.Build();
+    auto diagram = BuildZeroOrderHoldLoop(a, b, K, h, x0);
     SimulatorConfig config = Tight();
     config.scheme = variant == 0 ? IntegrationScheme::kBdf : IntegrationScheme::kExplicitRungeKutta;
     config.restart_with_last_step = variant == 2;
