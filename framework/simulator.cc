@@ -86,6 +86,8 @@ struct Simulator::Impl {
   SUNLinearSolver LS = nullptr;
   SUNNonlinearSolver NLS = nullptr;
   SimulatorStatistics acc;  // integrator counters of the earlier integrator lives (only the counter fields are used)
+  long root_calls = 0;      // root-function (guard) evaluations over every life
+  bool life_after_reset = false;  // the current integrator life began with a state reset (reinit without carry)
   std::exception_ptr error;
   std::string cvode_message;
   std::string failure;  // non-finite derivative report from the RHS
@@ -132,14 +134,18 @@ struct Simulator::Impl {
   // Integrator counters since the last (re)initialisation, added to `out`'s counter fields.
   void AddCounters(SimulatorStatistics* out) const {
     if (!mem) return;
-    long steps = 0, rhs = 0, g = 0, jac = 0, jac_rhs = 0, nli = 0, etf = 0, ncf = 0;
-    // Root-function evaluations only exist when root finding was initialised (ARKODE leaves its counter
-    // uninitialised otherwise).
+    long steps = 0, rhs = 0, jac = 0, jac_rhs = 0, nli = 0, etf = 0, ncf = 0;
+    // Root-function evaluations are counted by the callback (root_calls): ARKODE's own counter is uninitialised after
+    // ERKStepRootInit until the first step, and a reinitialisation without a step would count it twice.
     if (erk) {
       ERKStepGetNumSteps(mem, &steps);
+      if (life_after_reset && steps > 0) {
+        double h0 = 0.0;
+        ERKStepGetActualInitStep(mem, &h0);
+        out->max_initial_step_after_reset_s = std::max(out->max_initial_step_after_reset_s, h0);
+      }
       ERKStepGetNumRhsEvals(mem, &rhs);
       ERKStepGetNumErrTestFails(mem, &etf);
-      if (nroots > 0) ERKStepGetNumGEvals(mem, &g);
     } else {
       CVodeGetNumSteps(mem, &steps);
       CVodeGetNumRhsEvals(mem, &rhs);
@@ -150,11 +156,9 @@ struct Simulator::Impl {
         CVodeGetNumJacEvals(mem, &jac);
         CVodeGetNumLinRhsEvals(mem, &jac_rhs);
       }
-      if (nroots > 0) CVodeGetNumGEvals(mem, &g);
     }
     out->steps += steps;
     out->rhs_evals += rhs + jac_rhs;
-    out->root_evals += g;
     out->jacobian_evals += jac;
     out->jacobian_rhs_evals += jac_rhs;
     out->nonlinear_iterations += nli;
@@ -198,6 +202,7 @@ struct SimulatorCallbacks {
   }
   static int Roots(sunrealtype t, N_Vector y, sunrealtype* gout, void* user_data) {
     auto* impl = static_cast<Simulator::Impl*>(user_data);
+    ++impl->root_calls;
     try {
       impl->StateToContexts(t, N_VGetArrayPointer(y));
       for (const auto& g : impl->guards) {
@@ -427,13 +432,14 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
     }
     stats_.steps = m.acc.steps;
     stats_.rhs_evals = m.acc.rhs_evals;
-    stats_.root_evals = m.acc.root_evals;
+    stats_.root_evals = m.root_calls;
     stats_.jacobian_evals = m.acc.jacobian_evals;
     stats_.jacobian_rhs_evals = m.acc.jacobian_rhs_evals;
     stats_.nonlinear_iterations = m.acc.nonlinear_iterations;
     stats_.error_test_failures = m.acc.error_test_failures;
     stats_.convergence_failures = m.acc.convergence_failures;
     stats_.restarts = m.acc.restarts;
+    stats_.max_initial_step_after_reset_s = m.acc.max_initial_step_after_reset_s;
     m.AddCounters(&stats_);
     if (reason == SimulatorStatus::Reason::kZeno && config_.event_policy.throw_on_violation) throw std::runtime_error(status.ToString());
     return status;
@@ -455,8 +461,10 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
       // that is 0 at the restart looks a fraction of the first step ahead.
       double h_next = 0.0;
       if (carry_step && config_.restart_with_last_step) ERKStepGetCurrentStep(m.mem, &h_next);
+      m.life_after_reset = !carry_step;
       ERKStepReInit(m.mem, &SimulatorCallbacks::Rhs, context_->time(), m.y);
-      if (h_next > 0.0) ERKStepSetInitStep(m.mem, h_next);
+      // Always set it: ARKODE keeps the last value across ERKStepReInit (0 restores its own estimate).
+      ERKStepSetInitStep(m.mem, h_next > 0.0 ? h_next : config_.initial_step_s);
     } else {
       CVodeReInit(m.mem, context_->time(), m.y);
     }

@@ -104,8 +104,8 @@ int main(int argc, char** argv) {
     if (!(landing_params.min_force_fraction >= 0.0 && landing_params.min_force_fraction < 1.0))
       throw std::invalid_argument("--landing-min-force " + cli.Get("landing-min-force") + ": must be in [0, 1)");
     landing_blend = cli.GetDouble("landing-blend");
-    if (!(landing_blend > 0.0 && landing_blend <= 10.0))
-      throw std::invalid_argument("--landing-blend " + cli.Get("landing-blend") + ": must be in (0, 10] s");
+    if (!(landing_blend >= 1e-3 && landing_blend <= 10.0))
+      throw std::invalid_argument("--landing-blend " + cli.Get("landing-blend") + ": must be in [0.001, 10] s");
     if (hops < 1 || hops > 1000) throw std::invalid_argument("--hops " + cli.Get("hops") + ": must be in [1, 1000]");
     try {
       variant = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
@@ -143,13 +143,15 @@ int main(int argc, char** argv) {
   const int pitch_index = model->VelocityIndex("base_pitch");
   const int shin[2] = {model->VelocityIndex("left_shin_spring"), model->VelocityIndex("right_shin_spring")};
   struct Sample {
-    double t, grf, rom_grf, shin_torque, com_z, pitch;
+    double t, grf, rom_grf, shin_torque, com_z, pitch, since_touchdown;  // since_touchdown: of the current hop [s], or -1
     int domain;
   };
   // GRF samples on a fixed 1 ms grid (the first integrator step at or after each tick): averages over integrator steps
   // would weight each stretch by how finely that integrator happened to step.
   std::vector<Sample> samples;
   double next_sample_t = 0.0;
+  // liftoff, touchdown, jump_start: the first hop's (its metrics); *_now: the current hop's (the ROM force of its plans).
+  double jump_start_now = -1, touchdown_now = -1;
   double liftoff = -1, touchdown = -1, jump_start = -1, clearance = 0, com_liftoff = 0, com_max = 0, pitch_liftoff = 0, pitch_change = 0;
   // At touchdown: mean sole point x minus COM x [m] (+: feet ahead); after it: lowest pelvis height [m].
   double touchdown_foot_com_x = NAN, liftoff_foot_com_x = NAN, pelvis_min_after_touchdown = NAN;
@@ -175,7 +177,11 @@ int main(int argc, char** argv) {
     const double t = pc.time();
     const Eigen::VectorXd& f = d.plant->EvalOutput(pc, "contact_forces");
     const double com_z = CalcComPosition(*model, ws, q).z();
-    if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) jump_start = t;
+    if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) {
+      jump_start_now = t;
+      if (jump_start < 0) jump_start = t;
+    }
+    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight) touchdown_now = t;
     if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && liftoff < 0) {
       liftoff = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
       liftoff_foot_com_x = foot_com_x(q);
@@ -193,14 +199,14 @@ int main(int argc, char** argv) {
       com_max = std::max(com_max, com_z);
       pitch_change = std::max(pitch_change, std::abs(q[pitch_index] - pitch_liftoff));
     }
-    // ROM force of the active plan (Jump: the jump plan from jump_start; Landing after a hop: the landing plan).
+    // ROM force of the active plan (Jump: the jump plan from its start; Landing after a hop: the landing plan).
     double rom_grf = NAN;
-    if (domain == HoppingDomain::kJump && !records->empty()) rom_grf = records->back().plan.LegForce(rom, t - jump_start);
-    if (domain == HoppingDomain::kLanding && touchdown > 0 && !records->empty() && records->back().kind == PlannerRecord::Kind::kLanding)
-      rom_grf = records->back().plan.LegForce(rom, t - touchdown);
+    if (domain == HoppingDomain::kJump && !records->empty()) rom_grf = records->back().plan.LegForce(rom, t - jump_start_now);
+    if (domain == HoppingDomain::kLanding && touchdown_now > 0 && !records->empty() && records->back().kind == PlannerRecord::Kind::kLanding)
+      rom_grf = records->back().plan.LegForce(rom, t - touchdown_now);
     const double shin_torque = -model->spring_stiffness()[shin[0]] * x[shin[0]] - model->spring_stiffness()[shin[1]] * x[shin[1]];
     if (t >= next_sample_t) {
-      samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], domain});
+      samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], touchdown_now > 0 ? t - touchdown_now : -1.0, domain});
       next_sample_t = std::floor(t / 1e-3 + 1.0) * 1e-3;
     }
     last_domain = domain;
@@ -227,7 +233,7 @@ int main(int argc, char** argv) {
   std::vector<double> jr, jm, lr, lm, st, sg;
   for (const Sample& s : samples) {
     if (s.domain == HoppingDomain::kJump && std::isfinite(s.rom_grf)) jr.push_back(s.grf), jm.push_back(s.rom_grf);
-    if (s.domain == HoppingDomain::kLanding && touchdown > 0 && s.t > touchdown + 0.02 && std::isfinite(s.rom_grf)) lr.push_back(s.grf), lm.push_back(s.rom_grf);
+    if (s.domain == HoppingDomain::kLanding && s.since_touchdown > 0.02 && std::isfinite(s.rom_grf)) lr.push_back(s.grf), lm.push_back(s.rom_grf);
     if (s.domain != HoppingDomain::kFlight && jump_start > 0 && s.t >= jump_start) st.push_back(s.shin_torque), sg.push_back(s.grf);
   }
   const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());

@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
       .Option("clf-hold-drift", "default", "on | off: CLF-QP: also keep the wrench rows at the force predicted at the end of the held sample (default: the diagram's)")
       .Option("clf-cost-pd", "default", "on | off: CLF-QP: the cost tracks each output's PD target (task gains) instead of its feedforward (default: the diagram's)")
       .Option("mpc-hold", "default", "[s] vertical-COM MPC: below this predicted time to impact the plan is held, not re-solved (default: the diagram's)")
-      .Option("clf-com-weight", "default", "CLF-QP: cost weight of the COM-height output (default: the diagram's; tsc-qp uses --com-gains)")
+      .Option("clf-com-weight", "default", "[-] CLF-QP: cost weight of the COM-height output, in (0, 1000] (default: the diagram's: 20 for line feet, else the --com-gains weight, 1)")
       .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
       .Option("unilateral-contact", "on", "on | off: the plant's stance feet lift off at F_n = 0 and a slip fails the run (off: welded feet, as before)")
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
@@ -216,7 +216,13 @@ int main(int argc, char** argv) {
       if (!(hold >= 0 && hold <= 10)) throw std::invalid_argument("stepping_stones: --mpc-hold must be in [0, 10] s, got " + cli.Get("mpc-hold"));
       params.mpc.hold_plan_below_horizon_s = hold;
     }
-    if (cli.Get("clf-com-weight") != "default") params.clf_com_height_weight = cli.GetDouble("clf-com-weight");
+    if (cli.Get("clf-com-weight") != "default") {
+      const double w = cli.GetDouble("clf-com-weight");
+      if (!(w > 0 && w <= 1000)) throw std::invalid_argument("stepping_stones: --clf-com-weight must be in (0, 1000], got " + cli.Get("clf-com-weight"));
+      if (cli.Get("controller") != "clf-qp")
+        throw std::invalid_argument("stepping_stones: --clf-com-weight applies to --controller clf-qp only (got --controller " + cli.Get("controller") + ")");
+      params.clf_com_height_weight = w;
+    }
     if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
     if (cli.Get("clf-relaxation-weight") != "default") params.clf_controller.relaxation_weight = cli.GetDouble("clf-relaxation-weight");
     if (cli.Get("clf-rate") != "default") {

@@ -68,6 +68,9 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   if (params_.max_plan_nodes < 2) ThrowError("params.max_plan_nodes = " + std::to_string(params_.max_plan_nodes) + " must be at least 2");
   for (double value : {params_.update_period_s, params_.landing_blend_s, params_.landing_fallback_s})
     if (!(value > 0.0) || !std::isfinite(value)) ThrowError("update_period_s, landing_blend_s and landing_fallback_s must be positive, got " + std::to_string(value));
+  if (params_.landing_blend_s < params_.update_period_s)
+    ThrowError("params.landing_blend_s = " + std::to_string(params_.landing_blend_s) + " s must be at least update_period_s = " +
+               std::to_string(params_.update_period_s) + " s");
   if (!(params_.settle_time_s >= 0.0) || !(params_.rest_time_s >= 0.0)) ThrowError("settle_time_s and rest_time_s must be >= 0");
   if (!(params_.landing_deflection_feedback >= 0.0) || !std::isfinite(params_.landing_deflection_feedback))
     ThrowError("params.landing_deflection_feedback = " + std::to_string(params_.landing_deflection_feedback) + " must be finite and >= 0");
@@ -182,7 +185,10 @@ void HoppingReference::WritePlan(int offset, const LegLengthPlan& plan, Eigen::V
   xd->segment(offset + 1, n) = plan.t;
   xd->segment(offset + 1 + N, n) = plan.L;
   xd->segment(offset + 1 + 2 * N, n) = plan.Ldot;
-  const bool has_x = plan.x.size() == n && plan.xdot.size() == n;
+  if ((plan.x.size() != 0 || plan.xdot.size() != 0) && (plan.x.size() != n || plan.xdot.size() != n))
+    throw std::invalid_argument("system '" + name() + "': a leg-length plan's x and xdot must be empty or have its " + std::to_string(n) +
+                                " nodes; got " + std::to_string(plan.x.size()) + " and " + std::to_string(plan.xdot.size()));
+  const bool has_x = plan.x.size() == n;
   if (has_x) xd->segment(offset + 1 + 3 * N, n) = plan.x, xd->segment(offset + 1 + 4 * N, n) = plan.xdot;
   else xd->segment(offset + 1 + 3 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
 }

@@ -1,6 +1,6 @@
 // hopping_benchmark: the closed-loop real-time factor of the default hop (examples/hopping: 3D Cassie, springs, achilles
 // rods, HybridContactPlant, CLF-QP at 2 kHz, jump and landing NLPs), simulated from rest to t = 2.2 s (1.5 s settle,
-// jump, 0.38 s flight, landing; before the landing's slip at 2.27 s), with three integrators:
+// jump, 0.35 s flight, the first 60 ms of the landing), with three integrators:
 //   scheme 0: CVODE BDF, rtol 1e-6, atol 1e-8 (the diagram's integrator before; a new finite-difference Jacobian at
 //             each of the 4 400 restarts the 2 kHz zero-order hold forces)
 //   scheme 1: ARKODE Dormand-Prince 5(4), same tolerances
