@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
   const int pitch_index = model->VelocityIndex("base_pitch");
   const int shin[2] = {model->VelocityIndex("left_shin_spring"), model->VelocityIndex("right_shin_spring")};
   struct Sample {
-    double t, grf, rom_grf, shin_torque, com_z, pitch, since_touchdown;  // since_touchdown: of the current hop [s], or -1
+    double t, grf, rom_grf, shin_torque, com_z, pitch, pitch_momentum, since_touchdown;  // since_touchdown: of the current hop [s], or -1
     int domain;
   };
   // GRF samples on a fixed 1 ms grid (the first integrator step at or after each tick): averages over integrator steps
@@ -206,7 +206,8 @@ int main(int argc, char** argv) {
       rom_grf = records->back().plan.LegForce(rom, t - touchdown_now);
     const double shin_torque = -model->spring_stiffness()[shin[0]] * x[shin[0]] - model->spring_stiffness()[shin[1]] * x[shin[1]];
     if (t >= next_sample_t) {
-      samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], touchdown_now > 0 ? t - touchdown_now : -1.0, domain});
+      samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], CalcCentroidalMomentum(*model, ws, q, x.tail(nv))[1],
+                         touchdown_now > 0 ? t - touchdown_now : -1.0, domain});
       next_sample_t = std::floor(t / 1e-3 + 1.0) * 1e-3;
     }
     last_domain = domain;
@@ -324,15 +325,25 @@ int main(int argc, char** argv) {
   if (!cli.Get("plots").empty()) {
     examples::PlotSpec grf{"Normal GRF: robot vs spring-mass ROM", "t [s]", "F [N]", {}};
     examples::PlotSpec com{"COM height", "t [s]", "z [m]", {}};
-    examples::Series robot{"robot", {}, {}}, romf{"ROM", {}, {}}, comz{"COM z", {}, {}};
+    examples::PlotSpec spring{"Shin spring torque (both legs) and robot normal GRF / 10", "t [s]", "torque [N m], force [10 N]", {}};
+    examples::PlotSpec momentum{"Centroidal pitch momentum H_pitch", "t [s]", "H [N m s]", {}};
+    examples::PlotSpec pitch{"Pelvis pitch", "t [s]", "pitch [rad]", {}};
+    examples::Series robot{"robot", {}, {}}, romf{"ROM", {}, {}}, comz{"COM z", {}, {}}, shin{"shin springs", {}, {}}, grf10{"GRF / 10", {}, {}},
+        H{"H_pitch", {}, {}}, theta{"pelvis pitch", {}, {}};
     for (const Sample& s : samples) {
       robot.x.push_back(s.t), robot.y.push_back(s.grf), comz.x.push_back(s.t), comz.y.push_back(s.com_z);
+      shin.x.push_back(s.t), shin.y.push_back(s.shin_torque), grf10.x.push_back(s.t), grf10.y.push_back(0.1 * s.grf);
+      H.x.push_back(s.t), H.y.push_back(s.pitch_momentum), theta.x.push_back(s.t), theta.y.push_back(s.pitch);
       if (std::isfinite(s.rom_grf)) romf.x.push_back(s.t), romf.y.push_back(s.rom_grf);
     }
     grf.series = {robot, romf};
     com.series = {comz};
+    spring.series = {shin, grf10};
+    momentum.series = {H};
+    pitch.series = {theta};
     std::string error;
-    for (auto& [spec, file] : {std::pair{grf, "grf.png"}, std::pair{com, "com_height.png"}})
+    for (auto& [spec, file] : {std::pair{grf, "grf.png"}, std::pair{com, "com_height.png"}, std::pair{spring, "spring_torque.png"},
+                               std::pair{momentum, "pitch_momentum.png"}, std::pair{pitch, "pelvis_pitch.png"}})
       if (!examples::WritePlot(spec, cli.Get("plots") + "/" + file, &error)) std::cerr << "hopping: plot " << file << ": " << error << "\n";
   }
   std::cout << "hopping (" << ToString(plant_kind) << " plant): " << status.ToString() << "\n"
