@@ -1,8 +1,9 @@
 // hopping: Cassie hops on the spring-mass ROM's plans (hopping paper: jump NLP Eq. (14)-(15), landing NLP Eq. (16),
 // Jump/Flight/Landing CLF-QP with the augmented input Eq. (45)-(51)). 3D Cassie with live springs and achilles rods.
 //
-// Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR): robot vs ROM normal GRF, COM
-// height, pelvis pitch. Exit 0: hopped (the COM rose at least H/2) and came to rest; 3: the run failed (fell, slipped, a planner gave up: Ipopt's
+// Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR), the paper's Fig. 6 from our run:
+// robot vs ROM normal GRF, COM height, shin spring torque against the GRF, centroidal pitch momentum, pelvis pitch,
+// desired vs actual outputs in Jump and Landing (leg length, COM x, pelvis pitch), energies robot vs ROM, hop tiles. Exit 0: hopped (the COM rose at least H/2) and came to rest; 3: the run failed (fell, slipped, a planner gave up: Ipopt's
 // status in the message); 1: bad input.
 #include <algorithm>
 #include <chrono>
@@ -145,7 +146,16 @@ int main(int argc, char** argv) {
   struct Sample {
     double t, grf, rom_grf, shin_torque, com_z, pitch, pitch_momentum, since_touchdown;  // since_touchdown: of the current hop [s], or -1
     int domain;
+    // For the plots: desired vs actual outputs (mean leg length L(q_knee) [m], COM x [m], pelvis pitch [rad]; desired NaN
+    // in Flight), energies [J] relative to the current hop's jump start (robot: kinetic 1/2 v^T M v, potential m g Δz_com,
+    // springs 1/2 k (q - q_rest)^2; ROM: 1/2 m xdot^2, m g Δx, 1/2 n K(L) s^2; NaN without a plan) and q for the tiles.
+    double leg_length, leg_length_d, com_x, com_x_d, pitch_d;
+    double kinetic, potential, spring_energy, rom_kinetic, rom_potential, rom_spring;
+    Eigen::VectorXd q;
   };
+  const HoppingOutputLayout layout = MakeHoppingOutputLayout(params.outputs);
+  const int knee[2] = {model->VelocityIndex("left_knee"), model->VelocityIndex("right_knee")};
+  double com_z_ref = NAN, rom_x_ref = NAN;  // at the current hop's jump start
   // GRF samples on a fixed 1 ms grid (the first integrator step at or after each tick): averages over integrator steps
   // would weight each stretch by how finely that integrator happened to step.
   std::vector<Sample> samples;
@@ -180,6 +190,8 @@ int main(int argc, char** argv) {
     if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) {
       jump_start_now = t;
       if (jump_start < 0) jump_start = t;
+      com_z_ref = com_z;
+      if (!records->empty()) rom_x_ref = records->back().plan.states(0, 0);
     }
     if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight) touchdown_now = t;
     if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && liftoff < 0) {
@@ -206,8 +218,34 @@ int main(int argc, char** argv) {
       rom_grf = records->back().plan.LegForce(rom, t - touchdown_now);
     const double shin_torque = -model->spring_stiffness()[shin[0]] * x[shin[0]] - model->spring_stiffness()[shin[1]] * x[shin[1]];
     if (t >= next_sample_t) {
-      samples.push_back({t, f[2] + f[5], rom_grf, shin_torque, com_z, q[pitch_index], CalcCentroidalMomentum(*model, ws, q, x.tail(nv))[1],
-                         touchdown_now > 0 ? t - touchdown_now : -1.0, domain});
+      Sample smp{};
+      smp.t = t, smp.grf = f[2] + f[5], smp.rom_grf = rom_grf, smp.shin_torque = shin_torque, smp.com_z = com_z, smp.pitch = q[pitch_index];
+      smp.pitch_momentum = CalcCentroidalMomentum(*model, ws, q, x.tail(nv))[1];
+      smp.since_touchdown = touchdown_now > 0 ? t - touchdown_now : -1.0;
+      smp.domain = domain;
+      double L_leg[2], dL;
+      for (int leg = 0; leg < 2; ++leg) leg_length(q[knee[leg]], &L_leg[leg], &dL);
+      smp.leg_length = 0.5 * (L_leg[0] + L_leg[1]);
+      smp.com_x = CalcComPosition(*model, ws, q).x();
+      const Eigen::VectorXd& yd = d.reference->EvalOutput(rc, "desired");
+      const bool tracked = domain != HoppingDomain::kFlight;
+      smp.leg_length_d = tracked ? 0.5 * (yd[layout.leg_left] + yd[layout.leg_right]) : NAN;
+      smp.com_x_d = tracked ? yd[layout.com_x] : NAN;
+      smp.pitch_d = tracked ? yd[layout.pitch] : NAN;
+      const Eigen::VectorXd v = x.tail(nv);
+      smp.kinetic = 0.5 * v.dot(CalcMassMatrix(*model, ws, q) * v);
+      smp.potential = model->total_mass() * rom.gravity * (com_z - com_z_ref);
+      smp.spring_energy = 0.5 * (model->spring_stiffness().array() * (q - model->spring_rest()).array().square()).sum();
+      smp.rom_kinetic = smp.rom_potential = smp.rom_spring = NAN;
+      const double rom_t = domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now;
+      if (std::isfinite(rom_grf)) {
+        const Eigen::Vector4d z = records->back().plan.State(rom_t);
+        smp.rom_kinetic = 0.5 * rom.mass * z[1] * z[1];
+        smp.rom_potential = rom.mass * rom.gravity * (z[0] - rom_x_ref);
+        smp.rom_spring = 0.5 * rom.n_legs * rom.leg.stiffness.Evaluate(z[2]) * (z[2] - z[0]) * (z[2] - z[0]);
+      }
+      smp.q = q;
+      samples.push_back(std::move(smp));
       next_sample_t = std::floor(t / 1e-3 + 1.0) * 1e-3;
     }
     last_domain = domain;
@@ -336,6 +374,55 @@ int main(int argc, char** argv) {
       H.x.push_back(s.t), H.y.push_back(s.pitch_momentum), theta.x.push_back(s.t), theta.y.push_back(s.pitch);
       if (std::isfinite(s.rom_grf)) romf.x.push_back(s.t), romf.y.push_back(s.rom_grf);
     }
+    // Fig. 6 of the paper from our run, over the first hop (jump start − 0.1 s to touchdown + 1 s): desired vs actual
+    // outputs in Jump and Landing, energies robot vs ROM, and hop tiles.
+    const double t_from = jump_start > 0 ? jump_start - 0.1 : 0.0, t_to = touchdown > 0 ? touchdown + 1.0 : 1e9;
+    auto dashed = [](const std::string& title) { return examples::Series{title, {}, {}, "lines dt 2 lw 2"}; };
+    examples::Series L_act{"L actual (mean of legs)", {}, {}}, L_des = dashed("L desired"), cx_act{"COM x actual", {}, {}}, cx_des = dashed("COM x desired"),
+                     th_act{"pitch actual", {}, {}}, th_des = dashed("pitch desired");
+    examples::Series ke{"robot kinetic", {}, {}}, pe{"robot potential", {}, {}}, se{"robot springs", {}, {}}, rke = dashed("ROM kinetic"),
+        rpe = dashed("ROM potential"), rse = dashed("ROM spring");
+    auto push = [](examples::Series& series, double t, double y) { series.x.push_back(t), series.y.push_back(y); };
+    for (const Sample& s : samples) {
+      if (s.t < t_from || s.t > t_to) continue;
+      push(L_act, s.t, s.leg_length), push(L_des, s.t, s.leg_length_d), push(cx_act, s.t, s.com_x), push(cx_des, s.t, s.com_x_d);
+      push(th_act, s.t, s.pitch), push(th_des, s.t, s.pitch_d);
+      push(ke, s.t, s.kinetic), push(pe, s.t, s.potential), push(se, s.t, s.spring_energy);
+      push(rke, s.t, s.rom_kinetic), push(rpe, s.t, s.rom_potential), push(rse, s.t, s.rom_spring);
+    }
+    examples::PlotSpec out_L{"Output: virtual leg length L(q_knee), Jump and Landing (gap: Flight)", "t [s]", "L [m]", {L_act, L_des}};
+    examples::PlotSpec out_x{"Output: COM x, Jump and Landing", "t [s]", "x [m]", {cx_act, cx_des}};
+    examples::PlotSpec out_th{"Output: pelvis pitch, Jump and Landing", "t [s]", "pitch [rad]", {th_act, th_des}};
+    examples::PlotSpec energy{"Energy relative to the jump start: robot vs spring-mass ROM", "t [s]", "E [J]", {ke, pe, se, rke, rpe, rse}};
+    // Hop tiles: the sagittal (x-z) projection of every link-to-parent segment and of each sole line, one frame every
+    // 0.07 s from 0.1 s before the jump to 0.3 s after touchdown, side by side.
+    examples::Series sticks{"robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"}, ground{"ground", {}, {}, "lines lw 3 lc rgb '#808080'"};
+    int tile = 0;
+    double next_tile = t_from;
+    constexpr double kTileDx = 0.5;  // [m]
+    for (const Sample& s : samples) {
+      if (s.t < next_tile || s.t > std::min(t_to - 0.7, t_from + 1.5)) continue;
+      next_tile = s.t + 0.07;
+      const double dx = kTileDx * tile++;
+      for (int k = 0; k < model->num_contacts(); ++k) {
+        const Eigen::Vector3d a = CalcContactPointPosition(*model, ws, s.q, k, 0), c = CalcContactPointPosition(*model, ws, s.q, k, 1);
+        sticks.x.insert(sticks.x.end(), {a.x() + dx, c.x() + dx, NAN});
+        sticks.y.insert(sticks.y.end(), {a.z(), c.z(), NAN});
+      }
+      for (int b = 0; b < model->num_bodies(); ++b) {
+        const int p = model->bodies()[b].parent;
+        if (p < 0 || model->bodies()[p].mass <= 0.0) continue;  // skip the virtual floating-base chain
+        const Eigen::Vector3d a = CalcLinkPose(*model, ws, s.q, p).translation(), c = CalcLinkPose(*model, ws, s.q, b).translation();
+        sticks.x.insert(sticks.x.end(), {a.x() + dx, c.x() + dx, NAN});
+        sticks.y.insert(sticks.y.end(), {a.z(), c.z(), NAN});
+      }
+    }
+    ground.x = {-0.4, kTileDx * tile}, ground.y = {0.0, 0.0};
+    examples::PlotSpec tiles{"Hop tiles, sagittal projection (every 0.07 s from 0.1 s before the jump to 0.3 s after touchdown; 0.5 m apart)",
+                             "x [m] (+ 0.5 m per tile)", "z [m]", {ground, sticks}};
+    tiles.equal_axes = true;
+    tiles.width_px = 1800;
+    tiles.height_px = 600;
     grf.series = {robot, romf};
     com.series = {comz};
     spring.series = {shin, grf10};
@@ -343,7 +430,9 @@ int main(int argc, char** argv) {
     pitch.series = {theta};
     std::string error;
     for (auto& [spec, file] : {std::pair{grf, "grf.png"}, std::pair{com, "com_height.png"}, std::pair{spring, "spring_torque.png"},
-                               std::pair{momentum, "pitch_momentum.png"}, std::pair{pitch, "pelvis_pitch.png"}})
+                               std::pair{momentum, "pitch_momentum.png"}, std::pair{pitch, "pelvis_pitch.png"}, std::pair{out_L, "output_leg_length.png"},
+                               std::pair{out_x, "output_com_x.png"}, std::pair{out_th, "output_pitch.png"}, std::pair{energy, "energy.png"},
+                               std::pair{tiles, "hop_tiles.png"}})
       if (!examples::WritePlot(spec, cli.Get("plots") + "/" + file, &error)) std::cerr << "hopping: plot " << file << ": " << error << "\n";
   }
   std::cout << "hopping (" << ToString(plant_kind) << " plant): " << status.ToString() << "\n"
