@@ -29,8 +29,11 @@ void LegLengthTable::operator()(double q_knee, double* L, double* dL_dq) const {
   *dL_dq = y[1];
 }
 
-LegLengthPlan ToLegLengthPlan(const SpringMassPlan& plan) {
-  return {plan.times, plan.states.row(2).transpose(), plan.states.row(3).transpose(), plan.states.row(0).transpose(), plan.states.row(1).transpose()};
+LegLengthPlan ToLegLengthPlan(const SpringMassParams& rom, const SpringMassPlan& plan) {
+  LegLengthPlan out{plan.times, plan.states.row(2).transpose(), plan.states.row(3).transpose(), plan.states.row(0).transpose(),
+                    plan.states.row(1).transpose(), plan.leg_force, Eigen::VectorXd(plan.times.size())};
+  for (int k = 0; k < plan.times.size(); ++k) out.stiffness[k] = rom.n_legs * rom.leg.stiffness.Evaluate(plan.states(2, k));
+  return out;
 }
 
 HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
@@ -51,7 +54,7 @@ HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& 
       return false;
     }
     *rest_height = z0[0];
-    *out = ToLegLengthPlan(plan);
+    *out = ToLegLengthPlan(planner->rom().params(), plan);
     return true;
   };
 }
@@ -95,7 +98,7 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
       *message = plan.message;
       return false;
     }
-    *out = ToLegLengthPlan(plan);
+    *out = ToLegLengthPlan(rom, plan);
     return true;
   };
 }

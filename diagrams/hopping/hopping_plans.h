@@ -37,8 +37,8 @@ struct PlannerRecord {
 };
 using PlannerRecords = std::shared_ptr<std::vector<PlannerRecord>>;
 
-/// The jump plan as HoppingReference's node plan (times, L, L̇ of the collocation nodes).
-LegLengthPlan ToLegLengthPlan(const SpringMassPlan& plan);
+/// The plan as HoppingReference's node plan (times, L, L̇, x, ẋ, F of the collocation nodes, and n_legs K(L) of `rom`).
+LegLengthPlan ToLegLengthPlan(const SpringMassParams& rom, const SpringMassPlan& plan);
 
 HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
                                                         std::shared_ptr<double> rest_height);

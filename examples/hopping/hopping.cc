@@ -68,6 +68,12 @@ int main(int argc, char** argv) {
               "k [-]: in Flight the hip-pitch targets turn with the pelvis pitch, q_hip_d = q_hip_lo - k r (theta - theta_lo) (HoppingReferenceParams)")
       .Option("landing-deflection-feedback", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().landing_deflection_feedback),
               "g [-]: Landing leg-length target L_plan + g (x - x_plan), so the spring deflection follows the plan's (0: off; HoppingReferenceParams)")
+      .Option("jump-force-feedback", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().jump_force_feedback),
+              "k_F [-]: Jump leg-length target L_plan + k_F (F_plan - F) / (n K(L)), F the plant's normal GRF (0: off; HoppingReferenceParams)")
+      .Option("jump-force-integral", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().jump_force_integral_per_s),
+              "k_I [1/s]: Jump leg-length target also + integral of k_I (F_plan - F) / (n K(L)) dt (0: off; HoppingReferenceParams)")
+      .Option("landing-torque-regularization", examples::FormatNumber(HoppingDiagramParams{}.landing_u_regularization_scale),
+              "[-] the CLF-QP's torque penalty rho_u is multiplied by this in Landing (1: off; HoppingDiagramParams)")
       .Option("landing-min-force", examples::FormatNumber(SpringMassLandingParams{}.min_force_fraction),
               "F_min / (m g) [-]: the landing plan's smallest leg force (spec [R] 0.25)")
       .Option("landing-blend", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().landing_blend_s),
@@ -81,7 +87,7 @@ int main(int argc, char** argv) {
   LegStiffnessVariant variant = LegStiffnessVariant::kIdentified;
   PlantKind plant_kind = PlantKind::kHybrid;
   int substeps = HoppingDiagramParams::DefaultBulletPlantParams().substeps;
-  double jump_momentum_gain = 0, flight_hip_follow = 0, landing_blend = 0, deflection_feedback = 0;
+  double jump_momentum_gain = 0, flight_hip_follow = 0, landing_blend = 0, deflection_feedback = 0, force_feedback = 0, force_integral = 0, landing_reg = 1;
   SpringMassLandingParams landing_params;
   try {
     if (!cli.Parse(argc, argv)) return 0;
@@ -101,6 +107,15 @@ int main(int argc, char** argv) {
     deflection_feedback = cli.GetDouble("landing-deflection-feedback");
     if (!(deflection_feedback >= 0.0 && deflection_feedback <= 2.0))
       throw std::invalid_argument("--landing-deflection-feedback " + cli.Get("landing-deflection-feedback") + ": must be in [0, 2]");
+    force_feedback = cli.GetDouble("jump-force-feedback");
+    if (!(force_feedback >= 0.0 && force_feedback <= 10.0))
+      throw std::invalid_argument("--jump-force-feedback " + cli.Get("jump-force-feedback") + ": must be in [0, 10]");
+    landing_reg = cli.GetDouble("landing-torque-regularization");
+    if (!(landing_reg >= 1e-3 && landing_reg <= 1e3))
+      throw std::invalid_argument("--landing-torque-regularization " + cli.Get("landing-torque-regularization") + ": must be in [0.001, 1000]");
+    force_integral = cli.GetDouble("jump-force-integral");
+    if (!(force_integral >= 0.0 && force_integral <= 1000.0))
+      throw std::invalid_argument("--jump-force-integral " + cli.Get("jump-force-integral") + ": must be in [0, 1000] 1/s");
     landing_params.min_force_fraction = cli.GetDouble("landing-min-force");
     if (!(landing_params.min_force_fraction >= 0.0 && landing_params.min_force_fraction < 1.0))
       throw std::invalid_argument("--landing-min-force " + cli.Get("landing-min-force") + ": must be in [0, 1)");
@@ -133,6 +148,9 @@ int main(int argc, char** argv) {
   params.reference.flight_hip_pitch_follow = flight_hip_follow;
   params.reference.landing_blend_s = landing_blend;
   params.reference.landing_deflection_feedback = deflection_feedback;
+  params.reference.jump_force_feedback = force_feedback;
+  params.reference.jump_force_integral_per_s = force_integral;
+  params.landing_u_regularization_scale = landing_reg;
   params.bullet_plant.substeps = substeps;
   HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump_params, records, rest_height),
                                          MakeSpringMassLandingPlanner(rom, landing_params, records, rest_height), params, plant_kind);
@@ -257,7 +275,7 @@ int main(int argc, char** argv) {
   });
 
   const double duration =
-      cli.GetDouble("duration") > 0 ? cli.GetDouble("duration") : params.reference.settle_time_s + hops * 1.0 + (hops - 1) * params.reference.rest_time_s + 2.5;
+      cli.GetDouble("duration") > 0 ? cli.GetDouble("duration") : params.reference.settle_time_s + hops * 1.0 + (hops - 1) * params.reference.max_rest_time_s + 2.5;
   const auto wall0 = std::chrono::steady_clock::now();
   SimulatorStatus status;
   try {
@@ -319,6 +337,9 @@ int main(int argc, char** argv) {
   summary["landing_min_force_fraction"] = landing_params.min_force_fraction;
   summary["landing_blend_s"] = landing_blend;
   summary["landing_deflection_feedback"] = deflection_feedback;
+  summary["jump_force_feedback"] = force_feedback;
+  summary["jump_force_integral_per_s"] = force_integral;
+  summary["landing_torque_regularization"] = landing_reg;
   summary["plant"] = ToString(plant_kind);
   summary["bullet_substeps"] = substeps;
   summary["contact_violations"] = contact.violations;

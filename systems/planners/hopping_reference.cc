@@ -17,7 +17,7 @@ constexpr int kJump = 0, kFlight = 1, kLanding = 2;
 constexpr int kDomain = 0, kDomainStart = 1, kCentreX = 2, kCentreY = 3, kYaw0 = 4, kMotorTargets = 5;  // 10 motor targets
 constexpr int kLandComX = 15, kLandComXdot = 16, kLandPitch = 17, kLandPitchRate = 18, kHopsDone = 19, kJumpPlans = 20, kLandingPlans = 21,
               kPlanFailures = 22, kHoldL = 23, kJumpPitch = 24, kJumpPitchRate = 25,
-              kJumpHipPerPitch = 26, kFlightPitch0 = 28, kFlightHipPerPitch = 29, kFixed = 31;  // *HipPerPitch: 2 legs
+              kJumpHipPerPitch = 26, kFlightPitch0 = 28, kFlightHipPerPitch = 29, kForceIntegral = 31, kFixed = 32;  // *HipPerPitch: 2 legs
 
 // Quintic from (p0, v0, a0 = 0) to (p1, 0, 0) over T; value, rate, acceleration at s (held after T).
 Eigen::Vector3d Blend(double s, double T, double p0, double v0, double p1) {
@@ -72,6 +72,9 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
     ThrowError("params.landing_blend_s = " + std::to_string(params_.landing_blend_s) + " s must be at least update_period_s = " +
                std::to_string(params_.update_period_s) + " s");
   if (!(params_.settle_time_s >= 0.0) || !(params_.rest_time_s >= 0.0)) ThrowError("settle_time_s and rest_time_s must be >= 0");
+  if (!(params_.rest_max_speed >= 0.0) || !(params_.max_rest_time_s >= params_.rest_time_s) || !std::isfinite(params_.max_rest_time_s))
+    ThrowError("rest_max_speed = " + std::to_string(params_.rest_max_speed) + " must be >= 0 and max_rest_time_s = " + std::to_string(params_.max_rest_time_s) +
+               " finite and >= rest_time_s = " + std::to_string(params_.rest_time_s));
   if (!(params_.landing_deflection_feedback >= 0.0) || !std::isfinite(params_.landing_deflection_feedback))
     ThrowError("params.landing_deflection_feedback = " + std::to_string(params_.landing_deflection_feedback) + " must be finite and >= 0");
   const std::string* knees[2] = {&params_.left_knee, &params_.right_knee};
@@ -103,18 +106,21 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   rigid_knee_plus_tarsus_ = qn[knee_[0]] + qn[tarsus_[0]];
   const int n = params_.max_plan_nodes;
   jump_plan_offset_ = kFixed;
-  landing_plan_offset_ = kFixed + 1 + 5 * n;  // per plan: node count, then t, L, L̇, x, ẋ (N each)
-  size_ = landing_plan_offset_ + 1 + 5 * n;
+  landing_plan_offset_ = kFixed + 1 + 7 * n;  // per plan: node count, then t, L, L̇, x, ẋ, F, n K (N each)
+  size_ = landing_plan_offset_ + 1 + 7 * n;
   Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(size_);
   xd0[kDomain] = kLanding;
   DeclareDiscreteState(xd0);
   const int nv = model_->nv();
   state_port_ = DeclareInputPort("state", 2 * nv);
   mode_port_ = DeclareTypedInputPort<int>("mode");
+  forces_port_ = DeclareInputPort("contact_forces", 3 * model_->num_contacts());
   // The flight hip targets read the state when params.flight_hip_pitch_follow ≠ 0.
+  std::vector<int> reads;
+  if (params_.flight_hip_pitch_follow != 0.0 || params_.landing_deflection_feedback != 0.0) reads.push_back(state_port_);
+  if (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) reads.push_back(forces_port_);
   DeclareOutputPort("desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); },
-                    params_.flight_hip_pitch_follow != 0.0 || params_.landing_deflection_feedback != 0.0 ? Feedthrough::From({state_port_})
-                                                                                                            : Feedthrough::None());
+                    reads.empty() ? Feedthrough::None() : Feedthrough::From(reads));
   DeclareTypedOutputPort<int>("domain", [](const LeafContext& c, int* y) { *y = static_cast<int>(c.discrete_state()[kDomain]); }, Feedthrough::None());
   DeclareOutputPort("plan_status", {"jump_plans", "landing_plans", "planner_failures"},
                     [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(kJumpPlans); }, Feedthrough::None());
@@ -191,6 +197,18 @@ void HoppingReference::WritePlan(int offset, const LegLengthPlan& plan, Eigen::V
   const bool has_x = plan.x.size() == n;
   if (has_x) xd->segment(offset + 1 + 3 * N, n) = plan.x, xd->segment(offset + 1 + 4 * N, n) = plan.xdot;
   else xd->segment(offset + 1 + 3 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
+  if ((plan.force.size() != 0 || plan.stiffness.size() != 0) && (plan.force.size() != n || plan.stiffness.size() != n))
+    throw std::invalid_argument("system '" + name() + "': a leg-length plan's force and stiffness must be empty or have its " + std::to_string(n) +
+                                " nodes; got " + std::to_string(plan.force.size()) + " and " + std::to_string(plan.stiffness.size()));
+  if (plan.force.size() == n) {
+    for (int k = 0; k < n; ++k)
+      if (!(std::isfinite(plan.force[k]) && plan.stiffness[k] > 0.0))
+        throw std::invalid_argument("system '" + name() + "': a leg-length plan's force must be finite and its stiffness > 0; node " + std::to_string(k) +
+                                    " has " + std::to_string(plan.force[k]) + " N, " + std::to_string(plan.stiffness[k]) + " N/m");
+    xd->segment(offset + 1 + 5 * N, n) = plan.force, xd->segment(offset + 1 + 6 * N, n) = plan.stiffness;
+  } else {
+    xd->segment(offset + 1 + 5 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
 }
 
 Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t, const Eigen::Ref<const Eigen::VectorXd>& L,
@@ -213,14 +231,14 @@ LegLengthPlan HoppingReference::jump_plan(const LeafContext& context) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int n = static_cast<int>(xd[jump_plan_offset_]), N = params_.max_plan_nodes;
   return {xd.segment(jump_plan_offset_ + 1, n), xd.segment(jump_plan_offset_ + 1 + N, n), xd.segment(jump_plan_offset_ + 1 + 2 * N, n), xd.segment(jump_plan_offset_ + 1 + 3 * N, n),
-          xd.segment(jump_plan_offset_ + 1 + 4 * N, n)};
+          xd.segment(jump_plan_offset_ + 1 + 4 * N, n), xd.segment(jump_plan_offset_ + 1 + 5 * N, n), xd.segment(jump_plan_offset_ + 1 + 6 * N, n)};
 }
 
 LegLengthPlan HoppingReference::landing_plan(const LeafContext& context) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int n = static_cast<int>(xd[landing_plan_offset_]), N = params_.max_plan_nodes;
   return {xd.segment(landing_plan_offset_ + 1, n), xd.segment(landing_plan_offset_ + 1 + N, n), xd.segment(landing_plan_offset_ + 1 + 2 * N, n), xd.segment(landing_plan_offset_ + 1 + 3 * N, n),
-          xd.segment(landing_plan_offset_ + 1 + 4 * N, n)};
+          xd.segment(landing_plan_offset_ + 1 + 4 * N, n), xd.segment(landing_plan_offset_ + 1 + 5 * N, n), xd.segment(landing_plan_offset_ + 1 + 6 * N, n)};
 }
 
 double HoppingReference::domain_start_time(const LeafContext& context) const { return context.discrete_state()[kDomainStart]; }
@@ -259,6 +277,11 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
     set(kPitch, {xd[kJumpPitch], xd[kJumpPitchRate], 0.0});
     const int o = jump_plan_offset_;
     L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
+    if (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) {
+      double fade = 0.0;
+      const double e = JumpForceError(context, s, &fade);
+      L[0] += fade * (params_.jump_force_feedback * e + xd[kForceIntegral]);
+    }
   } else if (xd[kHopsDone] > 0) {  // landing after a hop (before the first hop: settle at the held length)
     const int o = landing_plan_offset_;
     L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
@@ -277,8 +300,32 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
   set(layout_.leg_right, L);
 }
 
+double HoppingReference::JumpForceError(const LeafContext& context, double s, double* fade) const {
+  // (F_plan − F) / (n K): the plan's F and n K linear between nodes, F the plant's total normal force; fade =
+  // clamp(F_plan / F_plan(0), 0, 1).
+  const Eigen::VectorXd& xd = context.discrete_state();
+  const int o = jump_plan_offset_, N = params_.max_plan_nodes, n = static_cast<int>(xd[o]);
+  *fade = 0.0;
+  if (n < 2 || !std::isfinite(xd[o + 1 + 5 * N]) || s > xd[o + n]) return 0.0;
+  const auto t = xd.segment(o + 1, n);
+  int k = static_cast<int>(std::upper_bound(t.data(), t.data() + n, s) - t.data()) - 1;
+  k = std::clamp(k, 0, n - 2);
+  const double w = std::clamp((s - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0);
+  const double F_plan = (1 - w) * xd[o + 1 + 5 * N + k] + w * xd[o + 1 + 5 * N + k + 1];
+  const double K = (1 - w) * xd[o + 1 + 6 * N + k] + w * xd[o + 1 + 6 * N + k + 1];
+  const Eigen::VectorXd& f = EvalInput(context, forces_port_);
+  const double F0 = xd[o + 1 + 5 * N];
+  *fade = F0 > 0.0 ? std::clamp(F_plan / F0, 0.0, 1.0) : 1.0;
+  return (F_plan - (f[3 * contact_[0] + 2] + f[3 * contact_[1] + 2])) / K;
+}
+
 EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const Eigen::VectorXd& xd = context.discrete_state();
+  if (static_cast<int>(xd[kDomain]) == kJump && params_.jump_force_integral_per_s != 0.0) {
+    double fade = 0.0;
+    const double e = JumpForceError(context, context.time() - xd[kDomainStart], &fade);
+    (*next)[kForceIntegral] = xd[kForceIntegral] + params_.update_period_s * params_.jump_force_integral_per_s * e;
+  }
   if (static_cast<int>(xd[kDomain]) == kJump && params_.jump_momentum_gain > 0.0) {
     // Jump pitch reference from the centroidal pitch momentum (ours, in place of the H_pitch output of Eq. (41)): the
     // pelvis is asked to turn at the rate that cancels H_pitch, θ̇_d = θ̇ − k H_pitch / I_p, with I_p = ∂H_pitch/∂θ̇ along
@@ -298,9 +345,14 @@ EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::
   }
   if (static_cast<int>(xd[kDomain]) != kLanding || xd[kHopsDone] >= params_.hops) return EventStatus::Succeeded();
   const double wait = xd[kHopsDone] == 0 ? params_.settle_time_s : params_.rest_time_s;
-  if (context.time() - xd[kDomainStart] < wait - 1e-12) return EventStatus::Succeeded();
+  const double waited = context.time() - xd[kDomainStart];
+  if (waited < wait - 1e-12) return EventStatus::Succeeded();
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const int nv = model_->nv();
+  // The next hop waits until the robot is at rest (max |q̇| < rest_max_speed), at most max_rest_time_s.
+  if (xd[kHopsDone] > 0 && params_.rest_max_speed > 0.0 && waited < params_.max_rest_time_s - 1e-12 &&
+      x.tail(nv).cwiseAbs().maxCoeff() >= params_.rest_max_speed)
+    return EventStatus::Succeeded();
   const Eigen::VectorXd q = x.head(nv), v = x.tail(nv);
   LegLengthPlan plan;
   std::string message;
@@ -317,6 +369,7 @@ EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::
   (*next)[kJumpPlans] += 1.0;
   (*next)[kJumpPitch] = q[model_->VelocityIndex("base_pitch")];
   (*next)[kJumpPitchRate] = 0.0;
+  (*next)[kForceIntegral] = 0.0;
   for (int leg = 0; leg < 2; ++leg) (*next)[kJumpHipPerPitch + leg] = HipPerPitch(q, leg);
   (*next)[kDomain] = kJump;
   (*next)[kDomainStart] = context.time();

@@ -4,6 +4,8 @@
 //
 // inputs:  state (2 nv)        plant [q; v]
 //          mode (int, typed)   plant contact mode (ContactModeGraph::JumpFlightLanding order: jump, flight, landing)
+//          contact_forces (3 nc) the plant's ground force on each contact [N], world axes (read in Jump when
+//                              params.jump_force_feedback or jump_force_integral_per_s ≠ 0)
 // outputs: desired (3·ny)      [y_d; ẏ_d; ÿ_d] in the HoppingOutputLayout given (diagrams/hopping/hopping_outputs.h):
 //            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start;
 //                     pitch (when Jump tracks the pelvis pitch): θ_d, θ̇_d from the centroidal pitch momentum (below)
@@ -15,8 +17,9 @@
 //                     (spec [R], C10); COM y = support centre; yaw as in jump
 //          domain (int, typed) 0 jump, 1 flight, 2 landing: the controller's mode. It follows the plant's mode at lift-off
 //                              and touchdown; the first "landing" domain (before any hop) is the settle phase, and a
-//                              landing domain turns into jump after settle_time_s (the first hop) or rest_time_s (the
-//                              next hops, if hops remain).
+//                              landing domain turns into jump after settle_time_s (the first hop) or, if hops remain,
+//                              once the robot is at rest: rest_time_s, then until max |q̇| < rest_max_speed, at most
+//                              max_rest_time_s.
 //          plan_status (3)     [jump plans solved, landing plans solved, planner failures]
 // discrete state: see the k* offsets in the source; the leg-length plans (node times, L, L̇) live there.
 //
@@ -63,6 +66,9 @@ struct LegLengthPlan {
   /// [m], [m/s] the ROM's mass height x (real leg length) and its rate at the nodes; empty: none (optional, for
   /// HoppingReferenceParams::landing_deflection_feedback).
   Eigen::VectorXd x, xdot;
+  /// [N] the ROM's total leg force F and [N/m] its stiffness n_legs K(L) at the nodes; empty: none (optional, for
+  /// HoppingReferenceParams::jump_force_feedback).
+  Eigen::VectorXd force, stiffness;
   double duration() const { return t.size() > 0 ? t[t.size() - 1] : 0.0; }
 };
 
@@ -75,7 +81,10 @@ struct RomState {
 struct HoppingReferenceParams {
   double update_period_s = 5e-4;       ///< [s] periodic check for the timed landing → jump switch (hopping: 2 kHz)
   double settle_time_s = 1.5;          ///< [s] settle in landing before the first jump (spec [R] A5: 1.5 s)
-  double rest_time_s = 1.5;            ///< [s] between a touchdown and the next jump when hops remain (ours)
+  double rest_time_s = 1.5;            ///< [s] between a touchdown and the next jump when hops remain (ours): at least
+  /// [rad/s, m/s] ...and until every |q̇_i| < this (ours: the hopping issue's "at rest"; 0: rest_time_s alone), ...
+  double rest_max_speed = 0.05;
+  double max_rest_time_s = 5.0;        ///< [s] ...but at most this long (ours)
   int hops = 1;                        ///< number of hops (≥ 1)
   double landing_blend_s = 0.3;        ///< [s] COM x and pitch quintics after touchdown (spec [R] C10: 0.3 s)
   double landing_fallback_s = 0.5;     ///< [s] fallback landing quintic (ours)
@@ -91,6 +100,17 @@ struct HoppingReferenceParams {
   /// (RomState), so that at g = 1 the spring deflection s = L − x, hence the ROM's leg force, follows the plan's.
   /// Needs plans with x (LegLengthPlan::x); makes 'desired' depend on 'state'.
   double landing_deflection_feedback = 0.0;
+  /// GRF feedback in Jump (ours; both 0: off, the paper's L_d = L_plan):
+  ///   L_d = L_plan + w (k_F e + ∫ k_I e dt),  e = (F_plan − F) / (n_legs K(L_plan)),  w = clamp(F_plan / F_plan(0), 0, 1)
+  /// with F the plant's measured total normal ground force (input 'contact_forces') and F_plan, n_legs K the plan's
+  /// (LegLengthPlan::force, stiffness): the legs are lengthened by the ROM deflection of the missing force. The
+  /// integral runs in the periodic update and restarts at 0 with each Jump; w fades the correction out as the plan's
+  /// force falls to 0 at lift-off (without it the feet slipped at lift-off at an apex rise of 0.28 m). It closes the
+  /// loop where the ROM's K(L) and the plant's legs differ (measured on the default jump without it: the plant's GRF
+  /// peaked at 1130 N where the plan asked 1430 N, the impulse was 5 % short and the lift-off speed 17 % short). Needs
+  /// plans with force and stiffness; makes 'desired' depend on 'contact_forces'.
+  double jump_force_feedback = 0.0;        ///< k_F [-]
+  double jump_force_integral_per_s = 0.0;  ///< k_I [1/s]
   std::string left_knee = "left_knee", right_knee = "right_knee";
   std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";
   std::string left_tarsus = "left_tarsus", right_tarsus = "right_tarsus";
@@ -135,6 +155,7 @@ class HoppingReference final : public LeafSystem {
   void SnapshotSupport(const Eigen::VectorXd& q, Eigen::VectorXd* xd) const;
   double SolePitch(const Eigen::VectorXd& q, int contact) const;
   double HipPerPitch(const Eigen::VectorXd& q, int leg) const;
+  double JumpForceError(const LeafContext& context, double s, double* fade) const;
   struct Scratch;
   std::any AllocateScratch() const override;
 
@@ -147,7 +168,7 @@ class HoppingReference final : public LeafSystem {
   int hip_pitch_[2], hip_actuator_[2], knee_[2], shin_[2], tarsus_[2], toe_[2], hip_link_[2], toe_link_[2], contact_[2];
   double rigid_knee_plus_tarsus_ = 0;
   int jump_plan_offset_ = 0, landing_plan_offset_ = 0, size_ = 0;
-  int state_port_ = -1, mode_port_ = -1;
+  int state_port_ = -1, mode_port_ = -1, forces_port_ = -1;
 };
 
 }  // namespace rome

@@ -41,7 +41,12 @@ TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
   plan.states.row(1) << -1.0, 0.2, 0.1;
   plan.states.row(2) << 0.8, 0.85, 0.9;
   plan.states.row(3) << 0.0, 0.5, 0.0;
-  const LegLengthPlan p = ToLegLengthPlan(plan);
+  plan.leg_force = Eigen::Vector3d(500.0, 300.0, 0.0);
+  SpringMassParams rom;
+  rom.n_legs = 2;
+  const LegLengthPlan p = ToLegLengthPlan(rom, plan);
+  EXPECT_EQ(p.force, plan.leg_force);  // jump_force_feedback's F_plan and n K(L)
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(p.stiffness[k], 2.0 * rom.leg.stiffness.Evaluate(plan.states(2, k)));
   EXPECT_EQ(p.t, plan.times);
   EXPECT_EQ(p.L, Eigen::Vector3d(0.8, 0.85, 0.9));
   EXPECT_EQ(p.Ldot, Eigen::Vector3d(0.0, 0.5, 0.0));
