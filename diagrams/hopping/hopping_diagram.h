@@ -38,8 +38,9 @@ struct HoppingDiagramParams {
   HoppingOutputParams outputs = DefaultOutputParams();
   HoppingReferenceParams reference = DefaultReferenceParams();
   double log_period_s = 1e-3;  ///< [s]
-  /// [-] ρ_u is multiplied by this in Landing (ours, measured; 1: off). Applied only when controller's
-  /// u_regularization_weights and u_regularization_modes are left empty. With the Jump's GRF feedback the robot lands
+  /// [-] ρ_u is multiplied by this in the Landing domain (ours, measured; 1: off), which also covers the settle before
+  /// the first hop and the rests between hops. It sets the controller's u_regularization_weights and
+  /// u_regularization_modes (BuildHoppingDiagram throws if those are set too). With the Jump's GRF feedback the robot lands
   /// from higher and, 0.1-0.2 s after touchdown with ~100 N on each foot, the landing QP's torques jumped between
   /// solutions tick to tick (hip pitches +177 / −195 N m, the legs scissoring) while V stayed ~0.1: the 4 torque
   /// directions the 6 landing outputs leave free are set by ρ_u alone. Each jump put the feet's forces on the friction
@@ -50,8 +51,8 @@ struct HoppingDiagramParams {
   /// in 5 substeps (ours, see the source), with the hybrid plant's fall height (0.5 m), lift-off force (8 N) and
   /// minimum time between a lift-off and the next touchdown (20 ms).
   static BulletWorldPlantParams DefaultBulletPlantParams();
-  /// The block's defaults, with flight_hip_pitch_follow = −1, jump_momentum_gain = 10,
-  /// landing_deflection_feedback = 0.7, jump_force_feedback = 6 and jump_force_integral_per_s = 40 (ours; see the source).
+  /// The block's defaults, with flight_hip_pitch_follow = −1, jump_momentum_gain = 10, landing_deflection_feedback =
+  /// 0.7, jump_force_feedback = 6, jump_force_integral_per_s = 40 and landing_blend_s = 0.5 (ours; see the source).
   static HoppingReferenceParams DefaultReferenceParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
   /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).

@@ -66,7 +66,21 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
     double rest_height = -1;
   };
   auto state = std::make_shared<State>();
-  return [rom, params, state, records, rest_height](const RomState& post, LegLengthPlan* out, std::string* message) {
+  return [rom, params, state, records, rest_height](const RomState& measured, HoppingReference::LandingSolve when, LegLengthPlan* out,
+                                                    std::string* message) {
+    const bool predicted = when == HoppingReference::LandingSolve::kPredictedAtLiftoff;
+    const PlannerRecord::Kind kind = predicted ? PlannerRecord::Kind::kLandingPredicted : PlannerRecord::Kind::kLanding;
+    RomState post = measured;
+    if (predicted) {
+      // Ballistic ROM flight from the measured lift-off state with the leg held (PredictFlight): the touchdown state.
+      try {
+        const Eigen::Vector4d td = PredictFlight(SpringMassModel(rom), Eigen::Vector4d(measured.x, measured.xdot, measured.L, 0.0)).touchdown_state;
+        post = RomState{td[0], td[1], td[2], td[3]};
+      } catch (const std::exception& e) {
+        *message = e.what();
+        return false;
+      }
+    }
     if (!state->planner || state->rest_height != *rest_height) {
       SpringMassLandingParams p = params;
       p.rest_height = *rest_height;
@@ -90,10 +104,10 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
     } catch (const std::exception& e) {
       *message = e.what();
       plan.message = e.what();
-      if (records) records->push_back({PlannerRecord::Kind::kLanding, 0.0, plan});
+      if (records) records->push_back({kind, 0.0, plan});
       return false;
     }
-    if (records) records->push_back({PlannerRecord::Kind::kLanding, 0.0, plan});
+    if (records) records->push_back({kind, 0.0, plan});
     if (!plan.success()) {
       *message = plan.message;
       return false;

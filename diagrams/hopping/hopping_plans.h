@@ -30,7 +30,7 @@ class LegLengthTable {
 };
 
 struct PlannerRecord {
-  enum class Kind { kJump, kLanding };
+  enum class Kind { kJump, kLanding, kLandingPredicted };  ///< kLandingPredicted: solved at lift-off from the predicted touchdown
   Kind kind = Kind::kJump;
   double time_s = 0.0;  ///< simulated time of the solve [s]
   SpringMassPlan plan;

@@ -72,6 +72,12 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
     ThrowError("params.landing_blend_s = " + std::to_string(params_.landing_blend_s) + " s must be at least update_period_s = " +
                std::to_string(params_.update_period_s) + " s");
   if (!(params_.settle_time_s >= 0.0) || !(params_.rest_time_s >= 0.0)) ThrowError("settle_time_s and rest_time_s must be >= 0");
+  if (!(params_.jump_force_feedback >= 0.0) || !std::isfinite(params_.jump_force_feedback) || !(params_.jump_force_integral_per_s >= 0.0) ||
+      !std::isfinite(params_.jump_force_integral_per_s) || !(params_.jump_force_correction_max_m > 0.0) ||
+      !std::isfinite(params_.jump_force_correction_max_m))
+    ThrowError("jump_force_feedback = " + std::to_string(params_.jump_force_feedback) + " and jump_force_integral_per_s = " +
+               std::to_string(params_.jump_force_integral_per_s) + " must be finite and >= 0, jump_force_correction_max_m = " +
+               std::to_string(params_.jump_force_correction_max_m) + " finite and > 0");
   if (!(params_.rest_max_speed >= 0.0) || !(params_.max_rest_time_s >= params_.rest_time_s) || !std::isfinite(params_.max_rest_time_s))
     ThrowError("rest_max_speed = " + std::to_string(params_.rest_max_speed) + " must be >= 0 and max_rest_time_s = " + std::to_string(params_.max_rest_time_s) +
                " finite and >= rest_time_s = " + std::to_string(params_.rest_time_s));
@@ -278,9 +284,11 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
     const int o = jump_plan_offset_;
     L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
     if (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) {
+      // GRF feedback (see the params), from the force measured now; the integral comes from the periodic update.
       double fade = 0.0;
       const double e = JumpForceError(context, s, &fade);
-      L[0] += fade * (params_.jump_force_feedback * e + xd[kForceIntegral]);
+      const double limit = params_.jump_force_correction_max_m;
+      L[0] += fade * std::clamp(params_.jump_force_feedback * e + xd[kForceIntegral], -limit, limit);
     }
   } else if (xd[kHopsDone] > 0) {  // landing after a hop (before the first hop: settle at the held length)
     const int o = landing_plan_offset_;
@@ -321,10 +329,12 @@ double HoppingReference::JumpForceError(const LeafContext& context, double s, do
 
 EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const Eigen::VectorXd& xd = context.discrete_state();
-  if (static_cast<int>(xd[kDomain]) == kJump && params_.jump_force_integral_per_s != 0.0) {
+  if (static_cast<int>(xd[kDomain]) == kJump && (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0)) {
+    // The integral of the GRF feedback: I += T k_I e, clamped to ±jump_force_correction_max_m.
     double fade = 0.0;
     const double e = JumpForceError(context, context.time() - xd[kDomainStart], &fade);
-    (*next)[kForceIntegral] = xd[kForceIntegral] + params_.update_period_s * params_.jump_force_integral_per_s * e;
+    const double limit = params_.jump_force_correction_max_m;
+    (*next)[kForceIntegral] = std::clamp(xd[kForceIntegral] + params_.update_period_s * params_.jump_force_integral_per_s * e, -limit, limit);
   }
   if (static_cast<int>(xd[kDomain]) == kJump && params_.jump_momentum_gain > 0.0) {
     // Jump pitch reference from the centroidal pitch momentum (ours, in place of the H_pitch output of Eq. (41)): the
@@ -360,6 +370,11 @@ EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::
   if (!jump_planner_(start, &plan, &message)) {
     (*next)[kPlanFailures] += 1.0;
     return EventStatus::Failed("jump plan failed at t = " + std::to_string(context.time()) + " s: " + message);
+  }
+  if ((params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) && plan.force.size() == 0) {
+    (*next)[kPlanFailures] += 1.0;
+    return EventStatus::Failed("system '" + name() + "': the jump plan at t = " + std::to_string(context.time()) +
+                               " s has no force and stiffness, which jump_force_feedback / jump_force_integral_per_s need (set both to 0)");
   }
   try {
     WritePlan(jump_plan_offset_, plan, next);
@@ -408,6 +423,13 @@ EventStatus HoppingReference::GuardUpdate(const LeafContext& context, const Even
     for (int leg = 0; leg < 2; ++leg) (*next)[kFlightHipPerPitch + leg] = HipPerPitch(q, leg);
     (*next)[kDomain] = kFlight;
     (*next)[kDomainStart] = context.time();
+    if (landing_planner_) {
+      // The landing NLP from the touchdown predicted at lift-off: a warm start for the touchdown solve.
+      LegLengthPlan predicted;
+      std::string message;
+      if (landing_planner_(MeasureRomState(q, v), LandingSolve::kPredictedAtLiftoff, &predicted, &message)) (*next)[kLandingPlans] += 1.0;
+      else (*next)[kPlanFailures] += 1.0;
+    }
   } else if (plant_mode != kFlight && domain == kFlight) {
     // Touchdown (Eq. (21)): landing from the post-impact state.
     MultibodyWorkspace ws(*model_);
@@ -422,7 +444,7 @@ EventStatus HoppingReference::GuardUpdate(const LeafContext& context, const Even
     const RomState post = MeasureRomState(q, v);
     LegLengthPlan plan;
     std::string message;
-    bool ok = landing_planner_ && landing_planner_(post, &plan, &message);
+    bool ok = landing_planner_ && landing_planner_(post, LandingSolve::kAtTouchdown, &plan, &message);
     if (ok) {
       (*next)[kLandingPlans] += 1.0;
     } else {

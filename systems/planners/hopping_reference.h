@@ -7,7 +7,8 @@
 //          contact_forces (3 nc) the plant's ground force on each contact [N], world axes (read in Jump when
 //                              params.jump_force_feedback or jump_force_integral_per_s ≠ 0)
 // outputs: desired (3·ny)      [y_d; ẏ_d; ÿ_d] in the HoppingOutputLayout given (diagrams/hopping/hopping_outputs.h):
-//            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump); COM x, y = support centre; yaw = yaw at the start;
+//            jump:    H_pitch 0; L_L = L_R = L_plan(t − t_jump) (+ the GRF correction, params.jump_force_feedback);
+//                     COM x, y = support centre; yaw = yaw at the start;
 //                     pitch (when Jump tracks the pelvis pitch): θ_d, θ̇_d from the centroidal pitch momentum (below)
 //            flight:  motors = their positions at lift-off, toes corrected so the soles stay level once the springs
 //                     unload (see below); hips optionally turned with the pelvis pitch (params.flight_hip_pitch_follow,
@@ -25,7 +26,9 @@
 //
 // Event work: a periodic update (update_period_s) switches landing → jump when its time is up (solving the jump plan
 // from the measured state, JumpPlanner); an event update at the plant's guards records the lift-off snapshot (motor
-// targets) and, at touchdown, the post-impact state and the landing plan (LandingPlanner, warm start is the planner's
+// targets) and the landing plan solved from the touchdown predicted at lift-off (LandingSolve::kPredictedAtLiftoff: it
+// only warms the next solve; a failure is counted, not fatal) and, at touchdown, the post-impact state and the landing
+// plan solved from it (LandingPlanner, kAtTouchdown; the warm start is the planner's
 // business). A planner that fails is counted on plan_status and its plan replaced by the documented fallback: jump:
 // the run cannot hop, the domain stays landing and the block reports failure through EventStatus::Failed; landing: a
 // quintic from the post-impact leg length to the standing leg length over landing_fallback_s.
@@ -100,17 +103,25 @@ struct HoppingReferenceParams {
   /// (RomState), so that at g = 1 the spring deflection s = L − x, hence the ROM's leg force, follows the plan's.
   /// Needs plans with x (LegLengthPlan::x); makes 'desired' depend on 'state'.
   double landing_deflection_feedback = 0.0;
-  /// GRF feedback in Jump (ours; both 0: off, the paper's L_d = L_plan):
-  ///   L_d = L_plan + w (k_F e + ∫ k_I e dt),  e = (F_plan − F) / (n_legs K(L_plan)),  w = clamp(F_plan / F_plan(0), 0, 1)
-  /// with F the plant's measured total normal ground force (input 'contact_forces') and F_plan, n_legs K the plan's
-  /// (LegLengthPlan::force, stiffness): the legs are lengthened by the ROM deflection of the missing force. The
-  /// integral runs in the periodic update and restarts at 0 with each Jump; w fades the correction out as the plan's
-  /// force falls to 0 at lift-off (without it the feet slipped at lift-off at an apex rise of 0.28 m). It closes the
-  /// loop where the ROM's K(L) and the plant's legs differ (measured on the default jump without it: the plant's GRF
-  /// peaked at 1130 N where the plan asked 1430 N, the impulse was 5 % short and the lift-off speed 17 % short). Needs
-  /// plans with force and stiffness; makes 'desired' depend on 'contact_forces'.
+  /// GRF feedback in Jump (ours; k_F = k_I = 0: off, the paper's L_d = L_plan):
+  ///   L_d = L_plan + w clamp(k_F e + ∫ k_I e dt, ±c_max),  e = (F_plan − F) / (n_legs K(L_plan)),
+  ///   w = clamp(F_plan / F_plan(0), 0, 1)
+  /// with F the plant's total normal ground force (input 'contact_forces', read when 'desired' is evaluated) and
+  /// F_plan, n_legs K the plan's (LegLengthPlan::force, stiffness): the legs are lengthened by the ROM deflection of the
+  /// missing force. The integral runs in the periodic update (clamped to ±c_max, restarted at 0 with each Jump). w fades
+  /// the correction out as the plan's force falls to 0 at lift-off (without it the feet slipped at lift-off at an apex
+  /// rise of 0.28 m) and also weakens it in the crouch, where F_plan < F_plan(0). L̇_d and L̈_d stay the plan's: the
+  /// correction swings by up to ±5 cm within 60 ms, which the target's rate does not carry (measured: low-passing it
+  /// with τ = 3 or 10 ms and passing its rate on, or reading it from the periodic update one sample late, let the feet
+  /// slip at lift-off at F_n ≈ 8 N on the hopping diagram's default hop or at 0.20-0.28 m). A jump plan without force
+  /// and stiffness while k_F or k_I ≠ 0 is a failed plan. It closes the loop where the ROM's K(L) and the plant's legs
+  /// differ (measured on the default jump without it: the plant's GRF peaked at 1130 N where the plan asked 1430 N, the
+  /// impulse was 5 % short and the lift-off speed 17 % short). Makes 'desired' depend on 'contact_forces'.
   double jump_force_feedback = 0.0;        ///< k_F [-]
   double jump_force_integral_per_s = 0.0;  ///< k_I [1/s]
+  /// c_max [m] (ours; measured: 0.05 m let the feet slip at lift-off at an apex rise of 0.23 m, 0.1 m changes nothing
+  /// on the tuning apex rises 0.12-0.28 m)
+  double jump_force_correction_max_m = 0.1;
   std::string left_knee = "left_knee", right_knee = "right_knee";
   std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";
   std::string left_tarsus = "left_tarsus", right_tarsus = "right_tarsus";
@@ -125,8 +136,14 @@ class HoppingReference final : public LeafSystem {
   using LegLengthFunction = std::function<void(double q_knee, double* L, double* dL_dq)>;
   /// Jump plan from the measured standing ROM state (Eq. (14)-(15)); returns false (and a message) on failure.
   using JumpPlanner = std::function<bool(const RomState& start, LegLengthPlan* plan, std::string* message)>;
-  /// Landing plan from the post-impact ROM state (Eq. (16)); returns false on failure.
-  using LandingPlanner = std::function<bool(const RomState& post_impact, LegLengthPlan* plan, std::string* message)>;
+  /// When the landing planner is called (hopping issue: "solved once at take-off from the predicted touchdown, and
+  /// re-solved warm-started at touchdown").
+  enum class LandingSolve {
+    kPredictedAtLiftoff,  ///< `state` is the ROM state measured at lift-off; the planner predicts the touchdown itself
+    kAtTouchdown,         ///< `state` is the post-impact ROM state (the plan the Landing tracks)
+  };
+  /// Landing plan (Eq. (16)); returns false on failure. The plan solved at lift-off only warms the touchdown solve.
+  using LandingPlanner = std::function<bool(const RomState& state, LandingSolve when, LegLengthPlan* plan, std::string* message)>;
 
   HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
                    LandingPlanner landing_planner, HoppingOutputLayout layout, HoppingReferenceParams params = {});
@@ -138,7 +155,8 @@ class HoppingReference final : public LeafSystem {
   RomState MeasureRomState(MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v) const;
   /// Sets the state to "settle in landing" at the context's time with the standing leg length of q held.
   void Initialize(LeafContext& context, const Eigen::VectorXd& q) const;
-  /// Node plans currently held (for logs and tests).
+  /// Node plans currently held (for logs and tests). A plan written without x, ẋ or force, stiffness comes back with
+  /// those vectors NaN-filled (n nodes), not empty.
   LegLengthPlan jump_plan(const LeafContext& context) const;
   LegLengthPlan landing_plan(const LeafContext& context) const;
   /// Time the current domain began [s].

@@ -67,6 +67,10 @@ HopRun RunHandMadeHop(double gain, double duration) {
   };
   HoppingDiagramParams params;
   params.reference.jump_momentum_gain = gain;
+  // The hand-made plan carries no ROM force, so the GRF feedback of the Jump is off (the reference rejects the plan
+  // otherwise).
+  params.reference.jump_force_feedback = 0.0;
+  params.reference.jump_force_integral_per_s = 0.0;
   // The settle runs in the Landing domain. With the diagram's Landing torque penalty ×10 the hand-made push's left foot
   // unloads to 5 N before the right and slips at lift-off; with ×1, 3, 5 or 20 both feet lift off (measured; the
   // lift-off is that sensitive to the settle's state). This test checks the diagram's mechanics on a hand-made plan,
@@ -195,6 +199,8 @@ double LargestClosedLoopEigenvalue(bool jump_tracks_momentum) {
   };
   HoppingDiagramParams params;
   params.outputs.jump_tracks_momentum = jump_tracks_momentum;
+  params.reference.jump_force_feedback = 0.0;  // the hand-made plan carries no ROM force
+  params.reference.jump_force_integral_per_s = 0.0;
   HoppingDiagram d = BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());

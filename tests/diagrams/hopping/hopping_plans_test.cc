@@ -5,6 +5,8 @@
 // landing planner that cannot be built fails with a message instead of throwing.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 
 #include "diagrams/hopping/hopping_plans.h"
@@ -70,7 +72,7 @@ TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection)
   const RomState post{0.955, -1.5, params.max_leg_length + 0.04, 0.0};
   LegLengthPlan plan;
   std::string message;
-  ASSERT_TRUE(planner(post, &plan, &message)) << message;
+  ASSERT_TRUE(planner(post, HoppingReference::LandingSolve::kAtTouchdown, &plan, &message)) << message;
   const SpringMassPlan& p = records->back().plan;
   EXPECT_NEAR(p.states(2, 0), params.max_leg_length, 1e-9);
   EXPECT_NEAR(p.states(2, 0) - p.states(0, 0), post.L - post.x, 1e-9);  // s as measured
@@ -83,8 +85,39 @@ TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection)
   EXPECT_NEAR(p.LegForce(rom, 0.0), expected, 1e-6 * std::abs(expected));
 
   auto no_rest = MakeSpringMassLandingPlanner(rom, params, records, std::make_shared<double>(0.0));
-  EXPECT_FALSE(no_rest(post, &plan, &message));
+  EXPECT_FALSE(no_rest(post, HoppingReference::LandingSolve::kAtTouchdown, &plan, &message));
   EXPECT_NE(message.find("rest_height"), std::string::npos) << message;
+}
+
+// The landing NLP solved at lift-off starts from the touchdown of the ROM's ballistic flight with the leg held
+// (closed form: x = L, ẋ = −sqrt(ẋ_lo² + 2 g (x_lo − L))), and the touchdown solve that follows is recorded after it.
+TEST(SpringMassLandingPlanner, LiftoffSolveStartsFromTheBallisticTouchdown) {
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json");
+  const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
+  const SpringMassLandingParams params;
+  auto records = std::make_shared<std::vector<PlannerRecord>>();
+  auto planner = MakeSpringMassLandingPlanner(rom, params, records, std::make_shared<double>(0.83));
+  const RomState liftoff{0.915, 1.9, 0.92, 0.3};  // mass 5 mm below the leg length (springs still loaded), rising
+  LegLengthPlan plan;
+  std::string message;
+  ASSERT_TRUE(planner(liftoff, HoppingReference::LandingSolve::kPredictedAtLiftoff, &plan, &message)) << message;
+  ASSERT_EQ(records->size(), 1u);
+  EXPECT_EQ(records->back().kind, PlannerRecord::Kind::kLandingPredicted);
+  const Eigen::Vector4d z0 = records->back().plan.InitialState();
+  EXPECT_NEAR(z0[0], 0.92, 1e-9);
+  EXPECT_NEAR(z0[1], -std::sqrt(1.9 * 1.9 + 2 * rom.gravity * (0.915 - 0.92)), 1e-9);
+  EXPECT_NEAR(z0[2], 0.92, 1e-9);
+  EXPECT_NEAR(z0[3], 0.0, 1e-12);
+  // The touchdown, 1 cm/s faster than predicted, is solved warm and recorded as the landing plan.
+  const RomState post{0.92, z0[1] - 0.01, 0.92, 0.0};
+  ASSERT_TRUE(planner(post, HoppingReference::LandingSolve::kAtTouchdown, &plan, &message)) << message;
+  ASSERT_EQ(records->size(), 2u);
+  EXPECT_EQ(records->back().kind, PlannerRecord::Kind::kLanding);
+  EXPECT_NEAR(records->back().plan.InitialState()[1], post.xdot, 1e-9);
+  std::printf("  iterations: predicted at lift-off %d (cold), at touchdown %d (warm)\n", records->front().plan.iterations, records->back().plan.iterations);
+  // A lift-off that does not leave the ground upwards cannot be predicted: false with PredictFlight's message.
+  EXPECT_FALSE(planner(RomState{0.9, -0.1, 0.92, 0.0}, HoppingReference::LandingSolve::kPredictedAtLiftoff, &plan, &message));
+  EXPECT_NE(message.find("PredictFlight"), std::string::npos) << message;
 }
 
 }  // namespace
