@@ -6,8 +6,9 @@
 //          torques per substep, rods as Bullet rod constraints, each foot's toe and heel spheres on Bullet's ground
 //          plane, modes from which feet touch)
 //     → reference (HoppingReference: the domain and the desired outputs, Eq. (41)-(44), from the ROM's jump plan
-//                  (Eq. (14)-(15), solved from the measured standing state) and landing plan (Eq. (16), solved from
-//                  the post-impact state))
+//                  (Eq. (14)-(15), solved from the measured standing state) and landing plan (Eq. (16), solved at
+//                  lift-off from the predicted touchdown and again, warm, from the post-impact state); it reads the
+//                  plant's state, mode and contact forces (the Jump's GRF feedback, ours))
 //     → controller (ClfQpController: augmented input [u; F_h], Eq. (45)-(51), RES-CLF Eq. (29)-(37), line-foot wrench
 //                   rows and torque limits, 2 kHz and re-solved at every event; outputs per domain from
 //                   MakeHoppingOutputs)
