@@ -56,7 +56,8 @@ struct HoppingDiagramParams {
   /// 0.7, jump_force_feedback = 6, jump_force_integral_per_s = 40 and landing_blend_s = 0.5 (ours; see the source).
   static HoppingReferenceParams DefaultReferenceParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
-  /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6).
+  /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6), relaxation weight p = 1e4 (ours; see the
+  /// source for why not the block's 1e5).
   static ClfQpParams DefaultControllerParams();
   /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)). Measured cause: with H_pitch as the
   /// relative-degree-1 output the closed loop (plant + CLF-QP, linearised by central differences at the first Jump
