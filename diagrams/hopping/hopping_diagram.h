@@ -69,7 +69,8 @@ struct HoppingDiagramParams {
   /// Ȧ_pitch q̇ are right (finite differences and Newton-Euler with contact forces, tests/systems/multibody); the
   /// output's row and sign are right (the momentum weight 1e-4 ... 1e2 changes nothing). With the pelvis pitch output
   /// the largest eigenvalue is +0.036 1/s. (With this diagram's ρ_u = 1e-4, at the start of the hand-made Jump of
-  /// tests/diagrams/hopping: +414 1/s with H_pitch, +0.05 1/s with the pitch; that test checks both.) The momentum is steered instead through the pitch reference
+  /// tests/diagrams/hopping: +444 1/s with H_pitch, +0.11 1/s with the pitch (relaxation weight 1e4; +414 and +0.05 1/s
+  /// with 1e5); that test checks both.) The momentum is steered instead through the pitch reference
   /// (HoppingReferenceParams::jump_momentum_gain). HOP_MOMENTUM=1 in tests/diagrams/hopping reproduces the slip.
   static HoppingOutputParams DefaultOutputParams();
 };

@@ -11,8 +11,9 @@
 //     conserved momentum, θ̇ ≈ H_pitch / I_yy with I_yy the whole-body inertia about the COM (motors held);
 //   * why Jump tracks the pelvis pitch and not H_pitch (Eq. (41)): the closed loop (plant's constrained dynamics with
 //     the CLF-QP's torque), linearised by central differences at the first Jump sample, has its largest eigenvalue
-//     below 1 1/s with the pitch output and above 100 1/s with H_pitch (measured +0.05 and +414 1/s with the
-//     diagram's ρ_u = 1e-4; +2305 1/s with the block default 1e-6 on the ROM plan).
+//     below 1 1/s with the pitch output and above 100 1/s with H_pitch (measured +0.11 and +444 1/s with the
+//     diagram's ρ_u = 1e-4 and relaxation weight 1e4; +0.05 and +414 1/s with 1e5; +2305 1/s with the block default
+//     ρ_u = 1e-6 on the ROM plan).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
