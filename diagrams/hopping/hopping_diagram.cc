@@ -98,8 +98,9 @@ HoppingReferenceParams HoppingDiagramParams::DefaultReferenceParams() {
   // the GRF feedback, 0.1-0.2 s after touchdown the feet rebound to ~100 N each while the 0.3 s quintic still asks for
   // pitch acceleration; a foot slipped in the second or third of 3 hops. Measured (--hops 5, default apex; tuning apex
   // rises as above): 0.3 s: hop 3 slips; 0.4 s: 5 hops land, Bullet 3 hops falls; 0.5 s: 5 hops land, Bullet 3 hops
-  // land, 6/6 tuning apex rises; 0.6 s: hop 4 slips. (Measured before the landing NLP was also solved at lift-off; with
-  // that warm start the touchdown plans differ slightly and with 0.5 s the fourth of 5 hops slips, 3 hops land.)
+  // land, 6/6 tuning apex rises; 0.6 s: hop 4 slips. (Measured with the relaxation weight 1e5 and before the landing NLP
+  // was also solved at lift-off; with that warm start and 1e5 the fourth of 5 hops slipped; with 1e4, see
+  // DefaultControllerParams, 5 hops land and come to rest.)
   p.landing_blend_s = 0.5;
   return p;
 }

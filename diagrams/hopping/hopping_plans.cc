@@ -78,6 +78,9 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
         post = RomState{td[0], td[1], td[2], td[3]};
       } catch (const std::exception& e) {
         *message = e.what();
+        SpringMassPlan failed;
+        failed.message = e.what();
+        if (records) records->push_back({kind, 0.0, failed});
         return false;
       }
     }
@@ -88,6 +91,9 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
         state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);
       } catch (const std::exception& e) {
         *message = e.what();
+        SpringMassPlan failed;
+        failed.message = e.what();
+        if (records) records->push_back({kind, 0.0, failed});
         return false;
       }
       state->rest_height = *rest_height;

@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   cli.Option("apex-rise", examples::FormatNumber(SpringMassJumpParams{}.apex_rise),
              "H [m]: COM rise above the take-off height (default: the ROM's air time is 0.423 s with the identified K(L))")
       .Option("leg-stiffness", "identified", "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
-      .Option("hops", "1", "number of hops (1 to 1000); the landing of one hop is the crouch of the next")
+      .Option("hops", "1", "number of hops (1 to 1000); the landing of one hop is the crouch of the next (a bounce off the ground after a landing counts as a hop)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 2 kHz, BulletWorldPlant)")
       .Option("bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
               "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
               "F_min / (m g) [-]: the landing plan's smallest leg force (spec [R] 0.25)")
       .Option("landing-blend", examples::FormatNumber(HoppingDiagramParams::DefaultReferenceParams().landing_blend_s),
               "[s] Landing: duration of the COM-x and pitch quintics to the support centre and 0 (spec [R] 0.3 s)")
-      .Option("duration", "0", "[s] simulated time; 0: until 2.5 s after the last hop's touchdown")
+      .Option("duration", "0", "[s] simulated time; 0: until 2.5 s after the last hop's touchdown (rest is judged 2 s after it: a shorter run is not 'settled')")
       .Option("log", "", "CSV log path (empty: none)")
       .Option("summary", "", "JSON summary path (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none)");
@@ -235,8 +235,10 @@ int main(int argc, char** argv) {
     }
     // ROM force of the active plan (Jump: the jump plan from its start; Landing after a hop: the landing plan).
     double rom_grf = NAN;
-    if (domain == HoppingDomain::kJump && !records->empty()) rom_grf = records->back().plan.LegForce(rom, t - jump_start_now);
-    if (domain == HoppingDomain::kLanding && touchdown_now > 0 && !records->empty() && records->back().kind == PlannerRecord::Kind::kLanding)
+    if (domain == HoppingDomain::kJump && !records->empty() && records->back().plan.success())
+      rom_grf = records->back().plan.LegForce(rom, t - jump_start_now);
+    if (domain == HoppingDomain::kLanding && touchdown_now > 0 && !records->empty() && records->back().kind == PlannerRecord::Kind::kLanding &&
+        records->back().plan.success())  // a failed touchdown solve: the reference's quintic fallback, no ROM force
       rom_grf = records->back().plan.LegForce(rom, t - touchdown_now);
     const double shin_torque = -model->spring_stiffness()[shin[0]] * x[shin[0]] - model->spring_stiffness()[shin[1]] * x[shin[1]];
     if (t >= next_sample_t) {
@@ -328,6 +330,12 @@ int main(int argc, char** argv) {
   summary["foot_clearance_m"] = clearance;
   summary["com_rise_m"] = liftoff > 0 ? com_max - com_liftoff : NAN;
   summary["takeoff_time_error_s"] = takeoff_error;
+  {
+    const Eigen::VectorXd& ps = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, sim.get_context()), "plan_status");
+    summary["jump_plans"] = ps[0];
+    summary["landing_plans"] = ps[1];  // at each planned lift-off (predicted touchdown) and at each touchdown
+    summary["planner_failures"] = ps[2];
+  }
   summary["rest_speed_2s_after_last_touchdown"] = rest_speed;  // max |q̇| [rad/s, m/s]; settled needs < 0.05
   summary["grf_nrmse_jump"] = Nrmse(jr, jm);
   summary["grf_nrmse_landing"] = Nrmse(lr, lm);

@@ -423,8 +423,9 @@ EventStatus HoppingReference::GuardUpdate(const LeafContext& context, const Even
     for (int leg = 0; leg < 2; ++leg) (*next)[kFlightHipPerPitch + leg] = HipPerPitch(q, leg);
     (*next)[kDomain] = kFlight;
     (*next)[kDomainStart] = context.time();
-    if (landing_planner_) {
-      // The landing NLP from the touchdown predicted at lift-off: a warm start for the touchdown solve.
+    if (landing_planner_ && domain == kJump) {
+      // The landing NLP from the touchdown predicted at a planned lift-off (not a bounce in Landing): only a warm start
+      // for the touchdown solve, so a failure is counted (planner_failures) and nothing falls back.
       LegLengthPlan predicted;
       std::string message;
       if (landing_planner_(MeasureRomState(q, v), LandingSolve::kPredictedAtLiftoff, &predicted, &message)) (*next)[kLandingPlans] += 1.0;

@@ -21,7 +21,10 @@
 //                              landing domain turns into jump after settle_time_s (the first hop) or, if hops remain,
 //                              once the robot is at rest: rest_time_s, then until max |q̇| < rest_max_speed, at most
 //                              max_rest_time_s.
-//          plan_status (3)     [jump plans solved, landing plans solved, planner failures]
+//          plan_status (3)     [jump plans solved, landing plans solved (at a planned lift-off and at each touchdown),
+//                              planner failures (a failed solve at lift-off has no fallback: it only warms the next)]
+//                              A lift-off during Landing (a bounce) also enters Flight, and its touchdown counts as a
+//                              hop (hops done) with a landing plan of its own.
 // discrete state: see the k* offsets in the source; the leg-length plans (node times, L, L̇) live there.
 //
 // Event work: a periodic update (update_period_s) switches landing → jump when its time is up (solving the jump plan

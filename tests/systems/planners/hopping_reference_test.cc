@@ -2,7 +2,8 @@
 // jump_force_correction_max_m), on the block alone with fixed inputs (standing Cassie, plant mode "jump", a fixed
 // measured ground force) and a hand-made jump plan of constant force F_plan and stiffness n K. Expected values in
 // closed form: e = (F_plan − F) / (n K), w = 1 (the plan's force does not fall), and after m periodic updates in Jump
-// the leg-length target is L_plan + k_F e + m T k_I e (each term clamped to ±c_max); with F = F_plan it is L_plan.
+// the leg-length target is L_plan + k_F e + m T k_I e (the integral and the sum each clamped to ±c_max); with F = F_plan
+// it is L_plan.
 // A plan without force while the feedback is on fails the jump with a message naming the block.
 #include <gtest/gtest.h>
 
@@ -91,6 +92,12 @@ TEST(HoppingReference, JumpGrfFeedbackLengthensTheLegByTheMissingDeflection) {
   // Clamped: a 0.25 m deficit (no ground force) is limited to c_max = 0.03 m.
   const ReferenceRun clamped = RunReference(0.0, 10.0, 0.0, 0.03, until);
   EXPECT_NEAR(clamped.L_d, kLPlan + 0.03, 1e-12);
+  // The integral alone is clamped too: m T k_I e = 40 · 5e-4 · 100 · 0.025 = 0.05 m > c_max = 0.02 m.
+  const ReferenceRun integral = RunReference(0.0, 0.0, 100.0, 0.02, until);
+  EXPECT_NEAR(integral.L_d, kLPlan + 0.02, 1e-12);
+  // Below the clamp the integral grows as m T k_I e: 40 · 5e-4 · 10 · 0.025 = 5 mm.
+  const ReferenceRun small = RunReference(0.0, 0.0, 10.0, 0.02, until);
+  EXPECT_NEAR(small.L_d, kLPlan + m * kT * 10.0 * (kFPlan / kStiffness), 1e-12);
 }
 
 TEST(HoppingReference, JumpPlanWithoutForceFailsWhileTheFeedbackIsOn) {
