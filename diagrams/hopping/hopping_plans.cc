@@ -70,45 +70,30 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
                                                     std::string* message) {
     const bool predicted = when == HoppingReference::LandingSolve::kPredictedAtLiftoff;
     const PlannerRecord::Kind kind = predicted ? PlannerRecord::Kind::kLandingPredicted : PlannerRecord::Kind::kLanding;
-    RomState post = measured;
-    if (predicted) {
-      // Ballistic ROM flight from the measured lift-off state with the leg held (PredictFlight): the touchdown state.
-      try {
+    SpringMassPlan plan;
+    try {  // any failure below (no upward lift-off, no rest height yet, the NLP) is a recorded, counted failed plan
+      RomState post = measured;
+      if (predicted) {
+        // Ballistic ROM flight from the measured lift-off state with the leg held (PredictFlight): the touchdown state.
         const Eigen::Vector4d td = PredictFlight(SpringMassModel(rom), Eigen::Vector4d(measured.x, measured.xdot, measured.L, 0.0)).touchdown_state;
         post = RomState{td[0], td[1], td[2], td[3]};
-      } catch (const std::exception& e) {
-        *message = e.what();
-        SpringMassPlan failed;
-        failed.message = e.what();
-        if (records) records->push_back({kind, 0.0, failed});
-        return false;
       }
-    }
-    if (!state->planner || state->rest_height != *rest_height) {
-      SpringMassLandingParams p = params;
-      p.rest_height = *rest_height;
-      try {  // e.g. a touchdown before any jump plan set the rest height: a failed plan (counted), not a crash
-        state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);
-      } catch (const std::exception& e) {
-        *message = e.what();
-        SpringMassPlan failed;
-        failed.message = e.what();
-        if (records) records->push_back({kind, 0.0, failed});
-        return false;
+      if (!state->planner || state->rest_height != *rest_height) {
+        SpringMassLandingParams p = params;
+        p.rest_height = *rest_height;
+        state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);  // throws e.g. before any jump set the rest height
+        state->rest_height = *rest_height;
       }
-      state->rest_height = *rest_height;
-    }
-    // The measured leg length may sit outside the NLP's L bounds (the knees overshoot the jump's last L in the push and
-    // the flight holds them there): clamp it into them (ours), else the NLP rejects its own initial state, and shift
-    // the mass height with it so the spring deflection s = L − x (hence the ROM force) stays the measured one. (Clamping
-    // L alone once gave s = −5 cm, a plan starting at −1.9 kN, and a robot that rebounded.)
-    const double L0 = std::clamp(post.L, params.min_leg_length, params.max_leg_length);
-    const Eigen::Vector4d z0(post.x + (L0 - post.L), post.xdot, L0, post.Ldot);
-    SpringMassPlan plan;
-    try {
+      // The measured leg length may sit outside the NLP's L bounds (the knees overshoot the jump's last L in the push
+      // and the flight holds them there): clamp it into them (ours), else the NLP rejects its own initial state, and
+      // shift the mass height with it so the spring deflection s = L − x (hence the ROM force) stays the measured one.
+      // (Clamping L alone once gave s = −5 cm, a plan starting at −1.9 kN, and a robot that rebounded.)
+      const double L0 = std::clamp(post.L, params.min_leg_length, params.max_leg_length);
+      const Eigen::Vector4d z0(post.x + (L0 - post.L), post.xdot, L0, post.Ldot);
       plan = state->planner->Resolve(z0);  // warm start from the previous landing solution, if any
     } catch (const std::exception& e) {
       *message = e.what();
+      plan = SpringMassPlan{};
       plan.message = e.what();
       if (records) records->push_back({kind, 0.0, plan});
       return false;
