@@ -72,8 +72,10 @@ struct SimulatorConfig {
   int max_order = 0;                  ///< 0 = CVODE's default (5 for BDF, 12 for Adams).
   ExplicitRungeKuttaMethod explicit_rk_method = ExplicitRungeKuttaMethod::kDormandPrince54;  ///< kExplicitRungeKutta only.
   /// kExplicitRungeKutta only: after a discrete update (not after a guard's reset), start with the step size the
-  /// error control chose at the end of the previous interval instead of ARKODE's initial-step estimate. Measured on the
-  /// 2 kHz hopping loop (diagrams/hopping): 27 % fewer derivative evaluations with Dormand-Prince. Off by default.
+  /// error control asks for at the end of the previous interval instead of ARKODE's initial-step estimate. When that
+  /// interval ended with a step clipped to the sample time, the size comes from the clipped step's own error estimate
+  /// (ARKODE would report the clipped size). Measured on the 2 kHz hopping loop (diagrams/hopping): 32 % fewer
+  /// derivative evaluations with Bogacki-Shampine than carrying ARKODE's reported step. Off by default.
   bool restart_with_last_step = false;
   long max_steps_per_advance = 1000000000L;  ///< Safety net on CVODE internal steps within one AdvanceTo.
   EventPolicy event_policy;

@@ -224,6 +224,36 @@ TEST(Simulator, ZeroOrderHoldRestartsAndJacobianCounts) {
   EXPECT_LT(rk_steps[1], rk_steps[0]);
 }
 
+TEST(Simulator, RestartWithLastStepTakesOneStepPerSampleWhenTheErrorTestAllows) {
+  // The zero-order-held loop above at a loose tolerance, where the error test allows steps longer than the 10 ms sample
+  // period. Every interval ends with a step clipped to the sample time; restarting the next interval with that clipped
+  // size (what ARKODE reports as its next step) split each interval into two steps. Restarting with the size the
+  // clipped step's own error estimate asks for takes one step per interval. The state still matches the exact
+  // discretisation to the tolerance's order.
+  const double a = 0.7, b = 2.0, K = 1.5, h = 0.01, x0 = 1.0;
+  const double Phi = std::exp(a * h), Gamma = (std::exp(a * h) - 1) * b / a;
+  for (ExplicitRungeKuttaMethod method : {ExplicitRungeKuttaMethod::kBogackiShampine32, ExplicitRungeKuttaMethod::kDormandPrince54}) {
+    auto diagram = BuildZeroOrderHoldLoop(a, b, K, h, x0);
+    SimulatorConfig config;
+    config.scheme = IntegrationScheme::kExplicitRungeKutta;
+    config.explicit_rk_method = method;
+    config.relative_tolerance = 1e-6;
+    config.absolute_tolerance = 1e-9;
+    config.restart_with_last_step = true;
+    Simulator sim(*diagram, config);
+    double x = x0;
+    for (int k = 1; k <= 200; ++k) {
+      x = (Phi - Gamma * K) * x;
+      ASSERT_TRUE(sim.AdvanceTo(k * h).ok());
+      ASSERT_NEAR(diagram->EvalOutput(sim.get_context(), "x")[0], x, 1e-6 * std::abs(x) + 1e-8) << "sample " << k;
+    }
+    const SimulatorStatistics& s = sim.statistics();
+    // A few extra steps for ARKODE's first estimate; none per interval.
+    EXPECT_LE(s.steps, s.restarts + 10) << "method " << static_cast<int>(method) << ": " << s.steps << " steps, " << s.restarts << " restarts";
+    EXPECT_LE(s.error_test_failures, 5);
+  }
+}
+
 // Undamped pendulum: θ̈ = −(g/l) sin θ.
 class Pendulum final : public LeafSystem {
  public:
