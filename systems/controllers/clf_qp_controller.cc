@@ -361,9 +361,14 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     mq.Lf.segment(r, n).noalias() = Jrows * s.qdd0;
     mq.Lf.segment(r, n) += s.Jdv.segment(off, n) - target;
     mq.w.segment(r, n).setConstant(weight);
-    // Curvature scale of the regularisation from J_y M⁻¹ B (the same in both formulations).
-    s.JyMinvB.topRows(n).noalias() = Jrows.lazyProduct(s.MinvB);
-    reg_scale = std::max(reg_scale, weight * s.JyMinvB.topRows(n).colwise().squaredNorm().maxCoeff());
+    // Curvature scale of the regularisation from J_y M⁻¹ B (the same in both formulations; augmented, it is the u block
+    // just formed).
+    if (augmented) {
+      reg_scale = std::max(reg_scale, weight * mq.Aout.block(r, 0, n, nu).colwise().squaredNorm().maxCoeff());
+    } else {
+      s.JyMinvB.topRows(n).noalias() = Jrows.lazyProduct(s.MinvB);
+      reg_scale = std::max(reg_scale, weight * s.JyMinvB.topRows(n).colwise().squaredNorm().maxCoeff());
+    }
     r += n;
   };
   for (int i : mq.rd1) {

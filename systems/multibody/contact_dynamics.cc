@@ -125,19 +125,39 @@ int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, cons
 }
 
 // Lambda = J M^-1 J^T (ws.Lambda) and the Cholesky factor of Lambda + eps I (ws.Lambda_L,
-// lower, with a pivot floor). With the tree factor M = L^T D L: Z = D^-1/2 L^-T J^T (in
-// ws.Minv_JT) and Lambda = Z^T Z; otherwise ws.Minv_JT = M^-1 J^T and Lambda = J M^-1 J^T.
+// lower, with a pivot floor). With the tree factor M = L^T D L: Y = J L^-1 D^-1/2 (in ws.JLinv)
+// and Lambda = Y Y^T; otherwise ws.Minv_JT = M^-1 J^T and Lambda = J M^-1 J^T.
 void FactorDelassus(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int k,
                     double regularization) {
-  auto Z = ws.Minv_JT.leftCols(k);
-  Z = ws.J.topRows(k).transpose();
   auto A = ws.Lambda.topLeftCorner(k, k);
   FactorMassMatrix(model, ws, q);
   if (ws.use_tree_factor) {
-    SolveMassMatrixTransposeFactor(ws, Z);
-    for (int i = 0; i < model.nv(); ++i) Z.row(i) *= 1.0 / std::sqrt(ws.M_LTDL(i, i));
-    A.noalias() = Z.transpose() * Z;
+    auto Y = ws.JLinv.topRows(k);
+    Y = ws.J.topRows(k);
+    SolveMassMatrixFactorRows(ws, Y);
+    // Lambda = Y D^-1 Y^T, lower triangle (the Cholesky below reads only that).
+    const int nv = model.nv();
+    for (int i = 0; i < nv; ++i) Y.col(i) *= 1.0 / std::sqrt(ws.D[i]);
+    // As a sum of outer products over the columns of Y: the inner loop runs down contiguous columns of Y and A.
+    A.setZero();
+    const double* y = Y.data();
+    const Eigen::Index ld = Y.outerStride();
+    double* a = A.data();
+    const Eigen::Index lda = A.outerStride();
+    for (int c = 0; c < nv; ++c) {
+      const double* yc = y + c * ld;
+      for (int j = 0; j < k; ++j) {
+        const double yj = yc[j];
+        if (yj == 0.0) continue;
+        double* aj = a + j * lda;
+        for (int i = j; i < k; ++i) aj[i] += yc[i] * yj;
+      }
+    }
+    for (int j = 0; j < k; ++j)
+      for (int i = j + 1; i < k; ++i) A(j, i) = A(i, j);
   } else {
+    auto Z = ws.Minv_JT.leftCols(k);
+    Z = ws.J.topRows(k).transpose();
     SolveMassMatrix(model, ws, q, Z);
     A.noalias() = ws.J.topRows(k) * Z;
   }
@@ -145,33 +165,30 @@ void FactorDelassus(const MultibodyModel& model, MultibodyWorkspace& ws, const V
   if (!(mean_diag > 0.0)) mean_diag = 1.0;
   const double eps = regularization * mean_diag;
   const double floor = std::max(eps, 1e-300);
+  // Right-looking (column) Cholesky of A + eps I in place, lower triangle: the trailing update runs down contiguous
+  // columns. A pivot below the floor (a redundant row) is raised to it.
   auto L = ws.Lambda_L.topLeftCorner(k, k);
+  L.triangularView<Eigen::Lower>() = A.triangularView<Eigen::Lower>();
+  L.diagonal().array() += eps;
   for (int j = 0; j < k; ++j) {
-    double d = A(j, j) + eps;
-    for (int p = 0; p < j; ++p) d -= L(j, p) * L(j, p);
-    const double ljj = std::sqrt(std::max(d, floor));
+    const double ljj = std::sqrt(std::max(L(j, j), floor));
     L(j, j) = ljj;
-    for (int i = j + 1; i < k; ++i) {
-      double s = A(i, j);
-      for (int p = 0; p < j; ++p) s -= L(i, p) * L(j, p);
-      L(i, j) = s / ljj;
-    }
+    const int below = k - j - 1;
+    if (below == 0) break;
+    L.col(j).tail(below) /= ljj;
+    for (int c = j + 1; c < k; ++c) L.col(c).tail(k - c) -= L(c, j) * L.col(j).tail(k - c);
   }
 }
 
 // x <- (L L^T)^-1 x on the top k entries of x.
 void CholeskySolveInPlace(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::VectorXd> x, int k) {
   auto L = ws.Lambda_L.topLeftCorner(k, k);
-  for (int i = 0; i < k; ++i) {
-    double s = x[i];
-    for (int p = 0; p < i; ++p) s -= L(i, p) * x[p];
-    x[i] = s / L(i, i);
+  for (int i = 0; i < k; ++i) {  // L y = x, by columns
+    x[i] /= L(i, i);
+    x.segment(i + 1, k - i - 1) -= x[i] * L.col(i).tail(k - i - 1);
   }
-  for (int i = k - 1; i >= 0; --i) {
-    double s = x[i];
-    for (int p = i + 1; p < k; ++p) s -= L(p, i) * x[p];
-    x[i] = s / L(i, i);
-  }
+  for (int i = k - 1; i >= 0; --i)  // L^T x = y
+    x[i] = (x[i] - L.col(i).tail(k - i - 1).dot(x.segment(i + 1, k - i - 1))) / L(i, i);
 }
 
 // Solves Lambda x = ws.rhs (top k) into ws.lambda_sol: regularised solve plus iterative

@@ -165,20 +165,32 @@ void FactorMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const
   if (ws.valid.M_factor) return;
   const int nv = model.nv();
   if (ws.use_tree_factor) {
-    // LTDL (Featherstone, RBDA Table 6.3): M = L^T D L, fill-in confined to ancestor pairs.
-    const std::vector<int>& lambda = ws.dof_parent;
-    Eigen::MatrixXd& H = ws.M_LTDL;
-    H.triangularView<Eigen::Lower>() = ws.M.triangularView<Eigen::Lower>();
+    // LTDL (Featherstone, RBDA Table 6.3): M = L^T D L, fill-in confined to ancestor pairs. Row k of L is packed over
+    // the ancestors of k (nearest first); the row of its m-th ancestor i covers exactly the ancestors after position m,
+    // so H(i, j) -= a H(k, j) over the ancestors j of i is one contiguous axpy.
+    const int* begin = ws.ancestor_begin.data();
+    const int* index = ws.ancestor_index.data();
+    double* L = ws.L_packed.data();
+    double* D = ws.D.data();
+    for (int k = 0; k < nv; ++k) {
+      D[k] = ws.M(k, k);
+      for (int m = begin[k]; m < begin[k + 1]; ++m) L[m] = ws.M(k, index[m]);
+    }
     for (int k = nv - 1; k >= 0; --k) {
-      const double Hkk = H(k, k);
-      if (!(Hkk > 0.0))
-        throw std::runtime_error("robot '" + model.name() +
-                                 "': mass matrix is not positive definite (pivot " +
-                                 std::to_string(Hkk) + " at dof " + std::to_string(k) + ")");
-      for (int i = lambda[k]; i >= 0; i = lambda[i]) {
-        const double a = H(k, i) / Hkk;
-        for (int j = i; j >= 0; j = lambda[j]) H(i, j) -= a * H(k, j);
-        H(k, i) = a;
+      const double Dk = D[k];
+      if (!(Dk > 0.0))
+        throw std::runtime_error("robot '" + model.name() + "': mass matrix is not positive definite (pivot " + std::to_string(Dk) +
+                                 " at dof " + std::to_string(k) + ")");
+      double* Lk = L + begin[k];
+      const int nk = begin[k + 1] - begin[k];
+      for (int m = 0; m < nk; ++m) {
+        const int i = index[begin[k] + m];
+        const double a = Lk[m] / Dk;
+        D[i] -= a * Lk[m];
+        double* Li = L + begin[i];  // nk - m - 1 entries: the ancestors of i
+        const double* Lk_tail = Lk + m + 1;
+        for (int p = 0; p < nk - m - 1; ++p) Li[p] -= a * Lk_tail[p];
+        Lk[m] = a;
       }
     }
   } else {
@@ -190,16 +202,35 @@ void FactorMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const
 }
 
 void SolveMassMatrixTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> inout) {
-  const std::vector<int>& lambda = ws.dof_parent;
-  const Eigen::MatrixXd& H = ws.M_LTDL;
-  const int nv = static_cast<int>(H.rows());
+  const int* begin = ws.ancestor_begin.data();
+  const int* index = ws.ancestor_index.data();
+  const double* L = ws.L_packed.data();
+  const int nv = static_cast<int>(ws.D.size());
   for (Eigen::Index c = 0; c < inout.cols(); ++c) {
     double* x = inout.col(c).data();
     // L^T y = b, leaves to root; zero entries (other branches) cost nothing.
     for (int i = nv - 1; i >= 0; --i) {
       const double xi = x[i];
       if (xi == 0.0) continue;
-      for (int j = lambda[i]; j >= 0; j = lambda[j]) x[j] -= H(i, j) * xi;
+      for (int m = begin[i]; m < begin[i + 1]; ++m) x[index[m]] -= L[m] * xi;
+    }
+  }
+}
+
+void SolveMassMatrixFactorRows(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows) {
+  const int* begin = ws.ancestor_begin.data();
+  const int* index = ws.ancestor_index.data();
+  const double* L = ws.L_packed.data();
+  const int nv = static_cast<int>(ws.D.size());
+  // Y L = R, leaves to root: column i of Y is final once its descendants are done; it then leaves its ancestors.
+  const Eigen::Index n = rows.rows(), stride = rows.outerStride();
+  double* Y = rows.data();
+  for (int i = nv - 1; i >= 0; --i) {
+    const double* yi = Y + i * stride;
+    for (int m = begin[i]; m < begin[i + 1]; ++m) {
+      double* yj = Y + index[m] * stride;
+      const double l = L[m];
+      for (Eigen::Index r = 0; r < n; ++r) yj[r] -= l * yi[r];
     }
   }
 }
@@ -214,15 +245,16 @@ void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const 
   }
   SolveMassMatrixTransposeFactor(ws, inout);
   const int nv = model.nv();
-  const std::vector<int>& lambda = ws.dof_parent;
-  const Eigen::MatrixXd& H = ws.M_LTDL;
+  const int* begin = ws.ancestor_begin.data();
+  const int* index = ws.ancestor_index.data();
+  const double* L = ws.L_packed.data();
+  const double* D = ws.D.data();
   for (Eigen::Index c = 0; c < inout.cols(); ++c) {
     double* x = inout.col(c).data();
     // y <- D^-1 y, then L x = y (root to leaves).
-    for (int i = 0; i < nv; ++i) x[i] /= H(i, i);
     for (int i = 0; i < nv; ++i) {
-      double xi = x[i];
-      for (int j = lambda[i]; j >= 0; j = lambda[j]) xi -= H(i, j) * x[j];
+      double xi = x[i] / D[i];
+      for (int m = begin[i]; m < begin[i + 1]; ++m) xi -= L[m] * x[index[m]];
       x[i] = xi;
     }
   }

@@ -35,13 +35,16 @@ void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
 // LTDL; dense Cholesky if the dof order is not parent-first). Faster for many columns.
 void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
                      Eigen::Ref<Eigen::MatrixXd> inout);
-// Computes (once per q) the factor used by SolveMassMatrix: ws.M_LTDL (M = L^T D L) when
+// Computes (once per q) the factor used by SolveMassMatrix: ws.L_packed and ws.D (M = L^T D L) when
 // ws.use_tree_factor, else the dense Cholesky ws.M_llt. Throws std::runtime_error if M is not
 // positive definite.
 void FactorMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q);
 // inout <- L^-T inout with the tree factor (requires FactorMassMatrix and ws.use_tree_factor).
 // Then J M^-1 J^T = Y^T D^-1 Y with Y = L^-T J^T.
 void SolveMassMatrixTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> inout);
+// rows <- rows L^-1 (the transpose of L^-T rows^T) with the tree factor, for a few rows of length nv: each step is an
+// axpy over the rows (requires FactorMassMatrix and ws.use_tree_factor).
+void SolveMassMatrixFactorRows(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows);
 
 // Forward dynamics with Bullet's ABA: qdd = M^-1 (B u + tau_spring + tau_ext - h).
 // tau_ext may be empty (size 0) for none.

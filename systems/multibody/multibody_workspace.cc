@@ -1,6 +1,7 @@
 #include "systems/multibody/multibody_workspace.h"
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -19,14 +20,15 @@ MultibodyWorkspace::MultibodyWorkspace(MultibodyWorkspace&&) noexcept = default;
 MultibodyWorkspace& MultibodyWorkspace::operator=(MultibodyWorkspace&&) noexcept = default;
 
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
-    : valid(), M(other.M), M_LTDL(other.M_LTDL), dof_parent(other.dof_parent),
+    : valid(), M(other.M), dof_parent(other.dof_parent), ancestor_begin(other.ancestor_begin),
+      ancestor_index(other.ancestor_index), L_packed(other.L_packed), D(other.D),
       use_tree_factor(other.use_tree_factor), M_llt(other.M_llt), h(other.h), tau_spring(other.tau_spring),
       tmp_nv(other.tmp_nv), tmp2_nv(other.tmp2_nv), tau_total(other.tau_total), f_(other.f_),
       bullet_in(other.bullet_in), bullet_out(other.bullet_out),
       armature_dofs(other.armature_dofs), Minv_P(other.Minv_P),
       armature_system(other.armature_system), armature_llt(other.armature_llt),
       armature_y(other.armature_y), J(other.J), Jdot_qdot(other.Jdot_qdot), phi(other.phi),
-      Minv_JT(other.Minv_JT), Lambda(other.Lambda), Lambda_L(other.Lambda_L), rhs(other.rhs),
+      Minv_JT(other.Minv_JT), JLinv(other.JLinv), Lambda(other.Lambda), Lambda_L(other.Lambda_L), rhs(other.rhs),
       lambda_sol(other.lambda_sol), residual(other.residual),
       J_point(other.J_point), bodies_(other.bodies_), q_(other.q_), v_(other.v_),
       has_q_(false), has_v_(false), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
@@ -59,7 +61,6 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   Ic_.assign(nb, SpatialInertia());
   M.setZero(nv, nv);
   M_llt.compute(Eigen::MatrixXd::Identity(nv, nv));  // sizes the factor storage once
-  M_LTDL.setZero(nv, nv);
   dof_parent.assign(nv, -1);
   use_tree_factor = true;
   {
@@ -73,6 +74,15 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
       if (dof_parent[k] >= k) use_tree_factor = false;
     }
   }
+  ancestor_begin.assign(1, 0);
+  ancestor_index.clear();
+  for (int k = 0; k < nv; ++k) {
+    if (use_tree_factor)
+      for (int j = dof_parent[k]; j >= 0; j = dof_parent[j]) ancestor_index.push_back(j);
+    ancestor_begin.push_back(static_cast<int>(ancestor_index.size()));
+  }
+  L_packed.setZero(static_cast<Eigen::Index>(ancestor_index.size()));
+  D.setOnes(nv);
   h.setZero(nv);
   tau_spring.setZero(nv);
   tmp_nv.setZero(nv);
@@ -92,6 +102,7 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   Jdot_qdot.setZero(rows);
   phi.setZero(rows);
   Minv_JT.setZero(nv, rows);
+  JLinv.setZero(rows, nv);
   Lambda.setZero(rows, rows);
   Lambda_L.setZero(rows, rows);
   rhs.setZero(rows);
@@ -131,7 +142,8 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
     throw std::invalid_argument("robot '" + model.name() + "': q has size " +
                                 std::to_string(q.size()) + ", expected nq = " +
                                 std::to_string(model.nq()));
-  if (has_q_ && q == q_) return;
+  // Bitwise compare (memcmp beats an element-wise == loop; -0.0 vs 0.0 or NaNs only cost a recomputation).
+  if (has_q_ && std::memcmp(q.data(), q_.data(), sizeof(double) * q_.size()) == 0) return;
   q_ = q;
   has_q_ = true;
   has_v_ = false;  // velocity kinematics depend on q
@@ -264,7 +276,7 @@ void MultibodyWorkspace::SetVelocities(const MultibodyModel& model,
     throw std::invalid_argument("robot '" + model.name() + "': v has size " +
                                 std::to_string(v.size()) + ", expected nv = " +
                                 std::to_string(model.nv()));
-  if (has_v_ && v == v_) return;
+  if (has_v_ && std::memcmp(v.data(), v_.data(), sizeof(double) * v_.size()) == 0) return;
   v_ = v;
   has_v_ = true;
   valid.h = false;

@@ -109,8 +109,15 @@ class MultibodyWorkspace {
   // L_ki != 0 only for dof i an ancestor of dof k (stored below the diagonal), D on the
   // diagonal. Used when every dof's parent dof has a smaller index (dof_parent[k] < k);
   // otherwise the dense Cholesky M_llt is used.
-  Eigen::MatrixXd M_LTDL;         // nv x nv
   std::vector<int> dof_parent;    // nearest ancestor dof of each dof, -1 for none
+  // Tree factor M = L^T D L (Featherstone's LTDL), packed by rows: row k of L holds one entry per ancestor dof of k,
+  // nearest first: L(k, ancestor_index[j]) = L_packed[j] for j in [ancestor_begin[k], ancestor_begin[k + 1]). The
+  // ancestors of the m-th ancestor of k are the entries after it, so the factorisation's inner loops run over
+  // contiguous memory.
+  std::vector<int> ancestor_begin;  // nv + 1
+  std::vector<int> ancestor_index;
+  Eigen::VectorXd L_packed;         // ancestor_index.size()
+  Eigen::VectorXd D;                // nv
   bool use_tree_factor = false;
   Eigen::LLT<Eigen::MatrixXd> M_llt;
   Eigen::VectorXd h;              // nv: C v + g
@@ -130,7 +137,8 @@ class MultibodyWorkspace {
   Eigen::MatrixXd J;          // rows x nv
   Eigen::VectorXd Jdot_qdot;  // rows
   Eigen::VectorXd phi;        // rows (position error; zero for contact rows)
-  Eigen::MatrixXd Minv_JT;    // nv x rows: D^-1/2 L^-T J^T (tree factor) or M^-1 J^T (dense)
+  Eigen::MatrixXd Minv_JT;    // nv x rows: M^-1 J^T (dense factor only)
+  Eigen::MatrixXd JLinv;      // rows x nv: J L^-1 D^-1/2 (tree factor only)
   Eigen::MatrixXd Lambda;     // rows x rows: J M^-1 J^T
   Eigen::MatrixXd Lambda_L;   // rows x rows: Cholesky factor of J M^-1 J^T + eps I
   Eigen::VectorXd rhs, lambda_sol, residual;
