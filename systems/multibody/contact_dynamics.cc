@@ -32,31 +32,50 @@ void LineNormals(const Eigen::Vector3d& d, Eigen::Vector3d& n1, Eigen::Vector3d&
   n1 = d.cross(n2);
 }
 
+// Rows row0 .. row0 + R − 1 of ws.J += W J_p, with J_p the 3 x nv Jacobian of the world point p_world fixed on `body`
+// (ws.SetPositions done). Only the columns of the body's support are touched.
+template <int R>
+void AddWeightedPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, int body, const Eigen::Vector3d& p_world,
+                              const Eigen::Matrix<double, R, 3>& W, int row0) {
+  const Eigen::Vector3d r = p_world - ws.reference_point();
+  for (int m = ws.support_begin[body]; m < ws.support_begin[body + 1]; ++m) {
+    const int b = ws.support_body[m];
+    const Vector6d& S = ws.S(b);
+    const Eigen::Vector3d column = S.tail<3>() + S.head<3>().cross(r);
+    ws.J.block<R, 1>(row0, model.body(b).v_index) += W * column;
+  }
+}
+
+Eigen::Vector3d WorldPoint(const MultibodyWorkspace& ws, int body, const Eigen::Vector3d& p_link) {
+  return ws.p_world_link(body) + ws.R_world_link(body) * p_link;
+}
+
 // Fills ws.J, ws.phi and (if v) ws.Jdot_qdot. Returns the number of rows.
 int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
                        const VectorRef* v, ContactSet active) {
-  CheckActive(model, active);
+  const int rows = CountConstraintRows(model, active);  // also checks `active`
   ws.SetPositions(model, q);
   if (v) ws.SetVelocities(model, *v);
+  ws.J.topRows(rows).setZero();
   const bool planar = model.is_planar();
   auto J6 = ws.J_point.topRows(6);
-  auto J3 = ws.J_point.topRows(3);
   int row = 0;
   for (int c = 0; c < model.num_contacts(); ++c) {
     if (!(active & ContactBit(c))) continue;
     const ContactInfo& info = model.contacts()[c];
     const int body = info.body;
     if (info.type == ContactType::kPoint) {
-      CalcPointJacobian(model, ws, q, body, info.points[0], J3);
+      const Eigen::Vector3d p = WorldPoint(ws, body, info.points[0]);
       Eigen::Vector3d Jd = Eigen::Vector3d::Zero();
       if (v) Jd = CalcPointJdotQdot(model, ws, q, *v, body, info.points[0]);
       if (planar) {
-        ws.J.row(row) = J3.row(0);
-        ws.J.row(row + 1) = J3.row(2);
+        Eigen::Matrix<double, 2, 3> W;
+        W << 1, 0, 0, 0, 0, 1;  // x and z
+        AddWeightedPointJacobian<2>(model, ws, body, p, W, row);
         ws.Jdot_qdot[row] = Jd.x();
         ws.Jdot_qdot[row + 1] = Jd.z();
       } else {
-        ws.J.middleRows(row, 3) = J3;
+        AddWeightedPointJacobian<3>(model, ws, body, p, Eigen::Matrix3d::Identity(), row);
         ws.Jdot_qdot.segment<3>(row) = Jd;
       }
     } else if (planar) {
@@ -69,16 +88,15 @@ int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, cons
         ws.Jdot_qdot[row + r] = Jd[sel[r]];
       }
     } else if (info.type == ContactType::kLine) {
-      CalcPointJacobian(model, ws, q, body, info.points[0], J3);
-      ws.J.middleRows(row, 3) = J3;
+      AddWeightedPointJacobian<3>(model, ws, body, WorldPoint(ws, body, info.points[0]), Eigen::Matrix3d::Identity(), row);
       if (v) ws.Jdot_qdot.segment<3>(row) = CalcPointJdotQdot(model, ws, q, *v, body, info.points[0]);
       const Eigen::Vector3d d =
           (ws.R_world_link(body) * (info.points[1] - info.points[0])).normalized();
       Eigen::Vector3d n1, n2;
       LineNormals(d, n1, n2);
-      CalcPointJacobian(model, ws, q, body, info.points[1], J3);
-      ws.J.row(row + 3).noalias() = n1.transpose() * J3;
-      ws.J.row(row + 4).noalias() = n2.transpose() * J3;
+      Eigen::Matrix<double, 2, 3> W;
+      W << n1.transpose(), n2.transpose();
+      AddWeightedPointJacobian<2>(model, ws, body, WorldPoint(ws, body, info.points[1]), W, row + 3);
       if (v) {
         const Eigen::Vector3d Jd = CalcPointJdotQdot(model, ws, q, *v, body, info.points[1]);
         ws.Jdot_qdot[row + 3] = n1.dot(Jd);
@@ -105,10 +123,8 @@ int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, cons
                                "' has coincident end points");
     const Eigen::Vector3d u = d / dist;
     ws.phi[row] = dist - loop.distance_m;
-    CalcPointJacobian(model, ws, q, loop.body_a, loop.point_a, J3);
-    ws.J.row(row).noalias() = u.transpose() * J3;
-    CalcPointJacobian(model, ws, q, loop.body_b, loop.point_b, J3);
-    ws.J.row(row).noalias() -= u.transpose() * J3;
+    AddWeightedPointJacobian<1>(model, ws, loop.body_a, pa, u.transpose(), row);
+    AddWeightedPointJacobian<1>(model, ws, loop.body_b, pb, -u.transpose(), row);
     if (v) {
       const Eigen::Vector3d dd = CalcPointVelocity(model, ws, q, *v, loop.body_a, loop.point_a) -
                                  CalcPointVelocity(model, ws, q, *v, loop.body_b, loop.point_b);

@@ -243,8 +243,32 @@ void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const 
     ws.M_llt.solveInPlace(inout);
     return;
   }
-  SolveMassMatrixTransposeFactor(ws, inout);
   const int nv = model.nv();
+  if (inout.cols() >= 4 && inout.cols() <= ws.solve_rows.rows()) {
+    // Several columns: solve X^T M^-1 = X^T L^-1 D^-1 L^-T on the transpose, where every step is an axpy over the
+    // columns' entries of one dof (contiguous) instead of a scalar loop per column.
+    auto Y = ws.solve_rows.topRows(inout.cols());
+    Y = inout.transpose();
+    SolveMassMatrixFactorRows(ws, Y);
+    const int* begin = ws.ancestor_begin.data();
+    const int* index = ws.ancestor_index.data();
+    const double* L = ws.L_packed.data();
+    const Eigen::Index n = Y.rows(), stride = Y.outerStride();
+    double* y = Y.data();
+    for (int i = 0; i < nv; ++i) {  // Z L^T = Y D^-1, root to leaves
+      double* yi = y + i * stride;
+      const double d = 1.0 / ws.D[i];
+      for (Eigen::Index r = 0; r < n; ++r) yi[r] *= d;
+      for (int m = begin[i]; m < begin[i + 1]; ++m) {
+        const double* yj = y + index[m] * stride;
+        const double l = L[m];
+        for (Eigen::Index r = 0; r < n; ++r) yi[r] -= l * yj[r];
+      }
+    }
+    inout = Y.transpose();
+    return;
+  }
+  SolveMassMatrixTransposeFactor(ws, inout);
   const int* begin = ws.ancestor_begin.data();
   const int* index = ws.ancestor_index.data();
   const double* L = ws.L_packed.data();

@@ -83,11 +83,10 @@ void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, cons
   ws.SetPositions(model, q);
   J.setZero();
   const Eigen::Vector3d r = ws.p_world_link(body) + ws.R_world_link(body) * p_link - ws.reference_point();
-  for (int b = body; b >= 0; b = model.body(b).parent) {
-    const int k = model.body(b).v_index;
-    if (k < 0) continue;
+  for (int m = ws.support_begin[body]; m < ws.support_begin[body + 1]; ++m) {
+    const int b = ws.support_body[m];
     const Vector6d& S = ws.S(b);
-    J.col(k) = S.tail<3>() + S.head<3>().cross(r);
+    J.col(model.body(b).v_index) = S.tail<3>() + S.head<3>().cross(r);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "systems/multibody/multibody_workspace.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -20,7 +21,8 @@ MultibodyWorkspace::MultibodyWorkspace(MultibodyWorkspace&&) noexcept = default;
 MultibodyWorkspace& MultibodyWorkspace::operator=(MultibodyWorkspace&&) noexcept = default;
 
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
-    : valid(), M(other.M), dof_parent(other.dof_parent), ancestor_begin(other.ancestor_begin),
+    : valid(), M(other.M), dof_parent(other.dof_parent), support_begin(other.support_begin),
+      support_body(other.support_body), ancestor_begin(other.ancestor_begin),
       ancestor_index(other.ancestor_index), L_packed(other.L_packed), D(other.D),
       use_tree_factor(other.use_tree_factor), M_llt(other.M_llt), h(other.h), tau_spring(other.tau_spring),
       tmp_nv(other.tmp_nv), tmp2_nv(other.tmp2_nv), tau_total(other.tau_total), f_(other.f_),
@@ -28,10 +30,11 @@ MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
       armature_dofs(other.armature_dofs), Minv_P(other.Minv_P),
       armature_system(other.armature_system), armature_llt(other.armature_llt),
       armature_y(other.armature_y), J(other.J), Jdot_qdot(other.Jdot_qdot), phi(other.phi),
-      Minv_JT(other.Minv_JT), JLinv(other.JLinv), Lambda(other.Lambda), Lambda_L(other.Lambda_L), rhs(other.rhs),
+      Minv_JT(other.Minv_JT), JLinv(other.JLinv), solve_rows(other.solve_rows), Lambda(other.Lambda), Lambda_L(other.Lambda_L), rhs(other.rhs),
       lambda_sol(other.lambda_sol), residual(other.residual),
       J_point(other.J_point), bodies_(other.bodies_), q_(other.q_), v_(other.v_),
-      has_q_(false), has_v_(false), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
+      has_q_(false), has_v_(false), axis_index_(other.axis_index_), axis_sign_(other.axis_sign_),
+      joint_rotation_identity_(other.joint_rotation_identity_), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
       c_w_(other.c_w_), S_(other.S_), V_(other.V_), A_bias_(other.A_bias_), I_(other.I_),
       Ic_(other.Ic_) {}
 
@@ -74,6 +77,25 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
       if (dof_parent[k] >= k) use_tree_factor = false;
     }
   }
+  axis_index_.assign(nb, -1);
+  axis_sign_.assign(nb, 1.0);
+  joint_rotation_identity_.assign(nb, 0);
+  for (int i = 0; i < nb; ++i) {
+    const MultibodyBody& b = (*bodies_)[i];
+    for (int j = 0; j < 3; ++j)
+      if (std::abs(b.axis[j]) == 1.0 && b.axis[(j + 1) % 3] == 0.0 && b.axis[(j + 2) % 3] == 0.0) {
+        axis_index_[i] = j;
+        axis_sign_[i] = b.axis[j];
+      }
+    joint_rotation_identity_[i] = b.X_parent_joint.linear() == Eigen::Matrix3d::Identity();
+  }
+  support_begin.assign(1, 0);
+  support_body.clear();
+  for (int i = 0; i < nb; ++i) {
+    for (int b = i; b >= 0; b = (*bodies_)[b].parent)
+      if ((*bodies_)[b].v_index >= 0) support_body.push_back(b);
+    support_begin.push_back(static_cast<int>(support_body.size()));
+  }
   ancestor_begin.assign(1, 0);
   ancestor_index.clear();
   for (int k = 0; k < nv; ++k) {
@@ -103,6 +125,7 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   phi.setZero(rows);
   Minv_JT.setZero(nv, rows);
   JLinv.setZero(rows, nv);
+  solve_rows.setZero(std::max({nv, model.nu(), rows}), nv);
   Lambda.setZero(rows, rows);
   Lambda_L.setZero(rows, rows);
   rhs.setZero(rows);
@@ -164,7 +187,10 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
     Eigen::Matrix3d R_wj;  // joint frame at q = 0 in world
     Eigen::Vector3d p_wj;
     if (p >= 0) {
-      R_wj.noalias() = R_wl_[p].lazyProduct(R_pj);
+      if (joint_rotation_identity_[i])
+        R_wj = R_wl_[p];
+      else
+        R_wj.noalias() = R_wl_[p].lazyProduct(R_pj);
       p_wj.noalias() = R_wl_[p] * t_pj;
       p_wj += p_wl_[p];
     } else {
@@ -174,6 +200,16 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
     const double qi = b.v_index >= 0 ? q_[b.v_index] : 0.0;
     switch (b.joint_type) {
       case MultibodyJointType::kRevolute: {
+        if (axis_index_[i] >= 0) {
+          // About ±e_a: columns a+1, a+2 (cyclic) turn by the angle ±q in their plane; column a stays.
+          const int a = axis_index_[i], a1 = (a + 1) % 3, a2 = (a + 2) % 3;
+          const double s = std::sin(axis_sign_[i] * qi), c = std::cos(qi);
+          R_wl_[i].col(a) = R_wj.col(a);
+          R_wl_[i].col(a1) = c * R_wj.col(a1) + s * R_wj.col(a2);
+          R_wl_[i].col(a2) = c * R_wj.col(a2) - s * R_wj.col(a1);
+          p_wl_[i] = p_wj;
+          break;
+        }
         // Rodrigues: R_axis(q) = cos q I + sin q [a]x + (1 - cos q) a a^T, so with w = R_wj a
         // column j of R_wj R_axis is cos q r_j + sin q (w x r_j) + (1 - cos q) a_j w.
         const double s = std::sin(qi), c = std::cos(qi), c1 = 1.0 - c;
@@ -203,7 +239,7 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
   for (int i = 0; i < nb; ++i) {
     const MultibodyBody& b = bodies[i];
     // Motion subspace in world axes at O.
-    const Eigen::Vector3d axis = R_wl_[i] * b.axis;
+    const Eigen::Vector3d axis = axis_index_[i] >= 0 ? Eigen::Vector3d(axis_sign_[i] * R_wl_[i].col(axis_index_[i])) : Eigen::Vector3d(R_wl_[i] * b.axis);
     switch (b.joint_type) {
       case MultibodyJointType::kRevolute:
         S_[i].head<3>() = axis;

@@ -110,6 +110,10 @@ class MultibodyWorkspace {
   // diagonal. Used when every dof's parent dof has a smaller index (dof_parent[k] < k);
   // otherwise the dense Cholesky M_llt is used.
   std::vector<int> dof_parent;    // nearest ancestor dof of each dof, -1 for none
+  // The bodies with a dof on the path from each body to the root (the body first): those of body b are
+  // support_body[support_begin[b] .. support_begin[b + 1]). A point Jacobian of b has columns only there.
+  std::vector<int> support_begin;   // num_bodies + 1
+  std::vector<int> support_body;
   // Tree factor M = L^T D L (Featherstone's LTDL), packed by rows: row k of L holds one entry per ancestor dof of k,
   // nearest first: L(k, ancestor_index[j]) = L_packed[j] for j in [ancestor_begin[k], ancestor_begin[k + 1]). The
   // ancestors of the m-th ancestor of k are the entries after it, so the factorisation's inner loops run over
@@ -139,6 +143,7 @@ class MultibodyWorkspace {
   Eigen::VectorXd phi;        // rows (position error; zero for contact rows)
   Eigen::MatrixXd Minv_JT;    // nv x rows: M^-1 J^T (dense factor only)
   Eigen::MatrixXd JLinv;      // rows x nv: J L^-1 D^-1/2 (tree factor only)
+  Eigen::MatrixXd solve_rows;  // max(nv, nu, rows) x nv: SolveMassMatrix's transposed operand (tree factor)
   Eigen::MatrixXd Lambda;     // rows x rows: J M^-1 J^T
   Eigen::MatrixXd Lambda_L;   // rows x rows: Cholesky factor of J M^-1 J^T + eps I
   Eigen::VectorXd rhs, lambda_sol, residual;
@@ -155,6 +160,11 @@ class MultibodyWorkspace {
 
   Eigen::VectorXd q_, v_;
   bool has_q_ = false, has_v_ = false;
+  // Per body, for the forward kinematics: the joint axis as ±(unit axis axis_index_) when it is one (else −1), and
+  // whether the joint frame's rotation in the parent is the identity.
+  std::vector<int> axis_index_;
+  std::vector<double> axis_sign_;
+  std::vector<char> joint_rotation_identity_;
   Eigen::Vector3d O_ = Eigen::Vector3d::Zero();
   std::vector<Eigen::Matrix3d> R_wl_;
   std::vector<Eigen::Vector3d> p_wl_, c_w_;
