@@ -442,7 +442,10 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     // ½ ρ ||A_eq x − b_eq||²: zero on the feasible set, so the optimum is unchanged, but it gives H curvature along F
     // (the output cost sees F only through the outputs), so H is positive definite and needs no proximal iterations.
     const double rho = scale / std::max(mq.Lambda.diagonal().maxCoeff() * mq.Lambda.diagonal().maxCoeff(), 1e-300);
-    qp.H.topLeftCorner(nu + rows, nu + rows).noalias() += rho * qp.A_eq.leftCols(nu + rows).transpose().lazyProduct(qp.A_eq.leftCols(nu + rows));
+    // Symmetric rank update of the lower triangle, then mirrored (H was symmetric before).
+    auto Hn = qp.H.topLeftCorner(nu + rows, nu + rows);
+    Hn.selfadjointView<Eigen::Lower>().rankUpdate(qp.A_eq.leftCols(nu + rows).transpose(), rho);
+    Hn.triangularView<Eigen::StrictlyUpper>() = Hn.transpose();
     qp.g.head(nu + rows).noalias() -= rho * (qp.A_eq.leftCols(nu + rows).transpose() * qp.b_eq);
   }
 

@@ -7,6 +7,14 @@
 
 #include "systems/multibody/bullet_scratch.h"
 
+// The loops over rows of a few entries (SolveMassMatrixFactorRows, SolveRowsDiagonalAndTransposeFactor) are compiled twice with GCC on x86-64: for
+// x86-64-v3 (AVX2/FMA) and the baseline, and the loader picks one (as solvers/qp's kernels do). They call nothing.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROME_QP_NO_TARGET_CLONES)
+#define ROME_MULTIBODY_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define ROME_MULTIBODY_HOT
+#endif
+
 namespace rome {
 
 namespace {
@@ -217,7 +225,32 @@ void SolveMassMatrixTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eig
   }
 }
 
-void SolveMassMatrixFactorRows(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows) {
+namespace {
+
+// rows <- rows D^-1 L^-T (Z L^T = Y D^-1, root to leaves), the last two steps of rows M^-1.
+ROME_MULTIBODY_HOT void SolveRowsDiagonalAndTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows) {
+  const int* begin = ws.ancestor_begin.data();
+  const int* index = ws.ancestor_index.data();
+  const double* L = ws.L_packed.data();
+  const double* D = ws.D.data();
+  const int nv = static_cast<int>(ws.D.size());
+  const Eigen::Index n = rows.rows(), stride = rows.outerStride();
+  double* y = rows.data();
+  for (int i = 0; i < nv; ++i) {
+    double* yi = y + i * stride;
+    const double d = 1.0 / D[i];
+    for (Eigen::Index r = 0; r < n; ++r) yi[r] *= d;
+    for (int m = begin[i]; m < begin[i + 1]; ++m) {
+      const double* yj = y + index[m] * stride;
+      const double l = L[m];
+      for (Eigen::Index r = 0; r < n; ++r) yi[r] -= l * yj[r];
+    }
+  }
+}
+
+}  // namespace
+
+ROME_MULTIBODY_HOT void SolveMassMatrixFactorRows(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows) {
   const int* begin = ws.ancestor_begin.data();
   const int* index = ws.ancestor_index.data();
   const double* L = ws.L_packed.data();
@@ -250,21 +283,7 @@ void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const 
     auto Y = ws.solve_rows.topRows(inout.cols());
     Y = inout.transpose();
     SolveMassMatrixFactorRows(ws, Y);
-    const int* begin = ws.ancestor_begin.data();
-    const int* index = ws.ancestor_index.data();
-    const double* L = ws.L_packed.data();
-    const Eigen::Index n = Y.rows(), stride = Y.outerStride();
-    double* y = Y.data();
-    for (int i = 0; i < nv; ++i) {  // Z L^T = Y D^-1, root to leaves
-      double* yi = y + i * stride;
-      const double d = 1.0 / ws.D[i];
-      for (Eigen::Index r = 0; r < n; ++r) yi[r] *= d;
-      for (int m = begin[i]; m < begin[i + 1]; ++m) {
-        const double* yj = y + index[m] * stride;
-        const double l = L[m];
-        for (Eigen::Index r = 0; r < n; ++r) yi[r] -= l * yj[r];
-      }
-    }
+    SolveRowsDiagonalAndTransposeFactor(ws, Y);
     inout = Y.transpose();
     return;
   }
