@@ -4,9 +4,9 @@
 //   scheme 0: CVODE BDF, rtol 1e-6, atol 1e-8 (the diagram's integrator before; a new finite-difference Jacobian at
 //             each of the 4 400 restarts the 2 kHz zero-order hold forces)
 //   scheme 1: ARKODE Dormand-Prince 5(4), same tolerances
-//   scheme 2: HoppingSimulatorConfig(): Bogacki-Shampine 3(2), same tolerances, restart_with_last_step
+//   scheme 2: HoppingSimulatorConfig(): Bogacki-Shampine 3(2), rtol 1e-5, atol 1e-7, restart_with_last_step
 // Counters: realtime_factor (simulated s per wall s), steps, rhs_evals (with the Jacobians'), jacobian_rhs_evals,
-// restarts, root_evals, air_time_s (all three agree to ~3e-5 s). One iteration each (a run takes 1-8 s):
+// restarts, root_evals, air_time_s (all three agree to ~1e-4 s). One iteration each (a run takes 0.5-8 s):
 //   ./hopping_benchmark
 #include <chrono>
 #include <memory>
