@@ -119,6 +119,7 @@ struct Simulator::Impl {
     A = nullptr;
     y = nullptr;
     ele = ewt = nullptr;
+    stop_step_h = 0.0;  // a re-created integrator starts with its own estimate
     sunctx = nullptr;
   }
 
@@ -342,9 +343,12 @@ SimulatorStatus Simulator::Initialize() {
     // Dormand-Prince 5(4) or Bogacki-Shampine 3(2), error-controlled; one-step, so a restart at every sample costs
     // nothing extra.
     m.mem = ERKStepCreate(&SimulatorCallbacks::Rhs, t0, m.y, m.sunctx);
-    m.ele = N_VClone(m.y);
-    m.ewt = N_VClone(m.y);
     if (!m.mem) throw std::runtime_error("Simulator: ERKStepCreate failed");
+    if (config_.restart_with_last_step) {
+      m.ele = N_VClone(m.y);
+      m.ewt = N_VClone(m.y);
+      if (!m.ele || !m.ewt) throw std::runtime_error("Simulator: N_VClone failed");
+    }
     ERKStepSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
     ERKStepSetTableNum(m.mem, config_.explicit_rk_method == ExplicitRungeKuttaMethod::kBogackiShampine32 ? ARKODE_BOGACKI_SHAMPINE_4_2_3
                                                                                                     : ARKODE_DORMAND_PRINCE_7_4_5);

@@ -7,8 +7,10 @@
 
 #include "systems/multibody/bullet_scratch.h"
 
-// The loops over rows of a few entries (SolveMassMatrixFactorRows, SolveRowsDiagonalAndTransposeFactor) are compiled twice with GCC on x86-64: for
-// x86-64-v3 (AVX2/FMA) and the baseline, and the loader picks one (as solvers/qp's kernels do). They call nothing.
+// The loops over rows of a few entries (SolveMassMatrixFactorRows, SolveRowsDiagonalAndTransposeFactor) are compiled
+// twice with GCC on x86-64: for x86-64-v3 (AVX2/FMA) and the baseline, and the loader picks one (as solvers/qp's
+// kernels do). They call nothing. The AVX2 clone contracts multiply-adds into FMAs, so results differ in the last bits
+// between machines (and M^-1 of one column, divided by D, from that of several, multiplied by 1/D).
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ROME_QP_NO_TARGET_CLONES)
 #define ROME_MULTIBODY_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else

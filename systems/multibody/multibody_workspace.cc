@@ -165,8 +165,9 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
     throw std::invalid_argument("robot '" + model.name() + "': q has size " +
                                 std::to_string(q.size()) + ", expected nq = " +
                                 std::to_string(model.nq()));
-  // Bitwise compare (memcmp beats an element-wise == loop; -0.0 vs 0.0 or NaNs only cost a recomputation).
-  if (has_q_ && std::memcmp(q.data(), q_.data(), sizeof(double) * q_.size()) == 0) return;
+  // Bitwise compare (memcmp beats an element-wise == loop). -0.0 against 0.0 only costs a recomputation; the same NaN
+  // bits count as unchanged (== recomputed them), which is harmless: the results would be the same NaNs.
+  if (has_q_ && (q_.size() == 0 || std::memcmp(q.data(), q_.data(), sizeof(double) * q_.size()) == 0)) return;  // no dof: null data
   q_ = q;
   has_q_ = true;
   has_v_ = false;  // velocity kinematics depend on q
@@ -312,7 +313,7 @@ void MultibodyWorkspace::SetVelocities(const MultibodyModel& model,
     throw std::invalid_argument("robot '" + model.name() + "': v has size " +
                                 std::to_string(v.size()) + ", expected nv = " +
                                 std::to_string(model.nv()));
-  if (has_v_ && std::memcmp(v.data(), v_.data(), sizeof(double) * v_.size()) == 0) return;
+  if (has_v_ && (v_.size() == 0 || std::memcmp(v.data(), v_.data(), sizeof(double) * v_.size()) == 0)) return;
   v_ = v;
   has_v_ = true;
   valid.h = false;

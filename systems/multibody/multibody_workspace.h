@@ -105,16 +105,15 @@ class MultibodyWorkspace {
   } valid;
 
   Eigen::MatrixXd M;              // nv x nv
-  // Tree-sparse factor M = L^T D L (Featherstone's LTDL, RBDA 6.3): L unit lower triangular with
-  // L_ki != 0 only for dof i an ancestor of dof k (stored below the diagonal), D on the
-  // diagonal. Used when every dof's parent dof has a smaller index (dof_parent[k] < k);
-  // otherwise the dense Cholesky M_llt is used.
+  // The tree factor (below) is used when every dof's parent dof has a smaller index (dof_parent[k] < k); otherwise
+  // the dense Cholesky M_llt is used.
   std::vector<int> dof_parent;    // nearest ancestor dof of each dof, -1 for none
   // The bodies with a dof on the path from each body to the root (the body first): those of body b are
   // support_body[support_begin[b] .. support_begin[b + 1]). A point Jacobian of b has columns only there.
   std::vector<int> support_begin;   // num_bodies + 1
   std::vector<int> support_body;
-  // Tree factor M = L^T D L (Featherstone's LTDL), packed by rows: row k of L holds one entry per ancestor dof of k,
+  // Tree factor M = L^T D L (Featherstone's LTDL, RBDA 6.3; L unit lower triangular, L_ki != 0 only for dof i an
+  // ancestor of dof k), packed by rows: row k of L holds one entry per ancestor dof of k,
   // nearest first: L(k, ancestor_index[j]) = L_packed[j] for j in [ancestor_begin[k], ancestor_begin[k + 1]). The
   // ancestors of the m-th ancestor of k are the entries after it, so the factorisation's inner loops run over
   // contiguous memory.
