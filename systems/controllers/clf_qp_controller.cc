@@ -73,6 +73,11 @@ struct ClfQpController::Scratch {
   Eigen::MatrixXd MinvB, Jy, JyMinvB;
   Eigen::VectorXd rhs_free, minv_rhs, qdd0, y, Jdv, Mb;
   int last_mode = 0;
+  // force_band_loading_floor_N: each contact's band reference at the last two update instants, and whether it was in
+  // the mode then (a contact is loading when it was not, or its reference did not fall).
+  Eigen::VectorXd band_ref_prev, band_ref_cur;
+  ContactSet band_active_prev = 0, band_active_cur = 0;
+  double band_time = -std::numeric_limits<double>::infinity();
 };
 
 ClfQpController::ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
@@ -88,6 +93,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   positive(params_.epsilon, "epsilon");
   positive(params_.relaxation_weight, "relaxation_weight");
   if (!(params_.u_regularization >= 0.0)) ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
+  if (!(params_.force_band_loading_floor_N >= 0.0) || !std::isfinite(params_.force_band_loading_floor_N))
+    ThrowError("params.force_band_loading_floor_N = " + std::to_string(params_.force_band_loading_floor_N) + " must be >= 0 N and finite");
   if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
     ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
   if (params_.predict_hold_drift && params_.formulation != ClfQpFormulation::kEliminateContactForces)
@@ -190,6 +197,8 @@ std::any ClfQpController::AllocateScratch() const {
   s.rhs_free.setZero(nv);
   s.minv_rhs.setZero(nv);
   s.qdd0.setZero(nv);
+  s.band_ref_prev.setZero(model.num_contacts());
+  s.band_ref_cur.setZero(model.num_contacts());
   s.y.setZero(std::max(ny_, 1));
   s.Jdv.setZero(std::max(ny_, 1));
   s.Mb.setZero(nv);
@@ -479,6 +488,12 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     for (const ContactWrenchConstraints& cw : mq.wrench) active_ref += std::max((*force_ref)[cw.contact()], 0.0);
     inactive_ref -= active_ref;
   }
+  if (force_ref != nullptr && context.time() != s.band_time) {  // a new update instant (fallback re-solves share one)
+    s.band_ref_prev = s.band_ref_cur;
+    s.band_active_prev = s.band_active_cur;
+    s.band_active_cur = mq.active;
+    s.band_time = context.time();
+  }
   for (size_t k = 0; k < mq.wrench.size(); ++k) {
     const ContactWrenchConstraints& cw = mq.wrench[k];
     const int nr = cw.num_rows(), nf = cw.num_force_rows(), fo = mq.force_offset[k], io = mq.ineq_offset[k];
@@ -523,8 +538,16 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
         qp.A.row(br).head(nu) = mq.Av.row(fz);
         shift = mq.bv[fz];
       }
-      qp.l[br] = (1.0 - c) * f_ref - shift;
-      qp.u[br] = (1.0 + c) * f_ref - shift;
+      double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
+      const int ci = cw.contact();
+      s.band_ref_cur[ci] = f_ref;
+      const bool loading = !(s.band_active_prev & ContactBit(ci)) || f_ref >= s.band_ref_prev[ci];
+      if (loading && params_.force_band_loading_floor_N > 0.0) {
+        lower = std::max(lower, params_.force_band_loading_floor_N);
+        upper = std::max(upper, lower);
+      }
+      qp.l[br] = lower - shift;
+      qp.u[br] = upper - shift;
     }
   }
   const QpStatus status = qp.Solve();

@@ -138,6 +138,11 @@ struct ClfQpParams {
   ContactWrenchParams contact;     ///< unilateral, friction, CoP and yaw rows per contact
   bool force_band = false;         ///< walking Eq. (25): declares the normal_force_reference input
   double force_band_halfwidth = 0.1;  ///< c [-] of Eq. (25) (walking paper: 0.1)
+  /// [N] Ours (default 0, off): while a contact is loading (it was not in the mode at the previous update, or its
+  /// reference did not fall since then) the band's lower edge is at least this. Without it a foot that touches down
+  /// where the plan's force starts at 0 (walking: the aSLIP's F⁺ = 0 at touchdown) is held at F_z = 0 and the plant
+  /// lifts it off again at once. Unloading contacts keep the band's (1 − c) F_ref, which reaches 0 at lift-off.
+  double force_band_loading_floor_N = 0.0;
   /// The reference load of contacts the plan loads but the current mode lacks (a late touchdown) goes to the active
   /// contacts, in proportion to their references (evenly if those are 0), so the band keeps the total (ours; off:
   /// each active contact keeps its own reference).

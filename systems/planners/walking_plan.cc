@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace rome {
 
@@ -56,6 +57,11 @@ WalkingReference WalkingPlan::Sample(double t) const {
     r.com_velocity(1) = y0 * s.lambda * sh + v0 * ch;
     r.com_acceleration(1) = s.lambda * s.lambda * y;
   }
+  if (has_com_correction() && t >= correction_position_.start_time() && t <= correction_position_.end_time()) {
+    r.com_position.head<2>() += correction_position_.Value(t);
+    r.com_velocity.head<2>() += correction_position_.Derivative(t, 1);
+    r.com_acceleration.head<2>() += correction_acceleration_.Value(t);
+  }
   r.normal_force = s.normal_forces.Value(tau);
   r.left_foothold = s.left_foothold;
   r.right_foothold = s.right_foothold;
@@ -63,9 +69,22 @@ WalkingReference WalkingPlan::Sample(double t) const {
   return r;
 }
 
+void WalkingPlan::SetComCorrection(PiecewisePolynomial position, PiecewisePolynomial acceleration) {
+  if (position.rows() != 2 || acceleration.rows() != 2)
+    throw std::invalid_argument("WalkingPlan::SetComCorrection: position and acceleration must have 2 rows (x, y), got " +
+                                std::to_string(position.rows()) + " and " + std::to_string(acceleration.rows()));
+  correction_position_ = std::move(position);
+  correction_acceleration_ = std::move(acceleration);
+}
+
+Eigen::Vector2d WalkingPlan::ComCorrection(double t) const {
+  if (!has_com_correction() || t < correction_position_.start_time() || t > correction_position_.end_time()) return Eigen::Vector2d::Zero();
+  return correction_position_.Value(t);
+}
+
 void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
                                       WalkingDomain first_stance, double stance_x, double step_width,
-                                      bool begin_with_double_support) {
+                                      bool begin_with_double_support, bool end_with_single_support) {
   std::ostringstream msg;
   if (steps < 1) msg << "steps must be >= 1, got " << steps;
   if (!(step_width > 0) || !std::isfinite(step_width)) msg << "step_width must be > 0 m, got " << step_width;
@@ -87,7 +106,8 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
     const Eigen::Vector2d pre = left ? pre_left : Eigen::Vector2d(-pre_left);
     const Eigen::Vector2d start(pre(0), -pre(1));
     const int stance_leg = left ? 0 : 1;  // world leg standing in this SSP (plan leg 0)
-    for (int ph = (step == 0 && begin_with_double_support) ? 1 : 0; ph < 2; ++ph) {
+    const int last_phase = (step == steps - 1 && end_with_single_support) ? 0 : 1;
+    for (int ph = (step == 0 && begin_with_double_support) ? 1 : 0; ph <= last_phase; ++ph) {
       const CollocationPhaseSolution& s = gait.collocation.phases[ph];
       WalkingPlanSegment seg;
       seg.start_time = t0;

@@ -68,21 +68,31 @@ class WalkingPlan {
   /// with z0 = the gait's mean height, T_SSP and T_DSP from the gait, and foot separation W (spec §2.2).
   /// Throws std::invalid_argument naming the argument for steps < 1, W <= 0, a failed gait, or a non-stance domain.
   /// With begin_with_double_support, the first step contributes only its DSP (e.g. after a transition that ended
-  /// at this gait's pre-impact state).
+  /// at this gait's pre-impact state). With end_with_single_support the last step stops at its touchdown (its DSP is
+  /// left out, e.g. for a gait-change transition that starts at this gait's post-impact state).
   void AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
                            WalkingDomain first_stance, double stance_x, double step_width,
-                           bool begin_with_double_support = false);
+                           bool begin_with_double_support = false, bool end_with_single_support = false);
 
   /// Appends a transition (spec §3.2-3.3): the footed-aSLIP NLP's DSP and SSP (world x = x_offset + plan x, legs as
   /// labelled there) and the footed H-LIP QP's lateral plan on the same node grid (its node_times start at 0 at the
   /// DSP start; its single_support flags mark the SSP). Throws std::invalid_argument if either is not solved or the
   /// grids differ. landing_x: world x where the lifting foot lands at the end of the SSP.
+  /// A correction added to the COM reference's x and y on the global clock (e.g. CompensateCentroidalMomentum):
+  /// `position` [δx, δy] (m; its time derivative is the velocity correction) and `acceleration` [δẍ, δÿ] (m/s²).
+  /// Outside the polynomials' span the correction is 0. Throws std::invalid_argument if either does not have 2 rows.
+  void SetComCorrection(PiecewisePolynomial position, PiecewisePolynomial acceleration);
+  bool has_com_correction() const { return !correction_position_.empty(); }
+  /// The correction [δx, δy] at global time t (0 without one).
+  Eigen::Vector2d ComCorrection(double t) const;
+
   void AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
                         const AslipTransitionData& data, double x_offset, const FootedHlipTransitionData& lateral_data,
                         const FootedHlipTransitionPlan& lateral, double mass, double landing_x);
 
  private:
   std::vector<WalkingPlanSegment> segments_;
+  PiecewisePolynomial correction_position_, correction_acceleration_;
 };
 
 /// The footed H-LIP transition QP's data on the nodes of a solved standing transition (DSP then SSP; the DSP's last
