@@ -262,7 +262,8 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
 }
 
 WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
-                                WalkingPlanReport* report, const StandToWalkParams& sp) {
+                                WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
+  if (steps_b < 0) steps_b = steps;
   const std::string who = "BuildGaitChangePlan";
   if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
     throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
@@ -327,7 +328,7 @@ WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int 
   AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, &transition_report);
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
-  plan.AppendPeriodicSteps(gb.planner, gb.gait, steps + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
+  plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
                            b.step_width_m, /*begin_with_double_support=*/true);
   if (report != nullptr) {
     report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};

@@ -167,8 +167,9 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32
 /// behind lifts, as in A) with its footed H-LIP QP, then `steps` steps of B. Gaits A and B must share W (a change
 /// of step width is not built). Throws std::invalid_argument for a bad parameter, std::runtime_error naming the
 /// problem that failed.
+/// steps_b: gait B's steps (default: `steps`).
 WalkingPlan BuildGaitChangePlan(const WalkingGait& gait_a, const WalkingGait& gait_b, int steps, std::uint32_t seed, const PlanCache* cache,
-                                WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});
+                                WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {}, int steps_b = -1);
 
 /// `steps` + 1 periodic steps of `gait` alone (no transition), starting with the double support after a right-foot
 /// touchdown (left foot behind at x = 0): a run started on the orbit (WalkingStandingPose and WalkingInitialVelocity at

@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
       .Option("log", "", "CSV log file (empty: none)")
       .Option("summary", "", "JSON summary file (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none)");
+  constexpr int kTrailingSteps = 2;
   WalkingGait gait_a, gait_b;
   std::string scenario;
   int steps = 0;
@@ -138,9 +139,11 @@ int main(int argc, char** argv) {
     stand.sagittal_cop_margin_m = rom_margin;
     stand.transition_min_ssp_duration_s = transition_ssp;
     const auto seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
-    if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps, seed, &cache, stand);
-    else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand);
-    else plan = BuildStandToWalkPlan(gait_a, steps, seed, &cache, &nlp, stand);
+    // The plan runs kTrailingSteps steps past the simulated ones, so that the last simulated steps are not the plan's
+    // (and the momentum correction's) end.
+    if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps + kTrailingSteps, seed, &cache, stand);
+    else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand, steps + kTrailingSteps);
+    else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, &cache, &nlp, stand);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;
@@ -270,9 +273,11 @@ int main(int argc, char** argv) {
     if (k % 500 == 0) std::cout << "  t = " << t << " s, steps " << touchdowns << "\n";
     return EventStatus::Succeeded();
   });
-  std::cout << "simulating " << plan.end_time() << " s on the " << ToString(plant_kind) << " plant ...\n";
+  const WalkingGait& last_gait = scenario == "gait-change" ? gait_b : gait_a;
+  const double t_stop = plan.end_time() - kTrailingSteps * (last_gait.ssp_duration_s + last_gait.dsp_duration_s);
+  std::cout << "simulating " << t_stop << " s on the " << ToString(plant_kind) << " plant ...\n";
   const auto wall0 = std::chrono::steady_clock::now();
-  const SimulatorStatus status = sim.AdvanceTo(plan.end_time());
+  const SimulatorStatus status = sim.AdvanceTo(t_stop);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double t_end = sim.get_context().time();
   const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
@@ -281,7 +286,7 @@ int main(int argc, char** argv) {
   int planned_touchdowns = 0;
   std::vector<double> transition_ends;  // end of each transition's single support (footed H-LIP segments)
   for (const WalkingPlanSegment& seg : plan.segments()) {
-    if (seg.domain == WalkingDomain::kDoubleSupport) continue;
+    if (seg.domain == WalkingDomain::kDoubleSupport || seg.start_time + seg.duration > t_stop + 1e-9) continue;
     ++planned_touchdowns;
     if (seg.lateral_nodes.cols() > 0) transition_ends.push_back(seg.start_time + seg.duration);
   }
@@ -309,6 +314,13 @@ int main(int argc, char** argv) {
   s["steps_completed"] = touchdowns;
   s["steps_planned"] = planned_touchdowns;
   s["pre_impact_state_change_from_step5"] = change_from_step5;  // per transition; -1: fewer than 6 touchdowns after it
+  // Each touchdown's pre-impact COM state about the stance ankle, y mirrored in right stance: [t, x, y, z, ẋ, ẏ, ż].
+  s["pre_impact_states"] = nlohmann::json::array();
+  for (const auto& [time, state] : pre_impact) {
+    nlohmann::json row = {time};
+    for (int i = 0; i < 6; ++i) row.push_back(state[i]);
+    s["pre_impact_states"].push_back(row);
+  }
   s["touchdowns_off_target"] = off_target_touchdowns;
   s["largest_touchdown_error_m"] = touchdown_error_max;
   s["com_rms_error_m"] = {rms.x(), rms.y(), rms.z()};

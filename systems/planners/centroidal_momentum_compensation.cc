@@ -24,8 +24,8 @@ std::vector<int> FreeCoordinates(const MultibodyModel& model) {
 
 }  // namespace
 
-// Solves the tridiagonal system (δ_{k−1} − (2 + h² ω_k²) δ_k + δ_{k+1}) = −h² a_k, k = 1 … N−1, δ_0 = δ_N = 0 (Thomas
-// algorithm; the matrix is strictly diagonally dominant since ω² > 0).
+// Tridiagonal system in δ_1 … δ_N (Thomas algorithm): rows k = 1 … N−1 are δ_{k−1} − (2 + h² ω_k²) δ_k + δ_{k+1} =
+// −h² a_k (δ_0 = 0); row N is the end condition δ_N + (δ_N − δ_{N−1}) / (h ω_N) = 0 times h ω_N. Diagonally dominant.
 Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const Eigen::VectorXd& a, double h) {
   const Eigen::Index n = a.size();
   if (omega2.size() != n || !(h > 0))
@@ -33,17 +33,17 @@ Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const
                                 ", h = " + std::to_string(h) + " s (sizes must match, h > 0)");
   Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
   if (n < 3) return d;
-  const Eigen::Index m = n - 2;  // unknowns δ_1 … δ_{N−1}
+  const Eigen::Index m = n - 1;  // unknowns δ_1 … δ_N
   Eigen::VectorXd c(m), r(m);
-  double prev_c = 0.0, prev_r = 0.0;
   for (Eigen::Index i = 0; i < m; ++i) {
     const Eigen::Index k = i + 1;
-    const double diag = -(2.0 + h * h * omega2[k]);
-    const double denom = diag - (i > 0 ? prev_c : 0.0);
-    c[i] = 1.0 / denom;
-    r[i] = (-h * h * a[k] - (i > 0 ? prev_r : 0.0)) / denom;
-    prev_c = c[i];
-    prev_r = r[i];
+    const bool last = k == n - 1;
+    const double sub = i == 0 ? 0.0 : (last ? -1.0 : 1.0), super = last ? 0.0 : 1.0;
+    const double diag = last ? 1.0 + h * std::sqrt(std::max(omega2[k], 0.0)) : -(2.0 + h * h * omega2[k]);
+    const double rhs = last ? 0.0 : -h * h * a[k];
+    const double denom = diag - (i > 0 ? sub * c[i - 1] : 0.0);
+    c[i] = super / denom;
+    r[i] = (rhs - (i > 0 ? sub * r[i - 1] : 0.0)) / denom;
   }
   d[m] = r[m - 1];
   for (Eigen::Index i = m - 2; i >= 0; --i) d[i + 1] = r[i] - c[i] * d[i + 2];

@@ -11,8 +11,9 @@
 //     δ̈_x = ω² δ_x − Ḣ_y / (m z),   δ̈_y = ω² δ_y + Ḣ_x / (m z),   ω² = F_z / (m z)       (C1)
 // keeps the robot's CoP at the ROM's pivot, since then (p_cop − p_rom)·F_z = m z (ω² δ − δ̈) − Ḣ = 0 (x; y alike).
 // (C1) is a linear inverted pendulum driven by Ḣ: it is solved as a two-point boundary-value problem over the whole
-// plan, δ = 0 at its start and end (a standing start and a stop), by central differences on a uniform grid (a
-// tridiagonal system). Ḣ(t) is predicted by a kinematic replay of the plan on the robot: at each sample, Newton's
+// plan by central differences on a uniform grid (a tridiagonal system), with δ = 0 at its start (a standing start)
+// and the bounded end δ + δ̇/ω = 0 (the unstable mode of (C1) at rest: the plan may end while walking, and δ = 0 there
+// bent the last steps measurably). Ḣ(t) is predicted by a kinematic replay of the plan on the robot: at each sample, Newton's
 // method puts the COM on the (corrected) reference, the pelvis level with zero yaw, and each ankle on its foothold or
 // its swing trajectory with the foot flat; v and Ḣ follow by central differences. H depends weakly on δ, so replay
 // and solve alternate `iterations` times.
@@ -40,9 +41,9 @@ struct CentroidalMomentumCompensationReport {
   double max_angular_momentum_rate_Nm = 0;  ///< [N m] largest |Ḣ_x|, |Ḣ_y| of the last replay
 };
 
-/// (C1) on a uniform grid t_k = k h, k = 0 … N: δ̈ = ω²_k δ − a_k by central differences with δ_0 = δ_N = 0 (a
-/// tridiagonal system, strictly diagonally dominant for ω² ≥ 0). Returns δ (N + 1). Throws std::invalid_argument if
-/// the sizes differ or h ≤ 0.
+/// (C1) on a uniform grid t_k = k h, k = 0 … N: δ̈ = ω²_k δ − a_k by central differences with δ_0 = 0 and
+/// δ_N + (δ_N − δ_{N−1}) / (h ω_N) = 0 (a tridiagonal system, diagonally dominant for ω² ≥ 0). Returns δ (N + 1).
+/// Throws std::invalid_argument if the sizes differ or h ≤ 0.
 Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const Eigen::VectorXd& a, double h);
 
 /// A whole-body pose with the COM at `com`, the pelvis level with zero yaw and each foot flat with its ankle (the foot

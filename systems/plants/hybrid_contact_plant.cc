@@ -151,8 +151,11 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           const Scratch& s = ctx.scratch<Scratch>();
           const bool valid = s.pending_mode == ctx.mode();
           const ContactSet pending = valid ? s.pending_slip : 0, grace = valid ? s.grace_slip : 0;
+          // A contact whose lift-off is pending (its normal force jumped below the release threshold at the event) is
+          // released an instant later: its unloaded cone is not judged meanwhile.
+          const ContactSet releasing = valid ? s.pending_liftoff : 0;
           for (int c = 0; c < nc; ++c)
-            w[c] = !(active & ContactBit(c))   ? 1.0
+            w[c] = !(active & ContactBit(c)) || (releasing & ContactBit(c)) ? 1.0
                    : (pending & ContactBit(c)) ? PendingWitness(ctx)
                    : (grace & ContactBit(c))   ? FrictionMargin(f, c) + params_.event_tolerance_N
                                                : FrictionMargin(f, c);
