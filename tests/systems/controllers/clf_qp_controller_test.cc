@@ -414,6 +414,57 @@ TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
   }
 }
 
+// force_band_loading_floor_N (20 N): the left foot's reference is 0 N in double support. At the first update (the
+// contact was not in the mode before: loading) the plant's own constrained dynamics at the QP's torques give the left
+// foot at least 20 N; after an update at 50 N the reference falls to 0 (unloading) and the band (1 ± c) · 0 holds it at
+// 0 N, as without a floor. Both on the plant's forces, not the QP's.
+TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
+  auto model = test::LoadRobot("amber");
+  const Eigen::VectorXd q = test::AmberDoubleSupportPose(*model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
+  const int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
+  const ContactSet both = ContactBit(l) | ContactBit(r);
+  const double mg = model->total_mass() * 9.81, floor = 20.0;
+  std::vector<ClfOutput> outputs = {
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
+  ClfQpParams params;
+  params.force_band = true;
+  params.force_band_loading_floor_N = floor;
+  ClfQpController controller("clf", model, {both}, outputs, params);
+  auto context = controller.CreateDefaultLeafContext();
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
+  desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
+                                              std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
+                                     q, v);
+  MultibodyWorkspace ws(*model);
+  Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+  auto plant_left_fz = [&](const Eigen::VectorXd& u) {
+    CalcConstrainedForwardDynamics(*model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
+    return ExtractContactWrench(*model, ws, q, both, F, l).force.z();
+  };
+  auto update = [&](double t, double f_left) {
+    context->SetTime(t);
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[l] = f_left;
+    f_ref[r] = mg - f_left;
+    context->FixInputPort(3, f_ref);
+    return RunUpdate(controller, *context, Stack(q, v), 0, desired);
+  };
+  const Solved loading = update(0.0, 0.0);
+  ASSERT_EQ(loading.status, QpStatus::kOptimal);
+  const double f_loading = plant_left_fz(loading.u);
+  ASSERT_EQ(update(1e-3, 50.0).status, QpStatus::kOptimal);
+  const Solved unloading = update(2e-3, 0.0);
+  ASSERT_EQ(unloading.status, QpStatus::kOptimal);
+  const double f_unloading = plant_left_fz(unloading.u);
+  std::printf("  plant F_z left: loading %.4g N (floor %.0f N), unloading %.3g N\n", f_loading, floor, f_unloading);
+  EXPECT_GE(f_loading, floor - 1e-6);
+  EXPECT_LE(f_loading, floor + 1e-6);  // the band's upper edge is raised to the floor, no further
+  EXPECT_NEAR(f_unloading, 0.0, 1e-6);
+  EXPECT_EQ(loading.fallbacks.sum() + unloading.fallbacks.sum(), 0.0);
+}
+
 // force_band_carry_inactive: in left stance, the right foot's planned 0.7 m g moves to the left foot, so the band is
 // (1 ± c) · m g there; checked on the plant's own constrained dynamics at the QP's torques (off: the band holds 0.3 m g).
 TEST(ClfQpController, ForceBandCarriesTheInactiveContactsLoad) {
