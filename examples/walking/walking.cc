@@ -72,6 +72,7 @@ int main(int argc, char** argv) {
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
       .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
+      .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
@@ -83,6 +84,7 @@ int main(int argc, char** argv) {
       .Option("summary", "", "JSON summary file (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none)");
   constexpr int kTrailingSteps = 2;
+  double heights[3] = {0.86, 0.84, 0.90};
   WalkingGait gait_a, gait_b;
   std::string scenario;
   int steps = 0;
@@ -112,6 +114,24 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("walking: --transition-ssp must be 0 or in [0.3, 1.0] s, got " + cli.Get("transition-ssp"));
     band = cli.GetDouble("force-band");
     if (!(band > 0 && band < 1)) throw std::invalid_argument("walking: --force-band: c = " + cli.Get("force-band") + " is outside (0, 1)");
+    {
+      std::stringstream ss(cli.Get("com-heights"));
+      std::string item;
+      int n = 0;
+      while (std::getline(ss, item, ',')) {
+        size_t used = 0;
+        double value = std::nan("");
+        try {
+          value = std::stod(item, &used);
+        } catch (const std::exception&) {
+        }
+        if (n < 3) heights[n] = used == item.size() ? value : std::nan("");
+        ++n;
+      }
+      if (n != 3 || !(heights[1] >= 0.7 && heights[2] <= 1.0 && heights[1] < heights[2] && heights[0] >= heights[1] && heights[0] <= heights[2]))
+        throw std::invalid_argument("walking: --com-heights expects H,MIN,MAX with 0.7 <= MIN <= H <= MAX <= 1.0 m and MIN < MAX, got '" +
+                                    cli.Get("com-heights") + "'");
+    }
     foothold_tolerance = cli.GetDouble("foothold-tolerance");
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
@@ -138,6 +158,9 @@ int main(int argc, char** argv) {
     stand.stance_stagger_m = stagger;
     stand.sagittal_cop_margin_m = rom_margin;
     stand.transition_min_ssp_duration_s = transition_ssp;
+    stand.standing_height_m = heights[0];
+    stand.height_min_m = heights[1];
+    stand.height_max_m = heights[2];
     const auto seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
     // The plan runs kTrailingSteps steps past the simulated ones, so that the last simulated steps are not the plan's
     // (and the momentum correction's) end.
