@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "framework/simulator_presets.h"
+
 namespace rome {
 
 HybridContactPlantParams HoppingDiagramParams::DefaultPlantParams() {
@@ -191,13 +193,7 @@ SimulatorConfig HoppingSimulatorConfig() {
   // and 8e-6 (rtol 1e-5) s / m; the lift-off time to 1e-4 and 3e-4 s (the normal force falls to 0 slowly, so the
   // crossing moves with any small change); the largest joint-position difference on the 1 ms log is 3e-4 for both
   // (the closed loop's QP amplifies any difference: it is the same for the tighter tolerance).
-  SimulatorConfig c;
-  c.scheme = IntegrationScheme::kExplicitRungeKutta;
-  c.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
-  c.restart_with_last_step = true;
-  c.relative_tolerance = 1e-5;
-  c.absolute_tolerance = 1e-7;
-  return c;
+  return ExplicitRestartingSimulatorConfig(1e-5, 1e-7);
 }
 
 }  // namespace rome

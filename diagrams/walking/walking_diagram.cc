@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "framework/simulator_presets.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/multibody/multibody_kinematics.h"
 
@@ -101,13 +102,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
 }
 
 SimulatorConfig WalkingSimulatorConfig() {
-  SimulatorConfig c;
-  c.scheme = IntegrationScheme::kExplicitRungeKutta;
-  c.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
-  c.restart_with_last_step = true;
-  c.relative_tolerance = 1e-5;
-  c.absolute_tolerance = 1e-7;
-  return c;
+  return ExplicitRestartingSimulatorConfig(1e-5, 1e-7);
 }
 
 SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact) {
@@ -189,7 +184,7 @@ AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_par
 // footed H-LIP QP on its nodes (Eq. (11)-(15)), and appends both to `plan`; the lifting foot lands at world landing_x.
 void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& planner, const AslipTransitionData& data, double x_offset,
                             double step_width, double landing_x, const StandToWalkParams& sp, const PlanCache* cache, const std::string& who,
-                            WalkingNlpReport* report) {
+                            WalkingNlpReport* report, WalkingTransitionNodes* nodes) {
   const auto t0 = Clock::now();
   const AslipTransition transition = planner.Solve(data, cache);
   if (report != nullptr) *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
@@ -208,6 +203,28 @@ void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& pla
   lp.normal_force_pivots = sp.lateral_normal_force_pivots;
   const FootedHlipTransitionPlan lateral = FootedHlipTransitionPlanner(lp).Solve(lat);
   if (!lateral.success()) throw std::runtime_error(who + ": the footed H-LIP transition QP failed: " + lateral.message);
+  if (nodes != nullptr) {
+    const int n = static_cast<int>(lat.node_times.size()), N = planner.params().bounds.nodes_per_domain;
+    WalkingTransitionNodes& r = *nodes;
+    r = WalkingTransitionNodes{};
+    r.t = lat.node_times.array() + plan.end_time();
+    r.x.resize(n), r.z.resize(n), r.y = lateral.states.row(0).transpose(), r.ydot = lateral.states.row(1).transpose();
+    r.normal_force.resize(2, n), r.pitch_torque.resize(2, n), r.roll_torque.resize(2, n);
+    r.roll_torque.row(0) = lateral.left_torque.transpose(), r.roll_torque.row(1) = lateral.right_torque.transpose();
+    for (int ph = 0; ph < 2; ++ph) {
+      const CollocationPhaseSolution& s = transition.collocation.phases[ph];
+      const Eigen::MatrixXd G = transition.GroundReactions(aslip, data, ph);
+      for (int k = ph; k < N; ++k) {
+        const int j = ph * (N - 1) + k;
+        r.x(j) = x_offset + s.states(0, k), r.z(j) = s.states(1, k);
+        r.normal_force(0, j) = G(1, k), r.normal_force(1, j) = G(3, k);
+        r.pitch_torque(0, j) = s.inputs(2, k), r.pitch_torque(1, j) = s.inputs(3, k);
+      }
+    }
+    for (int j = 0; j < n; ++j) r.single_support.push_back(j >= N);
+    r.heel_m = aslip.heel_length, r.toe_m = aslip.toe_length;
+    r.left_m = lp.foot_width_left_of_ankle, r.right_m = lp.foot_width_right_of_ankle;
+  }
   plan.AppendTransition(planner, transition, data, x_offset, lat, lateral, aslip.mass, landing_x);
 }
 
@@ -241,7 +258,8 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
   data.lifting_leg = 1;
   WalkingPlan plan;
   WalkingNlpReport transition_report;
-  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, sp, cache, who, &transition_report);
+  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, sp, cache, who, &transition_report,
+                         report != nullptr ? &report->transition_nodes : nullptr);
   // The transition lands the right foot one step ahead: the first periodic step contributes its DSP only, so `steps`
   // single supports of the gait follow.
   plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true,
@@ -258,7 +276,28 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
 
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
                                  const StandToWalkParams& sp) {
-  return StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+  if (sp.lead_in_steps < 0 || !(sp.lead_in_step_length_m > 0))
+    throw std::invalid_argument("BuildStandToWalkPlan: lead_in_steps must be >= 0 and lead_in_step_length_m > 0 m, got " +
+                                std::to_string(sp.lead_in_steps) + " and " + std::to_string(sp.lead_in_step_length_m));
+  try {
+    return StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+  } catch (const std::runtime_error& direct) {
+    if (sp.lead_in_steps == 0 || !(g.step_length_m > sp.lead_in_step_length_m + 1e-9)) throw;
+    WalkingGait lead = g;
+    lead.step_length_m = sp.lead_in_step_length_m;
+    try {
+      WalkingPlanReport r;
+      WalkingPlan plan = BuildGaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
+      r.lead_in = true;
+      r.lead_in_gait = lead;
+      r.lead_in_reason = direct.what();
+      if (report != nullptr) *report = r;
+      return plan;
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of " +
+                               std::to_string(sp.lead_in_step_length_m) + " m: " + e.what());
+    }
+  }
 }
 
 WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
@@ -315,6 +354,7 @@ WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int 
   AslipTransitionParams tp = TransitionParams(pb, b, spb);
   // The DSP starts at A's touchdown, where the landed (stance) leg carries nothing (s = 0): no load floor on it.
   tp.min_dsp_stance_force_fraction = 0.0;
+  tp.max_vertical_force_fraction = sp.gait_change_max_force_fraction;
   const AslipTransitionPlanner transition_planner(tp);
   if (transition_planner.params().lateral) {  // lateral rows [y, ẏ]: straight from the initial to the final lateral state
     const Eigen::Vector2d y0 = data.initial_lateral_state, y1 = data.final_lateral_state, mid = 0.5 * (y0 + y1);
@@ -325,7 +365,8 @@ WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int 
     }
   }
   WalkingNlpReport transition_report;
-  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, &transition_report);
+  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, &transition_report,
+                         report != nullptr ? &report->transition_b_nodes : nullptr);
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
   plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,

@@ -15,11 +15,11 @@
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
-// Status: from a 0.4 m step stance the robot shifts its weight along the transition plan (COM within 1 mm, plant normal
-// forces in the Eq. (25) band) and lifts the trailing foot on schedule; it does not yet complete the first step: the
-// swing leg's angular momentum, which the point-mass ROMs do not model, needs more CoP than the stance sole has (see
-// the walking test). A short first step (L = 0.2 m from a 0.3 m step stance) touches down flat, 0.11 s late, after
-// which the plan has no double support left.
+// Status (measured, gait A, seed 1): from a 0.4 m step stance the robot makes the transition step and walks 10 steps
+// with the COM within 5 mm RMS of the reference and the plant's forces in the Eq. (25) band at 99.97 % of the ticks
+// (walking_diagram_test). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
+// (compensate_centroidal_momentum), which the point-mass ROMs do not model. Gait B after a gait change falls behind
+// (its stance knee reaches the 300 N m limit); see examples/walking and the README.
 //
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
 // Controller outputs (order of WalkingOutputReference): COM x, y, z; pelvis roll, pitch, yaw (the base's ZYX angles);
@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "framework/diagram.h"
 #include "framework/simulator.h"
@@ -79,7 +80,9 @@ struct WalkingDiagram {
 WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan,
                                    const WalkingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid);
 
-/// The simulator settings of the walking runs (example, tests, benchmark): see the definition for the measurements.
+/// The simulator settings of the walking runs (example, tests, benchmark): ExplicitRestartingSimulatorConfig at rtol 1e-5,
+/// atol 1e-7, as hopping (ours; measured on gait A: 2-3x faster than Dormand-Prince 5(4) at rtol 1e-6 / atol 1e-8 without
+/// the restart option, with the same summary to the digits shown).
 SimulatorConfig WalkingSimulatorConfig();
 
 /// One gait of the issue's --gait flags: step length l, T_SSP, T_DSP, step width W.
@@ -143,11 +146,26 @@ struct StandToWalkParams {
   /// vertical force split is one the lateral motion can realise; the footed H-LIP QP then plans y on those forces
   /// (without it, that QP with normal_force_pivots is infeasible for the 0.3 and 0.4 m step stances).
   bool lateral_in_transition_nlp = true;
+  /// [-] the gait-change (A → B) transition keeps each leg's vertical GRF ≤ this fraction of m g
+  /// (AslipTransitionParams::max_vertical_force_fraction, ours; 0: no bound). Measured, gaits A → B, NLP seed 1:
+  /// unbounded, the transition's SSP asks 1.91 m g, the stance knee meets its 300 N m limit, the COM falls 2 cm behind
+  /// in that step and gait B never recovers (a slip at 8.8 s); with 1.55, 1.6, 1.65, 1.7 and 1.8 m g the run walks
+  /// 22 steps (COM RMS 5.6-6.9 mm), with 1.9 it falls, and 1.45 and 1.5 m g are infeasible. Seeds 1001-1003 walk
+  /// with 1.6.
+  double gait_change_max_force_fraction = 1.6;
+  /// Lead-in (ours): when the standing transition into the gait has no plan (its NLP or QP is infeasible) and the
+  /// gait's step is longer than lead_in_step_length_m, BuildStandToWalkPlan starts with lead_in_steps steps of the same
+  /// gait at that step length and changes gait as BuildGaitChangePlan does (0 steps: no lead-in, the error is thrown).
+  /// Measured: gait B (0.40 m) and (0.45 m, 0.50 s, 0.15 s, 0.30 m) have no standing transition from the 0.4 m step
+  /// stance; with 6 lead-in steps of 0.30 m both walk from standing.
+  int lead_in_steps = 6;
+  double lead_in_step_length_m = 0.30;
 };
 
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
-/// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given.
+/// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given. If the
+/// standing transition has no plan, the lead-in of StandToWalkParams (reported in `report`).
 /// Throws std::runtime_error naming the problem that failed, std::invalid_argument for a bad parameter.
 /// One ROM problem's solve: wall time, Ipopt iterations, largest constraint violation (0 when not solved here).
 struct WalkingNlpReport {
@@ -155,9 +173,30 @@ struct WalkingNlpReport {
   int iterations = 0;
   double violation = 0;
 };
+/// A solved transition on its node grid (DSP nodes, then the SSP's; the shared node once), for plots (Fig. 3 S2, L2):
+/// the footed aSLIP's sagittal plan and ankle pitch torques with their Eq. (10) ZMP bounds, and the footed H-LIP's
+/// lateral plan and ankle roll torques with their Eq. (14) bounds. Empty when the transition was not solved.
+struct WalkingTransitionNodes {
+  Eigen::VectorXd t;                 ///< [s] plan (global) time
+  std::vector<bool> single_support;  ///< per node: in the SSP (the DSP's last node is false)
+  Eigen::VectorXd x, z;              ///< [m] world COM x and height
+  Eigen::MatrixXd normal_force;      ///< [N] 2 × N: vertical GRF of the left, right foot (G_z)
+  Eigen::MatrixXd pitch_torque;      ///< [N m] 2 × N: ankle pitch torque u_y of the left, right foot (Eq. (9)-(10))
+  double heel_m = 0, toe_m = 0;      ///< Eq. (10): −L_h G_z ≤ u_y ≤ L_t G_z
+  Eigen::VectorXd y, ydot;           ///< [m], [m/s] world lateral COM (footed H-LIP QP)
+  Eigen::MatrixXd roll_torque;       ///< [N m] 2 × N: ankle roll torque u_x of the left, right foot (Eq. (15))
+  double left_m = 0, right_m = 0;    ///< Eq. (14): −W1 F ≤ u_x ≤ W2 F
+};
 struct WalkingPlanReport {
   WalkingNlpReport periodic, transition;      ///< gait A's periodic aSLIP, the standing transition
   WalkingNlpReport periodic_b, transition_b;  ///< gait-change only: gait B's periodic aSLIP, the A → B transition
+  WalkingTransitionNodes transition_nodes, transition_b_nodes;  ///< the two transitions' plans on their nodes
+  /// BuildStandToWalkPlan only: the plan starts with a lead-in (StandToWalkParams::lead_in_steps) of `lead_in_gait`;
+  /// the *_b entries are then the requested gait and the lead-in → gait transition. lead_in_reason: why the direct
+  /// standing transition had no plan.
+  bool lead_in = false;
+  WalkingGait lead_in_gait;
+  std::string lead_in_reason;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});

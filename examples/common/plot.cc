@@ -16,8 +16,14 @@ std::string Quote(const std::string& s) {
 }
 }  // namespace
 
-bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* error) {
+bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* error) { return WritePanels({spec}, png_path, error); }
+
+bool WritePanels(const std::vector<PlotSpec>& panels, const std::string& png_path, std::string* error) {
   namespace fs = std::filesystem;
+  if (panels.empty()) {
+    if (error) *error = "no panels to plot for " + png_path;
+    return false;
+  }
   const fs::path data = fs::path(png_path).replace_extension(".plotdata");
   const fs::path script = fs::path(png_path).replace_extension(".gp");
   {
@@ -27,22 +33,31 @@ bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* e
       return false;
     }
     d << std::setprecision(10);
-    for (const Series& s : spec.series) {
-      for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) d << s.x[i] << " " << s.y[i] << "\n";
-      d << "\n\n";  // gnuplot data block separator (index)
-    }
+    for (const PlotSpec& spec : panels)
+      for (const Series& s : spec.series) {
+        for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) d << s.x[i] << " " << s.y[i] << "\n";
+        d << "\n\n";  // gnuplot data block separator (index)
+      }
   }
   {
     std::ofstream g(script);
-    g << "set terminal pngcairo size " << spec.width_px << "," << spec.height_px << " noenhanced\n";
+    int height = 0;
+    for (const PlotSpec& spec : panels) height += spec.height_px;
+    g << "set terminal pngcairo size " << panels[0].width_px << "," << height << " noenhanced\n";
     g << "set output " << Quote(png_path) << "\n";
-    g << "set title " << Quote(spec.title) << "\nset xlabel " << Quote(spec.xlabel) << "\nset ylabel " << Quote(spec.ylabel) << "\n";
-    g << "set grid\nset key outside right\n";
-    if (spec.equal_axes) g << "set size ratio -1\n";
-    g << "plot ";
-    for (size_t i = 0; i < spec.series.size(); ++i)
-      g << (i ? ", " : "") << Quote(data.string()) << " index " << i << " with " << spec.series[i].style << " title " << Quote(spec.series[i].title);
-    g << "\n";
+    // Stacked panels share their left and right margins, so that their time axes line up.
+    if (panels.size() > 1) g << "set multiplot layout " << panels.size() << ",1\nset lmargin at screen 0.09\nset rmargin at screen 0.74\n";
+    size_t index = 0;
+    for (const PlotSpec& spec : panels) {
+      g << "set title " << Quote(spec.title) << "\nset xlabel " << Quote(spec.xlabel) << "\nset ylabel " << Quote(spec.ylabel) << "\n";
+      g << "set grid\nset key outside right\n";
+      g << (spec.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
+      g << "plot ";
+      for (size_t i = 0; i < spec.series.size(); ++i, ++index)
+        g << (i ? ", " : "") << Quote(data.string()) << " index " << index << " with " << spec.series[i].style << " title " << Quote(spec.series[i].title);
+      g << "\n";
+    }
+    if (panels.size() > 1) g << "unset multiplot\n";
   }
   const std::string cmd = "gnuplot " + Quote(script.string()) + " 2>/dev/null";
   const int rc = std::system(cmd.c_str());

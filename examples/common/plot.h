@@ -23,4 +23,8 @@ struct PlotSpec {
 /// Writes `png_path`; returns false and fills `error` if gnuplot is missing or fails.
 bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* error);
 
+/// Writes `panels` stacked top to bottom into one PNG of panels[0]'s width and the sum of their heights (each panel
+/// keeps its own title, labels and series). Returns false as WritePlot, and for no panels.
+bool WritePanels(const std::vector<PlotSpec>& panels, const std::string& png_path, std::string* error);
+
 }  // namespace rome::examples

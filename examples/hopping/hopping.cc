@@ -18,7 +18,9 @@
 #include "diagrams/hopping/hopping_diagram.h"
 #include "diagrams/hopping/hopping_plans.h"
 #include "examples/common/cli.h"
+#include "examples/common/animation.h"
 #include "examples/common/plot.h"
+#include "examples/common/stick_figure.h"
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/robot_files.h"
@@ -82,7 +84,8 @@ int main(int argc, char** argv) {
       .Option("duration", "0", "[s] simulated time; 0: until 2.5 s after the last hop's touchdown (rest is judged 2 s after it: a shorter run is not 'settled')")
       .Option("log", "", "CSV log path (empty: none)")
       .Option("summary", "", "JSON summary path (empty: none)")
-      .Option("plots", "", "directory for PNG plots (empty: none)");
+      .Option("plots", "", "directory for PNG plots (empty: none)")
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   double apex_rise = 0;
   int hops = 0;
   LegStiffnessVariant variant = LegStiffnessVariant::kIdentified;
@@ -129,7 +132,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception&) {
       throw std::invalid_argument("--leg-stiffness " + cli.Get("leg-stiffness") + ": unknown variant (published or identified)");
     }
-    cli.CheckOutputs({"log", "summary"}, {"plots"});
+    cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
   } catch (const std::exception& e) {
     const std::string what = e.what();
     std::cerr << (what.rfind("hopping: ", 0) == 0 ? "" : "hopping: ") << what << "\n";
@@ -199,10 +202,15 @@ int main(int argc, char** argv) {
   const bool want_plots = !cli.Get("plots").empty();
   double last_progress = 0;
   ContactForceStatistics contact;  // the plant's own forces after every integrator step and event
+  std::unique_ptr<examples::AnimationRecorder> animation;
+  if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*model);
   sim.set_monitor([&](const Context& c) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
     const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
     contact.Record(*d.plant, pc);
+    if (animation)
+      animation->Record(pc.time(), d.plant->EvalOutput(pc, "q"), d.plant->mode_name(d.plant->EvalTypedOutput<int>(pc, "mode")),
+                        d.plant->EvalOutput(pc, "contact_forces"));
     const Eigen::VectorXd& x = d.plant->EvalOutput(pc, "state");
     const Eigen::VectorXd q = x.head(nv);
     const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
@@ -404,6 +412,11 @@ int main(int argc, char** argv) {
       out << "\n";
     }
   }
+  if (animation) {
+    std::string error;
+    if (!animation->WriteHtml(cli.Get("animation"), "ROME hopping, Cassie", {}, &error)) std::cerr << "hopping: " << error << "\n";
+    else std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
+  }
   if (!cli.Get("plots").empty()) {
     examples::PlotSpec grf{"Normal GRF: robot vs spring-mass ROM", "t [s]", "F [N]", {}};
     examples::PlotSpec com{"COM height", "t [s]", "z [m]", {}};
@@ -447,19 +460,7 @@ int main(int argc, char** argv) {
     for (const Sample& s : samples) {
       if (s.t < next_tile || s.t > std::min(t_to - 0.7, t_from + 1.5)) continue;
       next_tile = s.t + 0.07;
-      const double dx = kTileDx * tile++;
-      for (int k = 0; k < model->num_contacts(); ++k) {
-        const Eigen::Vector3d a = CalcContactPointPosition(*model, ws, s.q, k, 0), c = CalcContactPointPosition(*model, ws, s.q, k, 1);
-        sticks.x.insert(sticks.x.end(), {a.x() + dx, c.x() + dx, NAN});
-        sticks.y.insert(sticks.y.end(), {a.z(), c.z(), NAN});
-      }
-      for (int b = 0; b < model->num_bodies(); ++b) {
-        const int p = model->bodies()[b].parent;
-        if (p < 0 || model->bodies()[p].mass <= 0.0) continue;  // skip the virtual floating-base chain
-        const Eigen::Vector3d a = CalcLinkPose(*model, ws, s.q, p).translation(), c = CalcLinkPose(*model, ws, s.q, b).translation();
-        sticks.x.insert(sticks.x.end(), {a.x() + dx, c.x() + dx, NAN});
-        sticks.y.insert(sticks.y.end(), {a.z(), c.z(), NAN});
-      }
+      examples::AppendStickFigure(*model, ws, s.q, 0, kTileDx * tile++, &sticks, &sticks);
     }
     ground.x = {-0.4, kTileDx * tile}, ground.y = {0.0, 0.0};
     examples::PlotSpec tiles{"Hop tiles, sagittal projection (every 0.07 s from 0.1 s before the jump to 0.3 s after touchdown; 0.5 m apart)",

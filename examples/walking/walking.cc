@@ -2,9 +2,10 @@
 // CLF-QP with force matching). --scenario stand-to-walk (standing -> transition -> gait A), gait-change (standing -> A
 // -> transition -> B) or periodic (started on gait A's orbit). The ROM plans are built offline (NLPs cached in
 // --cache), the COM reference is corrected for the legs' angular momentum (CompensateCentroidalMomentum), then the
-// diagram of diagrams/walking runs. Writes a CSV log (--log), a JSON summary (--summary) and PNG plots (--plots DIR:
-// COM desired vs actual, per-foot normal force in its band). Exit 0 success, 3 failed run (fell, slipped, a planner
-// failed), 1 bad input.
+// diagram of diagrams/walking runs. Writes a CSV log (--log), a JSON summary (--summary), PNG plots (--plots DIR: the
+// paper's Fig. 2 S2/L2 and 3 S2/L2 from this run's plans, COM position and velocity desired vs actual, per-foot normal
+// force in its band, gait tiles) and an HTML animation (--animation). Exit 0 success, 3 failed run (fell, slipped, a
+// planner failed), 1 bad input.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -19,7 +20,9 @@
 
 #include "diagrams/walking/walking_diagram.h"
 #include "examples/common/cli.h"
+#include "examples/common/animation.h"
 #include "examples/common/plot.h"
+#include "examples/common/stick_figure.h"
 #include "framework/simulator.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "systems/multibody/multibody_kinematics.h"
@@ -61,11 +64,167 @@ double Percentile(std::vector<double> x, double p) {
   return x[std::min(x.size() - 1, static_cast<size_t>(p * (x.size() - 1) + 0.5))];
 }
 
+using Columns = std::vector<std::vector<double>>;
+
+examples::Series Line(const std::string& title, std::vector<double> x, std::vector<double> y, const std::string& style = "lines") {
+  return examples::Series{title, std::move(x), std::move(y), style};
+}
+
+// One transition's plan on its nodes (Fig. 3 S2 sagittal, L2 lateral): the trajectory with DSP nodes blue and SSP
+// nodes red, then each foot's ankle torque between its ZMP bounds (lower yellow, upper black, as the paper draws them).
+void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& dir, const std::string& name, const std::string& what) {
+  if (n.t.size() == 0) return;
+  const int N = static_cast<int>(n.t.size());
+  auto split = [&](const Eigen::VectorXd& v, const std::string& label) {
+    examples::Series dsp = Line(label + ", DSP", {}, {}, "linespoints pt 7 ps 0.6 lc rgb 'blue'");
+    examples::Series ssp = Line(label + ", SSP", {}, {}, "linespoints pt 7 ps 0.6 lc rgb 'red'");
+    for (int j = 0; j < N; ++j) {
+      examples::Series& s = n.single_support[j] ? ssp : dsp;
+      if (n.single_support[j] && ssp.x.empty() && j > 0) ssp.x.push_back(n.t[j - 1]), ssp.y.push_back(v[j - 1]);  // join the domains
+      s.x.push_back(n.t[j]), s.y.push_back(v[j]);
+    }
+    return std::vector<examples::Series>{dsp, ssp};
+  };
+  auto torque_panel = [&](int foot, const Eigen::MatrixXd& u, double lower, double upper, const std::string& axis, const std::string& eq,
+                          const std::string& lname, const std::string& uname) {
+    std::vector<double> t(n.t.data(), n.t.data() + N), uu(N), lo(N), hi(N);
+    for (int j = 0; j < N; ++j) {
+      const double F = std::max(0.0, n.normal_force(foot, j));
+      uu[j] = u(foot, j), lo[j] = -lower * F, hi[j] = upper * F;
+    }
+    const std::string side = foot == 0 ? "left" : "right";
+    return examples::PlotSpec{side + " ankle " + axis + " torque and its ZMP bounds, " + eq, "t [s]", "N m",
+                              {Line("-" + lname + " F (lower bound)", t, lo, "lines lw 2 lc rgb '#d0b000'"),
+                               Line(uname + " F (upper bound)", t, hi, "lines lw 2 lc rgb 'black'"), Line("u_" + axis, t, uu, "linespoints pt 7 ps 0.5 lc rgb '#3060c0'")},
+                              false, 900, 300};
+  };
+  std::string error;
+  examples::PlotSpec xz{"footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x and z on the NLP's nodes", "t [s]", "m", {}, false, 900, 350};
+  for (auto& series : split(n.x, "x")) xz.series.push_back(series);
+  for (auto& series : split(n.z, "z")) xz.series.push_back(series);
+  const std::vector<examples::PlotSpec> sagittal = {
+      xz, torque_panel(0, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t"),
+      torque_panel(1, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t")};
+  if (!examples::WritePanels(sagittal, dir + "/" + name + "_sagittal.png", &error)) std::cerr << "plot: " << error << "\n";
+  examples::PlotSpec y{"footed H-LIP transition " + what + ", lateral (Fig. 3 L2): COM y on the QP's nodes", "t [s]", "m", {}, false, 900, 350};
+  for (auto& series : split(n.y, "y")) y.series.push_back(series);
+  const std::vector<examples::PlotSpec> lateral = {
+      y, torque_panel(0, n.roll_torque, n.left_m, n.right_m, "x (roll)", "Eq. (14)", "W1", "W2"),
+      torque_panel(1, n.roll_torque, n.left_m, n.right_m, "x (roll)", "Eq. (14)", "W1", "W2")};
+  if (!examples::WritePanels(lateral, dir + "/" + name + "_lateral.png", &error)) std::cerr << "plot: " << error << "\n";
+}
+
+// The paper's figures from this run: Fig. 2 S2 (periodic aSLIP: z, F_z per leg, ẋ over one step) and L2 (H-LIP P2
+// phase portrait with its σ₂ lines), Fig. 3 S2 / L2 (the transitions), Fig. 5a/b (COM position and velocity, desired
+// vs actual), 5d (plant normal forces in their Eq. (25) band) and gait tiles (Fig. 5c) in sagittal and frontal views.
+void WritePlots(const std::string& dir, const MultibodyModel& model, const WalkingPlan& rom, const WalkingPlanReport& nlp, double band, double mg,
+                const std::string& scenario, double t_stop, const std::vector<double>& t, const Columns& com, const Columns& vel,
+                const Columns& force, const std::vector<std::pair<double, Eigen::VectorXd>>& poses) {
+  std::string err;
+  auto write = [&](const std::vector<examples::PlotSpec>& panels, const std::string& file) {
+    if (!examples::WritePanels(panels, dir + "/" + file, &err)) std::cerr << "plot: " << err << "\n";
+  };
+  write({{"COM desired vs actual (Fig. 5a)", "t [s]", "m",
+          {Line("x", t, com[0]), Line("x desired", t, com[1]), Line("y", t, com[2]), Line("y desired", t, com[3]), Line("z", t, com[4]),
+           Line("z desired", t, com[5])}}},
+        "com.png");
+  write({{"COM velocity desired vs actual (Fig. 5b)", "t [s]", "m/s",
+          {Line("xdot", t, vel[0]), Line("xdot desired", t, vel[1]), Line("ydot", t, vel[2]), Line("ydot desired", t, vel[3]), Line("zdot", t, vel[4]),
+           Line("zdot desired", t, vel[5])}}},
+        "com_velocity.png");
+  {  // Fig. 5d: each foot's plant normal force inside its band [(1 - c) F, (1 + c) F] +- 2 % m g (the summary's measure)
+    std::vector<examples::PlotSpec> panels;
+    for (int foot = 0; foot < 2; ++foot) {
+      const std::vector<double>& f = force[2 * foot];
+      const std::vector<double>& ref = force[2 * foot + 1];
+      std::vector<double> lo(ref.size()), hi(ref.size());
+      for (size_t i = 0; i < ref.size(); ++i) lo[i] = std::max(0.0, (1 - band) * ref[i] - 0.02 * mg), hi[i] = (1 + band) * ref[i] + 0.02 * mg;
+      panels.push_back({std::string(foot == 0 ? "left" : "right") + " foot: plant normal force in its band, c = " + std::to_string(band).substr(0, 4) + " (Fig. 5d)",
+                        "t [s]", "N", {Line("band", t, lo, "lines lc rgb '#a0a0a0'"), Line("", t, hi, "lines lc rgb '#a0a0a0'"),
+                                        Line("aSLIP F", t, ref, "lines dt 2 lc rgb 'black'"), Line("plant F_z", t, f, "lines lw 2 lc rgb '#c03030'")},
+                        false, 900, 350});
+    }
+    write(panels, "normal_forces.png");
+  }
+  // Fig. 2 S2 and L2: the last whole periodic step pair (SSP, DSP, SSP, DSP) of the run, on the ROMs' plan.
+  const std::vector<WalkingPlanSegment>& segs = rom.segments();
+  int last = -1;
+  for (int i = 0; i + 3 < static_cast<int>(segs.size()); ++i)
+    if (segs[i].domain != WalkingDomain::kDoubleSupport && segs[i].lateral_nodes.cols() == 0 && segs[i + 2].lateral_nodes.cols() == 0 &&
+        segs[i + 3].start_time + segs[i + 3].duration <= t_stop + 1e-9)
+      last = i;
+  if (last >= 0) {
+    std::vector<double> tau, z, fL, fR, xd;
+    for (int i = last; i < last + 2; ++i) {
+      const WalkingPlanSegment& g = segs[i];
+      for (int k = 0; k <= 100; ++k) {
+        const double s = g.duration * k / 100.0;
+        const Eigen::VectorXd x = g.sagittal.Value(s), F = g.normal_forces.Value(s);
+        tau.push_back(g.start_time + s - segs[last].start_time), z.push_back(x[1]), xd.push_back(x[2]), fL.push_back(F[0]), fR.push_back(F[1]);
+      }
+    }
+    const std::string stance = segs[last].domain == WalkingDomain::kLeftStance ? "left" : "right";
+    write({{"periodic aSLIP, one step (" + stance + " stance, then double support; Fig. 2 S2): COM height", "t from the SSP start [s]", "z [m]", {Line("z", tau, z)}, false, 900, 300},
+           {"per-leg vertical force", "t from the SSP start [s]", "N", {Line("F_z left", tau, fL), Line("F_z right", tau, fR)}, false, 900, 300},
+           {"forward velocity", "t from the SSP start [s]", "m/s", {Line("xdot", tau, xd)}, false, 900, 300}},
+          "aslip_periodic.png");
+    // L2: lateral state about the stance foot of each SSP (and, in the DSP after it, about the foot that just landed).
+    examples::Series orbit = Line("H-LIP P2 orbit (two steps)", {}, {}, "lines lw 2 lc rgb '#3060c0'");
+    examples::Series pre = Line("pre-impact states", {}, {}, "points pt 7 ps 1.5 lc rgb 'red'");
+    double ymax = 0;
+    for (int i = last; i < last + 4; ++i) {
+      const WalkingPlanSegment& g = segs[i];
+      const bool dsp = g.domain == WalkingDomain::kDoubleSupport;
+      const WalkingDomain stance_domain = dsp ? segs[i + 1 < static_cast<int>(segs.size()) ? i + 1 : i].domain : g.domain;
+      const double foot_y = stance_domain == WalkingDomain::kLeftStance ? g.left_foothold.y() : g.right_foothold.y();
+      for (int k = 0; k <= 100; ++k) {
+        const WalkingReference r = rom.Sample(g.start_time + g.duration * k / 100.0);
+        orbit.x.push_back(r.com_position.y() - foot_y), orbit.y.push_back(r.com_velocity.y());
+        ymax = std::max(ymax, std::abs(orbit.x.back()));
+      }
+      if (!dsp) pre.x.push_back(orbit.x.back()), pre.y.push_back(orbit.y.back());
+      orbit.x.push_back(NAN), orbit.y.push_back(NAN);
+    }
+    const double lambda = segs[last].lambda, sigma2 = lambda * std::tanh(lambda * segs[last].duration / 2);
+    const double e = 1.2 * ymax;
+    write({{"H-LIP P2 orbit about the stance foot (Fig. 2 L2), sigma_2 = " + std::to_string(sigma2).substr(0, 5) + " 1/s",
+            "y - y_stance [m]", "ydot [m/s]",
+            {Line("ydot = sigma_2 y (pre-impact)", {-e, e}, {-sigma2 * e, sigma2 * e}, "lines dt 2 lc rgb 'black'"),
+             Line("ydot = -sigma_2 y (start of SSP)", {-e, e}, {sigma2 * e, -sigma2 * e}, "lines dt 3 lc rgb '#808080'"), orbit, pre},
+            false, 800, 600}},
+          "hlip_p2_portrait.png");
+  }
+  WriteTransitionPlots(nlp.transition_nodes, dir, "transition", nlp.lead_in ? "standing -> lead-in gait" : "standing -> gait A");
+  if (scenario == "gait-change") WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "gait A -> gait B");
+  if (nlp.lead_in) WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "lead-in -> gait A");
+  // Gait tiles (Fig. 5c): 16 frames over the first 3 s (standing, the transition, the first steps), each 0.35 m (sagittal)
+  // or 0.6 m (frontal) further along.
+  if (!poses.empty()) {
+    MultibodyWorkspace ws(model);
+    examples::Series links[2] = {Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"), Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'")};
+    examples::Series soles[2] = {Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'"), Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'")};
+    const double span = std::min(3.0, poses.back().first - poses.front().first);
+    constexpr int kTiles = 16;
+    size_t next = 0;
+    for (int i = 0; i < kTiles; ++i) {
+      const double when = poses.front().first + span * i / (kTiles - 1);
+      while (next + 1 < poses.size() && poses[next].first < when - 1e-9) ++next;
+      for (int view = 0; view < 2; ++view)
+        examples::AppendStickFigure(model, ws, poses[next].second, view, (view == 0 ? 0.35 : 0.6) * i, &links[view], &soles[view]);
+    }
+    const std::string when = "16 frames over the first " + std::to_string(span).substr(0, 4) + " s";
+    examples::PlotSpec sag{"gait tiles, sagittal projection (" + when + "; each 0.35 m further)", "x [m] (+ 0.35 m per tile)", "z [m]", {soles[0], links[0]}, true, 1800, 450};
+    examples::PlotSpec front{"gait tiles, frontal projection (" + when + "; each 0.6 m further)", "y [m] (+ 0.6 m per tile)", "z [m]", {soles[1], links[1]}, true, 1800, 450};
+    write({sag}, "gait_tiles_sagittal.png");
+    write({front}, "gait_tiles_frontal.png");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A; a gait with no standing transition starts with 6 steps of 0.30 m and changes gait) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
@@ -73,6 +232,7 @@ int main(int argc, char** argv) {
       .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
       .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
+      .Option("gait-change-max-force", "1.6", "the gait-change transition NLP (A -> B, or a lead-in -> A) keeps each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
@@ -82,13 +242,14 @@ int main(int argc, char** argv) {
       .Option("cache", "walking_plans", "directory of cached ROM plans")
       .Option("log", "", "CSV log file (empty: none)")
       .Option("summary", "", "JSON summary file (empty: none)")
-      .Option("plots", "", "directory for PNG plots (empty: none)");
+      .Option("plots", "", "directory for PNG plots (empty: none): the paper's Fig. 2 S2/L2, 3 S2/L2 and 5a/b/d from this run, and gait tiles")
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   constexpr int kTrailingSteps = 2;
   double heights[3] = {0.86, 0.84, 0.90};
   WalkingGait gait_a, gait_b;
   std::string scenario;
   int steps = 0;
-  double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05;
+  double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6;
   PlantKind plant_kind = PlantKind::kHybrid;
   try {
     if (!cli.Parse(argc, argv)) return 0;
@@ -132,10 +293,13 @@ int main(int argc, char** argv) {
         throw std::invalid_argument("walking: --com-heights expects H,MIN,MAX with 0.7 <= MIN <= H <= MAX <= 1.0 m and MIN < MAX, got '" +
                                     cli.Get("com-heights") + "'");
     }
+    max_force = cli.GetDouble("gait-change-max-force");
+    if (!(max_force == 0 || (max_force > 1 && max_force <= 3)))
+      throw std::invalid_argument("walking: --gait-change-max-force must be 0 or in (1, 3] (m g), got " + cli.Get("gait-change-max-force"));
     foothold_tolerance = cli.GetDouble("foothold-tolerance");
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
-    cli.CheckOutputs({"log", "summary"}, {"plots"});
+    cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;
@@ -158,6 +322,7 @@ int main(int argc, char** argv) {
     stand.stance_stagger_m = stagger;
     stand.sagittal_cop_margin_m = rom_margin;
     stand.transition_min_ssp_duration_s = transition_ssp;
+    stand.gait_change_max_force_fraction = max_force;
     stand.standing_height_m = heights[0];
     stand.height_min_m = heights[1];
     stand.height_max_m = heights[2];
@@ -167,6 +332,9 @@ int main(int argc, char** argv) {
     if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps + kTrailingSteps, seed, &cache, stand);
     else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand, steps + kTrailingSteps);
     else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, &cache, &nlp, stand);
+    if (nlp.lead_in)
+      std::cout << "the standing transition into gait A has no plan (" << nlp.lead_in_reason << "); starting with " << stand.lead_in_steps
+                << " steps of L = " << nlp.lead_in_gait.step_length_m << " m and changing gait\n";
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;
@@ -186,6 +354,7 @@ int main(int argc, char** argv) {
   }
   std::printf("angular-momentum compensation: largest CoP shift in single support %.3f m -> %.3f m, COM correction up to %.3f m (%.2f s)\n",
               d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m, d.compensation.max_correction_m, compensation_s);
+  const WalkingPlan rom_plan = plan;  // the ROMs' own plan, without the momentum correction (Fig. 2 and 3)
   plan = d.plan;
   Simulator sim(*d.diagram, WalkingSimulatorConfig());
   LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
@@ -213,6 +382,10 @@ int main(int argc, char** argv) {
   Eigen::Vector2d last_fz = Eigen::Vector2d::Zero();
   Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), err_max = Eigen::Vector3d::Zero();
   std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
+  std::vector<double> vx, vxd, vy, vyd, vz, vzd;         // COM velocity, actual and desired (Fig. 5b)
+  std::vector<std::pair<double, Eigen::VectorXd>> poses;  // q every 10 ms, for the gait tiles
+  std::unique_ptr<examples::AnimationRecorder> animation;
+  if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*model);
   const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
   std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
   Eigen::Matrix<double, 6, 1> last_com_state = Eigen::Matrix<double, 6, 1>::Zero();
@@ -223,6 +396,7 @@ int main(int argc, char** argv) {
     contact.Record(*d.plant, ctx);
     const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
     const Eigen::VectorXd& f = d.plant->EvalOutput(ctx, "contact_forces");
+    if (animation) animation->Record(t, d.plant->EvalOutput(ctx, "q"), d.plant->mode_name(mode), f);
     // A touchdown: into double support, or straight from one stance into the other. Mode 0 is left stance (the right
     // foot swings), 2 right stance. It is a step only on its planned foothold (the plan's (x, y) of that ankle).
     if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {
@@ -255,6 +429,7 @@ int main(int argc, char** argv) {
     tick = k;  // once per control tick
     const Eigen::VectorXd& q = d.plant->EvalOutput(ctx, "q");
     const Eigen::Vector3d com = CalcComPosition(*model, ws, q);
+    const Eigen::Vector3d com_v = CalcComVelocity(*model, ws, q, d.plant->EvalOutput(ctx, "v"));
     const WalkingReference r = plan.Sample(t);
     const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, c);
     solve_us.push_back(1e6 * d.controller->EvalOutput(cc, "solve_time_s")[0]);
@@ -293,6 +468,9 @@ int main(int argc, char** argv) {
     t_s.push_back(t), cx.push_back(com.x()), cxd.push_back(r.com_position.x()), cy.push_back(com.y()), cyd.push_back(r.com_position.y());
     cz.push_back(com.z()), czd.push_back(r.com_position.z()), fl.push_back(f[2]), fr.push_back(f[5]);
     fl_ref.push_back(r.normal_force[0]), fr_ref.push_back(r.normal_force[1]);
+    vx.push_back(com_v.x()), vy.push_back(com_v.y()), vz.push_back(com_v.z());
+    vxd.push_back(r.com_velocity.x()), vyd.push_back(r.com_velocity.y()), vzd.push_back(r.com_velocity.z());
+    if (k % 10 == 0) poses.emplace_back(t, q);
     if (k % 500 == 0) std::cout << "  t = " << t << " s, steps " << touchdowns << "\n";
     return EventStatus::Succeeded();
   });
@@ -362,6 +540,13 @@ int main(int argc, char** argv) {
   auto nlp_json = [](const WalkingNlpReport& r) { return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}}; };
   s["nlp"] = {{"periodic_aslip_a", nlp_json(nlp.periodic)}, {"transition_aslip", nlp_json(nlp.transition)}};
   if (scenario == "gait-change") s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
+  // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait A.
+  s["lead_in"] = nullptr;
+  if (nlp.lead_in) {
+    const WalkingGait& g = nlp.lead_in_gait;
+    s["lead_in"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}}, {"reason", nlp.lead_in_reason}};
+    s["nlp"]["periodic_aslip_gait_a"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_lead_in_to_a"] = nlp_json(nlp.transition_b);
+  }
   s["scenario"] = scenario;
   s["angular_momentum_compensation"] = {{"max_cop_shift_uncorrected_m", d.compensation.max_cop_shift_uncorrected_m},
                                         {"max_cop_shift_corrected_m", d.compensation.max_cop_shift_corrected_m},
@@ -371,15 +556,12 @@ int main(int argc, char** argv) {
   s["simulated_s"] = t_end;
   s["plant"] = ToString(plant_kind);
   if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << s.dump(2) << "\n";
-  if (!cli.Get("plots").empty()) {
-    std::string err;
-    const std::string dir = cli.Get("plots");
-    examples::PlotSpec com{"COM desired vs actual (Fig. 5a)", "t [s]", "m", {{"x", t_s, cx}, {"x desired", t_s, cxd}, {"y", t_s, cy}, {"y desired", t_s, cyd},
-                                                                          {"z", t_s, cz}, {"z desired", t_s, czd}}};
-    if (!examples::WritePlot(com, dir + "/com.png", &err)) std::cerr << "plot: " << err << "\n";
-    examples::PlotSpec force{"plant normal forces and the aSLIP reference (Fig. 5d)", "t [s]", "N",
-                             {{"left", t_s, fl}, {"left reference", t_s, fl_ref}, {"right", t_s, fr}, {"right reference", t_s, fr_ref}}};
-    if (!examples::WritePlot(force, dir + "/normal_forces.png", &err)) std::cerr << "plot: " << err << "\n";
+  if (!cli.Get("plots").empty()) WritePlots(cli.Get("plots"), *model, rom_plan, nlp, band, mg, scenario, t_stop, t_s, {cx, cxd, cy, cyd, cz, czd},
+                                            {vx, vxd, vy, vyd, vz, vzd}, {fl, fl_ref, fr, fr_ref}, poses);
+  if (animation) {
+    std::string error;
+    if (!animation->WriteHtml(cli.Get("animation"), "ROME walking, " + scenario, {}, &error)) std::cerr << "walking: " << error << "\n";
+    else std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
   }
   std::cout << (success ? "walked" : "FAILED") << ": " << status.ToString() << "\n  " << touchdowns << " steps (" << off_target_touchdowns << " touchdowns off their footholds, largest error "
             << touchdown_error_max << " m), COM RMS error (after the first step) "

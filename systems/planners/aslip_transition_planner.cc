@@ -42,6 +42,8 @@ AslipTransitionPlanner::AslipTransitionPlanner(AslipTransitionParams params) : p
           "min_ssp_duration must be in (0, max_ssp_duration] s", params_.min_ssp_duration);
   require(params_.min_dsp_stance_force_fraction >= 0 && params_.min_dsp_stance_force_fraction < 1,
           "min_dsp_stance_force_fraction must be in [0, 1)", params_.min_dsp_stance_force_fraction);
+  require(params_.max_vertical_force_fraction == 0 || params_.max_vertical_force_fraction > 1,
+          "max_vertical_force_fraction must be 0 (no bound) or > 1", params_.max_vertical_force_fraction);
   require(params_.max_ankle_torque > 0, "max_ankle_torque must be > 0 N m", params_.max_ankle_torque);
   require(params_.torque_cost_scale > 0, "torque_cost_scale must be > 0 N m", params_.torque_cost_scale);
 }
@@ -174,6 +176,21 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         Eigen::VectorXd::Constant(1, params_.min_dsp_stance_force_fraction), Eigen::VectorXd::Constant(1, inf),
         "dsp_stance_leg_min_force");
   }
+  if (params_.max_vertical_force_fraction > 0) {
+    for (int ph = 0; ph < 2; ++ph) {
+      const AslipContact contact = PhaseContact(data, ph);
+      problem.AddPathConstraint(
+          ph, 2,
+          [p, contact](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+            y.resize(2);
+            for (int leg = 0; leg < 2; ++leg)
+              y(leg) = contact.in_contact(leg) ? AslipLegState<AutoDiffXd>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z / (p.mass * p.gravity)
+                                               : AutoDiffXd(0.0 * x(0));
+          },
+          Eigen::VectorXd::Constant(2, -inf), Eigen::VectorXd::Constant(2, params_.max_vertical_force_fraction),
+          ph == 0 ? "dsp_leg_max_force" : "ssp_leg_max_force");
+    }
+  }
   problem.AddPathConstraint(
       1, 6,
       [p, mu, stance, stance_x](const VectorXad& x, const VectorXad& u, VectorXad& y) {
@@ -266,6 +283,7 @@ PlanCacheKey AslipTransitionPlanner::CacheKey(const AslipTransitionData& data) c
   key.Add("u_max", params_.max_ankle_torque).Add("u_scale", params_.torque_cost_scale);
   key.Add("zero_final_u", params_.zero_final_ankle_torque).Add("u_max_ssp", params_.max_ssp_ankle_torque);
   key.Add("min_dsp_stance_force", params_.min_dsp_stance_force_fraction);
+  if (params_.max_vertical_force_fraction > 0) key.Add("max_vertical_force", params_.max_vertical_force_fraction);
   key.Add("x0", Eigen::MatrixXd(data.initial_state)).Add("xf", Eigen::MatrixXd(data.final_state));
   key.Add("foot_L", data.left_foot_x).Add("foot_R", data.right_foot_x).Add("lift", data.lifting_leg);
   if (params_.lateral) {

@@ -45,6 +45,9 @@ struct AslipTransitionParams {
   /// [-] the stance (non-lifting) leg's vertical GRF stays ≥ this fraction of m g over the DSP (ours; 0: only ≥ 0).
   /// Without it the plan may unload the stance foot to 0 mid-DSP, where the walking plant's lift-off guard fires.
   double min_dsp_stance_force_fraction = 0.0;
+  /// [-] every leg's vertical GRF stays ≤ this fraction of m g in both domains (ours; 0: no bound). The NLP's cost
+  /// (leg accelerations and ankle torques) does not see the robot's knees: unbounded, a gait change asks up to 1.9 m g.
+  double max_vertical_force_fraction = 0.0;
   bool lateral = false;                      ///< see the header (ours)
   double foot_width_left_of_ankle = 0.06;    ///< [m] W1 of Eq. (14) (lateral only)
   double foot_width_right_of_ankle = 0.06;   ///< [m] W2 of Eq. (14) (lateral only)

@@ -17,8 +17,11 @@ WalkingReference WalkingPlan::Sample(double t) const {
   const WalkingPlanSegment& s = *(it == segments_.begin() ? it : it - 1);
   const double tau = std::clamp(t - s.start_time, 0.0, s.duration);
   WalkingReference r;
-  const Eigen::VectorXd sag = s.sagittal.Value(tau);
-  const Eigen::VectorXd acc = s.sagittal_acceleration.Value(tau);
+  // Fixed-size outputs: Sample runs every control tick and allocates nothing.
+  Eigen::Vector4d sag;
+  Eigen::Vector2d acc;
+  s.sagittal.ValueInto(tau, sag);
+  s.sagittal_acceleration.ValueInto(tau, acc);
   r.com_position << s.sagittal_x_offset + sag(0), 0.0, sag(1);
   r.com_velocity << sag(2), 0.0, sag(3);
   r.com_acceleration << acc(0), 0.0, acc(1);
@@ -58,11 +61,15 @@ WalkingReference WalkingPlan::Sample(double t) const {
     r.com_acceleration(1) = s.lambda * s.lambda * y;
   }
   if (has_com_correction() && t >= correction_position_.start_time() && t <= correction_position_.end_time()) {
-    r.com_position.head<2>() += correction_position_.Value(t);
-    r.com_velocity.head<2>() += correction_position_.Derivative(t, 1);
-    r.com_acceleration.head<2>() += correction_acceleration_.Value(t);
+    Eigen::Vector2d c;
+    correction_position_.ValueInto(t, c);
+    r.com_position.head<2>() += c;
+    correction_position_.DerivativeInto(t, 1, c);
+    r.com_velocity.head<2>() += c;
+    correction_acceleration_.ValueInto(t, c);
+    r.com_acceleration.head<2>() += c;
   }
-  r.normal_force = s.normal_forces.Value(tau);
+  s.normal_forces.ValueInto(tau, r.normal_force);
   r.left_foothold = s.left_foothold;
   r.right_foothold = s.right_foothold;
   r.domain = s.domain;
@@ -78,8 +85,9 @@ void WalkingPlan::SetComCorrection(PiecewisePolynomial position, PiecewisePolyno
 }
 
 Eigen::Vector2d WalkingPlan::ComCorrection(double t) const {
-  if (!has_com_correction() || t < correction_position_.start_time() || t > correction_position_.end_time()) return Eigen::Vector2d::Zero();
-  return correction_position_.Value(t);
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  if (has_com_correction() && t >= correction_position_.start_time() && t <= correction_position_.end_time()) correction_position_.ValueInto(t, c);
+  return c;
 }
 
 void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,

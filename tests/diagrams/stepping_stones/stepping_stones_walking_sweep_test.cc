@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <string>
 
+#include "tests/common/sanitizer_scale.h"
 #include "tests/diagrams/stepping_stones/stepping_stones_walk.h"
 
 namespace rome {
@@ -36,7 +37,7 @@ TEST(Stairs, DownstairsConvergesToAPeriodicOrbit) {
 // every touchdown on the planned stone and within 2 cm of its centre.
 TEST(RandomStones, TenCoursesOfThirtyStepsWithoutAFall) {
   int misplaced = 0;
-  for (unsigned seed = 1; seed <= 10; ++seed) {
+  for (unsigned seed = 1; seed <= test::kRandomCourseSeeds; ++seed) {
     RandomSteppingStonesParams p;
     p.num_stones = kSteps + 2;
     p.seed = seed;
@@ -58,7 +59,7 @@ TEST(RandomStones, TenCoursesOfThirtyStepsWithoutAFall) {
     std::printf("  seed %u: %zu steps, mean speed %.3f m/s, largest foothold error %.2f cm, %g QP failures, plant F_n >= %.2f N, |F_t|/F_n <= %.3f\n",
                 seed, r.steps.size(), r.mean_speed_mps, 100 * worst, r.qp_failures, r.contact.min_normal_force_N, r.contact.max_friction_ratio);
   }
-  EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over 300";
+  EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over " << 30 * test::kRandomCourseSeeds << " (seeds 1-" << test::kRandomCourseSeeds << ")";
 }
 
 // The CLF-QP (ClfQpControllerFactory) on the same courses: periodic footholds walk to a periodic orbit; the random
@@ -87,7 +88,7 @@ TEST(ClfStairs, UpAndDownConvergeToPeriodicOrbits) {
 TEST(ClfRandomStones, AllTenCoursesWithPhysicalContact) {
   int walked = 0;
   SteppingStonesDiagramParams params;
-  for (unsigned seed = 1; seed <= 10; ++seed) {
+  for (unsigned seed = 1; seed <= test::kRandomCourseSeeds; ++seed) {
     RandomSteppingStonesParams p;
     p.num_stones = kSteps + 2;
     p.seed = seed;
@@ -102,7 +103,7 @@ TEST(ClfRandomStones, AllTenCoursesWithPhysicalContact) {
     std::printf("  CLF-QP seed %u: %zu steps, largest foothold error %.2f cm, %s\n", seed, r.steps.size(), 100 * worst,
                 ok ? "walked" : r.status.ToString().c_str());
   }
-  EXPECT_EQ(walked, 10);
+  EXPECT_EQ(walked, static_cast<int>(test::kRandomCourseSeeds));
 }
 
 // Fig. 6 of the paper: the converged forward speed rises with the orbital energy E* (l = 0.4 m, Fig. 6(b)) and with

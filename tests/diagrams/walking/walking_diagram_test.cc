@@ -15,10 +15,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "framework/simulator.h"
 #include "systems/plants/contact_force_statistics.h"
@@ -29,18 +32,27 @@ namespace rome {
 namespace {
 
 enum class RunUntil { kLiftoff, kPlanEnd };
-enum class Start { kStanding, kOnTheOrbit };
+enum class Start { kStanding, kOnTheOrbit, kGaitChange };
 
+// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`) plus kTrailingSteps, and
+// simulates all but the trailing ones (the plan's end, where the momentum correction is brought to rest, is not
+// judged). Full runs also check the convergence: the step-to-step change of the pre-impact COM state (about the
+// stance ankle, y mirrored in right stance) is below 1e-2 from the 5th periodic touchdown after each transition.
+constexpr int kTrailingSteps = 2;
 void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger_m = StandToWalkParams{}.stance_stagger_m,
-                    Start start = Start::kStanding, int steps = 6) {
+                    Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}) {
   const bool full_run = until == RunUntil::kPlanEnd;
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());  // not the source tree
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   stand.stance_stagger_m = stagger_m;
-  const WalkingPlan rom_plan = start == Start::kStanding ? BuildStandToWalkPlan(gait, steps, 1, &cache, nullptr, stand)
-                                                          : BuildPeriodicWalkingPlan(gait, steps, 1, &cache, stand);
+  WalkingPlanReport report;
+  const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, steps + kTrailingSteps, 1, &cache, &report, stand)
+                               : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, nullptr, stand, steps + kTrailingSteps)
+                                                             : BuildPeriodicWalkingPlan(gait, steps + kTrailingSteps, 1, &cache, stand);
+  const WalkingGait& last_gait = start == Start::kGaitChange ? gait_b : gait;
+  const double t_end_of_run = rom_plan.end_time() - kTrailingSteps * (last_gait.ssp_duration_s + last_gait.dsp_duration_s);
   const WalkingDiagramParams params;
   WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
   const WalkingPlan& plan = d.plan;  // with the angular-momentum correction: the reference the controller runs
@@ -54,7 +66,14 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   d.plant->SetState(pc, q0, start == Start::kStanding ? Eigen::VectorXd::Zero(model->nv()) : WalkingInitialVelocity(*model, q0, plan, t0),
                     "double_support");
   int planned_touchdowns = 0;
-  for (const WalkingPlanSegment& seg : plan.segments()) planned_touchdowns += seg.domain == WalkingDomain::kDoubleSupport ? 0 : 1;
+  std::vector<double> transition_ends;  // end of each transition's single support (its footed H-LIP nodes)
+  for (const WalkingPlanSegment& seg : plan.segments()) {
+    if (seg.domain == WalkingDomain::kDoubleSupport || seg.start_time + seg.duration > t_end_of_run + 1e-9) continue;
+    ++planned_touchdowns;
+    if (seg.lateral_nodes.cols() > 0) transition_ends.push_back(seg.start_time + seg.duration);
+  }
+  std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
+  Eigen::Matrix<double, 6, 1> last_com_state = Eigen::Matrix<double, 6, 1>::Zero();
   double last_touchdown_time = -1.0, pelvis_max = 0.0, touchdown_error_max = 0.0;
   Eigen::Vector3d com_sq = Eigen::Vector3d::Zero(), com_abs_max = Eigen::Vector3d::Zero();
 
@@ -86,6 +105,13 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
       touchdown_error_max = std::max(touchdown_error_max, (ankle - (right_landed ? r.right_foothold : r.left_foothold)).norm());
       if (touchdown_time < 0) touchdown_time = c.time();
       last_touchdown_time = c.time();
+      pre_impact.push_back({c.time(), last_com_state});
+    }
+    if (mode != 1) {  // in single support: the COM state about the stance ankle, y mirrored in right stance
+      const Eigen::Vector3d p = CalcComPosition(*model, ws, q), pv = CalcComVelocity(*model, ws, q, v);
+      const Eigen::Vector3d foot = CalcLinkPose(*model, ws, q, model->BodyIndex(mode == 0 ? "left_foot" : "right_foot")).translation();
+      const double mirror = mode == 0 ? 1.0 : -1.0;
+      last_com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), pv.x(), mirror * pv.y(), pv.z();
     }
     if (mode != 1 && last_mode == 1) {
       ++liftoffs;
@@ -151,14 +177,14 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   });
   // kLiftoff: stop 50 ms after the first lift-off; kPlanEnd: the whole plan.
   const double t_liftoff_planned = plan.segments().at(0).start_time + plan.segments().at(0).duration;
-  SimulatorStatus status = sim.AdvanceTo(full_run ? plan.end_time() : t_liftoff_planned + 0.05);
+  SimulatorStatus status = sim.AdvanceTo(full_run ? t_end_of_run : t_liftoff_planned + 0.05);
   const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
   const Eigen::Vector3d com_rms = n_err ? Eigen::Vector3d((com_sq / n_err).cwiseSqrt()) : Eigen::Vector3d::Zero();
   std::printf("  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band %.3f\n", liftoff_time,
               t_liftoff_planned, liftoff_force, 100 * liftoff_force / mg, band_ticks ? double(band_in) / band_ticks : 0.0);
   std::printf("  t = %.3f s of %.3f: %s; %d lift-offs, %d touchdowns (planned %d), largest touchdown error %.4f m, COM error RMS (%.4f %.4f %.4f) "
               "max (%.4f %.4f %.4f) m, pelvis %.2f deg, qp_failures %.0f, %ld samples\n",
-              sim.get_context().time(), plan.end_time(), status.ToString().c_str(), liftoffs, touchdowns, planned_touchdowns, touchdown_error_max,
+              sim.get_context().time(), t_end_of_run, status.ToString().c_str(), liftoffs, touchdowns, planned_touchdowns, touchdown_error_max,
               com_rms.x(), com_rms.y(), com_rms.z(), com_abs_max.x(), com_abs_max.y(), com_abs_max.z(), pelvis_max * 180 / M_PI,
               d.controller->EvalOutput(cc, "qp_failures")[0], samples);
   EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit) << status.ToString();
@@ -180,6 +206,18 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
       EXPECT_LE(com_abs_max[a], 0.03) << "axis " << a;
     }
     EXPECT_LE(pelvis_max, 2.0 * M_PI / 180.0);
+    ASSERT_EQ(transition_ends.size(), start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u);
+    for (size_t j = 0; j < transition_ends.size(); ++j) {
+      const double begin = transition_ends[j] - 0.05, end = j + 1 < transition_ends.size() ? transition_ends[j + 1] - 0.05 : 1e9;
+      std::vector<Eigen::Matrix<double, 6, 1>> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
+      for (const auto& [time, state] : pre_impact)
+        if (time > begin && time < end) states.push_back(state);
+      ASSERT_GE(states.size(), 7u) << "transition " << j;
+      double worst = 0;
+      for (size_t k = 5; k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
+      std::printf("  after transition %zu: %zu touchdowns, pre-impact state change from the 5th %.2e\n", j, states.size() - 1, worst);
+      EXPECT_LT(worst, 1e-2) << "transition " << j;
+    }
   }
 }
 
@@ -194,7 +232,7 @@ TEST(WalkingDiagram, SoleOfReadsTheRobotsSoleCorners) {
   EXPECT_THROW(SoleOf(*test::LoadRobot("amber"), "left_foot"), std::invalid_argument);
 }
 
-// Gait A (the default) from standing: the transition and 6 steps.
+// Gait A (the default) from standing: the transition and 6 steps (of 8 planned).
 TEST(WalkingDiagram, StandToWalkGaitAWalksWithPhysicalContactForces) { RunStandToWalk(RunUntil::kPlanEnd); }
 
 // Two gaits in the range that are not the defaults, from standing (0.4 m step stance).
@@ -203,6 +241,26 @@ TEST(WalkingDiagram, StandToWalkShortSlowGaitWalksWithPhysicalContactForces) {
 }
 TEST(WalkingDiagram, StandToWalkShortQuickGaitWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20});
+}
+
+// The gait-change scenario: standing, 6 steps of gait A, the A → B transition, 6 steps of gait B (0.4 m at 0.8 m/s).
+TEST(WalkingDiagram, GaitChangeFromAToBWalksWithPhysicalContactForces) {
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_length_m = 0.40});
+}
+
+// Gait B from standing: its standing transition has no plan from the 0.4 m step stance (the footed H-LIP QP is
+// infeasible), so the plan starts with the lead-in (6 steps of 0.30 m, StandToWalkParams::lead_in_steps) and changes
+// gait; every check above holds over the whole run, the convergence after both transitions included.
+TEST(WalkingDiagram, StandToWalkGaitBThroughTheLeadInWalksWithPhysicalContactForces) {
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.40});
+}
+
+// A gait change between two gaits that are not the defaults: (0.25 m, 0.45 s, 0.12 s, W 0.22 m) to 0.35 m steps.
+TEST(WalkingDiagram, GaitChangeBetweenNonDefaultGaitsWalksWithPhysicalContactForces) {
+  const WalkingGait a{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22};
+  WalkingGait b = a;
+  b.step_length_m = 0.35;
+  RunStandToWalk(RunUntil::kPlanEnd, a, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, b);
 }
 
 // Gait B (0.4 m steps at 0.8 m/s) started on its periodic orbit: the controller alone, without a transition.
@@ -221,9 +279,10 @@ TEST(WalkingDiagram, GaitBOnItsOrbitWalksWithPhysicalContactForces) {
 // limits); with them on, Bullet's limit constraint kicks the ankle in the first step (measured: 2.8e5 N on the right
 // foot, the run ends at 52 ms with the robot thrown).
 // DISABLED since the walking defaults changed (COM 0.86 m in 0.84-0.90 m, torque penalty 3e-8, foot orientation
-// weight 0.1, loading floor): measured on Bullet, the trailing foot lifts at 0.683 s (plan 1.000 s), the total normal
-// force misses the plan by 18x the bound and the stance foot then lifts with no mode to go to (0.985 s). Before the
-// change it passed. Not investigated for lack of time; the hybrid plant's runs above are the acceptance.
+// weight 0.1, loading floor): measured on Bullet (2026-12-02, walking --plant bullet --joint-limits off), the front
+// (left) foot, carrying the planned ~80 N, loses contact at 0.68 s, so the plant goes to right stance 0.32 s before
+// the trailing foot's planned lift-off, and the run fails at 1.64 s. Before the change it passed. Not investigated
+// further; the hybrid plant's runs above are the acceptance.
 TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForcesAndLiftsTheTrailingFoot) {
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());

@@ -11,6 +11,7 @@
 
 #include "systems/rom/hybrid_linear_inverted_pendulum.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -119,15 +120,11 @@ TEST(AslipTransitionPlanner, StandingToGaitA) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(AslipTransitionPlanner, GaitAToGaitB) {
-  AslipPeriodicGaitParams gait_a, gait_b;
-  gait_b.step_length = 0.40;
+// Gait A's post-impact DSP state to gait B's pre-impact state, with the source gait's DSP and the target's SSP as guess.
+AslipTransitionData GaitAToBData(const AslipPeriodicGaitParams& gait_a, const AslipPeriodicGaitParams& gait_b) {
   const AslipPeriodicGait a = AslipPeriodicGaitPlanner(gait_a).Solve(1);
   const AslipPeriodicGait b = AslipPeriodicGaitPlanner(gait_b).Solve(1);
-  ASSERT_TRUE(a.success() && b.success());
-  AslipTransitionParams params;
-  params.bounds = gait_a;
-  const AslipTransitionPlanner planner(params);
+  EXPECT_TRUE(a.success() && b.success());
   // Post-impact DSP state of A: plan leg 0 (trailing, at 0) = left, leg 1 (leading, at l_A) = right.
   AslipTransitionData d;
   d.initial_state = a.collocation.phases[1].states.col(0);
@@ -145,7 +142,44 @@ TEST(AslipTransitionPlanner, GaitAToGaitB) {
   d.ssp_state_guess.row(4).swap(d.ssp_state_guess.row(5));
   d.ssp_state_guess.row(6).swap(d.ssp_state_guess.row(7));
   d.ssp_duration_guess = gait_b.ssp_duration;
-  CheckTransition(planner, d, planner.Solve(d));
+  return d;
+}
+
+// The largest vertical GRF of any leg on any node, in m g.
+double PeakForceFraction(const AslipParams& p, const AslipTransitionData& d, const AslipTransition& t) {
+  double peak = 0.0;
+  for (int ph = 0; ph < 2; ++ph) {
+    const Eigen::MatrixXd G = t.GroundReactions(p, d, ph);
+    peak = std::max({peak, G.row(1).maxCoeff(), G.row(3).maxCoeff()});
+  }
+  return peak / (p.mass * p.gravity);
+}
+
+TEST(AslipTransitionPlanner, GaitAToGaitB) {
+  AslipPeriodicGaitParams gait_a, gait_b;
+  gait_b.step_length = 0.40;
+  const AslipTransitionData d = GaitAToBData(gait_a, gait_b);
+  AslipTransitionParams params;
+  params.bounds = gait_a;
+  const AslipTransitionPlanner planner(params);
+  const AslipTransition t = planner.Solve(d);
+  CheckTransition(planner, d, t);
+
+  // max_vertical_force_fraction (ours): with the bound 5 % below the unbounded plan's peak, every leg's vertical GRF
+  // (recomputed here from the states and inputs) stays at or below it on every node, and the rest of Eq. (9)-(10) holds.
+  const double peak = PeakForceFraction(params.bounds.aslip, d, t);
+  ASSERT_GT(peak, 1.1);
+  AslipTransitionParams bounded = params;
+  bounded.max_vertical_force_fraction = 0.95 * peak;
+  const AslipTransitionPlanner bounded_planner(bounded);
+  const AslipTransition tb = bounded_planner.Solve(d);
+  CheckTransition(bounded_planner, d, tb);
+  const double bounded_peak = PeakForceFraction(params.bounds.aslip, d, tb);
+  std::printf("peak vertical GRF: %.3f m g unbounded, %.3f m g with the bound %.3f\n", peak, bounded_peak, bounded.max_vertical_force_fraction);
+  EXPECT_LE(bounded_peak, bounded.max_vertical_force_fraction + 1e-6);
+  EXPECT_NE(bounded_planner.CacheKey(d).text(), planner.CacheKey(d).text());
+  bounded.max_vertical_force_fraction = 0.5;
+  EXPECT_THROW(AslipTransitionPlanner{bounded}, std::invalid_argument);
 }
 
 TEST(AslipTransitionPlanner, RestLengthBalancesTheStaticLoad) {
