@@ -18,8 +18,8 @@
 // Status (measured, gait A, seed 1): from a 0.4 m step stance the robot makes the transition step and walks 10 steps
 // with the COM within 5 mm RMS of the reference and the plant's forces in the Eq. (25) band at 99.97 % of the ticks
 // (walking_diagram_test). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
-// (compensate_centroidal_momentum), which the point-mass ROMs do not model. Gait B after a gait change falls behind
-// (its stance knee reaches the 300 N m limit); see examples/walking and the README.
+// (compensate_centroidal_momentum), which the point-mass ROMs do not model. The gait change A → B walks with the
+// transition's vertical force bounded (StandToWalkParams::gait_change_max_force_fraction); see the README.
 //
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
 // Controller outputs (order of WalkingOutputReference): COM x, y, z; pelvis roll, pitch, yaw (the base's ZYX angles);

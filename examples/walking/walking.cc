@@ -224,7 +224,7 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A; a gait with no standing transition starts with 6 steps of 0.30 m and changes gait) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A; a gait longer than 0.30 m with no standing transition starts with 6 steps of 0.30 m and changes gait) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
