@@ -377,40 +377,52 @@ TEST(ClfQpController, FormulationsAgreeAndMatchThePlantsForces) {
   EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-8 * (1.0 + u[0].cwiseAbs().maxCoeff()));
 }
 
-// With a reference of 0 N on the left foot in double support, the band (1 ± c) · 0 makes the left normal force 0.
-TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
-  auto model = test::LoadRobot("amber");
-  const Eigen::VectorXd q = test::AmberDoubleSupportPose(*model);
-  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
-  const int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
-  const ContactSet both = ContactBit(l) | ContactBit(r);
+// The force-band tests' setup: AMBER at rest in its double-support pose with the torso pitch and the COM (x, z) as
+// outputs, held at their current values; and the plant's own normal force on a contact at the QP's torques.
+struct AmberBandSetup {
+  std::shared_ptr<const MultibodyModel> model = test::LoadRobot("amber");
+  Eigen::VectorXd q = test::AmberDoubleSupportPose(*model), v = Eigen::VectorXd::Zero(model->nv());
+  int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
+  double mg = model->total_mass() * 9.81;
   std::vector<ClfOutput> outputs = {
       ClfOutput::RelativeDegreeTwo(std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")),
       ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
-  for (int f = 0; f < 2; ++f) {
-    ClfQpParams params;
-    params.formulation = f == 0 ? ClfQpFormulation::kEliminateContactForces : ClfQpFormulation::kAugmentedInput;
-    params.force_band = true;
-    ClfQpController controller("clf", model, {both}, outputs, params);
-    auto context = controller.CreateDefaultLeafContext();
+  Eigen::VectorXd Desired() const {
     Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
     desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
                                                 std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
                                        q, v);
-    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
-    f_ref[r] = model->total_mass() * 9.81;
-    context->FixInputPort(3, f_ref);
-    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
-    ASSERT_EQ(s.status, QpStatus::kOptimal);
-    EXPECT_EQ(s.fallbacks.sum(), 0.0);
+    return desired;
+  }
+  /// F_z [N] of `contact` from CalcConstrainedForwardDynamics with `active` at torques u.
+  double PlantNormalForce(const Eigen::VectorXd& u, ContactSet active, int contact) const {
     MultibodyWorkspace ws(*model);
     Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
-    CalcConstrainedForwardDynamics(*model, ws, q, v, s.u, both, ConstrainedDynamicsParameters{}, qdd, F);
-    const double fz_left = ExtractContactWrench(*model, ws, q, both, F, l).force.z();
-    const double fz_right = ExtractContactWrench(*model, ws, q, both, F, r).force.z();
+    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, ConstrainedDynamicsParameters{}, qdd, F);
+    return ExtractContactWrench(*model, ws, q, active, F, contact).force.z();
+  }
+};
+
+// With a reference of 0 N on the left foot in double support, the band (1 ± c) · 0 makes the left normal force 0.
+TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
+  const AmberBandSetup a;
+  const ContactSet both = ContactBit(a.l) | ContactBit(a.r);
+  for (int f = 0; f < 2; ++f) {
+    ClfQpParams params;
+    params.formulation = f == 0 ? ClfQpFormulation::kEliminateContactForces : ClfQpFormulation::kAugmentedInput;
+    params.force_band = true;
+    ClfQpController controller("clf", a.model, {both}, a.outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[a.r] = a.mg;
+    context->FixInputPort(3, f_ref);
+    const Solved s = RunUpdate(controller, *context, Stack(a.q, a.v), 0, a.Desired());
+    ASSERT_EQ(s.status, QpStatus::kOptimal);
+    EXPECT_EQ(s.fallbacks.sum(), 0.0);
+    const double fz_left = a.PlantNormalForce(s.u, both, a.l), fz_right = a.PlantNormalForce(s.u, both, a.r);
     std::printf("  formulation %d: plant F_z left %.3g N, right %.4g N\n", f, fz_left, fz_right);
     EXPECT_NEAR(fz_left, 0.0, 1e-6);
-    EXPECT_NEAR(fz_right, model->total_mass() * 9.81, 0.1 * model->total_mass() * 9.81 + 1e-6);
+    EXPECT_NEAR(fz_right, a.mg, 0.1 * a.mg + 1e-6);
   }
 }
 
@@ -419,37 +431,23 @@ TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
 // foot at least 20 N; after an update at 50 N the reference falls to 0 (unloading) and the band (1 ± c) · 0 holds it at
 // 0 N, as without a floor. Both on the plant's forces, not the QP's.
 TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
-  auto model = test::LoadRobot("amber");
-  const Eigen::VectorXd q = test::AmberDoubleSupportPose(*model);
-  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
-  const int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
-  const ContactSet both = ContactBit(l) | ContactBit(r);
-  const double mg = model->total_mass() * 9.81, floor = 20.0;
-  std::vector<ClfOutput> outputs = {
-      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
+  const AmberBandSetup a;
+  const ContactSet both = ContactBit(a.l) | ContactBit(a.r);
+  const double floor = 20.0;
   ClfQpParams params;
   params.force_band = true;
   params.force_band_loading_floor_N = floor;
-  ClfQpController controller("clf", model, {both}, outputs, params);
+  ClfQpController controller("clf", a.model, {both}, a.outputs, params);
   auto context = controller.CreateDefaultLeafContext();
-  Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
-  desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
-                                              std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
-                                     q, v);
-  MultibodyWorkspace ws(*model);
-  Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
-  auto plant_left_fz = [&](const Eigen::VectorXd& u) {
-    CalcConstrainedForwardDynamics(*model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
-    return ExtractContactWrench(*model, ws, q, both, F, l).force.z();
-  };
+  const Eigen::VectorXd desired = a.Desired();
+  auto plant_left_fz = [&](const Eigen::VectorXd& u) { return a.PlantNormalForce(u, both, a.l); };
   auto update = [&](double t, double f_left) {
     context->SetTime(t);
     Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
-    f_ref[l] = f_left;
-    f_ref[r] = mg - f_left;
+    f_ref[a.l] = f_left;
+    f_ref[a.r] = a.mg - f_left;
     context->FixInputPort(3, f_ref);
-    return RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    return RunUpdate(controller, *context, Stack(a.q, a.v), 0, desired);
   };
   const Solved loading = update(0.0, 0.0);
   ASSERT_EQ(loading.status, QpStatus::kOptimal);
@@ -468,36 +466,23 @@ TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
 // force_band_carry_inactive: in left stance, the right foot's planned 0.7 m g moves to the left foot, so the band is
 // (1 ± c) · m g there; checked on the plant's own constrained dynamics at the QP's torques (off: the band holds 0.3 m g).
 TEST(ClfQpController, ForceBandCarriesTheInactiveContactsLoad) {
-  auto model = test::LoadRobot("amber");
-  const Eigen::VectorXd q = test::AmberDoubleSupportPose(*model);
-  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model->nv());
-  const int l = model->ContactIndex("left_foot"), r = model->ContactIndex("right_foot");
-  const ContactSet left = ContactBit(l);
-  const double mg = model->total_mass() * 9.81;
-  std::vector<ClfOutput> outputs = {
-      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
+  const AmberBandSetup a;
+  const ContactSet left = ContactBit(a.l);
+  const double mg = a.mg;
   for (int carry = 0; carry < 2; ++carry) {
     ClfQpParams params;
     params.force_band = true;
     params.force_band_carry_inactive = carry == 1;
     params.contact.cop_margin_m = 0.0;
-    ClfQpController controller("clf", model, {left}, outputs, params);
+    ClfQpController controller("clf", a.model, {left}, a.outputs, params);
     auto context = controller.CreateDefaultLeafContext();
-    Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
-    desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
-                                                std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
-                                       q, v);
     Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
-    f_ref[l] = 0.3 * mg;
-    f_ref[r] = 0.7 * mg;
+    f_ref[a.l] = 0.3 * mg;
+    f_ref[a.r] = 0.7 * mg;
     context->FixInputPort(3, f_ref);
-    const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
+    const Solved s = RunUpdate(controller, *context, Stack(a.q, a.v), 0, a.Desired());
     ASSERT_EQ(s.status, QpStatus::kOptimal);
-    MultibodyWorkspace ws(*model);
-    Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
-    CalcConstrainedForwardDynamics(*model, ws, q, v, s.u, left, ConstrainedDynamicsParameters{}, qdd, F);
-    const double fz = ExtractContactWrench(*model, ws, q, left, F, l).force.z();
+    const double fz = a.PlantNormalForce(s.u, left, a.l);
     std::printf("  carry %d: plant F_z left %.4g N (m g %.4g N), fallbacks %.0f\n", carry, fz, mg, s.fallbacks.sum());
     EXPECT_EQ(s.fallbacks.sum(), 0.0);  // the band held (not dropped)
     const double total = carry == 1 ? mg : 0.3 * mg;
