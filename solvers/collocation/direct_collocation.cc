@@ -56,9 +56,9 @@ void EvalWithJacobian(const StateInputFunction& F, int expected_size, const Eige
                       const Eigen::VectorXd& u, const std::string& what, Eigen::VectorXd* value,
                       Eigen::MatrixXd* jacobian) {
   const int nd = static_cast<int>(x.size() + u.size());
-  const VectorXad xa = InitializeAutoDiff(x, nd, 0);
-  const VectorXad ua = InitializeAutoDiff(u, nd, static_cast<int>(x.size()));
-  VectorXad y;
+  const NodeVector xa = InitializeAutoDiff<NodeScalar>(x, nd, 0);
+  const NodeVector ua = InitializeAutoDiff<NodeScalar>(u, nd, static_cast<int>(x.size()));
+  NodeVector y;
   F(xa, ua, y);
   if (y.size() != expected_size) {
     std::ostringstream msg;
@@ -72,8 +72,8 @@ void EvalWithJacobian(const StateInputFunction& F, int expected_size, const Eige
 void EvalScalar(const ScalarStateInputFunction& F, const Eigen::VectorXd& x,
                 const Eigen::VectorXd& u, double* value, Eigen::VectorXd* gradient) {
   const int nd = static_cast<int>(x.size() + u.size());
-  const AutoDiffXd y =
-      F(InitializeAutoDiff(x, nd, 0), InitializeAutoDiff(u, nd, static_cast<int>(x.size())));
+  const NodeScalar y = F(InitializeAutoDiff<NodeScalar>(x, nd, 0),
+                         InitializeAutoDiff<NodeScalar>(u, nd, static_cast<int>(x.size())));
   *value = y.value();
   *gradient = y.derivatives().size() == nd ? Eigen::VectorXd(y.derivatives())
                                            : Eigen::VectorXd::Zero(nd);
@@ -335,8 +335,8 @@ class CollocationNlp final : public NlpProblem {
     if (w.cwiseAbs().maxCoeff() == 0.0) return;
     const int nx = static_cast<int>(x.size());
     auto gradient = [&](const Eigen::VectorXd& xx) {
-      VectorXad y;
-      F(InitializeAutoDiff(xx), y);
+      NodeVector y;
+      F(InitializeAutoDiff<NodeScalar>(xx), y);
       return Eigen::VectorXd(ExtractJacobian(y, nx).transpose() * w);
     };
     const Eigen::VectorXd g0 = gradient(x);
@@ -422,8 +422,8 @@ class CollocationNlp final : public NlpProblem {
       const PhaseLayout& B = layout_[p + 1];
       const Eigen::VectorXd x_end = z.segment(A.x(A.N - 1), A.nx);
       if (transitions_[p]) {
-        VectorXad y;
-        transitions_[p](InitializeAutoDiff(x_end), y);
+        NodeVector y;
+        transitions_[p](InitializeAutoDiff<NodeScalar>(x_end), y);
         if (y.size() != B.nx) {
           std::ostringstream msg;
           msg << "transition from phase '" << phases_[p].name << "' to '" << phases_[p + 1].name
@@ -445,8 +445,8 @@ class CollocationNlp final : public NlpProblem {
     if (periodic_transition_) {
       const PhaseLayout& A = layout_.back();
       const PhaseLayout& B = layout_.front();
-      VectorXad y;
-      periodic_transition_(InitializeAutoDiff(z.segment(A.x(A.N - 1), A.nx)), y);
+      NodeVector y;
+      periodic_transition_(InitializeAutoDiff<NodeScalar>(z.segment(A.x(A.N - 1), A.nx)), y);
       if (y.size() != B.nx) {
         std::ostringstream msg;
         msg << "periodic transition from phase '" << phases_.back().name << "' to '" << phases_.front().name
@@ -533,6 +533,10 @@ DirectCollocation::DirectCollocation(std::string name, std::vector<CollocationPh
     if (ph.num_states < 1) fail("num_states must be ≥ 1, got " + std::to_string(ph.num_states));
     if (ph.num_inputs < 0) fail("num_inputs must be ≥ 0, got " + std::to_string(ph.num_inputs));
     if (ph.num_nodes < 2) fail("num_nodes must be ≥ 2, got " + std::to_string(ph.num_nodes));
+    if (ph.num_states + ph.num_inputs > kMaxNodeVariables) {
+      fail("num_states + num_inputs must be ≤ " + std::to_string(kMaxNodeVariables) + " (kMaxNodeVariables), got " +
+           std::to_string(ph.num_states + ph.num_inputs));
+    }
     if (!ph.dynamics) fail("dynamics function is empty");
     if (!(ph.min_duration > 0.0) || !(ph.max_duration >= ph.min_duration) ||
         !std::isfinite(ph.max_duration)) {

@@ -20,7 +20,7 @@
 //   Σ_p [ Σ_k (h/2)(L(x_k, u_k) + L(x_{k+1}, u_{k+1})) + w_T T^p ] + Φ(x_{N−1}, u_{N−1}) of the
 //   last phase.
 //
-// All user functions are written once on AutoDiff scalars (solvers/nlp/autodiff.h); a template
+// All user functions are written once on AutoDiff scalars (NodeScalar below); a template
 // functor  template <class T> void operator()(const Eigen::Matrix<T,-1,1>& x,
 //                                             const Eigen::Matrix<T,-1,1>& u,
 //                                             Eigen::Matrix<T,-1,1>& y) const
@@ -31,7 +31,7 @@
 // the duration rows; node blocks are forward differences of the exact AutoDiff gradients, the
 // duration rows exact), which cuts Ipopt's iterations several-fold on stiff hybrid ROMs.
 //
-// Evaluation callbacks allocate (AutoDiff derivative vectors); this is an offline planner.
+// Evaluation callbacks allocate a few Eigen vectors per node (not per AutoDiff operation); this is an offline planner.
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,13 +45,20 @@
 
 namespace rome {
 
+// The scalar of every user function: forward-mode AutoDiff over one node's [x; u], with the derivatives held inside
+// the scalar (no heap allocation per operation), so a phase has n_x + n_u ≤ kMaxNodeVariables (the constructor
+// checks). Template code on the scalar type (the ROMs in systems/rom) instantiates with NodeScalar.
+inline constexpr int kMaxNodeVariables = 24;
+using NodeScalar = AutoDiffMax<kMaxNodeVariables>;
+using NodeVector = Eigen::Matrix<NodeScalar, Eigen::Dynamic, 1>;
+
 // y = F(x, u); F must resize y itself.
 using StateInputFunction =
-    std::function<void(const VectorXad& x, const VectorXad& u, VectorXad& y)>;
+    std::function<void(const NodeVector& x, const NodeVector& u, NodeVector& y)>;
 // y = F(x) (reset maps).
-using StateFunction = std::function<void(const VectorXad& x, VectorXad& y)>;
+using StateFunction = std::function<void(const NodeVector& x, NodeVector& y)>;
 // Scalar L(x, u) (running and terminal costs).
-using ScalarStateInputFunction = std::function<AutoDiffXd(const VectorXad& x, const VectorXad& u)>;
+using ScalarStateInputFunction = std::function<NodeScalar(const NodeVector& x, const NodeVector& u)>;
 
 enum class CollocationMethod { kTrapezoidal, kHermiteSimpson };
 

@@ -253,25 +253,41 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
     std::lock_guard<std::mutex> lock(IpoptMutex());
     Ipopt::SmartPtr<Ipopt::IpoptApplication> app = new Ipopt::IpoptApplication();
     auto opts = app->Options();
-    opts->SetIntegerValue("print_level", options_.print_level);
-    opts->SetStringValue("sb", "yes");  // no banner
-    opts->SetNumericValue("tol", options_.tolerance);
-    opts->SetNumericValue("constr_viol_tol", options_.constraint_violation_tolerance);
-    opts->SetNumericValue("acceptable_tol", options_.acceptable_tolerance);
-    opts->SetIntegerValue("max_iter", options_.max_iterations);
-    opts->SetNumericValue("max_cpu_time", options_.max_cpu_time);
-    opts->SetStringValue("linear_solver", options_.linear_solver);
-    opts->SetNumericValue("bound_relax_factor", options_.bound_relax_factor);
-    opts->SetStringValue("mu_strategy", options_.mu_strategy);
+    // Ipopt's setters return false for a value it rejects (e.g. mu_strategy "fast", tol ≤ 0): say which.
+    auto reject = [&](const char* option, const std::string& value) {
+      throw std::invalid_argument("NLP '" + problem.name() + "': IpoptSolverOptions: Ipopt rejects " + option +
+                                  " = " + value);
+    };
+    auto set_str = [&](const char* option, const std::string& value) {
+      if (!opts->SetStringValue(option, value)) reject(option, "'" + value + "'");
+    };
+    auto set_num = [&](const char* option, double value) {
+      if (!opts->SetNumericValue(option, value)) reject(option, std::to_string(value));
+    };
+    auto set_int = [&](const char* option, int value) {
+      if (!opts->SetIntegerValue(option, value)) reject(option, std::to_string(value));
+    };
+    set_int("print_level", options_.print_level);
+    set_str("sb", "yes");  // no banner
+    set_num("tol", options_.tolerance);
+    set_num("constr_viol_tol", options_.constraint_violation_tolerance);
+    set_num("acceptable_tol", options_.acceptable_tolerance);
+    set_int("max_iter", options_.max_iterations);
+    set_num("max_cpu_time", options_.max_cpu_time);
+    set_str("linear_solver", options_.linear_solver);
+    set_num("bound_relax_factor", options_.bound_relax_factor);
+    set_str("mu_strategy", options_.mu_strategy);
+    set_num("mu_init", options_.mu_init);
+    set_str("bound_mult_init_method", options_.bound_mult_init_method);
     if (options_.use_limited_memory_hessian || !problem.has_lagrangian_hessian()) {
-      opts->SetStringValue("hessian_approximation", "limited-memory");
-      opts->SetIntegerValue("limited_memory_max_history", options_.limited_memory_history);
+      set_str("hessian_approximation", "limited-memory");
+      set_int("limited_memory_max_history", options_.limited_memory_history);
     }
     if (warm_start != nullptr) {
-      opts->SetStringValue("warm_start_init_point", "yes");
-      opts->SetNumericValue("warm_start_bound_push", options_.warm_start_bound_push);
-      opts->SetNumericValue("warm_start_mult_bound_push", options_.warm_start_mult_bound_push);
-      opts->SetNumericValue("mu_init", options_.warm_start_mu_init);
+      set_str("warm_start_init_point", "yes");
+      set_num("warm_start_bound_push", options_.warm_start_bound_push);
+      set_num("warm_start_mult_bound_push", options_.warm_start_mult_bound_push);
+      set_num("mu_init", options_.warm_start_mu_init);
     }
     // Initialize("") : do not read an ipopt.opt file from the working directory.
     raw = app->Initialize("");

@@ -34,6 +34,9 @@ struct IpoptSolverOptions {
   // x is moved back inside them at the end, so g(x) can differ from the last iterate's; 0 solves on exact bounds.
   double bound_relax_factor = 1e-8;
   std::string mu_strategy = "monotone";          // Ipopt `mu_strategy`: "monotone" or "adaptive"
+  double mu_init = 0.1;                          // Ipopt `mu_init`, initial barrier parameter of a cold start [-]
+  // Ipopt `bound_mult_init_method`: "constant" (every bound multiplier starts at 1) or "mu-based" (mu_init / slack).
+  std::string bound_mult_init_method = "constant";
   // Warm start: when Solve() receives multipliers, use them (Ipopt `warm_start_init_point`).
   double warm_start_bound_push = 1e-9;           // Ipopt `warm_start_bound_push` [-]
   double warm_start_mult_bound_push = 1e-9;      // Ipopt `warm_start_mult_bound_push` [-]

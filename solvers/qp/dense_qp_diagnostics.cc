@@ -194,10 +194,15 @@ std::string DenseQpSolver::status_message() const {
         }
         return buf;
       }
+      // The first few of the subset keep the message one readable line; infeasible_constraints() has them all.
+      constexpr size_t kListed = 6;
       msg = "DenseQpSolver: infeasible; these constraints cannot hold together: ";
-      for (size_t k = 0; k < infeasible_ids_.size(); ++k) {
+      for (size_t k = 0; k < infeasible_ids_.size() && k < kListed; ++k) {
         if (k > 0) msg += ", ";
         msg += describe(infeasible_ids_[k]);
+      }
+      if (infeasible_ids_.size() > kListed) {
+        msg += " and " + std::to_string(infeasible_ids_.size() - kListed) + " more (infeasible_constraints())";
       }
       return msg;
     }

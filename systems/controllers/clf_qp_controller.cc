@@ -95,6 +95,9 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   if (!(params_.u_regularization >= 0.0)) ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
   if (!(params_.force_band_loading_floor_N >= 0.0) || !std::isfinite(params_.force_band_loading_floor_N))
     ThrowError("params.force_band_loading_floor_N = " + std::to_string(params_.force_band_loading_floor_N) + " must be >= 0 N and finite");
+  if (!(params_.force_band_loading_fall_tolerance_N >= 0.0) || !std::isfinite(params_.force_band_loading_fall_tolerance_N))
+    ThrowError("params.force_band_loading_fall_tolerance_N = " + std::to_string(params_.force_band_loading_fall_tolerance_N) +
+               " must be >= 0 N and finite");
   if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
     ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
   if (params_.predict_hold_drift && params_.formulation != ClfQpFormulation::kEliminateContactForces)
@@ -541,7 +544,8 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
       double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
       const int ci = cw.contact();
       s.band_ref_cur[ci] = f_ref;
-      const bool loading = !(s.band_active_prev & ContactBit(ci)) || f_ref >= s.band_ref_prev[ci];
+      const bool loading = !(s.band_active_prev & ContactBit(ci)) ||
+                           f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
       if (loading && params_.force_band_loading_floor_N > 0.0) {
         lower = std::max(lower, params_.force_band_loading_floor_N);
         upper = std::max(upper, lower);

@@ -143,6 +143,9 @@ struct ClfQpParams {
   /// where the plan's force starts at 0 (walking: the aSLIP's F⁺ = 0 at touchdown) is held at F_z = 0 and the plant
   /// lifts it off again at once. Unloading contacts keep the band's (1 − c) F_ref, which reaches 0 at lift-off.
   double force_band_loading_floor_N = 0.0;
+  /// [N] a contact's reference counts as falling (unloading) only when it drops by more than this between two updates
+  /// (ours): where the plan's force is 0 it carries solver noise of ~1e-5 N, which must not end the loading floor.
+  double force_band_loading_fall_tolerance_N = 0.01;
   /// The reference load of contacts the plan loads but the current mode lacks (a late touchdown) goes to the active
   /// contacts, in proportion to their references (evenly if those are 0), so the band keeps the total (ours; off:
   /// each active contact keeps its own reference).

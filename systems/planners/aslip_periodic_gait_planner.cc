@@ -21,8 +21,8 @@ void Require(bool ok, const std::string& what, double value) {
 }
 
 // Path rows of one leg on the ground: F/(m g) ≥ 0, (μ G_z ∓ G_x)/(m g) ≥ 0, s ∈ [s_min, s_max].
-void LegRows(const AslipParams& p, double mu, const VectorXad& x, int leg, double foot_x, VectorXad& y, int row) {
-  const AslipLeg<AutoDiffXd> g = AslipLegState<AutoDiffXd>(p, x, leg, foot_x, AutoDiffXd(0.0));
+void LegRows(const AslipParams& p, double mu, const NodeVector& x, int leg, double foot_x, NodeVector& y, int row) {
+  const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, leg, foot_x, NodeScalar(0.0));
   const double weight = p.mass * p.gravity;
   y(row) = g.force / weight;
   y(row + 1) = (mu * g.grf_z - g.grf_x) / weight;
@@ -76,14 +76,14 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
     c.num_nodes = q.nodes_per_domain;
     c.min_duration = c.max_duration = durations[ph];
     const AslipContact contact = PhaseContact(ph);
-    c.dynamics = [p, contact](const VectorXad& x, const VectorXad& u, VectorXad& y) {
-      y = AslipDynamics<AutoDiffXd>(p, contact, x, u);
+    c.dynamics = [p, contact](const NodeVector& x, const NodeVector& u, NodeVector& y) {
+      y = AslipDynamics<NodeScalar>(p, contact, x, u);
     };
     c.state_lower = xl;
     c.state_upper = xu;
     c.input_lower = ul;
     c.input_upper = uu;
-    c.running_cost = [](const VectorXad&, const VectorXad& u) { return AutoDiffXd(u(0) * u(0) + u(1) * u(1)); };  // Eq. (4)
+    c.running_cost = [](const NodeVector&, const NodeVector& u) { return NodeScalar(u(0) * u(0) + u(1) * u(1)); };  // Eq. (4)
   }
   DirectCollocation problem("aslip_periodic_gait", std::move(phases));
   problem.SetExactHessian(q.exact_hessian);
@@ -94,7 +94,7 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   lo1 << 0, 0, 0, q.spring_min;
   hi1 << inf, inf, inf, q.spring_max;
   problem.AddPathConstraint(
-      0, 4, [p, mu](const VectorXad& x, const VectorXad&, VectorXad& y) {
+      0, 4, [p, mu](const NodeVector& x, const NodeVector&, NodeVector& y) {
         y.resize(4);
         LegRows(p, mu, x, 0, 0.0, y, 0);
       },
@@ -103,7 +103,7 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   lo2 << lo1, lo1;
   hi2 << hi1, hi1;
   problem.AddPathConstraint(
-      1, 8, [p, mu, l](const VectorXad& x, const VectorXad&, VectorXad& y) {
+      1, 8, [p, mu, l](const NodeVector& x, const NodeVector&, NodeVector& y) {
         y.resize(8);
         LegRows(p, mu, x, 0, 0.0, y, 0);
         LegRows(p, mu, x, 1, l, y, 4);
@@ -112,8 +112,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   // Touchdown at the last SSP node: s_1 = 0 (and ṡ_1 = 0 for a smooth force rise).
   const int td_rows = q.smooth_touchdown ? 2 : 1;
   problem.AddNodeConstraint(
-      0, -1, td_rows, [p, l, td_rows](const VectorXad& x, const VectorXad&, VectorXad& y) {
-        const AslipLeg<AutoDiffXd> g = AslipLegState<AutoDiffXd>(p, x, 1, l, AutoDiffXd(0.0));
+      0, -1, td_rows, [p, l, td_rows](const NodeVector& x, const NodeVector&, NodeVector& y) {
+        const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, 1, l, NodeScalar(0.0));
         y.resize(td_rows);
         y(0) = g.spring;
         if (td_rows == 2) y(1) = g.spring_rate;
@@ -121,13 +121,13 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
       Eigen::VectorXd::Zero(td_rows), Eigen::VectorXd::Zero(td_rows), "touchdown");
   // Lift-off guard at the last DSP node: F_0 = 0.
   problem.AddNodeConstraint(
-      1, -1, 1, [p](const VectorXad& x, const VectorXad&, VectorXad& y) {
+      1, -1, 1, [p](const NodeVector& x, const NodeVector&, NodeVector& y) {
         y.resize(1);
-        y(0) = AslipLegState<AutoDiffXd>(p, x, 0, 0.0, AutoDiffXd(0.0)).force / (p.mass * p.gravity);
+        y(0) = AslipLegState<NodeScalar>(p, x, 0, 0.0, NodeScalar(0.0)).force / (p.mass * p.gravity);
       },
       Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "liftoff");
   // Periodicity: about the new stance foot (x − l), legs swapped.
-  problem.SetPeriodicTransition([l](const VectorXad& x, VectorXad& y) {
+  problem.SetPeriodicTransition([l](const NodeVector& x, NodeVector& y) {
     y.resize(kNx);
     y << x(0) - l, x(1), x(2), x(3), x(5), x(4), x(7), x(6);
   });
@@ -199,6 +199,8 @@ void AddToCacheKey(const AslipPeriodicGaitParams& q, PlanCacheKey* key) {
   key->Add("smooth", q.smooth_touchdown).Add("tol", q.tolerance).Add("constr_tol", q.constraint_tolerance);
   key->Add("max_iter", q.max_iterations).Add("history", q.limited_memory_history).Add("hessian", q.exact_hessian);
   key->Add(q.mu_strategy == "adaptive" ? "mu_adaptive" : "mu_monotone", 1.0);
+  key->Add(q.bound_mult_init_method == "mu-based" ? "bound_mult_mu_based" : "bound_mult_constant", 1.0);
+  key->Add("mu_init", q.mu_init);
 }
 
 std::optional<CollocationResult> LoadCachedCollocation(const DirectCollocation& problem, const PlanCache& cache,
@@ -241,6 +243,8 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& probl
   options.max_iterations = params_.max_iterations;
   options.limited_memory_history = params_.limited_memory_history;
   options.mu_strategy = params_.mu_strategy;
+  options.mu_init = params_.mu_init;
+  options.bound_mult_init_method = params_.bound_mult_init_method;
   return Summarize(problem.Solve(options), problem);
 }
 

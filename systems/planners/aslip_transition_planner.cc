@@ -14,9 +14,9 @@ constexpr int kNx8 = 8, kNu4 = 4;
 
 // Rows of one leg on the ground: F/(m g) ≥ 0, (μ G_z ∓ G_x)/(m g) ≥ 0, s ∈ [s_min, s_max], Eq. (10)
 // (L_t G_z − u)/(m g L_t) ≥ 0 and (u + L_h G_z)/(m g L_h) ≥ 0.
-void LegRows(const AslipParams& p, double mu, const VectorXad& x, const VectorXad& u, int leg, double foot_x,
-             VectorXad& y, int row) {
-  const AslipLeg<AutoDiffXd> g = AslipLegState<AutoDiffXd>(p, x, leg, foot_x, u(2 + leg));
+void LegRows(const AslipParams& p, double mu, const NodeVector& x, const NodeVector& u, int leg, double foot_x,
+             NodeVector& y, int row) {
+  const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, leg, foot_x, u(2 + leg));
   const double weight = p.mass * p.gravity;
   y(row) = g.force / weight;
   y(row + 1) = (mu * g.grf_z - g.grf_x) / weight;
@@ -104,17 +104,17 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     c.min_duration = ph == 0 ? params_.min_dsp_duration : params_.min_ssp_duration;
     c.max_duration = ph == 0 ? params_.max_dsp_duration : params_.max_ssp_duration;
     const AslipContact contact = PhaseContact(data, ph);
-    c.dynamics = [p, contact, lat, foot_y](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+    c.dynamics = [p, contact, lat, foot_y](const NodeVector& x, const NodeVector& u, NodeVector& y) {
       if (!lat) {
-        y = AslipDynamics<AutoDiffXd>(p, contact, x, u);
+        y = AslipDynamics<NodeScalar>(p, contact, x, u);
         return;
       }
       y.resize(10);
-      y.head(8) = AslipDynamics<AutoDiffXd>(p, contact, VectorXad(x.head(8)), VectorXad(u.head(4)));
-      AutoDiffXd fy = 0.0 * x(8);
+      y.head(8) = AslipDynamics<NodeScalar>(p, contact, NodeVector(x.head(8)), NodeVector(u.head(4)));
+      NodeScalar fy = 0.0 * x(8);
       for (int leg = 0; leg < 2; ++leg) {
         if (!contact.in_contact(leg)) continue;
-        const AslipLeg<AutoDiffXd> g = AslipLegState<AutoDiffXd>(p, x, leg, contact.foot_x(leg), u(2 + leg));
+        const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg));
         fy += g.grf_z * (x(8) - foot_y[leg]) + u(4 + leg);
       }
       y(8) = x(9);
@@ -140,8 +140,8 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         c.input_upper(3 - data.lifting_leg) = ssp_max;
       }
     }
-    c.running_cost = [us, lat](const VectorXad&, const VectorXad& u) {  // Eq. (9)
-      AutoDiffXd cost = u(0) * u(0) + u(1) * u(1) + (u(2) / us) * (u(2) / us) + (u(3) / us) * (u(3) / us);
+    c.running_cost = [us, lat](const NodeVector&, const NodeVector& u) {  // Eq. (9)
+      NodeScalar cost = u(0) * u(0) + u(1) * u(1) + (u(2) / us) * (u(2) / us) + (u(3) / us) * (u(3) / us);
       if (lat) cost += (u(4) / us) * (u(4) / us) + (u(5) / us) * (u(5) / us);  // Eq. (15)'s torques, same scale
       return cost;
     };
@@ -158,7 +158,7 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
   hi2 << hi1, hi1;
   problem.AddPathConstraint(
       0, 12,
-      [p, mu, dsp](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+      [p, mu, dsp](const NodeVector& x, const NodeVector& u, NodeVector& y) {
         y.resize(12);
         LegRows(p, mu, x, u, 0, dsp.left_foot_x, y, 0);
         LegRows(p, mu, x, u, 1, dsp.right_foot_x, y, 6);
@@ -169,9 +169,9 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
   if (params_.min_dsp_stance_force_fraction > 0) {
     problem.AddPathConstraint(
         0, 1,
-        [p, stance, stance_x](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+        [p, stance, stance_x](const NodeVector& x, const NodeVector& u, NodeVector& y) {
           y.resize(1);
-          y(0) = AslipLegState<AutoDiffXd>(p, x, stance, stance_x, u(2 + stance)).grf_z / (p.mass * p.gravity);
+          y(0) = AslipLegState<NodeScalar>(p, x, stance, stance_x, u(2 + stance)).grf_z / (p.mass * p.gravity);
         },
         Eigen::VectorXd::Constant(1, params_.min_dsp_stance_force_fraction), Eigen::VectorXd::Constant(1, inf),
         "dsp_stance_leg_min_force");
@@ -181,11 +181,11 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
       const AslipContact contact = PhaseContact(data, ph);
       problem.AddPathConstraint(
           ph, 2,
-          [p, contact](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+          [p, contact](const NodeVector& x, const NodeVector& u, NodeVector& y) {
             y.resize(2);
             for (int leg = 0; leg < 2; ++leg)
-              y(leg) = contact.in_contact(leg) ? AslipLegState<AutoDiffXd>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z / (p.mass * p.gravity)
-                                               : AutoDiffXd(0.0 * x(0));
+              y(leg) = contact.in_contact(leg) ? AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z / (p.mass * p.gravity)
+                                               : NodeScalar(0.0 * x(0));
           },
           Eigen::VectorXd::Constant(2, -inf), Eigen::VectorXd::Constant(2, params_.max_vertical_force_fraction),
           ph == 0 ? "dsp_leg_max_force" : "ssp_leg_max_force");
@@ -193,7 +193,7 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
   }
   problem.AddPathConstraint(
       1, 6,
-      [p, mu, stance, stance_x](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+      [p, mu, stance, stance_x](const NodeVector& x, const NodeVector& u, NodeVector& y) {
         y.resize(6);
         LegRows(p, mu, x, u, stance, stance_x, y, 0);
       },
@@ -204,12 +204,12 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
       const AslipContact contact = PhaseContact(data, ph);
       problem.AddPathConstraint(
           ph, 4,
-          [p, contact, W1, W2](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+          [p, contact, W1, W2](const NodeVector& x, const NodeVector& u, NodeVector& y) {
             y.resize(4);
             for (int leg = 0; leg < 2; ++leg) {
-              const AutoDiffXd gz = contact.in_contact(leg)
-                                        ? AslipLegState<AutoDiffXd>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z
-                                        : AutoDiffXd(0.0 * x(0));
+              const NodeScalar gz = contact.in_contact(leg)
+                                        ? AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z
+                                        : NodeScalar(0.0 * x(0));
               y(2 * leg) = (u(4 + leg) + W1 * gz) / (p.mass * p.gravity * W1);
               y(2 * leg + 1) = (W2 * gz - u(4 + leg)) / (p.mass * p.gravity * W2);
             }
@@ -221,15 +221,15 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
   const double lift_x = dsp.foot_x(lift);
   problem.AddNodeConstraint(
       0, -1, 1,
-      [p, lift, lift_x](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+      [p, lift, lift_x](const NodeVector& x, const NodeVector& u, NodeVector& y) {
         y.resize(1);
-        y(0) = AslipLegState<AutoDiffXd>(p, x, lift, lift_x, u(2 + lift)).grf_z / (p.mass * p.gravity);
+        y(0) = AslipLegState<NodeScalar>(p, x, lift, lift_x, u(2 + lift)).grf_z / (p.mass * p.gravity);
       },
       Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "liftoff");
   if (params_.zero_final_ankle_torque) {
     problem.AddNodeConstraint(
         1, -1, 1,
-        [stance](const VectorXad&, const VectorXad& u, VectorXad& y) {
+        [stance](const NodeVector&, const NodeVector& u, NodeVector& y) {
           y.resize(1);
           y(0) = u(2 + stance) / 100.0;
         },
@@ -305,6 +305,8 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   options.max_iterations = q.max_iterations;
   options.limited_memory_history = q.limited_memory_history;
   options.mu_strategy = q.mu_strategy;
+  options.mu_init = q.mu_init;
+  options.bound_mult_init_method = q.bound_mult_init_method;
   AslipTransition out;
   const PlanCacheKey key = CacheKey(data);
   std::optional<CollocationResult> hit;

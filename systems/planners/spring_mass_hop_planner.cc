@@ -45,8 +45,8 @@ CollocationPhase MakePhase(const std::string& name, const SpringMassParams& rom,
   // Hermite–Simpson (4th order) rather than the paper's trapezoid: with the identified (stiff, lightly damped) legs
   // the trapezoid needs ~200 intervals before an RK4 re-integration of the plan agrees to 1e-3 (measured).
   phase.method = CollocationMethod::kHermiteSimpson;
-  phase.dynamics = [rom](const VectorXad& z, const VectorXad& u, VectorXad& zdot) {
-    SpringMassDerivative<AutoDiffXd>(rom, z, u(0), zdot);  // Sec. III-B
+  phase.dynamics = [rom](const NodeVector& z, const NodeVector& u, NodeVector& zdot) {
+    SpringMassDerivative<NodeScalar>(rom, z, u(0), zdot);  // Sec. III-B
   };
   phase.min_duration = b.min_duration;
   phase.max_duration = b.max_duration;
@@ -58,9 +58,9 @@ CollocationPhase MakePhase(const std::string& name, const SpringMassParams& rom,
 }
 
 StateInputFunction LegForceFunction(const SpringMassParams& rom) {
-  return [rom](const VectorXad& z, const VectorXad&, VectorXad& y) {
+  return [rom](const NodeVector& z, const NodeVector&, NodeVector& y) {
     y.resize(1);
-    y(0) = SpringMassLegForce<AutoDiffXd>(rom, z(0), z(1), z(2), z(3));
+    y(0) = SpringMassLegForce<NodeScalar>(rom, z(0), z(1), z(2), z(3));
   };
 }
 
@@ -187,7 +187,7 @@ SpringMassPlan SpringMassJumpPlanner::Solve(const Eigen::Vector4d& z0) const {
   CheckState("SpringMassJumpPlanner::Solve", z0, b);
   const SpringMassParams& rom = rom_.params();
   CollocationPhase phase = MakePhase("jump", rom, b);
-  phase.running_cost = [](const VectorXad&, const VectorXad& u) { return AutoDiffXd(u(0) * u(0)); };  // Eq. (15)
+  phase.running_cost = [](const NodeVector&, const NodeVector& u) { return NodeScalar(u(0) * u(0)); };  // Eq. (15)
   DirectCollocation dc("spring_mass_jump", {phase});
   const int N = P.num_intervals + 1;
   dc.SetNodeStateBounds(0, 0, z0, z0);  // the standing state (L̈_0 free)
@@ -267,9 +267,9 @@ SpringMassPlan SpringMassLandingPlanner::SolveFrom(const Eigen::Vector4d& z0, co
   const double W = rom.mass * rom.gravity;
   CollocationPhase phase = MakePhase("landing", rom, b);
   const double alpha = P.spring_rate_weight;
-  phase.running_cost = [alpha](const VectorXad& z, const VectorXad& u) {  // Eq. (16): L̈² + α ṡ²
-    const AutoDiffXd sdot = z(3) - z(1);
-    return AutoDiffXd(u(0) * u(0) + alpha * sdot * sdot);
+  phase.running_cost = [alpha](const NodeVector& z, const NodeVector& u) {  // Eq. (16): L̈² + α ṡ²
+    const NodeScalar sdot = z(3) - z(1);
+    return NodeScalar(u(0) * u(0) + alpha * sdot * sdot);
   };
   DirectCollocation dc("spring_mass_landing", {phase});
   const int N = P.num_intervals + 1;
@@ -281,7 +281,7 @@ SpringMassPlan SpringMassLandingPlanner::SolveFrom(const Eigen::Vector4d& z0, co
                        "rest: leg force = m g");
   dc.AddNodeConstraint(
       0, -1, 1,
-      [](const VectorXad&, const VectorXad& u, VectorXad& y) {
+      [](const NodeVector&, const NodeVector& u, NodeVector& y) {
         y.resize(1);
         y(0) = u(0);
       },
@@ -293,7 +293,7 @@ SpringMassPlan SpringMassLandingPlanner::SolveFrom(const Eigen::Vector4d& z0, co
   }
   dc.AddPathConstraint(
       0, 1,
-      [](const VectorXad& z, const VectorXad&, VectorXad& y) {
+      [](const NodeVector& z, const NodeVector&, NodeVector& y) {
         y.resize(1);
         y(0) = z(2) - z(0);
       },

@@ -41,7 +41,7 @@ TEST(CollocationPlayback, SimulatorReintegrationStaysNearCollocatedTrajectory) {
   phase.num_nodes = 21;
   phase.dynamics = DoubleIntegratorDynamics();
   phase.min_duration = phase.max_duration = 1.0;
-  phase.running_cost = [](const VectorXad&, const VectorXad& u) -> AutoDiffXd { return u(0) * u(0); };
+  phase.running_cost = [](const NodeVector&, const NodeVector& u) -> NodeScalar { return u(0) * u(0); };
   DirectCollocation dc("min_energy_double_integrator", {phase});
   dc.SetNodeStateBounds(0, 0, Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.0, 0.0));
   dc.SetNodeStateBounds(0, -1, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(1.0, 0.0));

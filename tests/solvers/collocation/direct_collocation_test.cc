@@ -60,9 +60,9 @@ template <class F>
 Eigen::VectorXd Rk4(const F& f, Eigen::VectorXd x, const PiecewisePolynomial& u, double t0,
                     double t1, int steps) {
   auto eval = [&](const Eigen::VectorXd& xs, double t) {
-    const VectorXad xa = InitializeAutoDiff(xs, 0, 0);
-    const VectorXad ua = InitializeAutoDiff(u.Value(t), 0, 0);
-    VectorXad y;
+    const NodeVector xa = InitializeAutoDiff<NodeScalar>(xs, 0, 0);
+    const NodeVector ua = InitializeAutoDiff<NodeScalar>(u.Value(t), 0, 0);
+    NodeVector y;
     f(xa, ua, y);
     return ExtractValue(y);
   };
@@ -82,8 +82,8 @@ double RecomputedMaxDefect(const CollocationPhaseSolution& s, const StateInputFu
   const int N = static_cast<int>(s.times.size());
   Eigen::MatrixXd fx(s.states.rows(), N);
   for (int k = 0; k < N; ++k) {
-    VectorXad y;
-    f(InitializeAutoDiff(s.states.col(k), 0, 0), InitializeAutoDiff(s.inputs.col(k), 0, 0), y);
+    NodeVector y;
+    f(InitializeAutoDiff<NodeScalar>(s.states.col(k), 0, 0), InitializeAutoDiff<NodeScalar>(s.inputs.col(k), 0, 0), y);
     fx.col(k) = ExtractValue(y);
   }
   for (int k = 0; k + 1 < N; ++k) {
@@ -104,7 +104,7 @@ DirectCollocation MakeMinimumEnergyTransfer(int num_nodes) {
   phase.num_nodes = num_nodes;
   phase.dynamics = DoubleIntegrator();
   phase.min_duration = phase.max_duration = 1.0;
-  phase.running_cost = [](const VectorXad&, const VectorXad& u) -> AutoDiffXd { return u(0) * u(0); };
+  phase.running_cost = [](const NodeVector&, const NodeVector& u) -> NodeScalar { return u(0) * u(0); };
   DirectCollocation dc("min_energy_double_integrator", {phase});
   dc.SetNodeStateBounds(0, 0, Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(0.0, 0.0));
   dc.SetNodeStateBounds(0, -1, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(1.0, 0.0));
@@ -198,7 +198,7 @@ TEST(DirectCollocation, NonlinearPendulumReintegrationConverges) {
     phase.min_duration = phase.max_duration = 2.0;
     phase.input_lower = Eigen::VectorXd::Constant(1, -20.0);
     phase.input_upper = Eigen::VectorXd::Constant(1, 20.0);
-    phase.running_cost = [](const VectorXad&, const VectorXad& u) -> AutoDiffXd {
+    phase.running_cost = [](const NodeVector&, const NodeVector& u) -> NodeScalar {
       return u(0) * u(0);
     };
     DirectCollocation dc("pendulum_swing", {phase});
@@ -251,11 +251,11 @@ DirectCollocation MakeBouncingBall(double vx0, double vz0, double restitution, i
   rebound.state_upper = Eigen::Vector2d::Constant(100.0);
   DirectCollocation dc("bouncing_ball", {rise, fall, rebound});
   dc.SetNodeStateBounds(0, 0, Eigen::Vector4d(0.0, 0.0, vx0, vz0), Eigen::Vector4d(0.0, 0.0, vx0, vz0));
-  const auto vz = [](const VectorXad& x, const VectorXad&, VectorXad& y) {
+  const auto vz = [](const NodeVector& x, const NodeVector&, NodeVector& y) {
     y.resize(1);
     y(0) = x(x.size() - 1);
   };
-  const auto z = [](const VectorXad& x, const VectorXad&, VectorXad& y) {
+  const auto z = [](const NodeVector& x, const NodeVector&, NodeVector& y) {
     y.resize(1);
     y(0) = x(x.size() == 4 ? 1 : 0);
   };
@@ -263,7 +263,7 @@ DirectCollocation MakeBouncingBall(double vx0, double vz0, double restitution, i
   dc.AddNodeConstraint(0, -1, 1, vz, zero, zero, "apex");
   dc.AddNodeConstraint(1, -1, 1, z, zero, zero, "touchdown");
   dc.AddNodeConstraint(2, -1, 1, vz, zero, zero, "second_apex");
-  dc.SetTransition(1, [restitution](const VectorXad& x, VectorXad& y) {
+  dc.SetTransition(1, [restitution](const NodeVector& x, NodeVector& y) {
     y.resize(2);
     y << x(1), -restitution * x(3);
   });
@@ -340,15 +340,15 @@ TEST(DirectCollocation, ConstraintJacobianMatchesFiniteDifferences) {
   phase.min_duration = 0.5;
   phase.max_duration = 3.0;
   phase.duration_cost = 0.3;
-  phase.running_cost = [](const VectorXad& x, const VectorXad& u) -> AutoDiffXd {
+  phase.running_cost = [](const NodeVector& x, const NodeVector& u) -> NodeScalar {
     return u(0) * u(0) + x(0) * x(1) * x(1);
   };
   DirectCollocation pendulum("pendulum", {phase});
-  pendulum.AddPathConstraint(0, 1, [](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+  pendulum.AddPathConstraint(0, 1, [](const NodeVector& x, const NodeVector& u, NodeVector& y) {
     y.resize(1);
     y(0) = x(1) * u(0);  // mechanical power limit
   }, Eigen::VectorXd::Constant(1, -5.0), Eigen::VectorXd::Constant(1, 5.0), "power");
-  pendulum.SetTerminalCost([](const VectorXad& x, const VectorXad&) -> AutoDiffXd {
+  pendulum.SetTerminalCost([](const NodeVector& x, const NodeVector&) -> NodeScalar {
     return 10.0 * (x(0) - 1.0) * (x(0) - 1.0);
   });
   auto nlp2 = pendulum.BuildNlp();
@@ -384,14 +384,14 @@ TEST(DirectCollocation, PeriodicTransitionClosesTheCycle) {
   phase.num_states = 2;
   phase.num_inputs = 1;
   phase.num_nodes = 11;
-  phase.dynamics = [](const VectorXad& x, const VectorXad& u, VectorXad& y) {
+  phase.dynamics = [](const NodeVector& x, const NodeVector& u, NodeVector& y) {
     y.resize(2);
     y(0) = u(0);
     y(1) = -x(1) + 0.0 * u(0);
   };
-  phase.running_cost = [](const VectorXad&, const VectorXad& u) -> AutoDiffXd { return u(0) * u(0); };
+  phase.running_cost = [](const NodeVector&, const NodeVector& u) -> NodeScalar { return u(0) * u(0); };
   DirectCollocation dc("periodic", {phase});
-  dc.SetPeriodicTransition([](const VectorXad& x, VectorXad& y) {
+  dc.SetPeriodicTransition([](const NodeVector& x, NodeVector& y) {
     y.resize(2);
     y(0) = x(0) - 1.0;
     y(1) = 2.0 * x(1) * x(1) + 0.5 * x(1);
@@ -449,10 +449,21 @@ TEST(DirectCollocation, RejectsBadDefinitions) {
   EXPECT_THROW(dc.SetNodeStateBounds(0, 5, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()),
                std::out_of_range);
   EXPECT_THROW(dc.SetTransition(1, nullptr), std::out_of_range);
+  // More node variables than the node scalar holds: named, with the count.
+  CollocationPhase wide = phase;
+  wide.name = "wide";
+  wide.num_states = kMaxNodeVariables;
+  try {
+    DirectCollocation("dc", {wide});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'wide'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("got " + std::to_string(kMaxNodeVariables + 1)), std::string::npos) << e.what();
+  }
   // Dynamics returning the wrong size are reported by name.
   CollocationPhase wrong = phase;
   wrong.name = "wrong_size";
-  wrong.dynamics = [](const VectorXad& x, const VectorXad&, VectorXad& y) { y = x.head(1); };
+  wrong.dynamics = [](const NodeVector& x, const NodeVector&, NodeVector& y) { y = x.head(1); };
   DirectCollocation dc2("dc2", {wrong});
   try {
     dc2.Solve();
@@ -486,7 +497,7 @@ TEST(DirectCollocation, HermiteSimpsonIsFourthOrderAndItsJacobianIsExact) {
       dc.SetNodeStateBounds(0, 0, x0, x0);
       Eigen::MatrixXd inputs(1, N);
       for (int k = 0; k < N; ++k) inputs(0, k) = u.Value(2.0 * k / (N - 1))(0);
-      for (int k = 0; k < N; ++k) dc.AddNodeConstraint(0, k, 1, [](const VectorXad&, const VectorXad& v, VectorXad& y) {
+      for (int k = 0; k < N; ++k) dc.AddNodeConstraint(0, k, 1, [](const NodeVector&, const NodeVector& v, NodeVector& y) {
           y.resize(1);
           y(0) = v(0);
         }, inputs.col(k), inputs.col(k), "input");

@@ -78,3 +78,26 @@ TEST(AutoDiffNlpProblem, WrongConstraintSizeIsReported) {
 
 }  // namespace
 }  // namespace rome
+
+namespace rome {
+namespace {
+
+// The inline-gradient scalar gives HS071's analytic constraint Jacobian, and refuses more derivatives than it holds.
+TEST(AutoDiffMax, JacobianMatchesAnalyticAndCapacityIsChecked) {
+  using AD = AutoDiffMax<6>;
+  const Eigen::Vector4d v(1.0, 4.7, 3.8, 1.4);
+  const Eigen::Matrix<AD, Eigen::Dynamic, 1> x = InitializeAutoDiff<AD>(v, 6, 1);  // columns 1-4 of 6
+  Eigen::Matrix<AD, Eigen::Dynamic, 1> g(2);
+  g(0) = x(0) * x(1) * x(2) * x(3);
+  g(1) = x.squaredNorm();
+  const Eigen::MatrixXd J = ExtractJacobian(g, 6);
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(2, 6);
+  expected.row(0).segment(1, 4) << v(1) * v(2) * v(3), v(0) * v(2) * v(3), v(0) * v(1) * v(3), v(0) * v(1) * v(2);
+  expected.row(1).segment(1, 4) = 2.0 * v.transpose();
+  EXPECT_LT((J - expected).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_NEAR(ExtractValue(g)(0), v.prod(), 1e-14);
+  EXPECT_THROW(InitializeAutoDiff<AD>(v, 7, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rome

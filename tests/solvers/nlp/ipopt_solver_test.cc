@@ -185,6 +185,36 @@ TEST(IpoptSolver, CallbackExceptionIsRethrown) {
   }
 }
 
+TEST(IpoptSolver, RejectedOptionValueIsNamed) {
+  test::Hs071 problem;
+  IpoptSolverOptions options;
+  options.mu_strategy = "fast";
+  try {
+    IpoptSolver(options).Solve(problem, Eigen::Vector4d(1.0, 5.0, 5.0, 1.0));
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("mu_strategy = 'fast'"), std::string::npos) << e.what();
+  }
+  options = IpoptSolverOptions();
+  options.mu_init = -1.0;  // Ipopt requires mu_init > 0
+  EXPECT_THROW(IpoptSolver(options).Solve(problem, Eigen::Vector4d(1.0, 5.0, 5.0, 1.0)), std::invalid_argument);
+  // The mutex is released: a valid solve still runs.
+  EXPECT_TRUE(IpoptSolver().Solve(problem, Eigen::Vector4d(1.0, 5.0, 5.0, 1.0)).success());
+}
+
+// Both bound-multiplier initialisations reach HS071's published optimum (Hock & Schittkowski, test::Hs071Solution).
+TEST(IpoptSolver, MuBasedBoundMultipliersReachTheSameOptimum) {
+  for (const char* method : {"constant", "mu-based"}) {
+    test::Hs071 problem;
+    IpoptSolverOptions options;
+    options.bound_mult_init_method = method;
+    options.mu_init = 0.01;
+    const NlpResult r = IpoptSolver(options).Solve(problem, Eigen::Vector4d(1.0, 5.0, 5.0, 1.0));
+    ASSERT_TRUE(r.success()) << method << ": " << r.message;
+    EXPECT_LT((r.x - test::Hs071Solution()).cwiseAbs().maxCoeff(), 1e-6) << method;
+  }
+}
+
 TEST(IpoptSolver, RejectsWrongInitialGuessSize) {
   test::Hs071 problem;
   EXPECT_THROW(IpoptSolver().Solve(problem, Eigen::Vector3d::Ones()), std::invalid_argument);

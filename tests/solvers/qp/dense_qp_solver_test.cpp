@@ -183,6 +183,23 @@ TEST(DenseQpSolverTest, InfeasibleInequalitiesReportCertificate) {
   EXPECT_NE(solver.status_message().find("inequality row 0"), std::string::npos);
 }
 
+TEST(DenseQpSolverTest, LongInfeasibleSubsetKeepsTheMessageShort) {
+  // Σ x_i = 0 with every x_i ≥ 1 (n = 10): no proper subset is infeasible, so all 11 constraints are reported by
+  // infeasible_constraints(); the message names the first 6 and counts the other 5.
+  const int n = 10;
+  DenseQpSolver solver(n, 1, 0);
+  solver.H.setIdentity();
+  solver.g.setZero();
+  solver.A_eq.setOnes();
+  solver.b_eq << 0.0;
+  solver.lb.setOnes();
+  ASSERT_EQ(solver.Solve(), QpStatus::kInfeasible) << solver.status_message();
+  EXPECT_EQ(solver.infeasible_constraints().size(), 11u);
+  const std::string m = solver.status_message();
+  EXPECT_NE(m.find("and 5 more (infeasible_constraints())"), std::string::npos) << m;
+  EXPECT_LT(m.size(), 400u) << m;
+}
+
 TEST(DenseQpSolverTest, RandomInfeasibleCertificatesAreInfeasibleSubsets) {
   // Random problems made infeasible by one contradicting row; verify the reported subset alone is infeasible.
   std::mt19937 rng(99);
