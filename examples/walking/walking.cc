@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "diagrams/walking/pre_impact_sampler.h"
 #include "diagrams/walking/walking_diagram.h"
 #include "examples/common/cli.h"
 #include "examples/common/animation.h"
@@ -388,7 +389,7 @@ int main(int argc, char** argv) {
   if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*model);
   const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
   std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
-  Eigen::Matrix<double, 6, 1> last_com_state = Eigen::Matrix<double, 6, 1>::Zero();
+  PreImpactSampler single_support_com;  // the COM state about the stance foot, extrapolated to each touchdown
   ContactForceStatistics contact;  // the plant's own forces after every integrator step and event
   sim.set_monitor([&](const Context& c) {
     const double t = c.time();
@@ -401,7 +402,7 @@ int main(int argc, char** argv) {
     // foot swings), 2 right stance. It is a step only on its planned foothold (the plan's (x, y) of that ankle).
     if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {
       const bool right_landed = last_mode == 0;
-      pre_impact.push_back({t, last_com_state});
+      pre_impact.push_back({t, single_support_com.At(t)});
       const Eigen::VectorXd& q = d.plant->EvalOutput(ctx, "q");
       const Eigen::Vector2d ankle = CalcLinkPose(*model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
       const WalkingReference r = plan.Sample(t);
@@ -422,7 +423,9 @@ int main(int argc, char** argv) {
       const int stance = mode == 0 ? left_foot : right_foot;
       const Eigen::Vector3d foot = CalcLinkPose(*model, ws, qq, stance).translation();
       const double mirror = mode == 0 ? 1.0 : -1.0;
-      last_com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), v.x(), mirror * v.y(), v.z();
+      PreImpactSampler::State com_state;
+      com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), v.x(), mirror * v.y(), v.z();
+      if (mode != 1) single_support_com.Record(t, com_state);
     }
     const long k = static_cast<long>(std::floor(t * 1000.0 + 1e-9));
     if (k == tick) return EventStatus::Succeeded();

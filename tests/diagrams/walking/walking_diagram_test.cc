@@ -9,6 +9,7 @@
 // and 3 cm at most per axis after the first step, the pelvis stays within 2°, every touchdown lands within 5 cm of its
 // planned foothold and no QP update fails. Thresholds are the walking issue's acceptance; the gaits other than the
 // default are not the ones the controller settings were chosen on (gait A, stand-to-walk and periodic).
+#include "diagrams/walking/pre_impact_sampler.h"
 #include "diagrams/walking/walking_diagram.h"
 
 #include <filesystem>
@@ -73,7 +74,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     if (seg.lateral_nodes.cols() > 0) transition_ends.push_back(seg.start_time + seg.duration);
   }
   std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
-  Eigen::Matrix<double, 6, 1> last_com_state = Eigen::Matrix<double, 6, 1>::Zero();
+  PreImpactSampler single_support_com;
   double last_touchdown_time = -1.0, pelvis_max = 0.0, touchdown_error_max = 0.0;
   Eigen::Vector3d com_sq = Eigen::Vector3d::Zero(), com_abs_max = Eigen::Vector3d::Zero();
 
@@ -105,13 +106,15 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
       touchdown_error_max = std::max(touchdown_error_max, (ankle - (right_landed ? r.right_foothold : r.left_foothold)).norm());
       if (touchdown_time < 0) touchdown_time = c.time();
       last_touchdown_time = c.time();
-      pre_impact.push_back({c.time(), last_com_state});
+      pre_impact.push_back({c.time(), single_support_com.At(c.time())});
     }
     if (mode != 1) {  // in single support: the COM state about the stance ankle, y mirrored in right stance
       const Eigen::Vector3d p = CalcComPosition(*model, ws, q), pv = CalcComVelocity(*model, ws, q, v);
       const Eigen::Vector3d foot = CalcLinkPose(*model, ws, q, model->BodyIndex(mode == 0 ? "left_foot" : "right_foot")).translation();
       const double mirror = mode == 0 ? 1.0 : -1.0;
-      last_com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), pv.x(), mirror * pv.y(), pv.z();
+      PreImpactSampler::State com_state;
+      com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), pv.x(), mirror * pv.y(), pv.z();
+      single_support_com.Record(c.time(), com_state);
     }
     if (mode != 1 && last_mode == 1) {
       ++liftoffs;
