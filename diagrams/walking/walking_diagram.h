@@ -16,8 +16,8 @@
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
 // Status (measured, gait A, seed 1): from a 0.4 m step stance the robot makes the transition step and walks 10 steps
-// with the COM within 5 mm RMS of the reference and the plant's forces in the Eq. (25) band at 99.97 % of the ticks
-// (walking_diagram_test). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
+// with the COM within 5 mm RMS of the reference and the plant's forces in the Eq. (25) band at 99.96 % of the ticks
+// (examples/walking, 2026-12-02; walking_diagram_test checks it). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
 // (compensate_centroidal_momentum), which the point-mass ROMs do not model. The gait change A → B walks with the
 // transition's vertical force bounded (StandToWalkParams::gait_change_max_force_fraction); see the README.
 //

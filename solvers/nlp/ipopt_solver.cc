@@ -279,6 +279,7 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
     set_str("mu_strategy", options_.mu_strategy);
     set_num("mu_init", options_.mu_init);
     set_str("bound_mult_init_method", options_.bound_mult_init_method);
+    if (options_.linear_solver == "mumps") set_int("mumps_pivot_order", options_.mumps_pivot_order);
     if (options_.use_limited_memory_hessian || !problem.has_lagrangian_hessian()) {
       set_str("hessian_approximation", "limited-memory");
       set_int("limited_memory_max_history", options_.limited_memory_history);

@@ -37,6 +37,9 @@ struct IpoptSolverOptions {
   double mu_init = 0.1;                          // Ipopt `mu_init`, initial barrier parameter of a cold start [-]
   // Ipopt `bound_mult_init_method`: "constant" (every bound multiplier starts at 1) or "mu-based" (mu_init / slack).
   std::string bound_mult_init_method = "constant";
+  // Ipopt `mumps_pivot_order`: MUMPS's fill-reducing ordering (ICNTL(7)): 0 AMD, 2 AMF, 4 PORD, 6 QAMD (AMD that
+  // detects quasi-dense rows, e.g. a free duration coupling every node), 7 MUMPS's automatic choice (Ipopt's default).
+  int mumps_pivot_order = 7;
   // Warm start: when Solve() receives multipliers, use them (Ipopt `warm_start_init_point`).
   double warm_start_bound_push = 1e-9;           // Ipopt `warm_start_bound_push` [-]
   double warm_start_mult_bound_push = 1e-9;      // Ipopt `warm_start_mult_bound_push` [-]

@@ -201,6 +201,7 @@ void AddToCacheKey(const AslipPeriodicGaitParams& q, PlanCacheKey* key) {
   key->Add(q.mu_strategy == "adaptive" ? "mu_adaptive" : "mu_monotone", 1.0);
   key->Add(q.bound_mult_init_method == "mu-based" ? "bound_mult_mu_based" : "bound_mult_constant", 1.0);
   key->Add("mu_init", q.mu_init);
+  key->Add("mumps_pivot_order", q.mumps_pivot_order);
 }
 
 std::optional<CollocationResult> LoadCachedCollocation(const DirectCollocation& problem, const PlanCache& cache,
@@ -245,6 +246,7 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& probl
   options.mu_strategy = params_.mu_strategy;
   options.mu_init = params_.mu_init;
   options.bound_mult_init_method = params_.bound_mult_init_method;
+  options.mumps_pivot_order = params_.mumps_pivot_order;
   return Summarize(problem.Solve(options), problem);
 }
 

@@ -307,6 +307,7 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   options.mu_strategy = q.mu_strategy;
   options.mu_init = q.mu_init;
   options.bound_mult_init_method = q.bound_mult_init_method;
+  options.mumps_pivot_order = q.mumps_pivot_order;
   AslipTransition out;
   const PlanCacheKey key = CacheKey(data);
   std::optional<CollocationResult> hit;
