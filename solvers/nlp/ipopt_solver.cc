@@ -262,7 +262,10 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
       if (!opts->SetStringValue(option, value)) reject(option, "'" + value + "'");
     };
     auto set_num = [&](const char* option, double value) {
-      if (!opts->SetNumericValue(option, value)) reject(option, std::to_string(value));
+      if (opts->SetNumericValue(option, value)) return;
+      std::ostringstream text;
+      text << value;  // %g-like: 1e-09, not to_string's 0.000000
+      reject(option, text.str());
     };
     auto set_int = [&](const char* option, int value) {
       if (!opts->SetIntegerValue(option, value)) reject(option, std::to_string(value));
