@@ -415,8 +415,9 @@ int main(int argc, char** argv) {
     if (mode != 1 && last_mode == 1) liftoff_max = std::max(liftoff_max, mode == 0 ? last_fz[1] : last_fz[0]);
     last_mode = mode;
     last_fz << f[2], f[5];
-    {
-      // The COM state relative to the stance foot, mirrored in y for a right stance (the lateral P2 orbit alternates).
+    if (mode != 1) {
+      // In single support: the COM state relative to the stance foot, mirrored in y for a right stance (the lateral
+      // P2 orbit alternates).
       const Eigen::VectorXd& qq = d.plant->EvalOutput(ctx, "q");
       const Eigen::VectorXd& vv = d.plant->EvalOutput(ctx, "v");
       const Eigen::Vector3d p = CalcComPosition(*model, ws, qq), v = CalcComVelocity(*model, ws, qq, vv);
@@ -425,7 +426,7 @@ int main(int argc, char** argv) {
       const double mirror = mode == 0 ? 1.0 : -1.0;
       PreImpactSampler::State com_state;
       com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), v.x(), mirror * v.y(), v.z();
-      if (mode != 1) single_support_com.Record(t, com_state);
+      single_support_com.Record(t, com_state);
     }
     const long k = static_cast<long>(std::floor(t * 1000.0 + 1e-9));
     if (k == tick) return EventStatus::Succeeded();
