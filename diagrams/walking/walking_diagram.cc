@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,26 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   return p;
 }
 
+namespace {
+// The swing-foot parameters the diagram tracks: ankle_height_m from the robot's sole.
+SwingFootTrajectoryParams RobotSwing(const MultibodyModel& m, const WalkingDiagramParams& params) {
+  SwingFootTrajectoryParams swing = params.swing;
+  swing.ankle_height_m = -m.contacts()[m.ContactIndex("left_foot")].points.front().z();
+  return swing;
+}
+}  // namespace
+
+std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& params) {
+  if (model == nullptr) throw std::invalid_argument("WalkingPoseCheck: the model is null");
+  if (!params.compensate_centroidal_momentum) return {};
+  const SwingFootTrajectoryParams swing = RobotSwing(*model, params);
+  const CentroidalMomentumCompensationParams compensation = params.compensation;
+  return [model, swing, compensation](const WalkingPlan& plan) {
+    WalkingPlan copy = plan;
+    CompensateCentroidalMomentum(*model, copy, swing, compensation);
+  };
+}
+
 WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params,
                                    PlantKind plant) {
   const MultibodyModel& m = *model;
@@ -49,8 +70,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
     if (c.type != ContactType::kFlat)
       throw std::invalid_argument(std::string("BuildWalkingDiagram: robot '") + m.name() + "': contact '" + foot + "' is not a flat foot");
   }
-  SwingFootTrajectoryParams swing = params.swing;
-  swing.ankle_height_m = -m.contacts()[m.ContactIndex("left_foot")].points.front().z();
+  const SwingFootTrajectoryParams swing = RobotSwing(m, params);
 
   DiagramBuilder b;
   WalkingDiagram d;
@@ -276,26 +296,51 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
 
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
                                  const StandToWalkParams& sp) {
-  if (sp.lead_in_steps < 0 || !(sp.lead_in_step_length_m > 0))
-    throw std::invalid_argument("BuildStandToWalkPlan: lead_in_steps must be >= 0 and lead_in_step_length_m > 0 m, got " +
-                                std::to_string(sp.lead_in_steps) + " and " + std::to_string(sp.lead_in_step_length_m));
+  if (sp.lead_in_steps < 0 || !(sp.lead_in_step_length_m > 0) || !(sp.lead_in_ssp_duration_s > 0) || !(sp.lead_in_dsp_duration_s > 0))
+    throw std::invalid_argument("BuildStandToWalkPlan: lead_in_steps must be >= 0 and lead_in_step_length_m, lead_in_ssp_duration_s, "
+                                "lead_in_dsp_duration_s > 0, got " + std::to_string(sp.lead_in_steps) + ", " +
+                                std::to_string(sp.lead_in_step_length_m) + " m, " + std::to_string(sp.lead_in_ssp_duration_s) + " s, " +
+                                std::to_string(sp.lead_in_dsp_duration_s) + " s");
+  WalkingGait lead = g;
+  lead.step_length_m = sp.lead_in_step_length_m;
+  lead.ssp_duration_s = sp.lead_in_ssp_duration_s;
+  lead.dsp_duration_s = sp.lead_in_dsp_duration_s;
+  const bool is_lead = std::abs(g.step_length_m - lead.step_length_m) <= 1e-9 && std::abs(g.ssp_duration_s - lead.ssp_duration_s) <= 1e-9 &&
+                       std::abs(g.dsp_duration_s - lead.dsp_duration_s) <= 1e-9;
+  const bool faster = g.ssp_duration_s < lead.ssp_duration_s - 1e-9 || g.dsp_duration_s < lead.dsp_duration_s - 1e-9;
+  const auto with_lead_in = [&](const std::string& reason) {
+    WalkingPlanReport r;
+    WalkingPlan plan = BuildGaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
+    r.lead_in = true;
+    r.lead_in_gait = lead;
+    r.lead_in_reason = reason;
+    if (report != nullptr) *report = r;
+    return plan;
+  };
+  const auto seconds = [](double s) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g s", s);
+    return std::string(b);
+  };
+  if (faster && sp.lead_in_steps > 0) {
+    CheckStandToWalkParams(sp, "BuildStandToWalkPlan");
+    if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
+    return with_lead_in("the gait (T_SSP " + seconds(g.ssp_duration_s) + ", T_DSP " + seconds(g.dsp_duration_s) +
+                        ") is faster than the lead-in (T_SSP " + seconds(lead.ssp_duration_s) + ", T_DSP " + seconds(lead.dsp_duration_s) +
+                        "): its first swing from the step stance would lag");
+  }
   try {
-    return StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+    WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+    if (sp.plan_check) sp.plan_check(plan);
+    return plan;
   } catch (const std::runtime_error& direct) {
-    if (sp.lead_in_steps == 0 || !(g.step_length_m > sp.lead_in_step_length_m + 1e-9)) throw;
-    WalkingGait lead = g;
-    lead.step_length_m = sp.lead_in_step_length_m;
+    if (sp.lead_in_steps == 0 || is_lead) throw;
     try {
-      WalkingPlanReport r;
-      WalkingPlan plan = BuildGaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
-      r.lead_in = true;
-      r.lead_in_gait = lead;
-      r.lead_in_reason = direct.what();
-      if (report != nullptr) *report = r;
-      return plan;
+      return with_lead_in(direct.what());
     } catch (const std::runtime_error& e) {
-      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of " +
-                               std::to_string(sp.lead_in_step_length_m) + " m: " + e.what());
+      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
+                               std::to_string(lead.step_length_m) + " m, " + seconds(lead.ssp_duration_s) + ", " +
+                               seconds(lead.dsp_duration_s) + "): " + e.what());
     }
   }
 }

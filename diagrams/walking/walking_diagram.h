@@ -26,6 +26,7 @@
 // left ankle position and foot orientation (active in right stance); right ankle position and orientation (active in
 // left stance).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -153,19 +154,37 @@ struct StandToWalkParams {
   /// 22 steps (COM RMS 5.6-6.9 mm), with 1.9 it falls, and 1.45 and 1.5 m g are infeasible. Seeds 1001-1003 walk
   /// with 1.6.
   double gait_change_max_force_fraction = 1.6;
-  /// Lead-in (ours): when the standing transition into the gait has no plan (its NLP or QP is infeasible) and the
-  /// gait's step is longer than lead_in_step_length_m, BuildStandToWalkPlan starts with lead_in_steps steps of the same
-  /// gait at that step length and changes gait as BuildGaitChangePlan does (0 steps: no lead-in, the error is thrown).
-  /// Measured: gait B (0.40 m) and (0.45 m, 0.50 s, 0.15 s, 0.30 m) have no standing transition from the 0.4 m step
-  /// stance; with 6 lead-in steps of 0.30 m both walk from standing.
+  /// Lead-in (ours): BuildStandToWalkPlan starts with lead_in_steps steps of the lead-in gait (lead_in_step_length_m,
+  /// lead_in_ssp_duration_s, lead_in_dsp_duration_s, the requested W; the spec's gait A timing) and changes gait as
+  /// BuildGaitChangePlan does when the requested gait is faster (its T_SSP or T_DSP is shorter than the lead-in's), or
+  /// when the standing transition into it has no plan (0 steps: no lead-in, the error is thrown).
+  /// Measured (NLP seed 1): gait B (0.40 m) and (0.45 m, 0.50 s, 0.15 s, 0.30 m) have no standing transition from the
+  /// 0.4 m step stance, nor has (0.33 m, 0.40 s, 0.12 s, 0.26 m) (no leg pose for its plan); faster gaits plan, but
+  /// their first swing (0.7 m from the step stance) lags: directly, (0.30 m, 0.38 s, 0.09 s, 0.28 m) lands its first
+  /// step at once (0.69 m off), and a lead-in at the gait's own 0.38 s / 0.09 s lands (0.35 m, 0.38 s, 0.09 s, 0.28 m)
+  /// 7.3 cm short. Through the lead-in at 0.40 s / 0.10 s all five walk from standing.
   int lead_in_steps = 6;
   double lead_in_step_length_m = 0.30;
+  double lead_in_ssp_duration_s = 0.40;  ///< [s]
+  double lead_in_dsp_duration_s = 0.10;  ///< [s]
+  /// Called with the direct standing plan before BuildStandToWalkPlan returns it; a std::runtime_error from it sends
+  /// the plan through the lead-in, as a failed NLP does (empty: no check). The plan builder does not know the robot:
+  /// WalkingPoseCheck(model, params) replays the plan's poses as BuildWalkingDiagram's compensation will. Measured:
+  /// the direct plan of (0.33 m, 0.40 s, 0.12 s, 0.26 m) puts the COM 0.90 m high over the 0.4 m step stance, which
+  /// the legs cannot reach (SolveWalkingPose residual 0.6 mm); through the lead-in it walks.
+  std::function<void(const WalkingPlan&)> plan_check;
 };
+
+/// A StandToWalkParams::plan_check for `model`: the angular-momentum compensation of BuildWalkingDiagram (with
+/// `params`' swing and compensation settings) on a copy of the plan; it throws std::runtime_error when a replay pose
+/// does not exist. Nothing when params.compensate_centroidal_momentum is off.
+std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& params);
 
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
-/// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given. If the
-/// standing transition has no plan, the lead-in of StandToWalkParams (reported in `report`).
+/// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given. If the gait
+/// is faster than the lead-in gait of StandToWalkParams, or its standing transition has no plan, the plan starts with
+/// that lead-in (reported in `report`).
 /// Throws std::runtime_error naming the problem that failed, std::invalid_argument for a bad parameter.
 /// One ROM problem's solve: wall time, Ipopt iterations, largest constraint violation (0 when not solved here).
 struct WalkingNlpReport {
@@ -192,8 +211,8 @@ struct WalkingPlanReport {
   WalkingNlpReport periodic_b, transition_b;  ///< gait-change only: gait B's periodic aSLIP, the A → B transition
   WalkingTransitionNodes transition_nodes, transition_b_nodes;  ///< the two transitions' plans on their nodes
   /// BuildStandToWalkPlan only: the plan starts with a lead-in (StandToWalkParams::lead_in_steps) of `lead_in_gait`;
-  /// the *_b entries are then the requested gait and the lead-in → gait transition. lead_in_reason: why the direct
-  /// standing transition had no plan.
+  /// the *_b entries are then the requested gait and the lead-in → gait transition. lead_in_reason: why (the gait is faster
+  /// than the lead-in, or the direct standing transition's error).
   bool lead_in = false;
   WalkingGait lead_in_gait;
   std::string lead_in_reason;

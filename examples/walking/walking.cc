@@ -225,7 +225,7 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A; a gait longer than 0.30 m with no standing transition starts with 6 steps of 0.30 m and changes gait) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A; a gait with T_SSP < 0.40 s or T_DSP < 0.10 s, or with no standing transition, starts with 6 steps of (0.30 m, 0.40 s, 0.10 s) and changes gait) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
@@ -314,6 +314,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   const PlanCache cache(cli.Get("cache"));
+  WalkingDiagramParams params;
+  params.controller.force_band_halfwidth = band;
+  params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
   WalkingPlanReport nlp;
   WalkingPlan plan;
   try {
@@ -327,6 +330,7 @@ int main(int argc, char** argv) {
     stand.standing_height_m = heights[0];
     stand.height_min_m = heights[1];
     stand.height_max_m = heights[2];
+    stand.plan_check = WalkingPoseCheck(model, params);  // a direct plan the legs cannot follow goes through the lead-in
     const auto seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
     // The plan runs kTrailingSteps steps past the simulated ones, so that the last simulated steps are not the plan's
     // (and the momentum correction's) end.
@@ -334,16 +338,14 @@ int main(int argc, char** argv) {
     else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand, steps + kTrailingSteps);
     else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, &cache, &nlp, stand);
     if (nlp.lead_in)
-      std::cout << "the standing transition into gait A has no plan (" << nlp.lead_in_reason << "); starting with " << stand.lead_in_steps
-                << " steps of L = " << nlp.lead_in_gait.step_length_m << " m and changing gait\n";
+      std::cout << "starting with " << stand.lead_in_steps << " lead-in steps of (" << nlp.lead_in_gait.step_length_m << " m, "
+                << nlp.lead_in_gait.ssp_duration_s << " s, " << nlp.lead_in_gait.dsp_duration_s << " s) and changing gait: "
+                << nlp.lead_in_reason << "\n";
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;
   }
   double compensation_s = 0.0;
-  WalkingDiagramParams params;
-  params.controller.force_band_halfwidth = band;
-  params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
   WalkingDiagram d;
   try {
     const auto t0 = std::chrono::steady_clock::now();

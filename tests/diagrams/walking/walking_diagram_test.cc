@@ -48,6 +48,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   stand.stance_stagger_m = stagger_m;
+  stand.plan_check = WalkingPoseCheck(model, WalkingDiagramParams{});  // as the example
   WalkingPlanReport report;
   const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, steps + kTrailingSteps, 1, &cache, &report, stand)
                                : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, nullptr, stand, steps + kTrailingSteps)
@@ -242,8 +243,56 @@ TEST(WalkingDiagram, StandToWalkGaitAWalksWithPhysicalContactForces) { RunStandT
 TEST(WalkingDiagram, StandToWalkShortSlowGaitWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22});
 }
-TEST(WalkingDiagram, StandToWalkShortQuickGaitWalksWithPhysicalContactForces) {
+// A gait faster than the lead-in (T_SSP 0.35 s < 0.40 s) starts through it: 6 steps of (0.30 m, 0.40 s, 0.10 s), the
+// change, then the gait.
+TEST(WalkingDiagram, StandToWalkShortQuickGaitThroughTheLeadInWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20});
+}
+// A long, quick, wide gait. Before the lead-in took the spec's gait A timing, its lead-in ran at the gait's own 0.38 s
+// / 0.09 s and the first swing (0.7 m from the step stance) lagged: that step landed 7.3 cm short of its foothold.
+TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysicalContactForces) {
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.35, .ssp_duration_s = 0.38, .dsp_duration_s = 0.09, .step_width_m = 0.28});
+}
+
+// A gait whose direct standing plan the legs cannot follow: the COM 0.90 m high over the 0.4 m step stance has no leg
+// pose (StandToWalkParams::plan_check = WalkingPoseCheck), so it starts through the lead-in (before the check, the
+// walking example stopped in BuildWalkingDiagram).
+TEST(WalkingDiagram, StandToWalkGaitWithNoPoseForItsDirectPlanGoesThroughTheLeadInAndWalks) {
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.33, .ssp_duration_s = 0.40, .dsp_duration_s = 0.12, .step_width_m = 0.26});
+}
+
+// The lead-in rule (StandToWalkParams): a gait with a shorter T_SSP or T_DSP than the lead-in goes through it, at
+// the lead-in's timing and the gait's W; a slower gait with a standing transition does not. The lead-in's periodic
+// steps last the lead-in's T_SSP and T_DSP, and the plan ends with the requested gait's.
+TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingGait quick{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20};
+  WalkingPlanReport report;
+  const WalkingPlan plan = BuildStandToWalkPlan(quick, 4, 1, &cache, &report, stand);
+  ASSERT_TRUE(report.lead_in) << "no lead-in for a gait faster than it";
+  EXPECT_DOUBLE_EQ(report.lead_in_gait.step_length_m, stand.lead_in_step_length_m);
+  EXPECT_DOUBLE_EQ(report.lead_in_gait.ssp_duration_s, stand.lead_in_ssp_duration_s);
+  EXPECT_DOUBLE_EQ(report.lead_in_gait.dsp_duration_s, stand.lead_in_dsp_duration_s);
+  EXPECT_DOUBLE_EQ(report.lead_in_gait.step_width_m, quick.step_width_m);
+  EXPECT_NE(report.lead_in_reason.find("faster"), std::string::npos) << report.lead_in_reason;
+  int lead_ssp = 0, gait_ssp = 0;
+  double last_ssp = 0;
+  for (const WalkingPlanSegment& s : plan.segments()) {
+    if (s.domain == WalkingDomain::kDoubleSupport) continue;
+    lead_ssp += std::abs(s.duration - stand.lead_in_ssp_duration_s) < 1e-9 ? 1 : 0;
+    gait_ssp += std::abs(s.duration - quick.ssp_duration_s) < 1e-9 ? 1 : 0;
+    last_ssp = s.duration;
+  }
+  EXPECT_GE(lead_ssp, stand.lead_in_steps - 1);  // the lead-in's periodic single supports (the first is the transition's)
+  EXPECT_GE(gait_ssp, 4 - 1);
+  EXPECT_NEAR(last_ssp, quick.ssp_duration_s, 1e-9);
+  WalkingPlanReport slow_report;
+  BuildStandToWalkPlan(WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22}, 4, 1, &cache,
+                       &slow_report, stand);
+  EXPECT_FALSE(slow_report.lead_in) << slow_report.lead_in_reason;
 }
 
 // The gait-change scenario: standing, 6 steps of gait A, the A → B transition, 6 steps of gait B (0.4 m at 0.8 m/s).
