@@ -315,6 +315,15 @@ TEST(WalkingDiagram, GaitChangeBetweenNonDefaultGaitsWalksWithPhysicalContactFor
   RunStandToWalk(RunUntil::kPlanEnd, a, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, b);
 }
 
+// A gait change at the quickest timing of the range (T_SSP 0.35 s, T_DSP 0.08 s): the transition's DSP may be
+// as short as the gaits' (with the spec's 0.1 s lower bound its NLP was locally infeasible).
+TEST(WalkingDiagram, GaitChangeAtTheQuickestTimingWalksWithPhysicalContactForces) {
+  const WalkingGait a{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20};
+  WalkingGait b = a;
+  b.step_length_m = 0.25;
+  RunStandToWalk(RunUntil::kPlanEnd, a, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, b);
+}
+
 // Gait B (0.4 m steps at 0.8 m/s) started on its periodic orbit: the controller alone, without a transition.
 TEST(WalkingDiagram, GaitBOnItsOrbitWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.40}, StandToWalkParams{}.stance_stagger_m, Start::kOnTheOrbit);
