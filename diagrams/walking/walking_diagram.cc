@@ -181,6 +181,26 @@ SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* 
   r.gait = r.planner.Solve(seed, cache);
   r.solve_s = SecondsSince(t0);
   if (!r.gait.success()) throw std::runtime_error(who + ": the periodic aSLIP NLP of " + which + " failed: " + r.gait.collocation.nlp.message);
+  if (sp.periodic_max_force_fraction > 0) {  // re-plan a gait that asks more than the bound (see the parameter)
+    const AslipPeriodicGaitParams& gp = r.planner.params();
+    double peak = 0;
+    for (int ph = 0; ph < 2; ++ph) {
+      const Eigen::MatrixXd G = r.gait.GroundReactions(gp.aslip, gp.step_length, ph);
+      peak = std::max({peak, G.row(1).maxCoeff(), G.row(3).maxCoeff()});
+    }
+    if (peak > sp.periodic_max_force_fraction * gp.aslip.mass * gp.aslip.gravity) {
+      AslipPeriodicGaitParams bounded = gp;
+      bounded.max_vertical_force_fraction = sp.periodic_max_force_fraction;
+      SolvedGait b{AslipPeriodicGaitPlanner(bounded), {}, 0.0};
+      b.gait = b.planner.Solve(seed, cache);
+      b.solve_s = r.solve_s + SecondsSince(t0);
+      if (!b.gait.success())
+        throw std::runtime_error(who + ": the periodic aSLIP NLP of " + which + " asks " + std::to_string(peak / (gp.aslip.mass * gp.aslip.gravity)) +
+                                 " m g per leg, and with periodic_max_force_fraction = " + std::to_string(sp.periodic_max_force_fraction) +
+                                 " it failed: " + b.gait.collocation.nlp.message);
+      return b;
+    }
+  }
   return r;
 }
 

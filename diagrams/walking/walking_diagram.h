@@ -154,6 +154,12 @@ struct StandToWalkParams {
   /// 22 steps (COM RMS 5.6-6.9 mm), with 1.9 it falls, and 1.45 and 1.5 m g are infeasible. Seeds 1001-1003 walk
   /// with 1.6.
   double gait_change_max_force_fraction = 1.6;
+  /// [-] a periodic gait whose aSLIP plan asks more than this fraction of m g on one leg is planned again with that
+  /// bound (AslipPeriodicGaitParams::max_vertical_force_fraction, ours; 0: never). Measured on their own orbits
+  /// (--scenario periodic): gaits A and B peak at 1.40 m g with the stance knee at 275 / 292 N m of its 300 N m;
+  /// (0.30 m, 0.35 s, 0.08 s, 0.20 m) peaks at 1.60 m g, the knee saturates and the COM falls behind (RMS x 1.5 cm),
+  /// and from standing a foot slips after 17 steps.
+  double periodic_max_force_fraction = 1.5;
   /// Lead-in (ours): BuildStandToWalkPlan starts with lead_in_steps steps of the lead-in gait (lead_in_step_length_m,
   /// lead_in_ssp_duration_s, lead_in_dsp_duration_s, the requested W; the spec's gait A timing) and changes gait as
   /// BuildGaitChangePlan does when the requested gait is faster (its T_SSP or T_DSP is shorter than the lead-in's), or

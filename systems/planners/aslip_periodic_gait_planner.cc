@@ -45,6 +45,8 @@ AslipPeriodicGaitPlanner::AslipPeriodicGaitPlanner(AslipPeriodicGaitParams param
   Require(q.height_min > 0 && q.height_min < q.height_max, "height_min must be in (0, height_max) m", q.height_min);
   Require(q.max_leg_length_acceleration > 0, "max_leg_length_acceleration must be > 0 m/s²",
           q.max_leg_length_acceleration);
+  Require(q.max_vertical_force_fraction == 0 || q.max_vertical_force_fraction > 1,
+          "max_vertical_force_fraction must be 0 (no bound) or > 1", q.max_vertical_force_fraction);
 }
 
 AslipContact AslipPeriodicGaitPlanner::PhaseContact(int phase) const {
@@ -109,6 +111,20 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
         LegRows(p, mu, x, 1, l, y, 4);
       },
       lo2, hi2, "both_legs_force_friction_spring");
+  if (q.max_vertical_force_fraction > 0) {  // G_z/(m g) ≤ the bound: SSP leg 0; DSP both legs
+    for (int ph = 0; ph < 2; ++ph) {
+      const int legs = ph == 0 ? 1 : 2;
+      problem.AddPathConstraint(
+          ph, legs,
+          [p, l, legs](const NodeVector& x, const NodeVector&, NodeVector& y) {
+            y.resize(legs);
+            for (int leg = 0; leg < legs; ++leg)
+              y(leg) = AslipLegState<NodeScalar>(p, x, leg, leg == 0 ? 0.0 : l, NodeScalar(0.0)).grf_z / (p.mass * p.gravity);
+          },
+          Eigen::VectorXd::Constant(legs, -inf), Eigen::VectorXd::Constant(legs, q.max_vertical_force_fraction),
+          ph == 0 ? "ssp_leg_max_force" : "dsp_leg_max_force");
+    }
+  }
   // Touchdown at the last SSP node: s_1 = 0 (and ṡ_1 = 0 for a smooth force rise).
   const int td_rows = q.smooth_touchdown ? 2 : 1;
   problem.AddNodeConstraint(
@@ -202,6 +218,7 @@ void AddToCacheKey(const AslipPeriodicGaitParams& q, PlanCacheKey* key) {
   key->Add(q.bound_mult_init_method == "mu-based" ? "bound_mult_mu_based" : "bound_mult_constant", 1.0);
   key->Add("mu_init", q.mu_init);
   key->Add("mumps_pivot_order", q.mumps_pivot_order);
+  if (q.max_vertical_force_fraction > 0) key->Add("max_vertical_force", q.max_vertical_force_fraction);
 }
 
 std::optional<CollocationResult> LoadCachedCollocation(const DirectCollocation& problem, const PlanCache& cache,

@@ -157,6 +157,43 @@ TEST(AslipPeriodicGaitPlanner, CachedPlanIsReusedOnlyForTheSameParameters) {
   std::filesystem::remove_all(dir);
 }
 
+// max_vertical_force_fraction: a quick gait (0.30 m, 0.35 s, 0.08 s) asks more than 1.5 m g on its stance leg
+// unbounded; with the bound every node's G_z stays below it, every other row and the physics checks hold, and the
+// RK4 re-integration still reproduces the plan.
+double PeakVerticalForce(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait) {
+  const auto& q = planner.params();
+  double peak = 0;
+  for (int ph = 0; ph < 2; ++ph) {
+    const Eigen::MatrixXd G = gait.GroundReactions(q.aslip, q.step_length, ph);
+    peak = std::max({peak, G.row(1).maxCoeff(), G.row(3).maxCoeff()});
+  }
+  return peak / (q.aslip.mass * q.aslip.gravity);
+}
+
+TEST(AslipPeriodicGaitPlanner, VerticalForceBoundHoldsAtEveryNode) {
+  AslipPeriodicGaitParams params;
+  params.step_length = 0.30, params.ssp_duration = 0.35, params.dsp_duration = 0.08;
+  params.height_min = 0.84, params.height_max = 0.90;  // the walking diagram's range
+  const AslipPeriodicGaitPlanner free_planner(params);
+  const AslipPeriodicGait free = free_planner.Solve(1);
+  ASSERT_TRUE(free.success()) << free.collocation.nlp.message;
+  EXPECT_GT(PeakVerticalForce(free_planner, free), 1.5);  // the bound below is active
+  params.max_vertical_force_fraction = 1.5;
+  const AslipPeriodicGaitPlanner planner(params);
+  const AslipPeriodicGait gait = planner.Solve(1);
+  ASSERT_TRUE(gait.success()) << gait.collocation.nlp.message;
+  EXPECT_LE(gait.max_constraint_violation, 1e-6);
+  EXPECT_LE(PeakVerticalForce(planner, gait), 1.5 + 1e-6);
+  EXPECT_GT(PeakVerticalForce(planner, gait), 1.5 - 1e-3);  // and it binds
+  CheckGaitPhysics(planner, gait);
+  Eigen::Vector4d per_state;
+  ReintegrationError(planner, gait, &per_state);
+  EXPECT_LT(per_state.head<2>().maxCoeff(), 5e-3);
+  EXPECT_LT(per_state.tail<2>().maxCoeff(), 5e-2);
+  params.max_vertical_force_fraction = 0.9;  // below the weight: refused
+  EXPECT_THROW(AslipPeriodicGaitPlanner{params}, std::invalid_argument);
+}
+
 TEST(AslipPeriodicGaitPlanner, RejectsBadParameters) {
   AslipPeriodicGaitParams params;
   params.step_length = 0.0;
