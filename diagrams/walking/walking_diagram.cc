@@ -176,6 +176,9 @@ struct SolvedGait {
 
 SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
                      const std::string& which) {
+  if (!(sp.periodic_max_force_fraction == 0 || (sp.periodic_max_force_fraction > 1 && std::isfinite(sp.periodic_max_force_fraction))))
+    throw std::invalid_argument(who + ": periodic_max_force_fraction must be 0 (no bound) or > 1, got " +
+                                std::to_string(sp.periodic_max_force_fraction));
   SolvedGait r{AslipPeriodicGaitPlanner(GaitParams(g, sp)), {}, 0.0};
   const auto t0 = Clock::now();
   r.gait = r.planner.Solve(seed, cache);

@@ -293,6 +293,16 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
   BuildStandToWalkPlan(WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22}, 4, 1, &cache,
                        &slow_report, stand);
   EXPECT_FALSE(slow_report.lead_in) << slow_report.lead_in_reason;
+  StandToWalkParams bad = stand;
+  for (const double f : {0.9, -1.0, std::nan("")}) {
+    bad.periodic_max_force_fraction = f;
+    try {
+      BuildStandToWalkPlan(quick, 4, 1, &cache, nullptr, bad);
+      ADD_FAILURE() << "periodic_max_force_fraction " << f << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("periodic_max_force_fraction"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // The gait-change scenario: standing, 6 steps of gait A, the A → B transition, 6 steps of gait B (0.4 m at 0.8 m/s).
