@@ -340,17 +340,25 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
     if (report != nullptr) *report = r;
     return plan;
   };
-  const auto seconds = [](double s) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g s", s);
+  const auto with_unit = [](double x, const char* unit) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%g %s", x, unit);
     return std::string(b);
   };
+  const auto seconds = [&](double s) { return with_unit(s, "s"); };
   if (faster && sp.lead_in_steps > 0) {
     CheckStandToWalkParams(sp, "BuildStandToWalkPlan");
     if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
-    return with_lead_in("the gait (T_SSP " + seconds(g.ssp_duration_s) + ", T_DSP " + seconds(g.dsp_duration_s) +
-                        ") is faster than the lead-in (T_SSP " + seconds(lead.ssp_duration_s) + ", T_DSP " + seconds(lead.dsp_duration_s) +
-                        "): its first swing from the step stance would lag");
+    const std::string reason = "the gait (T_SSP " + seconds(g.ssp_duration_s) + ", T_DSP " + seconds(g.dsp_duration_s) +
+                               ") is faster than the lead-in (T_SSP " + seconds(lead.ssp_duration_s) + ", T_DSP " +
+                               seconds(lead.dsp_duration_s) + "): its first swing from the step stance would lag";
+    try {
+      return with_lead_in(reason);
+    } catch (const std::runtime_error& e) {  // "gait A" / "gait B" in e are the lead-in and the gait
+      throw std::runtime_error("BuildStandToWalkPlan: " + reason + "; through a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
+                               with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
+                               seconds(lead.dsp_duration_s) + "): " + e.what());
+    }
   }
   try {
     WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
@@ -362,7 +370,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
       return with_lead_in(direct.what());
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
-                               std::to_string(lead.step_length_m) + " m, " + seconds(lead.ssp_duration_s) + ", " +
+                               with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
                                seconds(lead.dsp_duration_s) + "): " + e.what());
     }
   }
