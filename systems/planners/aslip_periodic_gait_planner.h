@@ -42,7 +42,7 @@ struct AslipPeriodicGaitParams {
   double max_leg_length_acceleration = 50;  ///< [m/s²] |L̈| bound (spec [R])
   double max_speed = 5.0;                  ///< [m/s] |ẋ|, |ż|, |L̇| bound (ours: keeps Ipopt's iterates sane)
   /// [-] every leg's vertical GRF G_z ≤ this fraction of m g, in both domains (ours; 0: no bound, else > 1). The
-  /// NLP's cost does not see the robot's knees (see StandToWalkParams::periodic_max_force_fraction).
+  /// NLP's cost does not see the robot's knees: a caller that knows them can bound the force they must carry.
   double max_vertical_force_fraction = 0.0;
   bool smooth_touchdown = true;            ///< F_1 = 0 just after touchdown (spec §2.1 [R], optional there)
   double tolerance = 1e-6;                 ///< [-] Ipopt tol (ours)
