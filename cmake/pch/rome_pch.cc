@@ -1,0 +1,1 @@
+// The translation unit that compiles cmake/RomePch.cmake's precompiled headers (no code of its own).
