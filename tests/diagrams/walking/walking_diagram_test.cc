@@ -226,14 +226,15 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   }
 }
 
-// The ROMs' ZMP bounds come from the robot: the exoskeleton sidecar's sole corners are x ∈ [−0.07, 0.18] m and
-// y ∈ [−0.05, 0.05] m about the ankle; a point foot has no sole.
-// The gait-range variants (other gaits through the same planners, diagram and checks) run in the Release suite
-// only: under the sanitizers a full walking run takes 60-90 s, and the defaults' runs (gait A, the gait change, gait B
-// through the lead-in and on its orbit) take every code path the variants take (tests/common/sanitizer_scale.h).
+// The gait-range variants that take no code path of their own run in the Release suite only: under the sanitizers
+// a full walking run takes 60-90 s, and the defaults' runs (gait A, the gait change, gait B through the lead-in and on
+// its orbit) take their paths (tests/common/sanitizer_scale.h). The plan check's lead-in and the periodic force bound's
+// re-plan run under the sanitizers too.
 #define ROME_GAIT_VARIANT_RELEASE_ONLY() \
   if (test::kSanitizerBuild) GTEST_SKIP() << "gait-range variant: the Release suite runs it"
 
+// The ROMs' ZMP bounds come from the robot: the exoskeleton sidecar's sole corners are x ∈ [−0.07, 0.18] m and
+// y ∈ [−0.05, 0.05] m about the ankle; a point foot has no sole.
 TEST(WalkingDiagram, SoleOfReadsTheRobotsSoleCorners) {
   const SoleGeometry s = SoleOf(*test::LoadRobot("exoskeleton"), "right_foot");
   EXPECT_DOUBLE_EQ(s.heel_m, 0.07);
@@ -268,7 +269,6 @@ TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysic
 // pose (StandToWalkParams::plan_check = WalkingPoseCheck), so it starts through the lead-in (before the check, the
 // walking example stopped in BuildWalkingDiagram).
 TEST(WalkingDiagram, StandToWalkGaitWithNoPoseForItsDirectPlanGoesThroughTheLeadInAndWalks) {
-  ROME_GAIT_VARIANT_RELEASE_ONLY();
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.33, .ssp_duration_s = 0.40, .dsp_duration_s = 0.12, .step_width_m = 0.26});
 }
 
@@ -351,7 +351,6 @@ TEST(WalkingDiagram, GaitChangeAtTheQuickestTimingWalksWithPhysicalContactForces
 // falls behind (RMS x 1.37 cm over these 6 steps, measured); planned again with the 1.5 m g bound
 // (StandToWalkParams::periodic_max_force_fraction) it tracks.
 TEST(WalkingDiagram, QuickGaitOnItsOrbitWithTheForceBoundWalksWithPhysicalContactForces) {
-  ROME_GAIT_VARIANT_RELEASE_ONLY();
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.30, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
                  StandToWalkParams{}.stance_stagger_m, Start::kOnTheOrbit);
 }
