@@ -15,7 +15,8 @@ set(ROME_PCH_SKIP
     rome_planners "systems/planners/stepping_stones_output_adapter.cc"
     rome_example_support "examples/common/cli.cc"
     rome_example_support "examples/common/animation.cc"
-    controllers_task_space_qp_controller_allocation_test "tests/systems/controllers/task_space_qp_controller_allocation_test.cc")
+    controllers_task_space_qp_controller_allocation_test "tests/systems/controllers/task_space_qp_controller_allocation_test.cc"
+    rome_test_source "tests/common/source_path.cc")
 
 # rome_apply_precompiled_headers(): after every target is defined (the top-level CMakeLists.txt calls it last).
 function(rome_apply_precompiled_headers)

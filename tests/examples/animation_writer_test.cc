@@ -6,12 +6,13 @@
 
 #include <fstream>
 #include <sstream>
+#include "tests/common/source_path.h"
 
 namespace rome::examples {
 namespace {
 
 TEST(AnimationRecorder, VisualsAndDecimation) {
-  const MultibodyModel model = MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/tests/examples/data_visual_slider.urdf");
+  const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("tests/examples/data_visual_slider.urdf"));
   AnimationRecorder rec(model, 60.0);
   for (int k = 0; k <= 1000; ++k) rec.Record(k * 1e-3, Eigen::VectorXd::Constant(1, 0.001 * k), "free", Eigen::VectorXd::Zero(0));
   // Samples every 1 ms, a frame at least 1/60 s after the previous: frames 17 ms apart, 0 ... 986 ms.

@@ -17,6 +17,7 @@
 #include "diagrams/hopping/hopping_diagram.h"
 #include "diagrams/hopping/hopping_plans.h"
 #include "systems/rom/cassie_leg_stiffness.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -24,7 +25,7 @@ namespace {
 constexpr double kDuration = 2.2;  // [s] simulated
 
 void HoppingClosedLoop(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   const LegLengthTable leg_length(*model);
   SimulatorConfig config = HoppingSimulatorConfig();

@@ -13,6 +13,7 @@
 #include <benchmark/benchmark.h>
 
 #include "diagrams/walking/walking_diagram.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -24,7 +25,7 @@ double Median(std::vector<double> v) {
 
 void WalkingPlanNlps(benchmark::State& state) {
   const MultibodyModel model =
-      MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/exoskeleton/exoskeleton.rome.json");
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"));
   StandToWalkParams stand;
   stand.sole = SoleOf(model, "left_foot");
   const WalkingGait a{}, b{.step_length_m = 0.40};

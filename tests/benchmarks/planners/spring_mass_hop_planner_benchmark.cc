@@ -8,6 +8,7 @@
 
 #include "systems/planners/spring_mass_hop_planner.h"
 #include "systems/rom/cassie_leg_stiffness.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -18,7 +19,7 @@ SpringMassParams Rom(bool identified) {
   SpringMassParams p;
   if (identified) {
     static const MultibodyModel model =
-        MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf");
+        MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
     static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
     p = identified;
   }

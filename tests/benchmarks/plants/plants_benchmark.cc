@@ -16,6 +16,7 @@
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_workspace.h"
 #include "systems/plants/bullet_world_plant.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -25,7 +26,7 @@ namespace {
 constexpr long kRunSteps = 200;
 
 void BulletWorldStep(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.rome.json"));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
   BulletWorldPlantParams params;
   params.substeps = static_cast<int>(state.range(0));
   params.solver_iterations = static_cast<int>(state.range(1));

@@ -23,12 +23,13 @@
 #include "systems/plants/hybrid_contact_plant.h"
 #include "tests/common/allocation_counter.h"
 #include "tests/diagrams/hopping/spec_leg_length.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
 }
 
 ClfQpParams HoppingQpParams(const HybridContactPlant& plant) {

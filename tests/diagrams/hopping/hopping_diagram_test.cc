@@ -26,12 +26,13 @@
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "tests/diagrams/hopping/spec_leg_length.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
 }
 
 // Quintic rest-to-rest from a to b over [t0, t0 + T], sampled into plan nodes.

@@ -11,12 +11,13 @@
 
 #include "diagrams/hopping/hopping_plans.h"
 #include "systems/rom/cassie_leg_stiffness.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 TEST(LegLengthTable, MatchesTheSpecTable) {
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json");
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
   const LegLengthTable table(model);
   const double q_deg[] = {-45, -54.4, -60, -70, -80, -90, -100, -110, -120};
   const double L_m[] = {0.9577, 0.9235, 0.9003, 0.8535, 0.8002, 0.7407, 0.6757, 0.6055, 0.5308};
@@ -62,7 +63,7 @@ TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
 }
 
 TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection) {
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json");
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
   const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
   const SpringMassLandingParams params;
   auto records = std::make_shared<std::vector<PlannerRecord>>();
@@ -92,7 +93,7 @@ TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection)
 // The landing NLP solved at lift-off starts from the touchdown of the ROM's ballistic flight with the leg held
 // (closed form: x = L, ẋ = −sqrt(ẋ_lo² + 2 g (x_lo − L))), and the touchdown solve that follows is recorded after it.
 TEST(SpringMassLandingPlanner, LiftoffSolveStartsFromTheBallisticTouchdown) {
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json");
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
   const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
   const SpringMassLandingParams params;
   auto records = std::make_shared<std::vector<PlannerRecord>>();

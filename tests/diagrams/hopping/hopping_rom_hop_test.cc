@@ -32,6 +32,7 @@
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "tests/common/allocation_counter.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -43,7 +44,7 @@ class HoppingRomHop : public ::testing::TestWithParam<double> {};
 TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   SpringMassJumpParams jump;
   if (GetParam() > 0) jump.apex_rise = GetParam();
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   auto records = std::make_shared<std::vector<PlannerRecord>>();
   auto rest_height = std::make_shared<double>(0.0);
@@ -217,7 +218,7 @@ INSTANTIATE_TEST_SUITE_P(ApexRise, HoppingRomHop, ::testing::Values(0.0, 0.10, 0
 // at rest (every |q̇| < rest_max_speed) or after max_rest_time_s, the plant's contact forces stay unilateral and inside
 // the friction cone throughout, and the robot is at rest (every |q̇| < 0.05) 2 s after the last touchdown.
 TEST(HoppingRomHops, ThreeHopsInARowLandAndComeToRest) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   auto records = std::make_shared<std::vector<PlannerRecord>>();
   auto rest_height = std::make_shared<double>(0.0);

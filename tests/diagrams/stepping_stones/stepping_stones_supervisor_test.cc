@@ -13,6 +13,7 @@
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/planners/stepping_stones_outputs_system.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -22,7 +23,7 @@ constexpr double kStep = 0.4;
 class SupervisorTest : public ::testing::Test {
  protected:
   SupervisorTest()
-      : model_(std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.rome.json"))),
+      : model_(std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")))),
         terrain_(PeriodicSteppingStones(kStep, 0.0, 6)),
         ws_(*model_) {
     params_.max_steps = 3;

@@ -11,12 +11,13 @@
 #include "systems/controllers/task_space_tasks.h"
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/pose_constraints.h"
+#include "tests/common/source_path.h"
 
 namespace rome::test {
 
 inline std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot) {
   return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".rome.json"));
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
 /// AMBER standing on its left foot at (0, 0) with the COM straight above it, the torso upright and the right

@@ -17,13 +17,14 @@
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "tests/systems/controllers/amber_test_setup.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadTestModel(const std::string& name) {
   return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/tests/systems/controllers/data/" + name + ".rome.json"));
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("tests/systems/controllers/data/" + name + ".rome.json")));
 }
 
 Eigen::VectorXd Stack(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {

@@ -5,12 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".rome.json"));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
 void CheckAgainstFiniteDifferences(const MultibodyModel& model, const TaskSpaceTask& task, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/systems/multibody/test_models.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -205,8 +206,8 @@ TEST_F(ModelFiles, WrongValueType) {
 // mass, and the same mass matrix at the nominal pose, computed from the file-loaded model's workspace.
 TEST(LoadFromText, SameRobotAsFromTheFiles) {
   for (const std::string robot : {"amber", "cassie"}) {
-    const std::string urdf = std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".urdf";
-    const std::string sidecar = std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".rome.json";
+    const std::string urdf = rome::test::SourcePath("robots/" + robot + "/" + robot + ".urdf");
+    const std::string sidecar = rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json");
     const MultibodyModel from_files = MultibodyModel::Load(urdf, sidecar);
     const MultibodyModel from_text = MultibodyModel::LoadFromText(ReadText(urdf), ReadText(sidecar));
     ASSERT_EQ(from_text.nv(), from_files.nv()) << robot;
@@ -221,7 +222,7 @@ TEST(LoadFromText, SameRobotAsFromTheFiles) {
     EXPECT_TRUE(M_text.isApprox(M_files, 1e-14)) << robot;
   }
   // No sidecar text: a fixed-base model with no actuators, and no file is looked for next to the "URDF".
-  const std::string amber_urdf = ReadText(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.urdf");
+  const std::string amber_urdf = ReadText(rome::test::SourcePath("robots/amber/amber.urdf"));
   const MultibodyModel fixed = MultibodyModel::LoadFromText(amber_urdf, "");
   EXPECT_EQ(fixed.floating_base(), FloatingBaseType::kFixed);
   EXPECT_EQ(fixed.nu(), 0);
@@ -236,7 +237,7 @@ TEST(LoadFromText, ErrorsNameTheGivenNamesAndTheSizeCapHolds) {
     }
     return std::string("no error");
   };
-  const std::string amber_urdf = ReadText(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.urdf");
+  const std::string amber_urdf = ReadText(rome::test::SourcePath("robots/amber/amber.urdf"));
   EXPECT_NE(error_of("<robot", "").find("URDF given.urdf: malformed"), std::string::npos) << error_of("<robot", "");
   EXPECT_NE(error_of(amber_urdf, "{").find("sidecar given.rome.json: malformed JSON"), std::string::npos);
   const std::string big(kMaxUrdfBytes + 1, ' ');

@@ -12,12 +12,13 @@
 
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 MultibodyModel LoadRobot(const std::string& name) {
-  return MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/" + name + "/" + name + ".rome.json");
+  return MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + name + "/" + name + ".rome.json"));
 }
 
 Eigen::Vector3d ContactOrigin(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q, const std::string& contact) {

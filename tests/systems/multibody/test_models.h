@@ -8,20 +8,21 @@
 #include <Eigen/Core>
 
 #include "systems/multibody/multibody_model.h"
+#include "tests/common/source_path.h"
 
 namespace rome::test {
 
 inline std::string DataPath(const std::string& file) {
-  return std::string(ROME_SOURCE_DIR) + "/tests/systems/multibody/data/" + file;
+  return rome::test::SourcePath("tests/systems/multibody/data/" + file);
 }
 
 // Test models plus any robots/* models present (robots/<name>/<name>.urdf + sidecar).
 inline std::vector<std::string> AllModelUrdfs() {
   std::vector<std::string> out = {DataPath("double_pendulum.urdf"), DataPath("walker2d.urdf"),
                                   DataPath("biped3d.urdf"), DataPath("spring_arm.urdf")};
-  for (const char* name : {"amber", "exoskeleton", "cassie", "cassie_planar"}) {
-    const std::string p = std::string(ROME_SOURCE_DIR) + "/robots/" + name + "/" + name + ".urdf";
-    const std::string s = std::string(ROME_SOURCE_DIR) + "/robots/" + name + "/" + name + ".rome.json";
+  for (const std::string name : {"amber", "exoskeleton", "cassie", "cassie_planar"}) {
+    const std::string p = rome::test::SourcePath("robots/" + name + "/" + name + ".urdf");
+    const std::string s = rome::test::SourcePath("robots/" + name + "/" + name + ".rome.json");
     if (std::filesystem::exists(p) && std::filesystem::exists(s)) out.push_back(p);
   }
   return out;

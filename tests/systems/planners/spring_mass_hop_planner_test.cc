@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "systems/rom/cassie_leg_stiffness.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -21,7 +22,7 @@ SpringMassParams Rom(LegStiffnessVariant variant) {
   SpringMassParams p;
   if (variant == LegStiffnessVariant::kIdentified) {
     static const MultibodyModel model =
-        MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf");
+        MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
     static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
     p = identified;
   }

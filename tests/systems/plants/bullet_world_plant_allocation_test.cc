@@ -11,12 +11,13 @@
 #include "systems/plants/bullet_world_plant.h"
 
 #include "tests/common/allocation_counter.h"  // replaces operator new/malloc in this binary
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& sidecar) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/" + sidecar));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath(sidecar)));
 }
 
 TEST(BulletWorldPlantAllocation, CountingWorks) {

@@ -17,11 +17,12 @@
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_workspace.h"
 #include "systems/plants/hybrid_contact_plant.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
-std::string Source(const std::string& path) { return std::string(ROME_SOURCE_DIR) + "/" + path; }
+std::string Source(const std::string& path) { return rome::test::SourcePath(path); }
 
 std::shared_ptr<const MultibodyModel> LoadSidecar(const std::string& path) {
   return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(Source(path)));

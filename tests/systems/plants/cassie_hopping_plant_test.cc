@@ -19,6 +19,7 @@
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/hybrid_contact_plant.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -26,7 +27,7 @@ namespace {
 constexpr double kGravity = 9.81;
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.rome.json"));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
 }
 
 SimulatorConfig Tight() {

@@ -9,6 +9,7 @@
 #include "framework/simulator.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "systems/plants/hybrid_contact_plant.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -17,7 +18,7 @@ constexpr double kG = 9.81;  // MultibodyModel gravity [m/s^2]
 
 std::shared_ptr<const MultibodyModel> LoadTestModel(const std::string& robot) {
   return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/tests/systems/plants/data/" + robot + ".rome.json"));
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("tests/systems/plants/data/" + robot + ".rome.json")));
 }
 
 SimulatorConfig Tight() {

@@ -13,12 +13,13 @@
 #include "systems/controllers/joint_pd_controller.h"
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".rome.json"));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
 SimulatorConfig Tight() {

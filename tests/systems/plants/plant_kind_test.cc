@@ -14,6 +14,7 @@
 #include <string>
 
 #include "framework/simulator.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -34,7 +35,7 @@ TEST(PlantKind, ParsesBothKindsAndRejectsOthersNamingTheSourceAndValue) {
 }
 
 TEST(PlantKind, EitherPlantLetsAFlyingRobotFallFreely) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/amber/amber.rome.json"));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
   const ContactModeGraph graph = ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot");
   HybridContactPlantParams hybrid;
   BulletWorldPlantParams bullet;

@@ -10,12 +10,13 @@
 #include <random>
 
 #include "systems/multibody/multibody_kinematics.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(std::string(ROME_SOURCE_DIR) + "/robots/" + robot + "/" + robot + ".rome.json"));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
 Eigen::Vector3d FootPosition(const MultibodyModel& model, const Eigen::VectorXd& q, const std::string& contact) {

@@ -11,6 +11,7 @@
 
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/pose_constraints.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 const MultibodyModel& Cassie() {
-  static const MultibodyModel model = MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf");
+  static const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
   return model;
 }
 

@@ -14,13 +14,14 @@
 #include "systems/controllers/joint_pd_controller.h"
 #include "systems/plants/hybrid_contact_plant.h"
 #include "systems/rom/cassie_leg_stiffness.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 TEST(SpringMassStandingDeflection, PlantMatchesIdentifiedStiffness) {
   auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::Load(std::string(ROME_SOURCE_DIR) + "/robots/cassie/cassie.urdf"));
+      MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf")));
   const int nu = model->nu(), nv = model->nv();
   JointPdGains gains;
   gains.kp.resize(nu);

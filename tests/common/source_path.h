@@ -1,0 +1,17 @@
+#pragma once
+// SourcePath: files of the repository (robots/..., tests/.../data/...) by absolute path, for tests and benchmarks.
+//
+// The repository root is known only to source_path.cc (compile definition ROME_SOURCE_DIR). Callers never paste the
+// root into a string expression: with the root as a literal of a length the compiler can see, GCC 12 -O3 with the
+// precompiled headers reports false -Warray-bounds in std::string's operator+ for some clone paths (a 16-character
+// root, CI's, did; this machine's 10-character one did not), so a -Werror build depended on where it was cloned.
+
+#include <string>
+#include <string_view>
+
+namespace rome::test {
+
+/// The repository root joined with `relative` ("robots/amber/amber.urdf"); `relative` must not start with '/'.
+std::string SourcePath(std::string_view relative);
+
+}  // namespace rome::test
