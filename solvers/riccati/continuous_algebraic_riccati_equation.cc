@@ -70,15 +70,20 @@ void CheckInputs(const Eigen::Ref<const Eigen::MatrixXd>& A,
   }
   // PBH test: every eigenvalue λ of A with Re λ ≥ 0 needs rank [A − λI, B] = n.
   const Eigen::VectorXcd lambda = A.eigenvalues();
-  Eigen::MatrixXcd AB(n, n + m);
+  // [A − λI, B] = X + iY has the singular values of the real [[X, −Y], [Y, X]], each twice.
+  Eigen::MatrixXd AB(2 * n, 2 * (n + m));
   const double scale = std::max(1.0, std::sqrt(A.squaredNorm() + B.squaredNorm()));
   for (Eigen::Index i = 0; i < n; ++i) {
     if (lambda(i).real() < -options.axis_tolerance * scale) continue;
-    AB.leftCols(n) = A.cast<std::complex<double>>();
-    AB.leftCols(n).diagonal().array() -= lambda(i);
-    AB.rightCols(m) = B.cast<std::complex<double>>();
-    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(AB);
-    const double sigma_min = svd.singularValues()(n - 1);
+    AB.setZero();
+    AB.topLeftCorner(n, n) = A;
+    AB.topLeftCorner(n, n).diagonal().array() -= lambda(i).real();
+    AB.block(0, n, n, m) = B;
+    AB.bottomRightCorner(n, n + m) = AB.topLeftCorner(n, n + m);
+    AB.block(0, n + m, n, n).diagonal().setConstant(lambda(i).imag());
+    AB.block(n, 0, n, n).diagonal().setConstant(-lambda(i).imag());
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(AB);
+    const double sigma_min = svd.singularValues()(2 * n - 1);
     if (sigma_min <= options.rank_tolerance * scale) {
       msg << "(A, B) is not stabilizable: eigenvalue " << lambda(i)
           << " of A is uncontrollable (σ_min[A − λI, B] = " << sigma_min << ")";

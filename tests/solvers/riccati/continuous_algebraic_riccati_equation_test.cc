@@ -93,6 +93,30 @@ TEST(ContinuousAlgebraicRiccatiEquation, RejectsNonStabilizable) {
   }
 }
 
+// The PBH test at a complex eigenvalue: an unstable oscillation (0.5 ± 2i) the input cannot reach is rejected; the
+// same oscillation driven through its second state is stabilized (closed-loop eigenvalues in the left half-plane).
+TEST(ContinuousAlgebraicRiccatiEquation, PbhTestAtComplexEigenvalues) {
+  Eigen::Matrix3d A;
+  A << 0.5, 2.0, 0.0,  //
+      -2.0, 0.5, 0.0,  //
+      0.0, 0.0, -1.0;
+  const Eigen::Matrix3d Q = Eigen::Matrix3d::Identity();
+  const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(1, 1);
+  try {
+    SolveContinuousAlgebraicRiccatiEquation(A, Eigen::Vector3d(0.0, 0.0, 1.0), Q, R);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("not stabilizable"), std::string::npos) << what;
+    EXPECT_NE(what.find("eigenvalue (0.5,"), std::string::npos) << what;  // 0.5 ± 2i, the uncontrollable pair
+  }
+  const Eigen::Vector3d B(0.0, 1.0, 1.0);
+  const auto solution = SolveContinuousAlgebraicRiccatiEquationWithDetails(A, B, Q, R);
+  const Eigen::Matrix3d closed_loop = A - B * solution.K;
+  EXPECT_LT(closed_loop.eigenvalues().real().maxCoeff(), 0.0);
+  EXPECT_LT(solution.relative_residual, 1e-12);
+}
+
 TEST(ContinuousAlgebraicRiccatiEquation, RejectsUndetectableImaginaryAxisMode) {
   // Undamped oscillator (eigenvalues ±i), Q = 0: Hamiltonian eigenvalues on the imaginary axis.
   Eigen::Matrix2d A;
