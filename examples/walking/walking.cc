@@ -235,6 +235,7 @@ int main(int argc, char** argv) {
       .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
       .Option("gait-change-max-force", "1.6", "the gait-change transition NLP (A -> B, or a lead-in -> A) keeps each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
+      .Option("touchdown-speed", "0.1", "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
       .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
@@ -250,7 +251,7 @@ int main(int argc, char** argv) {
   WalkingGait gait_a, gait_b;
   std::string scenario;
   int steps = 0;
-  double band = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6;
+  double band = 0.1, touchdown_speed = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6;
   PlantKind plant_kind = PlantKind::kHybrid;
   try {
     if (!cli.Parse(argc, argv)) return 0;
@@ -297,6 +298,9 @@ int main(int argc, char** argv) {
     max_force = cli.GetDouble("gait-change-max-force");
     if (!(max_force == 0 || (max_force > 1 && max_force <= 3)))
       throw std::invalid_argument("walking: --gait-change-max-force must be 0 or in (1, 3] (m g), got " + cli.Get("gait-change-max-force"));
+    touchdown_speed = cli.GetDouble("touchdown-speed");
+    if (!(touchdown_speed >= 0.05 && touchdown_speed <= 0.5))
+      throw std::invalid_argument("walking: --touchdown-speed must be in [0.05, 0.5] m/s, got " + cli.Get("touchdown-speed"));
     foothold_tolerance = cli.GetDouble("foothold-tolerance");
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
@@ -316,6 +320,7 @@ int main(int argc, char** argv) {
   const PlanCache cache(cli.Get("cache"));
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = band;
+  params.swing.touchdown_velocity_mps = touchdown_speed;
   params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
   WalkingPlanReport nlp;
   WalkingPlan plan;

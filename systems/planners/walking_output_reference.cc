@@ -32,8 +32,9 @@ WalkingOutputReference::WalkingOutputReference(std::string name, WalkingPlan pla
     : LeafSystem(std::move(name)), plan_(std::move(plan)), params_(params) {
   if (plan_.segments().empty()) ThrowError("the walking plan is empty");
   if (!(params_.apex_height_m > 0.0)) ThrowError("parameter apex_height_m must be > 0, got " + std::to_string(params_.apex_height_m));
-  if (!(params_.touchdown_velocity_mps >= 0.0))
-    ThrowError("parameter touchdown_velocity_mps must be >= 0, got " + std::to_string(params_.touchdown_velocity_mps));
+  // > 0: after T_SSP a late foot keeps descending at this speed; at 0 it would hover on the ground and never land.
+  if (!(params_.touchdown_velocity_mps > 0.0))
+    ThrowError("parameter touchdown_velocity_mps must be > 0, got " + std::to_string(params_.touchdown_velocity_mps));
   const int com = DeclareInputPort("com", 9);
   DeclareOutputPort("desired", 3 * kNumOutputs,
                     [this, com](const LeafContext& c, Eigen::VectorXd* y) {
@@ -60,8 +61,7 @@ WalkingOutputReference::WalkingOutputReference(std::string name, WalkingPlan pla
 void WalkingOutputReference::SwingFoot(int foot, double t, Eigen::Ref<Eigen::Vector3d> p, Eigen::Ref<Eigen::Vector3d> v,
                                        Eigen::Ref<Eigen::Vector3d> a) const {
   const auto& segs = plan_.segments();
-  size_t i = 0;
-  while (i + 1 < segs.size() && t >= segs[i + 1].start_time) ++i;
+  const size_t i = plan_.SegmentIndexAt(t);
   v.setZero();
   a.setZero();
   const double ankle = params_.ankle_height_m;

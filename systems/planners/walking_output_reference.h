@@ -22,7 +22,7 @@ namespace rome {
 
 struct SwingFootTrajectoryParams {
   double apex_height_m = 0.08;           ///< [m] sole clearance at mid-SSP (spec [R])
-  double touchdown_velocity_mps = 0.1;   ///< [m/s] downward sole speed at T_SSP (spec [R])
+  double touchdown_velocity_mps = 0.1;   ///< [m/s] downward sole speed at T_SSP, > 0 (spec [R]); a late foot keeps it
   double ankle_height_m = 0.08;          ///< [m] ankle above the sole (the exoskeleton's model; set from the robot)
 };
 

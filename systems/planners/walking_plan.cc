@@ -8,13 +8,19 @@
 
 namespace rome {
 
+size_t WalkingPlan::SegmentIndexAt(double t) const {
+  if (segments_.empty()) throw std::logic_error("WalkingPlan::SegmentIndexAt: the plan is empty");
+  // Last segment that has started (segments are contiguous and ordered).
+  const double shifted = t + kSegmentBoundaryTolerance_s;
+  auto it = std::upper_bound(segments_.begin(), segments_.end(), shifted,
+                             [](double time, const WalkingPlanSegment& s) { return time < s.start_time; });
+  return it == segments_.begin() ? 0 : static_cast<size_t>(it - segments_.begin()) - 1;
+}
+
 WalkingReference WalkingPlan::Sample(double t) const {
   if (segments_.empty()) throw std::logic_error("WalkingPlan::Sample: the plan is empty");
   t = std::clamp(t, 0.0, end_time());
-  // Last segment that has started (segments are contiguous and ordered).
-  auto it = std::upper_bound(segments_.begin(), segments_.end(), t,
-                             [](double time, const WalkingPlanSegment& s) { return time < s.start_time; });
-  const WalkingPlanSegment& s = *(it == segments_.begin() ? it : it - 1);
+  const WalkingPlanSegment& s = segments_[SegmentIndexAt(t)];
   const double tau = std::clamp(t - s.start_time, 0.0, s.duration);
   WalkingReference r;
   // Fixed-size outputs: Sample runs every control tick and allocates nothing.
@@ -29,7 +35,7 @@ WalkingReference WalkingPlan::Sample(double t) const {
   if (s.lateral_nodes.cols() > 0) {
     // Footed H-LIP with the torque held on [t_k, t_{k+1}).
     const Eigen::Index n = s.lateral_node_times.size();
-    Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n, tau) -
+    Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n, tau + kSegmentBoundaryTolerance_s) -
                      s.lateral_node_times.data() - 1;
     k = std::clamp<Eigen::Index>(k, 0, n - 2);
     const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / s.mass_height;

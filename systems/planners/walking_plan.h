@@ -62,6 +62,15 @@ class WalkingPlan {
   double end_time() const { return segments_.empty() ? 0.0 : segments_.back().start_time + segments_.back().duration; }
   /// The references at global time t (clamped to [0, end_time()]). Throws std::logic_error on an empty plan.
   WalkingReference Sample(double t) const;
+  /// [s] A time this close below a segment's start belongs to that segment (ours). Control ticks fall at k Δt and
+  /// segment starts are sums of durations, so a tick meant to sit on a boundary lands ~1e-15 s on either side of it.
+  /// Measured before this tolerance (gait (0.31, 0.41, 0.12, 0.25) m/s/s/m, 1 kHz): the 5th periodic lift-off's tick
+  /// fell before its boundary, the swing started one tick late, and that swing and every later one touched down 2 ms
+  /// early instead of 2 ms late (pre-impact COM state change 1.24e-2 once).
+  static constexpr double kSegmentBoundaryTolerance_s = 1e-10;
+  /// Index of the segment that holds global time t: the last one whose start is at most t + kSegmentBoundaryTolerance_s
+  /// (0 before the first). Throws std::logic_error on an empty plan.
+  size_t SegmentIndexAt(double t) const;
 
   /// Appends `steps` steps of a periodic gait (each SSP then DSP), the first SSP standing on `first_stance`
   /// (kLeftStance or kRightStance) at world x = stance_x, feet at y = ±W/2. The lateral motion is the H-LIP P2 orbit

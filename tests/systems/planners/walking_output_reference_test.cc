@@ -5,6 +5,7 @@
 // the COM rows pass the input through, the pelvis rows are 0.
 #include "systems/planners/walking_output_reference.h"
 
+#include <cmath>
 #include <filesystem>
 
 #include <gtest/gtest.h>
@@ -33,6 +34,13 @@ TEST(WalkingOutputReference, SwingFootMeetsItsBoundaryConditionsAndIsSmooth) {
   EXPECT_LT((p.head<2>() - start).norm(), 1e-9);
   EXPECT_NEAR(p.z(), 0.08, 1e-9);
   EXPECT_LT(v.norm(), 1e-9);
+  // The swing starts with the quintic's lift-off acceleration h''(0) > 0, also at the double just below the planned
+  // lift-off (a control tick meant to sit on it; WalkingPlan::kSegmentBoundaryTolerance_s): a tick there that held
+  // the foot on its foothold started the swing one tick (1 ms) late and moved the touchdown by 4 ms.
+  const double lift_acceleration = a.z();
+  EXPECT_GT(lift_acceleration, 1.0);
+  ref.SwingFoot(0, std::nextafter(t0, 0.0), pm, vm, am);
+  EXPECT_NEAR(am.z(), lift_acceleration, 1e-6 * lift_acceleration);
   ref.SwingFoot(0, t0 + 0.5 * T, p, v, a);
   EXPECT_NEAR(p.z(), 0.08 + params.apex_height_m, 1e-9);
   EXPECT_NEAR(v.z(), 0.0, 1e-9);

@@ -55,7 +55,7 @@ TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) 
     }
     // Vertical Newton at the nodes: m (z̈ + g) = F_L + F_R.
     for (int k = 0; k < 21; ++k) {
-      const WalkingReference r = plan.Sample(s.start_time + s.duration * k / 20.0 + (k == 20 ? -1e-12 : 0.0));
+      const WalkingReference r = plan.Sample(s.start_time + s.duration * k / 20.0 + (k == 20 ? -1e-9 : 0.0));
       EXPECT_NEAR(m * (r.com_acceleration(2) + g), r.normal_force.sum(), 1e-6 * m * g) << "segment " << i << " node " << k;
     }
   }
@@ -128,6 +128,37 @@ TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
   }
   // The right foot lands one step ahead at the end of the transition.
   EXPECT_NEAR(plan.Sample(plan.segments()[1].start_time + 0.1).right_foothold(0), gait_params.step_length, 1e-12);
+}
+
+// A control tick meant to fall on a segment boundary belongs to the segment that starts there, whichever side of the
+// boundary's floating-point value the tick lands on. The simulator's ticks are k Δt (framework/simulator.cc, offset
+// 0); the plan's boundaries are sums of durations. Gait (0.41 s, 0.12 s): the 1 kHz ticks on boundaries differ from
+// them by up to a few 1e-16 s, some below and some above.
+TEST(WalkingPlan, ATickOnASegmentBoundaryBelongsToTheSegmentThatStartsThere) {
+  AslipPeriodicGaitParams params;
+  params.ssp_duration = 0.41;
+  params.dsp_duration = 0.12;
+  const AslipPeriodicGaitPlanner planner(params);
+  const AslipPeriodicGait gait = planner.Solve(2);
+  ASSERT_TRUE(gait.success());
+  WalkingPlan plan;
+  plan.AppendPeriodicSteps(planner, gait, 8, WalkingDomain::kLeftStance, 0.0, 0.25);
+  int below = 0;
+  for (size_t i = 1; i < plan.segments().size(); ++i) {
+    const double b = plan.segments()[i].start_time;
+    const double tick = static_cast<double>(std::lround(b / 1e-3)) * 1e-3;
+    ASSERT_LT(std::abs(tick - b), 1e-12) << "segment " << i;
+    if (tick < b) ++below;
+    EXPECT_EQ(plan.SegmentIndexAt(tick), i) << "segment " << i << ", tick - start " << tick - b;
+    EXPECT_EQ(plan.SegmentIndexAt(std::nextafter(b, 0.0)), i) << "segment " << i;
+    EXPECT_EQ(plan.SegmentIndexAt(std::nextafter(b, 1e9)), i) << "segment " << i;
+    EXPECT_EQ(plan.Sample(tick).domain, plan.segments()[i].domain) << "segment " << i;
+    EXPECT_EQ(plan.SegmentIndexAt(b - 1e-9), i - 1) << "segment " << i;  // a nanosecond before: still the previous one
+  }
+  EXPECT_EQ(plan.SegmentIndexAt(-1.0), 0u);
+  EXPECT_EQ(plan.SegmentIndexAt(plan.end_time() + 1.0), plan.segments().size() - 1);
+  EXPECT_GT(below, 0) << "no tick fell below its boundary: the test does not exercise the tie";
+  RecordProperty("ticks_below_their_boundary", below);
 }
 
 TEST(WalkingPlan, RejectsBadArguments) {
