@@ -38,6 +38,15 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   // (below: kNonConvex, held torques). Measured on the stand-to-walk run: 1e-8-1e-7 walk, 1e-6 pulls the stance knee
   // torque down so far that the COM sinks 6 cm in the first step and the run fails.
   p.u_regularization = 3e-8;
+  // Ours (spec §5.5 [C22]: the cost's target is μ = 0, the minimum-norm input). With that cost the CLF row is the only
+  // feedback, so it binds at every update and the torque is the pointwise min-norm CLF controller: where the active
+  // CoP/yaw/friction rows leave the row's L_G V almost no direction to act in, δ reaches 1.8 (median 4e-5) and
+  // torques swing by up to 190 N m from one tick to the next. Measured on (0.23 m, 0.38 s, 0.12 s, 0.26 m) from
+  // standing, NLP seed 1: a touchdown 7.3 cm off its foothold. With the cost's target at the PD law
+  // ÿ_d − Kp e − Kd ė (TaskGains: 100 /s², 20 /s, critically damped at 1/ε = 10 rad/s) the feedback is in the cost
+  // and the row only bounds V̇: there δ stays ≤ 0.019 and that gait walks (COM RMS x 2.7 mm), gait A's COM RMS x goes
+  // from 5.2 to 3.2 mm, and every gait of the README's sweeps that has a plan walks.
+  p.cost_pd_feedback = true;
   p.force_band_loading_floor_N = -1.0;  // set by the builder: 2 x the plant's planned lift-off force (2 % of m g, ours)
   return p;
 }

@@ -62,7 +62,9 @@ struct WalkingDiagramParams {
   double swing_foot_orientation_weight = 0.1;
 
   /// Spec §5 [R]: ε = 0.1, p = 1e5, 1 kHz, force band c = 0.1 (Eq. (25)), μ = 0.6 pyramid, yaw moment |τ_z| ≤ 0.02 f_z,
-  /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event.
+  /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event. Ours, differing:
+  /// yaw |τ_z| ≤ 0.1 m f_z, the torque penalty 3e-8, and the cost's target is the outputs' PD law (cost_pd_feedback),
+  /// not the spec's minimum-norm μ = 0 (the measurements are in the .cc).
   static ClfQpParams DefaultWalkingControllerParams();
 };
 

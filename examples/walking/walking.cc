@@ -236,6 +236,7 @@ int main(int argc, char** argv) {
       .Option("gait-change-max-force", "1.6", "the gait-change transition NLP (A -> B, or a lead-in -> A) keeps each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("touchdown-speed", "0.1", "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
+      .Option("clf-cost-target", "pd", "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec §5.5 [C22]: minimum-norm μ = 0)")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
       .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
@@ -301,6 +302,8 @@ int main(int argc, char** argv) {
     touchdown_speed = cli.GetDouble("touchdown-speed");
     if (!(touchdown_speed >= 0.05 && touchdown_speed <= 0.5))
       throw std::invalid_argument("walking: --touchdown-speed must be in [0.05, 0.5] m/s, got " + cli.Get("touchdown-speed"));
+    if (cli.Get("clf-cost-target") != "pd" && cli.Get("clf-cost-target") != "min-norm")
+      throw std::invalid_argument("walking: --clf-cost-target must be 'pd' or 'min-norm', got '" + cli.Get("clf-cost-target") + "'");
     foothold_tolerance = cli.GetDouble("foothold-tolerance");
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
@@ -321,6 +324,7 @@ int main(int argc, char** argv) {
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = band;
   params.swing.touchdown_velocity_mps = touchdown_speed;
+  params.controller.cost_pd_feedback = cli.Get("clf-cost-target") == "pd";
   params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
   WalkingPlanReport nlp;
   WalkingPlan plan;
@@ -389,6 +393,7 @@ int main(int argc, char** argv) {
   const int left_foot = model->BodyIndex("left_foot");
   Eigen::Vector2d last_fz = Eigen::Vector2d::Zero();
   Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), err_max = Eigen::Vector3d::Zero();
+  double clf_delta_max = 0.0;  // the CLF relaxation δ, largest over the control ticks
   std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
   std::vector<double> vx, vxd, vy, vyd, vz, vzd;         // COM velocity, actual and desired (Fig. 5b)
   std::vector<std::pair<double, Eigen::VectorXd>> poses;  // q every 10 ms, for the gait tiles
@@ -444,6 +449,7 @@ int main(int argc, char** argv) {
     const WalkingReference r = plan.Sample(t);
     const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, c);
     solve_us.push_back(1e6 * d.controller->EvalOutput(cc, "solve_time_s")[0]);
+    clf_delta_max = std::max(clf_delta_max, d.controller->EvalOutput(cc, "delta")[0]);
     for (const char* a : {"base_roll", "base_pitch", "base_yaw"}) pelvis_max = std::max(pelvis_max, std::abs(q[model->VelocityIndex(a)]));
     if (t > after_first_step) {
       const Eigen::Vector3d e = (com - r.com_position).cwiseAbs();
@@ -546,6 +552,9 @@ int main(int argc, char** argv) {
   s["max_friction_ratio"] = contact.max_friction_ratio;
   s["qp_infeasible_ticks"] = d.controller->EvalOutput(cc, "qp_failures")[0];
   s["qp_fallbacks"] = fb.sum();
+  const Eigen::VectorXd& clf_activity = d.controller->EvalOutput(cc, "clf_activity");  // [CLF row active, solved] updates
+  s["clf_row_active_fraction"] = clf_activity[1] > 0 ? clf_activity[0] / clf_activity[1] : 0.0;
+  s["clf_relaxation_max"] = clf_delta_max;
   s["qp_solve_us_median"] = Percentile(solve_us, 0.5);
   s["qp_solve_us_p99"] = Percentile(solve_us, 0.99);
   auto nlp_json = [](const WalkingNlpReport& r) { return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}}; };

@@ -264,6 +264,14 @@ TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysic
   ROME_GAIT_VARIANT_RELEASE_ONLY();
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.35, .ssp_duration_s = 0.38, .dsp_duration_s = 0.09, .step_width_m = 0.28});
 }
+// A quick gait whose CLF row chattered: with the spec's minimum-norm cost (target μ = 0) the CLF row was the only
+// feedback, δ reached 1.8 where the stance foot's CoP, yaw and friction rows were active, the swing hip's torque swung
+// by 190 N m between ticks, and a touchdown landed 7.3 cm off its foothold. With the cost's PD target
+// (ClfQpParams::cost_pd_feedback, the walking default) it walks.
+TEST(WalkingDiagram, StandToWalkGaitWhoseMinimumNormClfRowChatteredWalks) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.23, .ssp_duration_s = 0.38, .dsp_duration_s = 0.12, .step_width_m = 0.26});
+}
 
 // A gait whose direct standing plan the legs cannot follow: the COM 0.90 m high over the 0.4 m step stance has no leg
 // pose (StandToWalkParams::plan_check = WalkingPoseCheck), so it starts through the lead-in (before the check, the
