@@ -71,6 +71,11 @@ std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const M
   };
 }
 
+WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan, const WalkingDiagramParams& params,
+                                                double end_time_s) {
+  return CalcWalkingPlanTorques(model, plan, RobotSwing(model, params), {.end_time_s = end_time_s});
+}
+
 WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params,
                                    PlantKind plant) {
   const MultibodyModel& m = *model;

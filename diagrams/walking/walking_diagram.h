@@ -38,6 +38,7 @@
 #include "systems/planners/plan_cache.h"
 #include "systems/planners/walking_output_reference.h"
 #include "systems/planners/walking_plan.h"
+#include "systems/planners/walking_plan_inverse_dynamics.h"
 #include "systems/planners/walking_trajectory_source.h"
 #include "systems/plants/plant_kind.h"
 
@@ -108,7 +109,8 @@ struct StandToWalkParams {
   /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m). Measured: with 0.92 m in 0.85-0.95 m the trailing knee of
   /// the 0.4 m step stance is straight at lift-off; with 0.84 m in 0.80-0.88 m the aSLIP's mid-stance force (1.58 m g)
   /// meets a knee bent 1.3 rad and the stance knee saturates at 300 N m. 0.86 m in 0.84-0.90 m walks (peak stance
-  /// knee torque 230 N m in the inverse dynamics of the plan).
+  /// knee torque in the plan's inverse dynamics, CheckWalkingPlanTorques: 291 N m in the standing transition, 269 N m
+  /// on gait A's orbit).
   double standing_height_m = 0.86;
   double height_min_m = 0.84, height_max_m = 0.90;
   /// [m] the lifting (right) foot starts this far behind the stance (left) foot (ours; spec [R]: 0, feet side by
@@ -187,6 +189,13 @@ struct StandToWalkParams {
 /// `params`' swing and compensation settings) on a copy of the plan; it throws std::runtime_error when a replay pose
 /// does not exist. Nothing when params.compensate_centroidal_momentum is off.
 std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& params);
+
+/// The inverse dynamics of `plan`'s single supports on `model` (CalcWalkingPlanTorques, with `params`' swing settings):
+/// the joint torques the plan's kinematic replay needs, against the robot's torque limits. Pass the diagram's plan
+/// (WalkingDiagram::plan, with its COM correction) to check what the controller will track. Throws as
+/// CalcWalkingPlanTorques. `end_time_s`: the run's end, when the plan goes on past it.
+WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan, const WalkingDiagramParams& params = {},
+                                                double end_time_s = std::numeric_limits<double>::infinity());
 
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the

@@ -234,6 +234,7 @@ int main(int argc, char** argv) {
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
       .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
       .Option("gait-change-max-force", "1.6", "the gait-change transition NLP (A -> B, or a lead-in -> A) keeps each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
+      .Option("periodic-max-force", "1.5", "a periodic aSLIP plan whose leg force exceeds this many m g is planned again with that bound (ours; 0: never, else in (1, 3])")
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("touchdown-speed", "0.1", "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
       .Option("clf-cost-target", "pd", "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec §5.5 [C22]: minimum-norm μ = 0)")
@@ -252,7 +253,7 @@ int main(int argc, char** argv) {
   WalkingGait gait_a, gait_b;
   std::string scenario;
   int steps = 0;
-  double band = 0.1, touchdown_speed = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6;
+  double band = 0.1, touchdown_speed = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6, periodic_max_force = 1.5;
   PlantKind plant_kind = PlantKind::kHybrid;
   try {
     if (!cli.Parse(argc, argv)) return 0;
@@ -299,6 +300,9 @@ int main(int argc, char** argv) {
     max_force = cli.GetDouble("gait-change-max-force");
     if (!(max_force == 0 || (max_force > 1 && max_force <= 3)))
       throw std::invalid_argument("walking: --gait-change-max-force must be 0 or in (1, 3] (m g), got " + cli.Get("gait-change-max-force"));
+    periodic_max_force = cli.GetDouble("periodic-max-force");
+    if (!(periodic_max_force == 0 || (periodic_max_force > 1 && periodic_max_force <= 3)))
+      throw std::invalid_argument("walking: --periodic-max-force must be 0 or in (1, 3] (m g), got " + cli.Get("periodic-max-force"));
     touchdown_speed = cli.GetDouble("touchdown-speed");
     if (!(touchdown_speed >= 0.05 && touchdown_speed <= 0.5))
       throw std::invalid_argument("walking: --touchdown-speed must be in [0.05, 0.5] m/s, got " + cli.Get("touchdown-speed"));
@@ -336,6 +340,7 @@ int main(int argc, char** argv) {
     stand.sagittal_cop_margin_m = rom_margin;
     stand.transition_min_ssp_duration_s = transition_ssp;
     stand.gait_change_max_force_fraction = max_force;
+    stand.periodic_max_force_fraction = periodic_max_force;
     stand.standing_height_m = heights[0];
     stand.height_min_m = heights[1];
     stand.height_max_m = heights[2];
@@ -366,6 +371,35 @@ int main(int argc, char** argv) {
   }
   std::printf("angular-momentum compensation: largest CoP shift in single support %.3f m -> %.3f m, COM correction up to %.3f m (%.2f s)\n",
               d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m, d.compensation.max_correction_m, compensation_s);
+  // The plan's inverse dynamics (ours): the torques its single supports ask for, against the actuators' limits.
+  nlohmann::json plan_torques_json = nullptr;
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    const WalkingGait& run_last_gait = scenario == "gait-change" ? gait_b : gait_a;  // the run stops before the trailing steps
+    const double run_end = d.plan.end_time() - kTrailingSteps * (run_last_gait.ssp_duration_s + run_last_gait.dsp_duration_s);
+    const WalkingPlanTorqueReport r = CheckWalkingPlanTorques(*model, d.plan, params, run_end);
+    const double solve_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (r.worst_actuator < 0) throw std::runtime_error("the plan has no single-support sample");
+    const ActuatorInfo& worst = model->actuators()[r.worst_actuator];
+    std::printf("plan inverse dynamics (%d single-support samples): largest torque for its limit %s %.0f of %.0f N m at t = %.3f s, "
+                "peak stance F_z %.2f m g (%.2f s)\n",
+                r.samples, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm, r.peak_time_s[r.worst_actuator],
+                r.peak_normal_force_N / (model->total_mass() * 9.81), solve_s);
+    if (r.worst_limit_fraction > 1.0)
+      std::printf("warning: the plan asks %s for %.0f N m, above its %.0f N m limit; the controller will saturate it\n", worst.joint.c_str(),
+                  r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm);
+    nlohmann::json peaks = nlohmann::json::object();
+    for (int j = 0; j < model->nu(); ++j) peaks[model->actuators()[j].joint] = r.peak_torque_Nm[j];
+    plan_torques_json = {{"peak_torque_Nm", peaks},
+                         {"worst_joint", worst.joint},
+                         {"worst_limit_fraction", r.worst_limit_fraction},
+                         {"worst_time_s", r.peak_time_s[r.worst_actuator]},
+                         {"peak_normal_force_N", r.peak_normal_force_N},
+                         {"samples", r.samples},
+                         {"solve_s", solve_s}};
+  } catch (const std::exception& e) {
+    std::printf("warning: plan inverse dynamics not available: %s\n", e.what());
+  }
   const WalkingPlan rom_plan = plan;  // the ROMs' own plan, without the momentum correction (Fig. 2 and 3)
   plan = d.plan;
   Simulator sim(*d.diagram, WalkingSimulatorConfig());
@@ -572,6 +606,7 @@ int main(int argc, char** argv) {
                                         {"max_cop_shift_corrected_m", d.compensation.max_cop_shift_corrected_m},
                                         {"max_com_correction_m", d.compensation.max_correction_m},
                                         {"solve_s", compensation_s}};
+  s["plan_inverse_dynamics"] = plan_torques_json;
   s["realtime_factor"] = wall > 0 ? t_end / wall : 0.0;
   s["simulated_s"] = t_end;
   s["plant"] = ToString(plant_kind);

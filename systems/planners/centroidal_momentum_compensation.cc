@@ -84,6 +84,33 @@ Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vecto
                            std::to_string(res.norm()) + ")");
 }
 
+Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing, double h,
+                                  const Eigen::MatrixXd& com_shift) {
+  if (!(h > 0 && h <= 0.02)) throw std::invalid_argument("ReplayWalkingPlan: the sample period must be in (0, 0.02] s, got " + std::to_string(h));
+  if (plan.segments().empty()) throw std::invalid_argument("ReplayWalkingPlan: the plan is empty");
+  const Eigen::Index N = static_cast<Eigen::Index>(std::floor(plan.end_time() / h + 1e-9));
+  if (com_shift.size() != 0 && (com_shift.rows() != 2 || com_shift.cols() != N + 1))
+    throw std::invalid_argument("ReplayWalkingPlan: com_shift must be 2 x " + std::to_string(N + 1) + ", got " + std::to_string(com_shift.rows()) + " x " +
+                                std::to_string(com_shift.cols()));
+  const WalkingOutputReference feet("replay_swing", plan, swing);
+  Eigen::MatrixXd q(model.nv(), N + 1);
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(N + 1, 0.0, static_cast<double>(N) * h);
+  Eigen::VectorXd guess = model.q_nominal();
+  for (Eigen::Index k = 0; k <= N; ++k) {
+    const double t = times[k];
+    WalkingReference r = plan.Sample(t);
+    if (com_shift.size() != 0) r.com_position.head<2>() += com_shift.col(k);
+    Eigen::Vector3d p[2], v, a;
+    for (int f = 0; f < 2; ++f) {
+      feet.SwingFoot(f, t, p[f], v, a);
+      p[f].z() = std::max(p[f].z(), swing.ankle_height_m);  // on its foothold after T_SSP (SwingFoot's late-touchdown descent)
+    }
+    q.col(k) = SolveWalkingPose(model, r.com_position, p[0], p[1], guess);
+    guess = q.col(k);
+  }
+  return q;
+}
+
 CentroidalMomentumCompensationReport CompensateCentroidalMomentum(const MultibodyModel& model, WalkingPlan& plan,
                                                                   const SwingFootTrajectoryParams& swing,
                                                                   const CentroidalMomentumCompensationParams& params) {
@@ -97,32 +124,21 @@ CentroidalMomentumCompensationReport CompensateCentroidalMomentum(const Multibod
   const Eigen::Index N = static_cast<Eigen::Index>(std::floor(plan.end_time() / h + 1e-9));
   if (N < 4) throw std::invalid_argument("CompensateCentroidalMomentum: the plan is shorter than 4 samples");
   Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(N + 1, 0.0, N * h);
-  const WalkingOutputReference feet("compensation_swing", plan, swing);
   MultibodyWorkspace ws(model);
   Eigen::VectorXd omega2(N + 1), z(N + 1), Fz(N + 1);
   std::vector<int> ssp(N + 1);
   Eigen::MatrixXd delta = Eigen::MatrixXd::Zero(2, N + 1);
   CentroidalMomentumCompensationReport report;
   Eigen::MatrixXd q(model.nv(), N + 1), H(3, N + 1), Hdot(3, N + 1);
+  for (Eigen::Index k = 0; k <= N; ++k) {
+    const WalkingReference r = plan.Sample(times[k]);
+    z[k] = r.com_position.z();
+    Fz[k] = m * (r.com_acceleration.z() + g);
+    omega2[k] = std::max(Fz[k], 1e-3 * m * g) / (m * z[k]);
+    ssp[k] = r.domain == WalkingDomain::kDoubleSupport ? 0 : 1;
+  }
   for (int round = 0; round <= params.iterations; ++round) {
-    // Replay against the current correction.
-    Eigen::VectorXd guess = model.q_nominal();
-    for (Eigen::Index k = 0; k <= N; ++k) {
-      const double t = times[k];
-      WalkingReference r = plan.Sample(t);
-      r.com_position.head<2>() += delta.col(k);
-      Eigen::Vector3d p[2], v, a;
-      for (int f = 0; f < 2; ++f) {
-        feet.SwingFoot(f, t, p[f], v, a);
-        p[f].z() = std::max(p[f].z(), swing.ankle_height_m);  // on its foothold after T_SSP (SwingFoot's late-touchdown descent)
-      }
-      q.col(k) = SolveWalkingPose(model, r.com_position, p[0], p[1], guess);
-      guess = q.col(k);
-      z[k] = r.com_position.z();
-      Fz[k] = m * (r.com_acceleration.z() + g);
-      omega2[k] = std::max(Fz[k], 1e-3 * m * g) / (m * z[k]);
-      ssp[k] = r.domain == WalkingDomain::kDoubleSupport ? 0 : 1;
-    }
+    q = ReplayWalkingPlan(model, plan, swing, h, delta);  // against the current correction
     for (Eigen::Index k = 0; k <= N; ++k) {
       const Eigen::Index a = std::max<Eigen::Index>(k - 1, 0), b = std::min<Eigen::Index>(k + 1, N);
       const Eigen::VectorXd v = (q.col(b) - q.col(a)) / ((b - a) * h);

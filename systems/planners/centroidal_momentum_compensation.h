@@ -52,6 +52,13 @@ Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const
 Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com, const Eigen::Vector3d& left_ankle,
                                  const Eigen::Vector3d& right_ankle, const Eigen::VectorXd& q_guess);
 
+/// The kinematic replay of `plan` described above, at t_k = k h, k = 0 … N (N = ⌊end_time / h⌋): column k is the
+/// SolveWalkingPose pose with the COM at the plan's plus column k of `com_shift` (2 × (N + 1), x and y; empty: none),
+/// each ankle on its foothold or swing trajectory (never below swing.ankle_height_m). Throws std::invalid_argument for
+/// h outside (0, 0.02] s, an empty plan or a mis-sized com_shift; std::runtime_error if a pose does not converge.
+Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing, double h,
+                                  const Eigen::MatrixXd& com_shift = {});
+
 /// Adds the correction δ of (C1) to `plan` (WalkingPlan::SetComCorrection). `swing` must be the swing-foot
 /// parameters the diagram tracks (their ankle height set from the robot). Throws std::invalid_argument for a bad
 /// parameter, std::runtime_error if a replay pose does not converge.

@@ -324,6 +324,32 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
   }
 }
 
+// CheckWalkingPlanTorques on the diagram's plans (with the momentum correction): gait A's single supports fit the
+// exoskeleton's torque limits; the quickest long gait of the README's corners, (0.45 m, 0.35 s, 0.08 s, 0.20 m), asks
+// more than the 300 N m knee. The torques themselves are checked against forward dynamics and Newton in
+// walking_plan_inverse_dynamics_test.
+TEST(WalkingDiagram, PlanInverseDynamicsFindsTheGaitWhosePlanExceedsTheTorqueLimits) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingDiagramParams params;
+  auto fraction = [&](const WalkingGait& gait, const char* label) {
+    const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 4, 1, &cache, stand), params);
+    const WalkingPlanTorqueReport r = CheckWalkingPlanTorques(*model, d.plan, params);
+    EXPECT_GT(r.samples, 4 * 0.3 / 2e-3);
+    const ActuatorInfo& worst = model->actuators()[r.worst_actuator];
+    std::printf("  %s: %s %.1f of %.0f N m (%.3f), peak stance F_z %.2f m g\n", label, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator],
+                worst.torque_limit_Nm, r.worst_limit_fraction, r.peak_normal_force_N / (model->total_mass() * 9.81));
+    return r.worst_limit_fraction;
+  };
+  const double gait_a = fraction(WalkingGait{}, "gait A");
+  const double quick_long = fraction(WalkingGait{.step_length_m = 0.45, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
+                                     "(0.45, 0.35, 0.08, 0.20)");
+  EXPECT_LT(gait_a, 1.0);
+  EXPECT_GT(quick_long, 1.0);
+}
+
 // The gait-change scenario: standing, 6 steps of gait A, the A → B transition, 6 steps of gait B (0.4 m at 0.8 m/s).
 TEST(WalkingDiagram, GaitChangeFromAToBWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_length_m = 0.40});

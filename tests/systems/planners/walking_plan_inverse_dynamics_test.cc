@@ -1,0 +1,122 @@
+// ForEachSingleSupportInverseDynamics / CalcWalkingPlanTorques (ours) on gait A's periodic aSLIP plan for the
+// exoskeleton. Independent checks of each single-support sample's torques u and stance wrench W:
+//  * forward dynamics: the plant's constrained forward dynamics (contact_dynamics.h, stance foot active, no Baumgarte
+//    terms) driven by u reproduces the replay's q̈ (central second differences), to the differences' own
+//    inconsistency with the contact (J q̈ + J̇ v is O(h²), not 0);
+//  * Newton: W's force equals m (p̈_com + g ẑ) with p̈_com the second difference of the replay's COM (a route that
+//    never forms M, h or J), to O(h²);
+//  * the report's peaks are the samples' largest |u_j|. (Without the momentum correction gait A's plan asks the knee
+//    for more than its 300 N m; the diagram's corrected plan fits, walking_diagram_test.)
+#include "systems/planners/walking_plan_inverse_dynamics.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "systems/multibody/contact_dynamics.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/planners/aslip_periodic_gait_planner.h"
+#include "systems/planners/centroidal_momentum_compensation.h"
+#include "tests/systems/controllers/amber_test_setup.h"
+
+namespace rome {
+namespace {
+
+WalkingPlan GaitAPlan() {
+  AslipPeriodicGaitParams gp;  // gait A: l = 0.3 m, T_SSP = 0.4 s, T_DSP = 0.1 s
+  gp.height_min = 0.84;
+  gp.height_max = 0.90;
+  const AslipPeriodicGaitPlanner planner(gp);
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_plan_inverse_dynamics_test_plans").string());
+  const AslipPeriodicGait gait = planner.Solve(1, &cache);
+  EXPECT_TRUE(gait.success());
+  WalkingPlan plan;
+  plan.AppendPeriodicSteps(planner, gait, 3, WalkingDomain::kLeftStance, 0.0, 0.25, /*begin_with_double_support=*/true);
+  return plan;
+}
+
+SwingFootTrajectoryParams ExoSwing() {
+  SwingFootTrajectoryParams swing;
+  swing.ankle_height_m = 0.08;  // the exoskeleton's sole is 0.08 m below the ankle
+  return swing;
+}
+
+TEST(WalkingPlanInverseDynamics, ForwardDynamicsAndNewtonReproduceTheReplay) {
+  auto model = test::LoadRobot("exoskeleton");
+  const WalkingPlan plan = GaitAPlan();
+  const double h = 2e-3, mg = model->total_mass() * 9.81;
+  MultibodyWorkspace ws(*model);
+  ConstrainedDynamicsParameters no_baumgarte;
+  no_baumgarte.baumgarte_alpha_per_s = 0.0;
+  no_baumgarte.baumgarte_beta_per_s = 0.0;
+  Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+  double worst_qdd = 0.0, worst_qdd_scale = 0.0, worst_newton = 0.0;
+  int samples = 0;
+  ForEachSingleSupportInverseDynamics(*model, plan, ExoSwing(), {.sample_period_s = h}, [&](const WalkingPlanInverseDynamicsSample& s) {
+    const int contact = model->ContactIndex(s.stance_body == model->BodyIndex("left_foot") ? "left_foot" : "right_foot");
+    CalcConstrainedForwardDynamics(*model, ws, s.q, s.v, s.u, ContactBit(contact), no_baumgarte, qdd, F);
+    worst_qdd = std::max(worst_qdd, (qdd - s.qdd).cwiseAbs().maxCoeff());
+    worst_qdd_scale = std::max(worst_qdd_scale, s.qdd.cwiseAbs().maxCoeff());
+    // Newton on the COM, by second differences of the replay's COM (q at t ± h from the replay's differences).
+    const Eigen::VectorXd q_prev = s.q - h * s.v + 0.5 * h * h * s.qdd, q_next = s.q + h * s.v + 0.5 * h * h * s.qdd;
+    const Eigen::Vector3d com_acc = (CalcComPosition(*model, ws, q_next) - 2.0 * CalcComPosition(*model, ws, s.q) + CalcComPosition(*model, ws, q_prev)) / (h * h);
+    const Eigen::Vector3d newton = model->total_mass() * (com_acc + Eigen::Vector3d(0, 0, 9.81));
+    worst_newton = std::max(worst_newton, (s.wrench.tail<3>() - newton).cwiseAbs().maxCoeff());
+    ++samples;
+  });
+  std::printf("  %d single-support samples: forward dynamics q̈ within %.3e of the replay's (largest |q̈| %.1f), Newton within %.3e N (m g %.0f N)\n",
+              samples, worst_qdd, worst_qdd_scale, worst_newton, mg);
+  // Every grid point inside a single support but its first and last (whose differences reach across the switch).
+  int expected = 0;
+  for (const WalkingPlanSegment& seg : plan.segments())
+    if (seg.domain != WalkingDomain::kDoubleSupport) expected += static_cast<int>(std::floor(seg.duration / h + 1e-9)) - 2;
+  EXPECT_GE(samples, expected);
+  EXPECT_LE(samples, expected + 2 * static_cast<int>(plan.segments().size()));
+  EXPECT_LT(worst_qdd, 2e-5 * worst_qdd_scale);
+  EXPECT_LT(worst_newton, 1e-4 * mg);
+}
+
+TEST(WalkingPlanInverseDynamics, TorqueReportHoldsTheSamplesPeaks) {
+  auto model = test::LoadRobot("exoskeleton");
+  const WalkingPlan plan = GaitAPlan();
+  Eigen::VectorXd peak = Eigen::VectorXd::Zero(model->nu());
+  ForEachSingleSupportInverseDynamics(*model, plan, ExoSwing(), {}, [&](const WalkingPlanInverseDynamicsSample& s) { peak = peak.cwiseMax(s.u.cwiseAbs()); });
+  const WalkingPlanTorqueReport r = CalcWalkingPlanTorques(*model, plan, ExoSwing());
+  EXPECT_EQ(r.peak_torque_Nm, peak);
+  ASSERT_GE(r.worst_actuator, 0);
+  const ActuatorInfo& worst = model->actuators()[r.worst_actuator];
+  std::printf("  worst: %s %.1f N m of %.1f at t = %.3f s; peak stance F_z %.0f N\n", worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator],
+              worst.torque_limit_Nm, r.peak_time_s[r.worst_actuator], r.peak_normal_force_N);
+  EXPECT_NEAR(r.worst_limit_fraction, r.peak_torque_Nm[r.worst_actuator] / worst.torque_limit_Nm, 1e-15);
+  for (int j = 0; j < model->nu(); ++j) EXPECT_LE(r.peak_torque_Nm[j] / model->actuators()[j].torque_limit_Nm, r.worst_limit_fraction);
+  EXPECT_GT(r.peak_normal_force_N, model->total_mass() * 9.81);  // the aSLIP's mid-stance force exceeds m g
+}
+
+TEST(WalkingPlanInverseDynamics, BadInputIsNamed) {
+  auto model = test::LoadRobot("exoskeleton");
+  const WalkingPlan plan = GaitAPlan();
+  try {
+    CalcWalkingPlanTorques(*model, plan, ExoSwing(), {.sample_period_s = 0.0});
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "ForEachSingleSupportInverseDynamics: sample_period_s must be in (0, 0.02] s, got 0.000000");
+  }
+  EXPECT_THROW(CalcWalkingPlanTorques(*model, WalkingPlan{}, ExoSwing()), std::invalid_argument);
+  EXPECT_THROW(CalcWalkingPlanTorques(*model, plan, ExoSwing(), {.end_time_s = std::nan("")}), std::invalid_argument);
+  // end_time_s cuts the samples: none after it, and the first single support's alone before its end.
+  const WalkingPlanSegment& first_ssp = plan.segments()[1];
+  ASSERT_NE(first_ssp.domain, WalkingDomain::kDoubleSupport);
+  int after = 0, kept = 0;
+  ForEachSingleSupportInverseDynamics(*model, plan, ExoSwing(), {.end_time_s = first_ssp.start_time + first_ssp.duration}, [&](const WalkingPlanInverseDynamicsSample& s) {
+    ++kept;
+    after += s.time_s > first_ssp.start_time + first_ssp.duration ? 1 : 0;
+  });
+  EXPECT_EQ(after, 0);
+  EXPECT_EQ(kept, static_cast<int>(std::floor(first_ssp.duration / 2e-3 + 1e-9)) - 2);  // as in the first test
+}
+
+}  // namespace
+}  // namespace rome
