@@ -160,7 +160,7 @@ struct StandToWalkParams {
   double gait_change_max_force_fraction = 1.6;
   /// [-] a periodic gait whose aSLIP plan asks more than this fraction of m g on one leg is planned again with that
   /// bound (AslipPeriodicGaitParams::max_vertical_force_fraction, ours; 0: never). Measured on their own orbits
-  /// (--scenario periodic): gaits A and B peak at 1.40 m g with the stance knee at 275 / 292 N m of its 300 N m;
+  /// (--scenario periodic): gaits A and B peak at 1.40 m g with the stance knee at 271 / 290 N m of its 300 N m;
   /// (0.30 m, 0.35 s, 0.08 s, 0.20 m) peaks at 1.60 m g, the knee saturates and the COM falls behind (RMS x 1.5 cm),
   /// and from standing a foot slips after 17 steps.
   double periodic_max_force_fraction = 1.5;
