@@ -14,13 +14,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
-#include "systems/planners/aslip_periodic_gait_planner.h"
 #include "systems/planners/walking_plan_inverse_dynamics.h"
 #include "tests/systems/controllers/amber_test_setup.h"
+#include "tests/systems/planners/exoskeleton_gait_a_plan.h"
 
 namespace rome {
 namespace {
@@ -84,17 +83,8 @@ CopOffsets LargestCopOffsetByInverseDynamics(const MultibodyModel& model, const 
 
 TEST(CentroidalMomentumCompensation, KeepsTheRobotsCopOnTheRomPivotByInverseDynamics) {
   auto model = test::LoadRobot("exoskeleton");
-  AslipPeriodicGaitParams gp;  // gait A: l = 0.3 m, T_SSP = 0.4 s, T_DSP = 0.1 s
-  gp.height_min = 0.84;
-  gp.height_max = 0.90;
-  const AslipPeriodicGaitPlanner planner(gp);
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_compensation_test_plans").string());
-  const AslipPeriodicGait gait = planner.Solve(1, &cache);
-  ASSERT_TRUE(gait.success());
-  WalkingPlan plan;
-  plan.AppendPeriodicSteps(planner, gait, 3, WalkingDomain::kLeftStance, 0.0, 0.25, /*begin_with_double_support=*/true);
-  SwingFootTrajectoryParams swing;
-  swing.ankle_height_m = 0.08;  // the exoskeleton's sole is 0.08 m below the ankle
+  const WalkingPlan plan = test::ExoskeletonGaitAPlan("rome_compensation_test_plans");  // gait A, three steps
+  const SwingFootTrajectoryParams swing = test::ExoskeletonSwing();
   const CopOffsets before = LargestCopOffsetByInverseDynamics(*model, plan, plan, swing);
   WalkingPlan corrected = plan;
   const CentroidalMomentumCompensationReport report = CompensateCentroidalMomentum(*model, corrected, swing);

@@ -14,35 +14,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
-#include "systems/planners/aslip_periodic_gait_planner.h"
 #include "systems/planners/centroidal_momentum_compensation.h"
 #include "tests/systems/controllers/amber_test_setup.h"
+#include "tests/systems/planners/exoskeleton_gait_a_plan.h"
 
 namespace rome {
 namespace {
 
-WalkingPlan GaitAPlan() {
-  AslipPeriodicGaitParams gp;  // gait A: l = 0.3 m, T_SSP = 0.4 s, T_DSP = 0.1 s
-  gp.height_min = 0.84;
-  gp.height_max = 0.90;
-  const AslipPeriodicGaitPlanner planner(gp);
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_plan_inverse_dynamics_test_plans").string());
-  const AslipPeriodicGait gait = planner.Solve(1, &cache);
-  EXPECT_TRUE(gait.success());
-  WalkingPlan plan;
-  plan.AppendPeriodicSteps(planner, gait, 3, WalkingDomain::kLeftStance, 0.0, 0.25, /*begin_with_double_support=*/true);
-  return plan;
-}
-
-SwingFootTrajectoryParams ExoSwing() {
-  SwingFootTrajectoryParams swing;
-  swing.ankle_height_m = 0.08;  // the exoskeleton's sole is 0.08 m below the ankle
-  return swing;
-}
+WalkingPlan GaitAPlan() { return test::ExoskeletonGaitAPlan("rome_plan_inverse_dynamics_test_plans"); }
+SwingFootTrajectoryParams ExoSwing() { return test::ExoskeletonSwing(); }
 
 TEST(WalkingPlanInverseDynamics, ForwardDynamicsAndNewtonReproduceTheReplay) {
   auto model = test::LoadRobot("exoskeleton");
