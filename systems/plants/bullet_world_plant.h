@@ -7,7 +7,9 @@
 // inputs/outputs: exactly ContactPlant's (contact_plant.h): u; q, v, state, mode (int), contact_forces,
 //   contact_violation, com. Every output is a function of the discrete state alone (no feedthrough).
 // discrete state: [q (nv); v (nv); contact forces (3 nc); touching (nc, 0/1); touchdown time (nc) [s];
-//   lift-off time (nc) [s]; time the current mode began [s]]
+//   lift-off time (nc) [s]; time the current mode began [s]; sliding speed (nc) [m/s]: per contact, the largest speed
+//   along the surface of a sole point that carried more than slip_min_point_force_N in the step's last substep;
+//   distance slid (nc) [m]: since the contact last held (see slip_speed_mps)]
 // periodic update (period step_s, offset update_offset_s): one step of the Bullet world, in `substeps` equal
 //   substeps. Each substep applies B sat(u) (sat: the model's torque limits) and the spring/damper torques
 //   τ_spring = −K (q − q_rest) − D v of the substep's start as joint torques, then btMultiBodyDynamicsWorld::
@@ -33,8 +35,10 @@
 //   graph also stops touching when the step's mean normal force is at most planned_liftoff_force_N. Any touchdown is
 //   announced no earlier than min_time_in_mode_s after its contact last stopped touching.
 // Falls: the update ends the run (Failed "robot fell") when the base height is below min_base_height_m.
-// contact_violation: +2 when a contact's |F_t| exceeds μ F_n (Bullet clamps each of its two friction directions at
-//   μ F_n, a pyramid, so this marks a sliding contact); +1 never occurs (Bullet's normal impulses are ≥ 0).
+// contact_violation: +2 when a contact slides: its |F_t| exceeds μ F_n (Bullet clamps each of its two friction
+//   directions at μ F_n, a pyramid, so this marks a sliding contact), or a loaded point of it slides faster than
+//   slip_speed_mps for more than slip_distance_m (Bullet's clamped friction rarely shows a slide in the force: a foot pivoting on its one loaded
+//   corner keeps |F_t| well inside μ F_n); +1 never occurs (Bullet's normal impulses are ≥ 0).
 //
 // The Bullet model (BuildBulletMultiBody, shared with MultibodyWorkspace): the model's tree on a fixed Bullet base,
 // the floating base as the model's virtual joints, so q and v are the model's coordinates exactly.
@@ -65,6 +69,7 @@
 // The Bullet world lives in the context's scratch; Context::Clone builds a fresh world for the copy (its solver warm
 // start, Bullet's contact cache, starts empty).
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -121,6 +126,12 @@ struct BulletWorldPlantParams {
   bool saturate_torques = true;    ///< clip u to the model's torque limits before applying it
   bool enable_joint_limits = true; ///< the URDF's finite position limits as Bullet joint-limit constraints
   double max_impulse_Ns = 1e6;     ///< [N s] cap of every constraint impulse (Bullet's default 1000 would bind in hard impacts at small steps)
+  /// Slip by sliding (ours): a touching contact slides while one of its loaded points (normal force above
+  /// slip_min_point_force_N) moves along the surface faster than slip_speed_mps; it slips (contact_violation +2) once
+  /// it has slid more than slip_distance_m without holding in between (infinity: off). See the .cc for the measurements.
+  double slip_speed_mps = 0.01;         ///< [m/s]
+  double slip_distance_m = 0.01;        ///< [m]
+  double slip_min_point_force_N = 1.0;  ///< [N]
 };
 
 class BulletWorldPlant final : public ContactPlant {
@@ -147,6 +158,8 @@ class BulletWorldPlant final : public ContactPlant {
   /// origin = 0), from Bullet's manifold points: with CheckContactForce it gives the contact's centre of pressure.
   /// Diagnostic (the step's scratch, not state): valid after a step, before the next.
   ContactWrench LastStepContactWrench(const LeafContext& context, int contact) const;
+  /// The distance `contact` has slid without holding (see slip_speed_mps) once it exceeds slip_distance_m, else 0 [m].
+  double SlipDistance(const LeafContext& context, int contact) const override;
 
   /// Discrete-state offsets (see the top of this file).
   int forces_offset() const { return 2 * model_->nv(); }
@@ -163,7 +176,7 @@ class BulletWorldPlant final : public ContactPlant {
 
   BulletWorldPlantParams params_;
   std::vector<int> rotor_dofs_;  ///< v index of each rotor's joint
-  int td_time_offset_ = 0, lo_time_offset_ = 0, mode_start_offset_ = 0;
+  int td_time_offset_ = 0, lo_time_offset_ = 0, mode_start_offset_ = 0, slide_offset_ = 0;
 };
 
 }  // namespace rome

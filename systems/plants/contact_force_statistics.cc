@@ -30,6 +30,18 @@ void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext
       violated = true;
     }
   }
+  for (int c = 0; c < model.num_contacts() && !violated; ++c) {
+    if (!(active & ContactBit(c))) continue;
+    const double slid = plant.SlipDistance(context, c);
+    if (slid > 0.0) {
+      if (violations == 0) {
+        std::ostringstream os;
+        os << "t = " << context.time() << " s: contact '" << model.contacts()[c].name << "' slid " << slid << " m with its force inside the cone";
+        first_violation = os.str();
+      }
+      violated = true;
+    }
+  }
   if (violated) ++violations;
 }
 

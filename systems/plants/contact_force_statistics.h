@@ -5,7 +5,9 @@
 // A sample violates contact when, for some contact active in the plant's mode, F_n < −tolerance or
 // |F_t| > μ F_n (1 + relative_tolerance) + tolerance (μ: the contact's model friction coefficient; F_t: the world x-y
 // force). The relative term is round-off: Bullet clamps friction at μ F_n, and a sliding foot's sum over its points
-// comes out up to ~1e-8 μ F_n above the cone (measured: 6e-9 at F_n = 181 N).
+// comes out up to ~1e-8 μ F_n above the cone (measured: 6e-9 at F_n = 181 N). A sample also violates contact when
+// the plant reports an active contact sliding (ContactPlant::SlipDistance > 0: BulletWorldPlant, whose clamped friction
+// keeps the force in the cone while a foot slides).
 
 #include <limits>
 #include <string>

@@ -9,7 +9,8 @@
 //          state (2 nv)                [q; v]; elements q_<joint>..., v_<joint>...
 //          mode (int, typed)           index of the active contact mode (ContactModeGraph::modes order)
 //          contact_forces (3 nc)       ground force on each contact [N], world axes; elements <contact>_fx, _fy, _fz
-//          contact_violation (nc)      per contact: 0 ok, +1 negative normal force, +2 outside the friction cone
+//          contact_violation (nc)      per contact: 0 ok, +1 negative normal force, +2 outside the friction cone (or,
+//                                      BulletWorldPlant, sliding: SlipDistance)
 //          com (6)                     [p_com (m); v_com (m/s)], world; elements x, y, z, vx, vy, vz
 // and announce every contact-mode change through a guard named touchdown_<contact> or liftoff_<contact> whose reset
 // changes the mode, so that blocks that re-plan at touchdowns (event updates) work with either plant.
@@ -80,6 +81,13 @@ class ContactPlant : public LeafSystem {
 
   /// Sets q, v and the mode in a context (sizes checked); the mode clock starts at the context time.
   virtual void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const = 0;
+  /// [m] how far contact `contact` has slid along the surface while in contact, when the plant counts that as a slip
+  /// although the force stays in the friction cone; 0 otherwise. HybridContactPlant: always 0 (its contacts hold, and a
+  /// force reaching the cone ends the run). BulletWorldPlant: the distance slid once it exceeds slip_distance_m.
+  virtual double SlipDistance(const LeafContext& context, int contact) const {
+    (void)context, (void)contact;
+    return 0.0;
+  }
 
  protected:
   /// Checks the graph's modes against the model's contacts and declares them (initial mode: graph.initial_mode, or

@@ -3,11 +3,14 @@
 // (loop closures) holding their length while it stands, the exoskeleton standing in double support (forces sum to
 // m g, centres of pressure inside the soles, no drift), and bad input.
 #include "systems/plants/bullet_world_plant.h"
+#include "systems/plants/contact_force_statistics.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "framework/diagram.h"
@@ -159,6 +162,57 @@ TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
       EXPECT_EQ(events[1].guard, "touchdown_bottom");
       EXPECT_GE(events[1].time - events[0].time, params.min_time_in_mode_s - 1e-9);
       EXPECT_LT(events[1].time - events[0].time, params.min_time_in_mode_s + 1e-3);
+    }
+  }
+}
+
+// Slip by sliding (slip_speed_mps, slip_distance_m): a 3 kg box resting on the plane (μ = 0.6) and sent along x at
+// v0 slides under Coulomb friction, x(t) = v0 t − ½ μ g t², and stops after v0² / (2 μ g). At v0 = 0.5 m/s it slides
+// 21 mm: the plant reports the slip once it has slid slip_distance_m = 1 cm, at t = (v0 − √(v0² − 2 μ g d)) / (μ g) =
+// 23.2 ms (closed form), through SlipDistance, contact_violation (+2) and ContactForceStatistics, although the force
+// stays in the friction cone. At v0 = 0.3 m/s it stops after 7.6 mm: no slip, and the distance resets once it holds.
+TEST(BulletWorldPlant, ReportsASlideLongerThanTheSlipDistanceAtItsClosedFormTime) {
+  auto model = LoadSidecar("tests/systems/plants/data/planar_box.rome.json");
+  ContactModeGraph graph;
+  graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
+  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
+  graph.initial_mode = "resting";
+  const double mu = 0.6, g = 9.81;
+  for (const double v0 : {0.5, 0.3}) {
+    SCOPED_TRACE(v0);
+    BulletWorldPlantParams params;
+    params.min_base_height_m = -1.0;
+    BulletWorldPlant plant("box", model, graph, Terrain::Flat(), params);
+    Eigen::VectorXd q(3), v = Eigen::VectorXd::Zero(3);
+    q << 0.0, 0.05, 0.0;
+    v[0] = v0;
+    PlantRun run = Start(plant, q, v, "resting", Eigen::VectorXd::Zero(0));
+    ContactForceStatistics stats;
+    double first_slip = -1.0, max_ratio = 0.0;
+    run.sim->set_monitor([&](const Context&) {
+      stats.Record(plant, *run.context);
+      if (first_slip < 0 && plant.SlipDistance(*run.context, 0) > 0) {
+        first_slip = run.context->time();
+        EXPECT_EQ(plant.EvalOutput(*run.context, "contact_violation")[0], 2.0);
+      }
+      const Eigen::VectorXd f = plant.EvalOutput(*run.context, "contact_forces");
+      if (f[2] > 1.0) max_ratio = std::max(max_ratio, std::abs(f[0]) / f[2]);
+      return EventStatus::Succeeded();
+    });
+    ASSERT_TRUE(run.sim->AdvanceTo(0.2).ok());
+    const double stop = v0 * v0 / (2 * mu * g);
+    std::printf("  v0 = %.1f m/s: stopped at x = %.4f m (Coulomb %.4f m), first slip at %.4f s\n", v0, run.context->discrete_state()[0], stop, first_slip);
+    EXPECT_NEAR(run.context->discrete_state()[0], stop, 0.05 * stop);  // where Coulomb friction stops it
+    EXPECT_LE(max_ratio, mu * (1 + 1e-6));                          // the force never leaves the cone
+    if (stop > params.slip_distance_m) {
+      const double t_slip = (v0 - std::sqrt(v0 * v0 - 2 * mu * g * params.slip_distance_m)) / (mu * g);
+      EXPECT_NEAR(first_slip, t_slip, 2e-3) << "closed form " << t_slip << " s";
+      EXPECT_GT(stats.violations, 0);
+      EXPECT_NE(stats.first_violation.find("slid"), std::string::npos) << stats.first_violation;
+      EXPECT_EQ(plant.SlipDistance(*run.context, 0), 0.0);  // it has stopped: holding again resets the slide
+    } else {
+      EXPECT_LT(first_slip, 0.0) << "slip reported at " << first_slip << " s";
+      EXPECT_EQ(stats.violations, 0) << stats.first_violation;
     }
   }
 }
@@ -501,6 +555,12 @@ TEST(BulletWorldPlant, BadInputGetsOneLineErrors) {
   BulletWorldPlantParams negative_min_time;
   negative_min_time.min_time_in_mode_s = -0.01;
   expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), negative_min_time); }, "min_time_in_mode_s must be >= 0, got -0.01");
+  BulletWorldPlantParams no_slip_distance;
+  no_slip_distance.slip_distance_m = 0.0;
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), no_slip_distance); }, "slip_distance_m must be positive (infinity: off), got 0");
+  BulletWorldPlantParams nan_slip_speed;
+  nan_slip_speed.slip_speed_mps = std::nan("");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), nan_slip_speed); }, "slip_speed_mps must be finite and >= 0");
   // A stone of zero size: the terrain rejects it, naming the stone.
   expect_error([&] { Terrain::Stones({{0.0, 0.0, 0.2}, {1.0, 0.0, 0.0}}); }, "stone");
   // A sidecar contact with no points has no collision geometry: the sidecar loader rejects it, naming the contact.
