@@ -359,7 +359,7 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   lo_time_offset_ = td_time_offset_ + nc;
   mode_start_offset_ = lo_time_offset_ + nc;
   slide_offset_ = mode_start_offset_ + 1;
-  Eigen::VectorXd xd = Eigen::VectorXd::Zero(slide_offset_ + 2 * nc);
+  Eigen::VectorXd xd = Eigen::VectorXd::Zero(slide_offset_ + nc);
   xd.head(nv) = model_->q_nominal();
   DeclareDiscreteState(xd);
   DeclareInputPort("u", nu);
@@ -506,7 +506,7 @@ double BulletWorldPlant::SlipDistance(const LeafContext& context, int contact) c
   if (contact < 0 || contact >= model_->num_contacts())
     ThrowError("SlipDistance: contact " + std::to_string(contact) + " is out of range; robot '" + model_->name() + "' has " +
                std::to_string(model_->num_contacts()));
-  const double slid = context.discrete_state()[slide_offset_ + model_->num_contacts() + contact];
+  const double slid = context.discrete_state()[slide_offset_ + contact];
   return slid > params_.slip_distance_m ? slid : 0.0;
 }
 
@@ -613,10 +613,9 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
   for (int c = 0; c < nc; ++c) {
     const Eigen::Vector3d f = w.impulse.col(c) / params_.step_s;
     x.segment<3>(forces_offset() + 3 * c) = f;
-    x[slide_offset_ + c] = w.slide_speed[c];
     // The distance slid since the contact last held (sliding speed at most slip_speed_mps) or started touching.
     const bool slides = w.slide_speed[c] > params_.slip_speed_mps && x[touching_offset() + c] > 0.5;
-    x[slide_offset_ + nc + c] = slides ? xd[slide_offset_ + nc + c] + w.slide_speed[c] * params_.step_s : 0.0;
+    x[slide_offset_ + c] = slides ? xd[slide_offset_ + c] + w.slide_speed[c] * params_.step_s : 0.0;
     const bool was = xd[touching_offset() + c] > 0.5;
     if (!was && f.z() > params_.touchdown_force_N) {
       x[touching_offset() + c] = 1.0;

@@ -7,9 +7,8 @@
 // inputs/outputs: exactly ContactPlant's (contact_plant.h): u; q, v, state, mode (int), contact_forces,
 //   contact_violation, com. Every output is a function of the discrete state alone (no feedthrough).
 // discrete state: [q (nv); v (nv); contact forces (3 nc); touching (nc, 0/1); touchdown time (nc) [s];
-//   lift-off time (nc) [s]; time the current mode began [s]; sliding speed (nc) [m/s]: per contact, the largest speed
-//   along the surface of a sole point that carried more than slip_min_point_force_N in the step's last substep;
-//   distance slid (nc) [m]: since the contact last held (see slip_speed_mps)]
+//   lift-off time (nc) [s]; time the current mode began [s]; distance slid (nc) [m]: per contact, since it last held
+//   (see slip_speed_mps)]
 // periodic update (period step_s, offset update_offset_s): one step of the Bullet world, in `substeps` equal
 //   substeps. Each substep applies B sat(u) (sat: the model's torque limits) and the spring/damper torques
 //   τ_spring = −K (q − q_rest) − D v of the substep's start as joint torques, then btMultiBodyDynamicsWorld::
