@@ -238,6 +238,7 @@ int main(int argc, char** argv) {
       .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
       .Option("touchdown-speed", "0.1", "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
       .Option("clf-cost-target", "pd", "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec §5.5 [C22]: minimum-norm μ = 0)")
+      .Option("sole-torsion", "coefficient", "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z (ours, default) or by the contact wrench cone of its four corners (less where the CoP nears an edge or the foot carries a tangential force)")
       .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
       .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
@@ -308,6 +309,8 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("walking: --touchdown-speed must be in [0.05, 0.5] m/s, got " + cli.Get("touchdown-speed"));
     if (cli.Get("clf-cost-target") != "pd" && cli.Get("clf-cost-target") != "min-norm")
       throw std::invalid_argument("walking: --clf-cost-target must be 'pd' or 'min-norm', got '" + cli.Get("clf-cost-target") + "'");
+    if (cli.Get("sole-torsion") != "coefficient" && cli.Get("sole-torsion") != "corner-cone")
+      throw std::invalid_argument("walking: --sole-torsion must be 'coefficient' or 'corner-cone', got '" + cli.Get("sole-torsion") + "'");
     foothold_tolerance = cli.GetDouble("foothold-tolerance");
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
@@ -329,6 +332,7 @@ int main(int argc, char** argv) {
   params.controller.force_band_halfwidth = band;
   params.swing.touchdown_velocity_mps = touchdown_speed;
   params.controller.cost_pd_feedback = cli.Get("clf-cost-target") == "pd";
+  params.controller.contact.corner_wrench_cone = cli.Get("sole-torsion") == "corner-cone";
   params.bullet_plant.enable_joint_limits = cli.Get("joint-limits") == "on";
   WalkingPlanReport nlp;
   WalkingPlan plan;

@@ -19,7 +19,8 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
       planar_(model.is_planar()),
       min_normal_(params.min_normal_force_N),
       offset_(params.friction_cone_offset_N),
-      yaw_(params.yaw_moment_coefficient_m) {
+      yaw_(params.yaw_moment_coefficient_m),
+      cwc_(params.corner_wrench_cone) {
   const ContactInfo& info = model.contacts().at(contact);
   num_force_rows_ = info.num_rows;
   const double mu = params.friction_coefficient >= 0.0 ? params.friction_coefficient : info.friction_coefficient;
@@ -52,7 +53,8 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
     kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,         RowKind::kFriction,        RowKind::kFriction,
               RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
-    if (yaw_ >= 0.0) kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
+    if (cwc_) kinds_.insert(kinds_.end(), 8, RowKind::kYawMoment);
+    else if (yaw_ >= 0.0) kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
   } else if (info.type == ContactType::kLine && info.points.size() == 2) {
     line3d_ = cop_ = true;
     normal_ = 2;  // f_0z; the total F_z is f_0z + f_1z
@@ -124,7 +126,31 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
   G.block<1, 3>(r, 0) = -ey, G(r, normal_) = -x_min_, l[r] = 0.0, u[r] = kInf, ++r;   // −τ'_y − x_min f_z ≥ 0
   G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_max_, l[r] = -kInf, u[r] = 0.0, ++r;   // τ'_x − y_max f_z ≤ 0
   G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_min_, l[r] = 0.0, u[r] = kInf, ++r;    // τ'_x − y_min f_z ≥ 0
-  if (yaw_ >= 0.0) {
+  if (cwc_) {
+    // The sole's centre and half-sizes in the foot frame (after the CoP margin); τ about the centre: τ_c = τ − c × f
+    // with c the centre's offset from the frame origin (world axes), so τ'_c = Rᵀ τ − (Rᵀ c) × f'.
+    const double X = 0.5 * (x_max_ - x_min_), Y = 0.5 * (y_max_ - y_min_), cx = 0.5 * (x_max_ + x_min_), cy = 0.5 * (y_max_ + y_min_);
+    const Eigen::RowVector3d ez = R.col(2).transpose();
+    // Foot-frame rows over F = [τ; f]: τ'_x = ex τ − cy f'_z, τ'_y = ey τ + cx f'_z, τ'_z = ez τ + cy f'_x − cx f'_y
+    // (f'_z taken as f_z: the sole is flat on level ground, as the CoP rows assume).
+    Eigen::Matrix<double, 1, 6> tx = Eigen::Matrix<double, 1, 6>::Zero(), ty = tx, tz = tx, fx = tx, fy = tx, fz = tx;
+    tx.head<3>() = ex;
+    ty.head<3>() = ey;
+    tz.head<3>() = ez;
+    fx.tail<3>() = ex;
+    fy.tail<3>() = ey;
+    fz(normal_) = 1.0;
+    tx -= cy * fz;
+    ty += cx * fz;
+    tz += cy * fx - cx * fy;
+    for (const double s1 : {1.0, -1.0})
+      for (const double s2 : {1.0, -1.0}) {
+        // τ_z + μ(X+Y) f_z − s1 (Y f_x − μ τ_x) − s2 (X f_y − μ τ_y) ≥ 0
+        G.row(r) = tz + mu_ * (X + Y) * fz - s1 * (Y * fx - mu_ * tx) - s2 * (X * fy - mu_ * ty), l[r] = 0.0, u[r] = kInf, ++r;
+        // −τ_z + μ(X+Y) f_z − s1 (Y f_x + μ τ_x) − s2 (X f_y + μ τ_y) ≥ 0
+        G.row(r) = -tz + mu_ * (X + Y) * fz - s1 * (Y * fx + mu_ * tx) - s2 * (X * fy + mu_ * ty), l[r] = 0.0, u[r] = kInf, ++r;
+      }
+  } else if (yaw_ >= 0.0) {
     const Eigen::RowVector3d ez = R.col(2).transpose();
     G.block<1, 3>(r, 0) = ez, G(r, normal_) = -yaw_, l[r] = -kInf, u[r] = 0.0, ++r;  // τ'_z − c f_z ≤ 0
     G.block<1, 3>(r, 0) = ez, G(r, normal_) = yaw_, l[r] = 0.0, u[r] = kInf, ++r;    // τ'_z + c f_z ≥ 0

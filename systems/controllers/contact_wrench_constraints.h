@@ -45,6 +45,13 @@ struct ContactWrenchParams {
   /// ours: the plant's CoP drifts over a held sample, so a CoP held on the edge leaves the sole between samples)
   double cop_margin_m = 0.0;
   double yaw_moment_coefficient_m = -1.0;  ///< [m] 3D flat: |τ_z| ≤ this · f_z; < 0: no yaw-moment bound
+  /// 3D flat (ours; default off): instead of yaw_moment_coefficient_m, the yaw rows of the contact wrench cone of the
+  /// sole rectangle with a friction pyramid (μ') at each corner, in closed form (Caron, Pham, Nakamura, ICRA 2015;
+  /// half-sizes X, Y after cop_margin_m, foot frame, τ about the sole's centre):
+  ///   −μ'(X+Y) f_z + |Y f_x − μ' τ_x| + |X f_y − μ' τ_y| ≤ τ_z ≤ μ'(X+Y) f_z − |Y f_x + μ' τ_x| − |X f_y + μ' τ_y|
+  /// (8 rows): the torsion a sole can hold shrinks as its CoP nears an edge or corner and as it carries a tangential
+  /// force, as on BulletWorldPlant's four corner contacts.
+  bool corner_wrench_cone = false;
 };
 
 class ContactWrenchConstraints {
@@ -72,6 +79,7 @@ class ContactWrenchConstraints {
   double min_normal_ = 0.0;
   double offset_ = 0.0;
   double yaw_ = -1.0;
+  bool cwc_ = false;
   double x_min_ = 0, x_max_ = 0, y_min_ = 0, y_max_ = 0;  // sole, foot frame, relative to the frame origin
   std::vector<RowKind> kinds_;
 };

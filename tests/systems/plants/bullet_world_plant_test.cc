@@ -53,6 +53,15 @@ PlantRun Start(const ContactPlant& plant, const Eigen::VectorXd& q, const Eigen:
   return r;
 }
 
+// The planar box's modes: "flight" and "resting" on its bottom (one flat contact), starting in `initial_mode`.
+ContactModeGraph BoxGraph(const std::string& initial_mode) {
+  ContactModeGraph graph;
+  graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
+  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
+  graph.initial_mode = initial_mode;
+  return graph;
+}
+
 // Bullet steps a multibody by semi-implicit Euler with explicit velocity-product terms: for a double pendulum (its
 // mass matrix depends on q) that is not symplectic, and the energy drifts, at first order in the step. Double pendulum
 // (tests/systems/multibody/data), released from 1.0 rad and 0.5 rad, energy from our own kinematics (not Bullet's):
@@ -94,10 +103,7 @@ TEST(BulletWorldPlant, FreePendulumEnergyDriftIsBoundedOver10sAt1kHz) {
 // (geometry), every corner penetrating < 1 mm, and the ground carrying its weight m g (statics).
 TEST(BulletWorldPlant, DroppedBoxRestsOnThePlaneAtItsHalfHeight) {
   auto model = LoadSidecar("tests/systems/plants/data/planar_box.rome.json");
-  ContactModeGraph graph;
-  graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
-  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
-  graph.initial_mode = "flight";
+  const ContactModeGraph graph = BoxGraph("flight");
   BulletWorldPlantParams params;
   params.min_base_height_m = -1.0;
   BulletWorldPlant plant("box", model, graph, Terrain::Flat(), params);
@@ -133,10 +139,7 @@ TEST(BulletWorldPlant, DroppedBoxRestsOnThePlaneAtItsHalfHeight) {
 // neither case does the mode change move the box (Bullet's physics does not see the mode): it stays at 0.05 m.
 TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
   auto model = LoadSidecar("tests/systems/plants/data/planar_box.rome.json");
-  ContactModeGraph graph;
-  graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
-  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
-  graph.initial_mode = "resting";
+  const ContactModeGraph graph = BoxGraph("resting");
   const double mg = 3.0 * 9.81;
   for (const double threshold : {0.5 * mg, 2.0 * mg}) {
     SCOPED_TRACE(threshold);
@@ -173,10 +176,7 @@ TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
 // stays in the friction cone. At v0 = 0.3 m/s it stops after 7.6 mm: no slip, and the distance resets once it holds.
 TEST(BulletWorldPlant, ReportsASlideLongerThanTheSlipDistanceAtItsClosedFormTime) {
   auto model = LoadSidecar("tests/systems/plants/data/planar_box.rome.json");
-  ContactModeGraph graph;
-  graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
-  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
-  graph.initial_mode = "resting";
+  const ContactModeGraph graph = BoxGraph("resting");
   const double mu = 0.6, g = 9.81;
   for (const double v0 : {0.5, 0.3}) {
     SCOPED_TRACE(v0);
