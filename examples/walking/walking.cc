@@ -375,13 +375,14 @@ int main(int argc, char** argv) {
   }
   std::printf("angular-momentum compensation: largest CoP shift in single support %.3f m -> %.3f m, COM correction up to %.3f m (%.2f s)\n",
               d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m, d.compensation.max_correction_m, compensation_s);
+  // The run stops before the plan's trailing steps.
+  const WalkingGait& last_gait = scenario == "gait-change" ? gait_b : gait_a;
+  const double t_stop = d.plan.end_time() - kTrailingSteps * (last_gait.ssp_duration_s + last_gait.dsp_duration_s);
   // The plan's inverse dynamics (ours): the torques its single supports ask for, against the actuators' limits.
   nlohmann::json plan_torques_json = nullptr;
   try {
     const auto t0 = std::chrono::steady_clock::now();
-    const WalkingGait& run_last_gait = scenario == "gait-change" ? gait_b : gait_a;  // the run stops before the trailing steps
-    const double run_end = d.plan.end_time() - kTrailingSteps * (run_last_gait.ssp_duration_s + run_last_gait.dsp_duration_s);
-    const WalkingPlanTorqueReport r = CheckWalkingPlanTorques(*model, d.plan, params, run_end);
+    const WalkingPlanTorqueReport r = CheckWalkingPlanTorques(*model, d.plan, params, t_stop);
     const double solve_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (r.worst_actuator < 0) throw std::runtime_error("the plan has no single-support sample");
     const ActuatorInfo& worst = model->actuators()[r.worst_actuator];
@@ -390,7 +391,7 @@ int main(int argc, char** argv) {
                 r.samples, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm, r.peak_time_s[r.worst_actuator],
                 r.peak_normal_force_N / (model->total_mass() * 9.81), solve_s);
     if (r.worst_limit_fraction > 1.0)
-      std::printf("warning: the plan asks %s for %.0f N m, above its %.0f N m limit; the controller will saturate it\n", worst.joint.c_str(),
+      std::printf("warning: the plan asks %s for %.0f N m, above its %.0f N m limit; the CLF-QP keeps torques within the limits, so it cannot follow the plan exactly there\n", worst.joint.c_str(),
                   r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm);
     nlohmann::json peaks = nlohmann::json::object();
     for (int j = 0; j < model->nu(); ++j) peaks[model->actuators()[j].joint] = r.peak_torque_Nm[j];
@@ -529,8 +530,6 @@ int main(int argc, char** argv) {
     if (k % 500 == 0) std::cout << "  t = " << t << " s, steps " << touchdowns << "\n";
     return EventStatus::Succeeded();
   });
-  const WalkingGait& last_gait = scenario == "gait-change" ? gait_b : gait_a;
-  const double t_stop = plan.end_time() - kTrailingSteps * (last_gait.ssp_duration_s + last_gait.dsp_duration_s);
   std::cout << "simulating " << t_stop << " s on the " << ToString(plant_kind) << " plant ...\n";
   const auto wall0 = std::chrono::steady_clock::now();
   const SimulatorStatus status = sim.AdvanceTo(t_stop);
