@@ -53,6 +53,8 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
     kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,         RowKind::kFriction,        RowKind::kFriction,
               RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
+    if (cwc_ && (std::abs(x_max_ + x_min_) > 1e-9 || std::abs(y_max_ + y_min_) > 1e-9))
+      throw std::invalid_argument("system '" + system + "': contact '" + info.name + "': corner_wrench_cone needs a sole centred on the contact frame origin");
     if (cwc_) kinds_.insert(kinds_.end(), 8, RowKind::kYawMoment);
     else if (yaw_ >= 0.0) kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
   } else if (info.type == ContactType::kLine && info.points.size() == 2) {
@@ -127,22 +129,17 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
   G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_max_, l[r] = -kInf, u[r] = 0.0, ++r;   // τ'_x − y_max f_z ≤ 0
   G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_min_, l[r] = 0.0, u[r] = kInf, ++r;    // τ'_x − y_min f_z ≥ 0
   if (cwc_) {
-    // The sole's centre and half-sizes in the foot frame (after the CoP margin); τ about the centre: τ_c = τ − c × f
-    // with c the centre's offset from the frame origin (world axes), so τ'_c = Rᵀ τ − (Rᵀ c) × f'.
-    const double X = 0.5 * (x_max_ - x_min_), Y = 0.5 * (y_max_ - y_min_), cx = 0.5 * (x_max_ + x_min_), cy = 0.5 * (y_max_ + y_min_);
-    const Eigen::RowVector3d ez = R.col(2).transpose();
-    // Foot-frame rows over F = [τ; f]: τ'_x = ex τ − cy f'_z, τ'_y = ey τ + cx f'_z, τ'_z = ez τ + cy f'_x − cx f'_y
-    // (f'_z taken as f_z: the sole is flat on level ground, as the CoP rows assume).
+    // Half-sizes of the sole (after the CoP margin) about the frame origin, its centre (checked at construction).
+    // Foot-frame rows over F = [τ; f]: τ' = Rᵀ τ, f' = Rᵀ f, with f'_z taken as f_z (the sole is flat on level
+    // ground, as the CoP rows assume).
+    const double X = x_max_, Y = y_max_;
     Eigen::Matrix<double, 1, 6> tx = Eigen::Matrix<double, 1, 6>::Zero(), ty = tx, tz = tx, fx = tx, fy = tx, fz = tx;
     tx.head<3>() = ex;
     ty.head<3>() = ey;
-    tz.head<3>() = ez;
+    tz.head<3>() = R.col(2).transpose();
     fx.tail<3>() = ex;
     fy.tail<3>() = ey;
     fz(normal_) = 1.0;
-    tx -= cy * fz;
-    ty += cx * fz;
-    tz += cy * fx - cx * fy;
     for (const double s1 : {1.0, -1.0})
       for (const double s2 : {1.0, -1.0}) {
         // τ_z + μ(X+Y) f_z − s1 (Y f_x − μ τ_x) − s2 (X f_y − μ τ_y) ≥ 0

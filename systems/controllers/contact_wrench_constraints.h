@@ -47,7 +47,7 @@ struct ContactWrenchParams {
   double yaw_moment_coefficient_m = -1.0;  ///< [m] 3D flat: |τ_z| ≤ this · f_z; < 0: no yaw-moment bound
   /// 3D flat (ours; default off): instead of yaw_moment_coefficient_m, the yaw rows of the contact wrench cone of the
   /// sole rectangle with a friction pyramid (μ') at each corner, in closed form (Caron, Pham, Nakamura, ICRA 2015;
-  /// half-sizes X, Y after cop_margin_m, foot frame, τ about the sole's centre):
+  /// half-sizes X, Y after cop_margin_m, foot frame, τ about the sole's centre, which must be the contact frame origin):
   ///   −μ'(X+Y) f_z + |Y f_x − μ' τ_x| + |X f_y − μ' τ_y| ≤ τ_z ≤ μ'(X+Y) f_z − |Y f_x + μ' τ_x| − |X f_y + μ' τ_y|
   /// (8 rows): the torsion a sole can hold shrinks as its CoP nears an edge or corner and as it carries a tangential
   /// force, as on BulletWorldPlant's four corner contacts.
