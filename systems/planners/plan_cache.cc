@@ -1,11 +1,14 @@
 #include "systems/planners/plan_cache.h"
 
+#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <stdexcept>
+
+#include <unistd.h>
 
 namespace rome {
 namespace {
@@ -60,15 +63,28 @@ std::optional<Eigen::VectorXd> PlanCache::Load(const PlanCacheKey& key) const {
 void PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const {
   std::error_code ec;
   std::filesystem::create_directories(directory_, ec);
-  const std::string file = FileFor(key), tmp = file + ".tmp";
+  // Each writer has its own temporary file (process id and a per-process count), so runs sharing a cache directory
+  // (parallel sweeps planning the same gait) never write into or rename away one another's file; the rename is atomic
+  // and the last one wins, with the same plan.
+  static std::atomic<unsigned long> writes{0};
+  const std::string file = FileFor(key);
+  const std::string tmp = file + "." + std::to_string(static_cast<long>(::getpid())) + "-" + std::to_string(writes++) + ".tmp";
   {
     std::ofstream out(tmp);
     out << key.text() << '\n' << value.size() << '\n' << std::setprecision(17);
     for (Eigen::Index i = 0; i < value.size(); ++i) out << value(i) << '\n';
-    if (!out) throw std::runtime_error("PlanCache: cannot write plan file " + tmp);
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      throw std::runtime_error("PlanCache: cannot write plan file " + tmp);
+    }
   }
   std::filesystem::rename(tmp, file, ec);
-  if (ec) throw std::runtime_error("PlanCache: cannot rename " + tmp + " to " + file + ": " + ec.message());
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error("PlanCache: cannot rename " + tmp + " to " + file + ": " + ec.message());
+  }
 }
 
 }  // namespace rome

@@ -38,7 +38,9 @@ class PlanCache {
   std::string FileFor(const PlanCacheKey& key) const;
   /// The stored vector, or nothing if there is no file, its key differs, or it cannot be parsed.
   std::optional<Eigen::VectorXd> Load(const PlanCacheKey& key) const;
-  /// Stores the vector. Throws std::runtime_error naming the file if it cannot be written.
+  /// Stores the vector: written to a temporary file of this process's own, then renamed over the plan's file, so
+  /// processes sharing the directory may store the same key at once. Throws std::runtime_error naming the file if it
+  /// cannot be written.
   void Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const;
 
  private:
