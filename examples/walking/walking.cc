@@ -390,6 +390,9 @@ int main(int argc, char** argv) {
                 "peak stance F_z %.2f m g (%.2f s)\n",
                 r.samples, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm, r.peak_time_s[r.worst_actuator],
                 r.peak_normal_force_N / (model->total_mass() * 9.81), solve_s);
+    std::printf("plan inverse dynamics: the stance sole needs |F_t|/F_n up to %.2f (t = %.3f s), its CoP up to %.3f m (x) / %.3f m (y) "
+                "from the ankle, |M_z|/F_n up to %.3f m\n",
+                r.peak_friction_ratio, r.peak_friction_ratio_time_s, r.peak_cop_offset_m.x(), r.peak_cop_offset_m.y(), r.peak_yaw_moment_ratio_m);
     if (r.worst_limit_fraction > 1.0)
       std::printf("warning: the plan asks %s for %.0f N m, above its %.0f N m limit; the CLF-QP keeps torques within the limits, so it cannot follow the plan exactly there\n", worst.joint.c_str(),
                   r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm);
@@ -400,6 +403,10 @@ int main(int argc, char** argv) {
                          {"worst_limit_fraction", r.worst_limit_fraction},
                          {"worst_time_s", r.peak_time_s[r.worst_actuator]},
                          {"peak_normal_force_N", r.peak_normal_force_N},
+                         {"peak_friction_ratio", r.peak_friction_ratio},
+                         {"peak_friction_ratio_time_s", r.peak_friction_ratio_time_s},
+                         {"peak_cop_offset_m", {r.peak_cop_offset_m.x(), r.peak_cop_offset_m.y()}},
+                         {"peak_yaw_moment_ratio_m", r.peak_yaw_moment_ratio_m},
                          {"samples", r.samples},
                          {"solve_s", solve_s}};
   } catch (const std::exception& e) {

@@ -67,7 +67,15 @@ WalkingPlanTorqueReport CalcWalkingPlanTorques(const MultibodyModel& model, cons
     for (int j = 0; j < model.nu(); ++j) {
       if (std::abs(s.u[j]) > r.peak_torque_Nm[j]) r.peak_torque_Nm[j] = std::abs(s.u[j]), r.peak_time_s[j] = s.time_s;
     }
-    r.peak_normal_force_N = std::max(r.peak_normal_force_N, s.wrench[5]);
+    const double fn = s.wrench[5];
+    r.peak_normal_force_N = std::max(r.peak_normal_force_N, fn);
+    const double ratio = fn > 0 ? std::hypot(s.wrench[3], s.wrench[4]) / fn : std::numeric_limits<double>::infinity();
+    if (ratio > r.peak_friction_ratio) r.peak_friction_ratio = ratio, r.peak_friction_ratio_time_s = s.time_s;
+    if (fn > 0) {
+      r.peak_cop_offset_m.x() = std::max(r.peak_cop_offset_m.x(), std::abs(s.wrench[1] / fn));
+      r.peak_cop_offset_m.y() = std::max(r.peak_cop_offset_m.y(), std::abs(s.wrench[0] / fn));
+      r.peak_yaw_moment_ratio_m = std::max(r.peak_yaw_moment_ratio_m, std::abs(s.wrench[2] / fn));
+    }
     ++r.samples;
   });
   for (int j = 0; j < model.nu(); ++j) {

@@ -1,7 +1,7 @@
 #pragma once
 // Inverse dynamics of a walking plan in single support (ours; not in the walking paper): the joint torques and the
 // stance sole's wrench that the robot needs to follow the plan's kinematic replay, so a gait that asks more than the
-// actuators have is known before the run.
+// actuators have, or more friction, CoP travel or torsion than its sole can give, is known before the run.
 //
 // The motion is ReplayWalkingPlan's (centroidal_momentum_compensation.h): at t_k = k h the COM on the plan (with its
 // COM correction, if any), the pelvis level with zero yaw, each foot flat on its foothold or its swing trajectory;
@@ -48,6 +48,14 @@ struct WalkingPlanTorqueReport {
   int worst_actuator = -1;         ///< the actuator with the largest peak / torque limit
   double worst_limit_fraction = 0;  ///< [-] that ratio (above 1: the plan asks more than the actuator has)
   double peak_normal_force_N = 0;  ///< [N] largest stance normal force
+  /// [-] largest |F_t| / F_n of the stance sole: the friction coefficient the plan needs (above the ground's μ the
+  /// stance foot must slip); a sample with F_n <= 0 (the foot would have to pull) counts as infinity
+  double peak_friction_ratio = 0;
+  double peak_friction_ratio_time_s = 0;  ///< [s] where it occurs
+  /// [m] largest CoP offset from the point below the ankle, in x (forward) and y (left) of the world: CoP =
+  /// (−M_y / F_n, M_x / F_n); a sole of half-length a and half-width b (about that point) needs |x| <= a, |y| <= b
+  Eigen::Vector2d peak_cop_offset_m = Eigen::Vector2d::Zero();
+  double peak_yaw_moment_ratio_m = 0;  ///< [m] largest |M_z| / F_n (the torsion the sole must hold by friction)
   int samples = 0;                 ///< single-support samples solved
 };
 

@@ -5,6 +5,10 @@
 //    inconsistency with the contact (J q̈ + J̇ v is O(h²), not 0);
 //  * Newton: W's force equals m (p̈_com + g ẑ) with p̈_com the second difference of the replay's COM (a route that
 //    never forms M, h or J), to O(h²);
+//  * Newton-Euler about the COM: with ḣ_G = A_G q̈ + Ȧ_G v (the centroidal momentum matrix, not M, h or J) the
+//    sole's force is ḣ_lin + m g ẑ and its moment about the sole point ḣ_ang + (c − p) × F, so the friction ratio,
+//    CoP and torsion peaks of the report follow from the replay alone (equal to rounding: both routes are exact
+//    consequences of the same equations of motion);
 //  * the report's peaks are the samples' largest |u_j|. (Without the momentum correction gait A's plan asks the knee
 //    for more than its 300 N m; the diagram's corrected plan fits, walking_diagram_test.)
 #include "systems/planners/walking_plan_inverse_dynamics.h"
@@ -76,6 +80,41 @@ TEST(WalkingPlanInverseDynamics, TorqueReportHoldsTheSamplesPeaks) {
   EXPECT_NEAR(r.worst_limit_fraction, r.peak_torque_Nm[r.worst_actuator] / worst.torque_limit_Nm, 1e-15);
   for (int j = 0; j < model->nu(); ++j) EXPECT_LE(r.peak_torque_Nm[j] / model->actuators()[j].torque_limit_Nm, r.worst_limit_fraction);
   EXPECT_GT(r.peak_normal_force_N, model->total_mass() * 9.81);  // the aSLIP's mid-stance force exceeds m g
+}
+
+TEST(WalkingPlanInverseDynamics, FrictionCopAndTorsionPeaksFollowNewtonEuler) {
+  auto model = test::LoadRobot("exoskeleton");
+  const WalkingPlan plan = GaitAPlan();
+  const SwingFootTrajectoryParams swing = ExoSwing();
+  const double m = model->total_mass();
+  MultibodyWorkspace ws(*model);
+  Eigen::MatrixXd A_G(6, model->nv());
+  double friction = 0, friction_time = 0, torsion = 0;
+  Eigen::Vector2d cop = Eigen::Vector2d::Zero();
+  ForEachSingleSupportInverseDynamics(*model, plan, swing, {}, [&](const WalkingPlanInverseDynamicsSample& s) {
+    CalcCentroidalMomentumMatrix(*model, ws, s.q, A_G);
+    const Vector6d hdot = A_G * s.qdd + CalcCentroidalMomentumBias(*model, ws, s.q, s.v);
+    const Eigen::Vector3d F = hdot.tail<3>() + Eigen::Vector3d(0, 0, m * 9.81);
+    const Eigen::Vector3d p = CalcPointPosition(*model, ws, s.q, s.stance_body, Eigen::Vector3d(0, 0, -swing.ankle_height_m));
+    const Eigen::Vector3d M = hdot.head<3>() + (CalcComPosition(*model, ws, s.q) - p).cross(F);
+    ASSERT_GT(F.z(), 0.0) << "t = " << s.time_s;
+    const double ratio = F.head<2>().norm() / F.z();
+    if (ratio > friction) friction = ratio, friction_time = s.time_s;
+    cop = cop.cwiseMax(Eigen::Vector2d(std::abs(M.y() / F.z()), std::abs(M.x() / F.z())));
+    torsion = std::max(torsion, std::abs(M.z() / F.z()));
+  });
+  const WalkingPlanTorqueReport r = CalcWalkingPlanTorques(*model, plan, swing);
+  std::printf("  report: |F_t|/F_n %.4f at %.3f s, CoP %.4f / %.4f m, |M_z|/F_n %.4f m; Newton-Euler: %.4f at %.3f s, %.4f / %.4f m, %.4f m\n",
+              r.peak_friction_ratio, r.peak_friction_ratio_time_s, r.peak_cop_offset_m.x(), r.peak_cop_offset_m.y(), r.peak_yaw_moment_ratio_m, friction,
+              friction_time, cop.x(), cop.y(), torsion);
+  EXPECT_NEAR(r.peak_friction_ratio, friction, 1e-6);
+  EXPECT_NEAR(r.peak_friction_ratio_time_s, friction_time, 1e-12);
+  EXPECT_NEAR(r.peak_cop_offset_m.x(), cop.x(), 1e-6);
+  EXPECT_NEAR(r.peak_cop_offset_m.y(), cop.y(), 1e-6);
+  EXPECT_NEAR(r.peak_yaw_moment_ratio_m, torsion, 1e-6);
+  // Gait A walks on μ = 0.8 (walking_diagram_test); its ROM plan, even without the momentum correction, needs less.
+  EXPECT_LT(r.peak_friction_ratio, 0.8);
+  EXPECT_GT(r.peak_friction_ratio, 0.0);
 }
 
 TEST(WalkingPlanInverseDynamics, BadInputIsNamed) {
