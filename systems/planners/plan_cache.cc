@@ -64,7 +64,7 @@ void PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& value) con
   std::error_code ec;
   std::filesystem::create_directories(directory_, ec);
   // Each writer has its own temporary file (process id and a per-process count), so runs sharing a cache directory
-  // (parallel sweeps planning the same gait) never write into or rename away one another's file; the rename is atomic
+  // (parallel runs planning the same gait) never write into or rename away one another's file; the rename is atomic
   // and the last one wins, with the same plan.
   static std::atomic<unsigned long> writes{0};
   const std::string file = FileFor(key);

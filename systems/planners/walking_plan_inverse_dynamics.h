@@ -53,7 +53,8 @@ struct WalkingPlanTorqueReport {
   double peak_friction_ratio = 0;
   double peak_friction_ratio_time_s = 0;  ///< [s] where it occurs
   /// [m] largest CoP offset from the point below the ankle, in x (forward) and y (left) of the world: CoP =
-  /// (−M_y / F_n, M_x / F_n); a sole of half-length a and half-width b (about that point) needs |x| <= a, |y| <= b
+  /// (−M_y / F_n, M_x / F_n); the foot stays flat only while the CoP is inside the sole, whose heel, toe and side
+  /// edges are measured from that same point
   Eigen::Vector2d peak_cop_offset_m = Eigen::Vector2d::Zero();
   double peak_yaw_moment_ratio_m = 0;  ///< [m] largest |M_z| / F_n (the torsion the sole must hold by friction)
   int samples = 0;                 ///< single-support samples solved
