@@ -170,6 +170,16 @@ void CheckStandToWalkParams(const StandToWalkParams& sp, const std::string& who)
     throw std::invalid_argument(who + ": lateral_cop_margin_m = " + std::to_string(margin) + " must be >= 0 and leave a sole");
   if (!(sp.stance_stagger_m >= 0) || !std::isfinite(sp.stance_stagger_m))
     throw std::invalid_argument(who + ": stance_stagger_m must be >= 0 m, got " + std::to_string(sp.stance_stagger_m));
+  const double standing = sp.standing_sagittal_cop_margin_m;
+  if (!(standing < 0 || (sole.heel_m - standing > 0 && sole.toe_m - standing > 0)))
+    throw std::invalid_argument(who + ": standing_sagittal_cop_margin_m = " + std::to_string(standing) +
+                                " must be negative (use sagittal_cop_margin_m) or >= 0 and leave a sole");
+  if (sp.start_gait_steps < 0 ||
+      (sp.start_gait_steps > 0 && !(sp.start_gait_step_length_m > 0 && sp.start_gait_ssp_duration_s > 0 && sp.start_gait_dsp_duration_s > 0 &&
+                                    std::isfinite(sp.start_gait_step_length_m + sp.start_gait_ssp_duration_s + sp.start_gait_dsp_duration_s))))
+    throw std::invalid_argument(who + ": start_gait_steps = " + std::to_string(sp.start_gait_steps) +
+                                " must be >= 0, and the start gait's step length and durations > 0, got " + std::to_string(sp.start_gait_step_length_m) +
+                                " m, " + std::to_string(sp.start_gait_ssp_duration_s) + " s, " + std::to_string(sp.start_gait_dsp_duration_s) + " s");
 }
 
 AslipPeriodicGaitParams GaitParams(const WalkingGait& g, const StandToWalkParams& sp) {
@@ -292,15 +302,19 @@ Eigen::Matrix<double, 8, 1> SwapLegs(Eigen::Matrix<double, 8, 1> s) {
   return s;
 }
 
-// Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
-// step stops at its touchdown (its DSP left to a following transition).
-WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out) {
-  CheckStandToWalkParams(sp, who);
-  if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
-  SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
+bool SameTiming(const WalkingGait& a, const WalkingGait& b) {
+  return std::abs(a.step_length_m - b.step_length_m) <= 1e-9 && std::abs(a.ssp_duration_s - b.ssp_duration_s) <= 1e-9 &&
+         std::abs(a.dsp_duration_s - b.dsp_duration_s) <= 1e-9;
+}
+
+// Stand → the solved gait `a` (timing of `g`; the right foot lifts first) and `steps` periodic steps of it; with
+// end_in_single_support the last step stops at its touchdown (its DSP left to a following transition).
+WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, const PlanCache* cache, WalkingPlanReport* report,
+                         const StandToWalkParams& sp, const std::string& who, bool end_in_single_support) {
   const AslipPeriodicGaitParams& gp = a.planner.params();
-  const AslipTransitionPlanner transition_planner(TransitionParams(gp, g, sp));
+  StandToWalkParams standing = sp;
+  if (sp.standing_sagittal_cop_margin_m >= 0) standing.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
+  const AslipTransitionPlanner transition_planner(TransitionParams(gp, g, standing));
   AslipTransitionData data;
   data.left_foot_x = 0.0;
   data.right_foot_x = -sp.stance_stagger_m;
@@ -315,91 +329,21 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
   data.lifting_leg = 1;
   WalkingPlan plan;
   WalkingNlpReport transition_report;
-  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, sp, cache, who + " (standing -> gait)", &transition_report,
+  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, standing, cache, who + " (standing -> gait)", &transition_report,
                          report != nullptr ? &report->transition_nodes : nullptr);
   // The transition lands the right foot one step ahead: the first periodic step contributes its DSP only, so `steps`
   // single supports of the gait follow.
   plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true,
                            end_in_single_support);
-  if (report != nullptr) {
-    report->periodic = {a.solve_s, a.gait.collocation.nlp.iterations, a.gait.max_constraint_violation};
-    report->transition = transition_report;
-  }
-  if (gait_out != nullptr) *gait_out = std::move(a);
+  if (report != nullptr) report->transition = transition_report;
   return plan;
 }
 
-}  // namespace
-
-WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                                 const StandToWalkParams& sp) {
-  if (sp.lead_in_steps < 0 || !(sp.lead_in_step_length_m > 0) || !(sp.lead_in_ssp_duration_s > 0) || !(sp.lead_in_dsp_duration_s > 0))
-    throw std::invalid_argument("BuildStandToWalkPlan: lead_in_steps must be >= 0 and lead_in_step_length_m, lead_in_ssp_duration_s, "
-                                "lead_in_dsp_duration_s > 0, got " + std::to_string(sp.lead_in_steps) + ", " +
-                                std::to_string(sp.lead_in_step_length_m) + " m, " + std::to_string(sp.lead_in_ssp_duration_s) + " s, " +
-                                std::to_string(sp.lead_in_dsp_duration_s) + " s");
-  WalkingGait lead = g;
-  lead.step_length_m = sp.lead_in_step_length_m;
-  lead.ssp_duration_s = sp.lead_in_ssp_duration_s;
-  lead.dsp_duration_s = sp.lead_in_dsp_duration_s;
-  const bool is_lead = std::abs(g.step_length_m - lead.step_length_m) <= 1e-9 && std::abs(g.ssp_duration_s - lead.ssp_duration_s) <= 1e-9 &&
-                       std::abs(g.dsp_duration_s - lead.dsp_duration_s) <= 1e-9;
-  const bool faster = g.ssp_duration_s < lead.ssp_duration_s - 1e-9 || g.dsp_duration_s < lead.dsp_duration_s - 1e-9;
-  const auto with_lead_in = [&](const std::string& reason) {
-    WalkingPlanReport r;
-    WalkingPlan plan = BuildGaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
-    r.lead_in = true;
-    r.lead_in_gait = lead;
-    r.lead_in_reason = reason;
-    if (report != nullptr) *report = r;
-    return plan;
-  };
-  const auto with_unit = [](double x, const char* unit) {
-    char b[40];
-    std::snprintf(b, sizeof b, "%g %s", x, unit);
-    return std::string(b);
-  };
-  const auto seconds = [&](double s) { return with_unit(s, "s"); };
-  if (faster && sp.lead_in_steps > 0) {
-    CheckStandToWalkParams(sp, "BuildStandToWalkPlan");
-    if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
-    const std::string reason = "the gait (T_SSP " + seconds(g.ssp_duration_s) + ", T_DSP " + seconds(g.dsp_duration_s) +
-                               ") is faster than the lead-in (T_SSP " + seconds(lead.ssp_duration_s) + ", T_DSP " +
-                               seconds(lead.dsp_duration_s) + "): its first swing from the step stance would lag";
-    try {
-      return with_lead_in(reason);
-    } catch (const std::runtime_error& e) {  // "gait A" / "gait B" in e are the lead-in and the gait
-      throw std::runtime_error("BuildStandToWalkPlan: " + reason + "; through a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
-                               with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
-                               seconds(lead.dsp_duration_s) + "): " + e.what());
-    }
-  }
-  try {
-    WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
-    if (sp.plan_check) sp.plan_check(plan);
-    return plan;
-  } catch (const std::runtime_error& direct) {
-    if (sp.lead_in_steps == 0 || is_lead) throw;
-    try {
-      return with_lead_in(direct.what());
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
-                               with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
-                               seconds(lead.dsp_duration_s) + "): " + e.what());
-    }
-  }
-}
-
-WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
-                                WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
-  if (steps_b < 0) steps_b = steps;
-  const std::string who = "BuildGaitChangePlan";
-  if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
-    throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
-                                std::to_string(b.step_width_m) + " m); a change of W is not built");
-  SolvedGait ga{AslipPeriodicGaitPlanner(GaitParams(a, sp)), {}, 0.0};
-  WalkingPlan plan = StandToWalk(a, steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &ga);
-  SolvedGait gb = SolveGait(b, seed, cache, sp, who, "gait B");
+// `plan` ends at a touchdown of the solved gait `ga` (timing `a`): the transition footed-aSLIP NLP from its post-impact
+// state to `gb`'s pre-impact state (the foot behind lifts) with its footed H-LIP QP, then `steps_b` steps of b.
+void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
+                      bool end_in_single_support, const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
+                      WalkingNlpReport* transition_report, WalkingTransitionNodes* nodes) {
   const AslipPeriodicGaitParams& pa = ga.planner.params();
   const AslipPeriodicGaitParams& pb = gb.planner.params();
   // The plan ends at a touchdown of gait A: the foot that just landed is the transition's stance foot, the one behind
@@ -457,14 +401,129 @@ WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int 
       for (Eigen::Index k = 0; k < g->cols(); ++k) g->col(k).tail<2>() = from + (to - from) * (double(k) / double(g->cols() - 1));
     }
   }
-  WalkingNlpReport transition_report;
-  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who + " (gait A -> gait B)",
-                         &transition_report,
-                         report != nullptr ? &report->transition_b_nodes : nullptr);
+  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, transition_report, nodes);
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
   plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
-                           b.step_width_m, /*begin_with_double_support=*/true);
+                           b.step_width_m, /*begin_with_double_support=*/true, end_in_single_support);
+}
+
+// Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
+// step stops at its touchdown (its DSP left to a following transition). With StandToWalkParams::start_gait_steps, the
+// standing transition goes into the start gait, which walks those steps and changes into g.
+WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
+                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out) {
+  CheckStandToWalkParams(sp, who);
+  if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
+  SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
+  const WalkingGait start{sp.start_gait_step_length_m, sp.start_gait_ssp_duration_s, sp.start_gait_dsp_duration_s, g.step_width_m};
+  WalkingPlan plan;
+  if (sp.start_gait_steps > 0 && !SameTiming(g, start)) {
+    const SolvedGait s = SolveGait(start, seed, cache, sp, who, "the start gait");
+    plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true);
+    WalkingNlpReport change;
+    StandToWalkParams from_start = sp;  // the start gait's change keeps the standing transition's CoP margin
+    if (sp.standing_sagittal_cop_margin_m >= 0) from_start.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
+    AppendGaitChange(plan, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change,
+                     report != nullptr ? &report->start_change_nodes : nullptr);
+    if (report != nullptr) {
+      report->start_gait_used = true;
+      report->start_gait = start;
+      report->periodic_start = {s.solve_s, s.gait.collocation.nlp.iterations, s.gait.max_constraint_violation};
+      report->transition_start = change;
+    }
+  } else {
+    plan = StandingInto(a, g, steps, cache, report, sp, who, end_in_single_support);
+  }
+  if (report != nullptr) report->periodic = {a.solve_s, a.gait.collocation.nlp.iterations, a.gait.max_constraint_violation};
+  if (gait_out != nullptr) *gait_out = std::move(a);
+  return plan;
+}
+
+}  // namespace
+
+WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
+                                 const StandToWalkParams& sp) {
+  if (sp.lead_in_steps < 0 || !(sp.lead_in_step_length_m > 0) || !(sp.lead_in_ssp_duration_s > 0) || !(sp.lead_in_dsp_duration_s > 0))
+    throw std::invalid_argument("BuildStandToWalkPlan: lead_in_steps must be >= 0 and lead_in_step_length_m, lead_in_ssp_duration_s, "
+                                "lead_in_dsp_duration_s > 0, got " + std::to_string(sp.lead_in_steps) + ", " +
+                                std::to_string(sp.lead_in_step_length_m) + " m, " + std::to_string(sp.lead_in_ssp_duration_s) + " s, " +
+                                std::to_string(sp.lead_in_dsp_duration_s) + " s");
+  WalkingGait lead = g;
+  lead.step_length_m = sp.lead_in_step_length_m;
+  lead.ssp_duration_s = sp.lead_in_ssp_duration_s;
+  lead.dsp_duration_s = sp.lead_in_dsp_duration_s;
+  const bool is_lead = SameTiming(g, lead);
+  const bool faster = g.ssp_duration_s < lead.ssp_duration_s - 1e-9 || g.dsp_duration_s < lead.dsp_duration_s - 1e-9;
+  const auto with_lead_in = [&](const std::string& reason) {
+    WalkingPlanReport r;
+    WalkingPlan plan = BuildGaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
+    r.lead_in = true;
+    r.lead_in_gait = lead;
+    r.lead_in_reason = reason;
+    if (report != nullptr) *report = r;
+    return plan;
+  };
+  const auto with_unit = [](double x, const char* unit) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%g %s", x, unit);
+    return std::string(b);
+  };
+  const auto seconds = [&](double s) { return with_unit(s, "s"); };
+  if (faster && sp.lead_in_steps > 0) {
+    CheckStandToWalkParams(sp, "BuildStandToWalkPlan");
+    if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
+    const std::string reason = "the gait (T_SSP " + seconds(g.ssp_duration_s) + ", T_DSP " + seconds(g.dsp_duration_s) +
+                               ") is faster than the lead-in (T_SSP " + seconds(lead.ssp_duration_s) + ", T_DSP " +
+                               seconds(lead.dsp_duration_s) + "): " +
+                               (sp.start_gait_steps > 0 ? "the change from the start gait would ask more of the legs"
+                                                        : "its first swing from the step stance would lag");
+    try {
+      return with_lead_in(reason);
+    } catch (const std::runtime_error& e) {  // "gait A" / "gait B" in e are the lead-in and the gait
+      const std::string through = "BuildStandToWalkPlan: " + reason + "; through a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
+                                  with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " + seconds(lead.dsp_duration_s) +
+                                  "): " + e.what();
+      if (sp.start_gait_steps == 0) throw std::runtime_error(through);
+      // From the start gait (a short, slow first swing) the direct change may still plan.
+      try {
+        WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+        if (sp.plan_check) sp.plan_check(plan);
+        return plan;
+      } catch (const std::runtime_error& direct) {
+        throw std::runtime_error(through + "; directly from the start gait: " + direct.what());
+      }
+    }
+  }
+  try {
+    WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+    if (sp.plan_check) sp.plan_check(plan);
+    return plan;
+  } catch (const std::runtime_error& direct) {
+    if (sp.lead_in_steps == 0 || is_lead) throw;
+    try {
+      return with_lead_in(direct.what());
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
+                               with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
+                               seconds(lead.dsp_duration_s) + "): " + e.what());
+    }
+  }
+}
+
+WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
+                                WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
+  if (steps_b < 0) steps_b = steps;
+  const std::string who = "BuildGaitChangePlan";
+  if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
+    throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
+                                std::to_string(b.step_width_m) + " m); a change of W is not built");
+  SolvedGait ga{AslipPeriodicGaitPlanner(GaitParams(a, sp)), {}, 0.0};
+  WalkingPlan plan = StandToWalk(a, steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &ga);
+  SolvedGait gb = SolveGait(b, seed, cache, sp, who, "gait B");
+  WalkingNlpReport transition_report;
+  AppendGaitChange(plan, ga, a, gb, b, steps_b, /*end_in_single_support=*/false, cache, sp, who + " (gait A -> gait B)", &transition_report,
+                   report != nullptr ? &report->transition_b_nodes : nullptr);
   if (report != nullptr) {
     report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
     report->transition_b = transition_report;

@@ -15,9 +15,10 @@
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
-// Status (measured, gait A, seed 1): from a 0.4 m step stance the robot makes the transition step and walks 10 steps
-// with the COM within 5 mm RMS of the reference and the plant's forces in the Eq. (25) band at 99.96 % of the ticks
-// (examples/walking, 2026-12-02; walking_diagram_test checks it). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
+// Status (measured, gait A, seed 1, 2026-12-05): from standing with the feet side by side the robot makes the
+// transition step, walks 4 steps of the start gait, changes gait and walks 10 steps of gait A with the COM within
+// 2 mm RMS of the reference and the plant's forces in the Eq. (25) band at every tick (examples/walking;
+// walking_diagram_test checks it; from a 0.4 m step stance, StandToWalkParams::StepStance, 3.1 mm). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
 // (compensate_centroidal_momentum), which the point-mass ROMs do not model. The gait change A → B walks with the
 // transition's vertical force bounded (StandToWalkParams::gait_change_max_force_fraction); see the README.
 //
@@ -113,13 +114,13 @@ struct StandToWalkParams {
   /// on gait A's orbit).
   double standing_height_m = 0.86;
   double height_min_m = 0.84, height_max_m = 0.90;
-  /// [m] the lifting (right) foot starts this far behind the stance (left) foot (ours; spec [R]: 0, feet side by
-  /// side). Measured: side by side, the transition must reach gait A's pre-impact state (COM 0.121 m ahead of the
-  /// stance ankle at 0.660 m/s) over one sole; a LIP with its CoP on the heel reaches at most ω (x_f + L_h) =
-  /// 3.27 × 0.191 = 0.62 m/s there, so the NLP only solves with the CoP on the heel edge for 1.4 s and vertical
-  /// pumping to 1.9 m g, and is infeasible with any CoP margin (5 mm); the robot then falls backward at lift-off.
-  /// A step stance lets the double support push off the rear heel.
-  double stance_stagger_m = 0.40;
+  /// [m] the lifting (right) foot starts this far behind the stance (left) foot (spec [R]: 0, feet side by side, the
+  /// default). Side by side, the standing transition's single step must reach the next gait's pre-impact state over one
+  /// sole: a LIP from rest with its CoP on the heel (L_h behind the ankle) reaches at most ω (x_f + L_h) at x_f, so gait
+  /// A's state (COM 0.113 m ahead of the stance ankle at 0.66 m/s) is out of reach (NLP locally infeasible) and the
+  /// plan goes through the start gait (start_gait_steps). StepStance() is the earlier start from a 0.4 m step stance,
+  /// whose double support pushes off the rear heel straight into the gait.
+  double stance_stagger_m = 0.0;
   /// [m] the footed ROMs' ZMP bounds are the sole's, this much inside (ours): sagittal (Eq. (10) L_h, L_t) and
   /// lateral (Eq. (14) W1, W2). The whole-body controller keeps its own CoP margin (ClfQpParams
   /// contact.cop_margin_m, 10 mm) and needs room for the legs' angular momentum, which the point-mass ROM does not see.
@@ -129,12 +130,13 @@ struct StandToWalkParams {
   double sagittal_cop_margin_m = 0.05;
   double lateral_cop_margin_m = 0.02;
   SoleGeometry sole;  ///< the robot's sole (set it with SoleOf(model, "left_foot"))
-  /// The transition's SSP is point-foot (u = 0, CoP at the ankle, as in the periodic gait) and lasts at least the
+  /// The standing transition's SSP is point-foot (u = 0, CoP at the ankle, as in the periodic gait) and lasts at least the
   /// gait's T_SSP (ours; the spec's [R] lets T_SSP go down to 0.3 s with ankle torque). Measured with the ankle free:
   /// the NLP keeps the stance CoP on the heel bound through the SSP; on the robot the swing leg (15 kg, 0.6 m in
   /// 0.36 s) needs the CoP 0.15-0.2 m ahead of the ROM's, the stance ankle pitch saturates at 150 N m and the swing
   /// foot lags 9 cm.
-  bool point_foot_transition_ssp = true;
+  /// Default false (side by side, the start gait's first swing is 0.2 m); StepStance() sets it.
+  bool point_foot_transition_ssp = false;
   /// [-] the transition's stance leg carries at least this fraction of m g through the DSP (ours; without it the plan
   /// unloads the front foot mid-DSP and the plant's lift-off guard fires there).
   double min_dsp_stance_force_fraction = 0.1;
@@ -177,12 +179,44 @@ struct StandToWalkParams {
   double lead_in_step_length_m = 0.30;
   double lead_in_ssp_duration_s = 0.40;  ///< [s]
   double lead_in_dsp_duration_s = 0.10;  ///< [s]
+  /// Start gait (ours; 0 steps: none, as StepStance()): the standing transition goes into this short, slow gait (at
+  /// the requested W), which walks start_gait_steps steps and then changes (as BuildGaitChangePlan does) into the gait,
+  /// or into the lead-in first when the gait is faster than the lead-in (if that has no plan, directly). It makes the
+  /// spec's [R] standing start with the feet side by side plannable. Measured (2026-12-05, NLP seed 1001): side by
+  /// side, gait A's pre-impact state (COM 0.113 m ahead of the stance ankle at 0.66 m/s, rising at 0.30 m/s) is locally
+  /// infeasible with a 2 or 5 cm CoP margin and a footed or point-foot SSP, and (0.20 m, 0.50 s, 0.15 s)'s (0.070 m,
+  /// 0.35 m/s; ω (x_f + L_h) = 0.41 m/s with L_h = 5 cm) solves with the stance ankle free in the SSP and a 2 cm margin
+  /// (with a point-foot SSP, or a 5 cm margin, it is infeasible). From it the change into gait A plans, the one into
+  /// gait B (0.40 m) does not (gait B goes through the lead-in); a direct change into the faster (0.34 m, 0.35 s,
+  /// 0.13 s, 0.24 m) plans at 339 N m of the knee and slips, through the lead-in it walks.
+  int start_gait_steps = 4;
+  double start_gait_step_length_m = 0.20;  ///< [m]
+  double start_gait_ssp_duration_s = 0.50;  ///< [s]
+  double start_gait_dsp_duration_s = 0.15;  ///< [s]
+  /// [m] the footed-aSLIP CoP margin (Eq. (10)) of the standing transition and of the start gait's change into the next
+  /// gait; negative: sagittal_cop_margin_m (ours). The
+  /// 5 cm default margin is for the step stance's push-off from the rear heel (the legs' angular momentum as the knees
+  /// extend); side by side the legs barely move in the double support.
+  double standing_sagittal_cop_margin_m = 0.02;
   /// Called with the direct standing plan before BuildStandToWalkPlan returns it; a std::runtime_error from it sends
   /// the plan through the lead-in, as a failed NLP does (empty: no check). The plan builder does not know the robot:
   /// WalkingPoseCheck(model, params) replays the plan's poses as BuildWalkingDiagram's compensation will. Measured:
   /// the direct plan of (0.33 m, 0.40 s, 0.12 s, 0.26 m) puts the COM 0.90 m high over the 0.4 m step stance, which
   /// the legs cannot reach (SolveWalkingPose residual 0.6 mm); through the lead-in it walks.
   std::function<void(const WalkingPlan&)> plan_check;
+
+  /// The earlier standing start from a step stance (ours): the right foot `stagger_m` behind the left, no start gait,
+  /// the standing transition straight into the gait with a point-foot SSP and the 5 cm CoP margin of the push-off
+  /// from the rear heel. Measured with gait A: 0.35 and 0.40 m walk; 0.1-0.2 m have no standing transition, 0.3 m's
+  /// footed H-LIP QP was infeasible (2026-12-03) and 0.5 m has no leg pose.
+  static StandToWalkParams StepStance(double stagger_m = 0.40) {
+    StandToWalkParams p;
+    p.stance_stagger_m = stagger_m;
+    p.start_gait_steps = 0;
+    p.point_foot_transition_ssp = true;
+    p.standing_sagittal_cop_margin_m = -1.0;
+    return p;
+  }
 };
 
 /// A StandToWalkParams::plan_check for `model`: the angular-momentum compensation of BuildWalkingDiagram (with
@@ -233,6 +267,12 @@ struct WalkingPlanReport {
   bool lead_in = false;
   WalkingGait lead_in_gait;
   std::string lead_in_reason;
+  /// StandToWalkParams::start_gait_steps > 0: the standing transition goes into `start_gait` (then `transition` is
+  /// standing → start gait), whose periodic aSLIP and change into the (lead-in or requested) gait are these.
+  bool start_gait_used = false;
+  WalkingGait start_gait;
+  WalkingNlpReport periodic_start, transition_start;
+  WalkingTransitionNodes start_change_nodes;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});

@@ -32,7 +32,9 @@ using namespace rome;
 
 namespace {
 
-WalkingGait ParseGait(const std::string& flag, const std::string& text) {
+// L,T_SSP,T_DSP[,W] from --flag: `n` numbers, each inside [lo, hi] (one line naming the flag, the value and the range).
+WalkingGait ParseGaitNumbers(const std::string& flag, const std::string& text, int n, const double* lo, const double* hi) {
+  const std::string form = n == 4 ? "L,T_SSP,T_DSP,W" : "L,T_SSP,T_DSP";
   std::vector<double> v;
   std::stringstream ss(text);
   std::string item;
@@ -42,21 +44,32 @@ WalkingGait ParseGait(const std::string& flag, const std::string& text) {
       v.push_back(std::stod(item, &used));
       if (used != item.size()) throw std::invalid_argument(item);
     } catch (const std::exception&) {
-      throw std::invalid_argument("walking: --" + flag + " expects L,T_SSP,T_DSP,W (numbers), got '" + text + "'");
+      throw std::invalid_argument("walking: --" + flag + " expects " + form + " (numbers), got '" + text + "'");
     }
   }
-  if (v.size() != 4) throw std::invalid_argument("walking: --" + flag + " expects 4 numbers L,T_SSP,T_DSP,W, got '" + text + "'");
-  // The range the ROM planners are built and tested for (the walking issue's gait range).
+  if (static_cast<int>(v.size()) != n)
+    throw std::invalid_argument("walking: --" + flag + " expects " + std::to_string(n) + " numbers " + form + ", got '" + text + "'");
   const char* names[4] = {"step length L", "T_SSP", "T_DSP", "step width W"};
-  const double lo[4] = {0.2, 0.35, 0.08, 0.2}, hi[4] = {0.45, 0.5, 0.15, 0.3};
   const char* units[4] = {"m", "s", "s", "m"};
-  for (int i = 0; i < 4; ++i)
+  for (int i = 0; i < n; ++i)
     if (!(v[i] >= lo[i] - 1e-12 && v[i] <= hi[i] + 1e-12)) {
       std::ostringstream os;
       os << "walking: --" << flag << ": " << names[i] << " = " << v[i] << " " << units[i] << " is outside [" << lo[i] << ", " << hi[i] << "] " << units[i];
       throw std::invalid_argument(os.str());
     }
-  return WalkingGait{v[0], v[1], v[2], v[3]};
+  return WalkingGait{v[0], v[1], v[2], n == 4 ? v[3] : 0.0};
+}
+
+// --gait-a / --gait-b: the range the ROM planners are built and tested for (the walking issue's gait range).
+WalkingGait ParseGait(const std::string& flag, const std::string& text) {
+  const double lo[4] = {0.2, 0.35, 0.08, 0.2}, hi[4] = {0.45, 0.5, 0.15, 0.3};
+  return ParseGaitNumbers(flag, text, 4, lo, hi);
+}
+
+// --lead-in / --start-gait L,T_SSP,T_DSP: a gait outside the range may serve as the lead-in or the start gait.
+WalkingGait ParseLeadIn(const std::string& text, const std::string& flag) {
+  const double lo[3] = {0.1, 0.35, 0.08}, hi[3] = {0.45, 0.6, 0.3};
+  return ParseGaitNumbers(flag, text, 3, lo, hi);
 }
 
 double Percentile(std::vector<double> x, double p) {
@@ -195,7 +208,10 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
             false, 800, 600}},
           "hlip_p2_portrait.png");
   }
-  WriteTransitionPlots(nlp.transition_nodes, dir, "transition", nlp.lead_in ? "standing -> lead-in gait" : "standing -> gait A");
+  WriteTransitionPlots(nlp.transition_nodes, dir, "transition",
+                       nlp.start_gait_used ? "standing -> start" : nlp.lead_in ? "standing -> lead-in gait" : "standing -> gait A");
+  if (nlp.start_gait_used)
+    WriteTransitionPlots(nlp.start_change_nodes, dir, "transition_start", nlp.lead_in ? "start -> lead-in" : "start -> gait A");
   if (scenario == "gait-change") WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "gait A -> gait B");
   if (nlp.lead_in) WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "lead-in -> gait A");
   // Gait tiles (Fig. 5c): 16 frames over the first 3 s (standing, the transition, the first steps), each 0.35 m (sagittal)
@@ -225,12 +241,16 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing -> transition -> gait A; a gait with T_SSP < 0.40 s or T_DSP < 0.10 s, or with no standing transition, starts with 6 steps of (0.30 m, 0.40 s, 0.10 s) and changes gait) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> 4 steps of the start gait -> gait A; a gait with T_SSP < 0.40 s or T_DSP < 0.10 s, or with no plan from the start gait, goes through 6 steps of the lead-in (0.30 m, 0.40 s, 0.10 s) first) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
-      .Option("stance-stagger", "0.40", "standing step stance: the right foot starts this far behind the left [m] (0: side by side)")
+      .Option("stance-stagger", "0", "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
+      .Option("start-gait", "0.20,0.50,0.15", "the start gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): from standing side by side, the standing transition goes into it (ours; same ranges as --lead-in)")
+      .Option("start-gait-steps", "auto", "periodic steps of the start gait before the change into gait A or the lead-in (0 to 20; auto: 4 side by side, 0 from a step stance)")
+      .Option("lead-in", "0.30,0.40,0.10", "the lead-in gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): stand-to-walk walks it before gait A when gait A is faster or has no plan otherwise (ours; L 0.1-0.45 m, T_SSP 0.35-0.6 s, T_DSP 0.08-0.3 s)")
+      .Option("lead-in-steps", "6", "periodic steps of the lead-in gait before the change to gait A (0: no lead-in; up to 20)")
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
       .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
       .Option("gait-change-max-force", "1.6", "the gait-change transition NLP (A -> B, or a lead-in -> A) keeps each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
@@ -251,10 +271,15 @@ int main(int argc, char** argv) {
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   constexpr int kTrailingSteps = 2;
   double heights[3] = {0.86, 0.84, 0.90};
+  double lead_in[3] = {0.30, 0.40, 0.10};
+  int lead_in_steps = 6;
+  double start_gait[3] = {0.20, 0.50, 0.15};
+  int start_gait_steps = -1;  // auto
+  int start_steps_used = 0;
   WalkingGait gait_a, gait_b;
   std::string scenario;
   int steps = 0;
-  double band = 0.1, touchdown_speed = 0.1, stagger = 0.4, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6, periodic_max_force = 1.5;
+  double band = 0.1, touchdown_speed = 0.1, stagger = 0.0, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6, periodic_max_force = 1.5;
   PlantKind plant_kind = PlantKind::kHybrid;
   try {
     if (!cli.Parse(argc, argv)) return 0;
@@ -273,6 +298,21 @@ int main(int argc, char** argv) {
     if (steps < 1 || steps > 1000) throw std::invalid_argument("walking: --steps must be in [1, 1000], got " + cli.Get("steps"));
     stagger = cli.GetDouble("stance-stagger");
     if (!(stagger >= 0 && stagger <= 0.5)) throw std::invalid_argument("walking: --stance-stagger must be in [0, 0.5] m, got " + cli.Get("stance-stagger"));
+    {
+      const WalkingGait lead = ParseLeadIn(cli.Get("lead-in"), "lead-in");
+      lead_in[0] = lead.step_length_m, lead_in[1] = lead.ssp_duration_s, lead_in[2] = lead.dsp_duration_s;
+    }
+    {
+      const WalkingGait start = ParseLeadIn(cli.Get("start-gait"), "start-gait");
+      start_gait[0] = start.step_length_m, start_gait[1] = start.ssp_duration_s, start_gait[2] = start.dsp_duration_s;
+    }
+    if (cli.Get("start-gait-steps") != "auto") {
+      start_gait_steps = cli.GetInt("start-gait-steps");
+      if (start_gait_steps < 0 || start_gait_steps > 20)
+        throw std::invalid_argument("walking: --start-gait-steps must be auto or in [0, 20], got " + cli.Get("start-gait-steps"));
+    }
+    lead_in_steps = cli.GetInt("lead-in-steps");
+    if (lead_in_steps < 0 || lead_in_steps > 20) throw std::invalid_argument("walking: --lead-in-steps must be in [0, 20], got " + cli.Get("lead-in-steps"));
     rom_margin = cli.GetDouble("rom-cop-margin");
     if (!(rom_margin >= 0 && rom_margin < 0.07)) throw std::invalid_argument("walking: --rom-cop-margin must be in [0, 0.07) m, got " + cli.Get("rom-cop-margin"));
     transition_ssp = cli.GetDouble("transition-ssp");
@@ -338,9 +378,18 @@ int main(int argc, char** argv) {
   WalkingPlan plan;
   try {
     std::cout << "planning: periodic aSLIP, standing transition, footed H-LIP ...\n";
-    StandToWalkParams stand;
+    // Side by side (stagger 0, the default) goes through the start gait; a step stance does not (StepStance).
+    StandToWalkParams stand = stagger == 0 ? StandToWalkParams{} : StandToWalkParams::StepStance(stagger);
+    if (start_gait_steps >= 0) stand.start_gait_steps = start_gait_steps;
+    stand.start_gait_step_length_m = start_gait[0];
+    stand.start_gait_ssp_duration_s = start_gait[1];
+    stand.start_gait_dsp_duration_s = start_gait[2];
     stand.sole = SoleOf(*model, "left_foot");
     stand.stance_stagger_m = stagger;
+    stand.lead_in_steps = lead_in_steps;
+    stand.lead_in_step_length_m = lead_in[0];
+    stand.lead_in_ssp_duration_s = lead_in[1];
+    stand.lead_in_dsp_duration_s = lead_in[2];
     stand.sagittal_cop_margin_m = rom_margin;
     stand.transition_min_ssp_duration_s = transition_ssp;
     stand.gait_change_max_force_fraction = max_force;
@@ -355,6 +404,10 @@ int main(int argc, char** argv) {
     if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps + kTrailingSteps, seed, &cache, stand);
     else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand, steps + kTrailingSteps);
     else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, &cache, &nlp, stand);
+    start_steps_used = stand.start_gait_steps;
+    if (nlp.start_gait_used)
+      std::cout << "standing side by side: " << stand.start_gait_steps << " steps of the start gait (" << nlp.start_gait.step_length_m << " m, "
+                << nlp.start_gait.ssp_duration_s << " s, " << nlp.start_gait.dsp_duration_s << " s), then a gait change\n";
     if (nlp.lead_in)
       std::cout << "starting with " << stand.lead_in_steps << " lead-in steps of (" << nlp.lead_in_gait.step_length_m << " m, "
                 << nlp.lead_in_gait.ssp_duration_s << " s, " << nlp.lead_in_gait.dsp_duration_s << " s) and changing gait: "
@@ -611,6 +664,15 @@ int main(int argc, char** argv) {
     s["lead_in"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}}, {"reason", nlp.lead_in_reason}};
     s["nlp"]["periodic_aslip_gait_a"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_lead_in_to_a"] = nlp_json(nlp.transition_b);
   }
+  // standing side by side: the standing transition (transition_aslip) goes into the start gait, which changes into the
+  // next gait (the lead-in, or gait A).
+  s["start_gait"] = nullptr;
+  if (nlp.start_gait_used) {
+    const WalkingGait& g = nlp.start_gait;
+    s["start_gait"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}}, {"steps", start_steps_used}};
+    s["nlp"]["periodic_aslip_start_gait"] = nlp_json(nlp.periodic_start), s["nlp"]["transition_aslip_start_to_next"] = nlp_json(nlp.transition_start);
+  }
+  s["stance_stagger_m"] = stagger;
   s["scenario"] = scenario;
   s["angular_momentum_compensation"] = {{"max_cop_shift_uncorrected_m", d.compensation.max_cop_shift_uncorrected_m},
                                         {"max_cop_shift_corrected_m", d.compensation.max_cop_shift_corrected_m},

@@ -59,6 +59,12 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
     msg << "z0 must be > 0 m and the boundary states finite, got z0 = " << d.z0;
     Fail(msg.str());
   }
+  const bool heights = params_.normal_force_pivots && d.node_heights.size() > 0;
+  if (heights && (d.node_heights.size() != N || !(d.node_heights.minCoeff() > 0) || !d.node_heights.allFinite())) {
+    msg << "node_heights must hold " << N << " heights > 0 m (or none), got " << d.node_heights.size()
+        << (d.node_heights.size() > 0 ? " with the smallest " + std::to_string(d.node_heights.minCoeff()) + " m" : std::string());
+    Fail(msg.str());
+  }
   const double m = params_.mass, lambda = std::sqrt(params_.gravity / d.z0);
   const int n = 4 * N, n_eq = 2 * (N - 1) + 4, n_ineq = 2 * N;
   auto uL = [](int k) { return k; };
@@ -69,21 +75,23 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
   for (int k = 0; k < 2 * N; ++k) qp.H(k, k) = 2.0;
   // Dynamics: Y^{k+1} = A (Y^k − [c; 0]) + [c; 0] + B u^k on every interval.
   const double y_stance = d.stance_left ? d.left_foot_y : d.right_foot_y;
-  Eigen::VectorXd stiffness(N - 1), pivot(N - 1);
+  Eigen::VectorXd stiffness(N - 1), pivot(N - 1), height(N - 1);
   for (int k = 0; k + 1 < N; ++k) {
     const double T = d.node_times(k + 1) - d.node_times(k);
     const bool ssp = d.single_support[k];
     double a = ssp ? lambda * lambda : 0.0, c = ssp ? y_stance : 0.0;
+    const double z = heights ? 0.5 * (d.node_heights(k) + d.node_heights(k + 1)) : d.z0;
     if (params_.normal_force_pivots) {
       const double FL = 0.5 * (d.left_normal_force(k) + d.left_normal_force(k + 1));
       const double FR = 0.5 * (d.right_normal_force(k) + d.right_normal_force(k + 1));
-      a = (FL + FR) / (m * d.z0);
+      a = (FL + FR) / (m * z);
       c = FL + FR > 0 ? (FL * d.left_foot_y + FR * d.right_foot_y) / (FL + FR) : 0.0;
     }
     stiffness(k) = a;
     pivot(k) = c;
+    height(k) = z;
     const FootedLinearInvertedPendulumStep s =
-        FootedLinearInvertedPendulumDiscretization(a > 0 ? std::sqrt(a) : lambda, T, m, d.z0, a > 0);
+        FootedLinearInvertedPendulumDiscretization(a > 0 ? std::sqrt(a) : lambda, T, m, z, a > 0);
     const int row = 2 * k;
     qp.A_eq.block<2, 2>(row, Y(k + 1)) = Eigen::Matrix2d::Identity();
     qp.A_eq.block<2, 2>(row, Y(k)) = -s.A;
@@ -125,6 +133,7 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
   plan.states = Eigen::Map<const Eigen::MatrixXd>(z.data() + 2 * N, 2, N);
   plan.interval_stiffness = stiffness;
   plan.interval_pivot = pivot;
+  plan.interval_height = height;
   plan.cost = plan.left_torque.squaredNorm() + plan.right_torque.squaredNorm();
   return plan;
 }

@@ -16,7 +16,11 @@
 // ÿ = a (y − c) + u/(m z0) with a = (F_L + F_R)/(m z0) and c the force-weighted foot position. The paper's DSP row
 // ÿ = u/(m z0) leaves out the lateral push of unequally loaded feet, which a standing start in a step stance
 // (the rear foot carrying ~7/8 of the weight for 0.5 s) turns into a lateral drift the sole cannot correct.
-// Every interval's (a, c) is reported with the plan so that it can be re-sampled exactly (WalkingPlan).
+// With node_heights (ours) the interval's m z is m z_k, z_k the mean of its two nodes' heights, instead of m z0:
+// measured (2026-12-05), a standing start with the feet side by side 0.30 m apart into (0.20 m, 0.50 s, 0.15 s) has a
+// footed-aSLIP plan whose lateral rows hold the CoP inside ±3 cm, while the constant-z0 QP is infeasible at z0 and at
+// z0 − 2 cm and feasible at z0 + 2 cm.
+// Every interval's (a, c, z) is reported with the plan so that it can be re-sampled exactly (WalkingPlan).
 // Variables are ordered [u_L^0..u_L^{N−1}, u_R^0..u_R^{N−1}, y^0, ẏ^0, ..., y^{N−1}, ẏ^{N−1}].
 #include <string>
 #include <vector>
@@ -46,6 +50,9 @@ struct FootedHlipTransitionData {
   double left_foot_y = 0.125;             ///< [m] world y of the left ankle
   double right_foot_y = -0.125;           ///< [m] world y of the right ankle
   double z0 = 0.9;                        ///< [m] mean footed-aSLIP height over the transition (spec §2.3)
+  /// [m] N footed-aSLIP heights at the nodes (ours; normal_force_pivots only; empty: z0 everywhere). Interval k then
+  /// uses z_k = (h_k + h_{k+1})/2 for m z, the height the footed-aSLIP NLP's own lateral rows move the mass on.
+  Eigen::VectorXd node_heights;
   Eigen::Vector2d initial_state = Eigen::Vector2d::Zero();  ///< [y0 (m), ẏ0 (m/s)], world
   Eigen::Vector2d final_state = Eigen::Vector2d::Zero();    ///< [y_f, ẏ_f], world
 };
@@ -56,10 +63,11 @@ struct FootedHlipTransitionPlan {
   Eigen::VectorXd left_torque;    ///< u_L^k [N m], N
   Eigen::VectorXd right_torque;   ///< u_R^k [N m], N
   Eigen::MatrixXd states;         ///< 2 × N, [y; ẏ] world
-  /// Per interval k (N − 1): ÿ = a_k (y − c_k) + u_k/(m z0) with u_k the torque driving it (u_stance in the paper's
-  /// SSP, u_L + u_R otherwise). a_k [1/s²] = λ² (paper SSP), 0 (paper DSP) or (F_L + F_R)/(m z0); c_k [m] world.
+  /// Per interval k (N − 1): ÿ = a_k (y − c_k) + u_k/(m z_k) with u_k the torque driving it (u_stance in the paper's
+  /// SSP, u_L + u_R otherwise). a_k [1/s²] = λ² (paper SSP), 0 (paper DSP) or (F_L + F_R)/(m z_k); c_k [m] world.
   Eigen::VectorXd interval_stiffness;
   Eigen::VectorXd interval_pivot;
+  Eigen::VectorXd interval_height;  ///< [m] z of each interval's m z (z0, or the node heights' mean)
   double cost = 0.0;              ///< Σ (u_L² + u_R²) [N² m²]
   int iterations = 0;
   bool success() const { return status == QpStatus::kOptimal; }

@@ -38,7 +38,8 @@ WalkingReference WalkingPlan::Sample(double t) const {
     Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n, tau + kSegmentBoundaryTolerance_s) -
                      s.lateral_node_times.data() - 1;
     k = std::clamp<Eigen::Index>(k, 0, n - 2);
-    const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / s.mass_height;
+    const double mz = s.lateral_mass_heights.size() > 0 ? s.lateral_mass_heights(k) : s.mass_height;
+    const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / mz;
     const double y0 = s.lateral_nodes(0, k), v0 = s.lateral_nodes(1, k);
     const double a = s.lateral_stiffness(k);
     if (a <= 0.0) {  // ÿ = a_u
@@ -207,6 +208,8 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
     }
     seg.lateral_stiffness = lateral.interval_stiffness.segment(first, count - 1);
     seg.lateral_pivots = lateral.interval_pivot.segment(first, count - 1);
+    if (lateral.interval_height.size() == lateral.interval_stiffness.size())
+      seg.lateral_mass_heights = mass * lateral.interval_height.segment(first, count - 1);
     seg.lateral_start = seg.lateral_nodes.col(0);
     // Footholds at the end of the segment: in the SSP the lifting foot lands at the final state's step.
     Eigen::Vector2d left(x_offset + data.left_foot_x, lateral_data.left_foot_y);
@@ -241,6 +244,9 @@ FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& tra
   lat.left_foot_y = step_width_m / 2;
   lat.right_foot_y = -step_width_m / 2;
   lat.z0 = transition.mean_height;
+  lat.node_heights.resize(2 * N - 1);
+  for (int ph = 0; ph < 2; ++ph)
+    for (int k = ph; k < N; ++k) lat.node_heights(ph * (N - 1) + k) = transition.collocation.phases[ph].states(1, k);
   lat.initial_state = Eigen::Vector2d(0.0, 0.0);
   return lat;
 }

@@ -53,6 +53,9 @@ struct WalkingPlanSegment {
   /// Per lateral interval: ÿ = a_k (y − c_k) + u_k/(m z0), a_k [1/s²] and c_k [m, world] from the footed H-LIP plan.
   Eigen::VectorXd lateral_stiffness, lateral_pivots;
   double mass_height = 0.0;  ///< [kg m] m z0
+  /// [kg m] per lateral interval: m z_k of the footed H-LIP plan (FootedHlipTransitionPlan::interval_height); empty:
+  /// mass_height on every interval.
+  Eigen::VectorXd lateral_mass_heights;
   Eigen::Vector2d left_foothold = Eigen::Vector2d::Zero(), right_foothold = Eigen::Vector2d::Zero();
 };
 
@@ -106,8 +109,8 @@ class WalkingPlan {
 
 /// The footed H-LIP transition QP's data on the nodes of a solved standing transition (DSP then SSP; the DSP's last
 /// node is the SSP's first): node times, each foot's normal force from the transition's ground reactions (clipped at
-/// 0), the single-support flags, left stance, feet at ±step_width_m / 2, z0 = the transition's mean height and a zero
-/// initial lateral state. The caller sets the final state and any other option.
+/// 0), the single-support flags, left stance, feet at ±step_width_m / 2, z0 = the transition's mean height, the node
+/// heights (used by the normal-force-pivot model) and a zero initial lateral state. The caller sets the final state and any other option.
 FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
                                                       const AslipTransitionData& data, int nodes_per_domain, double step_width_m);
 

@@ -21,10 +21,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "framework/simulator.h"
+#include "systems/planners/aslip_periodic_gait_planner.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "tests/common/sanitizer_scale.h"
@@ -46,13 +48,13 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   const bool full_run = until == RunUntil::kPlanEnd;
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());  // not the source tree
-  StandToWalkParams stand;
+  // Feet side by side (stagger 0, the default: through the start gait) or a step stance (StandToWalkParams::StepStance).
+  StandToWalkParams stand = stagger_m > 0 ? StandToWalkParams::StepStance(stagger_m) : StandToWalkParams{};
   stand.sole = SoleOf(*model, "left_foot");
-  stand.stance_stagger_m = stagger_m;
   stand.plan_check = WalkingPoseCheck(model, WalkingDiagramParams{});  // as the example
   WalkingPlanReport report;
   const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, steps + kTrailingSteps, 1, &cache, &report, stand)
-                               : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, nullptr, stand, steps + kTrailingSteps)
+                               : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, steps + kTrailingSteps)
                                                              : BuildPeriodicWalkingPlan(gait, steps + kTrailingSteps, 1, &cache, stand);
   const WalkingGait& last_gait = start == Start::kGaitChange ? gait_b : gait;
   const double t_end_of_run = rom_plan.end_time() - kTrailingSteps * (last_gait.ssp_duration_s + last_gait.dsp_duration_s);
@@ -211,8 +213,14 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
       EXPECT_LE(com_abs_max[a], 0.03) << "axis " << a;
     }
     EXPECT_LE(pelvis_max, 2.0 * M_PI / 180.0);
-    ASSERT_EQ(transition_ends.size(), start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u);
+    // Transitions: standing (into the start gait when one is used), the start gait's change, a lead-in's change, A → B.
+    ASSERT_EQ(transition_ends.size(), (start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u) +
+                                          (report.start_gait_used ? 1u : 0u));
     for (size_t j = 0; j < transition_ends.size(); ++j) {
+      if (j == 0 && report.start_gait_used) {  // the start gait walks StandToWalkParams::start_gait_steps (4) steps: no 5th
+        std::printf("  after transition 0: the start gait's %d steps (no convergence check)\n", stand.start_gait_steps);
+        continue;
+      }
       const double begin = transition_ends[j] - 0.05, end = j + 1 < transition_ends.size() ? transition_ends[j + 1] - 0.05 : 1e9;
       std::vector<Eigen::Matrix<double, 6, 1>> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
       for (const auto& [time, state] : pre_impact)
@@ -244,25 +252,50 @@ TEST(WalkingDiagram, SoleOfReadsTheRobotsSoleCorners) {
   EXPECT_THROW(SoleOf(*test::LoadRobot("amber"), "left_foot"), std::invalid_argument);
 }
 
-// Gait A (the default) from standing: the transition and 6 steps (of 8 planned).
+// The earlier start from a 0.4 m step stance (StandToWalkParams::StepStance): the tests below that name it keep it.
+constexpr double kStepStance_m = 0.40;
+
+// Gait A (the default) from standing with the feet side by side (spec [R]): the standing transition into the start
+// gait (0.20 m, 0.50 s, 0.15 s), its 4 steps, the change into gait A and 6 steps of A (of 8 planned).
 TEST(WalkingDiagram, StandToWalkGaitAWalksWithPhysicalContactForces) { RunStandToWalk(RunUntil::kPlanEnd); }
 
-// Two gaits in the range that are not the defaults, from standing (0.4 m step stance).
+// Gait A from the 0.4 m step stance: the standing transition straight into gait A (point-foot SSP).
+TEST(WalkingDiagram, StandToWalkGaitAFromAStepStanceWalksWithPhysicalContactForces) {
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, kStepStance_m);
+}
+
+// Side by side into a corner of the range with the widest step, (0.45 m, 0.50 s, 0.15 s, 0.30 m), directly
+// from the start gait. Its standing transition's footed H-LIP QP was infeasible with the constant z0 (feet 0.30 m
+// apart, a 1 s double support) and plans with each interval on its own height (FootedHlipTransitionData::
+// node_heights).
+TEST(WalkingDiagram, StandToWalkSideBySideWideLongGaitWalksWithPhysicalContactForces) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.45, .ssp_duration_s = 0.50, .dsp_duration_s = 0.15, .step_width_m = 0.30});
+}
+
+// Side by side into a quick gait, (0.34 m, 0.35 s, 0.13 s, 0.24 m): start gait, lead-in, gait (measured on NLP seed
+// 1001: the direct change from the start gait asks 339 N m of the knee and slips at 6.2 s).
+TEST(WalkingDiagram, StandToWalkSideBySideQuickGaitThroughStartGaitAndLeadInWalks) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.34, .ssp_duration_s = 0.35, .dsp_duration_s = 0.13, .step_width_m = 0.24});
+}
+
+// Two gaits in the range that are not the defaults, from standing (0.4 m step stance, StepStance()).
 TEST(WalkingDiagram, StandToWalkShortSlowGaitWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22}, kStepStance_m);
 }
 // A gait faster than the lead-in (T_SSP 0.35 s < 0.40 s) starts through it: 6 steps of (0.30 m, 0.40 s, 0.10 s), the
 // change, then the gait.
 TEST(WalkingDiagram, StandToWalkShortQuickGaitThroughTheLeadInWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20}, kStepStance_m);
 }
 // A long, quick, wide gait. Before the lead-in took the spec's gait A timing, its lead-in ran at the gait's own 0.38 s
 // / 0.09 s and the first swing (0.7 m from the step stance) lagged: that step landed 7.3 cm short of its foothold.
 TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.35, .ssp_duration_s = 0.38, .dsp_duration_s = 0.09, .step_width_m = 0.28});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.35, .ssp_duration_s = 0.38, .dsp_duration_s = 0.09, .step_width_m = 0.28}, kStepStance_m);
 }
 // A quick gait whose CLF row chattered: with the spec's minimum-norm cost (target μ = 0) the CLF row was the only
 // feedback, δ reached 1.8 where the stance foot's CoP, yaw and friction rows were active, the swing hip's torque swung
@@ -270,14 +303,14 @@ TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysic
 // (ClfQpParams::cost_pd_feedback, the walking default) it walks.
 TEST(WalkingDiagram, StandToWalkGaitWhoseMinimumNormClfRowChatteredWalks) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.23, .ssp_duration_s = 0.38, .dsp_duration_s = 0.12, .step_width_m = 0.26});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.23, .ssp_duration_s = 0.38, .dsp_duration_s = 0.12, .step_width_m = 0.26}, kStepStance_m);
 }
 
 // A gait whose direct standing plan the legs cannot follow: the COM 0.90 m high over the 0.4 m step stance has no leg
 // pose (StandToWalkParams::plan_check = WalkingPoseCheck), so it starts through the lead-in (before the check, the
 // walking example stopped in BuildWalkingDiagram).
 TEST(WalkingDiagram, StandToWalkGaitWithNoPoseForItsDirectPlanGoesThroughTheLeadInAndWalks) {
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.33, .ssp_duration_s = 0.40, .dsp_duration_s = 0.12, .step_width_m = 0.26});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.33, .ssp_duration_s = 0.40, .dsp_duration_s = 0.12, .step_width_m = 0.26}, kStepStance_m);
 }
 
 // The lead-in rule (StandToWalkParams): a gait with a shorter T_SSP or T_DSP than the lead-in goes through it, at
@@ -324,6 +357,88 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
   }
 }
 
+// Side by side (spec [R]) the standing transition's single step must reach the next gait's pre-impact state (x_f ahead
+// of the stance ankle at ẋ_f) over one sole. A LIP from rest whose CoP sits on the heel, L_h behind the ankle (the
+// sole's 7 cm less the 2 cm standing margin), conserves ẋ² − ω² (x + L_h)², so it reaches at most ẋ_f = ω (x_f + L_h)
+// there (ω = √(g / 0.86 m)). Gait A's periodic pre-impact state is beyond that bound and its standing transition has
+// no plan (NLP locally infeasible); the start gait's (0.20 m, 0.50 s, 0.15 s) is within it, and the default plan goes
+// standing → start gait (4 single supports of its 0.50 s) → gait A, from both feet at x = 0.
+TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  ASSERT_EQ(stand.stance_stagger_m, 0.0);
+  const double omega = std::sqrt(9.81 / stand.standing_height_m), heel = stand.sole.heel_m - stand.standing_sagittal_cop_margin_m;
+  auto margin = [&](double L, double T_ssp, double T_dsp) {  // ω (x_f + L_h) − ẋ_f of the gait's periodic plan
+    AslipPeriodicGaitParams gp;
+    gp.step_length = L, gp.ssp_duration = T_ssp, gp.dsp_duration = T_dsp, gp.height_min = stand.height_min_m, gp.height_max = stand.height_max_m;
+    const AslipPeriodicGait g = AslipPeriodicGaitPlanner(gp).Solve(1, &cache);
+    EXPECT_TRUE(g.success()) << g.collocation.nlp.message;
+    const Eigen::VectorXd pre = g.collocation.phases[0].states.col(gp.nodes_per_domain - 1);
+    std::printf("  (%.2f m, %.2f s, %.2f s): pre-impact x %.4f m, xdot %.4f m/s, LIP bound %.4f m/s\n", L, T_ssp, T_dsp, pre(0), pre(2),
+                omega * (pre(0) + heel));
+    return omega * (pre(0) + heel) - pre(2);
+  };
+  EXPECT_LT(margin(0.30, 0.40, 0.10), -0.05);  // gait A: out of reach
+  EXPECT_GT(margin(stand.start_gait_step_length_m, stand.start_gait_ssp_duration_s, stand.start_gait_dsp_duration_s), 0.02);
+  StandToWalkParams direct = stand;  // no start gait, no lead-in: the standing transition straight into gait A
+  direct.start_gait_steps = 0;
+  direct.lead_in_steps = 0;
+  try {
+    BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache, nullptr, direct);
+    ADD_FAILURE() << "a side-by-side standing transition into gait A planned";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("standing -> gait"), std::string::npos) << e.what();
+  }
+  WalkingPlanReport report;
+  const WalkingPlan plan = BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache, &report, stand);
+  EXPECT_TRUE(report.start_gait_used);
+  EXPECT_FALSE(report.lead_in);
+  EXPECT_DOUBLE_EQ(report.start_gait.step_length_m, stand.start_gait_step_length_m);
+  EXPECT_DOUBLE_EQ(report.start_gait.step_width_m, WalkingGait{}.step_width_m);
+  EXPECT_LT(report.transition.violation, 1e-6);
+  EXPECT_LT(report.transition_start.violation, 1e-6);
+  const WalkingPlanSegment& first = plan.segments().front();
+  EXPECT_EQ(first.domain, WalkingDomain::kDoubleSupport);
+  EXPECT_NEAR(first.left_foothold.x(), first.right_foothold.x(), 1e-12);  // side by side
+  EXPECT_NEAR(first.left_foothold.y() - first.right_foothold.y(), WalkingGait{}.step_width_m, 1e-12);
+  int start_ssp = 0, gait_ssp = 0;
+  for (const WalkingPlanSegment& s : plan.segments()) {
+    if (s.domain == WalkingDomain::kDoubleSupport) continue;
+    start_ssp += std::abs(s.duration - stand.start_gait_ssp_duration_s) < 1e-9 ? 1 : 0;
+    gait_ssp += std::abs(s.duration - WalkingGait{}.ssp_duration_s) < 1e-9 ? 1 : 0;
+  }
+  EXPECT_EQ(start_ssp, stand.start_gait_steps);
+  EXPECT_GE(gait_ssp, 4 - 1);
+  EXPECT_NEAR(plan.segments().back().duration, WalkingGait{}.dsp_duration_s, 1e-9);
+}
+
+// From the start gait, a gait faster than the lead-in goes through the lead-in; when that has no plan (here a lead-in
+// of 0.45 m steps, a change of 0.25 m from the start gait's 0.20 m, locally infeasible), the direct change from the
+// start gait is planned instead.
+TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  stand.lead_in_step_length_m = 0.45;
+  const WalkingGait quick{.step_length_m = 0.25, .ssp_duration_s = 0.38, .dsp_duration_s = 0.10, .step_width_m = 0.25};
+  WalkingPlanReport report;
+  const WalkingPlan plan = BuildStandToWalkPlan(quick, 4, 1, &cache, &report, stand);
+  EXPECT_TRUE(report.start_gait_used);
+  EXPECT_FALSE(report.lead_in);
+  EXPECT_NEAR(plan.segments().back().duration, quick.dsp_duration_s, 1e-9);
+  for (const WalkingPlanSegment& s : plan.segments())
+    EXPECT_GT(std::abs(s.duration - stand.lead_in_ssp_duration_s), 1e-9) << "a lead-in single support in the plan";
+  StandToWalkParams no_start = stand;  // without the start gait the lead-in's failure is the answer
+  no_start.start_gait_steps = 0;
+  no_start.stance_stagger_m = 0.40;
+  no_start.point_foot_transition_ssp = true;
+  no_start.standing_sagittal_cop_margin_m = -1.0;
+  EXPECT_THROW(BuildStandToWalkPlan(quick, 4, 1, &cache, nullptr, no_start), std::runtime_error);
+}
+
 // CheckWalkingPlanTorques on the diagram's plans (with the momentum correction): gait A's single supports fit the
 // exoskeleton's torque limits; the quickest long gait of the README's corners, (0.45 m, 0.35 s, 0.08 s, 0.20 m), asks
 // more than the 300 N m knee. The torques themselves are checked against forward dynamics and Newton in
@@ -355,9 +470,10 @@ TEST(WalkingDiagram, GaitChangeFromAToBWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_length_m = 0.40});
 }
 
-// Gait B from standing: its standing transition has no plan from the 0.4 m step stance (the footed H-LIP QP is
-// infeasible), so the plan starts with the lead-in (6 steps of 0.30 m, StandToWalkParams::lead_in_steps) and changes
-// gait; every check above holds over the whole run, the convergence after both transitions included.
+// Gait B from standing side by side: its change from the start gait has no plan (NLP locally infeasible; from the
+// 0.4 m step stance the standing transition had none either), so the start gait changes into the lead-in (6 steps of
+// 0.30 m, StandToWalkParams::lead_in_steps), which changes into gait B; every check above holds over the whole run,
+// the convergence after the last two transitions included.
 TEST(WalkingDiagram, StandToWalkGaitBThroughTheLeadInWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.40});
 }

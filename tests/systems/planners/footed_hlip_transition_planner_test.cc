@@ -3,13 +3,16 @@
 // has u = 0), the torque limit, the node states against a fine RK4 integration of the continuous footed H-LIP under the
 // held torques (independent of the ZOH matrices), and the KKT conditions of Eq. (15) rebuilt here from the plan.
 // normal_force_pivots: the same checks against an RK4 integration of the point mass on its two loaded feet,
-// m z0 ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R with each interval's mean forces.
+// m z0 ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R with each interval's mean forces; with node heights, m z_k.
 #include "systems/planners/footed_hlip_transition_planner.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 
 #include "systems/rom/hybrid_linear_inverted_pendulum.h"
 
@@ -47,6 +50,31 @@ FootedHlipTransitionData StandingStart(double dsp_duration, int dsp_intervals, d
   const Eigen::Vector2d pre = h.P2PreImpactState(0.25);
   d.final_state = Eigen::Vector2d(d.left_foot_y + pre(0), pre(1));
   return d;
+}
+
+// Largest gap between a plan's node k + 1 and an RK4 integration (200 sub-steps) from node k of the point mass on
+// its two loaded feet, m z ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R, with the interval's mean forces and held
+// torques; z = the mean of the interval's two node heights, or z0 without heights.
+double PointMassRk4Error(const FootedHlipTransitionData& d, const FootedHlipTransitionPlan& plan, double mass, bool use_heights) {
+  double worst = 0.0;
+  for (int k = 0; k + 1 < static_cast<int>(d.node_times.size()); ++k) {
+    const double FL = 0.5 * (d.left_normal_force(k) + d.left_normal_force(k + 1));
+    const double FR = 0.5 * (d.right_normal_force(k) + d.right_normal_force(k + 1));
+    const double mz = mass * (use_heights ? 0.5 * (d.node_heights(k) + d.node_heights(k + 1)) : d.z0);
+    const double u = plan.left_torque(k) + plan.right_torque(k);
+    auto f = [&](const Eigen::Vector2d& q) {
+      return Eigen::Vector2d(q(1), (FL * (q(0) - d.left_foot_y) + FR * (q(0) - d.right_foot_y) + u) / mz);
+    };
+    Eigen::Vector2d q = plan.states.col(k);
+    const int sub = 200;
+    const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
+    for (int j = 0; j < sub; ++j) {
+      const Eigen::Vector2d k1 = f(q), k2 = f(q + 0.5 * h * k1), k3 = f(q + 0.5 * h * k2), k4 = f(q + h * k3);
+      q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    }
+    worst = std::max(worst, (q - plan.states.col(k + 1)).cwiseAbs().maxCoeff());
+  }
+  return worst;
 }
 
 TEST(FootedHlipTransitionPlanner, HitsTheTerminalStateWithinTheZmpBounds) {
@@ -142,7 +170,6 @@ TEST(FootedHlipTransitionPlanner, NormalForcePivotsFollowThePointMassOnItsLoaded
   EXPECT_LT((plan.states.col(N - 1) - d.final_state).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT((plan.states.col(0) - d.initial_state).cwiseAbs().maxCoeff(), 1e-9);
   const double mz = p.mass * d.z0;
-  double worst = 0.0;
   for (int k = 0; k + 1 < N; ++k) {
     for (int foot = 0; foot < 2; ++foot) {  // Eq. (14)
       const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k), u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
@@ -152,20 +179,53 @@ TEST(FootedHlipTransitionPlanner, NormalForcePivotsFollowThePointMassOnItsLoaded
     const double FL = 0.5 * (d.left_normal_force(k) + d.left_normal_force(k + 1));
     const double FR = 0.5 * (d.right_normal_force(k) + d.right_normal_force(k + 1));
     EXPECT_NEAR(plan.interval_stiffness(k), (FL + FR) / mz, 1e-12);
-    const double u = plan.left_torque(k) + plan.right_torque(k);
-    auto f = [&](const Eigen::Vector2d& q) {
-      return Eigen::Vector2d(q(1), (FL * (q(0) - d.left_foot_y) + FR * (q(0) - d.right_foot_y) + u) / mz);
-    };
-    Eigen::Vector2d q = plan.states.col(k);
-    const int sub = 200;
-    const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
-    for (int j = 0; j < sub; ++j) {
-      const Eigen::Vector2d k1 = f(q), k2 = f(q + 0.5 * h * k1), k3 = f(q + 0.5 * h * k2), k4 = f(q + h * k3);
-      q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-    }
-    worst = std::max(worst, (q - plan.states.col(k + 1)).cwiseAbs().maxCoeff());
   }
-  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(PointMassRk4Error(d, plan, p.mass, /*use_heights=*/false), 1e-9);
+}
+
+// node_heights: each interval moves the mass on its own height z_k (the mean of its nodes'), as the footed-aSLIP NLP's
+// lateral rows do. Checked against an RK4 integration of m z_k ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R with z_k
+// computed here from the heights; the same plan with z0 everywhere misses that integration (the heights matter).
+TEST(FootedHlipTransitionPlanner, NodeHeightsMoveEachIntervalOnItsOwnHeight) {
+  FootedHlipTransitionParams p;
+  p.normal_force_pivots = true;
+  FootedHlipTransitionData d = StandingStart(0.8, 20, 0.4, 20);
+  const int N = static_cast<int>(d.node_times.size());
+  d.node_heights.resize(N);
+  for (int k = 0; k < N; ++k) d.node_heights(k) = 0.86 + 0.03 * std::sin(2 * M_PI * d.node_times(k) / 1.2);  // 0.83-0.89 m
+  const FootedHlipTransitionPlan plan = FootedHlipTransitionPlanner(p).Solve(d);
+  ASSERT_TRUE(plan.success()) << plan.message;
+  EXPECT_LT((plan.states.col(N - 1) - d.final_state).cwiseAbs().maxCoeff(), 1e-9);
+  ASSERT_EQ(plan.interval_height.size(), N - 1);
+  for (int k = 0; k + 1 < N; ++k) {
+    EXPECT_NEAR(plan.interval_height(k), 0.5 * (d.node_heights(k) + d.node_heights(k + 1)), 1e-15);
+    for (int foot = 0; foot < 2; ++foot) {  // Eq. (14)
+      const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k), u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
+      EXPECT_GE(u, -p.foot_width_left_of_ankle * F - 1e-9);
+      EXPECT_LE(u, p.foot_width_right_of_ankle * F + 1e-9);
+    }
+  }
+  const double with_heights = PointMassRk4Error(d, plan, p.mass, /*use_heights=*/true);
+  EXPECT_LT(with_heights, 1e-9);
+  FootedHlipTransitionData flat = d;
+  flat.node_heights.resize(0);
+  const FootedHlipTransitionPlan z0_plan = FootedHlipTransitionPlanner(p).Solve(flat);
+  ASSERT_TRUE(z0_plan.success()) << z0_plan.message;
+  const double without = PointMassRk4Error(d, z0_plan, p.mass, /*use_heights=*/true);
+  std::printf("  node states against RK4 on the node heights: %.2e with them, %.2e with z0 = %.2f m everywhere\n", with_heights, without, d.z0);
+  EXPECT_GT(without, 1e-4);
+  // Bad heights are named.
+  FootedHlipTransitionData bad = d;
+  bad.node_heights(4) = -0.1;
+  try {
+    FootedHlipTransitionPlanner(p).Solve(bad);
+    ADD_FAILURE() << "a negative height accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("node_heights"), std::string::npos) << e.what();
+  }
+  bad = d;
+  bad.node_heights.conservativeResize(N - 1);
+  EXPECT_THROW(FootedHlipTransitionPlanner(p).Solve(bad), std::invalid_argument);
 }
 
 TEST(FootedHlipTransitionPlanner, ReportsAnInfeasibleTransition) {

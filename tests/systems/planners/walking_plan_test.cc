@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -128,6 +129,21 @@ TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
   }
   // The right foot lands one step ahead at the end of the transition.
   EXPECT_NEAR(plan.Sample(plan.segments()[1].start_time + 0.1).right_foothold(0), gait_params.step_length, 1e-12);
+  // The walking diagram's lateral model (normal_force_pivots, each interval on its own aSLIP height, node_heights set
+  // by LateralDataOnTransitionNodes): the sampled reference meets every node too (with m z0 in place of each interval's
+  // m z_k it misses them by 1.4e-6 m here: checked).
+  ASSERT_EQ(lat.node_heights.size(), 2 * N - 1);
+  EXPECT_NEAR(lat.node_heights(0), 0.9, 1e-9);  // standing at 0.9 m
+  FootedHlipTransitionParams pivots;
+  pivots.normal_force_pivots = true;
+  const FootedHlipTransitionPlan lateral_pivots = FootedHlipTransitionPlanner(pivots).Solve(lat);
+  ASSERT_TRUE(lateral_pivots.success()) << lateral_pivots.message;
+  WalkingPlan plan_pivots;
+  plan_pivots.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral_pivots, m, gait_params.step_length);
+  double worst = 0.0;
+  for (int j = 0; j < 2 * N - 1; ++j)
+    worst = std::max(worst, std::abs(plan_pivots.Sample(lat.node_times(j)).com_position(1) - lateral_pivots.states(0, j)));
+  EXPECT_LT(worst, 1e-9);
 }
 
 // A control tick meant to fall on a segment boundary belongs to the segment that starts there, whichever side of the
