@@ -185,7 +185,7 @@ struct StandToWalkParams {
   /// spec's [R] standing start with the feet side by side plannable. Measured (2026-12-05, NLP seed 1001): side by
   /// side, gait A's pre-impact state (COM 0.113 m ahead of the stance ankle at 0.66 m/s, rising at 0.30 m/s) is locally
   /// infeasible with a 2 or 5 cm CoP margin and a footed or point-foot SSP, and (0.20 m, 0.50 s, 0.15 s)'s (0.070 m,
-  /// 0.35 m/s; ω (x_f + L_h) = 0.41 m/s with L_h = 5 cm) solves with the stance ankle free in the SSP and a 2 cm margin
+  /// 0.35 m/s; ω (x_f + L_h) = 0.40 m/s with L_h = 5 cm) solves with the stance ankle free in the SSP and a 2 cm margin
   /// (with a point-foot SSP, or a 5 cm margin, it is infeasible). From it the change into gait A plans, the one into
   /// gait B (0.40 m) does not (gait B goes through the lead-in); a direct change into the faster (0.34 m, 0.35 s,
   /// 0.13 s, 0.24 m) plans at 339 N m of the knee and slips, through the lead-in it walks.
