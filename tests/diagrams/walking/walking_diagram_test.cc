@@ -355,6 +355,26 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
       EXPECT_NE(std::string(e.what()).find("periodic_max_force_fraction"), std::string::npos) << e.what();
     }
   }
+  // The start gait's parameters are checked before any NLP, each error naming its field.
+  auto rejects = [&](StandToWalkParams p, const char* field) {
+    try {
+      BuildStandToWalkPlan(quick, 4, 1, &cache, nullptr, p);
+      ADD_FAILURE() << field << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  StandToWalkParams start = stand;
+  start.start_gait_steps = -1;
+  rejects(start, "start_gait_steps");
+  start = stand;
+  start.start_gait_ssp_duration_s = std::nan("");
+  rejects(start, "start_gait_steps");  // "start_gait_steps = 4 must be >= 0, and the start gait's ... durations > 0"
+  start = stand;
+  start.standing_sagittal_cop_margin_m = 0.07;  // the whole 7 cm heel
+  rejects(start, "standing_sagittal_cop_margin_m");
+  start.standing_sagittal_cop_margin_m = std::nan("");
+  rejects(start, "standing_sagittal_cop_margin_m");
 }
 
 // Side by side (spec [R]) the standing transition's single step must reach the next gait's pre-impact state (x_f ahead
