@@ -16,7 +16,7 @@
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
 // Status (measured, gait A, seed 1, 2026-12-05): from standing with the feet side by side the robot makes the
-// transition step, walks 4 steps of the start gait, changes gait and walks 10 steps of gait A with the COM within
+// transition step, walks 6 steps of the start gait, changes gait and walks 10 steps of gait A with the COM within
 // 2 mm RMS of the reference and the plant's forces in the Eq. (25) band at every tick (examples/walking;
 // walking_diagram_test checks it; from a 0.4 m step stance, StandToWalkParams::StepStance, 3.1 mm). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
 // (compensate_centroidal_momentum), which the point-mass ROMs do not model. The gait change A → B walks with the
@@ -188,8 +188,10 @@ struct StandToWalkParams {
   /// 0.35 m/s; ω (x_f + L_h) = 0.40 m/s with L_h = 5 cm) solves with the stance ankle free in the SSP and a 2 cm margin
   /// (with a point-foot SSP, or a 5 cm margin, it is infeasible). From it the change into gait A plans, the one into
   /// gait B (0.40 m) does not (gait B goes through the lead-in); a direct change into the faster (0.34 m, 0.35 s,
-  /// 0.13 s, 0.24 m) plans at 339 N m of the knee and slips, through the lead-in it walks.
-  int start_gait_steps = 4;
+  /// 0.13 s, 0.24 m) plans at 339 N m of the knee and slips, through the lead-in it walks. 6 steps, as the lead-in,
+  /// so that the convergence check (the pre-impact change from step 5 after each transition) applies to the
+  /// start gait too (seed 1001: 4.9e-4 for gaits A and B).
+  int start_gait_steps = 6;
   double start_gait_step_length_m = 0.20;  ///< [m]
   double start_gait_ssp_duration_s = 0.50;  ///< [s]
   double start_gait_dsp_duration_s = 0.15;  ///< [s]

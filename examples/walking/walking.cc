@@ -241,14 +241,14 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> 4 steps of the start gait -> gait A; a gait with T_SSP < 0.40 s or T_DSP < 0.10 s, or with no plan from the start gait, goes through 6 steps of the lead-in (0.30 m, 0.40 s, 0.10 s) first) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> 6 steps of the start gait -> gait A; a gait with T_SSP < 0.40 s or T_DSP < 0.10 s, or with no plan from the start gait, goes through 6 steps of the lead-in (0.30 m, 0.40 s, 0.10 s) first) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
       .Option("stance-stagger", "0", "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
       .Option("start-gait", "0.20,0.50,0.15", "the start gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): from standing side by side, the standing transition goes into it (ours; same ranges as --lead-in)")
-      .Option("start-gait-steps", "auto", "periodic steps of the start gait before the change into gait A or the lead-in (0 to 20; auto: 4 side by side, 0 from a step stance)")
+      .Option("start-gait-steps", "auto", "periodic steps of the start gait before the change into gait A or the lead-in (0 to 20; auto: 6 side by side, 0 from a step stance)")
       .Option("lead-in", "0.30,0.40,0.10", "the lead-in gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): stand-to-walk walks it before gait A when gait A is faster or has no plan otherwise (ours; L 0.1-0.45 m, T_SSP 0.35-0.6 s, T_DSP 0.08-0.3 s)")
       .Option("lead-in-steps", "6", "periodic steps of the lead-in gait before the change to gait A (0: no lead-in; up to 20)")
       .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")

@@ -217,10 +217,6 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     ASSERT_EQ(transition_ends.size(), (start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u) +
                                           (report.start_gait_used ? 1u : 0u));
     for (size_t j = 0; j < transition_ends.size(); ++j) {
-      if (j == 0 && report.start_gait_used) {  // the start gait walks StandToWalkParams::start_gait_steps (4) steps: no 5th
-        std::printf("  after transition 0: the start gait's %d steps (no convergence check)\n", stand.start_gait_steps);
-        continue;
-      }
       const double begin = transition_ends[j] - 0.05, end = j + 1 < transition_ends.size() ? transition_ends[j + 1] - 0.05 : 1e9;
       std::vector<Eigen::Matrix<double, 6, 1>> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
       for (const auto& [time, state] : pre_impact)
@@ -382,7 +378,7 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
 // sole's 7 cm less the 2 cm standing margin), conserves ẋ² − ω² (x + L_h)², so it reaches at most ẋ_f = ω (x_f + L_h)
 // there (ω = √(g / 0.86 m)). Gait A's periodic pre-impact state is beyond that bound and its standing transition has
 // no plan (NLP locally infeasible); the start gait's (0.20 m, 0.50 s, 0.15 s) is within it, and the default plan goes
-// standing → start gait (4 single supports of its 0.50 s) → gait A, from both feet at x = 0.
+// standing → start gait (6 single supports of its 0.50 s) → gait A, from both feet at x = 0.
 TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
