@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "framework/simulator_presets.h"
 #include "systems/controllers/task_space_qp_controller.h"
@@ -174,12 +175,16 @@ void CheckStandToWalkParams(const StandToWalkParams& sp, const std::string& who)
   if (!(standing < 0 || (sole.heel_m - standing > 0 && sole.toe_m - standing > 0)))
     throw std::invalid_argument(who + ": standing_sagittal_cop_margin_m = " + std::to_string(standing) +
                                 " must be negative (use sagittal_cop_margin_m) or >= 0 and leave a sole");
-  if (sp.start_gait_steps < 0 ||
-      (sp.start_gait_steps > 0 && !(sp.start_gait_step_length_m > 0 && sp.start_gait_ssp_duration_s > 0 && sp.start_gait_dsp_duration_s > 0 &&
-                                    std::isfinite(sp.start_gait_step_length_m + sp.start_gait_ssp_duration_s + sp.start_gait_dsp_duration_s))))
-    throw std::invalid_argument(who + ": start_gait_steps = " + std::to_string(sp.start_gait_steps) +
-                                " must be >= 0, and the start gait's step length and durations > 0, got " + std::to_string(sp.start_gait_step_length_m) +
-                                " m, " + std::to_string(sp.start_gait_ssp_duration_s) + " s, " + std::to_string(sp.start_gait_dsp_duration_s) + " s");
+  if (sp.start_gait_steps < 0)
+    throw std::invalid_argument(who + ": start_gait_steps must be >= 0 (0: no start gait), got " + std::to_string(sp.start_gait_steps));
+  if (sp.start_gait_steps > 0) {
+    const std::pair<const char*, double> fields[3] = {{"start_gait_step_length_m", sp.start_gait_step_length_m},
+                                                      {"start_gait_ssp_duration_s", sp.start_gait_ssp_duration_s},
+                                                      {"start_gait_dsp_duration_s", sp.start_gait_dsp_duration_s}};
+    for (const auto& [name, value] : fields)
+      if (!(value > 0 && std::isfinite(value)))
+        throw std::invalid_argument(who + ": " + name + " must be finite and > 0 when start_gait_steps > 0, got " + std::to_string(value));
+  }
 }
 
 AslipPeriodicGaitParams GaitParams(const WalkingGait& g, const StandToWalkParams& sp) {
@@ -310,7 +315,7 @@ bool SameTiming(const WalkingGait& a, const WalkingGait& b) {
 // Stand → the solved gait `a` (timing of `g`; the right foot lifts first) and `steps` periodic steps of it; with
 // end_in_single_support the last step stops at its touchdown (its DSP left to a following transition).
 WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, const PlanCache* cache, WalkingPlanReport* report,
-                         const StandToWalkParams& sp, const std::string& who, bool end_in_single_support) {
+                         const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, const char* into = "gait") {
   const AslipPeriodicGaitParams& gp = a.planner.params();
   StandToWalkParams standing = sp;
   if (sp.standing_sagittal_cop_margin_m >= 0) standing.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
@@ -329,7 +334,7 @@ WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, c
   data.lifting_leg = 1;
   WalkingPlan plan;
   WalkingNlpReport transition_report;
-  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, standing, cache, who + " (standing -> gait)", &transition_report,
+  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, standing, cache, who + " (standing -> " + into + ")", &transition_report,
                          report != nullptr ? &report->transition_nodes : nullptr);
   // The transition lands the right foot one step ahead: the first periodic step contributes its DSP only, so `steps`
   // single supports of the gait follow.
@@ -420,7 +425,7 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
   WalkingPlan plan;
   if (sp.start_gait_steps > 0 && !SameTiming(g, start)) {
     const SolvedGait s = SolveGait(start, seed, cache, sp, who, "the start gait");
-    plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true);
+    plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true, "start gait");
     WalkingNlpReport change;
     StandToWalkParams from_start = sp;  // the start gait's change keeps the standing transition's CoP margin
     if (sp.standing_sagittal_cop_margin_m >= 0) from_start.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
@@ -434,6 +439,7 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     }
   } else {
     plan = StandingInto(a, g, steps, cache, report, sp, who, end_in_single_support);
+    if (report != nullptr) report->start_gait_used = false, report->periodic_start = {}, report->transition_start = {};
   }
   if (report != nullptr) report->periodic = {a.solve_s, a.gait.collocation.nlp.iterations, a.gait.max_constraint_violation};
   if (gait_out != nullptr) *gait_out = std::move(a);
@@ -489,6 +495,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
       try {
         WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
         if (sp.plan_check) sp.plan_check(plan);
+        if (report != nullptr) report->lead_in = false, report->lead_in_reason = "tried and had no plan, so planned directly from the start gait: " + through;
         return plan;
       } catch (const std::runtime_error& direct) {
         throw std::runtime_error(through + "; directly from the start gait: " + direct.what());

@@ -130,12 +130,12 @@ struct StandToWalkParams {
   double sagittal_cop_margin_m = 0.05;
   double lateral_cop_margin_m = 0.02;
   SoleGeometry sole;  ///< the robot's sole (set it with SoleOf(model, "left_foot"))
-  /// The standing transition's SSP is point-foot (u = 0, CoP at the ankle, as in the periodic gait) and lasts at least the
-  /// gait's T_SSP (ours; the spec's [R] lets T_SSP go down to 0.3 s with ankle torque). Measured with the ankle free:
-  /// the NLP keeps the stance CoP on the heel bound through the SSP; on the robot the swing leg (15 kg, 0.6 m in
-  /// 0.36 s) needs the CoP 0.15-0.2 m ahead of the ROM's, the stance ankle pitch saturates at 150 N m and the swing
-  /// foot lags 9 cm.
-  /// Default false (side by side, the start gait's first swing is 0.2 m); StepStance() sets it.
+  /// With it (StepStance(); off by default) the standing transition's SSP is point-foot (u = 0, CoP at the ankle, as in
+  /// the periodic gait); it always lasts at least the T_SSP of the gait it goes into (ours; the spec's [R] lets T_SSP
+  /// go down to 0.3 s with ankle torque). Measured from the step stance with the ankle free: the NLP keeps the stance
+  /// CoP on the heel bound through the SSP; on the robot the swing leg (15 kg, 0.6 m in 0.36 s) needs the CoP
+  /// 0.15-0.2 m ahead of the ROM's, the stance ankle pitch saturates at 150 N m and the swing foot lags 9 cm. Side by
+  /// side the first swing is 0.2 m, and the transition into the start gait needs the ankle (point-foot: infeasible).
   bool point_foot_transition_ssp = false;
   /// [-] the transition's stance leg carries at least this fraction of m g through the DSP (ours; without it the plan
   /// unloads the front foot mid-DSP and the plant's lift-off guard fires there).
@@ -263,7 +263,9 @@ struct WalkingPlanReport {
   WalkingNlpReport periodic, transition;      ///< gait A's periodic aSLIP, the standing transition
   WalkingNlpReport periodic_b, transition_b;  ///< gait-change only: gait B's periodic aSLIP, the A → B transition
   WalkingTransitionNodes transition_nodes, transition_b_nodes;  ///< the two transitions' plans on their nodes
-  /// BuildStandToWalkPlan only: the plan starts with a lead-in (StandToWalkParams::lead_in_steps) of `lead_in_gait`;
+  /// BuildStandToWalkPlan only: the plan starts with a lead-in (StandToWalkParams::lead_in_steps) of `lead_in_gait`
+  /// (with lead_in false and lead_in_reason set, a lead-in was tried, had no plan, and the plan goes directly from the
+  /// start gait);
   /// the *_b entries are then the requested gait and the lead-in → gait transition. lead_in_reason: why (the gait is faster
   /// than the lead-in, or the direct standing transition's error).
   bool lead_in = false;

@@ -38,6 +38,7 @@ WalkingGait ParseGaitNumbers(const std::string& flag, const std::string& text, i
   std::vector<double> v;
   std::stringstream ss(text);
   std::string item;
+  if (!text.empty() && text.back() == ',') throw std::invalid_argument("walking: --" + flag + " expects " + form + " (numbers), got '" + text + "'");
   while (std::getline(ss, item, ',')) {
     try {
       size_t used = 0;
@@ -241,7 +242,7 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
 
 int main(int argc, char** argv) {
   examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> 6 steps of the start gait -> gait A; a gait with T_SSP < 0.40 s or T_DSP < 0.10 s, or with no plan from the start gait, goes through 6 steps of the lead-in (0.30 m, 0.40 s, 0.10 s) first) | gait-change (standing -> gait A -> transition -> gait B) | periodic (started on gait A's orbit, no transition)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> --start-gait-steps of the --start-gait -> gait A; a gait faster than the --lead-in gait (shorter T_SSP or T_DSP), or with no plan from the start gait, walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; the start and lead-in flags do not apply)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
@@ -251,11 +252,11 @@ int main(int argc, char** argv) {
       .Option("start-gait-steps", "auto", "periodic steps of the start gait before the change into gait A or the lead-in (0 to 20; auto: 6 side by side, 0 from a step stance)")
       .Option("lead-in", "0.30,0.40,0.10", "the lead-in gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): stand-to-walk walks it before gait A when gait A is faster or has no plan otherwise (ours; L 0.1-0.45 m, T_SSP 0.35-0.6 s, T_DSP 0.08-0.3 s)")
       .Option("lead-in-steps", "6", "periodic steps of the lead-in gait before the change to gait A (0: no lead-in; up to 20)")
-      .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: gait A's T_SSP)")
+      .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: the T_SSP of the gait it goes into: the start gait's side by side, gait A's from a step stance)")
       .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
-      .Option("gait-change-max-force", "1.6", "the gait-change transition NLP (A -> B, or a lead-in -> A) keeps each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
+      .Option("gait-change-max-force", "1.6", "the gait-change transition NLPs (A -> B, a lead-in -> A, the start gait -> the next gait) keep each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
       .Option("periodic-max-force", "1.5", "a periodic aSLIP plan whose leg force exceeds this many m g is planned again with that bound (ours; 0: never, else in (1, 3])")
-      .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m]")
+      .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m] (side by side, the standing transition and the start gait's change keep 0.02 m: StandToWalkParams::standing_sagittal_cop_margin_m)")
       .Option("touchdown-speed", "0.1", "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
       .Option("clf-cost-target", "pd", "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec §5.5 [C22]: minimum-norm μ = 0)")
       .Option("sole-torsion", "coefficient", "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z (ours, default) or by the contact wrench cone of its four corners (less where the CoP nears an edge or the foot carries a tangential force)")
@@ -406,12 +407,14 @@ int main(int argc, char** argv) {
     else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, &cache, &nlp, stand);
     start_steps_used = stand.start_gait_steps;
     if (nlp.start_gait_used)
-      std::cout << "standing side by side: " << stand.start_gait_steps << " steps of the start gait (" << nlp.start_gait.step_length_m << " m, "
+      std::cout << (stagger == 0 ? std::string("standing side by side: ") : "standing in a " + std::to_string(stagger) + " m step stance: ") << stand.start_gait_steps << " steps of the start gait (" << nlp.start_gait.step_length_m << " m, "
                 << nlp.start_gait.ssp_duration_s << " s, " << nlp.start_gait.dsp_duration_s << " s), then a gait change\n";
     if (nlp.lead_in)
       std::cout << "starting with " << stand.lead_in_steps << " lead-in steps of (" << nlp.lead_in_gait.step_length_m << " m, "
                 << nlp.lead_in_gait.ssp_duration_s << " s, " << nlp.lead_in_gait.dsp_duration_s << " s) and changing gait: "
                 << nlp.lead_in_reason << "\n";
+    else if (!nlp.lead_in_reason.empty())
+      std::cout << "the lead-in " << nlp.lead_in_reason << "\n";
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 3;
@@ -659,6 +662,8 @@ int main(int argc, char** argv) {
   if (scenario == "gait-change") s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
   // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait A.
   s["lead_in"] = nullptr;
+  // A lead-in that was tried, had no plan, and left the plan to the direct change from the start gait: its error.
+  s["lead_in_tried"] = !nlp.lead_in && !nlp.lead_in_reason.empty() ? nlohmann::json(nlp.lead_in_reason) : nlohmann::json(nullptr);
   if (nlp.lead_in) {
     const WalkingGait& g = nlp.lead_in_gait;
     s["lead_in"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}}, {"reason", nlp.lead_in_reason}};

@@ -60,7 +60,7 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
     Fail(msg.str());
   }
   const bool heights = params_.normal_force_pivots && d.node_heights.size() > 0;
-  if (heights && (d.node_heights.size() != N || !(d.node_heights.minCoeff() > 0) || !d.node_heights.allFinite())) {
+  if (d.node_heights.size() > 0 && (d.node_heights.size() != N || !(d.node_heights.minCoeff() > 0) || !d.node_heights.allFinite())) {
     msg << "node_heights must hold " << N << " heights > 0 m (or none), got " << d.node_heights.size()
         << (d.node_heights.size() > 0 ? " with the smallest " + std::to_string(d.node_heights.minCoeff()) + " m" : std::string());
     Fail(msg.str());

@@ -50,7 +50,8 @@ struct FootedHlipTransitionData {
   double left_foot_y = 0.125;             ///< [m] world y of the left ankle
   double right_foot_y = -0.125;           ///< [m] world y of the right ankle
   double z0 = 0.9;                        ///< [m] mean footed-aSLIP height over the transition (spec §2.3)
-  /// [m] N footed-aSLIP heights at the nodes (ours; normal_force_pivots only; empty: z0 everywhere). Interval k then
+  /// [m] N footed-aSLIP heights at the nodes (ours; checked whenever given, used with normal_force_pivots only; empty:
+  /// z0 everywhere). Interval k then
   /// uses z_k = (h_k + h_{k+1})/2 for m z, the height the footed-aSLIP NLP's own lateral rows move the mass on.
   Eigen::VectorXd node_heights;
   Eigen::Vector2d initial_state = Eigen::Vector2d::Zero();  ///< [y0 (m), ẏ0 (m/s)], world

@@ -38,7 +38,7 @@ WalkingReference WalkingPlan::Sample(double t) const {
     Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n, tau + kSegmentBoundaryTolerance_s) -
                      s.lateral_node_times.data() - 1;
     k = std::clamp<Eigen::Index>(k, 0, n - 2);
-    const double mz = s.lateral_mass_heights.size() > 0 ? s.lateral_mass_heights(k) : s.mass_height;
+    const double mz = s.lateral_mass_heights.size() == s.lateral_stiffness.size() ? s.lateral_mass_heights(k) : s.mass_height;
     const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / mz;
     const double y0 = s.lateral_nodes(0, k), v0 = s.lateral_nodes(1, k);
     const double a = s.lateral_stiffness(k);

@@ -252,7 +252,7 @@ TEST(WalkingDiagram, SoleOfReadsTheRobotsSoleCorners) {
 constexpr double kStepStance_m = 0.40;
 
 // Gait A (the default) from standing with the feet side by side (spec [R]): the standing transition into the start
-// gait (0.20 m, 0.50 s, 0.15 s), its 4 steps, the change into gait A and 6 steps of A (of 8 planned).
+// gait (0.20 m, 0.50 s, 0.15 s), its 6 steps, the change into gait A and 6 steps of A (of 8 planned).
 TEST(WalkingDiagram, StandToWalkGaitAWalksWithPhysicalContactForces) { RunStandToWalk(RunUntil::kPlanEnd); }
 
 // Gait A from the 0.4 m step stance: the standing transition straight into gait A (point-foot SSP).
@@ -365,7 +365,10 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
   rejects(start, "start_gait_steps");
   start = stand;
   start.start_gait_ssp_duration_s = std::nan("");
-  rejects(start, "start_gait_steps");  // "start_gait_steps = 4 must be >= 0, and the start gait's ... durations > 0"
+  rejects(start, "start_gait_ssp_duration_s");
+  start = stand;
+  start.start_gait_step_length_m = 0.0;
+  rejects(start, "start_gait_step_length_m");
   start = stand;
   start.standing_sagittal_cop_margin_m = 0.07;  // the whole 7 cm heel
   rejects(start, "standing_sagittal_cop_margin_m");
@@ -417,6 +420,16 @@ TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
   EXPECT_LT(report.transition_start.violation, 1e-6);
   const WalkingPlanSegment& first = plan.segments().front();
   EXPECT_EQ(first.domain, WalkingDomain::kDoubleSupport);
+  // Standing at rest in static equilibrium: the COM over the midpoint of the feet, at the standing height, each foot
+  // carrying m g / 2 (the aSLIP's legs; the ankle torques start the motion from there).
+  const WalkingReference rest = plan.Sample(0.0);
+  const double mg = model->total_mass() * 9.81;
+  EXPECT_LT(rest.com_velocity.norm(), 1e-9);
+  EXPECT_NEAR(rest.com_position.x(), 0.0, 1e-9);
+  EXPECT_NEAR(rest.com_position.y(), 0.0, 1e-9);
+  EXPECT_NEAR(rest.com_position.z(), stand.standing_height_m, 1e-9);
+  EXPECT_NEAR(rest.normal_force(0), 0.5 * mg, 1e-6 * mg);
+  EXPECT_NEAR(rest.normal_force(1), 0.5 * mg, 1e-6 * mg);
   EXPECT_NEAR(first.left_foothold.x(), first.right_foothold.x(), 1e-12);  // side by side
   EXPECT_NEAR(first.left_foothold.y() - first.right_foothold.y(), WalkingGait{}.step_width_m, 1e-12);
   int start_ssp = 0, gait_ssp = 0;
@@ -444,6 +457,9 @@ TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) 
   const WalkingPlan plan = BuildStandToWalkPlan(quick, 4, 1, &cache, &report, stand);
   EXPECT_TRUE(report.start_gait_used);
   EXPECT_FALSE(report.lead_in);
+  // The lead-in was tried first (the gait is faster than it) and its NLP failed: the report says so.
+  EXPECT_NE(report.lead_in_reason.find("no plan, so planned directly from the start gait"), std::string::npos) << report.lead_in_reason;
+  EXPECT_NE(report.lead_in_reason.find("footed-aSLIP NLP failed"), std::string::npos) << report.lead_in_reason;
   EXPECT_NEAR(plan.segments().back().duration, quick.dsp_duration_s, 1e-9);
   for (const WalkingPlanSegment& s : plan.segments())
     EXPECT_GT(std::abs(s.duration - stand.lead_in_ssp_duration_s), 1e-9) << "a lead-in single support in the plan";
@@ -452,7 +468,13 @@ TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) 
   no_start.stance_stagger_m = 0.40;
   no_start.point_foot_transition_ssp = true;
   no_start.standing_sagittal_cop_margin_m = -1.0;
-  EXPECT_THROW(BuildStandToWalkPlan(quick, 4, 1, &cache, nullptr, no_start), std::runtime_error);
+  try {
+    BuildStandToWalkPlan(quick, 4, 1, &cache, nullptr, no_start);
+    ADD_FAILURE() << "the failed lead-in was not reported";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("through a lead-in of 6 steps of (0.45 m"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("directly from the start gait"), std::string::npos) << e.what();
+  }
 }
 
 // CheckWalkingPlanTorques on the diagram's plans (with the momentum correction): gait A's single supports fit the
