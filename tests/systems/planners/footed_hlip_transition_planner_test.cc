@@ -52,6 +52,17 @@ FootedHlipTransitionData StandingStart(double dsp_duration, int dsp_intervals, d
   return d;
 }
 
+// `sub` classical RK4 steps of q' = f(q) over a time T (the tests' independent integration of the continuous models).
+template <class F>
+Eigen::Vector2d Rk4(const F& f, Eigen::Vector2d q, double T, int sub) {
+  const double h = T / sub;
+  for (int j = 0; j < sub; ++j) {
+    const Eigen::Vector2d k1 = f(q), k2 = f(q + 0.5 * h * k1), k3 = f(q + 0.5 * h * k2), k4 = f(q + h * k3);
+    q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  return q;
+}
+
 // Largest gap between a plan's node k + 1 and an RK4 integration (200 sub-steps) from node k of the point mass on
 // its two loaded feet, m z ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R, with the interval's mean forces and held
 // torques; z = the mean of the interval's two node heights, or z0 without heights.
@@ -65,13 +76,7 @@ double PointMassRk4Error(const FootedHlipTransitionData& d, const FootedHlipTran
     auto f = [&](const Eigen::Vector2d& q) {
       return Eigen::Vector2d(q(1), (FL * (q(0) - d.left_foot_y) + FR * (q(0) - d.right_foot_y) + u) / mz);
     };
-    Eigen::Vector2d q = plan.states.col(k);
-    const int sub = 200;
-    const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
-    for (int j = 0; j < sub; ++j) {
-      const Eigen::Vector2d k1 = f(q), k2 = f(q + 0.5 * h * k1), k3 = f(q + 0.5 * h * k2), k4 = f(q + h * k3);
-      q += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-    }
+    const Eigen::Vector2d q = Rk4(f, plan.states.col(k), d.node_times(k + 1) - d.node_times(k), 200);
     worst = std::max(worst, (q - plan.states.col(k + 1)).cwiseAbs().maxCoeff());
   }
   return worst;
@@ -114,12 +119,7 @@ TEST(FootedHlipTransitionPlanner, HitsTheTerminalStateWithinTheZmpBounds) {
     auto f = [&](const Eigen::Vector2d& s) {
       return Eigen::Vector2d(s(1), (ssp ? lambda2 * (s(0) - d.left_foot_y) : 0.0) + u / mz);
     };
-    const int sub = 500;
-    const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
-    for (int j = 0; j < sub; ++j) {
-      const Eigen::Vector2d k1 = f(x), k2 = f(x + 0.5 * h * k1), k3 = f(x + 0.5 * h * k2), k4 = f(x + h * k3);
-      x += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-    }
+    x = Rk4(f, x, d.node_times(k + 1) - d.node_times(k), 500);
     worst = std::max(worst, (x - plan.states.col(k + 1)).cwiseAbs().maxCoeff());
   }
   EXPECT_LT(worst, 1e-10);
@@ -141,12 +141,7 @@ TEST(FootedHlipTransitionPlanner, HitsTheTerminalStateWithinTheZmpBounds) {
       const bool ssp = d.single_support[k];
       const double u = k == k0 ? 1.0 : 0.0;
       auto f = [&](const Eigen::Vector2d& q) { return Eigen::Vector2d(q(1), (ssp ? lambda2 * q(0) : 0.0) + u / mz); };
-      const int sub = 200;
-      const double h = (d.node_times(k + 1) - d.node_times(k)) / sub;
-      for (int j = 0; j < sub; ++j) {
-        const Eigen::Vector2d k1 = f(s), k2 = f(s + 0.5 * h * k1), k3 = f(s + 0.5 * h * k2), k4 = f(s + h * k3);
-        s += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-      }
+      s = Rk4(f, s, d.node_times(k + 1) - d.node_times(k), 200);
     }
     return s;
   };
