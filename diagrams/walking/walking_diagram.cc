@@ -312,13 +312,19 @@ bool SameTiming(const WalkingGait& a, const WalkingGait& b) {
          std::abs(a.dsp_duration_s - b.dsp_duration_s) <= 1e-9;
 }
 
+// `sp` with the standing transition's sagittal CoP margin in place of sagittal_cop_margin_m (when it is set).
+StandToWalkParams WithStandingMargin(const StandToWalkParams& sp) {
+  StandToWalkParams p = sp;
+  if (sp.standing_sagittal_cop_margin_m >= 0) p.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
+  return p;
+}
+
 // Stand → the solved gait `a` (timing of `g`; the right foot lifts first) and `steps` periodic steps of it; with
 // end_in_single_support the last step stops at its touchdown (its DSP left to a following transition).
 WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, const PlanCache* cache, WalkingPlanReport* report,
                          const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, const char* into = "gait") {
   const AslipPeriodicGaitParams& gp = a.planner.params();
-  StandToWalkParams standing = sp;
-  if (sp.standing_sagittal_cop_margin_m >= 0) standing.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
+  const StandToWalkParams standing = WithStandingMargin(sp);
   const AslipTransitionPlanner transition_planner(TransitionParams(gp, g, standing));
   AslipTransitionData data;
   data.left_foot_x = 0.0;
@@ -427,8 +433,7 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     const SolvedGait s = SolveGait(start, seed, cache, sp, who, "the start gait");
     plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true, "start gait");
     WalkingNlpReport change;
-    StandToWalkParams from_start = sp;  // the start gait's change keeps the standing transition's CoP margin
-    if (sp.standing_sagittal_cop_margin_m >= 0) from_start.sagittal_cop_margin_m = sp.standing_sagittal_cop_margin_m;
+    const StandToWalkParams from_start = WithStandingMargin(sp);  // the start gait's change keeps the standing margin
     AppendGaitChange(plan, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change,
                      report != nullptr ? &report->start_change_nodes : nullptr);
     if (report != nullptr) {
