@@ -91,17 +91,24 @@ std::string CheckOutputPath(const std::string& path, const std::string& what) {
   if (path.empty()) return what + " '': the path is empty";
   if (path.back() == '/') return what + " " + Excerpt(path, 200) + ": names a folder; give a file name";
   struct stat st {};
-  if (::lstat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) return what + " " + Excerpt(path, 200) + ": is a directory, not a file";
+  if (::lstat(path.c_str(), &st) == 0) {  // an existing symlink is replaced, never followed
+    if (S_ISDIR(st.st_mode)) return what + " " + Excerpt(path, 200) + ": is a directory, not a file";
+    if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode))
+      return what + " " + Excerpt(path, 200) + ": is " + FileKind(st.st_mode) + ", not a regular file; give a file name";
+  }
   const std::string folder = FolderOf(path);
-  if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-    return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " does not exist";
+  if (::stat(folder.c_str(), &st) != 0) return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " does not exist";
+  if (!S_ISDIR(st.st_mode)) return what + " " + Excerpt(path, 200) + ": " + Excerpt(folder, 200) + " is a file, not a folder";
   if (::access(folder.c_str(), W_OK | X_OK) != 0) return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " is not writable";
   return {};
 }
 
 AtomicFileWriter::AtomicFileWriter(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
   if (const std::string problem = CheckOutputPath(path_, what_); !problem.empty()) throw std::runtime_error(problem);
-  std::string templ = (fs::path(FolderOf(path_)) / ("." + fs::path(path_).filename().string() + ".XXXXXX")).string();
+  std::string name = ".";  // appended piece by piece: GCC 12 warns falsely (-Wstringop-overflow) on "." + string
+  name.append(fs::path(path_).filename().string());
+  name.append(".XXXXXX");
+  std::string templ = (fs::path(FolderOf(path_)) / name).string();
   const int fd = ::mkstemp(templ.data());  // O_CREAT | O_EXCL, mode 0600
   if (fd < 0) throw FileError(what_, path_, std::string("cannot create a temporary file beside it (") + std::strerror(errno) + ")");
   ::fchmod(fd, 0644 & ~ProcessUmask());  // as an ordinary new file, not mkstemp's 0600

@@ -20,8 +20,9 @@ namespace rome {
 /// is not a regular file, cannot be read, or holds more than `max_bytes` bytes.
 std::string ReadRegularFile(const std::string& path, const std::string& what, std::uintmax_t max_bytes);
 
-/// Empty if `path` can be written by AtomicFileWriter (its folder exists and is writable, and it is not a directory);
-/// otherwise the one-line reason, naming `what` and the path. Creates nothing.
+/// Empty if `path` can be written by AtomicFileWriter (its folder exists and is writable, and it is absent, a regular
+/// file or a symlink, which is replaced; never a directory or a device such as /dev/full); otherwise the one-line
+/// reason, naming `what` and the path. Creates nothing.
 std::string CheckOutputPath(const std::string& path, const std::string& what);
 
 /// One output file, written atomically (see above). Append, then Commit; destroyed without Commit (an exception, an

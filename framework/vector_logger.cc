@@ -1,7 +1,10 @@
 #include "framework/vector_logger.h"
 
-#include <fstream>
 #include <iomanip>
+#include <sstream>
+
+#include "framework/files.h"
+#include "framework/text.h"
 
 namespace rome {
 
@@ -72,11 +75,10 @@ int VectorLogger::ColumnIndex(const std::string& column) const {
   ThrowError("has no column '" + column + "'" + (near.empty() ? "" : " (columns of '" + prefix + "': " + near + ")"));
 }
 
-void VectorLogger::WriteCsv(const LeafContext& context, const std::string& path) const {
-  std::ofstream out(path);
-  if (!out) ThrowError("cannot open log file '" + path + "' for writing");
+std::string VectorLogger::CsvText(const LeafContext& context) const {
+  std::ostringstream out;
   const auto names = ColumnNames();
-  for (size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << names[i];
+  for (size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << CsvCell(names[i]);  // names may come from a robot file
   out << "\n" << std::setprecision(12);
   const LogData& data = log(context);
   for (size_t k = 0; k < data.times.size(); ++k) {
@@ -84,7 +86,11 @@ void VectorLogger::WriteCsv(const LeafContext& context, const std::string& path)
     for (int i = 0; i < data.samples[k].size(); ++i) out << "," << data.samples[k][i];
     out << "\n";
   }
-  if (!out) ThrowError("writing log file '" + path + "' failed");
+  return out.str();
+}
+
+void VectorLogger::WriteCsv(const LeafContext& context, const std::string& path) const {
+  WriteFileAtomically(path, CsvText(context), "system '" + name() + "': log file");
 }
 
 VectorLogger* AddVectorLogger(DiagramBuilder& builder, const std::string& name, const std::vector<std::pair<std::string, std::string>>& ports,

@@ -38,7 +38,10 @@ class VectorLogger final : public LeafSystem {
   /// Index of the named column in each sample vector (LogData::samples; "time" is not in them). An error naming the
   /// logger and the column, with the columns of the same signal, if there is no such column.
   int ColumnIndex(const std::string& column) const;
-  /// Writes the log as CSV; an error naming the file if it cannot be written.
+  /// The log as CSV text: a header of the column names (CSV-escaped), then one row per sample.
+  std::string CsvText(const LeafContext& context) const;
+  /// Writes CsvText atomically (framework/files.h); std::runtime_error naming the file if it cannot be written, and
+  /// then an existing file keeps its old content.
   void WriteCsv(const LeafContext& context, const std::string& path) const;
 
  protected:

@@ -101,11 +101,7 @@ int main(int argc, char** argv) {
                               {"rhs_evals", sim.statistics().rhs_evals},
                               {"wall_time_s", wall}};
     const std::string summary_path = cli.Get("summary");
-    if (!summary_path.empty()) {
-      std::ofstream out(summary_path);
-      if (!out) throw std::runtime_error("bouncing_ball: cannot write summary file '" + summary_path + "'");
-      out << summary.dump(2) << "\n";
-    }
+    if (!summary_path.empty() && !examples::WriteOutputFile("bouncing_ball", summary_path, summary.dump(2) + "\n", "summary")) return 1;
     if (animation && !animation->WriteHtml(cli.Get("animation"), "ROME bouncing ball, e = " + cli.Get("restitution"), {}, &animation_error))
       std::cerr << "warning: " << animation_error << "\n";
     const std::string plots = cli.Get("plots");

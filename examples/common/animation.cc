@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include <Eigen/Geometry>
 #include <urdf_parser/urdf_parser.h>
 
+#include "examples/common/sha256.h"
+#include "framework/files.h"
+#include "framework/text.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_workspace.h"
 
@@ -28,15 +30,13 @@ void AppendVec(std::ostringstream& os, const Eigen::Vector3d& v) {
   os << "[" << w.x() << "," << w.y() << "," << w.z() << "]";
 }
 
-std::string ReadFile(const std::string& path, std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    *error = "animation: cannot read three.js at '" + path + "' (install Debian's libjs-three: ./rome setup)";
+std::string ReadThreeJs(const std::string& path, std::string* error) {
+  try {
+    return ReadRegularFile(path, "three.js", 16u << 20);
+  } catch (const std::exception& e) {
+    *error = std::string("animation: ") + e.what() + " (install Debian's libjs-three: ./rome setup)";
     return {};
   }
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
 }
 
 std::string Format(double v) {
@@ -62,23 +62,27 @@ void AppendFloats(std::ostringstream& os, const std::vector<float>& v, int decim
   os << "]";
 }
 
-const char* kPage = R"PAGE(<!DOCTYPE html>
-<html><head><meta charset="utf-8"><title>@TITLE@</title>
-<style>
+// The page in pieces: the Content-Security-Policy names each inline script and the style by its SHA-256, so nothing
+// but these runs (no inline handler, no injected element's script, no network).
+const char* kStyle = R"PAGE(
  html,body{margin:0;height:100%;overflow:hidden;font:14px sans-serif;background:#f4f4f4}
  #hud{position:absolute;left:10px;top:8px;background:rgba(255,255,255,.85);padding:6px 10px;border-radius:4px}
  #bar{position:absolute;left:0;right:0;bottom:0;display:flex;gap:8px;align-items:center;padding:8px;background:rgba(255,255,255,.9)}
  #slider{flex:1}
  #test-result{display:none}
-</style></head><body>
-<div id="hud"><b>@TITLE@</b><br><span id="time"></span> &nbsp; mode: <span id="mode"></span></div>
+)PAGE";
+
+// @TITLE@ is replaced by the title as HTML text.
+const char* kBody = R"PAGE(<div id="hud"><b>@TITLE@</b><br><span id="time"></span> &nbsp; mode: <span id="mode"></span></div>
 <div id="bar"><button id="play">pause</button><input id="slider" type="range" min="0" max="1000" value="0">
 <select id="speed"><option>0.25</option><option>0.5</option><option selected>1</option><option>2</option></select> &times; real time</div>
 <pre id="test-result"></pre>
-<script>window.__errors=[];window.addEventListener('error',function(e){window.__errors.push(String(e.message));});</script>
-<script>@THREE@</script>
-<script>
-const D = @DATA@;
+)PAGE";
+
+const char* kErrorScript = "window.__errors=[];window.addEventListener('error',function(e){window.__errors.push(String(e.message));});";
+
+// Follows "const D = <data>;" in the page's last script.
+const char* kMainScript = R"PAGE(
 const test = /test=/.test(location.hash);
 const renderer = new THREE.WebGLRenderer({antialias: !test, preserveDrawingBuffer: true});
 renderer.setPixelRatio(1);
@@ -181,8 +185,19 @@ if (test) {
   }
   const el = document.getElementById('test-result'); el.textContent = JSON.stringify(report);
 } else { requestAnimationFrame(loop); }
-</script></body></html>
 )PAGE";
+
+std::string Csp(const std::vector<std::string>& scripts, const std::string& style) {
+  std::string csp = "default-src 'none'; script-src";
+  for (const std::string& script : scripts) csp += " 'sha256-" + Sha256Base64(script) + "'";
+  return csp + "; style-src 'sha256-" + Sha256Base64(style) + "'";
+}
+
+std::string JsonStringList(const std::vector<std::string>& items) {
+  std::string out = "[";
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? "," : "") + JsonStringForScript(items[i]);
+  return out + "]";
+}
 
 }  // namespace
 
@@ -214,16 +229,8 @@ void AnimationRecorder::RecordPoint(double t, const Eigen::Vector3d& p, const st
 AnimationRecorder::~AnimationRecorder() = default;
 
 bool AnimationRecorder::CheckWritable(const std::string& path, std::string* error) {
-  std::error_code ec;
-  const bool existed = std::filesystem::exists(path, ec);
-  std::ofstream out(path, std::ios::app);  // append: an existing file is not truncated by the check
-  if (!out || std::filesystem::is_directory(path, ec)) {
-    *error = "cannot write the animation '" + path + "' (check the folder exists and is writable)";
-    return false;
-  }
-  out.close();
-  if (!existed) std::remove(path.c_str());
-  return true;
+  *error = CheckOutputPath(path, "animation");
+  return error->empty();
 }
 
 void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::string& mode, const Eigen::VectorXd& contact_forces) {
@@ -248,7 +255,7 @@ void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::st
 }
 
 bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, std::string* error) const {
-  const std::string three = ReadFile(three_js_path_, error);
+  const std::string three = ReadThreeJs(three_js_path_, error);
   if (three.empty()) return false;
   if (model_ == nullptr) return WritePage(path, title, stones, three, "", error);
   const MultibodyModel& model_ = *this->model_;
@@ -307,7 +314,7 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
   data << "\"bodies\":[";
   for (size_t i = 0; i < drawn_bodies_.size(); ++i) {
     const int b = drawn_bodies_[i];
-    data << (i ? "," : "") << "{\"name\":\"" << model_.body(b).name << "\",\"radius\":0.02,\"segments\":[";
+    data << (i ? "," : "") << "{\"name\":" << JsonStringForScript(model_.body(b).name) << ",\"radius\":0.02,\"segments\":[";
     bool first = true;
     if (visuals[b].empty()) {
       // Capsules from the body's joint origin to each child's joint origin and to its contact points.
@@ -337,9 +344,9 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
     }
     data << "],\"visuals\":[" << visuals[b] << "]}";
   }
-  data << "],\"contacts\":[";
-  for (int k = 0; k < model_.num_contacts(); ++k) data << (k ? "," : "") << "\"" << model_.contacts()[k].name << "\"";
-  data << "],\"mg\":" << model_.total_mass() * 9.81 << ",\"com_radius\":0.03,";
+  std::vector<std::string> contact_names;
+  for (const ContactInfo& info : model_.contacts()) contact_names.push_back(info.name);
+  data << "],\"contacts\":" << JsonStringList(contact_names) << ",\"mg\":" << model_.total_mass() * 9.81 << ",\"com_radius\":0.03,";
   return WritePage(path, title, stones, three, data.str(), error);
 }
 
@@ -348,11 +355,10 @@ bool AnimationRecorder::WritePage(const std::string& path, const std::string& ti
   std::ostringstream data;
   data.precision(6);
   data << "{" << (model_json.empty() ? "\"bodies\":[],\"contacts\":[],\"mg\":1,\"com_radius\":" + Format(point_radius_m_) + "," : model_json);
-  data << "\"modes\":[";
-  for (size_t i = 0; i < modes_.size(); ++i) data << (i ? "," : "") << "\"" << modes_[i] << "\"";
+  data << "\"modes\":" << JsonStringList(modes_);
   double floor = 0.0;
   for (const AnimationStone& s : stones) floor = std::min(floor, s.top_height_m - 0.3);
-  data << "],\"floor\":" << floor << ",\"stones\":[";
+  data << ",\"floor\":" << floor << ",\"stones\":[";
   for (size_t i = 0; i < stones.size(); ++i) data << (i ? "," : "") << "[" << stones[i].x_center_m << "," << stones[i].top_height_m << "," << stones[i].length_m << "]";
   data << "],\"t\":";
   std::vector<float> t(times_.begin(), times_.end());
@@ -366,24 +372,18 @@ bool AnimationRecorder::WritePage(const std::string& path, const std::string& ti
   data << ",\"force\":";
   AppendFloats(data, forces_, 2);
   data << "}";
-  std::string page = kPage;
-  auto replace = [&page](const std::string& key, const std::string& value) {
-    for (size_t at = page.find(key); at != std::string::npos; at = page.find(key, at + value.size())) page.replace(at, key.size(), value);
-  };
-  std::string safe_title;
-  for (char ch : title) safe_title += (ch == '<' || ch == '>' || ch == '&') ? ' ' : ch;
-  replace("@TITLE@", safe_title);
-  replace("@DATA@", data.str());
-  const size_t at = page.find("@THREE@");
-  page.replace(at, 7, three);  // inserted last: the library text is never searched for placeholders
-  std::ofstream out(path, std::ios::binary);
-  if (!out) {
-    *error = "cannot write the animation '" + path + "'";
-    return false;
-  }
-  out << page;
-  if (!out) {
-    *error = "writing the animation '" + path + "' failed";
+  const std::string main_script = "\nconst D = " + data.str() + ";" + kMainScript;
+  const std::vector<std::string> scripts = {kErrorScript, three, main_script};
+  std::string body = kBody;
+  body.replace(body.find("@TITLE@"), 7, HtmlText(title));
+  std::string page = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">\n<meta http-equiv=\"Content-Security-Policy\" content=\"" +
+                     Csp(scripts, kStyle) + "\">\n<title>" + HtmlText(title) + "</title>\n<style>" + kStyle + "</style></head><body>\n" + body;
+  for (const std::string& script : scripts) page += "<script>" + script + "</script>\n";
+  page += "</body></html>\n";
+  try {
+    WriteFileAtomically(path, page, "animation");
+  } catch (const std::exception& e) {
+    *error = e.what();
     return false;
   }
   return true;

@@ -3,10 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+
+#include "framework/files.h"
+#include "framework/text.h"
 
 namespace rome::examples {
 
@@ -104,6 +106,32 @@ int CommandLine::GetInt(const std::string& name) const {
   }
 }
 
+std::optional<std::vector<double>> ParseNumberList(const std::string& text, int n) {
+  std::vector<double> v;
+  for (size_t start = 0;;) {
+    const size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    size_t used = 0;
+    try {
+      v.push_back(std::stod(item, &used));
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+    if (used != item.size() || !std::isfinite(v.back()) || static_cast<int>(v.size()) > n) return std::nullopt;
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (static_cast<int>(v.size()) != n) return std::nullopt;
+  return v;
+}
+
+std::vector<double> CommandLine::GetNumbers(const std::string& name, int n, const std::string& form) const {
+  const std::string s = Get(name);
+  std::optional<std::vector<double>> v = ParseNumberList(s, n);
+  if (!v) throw std::invalid_argument(program_ + ": --" + name + " expects " + std::to_string(n) + " numbers " + form + ", got '" + Excerpt(s, 200) + "'");
+  return *v;
+}
+
 bool CommandLine::GetFlag(const std::string& name) const { return values_.count(name) > 0; }
 
 std::string CommandLine::Help() const {
@@ -122,20 +150,17 @@ std::string CommandLine::Help() const {
 
 void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::initializer_list<const char*> folders) const {
   namespace fs = std::filesystem;
+  std::map<std::string, std::string> seen;  // absolute, normalised path -> the option that names it
   for (const char* name : files) {
     const std::string path = Get(name);
     if (path.empty()) continue;
+    if (const std::string problem = CheckOutputPath(path, "cannot write"); !problem.empty())
+      throw std::invalid_argument(program_ + ": --" + name + ": " + problem);
     std::error_code ec;
-    if (fs::is_directory(path, ec))
-      throw std::invalid_argument(program_ + ": --" + name + ": cannot write '" + path + "': it is a folder, not a file");
-    const bool existed = fs::exists(path, ec);
-    {
-      std::ofstream out(path, std::ios::app);  // append: an existing file is not truncated by the check
-      if (!out)
-        throw std::invalid_argument(program_ + ": --" + name + ": cannot write '" + path +
-                                    "' (check the folder exists and is writable)");
-    }
-    if (!existed) fs::remove(path, ec);
+    const std::string key = fs::weakly_canonical(fs::absolute(path, ec), ec).string();
+    if (const auto [it, inserted] = seen.emplace(key, name); !inserted)
+      throw std::invalid_argument(program_ + ": --" + name + " and --" + it->second + " name the same file '" + Excerpt(path, 200) +
+                                  "'; give each output its own file");
   }
   for (const char* name : folders) {
     const std::string path = Get(name);
@@ -143,7 +168,17 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
     std::error_code ec;
     fs::create_directories(path, ec);
     if (ec || !fs::is_directory(path, ec))
-      throw std::invalid_argument(program_ + ": --" + name + ": cannot create the folder '" + path + "'");
+      throw std::invalid_argument(program_ + ": --" + name + ": cannot create the folder '" + Excerpt(path, 200) + "'");
+  }
+}
+
+bool WriteOutputFile(const std::string& program, const std::string& path, const std::string& content, const std::string& what) {
+  try {
+    WriteFileAtomically(path, content, what);
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": " << OneLine(e.what()) << "\n";
+    return false;
   }
 }
 

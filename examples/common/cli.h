@@ -17,6 +17,13 @@ std::string OneLine(const std::string& message);
 /// A number as a user would type it (shortest round-trip form, e.g. "1e-04" → "0.0001").
 std::string FormatNumber(double v);
 
+/// Writes an output atomically (framework/files.h: a temporary file beside it, renamed when complete, so a failure
+/// or an interrupted run keeps the old file). False after printing "PROGRAM: <what> PATH: <reason>" on stderr.
+bool WriteOutputFile(const std::string& program, const std::string& path, const std::string& content, const std::string& what);
+
+/// Exactly `n` finite numbers separated by commas: no empty item, no junk, no trailing comma; nullopt otherwise.
+std::optional<std::vector<double>> ParseNumberList(const std::string& text, int n);
+
 class CommandLine {
  public:
   CommandLine(std::string program, std::string summary) : program_(std::move(program)), summary_(std::move(summary)) {}
@@ -33,11 +40,15 @@ class CommandLine {
   std::string Get(const std::string& name) const;
   double GetDouble(const std::string& name) const;
   int GetInt(const std::string& name) const;
+  /// Exactly `n` finite numbers separated by commas (`form` names them, e.g. "weight,kp,kd"): no empty item, no
+  /// trailing junk or comma. std::invalid_argument "PROGRAM: --NAME expects N numbers FORM, got 'VALUE'" otherwise.
+  std::vector<double> GetNumbers(const std::string& name, int n, const std::string& form) const;
   bool GetFlag(const std::string& name) const;
   std::string Help() const;
-  /// Checks, before a long run, that the output options can be written: each of `files` (when not empty) can be
-  /// created or appended to (an existing file is left as it is), each of `folders` (when not empty) exists or can
-  /// be created. Throws std::invalid_argument "PROGRAM: --NAME: cannot write 'PATH' ..." naming the first that fails.
+  /// Checks, before a long run, that the output options can be written: each of `files` (when not empty) is not a
+  /// folder and its folder exists and is writable (nothing is created or opened), no two of them name the same file,
+  /// and each of `folders` (when not empty) exists or can be created. Throws std::invalid_argument
+  /// "PROGRAM: --NAME: ..." naming the first that fails.
   void CheckOutputs(std::initializer_list<const char*> files, std::initializer_list<const char*> folders) const;
 
  private:

@@ -127,6 +127,9 @@ int main(int argc, char** argv) {
     if (!(landing_blend >= 1e-3 && landing_blend <= 10.0))
       throw std::invalid_argument("--landing-blend " + cli.Get("landing-blend") + ": must be in [0.001, 10] s");
     if (hops < 1 || hops > 1000) throw std::invalid_argument("--hops " + cli.Get("hops") + ": must be in [1, 1000]");
+    const double duration_s = cli.GetDouble("duration");  // here, inside the try: nan, inf or junk is bad input
+    if (!(duration_s >= 0.0 && duration_s <= 3600.0))
+      throw std::invalid_argument("--duration " + cli.Get("duration") + ": must be in [0, 3600] s (0: until the robot rests)");
     try {
       variant = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
     } catch (const std::exception&) {
@@ -400,18 +403,8 @@ int main(int argc, char** argv) {
                            {"guard_events", stats.guard_events},
                            {"discrete_samples", stats.discrete_samples},
                            {"wall_s", wall}};
-  if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << summary.dump(2) << "\n";
-  if (!cli.Get("log").empty()) {
-    std::ofstream out(cli.Get("log"));
-    const std::vector<std::string> names = d.logger->ColumnNames();
-    for (size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << names[i];
-    out << "\n";
-    for (size_t k = 0; k < log.times.size(); ++k) {
-      out << log.times[k];
-      for (int i = 0; i < log.samples[k].size(); ++i) out << "," << log.samples[k][i];
-      out << "\n";
-    }
-  }
+  if (!cli.Get("summary").empty() && !examples::WriteOutputFile("hopping", cli.Get("summary"), summary.dump(2) + "\n", "summary")) return 1;
+  if (!cli.Get("log").empty() && !examples::WriteOutputFile("hopping", cli.Get("log"), d.logger->CsvText(d.diagram->GetSubsystemContext(*d.logger, sim.get_context())), "log")) return 1;
   if (animation) {
     std::string error;
     if (!animation->WriteHtml(cli.Get("animation"), "ROME hopping, Cassie", {}, &error)) std::cerr << "hopping: " << error << "\n";

@@ -185,10 +185,8 @@ int main(int argc, char** argv) {
     const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
     auto gains = [&](const std::string& flag, TaskGains* g) {
       if (cli.Get(flag) == "default") return;
-      std::istringstream in(cli.Get(flag));
-      char comma1 = 0, comma2 = 0;
-      if (!(in >> g->weight >> comma1 >> g->kp >> comma2 >> g->kd) || comma1 != ',' || comma2 != ',')
-        throw std::invalid_argument("stepping_stones: --" + flag + " must be weight,kp,kd, got '" + cli.Get(flag) + "'");
+      const std::vector<double> v = cli.GetNumbers(flag, 3, "weight,kp,kd");
+      *g = {v[0], v[1], v[2]};
     };
     gains("torso-gains", &params.torso_gains);
     gains("com-gains", &params.com_height_gains);
@@ -409,11 +407,8 @@ int main(int argc, char** argv) {
     nlohmann::json stone_list = nlohmann::json::array();
     for (const auto& st : terrain.stones()) stone_list.push_back({st.x_center_m, st.top_height_m, st.length_m});
     summary["stones"] = stone_list;
-    if (!cli.Get("summary").empty()) {
-      std::ofstream out(cli.Get("summary"));
-      if (!out) throw std::runtime_error("stepping_stones: cannot write summary '" + cli.Get("summary") + "'");
-      out << summary.dump(2) << "\n";
-    }
+    if (!cli.Get("summary").empty() && !examples::WriteOutputFile("stepping_stones", cli.Get("summary"), summary.dump(2) + "\n", "summary"))
+      return 1;
     if (!cli.Get("log").empty()) d.logger->WriteCsv(log_ctx, cli.Get("log"));
     if (animation) {
       std::vector<examples::AnimationStone> stones;

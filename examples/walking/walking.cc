@@ -25,6 +25,7 @@
 #include "examples/common/plot.h"
 #include "examples/common/stick_figure.h"
 #include "framework/simulator.h"
+#include "framework/text.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "systems/multibody/multibody_kinematics.h"
 
@@ -35,21 +36,9 @@ namespace {
 // L,T_SSP,T_DSP[,W] from --flag: `n` numbers, each inside [lo, hi] (one line naming the flag, the value and the range).
 WalkingGait ParseGaitNumbers(const std::string& flag, const std::string& text, int n, const double* lo, const double* hi) {
   const std::string form = n == 4 ? "L,T_SSP,T_DSP,W" : "L,T_SSP,T_DSP";
-  std::vector<double> v;
-  std::stringstream ss(text);
-  std::string item;
-  if (!text.empty() && text.back() == ',') throw std::invalid_argument("walking: --" + flag + " expects " + form + " (numbers), got '" + text + "'");
-  while (std::getline(ss, item, ',')) {
-    try {
-      size_t used = 0;
-      v.push_back(std::stod(item, &used));
-      if (used != item.size()) throw std::invalid_argument(item);
-    } catch (const std::exception&) {
-      throw std::invalid_argument("walking: --" + flag + " expects " + form + " (numbers), got '" + text + "'");
-    }
-  }
-  if (static_cast<int>(v.size()) != n)
-    throw std::invalid_argument("walking: --" + flag + " expects " + std::to_string(n) + " numbers " + form + ", got '" + text + "'");
+  const std::optional<std::vector<double>> parsed = examples::ParseNumberList(text, n);
+  if (!parsed) throw std::invalid_argument("walking: --" + flag + " expects " + std::to_string(n) + " numbers " + form + ", got '" + text + "'");
+  const std::vector<double>& v = *parsed;
   const char* names[4] = {"step length L", "T_SSP", "T_DSP", "step width W"};
   const char* units[4] = {"m", "s", "s", "m"};
   for (int i = 0; i < n; ++i)
@@ -482,11 +471,12 @@ int main(int argc, char** argv) {
   const double mg = model->total_mass() * 9.81;
   MultibodyWorkspace ws(*model);
   const int right_foot = model->BodyIndex("right_foot");
-  std::ofstream log;
-  if (!cli.Get("log").empty()) {
-    log.open(cli.Get("log"));
+  // The log is kept in memory and written atomically at the end: an existing log survives a failed or interrupted run.
+  std::ostringstream log;
+  const bool logging = !cli.Get("log").empty();
+  if (logging) {
     log << "t,mode,com_x,com_y,com_z,com_des_x,com_des_y,com_des_z,fz_left,fz_right,fz_ref_left,fz_ref_right,right_ankle_x,right_ankle_y,right_ankle_z,right_ankle_des_x,right_ankle_des_y,right_ankle_des_z,right_ankle_des_ax,V,delta,qp_status,left_ankle_x,left_ankle_y,left_ankle_z,left_ankle_des_x,left_ankle_des_y,left_ankle_des_z,pelvis_roll,pelvis_pitch,pelvis_yaw,qp_fz_left,qp_fz_right,fallback_band,fallback_cop,fallback_hold,right_sole_height";
-    for (const ActuatorInfo& a : model->actuators()) log << ",u_" << a.joint << ",q_" << a.joint;
+    for (const ActuatorInfo& a : model->actuators()) log << "," << CsvCell("u_" + a.joint) << "," << CsvCell("q_" + a.joint);
     log << '\n';
   }
   long tick = -1, band_ticks = 0, band_in = 0, n_err = 0;
@@ -566,10 +556,10 @@ int main(int argc, char** argv) {
         ++band_ticks;
       }
     }
-    if (log.is_open())
+    if (logging)
       log << t << ',' << mode << ',' << com.x() << ',' << com.y() << ',' << com.z() << ',' << r.com_position.x() << ',' << r.com_position.y() << ','
           << r.com_position.z() << ',' << f[2] << ',' << f[5] << ',' << r.normal_force[0] << ',' << r.normal_force[1];
-    if (log.is_open()) {
+    if (logging) {
       const Eigen::Vector3d ankle = CalcLinkPose(*model, ws, q, right_foot).translation();
       Eigen::Vector3d p, v, a;
       d.outputs->SwingFoot(1, t, p, v, a);
@@ -687,7 +677,8 @@ int main(int argc, char** argv) {
   s["realtime_factor"] = wall > 0 ? t_end / wall : 0.0;
   s["simulated_s"] = t_end;
   s["plant"] = ToString(plant_kind);
-  if (!cli.Get("summary").empty()) std::ofstream(cli.Get("summary")) << s.dump(2) << "\n";
+  if (!cli.Get("summary").empty() && !examples::WriteOutputFile("walking", cli.Get("summary"), s.dump(2) + "\n", "summary")) return 1;
+  if (logging && !examples::WriteOutputFile("walking", cli.Get("log"), log.str(), "log")) return 1;
   if (!cli.Get("plots").empty()) WritePlots(cli.Get("plots"), *model, rom_plan, nlp, band, mg, scenario, t_stop, t_s, {cx, cxd, cy, cyd, cz, czd},
                                             {vx, vxd, vy, vyd, vz, vzd}, {fl, fl_ref, fr, fr_ref}, poses);
   if (animation) {

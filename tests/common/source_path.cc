@@ -1,6 +1,9 @@
 #include "tests/common/source_path.h"
 
+#include <cstdlib>
 #include <stdexcept>
+
+#include "framework/files.h"
 
 namespace rome::test {
 
@@ -14,6 +17,29 @@ std::string SourcePath(std::string_view relative) {
   path.append(root);
   path.push_back('/');
   path.append(relative);
+  return path;
+}
+
+const std::string& ScratchDir() {
+  static const TempFolder folder("rome-test");
+  return folder.path();
+}
+
+std::string TestPlanCacheDir(std::string_view name) {
+  std::string path;
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  const char* home = std::getenv("HOME");
+  if (xdg != nullptr && *xdg == '/') {
+    path.append(xdg);
+    path.append("/rome/test_plans/");
+  } else if (home != nullptr && *home == '/') {
+    path.append(home);
+    path.append("/.cache/rome/test_plans/");
+  } else {
+    path.append(ROME_BINARY_DIR);
+    path.append("/test_cache/");
+  }
+  path.append(name);
   return path;
 }
 

@@ -17,7 +17,7 @@ TEST(AnimationRecorder, VisualsAndDecimation) {
   for (int k = 0; k <= 1000; ++k) rec.Record(k * 1e-3, Eigen::VectorXd::Constant(1, 0.001 * k), "free", Eigen::VectorXd::Zero(0));
   // Samples every 1 ms, a frame at least 1/60 s after the previous: frames 17 ms apart, 0 ... 986 ms.
   EXPECT_EQ(rec.num_frames(), 1000 / 17 + 1);
-  const std::string path = ::testing::TempDir() + "/visual_slider.html";
+  const std::string path = rome::test::ScratchDir() + "/visual_slider.html";
   std::string error;
   ASSERT_TRUE(rec.WriteHtml(path, "visuals", {}, &error)) << error;
   std::stringstream page;
@@ -33,7 +33,7 @@ TEST(AnimationRecorder, VisualsAndDecimation) {
 TEST(AnimationRecorder, UnwritablePathIsNamed) {
   std::string error;
   EXPECT_FALSE(AnimationRecorder::CheckWritable("/proc/no/such/page.html", &error));
-  EXPECT_EQ(error, "cannot write the animation '/proc/no/such/page.html' (check the folder exists and is writable)");
+  EXPECT_EQ(error, "animation /proc/no/such/page.html: the folder /proc/no/such does not exist");
 }
 
 }  // namespace

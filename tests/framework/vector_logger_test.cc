@@ -9,6 +9,7 @@
 
 #include "framework/simulator.h"
 #include "systems/classic/bouncing_ball.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -27,7 +28,7 @@ TEST(VectorLogger, PeriodicSamplesMatchClosedForm) {
     EXPECT_NEAR(t, 0.01 * k, 1e-15);
     EXPECT_NEAR(data.samples[k][0], 1.0 - 0.5 * 9.81 * t * t, 1e-7);
   }
-  const std::string path = ::testing::TempDir() + "/ball.csv";
+  const std::string path = rome::test::ScratchDir() + "/ball.csv";
   logger->WriteCsv(d->GetSubsystemContext(*logger, sim.get_context()), path);
   std::ifstream in(path);
   std::string header, first;

@@ -31,6 +31,7 @@
 #include "systems/multibody/multibody_kinematics.h"
 #include "tests/common/sanitizer_scale.h"
 #include "tests/systems/controllers/amber_test_setup.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -47,7 +48,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
                     Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}) {
   const bool full_run = until == RunUntil::kPlanEnd;
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());  // not the source tree
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   // Feet side by side (stagger 0, the default: through the start gait) or a step stance (StandToWalkParams::StepStance).
   StandToWalkParams stand = stagger_m > 0 ? StandToWalkParams::StepStance(stagger_m) : StandToWalkParams{};
   stand.sole = SoleOf(*model, "left_foot");
@@ -314,7 +315,7 @@ TEST(WalkingDiagram, StandToWalkGaitWithNoPoseForItsDirectPlanGoesThroughTheLead
 // steps last the lead-in's T_SSP and T_DSP, and the plan ends with the requested gait's.
 TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   const WalkingGait quick{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20};
@@ -384,7 +385,7 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
 // standing → start gait (6 single supports of its 0.50 s) → gait A, from both feet at x = 0.
 TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   ASSERT_EQ(stand.stance_stagger_m, 0.0);
@@ -448,7 +449,7 @@ TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
 // start gait is planned instead.
 TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) {
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   stand.lead_in_step_length_m = 0.45;
@@ -483,7 +484,7 @@ TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) 
 // walking_plan_inverse_dynamics_test.
 TEST(WalkingDiagram, PlanInverseDynamicsFindsTheGaitWhosePlanExceedsTheTorqueLimits) {
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   const WalkingDiagramParams params;
@@ -565,7 +566,7 @@ TEST(WalkingDiagram, GaitBOnItsOrbitWalksWithPhysicalContactForces) {
 // further; the hybrid plant's runs above are the acceptance.
 TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForcesAndLiftsTheTrailingFoot) {
   auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_diagram_test_plans").string());
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   const WalkingPlan plan = BuildStandToWalkPlan(WalkingGait{}, 4, 1, &cache, nullptr, stand);

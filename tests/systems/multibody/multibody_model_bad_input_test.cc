@@ -10,6 +10,7 @@
 
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_model.h"
+#include "tests/common/source_path.h"
 #include "tests/systems/multibody/test_models.h"
 
 namespace rome {
@@ -25,7 +26,7 @@ std::string ReadText(const std::string& path) {
 class BadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
+    dir_ = std::filesystem::path(rome::test::ScratchDir()) /
            ("rome_bad_input_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(dir_);

@@ -13,6 +13,7 @@
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_model.h"
 #include "tests/systems/multibody/test_models.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -132,7 +133,7 @@ TEST(MultibodyModelMergingTest, MovingJointCarryingOnlyMasslessLinksIsRejected) 
   EXPECT_NE(what.find("singular"), std::string::npos) << what;
   EXPECT_EQ(what.find("kinematics only"), std::string::npos) << what;
   // A URDF without any <inertial> (a kinematics-only arm description) is told so.
-  const std::string path = ::testing::TempDir() + "/rome_kinematics_only.urdf";
+  const std::string path = rome::test::ScratchDir() + "/rome_kinematics_only.urdf";
   std::ofstream(path) << R"(<robot name="k"><link name="a"/><link name="b"/>
     <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>)";
@@ -202,7 +203,7 @@ TEST(MultibodyModelMergingTest, NonPhysicalInertiaWeldedIntoANonPhysicalBodyIsRe
 
 TEST(MultibodyModelMergingTest, NearlySingularInertiaOfTheIssue) {
   // Principal moments -3.5e-8 against 9e-8: a real violation, not rounding.
-  const std::string dir = ::testing::TempDir();
+  const std::string dir = rome::test::ScratchDir();
   const std::string path = dir + "/rome_negative_moment.urdf";
   std::ofstream(path) << R"(<robot name="r"><link name="a"><inertial><mass value="1"/>
     <inertia ixx="9e-8" ixy="0" ixz="0" iyy="9e-8" iyz="0" izz="-3.5e-8"/></inertial></link></robot>)";
@@ -223,7 +224,7 @@ TEST(MultibodyModelMergingTest, RoundingNoiseInertiaIsAPointMass) {
   for (const double q : {0.0, 0.7, -2.1})
     EXPECT_NEAR(CalcMassMatrix(model, ws, Eigen::VectorXd::Constant(1, q))(0, 0), 0.5 * 0.4 * 0.4, 1e-15);
   // The floor does not hide a real violation at the same mass: moments -1e-9 against 1e-9.
-  const std::string path = ::testing::TempDir() + "/rome_dust_inertia.urdf";
+  const std::string path = rome::test::ScratchDir() + "/rome_dust_inertia.urdf";
   std::ofstream(path) << R"(<robot name="r"><link name="a"><inertial><mass value="0.5"/>
     <inertia ixx="1e-9" ixy="0" ixz="0" iyy="1e-9" iyz="0" izz="-1e-9"/></inertial></link></robot>)";
   const std::string what = LoadError(path);
@@ -296,7 +297,7 @@ TEST(MultibodyModelMergingTest, RobotsAndTestModelsMatchTheirFixedJointsTurnedRe
     std::ifstream in(path);
     std::string urdf((std::istreambuf_iterator<char>(in)), {});
     if (urdf.find("type=\"fixed\"") == std::string::npos) continue;
-    const std::string dir = ::testing::TempDir();
+    const std::string dir = rome::test::ScratchDir();
     const std::string welded_path = dir + "/rome_welded.urdf", hinged_path = dir + "/rome_hinged.urdf";
     std::ofstream(welded_path) << urdf;
     std::string hinged = urdf;
@@ -325,7 +326,7 @@ TEST(MultibodyModelMergingTest, RobotsAndTestModelsMatchTheirFixedJointsTurnedRe
 TEST(MultibodyModelMergingTest, MasslessIntermediateLinkOfAUniversalJoint) {
   // hip_roll (no <inertial>) only connects two joint axes; M stays regular and Bullet's ABA
   // agrees with the CRBA mass matrix.
-  const std::string path = ::testing::TempDir() + "/rome_universal.urdf";
+  const std::string path = rome::test::ScratchDir() + "/rome_universal.urdf";
   std::ofstream(path) << R"(<robot name="u">
     <link name="base"><inertial><mass value="3"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
     <joint name="roll" type="continuous"><parent link="base"/><child link="hip_roll"/><axis xyz="1 0 0"/></joint>
@@ -347,8 +348,8 @@ TEST(MultibodyModelMergingTest, MasslessIntermediateLinkOfAUniversalJoint) {
 }
 
 TEST(MultibodyModelMergingTest, MasslessFloatingRobotIsRejected) {
-  const std::string urdf = ::testing::TempDir() + "/rome_ghost.urdf";
-  const std::string sidecar = ::testing::TempDir() + "/rome_ghost.rome.json";
+  const std::string urdf = rome::test::ScratchDir() + "/rome_ghost.urdf";
+  const std::string sidecar = rome::test::ScratchDir() + "/rome_ghost.rome.json";
   std::ofstream(urdf) << R"(<robot name="ghost"><link name="a"/></robot>)";
   std::ofstream(sidecar) << R"({"floating_base": "planar"})";
   try {

@@ -28,7 +28,7 @@ std::string ReadText(const std::string& path) {
 class ModelFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
+    dir_ = std::filesystem::path(rome::test::ScratchDir()) /
            ("rome_mb_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::create_directories(dir_);

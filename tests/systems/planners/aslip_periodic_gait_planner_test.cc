@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "tests/common/sanitizer_scale.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
@@ -125,7 +126,7 @@ TEST(AslipPeriodicGaitPlanner, ConvergesFromRandomGuessesAndMeetsEveryConstraint
 }
 
 TEST(AslipPeriodicGaitPlanner, CachedPlanIsReusedOnlyForTheSameParameters) {
-  const std::string dir = ::testing::TempDir() + "/aslip_plan_cache_test";
+  const std::string dir = rome::test::ScratchDir() + "/aslip_plan_cache_test";
   std::filesystem::remove_all(dir);
   const PlanCache cache(dir);
   AslipPeriodicGaitParams params;

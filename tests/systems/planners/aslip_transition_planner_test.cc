@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "systems/rom/hybrid_linear_inverted_pendulum.h"
+#include "tests/common/source_path.h"
 
 #include <algorithm>
 #include <cmath>
@@ -105,7 +106,7 @@ TEST(AslipTransitionPlanner, StandingToGaitA) {
   d.initial_state = AslipTransitionPlanner::StandingState(gait_a.aslip, 0.9);
   d.final_state = a.collocation.phases[0].states.col(gait_a.nodes_per_domain - 1);  // left stance, landing at +l
   d.lifting_leg = 1;
-  const std::string dir = ::testing::TempDir() + "/aslip_transition_cache_test";
+  const std::string dir = rome::test::ScratchDir() + "/aslip_transition_cache_test";
   std::filesystem::remove_all(dir);
   const PlanCache cache(dir);
   const AslipTransition t = planner.Solve(d, &cache);

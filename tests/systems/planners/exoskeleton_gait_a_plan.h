@@ -11,6 +11,7 @@
 #include "systems/planners/aslip_periodic_gait_planner.h"
 #include "systems/planners/walking_output_reference.h"
 #include "systems/planners/walking_plan.h"
+#include "tests/common/source_path.h"
 
 namespace rome::test {
 
@@ -19,7 +20,7 @@ inline WalkingPlan ExoskeletonGaitAPlan(const std::string& cache_name) {
   gp.height_min = 0.84;
   gp.height_max = 0.90;
   const AslipPeriodicGaitPlanner planner(gp);
-  const PlanCache cache((std::filesystem::temp_directory_path() / cache_name).string());
+  const PlanCache cache(TestPlanCacheDir(cache_name));
   const AslipPeriodicGait gait = planner.Solve(1, &cache);
   EXPECT_TRUE(gait.success());
   WalkingPlan plan;

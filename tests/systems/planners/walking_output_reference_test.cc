@@ -4,6 +4,7 @@
 // it keeps descending at that speed; velocities and accelerations equal central finite differences of the position;
 // the COM rows pass the input through, the pelvis rows are 0.
 #include "systems/planners/walking_output_reference.h"
+#include "tests/common/source_path.h"
 
 #include <cmath>
 #include <filesystem>
@@ -15,7 +16,7 @@ namespace {
 
 TEST(WalkingOutputReference, SwingFootMeetsItsBoundaryConditionsAndIsSmooth) {
   const AslipPeriodicGaitPlanner planner;
-  const PlanCache cache((std::filesystem::temp_directory_path() / "rome_walking_output_reference_test_plans").string());  // not the source tree
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_output_reference_test_plans"));
   const AslipPeriodicGait gait = planner.Solve(2, &cache);
   ASSERT_TRUE(gait.success());
   WalkingPlan plan;

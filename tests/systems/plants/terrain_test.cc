@@ -1,4 +1,5 @@
 #include "systems/plants/terrain.h"
+#include "tests/common/source_path.h"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +25,7 @@ TEST(Terrain, StonesLookup) {
 }
 
 TEST(Terrain, CsvErrorsNameFileAndLine) {
-  const std::string path = ::testing::TempDir() + "/stones.csv";
+  const std::string path = rome::test::ScratchDir() + "/stones.csv";
   {
     std::ofstream f(path);
     f << "x,z,length\n0,0,0.3\n0.5,0.1\n1.0,abc\n";
@@ -54,7 +55,7 @@ namespace rome {
 namespace {
 
 std::string WriteTemp(const std::string& name, const std::string& text) {
-  const std::string path = std::string(::testing::TempDir()) + "/" + name;
+  const std::string path = rome::test::ScratchDir() + "/" + name;
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
@@ -76,17 +77,17 @@ TEST(TerrainCsv, BomCarriageReturnsAndHeaders) {
 }
 
 TEST(TerrainCsv, EveryErrorNamesTheLineAndTheField) {
-  EXPECT_EQ(ErrorOf(WriteTemp("typo.csv", "O,0\n0.4,0\n")), "terrain file '" + ::testing::TempDir() + "/typo.csv' line 1: expected 'x,z[,length]' numbers, got 'O,0'");
+  EXPECT_EQ(ErrorOf(WriteTemp("typo.csv", "O,0\n0.4,0\n")), "terrain file '" + rome::test::ScratchDir() + "/typo.csv' line 1: expected 'x,z[,length]' numbers, got 'O,0'");
   EXPECT_NE(ErrorOf(WriteTemp("nan.csv", "0,0\n0.4,nan\n")).find("line 2: z must be finite"), std::string::npos);
   EXPECT_NE(ErrorOf(WriteTemp("inf.csv", "0,0,inf\n")).find("line 1: length must be finite and at least 1e-06 m"), std::string::npos);
   EXPECT_NE(ErrorOf(WriteTemp("overlap.csv", "0,0\n# gap\n0.4,0.1\n0.45,0.1\n")).find("the stones of lines 3 and 4 overlap"), std::string::npos);
-  EXPECT_NE(ErrorOf(::testing::TempDir()).find("is a directory"), std::string::npos);
+  EXPECT_NE(ErrorOf(rome::test::ScratchDir()).find("is a directory"), std::string::npos);
   EXPECT_NE(ErrorOf(WriteTemp("empty.csv", "# nothing\n")).find("has no stones"), std::string::npos);
   const std::string binary = ErrorOf(WriteTemp("binary.csv", std::string("0,0\n\x01\x02,\xff") + std::string(10000, 'x') + "\n"));
   EXPECT_NE(binary.find("\\x01\\x02"), std::string::npos) << binary;
   EXPECT_LT(binary.size(), 250u);
   // The file's path is untrusted text too: a newline and a control byte in it are escaped, a 10,000-character path cut.
-  const std::string odd_path = ErrorOf(::testing::TempDir() + "/no\nsuch\x07" "file.csv");
+  const std::string odd_path = ErrorOf(rome::test::ScratchDir() + "/no\nsuch\x07" "file.csv");
   EXPECT_EQ(odd_path.find('\n'), std::string::npos) << odd_path;
   EXPECT_NE(odd_path.find("no\\x0Asuch\\x07file.csv' cannot be opened"), std::string::npos) << odd_path;
   const std::string long_path = ErrorOf(std::string(10000, 'p') + ".csv");
