@@ -1,5 +1,7 @@
 #include "framework/simulator.h"
 
+#include "framework/interrupt.h"
+
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
@@ -20,6 +22,7 @@ SimulatorStatus::Kind SimulatorStatus::kind() const {
     case Reason::kReachedTermination: return Kind::kSuccess;
     case Reason::kFailed:
     case Reason::kZeno: return Kind::kFailure;
+    case Reason::kInterrupted: return Kind::kInterrupted;
     case Reason::kReachedBoundaryTime: break;
   }
   return Kind::kLimit;
@@ -29,6 +32,7 @@ std::string SimulatorStatus::kind_name() const {
   switch (kind()) {
     case Kind::kSuccess: return "success";
     case Kind::kFailure: return "failure";
+    case Kind::kInterrupted: return "interrupted";
     case Kind::kLimit: break;
   }
   return "limit";
@@ -41,6 +45,7 @@ std::string SimulatorStatus::ToString() const {
     case Reason::kReachedTermination: os << "terminated"; break;
     case Reason::kZeno: os << "Zeno behaviour"; break;
     case Reason::kFailed: os << "failed"; break;
+    case Reason::kInterrupted: os << "interrupted"; break;
   }
   os << " at t = " << time << " s";
   if (!system.empty()) os << " (system '" << system << "')";
@@ -488,6 +493,8 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
   while (true) {
     double t = context_->time();
     if (t >= t_final || SameTime(t, t_final)) break;
+    if (const int signal = InterruptSignal(); signal != 0)
+      return finish(SimulatorStatus::Reason::kInterrupted, "", "signal " + std::to_string(signal));
 
     // (a) Periodic events due now.
     double next_sample = std::numeric_limits<double>::infinity();

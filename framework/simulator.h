@@ -101,18 +101,19 @@ struct SimulatorStatistics {
 };
 
 struct SimulatorStatus {
-  enum class Reason { kReachedBoundaryTime, kReachedTermination, kZeno, kFailed };
+  enum class Reason { kReachedBoundaryTime, kReachedTermination, kZeno, kFailed, kInterrupted };
   /// kSuccess: a system ended the run because its goal was reached (ReachedTermination). kFailure: a system failed
   /// (EventStatus::Failed: fell, slipped, solver gave up), a non-finite state, Zeno, or an integrator error. kLimit:
-  /// the run stopped at t_final (or a step limit) without either verdict.
-  enum class Kind { kSuccess, kFailure, kLimit };
+  /// the run stopped at t_final (or a step limit) without either verdict. kInterrupted: SIGINT or SIGTERM arrived
+  /// (framework/interrupt.h) and the run stopped at its next step.
+  enum class Kind { kSuccess, kFailure, kLimit, kInterrupted };
   Reason reason = Reason::kReachedBoundaryTime;
   double time = 0;
   std::string system;   ///< The system that ended the run, if any.
   std::string message;  ///< Human-readable reason.
   bool ok() const { return reason == Reason::kReachedBoundaryTime; }
   Kind kind() const;
-  /// "success", "failure" or "limit".
+  /// "success", "failure", "limit" or "interrupted".
   std::string kind_name() const;
   std::string ToString() const;
 };

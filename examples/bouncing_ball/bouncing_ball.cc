@@ -17,6 +17,7 @@
 #include "framework/simulator.h"
 #include "framework/vector_logger.h"
 #include "systems/classic/bouncing_ball.h"
+#include "framework/interrupt.h"
 
 using namespace rome;
 
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   try {
     if (!cli.Parse(argc, argv)) return 0;
+    InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
     BouncingBallParams params;
     params.restitution = cli.GetDouble("restitution");
     params.initial_height = cli.GetDouble("height");
@@ -123,6 +125,10 @@ int main(int argc, char** argv) {
               << impacts.size() << " impacts; largest impact-time error against the closed form: " << max_err << " s\n"
               << sim.statistics().steps << " integrator steps, " << sim.statistics().rhs_evals << " right-hand-side evaluations, " << wall * 1e3
               << " ms wall time\n";
+    if (const int signal = InterruptSignal(); signal != 0) {
+      std::cout << "result: interrupted (" << status.ToString() << "); outputs written up to there\n";
+      return 128 + signal;
+    }
     // The run is meant to reach its duration: a limit is success here; a failure (Zeno, non-finite state) is not.
     if (status.kind() == SimulatorStatus::Kind::kFailure) {
       std::cout << "result: failed run (" << status.ToString() << ")\n";

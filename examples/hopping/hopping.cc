@@ -26,6 +26,7 @@
 #include "systems/multibody/robot_files.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "systems/rom/cassie_leg_stiffness.h"
+#include "framework/interrupt.h"
 
 using namespace rome;
 
@@ -95,6 +96,7 @@ int main(int argc, char** argv) {
   SpringMassLandingParams landing_params;
   try {
     if (!cli.Parse(argc, argv)) return 0;
+    InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
     plant_kind = ParsePlantKind(cli.Get("plant"), "--plant");
     substeps = cli.GetInt("bullet-substeps");
     if (substeps < 1 || substeps > 100) throw std::invalid_argument("--bullet-substeps " + cli.Get("bullet-substeps") + ": must be in [1, 100]");
@@ -481,5 +483,6 @@ int main(int argc, char** argv) {
             << " us; real-time factor " << summary["realtime_factor"] << "\n  plant contact violations " << contact.violations << " ("
             << contact.samples << " samples)" << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n "
             << contact.max_friction_ratio << "\n";
+  if (const int signal = InterruptSignal(); signal != 0) return 128 + signal;
   return ok ? 0 : 3;
 }

@@ -26,6 +26,7 @@
 #include "framework/simulator.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/contact_force_statistics.h"
+#include "framework/interrupt.h"
 
 using namespace rome;
 
@@ -159,6 +160,7 @@ int main(int argc, char** argv) {
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
   try {
     if (!cli.Parse(argc, argv)) return 0;
+    InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
     const int steps = cli.GetInt("steps");
     // Ranges (ours): bounded work and physically meaningful gaits; each error names the option and the value.
     auto in_range = [&](const std::string& name, double lo, double hi, bool lo_open) {
@@ -500,6 +502,10 @@ int main(int argc, char** argv) {
               << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
               << "plant contact forces: min stance F_n " << summary["min_stance_normal_force_N"].get<double>() << " N, max |F_t|/F_n "
               << contact.max_friction_ratio << ", violations " << contact.violations << " of " << contact.samples << " samples\n";
+    if (const int signal = InterruptSignal(); signal != 0) {
+      std::cout << "result: interrupted (" << status.ToString() << "); outputs written up to there\n";
+      return 128 + signal;
+    }
     if (success) {
       std::cout << "result: success (" << status.message << ")\n";
       return 0;

@@ -28,6 +28,7 @@
 #include "framework/text.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "systems/multibody/multibody_kinematics.h"
+#include "framework/interrupt.h"
 
 using namespace rome;
 
@@ -273,6 +274,7 @@ int main(int argc, char** argv) {
   PlantKind plant_kind = PlantKind::kHybrid;
   try {
     if (!cli.Parse(argc, argv)) return 0;
+    InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
     plant_kind = ParsePlantKind(cli.Get("plant"), "walking: --plant");
     if (cli.Get("joint-limits") != "on" && cli.Get("joint-limits") != "off")
       throw std::invalid_argument("walking: --joint-limits must be 'on' or 'off', got '" + cli.Get("joint-limits") + "'");
@@ -616,7 +618,7 @@ int main(int argc, char** argv) {
   const Eigen::VectorXd& fb = d.controller->EvalOutput(cc, "fallbacks");
   nlohmann::json s;
   s["success"] = success;
-  s["status_kind"] = fell ? "failed" : "limit";
+  s["status_kind"] = status.kind() == SimulatorStatus::Kind::kInterrupted ? "interrupted" : fell ? "failed" : "limit";
   s["status"] = status.ToString();
   s["fell"] = fell;
   s["steps_completed"] = touchdowns;
@@ -691,5 +693,6 @@ int main(int argc, char** argv) {
             << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n  plant "
             << ToString(plant_kind) << ": contact violations " << contact.violations << " (" << contact.samples << " samples)"
             << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n " << contact.max_friction_ratio << "\n";
+  if (const int signal = InterruptSignal(); signal != 0) return 128 + signal;
   return success ? 0 : 3;
 }
