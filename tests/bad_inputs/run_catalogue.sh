@@ -40,6 +40,7 @@ awk 'BEGIN { printf "<robot name=\"deep\">"; for (i = 0; i < 200000; i++) printf
 awk 'BEGIN { for (i = 0; i < 1000000; i++) printf "%d,0,0.1\n", i }' > "$tmp/terrain_1M_stones.csv"
 mkdir -p "$tmp/a_folder"
 printf 'not a folder\n' > "$tmp/a_file"
+mkfifo "$tmp/terrain_fifo.csv"  # a terrain that would block a reader waiting for a writer
 
 entries=0; mismatches=0
 report() {  # report LINE_NO PROGRAM ARGS PROBLEM
