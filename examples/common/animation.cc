@@ -13,6 +13,7 @@
 #include "framework/files.h"
 #include "framework/text.h"
 #include "systems/multibody/multibody_kinematics.h"
+#include "systems/multibody/multibody_model.h"
 #include "systems/multibody/multibody_workspace.h"
 
 namespace rome::examples {
@@ -28,6 +29,17 @@ const Eigen::Matrix3d& ToThree() {
 void AppendVec(std::ostringstream& os, const Eigen::Vector3d& v) {
   const Eigen::Vector3d w = ToThree() * v;
   os << "[" << w.x() << "," << w.y() << "," << w.z() << "]";
+}
+
+// The URDF the model was loaded from, parsed again for its visual geometry and read as the loader reads it (only a
+// regular file, at most kMaxUrdfBytes). Null for a model loaded from text, or a file that can no longer be read: the
+// page then draws the bodies without their visuals.
+urdf::ModelInterfaceSharedPtr ParseVisualUrdf(const std::string& path) {
+  try {
+    return urdf::parseURDF(ReadRegularFile(path, "URDF", kMaxUrdfBytes));
+  } catch (const std::exception&) {
+    return nullptr;
+  }
 }
 
 std::string ReadThreeJs(const std::string& path, std::string* error) {
@@ -261,7 +273,7 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
   const MultibodyModel& model_ = *this->model_;
   // Visual geometry from the URDF (attached to the body its link was merged into).
   std::vector<std::string> visuals(model_.num_bodies());
-  if (urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDFFile(model_.urdf_path())) {
+  if (urdf::ModelInterfaceSharedPtr urdf = ParseVisualUrdf(model_.urdf_path())) {
     for (const auto& [name, link] : urdf->links_) {
       if (!model_.HasFrame(name)) continue;
       const MultibodyFrame& frame = model_.Frame(name);

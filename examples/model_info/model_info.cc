@@ -1,5 +1,6 @@
 // model_info: load a ROME robot (URDF + sidecar) and print a JSON summary.
-//   model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia]
+//   model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia] [--allow-files-outside-package]
+//   model_info ROBOT.rome.json [...]   (a sidecar alone: its "urdf" entry names the URDF, as for --robot)
 // Default sidecar: ROBOT.rome.json next to the URDF. Exits 1 with a one-line error naming the
 // file, the element and the problem for any bad input; never crashes.
 #include <chrono>
@@ -19,16 +20,22 @@
 namespace {
 
 void PrintHelp() {
-  std::cout << "usage: model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia]\n"
+  std::cout << "usage: model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia] [--allow-files-outside-package]\n"
+               "       model_info ROBOT.rome.json [--repair-inertia] [--allow-files-outside-package]\n"
                "Loads a ROME robot description (URDF + JSON sidecar; default sidecar is\n"
-               "ROBOT.rome.json next to the URDF) and prints JSON with dof, floating_base,\n"
+               "ROBOT.rome.json next to the URDF; a sidecar given alone names its URDF in its\n"
+               "\"urdf\" entry) and prints JSON with dof, floating_base,\n"
                "total_mass_kg, warnings (one line per merged link, massless frame, repaired\n"
                "inertia, ...), bodies (after merging fixed joints), frames (every URDF link),\n"
                "actuated_joints (with torque limits), spring_joints, contacts, loop_closures,\n"
                "load_time_ms and mass_matrix_condition at the nominal pose (omitted for a\n"
                "robot with 0 degrees of freedom, or when M is singular: see warnings).\n"
                "  --repair-inertia  project a non-physical <inertia> onto the nearest physical\n"
-               "                    one (with a warning) instead of rejecting the file\n";
+               "                    one (with a warning) instead of rejecting the file\n"
+               "  --allow-files-outside-package  for a package you trust: its sidecar may name\n"
+               "                    files outside its own folder (an absolute path, ../, a link)\n"
+               "A relative path is looked up in ROME's data folders; write ./PATH for a file in\n"
+               "the current folder.\n";
 }
 
 int Run(int argc, char** argv) {
@@ -44,6 +51,8 @@ int Run(int argc, char** argv) {
       sidecar = argv[++i];
     } else if (arg == "--repair-inertia") {
       options.repair_inertia = true;
+    } else if (arg == "--allow-files-outside-package") {
+      options.allow_files_outside_package = true;
     } else if (!arg.empty() && arg[0] == '-') {
       throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
     } else if (urdf.empty()) {
@@ -56,7 +65,10 @@ int Run(int argc, char** argv) {
 
   using rome::MultibodyModel;
   const auto t0 = std::chrono::steady_clock::now();
-  const MultibodyModel model = MultibodyModel::Load(urdf, sidecar, options);
+  const bool sidecar_alone = urdf.size() >= 5 && urdf.compare(urdf.size() - 5, 5, ".json") == 0;
+  if (sidecar_alone && !sidecar.empty())
+    throw std::invalid_argument("--sidecar: '" + urdf + "' is a sidecar already (it names its URDF); give ROBOT.urdf --sidecar FILE, or the sidecar alone");
+  const MultibodyModel model = sidecar_alone ? MultibodyModel::LoadFromSidecar(urdf, options) : MultibodyModel::Load(urdf, sidecar, options);
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   rome::MultibodyWorkspace ws(model);
   std::vector<std::string> warnings = model.warnings();

@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
               "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max) | clear (exact, and at least "
               "5 cm above the stance stone wherever the foot passes over it)")
       .Option("initial-com-x", "-0.1", "[m] COM position relative to the stance foot at the start (on the E* orbit)")
-      .Option("robot", "robots/amber/amber.rome.json", "planar robot sidecar (AMBER: point feet; planar Cassie: line feet)")
+      .Option("robot", "robots/amber/amber.rome.json", "planar robot sidecar (AMBER: point feet; planar Cassie: line feet; a relative path is looked up in ROME's data folders, ./PATH reads the current folder)")
       .Option("torso-gains", "default", "weight,kp,kd of the torso-pitch output (default: the robot's, SteppingStonesDiagramParams::ForRobot)")
       .Option("com-gains", "default", "weight,kp,kd of the COM-height output")
       .Option("swing-gains", "default", "weight,kp,kd of the swing-foot position output")

@@ -254,7 +254,7 @@ int main(int argc, char** argv) {
       .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
       .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
       .Option("seed", "1", "seed of the NLP initial guesses")
-      .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (run from the repository root)")
+      .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
       .Option("cache", "walking_plans", "directory of cached ROM plans")
       .Option("log", "", "CSV log file (empty: none)")
       .Option("summary", "", "JSON summary file (empty: none)")

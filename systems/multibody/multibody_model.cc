@@ -1,5 +1,6 @@
 #include "systems/multibody/multibody_model.h"
 #include "systems/multibody/robot_files.h"
+#include "framework/files.h"
 #include "framework/text.h"
 
 #include <algorithm>
@@ -9,10 +10,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <mutex>
-#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -126,28 +125,27 @@ size_t EditDistance(const std::string& a, const std::string& b) {
   return prev[b.size()];
 }
 
-std::string ReadFile(const std::string& path, const char* what, std::uintmax_t max_bytes) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": file does not exist");
-  if (std::filesystem::is_directory(path, ec))
-    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": is a directory, not a file");
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (!ec && size > max_bytes)
-    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": file is " + std::to_string(size) +
-                             " bytes; the limit is " + std::to_string(max_bytes) + " bytes");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": cannot be opened");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
-  if (text.size() > max_bytes)
-    throw std::runtime_error(std::string(what) + " " + Excerpt(path, 200) + ": file is larger than the limit of " +
-                             std::to_string(max_bytes) + " bytes");
-  return text;
+// A file a robot package names: `entry`, relative to `folder` (the folder of the file that names it), resolved inside
+// that folder tree; with options.allow_files_outside_package, anywhere (an absolute entry as given).
+std::string PackageFile(const std::string& folder, const std::string& entry, const std::string& what, const LoadOptions& options) {
+  if (entry.find('\0') != std::string::npos) throw std::runtime_error(what + " " + Excerpt(entry, 200) + ": contains a NUL byte");
+  if (options.allow_files_outside_package) {
+    if (entry.empty()) throw std::runtime_error(what + " '': the path is empty");
+    return std::filesystem::path(entry).is_absolute() ? entry : (std::filesystem::path(folder) / entry).string();
+  }
+  try {
+    return ResolveInsideFolder(folder, entry, what);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + " (allow_files_outside_package lifts this for a package you trust)");
+  }
 }
 
-// Text given in memory instead of a file: the same size cap as ReadFile.
+std::string FolderOf(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  return parent.empty() ? "." : parent.string();
+}
+
+// Text given in memory instead of a file: the same size cap as ReadRegularFile.
 const std::string& CheckTextSize(const std::string& text, const char* what, const std::string& name, std::uintmax_t max_bytes) {
   if (text.size() > max_bytes)
     throw std::runtime_error(std::string(what) + " " + Excerpt(name, 200) + ": text is " + std::to_string(text.size()) +
@@ -427,18 +425,17 @@ class MultibodyModelLoader {
       sidecar_required = sidecar_text != nullptr;
       if (!sidecar_text) sidecar_path.clear();
     } else if (sidecar_path.empty()) {
-      std::filesystem::path p(urdf_path);
-      std::string stem = p.stem().string();
-      sidecar_path = (p.parent_path() / (stem + ".rome.json")).string();
+      const std::string beside = std::filesystem::path(urdf_path).stem().string() + ".rome.json";
       std::error_code ec;
-      if (!std::filesystem::exists(sidecar_path, ec)) sidecar_path.clear();
+      if (std::filesystem::exists(std::filesystem::path(FolderOf(urdf_path)) / beside, ec))
+        sidecar_path = PackageFile(FolderOf(urdf_path), beside, ufile + ": its sidecar", options);
     } else {
       sidecar_required = true;
     }
     SidecarReader sc{sidecar_path};
     if (!sidecar_path.empty() || sidecar_required) {
       const std::string text = sidecar_text ? CheckTextSize(*sidecar_text, "sidecar", sidecar_path, kMaxUrdfBytes)
-                                            : ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
+                                            : ReadRegularFile(sidecar_path, "sidecar", kMaxUrdfBytes);
       try {
         sidecar = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
       } catch (const json::exception& e) {
@@ -462,7 +459,7 @@ class MultibodyModelLoader {
 
     // ---------------- URDF ----------------
     const std::string xml = urdf_text ? CheckTextSize(*urdf_text, "URDF", urdf_path, kMaxUrdfBytes)
-                                      : ReadFile(urdf_path, "URDF", kMaxUrdfBytes);
+                                      : ReadRegularFile(urdf_path, "URDF", kMaxUrdfBytes);
     CheckXmlEncoding(xml, urdf_path);
     CheckXmlDepth(xml, urdf_path);
     urdf::ModelInterfaceSharedPtr urdf_model;
@@ -1101,7 +1098,7 @@ MultibodyModel MultibodyModel::Load(const std::string& urdf_path, const std::str
 
 MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& given_sidecar_path, const LoadOptions& options) {
   const std::string sidecar_path = FindRobotFile(given_sidecar_path);
-  const std::string text = ReadFile(sidecar_path, "sidecar", kMaxUrdfBytes);
+  const std::string text = ReadRegularFile(sidecar_path, "sidecar", kMaxUrdfBytes);
   json j;
   try {
     j = json::parse(text, nullptr, true, true);
@@ -1109,10 +1106,11 @@ MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& given_sidecar_
     throw std::runtime_error("sidecar " + Excerpt(sidecar_path, 200) + ": malformed JSON: " + Excerpt(e.what(), 200));
   }
   SidecarReader sc{sidecar_path};
-  const std::string urdf = sc.String(j, "urdf", "top level");
-  const std::string urdf_path =
-      (std::filesystem::path(sidecar_path).parent_path() / urdf).string();
-  return MultibodyModelLoader::Load(urdf_path, sidecar_path, true, options);
+  const std::string what = "sidecar " + Excerpt(sidecar_path, 200) + ": \"urdf\"";
+  const std::string urdf_path = PackageFile(FolderOf(sidecar_path), sc.String(j, "urdf", "top level"), what, options);
+  // Both files are read once, here: what the loader checks is what was read.
+  const std::string xml = ReadRegularFile(urdf_path, what, kMaxUrdfBytes);
+  return MultibodyModelLoader::Load(urdf_path, sidecar_path, true, options, &xml, &text);
 }
 
 MultibodyModel MultibodyModel::LoadFromText(const std::string& urdf_xml, const std::string& sidecar_json,

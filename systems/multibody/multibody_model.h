@@ -51,6 +51,8 @@
 //    <= kMaxXmlDepth (checked before the XML parser runs), at most kMaxDofs degrees of freedom,
 //    lengths (joint origins, COMs, contact and loop-closure points) within +-kMaxLength_m,
 //    masses <= kMaxMass_kg. Names must be valid UTF-8.
+//  * Files: only regular files are read (a device, FIFO, socket or directory is refused at once), the size cap is
+//    checked while reading; a sidecar names files only inside its own folder tree (LoadOptions).
 // Warnings (merged links, massless frames, repaired inertias, ...) are in warnings().
 //
 // Equations of motion (all quantities in SI units):
@@ -115,6 +117,11 @@ struct LoadOptions {
   // Projects a non-physical <inertia> onto the nearest physical inertia (and warns) instead of
   // rejecting the file.
   bool repair_inertia = false;
+  // A robot package reads only regular files inside its own folder tree: the sidecar's "urdf" entry, and the sidecar
+  // found beside a URDF, must resolve (symlinks followed) inside the folder of the file that names them; an absolute
+  // path, a "../" that climbs out, or a link that points out is refused with one line. Set this only for a package
+  // you trust (its files then may lie anywhere; devices, FIFOs and directories are still refused).
+  bool allow_files_outside_package = false;
 };
 
 inline constexpr double kInertiaRelativeTolerance = 1e-6;
@@ -176,10 +183,12 @@ class MultibodyModel {
  public:
   // Loads URDF + sidecar. sidecar_path "" means: same directory and stem as the URDF with
   // extension ".rome.json"; if that file does not exist the model is fixed-base with no
-  // actuators/contacts. Throws std::runtime_error naming the file, element and problem.
+  // actuators/contacts. Both paths are found by FindRobotFile (robot_files.h); only regular files are read, each
+  // under kMaxUrdfBytes. Throws std::runtime_error naming the file, element and problem.
   static MultibodyModel Load(const std::string& urdf_path, const std::string& sidecar_path = "",
                              const LoadOptions& options = {});
-  // Loads from a sidecar alone (its "urdf" entry is resolved relative to the sidecar).
+  // Loads from a sidecar alone (its "urdf" entry is resolved relative to the sidecar's folder and must stay inside
+  // it; see LoadOptions::allow_files_outside_package). The sidecar path is found by FindRobotFile (robot_files.h).
   static MultibodyModel LoadFromSidecar(const std::string& sidecar_path, const LoadOptions& options = {});
   // Loads from text in memory: a URDF's XML and a sidecar's JSON (sidecar_json "" means no
   // sidecar: fixed base, no actuators or contacts; the sidecar's "urdf" entry is not followed).

@@ -4,7 +4,19 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "framework/text.h"
+
 namespace rome {
+
+namespace {
+
+// Whether the user named the file relative to the current folder on purpose: "./x", "../x", "." or "..".
+bool NamesCurrentFolder(const std::filesystem::path& path) {
+  const auto first = path.begin();
+  return first != path.end() && (*first == "." || *first == "..");
+}
+
+}  // namespace
 
 std::vector<std::string> RobotDataFolders() {
   std::vector<std::string> folders;
@@ -20,17 +32,20 @@ std::vector<std::string> RobotDataFolders() {
 
 std::string FindRobotFile(const std::string& path) {
   namespace fs = std::filesystem;
-  std::error_code ec;
   if (path.empty()) throw std::runtime_error("robot file: the path is empty");
-  if (fs::exists(path, ec)) return path;  // the loader names what is wrong with it (a directory, too large, ...)
-  std::string tried = "'" + path + "'";
-  if (fs::path(path).is_relative())
-    for (const std::string& folder : RobotDataFolders()) {
-      const fs::path candidate = fs::path(folder) / path;
-      if (fs::is_regular_file(candidate, ec)) return candidate.string();
-      tried += ", '" + candidate.string() + "'";
-    }
-  throw std::runtime_error("robot file " + path + ": file does not exist (looked at " + tried + "; set ROME_DATA_DIR to the folder that holds robots/)");
+  const fs::path given(path);
+  if (given.is_absolute() || NamesCurrentFolder(given)) return path;
+  std::error_code ec;
+  std::string tried;
+  for (const std::string& folder : RobotDataFolders()) {
+    const fs::path candidate = fs::path(folder) / given;
+    if (fs::is_regular_file(candidate, ec)) return candidate.string();
+    tried += (tried.empty() ? "'" : ", '") + Excerpt(candidate.string(), 200) + "'";
+  }
+  const std::string shown = Excerpt(path, 200);
+  throw std::runtime_error("robot file " + shown + ": file does not exist in the data folders (looked at " +
+                           (tried.empty() ? std::string("none: no data folder is set") : tried) +
+                           "); write ./" + shown + " to read it from the current folder, or set ROME_DATA_DIR to the folder that holds robots/");
 }
 
 }  // namespace rome

@@ -1,18 +1,21 @@
 #pragma once
 // FindRobotFile: where a robot description named by the user is read from.
-//   1. the path as given, if it names a file (absolute, or relative to the current folder);
-//   2. else, for a relative path, under the data folders in order: $ROME_DATA_DIR, the installed data folder
-//      (<install prefix>/share/rome, so "robots/amber/amber.rome.json" works from anywhere after `cmake --install`),
-//      and the source tree this library was built from.
-// A relative path is never resolved against the current folder alone. When nothing matches, the error names every
-// place it looked.
+//   * an absolute path is used as given (the user named that file);
+//   * a relative path whose first component is "." or ".." ("./robots/...", "../my_robot.rome.json") is resolved
+//     against the current folder (the user asked for it);
+//   * any other relative path ("robots/amber/amber.rome.json") is looked up ONLY under the data folders, in order:
+//     $ROME_DATA_DIR, the installed data folder (<install prefix>/share/rome, so it works from anywhere after
+//     `cmake --install`), and the source tree this library was built from. Never in the current folder: a file
+//     planted in a shared working folder (such as the temporary directory) is not loaded instead of ROME's own.
+// When nothing matches, the error names every place it looked and how to name a file in the current folder.
 
 #include <string>
 #include <vector>
 
 namespace rome {
 
-/// The file to read for `path` (see above); std::runtime_error listing every place tried if there is none.
+/// The file to read for `path` (see above); std::runtime_error listing every place tried if a data-folder lookup finds
+/// nothing. A path used as given is not checked here: the loader names what is wrong with it.
 std::string FindRobotFile(const std::string& path);
 /// The data folders tried for a relative path, in order ($ROME_DATA_DIR if set, install, source).
 std::vector<std::string> RobotDataFolders();

@@ -1,12 +1,11 @@
 #include "systems/plants/terrain.h"
+#include "framework/files.h"
 #include "framework/text.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <sstream>
@@ -66,13 +65,7 @@ namespace {
 }  // namespace
 
 Terrain Terrain::FromCsv(const std::string& path, double default_length_m) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' is a directory, not a CSV file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("terrain file '" + Excerpt(path, 200) + "' cannot be opened");
-  std::stringstream whole;
-  whole << in.rdbuf();
-  return FromCsvText(whole.str(), default_length_m, path);
+  return FromCsvText(ReadRegularFile(path, "terrain file", kMaxTerrainFileBytes), default_length_m, path);
 }
 
 Terrain Terrain::FromCsvText(std::string text, double default_length_m, const std::string& path) {

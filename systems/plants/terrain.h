@@ -3,6 +3,7 @@
 // Stones are infinitely wide in y (the planar robots never leave the sagittal plane; for 3D robots they
 // are bands across the walking direction).
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@ namespace rome {
 /// unit in the last place is 1.2e-10 m), so stones that overlap are told apart from stones that touch.
 inline constexpr double kMaxTerrainCoordinate_m = 1e6;  ///< [m] |x| and |z| of a stone at most this.
 inline constexpr double kMinStoneLength_m = 1e-6;       ///< [m] a stone is at least this long.
+/// A terrain CSV is read whole: at most this many bytes (ours; about 4 million stones), checked while reading.
+inline constexpr std::uintmax_t kMaxTerrainFileBytes = std::uintmax_t{64} << 20;  // 64 MiB
 
 struct SteppingStone {
   double x_center_m = 0.0;    ///< [m] centre of the stone's top along x.
@@ -26,7 +29,8 @@ class Terrain {
   /// kMaxTerrainCoordinate_m, a length below kMinStoneLength_m (or not finite), or an overlap.
   static Terrain Stones(std::vector<SteppingStone> stones);
   /// Reads a CSV with one stone a line: x,z[,length]; a header line is allowed; `default_length_m`
-  /// when the length column is missing. Errors name the file and the line.
+  /// when the length column is missing. Errors name the file and the line. Only a regular file of at most
+  /// kMaxTerrainFileBytes is read (a device, FIFO or directory is refused at once).
   static Terrain FromCsv(const std::string& path, double default_length_m);
   /// The same from the CSV's text in memory; `name` stands for the file in error messages.
   static Terrain FromCsvText(std::string text, double default_length_m, const std::string& name = "<terrain text>");

@@ -11,7 +11,8 @@
 # Every entry also must: end within its time limit (LIMIT_S, default 60 s; the sanitizer build passes 300 s, where
 # the programs run 15-25 times slower: no hang), not die from a signal (no crash), and, for
 # exit 1, print exactly one line on stderr, of at most 2000 bytes, with no control bytes (truncated, escaped).
-# The programs run in an empty scratch folder, so default outputs never land in the source tree.
+# The programs run in a scratch folder (empty but for a planted robots/amber/amber.rome.json), so default outputs
+# never land in the source tree.
 set -u
 bin="$(cd "$1" && pwd)"; catalogue="$2"; inputs="$(cd "$3" && pwd)"; limit="${4:-60}"
 case "$limit" in ''|*[!0-9]*) echo "run_catalogue.sh: LIMIT_S must be a whole number of seconds, got '$limit'"; exit 2 ;; esac
@@ -40,6 +41,15 @@ awk 'BEGIN { printf "<robot name=\"deep\">"; for (i = 0; i < 200000; i++) printf
 awk 'BEGIN { for (i = 0; i < 1000000; i++) printf "%d,0,0.1\n", i }' > "$tmp/terrain_1M_stones.csv"
 mkdir -p "$tmp/a_folder"
 printf 'not a folder\n' > "$tmp/a_file"
+# Robot packages that reach out: a FIFO as the URDF, a link to a URDF outside the package; a FIFO as a terrain.
+mkdir -p "$tmp/fifo_package" "$tmp/link_package"
+mkfifo "$tmp/fifo_package/fifo.urdf" "$tmp/terrain_fifo.csv"
+printf '{"robot": "pendulum", "urdf": "fifo.urdf"}\n' > "$tmp/fifo_package/fifo.rome.json"
+ln -s "$inputs/pendulum.urdf" "$tmp/link_package/link.urdf"
+printf '{"robot": "pendulum", "urdf": "link.urdf"}\n' > "$tmp/link_package/link.rome.json"
+# A robot planted in the programs' working folder: a relative robot path must not read it (only ./robots/... does).
+mkdir -p "$tmp/run/robots/amber"
+printf 'planted\n' > "$tmp/run/robots/amber/amber.rome.json"
 
 entries=0; mismatches=0
 report() {  # report LINE_NO PROGRAM ARGS PROBLEM

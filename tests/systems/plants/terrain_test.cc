@@ -1,10 +1,21 @@
 #include "systems/plants/terrain.h"
 #include "tests/common/source_path.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <future>
+#include <utility>
+#include <vector>
+
+#include "framework/files.h"
 
 namespace rome {
 namespace {
@@ -89,7 +100,7 @@ TEST(TerrainCsv, EveryErrorNamesTheLineAndTheField) {
   // The file's path is untrusted text too: a newline and a control byte in it are escaped, a 10,000-character path cut.
   const std::string odd_path = ErrorOf(rome::test::ScratchDir() + "/no\nsuch\x07" "file.csv");
   EXPECT_EQ(odd_path.find('\n'), std::string::npos) << odd_path;
-  EXPECT_NE(odd_path.find("no\\x0Asuch\\x07file.csv' cannot be opened"), std::string::npos) << odd_path;
+  EXPECT_NE(odd_path.find("no\\x0Asuch\\x07file.csv: file does not exist"), std::string::npos) << odd_path;
   const std::string long_path = ErrorOf(std::string(10000, 'p') + ".csv");
   EXPECT_LT(long_path.size(), 300u) << long_path.substr(0, 300);
   EXPECT_NE(long_path.find("(10004 bytes)"), std::string::npos) << long_path.substr(0, 300);
@@ -158,6 +169,33 @@ TEST(Terrain, StonesMustBeResolvedAtTheirCoordinates) {
   // StoneAt finds each at its centre, near the origin and at the coordinate limit.
   const Terrain touching = Terrain::Stones({{0.1, 0.0, 0.2}, {0.3, 0.0, 0.2}, {1e6 - 0.2, 0.0, 0.2}, {1e6, 0.0, 0.2}});
   for (int i = 0; i < 4; ++i) EXPECT_EQ(touching.StoneAt(touching.stones()[i].x_center_m), i);
+}
+
+// A terrain is read only from a regular file of at most kMaxTerrainFileBytes (issue 45): before, "--terrain
+// /dev/zero" was read without bound and a FIFO blocked forever. Each is refused at once (a load still running after
+// 10 s fails the test; the FIFO is then opened for writing to release it).
+TEST(TerrainCsv, OnlyRegularFilesUnderTheCapAreRead) {
+  const TempFolder folder("rome_terrain_test");
+  const std::string fifo = folder.File("stones.csv");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string big = folder.File("big.csv");
+  {  // a sparse file one byte over the cap: its size is refused before any reading
+    std::ofstream(big, std::ios::binary) << "0,0\n";
+    std::filesystem::resize_file(big, kMaxTerrainFileBytes + 1);
+  }
+  for (const auto& [path, reason] : std::vector<std::pair<std::string, std::string>>{
+           {"/dev/zero", "is a device, not a regular file"},
+           {fifo, "is a FIFO, not a regular file"},
+           {big, "; the limit is " + std::to_string(kMaxTerrainFileBytes) + " bytes"}}) {
+    auto error = std::async(std::launch::async, [path = path] { return ErrorOf(path); });
+    if (error.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+      ADD_FAILURE() << path << " was not refused within 10 s";
+      if (const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK); fd >= 0) ::close(fd);
+    }
+    const std::string what = error.get();
+    EXPECT_EQ(what.rfind("terrain file " + path + ": ", 0), 0u) << what;
+    EXPECT_NE(what.find(reason), std::string::npos) << what;
+  }
 }
 
 }  // namespace
