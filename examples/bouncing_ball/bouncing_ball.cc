@@ -125,9 +125,9 @@ int main(int argc, char** argv) {
               << impacts.size() << " impacts; largest impact-time error against the closed form: " << max_err << " s\n"
               << sim.statistics().steps << " integrator steps, " << sim.statistics().rhs_evals << " right-hand-side evaluations, " << wall * 1e3
               << " ms wall time\n";
-    if (const int signal = InterruptSignal(); signal != 0) {
+    if (status.kind() == SimulatorStatus::Kind::kInterrupted) {
       std::cout << "result: interrupted (" << status.ToString() << "); outputs written up to there\n";
-      return 128 + signal;
+      return 128 + InterruptSignal();
     }
     // The run is meant to reach its duration: a limit is success here; a failure (Zeno, non-finite state) is not.
     if (status.kind() == SimulatorStatus::Kind::kFailure) {

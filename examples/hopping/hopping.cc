@@ -483,6 +483,6 @@ int main(int argc, char** argv) {
             << " us; real-time factor " << summary["realtime_factor"] << "\n  plant contact violations " << contact.violations << " ("
             << contact.samples << " samples)" << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n "
             << contact.max_friction_ratio << "\n";
-  if (const int signal = InterruptSignal(); signal != 0) return 128 + signal;
+  if (status.kind() == SimulatorStatus::Kind::kInterrupted) return 128 + InterruptSignal();
   return ok ? 0 : 3;
 }

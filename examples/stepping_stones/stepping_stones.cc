@@ -502,9 +502,9 @@ int main(int argc, char** argv) {
               << ", NLP failures " << d.supervisor->posture_failures(sup_ctx) << "\n"
               << "plant contact forces: min stance F_n " << summary["min_stance_normal_force_N"].get<double>() << " N, max |F_t|/F_n "
               << contact.max_friction_ratio << ", violations " << contact.violations << " of " << contact.samples << " samples\n";
-    if (const int signal = InterruptSignal(); signal != 0) {
+    if (status.kind() == SimulatorStatus::Kind::kInterrupted) {
       std::cout << "result: interrupted (" << status.ToString() << "); outputs written up to there\n";
-      return 128 + signal;
+      return 128 + InterruptSignal();
     }
     if (success) {
       std::cout << "result: success (" << status.message << ")\n";

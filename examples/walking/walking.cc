@@ -693,6 +693,6 @@ int main(int argc, char** argv) {
             << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n  plant "
             << ToString(plant_kind) << ": contact violations " << contact.violations << " (" << contact.samples << " samples)"
             << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n " << contact.max_friction_ratio << "\n";
-  if (const int signal = InterruptSignal(); signal != 0) return 128 + signal;
+  if (status.kind() == SimulatorStatus::Kind::kInterrupted) return 128 + InterruptSignal();
   return success ? 0 : 3;
 }
