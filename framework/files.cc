@@ -101,7 +101,11 @@ std::string CheckOutputPath(const std::string& path, const std::string& what) {
 
 AtomicFileWriter::AtomicFileWriter(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
   if (const std::string problem = CheckOutputPath(path_, what_); !problem.empty()) throw std::runtime_error(problem);
-  std::string templ = (fs::path(FolderOf(path_)) / ("." + fs::path(path_).filename().string() + ".XXXXXX")).string();
+  // The name is built by appending: GCC 12 reports a false -Wstringop-overflow for "." + a temporary string here.
+  std::string name = ".";
+  name += fs::path(path_).filename().string();
+  name += ".XXXXXX";
+  std::string templ = (fs::path(FolderOf(path_)) / name).string();
   const int fd = ::mkstemp(templ.data());  // O_CREAT | O_EXCL, mode 0600
   if (fd < 0) throw FileError(what_, path_, std::string("cannot create a temporary file beside it (") + std::strerror(errno) + ")");
   ::fchmod(fd, 0644 & ~ProcessUmask());  // as an ordinary new file, not mkstemp's 0600
