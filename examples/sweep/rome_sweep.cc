@@ -340,10 +340,10 @@ std::string Format(double v) {
 // "tracking_rms.torso_pitch_rad").
 struct Results {
   std::vector<std::optional<RunRecord>> records;
-  std::vector<std::map<std::string, std::string>> cells;
-  std::vector<std::map<std::string, double>> numbers;
-  std::vector<std::string> columns;          // in order of first appearance
-  std::map<std::string, std::vector<double>> numeric;  // every run's values of a numeric field
+  std::vector<std::map<std::string, std::string>> cells;  // run -> field -> its text
+  std::vector<std::map<std::string, double>> numbers;     // run -> numeric field -> its value
+  std::vector<std::string> columns;                       // fields in order of first appearance
+  std::map<std::string, std::vector<double>> numeric;     // numeric field -> every run's value
   std::map<std::string, long> failures;
   long succeeded = 0;
 };
