@@ -14,6 +14,22 @@ extern char** environ;
 
 namespace rome::examples {
 
+ExitStatus WaitForChild(pid_t pid) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return {127, 0};
+  }
+  if (WIFEXITED(status)) return {WEXITSTATUS(status), 0};
+  return {0, WIFSIGNALED(status) ? WTERMSIG(status) : 0};
+}
+
+std::vector<char*> ArgvOf(std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  return argv;
+}
+
 namespace {
 
 // Reads both pipes until they close; false if standard output went past `max_bytes`.
@@ -46,7 +62,7 @@ bool Drain(int out_fd, int err_fd, size_t max_bytes, std::string* out, std::stri
 
 }  // namespace
 
-ProcessResult RunProgram(const std::vector<std::string>& argv, size_t max_output_bytes) {
+ProcessResult RunProgram(std::vector<std::string> argv, size_t max_output_bytes) {
   ProcessResult result;
   if (argv.empty()) {
     result.error = "no program given";
@@ -68,9 +84,7 @@ ProcessResult RunProgram(const std::vector<std::string>& argv, size_t max_output
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, out_pipe[1], 1);
   posix_spawn_file_actions_adddup2(&actions, err_pipe[1], 2);
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
+  std::vector<char*> args = ArgvOf(argv);
   pid_t pid = -1;
   const int rc = ::posix_spawnp(&pid, argv[0].c_str(), &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -88,10 +102,8 @@ ProcessResult RunProgram(const std::vector<std::string>& argv, size_t max_output
   if (!within) ::kill(pid, SIGKILL);
   ::close(out_pipe[0]);
   ::close(err_pipe[0]);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  result.exit_code = (within && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+  const ExitStatus status = WaitForChild(pid);
+  result.exit_code = (within && status.signal == 0) ? status.code : -1;
   result.error = err.substr(0, err.find('\n'));
   if (!within) result.error = argv[0] + " wrote more than " + std::to_string(max_output_bytes) + " bytes";
   return result;

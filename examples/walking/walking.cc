@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -255,7 +256,7 @@ int main(int argc, char** argv) {
       .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
-      .Option("cache", "walking_plans", "directory of cached ROM plans")
+      .Option("cache", "walking_plans", "directory of cached ROM plans, created if missing (empty: none, every NLP is solved)")
       .Option("log", "", "CSV log file (empty: none)")
       .Option("summary", "", "JSON summary file (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none): the paper's Fig. 2 S2/L2, 3 S2/L2 and 5a/b/d from this run, and gait tiles")
@@ -272,6 +273,7 @@ int main(int argc, char** argv) {
   int steps = 0;
   double band = 0.1, touchdown_speed = 0.1, stagger = 0.0, rom_margin = 0.05, transition_ssp = 0.0, foothold_tolerance = 0.05, max_force = 1.6, periodic_max_force = 1.5;
   PlantKind plant_kind = PlantKind::kHybrid;
+  std::optional<PlanCache> cache;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
@@ -347,6 +349,11 @@ int main(int argc, char** argv) {
     if (!(foothold_tolerance > 0 && foothold_tolerance <= 0.5))
       throw std::invalid_argument("walking: --foothold-tolerance must be in (0, 0.5] m, got " + cli.Get("foothold-tolerance"));
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
+    // Before any NLP runs: a cache that cannot be written is bad input, not a failed run after the solves.
+    if (!cli.Get("cache").empty()) {
+      cache.emplace(cli.Get("cache"));
+      if (const std::string problem = cache->EnsureDirectory(); !problem.empty()) throw std::invalid_argument("walking: --cache: " + problem);
+    }
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;
@@ -359,7 +366,7 @@ int main(int argc, char** argv) {
     std::cerr << "walking: --robot: " << e.what() << "\n";
     return 1;
   }
-  const PlanCache cache(cli.Get("cache"));
+  const PlanCache* plan_cache = cache ? &*cache : nullptr;
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = band;
   params.swing.touchdown_velocity_mps = touchdown_speed;
@@ -393,9 +400,9 @@ int main(int argc, char** argv) {
     const auto seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
     // The plan runs kTrailingSteps steps past the simulated ones, so that the last simulated steps are not the plan's
     // (and the momentum correction's) end.
-    if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps + kTrailingSteps, seed, &cache, stand);
-    else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, &cache, &nlp, stand, steps + kTrailingSteps);
-    else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, &cache, &nlp, stand);
+    if (scenario == "periodic") plan = BuildPeriodicWalkingPlan(gait_a, steps + kTrailingSteps, seed, plan_cache, stand);
+    else if (scenario == "gait-change") plan = BuildGaitChangePlan(gait_a, gait_b, steps, seed, plan_cache, &nlp, stand, steps + kTrailingSteps);
+    else plan = BuildStandToWalkPlan(gait_a, steps + kTrailingSteps, seed, plan_cache, &nlp, stand);
     start_steps_used = stand.start_gait_steps;
     if (nlp.start_gait_used)
       std::cout << (stagger == 0 ? std::string("standing side by side: ") : "standing in a " + std::to_string(stagger) + " m step stance: ") << stand.start_gait_steps << " steps of the start gait (" << nlp.start_gait.step_length_m << " m, "
