@@ -1,5 +1,7 @@
 #include "framework/text.h"
 
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <string_view>
 
@@ -127,7 +129,10 @@ std::string GnuplotString(const std::string& s) {
 
 std::string CsvCell(const std::string& s) {
   std::string cell = s;
-  if (!cell.empty() && std::string_view("=+-@\t\r").find(cell.front()) != std::string_view::npos) cell.insert(0, 1, '\'');
+  double number = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), number);
+  const bool is_number = !s.empty() && ec == std::errc() && end == s.data() + s.size() && std::isfinite(number);
+  if (!cell.empty() && !is_number && std::string_view("=+-@\t\r").find(cell.front()) != std::string_view::npos) cell.insert(0, 1, '\'');
   if (cell.find_first_of(",\"\r\n") == std::string::npos) return cell;
   std::string out = "\"";
   for (char c : cell) out += (c == '"') ? std::string("\"\"") : std::string(1, c);

@@ -30,8 +30,9 @@ std::string HtmlText(const std::string& s);
 /// escapes in single quotes, so no text can run a command.
 std::string GnuplotString(const std::string& s);
 
-/// One CSV cell (RFC 4180) holding text: quoted when it has `,`, `"`, CR or LF (with `"` doubled), and prefixed with
-/// `'` when it starts with `=`, `+`, `-`, `@`, tab or CR, so a spreadsheet never reads it as a formula.
+/// One CSV cell (RFC 4180): quoted when it has `,`, `"`, CR or LF (with `"` doubled), and, unless it is a finite
+/// number ("-0.5" stays a number), prefixed with `'` when it starts with `=`, `+`, `-`, `@`, tab or CR, so a
+/// spreadsheet never reads it as a formula.
 std::string CsvCell(const std::string& s);
 
 /// A short, printable, one-line excerpt of s: control bytes and invalid UTF-8 are escaped as \xNN, valid UTF-8 is

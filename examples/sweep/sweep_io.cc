@@ -59,12 +59,6 @@ json ParseWithDepthCap(std::string_view text) {
   });
 }
 
-bool IsFiniteNumber(const std::string& s) {
-  double v = 0;
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return !s.empty() && ec == std::errc() && ptr == s.data() + s.size() && std::isfinite(v);
-}
-
 }  // namespace
 
 Parameter ParseGrid(const std::string& spec, bool integer) {
@@ -203,19 +197,6 @@ std::optional<nlohmann::json> ParseSummary(const std::string& text) {
     if (it == summary.end() || !it->is_string()) return std::nullopt;
   }
   return summary;
-}
-
-std::string CsvCell(const std::string& text) {
-  std::string cell = text;
-  // Spreadsheets evaluate a cell that starts with one of these as a formula; a leading quote mark keeps it text.
-  if (!cell.empty() && std::string_view("=+-@\t\r").find(cell[0]) != std::string_view::npos && !IsFiniteNumber(cell)) cell.insert(0, 1, '\'');
-  if (cell.find_first_of(",\"\r\n") == std::string::npos) return cell;
-  std::string quoted = "\"";
-  for (char c : cell) {
-    quoted += c;
-    if (c == '"') quoted += '"';
-  }
-  return quoted + '"';
 }
 
 }  // namespace rome::sweep

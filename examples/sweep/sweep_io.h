@@ -13,7 +13,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "framework/text.h"
+
 namespace rome::sweep {
+
+using rome::CsvCell;  // framework/text.h: sweep.csv cells
 
 /// The most runs of one sweep (run files are numbered with six digits).
 inline constexpr long kMaxRuns = 1000000;
@@ -72,9 +76,5 @@ std::optional<RunRecord> ParseRunRecord(const std::string& text);
 /// "status_kind" (which stepping_stones and bouncing_ball write); anything else is nothing.
 std::optional<nlohmann::json> ParseSummary(const std::string& text);
 
-/// One cell of sweep.csv (RFC 4180): text holding ',', '"', CR or LF is quoted, with '"' doubled; text that a
-/// spreadsheet would run as a formula (a first character '=', '+', '-', '@', tab or CR) and that is not a finite
-/// number gets a leading "'". Numbers are left as they are.
-std::string CsvCell(const std::string& text);
 
 }  // namespace rome::sweep

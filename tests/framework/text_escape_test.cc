@@ -101,10 +101,13 @@ TEST(CsvCell, ReadsBackAsOneCellAndIsNeverAFormula) {
     const std::vector<std::string> cells = ReadCsvLine(out + "," + CsvCell("next"));
     ASSERT_EQ(cells.size(), 2u) << out;
     EXPECT_EQ(cells[1], "next");
-    const bool formula = !s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos;
+    const bool formula = !s.empty() && std::string("=+-@\t\r").find(s[0]) != std::string::npos;  // none is a number
     EXPECT_EQ(cells[0], formula ? "'" + s : s) << out;
   }
   EXPECT_EQ(CsvCell("plain_name"), "plain_name");
+  EXPECT_EQ(CsvCell("-0.5"), "-0.5");  // a number stays a number
+  EXPECT_EQ(CsvCell("+1e-3"), "'+1e-3");  // from_chars reads no leading '+': kept as text, neutralised
+  EXPECT_EQ(CsvCell("-inf"), "'-inf");
 }
 
 // Whether `expr` is single-quoted pieces with no quote or line break inside, and sprintf('%c',39), joined by '.'.
