@@ -150,7 +150,13 @@ std::optional<Eigen::VectorXd> PlanCache::Load(const PlanCacheKey& key) const {
 void PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const {
   std::error_code ignored;  // a folder that cannot be created shows as the writer's error, naming the file
   std::filesystem::create_directories(directory_, ignored);
-  WriteFileAtomically(FileFor(key), EntryText(key, value), "plan cache entry");
+  // The entry's name is the cache's own: a FIFO, a device node or an empty folder standing there
+  // is removed by name, never opened; a symlink is replaced by the rename itself.
+  const std::string file = FileFor(key);
+  const std::filesystem::file_status st = std::filesystem::symlink_status(file, ignored);
+  if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) && !std::filesystem::is_symlink(st))
+    std::filesystem::remove(file, ignored);  // a folder with content stays, and the write below names it
+  WriteFileAtomically(file, EntryText(key, value), "plan cache entry");
 }
 
 }  // namespace rome

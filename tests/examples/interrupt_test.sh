@@ -24,7 +24,7 @@ complete_csv() {  # complete_csv FILE: every row has the header's column count, 
   awk -F, 'NR == 1 { n = NF } NF != n { bad = 1 } END { exit (bad || NR < 2) }' "$1" && [ "$(tail -c 1 "$1" | od -An -c | tr -d ' ')" = '\n' ]
 }
 
-for case in "TERM 143 stepping_stones --steps 10000 --terrain flat" "INT 130 hopping --duration 600"; do
+for case in "TERM 143 stepping_stones --steps 4000 --terrain flat" "INT 130 hopping --duration 600"; do
   read -r sig code program args <<< "$case"
   printf 'old log\n' > log.csv; printf 'old summary\n' > summary.json
   # shellcheck disable=SC2086
@@ -36,7 +36,7 @@ for case in "TERM 143 stepping_stones --steps 10000 --terrain flat" "INT 130 hop
 done
 
 printf 'old log\n' > log.csv; printf 'old summary\n' > summary.json
-rc=$(run_and_signal KILL 3 "$bin/stepping_stones" --steps 10000 --terrain flat --log log.csv --summary summary.json)
+rc=$(run_and_signal KILL 3 "$bin/stepping_stones" --steps 4000 --terrain flat --log log.csv --summary summary.json)
 [ "$rc" = 137 ] || { echo "FAIL: SIGKILL gave exit $rc"; fail=1; }
 [ "$(cat log.csv)" = "old log" ] && [ "$(cat summary.json)" = "old summary" ] || { echo "FAIL: a killed run changed the earlier outputs"; fail=1; }
 left=$(find . -name '.*.??????' | wc -l)
