@@ -130,26 +130,24 @@ AtomicFileWriter::~AtomicFileWriter() {
 
 void AtomicFileWriter::Append(std::string_view text) {
   if (file_ == nullptr) throw FileError(what_, path_, "written after Commit");
-  if (!text.empty() && std::fwrite(text.data(), 1, text.size(), file_) != text.size()) write_failed_ = true;
+  if (!text.empty() && std::fwrite(text.data(), 1, text.size(), file_) != text.size() && write_errno_ == 0) write_errno_ = errno != 0 ? errno : EIO;
 }
 
 void AtomicFileWriter::Commit() {
   if (file_ == nullptr) throw FileError(what_, path_, "committed twice");
-  bool ok = !write_failed_ && std::fflush(file_) == 0;
-  const int err_flush = ok ? 0 : errno;
-  ok = ok && ::fsync(::fileno(file_)) == 0;
-  const int err_sync = errno;
-  const bool closed = std::fclose(file_) == 0;
+  int err = write_errno_;  // each step's errno is kept as it happens
+  if (err == 0 && std::fflush(file_) != 0) err = errno;
+  if (err == 0 && ::fsync(::fileno(file_)) != 0) err = errno;
+  if (std::fclose(file_) != 0 && err == 0) err = errno;
   file_ = nullptr;
-  if (!ok || !closed) {
+  if (err != 0) {
     ::unlink(temp_path_.c_str());
-    const int err = err_flush != 0 ? err_flush : err_sync;
-    throw FileError(what_, path_, std::string("writing failed (") + (err != 0 ? std::strerror(err) : "I/O error") + "); the old file is kept");
+    throw FileError(what_, path_, std::string("writing failed (") + std::strerror(err) + "); the old file is kept");
   }
   if (::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-    const int err = errno;
+    const int rename_err = errno;
     ::unlink(temp_path_.c_str());
-    throw FileError(what_, path_, std::string("cannot be replaced (") + std::strerror(err) + ")");
+    throw FileError(what_, path_, std::string("cannot be replaced (") + std::strerror(rename_err) + ")");
   }
 }
 
@@ -165,12 +163,16 @@ std::string ResolveInsideFolder(const std::string& root, const std::string& rela
   if (rel.is_absolute())
     throw FileError(what, relative, "is an absolute path; a robot package names its files relative to its own folder");
   std::error_code ec;
-  const fs::path base = fs::weakly_canonical(fs::absolute(root.empty() ? "." : root, ec), ec);
-  const fs::path full = fs::weakly_canonical(base / rel, ec);
-  if (ec) throw FileError(what, relative, "cannot be resolved (" + ec.message() + ")");
-  const auto [base_end, full_it] = std::mismatch(base.begin(), base.end(), full.begin(), full.end());
-  if (base_end != base.end())
-    throw FileError(what, relative, "leaves its package folder " + Excerpt(base.string(), 200) + " (to " + Excerpt(full.string(), 200) + ")");
+  const fs::path base = fs::canonical(fs::absolute(root.empty() ? "." : root, ec), ec);
+  if (ec) throw FileError(what, root, "the package folder cannot be resolved (" + ec.message() + ")");
+  // canonical() resolves every link of the whole path on the disk (weakly_canonical would resolve "missing/../link"
+  // by text and keep the link), so the check below sees where the file really is.
+  const fs::path full = fs::canonical(base / rel, ec);
+  const fs::path where = ec ? (base / rel).lexically_normal() : full;
+  const auto inside = [&base](const fs::path& p) { return std::mismatch(base.begin(), base.end(), p.begin(), p.end()).first == base.end(); };
+  if (!inside(where))
+    throw FileError(what, relative, "leaves its package folder " + Excerpt(base.string(), 200) + " (to " + Excerpt(where.string(), 200) + ")");
+  if (ec) throw FileError(what, (base / rel).string(), "file does not exist");
   return full.string();
 }
 

@@ -44,7 +44,7 @@ class AtomicFileWriter {
  private:
   std::string path_, what_, temp_path_;
   std::FILE* file_ = nullptr;
-  bool write_failed_ = false;
+  int write_errno_ = 0;  ///< the first failed write's errno
 };
 
 /// Writes `content` to `path` through an AtomicFileWriter.

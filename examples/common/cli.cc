@@ -157,7 +157,9 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
     if (const std::string problem = CheckOutputPath(path, "cannot write"); !problem.empty())
       throw std::invalid_argument(program_ + ": --" + name + ": " + problem);
     std::error_code ec;
-    const std::string key = fs::weakly_canonical(fs::absolute(path, ec), ec).string();
+    // The folder resolved, the name as given: a link at the name is replaced by the write, not followed.
+    const fs::path absolute = fs::absolute(path, ec);
+    const std::string key = (fs::weakly_canonical(absolute.parent_path(), ec) / absolute.filename()).string();
     if (const auto [it, inserted] = seen.emplace(key, name); !inserted)
       throw std::invalid_argument(program_ + ": --" + name + " and --" + it->second + " name the same file '" + Excerpt(path, 200) +
                                   "'; give each output its own file");

@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
   int substeps = HoppingDiagramParams::DefaultBulletPlantParams().substeps;
   double jump_momentum_gain = 0, flight_hip_follow = 0, landing_blend = 0, deflection_feedback = 0, force_feedback = 0, force_integral = 0, landing_reg = 1;
   SpringMassLandingParams landing_params;
+  std::shared_ptr<const MultibodyModel> model;
   try {
     if (!cli.Parse(argc, argv)) return 0;
     InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
@@ -138,13 +139,13 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("--leg-stiffness " + cli.Get("leg-stiffness") + ": unknown variant (published or identified)");
     }
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
+    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
   } catch (const std::exception& e) {
     const std::string what = e.what();
-    std::cerr << (what.rfind("hopping: ", 0) == 0 ? "" : "hopping: ") << what << "\n";
+    std::cerr << (what.rfind("hopping: ", 0) == 0 ? "" : "hopping: ") << examples::OneLine(what) << "\n";
     return 1;
   }
 
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, variant);
   SpringMassJumpParams jump_params;
   jump_params.apex_rise = apex_rise;
@@ -303,6 +304,7 @@ int main(int argc, char** argv) {
 
   const double duration =
       cli.GetDouble("duration") > 0 ? cli.GetDouble("duration") : params.reference.settle_time_s + hops * 1.0 + (hops - 1) * params.reference.max_rest_time_s + 2.5;
+  std::cout << "hopping: simulating " << duration << " s on the " << ToString(plant_kind) << " plant ...\n" << std::flush;
   const auto wall0 = std::chrono::steady_clock::now();
   SimulatorStatus status;
   try {
@@ -483,6 +485,9 @@ int main(int argc, char** argv) {
             << " us; real-time factor " << summary["realtime_factor"] << "\n  plant contact violations " << contact.violations << " ("
             << contact.samples << " samples)" << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n "
             << contact.max_friction_ratio << "\n";
-  if (status.kind() == SimulatorStatus::Kind::kInterrupted) return 128 + InterruptSignal();
+  if (status.kind() == SimulatorStatus::Kind::kInterrupted) {
+    std::cout << "result: interrupted (" << status.ToString() << "); outputs written up to there\n";
+    return 128 + InterruptSignal();
+  }
   return ok ? 0 : 3;
 }

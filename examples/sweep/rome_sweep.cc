@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -119,8 +120,10 @@ Sweep Parse(int argc, char** argv) {
   auto it = kExamples.find(s.example);
   if (it == kExamples.end()) throw std::invalid_argument("rome_sweep: unknown example '" + Excerpt(s.example) + "' (known: stepping-stones, bouncing-ball)");
   const Example& example = it->second;
-  s.binary = (fs::path(argv[0]).parent_path() / example.program).string();
-  if (fs::path(argv[0]).parent_path().empty()) s.binary = example.program;
+  // The example beside this program's own file (/proc/self/exe), never a name looked up in the current folder or PATH.
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  s.binary = ((ec ? fs::absolute(argv[0], ec) : self).parent_path() / example.program).string();
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -237,7 +240,10 @@ SummaryFile ReadSummary(const Sweep& s, long i) {
 // there is one (a successful run must have one). Anything else runs again.
 bool RunIsDone(const Sweep& s, long i, const std::vector<std::string>& flags) {
   const std::optional<RunRecord> record = ReadRecord(s, i);
-  if (!record || record->KilledBySignal() || record->flags != flags) return false;
+  // A run stopped by a signal, whether it died of it or caught it (exit 128 + SIGINT/SIGTERM, summary "interrupted"),
+  // runs again.
+  if (!record || record->KilledBySignal() || record->exit_code == 128 + SIGINT || record->exit_code == 128 + SIGTERM || record->flags != flags)
+    return false;
   const SummaryFile summary = ReadSummary(s, i);
   return summary.present ? summary.summary.has_value() : record->exit_code != 0;
 }

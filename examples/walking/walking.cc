@@ -39,7 +39,7 @@ namespace {
 WalkingGait ParseGaitNumbers(const std::string& flag, const std::string& text, int n, const double* lo, const double* hi) {
   const std::string form = n == 4 ? "L,T_SSP,T_DSP,W" : "L,T_SSP,T_DSP";
   const std::optional<std::vector<double>> parsed = examples::ParseNumberList(text, n);
-  if (!parsed) throw std::invalid_argument("walking: --" + flag + " expects " + std::to_string(n) + " numbers " + form + ", got '" + text + "'");
+  if (!parsed) throw std::invalid_argument("walking: --" + flag + " expects " + std::to_string(n) + " numbers " + form + ", got '" + Excerpt(text, 200) + "'");
   const std::vector<double>& v = *parsed;
   const char* names[4] = {"step length L", "T_SSP", "T_DSP", "step width W"};
   const char* units[4] = {"m", "s", "s", "m"};
@@ -598,7 +598,7 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   const double t_end = sim.get_context().time();
   const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
-  const bool fell = status.kind() != SimulatorStatus::Kind::kLimit;
+  const bool fell = status.kind() != SimulatorStatus::Kind::kLimit && status.kind() != SimulatorStatus::Kind::kInterrupted;
   // Every single support of the plan ends in a touchdown on its foothold.
   int planned_touchdowns = 0;
   std::vector<double> transition_ends;  // end of each transition's single support (footed H-LIP segments)
@@ -700,6 +700,9 @@ int main(int argc, char** argv) {
             << rms.transpose() << " m, force in band " << s["force_in_band_fraction"] << ", real-time factor " << s["realtime_factor"] << "\n  plant "
             << ToString(plant_kind) << ": contact violations " << contact.violations << " (" << contact.samples << " samples)"
             << (contact.violations ? ", first: " + contact.first_violation : "") << ", max |F_t|/F_n " << contact.max_friction_ratio << "\n";
-  if (status.kind() == SimulatorStatus::Kind::kInterrupted) return 128 + InterruptSignal();
+  if (status.kind() == SimulatorStatus::Kind::kInterrupted) {
+    std::cout << "result: interrupted (" << status.ToString() << "); outputs written up to there\n";
+    return 128 + InterruptSignal();
+  }
   return success ? 0 : 3;
 }

@@ -39,7 +39,7 @@ std::string FindRobotFile(const std::string& path) {
   std::string tried;
   for (const std::string& folder : RobotDataFolders()) {
     const fs::path candidate = fs::path(folder) / given;
-    if (fs::is_regular_file(candidate, ec)) return candidate.string();
+    if (fs::is_regular_file(candidate, ec)) return fs::absolute(candidate, ec).string();  // absolute: a second lookup finds it as given
     tried += (tried.empty() ? "'" : ", '") + Excerpt(candidate.string(), 200) + "'";
   }
   const std::string shown = Excerpt(path, 200);

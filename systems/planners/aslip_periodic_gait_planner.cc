@@ -192,7 +192,7 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(std::uint32_t seed, const Plan
     }
   }
   AslipPeriodicGait gait = Solve(problem);
-  if (cache != nullptr && gait.success()) cache->Store(key, gait.collocation.nlp.x);
+  if (cache != nullptr && gait.success()) WarnIfNotCached(cache->Store(key, gait.collocation.nlp.x));
   return gait;
 }
 

@@ -313,7 +313,7 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   std::optional<CollocationResult> hit;
   if (cache != nullptr) hit = LoadCachedCollocation(problem, *cache, key);
   out.collocation = hit ? std::move(*hit) : problem.Solve(options);
-  if (cache != nullptr && !hit && out.success()) cache->Store(key, out.collocation.nlp.x);
+  if (cache != nullptr && !hit && out.success()) WarnIfNotCached(cache->Store(key, out.collocation.nlp.x));
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();
   out.max_constraint_violation = MaxConstraintViolation(*nlp, out.collocation.nlp.x);
   double integral = 0.0, total = 0.0;

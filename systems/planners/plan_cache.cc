@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <iomanip>
 #include <stdexcept>
 #include <string_view>
@@ -147,7 +148,7 @@ std::optional<Eigen::VectorXd> PlanCache::Load(const PlanCacheKey& key) const {
   }
 }
 
-void PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const {
+std::string PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const {
   std::error_code ignored;  // a folder that cannot be created shows as the writer's error, naming the file
   std::filesystem::create_directories(directory_, ignored);
   // The entry's name is the cache's own: a FIFO, a device node or an empty folder standing there
@@ -156,7 +157,16 @@ void PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& value) con
   const std::filesystem::file_status st = std::filesystem::symlink_status(file, ignored);
   if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) && !std::filesystem::is_symlink(st))
     std::filesystem::remove(file, ignored);  // a folder with content stays, and the write below names it
-  WriteFileAtomically(file, EntryText(key, value), "plan cache entry");
+  try {
+    WriteFileAtomically(file, EntryText(key, value), "plan cache entry");
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return {};
+}
+
+void WarnIfNotCached(const std::string& error) {
+  if (!error.empty()) std::cerr << "warning: " << error << " (the plan is used, not cached)\n";
 }
 
 }  // namespace rome

@@ -59,8 +59,9 @@ class PlanCache {
   /// of this file). Never throws for what the file holds.
   std::optional<Eigen::VectorXd> Load(const PlanCacheKey& key) const;
   /// Stores the vector (atomically, see the top of this file), so processes sharing the directory may store the same
-  /// key at once; the last rename wins. Throws std::runtime_error naming the file if it cannot be written.
-  void Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const;
+  /// key at once; the last rename wins. Returns "" or, if it cannot be written (a full disk, a folder planted at the
+  /// entry's name), the one-line reason naming the file: the cache is only a shortcut, so a caller warns and goes on.
+  std::string Store(const PlanCacheKey& key, const Eigen::VectorXd& value) const;
 
   /// The text of an entry as Store writes it (a vector holding NaN or an infinity gives an entry Load misses).
   static std::string EntryText(const PlanCacheKey& key, const Eigen::VectorXd& value);
@@ -70,5 +71,8 @@ class PlanCache {
  private:
   std::string directory_;
 };
+
+/// Prints "warning: <error> (the plan is used, not cached)" on stderr when Store's `error` is not empty.
+void WarnIfNotCached(const std::string& error);
 
 }  // namespace rome

@@ -9,10 +9,17 @@ rm -rf "$work"; mkdir -p "$work"
 cd "$work"
 fail=0
 
-run_and_signal() {  # run_and_signal SIGNAL SECONDS PROGRAM ARGS...: prints the exit code
+run_and_signal() {  # run_and_signal SIGNAL SECONDS PROGRAM ARGS...: signals SECONDS after the simulation started; prints the exit code
   local sig="$1" after="$2"; shift 2
-  "$@" > run.out 2>&1 &
+  # A shell without job control starts background jobs with SIGINT ignored (and the programs keep an ignored signal
+  # ignored); env --default-signal gives the program the default disposition, as a foreground Ctrl-C would find it.
+  env --default-signal=INT "$@" > run.out 2>&1 &
   local pid=$!
+  for _ in $(seq 600); do  # the simulation has started when the program says so (up to 300 s: the sanitizer build is slow)
+    grep -q 'simulating\|  t = ' run.out 2> /dev/null && break
+    kill -0 "$pid" 2> /dev/null || break
+    sleep 0.5
+  done
   sleep "$after"
   kill -s "$sig" "$pid" 2> /dev/null || true
   local rc=0
@@ -28,7 +35,7 @@ for case in "TERM 143 stepping_stones --steps 4000 --terrain flat" "INT 130 hopp
   read -r sig code program args <<< "$case"
   printf 'old log\n' > log.csv; printf 'old summary\n' > summary.json
   # shellcheck disable=SC2086
-  rc=$(run_and_signal "$sig" 4 "$bin/$program" $args --log log.csv --summary summary.json)
+  rc=$(run_and_signal "$sig" 2 "$bin/$program" $args --log log.csv --summary summary.json)
   if [ "$rc" != "$code" ]; then echo "FAIL: $program after SIG$sig exited $rc, expected $code"; cat run.out; fail=1; continue; fi
   grep -q '"status_kind": "interrupted"' summary.json || { echo "FAIL: $program's summary does not say interrupted"; fail=1; }
   complete_csv log.csv || { echo "FAIL: $program's log after SIG$sig is not a complete CSV"; fail=1; }
@@ -36,7 +43,7 @@ for case in "TERM 143 stepping_stones --steps 4000 --terrain flat" "INT 130 hopp
 done
 
 printf 'old log\n' > log.csv; printf 'old summary\n' > summary.json
-rc=$(run_and_signal KILL 3 "$bin/stepping_stones" --steps 4000 --terrain flat --log log.csv --summary summary.json)
+rc=$(run_and_signal KILL 2 "$bin/stepping_stones" --steps 4000 --terrain flat --log log.csv --summary summary.json)
 [ "$rc" = 137 ] || { echo "FAIL: SIGKILL gave exit $rc"; fail=1; }
 [ "$(cat log.csv)" = "old log" ] && [ "$(cat summary.json)" = "old summary" ] || { echo "FAIL: a killed run changed the earlier outputs"; fail=1; }
 left=$(find . -name '.*.??????' | wc -l)

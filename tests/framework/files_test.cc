@@ -4,6 +4,7 @@
 #include "framework/files.h"
 
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -69,7 +70,11 @@ TEST(ReadRegularFile, RefusesWhatIsNotARegularFile) {
   ASSERT_EQ(::mkfifo(dir.File("fifo").c_str(), 0600), 0);
   // A FIFO with no writer would block a plain open() forever: the read runs on its own thread with a deadline.
   auto fifo = std::async(std::launch::async, [&] { return ErrorOf([&] { ReadRegularFile(dir.File("fifo"), "sidecar", 1u << 20); }); });
-  ASSERT_EQ(fifo.wait_for(std::chrono::seconds(10)), std::future_status::ready) << "reading a FIFO blocked";
+  if (fifo.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
+    const int writer = ::open(dir.File("fifo").c_str(), O_WRONLY | O_NONBLOCK);  // releases the blocked reader
+    if (writer >= 0) ::close(writer);
+    FAIL() << "reading a FIFO blocked";
+  }
   EXPECT_EQ(fifo.get(), "sidecar " + dir.File("fifo") + ": is a FIFO, not a regular file");
 }
 
@@ -143,6 +148,13 @@ TEST(ResolveInsideFolder, KeepsPathsInsideTheirPackage) {
             std::string::npos);
   ASSERT_EQ(::symlink(outside.File("secret").c_str(), pkg.File("link").c_str()), 0);
   EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "link", "urdf"); }).find("leaves its package folder"), std::string::npos);
+  // A missing folder before "..": resolved by text alone, "nope/../link" would be "link" inside the package, and
+  // reading it would follow the link out. The system does not resolve it at all (nope does not exist): refused.
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "nope/../link", "urdf"); }).find("file does not exist"), std::string::npos);
+  ASSERT_EQ(::symlink("/", pkg.File("up").c_str()), 0);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "x/../up/etc/passwd", "urdf"); }).find("file does not exist"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "meshes/../up/etc/passwd", "urdf"); }).find("leaves its package folder"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "meshes/none.urdf", "urdf"); }).find("file does not exist"), std::string::npos);
   // A sibling folder whose name starts with the package's is outside too (a prefix is not a parent).
   fs::create_directories(pkg.path() + "-evil");
   Spit(pkg.path() + "-evil/x", "x");

@@ -298,3 +298,26 @@ TEST(PlanCache, EnsureDirectoryCreatesAFolderAndNamesAPathThatCannotBeOne) {
 
 }  // namespace
 }  // namespace rome
+
+namespace rome {
+namespace {
+
+// The cache is a shortcut: a Store that cannot write (here a folder with content planted at the entry's name) returns
+// its reason naming the file, and throws nothing, so the run that solved the plan goes on.
+TEST(PlanCache, AStoreThatCannotWriteReturnsItsReasonInsteadOfThrowing) {
+  const TempFolder tmp("plan_cache_test");
+  const PlanCache cache(tmp.File("plans"));
+  ASSERT_EQ(cache.EnsureDirectory(), "");
+  const std::string entry = cache.FileFor(Key(0.3));
+  std::filesystem::create_directories(entry + "/content");
+  std::string error;
+  EXPECT_NO_THROW(error = cache.Store(Key(0.3), Value()));
+  EXPECT_NE(error.find("plan cache entry " + entry), std::string::npos) << error;
+  EXPECT_EQ(error.find('\n'), std::string::npos);
+  std::filesystem::remove_all(entry);
+  EXPECT_EQ(cache.Store(Key(0.3), Value()), "");
+  EXPECT_TRUE(cache.Load(Key(0.3)).has_value());
+}
+
+}  // namespace
+}  // namespace rome
