@@ -38,5 +38,8 @@ check() {  # check NAME COMMAND...: COMMAND writes into $out (its current folder
 check bouncing_ball "$bin/bouncing_ball" --log ball.csv --summary ball.json --plots plots --animation ball.html
 check stepping_stones "$bin/stepping_stones" --steps 3 --terrain flat --log ss.csv --summary ss.json --plots plots --animation ss.html
 check hopping "$bin/hopping" --log hop.csv --summary hop.json --plots plots --animation hop.html
+# walking's plan cache is kept outside the output folder (its entries are checked by plan_cache_test).
+check walking "$bin/walking" --scenario periodic --steps 2 --cache "$work/walking_plans" --log walk.csv --summary walk.json --plots plots \
+  --animation walk.html
 [ "$fail" = 0 ] && echo "symlink outputs: all checks passed"
 exit "$fail"

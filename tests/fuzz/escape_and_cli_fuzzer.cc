@@ -8,6 +8,7 @@
 // that holds '<', '>', '&' or a raw U+2028/U+2029; HtmlText output with '<', '>', '"' or '\''; GnuplotString output
 // with a line break, or a quote that is not joined in by sprintf; CsvCell output that does not read back as one cell; any other
 // exception, a crash or a sanitizer report.
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -49,7 +50,11 @@ void CheckEscapers(const std::string& s) {
   const std::string csv = rome::CsvCell(s);
   bool quoted = !csv.empty() && csv.front() == '"';
   if (!quoted && csv.find_first_of(",\"\r\n") != std::string::npos) Finding("CSV cell unquoted with a separator", csv);
-  if (!csv.empty() && std::string("=+-@").find(csv.front()) != std::string::npos) Finding("CSV cell starts a formula", csv);
+  double number = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), number);
+  const bool is_number = !s.empty() && ec == std::errc() && end == s.data() + s.size() && std::isfinite(number);
+  if (!csv.empty() && std::string("=+-@").find(csv.front()) != std::string::npos && !(is_number && csv == s))
+    Finding("CSV cell starts a formula", csv);  // only a finite number, kept as it is, may start with '-' or '+
 }
 
 void CheckCommandLine(const std::string& input) {
