@@ -14,18 +14,12 @@
 #include "examples/common/process.h"
 #include "framework/files.h"
 #include "framework/text.h"
+#include "tests/common/text_files.h"
 
 namespace rome::examples {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // Each string, if a shell or gnuplot ran it, would create the file named by its marker in the current folder.
 std::vector<std::string> Hostile(const std::string& marker) {
@@ -72,7 +66,7 @@ TEST_F(InScratchFolder, HostileTitlesAndPathsRunNothing) {
   std::string error;
   const std::string png = folder + "/p`touch pwned8`$(touch pwned9).png";
   ASSERT_TRUE(WritePlot(spec, png, &error)) << error;
-  EXPECT_EQ(Slurp(png).substr(0, 8), "\x89PNG\r\n\x1a\n");
+  EXPECT_EQ(rome::test::ReadText(png).substr(0, 8), "\x89PNG\r\n\x1a\n");
   EXPECT_EQ(FilesHere(), std::vector<std::string>{folder});
   std::vector<std::string> in_folder;
   for (const auto& e : fs::directory_iterator(folder)) in_folder.push_back(e.path().filename().string());
@@ -85,9 +79,9 @@ TEST_F(InScratchFolder, APlantedSymlinkAtThePlotIsReplacedNotFollowed) {
   ASSERT_EQ(::symlink(elsewhere.File("victim").c_str(), "com.png"), 0);
   std::string error;
   ASSERT_TRUE(WritePlot({"t", "x", "y", {{"s", {0, 1}, {0, 1}, "lines"}}}, "com.png", &error)) << error;
-  EXPECT_EQ(Slurp(elsewhere.File("victim")), "precious");
+  EXPECT_EQ(rome::test::ReadText(elsewhere.File("victim")), "precious");
   EXPECT_FALSE(fs::is_symlink("com.png"));
-  EXPECT_EQ(Slurp("com.png").substr(0, 4), "\x89PNG");
+  EXPECT_EQ(rome::test::ReadText("com.png").substr(0, 4), "\x89PNG");
 }
 
 TEST_F(InScratchFolder, TwoOutputsCannotNameOneFile) {

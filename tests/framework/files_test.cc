@@ -17,19 +17,12 @@
 #include <future>
 #include <sstream>
 
+#include "tests/common/text_files.h"
+
 namespace rome {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-void Spit(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 // The message of the std::runtime_error that `f` throws ("" if none).
 template <typename F>
@@ -56,7 +49,7 @@ TEST(ReadRegularFile, ReadsAFileWhole) {
   TempFolder dir;
   std::string text(200000, 'a');
   text[12345] = '\0';  // binary content survives
-  Spit(dir.File("f"), text);
+  test::WriteText(dir.File("f"), text);
   EXPECT_EQ(ReadRegularFile(dir.File("f"), "test file", 1u << 20), text);
   EXPECT_EQ(ReadRegularFile(dir.File("f"), "test file", text.size()), text);  // exactly at the cap
   EXPECT_NE(ErrorOf([&] { ReadRegularFile(dir.File("f"), "test file", text.size() - 1); }).find("limit is 199999 bytes"), std::string::npos);
@@ -80,23 +73,23 @@ TEST(ReadRegularFile, RefusesWhatIsNotARegularFile) {
 
 TEST(AtomicFileWriter, ReplacesAPlantedSymlinkInsteadOfFollowingIt) {
   TempFolder out, elsewhere;
-  Spit(elsewhere.File("victim"), "precious");
+  test::WriteText(elsewhere.File("victim"), "precious");
   ASSERT_EQ(::symlink(elsewhere.File("victim").c_str(), out.File("summary.json").c_str()), 0);
   WriteFileAtomically(out.File("summary.json"), "{}\n", "summary");
-  EXPECT_EQ(Slurp(elsewhere.File("victim")), "precious");
+  EXPECT_EQ(test::ReadText(elsewhere.File("victim")), "precious");
   EXPECT_FALSE(fs::is_symlink(out.File("summary.json")));
-  EXPECT_EQ(Slurp(out.File("summary.json")), "{}\n");
+  EXPECT_EQ(test::ReadText(out.File("summary.json")), "{}\n");
   EXPECT_TRUE(OtherFiles(out.path(), {"summary.json"}).empty());
 }
 
 TEST(AtomicFileWriter, AnAbandonedWriteKeepsTheOldFile) {
   TempFolder out;
-  Spit(out.File("log.csv"), "old\n");
+  test::WriteText(out.File("log.csv"), "old\n");
   {
     AtomicFileWriter writer(out.File("log.csv"), "log");
     writer.Append("t,x\n0,1\n");
   }  // destroyed without Commit, as by an exception during the run
-  EXPECT_EQ(Slurp(out.File("log.csv")), "old\n");
+  EXPECT_EQ(test::ReadText(out.File("log.csv")), "old\n");
   EXPECT_TRUE(OtherFiles(out.path(), {"log.csv"}).empty());
 }
 
@@ -104,7 +97,7 @@ TEST(AtomicFileWriter, AnAbandonedWriteKeepsTheOldFile) {
 // the old content stays, and no temporary file is left. In a child process, so the limit touches nothing else.
 TEST(AtomicFileWriter, AFailedWriteIsReportedAndKeepsTheOldFile) {
   TempFolder out;
-  Spit(out.File("log.csv"), "old\n");
+  test::WriteText(out.File("log.csv"), "old\n");
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
@@ -119,7 +112,7 @@ TEST(AtomicFileWriter, AFailedWriteIsReportedAndKeepsTheOldFile) {
   ::waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << "the failed write was not reported with the file's name";
-  EXPECT_EQ(Slurp(out.File("log.csv")), "old\n");
+  EXPECT_EQ(test::ReadText(out.File("log.csv")), "old\n");
   EXPECT_TRUE(OtherFiles(out.path(), {"log.csv"}).empty());
 }
 
@@ -138,8 +131,8 @@ TEST(AtomicFileWriter, RefusesDevicesFoldersAndMissingFolders) {
 TEST(ResolveInsideFolder, KeepsPathsInsideTheirPackage) {
   TempFolder pkg, outside;
   fs::create_directories(pkg.File("meshes"));
-  Spit(pkg.File("meshes/a.urdf"), "x");
-  Spit(outside.File("secret"), "x");
+  test::WriteText(pkg.File("meshes/a.urdf"), "x");
+  test::WriteText(outside.File("secret"), "x");
   EXPECT_EQ(ResolveInsideFolder(pkg.path(), "meshes/a.urdf", "urdf"), fs::canonical(pkg.File("meshes/a.urdf")).string());
   EXPECT_EQ(ResolveInsideFolder(pkg.path(), "meshes/../meshes/a.urdf", "urdf"), fs::canonical(pkg.File("meshes/a.urdf")).string());
   EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "/etc/passwd", "urdf"); }).find("is an absolute path"), std::string::npos);
@@ -157,7 +150,7 @@ TEST(ResolveInsideFolder, KeepsPathsInsideTheirPackage) {
   EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "meshes/none.urdf", "urdf"); }).find("file does not exist"), std::string::npos);
   // A sibling folder whose name starts with the package's is outside too (a prefix is not a parent).
   fs::create_directories(pkg.path() + "-evil");
-  Spit(pkg.path() + "-evil/x", "x");
+  test::WriteText(pkg.path() + "-evil/x", "x");
   EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "../" + fs::path(pkg.path()).filename().string() + "-evil/x", "urdf"); })
                 .find("leaves its package folder"),
             std::string::npos);
@@ -173,7 +166,7 @@ TEST(TempFolder, IsPrivateAndRemovedWithItsContent) {
     ASSERT_EQ(::stat(path.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 0777, 0700u);
     fs::create_directories(dir.File("a/b"));
-    Spit(dir.File("a/b/c"), "x");
+    test::WriteText(dir.File("a/b/c"), "x");
   }
   EXPECT_FALSE(fs::exists(path));
 }

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "framework/files.h"
+#include "tests/common/text_files.h"
 
 namespace rome {
 namespace {
@@ -42,14 +43,6 @@ Eigen::VectorXd Value() {
   return value;
 }
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void WriteAll(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 
 bool IsRegularFile(const std::string& path) {
   struct stat st {};
@@ -175,7 +168,7 @@ TEST(PlanCache, ProcessesStoringTheSameKeyAtOnceAllSucceed) {
 TEST(PlanCache, StoreReplacesPlantedSymlinksAndNeverWritesThroughThem) {
   const TempFolder tmp("plan_cache_test");
   const std::string victim = tmp.File("victim.txt");
-  WriteAll(victim, "precious\n");
+  test::WriteText(victim, "precious\n");
   const PlanCache cache(tmp.File("shared_plans"));
   ASSERT_EQ(cache.EnsureDirectory(), "");
   const std::string entry = cache.FileFor(Key(0.3));
@@ -187,7 +180,7 @@ TEST(PlanCache, StoreReplacesPlantedSymlinksAndNeverWritesThroughThem) {
   // A symlinked entry is a miss (even one pointing at a valid entry: see NonRegularEntriesAreMisses).
   EXPECT_EQ(LoadInChild(cache, Key(0.3)), Outcome::kMiss);
   cache.Store(Key(0.3), Value());
-  EXPECT_EQ(ReadAll(victim), "precious\n") << "Store wrote through a planted symlink";
+  EXPECT_EQ(test::ReadText(victim), "precious\n") << "Store wrote through a planted symlink";
   EXPECT_TRUE(IsRegularFile(entry)) << "the entry is not a regular file after Store";
   const auto loaded = cache.Load(Key(0.3));
   ASSERT_TRUE(loaded.has_value());
@@ -232,7 +225,7 @@ TEST(PlanCache, CorruptEntriesAreMissesThatReturnAtOnceAndStoreReplaces) {
   for (const auto& [what, text] : corrupt) {
     // The parser itself neither throws nor allocates for a count the text cannot hold (8 TB for 999999999999).
     EXPECT_FALSE(PlanCache::ParseEntry(text, Key(0.3).text()).has_value()) << what;
-    WriteAll(cache.FileFor(Key(0.3)), text);
+    test::WriteText(cache.FileFor(Key(0.3)), text);
     EXPECT_EQ(LoadInChild(cache, Key(0.3)), Outcome::kMiss) << what << ": " << Name(LoadInChild(cache, Key(0.3)));
     cache.Store(Key(0.3), Value());  // the planner re-solves a miss and overwrites the entry
     const auto loaded = cache.Load(Key(0.3));
@@ -265,7 +258,7 @@ TEST(PlanCache, NonRegularEntriesAreMissesAndStoreReplacesThem) {
   EXPECT_TRUE(cache.Load(Key(0.3)).has_value());
   // A symlink to a valid entry elsewhere: the link may point anywhere, so it is never read.
   const std::string elsewhere = tmp.File("elsewhere.plan");
-  WriteAll(elsewhere, PlanCache::EntryText(Key(0.3), Value()));
+  test::WriteText(elsewhere, PlanCache::EntryText(Key(0.3), Value()));
   std::filesystem::remove(entry);
   ASSERT_EQ(::symlink(elsewhere.c_str(), entry.c_str()), 0);
   EXPECT_EQ(LoadInChild(cache, Key(0.3)), Outcome::kMiss) << "a symlink at the entry's name";
@@ -285,7 +278,7 @@ TEST(PlanCache, EnsureDirectoryCreatesAFolderAndNamesAPathThatCannotBeOne) {
   EXPECT_EQ(nested.EnsureDirectory(), "");
   EXPECT_TRUE(std::filesystem::is_directory(nested.directory()));
   EXPECT_TRUE(std::filesystem::is_empty(nested.directory())) << "the write probe was left behind";
-  WriteAll(tmp.File("a_file"), "not a folder\n");
+  test::WriteText(tmp.File("a_file"), "not a folder\n");
   const std::string file_error = PlanCache(tmp.File("a_file")).EnsureDirectory();
   EXPECT_NE(file_error.find("plan cache folder '" + tmp.File("a_file") + "': is a file, not a folder"), std::string::npos) << file_error;
   const std::string under_file = PlanCache(tmp.File("a_file/plans")).EnsureDirectory();
