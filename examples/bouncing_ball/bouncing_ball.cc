@@ -11,9 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "examples/common/animation.h"
+#include "systems/visualization/animation.h"
 #include "examples/common/cli.h"
-#include "examples/common/plot.h"
+#include "systems/visualization/plot.h"
 #include "framework/simulator.h"
 #include "framework/vector_logger.h"
 #include "systems/classic/bouncing_ball.h"
@@ -61,9 +61,9 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     SimulatorStatus status;
     std::string animation_error;
-    std::unique_ptr<examples::AnimationRecorder> animation;
+    std::unique_ptr<visualization::AnimationRecorder> animation;
     if (!cli.Get("animation").empty()) {
-      animation = std::make_unique<examples::AnimationRecorder>(0.05);
+      animation = std::make_unique<visualization::AnimationRecorder>(0.05);
       const LeafContext& ball_context = diagram->GetSubsystemContext(*ball, sim.get_context());
       sim.set_monitor([&, ball_context_ptr = &ball_context](const Context& c) {
         // The ball's centre is one radius above its contact point (the state's height).
@@ -110,14 +110,14 @@ int main(int argc, char** argv) {
     if (!plots.empty()) {
       std::filesystem::create_directories(plots);
       const auto& data = logger->log(log_ctx);
-      examples::Series h{"height", {}, {}, "lines"}, imp{"impacts (simulated)", impacts, std::vector<double>(impacts.size(), 0.0), "points pt 7"};
-      examples::Series ana{"impacts (closed form)", analytic, std::vector<double>(analytic.size(), 0.0), "points pt 6 ps 2"};
+      visualization::Series h{"height", {}, {}, "lines"}, imp{"impacts (simulated)", impacts, std::vector<double>(impacts.size(), 0.0), "points pt 7"};
+      visualization::Series ana{"impacts (closed form)", analytic, std::vector<double>(analytic.size(), 0.0), "points pt 6 ps 2"};
       for (size_t k = 0; k < data.times.size(); ++k) {
         h.x.push_back(data.times[k]);
         h.y.push_back(data.samples[k][0]);
       }
       std::string err;
-      if (!examples::WritePlot({"Bouncing ball, e = " + cli.Get("restitution"), "time [s]", "height [m]", {h, imp, ana}}, plots + "/bouncing_ball_height.png",
+      if (!visualization::WritePlot({"Bouncing ball, e = " + cli.Get("restitution"), "time [s]", "height [m]", {h, imp, ana}}, plots + "/bouncing_ball_height.png",
                                &err))
         std::cerr << "warning: " << err << "\n";
     }

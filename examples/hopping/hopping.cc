@@ -18,9 +18,9 @@
 #include "diagrams/hopping/hopping_diagram.h"
 #include "diagrams/hopping/hopping_plans.h"
 #include "examples/common/cli.h"
-#include "examples/common/animation.h"
-#include "examples/common/plot.h"
-#include "examples/common/stick_figure.h"
+#include "systems/visualization/animation.h"
+#include "systems/visualization/plot.h"
+#include "systems/visualization/stick_figure.h"
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/robot_files.h"
@@ -208,8 +208,8 @@ int main(int argc, char** argv) {
   const bool want_plots = !cli.Get("plots").empty();
   double last_progress = 0;
   ContactForceStatistics contact;  // the plant's own forces after every integrator step and event
-  std::unique_ptr<examples::AnimationRecorder> animation;
-  if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*model);
+  std::unique_ptr<visualization::AnimationRecorder> animation;
+  if (!cli.Get("animation").empty()) animation = std::make_unique<visualization::AnimationRecorder>(*model);
   sim.set_monitor([&](const Context& c) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
     const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
@@ -415,12 +415,12 @@ int main(int argc, char** argv) {
     else std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
   }
   if (!cli.Get("plots").empty()) {
-    examples::PlotSpec grf{"Normal GRF: robot vs spring-mass ROM", "t [s]", "F [N]", {}};
-    examples::PlotSpec com{"COM height", "t [s]", "z [m]", {}};
-    examples::PlotSpec spring{"Shin spring torque (both legs) and robot normal GRF / 10", "t [s]", "torque [N m], force [10 N]", {}};
-    examples::PlotSpec momentum{"Centroidal pitch momentum H_pitch", "t [s]", "H [N m s]", {}};
-    examples::PlotSpec pitch{"Pelvis pitch", "t [s]", "pitch [rad]", {}};
-    examples::Series robot{"robot", {}, {}}, romf{"ROM", {}, {}}, comz{"COM z", {}, {}}, shin{"shin springs", {}, {}}, grf10{"GRF / 10", {}, {}},
+    visualization::PlotSpec grf{"Normal GRF: robot vs spring-mass ROM", "t [s]", "F [N]", {}};
+    visualization::PlotSpec com{"COM height", "t [s]", "z [m]", {}};
+    visualization::PlotSpec spring{"Shin spring torque (both legs) and robot normal GRF / 10", "t [s]", "torque [N m], force [10 N]", {}};
+    visualization::PlotSpec momentum{"Centroidal pitch momentum H_pitch", "t [s]", "H [N m s]", {}};
+    visualization::PlotSpec pitch{"Pelvis pitch", "t [s]", "pitch [rad]", {}};
+    visualization::Series robot{"robot", {}, {}}, romf{"ROM", {}, {}}, comz{"COM z", {}, {}}, shin{"shin springs", {}, {}}, grf10{"GRF / 10", {}, {}},
         H{"H_pitch", {}, {}}, theta{"pelvis pitch", {}, {}};
     for (const Sample& s : samples) {
       robot.x.push_back(s.t), robot.y.push_back(s.grf), comz.x.push_back(s.t), comz.y.push_back(s.com_z);
@@ -431,12 +431,12 @@ int main(int argc, char** argv) {
     // Fig. 6 of the paper from our run, over the first hop (jump start − 0.1 s to touchdown + 1 s): desired vs actual
     // outputs in Jump and Landing, energies robot vs ROM, and hop tiles.
     const double t_from = jump_start > 0 ? jump_start - 0.1 : 0.0, t_to = touchdown > 0 ? touchdown + 1.0 : 1e9;
-    auto dashed = [](const std::string& title) { return examples::Series{title, {}, {}, "lines dt 2 lw 2"}; };
-    examples::Series L_act{"L actual (mean of legs)", {}, {}}, L_des = dashed("L desired"), cx_act{"COM x actual", {}, {}}, cx_des = dashed("COM x desired"),
+    auto dashed = [](const std::string& title) { return visualization::Series{title, {}, {}, "lines dt 2 lw 2"}; };
+    visualization::Series L_act{"L actual (mean of legs)", {}, {}}, L_des = dashed("L desired"), cx_act{"COM x actual", {}, {}}, cx_des = dashed("COM x desired"),
                      th_act{"pitch actual", {}, {}}, th_des = dashed("pitch desired");
-    examples::Series ke{"robot kinetic", {}, {}}, pe{"robot potential", {}, {}}, se{"robot springs", {}, {}}, rke = dashed("ROM kinetic"),
+    visualization::Series ke{"robot kinetic", {}, {}}, pe{"robot potential", {}, {}}, se{"robot springs", {}, {}}, rke = dashed("ROM kinetic"),
         rpe = dashed("ROM potential"), rse = dashed("ROM spring");
-    auto push = [](examples::Series& series, double t, double y) { series.x.push_back(t), series.y.push_back(y); };
+    auto push = [](visualization::Series& series, double t, double y) { series.x.push_back(t), series.y.push_back(y); };
     for (const Sample& s : samples) {
       if (s.t < t_from || s.t > t_to) continue;
       push(L_act, s.t, s.leg_length), push(L_des, s.t, s.leg_length_d), push(cx_act, s.t, s.com_x), push(cx_des, s.t, s.com_x_d);
@@ -444,23 +444,23 @@ int main(int argc, char** argv) {
       push(ke, s.t, s.kinetic), push(pe, s.t, s.potential), push(se, s.t, s.spring_energy);
       push(rke, s.t, s.rom_kinetic), push(rpe, s.t, s.rom_potential), push(rse, s.t, s.rom_spring);
     }
-    examples::PlotSpec out_L{"Output: virtual leg length L(q_knee), Jump and Landing (gap: Flight)", "t [s]", "L [m]", {L_act, L_des}};
-    examples::PlotSpec out_x{"Output: COM x, Jump and Landing", "t [s]", "x [m]", {cx_act, cx_des}};
-    examples::PlotSpec out_th{"Output: pelvis pitch, Jump and Landing", "t [s]", "pitch [rad]", {th_act, th_des}};
-    examples::PlotSpec energy{"Energy relative to the jump start: robot vs spring-mass ROM", "t [s]", "E [J]", {ke, pe, se, rke, rpe, rse}};
+    visualization::PlotSpec out_L{"Output: virtual leg length L(q_knee), Jump and Landing (gap: Flight)", "t [s]", "L [m]", {L_act, L_des}};
+    visualization::PlotSpec out_x{"Output: COM x, Jump and Landing", "t [s]", "x [m]", {cx_act, cx_des}};
+    visualization::PlotSpec out_th{"Output: pelvis pitch, Jump and Landing", "t [s]", "pitch [rad]", {th_act, th_des}};
+    visualization::PlotSpec energy{"Energy relative to the jump start: robot vs spring-mass ROM", "t [s]", "E [J]", {ke, pe, se, rke, rpe, rse}};
     // Hop tiles: the sagittal (x-z) projection of every link-to-parent segment and of each sole line, one frame every
     // 0.07 s from 0.1 s before the jump to 0.3 s after touchdown, side by side.
-    examples::Series sticks{"robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"}, ground{"ground", {}, {}, "lines lw 3 lc rgb '#808080'"};
+    visualization::Series sticks{"robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"}, ground{"ground", {}, {}, "lines lw 3 lc rgb '#808080'"};
     int tile = 0;
     double next_tile = t_from;
     constexpr double kTileDx = 0.5;  // [m]
     for (const Sample& s : samples) {
       if (s.t < next_tile || s.t > std::min(t_to - 0.7, t_from + 1.5)) continue;
       next_tile = s.t + 0.07;
-      examples::AppendStickFigure(*model, ws, s.q, 0, kTileDx * tile++, &sticks, &sticks);
+      visualization::AppendStickFigure(*model, ws, s.q, 0, kTileDx * tile++, &sticks, &sticks);
     }
     ground.x = {-0.4, kTileDx * tile}, ground.y = {0.0, 0.0};
-    examples::PlotSpec tiles{"Hop tiles, sagittal projection (every 0.07 s from 0.1 s before the jump to 0.3 s after touchdown; 0.5 m apart)",
+    visualization::PlotSpec tiles{"Hop tiles, sagittal projection (every 0.07 s from 0.1 s before the jump to 0.3 s after touchdown; 0.5 m apart)",
                              "x [m] (+ 0.5 m per tile)", "z [m]", {ground, sticks}};
     tiles.equal_axes = true;
     tiles.width_px = 1800;
@@ -475,7 +475,7 @@ int main(int argc, char** argv) {
                                std::pair{momentum, "pitch_momentum.png"}, std::pair{pitch, "pelvis_pitch.png"}, std::pair{out_L, "output_leg_length.png"},
                                std::pair{out_x, "output_com_x.png"}, std::pair{out_th, "output_pitch.png"}, std::pair{energy, "energy.png"},
                                std::pair{tiles, "hop_tiles.png"}})
-      if (!examples::WritePlot(spec, cli.Get("plots") + "/" + file, &error)) std::cerr << "hopping: plot " << file << ": " << error << "\n";
+      if (!visualization::WritePlot(spec, cli.Get("plots") + "/" + file, &error)) std::cerr << "hopping: plot " << file << ": " << error << "\n";
   }
   std::cout << "hopping (" << ToString(plant_kind) << " plant): " << status.ToString() << "\n"
             << "  air time " << summary["air_time_s"] << " s (paper 0.423), foot clearance " << clearance << " m (paper ~0.18), COM rise "

@@ -20,9 +20,9 @@
 #include <nlohmann/json.hpp>
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
-#include "examples/common/animation.h"
+#include "systems/visualization/animation.h"
 #include "examples/common/cli.h"
-#include "examples/common/plot.h"
+#include "systems/visualization/plot.h"
 #include "framework/simulator.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/contact_force_statistics.h"
@@ -264,8 +264,8 @@ int main(int argc, char** argv) {
     std::string animation_error;
     const PlantKind plant_kind = ParsePlantKind(cli.Get("plant"), "stepping_stones: --plant");
     SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, controller, plant_kind);
-    std::unique_ptr<examples::AnimationRecorder> animation;
-    if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*d.model);
+    std::unique_ptr<visualization::AnimationRecorder> animation;
+    if (!cli.Get("animation").empty()) animation = std::make_unique<visualization::AnimationRecorder>(*d.model);
     Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
     SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
     sim.Initialize();
@@ -413,7 +413,7 @@ int main(int argc, char** argv) {
       return 1;
     if (!cli.Get("log").empty()) d.logger->WriteCsv(log_ctx, cli.Get("log"));
     if (animation) {
-      std::vector<examples::AnimationStone> stones;
+      std::vector<visualization::AnimationStone> stones;
       for (const auto& st : terrain.stones()) stones.push_back({st.x_center_m, st.top_height_m, st.length_m});
       if (!animation->WriteHtml(cli.Get("animation"), "ROME stepping stones, " + ControllerKind(*d.controller), stones, &animation_error))
         std::cerr << "warning: " << animation_error << "\n";
@@ -429,14 +429,14 @@ int main(int argc, char** argv) {
       const int q0 = d.logger->ColumnIndex("plant.state.q_" + d.model->JointName(0));
       std::string err;
       // COM height over time.
-      examples::Series zc{"COM height (world)", {}, {}, "lines"};
+      visualization::Series zc{"COM height (world)", {}, {}, "lines"};
       for (size_t k = 0; k < log.times.size(); ++k) {
         zc.x.push_back(log.times[k]);
         zc.y.push_back(log.samples[k][com_z]);
       }
-      if (!examples::WritePlot({"COM height", "time [s]", "z [m]", {zc}}, dir + "/com_height.png", &err)) std::cerr << "warning: " << err << "\n";
+      if (!visualization::WritePlot({"COM height", "time [s]", "z [m]", {zc}}, dir + "/com_height.png", &err)) std::cerr << "warning: " << err << "\n";
       // Phase portrait against the LIP orbit of E*: L = z0 sqrt(E* + λ² x²).
-      examples::Series ph{"robot (p_com^x, L_y)", {}, {}, "lines"}, orbit{"LIP orbit of E*", {}, {}, "lines dt 2"};
+      visualization::Series ph{"robot (p_com^x, L_y)", {}, {}, "lines"}, orbit{"LIP orbit of E*", {}, {}, "lines dt 2"};
       double zsum = 0;
       for (size_t k = 0; k < log.times.size(); ++k) {
         ph.x.push_back(log.samples[k][rel_x]);
@@ -450,12 +450,12 @@ int main(int argc, char** argv) {
         orbit.x.push_back(x);
         orbit.y.push_back(z0 * std::sqrt(params.target_orbital_energy + lambda2 * x * x));
       }
-      if (!examples::WritePlot({"Phase portrait, E* = " + cli.Get("energy"), "p_com^x relative to stance foot [m]", "L_y [m^2/s]", {ph, orbit}},
+      if (!visualization::WritePlot({"Phase portrait, E* = " + cli.Get("energy"), "p_com^x relative to stance foot [m]", "L_y [m^2/s]", {ph, orbit}},
                                dir + "/phase_portrait.png", &err))
         std::cerr << "warning: " << err << "\n";
       // Gait tiles: stick figures every 0.1 s over the stones.
       MultibodyWorkspace ws(*d.model);
-      examples::Series sticks{"robot", {}, {}, "lines lc rgb '#3060c0'"}, stones{"stones", {}, {}, "lines lw 6 lc rgb '#808080'"};
+      visualization::Series sticks{"robot", {}, {}, "lines lc rgb '#3060c0'"}, stones{"stones", {}, {}, "lines lw 6 lc rgb '#808080'"};
       for (const auto& s : terrain.stones()) {
         stones.x.insert(stones.x.end(), {s.x_center_m - s.length_m / 2, s.x_center_m + s.length_m / 2, NAN});
         stones.y.insert(stones.y.end(), {s.top_height_m, s.top_height_m, NAN});
@@ -485,11 +485,11 @@ int main(int argc, char** argv) {
         sticks.x.push_back(NAN);
         sticks.y.push_back(NAN);
       }
-      examples::PlotSpec tiles{"Gait tiles (every 0.1 s)", "x [m]", "z [m]", {stones, sticks}};
+      visualization::PlotSpec tiles{"Gait tiles (every 0.1 s)", "x [m]", "z [m]", {stones, sticks}};
       tiles.equal_axes = true;
       tiles.width_px = 1600;
       tiles.height_px = 500;
-      if (!examples::WritePlot(tiles, dir + "/gait_tiles.png", &err)) std::cerr << "warning: " << err << "\n";
+      if (!visualization::WritePlot(tiles, dir + "/gait_tiles.png", &err)) std::cerr << "warning: " << err << "\n";
     }
     std::cout << "\n"
               << status.ToString() << "\n"

@@ -44,8 +44,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "examples/common/plot.h"
-#include "examples/common/process.h"
+#include "systems/visualization/plot.h"
+#include "framework/process.h"
 #include "examples/sweep/sweep_io.h"
 #include "framework/files.h"
 #include "framework/text.h"
@@ -94,7 +94,7 @@ void PrintHelp() {
 
 // The flags the example accepts, read from its --help (run without a shell: the build folder may hold any character).
 std::set<std::string> ExampleFlags(const std::string& binary) {
-  const rome::examples::ProcessResult help = rome::examples::RunProgram({binary, "--help"}, kMaxHelpBytes);
+  const rome::ProcessResult help = rome::RunProgram({binary, "--help"}, kMaxHelpBytes);
   if (!help.started || help.exit_code != 0)
     throw std::runtime_error("rome_sweep: '" + Excerpt(binary, 200) + " --help' failed (" +
                              (help.started ? "exit code " + std::to_string(help.exit_code) : help.error) + ")");
@@ -282,7 +282,7 @@ void RunOne(const Sweep& s, long i) {
   std::vector<std::string> args = {s.binary};
   args.insert(args.end(), flags.begin(), flags.end());
   args.insert(args.end(), {"--summary", RunPath(s, i, "json"), "--log", ""});
-  std::vector<char*> argv = rome::examples::ArgvOf(args);
+  std::vector<char*> argv = rome::ArgvOf(args);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, log_fd, 1);
@@ -297,7 +297,7 @@ void RunOne(const Sweep& s, long i) {
   }
   ::close(log_fd);
   if (rc == 0) {
-    const rome::examples::ExitStatus status = rome::examples::WaitForChild(pid);
+    const rome::ExitStatus status = rome::WaitForChild(pid);
     record.exit_code = status.signal != 0 ? -std::min(status.signal, -rome::sweep::kMinExitCode) : status.code;
   }
   try {
@@ -435,18 +435,18 @@ json Aggregate(const Sweep& s, const Results& r) {
 }
 
 // A plot that fails is a warning (WritePlot passes no path to gnuplot and writes the PNG atomically).
-void WritePlotInto(const rome::examples::PlotSpec& spec, const std::string& destination) {
+void WritePlotInto(const rome::visualization::PlotSpec& spec, const std::string& destination) {
   std::string err;
-  if (!rome::examples::WritePlot(spec, destination, &err)) std::cerr << "warning: " << err << "\n";
+  if (!rome::visualization::WritePlot(spec, destination, &err)) std::cerr << "warning: " << err << "\n";
 }
 
 void WritePlots(const Sweep& s, const Results& r) {
   if (s.swept[0].name != "seed" && r.numeric.count("mean_forward_speed_mps")) {
-    std::vector<rome::examples::Series> series;
+    std::vector<rome::visualization::Series> series;
     const Parameter& x = s.swept[0];
     const size_t lines = s.swept.size() > 1 ? s.swept[1].values.size() : 1;
     for (size_t l = 0; l < lines; ++l) {
-      rome::examples::Series ser{s.swept.size() > 1 ? s.swept[1].name + " = " + s.swept[1].values[l] : "runs", {}, {}, "linespoints"};
+      rome::visualization::Series ser{s.swept.size() > 1 ? s.swept[1].name + " = " + s.swept[1].values[l] : "runs", {}, {}, "linespoints"};
       for (long i = 0; i < s.total; ++i) {
         const auto v = RunValues(s, i);
         if (s.swept.size() > 1 && v[1] != s.swept[1].values[l]) continue;
@@ -459,7 +459,7 @@ void WritePlots(const Sweep& s, const Results& r) {
     }
     WritePlotInto({"Mean forward speed (successful runs)", x.name, "speed [m/s]", series}, (fs::path(s.out) / "sweep_speed.png").string());
   } else {
-    rome::examples::Series ser{"success rate so far", {}, {}, "lines"};
+    rome::visualization::Series ser{"success rate so far", {}, {}, "lines"};
     long ok = 0;
     for (long i = 0; i < s.total; ++i) {
       ok += r.records[i] && r.records[i]->exit_code == 0 ? 1 : 0;

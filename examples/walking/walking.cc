@@ -22,9 +22,9 @@
 #include "diagrams/walking/pre_impact_sampler.h"
 #include "diagrams/walking/walking_diagram.h"
 #include "examples/common/cli.h"
-#include "examples/common/animation.h"
-#include "examples/common/plot.h"
-#include "examples/common/stick_figure.h"
+#include "systems/visualization/animation.h"
+#include "systems/visualization/plot.h"
+#include "systems/visualization/stick_figure.h"
 #include "framework/simulator.h"
 #include "framework/text.h"
 #include "systems/plants/contact_force_statistics.h"
@@ -72,8 +72,8 @@ double Percentile(std::vector<double> x, double p) {
 
 using Columns = std::vector<std::vector<double>>;
 
-examples::Series Line(const std::string& title, std::vector<double> x, std::vector<double> y, const std::string& style = "lines") {
-  return examples::Series{title, std::move(x), std::move(y), style};
+visualization::Series Line(const std::string& title, std::vector<double> x, std::vector<double> y, const std::string& style = "lines") {
+  return visualization::Series{title, std::move(x), std::move(y), style};
 }
 
 // One transition's plan on its nodes (Fig. 3 S2 sagittal, L2 lateral): the trajectory with DSP nodes blue and SSP
@@ -82,14 +82,14 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
   if (n.t.size() == 0) return;
   const int N = static_cast<int>(n.t.size());
   auto split = [&](const Eigen::VectorXd& v, const std::string& label) {
-    examples::Series dsp = Line(label + ", DSP", {}, {}, "linespoints pt 7 ps 0.6 lc rgb 'blue'");
-    examples::Series ssp = Line(label + ", SSP", {}, {}, "linespoints pt 7 ps 0.6 lc rgb 'red'");
+    visualization::Series dsp = Line(label + ", DSP", {}, {}, "linespoints pt 7 ps 0.6 lc rgb 'blue'");
+    visualization::Series ssp = Line(label + ", SSP", {}, {}, "linespoints pt 7 ps 0.6 lc rgb 'red'");
     for (int j = 0; j < N; ++j) {
-      examples::Series& s = n.single_support[j] ? ssp : dsp;
+      visualization::Series& s = n.single_support[j] ? ssp : dsp;
       if (n.single_support[j] && ssp.x.empty() && j > 0) ssp.x.push_back(n.t[j - 1]), ssp.y.push_back(v[j - 1]);  // join the domains
       s.x.push_back(n.t[j]), s.y.push_back(v[j]);
     }
-    return std::vector<examples::Series>{dsp, ssp};
+    return std::vector<visualization::Series>{dsp, ssp};
   };
   auto torque_panel = [&](int foot, const Eigen::MatrixXd& u, double lower, double upper, const std::string& axis, const std::string& eq,
                           const std::string& lname, const std::string& uname) {
@@ -99,25 +99,25 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
       uu[j] = u(foot, j), lo[j] = -lower * F, hi[j] = upper * F;
     }
     const std::string side = foot == 0 ? "left" : "right";
-    return examples::PlotSpec{side + " ankle " + axis + " torque and its ZMP bounds, " + eq, "t [s]", "N m",
+    return visualization::PlotSpec{side + " ankle " + axis + " torque and its ZMP bounds, " + eq, "t [s]", "N m",
                               {Line("-" + lname + " F (lower bound)", t, lo, "lines lw 2 lc rgb '#d0b000'"),
                                Line(uname + " F (upper bound)", t, hi, "lines lw 2 lc rgb 'black'"), Line("u_" + axis, t, uu, "linespoints pt 7 ps 0.5 lc rgb '#3060c0'")},
                               false, 900, 300};
   };
   std::string error;
-  examples::PlotSpec xz{"footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x and z on the NLP's nodes", "t [s]", "m", {}, false, 900, 350};
+  visualization::PlotSpec xz{"footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x and z on the NLP's nodes", "t [s]", "m", {}, false, 900, 350};
   for (auto& series : split(n.x, "x")) xz.series.push_back(series);
   for (auto& series : split(n.z, "z")) xz.series.push_back(series);
-  const std::vector<examples::PlotSpec> sagittal = {
+  const std::vector<visualization::PlotSpec> sagittal = {
       xz, torque_panel(0, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t"),
       torque_panel(1, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t")};
-  if (!examples::WritePanels(sagittal, dir + "/" + name + "_sagittal.png", &error)) std::cerr << "plot: " << error << "\n";
-  examples::PlotSpec y{"footed H-LIP transition " + what + ", lateral (Fig. 3 L2): COM y on the QP's nodes", "t [s]", "m", {}, false, 900, 350};
+  if (!visualization::WritePanels(sagittal, dir + "/" + name + "_sagittal.png", &error)) std::cerr << "plot: " << error << "\n";
+  visualization::PlotSpec y{"footed H-LIP transition " + what + ", lateral (Fig. 3 L2): COM y on the QP's nodes", "t [s]", "m", {}, false, 900, 350};
   for (auto& series : split(n.y, "y")) y.series.push_back(series);
-  const std::vector<examples::PlotSpec> lateral = {
+  const std::vector<visualization::PlotSpec> lateral = {
       y, torque_panel(0, n.roll_torque, n.left_m, n.right_m, "x (roll)", "Eq. (14)", "W1", "W2"),
       torque_panel(1, n.roll_torque, n.left_m, n.right_m, "x (roll)", "Eq. (14)", "W1", "W2")};
-  if (!examples::WritePanels(lateral, dir + "/" + name + "_lateral.png", &error)) std::cerr << "plot: " << error << "\n";
+  if (!visualization::WritePanels(lateral, dir + "/" + name + "_lateral.png", &error)) std::cerr << "plot: " << error << "\n";
 }
 
 // The paper's figures from this run: Fig. 2 S2 (periodic aSLIP: z, F_z per leg, ẋ over one step) and L2 (H-LIP P2
@@ -127,8 +127,8 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
                 const std::string& scenario, double t_stop, const std::vector<double>& t, const Columns& com, const Columns& vel,
                 const Columns& force, const std::vector<std::pair<double, Eigen::VectorXd>>& poses) {
   std::string err;
-  auto write = [&](const std::vector<examples::PlotSpec>& panels, const std::string& file) {
-    if (!examples::WritePanels(panels, dir + "/" + file, &err)) std::cerr << "plot: " << err << "\n";
+  auto write = [&](const std::vector<visualization::PlotSpec>& panels, const std::string& file) {
+    if (!visualization::WritePanels(panels, dir + "/" + file, &err)) std::cerr << "plot: " << err << "\n";
   };
   write({{"COM desired vs actual (Fig. 5a)", "t [s]", "m",
           {Line("x", t, com[0]), Line("x desired", t, com[1]), Line("y", t, com[2]), Line("y desired", t, com[3]), Line("z", t, com[4]),
@@ -139,7 +139,7 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
            Line("zdot desired", t, vel[5])}}},
         "com_velocity.png");
   {  // Fig. 5d: each foot's plant normal force inside its band [(1 - c) F, (1 + c) F] +- 2 % m g (the summary's measure)
-    std::vector<examples::PlotSpec> panels;
+    std::vector<visualization::PlotSpec> panels;
     for (int foot = 0; foot < 2; ++foot) {
       const std::vector<double>& f = force[2 * foot];
       const std::vector<double>& ref = force[2 * foot + 1];
@@ -175,8 +175,8 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
            {"forward velocity", "t from the SSP start [s]", "m/s", {Line("xdot", tau, xd)}, false, 900, 300}},
           "aslip_periodic.png");
     // L2: lateral state about the stance foot of each SSP (and, in the DSP after it, about the foot that just landed).
-    examples::Series orbit = Line("H-LIP P2 orbit (two steps)", {}, {}, "lines lw 2 lc rgb '#3060c0'");
-    examples::Series pre = Line("pre-impact states", {}, {}, "points pt 7 ps 1.5 lc rgb 'red'");
+    visualization::Series orbit = Line("H-LIP P2 orbit (two steps)", {}, {}, "lines lw 2 lc rgb '#3060c0'");
+    visualization::Series pre = Line("pre-impact states", {}, {}, "points pt 7 ps 1.5 lc rgb 'red'");
     double ymax = 0;
     for (int i = last; i < last + 4; ++i) {
       const WalkingPlanSegment& g = segs[i];
@@ -210,8 +210,8 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
   // or 0.6 m (frontal) further along.
   if (!poses.empty()) {
     MultibodyWorkspace ws(model);
-    examples::Series links[2] = {Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"), Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'")};
-    examples::Series soles[2] = {Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'"), Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'")};
+    visualization::Series links[2] = {Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"), Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'")};
+    visualization::Series soles[2] = {Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'"), Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'")};
     const double span = std::min(3.0, poses.back().first - poses.front().first);
     constexpr int kTiles = 16;
     size_t next = 0;
@@ -219,11 +219,11 @@ void WritePlots(const std::string& dir, const MultibodyModel& model, const Walki
       const double when = poses.front().first + span * i / (kTiles - 1);
       while (next + 1 < poses.size() && poses[next].first < when - 1e-9) ++next;
       for (int view = 0; view < 2; ++view)
-        examples::AppendStickFigure(model, ws, poses[next].second, view, (view == 0 ? 0.35 : 0.6) * i, &links[view], &soles[view]);
+        visualization::AppendStickFigure(model, ws, poses[next].second, view, (view == 0 ? 0.35 : 0.6) * i, &links[view], &soles[view]);
     }
     const std::string when = "16 frames over the first " + std::to_string(span).substr(0, 4) + " s";
-    examples::PlotSpec sag{"gait tiles, sagittal projection (" + when + "; each 0.35 m further)", "x [m] (+ 0.35 m per tile)", "z [m]", {soles[0], links[0]}, true, 1800, 450};
-    examples::PlotSpec front{"gait tiles, frontal projection (" + when + "; each 0.6 m further)", "y [m] (+ 0.6 m per tile)", "z [m]", {soles[1], links[1]}, true, 1800, 450};
+    visualization::PlotSpec sag{"gait tiles, sagittal projection (" + when + "; each 0.35 m further)", "x [m] (+ 0.35 m per tile)", "z [m]", {soles[0], links[0]}, true, 1800, 450};
+    visualization::PlotSpec front{"gait tiles, frontal projection (" + when + "; each 0.6 m further)", "y [m] (+ 0.6 m per tile)", "z [m]", {soles[1], links[1]}, true, 1800, 450};
     write({sag}, "gait_tiles_sagittal.png");
     write({front}, "gait_tiles_frontal.png");
   }
@@ -498,8 +498,8 @@ int main(int argc, char** argv) {
   std::vector<double> solve_us, t_s, cx, cxd, cy, cyd, cz, czd, fl, fr, fl_ref, fr_ref;
   std::vector<double> vx, vxd, vy, vyd, vz, vzd;         // COM velocity, actual and desired (Fig. 5b)
   std::vector<std::pair<double, Eigen::VectorXd>> poses;  // q every 10 ms, for the gait tiles
-  std::unique_ptr<examples::AnimationRecorder> animation;
-  if (!cli.Get("animation").empty()) animation = std::make_unique<examples::AnimationRecorder>(*model);
+  std::unique_ptr<visualization::AnimationRecorder> animation;
+  if (!cli.Get("animation").empty()) animation = std::make_unique<visualization::AnimationRecorder>(*model);
   const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
   std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
   PreImpactSampler single_support_com;  // the COM state about the stance foot, extrapolated to each touchdown

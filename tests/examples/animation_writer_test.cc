@@ -1,6 +1,6 @@
 // AnimationRecorder: URDF visuals reach the page (box sizes in three.js axes: URDF (x, y, z) = three.js (x, z, y)),
 // frames are decimated to the frame rate, and a link without visuals gets capsules.
-#include "examples/common/animation.h"
+#include "systems/visualization/animation.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <sstream>
 #include "tests/common/source_path.h"
 
-namespace rome::examples {
+namespace rome::visualization {
 namespace {
 
 TEST(AnimationRecorder, VisualsAndDecimation) {
@@ -37,4 +37,4 @@ TEST(AnimationRecorder, UnwritablePathIsNamed) {
 }
 
 }  // namespace
-}  // namespace rome::examples
+}  // namespace rome::visualization

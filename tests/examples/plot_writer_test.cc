@@ -1,7 +1,7 @@
 // Plots and outputs of the example programs at the trust boundary: gnuplot gets every text through GnuplotString and
 // runs without a shell, so backquotes, $(...), quotes and newlines in a title or a path run nothing (checked by the
 // files such commands would create); a PNG is written atomically, never through a planted symlink.
-#include "examples/common/plot.h"
+#include "systems/visualization/plot.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,12 +11,12 @@
 #include <sstream>
 
 #include "examples/common/cli.h"
-#include "examples/common/process.h"
+#include "framework/process.h"
 #include "framework/files.h"
 #include "framework/text.h"
 #include "tests/common/text_files.h"
 
-namespace rome::examples {
+namespace rome::visualization {
 namespace {
 
 namespace fs = std::filesystem;
@@ -105,4 +105,4 @@ TEST(WriteOutputFile, AFailedWriteIsReportedAndReturnsFalse) {
 }
 
 }  // namespace
-}  // namespace rome::examples
+}  // namespace rome::visualization

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace rome::examples {
+namespace rome {
 
 /// How a child process ended: its exit code (0-255), or the signal that killed it.
 struct ExitStatus {
@@ -34,4 +34,4 @@ struct ProcessResult {
 /// exit_code is -1).
 ProcessResult RunProgram(std::vector<std::string> argv, size_t max_output_bytes = 256u << 20);
 
-}  // namespace rome::examples
+}  // namespace rome

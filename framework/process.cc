@@ -1,4 +1,4 @@
-#include "examples/common/process.h"
+#include "framework/process.h"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -12,7 +12,7 @@
 
 extern char** environ;
 
-namespace rome::examples {
+namespace rome {
 
 ExitStatus WaitForChild(pid_t pid) {
   int status = 0;
@@ -109,4 +109,4 @@ ProcessResult RunProgram(std::vector<std::string> argv, size_t max_output_bytes)
   return result;
 }
 
-}  // namespace rome::examples
+}  // namespace rome

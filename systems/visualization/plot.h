@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace rome::examples {
+namespace rome::visualization {
 
 struct Series {
   std::string title;
@@ -27,4 +27,4 @@ bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* e
 /// keeps its own title, labels and series). Returns false as WritePlot, and for no panels.
 bool WritePanels(const std::vector<PlotSpec>& panels, const std::string& png_path, std::string* error);
 
-}  // namespace rome::examples
+}  // namespace rome::visualization

@@ -19,7 +19,7 @@
 #include "systems/multibody/multibody_model.h"
 #include "systems/multibody/multibody_workspace.h"
 
-namespace rome::examples {
+namespace rome::visualization {
 
 struct AnimationStone {
   double x_center_m = 0, top_height_m = 0, length_m = 0.1;
@@ -64,4 +64,4 @@ class AnimationRecorder {
   std::vector<float> forces_;  // per frame, per contact: px, py, pz, fx, fy, fz (three.js axes)
 };
 
-}  // namespace rome::examples
+}  // namespace rome::visualization

@@ -1,11 +1,11 @@
-#include "examples/common/stick_figure.h"
+#include "systems/visualization/stick_figure.h"
 
 #include <cmath>
 
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
 
-namespace rome::examples {
+namespace rome::visualization {
 
 namespace {
 void AppendSegment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, int axis, double offset, Series* s) {
@@ -31,4 +31,4 @@ void AppendStickFigure(const MultibodyModel& model, MultibodyWorkspace& ws, cons
   }
 }
 
-}  // namespace rome::examples
+}  // namespace rome::visualization

@@ -1,4 +1,4 @@
-#include "examples/common/animation.h"
+#include "systems/visualization/animation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,14 +9,14 @@
 #include <Eigen/Geometry>
 #include <urdf_parser/urdf_parser.h>
 
-#include "examples/common/sha256.h"
+#include "framework/sha256.h"
 #include "framework/files.h"
 #include "framework/text.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/multibody/multibody_model.h"
 #include "systems/multibody/multibody_workspace.h"
 
-namespace rome::examples {
+namespace rome::visualization {
 
 namespace {
 
@@ -401,4 +401,4 @@ bool AnimationRecorder::WritePage(const std::string& path, const std::string& ti
   return true;
 }
 
-}  // namespace rome::examples
+}  // namespace rome::visualization

@@ -1,6 +1,6 @@
-#include "examples/common/sha256.h"
+#include "framework/sha256.h"
 
-namespace rome::examples {
+namespace rome {
 
 namespace {
 
@@ -81,4 +81,4 @@ std::string Sha256Base64(std::string_view data) {
   return out;
 }
 
-}  // namespace rome::examples
+}  // namespace rome

@@ -1,13 +1,13 @@
-#include "examples/common/plot.h"
+#include "systems/visualization/plot.h"
 
 #include <iomanip>
 #include <sstream>
 
-#include "examples/common/process.h"
+#include "framework/process.h"
 #include "framework/files.h"
 #include "framework/text.h"
 
-namespace rome::examples {
+namespace rome::visualization {
 
 namespace {
 
@@ -69,4 +69,4 @@ bool WritePanels(const std::vector<PlotSpec>& panels, const std::string& png_pat
   return true;
 }
 
-}  // namespace rome::examples
+}  // namespace rome::visualization
