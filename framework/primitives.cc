@@ -1,6 +1,9 @@
 #include "framework/primitives.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numeric>
+#include <sstream>
 
 namespace rome {
 
@@ -26,6 +29,36 @@ Gain::Gain(std::string name, const Eigen::MatrixXd& K) : LeafSystem(std::move(na
   DeclareInputPort("u", static_cast<int>(K.cols()));
   DeclareOutputPort("y", static_cast<int>(K.rows()), [this, K](const LeafContext& c, Eigen::VectorXd* y) { y->noalias() = K * EvalInput(c, 0); });
 }
+
+namespace {
+
+std::string FormatDouble(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+}  // namespace
+
+Saturation::Saturation(std::string name, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper)
+    : LeafSystem(std::move(name)), lower_(lower), upper_(upper) {
+  if (lower.size() != upper.size())
+    ThrowError("lower bounds have " + std::to_string(lower.size()) + " elements but upper bounds " + std::to_string(upper.size()));
+  if (lower.size() == 0) ThrowError("a saturation needs at least one element");
+  for (Eigen::Index i = 0; i < lower.size(); ++i) {
+    if (std::isnan(lower[i]) || std::isnan(upper[i]) || lower[i] > upper[i])
+      ThrowError("element " + std::to_string(i) + ": bounds [" + FormatDouble(lower[i]) + ", " + FormatDouble(upper[i]) +
+                 "] are not an interval (need lower <= upper, neither NaN)");
+  }
+  DeclareInputPort("u", static_cast<int>(lower.size()));
+  DeclareOutputPort("y", static_cast<int>(lower.size()), [this](const LeafContext& c, Eigen::VectorXd* y) {
+    const Eigen::VectorXd& u = EvalInput(c, 0);
+    for (Eigen::Index i = 0; i < u.size(); ++i) (*y)[i] = std::isnan(u[i]) ? u[i] : std::min(std::max(u[i], lower_[i]), upper_[i]);
+  });
+}
+
+Saturation::Saturation(std::string name, double limit, int size)
+    : Saturation(std::move(name), Eigen::VectorXd::Constant(std::max(size, 0), -limit), Eigen::VectorXd::Constant(std::max(size, 0), limit)) {}
 
 Adder::Adder(std::string name, int num_inputs, int size) : LeafSystem(std::move(name)) {
   if (num_inputs < 1) ThrowError("an adder needs at least one input, got " + std::to_string(num_inputs));

@@ -8,6 +8,7 @@
 // Demultiplexer          inputs: u (sum n_i)  outputs: y0..y{k-1} (n_i)           (direct feedthrough)
 // ZeroOrderHold          inputs: u (n)         outputs: y (n)  y = u(t_k) held over [t_k, t_k + period)
 // TrajectorySource       outputs: y (n) [, ydot (n)]          y = trajectory(t)
+// Saturation             inputs: u (n)         outputs: y (n)  y_i = min(max(u_i, lower_i), upper_i) (direct feedthrough)
 
 #include <functional>
 #include <string>
@@ -43,6 +44,21 @@ class Multiplexer final : public LeafSystem {
 class Demultiplexer final : public LeafSystem {
  public:
   Demultiplexer(std::string name, std::vector<int> output_sizes);
+};
+
+/// Clamps each element of u to [lower_i, upper_i] (e.g. a controller's torques to the actuators' limits). A bound may
+/// be ±infinity; a NaN input stays NaN (it is never clamped into a plausible value). The constructor throws, naming the
+/// system and the element, when a lower bound exceeds its upper bound, a bound is NaN, or the sizes differ.
+class Saturation final : public LeafSystem {
+ public:
+  Saturation(std::string name, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper);
+  /// The same symmetric limit on every element: y_i = min(max(u_i, -limit), limit).
+  Saturation(std::string name, double limit, int size);
+  const Eigen::VectorXd& lower() const { return lower_; }
+  const Eigen::VectorXd& upper() const { return upper_; }
+
+ private:
+  Eigen::VectorXd lower_, upper_;
 };
 
 class ZeroOrderHold final : public LeafSystem {
