@@ -64,8 +64,17 @@ struct Example {
   std::string program;
   std::set<std::string> integer_flags;  // flags that take whole numbers: their grids must give whole numbers
 };
-const std::map<std::string, Example> kExamples = {{"stepping-stones", {"stepping_stones", {"seed", "steps"}}},
-                                                  {"bouncing-ball", {"bouncing_ball", {}}}};
+const std::map<std::string, Example> kExamples = {
+    {"stepping-stones", {"stepping_stones", {"seed", "steps"}}},
+    {"bouncing-ball", {"bouncing_ball", {}}},
+    {"walking", {"walking", {"seed", "steps", "lead-in-steps", "start-gait-steps"}}},
+    {"hopping", {"hopping", {"hops", "bullet-substeps"}}}};
+// "a | b | c" or "a, b, c": the example names, for help and errors.
+std::string ExampleNames(const char* separator) {
+  std::string names;
+  for (const auto& [name, example] : kExamples) names += (names.empty() ? "" : separator) + name;
+  return names;
+}
 // Summary fields left out of the CSV: they measure the machine, not the run.
 const std::set<std::string> kTimingFields = {"wall_time_s", "realtime_factor", "controller_update_us"};
 // Size caps of what is read back (the examples' summaries are a few kB).
@@ -81,9 +90,9 @@ struct Sweep {
 
 void PrintHelp() {
   std::cout << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... --out DIR\n"
-               "  EXAMPLE        stepping-stones | bouncing-ball (the program next to rome_sweep)\n"
+               "  EXAMPLE        " << ExampleNames(" | ") << " (the program next to rome_sweep)\n"
                "  --grid         N values from LO to HI (N = 1: LO) of the example's flag --NAME; several grids multiply\n"
-               "                 (whole numbers only for the flags that take them: seed, steps)\n"
+               "                 (whole numbers only for the flags that take them: seed, steps, hops, ...)\n"
                "  --seeds A:B    --seed A, A+1, ..., B (a Monte Carlo; multiplies with the grids)\n"
                "  --set          a fixed flag --NAME VALUE for every run (not a swept flag)\n"
                "  --out DIR      results: runs/, sweep.csv, sweep.json, PNG plots; a rerun with the same DIR and the same\n"
@@ -115,10 +124,10 @@ void CheckExampleHasFlags(const Sweep& s, const std::set<std::string>& flags) {
 
 Sweep Parse(int argc, char** argv) {
   Sweep s;
-  if (argc < 2) throw std::invalid_argument("rome_sweep: name an example (stepping-stones | bouncing-ball); see --help");
+  if (argc < 2) throw std::invalid_argument("rome_sweep: name an example (" + ExampleNames(" | ") + "); see --help");
   s.example = argv[1];
   auto it = kExamples.find(s.example);
-  if (it == kExamples.end()) throw std::invalid_argument("rome_sweep: unknown example '" + Excerpt(s.example) + "' (known: stepping-stones, bouncing-ball)");
+  if (it == kExamples.end()) throw std::invalid_argument("rome_sweep: unknown example '" + Excerpt(s.example) + "' (known: " + ExampleNames(", ") + ")");
   const Example& example = it->second;
   // The example beside this program's own file (/proc/self/exe), never a name looked up in the current folder or PATH.
   std::error_code ec;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "framework/install_location.h"
 #include "framework/text.h"
 
 namespace rome {
@@ -21,12 +22,7 @@ bool NamesCurrentFolder(const std::filesystem::path& path) {
 std::vector<std::string> RobotDataFolders() {
   std::vector<std::string> folders;
   if (const char* env = std::getenv("ROME_DATA_DIR"); env != nullptr && *env != '\0') folders.emplace_back(env);
-#ifdef ROME_INSTALL_DATA_DIR
-  folders.emplace_back(ROME_INSTALL_DATA_DIR);
-#endif
-#ifdef ROME_SOURCE_DATA_DIR
-  folders.emplace_back(ROME_SOURCE_DATA_DIR);
-#endif
+  if (std::string installed = InstalledDataFolder(); !installed.empty()) folders.push_back(std::move(installed));
   return folders;
 }
 

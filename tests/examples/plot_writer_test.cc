@@ -20,6 +20,8 @@ namespace rome::visualization {
 namespace {
 
 namespace fs = std::filesystem;
+using examples::CommandLine;
+using examples::WriteOutputFile;
 
 // Each string, if a shell or gnuplot ran it, would create the file named by its marker in the current folder.
 std::vector<std::string> Hostile(const std::string& marker) {

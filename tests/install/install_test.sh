@@ -1,19 +1,59 @@
 #!/usr/bin/env bash
-# Installs the build into a temporary prefix, builds tests/install/app against it with find_package(rome), and runs it
-# from a folder where robots/ does not exist (the robot is found in <prefix>/share/rome).
-# usage: install_test.sh BUILD_DIR SOURCE_DIR WORK_DIR
+# The install as a user gets it: `cmake --install --prefix` into one folder, then the whole prefix MOVED to another
+# (the install must be relocatable), and two outside projects built against the moved copy:
+#   tests/install/app       find_package(rome), rome::rome: walks AMBER 3 steps and uses a symbol of every library;
+#   tests/install/core_app  find_package(rome COMPONENTS core), rome::core: must link no Ipopt, Bullet or urdfdom.
+# Both run from an unrelated folder, with the source and build trees hidden behind empty mounts (a private mount
+# namespace through unshare, where the kernel allows one), and ROME_DATA_DIR unset: the robot must come from the moved
+# prefix. Then ROME_DATA_DIR, when set, must win. No installed file may name the source or the build folder.
+# usage: install_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
-build="$1"; src="$2"; work="$3"
-rm -rf "$work"; mkdir -p "$work"
-cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
-for f in include/rome/framework/system.h include/rome/diagrams/stepping_stones/stepping_stones_diagram.h \
-         share/rome/robots/amber/amber.rome.json lib/cmake/rome/romeConfig.cmake; do
-  [ -f "$work/prefix/$f" ] || { echo "FAIL: $f was not installed"; exit 1; }
+build="$(cd "$1" && pwd)"; src="$(cd "$2" && pwd)"
+work="$(mktemp -d "${TMPDIR:-/tmp}/rome_install_test.XXXXXX")"
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+cmake --install "$build" --prefix "$work/staged/prefix" > "$work/install.log"
+mv "$work/staged/prefix" "$work/moved"
+prefix="$work/moved"
+for f in include/rome/framework/system.h include/rome/framework/install_location.h include/rome/systems/visualization/plot.h \
+         include/rome/diagrams/walking/walking_diagram.h include/rome/diagrams/hopping/hopping_diagram.h \
+         share/rome/robots/amber/amber.rome.json lib/cmake/rome/romeConfig.cmake lib/cmake/rome/romeCoreTargets.cmake; do
+  [ -f "$prefix/$f" ] || fail "$f was not installed"
 done
+ls "$prefix"/lib*/librome_location.so > /dev/null 2>&1 || ls "$prefix"/lib/*/librome_location.so > /dev/null 2>&1 || fail "librome_location.so was not installed"
+if hits="$(grep -rlF -e "$src" -e "$build" "$prefix")"; then fail "installed files name the build machine's folders: $hits"; fi
+
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S "$src/tests/install/app" -B "$work/app" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$work/prefix" "${launcher[@]}" > "$work/configure.log"
-cmake --build "$work/app" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
+for app in app core_app; do
+  cmake -S "$src/tests/install/$app" -B "$work/$app" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" "${launcher[@]}" \
+    > "$work/$app.configure.log" 2>&1 || { cat "$work/$app.configure.log"; fail "$app does not configure"; }
+  cmake --build "$work/$app" > "$work/$app.build.log" 2>&1 || { cat "$work/$app.build.log"; fail "$app does not build"; }
+done
+if ldd "$work/core_app/core_app" | grep -Ei "ipopt|bullet|urdf"; then fail "core_app links a library outside ROME's core"; fi
+
+# Runs "$@" from $work/elsewhere with ROME_DATA_DIR unset and, where allowed, the source and build trees hidden.
 mkdir -p "$work/elsewhere"
-cd "$work/elsewhere"
-ROME_DATA_DIR="$work/prefix/share/rome" "$work/app/app"
+hidden() {
+  if unshare -rm true 2> /dev/null; then
+    unshare -rm env -u ROME_DATA_DIR SRC="$src" BUILD="$build" WHERE="$work/elsewhere" bash -c \
+      'mount -t tmpfs none "$SRC" && { case "$BUILD" in "$SRC"/*) ;; *) mount -t tmpfs none "$BUILD" ;; esac; } &&
+       [ -z "$(ls -A "$SRC")" ] && cd "$WHERE" && exec "$@"' hidden "$@"
+  else
+    echo "note: no private mount namespace here (unshare refused): the source tree stays visible" >&2
+    (cd "$work/elsewhere" && env -u ROME_DATA_DIR "$@")
+  fi
+}
+out="$(hidden "$work/app/app")" || { echo "$out"; fail "app failed"; }
+echo "$out"
+grep -qxF "robot file: $prefix/share/rome/robots/amber/amber.rome.json" <<< "$out" || fail "the robot did not come from the moved prefix"
+out="$(hidden "$work/core_app/core_app")" || { echo "$out"; fail "core_app failed"; }
+echo "$out"
+
+# An explicit ROME_DATA_DIR wins over the installed data.
+mkdir -p "$work/own/robots"
+cp -r "$prefix/share/rome/robots/amber" "$work/own/robots/"
+out="$(cd "$work/elsewhere" && ROME_DATA_DIR="$work/own" "$work/app/app")" || { echo "$out"; fail "app with ROME_DATA_DIR failed"; }
+grep -qxF "robot file: $work/own/robots/amber/amber.rome.json" <<< "$out" || fail "ROME_DATA_DIR did not win: $out"
+echo "install test: ok (prefix moved, trees hidden, ROME_DATA_DIR wins)"
