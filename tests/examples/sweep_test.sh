@@ -68,6 +68,14 @@ mpirun -np 2 "$bin/rome_sweep" stepping-stones --grid energy=0.3:0.5:2 --grid st
   --out "$work/grid" > "$work/grid.out" 2>&1
 check "grid exits 0" '[ $? = 0 ]'
 check "grid plot written" '[ -s "$work/grid/sweep_speed.png" ] || ! command -v gnuplot > /dev/null'
+# Hopping (Cassie, 3D) over a grid of apex rises: every run hops and settles, and each row records its apex rise.
+mpirun -np 2 "$bin/rome_sweep" hopping --grid apex-rise=0.15:0.20:2 --out "$work/hop" > "$work/hop.out" 2>&1
+check "hopping sweep exits 0" '[ $? = 0 ]'
+check "hopping sweep has 2 rows" '[ "$(wc -l < "$work/hop/sweep.csv")" = 3 ]'
+check "hopping sweep success rate 1" 'grep -q "\"success_rate\": 1.0" "$work/hop/sweep.json"'
+check "hopping rows hold the swept apex rise" 'grep -q "0.15" "$work/hop/sweep.csv" && grep -q "0.2" "$work/hop/sweep.csv"'
+bad_walk_out=$("$bin/rome_sweep" walking --seeds 1:2 --set nonexistent=1 --out "$work/x" 2>&1)
+check "walking is a known example (its flags are read)" 'printf "%s" "$bad_walk_out" | grep -q "example .walking. has no parameter .nonexistent."'
 # Bad input: one line, naming it, exit 1.
 bad() {  # expected-text args...
   local want="$1"; shift
