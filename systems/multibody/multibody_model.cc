@@ -1,4 +1,6 @@
 #include "systems/multibody/multibody_model.h"
+#include "systems/multibody/model_checks.h"
+#include "systems/multibody/robot_file_text.h"
 #include "systems/multibody/robot_files.h"
 #include "framework/files.h"
 #include "framework/text.h"
@@ -15,6 +17,7 @@
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <console_bridge/console.h>
 #include <nlohmann/json.hpp>
 #include <urdf_parser/urdf_parser.h>
@@ -153,86 +156,6 @@ const std::string& CheckTextSize(const std::string& text, const char* what, cons
   return text;
 }
 
-// The XML text must be UTF-8 without NUL bytes: TinyXML 2.6.2 (under urdfdom) steps over a NUL that ends a truncated
-// multi-byte sequence and reads past the buffer (a heap overflow found by tests/fuzz/urdf_sidecar_fuzzer).
-void CheckXmlEncoding(const std::string& xml, const std::string& path) {
-  size_t line = 1;
-  for (size_t i = 0; i < xml.size();) {
-    const size_t n = xml[i] == '\0' ? 0 : Utf8SequenceLength(xml, i);
-    if (n == 0) {
-      char byte[8];
-      std::snprintf(byte, sizeof(byte), "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(xml[i])));
-      throw std::runtime_error("URDF " + Excerpt(path, 200) + ": line " + std::to_string(line) + ": byte " + byte + " at offset " + std::to_string(i) +
-                               (xml[i] == '\0' ? " is a NUL byte" : " is not valid UTF-8") + "; a URDF must be UTF-8 text");
-    }
-    line += xml[i] == '\n';
-    i += n;
-  }
-}
-
-// Nesting depth of the XML elements, scanned without building a tree, so that a pathological
-// file is rejected before the (recursive) XML parser sees it. Handles comments, CDATA,
-// processing instructions, declarations and quoted attribute values.
-void CheckXmlDepth(const std::string& xml, const std::string& path) {
-  int depth = 0;
-  size_t line = 1;
-  const size_t n = xml.size();
-  auto skip_to = [&](size_t& i, const char* end) {
-    const size_t k = xml.find(end, i);
-    for (size_t j = i; j < (k == std::string::npos ? n : k); ++j) line += xml[j] == '\n';
-    i = k == std::string::npos ? n : k + std::strlen(end);
-  };
-  for (size_t i = 0; i < n;) {
-    const char c = xml[i];
-    if (c == '\n') ++line;
-    if (c != '<') { ++i; continue; }
-    if (xml.compare(i, 4, "<!--") == 0) { i += 4; skip_to(i, "-->"); continue; }
-    if (xml.compare(i, 9, "<![CDATA[") == 0) { i += 9; skip_to(i, "]]>"); continue; }
-    if (xml.compare(i, 2, "<?") == 0) { i += 2; skip_to(i, "?>"); continue; }
-    if (xml.compare(i, 2, "<!") == 0) { i += 2; skip_to(i, ">"); continue; }
-    const bool closing = i + 1 < n && xml[i + 1] == '/';
-    // Scan to the end of the tag, skipping quoted attribute values.
-    size_t j = i + 1;
-    char quote = 0;
-    for (; j < n; ++j) {
-      if (xml[j] == '\n') ++line;
-      if (quote) { if (xml[j] == quote) quote = 0; }
-      else if (xml[j] == '"' || xml[j] == '\'') quote = xml[j];
-      else if (xml[j] == '>') break;
-    }
-    const bool self_closing = j < n && j > i + 1 && xml[j - 1] == '/';
-    if (closing) --depth;
-    else if (!self_closing && ++depth > kMaxXmlDepth)
-      throw std::runtime_error("URDF " + Excerpt(path, 200) + ": line " + std::to_string(line) +
-                               ": XML elements nested more than " + std::to_string(kMaxXmlDepth) +
-                               " deep (a URDF needs fewer than 10 levels)");
-    i = j + 1;
-  }
-}
-
-// " (line N: NaN in name="...")" for the first attribute value holding a NaN or an infinity
-// (urdfdom only says "not a valid double"), else "".
-std::string NonFiniteNumberHint(const std::string& xml) {
-  size_t line = 1;
-  for (size_t i = 0; i < xml.size(); ++i) {
-    if (xml[i] == '\n') { ++line; continue; }
-    if (xml[i] != '"' && xml[i] != '\'' && xml[i] != ' ') continue;
-    size_t j = i + 1;
-    if (j < xml.size() && (xml[j] == '-' || xml[j] == '+')) ++j;
-    std::string word;
-    while (j < xml.size() && word.size() < 8 && std::isalpha(static_cast<unsigned char>(xml[j])))
-      word += static_cast<char>(std::tolower(static_cast<unsigned char>(xml[j++])));
-    if (j >= xml.size() || (xml[j] != '"' && xml[j] != '\'' && xml[j] != ' ')) continue;
-    if (word == "nan" || word == "inf" || word == "infinity") {
-      const size_t tag = xml.rfind('<', i);
-      const size_t end = tag == std::string::npos ? std::string::npos : xml.find('>', tag);
-      const std::string element = tag == std::string::npos ? "" : xml.substr(tag, end == std::string::npos ? 120 : end - tag + 1);
-      return " (line " + std::to_string(line) + ": " + (word == "nan" ? "NaN" : "infinity") + " in " + Excerpt(element, 120) + ")";
-    }
-  }
-  return "";
-}
-
 Eigen::Vector3d ToEigen(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
 
 Eigen::Isometry3d ToEigen(const urdf::Pose& p) {
@@ -344,6 +267,51 @@ struct SidecarReader {
   }
 };
 
+// A magnitude a robot file gives: within [lo, hi], else "<name> <value> <unit> is outside [lo, hi] <unit>".
+void CheckMagnitude(const SidecarReader& sc, const std::string& context, const std::string& name, double value, double lo, double hi,
+                    const std::string& unit) {
+  if (value >= lo && value <= hi) return;
+  const std::string u = unit.empty() ? "" : " " + unit;
+  sc.Fail(context, name + " " + Num(value) + u + " is outside [" + Num(lo) + ", " + Num(hi) + "]" + u);
+}
+
+// Why a contact's points are degenerate ("" if they are not): a line needs two distinct points, a flat contact points
+// that span an area (not all on one line), each to 1 um.
+std::string DegenerateContactProblem(const ContactInfo& c) {
+  constexpr double kResolution_m = 1e-6;
+  if (c.type == ContactType::kLine && (c.points[0] - c.points[1]).norm() < kResolution_m) return "line contact points coincide";
+  if (c.type != ContactType::kFlat) return "";
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : c.points) mean += p;
+  mean /= static_cast<double>(c.points.size());
+  Eigen::Matrix3Xd centred(3, static_cast<Eigen::Index>(c.points.size()));
+  for (size_t i = 0; i < c.points.size(); ++i) centred.col(static_cast<Eigen::Index>(i)) = c.points[i] - mean;
+  const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();  // descending
+  if (sv[1] < kResolution_m)
+    return "flat contact points lie on one line (they span no area: second singular value " + Num(sv[1]) +
+           " m); use a line contact, or give points that span the sole";
+  return "";
+}
+
+// Whether two paths name one file (both resolved on the disk; a path that cannot be resolved names no file).
+bool SameFile(const std::string& a, const std::string& b) {
+  std::error_code ec_a, ec_b;
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ec_a), cb = std::filesystem::weakly_canonical(b, ec_b);
+  return !ec_a && !ec_b && ca == cb;
+}
+
+// The sidecar's "urdf" entry when a URDF is loaded with a sidecar: a non-empty path that is not the sidecar itself.
+// One that names another URDF than the one loaded is reported as a warning (a sidecar may be shared by variants).
+void CheckSidecarNamesUrdf(const SidecarReader& sc, const std::string& entry, const std::string& urdf_path, const LoadOptions& options,
+                           std::vector<std::string>* warnings) {
+  if (entry.empty()) sc.Fail("urdf", "the entry is empty; name the URDF file, relative to the sidecar");
+  const std::string named = PackageFile(FolderOf(sc.file), entry, "sidecar " + Excerpt(sc.file, 200) + ": \"urdf\"", options);
+  if (SameFile(named, sc.file)) sc.Fail("urdf", "'" + Excerpt(entry) + "' names the sidecar itself; name the URDF file");
+  if (!SameFile(named, urdf_path))
+    warnings->push_back("sidecar \"urdf\" names '" + Excerpt(entry) + "', but the URDF loaded is '" + Excerpt(urdf_path, 200) +
+                        "' (given explicitly)");
+}
+
 // Mass properties of one URDF link in its own frame (inertia about the COM, link axes).
 // A link's mass properties in its link frame. A non-physical <inertia> is not rejected here: it
 // is judged with the body it ends up in (see CheckPhysical below), so `problem` records it.
@@ -436,17 +404,14 @@ class MultibodyModelLoader {
     if (!sidecar_path.empty() || sidecar_required) {
       const std::string text = sidecar_text ? CheckTextSize(*sidecar_text, "sidecar", sidecar_path, kMaxUrdfBytes)
                                             : ReadRegularFile(sidecar_path, "sidecar", kMaxUrdfBytes);
-      try {
-        sidecar = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-      } catch (const json::exception& e) {
-        throw std::runtime_error("sidecar " + Excerpt(sidecar_path, 200) + ": malformed JSON: " + Excerpt(e.what(), 200));
-      }
+      sidecar = ParseSidecarJson(text, sidecar_path);
       if (!sidecar.is_object()) sc.Fail("top level", "expected a JSON object");
       sc.CheckKeys(sidecar, {"robot", "urdf", "floating_base", "actuators", "springs", "contacts", "loop_closures",
                              "nominal_pose"},
                    "top level");
     }
     model.sidecar_path_ = sidecar_path;
+    if (!urdf_text && sidecar.contains("urdf")) CheckSidecarNamesUrdf(sc, sc.String(sidecar, "urdf", "urdf"), urdf_path, options, &model.warnings_);
 
     model.floating_base_ = FloatingBaseType::kFixed;
     if (sidecar.contains("floating_base")) {
@@ -460,8 +425,7 @@ class MultibodyModelLoader {
     // ---------------- URDF ----------------
     const std::string xml = urdf_text ? CheckTextSize(*urdf_text, "URDF", urdf_path, kMaxUrdfBytes)
                                       : ReadRegularFile(urdf_path, "URDF", kMaxUrdfBytes);
-    CheckXmlEncoding(xml, urdf_path);
-    CheckXmlDepth(xml, urdf_path);
+    CheckXmlText(xml, urdf_path);
     urdf::ModelInterfaceSharedPtr urdf_model;
     {
       std::lock_guard<std::mutex> lock(ConsoleMutex());
@@ -489,6 +453,8 @@ class MultibodyModelLoader {
     check_name("robot", urdf_model->getName());
     for (const auto& [name, link] : urdf_model->links_) check_name("link", name);
     for (const auto& [name, joint] : urdf_model->joints_) check_name("joint", name);
+    CheckUrdfIsTree(*urdf_model, ufile);
+    WarnUnmodelledUrdfElements(*urdf_model, &model.warnings_);
     model.name_ = urdf_model->getName();
     if (sidecar.contains("robot")) model.name_ = sc.String(sidecar, "robot", "robot");
 
@@ -536,7 +502,8 @@ class MultibodyModelLoader {
         // ROME's planar base moves in the world x-z plane and pitches about +y: the URDF planar joint
         // must have that plane (normal +y) and an <origin> within it.
         const Eigen::Vector3d axis = ToEigen(joint->axis);
-        if (!axis.allFinite() || !(axis.norm() > 1e-9) || (axis.normalized() - Eigen::Vector3d::UnitY()).norm() > 1e-9)
+        const double scale = axis.cwiseAbs().maxCoeff();
+        if (!axis.allFinite() || !(scale > 0.0) || ((axis / scale).normalized() - Eigen::Vector3d::UnitY()).norm() > 1e-9)
           throw std::runtime_error(where + ": <axis> " + Num3(axis) + " is not supported; ROME's planar base moves in the "
                                    "world x-z plane, so the planar joint's axis (the plane's normal) must be 0 1 0");
         if (std::abs(X.translation().y()) > 0.0 || std::abs(R(1, 1) - 1.0) > 1e-12)
@@ -609,6 +576,9 @@ class MultibodyModelLoader {
       if (in.mass < 0.0) throw std::runtime_error(where + ": <mass> must be >= 0, got " + Num(in.mass) + " kg");
       if (in.mass > kMaxMass_kg)
         throw std::runtime_error(where + ": <mass> " + Num(in.mass) + " kg exceeds " + Num(kMaxMass_kg) + " kg");
+      for (const auto& [what, x] : values)
+        if (std::string(what).rfind("<inertia", 0) == 0 && std::abs(x) > kMaxInertia_kgm2)
+          throw std::runtime_error(where + ": " + what + " " + Num(x) + " kg m^2 exceeds " + Num(kMaxInertia_kgm2) + " kg m^2");
       const Eigen::Isometry3d X = ToEigen(in.origin);
       if (X.translation().cwiseAbs().maxCoeff() > kMaxLength_m)
         throw std::runtime_error(where + ": <inertial> <origin xyz> " + Num3(X.translation()) + " m exceeds " +
@@ -729,10 +699,7 @@ class MultibodyModelLoader {
       b.parent = parent.body;
       b.joint_type = type;
       b.X_parent_joint = X_body_joint;
-      const Eigen::Vector3d axis = ToEigen(joint->axis);
-      if (!axis.allFinite()) throw std::runtime_error(where + ": <axis> " + Num3(axis) + " is not finite");
-      if (!(axis.norm() > 1e-9)) throw std::runtime_error(where + ": <axis> is zero");
-      b.axis = axis.normalized();
+      b.axis = UnitAxis(ToEigen(joint->axis), where);
       std::pair<double, double> lim{-kInf, kInf};
       if (joint->type != urdf::Joint::CONTINUOUS && joint->limits) {
         const double lo = joint->limits->lower, hi = joint->limits->upper;
@@ -830,6 +797,7 @@ class MultibodyModelLoader {
       if (k >= 0) { model.q_lower_[k] = limits[i].first; model.q_upper_[k] = limits[i].second; }
     }
     model.bodies_ = bodies;
+    if (model.floating_base_ == FloatingBaseType::kPlanar) CheckPlanarJoints(model, ufile);
 
     auto movable_joint = [&](const std::string& joint, const std::string& context) {
       if (!model.joint_index_.count(joint)) {
@@ -872,8 +840,10 @@ class MultibodyModelLoader {
                            " (give a positive torque_limit_Nm)");
         a.torque_limit_Nm = effort;
       }
-      if (!(a.reflected_inertia_kgm2 >= 0.0)) sc.Fail(ctx, "reflected_inertia_kgm2 must be >= 0, got " + Num(a.reflected_inertia_kgm2));
-      if (!(a.gear_ratio > 0.0)) sc.Fail(ctx, "gear_ratio must be positive, got " + Num(a.gear_ratio));
+      CheckMagnitude(sc, ctx, "torque limit (torque_limit_Nm or the URDF <limit effort>)", a.torque_limit_Nm, kMinTorqueLimit_Nm, kMaxTorqueLimit_Nm, "N m");
+      if (a.reflected_inertia_kgm2 != 0.0)
+        CheckMagnitude(sc, ctx, "reflected_inertia_kgm2", a.reflected_inertia_kgm2, kMinPositiveParameter, kMaxInertia_kgm2, "kg m^2");
+      CheckMagnitude(sc, ctx, "gear_ratio", a.gear_ratio, kMinGearRatio, kMaxGearRatio, "");
       for (const auto& other : model.actuators_)
         if (other.v_index == a.v_index) sc.Fail(ctx, "joint '" + Excerpt(a.joint) + "' is actuated twice");
       model.reflected_inertia_[a.v_index] += a.reflected_inertia_kgm2;
@@ -910,6 +880,12 @@ class MultibodyModelLoader {
       if (s.stiffness_Nm_per_rad < 0.0 || s.damping_Nms_per_rad < 0.0)
         sc.Fail(ctx, "stiffness and damping must be >= 0, got " + Num(s.stiffness_Nm_per_rad) + " and " +
                          Num(s.damping_Nms_per_rad));
+      if (s.stiffness_Nm_per_rad != 0.0)
+        CheckMagnitude(sc, ctx, "stiffness_Nm_per_rad", s.stiffness_Nm_per_rad, kMinPositiveParameter, kMaxSpringStiffness_Nm_per_rad, "N m/rad");
+      if (s.damping_Nms_per_rad != 0.0)
+        CheckMagnitude(sc, ctx, "damping_Nms_per_rad", s.damping_Nms_per_rad, kMinPositiveParameter, kMaxSpringDamping_Nms_per_rad, "N m s/rad");
+      if (std::abs(s.rest_angle_rad) > kMaxJointAngle_rad)
+        sc.Fail(ctx, "rest_angle_rad " + Num(s.rest_angle_rad) + " is beyond +-" + Num(kMaxJointAngle_rad) + " rad");
       for (const auto& other : model.springs_)
         if (other.v_index == s.v_index) sc.Fail(ctx, "joint '" + Excerpt(s.joint) + "' has a second spring");
       model.spring_stiffness_[s.v_index] = s.stiffness_Nm_per_rad;
@@ -942,9 +918,8 @@ class MultibodyModelLoader {
                          (max_points > min_points ? "+" : "") + " points, got " + SidecarReader::Dump(pts));
       for (const auto& p : pts) c.points.push_back(sc.Vec3(p, ctx + " points"));
       c.friction_coefficient = sc.NumberOr(contacts[i], "friction_coefficient", 1.0, ctx);
-      if (!(c.friction_coefficient > 0.0)) sc.Fail(ctx, "friction_coefficient must be positive, got " + Num(c.friction_coefficient));
-      if (c.type == ContactType::kLine && (c.points[0] - c.points[1]).norm() < 1e-6)
-        sc.Fail(ctx, "line contact points coincide");
+      CheckMagnitude(sc, ctx, "friction_coefficient", c.friction_coefficient, kMinFrictionCoefficient, kMaxFrictionCoefficient, "");
+      if (const std::string problem = DegenerateContactProblem(c); !problem.empty()) sc.Fail(ctx, problem);
       for (auto& p : c.points) p = to_body(frame, p);
       c.frame_origin.setZero();
       for (const auto& p : c.points) c.frame_origin += p;
@@ -983,6 +958,7 @@ class MultibodyModelLoader {
 
     // ---------------- nominal pose ----------------
     model.q_nominal_.setZero(nv);
+    std::vector<bool> given(static_cast<size_t>(nv), false);  // joints the sidecar's nominal_pose.joints gives
     if (base_nominal.size() == model.num_base_dofs()) model.q_nominal_.head(base_nominal.size()) = base_nominal;
     if (sidecar.contains("nominal_pose")) {
       const json& pose = sidecar.at("nominal_pose");
@@ -1013,9 +989,11 @@ class MultibodyModelLoader {
           if (!std::isfinite(x) || std::abs(x) > kMaxLength_m)
             sc.Fail(ctx, "value " + Num(x) + " is not finite or beyond " + Num(kMaxLength_m));
           model.q_nominal_[k] = x;
+          given[static_cast<size_t>(k)] = true;
         }
       }
     }
+    CheckNominalPose(model, sidecar_path.empty() ? ufile : "sidecar " + Excerpt(sidecar_path, 200), given, &model.warnings_);
     return model;
   }
 
@@ -1099,15 +1077,13 @@ MultibodyModel MultibodyModel::Load(const std::string& urdf_path, const std::str
 MultibodyModel MultibodyModel::LoadFromSidecar(const std::string& given_sidecar_path, const LoadOptions& options) {
   const std::string sidecar_path = FindRobotFile(given_sidecar_path);
   const std::string text = ReadRegularFile(sidecar_path, "sidecar", kMaxUrdfBytes);
-  json j;
-  try {
-    j = json::parse(text, nullptr, true, true);
-  } catch (const json::exception& e) {
-    throw std::runtime_error("sidecar " + Excerpt(sidecar_path, 200) + ": malformed JSON: " + Excerpt(e.what(), 200));
-  }
+  const json j = ParseSidecarJson(text, sidecar_path);
   SidecarReader sc{sidecar_path};
   const std::string what = "sidecar " + Excerpt(sidecar_path, 200) + ": \"urdf\"";
-  const std::string urdf_path = PackageFile(FolderOf(sidecar_path), sc.String(j, "urdf", "top level"), what, options);
+  const std::string entry = sc.String(j, "urdf", "top level");
+  if (entry.empty()) sc.Fail("urdf", "the entry is empty; name the URDF file, relative to the sidecar");
+  const std::string urdf_path = PackageFile(FolderOf(sidecar_path), entry, what, options);
+  if (SameFile(urdf_path, sidecar_path)) sc.Fail("urdf", "'" + Excerpt(entry) + "' names the sidecar itself; name the URDF file");
   // Both files are read once, here: what the loader checks is what was read.
   const std::string xml = ReadRegularFile(urdf_path, what, kMaxUrdfBytes);
   return MultibodyModelLoader::Load(urdf_path, sidecar_path, true, options, &xml, &text);

@@ -50,7 +50,14 @@
 //  * Input caps (one-line errors): URDF file <= kMaxUrdfBytes and XML nesting depth
 //    <= kMaxXmlDepth (checked before the XML parser runs), at most kMaxDofs degrees of freedom,
 //    lengths (joint origins, COMs, contact and loop-closure points) within +-kMaxLength_m,
-//    masses <= kMaxMass_kg. Names must be valid UTF-8.
+//    masses <= kMaxMass_kg, and the magnitude caps below (inertia, torque limit, gear ratio, spring, friction),
+//    each named with its cap. Names must be valid UTF-8. A sidecar is nested at most kMaxJsonDepth deep and names
+//    no key twice in one object (robot_file_text.h).
+//  * Structure (systems/multibody/model_checks.h): the URDF is a tree (no link with two parent joints), holds one
+//    <robot>, no xacro and no <mimic> (not modelled: refused, never dropped); a joint axis is nonzero and finite; a
+//    planar robot's joints turn about y and slide in the x-z plane; a line contact's points are distinct and a flat
+//    contact's span an area; the nominal pose lies within the joint limits and every loop closure holds there
+//    (within kMaxLoopClosureResidual_m); the sidecar's "urdf" entry, when present, names the URDF being loaded.
 //  * Files: only regular files are read (a device, FIFO, socket or directory is refused at once), the size cap is
 //    checked while reading; a sidecar names files only inside its own folder tree (LoadOptions).
 // Warnings (merged links, massless frames, repaired inertias, ...) are in warnings().
@@ -133,6 +140,17 @@ inline constexpr int kMaxXmlDepth = 64;
 inline constexpr int kMaxDofs = 1000;
 inline constexpr double kMaxLength_m = 1e3;
 inline constexpr double kMaxMass_kg = 1e6;
+// Magnitude caps of a robot description (ours: each a few orders beyond any legged robot's value, so that a typo or an
+// overflow such as 1e308 or 1e-300 is refused, with the cap in the message, instead of ending as a physics failure).
+inline constexpr double kMaxInertia_kgm2 = 1e6;                ///< |entries| of <inertia>, reflected_inertia_kgm2
+inline constexpr double kMinTorqueLimit_Nm = 1e-3, kMaxTorqueLimit_Nm = 1e5;
+inline constexpr double kMinGearRatio = 1e-2, kMaxGearRatio = 1e4;
+inline constexpr double kMaxSpringStiffness_Nm_per_rad = 1e7, kMaxSpringDamping_Nms_per_rad = 1e5;
+inline constexpr double kMinFrictionCoefficient = 1e-3, kMaxFrictionCoefficient = 10.0;
+inline constexpr double kMinPositiveParameter = 1e-9;          ///< smallest nonzero stiffness, damping or armature
+inline constexpr double kMaxJointAngle_rad = 6.283185307179586;  ///< |nominal or rest angle| of a revolute joint
+inline constexpr double kMaxLoopClosureResidual_m = 1e-3;      ///< | |p_a - p_b| - distance_m | at the nominal pose
+inline constexpr double kPlanarAxisTolerance = 1e-9;           ///< out-of-plane part of a planar robot's joint axis
 
 struct ActuatorInfo {
   std::string joint;

@@ -3,6 +3,7 @@
 // world link and given its floating base by the sidecar (a path of the loader that does not look at
 // floating joints), from the closed form of M's translational block (total mass times identity),
 // and from the joint's <origin> (the nominal base pose).
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,15 @@ const char* kRobotLinks = R"(
 )";
 
 std::string Robot(const std::string& head) { return "<robot name=\"walker\">" + head + kRobotLinks + "</robot>"; }
+
+// The same robot with every joint in the x-z plane (hip and shoulder about y), as a planar base requires.
+std::string PlanarRobot(const std::string& head) {
+  std::string urdf = Robot(head);
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{R"(<axis xyz="0.2 1 0.1"/>)", R"(<axis xyz="0 1 0"/>)"},
+                                 {R"(rpy="0.5 0 0"/><axis xyz="1 0 0"/>)", R"(rpy="0 0 0"/><axis xyz="0 1 0"/>)"}})
+    urdf.replace(urdf.find(from), from.size(), to);
+  return urdf;
+}
 
 std::string WorldJoint(const std::string& type, const std::string& origin, const std::string& extra = "") {
   return "<link name=\"world\"/><joint name=\"root_joint\" type=\"" + type +
@@ -137,13 +147,24 @@ TEST(MultibodyModelFloatingJointTest, FloatingJointOriginIsTheNominalBasePose) {
 
 TEST(MultibodyModelFloatingJointTest, PlanarJointFromWorldIsThePlanarBase) {
   const MultibodyModel with_world = MultibodyModel::LoadFromText(
-      Robot(WorldJoint("planar", R"(<origin xyz="0.3 0 1.1" rpy="0 0.2 0"/>)", R"(<axis xyz="0 1 0"/>)")), "",
+      PlanarRobot(WorldJoint("planar", R"(<origin xyz="0.3 0 1.1" rpy="0 0.2 0"/>)", R"(<axis xyz="0 1 0"/>)")), "",
       "walker_world.urdf");
   const MultibodyModel without_world =
-      MultibodyModel::LoadFromText(Robot(""), R"({"floating_base": "planar"})", "walker.urdf", "walker.rome.json");
+      MultibodyModel::LoadFromText(PlanarRobot(""), R"({"floating_base": "planar"})", "walker.urdf", "walker.rome.json");
   EXPECT_EQ(with_world.floating_base(), FloatingBaseType::kPlanar);
   EXPECT_LT((with_world.q_nominal().head(3) - Eigen::Vector3d(0.3, 1.1, 0.2)).cwiseAbs().maxCoeff(), 1e-14);
   ExpectSameMassMatrix(with_world, without_world, 7.75, 2);
+}
+
+// A planar base with a joint that leaves the x-z plane (the oblique hip) is refused, naming the joint and its axis.
+TEST(MultibodyModelFloatingJointTest, APlanarRobotsJointsMustStayInThePlane) {
+  const std::string e = LoadError(Robot(""), R"({"floating_base": "planar"})");
+  EXPECT_NE(e.find("joint 'hip' turns about world axis"), std::string::npos) << e;
+  const Eigen::Vector3d oblique = Eigen::Vector3d(0.2, 1, 0.1).normalized();  // the hip's <axis>, unit length
+  char expected[64];
+  std::snprintf(expected, sizeof(expected), "%.6g %.6g %.6g", oblique.x(), oblique.y(), oblique.z());
+  EXPECT_NE(e.find(expected), std::string::npos) << e;
+  EXPECT_NO_THROW(MultibodyModel::LoadFromText(PlanarRobot(""), R"({"floating_base": "planar"})", "walker.urdf", "walker.rome.json"));
 }
 
 TEST(MultibodyModelFloatingJointTest, UnsupportedPlacementsAreRejectedNamingTheJoint) {
