@@ -4,7 +4,7 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(ROME_LIBRARIES rome_framework rome_qp rome_nlp rome_collocation rome_riccati rome_multibody rome_rom rome_plants
-    rome_planners rome_controllers rome_lqr rome_posture rome_classic rome_stepping_stones_diagram)
+    rome_planners rome_controllers rome_lqr rome_trajectory_optimization rome_posture rome_classic rome_stepping_stones_diagram)
 foreach(lib ${ROME_LIBRARIES})
   # The source tree in the build, include/rome once installed (code includes "framework/system.h" etc.).
   set_property(TARGET ${lib} PROPERTY INTERFACE_INCLUDE_DIRECTORIES
