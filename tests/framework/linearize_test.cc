@@ -5,12 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <string>
 
 #include "framework/diagram.h"
 #include "framework/primitives.h"
+#include "tests/common/error_of.h"
 
 namespace rome {
 namespace {
@@ -183,14 +183,7 @@ TEST(Linearize, DiagramWithGainScalesOutputJacobians) {
   EXPECT_LT((whole.D - K * part.D).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::ErrorOf;
 
 TEST(Linearize, ErrorsNameTheSystemAndWhatIsWrong) {
   Pendulum p;

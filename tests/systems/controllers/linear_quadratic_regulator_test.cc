@@ -6,11 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 #include <string>
 
 #include <Eigen/Dense>
 
+#include "tests/common/error_of.h"
 #include "tests/systems/controllers/riccati_references.h"
 
 namespace rome {
@@ -89,14 +89,7 @@ TEST(LinearQuadraticRegulator, CrossWeightGainIsOptimal) {
     }
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::ErrorOf;
 
 TEST(LinearQuadraticRegulator, ErrorsAreOneLineAndNameTheMatrix) {
   Eigen::Matrix2d A;

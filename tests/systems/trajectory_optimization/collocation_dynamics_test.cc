@@ -6,9 +6,10 @@
 
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <string>
 #include <utility>
+
+#include "tests/common/error_of.h"
 
 namespace rome {
 namespace {
@@ -122,14 +123,7 @@ TEST(CollocationDynamicsFromSystem, DerivativesAreTheChainedJacobians) {
   EXPECT_LT((ExtractJacobian(y_x, 2) - J.leftCols(2)).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::ErrorOf;
 
 TEST(CollocationDynamicsFromSystem, ErrorsNameTheSystem) {
   Pendulum plant;
