@@ -109,9 +109,13 @@ struct Restore {
   const Eigen::VectorXd x0;  // copies: the result's x0 and u0 may be moved out before this runs
   const Eigen::VectorXd u0;
   int input;
+  bool input_changed = false;  // set once a perturbed u was fixed (a connected input refuses the first one)
   ~Restore() {
     for (int i = 0; i < state.size(); ++i) state[i] = x0[i];
-    if (input >= 0) system.FixInputPort(context, input, u0);  // the port took this value before: it cannot fail
+    try {
+      if (input_changed) system.FixInputPort(context, input, u0);  // the port took a value of this size before
+    } catch (...) {  // never throw from a destructor
+    }
   }
 };
 
@@ -157,6 +161,7 @@ LinearSystemMatrices Linearize(const System& system, Context& context, const std
     } else {
       u[j - n] = lin.u0[j - n] + delta;
       system.FixInputPort(context, input, u);
+      restore.input_changed = true;
     }
     state.CalcDerivatives(f);
     CheckFinite(system, *f, "time derivative xdot", where);

@@ -27,7 +27,8 @@
 // thrown), so it is left as it was apart from its cache version. Errors (std::invalid_argument, one line): an
 // unknown port (naming the system and the port and listing the ports it has), a typed port, an input port without
 // a fixed value, a system without continuous state, a non-finite derivative or output at the operating point or at
-// a perturbed point (naming the element), a step_scale that is not positive and finite.
+// a perturbed point (naming the element), a step_scale that is not positive and finite. A leaf's input that a
+// diagram connects cannot be perturbed: the framework's std::logic_error says so (linearize the diagram instead).
 #include <string>
 
 #include <Eigen/Core>

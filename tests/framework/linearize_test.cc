@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -97,6 +98,8 @@ TEST(Linearize, PendulumMatchesHandDerivedJacobians) {
   EXPECT_LT((lin.B - B).cwiseAbs().maxCoeff(), tol) << lin.B;
   EXPECT_LT((lin.C - C).cwiseAbs().maxCoeff(), tol) << lin.C;
   EXPECT_LT((lin.D - D).cwiseAbs().maxCoeff(), tol) << lin.D;
+  std::printf("pendulum: bound %.1e; max error A %.1e, B %.1e, C %.1e, D %.1e\n", tol, (lin.A - A).cwiseAbs().maxCoeff(),
+              (lin.B - B).cwiseAbs().maxCoeff(), (lin.C - C).cwiseAbs().maxCoeff(), (lin.D - D).cwiseAbs().maxCoeff());
   EXPECT_EQ(lin.time, 0.25);
   EXPECT_NEAR(lin.xdot0[1], -(Pendulum::g / Pendulum::l) * std::sin(theta) - Pendulum::b * omega + tau / (Pendulum::m * Pendulum::l * Pendulum::l), 1e-14);
 }
@@ -200,6 +203,17 @@ TEST(Linearize, ErrorsNameTheSystemAndWhatIsWrong) {
   gain.FixInputPort(*gain_context, 0, Eigen::VectorXd::Zero(1));
   EXPECT_EQ(ErrorOf([&] { Linearize(gain, *gain_context, "u", "y"); }),
             "Linearize: system 'gain': has no continuous state; Linearize needs xdot = f(t, x, u) to form A and B");
+
+  // A leaf inside a diagram whose input is connected: its input cannot be perturbed on its own.
+  DiagramBuilder builder;
+  builder.AddSystem(std::make_unique<ConstantVectorSource>("torque", Eigen::VectorXd::Constant(1, 0.5)));
+  const Pendulum* inner = builder.AddSystem(std::make_unique<Pendulum>());
+  builder.Connect("torque", "y", "pendulum", "tau");
+  auto diagram = builder.Build();
+  auto diagram_context = diagram->CreateDefaultContext();
+  LeafContext& inner_context = diagram->GetMutableSubsystemContext(*inner, *diagram_context);
+  EXPECT_EQ(ErrorOf([&] { Linearize(*inner, inner_context, "tau", "y"); }), "input port 'tau' of system 'pendulum' is connected; it cannot also be fixed");
+  EXPECT_EQ(inner->EvalInput(inner_context, 0)[0], 0.5);  // still connected
 
   SquareRootFlow flow;
   auto flow_context = flow.CreateDefaultLeafContext();
