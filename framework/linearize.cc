@@ -95,11 +95,15 @@ Eigen::VectorXd FixedInput(const System& system, const Context& context, int ind
   }
 }
 
-void CheckFinite(const System& system, const Eigen::VectorXd& v, const char* what, const std::string& where) {
+// `where()` describes the point; it is formatted only for the error.
+template <class Where>
+void CheckFinite(const System& system, const Eigen::VectorXd& v, const char* what, const Where& where) {
   for (int i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]))
-      Fail(system, std::string(what) + "[" + std::to_string(i) + "] is " + (std::isnan(v[i]) ? "NaN" : v[i] > 0 ? "+Inf" : "-Inf") + " at " + where);
+      Fail(system, std::string(what) + "[" + std::to_string(i) + "] is " + (std::isnan(v[i]) ? "NaN" : v[i] > 0 ? "+Inf" : "-Inf") + " at " + where());
 }
+
+std::string OperatingPoint() { return "the operating point"; }
 
 // Puts x0 and u0 back (the same bits) when Linearize returns or throws.
 struct Restore {
@@ -136,13 +140,13 @@ LinearSystemMatrices Linearize(const System& system, Context& context, const std
   if (input >= 0) lin.u0 = FixedInput(system, context, input);
   const int n = state.size(), m = static_cast<int>(lin.u0.size());
   const int p = output >= 0 ? system.output_port(output).size : 0;
-  CheckFinite(system, lin.x0, "state x", "the operating point");
-  CheckFinite(system, lin.u0, "input u", "the operating point");
+  CheckFinite(system, lin.x0, "state x", OperatingPoint);
+  CheckFinite(system, lin.u0, "input u", OperatingPoint);
   state.CalcDerivatives(&lin.xdot0);
-  CheckFinite(system, lin.xdot0, "time derivative xdot", "the operating point");
+  CheckFinite(system, lin.xdot0, "time derivative xdot", OperatingPoint);
   if (output >= 0) {
     lin.y0 = system.EvalOutput(context, output);
-    CheckFinite(system, lin.y0, "output y", "the operating point");
+    CheckFinite(system, lin.y0, "output y", OperatingPoint);
   }
   lin.A.resize(n, n);
   lin.B.resize(n, m);
@@ -154,8 +158,10 @@ LinearSystemMatrices Linearize(const System& system, Context& context, const std
   // Evaluates f and g with element j of z (x if j < n, else u) at z_j + delta.
   auto evaluate = [&](int j, double delta, Eigen::VectorXd* f, Eigen::VectorXd* g) {
     const bool is_state = j < n;
-    const std::string where = std::string(is_state ? "x[" : "u[") + std::to_string(is_state ? j : j - n) + "] " +
-                              (delta > 0 ? "+ " : "- ") + std::to_string(std::abs(delta));
+    const auto where = [&] {
+      return std::string(is_state ? "x[" : "u[") + std::to_string(is_state ? j : j - n) + "] " + (delta > 0 ? "+ " : "- ") +
+             std::to_string(std::abs(delta));
+    };
     if (is_state) {
       state[j] = lin.x0[j] + delta;
     } else {
