@@ -1,16 +1,16 @@
 # Install tree: headers under include/rome/, the libraries under lib/, robots under share/rome/robots/, and a package
 # config with three components (cmake/romeConfig.cmake.in):
-#   core  rome::core  the framework (systems, diagrams, hybrid simulator, Linearize) and the QP and Riccati solvers:
-#                     needs Eigen and SUNDIALS only (no Ipopt, Bullet or urdfdom)
-#   nlp   rome::nlp   core + the NLP (Ipopt) and direct-collocation solvers
+#   core  rome::core  the framework (systems, diagrams, hybrid simulator, Linearize), the QP and Riccati solvers and
+#                     the LQR: needs Eigen and SUNDIALS only (no Ipopt, Bullet or urdfdom)
+#   nlp   rome::nlp   core + the NLP (Ipopt) and direct-collocation solvers, and collocation dynamics from a system
 #   all   rome::rome  every library: plants, ROMs, planners, controllers, visualization, the three diagrams (default)
 # Included from the top-level CMakeLists.txt after every library is defined. The install is relocatable: nothing in it
 # names the build machine's folders, and robots are found relative to lib/librome_location.so (install_location.h).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(ROME_CORE_LIBRARIES rome_framework rome_location rome_qp rome_riccati)
-set(ROME_NLP_LIBRARIES rome_nlp rome_collocation)
+set(ROME_CORE_LIBRARIES rome_framework rome_location rome_qp rome_riccati rome_lqr)
+set(ROME_NLP_LIBRARIES rome_nlp rome_collocation rome_trajectory_optimization)
 set(ROME_ALL_LIBRARIES rome_multibody rome_rom rome_plants rome_planners rome_controllers rome_posture rome_classic
     rome_visualization rome_stepping_stones_diagram rome_walking_diagram rome_hopping_diagram)
 set(ROME_LIBRARIES ${ROME_CORE_LIBRARIES} ${ROME_NLP_LIBRARIES} ${ROME_ALL_LIBRARIES})

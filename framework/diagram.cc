@@ -119,6 +119,14 @@ void Diagram::FixInputPort(Context& context, int index, const Eigen::VectorXd& v
   dc.InvalidateCache();
 }
 
+const Eigen::VectorXd& Diagram::EvalInput(const Context& context, int index) const {
+  const DiagramContext& dc = AsDiagramContext(context);
+  const PortInfo& port = input_port(index);
+  if (!port.is_vector()) throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' carries " + port.TypeString() + ", not a vector");
+  if (!dc.input_fixed_[index]) throw std::runtime_error("input port '" + port.name + "' of diagram '" + name() + "' has no fixed value");
+  return dc.fixed_inputs_[index];
+}
+
 int Diagram::GetLeafIndex(const LeafSystem& system) const {
   for (int i = 0; i < num_leaves(); ++i)
     if (leaves_[i].system == &system) return i;

@@ -43,6 +43,9 @@ class Diagram final : public System {
   using System::EvalOutput;
   const std::any& EvalAbstractOutput(const Context& context, int index) const override;
   void FixInputPort(Context& context, int index, const Eigen::VectorXd& value) const override;
+  /// Value fixed on vector input `index` of this diagram in `context`; an error naming the diagram and the port if
+  /// the port is typed or has no fixed value.
+  const Eigen::VectorXd& EvalInput(const Context& context, int index) const;
 
   int num_leaves() const { return static_cast<int>(leaves_.size()); }
   const LeafSystem& leaf(int i) const { return *leaves_[i].system; }

@@ -13,6 +13,7 @@
 #include "systems/classic/bouncing_ball.h"
 #include "systems/multibody/robot_files.h"
 #include "systems/rom/spring_mass_model.h"
+#include "systems/trajectory_optimization/collocation_dynamics.h"
 #include "systems/visualization/plot.h"
 
 int main() {
@@ -44,6 +45,9 @@ int main() {
   Simulator ball_sim(ball);
   ball_sim.AdvanceTo(0.5);
   ok &= ball_sim.statistics().guard_events == 1 && std::abs(ball_sim.statistics().events.at(0).time - std::sqrt(2.0 / ball_params.gravity)) < 1e-6;
+  // rome_trajectory_optimization: collocation dynamics from a leaf system (the ball in flight: ẋ = (v, −g)).
+  auto ball_context = ball.CreateDefaultContext();
+  ok &= static_cast<bool>(CollocationDynamicsFromSystem(ball, static_cast<const LeafContext&>(*ball_context), ""));
   // rome_rom, rome_walking_diagram, rome_hopping_diagram: referenced so that their archives must be on the link line.
   ok &= PublishedLegStiffness().stiffness.Evaluate(0.9) > 0.0;
   ok &= WalkingSimulatorConfig().relative_tolerance > 0 && HoppingSimulatorConfig().relative_tolerance > 0;

@@ -1,14 +1,16 @@
-// ROME's core component from an installed copy: a harmonic oscillator simulated by the hybrid simulator against its
-// closed form, a QP against its closed-form answer, and the scalar Riccati equation against its closed form.
+// ROME's core component from an installed copy: a harmonic oscillator simulated by the hybrid simulator and linearised,
+// a QP, the scalar Riccati equation and a double integrator's LQR, each against its closed form.
 #include <cmath>
 #include <iostream>
 #include <limits>
 #include <numbers>
 
 #include "framework/install_location.h"
+#include "framework/linearize.h"
 #include "framework/simulator.h"
 #include "solvers/qp/dense_qp_solver.h"
 #include "solvers/riccati/continuous_algebraic_riccati_equation.h"
+#include "systems/controllers/linear_quadratic_regulator.h"
 
 namespace {
 
@@ -57,6 +59,17 @@ int main() {
   const Eigen::MatrixXd P = rome::SolveContinuousAlgebraicRiccatiEquation(Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b),
                                                                           Eigen::MatrixXd::Constant(1, 1, q), Eigen::MatrixXd::Constant(1, 1, r));
   ok &= Check("CARE P", P(0, 0), r * (a + std::sqrt(a * a + b * b * q / r)) / (b * b), 1e-10);
+  // Linearize: A = [0 1; −ω² 0] exactly for this linear system (central differences are exact on it up to round-off).
+  auto context = oscillator.CreateDefaultContext();
+  const rome::LinearSystemMatrices lin = rome::Linearize(oscillator, *context, "", "");
+  ok &= Check("A(1,0)", lin.A(1, 0), -omega * omega, 1e-8) && Check("A(0,1)", lin.A(0, 1), 1.0, 1e-8);
+
+  // Double integrator, Q = I, R = 1: K = [√(q1/r), √((q2 + 2√(q1 r))/r)] = [1, √3].
+  Eigen::Matrix2d A_di;
+  A_di << 0.0, 1.0, 0.0, 0.0;
+  const Eigen::MatrixXd K = rome::LinearQuadraticRegulator(A_di, Eigen::Vector2d(0.0, 1.0), Eigen::Matrix2d::Identity(),
+                                                           Eigen::MatrixXd::Identity(1, 1)).K;
+  ok &= Check("LQR K0", K(0, 0), 1.0, 1e-9) && Check("LQR K1", K(0, 1), std::sqrt(3.0), 1e-9);
   std::cout << "data folder: " << rome::InstalledDataFolder() << "\n";
   return ok ? 0 : 1;
 }
