@@ -23,6 +23,7 @@
 #include "systems/visualization/animation.h"
 #include "examples/common/cli.h"
 #include "systems/visualization/plot.h"
+#include "systems/visualization/stick_figure.h"
 #include "framework/simulator.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/contact_force_statistics.h"
@@ -291,7 +292,6 @@ int main(int argc, char** argv) {
     const bool has_solve_time = d.controller->HasOutputPort("solve_time_s");
     sim.set_monitor([&](const Context& c) {
       const LeafContext& plant_context = d.diagram->GetSubsystemContext(*d.plant, c);
-      const LeafContext& controller_context = d.diagram->GetSubsystemContext(*d.controller, c);
       contact.Record(*d.plant, plant_context);
       if (animation) {
         const int mode = d.plant->EvalTypedOutput<int>(plant_context, "mode");
@@ -300,16 +300,16 @@ int main(int argc, char** argv) {
       }
       u2_integral += last_u.squaredNorm() * (c.time() - last_time);  // u is held between updates
       last_time = c.time();
-      last_u = d.controller->EvalOutput(controller_context, "u");
+      last_u = d.EvalControllerOutput(c, "u");
       tracking.Record(d.plant->EvalOutput(plant_context, "state"), d.plant->EvalTypedOutput<int>(plant_context, "mode"),
                       d.output_adapter->EvalOutput(d.diagram->GetSubsystemContext(*d.output_adapter, c), "desired"));
       if (has_solve_time) {
-        const double st = d.controller->EvalOutput(controller_context, "solve_time_s")[0];
+        const double st = d.EvalControllerOutput(c, "solve_time_s")[0];
         if (st != last_solve_time && st > 0) solve_times.push_back(st);
         last_solve_time = st;
       }
       if (report_qp) {  // each change of the controller's QP status (0 = solved), through its qp_status port
-        const double qp_status = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "qp_status")[0];
+        const double qp_status = d.EvalControllerOutput(c, "qp_status")[0];
         if (qp_status != last_qp_status) std::cerr << "t = " << c.time() << " s: controller qp_status " << qp_status << "\n";
         last_qp_status = qp_status;
       }
@@ -361,15 +361,14 @@ int main(int argc, char** argv) {
                            {"planned_stone", r.planned_stone},
                            {"posture_ok", r.posture_ok}});
     }
-    const LeafContext& ctrl_ctx = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
     const LeafContext& mpc_ctx = d.diagram->GetSubsystemContext(*d.mpc, sim.get_context());
     // CLF-QP only: how often the CLF inequality binds at the solution (clf_activity = [active, solved updates]).
     nlohmann::json clf_activity = nullptr;
     if (d.controller->HasOutputPort("clf_activity")) {
-      const Eigen::VectorXd a = d.controller->EvalOutput(ctrl_ctx, "clf_activity");
+      const Eigen::VectorXd a = d.EvalControllerOutput(sim.get_context(), "clf_activity");
       clf_activity = {{"active_updates", a[0]}, {"solved_updates", a[1]}, {"active_fraction", a[1] > 0 ? a[0] / a[1] : 0.0}};
     }
-    const int qp_failures = static_cast<int>(d.controller->EvalOutput(ctrl_ctx, "qp_failures")[0]) +
+    const int qp_failures = static_cast<int>(d.EvalControllerOutput(sim.get_context(), "qp_failures")[0]) +
                             static_cast<int>(d.mpc->EvalOutput(mpc_ctx, "qp_failures")[0]);
     nlohmann::json summary = {{"success", success},
                               {"status_kind", status.kind_name()},
@@ -460,30 +459,12 @@ int main(int argc, char** argv) {
         stones.x.insert(stones.x.end(), {s.x_center_m - s.length_m / 2, s.x_center_m + s.length_m / 2, NAN});
         stones.y.insert(stones.y.end(), {s.top_height_m, s.top_height_m, NAN});
       }
-      const int hip = d.model->BodyIndex("torso");
+      // The robot as its description draws it (every link to its parent, the soles): no link names assumed.
       double next_t = 0;
       for (size_t k = 0; k < log.times.size(); ++k) {
         if (log.times[k] < next_t) continue;
         next_t = log.times[k] + 0.1;
-        const Eigen::VectorXd q = log.samples[k].segment(q0, nv);
-        const Eigen::Vector3d p_hip = CalcLinkPose(*d.model, ws, q, hip).translation();
-        const Eigen::Vector3d head = CalcPointPosition(*d.model, ws, q, hip, Eigen::Vector3d(0, 0, 0.5));
-        auto add = [&](const Eigen::Vector3d& a) {
-          sticks.x.push_back(a.x());
-          sticks.y.push_back(a.z());
-        };
-        add(head);
-        add(p_hip);
-        for (const char* side : {"left", "right"}) {
-          const Eigen::Vector3d knee = CalcLinkPose(*d.model, ws, q, d.model->BodyIndex(std::string(side) + "_shin")).translation();
-          const Eigen::Vector3d foot = CalcContactPointPosition(*d.model, ws, q, d.model->ContactIndex(std::string(side) + "_foot"), 0);
-          add(knee);
-          add(foot);
-          add(knee);
-          add(p_hip);
-        }
-        sticks.x.push_back(NAN);
-        sticks.y.push_back(NAN);
+        visualization::AppendStickFigure(*d.model, ws, log.samples[k].segment(q0, nv), 0, 0.0, &sticks, &sticks);
       }
       visualization::PlotSpec tiles{"Gait tiles (every 0.1 s)", "x [m]", "z [m]", {stones, sticks}};
       tiles.equal_axes = true;

@@ -5,6 +5,7 @@
 // plant's own contact forces over every integrator step (a simulator monitor): F_n ≥ 0 and |F_t| ≤ μ F_n + 1e-6.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -21,7 +22,24 @@ struct WalkResult {
   double qp_failures = 0;
   ContactForceStatistics contact;  ///< the plant's contact forces, after every integrator step and event
   long touchdowns = 0;             ///< the plant's touchdown events
+  /// [N m] per actuator, the smallest and largest torque the plant received (the controller's u port, which feeds the
+  /// plant's u), over every logged sample and every integrator step.
+  Eigen::VectorXd u_min, u_max;
+  long u_samples = 0;  ///< logged samples and integrator steps that went into u_min, u_max
+  /// [N m] A controller sub-diagram (SaturatedControllerFactory) only: the largest |u| of its inner block
+  /// "controller/controller" over every integrator step, before the saturation; 0 otherwise.
+  double inner_u_abs_max = 0;
 };
+
+/// Folds the torque u into r's u_min, u_max.
+inline void RecordTorque(const Eigen::VectorXd& u, WalkResult* r) {
+  if (r->u_samples++ == 0) {
+    r->u_min = u;
+    r->u_max = u;
+  }
+  r->u_min = r->u_min.cwiseMin(u);
+  r->u_max = r->u_max.cwiseMax(u);
+}
 
 inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramParams params = {},
                        const SteppingStonesControllerFactory& controller = nullptr) {
@@ -31,8 +49,13 @@ inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramP
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
   sim.Initialize();
   WalkResult r;
+  const LeafSystem* inner = nullptr;
+  for (int i = 0; i < d.diagram->num_leaves(); ++i)
+    if (d.diagram->leaf_path(i) == "controller/controller") inner = &d.diagram->leaf(i);
   sim.set_monitor([&](const Context& c) {
     r.contact.Record(*d.plant, d.diagram->GetSubsystemContext(*d.plant, c));
+    RecordTorque(d.EvalControllerOutput(c, "u"), &r);
+    if (inner != nullptr) r.inner_u_abs_max = std::max(r.inner_u_abs_max, d.diagram->EvalSubsystemOutput(*inner, "u", c).cwiseAbs().maxCoeff());
     return EventStatus::Succeeded();
   });
   const LeafContext& plant_ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
@@ -41,7 +64,17 @@ inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramP
   for (const EventRecord& e : sim.statistics().events) r.touchdowns += e.guard.rfind("touchdown_", 0) == 0 ? 1 : 0;
   r.steps = d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context()));
   r.mean_speed_mps = (d.plant->EvalOutput(plant_ctx, "com")[0] - x0) / sim.get_context().time();
-  r.qp_failures = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, sim.get_context()), "qp_failures")[0];
+  r.qp_failures = d.EvalControllerOutput(sim.get_context(), "qp_failures")[0];
+  // The logged torques (the logger's "controller.u" columns, at every logged sample).
+  const std::vector<std::string> columns = d.logger->ColumnNames();
+  int first_u = -1;
+  for (size_t i = 1; i < columns.size() && first_u < 0; ++i)
+    if (columns[i].rfind("controller.u.", 0) == 0 || columns[i].rfind("controller.u[", 0) == 0) first_u = static_cast<int>(i) - 1;
+  EXPECT_GE(first_u, 0) << "no logged controller.u column";
+  const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, sim.get_context()));
+  EXPECT_FALSE(log.samples.empty());
+  if (first_u >= 0)
+    for (const Eigen::VectorXd& sample : log.samples) RecordTorque(sample.segment(first_u, d.model->nu()), &r);
   return r;
 }
 
