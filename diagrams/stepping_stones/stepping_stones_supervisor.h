@@ -91,6 +91,7 @@ class SteppingStonesSupervisor final : public LeafSystem {
  public:
   SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain, SteppingStonesSupervisorParams params = {});
 
+  const SteppingStonesSupervisorParams& params() const { return params_; }
   const std::vector<StepRecord>& steps(const LeafContext& context) const;
   int posture_failures(const LeafContext& context) const;
   // The committed step state of `context` (what the last update decided).
