@@ -85,7 +85,8 @@ struct SteppingStonesResult {
 
 /// Runs `sim` (on d.diagram, its state set by SetSteppingStonesInitialState) to the supervisor's verdict or the time
 /// limit, measuring the figures of SteppingStonesResult with a monitor it adds to `sim` (other monitors may be added
-/// before). Returns the result with the success rule applied.
+/// before; the monitor refers to `d`, which must outlive any later use of `sim`). Returns the result with the success
+/// rule applied.
 SteppingStonesResult RunSteppingStones(const SteppingStonesDiagram& d, Simulator& sim, const SteppingStonesRunOptions& options = {});
 
 }  // namespace rome
