@@ -144,6 +144,20 @@ LeafContext& Diagram::GetMutableSubsystemContext(const LeafSystem& system, Conte
   return dc.leaf(GetLeafIndex(system));
 }
 
+const Eigen::VectorXd& Diagram::EvalSubsystemOutput(const System& subsystem, const std::string& port, const Context& context) const {
+  const DiagramContext& dc = AsDiagramContext(context);
+  const int index = subsystem.GetOutputPortIndex(port);
+  if (!subsystem.is_diagram()) {
+    const auto& leaf = static_cast<const LeafSystem&>(subsystem);
+    return leaf.EvalOutput(dc.leaf(GetLeafIndex(leaf)), index);
+  }
+  // A nested diagram's exported outputs point at its own (already flattened) leaves, which are leaves of this diagram.
+  const auto& child = static_cast<const Diagram&>(subsystem);
+  const OutputRef& ref = child.exported_outputs_[index];
+  const LeafSystem& leaf = child.leaf(ref.leaf);
+  return leaf.EvalOutput(dc.leaf(GetLeafIndex(leaf)), ref.port);
+}
+
 const LeafContext& Diagram::GetSubsystemContext(const LeafSystem& system, const Context& context) const {
   return AsDiagramContext(context).leaf(GetLeafIndex(system));
 }

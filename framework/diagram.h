@@ -58,6 +58,10 @@ class Diagram final : public System {
 
   LeafContext& GetMutableSubsystemContext(const LeafSystem& system, Context& context) const;
   const LeafContext& GetSubsystemContext(const LeafSystem& system, const Context& context) const;
+  /// Output `port` of `subsystem`, a leaf of this diagram or a diagram nested in it (at any depth), evaluated in this
+  /// diagram's `context`: a nested diagram's exported output is read from the leaf that produces it. Throws, naming
+  /// the system and the port, if `subsystem` is not part of this diagram or has no such (vector) output.
+  const Eigen::VectorXd& EvalSubsystemOutput(const System& subsystem, const std::string& port, const Context& context) const;
 
   /// Leaf output ports in an order where every direct-feedthrough dependency comes first.
   struct OutputRef {

@@ -23,7 +23,8 @@ SimulatorStatus::Kind SimulatorStatus::kind() const {
     case Reason::kFailed:
     case Reason::kZeno: return Kind::kFailure;
     case Reason::kInterrupted: return Kind::kInterrupted;
-    case Reason::kReachedBoundaryTime: break;
+    case Reason::kReachedBoundaryTime:
+    case Reason::kReachedEventLimit: break;
   }
   return Kind::kLimit;
 }
@@ -40,8 +41,13 @@ std::string SimulatorStatus::kind_name() const {
 
 std::string SimulatorStatus::ToString() const {
   std::ostringstream os;
+  if (reason == Reason::kReachedBoundaryTime) {
+    os << "reached the time limit t = " << time << " s";
+    return os.str();
+  }
   switch (reason) {
-    case Reason::kReachedBoundaryTime: os << "reached boundary time"; break;
+    case Reason::kReachedBoundaryTime: break;
+    case Reason::kReachedEventLimit: os << "reached the event limit"; break;
     case Reason::kReachedTermination: os << "terminated"; break;
     case Reason::kZeno: os << "Zeno behaviour"; break;
     case Reason::kFailed: os << "failed"; break;
@@ -327,6 +333,16 @@ void Simulator::set_config(const SimulatorConfig& config) {
   if (initialized_) Initialize();
 }
 
+void Simulator::set_monitor(Monitor monitor) {
+  monitors_.clear();
+  if (monitor) add_monitor(std::move(monitor));
+}
+
+void Simulator::add_monitor(Monitor monitor, std::string name) {
+  if (!monitor) throw std::invalid_argument("Simulator::add_monitor: monitor '" + name + "' is an empty function");
+  monitors_.push_back({std::move(monitor), std::move(name)});
+}
+
 namespace {
 EventStatus RunEventPublishes(Simulator::Impl& m);
 }
@@ -343,6 +359,8 @@ SimulatorStatus Simulator::Initialize() {
   if (!(config_.relative_tolerance > 0) || !(config_.absolute_tolerance > 0))
     throw std::invalid_argument("SimulatorConfig: tolerances must be positive (relative_tolerance = " + std::to_string(config_.relative_tolerance) +
                                 ", absolute_tolerance = " + std::to_string(config_.absolute_tolerance) + ")");
+  if (config_.max_guard_events < 0)
+    throw std::invalid_argument("SimulatorConfig: max_guard_events must be 0 (no limit) or positive, got " + std::to_string(config_.max_guard_events));
   m.erk = config_.scheme == IntegrationScheme::kExplicitRungeKutta;
   if (m.erk) {
     // Dormand-Prince 5(4) or Bogacki-Shampine 3(2), error-controlled; one-step, so a restart at every sample costs
@@ -442,6 +460,7 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
     status.system = sys;
     status.message = msg;
     status.time = context_->time();
+    if (reason == SimulatorStatus::Reason::kReachedBoundaryTime) status.message = status.ToString();  // "reached the time limit t = ..."
     if (reason != SimulatorStatus::Reason::kReachedBoundaryTime) {
       terminated_ = true;
       terminal_status_ = status;
@@ -670,11 +689,14 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
       }
       EventStatus es = RunEventPublishes(m);
       if (!es.ok()) return from_event(es, "");
+      if (config_.max_guard_events > 0 && stats_.guard_events >= config_.max_guard_events)
+        return finish(SimulatorStatus::Reason::kReachedEventLimit, "",
+                      "reached the event limit of " + std::to_string(config_.max_guard_events) + " guard events (SimulatorConfig::max_guard_events)");
       reinit(false);
     }
-    if (monitor_) {
-      EventStatus es = monitor_(*context_);
-      if (!es.ok()) return from_event(es, "monitor");
+    for (const NamedMonitor& monitor : monitors_) {
+      EventStatus es = monitor.monitor(*context_);
+      if (!es.ok()) return from_event(es, monitor.name);
     }
   }
   return finish(SimulatorStatus::Reason::kReachedBoundaryTime, "", "");

@@ -11,21 +11,26 @@
 //        then the periodic publishes due now; then event publishes. Events due exactly at t_final are left for
 //        the next AdvanceTo (so a 1 kHz counter updates 1000 times in [0, 1 s)).
 //     b. CVODE integrates one step towards min(next sample time, t_final) with that time as stop time.
-//        The monitor (if any) runs after each accepted step.
+//        The monitors (if any) run after each accepted step, in the order they were added; the first that returns
+//        anything but EventStatus::Succeeded() ends the run.
 //     c. If guards fired, their resets run in diagram order (systems as added to the builder), then in guard
 //        declaration order within a system. Each reset sees the state left by the earlier ones; a guard
 //        whose mode is no longer active after an earlier reset is skipped. Then the event updates whose trigger
 //        matches one of the guards that fired run once each, in diagram order (then declaration order), each
 //        seeing the state left by the resets and by the earlier event updates (so a controller added after its
 //        planner re-solves with the planner's new plan at the same instant). Then event publishes run and the
-//        integrator is re-initialised at the event time.
+//        integrator is re-initialised at the event time. With SimulatorConfig::max_guard_events = N > 0, the instant
+//        at which the N-th guard event fires ends the run (kReachedEventLimit) after its resets, event updates and
+//        event publishes, before the monitors.
 //  3. Zeno policy: events closer than EventPolicy::min_event_separation_s to the previous event count as the
 //     same instant; more than EventPolicy::max_events_per_instant of them end the run with kZeno (or throw,
 //     if EventPolicy::throw_on_violation).
 // Any system ends the run by returning EventStatus::ReachedTermination(reason) (goal reached: a success) or
 // EventStatus::Failed(reason) (a fall, a slip, a solver that gave up) from a reset, update, publish, or the monitor.
 // A NaN or Inf in the continuous state ends the run with kFailed, naming the system. SimulatorStatus::kind() tells
-// success, failure and limit (the run reached t_final, or a step limit, without a verdict) apart.
+// success, failure and limit (the run reached its time limit t_final, or its event limit, without a verdict) apart;
+// a limit is no verdict: a diagram that defines success at its planned end (e.g. the stepping-stones supervisor after
+// max_steps) ends the run itself with ReachedTermination.
 // The simulator checks, when it is constructed, that every system and guard named by an event update's trigger
 // exists, and throws a one-line error naming the system, the event update and the unknown name otherwise.
 
@@ -78,6 +83,10 @@ struct SimulatorConfig {
   /// derivative evaluations with Bogacki-Shampine than carrying ARKODE's reported step. Off by default.
   bool restart_with_last_step = false;
   long max_steps_per_advance = 1000000000L;  ///< Safety net on CVODE internal steps within one AdvanceTo.
+  /// [-] End the run right after the N-th guard event (counted over the simulator's life, SimulatorStatistics::
+  /// guard_events), at the end of that event instant (its resets, event updates and event publishes done), with
+  /// SimulatorStatus::Reason::kReachedEventLimit (kind "limit"). 0 = no limit; negative values are refused.
+  long max_guard_events = 0;
   EventPolicy event_policy;
 };
 
@@ -101,16 +110,20 @@ struct SimulatorStatistics {
 };
 
 struct SimulatorStatus {
-  enum class Reason { kReachedBoundaryTime, kReachedTermination, kZeno, kFailed, kInterrupted };
+  /// kReachedBoundaryTime: the run reached the time limit t_final given to AdvanceTo (message "reached the time limit
+  /// t = ... s"; the run can be continued). kReachedEventLimit: SimulatorConfig::max_guard_events guard events
+  /// happened (message "reached the event limit of N guard events"; the run has ended).
+  enum class Reason { kReachedBoundaryTime, kReachedTermination, kZeno, kFailed, kInterrupted, kReachedEventLimit };
   /// kSuccess: a system ended the run because its goal was reached (ReachedTermination). kFailure: a system failed
   /// (EventStatus::Failed: fell, slipped, solver gave up), a non-finite state, Zeno, or an integrator error. kLimit:
-  /// the run stopped at t_final (or a step limit) without either verdict. kInterrupted: SIGINT or SIGTERM arrived
-  /// (framework/interrupt.h) and the run stopped at its next step.
+  /// the run stopped at its time limit t_final or its event limit, without either verdict. kInterrupted: SIGINT or
+  /// SIGTERM arrived (framework/interrupt.h) and the run stopped at its next step.
   enum class Kind { kSuccess, kFailure, kLimit, kInterrupted };
   Reason reason = Reason::kReachedBoundaryTime;
   double time = 0;
   std::string system;   ///< The system that ended the run, if any.
   std::string message;  ///< Human-readable reason.
+  /// True if the run reached its time limit t_final (and may be continued); false if it ended (any other reason).
   bool ok() const { return reason == Reason::kReachedBoundaryTime; }
   Kind kind() const;
   /// "success", "failure", "limit" or "interrupted".
@@ -134,7 +147,12 @@ class Simulator {
   const SimulatorConfig& config() const { return config_; }
   /// Changing the configuration after Initialize() re-creates the integrator at the current state.
   void set_config(const SimulatorConfig& config);
-  void set_monitor(Monitor monitor) { monitor_ = std::move(monitor); }
+  /// Replaces every monitor by `monitor` (an empty function removes them all).
+  void set_monitor(Monitor monitor);
+  /// Appends a monitor: it runs after every accepted step, after those added before it. A monitor that returns
+  /// anything but EventStatus::Succeeded() ends the run; the status names `name` as the system that ended it.
+  void add_monitor(Monitor monitor, std::string name = "monitor");
+  int num_monitors() const { return static_cast<int>(monitors_.size()); }
 
   /// Reads the state from the context and prepares the integrator. Called by AdvanceTo if needed; call it
   /// again after changing the state in the context by hand.
@@ -155,7 +173,11 @@ class Simulator {
   const System& system_;
   std::unique_ptr<Context> context_;
   SimulatorConfig config_;
-  Monitor monitor_;
+  struct NamedMonitor {
+    Monitor monitor;
+    std::string name;
+  };
+  std::vector<NamedMonitor> monitors_;
   SimulatorStatistics stats_;
   int nx_ = 0;
   bool initialized_ = false;

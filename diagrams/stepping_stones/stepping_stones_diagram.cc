@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "framework/primitives.h"
 #include "systems/controllers/task_space_tasks.h"
 #include "systems/multibody/pose_constraints.h"
 
@@ -36,25 +37,6 @@ void CheckControllerPorts(const System& controller, int nv, int nu, int task_row
   check(false, "qp_status", {"qp_status", 1, {}, nullptr});
 }
 
-// The outputs of Eq. (19) in SteppingStonesOutputAdapter's layout; a foot's output is active while it swings.
-std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec) {
-  const MultibodyModel& model = *spec.model;
-  std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
-      std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
-      std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
-      PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
-      PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
-  };
-  // Line/flat feet: the fifth output, the swing foot's pitch (its sole lands parallel to the stone).
-  if (HasFootPitchOutput(model)) {
-    tasks.push_back(std::make_shared<BodyPitchTask>("left_swing_foot_pitch", model, model.contacts()[model.ContactIndex("left_foot")].link,
-                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.right_stance_mode}));
-    tasks.push_back(std::make_shared<BodyPitchTask>("right_swing_foot_pitch", model, model.contacts()[model.ContactIndex("right_foot")].link,
-                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.left_stance_mode}));
-  }
-  return tasks;
-}
-
 // {contact, joint} pairs whose actuator gets zero torque while the contact is active: the actuated inboard joint of a
 // line/flat foot's link (planar Cassie's toe), so that the stance ankle is passive like AMBER's point foot.
 std::vector<std::pair<std::string, std::string>> PassiveStanceAnkles(const SteppingStonesDiagramParams& params, const MultibodyModel& model) {
@@ -78,6 +60,24 @@ double FlatFootPitch(const MultibodyModel& model, const std::string& contact) {
 }
 
 }  // namespace
+
+std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec) {
+  const MultibodyModel& model = *spec.model;
+  std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
+      std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
+      std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
+      PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
+      PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
+  };
+  // Line/flat feet: the fifth output, the swing foot's pitch (its sole lands parallel to the stone).
+  if (HasFootPitchOutput(model)) {
+    tasks.push_back(std::make_shared<BodyPitchTask>("left_swing_foot_pitch", model, model.contacts()[model.ContactIndex("left_foot")].link,
+                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.right_stance_mode}));
+    tasks.push_back(std::make_shared<BodyPitchTask>("right_swing_foot_pitch", model, model.contacts()[model.ContactIndex("right_foot")].link,
+                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.left_stance_mode}));
+  }
+  return tasks;
+}
 
 double SoleLength(const MultibodyModel& model) {
   double sole = 0.0;
@@ -158,7 +158,7 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
                                   std::to_string(params.clf_com_height_weight));
     clf_params.com_height_gains.weight = params.clf_com_height_weight;
   }
-  return [params = std::move(clf_params)](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
+  return [params = std::move(clf_params)](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<System> {
     std::vector<ClfOutput> outputs;
     for (auto& task : SteppingStonesTasks(params, spec)) outputs.push_back(ClfOutput::RelativeDegreeTwo(std::move(task)));
     ClfQpParams cp = params.clf_controller;
@@ -168,8 +168,30 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
   };
 }
 
+SteppingStonesControllerFactory SaturatedControllerFactory(SteppingStonesControllerFactory controller, Eigen::VectorXd lower, Eigen::VectorXd upper) {
+  if (!controller) throw std::invalid_argument("SaturatedControllerFactory: the controller factory is empty");
+  return [controller = std::move(controller), lower = std::move(lower), upper = std::move(upper)](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<System> {
+    const int nu = spec.model->nu();
+    if (lower.size() != nu || upper.size() != nu)
+      throw std::invalid_argument("SaturatedControllerFactory: lower and upper need nu = " + std::to_string(nu) + " elements (robot '" + spec.model->name() +
+                                  "'), got " + std::to_string(lower.size()) + " and " + std::to_string(upper.size()));
+    SteppingStonesControllerSpec inner = spec;
+    inner.name = "controller";
+    std::unique_ptr<System> block = controller(inner);
+    if (!block) throw std::invalid_argument("SaturatedControllerFactory: the wrapped controller factory returned no block");
+    DiagramBuilder b;
+    b.AddSystem(std::move(block), "controller");
+    b.AddSystem(std::make_unique<Saturation>("saturation", lower, upper));
+    b.Connect("controller", "u", "saturation", "u");
+    for (const char* port : {"state", "mode", "desired"}) b.ExportInput("controller", port);
+    b.ExportOutput("saturation", "y", "u");
+    for (const char* port : {"qp_failures", "qp_status"}) b.ExportOutput("controller", port);
+    return b.Build(spec.name);
+  };
+}
+
 SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStonesDiagramParams& params) {
-  return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<LeafSystem> {
+  return [params](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<System> {
     TaskSpaceQpParams cp = params.controller;
     cp.contact_stabilization = spec.contact_stabilization;
     for (const auto& pair : PassiveStanceAnkles(params, *spec.model)) cp.zero_torque_in_contact.push_back(pair);
@@ -234,9 +256,20 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   spec.contact_stabilization = plant_params.dynamics;
   spec.left_stance_mode = d.plant->GetModeIndex("left_foot_stance");
   spec.right_stance_mode = d.plant->GetModeIndex("right_foot_stance");
-  std::unique_ptr<LeafSystem> block = controller ? controller(spec) : TaskSpaceQpControllerFactory(params)(spec);
+  spec.num_task_rows = d.output_adapter->num_task_rows();
+  {
+    const std::vector<std::string> row_names = d.output_adapter->task_row_names();
+    int row = 0;
+    for (const auto& task : SteppingStonesTasks(params, spec)) {
+      spec.tasks.push_back({task->name(), row, {row_names.begin() + row, row_names.begin() + row + task->size()}, task->active_modes()});
+      row += task->size();
+    }
+    if (row != spec.num_task_rows)
+      throw std::logic_error("BuildSteppingStonesDiagram: the tasks span " + std::to_string(row) + " rows, the output adapter " + std::to_string(spec.num_task_rows));
+  }
+  std::unique_ptr<System> block = controller ? controller(spec) : TaskSpaceQpControllerFactory(params)(spec);
   if (!block) throw std::invalid_argument("BuildSteppingStonesDiagram: the controller factory returned no block");
-  CheckControllerPorts(*block, model.nv(), model.nu(), d.output_adapter->num_task_rows());
+  CheckControllerPorts(*block, model.nv(), model.nu(), spec.num_task_rows);
   d.controller = b.AddSystem(std::move(block), "controller");
 
   b.Connect("plant", "state", "supervisor", "state");

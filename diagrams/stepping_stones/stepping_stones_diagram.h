@@ -7,14 +7,18 @@
 //     → vertical_com_mpc (Eq. (28), 1 kHz, warm-started QP)
 //     → outputs (Eq. (19)-(24))
 //     → output_adapter (SteppingStonesOutputAdapter: stance-foot frame → world, task layout of the controller)
-//     → controller (any block with the controller ports below; default: task-space QP, Eq. (29)-(31), 1 kHz)
+//     → controller (any System with the controller ports below, a leaf or a diagram; default: task-space QP,
+//       Eq. (29)-(31), 1 kHz)
 //     → plant
 //   plus a logger.
 // Every block is a framework system. The controller is a parameter of the builder (SteppingStonesControllerFactory):
 //   BuildSteppingStonesDiagram(terrain, params, MyControllerFactory)
-// Controller ports (the seam): inputs  state (2 nv, plant [q; v]), mode (int, plant contact mode),
-//                                      desired (18, SteppingStonesOutputAdapter's layout);
-//                              outputs u (nu, N m, held between updates), qp_failures (1), qp_status (1, 0 = solved).
+// Controller ports (the seam), connected by name:
+//   inputs  state (2 nv, plant [q; v]), mode (int, plant contact mode),
+//           desired (3 × SteppingStonesControllerSpec::num_task_rows, see SteppingStonesControllerSpec);
+//   outputs u (nu, N m, held between updates), qp_failures (1), qp_status (1, 0 = solved).
+// A diagram (e.g. controller → Saturation, SaturatedControllerFactory) exports these names with DiagramBuilder::
+// ExportInput/ExportOutput; read its outputs with SteppingStonesDiagram::EvalControllerOutput.
 // The controller should re-solve at guard events (an event update) so that the new contact mode's torque acts from
 // the touchdown instant on. The plant and the controller get the same contact stabilisation parameters.
 // Event order at a touchdown: the plant's impact reset, then the event updates of the supervisor (new stance foot,
@@ -64,16 +68,40 @@
 
 namespace rome {
 
+/// One task (output, Eq. (19)) of the controller's `desired` input: where its rows sit in each third of `desired`.
+struct SteppingStonesTaskRows {
+  std::string task;                    ///< the task's name, as in SteppingStonesTasks()
+  int first_row = 0;                   ///< its first row within one third of `desired`
+  std::vector<std::string> row_names;  ///< names of its rows (SteppingStonesOutputAdapter::task_row_names())
+  std::vector<int> active_modes;       ///< plant modes in which it is tracked (empty: every mode)
+};
+
 /// What the diagram hands a controller factory.
+///
+/// Layout of the controller's `desired` input (SteppingStonesOutputAdapter): 3 × num_task_rows elements, [y_d; ẏ_d;
+/// ÿ_d], each third in the rows of `tasks`, world frame (m, rad; rates per s, per s²); the rows of a task that is not
+/// active in the current mode are zero.
+///   Point feet (AMBER), num_task_rows = 6, `desired` has 18 elements:
+///     torso_pitch       row 0     torso_pitch (rad)                every mode
+///     com_height        row 1     com_z (m)                        every mode
+///     left_swing_foot   rows 2-3  left_foot_x, left_foot_z (m)     right stance
+///     right_swing_foot  rows 4-5  right_foot_x, right_foot_z (m)   left stance
+///   Line/flat feet (planar Cassie), num_task_rows = 8, `desired` has 24 elements: the six rows above, then
+///     left_swing_foot_pitch   row 6  left_foot_pitch (rad)   right stance
+///     right_swing_foot_pitch  row 7  right_foot_pitch (rad)  left stance
+/// The element names of the port are the row names, prefixed "d_" in the second third and "dd_" in the third.
 struct SteppingStonesControllerSpec {
   std::string name = "controller";                 ///< the block's name in the diagram
   std::shared_ptr<const MultibodyModel> model;
   std::vector<ContactSet> mode_contacts;           ///< active contacts of each plant mode (0 left, 1 right stance, 2 flight)
   ConstrainedDynamicsParameters contact_stabilization;  ///< the plant's (HybridContactPlantParams::dynamics)
   int left_stance_mode = 0, right_stance_mode = 1;
+  int num_task_rows = 0;                           ///< rows of one third of `desired` (6 point feet, 8 line/flat feet)
+  std::vector<SteppingStonesTaskRows> tasks;       ///< the tasks of `desired`, in row order (see above)
 };
-/// Builds the controller block: any leaf system with the controller ports (see the top of this file).
-using SteppingStonesControllerFactory = std::function<std::unique_ptr<LeafSystem>(const SteppingStonesControllerSpec&)>;
+/// Builds the controller block: any System (a leaf system or a Diagram) with the controller ports (see the top of this
+/// file), connected by port name.
+using SteppingStonesControllerFactory = std::function<std::unique_ptr<System>(const SteppingStonesControllerSpec&)>;
 
 struct SteppingStonesDiagramParams {
   std::string robot_sidecar = "robots/amber/amber.rome.json";  ///< planar point-foot robot
@@ -182,9 +210,14 @@ struct SteppingStonesDiagram {
   const VerticalComMpcSystem* mpc = nullptr;
   const SteppingStonesOutputsSystem* outputs = nullptr;
   const SteppingStonesOutputAdapter* output_adapter = nullptr;
-  const LeafSystem* controller = nullptr;  ///< whatever the factory built (read it through its ports)
+  const System* controller = nullptr;  ///< whatever the factory built, a leaf or a diagram (read it through its ports)
   const VectorLogger* logger = nullptr;
   std::shared_ptr<const MultibodyModel> model;
+  /// Output `port` of the controller (e.g. "qp_failures") in the diagram's `context`, whether the controller is a leaf
+  /// or a diagram.
+  const Eigen::VectorXd& EvalControllerOutput(const Context& context, const std::string& port) const {
+    return diagram->EvalSubsystemOutput(*controller, port, context);
+  }
 };
 
 /// Stones `step_length_m` apart along x, each `step_height_m` above the previous (0: flat ground; stairs), the
@@ -224,6 +257,17 @@ double SteppingStoneLengthFor(const MultibodyModel& model);
 
 /// True if either foot of `model` is a line or flat contact: the diagram then adds the swing-foot pitch output.
 bool HasFootPitchOutput(const MultibodyModel& model);
+
+/// The outputs of Eq. (19) that the default controllers track, in the row order of `desired` (spec.tasks): torso pitch,
+/// COM height, each foot's x and z while it swings, and for line/flat feet each foot's pitch while it swings, with the
+/// task gains of `params`. For a controller of your own built on TaskSpaceTask.
+std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec);
+
+/// Wraps the block of `controller` in a diagram (controller → Saturation) that clamps its torques u to [lower, upper]
+/// (N m, nu each; the Saturation block's contract, framework/primitives.h) and exports the same controller ports.
+/// The inner block is named "controller" inside the diagram, the Saturation "saturation". Throws, naming the sizes, if
+/// lower or upper does not have nu elements, and as Saturation does for crossed or NaN bounds.
+SteppingStonesControllerFactory SaturatedControllerFactory(SteppingStonesControllerFactory controller, Eigen::VectorXd lower, Eigen::VectorXd upper);
 
 /// The paper's controller: TaskSpaceQpController (Eq. (29)-(31)) with params.controller and the task gains of
 /// `params` (torso pitch, COM height, swing foot), the plant's contact stabilisation.

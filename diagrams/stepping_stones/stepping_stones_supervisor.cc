@@ -14,7 +14,7 @@ namespace {
 // Discrete-state layout.
 constexpr int kMode = 0, kStanceX = 1, kStanceZ = 2, kStone = 3, kSteps = 4, kPhiF = 5, kComFz = 6, kParams = 7;
 constexpr int kLastUdes = kParams + SteppingStonesOutputsSystem::kNumStepParameters, kLastLdes = kLastUdes + 1, kLastVz = kLastUdes + 2,
-              kPostureFailures = kLastUdes + 3, kStepStart = kLastUdes + 4, kSize = kLastUdes + 5;
+              kPostureFailures = kLastUdes + 3, kStepStart = kLastUdes + 4, kInitialized = kLastUdes + 5, kSize = kLastUdes + 6;
 }  // namespace
 
 struct SteppingStonesSupervisor::Scratch {
@@ -62,31 +62,44 @@ SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared
   DeclareOutputPort("com_state", {"x", "z", "vx", "vz"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     Eigen::Vector4d com;
     double L;
-    ComRelative(c, c.discrete_state(), EvalInput(c, 0), &com, &L);
+    ComRelative(c, Committed(c), EvalInput(c, 0), &com, &L);
     *y = com;
   }, plant_state);
   DeclareOutputPort("angular_momentum", {"L"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     Eigen::Vector4d com;
-    ComRelative(c, c.discrete_state(), EvalInput(c, 0), &com, &(*y)[0]);
+    ComRelative(c, Committed(c), EvalInput(c, 0), &com, &(*y)[0]);
   }, plant_state);
   DeclareOutputPort("com_vertical_state", {"z", "vz"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
     Eigen::Vector4d com;
     double L;
-    ComRelative(c, c.discrete_state(), EvalInput(c, 0), &com, &L);
+    ComRelative(c, Committed(c), EvalInput(c, 0), &com, &L);
     *y << com[1], com[3];
   }, plant_state);
   DeclareOutputPort("step", {"l", "h"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
-    const StepOutputParameters step = step_parameters(c);
+    const StepOutputParameters step = step_parameters(Committed(c));
     *y << step.step_length, step.step_height;
   }, Feedthrough::None());
-  DeclareOutputPort("pre_impact_com_height", {"z"}, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kComFz]; },
+  DeclareOutputPort("pre_impact_com_height", {"z"}, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = Committed(c)[kComFz]; },
                     Feedthrough::None());
   DeclareTypedOutputPort<StepOutputParameters>(
-      "step_parameters", [this](const LeafContext& c, StepOutputParameters* y) { *y = step_parameters(c); }, Feedthrough::None());
-  DeclareOutputPort("stance_foot", {"x", "z"}, [](const LeafContext& c, Eigen::VectorXd* y) {
-    *y << c.discrete_state()[kStanceX], c.discrete_state()[kStanceZ];
+      "step_parameters", [this](const LeafContext& c, StepOutputParameters* y) { *y = step_parameters(Committed(c)); }, Feedthrough::None());
+  DeclareOutputPort("stance_foot", {"x", "z"}, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    const Eigen::VectorXd& xd = Committed(c);
+    *y << xd[kStanceX], xd[kStanceZ];
   }, Feedthrough::None());
-  DeclareOutputPort("stone", {"index"}, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kStone]; }, Feedthrough::None());
+  DeclareOutputPort("stone", {"index"}, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = Committed(c)[kStone]; }, Feedthrough::None());
+}
+
+const Eigen::VectorXd& SteppingStonesSupervisor::Committed(const LeafContext& context) const {
+  const Eigen::VectorXd& xd = context.discrete_state();
+  if (xd[kInitialized] == 0.0)
+    ThrowError("the first step is not set up: call SetSteppingStonesInitialState(diagram, params, context) before simulating "
+               "(SteppingStonesSupervisor::Initialize for a supervisor in a diagram of your own)");
+  return xd;
+}
+
+StepOutputParameters SteppingStonesSupervisor::step_parameters(const Eigen::VectorXd& xd) {
+  return SteppingStonesOutputsSystem::UnpackStepParameters(xd.segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters));
 }
 
 std::any SteppingStonesSupervisor::AllocateScratch() const { return Scratch(model_, params_.posture); }
@@ -103,9 +116,7 @@ int SteppingStonesSupervisor::num_steps(const LeafContext& context) const { retu
 Eigen::Vector2d SteppingStonesSupervisor::stance_foot(const LeafContext& context) const {
   return Eigen::Vector2d(context.discrete_state()[kStanceX], context.discrete_state()[kStanceZ]);
 }
-StepOutputParameters SteppingStonesSupervisor::step_parameters(const LeafContext& context) const {
-  return SteppingStonesOutputsSystem::UnpackStepParameters(context.discrete_state().segment(kParams, SteppingStonesOutputsSystem::kNumStepParameters));
-}
+StepOutputParameters SteppingStonesSupervisor::step_parameters(const LeafContext& context) const { return step_parameters(context.discrete_state()); }
 double SteppingStonesSupervisor::pre_impact_com_height(const LeafContext& context) const { return context.discrete_state()[kComFz]; }
 
 void SteppingStonesSupervisor::ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x, Eigen::Vector4d* com,
@@ -149,6 +160,7 @@ void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::Vec
   xd[kStanceZ] = foot.z();
   xd[kStone] = stone;
   xd[kStepStart] = context.time();
+  xd[kInitialized] = 1.0;
   PlanStep(context, x, mode, &xd, context.time());
 }
 
@@ -228,6 +240,7 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
 }
 
 EventStatus SteppingStonesSupervisor::Update(const LeafContext& context, Eigen::VectorXd* next) const {
+  Committed(context);  // a forgotten initial state is reported here if no output was evaluated before
   const Eigen::VectorXd& x = EvalInput(context, 0);
   Eigen::VectorXd& xd = *next;
   Eigen::Vector4d com;

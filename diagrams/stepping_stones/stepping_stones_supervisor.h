@@ -21,6 +21,8 @@
 //                                     the sole midpoint of a line foot); footholds and stones are checked there
 //          stone (1)                  index of the stone under the stance foot
 // Every output is a pure function of the committed step (discrete state) and, for the COM outputs, the plant state.
+// Initialize() (or SetSteppingStonesInitialState for the stepping-stones diagram) must set up the first step before
+// the run: until then every output and the periodic update throw a one-line error that names the call to make.
 // discrete state: the committed step (see the kIndex constants in the .cc).
 // Event update "impact" (at every guard event of the diagram, right after the plant's reset): when the plant's
 // stance foot differs from the committed one, an impact happened: the new stance foot, the stone it landed on, α_0
@@ -89,6 +91,7 @@ class SteppingStonesSupervisor final : public LeafSystem {
  public:
   SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain, SteppingStonesSupervisorParams params = {});
 
+  const SteppingStonesSupervisorParams& params() const { return params_; }
   const std::vector<StepRecord>& steps(const LeafContext& context) const;
   int posture_failures(const LeafContext& context) const;
   // The committed step state of `context` (what the last update decided).
@@ -107,6 +110,9 @@ class SteppingStonesSupervisor final : public LeafSystem {
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
   EventStatus ImpactUpdate(const LeafContext& context, Eigen::VectorXd* next) const;
+  /// The committed step state; throws, naming the call to make, if Initialize() was not called on `context`.
+  const Eigen::VectorXd& Committed(const LeafContext& context) const;
+  static StepOutputParameters step_parameters(const Eigen::VectorXd& xd);
   /// Impact bookkeeping on the step state xd (new stance foot, stone, α_0, posture); fills `rec` if given.
   void ApplyImpact(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, StepRecord* rec) const;
   void PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const;

@@ -172,6 +172,41 @@ TEST(DiagramBuilder, NestedDiagramMatchesFlat) {
   EXPECT_EQ(a.statistics().steps, b.statistics().steps);
 }
 
+// A nested diagram's exported output read from the parent's context, at depth 1 and 2: y = clamp(2 u, -1, 1) by hand.
+TEST(DiagramBuilder, EvalSubsystemOutputReadsNestedDiagrams) {
+  auto make_inner = [] {
+    DiagramBuilder b;
+    b.AddSystem(std::make_unique<Gain>("gain", 2.0, 2));
+    b.AddSystem(std::make_unique<Saturation>("saturation", 1.0, 2));
+    b.Connect("gain", "y", "saturation", "u");
+    b.ExportInput("gain", "u");
+    b.ExportOutput("saturation", "y", "clamped");
+    return b.Build("inner");
+  };
+  DiagramBuilder mid_builder;
+  const Diagram* inner = mid_builder.AddSystem(make_inner(), "inner");
+  mid_builder.ExportInput("inner", "u");
+  mid_builder.ExportOutput("inner", "clamped");
+  DiagramBuilder b;
+  const auto* source = b.AddSystem(std::make_unique<ConstantVectorSource>("source", Eigen::Vector2d(0.3, 0.8)));
+  const Diagram* mid = b.AddSystem(mid_builder.Build("mid"), "mid");
+  b.Connect("source", "y", "mid", "u");
+  const auto top = b.Build("top");
+  const auto context = top->CreateDefaultContext();
+  EXPECT_EQ(top->EvalSubsystemOutput(*mid, "clamped", *context), Eigen::Vector2d(0.6, 1.0));
+  EXPECT_EQ(top->EvalSubsystemOutput(*inner, "clamped", *context), Eigen::Vector2d(0.6, 1.0));
+  EXPECT_EQ(top->EvalSubsystemOutput(*source, "y", *context), Eigen::Vector2d(0.3, 0.8));
+  EXPECT_EQ(top->leaf_path(top->GetLeafIndex(top->leaf(2))), "mid/inner/saturation");
+  try {
+    top->EvalSubsystemOutput(*mid, "nope", *context);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "system 'mid' has no output port 'nope' (it has 'clamped')");
+  }
+  Gain stranger("stranger", 1.0, 2);
+  EXPECT_THROW(top->EvalSubsystemOutput(stranger, "y", *context), std::invalid_argument);
+}
+
 TEST(DiagramBuilder, NestedUnconnectedInputIsNamed) {
   DiagramBuilder b;
   b.AddSystem(MakeController());

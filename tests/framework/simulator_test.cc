@@ -377,6 +377,92 @@ TEST(Simulator, MonitorCanTerminate) {
   EXPECT_EQ(status.message, "enough");
 }
 
+TEST(Simulator, MonitorsRunInOrderAndTheFirstVerdictEndsTheRun) {
+  // Three monitors: a counter, one that fails once the ball first falls below 0.5 m, and one that would end the run
+  // as a success at the same instant. The run must end at the first accepted step below 0.5 m (free fall from 1 m:
+  // h(t) = 1 − g t²/2 crosses 0.5 m at t = sqrt(1/g)), named after the second monitor, and the third must not have
+  // run at that step (it runs after the second).
+  BouncingBall ball("ball", {.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0});
+  SimulatorConfig config = Tight();
+  config.max_step_s = 1e-3;  // accepted steps at most 1 ms apart
+  Simulator sim(ball, config);
+  int calls_first = 0, calls_third = 0;
+  sim.add_monitor([&](const Context&) {
+    ++calls_first;
+    return EventStatus::Succeeded();
+  }, "counter");
+  sim.add_monitor([](const Context& c) {
+    const double h = static_cast<const LeafContext&>(c).continuous_state()[0];
+    return h < 0.5 ? EventStatus::Failed("below half height") : EventStatus::Succeeded();
+  }, "height_check");
+  sim.add_monitor([&](const Context& c) {
+    ++calls_third;
+    const double h = static_cast<const LeafContext&>(c).continuous_state()[0];
+    return h < 0.5 ? EventStatus::ReachedTermination("must not be reached") : EventStatus::Succeeded();
+  }, "late");
+  EXPECT_EQ(sim.num_monitors(), 3);
+  const SimulatorStatus status = sim.AdvanceTo(5.0);
+  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed);
+  EXPECT_EQ(status.system, "height_check");
+  EXPECT_EQ(status.message, "below half height");
+  const double t_half = std::sqrt(1.0 / 9.81);
+  EXPECT_GE(status.time, t_half);
+  EXPECT_LE(status.time, t_half + 1e-3 + 1e-12);
+  EXPECT_EQ(calls_third, calls_first - 1);  // the step that ended the run did not reach the third monitor
+  // set_monitor replaces all of them: a fresh run with one monitor that never objects reaches the time limit.
+  Simulator sim2(ball, config);
+  sim2.add_monitor([](const Context&) { return EventStatus::Failed("replaced"); });
+  sim2.set_monitor([](const Context&) { return EventStatus::Succeeded(); });
+  EXPECT_EQ(sim2.num_monitors(), 1);
+  EXPECT_TRUE(sim2.AdvanceTo(0.1).ok());
+  sim2.set_monitor(nullptr);
+  EXPECT_EQ(sim2.num_monitors(), 0);
+  EXPECT_THROW(sim2.add_monitor(nullptr, "empty"), std::invalid_argument);
+}
+
+TEST(Simulator, EventLimitEndsTheRunAtTheNthImpact) {
+  // Closed form (bouncing_ball.h): t1 = sqrt(2 h0 / g), t_{k+1} = t_k + 2 e^k sqrt(2 g h0) / g; after the k-th impact
+  // the velocity is e^k sqrt(2 g h0) upwards.
+  const double e = 0.8, g = 9.81, h0 = 1.0;
+  const int n = 3;
+  double t_n = std::sqrt(2 * h0 / g);
+  for (int k = 1; k < n; ++k) t_n += 2 * std::pow(e, k) * std::sqrt(2 * g * h0) / g;
+  BouncingBall ball("ball", {.restitution = e, .gravity = g, .initial_height = h0});
+  SimulatorConfig config = Tight();
+  config.max_guard_events = n;
+  Simulator sim(ball, config);
+  const SimulatorStatus status = sim.AdvanceTo(100.0);
+  EXPECT_EQ(status.reason, SimulatorStatus::Reason::kReachedEventLimit);
+  EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit);
+  EXPECT_EQ(status.kind_name(), "limit");
+  EXPECT_FALSE(status.ok());
+  EXPECT_NE(status.message.find("3 guard events"), std::string::npos) << status.message;
+  EXPECT_NEAR(status.time, t_n, 1e-9);
+  EXPECT_EQ(sim.statistics().guard_events, n);
+  // The run ends after the n-th reset: the ball leaves the ground at e^n sqrt(2 g h0).
+  const auto& x = static_cast<const LeafContext&>(sim.get_context()).continuous_state();
+  EXPECT_NEAR(x[0], 0.0, 1e-9);
+  EXPECT_NEAR(x[1], std::pow(e, n) * std::sqrt(2 * g * h0), 1e-7);
+  // The run has ended: a later call returns the same status without advancing.
+  EXPECT_EQ(sim.AdvanceTo(200.0).reason, SimulatorStatus::Reason::kReachedEventLimit);
+  EXPECT_NEAR(sim.get_context().time(), t_n, 1e-9);
+  // Refused: a negative limit.
+  config.max_guard_events = -1;
+  Simulator bad(ball, config);
+  EXPECT_THROW(bad.AdvanceTo(1.0), std::invalid_argument);
+}
+
+TEST(Simulator, TimeLimitIsNamedAndIsNoVerdict) {
+  BouncingBall ball("ball", {.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0});
+  Simulator sim(ball, Tight());
+  const SimulatorStatus status = sim.AdvanceTo(0.25);
+  EXPECT_TRUE(status.ok());
+  EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit);
+  EXPECT_EQ(status.message, "reached the time limit t = 0.25 s");
+  EXPECT_EQ(status.ToString(), "reached the time limit t = 0.25 s");
+  for (const char* verdict : {"success", "fail", "terminat"}) EXPECT_EQ(status.ToString().find(verdict), std::string::npos) << verdict;
+}
+
 TEST(Simulator, ExceptionInDynamicsPropagates) {
   FirstOrderPlant plant(1, 1, 0);  // input not fixed: EvalInput throws naming the port
   Simulator sim(plant);

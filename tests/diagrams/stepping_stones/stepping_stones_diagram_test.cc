@@ -112,7 +112,7 @@ TEST(SteppingStonesDiagram, ControllerResolvesAtEveryTouchdown) {
       const EventRecord& e = sim.statistics().events.back();
       if (std::abs(c.time() - e.time) > 1e-12 || e.guard.rfind("touchdown_", 0) != 0) return EventStatus::Succeeded();
       const int mode = d.plant->EvalTypedOutput<int>(d.diagram->GetSubsystemContext(*d.plant, c), "mode");
-      const Eigen::VectorXd& planned = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "contact_forces");
+      const Eigen::VectorXd& planned = d.EvalControllerOutput(c, "contact_forces");
       const int stance = mode == 0 ? left : right, old = mode == 0 ? right : left;
       EXPECT_GT(planned[3 * stance + 2], 1.0) << "t = " << c.time() << ": the new stance foot carries the robot";
       EXPECT_EQ(planned.segment<3>(3 * old).norm(), 0.0) << "t = " << c.time() << ": the old stance foot carries nothing";
@@ -178,6 +178,125 @@ TEST(SteppingStonesDiagram, TaskSpaceQpAndClfQpWalkTheSameTerrain) {
     EXPECT_EQ(r.qp_failures, 0) << name;
     EXPECT_EQ(r.touchdowns, steps) << name;
   }
+}
+
+// The seam takes a sub-diagram: the default controller wrapped in controller → Saturation (SaturatedControllerFactory).
+// The QP is told limits of kQpLimitNm (below AMBER's 100 N m), the Saturation clamps at kLimitNm, a little lower, so it
+// acts whenever the QP uses the last 5 N m of its range. It walks the flat stones the unconstrained controller walks
+// (whose torques reach beyond both limits), with physical contact forces, and the torque the plant receives stays
+// inside the Saturation's bounds at every logged sample and every integrator step.
+TEST(SteppingStonesDiagram, SaturatedSubDiagramControllerWalks) {
+  constexpr double kLimitNm = 60.0, kQpLimitNm = 65.0;
+  const int steps = 6;
+  const Terrain terrain = PeriodicSteppingStones(0.4, 0.0, steps + 2);
+  SteppingStonesDiagramParams params;
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar);
+  const int nu = model.nu();
+  ASSERT_GT(model.torque_limits().minCoeff(), kLimitNm);  // below the default limits
+  const Eigen::VectorXd lower = Eigen::VectorXd::Constant(nu, -kLimitNm), upper = Eigen::VectorXd::Constant(nu, kLimitNm);
+  const test::WalkResult free = test::Walk(terrain, steps, params);
+  SteppingStonesDiagramParams limited = params;
+  limited.controller.torque_limits = Eigen::VectorXd::Constant(nu, kQpLimitNm);
+  const test::WalkResult saturated = test::Walk(terrain, steps, params, SaturatedControllerFactory(TaskSpaceQpControllerFactory(limited), lower, upper));
+  for (const auto* r : {&free, &saturated}) {
+    const std::string what = r == &free ? "unsaturated" : "saturated";
+    ASSERT_EQ(r->status.kind(), SimulatorStatus::Kind::kSuccess) << what << ": " << r->status.ToString();
+    ASSERT_EQ(static_cast<int>(r->steps.size()), steps) << what;
+    test::ExpectPhysicalContact(*r, what);
+    for (const StepRecord& s : r->steps) {
+      EXPECT_EQ(s.stone, s.planned_stone) << what;
+      EXPECT_LT(s.foothold_error_m, 0.02) << what;
+    }
+    ASSERT_EQ(r->u_max.size(), nu) << what;
+  }
+  EXPECT_GT(saturated.u_samples, 1000);
+  for (int i = 0; i < nu; ++i) {
+    EXPECT_GE(saturated.u_min[i], -kLimitNm) << "actuator " << model.actuators()[i].joint;
+    EXPECT_LE(saturated.u_max[i], kLimitNm) << "actuator " << model.actuators()[i].joint;
+  }
+  EXPECT_GT(std::max(free.u_max.maxCoeff(), -free.u_min.minCoeff()), kQpLimitNm) << "the unconstrained run never needs more than the limits";
+  EXPECT_GT(saturated.inner_u_abs_max, kLimitNm) << "the saturation never acted";
+  EXPECT_EQ(free.inner_u_abs_max, 0.0);  // a leaf controller: no inner block
+  // The same walk: the saturation changes the gait little (speed within 10 %).
+  EXPECT_NEAR(saturated.mean_speed_mps, free.mean_speed_mps, 0.1 * free.mean_speed_mps);
+  // A nu mismatch is refused with the sizes.
+  try {
+    BuildSteppingStonesDiagram(terrain, params, SaturatedControllerFactory(TaskSpaceQpControllerFactory(params), lower.head(2), upper.head(2)));
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("need nu = 4 elements"), std::string::npos) << e.what();
+  }
+}
+
+// The spec tells a controller of your own the layout of `desired`; checked against the output adapter's own port
+// (its size and element names) for point feet (AMBER, 18 elements) and line feet (planar Cassie, 24).
+TEST(SteppingStonesDiagram, ControllerSpecGivesTheLayoutOfDesired) {
+  struct Case {
+    std::string sidecar;
+    int rows;
+    std::vector<std::string> tasks;
+  };
+  const std::vector<std::string> amber_tasks{"torso_pitch", "com_height", "left_swing_foot", "right_swing_foot"};
+  std::vector<std::string> cassie_tasks = amber_tasks;
+  cassie_tasks.push_back("left_swing_foot_pitch");
+  cassie_tasks.push_back("right_swing_foot_pitch");
+  for (const Case& c : {Case{"robots/amber/amber.rome.json", 6, amber_tasks}, Case{"robots/cassie_planar/cassie_planar.rome.json", 8, cassie_tasks}}) {
+    const SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot(c.sidecar);
+    SteppingStonesControllerSpec seen;
+    const auto spy = [&](const SteppingStonesControllerSpec& spec) {
+      seen = spec;
+      return TaskSpaceQpControllerFactory(params)(spec);
+    };
+    const MultibodyModel model = MultibodyModel::LoadFromSidecar(c.sidecar);
+    const SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.5, 0.0, 4, SteppingStoneLengthFor(model)), params, spy);
+    EXPECT_EQ(seen.num_task_rows, c.rows) << c.sidecar;
+    const PortInfo& desired = d.output_adapter->output_port(d.output_adapter->GetOutputPortIndex("desired"));
+    ASSERT_EQ(desired.size, 3 * seen.num_task_rows) << c.sidecar;
+    ASSERT_EQ(seen.tasks.size(), c.tasks.size()) << c.sidecar;
+    int next_row = 0;
+    for (size_t k = 0; k < seen.tasks.size(); ++k) {
+      const SteppingStonesTaskRows& t = seen.tasks[k];
+      EXPECT_EQ(t.task, c.tasks[k]) << c.sidecar;
+      EXPECT_EQ(t.first_row, next_row) << c.sidecar << " " << t.task;
+      for (size_t j = 0; j < t.row_names.size(); ++j) {
+        const int row = t.first_row + static_cast<int>(j);
+        EXPECT_EQ(desired.element_names[row], t.row_names[j]) << c.sidecar;
+        EXPECT_EQ(desired.element_names[seen.num_task_rows + row], "d_" + t.row_names[j]) << c.sidecar;
+        EXPECT_EQ(desired.element_names[2 * seen.num_task_rows + row], "dd_" + t.row_names[j]) << c.sidecar;
+      }
+      next_row += static_cast<int>(t.row_names.size());
+      // A swing-foot task is tracked in the other foot's stance only.
+      if (t.task.rfind("left_swing", 0) == 0) {
+        EXPECT_EQ(t.active_modes, std::vector<int>{seen.right_stance_mode}) << t.task;
+      }
+      if (t.task.rfind("right_swing", 0) == 0) {
+        EXPECT_EQ(t.active_modes, std::vector<int>{seen.left_stance_mode}) << t.task;
+      }
+    }
+    EXPECT_EQ(next_row, seen.num_task_rows) << c.sidecar;
+    EXPECT_EQ(seen.tasks[2].row_names, (std::vector<std::string>{"left_foot_x", "left_foot_z"})) << c.sidecar;
+  }
+}
+
+// Simulating without SetSteppingStonesInitialState is reported at the first evaluation with one line that names the
+// call to make.
+TEST(SteppingStonesDiagram, ForgottenInitialStateNamesTheCall) {
+  SteppingStonesDiagramParams params;
+  const SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 6), params);
+  Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
+  try {
+    sim.AdvanceTo(0.01);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("call SetSteppingStonesInitialState(diagram, params, context) before simulating"), std::string::npos) << what;
+    EXPECT_NE(what.find("system 'supervisor'"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  // With the call, the same diagram runs.
+  Simulator ok(*d.diagram, SteppingStonesSimulatorConfig());
+  SetSteppingStonesInitialState(d, params, ok.get_mutable_context());
+  EXPECT_TRUE(ok.AdvanceTo(0.01).ok());
 }
 
 TEST(SteppingStonesDiagram, TerrainHelpersRejectBadInput) {

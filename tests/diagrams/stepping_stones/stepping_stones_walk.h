@@ -1,15 +1,18 @@
 #pragma once
-// Shared by the closed-loop stepping-stones tests: runs the example's diagram and checks the paper's claims for
+// Shared by the closed-loop stepping-stones tests: runs the example's diagram with the library's run
+// (RunSteppingStones, as the example does) and checks the paper's claims for
 // periodic footholds (no fall, periodic orbit: post-impact L_y of the last steps within 1 %, Sec. VI-B; L+ near
 // the planner's L_des, Eq. (17)-(18); touchdowns within 2 cm of the stone centres; speed in 0.4-1.6 m/s), and the
 // plant's own contact forces over every integrator step (a simulator monitor): F_n ≥ 0 and |F_t| ≤ μ F_n + 1e-6.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
+#include "diagrams/stepping_stones/stepping_stones_run.h"
 #include "systems/plants/contact_force_statistics.h"
 
 namespace rome::test {
@@ -18,10 +21,27 @@ struct WalkResult {
   SimulatorStatus status;
   std::vector<StepRecord> steps;
   double mean_speed_mps = 0;
-  double qp_failures = 0;
-  ContactForceStatistics contact;  ///< the plant's contact forces, after every integrator step and event
+  double qp_failures = 0;  ///< the controller's (not the MPC's)
+  ContactForceStatistics contact;  ///< the plant's contact forces, after every integrator step and event (RunSteppingStones)
   long touchdowns = 0;             ///< the plant's touchdown events
+  /// [N m] per actuator, the smallest and largest torque the plant received (the controller's u port, which feeds the
+  /// plant's u), over every logged sample and every integrator step.
+  Eigen::VectorXd u_min, u_max;
+  long u_samples = 0;  ///< logged samples and integrator steps that went into u_min, u_max
+  /// [N m] A controller sub-diagram (SaturatedControllerFactory) only: the largest |u| of its inner block
+  /// "controller/controller" over every integrator step, before the saturation; 0 otherwise.
+  double inner_u_abs_max = 0;
 };
+
+/// Folds the torque u into r's u_min, u_max.
+inline void RecordTorque(const Eigen::VectorXd& u, WalkResult* r) {
+  if (r->u_samples++ == 0) {
+    r->u_min = u;
+    r->u_max = u;
+  }
+  r->u_min = r->u_min.cwiseMin(u);
+  r->u_max = r->u_max.cwiseMax(u);
+}
 
 inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramParams params = {},
                        const SteppingStonesControllerFactory& controller = nullptr) {
@@ -31,17 +51,34 @@ inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramP
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
   sim.Initialize();
   WalkResult r;
-  sim.set_monitor([&](const Context& c) {
-    r.contact.Record(*d.plant, d.diagram->GetSubsystemContext(*d.plant, c));
+  const LeafSystem* inner = nullptr;
+  for (int i = 0; i < d.diagram->num_leaves(); ++i)
+    if (d.diagram->leaf_path(i) == "controller/controller") inner = &d.diagram->leaf(i);
+  sim.add_monitor([&](const Context& c) {
+    RecordTorque(d.EvalControllerOutput(c, "u"), &r);
+    if (inner != nullptr) r.inner_u_abs_max = std::max(r.inner_u_abs_max, d.diagram->EvalSubsystemOutput(*inner, "u", c).cwiseAbs().maxCoeff());
     return EventStatus::Succeeded();
-  });
-  const LeafContext& plant_ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
-  const double x0 = d.plant->EvalOutput(plant_ctx, "com")[0];
-  r.status = sim.AdvanceTo(3.0 * steps);
-  for (const EventRecord& e : sim.statistics().events) r.touchdowns += e.guard.rfind("touchdown_", 0) == 0 ? 1 : 0;
-  r.steps = d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context()));
-  r.mean_speed_mps = (d.plant->EvalOutput(plant_ctx, "com")[0] - x0) / sim.get_context().time();
-  r.qp_failures = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, sim.get_context()), "qp_failures")[0];
+  }, "torques");
+  // The library's run (what the example runs): contact statistics, step records, speed, success rule.
+  SteppingStonesRunOptions options;
+  options.max_time_s = options.chunk_s = 3.0 * steps;
+  const SteppingStonesResult run = RunSteppingStones(d, sim, options);
+  r.status = run.status;
+  r.contact = run.contact;
+  r.steps = run.steps;
+  r.mean_speed_mps = run.mean_forward_speed_mps();
+  for (const EventRecord& e : run.integrator.events) r.touchdowns += e.guard.rfind("touchdown_", 0) == 0 ? 1 : 0;
+  r.qp_failures = d.EvalControllerOutput(sim.get_context(), "qp_failures")[0];
+  // The logged torques (the logger's "controller.u" columns, at every logged sample).
+  const std::vector<std::string> columns = d.logger->ColumnNames();
+  int first_u = -1;
+  for (size_t i = 1; i < columns.size() && first_u < 0; ++i)
+    if (columns[i].rfind("controller.u.", 0) == 0 || columns[i].rfind("controller.u[", 0) == 0) first_u = static_cast<int>(i) - 1;
+  EXPECT_GE(first_u, 0) << "no logged controller.u column";
+  const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, sim.get_context()));
+  EXPECT_FALSE(log.samples.empty());
+  if (first_u >= 0)
+    for (const Eigen::VectorXd& sample : log.samples) RecordTorque(sample.segment(first_u, d.model->nu()), &r);
   return r;
 }
 

@@ -1,0 +1,187 @@
+#include "examples/stepping_stones/stepping_stones_options.h"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace rome::examples {
+
+namespace {
+
+Terrain MakeTerrain(const CommandLine& cli, int steps, double default_stone_length) {
+  const std::string kind = cli.Get("terrain");
+  const double stone_length = cli.Get("stone-length") == "default" ? default_stone_length : cli.GetDouble("stone-length");
+  const int n = steps + 2;
+  if (kind == "flat" || kind == "stairs-up" || kind == "stairs-down") {
+    const double l = cli.GetDouble("step-length");
+    double h = 0.0;
+    if (kind != "flat") h = cli.Get("step-height") == "default" ? (kind == "stairs-up" ? 0.2 : -0.1) : cli.GetDouble("step-height");
+    if (!(l > 0)) throw std::invalid_argument("stepping_stones: --step-length must be positive, got " + cli.Get("step-length"));
+    return PeriodicSteppingStones(l, h, n, stone_length);
+  }
+  if (kind == "random") {
+    RandomSteppingStonesParams p;
+    p.num_stones = n;
+    p.min_gap_m = cli.GetDouble("min-gap");
+    p.max_gap_m = cli.GetDouble("max-gap");
+    p.max_rise_m = cli.GetDouble("max-rise");
+    p.stone_length_m = stone_length;
+    p.seed = static_cast<unsigned>(cli.GetInt("seed"));
+    return RandomSteppingStones(p);
+  }
+  if (kind.empty()) throw std::invalid_argument("stepping_stones: --terrain must be flat, stairs-up, stairs-down, random or a CSV file, got ''");
+  return Terrain::FromCsv(kind, stone_length);
+}
+
+}  // namespace
+
+void DeclareSteppingStonesOptions(CommandLine& cli) {
+  cli.Option("terrain", "random", "flat | stairs-up | stairs-down | random | FILE.csv (x,z[,length] per line)")
+      .Option("step-length", "0.4", "[m] distance between stones for flat and stairs")
+      .Option("step-height", "default", "[m] height change per stone for stairs (default: +0.2 up, -0.1 down)")
+      .Option("stone-length", "default", "[m] length of each stone's top (default: 0.1 for point feet, the sole + 4 cm for line feet)")
+      .Option("min-gap", "0.2", "[m] random terrain: smallest distance between stones")
+      .Option("max-gap", "0.7", "[m] random terrain: largest distance between stones")
+      .Option("max-rise", "0.25", "[m] random terrain: largest height change from one stone to the next")
+      .Option("seed", "1", "random seed of the random terrain")
+      .Option("steps", "30", "number of steps to walk")
+      .Option("energy", "0.5", "E* [m^2/s^2], desired orbital energy (paper: 0.5)")
+      .Option("epsilon", "0.6", "epsilon [-], desired pre-impact COM position as a fraction of the step (paper: 0.6)")
+      .Option("swing-clearance", "0.1", "[m] z_sw^max above the highest of the start, stance and next stones")
+      .Option("swing-apex", "clear",
+              "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max) | clear (exact, and at least "
+              "5 cm above the stance stone wherever the foot passes over it)")
+      .Option("initial-com-x", "-0.1", "[m] COM position relative to the stance foot at the start (on the E* orbit)")
+      .Option("robot", "robots/amber/amber.rome.json", "planar robot sidecar (AMBER: point feet; planar Cassie: line feet; a relative path is looked up in ROME's data folders, ./PATH reads the current folder)")
+      .Option("torso-gains", "default", "weight,kp,kd of the torso-pitch output (default: the robot's, SteppingStonesDiagramParams::ForRobot)")
+      .Option("com-gains", "default", "weight,kp,kd of the COM-height output")
+      .Option("swing-gains", "default", "weight,kp,kd of the swing-foot position output")
+      .Option("foot-pitch-gains", "default", "weight,kp,kd of the swing-foot pitch output (line feet only)")
+      .Option("walking-height", "default", "[m] supervisor.walking_com_height_m (default: the robot's)")
+      .Option("log", "stepping_stones.csv", "CSV log")
+      .Option("summary", "stepping_stones.json", "JSON summary")
+      .Option("log-period", "0.005", "[s] sample period of the CSV log")
+      .Option("friction-margin", "0.95", "[-] the controller's friction pyramid uses this fraction of mu (1 = the paper's cone)")
+      .Option("min-normal-force", "2", "[N] the controller's smallest stance normal force (0 = the paper's F_z >= 0)")
+      .Option("clf-relaxation-weight", "default", "CLF-QP: weight p of the CLF relaxation (default: the diagram's)")
+      .Option("clf-rate", "default", "[Hz] CLF-QP update rate (default: the diagram's)")
+      .Option("clf-cone-offset", "default", "[N] CLF-QP: apex of the friction pyramid, |F_t| <= mu' (F_z - offset) (default: the diagram's)")
+      .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
+      .Option("controller", "tsc-qp", "tsc-qp (task-space QP, Eq. (29)-(31)) | clf-qp (CLF-QP, the same outputs and GRF rows)")
+      .Option("clf-cost-only", "default", "CLF-QP: comma-separated outputs kept out of the CLF and tracked in the cost with their PD gains (e.g. torso_pitch), or none (default: the diagram's)")
+      .Option("clf-hold-drift", "default", "on | off: CLF-QP: also keep the wrench rows at the force predicted at the end of the held sample (default: the diagram's)")
+      .Option("clf-cost-pd", "default", "on | off: CLF-QP: the cost tracks each output's PD target (task gains) instead of its feedforward (default: the diagram's)")
+      .Option("mpc-hold", "default", "[s] vertical-COM MPC: below this predicted time to impact the plan is held, not re-solved (default: the diagram's)")
+      .Option("clf-com-weight", "default", "[-] CLF-QP: cost weight of the COM-height output, in (0, 1000] (default: the diagram's: 20 for line feet, else the --com-gains weight, 1)")
+      .Option("clf-epsilon", "default", "epsilon [-] of the CLF-QP's RES-CLF (--controller clf-qp; default: the diagram's)")
+      .Option("unilateral-contact", "on", "on | off: the plant's stance feet lift off at F_n = 0 and a slip fails the run (off: welded feet, as before)")
+      .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
+      .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
+      .Option("plots", "", "directory for PNG plots (empty: none)")
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
+}
+
+SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& cli) {
+  const int steps = cli.GetInt("steps");
+  // Ranges (ours): bounded work and physically meaningful gaits; each error names the option and the value.
+  auto in_range = [&](const std::string& name, double lo, double hi, bool lo_open) {
+    const double v = cli.GetDouble(name);
+    if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi))
+      throw std::invalid_argument("stepping_stones: --" + name + " must be in " + (lo_open ? "(" : "[") + FormatNumber(lo) + ", " +
+                                  FormatNumber(hi) + "], got " + cli.Get(name));
+    return v;
+  };
+  if (steps < 1 || steps > 10000) throw std::invalid_argument("stepping_stones: --steps must be in [1, 10000], got " + cli.Get("steps"));
+  in_range("energy", 0.0, 10.0, true);  // E* > 0: the robot walks forwards (E* <= 0 turns back before the stone)
+  in_range("epsilon", 0.0, 1.0, true);
+  const double log_period = in_range("log-period", 1e-4, 10.0, false);
+  const double log_rows = (3.0 * steps + 2.0) / log_period;
+  if (!cli.Get("log").empty() && log_rows > 5e6)
+    throw std::invalid_argument("stepping_stones: --log-period " + cli.Get("log-period") + " s over up to " + std::to_string(3 * steps + 2) + " s would log " +
+                                std::to_string(static_cast<long>(log_rows)) + " rows (limit 5e6); raise --log-period or lower --steps");
+  if (cli.Get("stone-length") != "default") in_range("stone-length", 0.0, 1.0, true);
+  in_range("swing-clearance", 0.0, 1.0, true);
+  if (cli.Get("terrain") == "flat" || cli.Get("terrain") == "stairs-up" || cli.Get("terrain") == "stairs-down") in_range("step-length", 0.0, 5.0, true);
+  // Output files are checked before the simulation, so a long run is not lost to a typo.
+  cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
+  SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot(cli.Get("robot"));
+  const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
+  auto gains = [&](const std::string& flag, TaskGains* g) {
+    if (cli.Get(flag) == "default") return;
+    const std::vector<double> v = cli.GetNumbers(flag, 3, "weight,kp,kd");
+    *g = {v[0], v[1], v[2]};
+  };
+  gains("torso-gains", &params.torso_gains);
+  gains("com-gains", &params.com_height_gains);
+  gains("swing-gains", &params.swing_foot_gains);
+  gains("foot-pitch-gains", &params.swing_foot_pitch_gains);
+  if (cli.Get("walking-height") != "default") params.supervisor.walking_com_height_m = cli.GetDouble("walking-height");
+  params.target_orbital_energy = cli.GetDouble("energy");
+  params.impact_fraction = cli.GetDouble("epsilon");
+  params.supervisor.max_steps = steps;
+  params.log_period_s = cli.GetDouble("log-period");
+  params.initial_com_x_m = cli.GetDouble("initial-com-x");
+  params.outputs.swing_foot.clearance = cli.GetDouble("swing-clearance");
+  params.controller.friction_margin = cli.GetDouble("friction-margin");
+  params.controller.min_normal_force_N = cli.GetDouble("min-normal-force");
+  if (cli.Get("resolve-at-events") != "on" && cli.Get("resolve-at-events") != "off")
+    throw std::invalid_argument("stepping_stones: --resolve-at-events must be 'on' or 'off', got '" + cli.Get("resolve-at-events") + "'");
+  if (cli.Get("unilateral-contact") != "on" && cli.Get("unilateral-contact") != "off")
+    throw std::invalid_argument("stepping_stones: --unilateral-contact must be 'on' or 'off', got '" + cli.Get("unilateral-contact") + "'");
+  params.plant.unilateral_contact = cli.Get("unilateral-contact") == "on";
+  params.controller.resolve_at_events = params.mpc.resolve_at_events = params.clf_controller.resolve_at_events = cli.Get("resolve-at-events") == "on";
+  params.clf_controller.contact.friction_margin = params.controller.friction_margin;
+  params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
+  if (cli.Get("mpc-hold") != "default") {
+    const double hold = cli.GetDouble("mpc-hold");
+    if (!(hold >= 0 && hold <= 10)) throw std::invalid_argument("stepping_stones: --mpc-hold must be in [0, 10] s, got " + cli.Get("mpc-hold"));
+    params.mpc.hold_plan_below_horizon_s = hold;
+  }
+  if (cli.Get("clf-com-weight") != "default") {
+    const double w = cli.GetDouble("clf-com-weight");
+    if (!(w > 0 && w <= 1000)) throw std::invalid_argument("stepping_stones: --clf-com-weight must be in (0, 1000], got " + cli.Get("clf-com-weight"));
+    if (cli.Get("controller") != "clf-qp")
+      throw std::invalid_argument("stepping_stones: --clf-com-weight applies to --controller clf-qp only (got --controller " + cli.Get("controller") + ")");
+    params.clf_com_height_weight = w;
+  }
+  if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
+  if (cli.Get("clf-relaxation-weight") != "default") params.clf_controller.relaxation_weight = cli.GetDouble("clf-relaxation-weight");
+  if (cli.Get("clf-rate") != "default") {
+    const double rate = cli.GetDouble("clf-rate");
+    if (!(rate > 0 && rate <= 1e5)) throw std::invalid_argument("stepping_stones: --clf-rate must be in (0, 1e5] Hz, got " + cli.Get("clf-rate"));
+    params.clf_controller.update_period_s = 1.0 / rate;
+  }
+  if (cli.Get("clf-cone-offset") != "default") params.clf_controller.contact.friction_cone_offset_N = cli.GetDouble("clf-cone-offset");
+  if (cli.Get("clf-cost-only") == "none") {
+    params.clf_controller.cost_only_outputs.clear();
+  } else if (cli.Get("clf-cost-only") != "default") {
+    params.clf_controller.cost_only_outputs.clear();
+    std::stringstream names(cli.Get("clf-cost-only"));
+    for (std::string name; std::getline(names, name, ',');) params.clf_controller.cost_only_outputs.push_back(name);
+  }
+  if (cli.Get("clf-hold-drift") != "default") {
+    if (cli.Get("clf-hold-drift") != "on" && cli.Get("clf-hold-drift") != "off")
+      throw std::invalid_argument("stepping_stones: --clf-hold-drift must be 'on', 'off' or 'default', got '" + cli.Get("clf-hold-drift") + "'");
+    params.clf_controller.predict_hold_drift = cli.Get("clf-hold-drift") == "on";
+  }
+  if (cli.Get("clf-cost-pd") != "default") {
+    if (cli.Get("clf-cost-pd") != "on" && cli.Get("clf-cost-pd") != "off")
+      throw std::invalid_argument("stepping_stones: --clf-cost-pd must be 'on', 'off' or 'default', got '" + cli.Get("clf-cost-pd") + "'");
+    params.clf_controller.cost_pd_feedback = cli.Get("clf-cost-pd") == "on";
+  }
+  SteppingStonesControllerFactory controller;
+  if (cli.Get("controller") == "clf-qp")
+    controller = ClfQpControllerFactory(params);
+  else if (cli.Get("controller") != "tsc-qp")
+    throw std::invalid_argument("stepping_stones: --controller must be 'tsc-qp' or 'clf-qp', got '" + cli.Get("controller") + "'");
+  if (cli.Get("swing-apex") == "clear")
+    params.outputs.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
+  else if (cli.Get("swing-apex") == "exact")
+    params.outputs.swing_foot.apex_shape = SwingApexShape::kExactPeak;
+  else if (cli.Get("swing-apex") == "paper")
+    params.outputs.swing_foot.apex_shape = SwingApexShape::kControlPoints;
+  else
+    throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
+  return {params, terrain, controller, ParsePlantKind(cli.Get("plant"), "stepping_stones: --plant"), steps};
+}
+
+}  // namespace rome::examples
