@@ -32,6 +32,8 @@
 // A controller should re-solve at guard events (an event update), so that the new domain's torque acts from the event
 // on. Swapping it is one argument:
 //   BuildHoppingDiagram(model, leg_length, jump, landing, params, PlantKind::kHybrid, MyControllerFactory)
+// A diagram built with DiagramBuilder is a controller too when it exports these ports, e.g. the default controller →
+// Saturation (framework/primitives.h) exporting the saturation's y as u (tests/diagrams/hopping, SaturatedSubDiagram...).
 //
 // Build → run → result from C++ (diagrams/hopping/hopping_run.h; tests/diagrams/hopping/hopping_diagram_test.cc
 // compiles exactly this):
@@ -44,7 +46,8 @@
 //   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
 //   const HoppingRunResult result = RunHopping(d, sim, HoppingRunParams{}, &rom);
 //   // result.success, result.hopped, result.air_time_s, result.grf_nrmse_jump, result.contact.violations, ...
-
+// (headers: diagrams/hopping/hopping_run.h, systems/multibody/robot_files.h)
+//
 // The ROM pieces enter as functions: the virtual leg length L(q_knee) (Eq. (13)) and the two planners, so the
 // builder does not depend on how the plans are computed.
 // Event order at a lift-off or touchdown: the plant's reset, then the reference's event update (new domain, motor
