@@ -1,6 +1,7 @@
 #include "diagrams/hopping/hopping_diagram.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -119,51 +120,110 @@ HoppingOutputParams HoppingDiagramParams::DefaultOutputParams() {
   return p;
 }
 
+namespace {
+
+// Throws "HoppingDiagramParams: <field> = <value>: must be in [lo, hi]<unit>" unless lo <= value <= hi.
+void CheckRange(const char* field, double value, double lo, double hi, const char* unit = "") {
+  if (value >= lo && value <= hi) return;  // false for NaN
+  std::ostringstream msg;
+  msg << "HoppingDiagramParams: " << field << " = " << value << ": must be in [" << lo << ", " << hi << "]" << unit;
+  throw std::invalid_argument(msg.str());
+}
+
+}  // namespace
+
+void HoppingDiagramParams::Validate() const {
+  CheckRange("reference.hops", reference.hops, 1, 1000);
+  CheckRange("reference.jump_momentum_gain", reference.jump_momentum_gain, 0.0, 100.0);
+  CheckRange("reference.flight_hip_pitch_follow", reference.flight_hip_pitch_follow, -10.0, 10.0);
+  CheckRange("reference.landing_deflection_feedback", reference.landing_deflection_feedback, 0.0, 2.0);
+  CheckRange("reference.jump_force_feedback", reference.jump_force_feedback, 0.0, 10.0);
+  CheckRange("reference.jump_force_integral_per_s", reference.jump_force_integral_per_s, 0.0, 1000.0, " 1/s");
+  CheckRange("reference.landing_blend_s", reference.landing_blend_s, 1e-3, 10.0, " s");
+  CheckRange("landing_u_regularization_scale", landing_u_regularization_scale, 1e-3, 1e3);
+  CheckRange("bullet_plant.substeps", bullet_plant.substeps, 1, 100);
+  CheckRange("log_period_s", log_period_s, 1e-5, 10.0, " s");
+  if (landing_u_regularization_scale != 1.0 && (controller.u_regularization_weights.size() != 0 || !controller.u_regularization_modes.empty())) {
+    std::ostringstream msg;
+    msg << "HoppingDiagramParams: landing_u_regularization_scale = " << landing_u_regularization_scale
+        << " sets the controller's u_regularization_weights and u_regularization_modes; leave those empty or set the scale to 1";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+std::unique_ptr<System> MakeDefaultHoppingController(const HoppingControllerSpec& spec) {
+  return std::make_unique<ClfQpController>(spec.name, spec.model, spec.mode_contacts, spec.outputs, spec.controller);
+}
+
+namespace {
+
+std::vector<HoppingTask> TasksOf(const std::vector<ClfOutput>& outputs) {
+  std::vector<HoppingTask> tasks;
+  int row = 0;
+  for (const ClfOutput& o : outputs) {
+    HoppingTask t{o.name(), row, o.size(), {}};
+    for (int domain : {HoppingDomain::kJump, HoppingDomain::kFlight, HoppingDomain::kLanding})
+      if (o.IsActiveIn(domain)) t.domains.push_back(domain);
+    row += o.size();
+    tasks.push_back(std::move(t));
+  }
+  return tasks;
+}
+
+}  // namespace
+
+std::vector<HoppingTask> HoppingTasks(const MultibodyModel& model, const HoppingOutputParams& params) {
+  // Only the names, sizes and domains are read: any leg-length function will do.
+  return TasksOf(MakeHoppingOutputs(model, [](double, double* L, double* dL) { *L = 0.0, *dL = 0.0; }, params));
+}
+
 HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
                                    HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
-                                   const HoppingDiagramParams& params, PlantKind plant) {
+                                   const HoppingDiagramParams& params, PlantKind plant, const HoppingControllerFactory& controller_factory) {
+  params.Validate();
+  if (!controller_factory) throw std::invalid_argument("BuildHoppingDiagram: the controller factory is empty");
   HoppingDiagram d;
+  d.model = model;
+  d.leg_length = leg_length;
+  d.params = params;
+  d.layout = MakeHoppingOutputLayout(params.outputs);
+  d.plant_kind = plant;
   DiagramBuilder b;
   d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat(),
                                          params.plant, params.bullet_plant));
-  d.reference = b.AddSystem(
-      std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner), std::move(landing_planner),
-                                                                MakeHoppingOutputLayout(params.outputs), params.reference));
-  ClfQpParams controller = params.controller;
-  controller.contact_stabilization = params.plant.dynamics;
-  if (!(params.landing_u_regularization_scale > 0.0) || !std::isfinite(params.landing_u_regularization_scale))
-    throw std::invalid_argument("BuildHoppingDiagram: params.landing_u_regularization_scale = " + std::to_string(params.landing_u_regularization_scale) +
-                                " must be > 0 and finite");
+  d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner), std::move(landing_planner),
+                                                               d.layout, params.reference));
+  HoppingControllerSpec spec;
+  spec.model = model;
+  spec.mode_contacts = ActiveContactsPerMode(*d.plant);
+  spec.outputs = MakeHoppingOutputs(*model, leg_length, params.outputs);
+  spec.tasks = TasksOf(spec.outputs);
+  spec.layout = d.layout;
+  spec.controller = params.controller;
+  spec.controller.contact_stabilization = params.plant.dynamics;
   if (params.landing_u_regularization_scale != 1.0) {
-    if (controller.u_regularization_weights.size() != 0 || !controller.u_regularization_modes.empty())
-      throw std::invalid_argument("BuildHoppingDiagram: params.landing_u_regularization_scale = " + std::to_string(params.landing_u_regularization_scale) +
-                                 " sets the controller's u_regularization_weights and u_regularization_modes; leave those empty or set the scale to 1");
-    controller.u_regularization_weights = Eigen::VectorXd::Constant(model->nu(), params.landing_u_regularization_scale);
-    controller.u_regularization_modes = {HoppingDomain::kLanding};
+    spec.controller.u_regularization_weights = Eigen::VectorXd::Constant(model->nu(), params.landing_u_regularization_scale);
+    spec.controller.u_regularization_modes = {HoppingDomain::kLanding};
   }
-  d.controller = b.AddSystem(std::make_unique<ClfQpController>("controller", model, ActiveContactsPerMode(*d.plant),
-                                                               MakeHoppingOutputs(*model, leg_length, params.outputs), controller));
+  d.tasks = spec.tasks;
+  std::unique_ptr<System> controller = controller_factory(spec);
+  if (!controller) throw std::invalid_argument("BuildHoppingDiagram: the controller factory returned no system");
+  d.controller = controller.get();
+  b.AddSystem(std::move(controller), spec.name);
   b.Connect("plant", "state", "reference", "state");
   b.Connect("plant", "mode", "reference", "mode");
   b.Connect("plant", "contact_forces", "reference", "contact_forces");
-  b.Connect("reference", "desired", "controller", "desired");
-  b.Connect("reference", "domain", "controller", "mode");
-  b.Connect("plant", "state", "controller", "state");
-  b.Connect("controller", "u", "plant", "u");
-  d.logger = AddVectorLogger(b, "logger",
-                             {{"plant", "state"},
-                              {"plant", "mode"},
-                              {"plant", "com"},
-                              {"plant", "contact_forces"},
-                              {"reference", "domain"},
-                              {"reference", "desired"},
-                              {"controller", "u"},
-                              {"controller", "V"},
-                              {"controller", "delta"},
-                              {"controller", "contact_forces"},
-                              {"controller", "qp_status"},
-                              {"controller", "solve_time_s"}},
-                             params.log_period_s);
+  b.Connect("reference", "desired", spec.name, "desired");
+  b.Connect("reference", "domain", spec.name, "mode");
+  b.Connect("plant", "state", spec.name, "state");
+  b.Connect(spec.name, "u", "plant", "u");
+  b.ExportOutput(spec.name, "u", "u");
+  if (d.controller->HasOutputPort("qp_failures")) b.ExportOutput(spec.name, "qp_failures", "qp_failures");
+  std::vector<std::pair<std::string, std::string>> logged = {
+      {"plant", "state"}, {"plant", "mode"}, {"plant", "com"}, {"plant", "contact_forces"}, {"reference", "domain"}, {"reference", "desired"}};
+  for (const char* port : {"u", "V", "delta", "contact_forces", "qp_status", "solve_time_s"})
+    if (d.controller->HasOutputPort(port)) logged.push_back({spec.name, port});
+  d.logger = AddVectorLogger(b, "logger", logged, params.log_period_s);
   d.diagram = b.Build("hopping");
   return d;
 }

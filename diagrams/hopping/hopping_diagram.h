@@ -9,17 +9,53 @@
 //                  (Eq. (14)-(15), solved from the measured standing state) and landing plan (Eq. (16), solved at
 //                  lift-off from the predicted touchdown and again, warm, from the post-impact state); it reads the
 //                  plant's state, mode and contact forces (the Jump's GRF feedback, ours))
-//     → controller (ClfQpController: augmented input [u; F_h], Eq. (45)-(51), RES-CLF Eq. (29)-(37), line-foot wrench
+//     → controller (any System from a HoppingControllerFactory, a leaf or a diagram; default MakeDefaultHoppingController:
+//                   ClfQpController, augmented input [u; F_h], Eq. (45)-(51), RES-CLF Eq. (29)-(37), line-foot wrench
 //                   rows and torque limits, 2 kHz and re-solved at every event; outputs per domain from
 //                   MakeHoppingOutputs)
 //     → plant
 //   plus a logger.
+// Controller ports (the seam):
+//   inputs  state (2 nv)      plant [q; v]
+//           mode (int, typed) the reference's domain: 0 jump, 1 flight, 2 landing (HoppingDomain)
+//           desired (3 ny)    the reference's [y_d; ẏ_d; ÿ_d], ny = 16 (17 with HoppingOutputParams::
+//                             jump_tracks_momentum, Eq. (41)); rows of y_d in HoppingControllerSpec::tasks order (the
+//                             same offsets in ẏ_d and ÿ_d, + ny and + 2 ny): with jump_tracks_momentum
+//                             centroidal_pitch_momentum (1, row 0, jump, [N m s]) first; then leg_length_left,
+//                             leg_length_right (1 each, jump and landing, [m]), com_xy (2, jump and landing, [m]),
+//                             pelvis_yaw, pelvis_pitch (1 each, [rad]; the pitch in landing, and in jump by default),
+//                             motor_<joint> (1 each, the 10 actuated joints in actuator order, flight, [rad]). The
+//                             default starts with leg_length_left at row 0 (MakeHoppingOutputLayout gives the offsets).
+//   outputs u (nu, N m)       the plant's motor torques, held between updates (required)
+//           qp_failures (1)   failed solves so far (optional: the run reports it when present)
+//           V, delta, contact_forces, qp_status, solve_time_s (optional: logged when present)
+// A controller should re-solve at guard events (an event update), so that the new domain's torque acts from the event
+// on. Swapping it is one argument:
+//   BuildHoppingDiagram(model, leg_length, jump, landing, params, PlantKind::kHybrid, MyControllerFactory)
+// A diagram built with DiagramBuilder is a controller too when it exports these ports, e.g. the default controller →
+// Saturation (framework/primitives.h) exporting the saturation's y as u (tests/diagrams/hopping, SaturatedSubDiagram...).
+//
+// Build → run → result from C++ (diagrams/hopping/hopping_run.h; tests/diagrams/hopping/hopping_diagram_test.cc
+// compiles exactly this):
+//   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+//   SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{}, SpringMassLandingParams{});
+//   HoppingDiagramParams params;
+//   params.reference.hops = 1;
+//   HoppingDiagram d = BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, params);
+//   Simulator sim(*d.diagram, HoppingSimulatorConfig());
+//   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
+//   const HoppingRunResult result = RunHopping(d, sim, HoppingRunParams{}, &rom);
+//   // result.success, result.hopped, result.air_time_s, result.grf_nrmse_jump, result.contact.violations, ...
+// (headers: diagrams/hopping/hopping_run.h, systems/multibody/robot_files.h)
+//
 // The ROM pieces enter as functions: the virtual leg length L(q_knee) (Eq. (13)) and the two planners, so the
 // builder does not depend on how the plans are computed.
 // Event order at a lift-off or touchdown: the plant's reset, then the reference's event update (new domain, motor
 // snapshot or landing plan), then the controller's re-solve for the new domain.
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "diagrams/hopping/hopping_outputs.h"
 #include "framework/diagram.h"
@@ -73,19 +109,61 @@ struct HoppingDiagramParams {
   /// with 1e5); that test checks both.) The momentum is steered instead through the pitch reference
   /// (HoppingReferenceParams::jump_momentum_gain). HOP_MOMENTUM=1 in tests/diagrams/hopping reproduces the slip.
   static HoppingOutputParams DefaultOutputParams();
+  /// Throws std::invalid_argument "HoppingDiagramParams: <field> = <value>: must be in <range>" for the first field out
+  /// of its range (the hopping example's flags use the same ranges). BuildHoppingDiagram calls it first.
+  void Validate() const;
 };
+
+/// One task of the controller's desired input: its name (ClfOutput name), first row and number of rows in `desired`,
+/// and the domains it is tracked in (HoppingDomain).
+struct HoppingTask {
+  std::string name;
+  int row = 0, size = 0;
+  std::vector<int> domains;
+};
+
+/// What the diagram hands a controller factory.
+struct HoppingControllerSpec {
+  std::string name = "controller";  ///< the block's name in the diagram
+  std::shared_ptr<const MultibodyModel> model;
+  std::vector<ContactSet> mode_contacts;  ///< active contacts of each domain (0 jump, 1 flight, 2 landing)
+  std::vector<ClfOutput> outputs;         ///< the outputs of the desired input, in row order (MakeHoppingOutputs)
+  std::vector<HoppingTask> tasks;         ///< the same as a list of rows (HoppingTasks)
+  HoppingOutputLayout layout;             ///< offsets of the desired rows (MakeHoppingOutputLayout)
+  /// The diagram's ClfQpParams with contact_stabilization = the plant's dynamics and the landing torque penalty
+  /// (HoppingDiagramParams::landing_u_regularization_scale) applied.
+  ClfQpParams controller;
+};
+
+/// Builds the controller block: any System (a leaf or a diagram) with the controller ports (see the top of this file).
+using HoppingControllerFactory = std::function<std::unique_ptr<System>(const HoppingControllerSpec&)>;
+
+/// The default controller: ClfQpController(spec.name, spec.model, spec.mode_contacts, spec.outputs, spec.controller).
+std::unique_ptr<System> MakeDefaultHoppingController(const HoppingControllerSpec& spec);
+
+/// The rows of the controller's desired input for these output params (name, first row, size, domains).
+std::vector<HoppingTask> HoppingTasks(const MultibodyModel& model, const HoppingOutputParams& params = {});
 
 struct HoppingDiagram {
   std::unique_ptr<Diagram> diagram;
   const ContactPlant* plant = nullptr;
   HoppingReference* reference = nullptr;
-  ClfQpController* controller = nullptr;
+  const System* controller = nullptr;  ///< whatever the factory built (read it through the diagram's exported ports)
   VectorLogger* logger = nullptr;
+  std::shared_ptr<const MultibodyModel> model;
+  HoppingReference::LegLengthFunction leg_length;  ///< L(q_knee), Eq. (13)
+  HoppingDiagramParams params;                     ///< as built (validated)
+  std::vector<HoppingTask> tasks;                  ///< the controller's desired rows
+  HoppingOutputLayout layout;
+  PlantKind plant_kind = PlantKind::kHybrid;
 };
 
+/// The diagram also exports the controller's u (as "u") and, when the controller has it, qp_failures (as
+/// "qp_failures"), so a run reads them whatever the controller is. Validates `params` first.
 HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
                                    HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
-                                   const HoppingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid);
+                                   const HoppingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid,
+                                   const HoppingControllerFactory& controller = MakeDefaultHoppingController);
 
 /// Puts the robot at q (at rest, plant mode "jump": both feet down) and the reference into its settle phase.
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace rome {
@@ -107,5 +108,37 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
     return true;
   };
 }
+
+namespace {
+
+const SpringMassJumpParams& CheckedJumpParams(const SpringMassJumpParams& p) {
+  p.Validate();
+  if (!(p.apex_rise <= SpringMassHopPlanners::kMaxApexRise)) {
+    std::ostringstream msg;
+    msg << "SpringMassJumpParams: apex_rise = " << p.apex_rise << " m: outside what the legs can reach (0 < H <= " << SpringMassHopPlanners::kMaxApexRise
+        << " m)";
+    throw std::invalid_argument(msg.str());
+  }
+  return p;
+}
+
+const SpringMassLandingParams& CheckedLandingParams(const SpringMassLandingParams& p) {
+  p.Validate();
+  return p;
+}
+
+}  // namespace
+
+SpringMassHopPlanners::SpringMassHopPlanners(const MultibodyModel& model, LegStiffnessVariant variant, const SpringMassJumpParams& jump_params,
+                                             const SpringMassLandingParams& landing_params)
+    : variant(variant),
+      rom(CassieSpringMassParams(model, variant)),
+      jump_params(CheckedJumpParams(jump_params)),
+      landing_params(CheckedLandingParams(landing_params)),
+      leg_length(model),
+      records(std::make_shared<std::vector<PlannerRecord>>()),
+      rest_height(std::make_shared<double>(0.0)),
+      jump(MakeSpringMassJumpPlanner(rom, this->jump_params, records, rest_height)),
+      landing(MakeSpringMassLandingPlanner(rom, this->landing_params, records, rest_height)) {}
 
 }  // namespace rome

@@ -45,4 +45,23 @@ HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& 
 HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom, const SpringMassLandingParams& params, PlannerRecords records,
                                                               std::shared_ptr<double> rest_height);
 
+/// The spring-mass ROM's pieces for BuildHoppingDiagram in one place: Cassie's ROM (CassieSpringMassParams), the
+/// leg-length table, and the jump and landing planners sharing one record of solves and one rest height. The
+/// constructor validates the params (SpringMassJumpParams/SpringMassLandingParams::Validate) and the apex rise
+/// against what Cassie's legs can reach (0 < H <= kMaxApexRise), naming the field and the value.
+struct SpringMassHopPlanners {
+  static constexpr double kMaxApexRise = 0.35;  ///< [m] largest apex rise H the hopping diagram accepts (ours)
+  SpringMassHopPlanners(const MultibodyModel& model, LegStiffnessVariant variant, const SpringMassJumpParams& jump_params = {},
+                        const SpringMassLandingParams& landing_params = {});
+  LegStiffnessVariant variant;
+  SpringMassParams rom;
+  SpringMassJumpParams jump_params;
+  SpringMassLandingParams landing_params;
+  LegLengthTable leg_length;
+  PlannerRecords records;  ///< every solve, in order (time, iterations, violation, plan)
+  std::shared_ptr<double> rest_height;
+  HoppingReference::JumpPlanner jump;
+  HoppingReference::LandingPlanner landing;
+};
+
 }  // namespace rome

@@ -33,9 +33,18 @@ class CommandLine {
   /// Declares a boolean flag (present = true).
   CommandLine& Flag(const std::string& name, const std::string& help);
 
-  /// Parses argv. Returns false if --help was given (the help text is printed). Throws std::invalid_argument
-  /// naming the option for unknown options or missing values.
+  /// Declares --scenario-file FILE.json: a JSON object whose keys are this program's option names (without "--") and
+  /// whose values are strings, numbers or, for flags, booleans. Parse() reads it after argv: options given on the
+  /// command line win. Every option except `outputs` (and scenario-file itself) is a scenario parameter; any other key
+  /// is an error naming the key. ScenarioJson() writes the effective parameters back in the same form.
+  CommandLine& ScenarioFile(std::vector<std::string> outputs);
+  /// Parses argv (and the scenario file, if declared and given). Returns false if --help was given (the help text is
+  /// printed). Throws std::invalid_argument naming the option for unknown options or missing values, and naming the
+  /// file and the key for a scenario file that cannot be read or holds an unknown key or a value of another type.
   bool Parse(int argc, char** argv);
+  /// Every scenario parameter's effective value as a JSON object's text (numbers as numbers, flags as booleans,
+  /// other values as strings), so that --scenario-file with it reproduces the run's parameters.
+  std::string ScenarioJson() const;
 
   std::string Get(const std::string& name) const;
   double GetDouble(const std::string& name) const;
@@ -60,6 +69,10 @@ class CommandLine {
   std::vector<std::string> order_;
   std::map<std::string, Decl> decls_;
   std::map<std::string, std::string> values_;
+  bool has_scenario_file_ = false;
+  std::vector<std::string> outputs_;  // options that are not scenario parameters
+  bool IsScenarioParameter(const std::string& name) const;
+  void LoadScenarioFile(const std::string& path);
 };
 
 }  // namespace rome::examples

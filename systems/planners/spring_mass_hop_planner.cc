@@ -170,12 +170,14 @@ double SpringMassPlan::LegForce(const SpringMassParams& rom, double t) const {
 // ---------------------------------------------------------------------------------------------------------------
 SpringMassJumpPlanner::SpringMassJumpPlanner(SpringMassParams rom, SpringMassJumpParams params)
     : rom_(rom), params_(std::move(params)) {
-  CheckBounds("SpringMassJumpParams",
-              {params_.num_intervals, params_.min_duration, params_.max_duration, params_.min_leg_length,
-               params_.max_leg_length, params_.max_leg_speed, params_.max_leg_acceleration});
-  if (!(params_.apex_rise > 0.0) || !std::isfinite(params_.apex_rise)) {
+  params_.Validate();
+}
+
+void SpringMassJumpParams::Validate() const {
+  CheckBounds("SpringMassJumpParams", {num_intervals, min_duration, max_duration, min_leg_length, max_leg_length, max_leg_speed, max_leg_acceleration});
+  if (!(apex_rise > 0.0) || !std::isfinite(apex_rise)) {
     std::ostringstream msg;
-    msg << "SpringMassJumpParams: apex_rise = " << params_.apex_rise << " m must be positive and finite";
+    msg << "SpringMassJumpParams: apex_rise = " << apex_rise << " m must be positive and finite";
     throw std::invalid_argument(msg.str());
   }
 }
@@ -215,17 +217,12 @@ SpringMassPlan SpringMassJumpPlanner::Solve(const Eigen::Vector4d& z0) const {
 SpringMassLandingPlanner::SpringMassLandingPlanner(SpringMassParams rom, SpringMassLandingParams params)
     : rom_(rom), params_(std::move(params)) {
   const SpringMassLandingParams& P = params_;
-  CheckBounds("SpringMassLandingParams", {P.num_intervals, P.min_duration, P.max_duration, P.min_leg_length,
-                                          P.max_leg_length, P.max_leg_speed, P.max_leg_acceleration});
-  auto fail = [](const std::string& what, double value) {
+  P.Validate();
+  if (!(P.rest_height > 0.0)) {
     std::ostringstream msg;
-    msg << "SpringMassLandingParams: " << what << " = " << value << " is invalid";
+    msg << "SpringMassLandingParams: rest_height (must be > 0 m) = " << P.rest_height << " is invalid";
     throw std::invalid_argument(msg.str());
-  };
-  if (!(P.min_force_fraction >= 0.0 && P.min_force_fraction < 1.0)) fail("min_force_fraction (0..1)", P.min_force_fraction);
-  if (!(P.max_spring_compression > 0.0)) fail("max_spring_compression (must be > 0 m)", P.max_spring_compression);
-  if (!(P.spring_rate_weight >= 0.0)) fail("spring_rate_weight (must be >= 0)", P.spring_rate_weight);
-  if (!(P.rest_height > 0.0)) fail("rest_height (must be > 0 m)", P.rest_height);
+  }
   const double L_rest = RestLegLength();
   if (L_rest < P.min_leg_length || L_rest > P.max_leg_length || L_rest - P.rest_height > P.max_spring_compression) {
     std::ostringstream msg;
@@ -235,6 +232,18 @@ SpringMassLandingPlanner::SpringMassLandingPlanner(SpringMassParams rom, SpringM
         << " m";
     throw std::invalid_argument(msg.str());
   }
+}
+
+void SpringMassLandingParams::Validate() const {
+  CheckBounds("SpringMassLandingParams", {num_intervals, min_duration, max_duration, min_leg_length, max_leg_length, max_leg_speed, max_leg_acceleration});
+  auto fail = [](const std::string& what, double value) {
+    std::ostringstream msg;
+    msg << "SpringMassLandingParams: " << what << " = " << value << " is invalid";
+    throw std::invalid_argument(msg.str());
+  };
+  if (!(min_force_fraction >= 0.0 && min_force_fraction < 1.0)) fail("min_force_fraction (must be in [0, 1))", min_force_fraction);
+  if (!(max_spring_compression > 0.0)) fail("max_spring_compression (must be > 0 m)", max_spring_compression);
+  if (!(spring_rate_weight >= 0.0)) fail("spring_rate_weight (must be >= 0)", spring_rate_weight);
 }
 
 double SpringMassLandingPlanner::RestLegLength() const {

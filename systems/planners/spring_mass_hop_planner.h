@@ -95,6 +95,9 @@ struct SpringMassJumpParams {
   double initial_guess_duration = 0.0;  ///< [s] (ours); ≤ 0: automatic, 2.75 π / sqrt(n_legs K(L_0) / m) (the
                                         ///< stance times of both K variants are ~2.5-3 loaded half-periods)
   IpoptSolverOptions solver = SpringMassPlannerSolverOptions();
+  /// Throws std::invalid_argument "SpringMassJumpParams: <field> ... = <value> ..." for the first invalid field
+  /// (num_intervals 2..1000, durations > 0 and ordered, leg bounds > 0 and ordered, apex_rise > 0 and finite).
+  void Validate() const;
 };
 
 struct SpringMassLandingParams {
@@ -112,6 +115,10 @@ struct SpringMassLandingParams {
   double initial_guess_duration = 0.6;  ///< [s] (ours)
   bool warm_start_multipliers = true;   ///< Resolve() also passes the last multipliers to Ipopt
   IpoptSolverOptions solver = SpringMassPlannerSolverOptions();
+  /// Throws std::invalid_argument "SpringMassLandingParams: <field> ... = <value> ..." for the first invalid field
+  /// (the jump's bounds, min_force_fraction in [0, 1), max_spring_compression > 0, spring_rate_weight >= 0). The
+  /// rest height is checked against the leg bounds when the planner is built.
+  void Validate() const;
 };
 
 class SpringMassJumpPlanner {

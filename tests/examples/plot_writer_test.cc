@@ -100,6 +100,53 @@ TEST_F(InScratchFolder, TwoOutputsCannotNameOneFile) {
   EXPECT_TRUE(FilesHere().empty());  // the check creates nothing
 }
 
+// --scenario-file (CommandLine::ScenarioFile): values of each JSON type reach the options exactly (0.1 + 0.2 is
+// 0.30000000000000004, not 0.3), the command line wins, ScenarioJson writes every parameter but the outputs, and a
+// second parse of that text gives the same values; unknown keys and outputs are refused, naming the key.
+TEST_F(InScratchFolder, ScenarioFileRoundTripsEveryParameterExactly) {
+  auto declare = [](CommandLine& cli) {
+    cli.Option("gain", "1", "").Option("steps", "3", "").Option("terrain", "flat", "").Option("speed", "0.5", "").Flag("fast", "").Option("log", "", "");
+    cli.ScenarioFile({"log"});
+  };
+  test::WriteText("s.json", R"({"gain": 0.30000000000000004, "steps": 7, "terrain": "stairs", "speed": 2.5, "fast": true})");
+  CommandLine cli("prog", "test");
+  declare(cli);
+  const char* argv[] = {"prog", "--scenario-file", "s.json", "--speed", "1.25", "--log", "x.csv"};
+  ASSERT_TRUE(cli.Parse(7, const_cast<char**>(argv)));
+  EXPECT_EQ(cli.GetDouble("gain"), 0.1 + 0.2);
+  EXPECT_EQ(cli.GetInt("steps"), 7);
+  EXPECT_EQ(cli.Get("terrain"), "stairs");
+  EXPECT_EQ(cli.GetDouble("speed"), 1.25);  // the command line wins
+  EXPECT_TRUE(cli.GetFlag("fast"));
+  const std::string scenario = cli.ScenarioJson();
+  EXPECT_EQ(scenario.find("log"), std::string::npos) << scenario;
+  test::WriteText("again.json", scenario);
+  CommandLine again("prog", "test");
+  declare(again);
+  const char* argv2[] = {"prog", "--scenario-file", "again.json"};
+  ASSERT_TRUE(again.Parse(3, const_cast<char**>(argv2)));
+  EXPECT_EQ(again.GetDouble("gain"), 0.1 + 0.2);
+  EXPECT_EQ(again.GetInt("steps"), 7);
+  EXPECT_EQ(again.Get("terrain"), "stairs");
+  EXPECT_EQ(again.GetDouble("speed"), 1.25);
+  EXPECT_TRUE(again.GetFlag("fast"));
+  for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"gian": 1})", "prog: --scenario-file bad.json: unknown key 'gian' (see --help)"},
+           {R"({"log": "y.csv"})", "prog: --scenario-file bad.json: unknown key 'log' (an output or the file itself, not a scenario parameter)"},
+           {R"({"fast": 1})", "prog: --scenario-file bad.json: key 'fast' needs true or false, got 1"}}) {
+    test::WriteText("bad.json", text);
+    CommandLine bad("prog", "test");
+    declare(bad);
+    const char* argv3[] = {"prog", "--scenario-file", "bad.json"};
+    try {
+      bad.Parse(3, const_cast<char**>(argv3));
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), message);
+    }
+  }
+}
+
 TEST(WriteOutputFile, AFailedWriteIsReportedAndReturnsFalse) {
   testing::internal::CaptureStderr();
   EXPECT_FALSE(WriteOutputFile("prog", "/dev/full", "{}", "summary"));

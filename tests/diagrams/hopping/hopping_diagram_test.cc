@@ -18,12 +18,19 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 
 #include "diagrams/hopping/hopping_diagram.h"
+#include "diagrams/hopping/hopping_plans.h"
+#include "diagrams/hopping/hopping_run.h"
+#include "framework/primitives.h"
 #include "systems/multibody/multibody_kinematics.h"
+#include "systems/multibody/robot_files.h"
 #include "systems/plants/contact_force_statistics.h"
 #include "tests/diagrams/hopping/spec_leg_length.h"
 #include "tests/common/source_path.h"
@@ -57,7 +64,8 @@ struct HopRun {
 };
 
 // Settle 1.5 s, crouch 6 cm and extend 14 cm (hand-made quintics), fly, touch down; `gain` is the Jump pitch
-// reference's momentum gain (0: the pelvis is held level).
+// reference's momentum gain (0: the pelvis is held level). The hops, lift-off and touchdown come from RunHopping; this
+// test adds, through its observer, the rods' length error and H_pitch and the pelvis pitch rate in the first flight.
 HopRun RunHandMadeHop(double gain, double duration) {
   auto model = LoadCassie();
   const double crouch_depth = 0.06, extension = 0.14, crouch_T = 0.4, push_T = 0.22;
@@ -76,69 +84,58 @@ HopRun RunHandMadeHop(double gain, double duration) {
   if (std::getenv("HOP_MOMENTUM")) params.outputs.jump_tracks_momentum = true;  // the paper's Eq. (41) (see hopping_diagram.h)
   // No landing planner: the reference's documented fallback (a quintic back to the standing leg length).
   HoppingDiagram d = BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params);
-  const HoppingOutputLayout layout = MakeHoppingOutputLayout(params.outputs);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const int nv = model->nv();
   MultibodyWorkspace ws(*model);
   HopRun r;
-  double pitch_liftoff = 0, flight_rate_sum = 0;
+  double flight_rate_sum = 0;
   int flight_samples = 0;
   Eigen::MatrixXd A_G(6, nv);
-  int last_domain = HoppingDomain::kLanding;
-  sim.set_monitor([&](const Context& c) {
+  HoppingRunParams run;
+  run.duration_s = duration;
+  run.apex_rise_m = extension;  // the hop rule's H (not asserted here)
+  run.observer = [&](const Context& c, const HoppingRunState& s) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
     const Eigen::VectorXd x = pc.continuous_state();
-    const int domain = d.reference->EvalTypedOutput<int>(d.diagram->GetSubsystemContext(*d.reference, c), "domain");
-    if (pc.mode() != 1 && r.touchdown_time < 0) {
-      ++r.contact_samples;
-      r.violations += (d.plant->EvalOutput(pc, "contact_violation").array() != 0.0).count();
-    }
     for (const LoopClosureInfo& loop : model->loop_closures())
       r.worst_rod = std::max(r.worst_rod, std::abs((CalcPointPosition(*model, ws, x.head(nv), loop.body_a, loop.point_a) -
                                                     CalcPointPosition(*model, ws, x.head(nv), loop.body_b, loop.point_b))
                                                        .norm() -
                                                    loop.distance_m));
-    const double pitch = x[model->VelocityIndex("base_pitch")];
     // The first flight only: with the fallback landing (no landing planner) the robot may bounce off again after its
     // touchdown (it does with the diagram's relaxation weight 1e4; the landing is not this test's subject).
-    const bool first_flight = r.touchdown_time < 0;
-    if (first_flight && domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight) {
-      CalcCentroidalMomentumMatrix(*model, ws, x.head(nv), A_G);
-      r.H_liftoff = A_G.row(1).dot(x.tail(nv));
-      r.I_yy = A_G(1, model->VelocityIndex("base_pitch"));  // the whole body turning rigidly about world y
-      r.liftoff_time = pc.time();
-      pitch_liftoff = pitch;
-      r.vcom_liftoff = CalcComVelocity(*model, ws, x.head(nv), x.tail(nv));
+    if (s.touchdown_s >= 0 || s.domain != HoppingDomain::kFlight) return;
+    CalcCentroidalMomentumMatrix(*model, ws, x.head(nv), A_G);
+    if (s.previous_domain != HoppingDomain::kFlight) r.H_liftoff = A_G.row(1).dot(x.tail(nv));
+    r.H_flight_drift = std::max(r.H_flight_drift, std::abs(A_G.row(1).dot(x.tail(nv)) - r.H_liftoff));
+    // Only while the motors are held (every motor within 0.02 rad and 0.2 rad/s of its held target): the body then
+    // turns as one rigid body.
+    const Eigen::VectorXd& y_d = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, c), "desired");
+    double motor_error = 0.0, motor_rate = 0.0;
+    for (int i = 0; i < model->nu(); ++i) {
+      const int k = model->actuators()[i].v_index;
+      motor_error = std::max(motor_error, std::abs(x[k] - y_d[d.layout.motors + i]));
+      motor_rate = std::max(motor_rate, std::abs(x[nv + k]));
     }
-    if (first_flight && domain == HoppingDomain::kFlight && last_domain == HoppingDomain::kFlight) {
-      CalcCentroidalMomentumMatrix(*model, ws, x.head(nv), A_G);
-      r.H_flight_drift = std::max(r.H_flight_drift, std::abs(A_G.row(1).dot(x.tail(nv)) - r.H_liftoff));
-    }
-    if (first_flight && domain == HoppingDomain::kFlight) {
-      r.max_pitch_change = std::max(r.max_pitch_change, std::abs(pitch - pitch_liftoff));
-      // Only while the motors are held (every motor within 0.02 rad and 0.2 rad/s of its held target): the body then
-      // turns as one rigid body.
-      const Eigen::VectorXd& y_d = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, c), "desired");
-      double motor_error = 0.0, motor_rate = 0.0;
-      for (int i = 0; i < model->nu(); ++i) {
-        const int k = model->actuators()[i].v_index;
-        motor_error = std::max(motor_error, std::abs(x[k] - y_d[layout.motors + i]));
-        motor_rate = std::max(motor_rate, std::abs(x[nv + k]));
-      }
-      if (motor_error < 0.02 && motor_rate < 0.2) flight_rate_sum += x[nv + model->VelocityIndex("base_pitch")], ++flight_samples;
-    }
-    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && r.touchdown_time < 0) {
-      r.touchdown_time = pc.time();
-    }
-    // Through the last flight sample (the touchdown event's own re-solve counts as landing).
-    if (r.touchdown_time < 0) r.qp_failures_before_touchdown = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "qp_failures")[0];
-    last_domain = domain;
-    return EventStatus::Succeeded();
-  });
-  r.status = sim.AdvanceTo(duration);
-  for (const EventRecord& e : sim.statistics().events) std::printf("  event %s/%s at %.4f s: %d -> %d\n", e.system.c_str(), e.guard.c_str(), e.time, e.mode_before, e.mode_after);
-  r.qp_failures = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, sim.get_context()), "qp_failures")[0];
+    if (motor_error < 0.02 && motor_rate < 0.2) flight_rate_sum += x[nv + model->VelocityIndex("base_pitch")], ++flight_samples;
+  };
+  const HoppingRunResult result = RunHopping(d, sim, run);
+  for (const EventRecord& e : result.integrator.events) std::printf("  event %s/%s at %.4f s: %d -> %d\n", e.system.c_str(), e.guard.c_str(), e.time, e.mode_before, e.mode_after);
+  r.status = result.status;
+  r.liftoff_time = result.liftoff_s;
+  r.touchdown_time = result.touchdown_s;
+  r.max_pitch_change = result.max_pelvis_pitch_change_flight_rad;
+  if (result.liftoff_state.size() > 0) {
+    const Eigen::VectorXd& x = result.liftoff_state;
+    CalcCentroidalMomentumMatrix(*model, ws, x.head(nv), A_G);
+    r.I_yy = A_G(1, model->VelocityIndex("base_pitch"));  // the whole body turning rigidly about world y
+    r.vcom_liftoff = CalcComVelocity(*model, ws, x.head(nv), x.tail(nv));
+  }
+  r.violations = result.contact_violations_before_first_touchdown;
+  r.contact_samples = result.contact.samples;
+  r.qp_failures = result.qp_failures;
+  r.qp_failures_before_touchdown = result.qp_failures_at_first_touchdown;
   r.flight_rate = flight_samples > 0 ? flight_rate_sum / flight_samples : NAN;
   return r;
 }
@@ -159,7 +156,7 @@ TEST(HoppingDiagram, HandMadeExtensionLiftsOffFliesAndTouchesDown) {
   EXPECT_GE(r.status.time, r.touchdown_time);  // nothing failed before the touchdown
   EXPECT_GT(r.vcom_liftoff.z(), 0.3);
   EXPECT_NEAR(r.touchdown_time - r.liftoff_time, ballistic, 0.05 * ballistic + 0.01);
-  EXPECT_EQ(r.violations, 0);  // Jump, including the take-off
+  EXPECT_EQ(r.violations, 0);  // the plant's forces through the Jump, including the take-off (ContactForceStatistics)
   EXPECT_EQ(r.qp_failures_before_touchdown, 0.0);
   // After the touchdown (the landing, not met yet: see below) the QP failures are reported, not asserted: measured 0 in
   // the Release build (ρ_u = 1e-4 keeps the Hessian well conditioned after the impact) and 10 in the -O1 sanitizer build.
@@ -205,15 +202,16 @@ double LargestClosedLoopEigenvalue(bool jump_tracks_momentum) {
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   Eigen::VectorXd x0, desired;
-  sim.set_monitor([&](const Context& c) {
-    const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
-    if (x0.size() == 0 && d.reference->EvalTypedOutput<int>(rc, "domain") == HoppingDomain::kJump) {
+  HoppingRunParams run;
+  run.duration_s = params.reference.settle_time_s + 1e-3;
+  run.apex_rise_m = 0.06;  // the hop rule's H (no hop in this window)
+  run.observer = [&](const Context& c, const HoppingRunState& s) {
+    if (x0.size() == 0 && s.domain == HoppingDomain::kJump) {
       x0 = d.diagram->GetSubsystemContext(*d.plant, c).continuous_state();
-      desired = d.reference->EvalOutput(rc, "desired");
+      desired = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, c), "desired");
     }
-    return EventStatus::Succeeded();
-  });
-  sim.AdvanceTo(params.reference.settle_time_s + 1e-3);
+  };
+  RunHopping(d, sim, run);
   if (x0.size() == 0) return NAN;
   ClfQpParams cp = params.controller;
   cp.contact_stabilization = params.plant.dynamics;
@@ -273,12 +271,13 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const double h = params.bullet_plant.step_s, m = model->total_mass(), g = 9.81, t0 = 0.2;
   const double t_end = params.reference.settle_time_s - 0.05;
-  ContactForceStatistics contact;
   long other_mode = 0;
   double worst_tilt = 0, lowest_pelvis = 1e9, impulse = 0, vz0 = NAN, vz1 = NAN, last_step = -1;
-  sim.set_monitor([&](const Context& c) {
+  HoppingRunParams run;
+  run.duration_s = t_end;
+  run.apex_rise_m = 0.1;  // the hop rule's H (no hop in this window)
+  run.observer = [&](const Context& c, const HoppingRunState&) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
-    contact.Record(*d.plant, pc);
     other_mode += d.plant->EvalTypedOutput<int>(pc, "mode") != 0;
     const Eigen::VectorXd& q = d.plant->EvalOutput(pc, "q");
     worst_tilt = std::max({worst_tilt, std::abs(q[model->VelocityIndex("base_pitch")]), std::abs(q[model->VelocityIndex("base_roll")])});
@@ -294,9 +293,10 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
       if (std::abs(step_end - t0) < 0.5 * h) vz0 = vz;
       if (std::abs(step_end - t_end) < 0.5 * h) vz1 = vz;
     }
-    return EventStatus::Succeeded();
-  });
-  const SimulatorStatus status = sim.AdvanceTo(t_end);
+  };
+  const HoppingRunResult result = RunHopping(d, sim, run);  // its ContactForceStatistics: the plant's forces at every step
+  const SimulatorStatus& status = result.status;
+  const ContactForceStatistics& contact = result.contact;
   const double T = t_end - t0, momentum_error = impulse - m * g * T - m * (vz1 - vz0);
   std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; tilt %.4f rad, pelvis >= %.3f m; "
               "impulse %.3f N s vs m g T + m dv %.3f N s (difference %.2e N s)\n",
@@ -310,6 +310,153 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
   EXPECT_GT(lowest_pelvis, 0.8);
   ASSERT_TRUE(std::isfinite(vz0) && std::isfinite(vz1));
   EXPECT_LT(std::abs(momentum_error), 1e-5 * m * g * T);
+}
+
+
+// The build → run → result snippet of hopping_diagram.h's header, exactly: the default hop (spring-mass ROM plans)
+// succeeds, lands once, and the run's COM rise in flight is the ballistic one from the COM's vertical speed at
+// lift-off, v_z² / (2 g) (closed form; the flight has only gravity acting on the COM).
+TEST(HoppingRun, HeaderSnippetHopsAndTheComRiseIsBallistic) {
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+  SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{}, SpringMassLandingParams{});
+  HoppingDiagramParams params;
+  params.reference.hops = 1;
+  HoppingDiagram d = BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, params);
+  Simulator sim(*d.diagram, HoppingSimulatorConfig());
+  SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
+  const HoppingRunResult result = RunHopping(d, sim, HoppingRunParams{}, &rom);
+  // (end of the snippet)
+  ASSERT_EQ(result.liftoff_state.size(), 2 * model->nv()) << result.status.ToString();
+  MultibodyWorkspace ws(*model);
+  const Eigen::VectorXd& x = result.liftoff_state;
+  const double vz = CalcComVelocity(*model, ws, x.head(model->nv()), x.tail(model->nv())).z();
+  const double ballistic_rise = vz * vz / (2.0 * rom.rom.gravity);
+  std::printf("  %s; %s, hops landed %d, air %.4f s, COM rise %.4f m vs v_z^2/(2g) %.4f m, NRMSE jump %.3f landing %.3f, violations %ld\n",
+              result.status.ToString().c_str(), result.status_kind.c_str(), result.touchdowns, result.air_time_s, result.com_rise_m, ballistic_rise,
+              result.grf_nrmse_jump, result.grf_nrmse_landing, result.contact.violations);
+  EXPECT_TRUE(result.success) << result.status.ToString();
+  EXPECT_EQ(result.status_kind, "success");
+  EXPECT_EQ(result.touchdowns, 1);
+  EXPECT_NEAR(result.com_rise_m, ballistic_rise, 1e-3);
+  EXPECT_EQ(result.contact.violations, 0) << result.contact.first_violation;
+  // The rule's parts, from the result's own measurements: rest and the hop's rise against H/2.
+  EXPECT_LT(result.rest_speed, HoppingRunParams{}.rest_max_speed);
+  EXPECT_GE(result.com_rise_m, 0.5 * rom.jump_params.apex_rise);
+}
+
+// Out-of-range parameters from C++ fail at once (before any planner runs or the simulation starts), with a message
+// that names the field and the value.
+TEST(HoppingDiagram, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
+  auto model = LoadCassie();
+  int planner_calls = 0;
+  auto jump_planner = [&](const RomState&, LegLengthPlan*, std::string*) { return ++planner_calls > 0; };
+  auto expect_error = [](const std::function<void()>& f, const std::string& field, const std::string& value) {
+    try {
+      f();
+      ADD_FAILURE() << "no error for " << field << " = " << value;
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(field), std::string::npos) << what;
+      EXPECT_NE(what.find(value), std::string::npos) << what;
+    }
+  };
+  HoppingDiagramParams params;
+  params.reference.jump_momentum_gain = 250.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); }, "reference.jump_momentum_gain", "250");
+  params = {};
+  params.reference.hops = 0;
+  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); }, "reference.hops", "0");
+  params = {};
+  params.bullet_plant.substeps = 500;
+  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params, PlantKind::kBullet); }, "bullet_plant.substeps", "500");
+  SpringMassJumpParams jump;
+  jump.apex_rise = 0.6;
+  expect_error([&] { SpringMassHopPlanners(*model, LegStiffnessVariant::kIdentified, jump); }, "apex_rise", "0.6");
+  SpringMassLandingParams landing;
+  landing.min_force_fraction = 1.5;
+  expect_error([&] { SpringMassHopPlanners(*model, LegStiffnessVariant::kIdentified, {}, landing); }, "min_force_fraction", "1.5");
+  HoppingRunParams run;
+  run.duration_s = -2.0;
+  expect_error([&] { run.Validate(); }, "duration_s", "-2");
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(planner_calls, 0);
+  EXPECT_LT(elapsed, 5.0);  // no NLP, no simulation (each check builds at most the ROM's K(L) identification)
+}
+
+// The controller's desired rows per domain are the hopping paper's output counts (Sec. IV-D): Jump 6 (Eq. (41)-(42):
+// 16 DOF without tarsi and springs − 10 foot constraints), Flight 10 (the motors, Eq. (43)), Landing 6 (Eq. (44)); the
+// rows tile y_d of the reference's desired output [y_d; ẏ_d; ÿ_d] without gaps.
+TEST(HoppingDiagram, TaskListGivesTheDesiredRowsOfEachDomain) {
+  auto model = LoadCassie();
+  auto no_jump = [](const RomState&, LegLengthPlan*, std::string*) { return false; };
+  const HoppingDiagram d = BuildHoppingDiagram(model, test::SpecLegLength, no_jump, nullptr);
+  int rows[3] = {0, 0, 0}, next_row = 0;
+  for (const HoppingTask& t : d.tasks) {
+    EXPECT_EQ(t.row, next_row) << t.name;
+    next_row += t.size;
+    for (int domain : t.domains) rows[domain] += t.size;
+  }
+  auto context = d.diagram->CreateDefaultContext();
+  // [y_d; ẏ_d; ÿ_d]
+  EXPECT_EQ(3 * next_row, d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, *context), "desired").size());
+  EXPECT_EQ(rows[HoppingDomain::kJump], 6);
+  EXPECT_EQ(rows[HoppingDomain::kFlight], model->nu());
+  EXPECT_EQ(rows[HoppingDomain::kLanding], 6);
+  const std::vector<HoppingTask> listed = HoppingTasks(*model, d.params.outputs);  // without building a diagram
+  ASSERT_EQ(listed.size(), d.tasks.size());
+  for (size_t i = 0; i < listed.size(); ++i) EXPECT_TRUE(listed[i].name == d.tasks[i].name && listed[i].row == d.tasks[i].row && listed[i].size == d.tasks[i].size);
+}
+
+// The controller seam takes a sub-diagram: the default controller → Saturation (framework/primitives.h), built with
+// DiagramBuilder, with torque limits below the model's. The default hop still succeeds, and the torque the plant
+// receives (the diagram's exported u, logged) stays within the limits at every logged sample.
+TEST(HoppingDiagram, SaturatedSubDiagramControllerHops) {
+  // 95 % of the model's torque limits (the default controller's): the saturation binds in the push-off (measured: 49
+  // logged torques at the limit, air time 0.369 s against 0.402 s unsaturated; at 90 % the COM rise is 0.136 m, at 85 %
+  // 0.109 m, below the hop rule's H/2 = 0.110 m).
+  constexpr double kSaturationFraction = 0.95;
+  auto model = LoadCassie();
+  Eigen::VectorXd limit(model->nu());
+  for (int i = 0; i < model->nu(); ++i) limit[i] = kSaturationFraction * model->actuators()[i].torque_limit_Nm;
+  auto saturated = [&](const HoppingControllerSpec& spec) -> std::unique_ptr<System> {
+    DiagramBuilder b;
+    HoppingControllerSpec inner = spec;
+    inner.name = "clf";
+    b.AddSystem(MakeDefaultHoppingController(inner), "clf");
+    b.AddSystem(std::make_unique<Saturation>("saturation", -limit, limit));
+    b.Connect("clf", "u", "saturation", "u");
+    for (const char* port : {"state", "mode", "desired"}) b.ExportInput("clf", port);
+    b.ExportOutput("saturation", "y", "u");
+    b.ExportOutput("clf", "qp_failures");
+    b.ExportOutput("clf", "solve_time_s");
+    return b.Build(spec.name);
+  };
+  SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified);
+  HoppingDiagram d = BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, {}, PlantKind::kHybrid, saturated);
+  Simulator sim(*d.diagram, HoppingSimulatorConfig());
+  SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
+  const HoppingRunResult result = RunHopping(d, sim, {}, &rom);
+  const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, sim.get_context()));
+  const std::vector<std::string> columns = d.logger->ColumnNames();  // "time" first, then the sample's entries
+  int u0 = -1;
+  for (size_t i = 1; i < columns.size() && u0 < 0; ++i)
+    if (columns[i].rfind("controller.u", 0) == 0 && (columns[i][12] == '[' || columns[i][12] == '.')) u0 = static_cast<int>(i) - 1;
+  ASSERT_GE(u0, 0);
+  double worst_excess = -1e9;
+  long at_limit = 0;
+  for (const Eigen::VectorXd& row : log.samples)
+    for (int i = 0; i < model->nu(); ++i) {
+      const double u = row[u0 + i];
+      worst_excess = std::max(worst_excess, std::abs(u) - limit[i]);
+      at_limit += std::abs(u) >= limit[i] - 1e-9;
+    }
+  std::printf("  %s; %s, air %.4f s, COM rise %.4f m, %zu logged samples, %ld torques at the limit, largest |u| - limit %.3g N m\n",
+              result.status.ToString().c_str(), result.status_kind.c_str(), result.air_time_s, result.com_rise_m, log.samples.size(), at_limit, worst_excess);
+  ASSERT_GT(log.samples.size(), 1000u);
+  EXPECT_LE(worst_excess, 0.0);
+  EXPECT_GT(at_limit, 0) << "the limits never bound: the test would not show the seam";
+  EXPECT_TRUE(result.success) << result.status.ToString();
 }
 
 }  // namespace

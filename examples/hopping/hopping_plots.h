@@ -1,0 +1,16 @@
+#pragma once
+// The hopping example's PNG plots (the paper's Fig. 6 from a run): robot vs ROM normal GRF, COM height, shin spring
+// torque against the GRF, centroidal pitch momentum, pelvis pitch, desired vs actual outputs in Jump and Landing (leg
+// length, COM x, pelvis pitch), energies robot vs ROM, and hop tiles. Needs RunHopping's samples with
+// HoppingRunParams::record_plot_samples.
+#include <string>
+
+#include "diagrams/hopping/hopping_run.h"
+
+namespace rome::examples {
+
+/// Writes the ten PNGs into `folder`; a plot that fails is reported on stderr ("hopping: plot FILE: reason") and the
+/// others are still written.
+void WriteHoppingPlots(const MultibodyModel& model, const HoppingRunResult& run, const std::string& folder);
+
+}  // namespace rome::examples
