@@ -1,11 +1,15 @@
 #include "examples/common/cli.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "framework/files.h"
 #include "framework/text.h"
@@ -77,6 +81,8 @@ bool CommandLine::Parse(int argc, char** argv) {
 std::string CommandLine::Get(const std::string& name) const {
   auto v = values_.find(name);
   if (v != values_.end()) return v->second;
+  auto f = file_values_.find(name);
+  if (f != file_values_.end()) return f->second;
   auto d = decls_.find(name);
   if (d == decls_.end()) throw std::logic_error(program_ + ": option '--" + name + "' was never declared");
   return d->second.default_value;
@@ -132,7 +138,76 @@ std::vector<double> CommandLine::GetNumbers(const std::string& name, int n, cons
   return *v;
 }
 
-bool CommandLine::GetFlag(const std::string& name) const { return values_.count(name) > 0; }
+bool CommandLine::GetFlag(const std::string& name) const {
+  if (values_.count(name) > 0) return true;
+  auto f = file_values_.find(name);
+  return f != file_values_.end() && f->second == "1";
+}
+
+void CommandLine::ReadScenarioFile(const std::string& path, std::initializer_list<const char*> not_allowed) {
+  const std::string who = program_ + ": --scenario-file " + Excerpt(path, 200) + ": ";
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(who + "cannot be read");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(who + "not JSON: " + OneLine(e.what()));
+  }
+  if (!j.is_object()) throw std::invalid_argument(who + "must hold a JSON object of option names and values");
+  for (const auto& [key, value] : j.items()) {
+    auto it = decls_.find(key);
+    bool refused = false;
+    for (const char* n : not_allowed) refused = refused || key == n;
+    if (it == decls_.end() || refused)
+      throw std::invalid_argument(who + "unknown key '" + Excerpt(key, 200) + "'" + (refused ? " (not a scenario parameter)" : " (keys are the options' names; see --help)"));
+    std::string text;
+    if (it->second.is_flag) {
+      if (!value.is_boolean()) throw std::invalid_argument(who + "key '" + key + "' is a flag: true or false");
+      if (!value.get<bool>()) continue;
+      text = "1";
+    } else if (value.is_string()) {
+      text = value.get<std::string>();
+    } else if (value.is_number()) {
+      text = value.dump();
+    } else if (value.is_array() && !value.empty()) {
+      for (const auto& item : value) {
+        if (!item.is_number()) throw std::invalid_argument(who + "key '" + key + "': an array must hold numbers only");
+        text += (text.empty() ? "" : ",") + item.dump();
+      }
+    } else {
+      throw std::invalid_argument(who + "key '" + key + "' needs a string, a number or an array of numbers");
+    }
+    if (values_.count(key) == 0) file_values_[key] = text;
+  }
+}
+
+std::string CommandLine::ScenarioJson(std::initializer_list<const char*> exclude) const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const std::string& name : order_) {
+    bool skip = false;
+    for (const char* n : exclude) skip = skip || name == n;
+    if (skip) continue;
+    if (decls_.at(name).is_flag) {
+      j[name] = GetFlag(name);
+      continue;
+    }
+    const std::string v = Get(name);
+    size_t used = 0;
+    long long integer = 0;
+    try {
+      integer = std::stoll(v, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    const int items = 1 + static_cast<int>(std::count(v.begin(), v.end(), ','));
+    if (!v.empty() && used == v.size()) j[name] = integer;
+    else if (const std::optional<std::vector<double>> numbers = ParseNumberList(v, items); numbers && items == 1) j[name] = (*numbers)[0];
+    else if (numbers) j[name] = *numbers;
+    else j[name] = v;
+  }
+  return j.dump();
+}
 
 std::string CommandLine::Help() const {
   std::ostringstream os;

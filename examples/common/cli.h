@@ -51,6 +51,17 @@ class CommandLine {
   /// "PROGRAM: --NAME: ..." naming the first that fails.
   void CheckOutputs(std::initializer_list<const char*> files, std::initializer_list<const char*> folders) const;
 
+  /// Reads a scenario file: a JSON object whose keys are option names (without "--") and whose values are strings,
+  /// numbers, arrays of numbers (an option of comma-separated numbers) or booleans (flags). Each sets its option unless
+  /// the command line gave it (the command line wins). Throws std::invalid_argument "PROGRAM: --scenario-file PATH: ..."
+  /// naming an unknown key, a key of `not_allowed` (e.g. the output files), a value of another type, or a file that
+  /// cannot be read or parsed.
+  void ReadScenarioFile(const std::string& path, std::initializer_list<const char*> not_allowed);
+  /// Every option's effective value (command line, then scenario file, then default) but those in `exclude`, as a JSON
+  /// object text that ReadScenarioFile reads back to the same values: an integer or a finite number as a number, a
+  /// list of numbers as an array, a flag as a boolean, anything else as a string.
+  std::string ScenarioJson(std::initializer_list<const char*> exclude) const;
+
  private:
   struct Decl {
     std::string default_value, help;
@@ -59,7 +70,8 @@ class CommandLine {
   std::string program_, summary_;
   std::vector<std::string> order_;
   std::map<std::string, Decl> decls_;
-  std::map<std::string, std::string> values_;
+  std::map<std::string, std::string> values_;       // given on the command line
+  std::map<std::string, std::string> file_values_;  // given in the scenario file
 };
 
 }  // namespace rome::examples
