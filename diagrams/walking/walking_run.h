@@ -24,7 +24,7 @@
 // Success: the simulator reached the end time (no failure, no interrupt), every single support of the plan that ends
 // before the end time ended in a step on its foothold, none landed off target, and no contact violation.
 //
-// Monitor work allocates only the pre-impact list (one entry per touchdown) and the solve-time list (one per tick).
+// The monitor allocates only at touchdowns (the pre-impact list); the per-tick solve-time list is reserved up front.
 #include <functional>
 #include <limits>
 #include <string>
@@ -107,7 +107,8 @@ struct WalkingRunResult {
   double realtime_factor() const { return wall_s > 0 ? simulated_s / wall_s : 0.0; }
   /// "interrupted", "failed" or "limit" (the summary's status_kind).
   std::string status_kind() const;
-  /// The run's metrics as a JSON object (the example's summary fields; keys as listed in docs).
+  /// The run's metrics as JSON object text: the walking example's summary fields (success, status_kind, steps_completed,
+  /// steps_planned, the pre-impact states and their change, COM and pelvis errors, band, contact and QP figures).
   std::string ToJson() const;
 };
 

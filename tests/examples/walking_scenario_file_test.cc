@@ -13,17 +13,14 @@
 #include <nlohmann/json.hpp>
 
 #include "framework/process.h"
+#include "tests/common/source_path.h"
 
 namespace rome {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path WorkDir() {
-  const fs::path dir = fs::temp_directory_path() / "rome_walking_scenario_file_test";
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path WorkDir() { return fs::path(test::ScratchDir()); }
 
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);

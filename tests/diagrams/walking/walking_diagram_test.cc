@@ -21,6 +21,7 @@
 #include <chrono>
 #include <functional>
 #include <limits>
+#include <sstream>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -37,6 +38,7 @@
 #include "tests/common/sanitizer_scale.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 #include "tests/common/source_path.h"
+#include "tests/common/text_files.h"
 
 namespace rome {
 namespace {
@@ -542,6 +544,23 @@ TEST(WalkingRun, TheHeaderSnippetWalks) {
   EXPECT_EQ(result.contact.violations, 0);
 }
 
+// The snippet above is the header's, line for line (so that the header's example is the one that compiles and walks).
+TEST(WalkingRun, TheHeaderSnippetIsTheOneThisTestCompiles) {
+  const std::string header = test::ReadText(test::SourcePath("diagrams/walking/walking_diagram.h"));
+  const std::string source = test::ReadText(test::SourcePath("tests/diagrams/walking/walking_diagram_test.cc"));
+  const size_t begin = header.find("// A run from C++");
+  ASSERT_NE(begin, std::string::npos);
+  std::istringstream lines(header.substr(header.find('\n', begin) + 1));
+  const size_t snippet_begin = source.find("// clang-format off\n"), snippet_end = source.find("// clang-format on");
+  ASSERT_LT(snippet_begin, snippet_end);
+  const std::string snippet = source.substr(snippet_begin, snippet_end - snippet_begin);
+  int n = 0;
+  for (std::string line; std::getline(lines, line) && line.rfind("//   ", 0) == 0; ++n)
+    EXPECT_NE(snippet.find("\n  " + line.substr(5) + "\n"), std::string::npos) << "header line not in the test's snippet: " << line;
+  EXPECT_GE(n, 7);
+  EXPECT_LE(n, 15);
+}
+
 // Parameters are checked by the library before any work: a 0.60 m step (the range is 0.2-0.45 m) fails at once,
 // naming the field and the value, from each plan builder; a force band c = 1.5 fails BuildWalkingDiagram before the
 // diagram is built (its plan is not even looked at).
@@ -623,6 +642,43 @@ TEST(WalkingRun, ASaturatedSubDiagramControllerKeepsTheTorqueInItsLimitsAndWalks
   EXPECT_LE(worst_excess, 0.0);
   EXPECT_TRUE(r.success) << r.status.ToString();
   EXPECT_EQ(r.steps_completed, r.steps_planned);
+}
+
+
+// The controller seam's `desired` layout as walking_diagram.h documents it (task names, rows per third, 18 rows), and
+// on the diagram's own outputs block against the plan: at the end of the first single support, rows 0-2 of y_d and
+// ẏ_d are the plan's COM position and velocity, and the swing ankle's x, y rows are the plan's foothold for that foot.
+TEST(WalkingRun, TheDesiredLayoutIsTheDocumentedOneAndCarriesThePlan) {
+  auto model = test::LoadRobot("exoskeleton");
+  const std::vector<WalkingTaskRows> layout = WalkingDesiredLayout(WalkingControllerTasks(*model));
+  const std::vector<WalkingTaskRows> documented = {{"com", 0, 3},         {"pelvis_roll", 3, 1}, {"pelvis_pitch", 4, 1},           {"pelvis_yaw", 5, 1},
+                                                   {"left_ankle", 6, 3},  {"left_foot_orientation", 9, 3}, {"right_ankle", 12, 3}, {"right_foot_orientation", 15, 3}};
+  ASSERT_EQ(layout.size(), documented.size());
+  for (size_t i = 0; i < layout.size(); ++i) {
+    EXPECT_EQ(layout[i].name, documented[i].name);
+    EXPECT_EQ(layout[i].row, documented[i].row) << documented[i].name;
+    EXPECT_EQ(layout[i].size, documented[i].size) << documented[i].name;
+  }
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(WalkingGait{}, 2, 1, &cache, stand));
+  const WalkingPlanSegment* ssp = nullptr;
+  for (const WalkingPlanSegment& seg : d.plan.segments())
+    if (ssp == nullptr && seg.domain != WalkingDomain::kDoubleSupport) ssp = &seg;
+  ASSERT_NE(ssp, nullptr);
+  const double t = ssp->start_time + ssp->duration - 1e-9;
+  std::unique_ptr<Context> context = d.diagram->CreateDefaultContext();
+  context->SetTime(t);
+  const Eigen::VectorXd& desired = d.outputs->EvalOutput(d.diagram->GetSubsystemContext(*d.outputs, *context), "desired");
+  ASSERT_EQ(desired.size(), 3 * 18);
+  const WalkingReference r = d.plan.Sample(t);
+  EXPECT_LT((desired.segment<3>(0) - r.com_position).norm(), 1e-9);
+  EXPECT_LT((desired.segment<3>(18) - r.com_velocity).norm(), 1e-9);
+  const bool right_swings = ssp->domain == WalkingDomain::kLeftStance;
+  const int ankle_row = right_swings ? 12 : 6;
+  const Eigen::Vector2d foothold = right_swings ? ssp->right_foothold : ssp->left_foothold;
+  EXPECT_LT((desired.segment<2>(ankle_row) - foothold).norm(), 1e-6);
 }
 
 }  // namespace
