@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -53,6 +54,78 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
 }
 
 namespace {
+// "WHO: FIELD = VALUE UNIT is outside RANGE" when !ok.
+void Require(bool ok, const std::string& who, const char* field, double value, const char* unit, const std::string& range) {
+  if (ok) return;
+  std::ostringstream os;
+  os << who << ": " << field << " = " << value << (*unit ? " " : "") << unit << " is outside " << range;
+  throw std::invalid_argument(os.str());
+}
+std::string Interval(double lo, double hi, const char* unit, char open = '[', char close = ']') {
+  std::ostringstream os;
+  os << open << lo << ", " << hi << close << (*unit ? " " : "") << unit;
+  return os.str();
+}
+bool In(double x, double lo, double hi) { return x >= lo - 1e-12 && x <= hi + 1e-12; }
+}  // namespace
+
+void WalkingDiagramParams::Validate() const {
+  const std::string who = "WalkingDiagramParams";
+  const double c = controller.force_band_halfwidth;
+  Require(c > 0 && c < 1, who, "controller.force_band_halfwidth", c, "", Interval(0, 1, "", '(', ')'));
+  Require(In(swing.touchdown_velocity_mps, 0.05, 0.5), who, "swing.touchdown_velocity_mps", swing.touchdown_velocity_mps, "m/s", Interval(0.05, 0.5, "m/s"));
+  Require(swing.apex_height_m > 0 && swing.apex_height_m <= 0.3, who, "swing.apex_height_m", swing.apex_height_m, "m", Interval(0, 0.3, "m", '('));
+  Require(swing_foot_weight > 0 && std::isfinite(swing_foot_weight), who, "swing_foot_weight", swing_foot_weight, "", "(0, inf)");
+  Require(swing_foot_orientation_weight > 0 && std::isfinite(swing_foot_orientation_weight), who, "swing_foot_orientation_weight",
+          swing_foot_orientation_weight, "", "(0, inf)");
+}
+
+void WalkingGait::Validate(const std::string& who) const {
+  const double v[4] = {step_length_m, ssp_duration_s, dsp_duration_s, step_width_m};
+  const char* names[4] = {"step_length_m", "ssp_duration_s", "dsp_duration_s", "step_width_m"};
+  const char* units[4] = {"m", "s", "s", "m"};
+  for (int i = 0; i < 4; ++i) Require(In(v[i], kMin[i], kMax[i]), who, names[i], v[i], units[i], Interval(kMin[i], kMax[i], units[i]));
+}
+
+void StandToWalkParams::Validate(const std::string& who) const {
+  Require(In(stance_stagger_m, 0, 0.5), who, "stance_stagger_m", stance_stagger_m, "m", Interval(0, 0.5, "m"));
+  Require(start_gait_steps >= 0 && start_gait_steps <= 20, who, "start_gait_steps", start_gait_steps, "", "[0, 20]");
+  Require(lead_in_steps >= 0 && lead_in_steps <= 20, who, "lead_in_steps", lead_in_steps, "", "[0, 20]");
+  const char* units[3] = {"m", "s", "s"};
+  const double start[3] = {start_gait_step_length_m, start_gait_ssp_duration_s, start_gait_dsp_duration_s};
+  const char* start_names[3] = {"start_gait_step_length_m", "start_gait_ssp_duration_s", "start_gait_dsp_duration_s"};
+  const double lead[3] = {lead_in_step_length_m, lead_in_ssp_duration_s, lead_in_dsp_duration_s};
+  const char* lead_names[3] = {"lead_in_step_length_m", "lead_in_ssp_duration_s", "lead_in_dsp_duration_s"};
+  for (int i = 0; i < 3; ++i) {
+    Require(In(start[i], kSideGaitMin[i], kSideGaitMax[i]), who, start_names[i], start[i], units[i], Interval(kSideGaitMin[i], kSideGaitMax[i], units[i]));
+    Require(In(lead[i], kSideGaitMin[i], kSideGaitMax[i]), who, lead_names[i], lead[i], units[i], Interval(kSideGaitMin[i], kSideGaitMax[i], units[i]));
+  }
+  Require(sagittal_cop_margin_m >= 0 && sagittal_cop_margin_m < 0.07, who, "sagittal_cop_margin_m", sagittal_cop_margin_m, "m", Interval(0, 0.07, "m", '[', ')'));
+  Require(transition_min_ssp_duration_s == 0 || In(transition_min_ssp_duration_s, 0.3, 1.0), who, "transition_min_ssp_duration_s",
+          transition_min_ssp_duration_s, "s", "0 or [0.3, 1] s");
+  Require(In(height_min_m, 0.7, 1.0), who, "height_min_m", height_min_m, "m", Interval(0.7, 1.0, "m"));
+  Require(In(height_max_m, 0.7, 1.0) && height_max_m > height_min_m, who, "height_max_m", height_max_m, "m",
+          "(height_min_m, 1] m = " + Interval(height_min_m, 1.0, "m", '('));
+  Require(standing_height_m >= height_min_m && standing_height_m <= height_max_m, who, "standing_height_m", standing_height_m, "m",
+          "[height_min_m, height_max_m] = " + Interval(height_min_m, height_max_m, "m"));
+  Require(gait_change_max_force_fraction == 0 || (gait_change_max_force_fraction > 1 && gait_change_max_force_fraction <= 3), who,
+          "gait_change_max_force_fraction", gait_change_max_force_fraction, "m g", "0 (no bound) or (1, 3] m g");
+  Require(periodic_max_force_fraction == 0 || (periodic_max_force_fraction > 1 && periodic_max_force_fraction <= 3), who,
+          "periodic_max_force_fraction", periodic_max_force_fraction, "m g", "0 (never) or (1, 3] m g");
+  Require(min_dsp_stance_force_fraction >= 0 && min_dsp_stance_force_fraction < 1, who, "min_dsp_stance_force_fraction",
+          min_dsp_stance_force_fraction, "", Interval(0, 1, "", '[', ')'));
+  const double lateral = lateral_cop_margin_m, sag = sagittal_cop_margin_m, standing = standing_sagittal_cop_margin_m;
+  if (!(sole.heel_m - sag > 0 && sole.toe_m - sag > 0))
+    throw std::invalid_argument(who + ": sagittal_cop_margin_m = " + std::to_string(sag) + " m leaves no sole (heel " + std::to_string(sole.heel_m) +
+                                " m, toe " + std::to_string(sole.toe_m) + " m)");
+  if (!(lateral >= 0) || !(sole.left_m - lateral > 0 && sole.right_m - lateral > 0))
+    throw std::invalid_argument(who + ": lateral_cop_margin_m = " + std::to_string(lateral) + " must be >= 0 and leave a sole");
+  if (!(standing < 0 || (sole.heel_m - standing > 0 && sole.toe_m - standing > 0)))
+    throw std::invalid_argument(who + ": standing_sagittal_cop_margin_m = " + std::to_string(standing) +
+                                " must be negative (use sagittal_cop_margin_m) or >= 0 and leave a sole");
+}
+
+namespace {
 // The swing-foot parameters the diagram tracks: ankle_height_m from the robot's sole.
 SwingFootTrajectoryParams RobotSwing(const MultibodyModel& m, const WalkingDiagramParams& params) {
   SwingFootTrajectoryParams swing = params.swing;
@@ -77,28 +150,7 @@ WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, con
   return CalcWalkingPlanTorques(model, plan, RobotSwing(model, params), {.end_time_s = end_time_s});
 }
 
-WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params,
-                                   PlantKind plant) {
-  const MultibodyModel& m = *model;
-  for (const char* foot : {"left_foot", "right_foot"}) {
-    const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
-    if (c.type != ContactType::kFlat)
-      throw std::invalid_argument(std::string("BuildWalkingDiagram: robot '") + m.name() + "': contact '" + foot + "' is not a flat foot");
-  }
-  const SwingFootTrajectoryParams swing = RobotSwing(m, params);
-
-  DiagramBuilder b;
-  WalkingDiagram d;
-  d.plan = plan;
-  if (params.compensate_centroidal_momentum) d.compensation = CompensateCentroidalMomentum(m, d.plan, swing, params.compensation);
-  HybridContactPlantParams plant_params = params.plant;
-  if (plant_params.planned_liftoff_force_N <= 0.0) plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
-  // The Bullet plant releases the trailing foot at the same force (a planned lift-off; see bullet_world_plant.h).
-  BulletWorldPlantParams bullet_params = params.bullet_plant;
-  if (bullet_params.planned_liftoff_force_N < 0) bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
-  if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"), Terrain::Flat(),
-                                         plant_params, bullet_params));
+std::vector<ClfOutput> WalkingControllerTasks(const MultibodyModel& m, const WalkingDiagramParams& params) {
   const int left_stance = 0, right_stance = 2;
   TaskGains foot_gains;
   foot_gains.weight = params.swing_foot_weight;
@@ -106,7 +158,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   foot_orientation_gains.weight = params.swing_foot_orientation_weight;
   const std::vector<Axis> xyz{Axis::kX, Axis::kY, Axis::kZ};
   TaskGains com_gains, pelvis_gains;  // weight 1 (the cost of Eq. (26) weighs every output alike)
-  std::vector<ClfOutput> outputs = {
+  return {
       // Eq. (16): COM position and pelvis orientation, every mode.
       ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", xyz, com_gains)),
       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_roll", m, "base_roll", pelvis_gains)),
@@ -120,19 +172,73 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
                                                                        std::vector<int>{left_stance})),
       ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("right_foot_orientation", m, "right_foot", foot_orientation_gains, std::vector<int>{left_stance})),
   };
-  ClfQpParams cp = params.controller;
-  cp.contact_stabilization = plant_params.dynamics;
-  if (cp.force_band_loading_floor_N < 0.0) cp.force_band_loading_floor_N = 2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force
+}
+
+std::vector<WalkingTaskRows> WalkingDesiredLayout(const std::vector<ClfOutput>& tasks) {
+  std::vector<WalkingTaskRows> rows;
+  int row = 0;
+  for (const ClfOutput& t : tasks) {
+    rows.push_back({t.name(), row, t.size()});
+    row += t.size();
+  }
+  return rows;
+}
+
+std::unique_ptr<System> MakeWalkingClfQpController(const WalkingControllerSpec& spec) {
+  return std::make_unique<ClfQpController>(spec.name, spec.model, spec.mode_contacts, spec.tasks, spec.params);
+}
+
+WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params,
+                                   PlantKind plant, const WalkingControllerFactory& controller) {
+  params.Validate();
+  if (model == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the model is null");
+  const MultibodyModel& m = *model;
+  for (const char* foot : {"left_foot", "right_foot"}) {
+    const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
+    if (c.type != ContactType::kFlat)
+      throw std::invalid_argument(std::string("BuildWalkingDiagram: robot '") + m.name() + "': contact '" + foot + "' is not a flat foot");
+  }
+  const SwingFootTrajectoryParams swing = RobotSwing(m, params);
+
+  DiagramBuilder b;
+  WalkingDiagram d;
+  d.model = model;
+  d.plan = plan;
+  if (params.compensate_centroidal_momentum) d.compensation = CompensateCentroidalMomentum(m, d.plan, swing, params.compensation);
+  HybridContactPlantParams plant_params = params.plant;
+  if (plant_params.planned_liftoff_force_N <= 0.0) plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
+  // The Bullet plant releases the trailing foot at the same force (a planned lift-off; see bullet_world_plant.h).
+  BulletWorldPlantParams bullet_params = params.bullet_plant;
+  if (bullet_params.planned_liftoff_force_N < 0) bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
+  if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"), Terrain::Flat(),
+                                         plant_params, bullet_params));
+  WalkingControllerSpec spec;
+  spec.model = model;
+  spec.mode_contacts = ActiveContactsPerMode(*d.plant);
+  spec.tasks = WalkingControllerTasks(m, params);
+  spec.layout = WalkingDesiredLayout(spec.tasks);
+  spec.params = params.controller;
+  spec.params.contact_stabilization = plant_params.dynamics;
+  if (spec.params.force_band_loading_floor_N < 0.0) spec.params.force_band_loading_floor_N = 2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force
   d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>("walking_reference", d.plan));
   d.outputs = b.AddSystem(std::make_unique<WalkingOutputReference>("outputs", d.plan, swing));
-  d.controller = b.AddSystem(std::make_unique<ClfQpController>("controller", model, ActiveContactsPerMode(*d.plant), std::move(outputs), cp));
+  std::unique_ptr<System> block = controller ? controller(spec) : MakeWalkingClfQpController(spec);
+  if (block == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the controller factory returned no system");
+  for (const char* port : {"state", "mode", "desired"})
+    if (!block->HasInputPort(port))
+      throw std::invalid_argument("BuildWalkingDiagram: controller '" + block->name() + "' has no input port '" + port + "' (the seam needs state, mode, desired)");
+  if (!block->HasOutputPort("u")) throw std::invalid_argument("BuildWalkingDiagram: controller '" + block->name() + "' has no output port 'u'");
+  const bool force_reference = block->HasInputPort("normal_force_reference");
+  d.controller = b.AddSystem(std::move(block), spec.name);
   b.Connect("walking_reference", "com", "outputs", "com");
-  b.Connect("outputs", "desired", "controller", "desired");
-  b.Connect("walking_reference", "normal_force_reference", "controller", "normal_force_reference");
-  b.Connect("plant", "state", "controller", "state");
-  b.Connect("plant", "mode", "controller", "mode");
-  b.Connect("controller", "u", "plant", "u");
+  b.Connect("outputs", "desired", spec.name, "desired");
+  if (force_reference) b.Connect("walking_reference", "normal_force_reference", spec.name, "normal_force_reference");
+  b.Connect("plant", "state", spec.name, "state");
+  b.Connect("plant", "mode", spec.name, "mode");
+  b.Connect(spec.name, "u", "plant", "u");
   d.diagram = b.Build("walking");
+  for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i) d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));
   return d;
 }
 
@@ -161,31 +267,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-void CheckStandToWalkParams(const StandToWalkParams& sp, const std::string& who) {
-  const SoleGeometry& sole = sp.sole;
-  const double margin = sp.lateral_cop_margin_m, sag = sp.sagittal_cop_margin_m;
-  if (!(sag >= 0) || !(sole.heel_m - sag > 0 && sole.toe_m - sag > 0))
-    throw std::invalid_argument(who + ": sagittal_cop_margin_m = " + std::to_string(sag) + " must be >= 0 and leave a sole");
-  if (!(margin >= 0) || !(sole.left_m - margin > 0 && sole.right_m - margin > 0))
-    throw std::invalid_argument(who + ": lateral_cop_margin_m = " + std::to_string(margin) + " must be >= 0 and leave a sole");
-  if (!(sp.stance_stagger_m >= 0) || !std::isfinite(sp.stance_stagger_m))
-    throw std::invalid_argument(who + ": stance_stagger_m must be >= 0 m, got " + std::to_string(sp.stance_stagger_m));
-  const double standing = sp.standing_sagittal_cop_margin_m;
-  if (!(standing < 0 || (sole.heel_m - standing > 0 && sole.toe_m - standing > 0)))
-    throw std::invalid_argument(who + ": standing_sagittal_cop_margin_m = " + std::to_string(standing) +
-                                " must be negative (use sagittal_cop_margin_m) or >= 0 and leave a sole");
-  if (sp.start_gait_steps < 0)
-    throw std::invalid_argument(who + ": start_gait_steps must be >= 0 (0: no start gait), got " + std::to_string(sp.start_gait_steps));
-  if (sp.start_gait_steps > 0) {
-    const std::pair<const char*, double> fields[3] = {{"start_gait_step_length_m", sp.start_gait_step_length_m},
-                                                      {"start_gait_ssp_duration_s", sp.start_gait_ssp_duration_s},
-                                                      {"start_gait_dsp_duration_s", sp.start_gait_dsp_duration_s}};
-    for (const auto& [name, value] : fields)
-      if (!(value > 0 && std::isfinite(value)))
-        throw std::invalid_argument(who + ": " + name + " must be finite and > 0 when start_gait_steps > 0, got " + std::to_string(value));
-  }
-}
 
 AslipPeriodicGaitParams GaitParams(const WalkingGait& g, const StandToWalkParams& sp) {
   AslipPeriodicGaitParams gp;
@@ -424,7 +505,7 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
 // standing transition goes into the start gait, which walks those steps and changes into g.
 WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
                         const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out) {
-  CheckStandToWalkParams(sp, who);
+  sp.Validate(who);
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
   SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
   const WalkingGait start{sp.start_gait_step_length_m, sp.start_gait_ssp_duration_s, sp.start_gait_dsp_duration_s, g.step_width_m};
@@ -451,15 +532,34 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
   return plan;
 }
 
+// BuildGaitChangePlan without the gait range check (the lead-in gait may lie outside it).
+WalkingPlan GaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
+                           WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
+  if (steps_b < 0) steps_b = steps;
+  const std::string who = "BuildGaitChangePlan";
+  if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
+    throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
+                                std::to_string(b.step_width_m) + " m); a change of W is not built");
+  SolvedGait ga{AslipPeriodicGaitPlanner(GaitParams(a, sp)), {}, 0.0};
+  WalkingPlan plan = StandToWalk(a, steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &ga);
+  SolvedGait gb = SolveGait(b, seed, cache, sp, who, "gait B");
+  WalkingNlpReport transition_report;
+  AppendGaitChange(plan, ga, a, gb, b, steps_b, /*end_in_single_support=*/false, cache, sp, who + " (gait A -> gait B)", &transition_report,
+                   report != nullptr ? &report->transition_b_nodes : nullptr);
+  if (report != nullptr) {
+    report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
+    report->transition_b = transition_report;
+  }
+  return plan;
+}
+
 }  // namespace
 
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
                                  const StandToWalkParams& sp) {
-  if (sp.lead_in_steps < 0 || !(sp.lead_in_step_length_m > 0) || !(sp.lead_in_ssp_duration_s > 0) || !(sp.lead_in_dsp_duration_s > 0))
-    throw std::invalid_argument("BuildStandToWalkPlan: lead_in_steps must be >= 0 and lead_in_step_length_m, lead_in_ssp_duration_s, "
-                                "lead_in_dsp_duration_s > 0, got " + std::to_string(sp.lead_in_steps) + ", " +
-                                std::to_string(sp.lead_in_step_length_m) + " m, " + std::to_string(sp.lead_in_ssp_duration_s) + " s, " +
-                                std::to_string(sp.lead_in_dsp_duration_s) + " s");
+  g.Validate("BuildStandToWalkPlan: gait");
+  sp.Validate("BuildStandToWalkPlan");
+  if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
   WalkingGait lead = g;
   lead.step_length_m = sp.lead_in_step_length_m;
   lead.ssp_duration_s = sp.lead_in_ssp_duration_s;
@@ -468,7 +568,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   const bool faster = g.ssp_duration_s < lead.ssp_duration_s - 1e-9 || g.dsp_duration_s < lead.dsp_duration_s - 1e-9;
   const auto with_lead_in = [&](const std::string& reason) {
     WalkingPlanReport r;
-    WalkingPlan plan = BuildGaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
+    WalkingPlan plan = GaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
     r.lead_in = true;
     r.lead_in_gait = lead;
     r.lead_in_reason = reason;
@@ -482,8 +582,6 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   };
   const auto seconds = [&](double s) { return with_unit(s, "s"); };
   if (faster && sp.lead_in_steps > 0) {
-    CheckStandToWalkParams(sp, "BuildStandToWalkPlan");
-    if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
     const std::string reason = "the gait (T_SSP " + seconds(g.ssp_duration_s) + ", T_DSP " + seconds(g.dsp_duration_s) +
                                ") is faster than the lead-in (T_SSP " + seconds(lead.ssp_duration_s) + ", T_DSP " +
                                seconds(lead.dsp_duration_s) + "): " +
@@ -525,25 +623,16 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
 
 WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
                                 WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
-  if (steps_b < 0) steps_b = steps;
-  const std::string who = "BuildGaitChangePlan";
-  if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
-    throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
-                                std::to_string(b.step_width_m) + " m); a change of W is not built");
-  SolvedGait ga{AslipPeriodicGaitPlanner(GaitParams(a, sp)), {}, 0.0};
-  WalkingPlan plan = StandToWalk(a, steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &ga);
-  SolvedGait gb = SolveGait(b, seed, cache, sp, who, "gait B");
-  WalkingNlpReport transition_report;
-  AppendGaitChange(plan, ga, a, gb, b, steps_b, /*end_in_single_support=*/false, cache, sp, who + " (gait A -> gait B)", &transition_report,
-                   report != nullptr ? &report->transition_b_nodes : nullptr);
-  if (report != nullptr) {
-    report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
-    report->transition_b = transition_report;
-  }
-  return plan;
+  a.Validate("BuildGaitChangePlan: gait A");
+  b.Validate("BuildGaitChangePlan: gait B");
+  sp.Validate("BuildGaitChangePlan");
+  return GaitChangePlan(a, b, steps, seed, cache, report, sp, steps_b);
 }
 
 WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp) {
+  g.Validate("BuildPeriodicWalkingPlan: gait");
+  sp.Validate("BuildPeriodicWalkingPlan");
+  if (steps < 1) throw std::invalid_argument("BuildPeriodicWalkingPlan: steps must be >= 1, got " + std::to_string(steps));
   const SolvedGait a = SolveGait(g, seed, cache, sp, "BuildPeriodicWalkingPlan", "the gait");
   WalkingPlan plan;
   plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true);

@@ -23,9 +23,29 @@
 // transition's vertical force bounded (StandToWalkParams::gait_change_max_force_fraction); see the README.
 //
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
-// Controller outputs (order of WalkingOutputReference): COM x, y, z; pelvis roll, pitch, yaw (the base's ZYX angles);
-// left ankle position and foot orientation (active in right stance); right ankle position and orientation (active in
-// left stance).
+//
+// The controller is a parameter of the builder (WalkingControllerFactory; default MakeWalkingClfQpController, the
+// CLF-QP above). The factory may return any System, a leaf or a Diagram (e.g. controller → Saturation). Its ports:
+//   inputs  state (2 nv, plant [q; v]), mode (int, plant mode), desired (54, below),
+//           normal_force_reference (2, N: the aSLIP's vertical force on the left, right foot; connected only if the
+//           controller has this input);
+//   outputs u (nu, N m: the plant's torque input; actuator order of the model).
+// desired = [y_d; ẏ_d; ÿ_d], 18 rows each (WalkingOutputReference), one task after another in this order (rows of each
+// third; WalkingControllerSpec::layout gives them, WalkingControllerTasks builds the default controller's tasks):
+//   com (0-2: x, y, z, m), pelvis_roll (3), pelvis_pitch (4), pelvis_yaw (5: the base's ZYX angles, rad),
+//   left_ankle (6-8: m) and left_foot_orientation (9-11: rotation vector, rad), active in right stance,
+//   right_ankle (12-14) and right_foot_orientation (15-17), active in left stance.
+// It should re-solve at guard events so that the new contact mode's torque acts from the event instant on.
+//
+// A run from C++ (build → run → result; RunWalking and WalkingRunResult in walking_run.h judge it as the example does):
+//   auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
+//   rome::StandToWalkParams stand;
+//   stand.sole = rome::SoleOf(*model, "left_foot");
+//   const rome::WalkingPlan plan = rome::BuildStandToWalkPlan(rome::WalkingGait{}, 8, 1, nullptr, nullptr, stand);
+//   rome::WalkingDiagram walking = rome::BuildWalkingDiagram(model, plan);
+//   const rome::WalkingRunResult result = rome::RunWalking(walking);
+//   std::printf("%s: %d of %d steps, COM RMS error %.4f m\n", result.success ? "walked" : "failed", result.steps_completed,
+//               result.steps_planned, result.com_rms_error_m.maxCoeff());
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -68,22 +88,60 @@ struct WalkingDiagramParams {
   /// yaw |τ_z| ≤ 0.1 m f_z, the torque penalty 3e-8, and the cost's target is the outputs' PD law (cost_pd_feedback),
   /// not the spec's minimum-norm μ = 0 (the measurements are in the .cc).
   static ClfQpParams DefaultWalkingControllerParams();
+
+  /// Throws std::invalid_argument "WalkingDiagramParams: FIELD = VALUE is outside RANGE" for the first field out of
+  /// its range (the ranges the CLI enforces; BuildWalkingDiagram calls it first).
+  void Validate() const;
 };
+
+/// One task's rows in each third of the controller's `desired` input (see the top of this file).
+struct WalkingTaskRows {
+  std::string name;
+  int row = 0;   ///< first row in each third
+  int size = 0;  ///< rows
+};
+
+/// What the diagram hands a controller factory.
+struct WalkingControllerSpec {
+  std::string name = "controller";                ///< the block's name in the diagram
+  std::shared_ptr<const MultibodyModel> model;
+  std::vector<ContactSet> mode_contacts;          ///< active contacts of each plant mode (0 left, 1 double, 2 right stance)
+  std::vector<ClfOutput> tasks;                   ///< WalkingControllerTasks: the default controller's outputs, in layout order
+  std::vector<WalkingTaskRows> layout;            ///< each task's rows of `desired` (18 rows per third)
+  /// params.controller with the plant's contact stabilisation (HybridContactPlantParams::dynamics) and the force band's
+  /// loading floor resolved (2 x the plant's planned lift-off force when negative).
+  ClfQpParams params;
+};
+/// Builds the controller block: any System (leaf or diagram) with the controller ports of the top of this file.
+using WalkingControllerFactory = std::function<std::unique_ptr<System>(const WalkingControllerSpec&)>;
+/// The default controller: ClfQpController(spec.name, spec.model, spec.mode_contacts, spec.tasks, spec.params).
+std::unique_ptr<System> MakeWalkingClfQpController(const WalkingControllerSpec& spec);
+/// The CLF-QP's tasks on `model` (the order of the top of this file): COM, pelvis roll/pitch/yaw (Eq. (16)), each
+/// swing ankle's position and orientation in the other foot's stance (Eq. (17)), weighted by params' foot weights.
+std::vector<ClfOutput> WalkingControllerTasks(const MultibodyModel& model, const WalkingDiagramParams& params = {});
+/// Each task's rows of `desired` (offsets accumulate the tasks' sizes).
+std::vector<WalkingTaskRows> WalkingDesiredLayout(const std::vector<ClfOutput>& tasks);
 
 struct WalkingDiagram {
   std::unique_ptr<Diagram> diagram;
+  std::shared_ptr<const MultibodyModel> model;
   const ContactPlant* plant = nullptr;
   WalkingTrajectorySource* reference = nullptr;
   WalkingOutputReference* outputs = nullptr;
-  ClfQpController* controller = nullptr;
+  const System* controller = nullptr;  ///< the factory's block (a leaf or a sub-diagram)
+  /// The ClfQpController among the diagram's leaves (the default controller, or one inside a factory's sub-diagram;
+  /// null when there is none): RunWalking reads its diagnostics (δ, solve time, QP failures).
+  const ClfQpController* clf_qp = nullptr;
   CentroidalMomentumCompensationReport compensation;  ///< zeros when params.compensate_centroidal_momentum is off
   WalkingPlan plan;  ///< the plan the diagram runs (with the compensation, if on)
 };
 
-/// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant). The model must have flat contacts
-/// "left_foot" and "right_foot" on links of those names.
+/// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant) with the controller `controller`
+/// makes (empty: MakeWalkingClfQpController). The model must have flat contacts "left_foot" and "right_foot" on links
+/// of those names. Calls params.Validate() first.
 WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan,
-                                   const WalkingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid);
+                                   const WalkingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid,
+                                   const WalkingControllerFactory& controller = {});
 
 /// The simulator settings of the walking runs (example, tests, benchmark): ExplicitRestartingSimulatorConfig at rtol 1e-5,
 /// atol 1e-7, as hopping (ours; measured on gait A: 2-3x faster than Dormand-Prince 5(4) at rtol 1e-6 / atol 1e-8 without
@@ -93,6 +151,11 @@ SimulatorConfig WalkingSimulatorConfig();
 /// One gait of the issue's --gait flags: step length l, T_SSP, T_DSP, step width W.
 struct WalkingGait {
   double step_length_m = 0.30, ssp_duration_s = 0.40, dsp_duration_s = 0.10, step_width_m = 0.25;  ///< gait A (spec §3.1)
+  /// The range the ROM planners are built and tested for (the walking issue's gait range).
+  static constexpr double kMin[4] = {0.2, 0.35, 0.08, 0.2}, kMax[4] = {0.45, 0.5, 0.15, 0.3};
+  /// Throws std::invalid_argument "WHO: FIELD = VALUE UNIT is outside [MIN, MAX] UNIT" for the first field out of the
+  /// range above. The plan builders call it first.
+  void Validate(const std::string& who = "WalkingGait") const;
 };
 
 /// The sole of a flat foot about its ankle (the foot frame's origin), from the robot's contact corners [m].
@@ -206,6 +269,12 @@ struct StandToWalkParams {
   /// the direct plan of (0.33 m, 0.40 s, 0.12 s, 0.26 m) puts the COM 0.90 m high over the 0.4 m step stance, which
   /// the legs cannot reach (SolveWalkingPose residual 0.6 mm); through the lead-in it walks.
   std::function<void(const WalkingPlan&)> plan_check;
+
+  /// Ranges of the lead-in and start gaits (L, T_SSP, T_DSP; ours: they may lie outside the walking issue's range).
+  static constexpr double kSideGaitMin[3] = {0.1, 0.35, 0.08}, kSideGaitMax[3] = {0.45, 0.6, 0.3};
+  /// Throws std::invalid_argument "WHO: FIELD = VALUE is outside RANGE" for the first field out of its range (the
+  /// CLI's ranges; the plan builders call it first).
+  void Validate(const std::string& who = "StandToWalkParams") const;
 
   /// The earlier standing start from a step stance (ours): the right foot `stagger_m` behind the left, no start gait,
   /// the standing transition straight into the gait with a point-foot SSP and the 5 cm CoP margin of the push-off

@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -99,6 +101,22 @@ std::string ExactNumber(double v) {
   return std::string(buf, end);
 }
 
+// The numbers of a comma-separated list of at least two finite numbers ("0.3,0.1"), else nothing.
+std::optional<std::vector<double>> NumberList(const std::string& v) {
+  if (v.find(',') == std::string::npos) return std::nullopt;
+  std::vector<double> numbers;
+  size_t start = 0;
+  while (start <= v.size()) {
+    const size_t end = std::min(v.find(',', start), v.size());
+    double x = 0;
+    const auto [ptr, ec] = std::from_chars(v.data() + start, v.data() + end, x);
+    if (ec != std::errc() || ptr != v.data() + end || !std::isfinite(x) || end == start) return std::nullopt;
+    numbers.push_back(x);
+    start = end + 1;
+  }
+  return numbers;
+}
+
 }  // namespace
 
 void CommandLine::LoadScenarioFile(const std::string& path) {
@@ -125,7 +143,13 @@ void CommandLine::LoadScenarioFile(const std::string& path) {
     else if (!flag && value.is_string()) v = value.get<std::string>();
     else if (!flag && value.is_number_integer()) v = value.dump();
     else if (!flag && value.is_number_float()) v = ExactNumber(value.get<double>());
-    else throw std::invalid_argument(where + ": key '" + key + "' needs " + (flag ? "true or false" : "a string or a number") + ", got " + value.dump());
+    else if (!flag && value.is_array() && !value.empty() &&
+             std::all_of(value.begin(), value.end(), [](const nlohmann::json& x) { return x.is_number(); })) {
+      for (const auto& x : value) v += (v.empty() ? "" : ",") + (x.is_number_integer() ? x.dump() : ExactNumber(x.get<double>()));
+    } else {
+      throw std::invalid_argument(where + ": key '" + key + "' needs " + (flag ? "true or false" : "a string, a number or an array of numbers") +
+                                  ", got " + Excerpt(value.dump(), 80));
+    }
     if (values_.count(key)) continue;  // the command line wins
     if (flag && v.empty()) continue;  // false: the flag stays off
     values_[key] = v;
@@ -141,6 +165,10 @@ std::string CommandLine::ScenarioJson() const {
       continue;
     }
     const std::string v = Get(name);
+    if (const std::optional<std::vector<double>> list = NumberList(v)) {
+      j[name] = *list;
+      continue;
+    }
     const char* const last = v.data() + v.size();
     long long integer = 0;
     double number = 0;

@@ -34,7 +34,7 @@ class CommandLine {
   CommandLine& Flag(const std::string& name, const std::string& help);
 
   /// Declares --scenario-file FILE.json: a JSON object whose keys are this program's option names (without "--") and
-  /// whose values are strings, numbers or, for flags, booleans. Parse() reads it after argv: options given on the
+  /// whose values are strings, numbers, arrays of numbers (an option of comma-separated numbers) or, for flags, booleans. Parse() reads it after argv: options given on the
   /// command line win. Every option except `outputs` (and scenario-file itself) is a scenario parameter; any other key
   /// is an error naming the key. ScenarioJson() writes the effective parameters back in the same form.
   CommandLine& ScenarioFile(std::vector<std::string> outputs);
@@ -42,8 +42,8 @@ class CommandLine {
   /// printed). Throws std::invalid_argument naming the option for unknown options or missing values, and naming the
   /// file and the key for a scenario file that cannot be read or holds an unknown key or a value of another type.
   bool Parse(int argc, char** argv);
-  /// Every scenario parameter's effective value as a JSON object's text (numbers as numbers, flags as booleans,
-  /// other values as strings), so that --scenario-file with it reproduces the run's parameters.
+  /// Every scenario parameter's effective value as a JSON object's text (numbers as numbers, comma-separated numbers
+  /// as arrays, flags as booleans, other values as strings), so that --scenario-file with it reproduces the run's parameters.
   std::string ScenarioJson() const;
 
   std::string Get(const std::string& name) const;

@@ -8,15 +8,20 @@
 // controller runs (the composed aSLIP + H-LIP plan with the angular-momentum correction, at most 1.4 cm) to 1 cm RMS
 // and 3 cm at most per axis after the first step, the pelvis stays within 2°, every touchdown lands within 5 cm of its
 // planned foothold and no QP update fails. Thresholds are the walking issue's acceptance; the gaits other than the
-// default are not the ones the controller settings were chosen on (gait A, stand-to-walk and periodic).
-#include "diagrams/walking/pre_impact_sampler.h"
+// default are not the ones the controller settings were chosen on (gait A, stand-to-walk and periodic). Steps, the band,
+// the COM error and the lift-off are RunWalking's measures (walking_run.h), the example's.
 #include "diagrams/walking/walking_diagram.h"
+#include "diagrams/walking/walking_run.h"
 
 #include <filesystem>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <functional>
+#include <limits>
+#include <sstream>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "framework/primitives.h"
 #include "framework/simulator.h"
 #include "systems/planners/aslip_periodic_gait_planner.h"
 #include "systems/plants/contact_force_statistics.h"
@@ -32,6 +38,7 @@
 #include "tests/common/sanitizer_scale.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 #include "tests/common/source_path.h"
+#include "tests/common/text_files.h"
 
 namespace rome {
 namespace {
@@ -39,11 +46,12 @@ namespace {
 enum class RunUntil { kLiftoff, kPlanEnd };
 enum class Start { kStanding, kOnTheOrbit, kGaitChange };
 
-// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`) plus kTrailingSteps, and
-// simulates all but the trailing ones (the plan's end, where the momentum correction is brought to rest, is not
-// judged). Full runs also check the convergence: the step-to-step change of the pre-impact COM state (about the
-// stance ankle, y mirrored in right stance) is below 1e-2 from the 5th periodic touchdown after each transition.
-constexpr int kTrailingSteps = 2;
+// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`) plus the run's trailing
+// steps, and runs all but the trailing ones with RunWalking (the plan's end, where the momentum correction is brought to
+// rest, is not judged). Full runs also check the convergence: the step-to-step change of the pre-impact COM
+// state (about the stance ankle, y mirrored in right stance) is below 1e-2 from the 5th periodic touchdown after each
+// transition. Besides RunWalking's own measures, an observer checks each active foot's wrench from the plant's
+// constrained dynamics at every integrator step (CheckContactForce).
 void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger_m = StandToWalkParams{}.stance_stagger_m,
                     Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}) {
   const bool full_run = until == RunUntil::kPlanEnd;
@@ -53,180 +61,82 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   StandToWalkParams stand = stagger_m > 0 ? StandToWalkParams::StepStance(stagger_m) : StandToWalkParams{};
   stand.sole = SoleOf(*model, "left_foot");
   stand.plan_check = WalkingPoseCheck(model, WalkingDiagramParams{});  // as the example
+  WalkingRunParams run;
+  const int planned = steps + run.trailing_steps;
   WalkingPlanReport report;
-  const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, steps + kTrailingSteps, 1, &cache, &report, stand)
-                               : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, steps + kTrailingSteps)
-                                                             : BuildPeriodicWalkingPlan(gait, steps + kTrailingSteps, 1, &cache, stand);
-  const WalkingGait& last_gait = start == Start::kGaitChange ? gait_b : gait;
-  const double t_end_of_run = rom_plan.end_time() - kTrailingSteps * (last_gait.ssp_duration_s + last_gait.dsp_duration_s);
+  const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, planned, 1, &cache, &report, stand)
+                               : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, planned)
+                                                             : BuildPeriodicWalkingPlan(gait, planned, 1, &cache, stand);
   const WalkingDiagramParams params;
   WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
-  const WalkingPlan& plan = d.plan;  // with the angular-momentum correction: the reference the controller runs
   EXPECT_LT(d.compensation.max_correction_m, 0.03);
   EXPECT_LT(d.compensation.max_cop_shift_corrected_m, 0.5 * d.compensation.max_cop_shift_uncorrected_m);
-  Simulator sim(*d.diagram, WalkingSimulatorConfig());
-  const double t0 = start == Start::kStanding ? 0.0 : 0.5 * gait.dsp_duration_s;  // inside the first DSP, both feet loaded
-  sim.get_mutable_context().SetTime(t0);
-  const Eigen::VectorXd q0 = WalkingStandingPose(*model, plan, t0);
-  LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
-  d.plant->SetState(pc, q0, start == Start::kStanding ? Eigen::VectorXd::Zero(model->nv()) : WalkingInitialVelocity(*model, q0, plan, t0),
-                    "double_support");
-  int planned_touchdowns = 0;
-  std::vector<double> transition_ends;  // end of each transition's single support (its footed H-LIP nodes)
-  for (const WalkingPlanSegment& seg : plan.segments()) {
-    if (seg.domain == WalkingDomain::kDoubleSupport || seg.start_time + seg.duration > t_end_of_run + 1e-9) continue;
-    ++planned_touchdowns;
-    if (seg.lateral_nodes.cols() > 0) transition_ends.push_back(seg.start_time + seg.duration);
-  }
-  std::vector<std::pair<double, Eigen::Matrix<double, 6, 1>>> pre_impact;  // (touchdown time, COM state just before)
-  PreImpactSampler single_support_com;
-  double last_touchdown_time = -1.0, pelvis_max = 0.0, touchdown_error_max = 0.0;
-  Eigen::Vector3d com_sq = Eigen::Vector3d::Zero(), com_abs_max = Eigen::Vector3d::Zero();
+  run.start_time_s = start == Start::kStanding ? 0.0 : 0.5 * gait.dsp_duration_s;  // inside the first DSP, both feet loaded
+  run.start_at_rest = start == Start::kStanding;
+  // kLiftoff: stop 50 ms after the first lift-off; kPlanEnd: the whole plan but its trailing steps.
+  const double t_liftoff_planned = d.plan.segments().at(0).start_time + d.plan.segments().at(0).duration;
+  if (!full_run) run.end_time_s = t_liftoff_planned + 0.05;
 
   MultibodyWorkspace ws(*model);
-  const int nv = model->nv();
-  long samples = 0, unilateral_bad = 0, friction_bad = 0, cop_bad = 0, port_bad = 0;
-  int touchdowns = 0, liftoffs = 0, last_mode = 1;
-  double liftoff_time = -1.0, liftoff_force = -1.0, touchdown_time = -1.0;
-  Eigen::Vector2d last_fz = Eigen::Vector2d::Zero();
-  long band_ticks = 0, band_in = 0;
-  const double mg = model->total_mass() * 9.81;
-  double com_err_max = 0.0, sum_sq = 0.0;
-  long n_err = 0;
-  Eigen::VectorXd qdd(nv), F(model->max_constraint_rows());
+  long unilateral_bad = 0, friction_bad = 0, cop_bad = 0;
+  Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
   // The QP puts the centre of pressure on the sole's edge when it needs the whole foot; between samples the plant's
   // CoP may move by rounding-level amounts past it: 0.5 mm of tolerance.
   ContactForceCheckParameters cop_check;
   cop_check.cop_margin_m = -5e-4;
-  sim.set_monitor([&](const Context& c) {
-    const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
-    const Eigen::VectorXd q = ctx.continuous_state().head(nv), v = ctx.continuous_state().tail(nv);
-    const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
-    // A touchdown: into double support, or straight from one stance into the other (mode 0 left stance, 2 right).
-    if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {
-      ++touchdowns;
-      const bool right_landed = last_mode == 0;
-      const Eigen::Vector2d ankle = CalcLinkPose(*model, ws, q, model->BodyIndex(right_landed ? "right_foot" : "left_foot")).translation().head<2>();
-      const WalkingReference r = plan.Sample(c.time());
-      touchdown_error_max = std::max(touchdown_error_max, (ankle - (right_landed ? r.right_foothold : r.left_foothold)).norm());
-      if (touchdown_time < 0) touchdown_time = c.time();
-      last_touchdown_time = c.time();
-      pre_impact.push_back({c.time(), single_support_com.At(c.time())});
-    }
-    if (mode != 1) {  // in single support: the COM state about the stance ankle, y mirrored in right stance
-      const Eigen::Vector3d p = CalcComPosition(*model, ws, q), pv = CalcComVelocity(*model, ws, q, v);
-      const Eigen::Vector3d foot = CalcLinkPose(*model, ws, q, model->BodyIndex(mode == 0 ? "left_foot" : "right_foot")).translation();
-      const double mirror = mode == 0 ? 1.0 : -1.0;
-      PreImpactSampler::State com_state;
-      com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), pv.x(), mirror * pv.y(), pv.z();
-      single_support_com.Record(c.time(), com_state);
-    }
-    if (mode != 1 && last_mode == 1) {
-      ++liftoffs;
-      const double f_lifted = mode == 0 ? last_fz[1] : last_fz[0];  // the plant's normal force on the foot just before it left
-      liftoff_force = std::max(liftoff_force, f_lifted);
-      if (liftoff_time < 0) liftoff_time = c.time();
-    }
-    last_mode = mode;
-    const ContactSet active = d.plant->active_contacts(mode);
-    const Eigen::VectorXd& u = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "u");
-    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, params.plant.dynamics, qdd, F);
+  const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
+    const ContactSet active = d.plant->active_contacts(s.mode);
+    CalcConstrainedForwardDynamics(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, qdd, F);
     for (int ci = 0; ci < model->num_contacts(); ++ci) {
       if (!(active & ContactBit(ci))) continue;
-      const ContactForceCheck check = CheckContactForce(*model, ws, q, ci, ExtractContactWrench(*model, ws, q, active, F, ci), cop_check);
+      const ContactForceCheck check = CheckContactForce(*model, ws, *s.q, ci, ExtractContactWrench(*model, ws, *s.q, active, F, ci), cop_check);
       // A foot at the instant of lift-off carries ~0 N: judge its cone and CoP only with a load on it.
       unilateral_bad += check.normal_force_N >= -1e-6 ? 0 : 1;
       if (check.normal_force_N > 1.0) {
         friction_bad += check.friction_ok ? 0 : 1;
         cop_bad += check.cop_ok ? 0 : 1;
-        if (!check.cop_ok && cop_bad % 200 == 1) {
-          const Eigen::VectorXd& planned = d.controller->EvalOutput(d.diagram->GetSubsystemContext(*d.controller, c), "contact_forces");
-          std::printf("  cop out t=%.4f contact %d fz %.1f cop (%.3f, %.3f) planned fz %.1f foot x %.3f\n", c.time(), ci, check.normal_force_N, check.cop.x(),
-                      check.cop.y(), planned[3 * ci + 2], CalcLinkPose(*model, ws, q, model->contacts()[ci].body).translation().x());
-        }
       }
     }
-    const Eigen::VectorXd& viol = d.plant->EvalOutput(ctx, "contact_violation");
-    const Eigen::VectorXd& plant_forces = d.plant->EvalOutput(ctx, "contact_forces");
-    last_fz << plant_forces[2], plant_forces[5];
-    if (last_touchdown_time < 0 || c.time() > last_touchdown_time + 0.02) {
-      // Eq. (25) band on the plant's normal forces, both feet, outside 20 ms after each touchdown.
-      const Eigen::VectorXd& fref = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, c), "normal_force_reference");
-      for (int foot = 0; foot < 2; ++foot) {
-        const double f = plant_forces[3 * foot + 2], r = fref[foot];
-        band_in += (f >= 0.9 * r - 0.02 * mg && f <= 1.1 * r + 0.02 * mg) ? 1 : 0;
-        ++band_ticks;
-      }
-    }
-    port_bad += viol.cwiseAbs().sum() > 0 ? 1 : 0;
-    const double t = c.time();
-    if (t > plan.segments().at(2).start_time) {  // after the first step
-      const Eigen::Vector3d e = CalcComPosition(*model, ws, q) - plan.Sample(t).com_position;
-      com_err_max = std::max(com_err_max, e.cwiseAbs().maxCoeff());
-      com_abs_max = com_abs_max.cwiseMax(e.cwiseAbs());
-      com_sq += e.cwiseProduct(e);
-      sum_sq += e.squaredNorm();
-      ++n_err;
-    }
-    for (const char* a : {"base_roll", "base_pitch", "base_yaw"}) pelvis_max = std::max(pelvis_max, std::abs(q[model->VelocityIndex(a)]));
-    ++samples;
-    if (std::getenv("WALKING_TEST_TRACE") && std::fmod(t, 0.05) < 1e-3) {
-      const LeafContext& cx = d.diagram->GetSubsystemContext(*d.controller, c);
-      const Eigen::VectorXd& des = d.outputs->EvalOutput(d.diagram->GetSubsystemContext(*d.outputs, c), "desired");
-      const Eigen::Vector3d com = CalcComPosition(*model, ws, q);
-      const Eigen::Vector3d rf = CalcLinkPose(*model, ws, q, model->BodyIndex("right_foot")).translation();
-      const Eigen::VectorXd& fr = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, c), "normal_force_reference");
-      const Eigen::VectorXd& pf = d.plant->EvalOutput(ctx, "contact_forces");
-      std::printf("t %.3f mode %d com %.3f %.3f %.3f des %.3f %.3f %.3f rf %.3f %.3f %.3f des %.3f %.3f %.3f V %.2e d %.2e Fref %.0f %.0f F %.0f %.0f\n", t, mode,
-                  com.x(), com.y(), com.z(), des[0], des[1], des[2], rf.x(), rf.y(), rf.z(), des[12], des[13], des[14],
-                  d.controller->EvalOutput(cx, "V")[0], d.controller->EvalOutput(cx, "delta")[0], fr[0], fr[1], pf[2], pf[5]);
-    }
-    return EventStatus::Succeeded();
   });
-  // kLiftoff: stop 50 ms after the first lift-off; kPlanEnd: the whole plan.
-  const double t_liftoff_planned = plan.segments().at(0).start_time + plan.segments().at(0).duration;
-  SimulatorStatus status = sim.AdvanceTo(full_run ? t_end_of_run : t_liftoff_planned + 0.05);
-  const LeafContext& cc = d.diagram->GetSubsystemContext(*d.controller, sim.get_context());
-  const Eigen::Vector3d com_rms = n_err ? Eigen::Vector3d((com_sq / n_err).cwiseSqrt()) : Eigen::Vector3d::Zero();
-  std::printf("  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band %.3f\n", liftoff_time,
-              t_liftoff_planned, liftoff_force, 100 * liftoff_force / mg, band_ticks ? double(band_in) / band_ticks : 0.0);
-  std::printf("  t = %.3f s of %.3f: %s; %d lift-offs, %d touchdowns (planned %d), largest touchdown error %.4f m, COM error RMS (%.4f %.4f %.4f) "
+  const double mg = model->total_mass() * 9.81;
+  std::printf("  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band %.3f\n", r.first_liftoff_time_s,
+              t_liftoff_planned, r.liftoff_normal_force_max_N, 100 * r.liftoff_normal_force_max_N / mg, r.force_in_band_fraction);
+  std::printf("  t = %.3f s of %.3f: %s; %d lift-offs, %d steps (planned %d, %d off target), largest touchdown error %.4f m, COM error RMS (%.4f %.4f %.4f) "
               "max (%.4f %.4f %.4f) m, pelvis %.2f deg, qp_failures %.0f, %ld samples\n",
-              sim.get_context().time(), t_end_of_run, status.ToString().c_str(), liftoffs, touchdowns, planned_touchdowns, touchdown_error_max,
-              com_rms.x(), com_rms.y(), com_rms.z(), com_abs_max.x(), com_abs_max.y(), com_abs_max.z(), pelvis_max * 180 / M_PI,
-              d.controller->EvalOutput(cc, "qp_failures")[0], samples);
-  EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit) << status.ToString();
-  EXPECT_GT(samples, 100);
+              r.simulated_s, r.end_time_s, r.status.ToString().c_str(), r.liftoffs, r.steps_completed, r.steps_planned, r.touchdowns_off_target,
+              r.largest_touchdown_error_m, r.com_rms_error_m.x(), r.com_rms_error_m.y(), r.com_rms_error_m.z(), r.com_max_error_m.x(), r.com_max_error_m.y(),
+              r.com_max_error_m.z(), r.pelvis_max_orientation_error_rad * 180 / M_PI, r.qp_infeasible_ticks, r.samples);
+  EXPECT_EQ(r.status.kind(), SimulatorStatus::Kind::kLimit) << r.status.ToString();
+  EXPECT_GT(r.samples, 100);
   EXPECT_EQ(unilateral_bad, 0);
   EXPECT_EQ(friction_bad, 0);
   EXPECT_EQ(cop_bad, 0);
-  EXPECT_EQ(port_bad, 0);
-  EXPECT_EQ(d.controller->EvalOutput(cc, "qp_failures")[0], 0.0);
-  ASSERT_GE(liftoffs, 1);
-  EXPECT_NEAR(liftoff_time, t_liftoff_planned, 0.05);
-  EXPECT_LT(liftoff_force, 0.05 * mg);
-  EXPECT_GE(double(band_in) / band_ticks, 0.95);
+  EXPECT_EQ(r.contact.violations, 0) << r.contact.first_violation;
+  EXPECT_EQ(r.contact_violation_port_samples, 0);
+  EXPECT_EQ(r.qp_infeasible_ticks, 0.0);
+  ASSERT_GE(r.liftoffs, 1);
+  EXPECT_NEAR(r.first_liftoff_time_s, t_liftoff_planned, 0.05);
+  EXPECT_LT(r.liftoff_normal_force_max_N, 0.05 * mg);
+  EXPECT_GE(r.force_in_band_fraction, 0.95);
   if (full_run) {
-    EXPECT_EQ(touchdowns, planned_touchdowns);
-    EXPECT_LT(touchdown_error_max, 0.05);
+    EXPECT_TRUE(r.success);
+    EXPECT_EQ(r.steps_completed, r.steps_planned);
+    EXPECT_EQ(r.touchdowns_off_target, 0);
+    EXPECT_LT(r.largest_touchdown_error_m, 0.05);
     for (int a = 0; a < 3; ++a) {
-      EXPECT_LE(com_rms[a], 0.01) << "axis " << a;
-      EXPECT_LE(com_abs_max[a], 0.03) << "axis " << a;
+      EXPECT_LE(r.com_rms_error_m[a], 0.01) << "axis " << a;
+      EXPECT_LE(r.com_max_error_m[a], 0.03) << "axis " << a;
     }
-    EXPECT_LE(pelvis_max, 2.0 * M_PI / 180.0);
+    EXPECT_LE(r.pelvis_max_orientation_error_rad, 2.0 * M_PI / 180.0);
     // Transitions: standing (into the start gait when one is used), the start gait's change, a lead-in's change, A → B.
-    ASSERT_EQ(transition_ends.size(), (start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u) +
-                                          (report.start_gait_used ? 1u : 0u));
-    for (size_t j = 0; j < transition_ends.size(); ++j) {
-      const double begin = transition_ends[j] - 0.05, end = j + 1 < transition_ends.size() ? transition_ends[j + 1] - 0.05 : 1e9;
-      std::vector<Eigen::Matrix<double, 6, 1>> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
-      for (const auto& [time, state] : pre_impact)
-        if (time > begin && time < end) states.push_back(state);
-      ASSERT_GE(states.size(), 7u) << "transition " << j;
-      double worst = 0;
-      for (size_t k = 5; k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
-      std::printf("  after transition %zu: %zu touchdowns, pre-impact state change from the 5th %.2e\n", j, states.size() - 1, worst);
-      EXPECT_LT(worst, 1e-2) << "transition " << j;
+    ASSERT_EQ(r.transition_ends_s.size(), (start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u) +
+                                              (report.start_gait_used ? 1u : 0u));
+    ASSERT_EQ(r.pre_impact_state_change_from_step5.size(), r.transition_ends_s.size());
+    for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
+      const double change = r.pre_impact_state_change_from_step5[j];
+      std::printf("  after transition %zu: pre-impact state change from the 5th touchdown %.2e\n", j, change);
+      EXPECT_GE(change, 0.0) << "transition " << j << ": fewer than 6 touchdowns after it";
+      EXPECT_LT(change, 1e-2) << "transition " << j;
     }
   }
 }
@@ -574,34 +484,31 @@ TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForc
   params.bullet_plant.enable_joint_limits = false;
   WalkingDiagram d = BuildWalkingDiagram(model, plan, params, PlantKind::kBullet);
   ASSERT_NE(dynamic_cast<const BulletWorldPlant*>(d.plant), nullptr);
-  Simulator sim(*d.diagram);
-  LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, sim.get_mutable_context());
-  d.plant->SetState(pc, WalkingStandingPose(*model, plan), Eigen::VectorXd::Zero(model->nv()), "double_support");
   const int dsp = d.plant->GetModeIndex("double_support");
   const double mg = model->total_mass() * 9.81;
-  ContactForceStatistics contact;
   long force_samples = 0;
-  double worst_force_error = 0, liftoff_time = -1;
+  double worst_force_error = 0;
   int liftoff_mode = -1;
   const double planned_liftoff = plan.segments().at(0).duration;
-  sim.set_monitor([&](const Context& c) {
-    const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, c);
-    contact.Record(*d.plant, ctx);
-    const int mode = d.plant->EvalTypedOutput<int>(ctx, "mode");
-    if (mode != dsp && liftoff_time < 0) liftoff_time = c.time(), liftoff_mode = mode;
-    if (c.time() > 0.1 && c.time() < planned_liftoff - 0.05) {
+  WalkingRunParams run;
+  run.simulator = SimulatorConfig{};
+  run.end_time_s = planned_liftoff + 0.1;
+  const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
+    if (s.mode != dsp && liftoff_mode < 0) liftoff_mode = s.mode;
+    if (s.t > 0.1 && s.t < planned_liftoff - 0.05) {
       // The Bullet plant's state (and forces) after its update at t are those of the step ending at the next multiple
       // of 1 ms: compare with the plan there.
-      const double t_step = std::ceil(c.time() / 1e-3 - 1e-6) * 1e-3;
-      const Eigen::VectorXd& f = d.plant->EvalOutput(ctx, "contact_forces");
-      const WalkingReference r = plan.Sample(t_step);
-      const double planned = r.normal_force[0] + r.normal_force[1];
+      const double t_step = std::ceil(s.t / 1e-3 - 1e-6) * 1e-3;
+      const Eigen::VectorXd& f = *s.contact_forces;
+      const WalkingReference ref = plan.Sample(t_step);
+      const double planned = ref.normal_force[0] + ref.normal_force[1];
       worst_force_error = std::max(worst_force_error, std::abs(f[2] + f[5] - planned) / (0.05 * planned + 0.02 * mg));
       ++force_samples;
     }
-    return EventStatus::Succeeded();
   });
-  const SimulatorStatus status = sim.AdvanceTo(planned_liftoff + 0.1);
+  const SimulatorStatus& status = r.status;
+  const ContactForceStatistics& contact = r.contact;
+  const double liftoff_time = r.first_liftoff_time_s;
   std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; total F_z error / bound %.2f; "
               "lift-off at %.3f s (planned %.3f s) into mode %d\n",
               status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(), contact.min_normal_force_N,
@@ -613,6 +520,165 @@ TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForc
   EXPECT_EQ(liftoff_mode, d.plant->GetModeIndex("left_foot_stance"));
   EXPECT_GT(force_samples, 500);
   EXPECT_LT(worst_force_error, 1.0);
+}
+
+
+// The build → run → result snippet of walking_diagram.h's header, verbatim (no plan cache: every NLP is solved), then
+// the walking issue's acceptance on its result: every planned step on its foothold, the COM within 1 cm RMS per axis.
+TEST(WalkingRun, TheHeaderSnippetWalks) {
+  // clang-format off
+  auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
+  rome::StandToWalkParams stand;
+  stand.sole = rome::SoleOf(*model, "left_foot");
+  const rome::WalkingPlan plan = rome::BuildStandToWalkPlan(rome::WalkingGait{}, 8, 1, nullptr, nullptr, stand);
+  rome::WalkingDiagram walking = rome::BuildWalkingDiagram(model, plan);
+  const rome::WalkingRunResult result = rome::RunWalking(walking);
+  std::printf("%s: %d of %d steps, COM RMS error %.4f m\n", result.success ? "walked" : "failed", result.steps_completed,
+              result.steps_planned, result.com_rms_error_m.maxCoeff());
+  // clang-format on
+  EXPECT_TRUE(result.success) << result.status.ToString();
+  // Stand-to-walk through the start gait: 6 single supports of it, its change, 8 of gait A less the 2 trailing ones.
+  EXPECT_EQ(result.steps_planned, stand.start_gait_steps + 1 + 8 - 2 + 1);
+  EXPECT_EQ(result.steps_completed, result.steps_planned);
+  EXPECT_LE(result.com_rms_error_m.maxCoeff(), 0.01);
+  EXPECT_EQ(result.contact.violations, 0);
+}
+
+// The snippet above is the header's, line for line (so that the header's example is the one that compiles and walks).
+TEST(WalkingRun, TheHeaderSnippetIsTheOneThisTestCompiles) {
+  const std::string header = test::ReadText(test::SourcePath("diagrams/walking/walking_diagram.h"));
+  const std::string source = test::ReadText(test::SourcePath("tests/diagrams/walking/walking_diagram_test.cc"));
+  const size_t begin = header.find("// A run from C++");
+  ASSERT_NE(begin, std::string::npos);
+  std::istringstream lines(header.substr(header.find('\n', begin) + 1));
+  const size_t snippet_begin = source.find("// clang-format off\n"), snippet_end = source.find("// clang-format on");
+  ASSERT_LT(snippet_begin, snippet_end);
+  const std::string snippet = source.substr(snippet_begin, snippet_end - snippet_begin);
+  int n = 0;
+  for (std::string line; std::getline(lines, line) && line.rfind("//   ", 0) == 0; ++n)
+    EXPECT_NE(snippet.find("\n  " + line.substr(5) + "\n"), std::string::npos) << "header line not in the test's snippet: " << line;
+  EXPECT_GE(n, 7);
+  EXPECT_LE(n, 15);
+}
+
+// Parameters are checked by the library before any work: a 0.60 m step (the range is 0.2-0.45 m) fails at once,
+// naming the field and the value, from each plan builder; a force band c = 1.5 fails BuildWalkingDiagram before the
+// diagram is built (its plan is not even looked at).
+TEST(WalkingRun, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
+  auto model = test::LoadRobot("exoskeleton");
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingGait long_step{.step_length_m = 0.60};
+  const auto expect_message = [](const std::function<void()>& f, const std::string& who, const std::string& field, const std::string& value) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      f();
+      ADD_FAILURE() << who << " accepted " << field << " = " << value;
+    } catch (const std::invalid_argument& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(who), std::string::npos) << m;
+      EXPECT_NE(m.find(field + " = " + value), std::string::npos) << m;
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.1) << who << " did work before failing";
+  };
+  expect_message([&] { BuildStandToWalkPlan(long_step, 8, 1, nullptr, nullptr, stand); }, "BuildStandToWalkPlan", "step_length_m", "0.6 m");
+  expect_message([&] { BuildGaitChangePlan(WalkingGait{}, long_step, 8, 1, nullptr, nullptr, stand); }, "BuildGaitChangePlan: gait B", "step_length_m", "0.6 m");
+  expect_message([&] { BuildPeriodicWalkingPlan(long_step, 8, 1, nullptr, stand); }, "BuildPeriodicWalkingPlan", "step_length_m", "0.6 m");
+  StandToWalkParams bad_lead_in = stand;
+  bad_lead_in.lead_in_ssp_duration_s = 0.9;
+  expect_message([&] { BuildStandToWalkPlan(WalkingGait{}, 8, 1, nullptr, nullptr, bad_lead_in); }, "BuildStandToWalkPlan", "lead_in_ssp_duration_s", "0.9 s");
+  WalkingDiagramParams params;
+  params.controller.force_band_halfwidth = 1.5;
+  expect_message([&] { BuildWalkingDiagram(model, WalkingPlan{}, params); }, "WalkingDiagramParams", "controller.force_band_halfwidth", "1.5");
+  WalkingRunParams run;
+  run.foothold_tolerance_m = -0.01;
+  EXPECT_THROW(run.Validate(), std::invalid_argument);
+}
+
+// The controller seam takes a sub-diagram: the default CLF-QP followed by a torque Saturation at 85 % of the model's
+// limits, built with DiagramBuilder and returned by the factory. Gait B (0.4 m steps at 0.8 m/s) on its orbit asks more
+// than that of the knees, so the saturation acts; at every monitor sample the torque the plant receives lies within
+// the saturation's limits, and the robot still walks every planned step.
+TEST(WalkingRun, ASaturatedSubDiagramControllerKeepsTheTorqueInItsLimitsAndWalks) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingGait gait{.step_length_m = 0.40};
+  const WalkingPlan plan = BuildPeriodicWalkingPlan(gait, 6, 1, &cache, stand);
+  constexpr double kFraction = 0.85;
+  Eigen::VectorXd limit(model->nu());
+  for (int j = 0; j < model->nu(); ++j) limit[j] = kFraction * model->actuators()[j].torque_limit_Nm;
+  const WalkingControllerFactory saturated = [&](const WalkingControllerSpec& spec) -> std::unique_ptr<System> {
+    DiagramBuilder b;
+    b.AddSystem(MakeWalkingClfQpController(spec), "clf_qp");
+    b.AddSystem(std::make_unique<Saturation>("saturation", -limit, limit));
+    b.Connect("clf_qp", "u", "saturation", "u");
+    for (const char* port : {"state", "mode", "desired", "normal_force_reference"}) b.ExportInput("clf_qp", port);
+    b.ExportOutput("saturation", "y", "u");
+    return b.Build(spec.name);
+  };
+  const WalkingDiagram d = BuildWalkingDiagram(model, plan, {}, PlantKind::kHybrid, saturated);
+  ASSERT_NE(d.clf_qp, nullptr);
+  EXPECT_TRUE(d.controller->is_diagram());
+  WalkingRunParams run;
+  run.start_time_s = 0.5 * gait.dsp_duration_s;
+  run.start_at_rest = false;
+  double worst_excess = -std::numeric_limits<double>::infinity();
+  long clipped = 0, samples = 0;
+  const WalkingRunResult r = RunWalking(d, run, [&](const Context& c, const WalkingRunSample& s) {
+    const Eigen::VectorXd& u_qp = d.clf_qp->EvalOutput(d.diagram->GetSubsystemContext(*d.clf_qp, c), "u");
+    for (int j = 0; j < model->nu(); ++j) {
+      worst_excess = std::max(worst_excess, std::abs((*s.u)[j]) - limit[j]);
+      clipped += std::abs(u_qp[j]) > limit[j] ? 1 : 0;
+    }
+    ++samples;
+  });
+  std::printf("  %s: %d of %d steps, COM RMS (%.4f %.4f %.4f) m; %ld actuator samples clipped of %ld samples, largest |u| - limit %.3g N m\n",
+              r.status.ToString().c_str(), r.steps_completed, r.steps_planned, r.com_rms_error_m.x(), r.com_rms_error_m.y(), r.com_rms_error_m.z(), clipped,
+              samples, worst_excess);
+  EXPECT_GT(samples, 1000);
+  EXPECT_GT(clipped, 0) << "the saturation never acted: the test does not exercise it";
+  EXPECT_LE(worst_excess, 0.0);
+  EXPECT_TRUE(r.success) << r.status.ToString();
+  EXPECT_EQ(r.steps_completed, r.steps_planned);
+}
+
+
+// The controller seam's `desired` layout as walking_diagram.h documents it (task names, rows per third, 18 rows), and
+// on the diagram's own outputs block against the plan: at the end of the first single support, rows 0-2 of y_d and
+// ẏ_d are the plan's COM position and velocity, and the swing ankle's x, y rows are the plan's foothold for that foot.
+TEST(WalkingRun, TheDesiredLayoutIsTheDocumentedOneAndCarriesThePlan) {
+  auto model = test::LoadRobot("exoskeleton");
+  const std::vector<WalkingTaskRows> layout = WalkingDesiredLayout(WalkingControllerTasks(*model));
+  const std::vector<WalkingTaskRows> documented = {{"com", 0, 3},         {"pelvis_roll", 3, 1}, {"pelvis_pitch", 4, 1},           {"pelvis_yaw", 5, 1},
+                                                   {"left_ankle", 6, 3},  {"left_foot_orientation", 9, 3}, {"right_ankle", 12, 3}, {"right_foot_orientation", 15, 3}};
+  ASSERT_EQ(layout.size(), documented.size());
+  for (size_t i = 0; i < layout.size(); ++i) {
+    EXPECT_EQ(layout[i].name, documented[i].name);
+    EXPECT_EQ(layout[i].row, documented[i].row) << documented[i].name;
+    EXPECT_EQ(layout[i].size, documented[i].size) << documented[i].name;
+  }
+  const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(WalkingGait{}, 2, 1, &cache, stand));
+  const WalkingPlanSegment* ssp = nullptr;
+  for (const WalkingPlanSegment& seg : d.plan.segments())
+    if (ssp == nullptr && seg.domain != WalkingDomain::kDoubleSupport) ssp = &seg;
+  ASSERT_NE(ssp, nullptr);
+  const double t = ssp->start_time + ssp->duration - 1e-9;
+  std::unique_ptr<Context> context = d.diagram->CreateDefaultContext();
+  context->SetTime(t);
+  const Eigen::VectorXd& desired = d.outputs->EvalOutput(d.diagram->GetSubsystemContext(*d.outputs, *context), "desired");
+  ASSERT_EQ(desired.size(), 3 * 18);
+  const WalkingReference r = d.plan.Sample(t);
+  EXPECT_LT((desired.segment<3>(0) - r.com_position).norm(), 1e-9);
+  EXPECT_LT((desired.segment<3>(18) - r.com_velocity).norm(), 1e-9);
+  const bool right_swings = ssp->domain == WalkingDomain::kLeftStance;
+  const int ankle_row = right_swings ? 12 : 6;
+  const Eigen::Vector2d foothold = right_swings ? ssp->right_foothold : ssp->left_foothold;
+  EXPECT_LT((desired.segment<2>(ankle_row) - foothold).norm(), 1e-6);
 }
 
 }  // namespace

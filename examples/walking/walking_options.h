@@ -1,0 +1,33 @@
+#pragma once
+// The walking example's command line: its options, parsed into the library's parameter structs. Parsing only checks
+// the form of a value (a number, a list of numbers, one of the listed words); the ranges are the library's Validate()
+// (WalkingGait, StandToWalkParams, WalkingDiagramParams, WalkingRunParams), called by ValidateWalkingOptions.
+#include <cstdint>
+#include <string>
+
+#include "diagrams/walking/walking_diagram.h"
+#include "diagrams/walking/walking_run.h"
+#include "examples/common/cli.h"
+
+namespace rome::examples {
+
+struct WalkingOptions {
+  std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic
+  WalkingGait gait_a, gait_b;
+  int steps = 10;                          ///< periodic single supports per gait after each transition
+  std::uint32_t seed = 1;                  ///< seed of the NLP initial guesses
+  PlantKind plant = PlantKind::kHybrid;
+  StandToWalkParams stand;                 ///< its sole is set from the robot (SoleOf) before planning
+  WalkingDiagramParams diagram;
+  WalkingRunParams run;                    ///< start time and velocity set for the periodic scenario
+};
+
+/// Declares the options (with --scenario-file), their defaults and help.
+void DeclareWalkingOptions(CommandLine& cli);
+/// The options' values in the structs above. Throws std::invalid_argument naming the option for a value of the wrong
+/// form; ranges are left to ValidateWalkingOptions.
+WalkingOptions ParseWalkingOptions(const CommandLine& cli);
+/// The library's Validate() of every struct (a gait names its flag), and --steps in [1, 1000].
+void ValidateWalkingOptions(const WalkingOptions& options);
+
+}  // namespace rome::examples
