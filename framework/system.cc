@@ -372,6 +372,7 @@ void LeafSystem::CalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd
     xdot->resize(0);
     return;
   }
+  xdot->resize(num_continuous_states_);  // no allocation when it already has the size (the simulator's buffers)
   DoCalcTimeDerivatives(context, xdot);
 }
 

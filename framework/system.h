@@ -298,6 +298,7 @@ class LeafSystem : public System {
   int DeclareGuard(std::string name, int mode, ScalarWitnessCalc witness, CrossingDirection direction, ResetMap reset);
 
   // ---- Hooks. ----
+  /// ẋ of the continuous state; `xdot` arrives with num_continuous_states() elements (CalcTimeDerivatives sizes it).
   virtual void DoCalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd* xdot) const;
   /// Per-run scratch stored in the context (e.g. a QP workspace). Default: none.
   virtual std::any AllocateScratch() const { return {}; }

@@ -1,6 +1,7 @@
 #include "examples/common/cli.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -178,6 +179,20 @@ std::string CommandLine::ScenarioJson() const {
     else j[name] = v;
   }
   return j.dump(2);
+}
+
+std::string CommandLine::NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const {
+  const std::string prefix = program_ + ": ";
+  const std::string text = message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+  auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };
+  for (const auto& [parameter, option] : parameters) {
+    for (size_t at = text.find(parameter); at != std::string::npos; at = text.find(parameter, at + 1)) {
+      const size_t end = at + parameter.size();
+      if ((at > 0 && is_name_char(text[at - 1])) || (end < text.size() && is_name_char(text[end]))) continue;  // part of a longer name
+      return prefix + "--" + option + " " + Excerpt(Get(option), 200) + ": " + text;
+    }
+  }
+  return prefix + text;
 }
 
 std::string CommandLine::Get(const std::string& name) const {

@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rome::examples {
@@ -47,6 +48,11 @@ class CommandLine {
   std::string ScenarioJson() const;
 
   std::string Get(const std::string& name) const;
+  /// A library Validate() error told in the command line's terms: the first of `parameters` ({the parameter's name as
+  /// the library's message writes it, the option that sets it}) that `message` names gives
+  /// "PROGRAM: --OPTION VALUE: MESSAGE" (the program's own prefix is not repeated); a message naming none comes back as
+  /// it is (with the program's prefix).
+  std::string NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const;
   double GetDouble(const std::string& name) const;
   int GetInt(const std::string& name) const;
   /// Exactly `n` finite numbers separated by commas (`form` names them, e.g. "weight,kp,kd"): no empty item, no

@@ -93,6 +93,15 @@ Scenario ScenarioFromOptions(const examples::CommandLine& cli) {
 
 }  // namespace
 
+// The library parameter each option sets, as Validate()'s messages name it (for errors in the options' terms).
+const std::vector<std::pair<std::string, std::string>> kParameterOptions = {
+    {"reference.hops", "hops"}, {"apex_rise", "apex-rise"}, {"reference.jump_momentum_gain", "jump-momentum-gain"},
+    {"reference.flight_hip_pitch_follow", "flight-hip-follow"}, {"reference.landing_deflection_feedback", "landing-deflection-feedback"},
+    {"min_force_fraction", "landing-min-force"}, {"reference.landing_blend_s", "landing-blend"},
+    {"reference.jump_force_feedback", "jump-force-feedback"}, {"reference.jump_force_integral_per_s", "jump-force-integral"},
+    {"landing_u_regularization_scale", "landing-torque-regularization"}, {"bullet_plant.substeps", "bullet-substeps"},
+    {"duration_s", "duration"}};
+
 int main(int argc, char** argv) {
   examples::CommandLine cli("hopping", "Cassie hops on the spring-mass ROM's jump and landing plans (hopping paper).");
   DeclareOptions(cli);
@@ -110,8 +119,7 @@ int main(int argc, char** argv) {
     planners = std::make_unique<SpringMassHopPlanners>(*model, s.leg_stiffness, s.jump, s.landing);
     d = BuildHoppingDiagram(model, planners->leg_length, planners->jump, planners->landing, s.diagram, s.plant);
   } catch (const std::exception& e) {
-    const std::string what = e.what();
-    std::cerr << (what.rfind("hopping: ", 0) == 0 ? "" : "hopping: ") << examples::OneLine(what) << "\n";
+    std::cerr << cli.NameTheOption(examples::OneLine(e.what()), kParameterOptions) << "\n";
     return 1;
   }
 

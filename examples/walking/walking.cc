@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     else plan = BuildStandToWalkPlan(o.gait_a, planned, o.seed, plan_cache, &nlp, o.stand);
     examples::PrintPlanReport(nlp, o.stand);
   } catch (const std::invalid_argument& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << cli.NameTheOption(e.what(), examples::kWalkingParameterOptions) << "\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";

@@ -8,6 +8,16 @@
 
 namespace rome::examples {
 
+const std::vector<std::pair<std::string, std::string>> kWalkingParameterOptions = {
+    {"controller.force_band_halfwidth", "force-band"}, {"stance_stagger_m", "stance-stagger"},
+    {"standing_height_m", "com-heights"}, {"height_min_m", "com-heights"}, {"height_max_m", "com-heights"},
+    {"start_gait_step_length_m", "start-gait"}, {"start_gait_ssp_duration_s", "start-gait"}, {"start_gait_dsp_duration_s", "start-gait"},
+    {"start_gait_steps", "start-gait-steps"}, {"lead_in_step_length_m", "lead-in"}, {"lead_in_ssp_duration_s", "lead-in"},
+    {"lead_in_dsp_duration_s", "lead-in"}, {"lead_in_steps", "lead-in-steps"}, {"transition_min_ssp_duration_s", "transition-ssp"},
+    {"gait_change_max_force_fraction", "gait-change-max-force"}, {"periodic_max_force_fraction", "periodic-max-force"},
+    {"sagittal_cop_margin_m", "rom-cop-margin"}, {"swing.touchdown_velocity_mps", "touchdown-speed"},
+    {"foothold_tolerance_m", "foothold-tolerance"}, {"same step width", "gait-b"}};
+
 void DeclareWalkingOptions(CommandLine& cli) {
   cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> --start-gait-steps of the --start-gait -> gait A; a gait faster than the --lead-in gait (shorter T_SSP or T_DSP), or with no plan from the start gait, walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; the start and lead-in flags do not apply)")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")

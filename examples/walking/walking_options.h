@@ -22,6 +22,9 @@ struct WalkingOptions {
   WalkingRunParams run;                    ///< start time and velocity set for the periodic scenario
 };
 
+/// The library parameter each option sets, as the Validate() messages name it ({parameter, option}), so that an error
+/// names the option (CommandLine::NameTheOption).
+extern const std::vector<std::pair<std::string, std::string>> kWalkingParameterOptions;
 /// Declares the options (with --scenario-file), their defaults and help.
 void DeclareWalkingOptions(CommandLine& cli);
 /// The options' values in the structs above. Throws std::invalid_argument naming the option for a value of the wrong

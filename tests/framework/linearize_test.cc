@@ -104,6 +104,29 @@ TEST(Linearize, PendulumMatchesHandDerivedJacobians) {
   EXPECT_NEAR(lin.xdot0[1], -(Pendulum::g / Pendulum::l) * std::sin(theta) - Pendulum::b * omega + tau / (Pendulum::m * Pendulum::l * Pendulum::l), 1e-14);
 }
 
+// ẍ = −ω² x written element by element into xdot, as the simulator's contract allows (xdot arrives sized): Linearize
+// must hand it a sized vector too. A = [0 1; −ω² 0] exactly (central differences are exact on a linear system).
+class Oscillator final : public LeafSystem {
+ public:
+  Oscillator() : LeafSystem("oscillator") { DeclareContinuousState(Eigen::Vector2d(1.0, 0.0)); }
+  static constexpr double kOmega = 2.0;
+
+ private:
+  void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
+    (*xdot)[0] = c.continuous_state()[1];
+    (*xdot)[1] = -kOmega * kOmega * c.continuous_state()[0];
+  }
+};
+
+TEST(Linearize, ASystemWritingXdotByElementGetsASizedVector) {
+  const Oscillator oscillator;
+  auto context = oscillator.CreateDefaultContext();
+  const LinearSystemMatrices lin = Linearize(oscillator, *context, "", "");
+  Eigen::Matrix2d expected;
+  expected << 0.0, 1.0, -Oscillator::kOmega * Oscillator::kOmega, 0.0;
+  EXPECT_LT((lin.A - expected).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(Linearize, LeavesTheContextAsItWas) {
   Pendulum p;
   auto context = p.CreateDefaultLeafContext();

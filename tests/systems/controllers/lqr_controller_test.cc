@@ -98,7 +98,10 @@ TEST(LqrController, OutputIsAffineFeedbackAboutTheOperatingPoint) {
   auto context = lqr.CreateDefaultLeafContext();
   const Eigen::Vector4d x(0.1, -0.2, 0.3, 0.05);
   lqr.FixInputPort(*context, 0, x);
-  EXPECT_NEAR(lqr.EvalOutput(*context, "u")[0], (u0 - lqr.K() * (x - x0))[0], 1e-14);
+  const Eigen::Vector4d dx = x - x0;
+  const double expected = u0[0] - lqr.K().row(0).dot(dx);
+  const Eigen::VectorXd u = lqr.EvalOutput(*context, "u");
+  EXPECT_NEAR(u[0], expected, 1e-14);
 }
 
 // From a 0.15 rad tilt the closed loop returns to the upright with the cart back at p = 0. The slowest closed-loop
