@@ -1,7 +1,8 @@
 // bouncing_ball: the hybrid simulator's hello world. A ball dropped from --height bounces with
 // --restitution; every impact is found by CVODE's rootfinder and compared with the closed form.
 //
-// Writes a CSV log (--log), a JSON summary (--summary) and a PNG of height over time (--plots DIR).
+// Writes a CSV log (--log), a JSON summary (--summary, with the effective "scenario": give it back as --scenario-file to
+// run it again) and a PNG of height over time (--plots DIR).
 
 #include <chrono>
 #include <cmath>
@@ -21,9 +22,9 @@
 
 using namespace rome;
 
-int main(int argc, char** argv) {
-  examples::CommandLine cli("bouncing_ball",
-                            "Drops a ball and finds every impact exactly with CVODE's rootfinder; compares the impact times with the closed form.");
+namespace {
+
+void DeclareOptions(examples::CommandLine& cli) {
   cli.Option("restitution", "0.8", "coefficient of restitution e in [0, 1]")
       .Option("height", "1.0", "initial height [m]")
       .Option("gravity", "9.81", "gravitational acceleration [m/s^2]")
@@ -32,7 +33,31 @@ int main(int argc, char** argv) {
       .Option("log", "bouncing_ball.csv", "CSV log file (time, height, velocity every 1 ms)")
       .Option("summary", "bouncing_ball.json", "JSON summary file")
       .Option("plots", "", "directory for PNG plots (empty: no plots)")
-      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)")
+      .ScenarioFile({"log", "summary", "plots", "animation"});
+}
+
+// Height over time with the simulated and the closed-form impact times, as DIR/bouncing_ball_height.png.
+void WriteHeightPlot(const LogData& data, const std::vector<double>& impacts, const std::vector<double>& analytic,
+                     const std::string& restitution, const std::string& plots) {
+  std::filesystem::create_directories(plots);
+  visualization::Series h{"height", {}, {}, "lines"}, imp{"impacts (simulated)", impacts, std::vector<double>(impacts.size(), 0.0), "points pt 7"};
+  visualization::Series ana{"impacts (closed form)", analytic, std::vector<double>(analytic.size(), 0.0), "points pt 6 ps 2"};
+  for (size_t k = 0; k < data.times.size(); ++k) {
+    h.x.push_back(data.times[k]);
+    h.y.push_back(data.samples[k][0]);
+  }
+  std::string err;
+  if (!visualization::WritePlot({"Bouncing ball, e = " + restitution, "time [s]", "height [m]", {h, imp, ana}}, plots + "/bouncing_ball_height.png", &err))
+    std::cerr << "warning: " << err << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  examples::CommandLine cli("bouncing_ball",
+                            "Drops a ball and finds every impact exactly with CVODE's rootfinder; compares the impact times with the closed form.");
+  DeclareOptions(cli);
   try {
     if (!cli.Parse(argc, argv)) return 0;
     InstallInterruptHandlers();  // SIGINT/SIGTERM: the run stops, its outputs are written, exit 128 + signal
@@ -101,26 +126,13 @@ int main(int argc, char** argv) {
                               {"max_impact_time_error_s", max_err},
                               {"steps", sim.statistics().steps},
                               {"rhs_evals", sim.statistics().rhs_evals},
-                              {"wall_time_s", wall}};
+                              {"wall_time_s", wall},
+                              {"scenario", nlohmann::json::parse(cli.ScenarioJson())}};
     const std::string summary_path = cli.Get("summary");
     if (!summary_path.empty() && !examples::WriteOutputFile("bouncing_ball", summary_path, summary.dump(2) + "\n", "summary")) return 1;
     if (animation && !animation->WriteHtml(cli.Get("animation"), "ROME bouncing ball, e = " + cli.Get("restitution"), {}, &animation_error))
       std::cerr << "warning: " << animation_error << "\n";
-    const std::string plots = cli.Get("plots");
-    if (!plots.empty()) {
-      std::filesystem::create_directories(plots);
-      const auto& data = logger->log(log_ctx);
-      visualization::Series h{"height", {}, {}, "lines"}, imp{"impacts (simulated)", impacts, std::vector<double>(impacts.size(), 0.0), "points pt 7"};
-      visualization::Series ana{"impacts (closed form)", analytic, std::vector<double>(analytic.size(), 0.0), "points pt 6 ps 2"};
-      for (size_t k = 0; k < data.times.size(); ++k) {
-        h.x.push_back(data.times[k]);
-        h.y.push_back(data.samples[k][0]);
-      }
-      std::string err;
-      if (!visualization::WritePlot({"Bouncing ball, e = " + cli.Get("restitution"), "time [s]", "height [m]", {h, imp, ana}}, plots + "/bouncing_ball_height.png",
-                               &err))
-        std::cerr << "warning: " << err << "\n";
-    }
+    if (!cli.Get("plots").empty()) WriteHeightPlot(logger->log(log_ctx), impacts, analytic, cli.Get("restitution"), cli.Get("plots"));
     std::cout << "\n" << status.ToString() << "\n"
               << impacts.size() << " impacts; largest impact-time error against the closed form: " << max_err << " s\n"
               << sim.statistics().steps << " integrator steps, " << sim.statistics().rhs_evals << " right-hand-side evaluations, " << wall * 1e3

@@ -77,7 +77,8 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("resolve-at-events", "on", "on | off: the controller and the MPC re-solve at touchdown and lift-off (off: 1 kHz hold only)")
       .Flag("report-qp-failures", "print the task-space QP's failure messages (which constraints conflict) as they occur")
       .Option("plots", "", "directory for PNG plots (empty: none)")
-      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)");
+      .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)")
+      .ScenarioFile({"log", "summary", "plots", "animation"});
 }
 
 SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& cli) {

@@ -64,7 +64,8 @@ nlohmann::json SteppingStonesSummary(const SteppingStonesResult& r, const Steppi
                           {"root_evaluations", r.integrator.root_evals},
                           {"guard_events", r.integrator.guard_events},
                           {"discrete_samples", r.integrator.discrete_samples}}},
-          {"stones", stone_list}};
+          {"stones", stone_list},
+          {"scenario", nlohmann::json::parse(cli.ScenarioJson())}};
 }
 
 void WriteSteppingStonesPlots(const SteppingStonesDiagram& d, const Context& context, const SteppingStonesScenario& scenario, const std::string& energy_label,
