@@ -2,7 +2,8 @@
 # The install as a user gets it: `cmake --install --prefix` into one folder, then the whole prefix MOVED to another
 # (the install must be relocatable), and two outside projects built against the moved copy:
 #   tests/install/app       find_package(rome), rome::rome: walks AMBER 3 steps and uses a symbol of every library;
-#   tests/install/core_app  find_package(rome COMPONENTS core), rome::core: must link no Ipopt, Bullet or urdfdom.
+#   tests/install/core_app  find_package(rome COMPONENTS core), rome::core: must link no Ipopt, Bullet or urdfdom;
+#   tests/install/snippet_app  the README's C++ example, extracted from README.md: must build and walk.
 # Both run from an unrelated folder, with the source and build trees hidden behind empty mounts (a private mount
 # namespace through unshare, where the kernel allows one), and ROME_DATA_DIR unset: the robot must come from the moved
 # prefix. Then ROME_DATA_DIR, when set, must win. No installed file may name the source or the build folder.
@@ -31,6 +32,12 @@ for app in app core_app; do
     > "$work/$app.configure.log" 2>&1 || { cat "$work/$app.configure.log"; fail "$app does not configure"; }
   cmake --build "$work/$app" > "$work/$app.build.log" 2>&1 || { cat "$work/$app.build.log"; fail "$app does not build"; }
 done
+# The README's C++ example (its first ```cpp block) builds against the install, and walks.
+awk '/^```cpp$/ { inside = 1; next } /^```$/ { if (inside) exit } inside' "$src/README.md" > "$work/readme_snippet.cc"
+grep -q "int main" "$work/readme_snippet.cc" || fail "README.md has no C++ example with a main"
+cmake -S "$src/tests/install/snippet_app" -B "$work/snippet_app" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" \
+  -DSNIPPET="$work/readme_snippet.cc" "${launcher[@]}" > "$work/snippet.configure.log" 2>&1 || { cat "$work/snippet.configure.log"; fail "the README example does not configure"; }
+cmake --build "$work/snippet_app" > "$work/snippet.build.log" 2>&1 || { cat "$work/snippet.build.log"; fail "the README example does not build"; }
 if ldd "$work/core_app/core_app" | grep -Ei "ipopt|bullet|urdf"; then fail "core_app links a library outside ROME's core"; fi
 
 # Runs "$@" from $work/elsewhere with ROME_DATA_DIR unset and, where allowed, the source and build trees hidden.
@@ -50,6 +57,9 @@ echo "$out"
 grep -qxF "robot file: $prefix/share/rome/robots/amber/amber.rome.json" <<< "$out" || fail "the robot did not come from the moved prefix"
 out="$(hidden "$work/core_app/core_app")" || { echo "$out"; fail "core_app failed"; }
 echo "$out"
+out="$(hidden "$work/snippet_app/snippet")" || { echo "$out"; fail "the README example did not walk"; }
+echo "README example: $out"
+grep -q "^walked: " <<< "$out" || fail "the README example did not walk"
 
 # An explicit ROME_DATA_DIR wins over the installed data.
 mkdir -p "$work/own/robots"
