@@ -71,6 +71,8 @@ double HoppingRunDuration(const HoppingDiagram& d, const HoppingRunParams& param
 
 HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const HoppingRunParams& params, const SpringMassHopPlanners* planners) {
   params.Validate();
+  if (!d.reference->initialized(d.diagram->GetSubsystemContext(*d.reference, sim.get_context())))
+    throw std::invalid_argument("RunHopping: the initial state is not set: call SetHoppingInitialState(diagram, context, q) before running");
   const double apex_rise = std::isnan(params.apex_rise_m) && planners ? planners->jump_params.apex_rise : params.apex_rise_m;
   if (std::isnan(apex_rise)) throw std::invalid_argument("RunHopping: HoppingRunParams::apex_rise_m = nan needs the planners (got none)");
   const MultibodyModel& model = *d.model;
@@ -231,7 +233,7 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
   r.hopped = r.liftoff_s > 0 && r.touchdown_s > 0 && com_max - com_liftoff >= params.min_com_rise_fraction * apex_rise;
   const bool ran = r.status.ok() || r.status.reason == SimulatorStatus::Reason::kReachedTermination;
   r.success = ran && r.hopped && r.settled && r.contact.violations == 0;
-  r.status_kind = ran ? (r.success ? "success" : "limit") : r.status.kind_name();
+  r.status_kind = ran ? (r.success ? "success" : "failure") : r.status.kind_name();  // judged by the success rule, never a "limit"
   r.air_time_s = r.liftoff_s > 0 && r.touchdown_s > 0 ? r.touchdown_s - r.liftoff_s : NAN;
   r.com_rise_m = r.liftoff_s > 0 ? com_max - com_liftoff : NAN;
   const Eigen::VectorXd& plan_status = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, context), "plan_status");

@@ -74,7 +74,7 @@ struct HoppingSample {
 struct HoppingRunResult {
   SimulatorStatus status;
   bool success = false, hopped = false, settled = false;
-  std::string status_kind;  ///< "success"; "limit" when the run ended without failure but missed the rule; else the status kind
+  std::string status_kind;  ///< "success" or "failure" by the success rule when the run ended normally; else the status kind
   int touchdowns = 0;       ///< hops landed
   double jump_start_s = -1, liftoff_s = -1, touchdown_s = -1;  ///< the first hop's
   double air_time_s = NAN, foot_clearance_m = 0, com_rise_m = NAN, takeoff_time_error_s = NAN;

@@ -51,7 +51,8 @@ double WalkingRunEndTime(const WalkingPlan& plan, const WalkingRunParams& params
 }
 
 std::string WalkingRunResult::status_kind() const {
-  return interrupted ? "interrupted" : fell ? "failed" : "limit";
+  // The run always goes to the plan's end: reaching it is judged by the success rule, never left as a "limit".
+  return interrupted ? "interrupted" : success ? "success" : "failure";
 }
 
 std::string WalkingRunResult::ToJson() const {

@@ -105,7 +105,7 @@ struct WalkingRunResult {
   double qp_infeasible_ticks = 0, qp_fallbacks = 0, clf_row_active_fraction = 0, clf_relaxation_max = 0;
   double qp_solve_us_median = 0, qp_solve_us_p99 = 0;
   double realtime_factor() const { return wall_s > 0 ? simulated_s / wall_s : 0.0; }
-  /// "interrupted", "failed" or "limit" (the summary's status_kind).
+  /// "interrupted", "success" or "failure" (the summary's status_kind; the same words as SimulatorStatus::kind_name).
   std::string status_kind() const;
   /// The run's metrics as JSON object text: the walking example's summary fields (success, status_kind, steps_completed,
   /// steps_planned, the pre-impact states and their change, COM and pelvis errors, band, contact and QP figures).

@@ -247,6 +247,9 @@ LegLengthPlan HoppingReference::landing_plan(const LeafContext& context) const {
           xd.segment(landing_plan_offset_ + 1 + 4 * N, n), xd.segment(landing_plan_offset_ + 1 + 5 * N, n), xd.segment(landing_plan_offset_ + 1 + 6 * N, n)};
 }
 
+// Initialize holds the standing leg length (> 0); the declared default state holds 0.
+bool HoppingReference::initialized(const LeafContext& context) const { return context.discrete_state()[kHoldL] > 0.0; }
+
 double HoppingReference::domain_start_time(const LeafContext& context) const { return context.discrete_state()[kDomainStart]; }
 
 void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* y) const {

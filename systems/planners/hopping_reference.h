@@ -158,6 +158,8 @@ class HoppingReference final : public LeafSystem {
   RomState MeasureRomState(MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v) const;
   /// Sets the state to "settle in landing" at the context's time with the standing leg length of q held.
   void Initialize(LeafContext& context, const Eigen::VectorXd& q) const;
+  /// Whether Initialize has run on this context (a forgotten initial state is reported by name, not simulated).
+  bool initialized(const LeafContext& context) const;
   /// Node plans currently held (for logs and tests). A plan written without x, ẋ or force, stiffness comes back with
   /// those vectors NaN-filled (n nodes), not empty.
   LegLengthPlan jump_plan(const LeafContext& context) const;

@@ -346,6 +346,25 @@ TEST(HoppingRun, HeaderSnippetHopsAndTheComRiseIsBallistic) {
 
 // Out-of-range parameters from C++ fail at once (before any planner runs or the simulation starts), with a message
 // that names the field and the value.
+// A run whose initial state was never set is refused at once, naming the call to make (not simulated from q = 0).
+TEST(HoppingRun, AForgottenInitialStateNamesTheCallToMake) {
+  auto model = LoadCassie();
+  int planner_calls = 0;
+  auto planner = [&](const RomState&, LegLengthPlan*, std::string*) { return ++planner_calls > 0; };
+  HoppingDiagram d = BuildHoppingDiagram(model, test::SpecLegLength, planner, nullptr, HoppingDiagramParams{});
+  Simulator sim(*d.diagram, HoppingSimulatorConfig());
+  HoppingRunParams run;
+  run.apex_rise_m = 0.2;
+  try {
+    RunHopping(d, sim, run, nullptr);
+    FAIL() << "a run without its initial state was simulated";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("call SetHoppingInitialState(diagram, context, q)"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(planner_calls, 0);
+  EXPECT_EQ(sim.get_context().time(), 0.0);
+}
+
 TEST(HoppingDiagram, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
   auto model = LoadCassie();
   int planner_calls = 0;
