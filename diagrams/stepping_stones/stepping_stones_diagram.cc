@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -199,14 +200,49 @@ SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStone
   };
 }
 
+namespace {
+
+// "SteppingStonesDiagramParams: <field> = <value> [unit] is outside <range>" unless lo <= value <= hi (lo excluded when
+// lo_open); NaN is always outside.
+void RequireIn(const char* field, double value, double lo, double hi, bool lo_open, const char* unit) {
+  if ((lo_open ? value > lo : value >= lo) && value <= hi) return;
+  std::ostringstream out;
+  out << "SteppingStonesDiagramParams: " << field << " = " << value << (*unit ? " " : "") << unit << " is outside " << (lo_open ? "(" : "[") << lo
+      << ", " << hi << "]" << (*unit ? " " : "") << unit;
+  throw std::invalid_argument(out.str());
+}
+
+void RequireGains(const char* name, const TaskGains& g) {
+  const std::string n(name);
+  RequireIn((n + ".weight").c_str(), g.weight, 0.0, 1e6, false, "");
+  RequireIn((n + ".kp").c_str(), g.kp, 0.0, 1e6, false, "1/s^2");
+  RequireIn((n + ".kd").c_str(), g.kd, 0.0, 1e5, false, "1/s");
+}
+
+}  // namespace
+
+void SteppingStonesDiagramParams::Validate() const {
+  // E* > 0: the LIP crosses the stance foot and walks forwards (E* <= 0 turns back before reaching the stone).
+  RequireIn("target_orbital_energy", target_orbital_energy, 0.0, 10.0, true, "m^2/s^2");
+  RequireIn("impact_fraction", impact_fraction, 0.0, 1.0 - 1e-9, true, "");
+  RequireIn("log_period_s", log_period_s, 1e-4, 10.0, false, "s");
+  RequireIn("initial_com_x_m", initial_com_x_m, -0.5, 0.5, false, "m");
+  RequireIn("supervisor.max_steps", supervisor.max_steps, 1, 10000, false, "");
+  RequireIn("outputs.swing_foot.clearance", outputs.swing_foot.clearance, 0.0, 1.0, true, "m");
+  RequireIn("mpc.hold_plan_below_horizon_s", mpc.hold_plan_below_horizon_s, 0.0, 10.0, false, "s");
+  if (!std::isnan(clf_com_height_weight)) RequireIn("clf_com_height_weight", clf_com_height_weight, 0.0, 1000.0, true, "");
+  RequireIn("clf_controller.update_period_s", clf_controller.update_period_s, 1e-5, 1.0, false, "s");
+  RequireIn("controller.friction_margin", controller.friction_margin, 0.0, 1.0, true, "");
+  RequireIn("controller.min_normal_force_N", controller.min_normal_force_N, 0.0, 1e4, false, "N");
+  RequireGains("torso_gains", torso_gains);
+  RequireGains("com_height_gains", com_height_gains);
+  RequireGains("swing_foot_gains", swing_foot_gains);
+  RequireGains("swing_foot_pitch_gains", swing_foot_pitch_gains);
+}
+
 SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
                                                  const SteppingStonesControllerFactory& controller, PlantKind plant) {
-  // E* > 0: the LIP crosses the stance foot and walks forwards (E* <= 0 turns back before reaching the stone).
-  if (!(params.target_orbital_energy > 0) || !std::isfinite(params.target_orbital_energy))
-    throw std::invalid_argument("BuildSteppingStonesDiagram: target_orbital_energy (E*) must be positive, got " + std::to_string(params.target_orbital_energy) +
-                                " m^2/s^2");
-  if (!(params.impact_fraction > 0 && params.impact_fraction < 1))
-    throw std::invalid_argument("BuildSteppingStonesDiagram: impact_fraction (epsilon) must be in (0, 1), got " + std::to_string(params.impact_fraction));
+  params.Validate();
   SteppingStonesDiagram d;
   d.model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(params.robot_sidecar));
   const auto& model = *d.model;

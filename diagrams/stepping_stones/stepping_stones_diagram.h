@@ -151,6 +151,12 @@ struct SteppingStonesDiagramParams {
   /// walking height = the nominal standing pose's COM height above its soles (hopping spec C.12: z0), gains from the
   /// RoMoCo-like Cassie anchors (Kp 150-600 1/s², Kd 2-40 1/s).
   static SteppingStonesDiagramParams ForRobot(const std::string& sidecar);
+  /// Throws std::invalid_argument naming the field, the value and the allowed range (ranges ours: bounded work and a
+  /// meaningful gait): E* in (0, 10] m²/s², ε in (0, 1), log period [1e-4, 10] s, initial COM x [-0.5, 0.5] m, max_steps
+  /// [1, 10000], swing clearance (0, 1] m, MPC hold [0, 10] s, CLF COM weight (0, 1000] (or NaN), CLF period
+  /// [1e-5, 1] s, friction margin (0, 1], min normal force [0, 1e4] N, task weights [0, 1e6], kp [0, 1e6], kd [0, 1e5].
+  /// BuildSteppingStonesDiagram calls it first.
+  void Validate() const;
 
   static TaskSpaceQpParams DefaultControllerParams() {
     TaskSpaceQpParams p;

@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     if (!cli.Get("plots").empty()) examples::WriteSteppingStonesPlots(d, sim.get_context(), scenario, cli.Get("energy"), cli.Get("plots"));
     return examples::PrintSteppingStonesReport(result, scenario);
   } catch (const std::exception& e) {
-    std::cerr << "error: " << examples::OneLine(e.what()) << "\n";
+    std::cerr << "error: " << cli.NameTheOption(examples::OneLine(e.what()), examples::kSteppingStonesParameterOptions) << "\n";
     return 1;
   }
 }

@@ -81,9 +81,23 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .ScenarioFile({"log", "summary", "plots", "animation"});
 }
 
+const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterOptions = [] {
+  std::vector<std::pair<std::string, std::string>> t = {
+      {"target_orbital_energy", "energy"}, {"impact_fraction", "epsilon"}, {"log_period_s", "log-period"},
+      {"initial_com_x_m", "initial-com-x"}, {"supervisor.max_steps", "steps"}, {"outputs.swing_foot.clearance", "swing-clearance"},
+      {"mpc.hold_plan_below_horizon_s", "mpc-hold"}, {"clf_com_height_weight", "clf-com-weight"},
+      {"clf_controller.update_period_s", "clf-rate"}, {"controller.friction_margin", "friction-margin"},
+      {"controller.min_normal_force_N", "min-normal-force"}};
+  for (const auto& [gains, option] : std::vector<std::pair<std::string, std::string>>{
+           {"torso_gains", "torso-gains"}, {"com_height_gains", "com-gains"}, {"swing_foot_gains", "swing-gains"}, {"swing_foot_pitch_gains", "foot-pitch-gains"}})
+    for (const char* element : {".weight", ".kp", ".kd"}) t.emplace_back(gains + element, option);
+  return t;
+}();
+
 SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& cli) {
   const int steps = cli.GetInt("steps");
-  // Ranges (ours): bounded work and physically meaningful gaits; each error names the option and the value.
+  // Ranges of the diagram's parameters are the library's (SteppingStonesDiagramParams::Validate, below); the terrain's
+  // (ours) are checked here, each error naming the option and the value.
   auto in_range = [&](const std::string& name, double lo, double hi, bool lo_open) {
     const double v = cli.GetDouble(name);
     if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi))
@@ -91,21 +105,11 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
                                   FormatNumber(hi) + "], got " + cli.Get(name));
     return v;
   };
-  if (steps < 1 || steps > 10000) throw std::invalid_argument("stepping_stones: --steps must be in [1, 10000], got " + cli.Get("steps"));
-  in_range("energy", 0.0, 10.0, true);  // E* > 0: the robot walks forwards (E* <= 0 turns back before the stone)
-  in_range("epsilon", 0.0, 1.0, true);
-  const double log_period = in_range("log-period", 1e-4, 10.0, false);
-  const double log_rows = (3.0 * steps + 2.0) / log_period;
-  if (!cli.Get("log").empty() && log_rows > 5e6)
-    throw std::invalid_argument("stepping_stones: --log-period " + cli.Get("log-period") + " s over up to " + std::to_string(3 * steps + 2) + " s would log " +
-                                std::to_string(static_cast<long>(log_rows)) + " rows (limit 5e6); raise --log-period or lower --steps");
   if (cli.Get("stone-length") != "default") in_range("stone-length", 0.0, 1.0, true);
-  in_range("swing-clearance", 0.0, 1.0, true);
   if (cli.Get("terrain") == "flat" || cli.Get("terrain") == "stairs-up" || cli.Get("terrain") == "stairs-down") in_range("step-length", 0.0, 5.0, true);
   // Output files are checked before the simulation, so a long run is not lost to a typo.
   cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
   SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot(cli.Get("robot"));
-  const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
   auto gains = [&](const std::string& flag, TaskGains* g) {
     if (cli.Get(flag) == "default") return;
     const std::vector<double> v = cli.GetNumbers(flag, 3, "weight,kp,kd");
@@ -132,25 +136,15 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   params.controller.resolve_at_events = params.mpc.resolve_at_events = params.clf_controller.resolve_at_events = cli.Get("resolve-at-events") == "on";
   params.clf_controller.contact.friction_margin = params.controller.friction_margin;
   params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
-  if (cli.Get("mpc-hold") != "default") {
-    const double hold = cli.GetDouble("mpc-hold");
-    if (!(hold >= 0 && hold <= 10)) throw std::invalid_argument("stepping_stones: --mpc-hold must be in [0, 10] s, got " + cli.Get("mpc-hold"));
-    params.mpc.hold_plan_below_horizon_s = hold;
-  }
+  if (cli.Get("mpc-hold") != "default") params.mpc.hold_plan_below_horizon_s = cli.GetDouble("mpc-hold");
   if (cli.Get("clf-com-weight") != "default") {
-    const double w = cli.GetDouble("clf-com-weight");
-    if (!(w > 0 && w <= 1000)) throw std::invalid_argument("stepping_stones: --clf-com-weight must be in (0, 1000], got " + cli.Get("clf-com-weight"));
     if (cli.Get("controller") != "clf-qp")
       throw std::invalid_argument("stepping_stones: --clf-com-weight applies to --controller clf-qp only (got --controller " + cli.Get("controller") + ")");
-    params.clf_com_height_weight = w;
+    params.clf_com_height_weight = cli.GetDouble("clf-com-weight");
   }
   if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
   if (cli.Get("clf-relaxation-weight") != "default") params.clf_controller.relaxation_weight = cli.GetDouble("clf-relaxation-weight");
-  if (cli.Get("clf-rate") != "default") {
-    const double rate = cli.GetDouble("clf-rate");
-    if (!(rate > 0 && rate <= 1e5)) throw std::invalid_argument("stepping_stones: --clf-rate must be in (0, 1e5] Hz, got " + cli.Get("clf-rate"));
-    params.clf_controller.update_period_s = 1.0 / rate;
-  }
+  if (cli.Get("clf-rate") != "default") params.clf_controller.update_period_s = 1.0 / cli.GetDouble("clf-rate");
   if (cli.Get("clf-cone-offset") != "default") params.clf_controller.contact.friction_cone_offset_N = cli.GetDouble("clf-cone-offset");
   if (cli.Get("clf-cost-only") == "none") {
     params.clf_controller.cost_only_outputs.clear();
@@ -169,6 +163,7 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
       throw std::invalid_argument("stepping_stones: --clf-cost-pd must be 'on', 'off' or 'default', got '" + cli.Get("clf-cost-pd") + "'");
     params.clf_controller.cost_pd_feedback = cli.Get("clf-cost-pd") == "on";
   }
+  params.Validate();  // the library's ranges, before the controller and the terrain (--steps sizes it) are made
   SteppingStonesControllerFactory controller;
   if (cli.Get("controller") == "clf-qp")
     controller = ClfQpControllerFactory(params);
@@ -182,6 +177,11 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
     params.outputs.swing_foot.apex_shape = SwingApexShape::kControlPoints;
   else
     throw std::invalid_argument("stepping_stones: --swing-apex must be 'paper', 'exact' or 'clear', got '" + cli.Get("swing-apex") + "'");
+  const double log_rows = (3.0 * steps + 2.0) / params.log_period_s;
+  if (!cli.Get("log").empty() && log_rows > 5e6)
+    throw std::invalid_argument("stepping_stones: --log-period " + cli.Get("log-period") + " s over up to " + std::to_string(3 * steps + 2) + " s would log " +
+                                std::to_string(static_cast<long>(log_rows)) + " rows (limit 5e6); raise --log-period or lower --steps");
+  const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
   return {params, terrain, controller, ParsePlantKind(cli.Get("plant"), "stepping_stones: --plant"), steps};
 }
 

@@ -6,6 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
+#include <string>
+
 #include "tests/diagrams/stepping_stones/stepping_stones_walk.h"
 
 namespace rome {
@@ -297,6 +301,30 @@ TEST(SteppingStonesDiagram, ForgottenInitialStateNamesTheCall) {
   Simulator ok(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, ok.get_mutable_context());
   EXPECT_TRUE(ok.AdvanceTo(0.01).ok());
+}
+
+// The library checks the parameters' ranges before it builds anything, naming the field and the value; the program's
+// options go through the same check (tests/bad_inputs/catalogue.tsv: --energy, --epsilon, --torso-gains ...).
+TEST(SteppingStonesDiagram, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
+  const Terrain flat = PeriodicSteppingStones(0.4, 0.0, 6);
+  auto error_of = [&](const std::function<void(SteppingStonesDiagramParams&)>& change) {
+    SteppingStonesDiagramParams params;
+    change(params);
+    try {
+      BuildSteppingStonesDiagram(flat, params);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_of([](auto& p) { p.target_orbital_energy = 0.0; }),
+            "SteppingStonesDiagramParams: target_orbital_energy = 0 m^2/s^2 is outside (0, 10] m^2/s^2");
+  EXPECT_NE(error_of([](auto& p) { p.impact_fraction = 1.0; }).find("impact_fraction = 1 is outside (0,"), std::string::npos);
+  EXPECT_NE(error_of([](auto& p) { p.torso_gains.kp = 1e308; }).find("torso_gains.kp = 1e+308 1/s^2 is outside [0, 1e+06]"), std::string::npos);
+  EXPECT_NE(error_of([](auto& p) { p.controller.min_normal_force_N = 1e308; }).find("controller.min_normal_force_N = 1e+308 N"), std::string::npos);
+  EXPECT_NE(error_of([](auto& p) { p.initial_com_x_m = 5.0; }).find("initial_com_x_m = 5 m is outside [-0.5, 0.5] m"), std::string::npos);
+  EXPECT_NE(error_of([](auto& p) { p.log_period_s = std::nan(""); }).find("log_period_s = nan"), std::string::npos);
+  EXPECT_EQ(error_of([](auto&) {}), "no error");
 }
 
 TEST(SteppingStonesDiagram, TerrainHelpersRejectBadInput) {
