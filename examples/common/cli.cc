@@ -82,6 +82,39 @@ bool CommandLine::Parse(int argc, char** argv) {
   return true;
 }
 
+bool CommandLine::IsSet(const std::string& name) const {
+  const auto d = decls_.find(name);
+  if (d == decls_.end()) throw std::logic_error(program_ + ": option '--" + name + "' was never declared");
+  const std::string value = Get(name), default_value = d->second.default_value;
+  if (value == default_value) return false;
+  if (d->second.is_flag) return !value.empty();
+  // Numbers and lists of numbers by value ("0.30,0.40" is "0.3,0.4").
+  auto numbers = [](const std::string& text) {
+    std::vector<double> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+      size_t used = 0;
+      try {
+        out.push_back(std::stod(item, &used));
+      } catch (const std::exception&) {
+        return std::vector<double>{};
+      }
+      if (used != item.size()) return std::vector<double>{};
+    }
+    return out;
+  };
+  const std::vector<double> a = numbers(value), b = numbers(default_value);
+  return a.empty() || a != b;
+}
+
+void CommandLine::RequireModeFor(const std::string& option, const std::string& mode, const std::vector<std::string>& modes) const {
+  if (!IsSet(option) || std::find(modes.begin(), modes.end(), Get(mode)) != modes.end()) return;
+  std::string allowed;
+  for (const std::string& m : modes) allowed += (allowed.empty() ? "" : "|") + m;
+  throw std::invalid_argument(program_ + ": --" + option + " applies to --" + mode + " " + allowed + " only (got --" + mode + " " + Excerpt(Get(mode), 80) +
+                              "); leave --" + option + " out");
+}
+
 std::string CommandLine::NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const {
   const std::string prefix = program_ + ": ";
   const std::string text = message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;

@@ -59,6 +59,12 @@ class CommandLine {
   /// trailing junk or comma. std::invalid_argument "PROGRAM: --NAME expects N numbers FORM, got 'VALUE'" otherwise.
   std::vector<double> GetNumbers(const std::string& name, int n, const std::string& form) const;
   bool GetFlag(const std::string& name) const;
+  /// Whether option `name` holds other than its default (given on the command line or in a scenario file; numbers and
+  /// lists of numbers compared by value, so a summary's scenario, which writes every default, sets nothing).
+  bool IsSet(const std::string& name) const;
+  /// A flag the chosen mode ignores is an error, never dropped: throws std::invalid_argument
+  /// "PROGRAM: --OPTION applies to --MODE A|B only (got --MODE C)" when `option` is set and `mode` is not one of `modes`.
+  void RequireModeFor(const std::string& option, const std::string& mode, const std::vector<std::string>& modes) const;
   std::string Help() const;
   /// Checks, before a long run, that the output options can be written: each of `files` (when not empty) is not a
   /// folder and its folder exists and is writable (nothing is created or opened), no two of them name the same file,

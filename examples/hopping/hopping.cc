@@ -68,6 +68,7 @@ struct Scenario {
 Scenario ScenarioFromOptions(const examples::CommandLine& cli) {
   Scenario s;
   s.plant = ParsePlantKind(cli.Get("plant"), "--plant");
+  cli.RequireModeFor("bullet-substeps", "plant", {"bullet"});  // a flag the chosen plant ignores is an error
   try {
     s.leg_stiffness = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
   } catch (const std::exception&) {

@@ -96,6 +96,10 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
 
 SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& cli) {
   const int steps = cli.GetInt("steps");
+  // A flag the chosen controller or plant ignores is an error naming both.
+  for (const char* clf : {"clf-relaxation-weight", "clf-rate", "clf-cone-offset", "clf-cost-only", "clf-hold-drift", "clf-cost-pd", "clf-com-weight", "clf-epsilon"})
+    cli.RequireModeFor(clf, "controller", {"clf-qp"});
+  cli.RequireModeFor("unilateral-contact", "plant", {"hybrid"});
   // Ranges of the diagram's parameters are the library's (SteppingStonesDiagramParams::Validate, below); the terrain's
   // (ours) are checked here, each error naming the option and the value.
   auto in_range = [&](const std::string& name, double lo, double hi, bool lo_open) {
@@ -137,11 +141,7 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   params.clf_controller.contact.friction_margin = params.controller.friction_margin;
   params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
   if (cli.Get("mpc-hold") != "default") params.mpc.hold_plan_below_horizon_s = cli.GetDouble("mpc-hold");
-  if (cli.Get("clf-com-weight") != "default") {
-    if (cli.Get("controller") != "clf-qp")
-      throw std::invalid_argument("stepping_stones: --clf-com-weight applies to --controller clf-qp only (got --controller " + cli.Get("controller") + ")");
-    params.clf_com_height_weight = cli.GetDouble("clf-com-weight");
-  }
+  if (cli.Get("clf-com-weight") != "default") params.clf_com_height_weight = cli.GetDouble("clf-com-weight");
   if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
   if (cli.Get("clf-relaxation-weight") != "default") params.clf_controller.relaxation_weight = cli.GetDouble("clf-relaxation-weight");
   if (cli.Get("clf-rate") != "default") params.clf_controller.update_period_s = 1.0 / cli.GetDouble("clf-rate");

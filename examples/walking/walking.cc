@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
     return 3;
   }
   nlohmann::json scenario = nlohmann::json::parse(cli.ScenarioJson());
-  scenario["start-gait-steps"] = o.stand.start_gait_steps;  // "auto" resolved
+  if (o.scenario != "periodic") scenario["start-gait-steps"] = o.stand.start_gait_steps;  // "auto" resolved (periodic: no start gait)
   const nlohmann::json s = examples::WalkingSummary(run, d, nlp, o.scenario, o.stand, compensation_s, plan_torques, o.plant, scenario);
   if (!cli.Get("summary").empty() && !examples::WriteOutputFile("walking", cli.Get("summary"), s.dump(2) + "\n", "summary")) return 1;
   if (!cli.Get("log").empty() && !examples::WriteOutputFile("walking", cli.Get("log"), recorder.log(), "log")) return 1;

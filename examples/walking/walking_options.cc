@@ -76,6 +76,11 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingOptions o;
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
   o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic"});
+  // A flag the chosen scenario or plant ignores is an error (the periodic scenario starts on gait A's orbit).
+  for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps", "transition-ssp", "gait-change-max-force"})
+    cli.RequireModeFor(standing, "scenario", {"stand-to-walk", "gait-change"});
+  cli.RequireModeFor("gait-b", "scenario", {"gait-change"});
+  cli.RequireModeFor("joint-limits", "plant", {"bullet"});
   o.gait_a = Gait(cli, "gait-a");
   o.gait_b = Gait(cli, "gait-b");
   o.steps = cli.GetInt("steps");
