@@ -338,6 +338,11 @@ void Simulator::set_monitor(Monitor monitor) {
   if (monitor) add_monitor(std::move(monitor));
 }
 
+int Simulator::remove_monitor(const std::string& name) {
+  const auto removed = std::erase_if(monitors_, [&](const NamedMonitor& m) { return m.name == name; });
+  return static_cast<int>(removed);
+}
+
 void Simulator::add_monitor(Monitor monitor, std::string name) {
   if (!monitor) throw std::invalid_argument("Simulator::add_monitor: monitor '" + name + "' is an empty function");
   monitors_.push_back({std::move(monitor), std::move(name)});

@@ -152,6 +152,9 @@ class Simulator {
   /// Appends a monitor: it runs after every accepted step, after those added before it. A monitor that returns
   /// anything but EventStatus::Succeeded() ends the run; the status names `name` as the system that ended it.
   void add_monitor(Monitor monitor, std::string name = "monitor");
+  /// Removes every monitor named `name`; returns how many there were. A run function that added its own monitor
+  /// removes it this way before it returns (also when the run throws), leaving the caller's monitors in place.
+  int remove_monitor(const std::string& name);
   int num_monitors() const { return static_cast<int>(monitors_.size()); }
 
   /// Reads the state from the context and prepares the integrator. Called by AdvanceTo if needed; call it

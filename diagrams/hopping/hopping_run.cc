@@ -100,7 +100,12 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
   const bool stop_after_last = params.duration_s <= 0;
   const bool has_qp_failures = d.diagram->HasOutputPort("qp_failures");
   double last_progress = 0;
-  sim.set_monitor([&](const Context& c) {
+  // The run's monitor refers to this function's locals: it is removed when the function leaves, also by an exception.
+  struct RemoveMonitor {
+    Simulator& sim;
+    ~RemoveMonitor() { sim.remove_monitor("hopping_run"); }
+  } remove_monitor{sim};
+  sim.add_monitor([&](const Context& c) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
     const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
     r.contact.Record(*d.plant, pc);
@@ -198,13 +203,13 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
       *params.progress << "  t = " << t << " s, domain " << domain << "\n";
     }
     return EventStatus::Succeeded();
-  });
+  }, "hopping_run");
 
   const double duration = HoppingRunDuration(d, params);
   const auto wall0 = std::chrono::steady_clock::now();
   r.status = sim.AdvanceTo(duration);
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  sim.set_monitor(nullptr);  // the monitor refers to this function's locals
+  sim.remove_monitor("hopping_run");  // before the metrics: the monitor refers to this function's locals
 
   // Metrics.
   std::vector<double> jr, jm, lr, lm, st, sg;

@@ -56,8 +56,16 @@ SteppingStonesResult RunSteppingStones(const SteppingStonesDiagram& d, Simulator
   if (!(options.chunk_s > 0)) throw std::invalid_argument("RunSteppingStones: options.chunk_s must be positive, got " + std::to_string(options.chunk_s) + " s");
   const LeafContext& sup_ctx = d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context());
   const double max_time = std::isnan(options.max_time_s) ? 3.0 * d.supervisor->params().max_steps + 2.0 : options.max_time_s;
+  if (!(max_time > 0 && max_time <= kMaxRunTime_s))
+    throw std::invalid_argument("RunSteppingStones: options.max_time_s must be NaN or in (0, " + std::to_string(kMaxRunTime_s) + "] s, got " +
+                                std::to_string(options.max_time_s));
   auto m = std::make_shared<RunMeasurements>(*d.model);
-  m->solve_times.reserve(static_cast<size_t>(max_time * 1000.0) + 1000);
+  m->solve_times.reserve(static_cast<size_t>(std::min(max_time, 3600.0) * 1000.0) + 1000);  // 1 kHz updates; grows beyond an hour
+  // The run's monitor is removed when the function leaves (also by an exception): the caller's monitors stay.
+  struct RemoveMonitor {
+    Simulator& sim;
+    ~RemoveMonitor() { sim.remove_monitor("stepping_stones_run"); }
+  } remove_monitor{sim};
   const bool has_solve_time = d.controller->HasOutputPort("solve_time_s");
   sim.add_monitor([&d, m, has_solve_time](const Context& c) {
     const LeafContext& plant_context = d.diagram->GetSubsystemContext(*d.plant, c);

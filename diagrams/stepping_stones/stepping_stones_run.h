@@ -48,6 +48,9 @@ class SteppingStonesTrackingStatistics {
   long n_ = 0, n_swing_ = 0;
 };
 
+/// [s] Longest simulated time a run may ask for (ours: 30 000 steps at 3 s each plus margin; bounded work).
+inline constexpr double kMaxRunTime_s = 1e5;
+
 struct SteppingStonesRunOptions {
   /// [s] Simulated time limit; NaN: 3 s per step of params.supervisor.max_steps, plus 2 s (ours: a step lasts 0.3-0.6 s).
   double max_time_s = std::numeric_limits<double>::quiet_NaN();

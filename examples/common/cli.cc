@@ -67,9 +67,10 @@ bool CommandLine::Parse(int argc, char** argv) {
     auto it = decls_.find(name);
     if (it == decls_.end()) throw std::invalid_argument(program_ + ": unknown option '--" + name + "' (see --help)");
     if (it->second.is_flag) {
-      if (eq != std::string::npos)
-        throw std::invalid_argument(program_ + ": '--" + name + "' is a flag and takes no value (got '" + arg.substr(2) + "'); leave it out to turn it off");
-      values_[name] = "1";
+      // --FLAG or --FLAG=true|1 turns it on; --FLAG=false|0 turns it off (and overrides a scenario file that sets it).
+      if (eq == std::string::npos || value == "1" || value == "true") values_[name] = "1";
+      else if (value == "0" || value == "false") values_[name] = "";
+      else throw std::invalid_argument(program_ + ": '--" + name + "' is a flag: give it alone, or as --" + name + "=true|false (got '" + Excerpt(arg.substr(2), 80) + "')");
       continue;
     }
     if (eq == std::string::npos) {
@@ -120,6 +121,7 @@ std::string CommandLine::NameTheOption(const std::string& message, const std::ve
   const std::string text = message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
   auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };
   for (const auto& [parameter, option] : parameters) {
+    if (!decls_.count(option)) continue;  // a table naming an undeclared option must not throw from an error handler
     for (size_t at = text.find(parameter); at != std::string::npos; at = text.find(parameter, at + 1)) {
       const size_t end = at + parameter.size();
       if ((at > 0 && is_name_char(text[at - 1])) || (end < text.size() && is_name_char(text[end]))) continue;  // part of a longer name
@@ -187,7 +189,10 @@ std::vector<double> CommandLine::GetNumbers(const std::string& name, int n, cons
   return *v;
 }
 
-bool CommandLine::GetFlag(const std::string& name) const { return values_.count(name) > 0; }
+bool CommandLine::GetFlag(const std::string& name) const {
+  const auto it = values_.find(name);
+  return it != values_.end() && it->second == "1";
+}
 
 std::string CommandLine::Help() const {
   std::ostringstream os;

@@ -11,6 +11,7 @@
 #include "examples/common/cli.h"
 #include "framework/files.h"
 #include "framework/text.h"
+#include "systems/multibody/robot_file_text.h"
 
 namespace rome::examples {
 
@@ -53,7 +54,7 @@ std::optional<std::vector<double>> NumberList(const std::string& v) {
 }  // namespace
 
 void CommandLine::LoadScenarioFile(const std::string& path) {
-  const std::string where = program_ + ": --scenario-file " + path;
+  const std::string where = program_ + ": --scenario-file " + Excerpt(path, 200);
   std::string text;
   try {
     text = ReadRegularFile(path, "--scenario-file", 1 << 20);
@@ -62,14 +63,14 @@ void CommandLine::LoadScenarioFile(const std::string& path) {
   }
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = ParseJsonStrict(text, where);  // no key twice (the last would silently win), nesting capped
   } catch (const std::exception& e) {
-    throw std::invalid_argument(where + ": not JSON (" + e.what() + ")");
+    throw std::invalid_argument(e.what());
   }
   if (!j.is_object()) throw std::invalid_argument(where + ": expected a JSON object {\"option\": value, ...}");
   for (const auto& [key, value] : j.items()) {
     if (!IsScenarioParameter(key))
-      throw std::invalid_argument(where + ": unknown key '" + key + "'" + (decls_.count(key) ? " (an output or the file itself, not a scenario parameter)" : " (see --help)"));
+      throw std::invalid_argument(where + ": unknown key '" + Excerpt(key, 60) + "'" + (decls_.count(key) ? " (an output or the file itself, not a scenario parameter)" : " (see --help)"));
     const bool flag = decls_.at(key).is_flag;
     std::string v;
     if (flag && value.is_boolean()) v = value.get<bool>() ? "1" : "";
@@ -97,18 +98,27 @@ std::string CommandLine::ScenarioJson() const {
       j[name] = GetFlag(name);
       continue;
     }
+    // A number (or list of numbers) only where it reads back as the same text ("007", "-0", "0.30" stay strings): the
+    // scenario file must give the program exactly what it was given.
     const std::string v = Get(name);
     if (const std::optional<std::vector<double>> list = NumberList(v)) {
-      j[name] = *list;
-      continue;
+      std::string again;
+      for (double x : *list) again += (again.empty() ? "" : ",") + ExactNumber(x);
+      if (again == v) {
+        j[name] = *list;
+        continue;
+      }
     }
     const char* const last = v.data() + v.size();
     long long integer = 0;
     double number = 0;
-    if (const auto [end, ec] = std::from_chars(v.data(), last, integer); !v.empty() && ec == std::errc() && end == last) j[name] = integer;
-    else if (const auto [end2, ec2] = std::from_chars(v.data(), last, number); !v.empty() && ec2 == std::errc() && end2 == last && std::isfinite(number))
+    if (const auto [end, ec] = std::from_chars(v.data(), last, integer); !v.empty() && ec == std::errc() && end == last && std::to_string(integer) == v)
+      j[name] = integer;
+    else if (const auto [end2, ec2] = std::from_chars(v.data(), last, number); !v.empty() && ec2 == std::errc() && end2 == last && std::isfinite(number) &&
+                                                                                ExactNumber(number) == v)
       j[name] = number;
-    else j[name] = v;
+    else
+      j[name] = v;
   }
   return j.dump(2);
 }

@@ -305,7 +305,13 @@ bool SameFile(const std::string& a, const std::string& b) {
 void CheckSidecarNamesUrdf(const SidecarReader& sc, const std::string& entry, const std::string& urdf_path, const LoadOptions& options,
                            std::vector<std::string>* warnings) {
   if (entry.empty()) sc.Fail("urdf", "the entry is empty; name the URDF file, relative to the sidecar");
-  const std::string named = PackageFile(FolderOf(sc.file), entry, "sidecar " + Excerpt(sc.file, 200) + ": \"urdf\"", options);
+  std::string named;
+  try {
+    named = PackageFile(FolderOf(sc.file), entry, "sidecar " + Excerpt(sc.file, 200) + ": \"urdf\"", options);
+  } catch (const std::exception& e) {  // not read here (the URDF was given): what is wrong with it is a warning
+    warnings->push_back(e.what());
+    return;
+  }
   if (SameFile(named, sc.file)) sc.Fail("urdf", "'" + Excerpt(entry) + "' names the sidecar itself; name the URDF file");
   if (!SameFile(named, urdf_path))
     warnings->push_back("sidecar \"urdf\" names '" + Excerpt(entry) + "', but the URDF loaded is '" + Excerpt(urdf_path, 200) +

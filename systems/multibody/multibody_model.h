@@ -150,7 +150,8 @@ inline constexpr double kMinFrictionCoefficient = 1e-3, kMaxFrictionCoefficient 
 inline constexpr double kMinPositiveParameter = 1e-9;          ///< smallest nonzero stiffness, damping or armature
 inline constexpr double kMaxJointAngle_rad = 6.283185307179586;  ///< |nominal or rest angle| of a revolute joint
 inline constexpr double kMaxLoopClosureResidual_m = 1e-3;      ///< | |p_a - p_b| - distance_m | at the nominal pose
-inline constexpr double kPlanarAxisTolerance = 1e-9;           ///< out-of-plane part of a planar robot's joint axis
+/// Out-of-plane part of a planar robot's joint axis (ours: rpy written with 1.5708 for π/2 leaves 3.7e-6).
+inline constexpr double kPlanarAxisTolerance = 1e-4;
 
 struct ActuatorInfo {
   std::string joint;

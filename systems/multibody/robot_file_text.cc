@@ -90,6 +90,8 @@ void CheckXmlText(const std::string& xml, const std::string& path) {
     }
     const bool self_closing = j < n && j > i + 1 && xml[j - 1] == '/';
     if (closing) {
+      // A closing tag with no element open: the parser would skip it, and the depth and <robot> counts would drift.
+      if (depth == 0) FailUrdf(path, tag_line, Excerpt(xml.substr(i, std::min(j, n - 1) - i + 1), 80) + " closes no element");
       --depth;
     } else {
       CheckElement(xml, path, i, std::min(j, n - 1), depth, tag_line, &robots);
@@ -100,8 +102,9 @@ void CheckXmlText(const std::string& xml, const std::string& path) {
   }
 }
 
-json ParseSidecarJson(const std::string& text, const std::string& file_path) {
-  const std::string file = "sidecar " + Excerpt(file_path, 200);
+json ParseSidecarJson(const std::string& text, const std::string& file_path) { return ParseJsonStrict(text, "sidecar " + Excerpt(file_path, 200)); }
+
+json ParseJsonStrict(const std::string& text, const std::string& file) {
   // Per open object or array: its keys so far (objects), and its key path ("" at the top), for the messages.
   std::vector<std::set<std::string>> keys;
   std::vector<std::string> path;
@@ -112,7 +115,7 @@ json ParseSidecarJson(const std::string& text, const std::string& file_path) {
       case json::parse_event_t::array_start: {
         if (depth >= kMaxJsonDepth)
           throw std::runtime_error(file + ": objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
-                                   " deep (a sidecar needs 4 levels)");
+                                   " deep");
         const std::string parent = path.empty() ? "" : path.back();
         path.push_back(path.empty() ? "" : last_key.empty() ? parent + "[]" : parent.empty() ? last_key : parent + "." + last_key);
         keys.emplace_back();

@@ -5,7 +5,8 @@
 //                     at the top; no xacro left in the file (<xacro:...> elements, xmlns:xacro, ${...} or $(...)):
 //                     "expand it with xacro first".
 //   ParseSidecarJson  JSON with comments, nested at most kMaxJsonDepth deep (checked while parsing, before any value
-//                     is printed), and no key twice in one object (the last one would silently win).
+//                     is printed), and no key twice in one object (the last one would silently win); ParseJsonStrict
+//                     does the same for any JSON file a user writes.
 //   NonFiniteNumberHint  " (line N: NaN in <element>)" for the first NaN or infinity among the XML's attribute values.
 
 #include <string>
@@ -19,6 +20,9 @@ inline constexpr int kMaxJsonDepth = 64;
 
 void CheckXmlText(const std::string& xml, const std::string& path);
 nlohmann::json ParseSidecarJson(const std::string& text, const std::string& path);
+/// The same checks for any JSON file a user writes (a scenario file, ...); `file` names it in the messages
+/// ("<file>: top level: key 'x' appears twice ...").
+nlohmann::json ParseJsonStrict(const std::string& text, const std::string& file);
 std::string NonFiniteNumberHint(const std::string& xml);
 
 }  // namespace rome

@@ -78,7 +78,26 @@ TEST(CliScenarioFile, TheCommandLineWinsAndBadKeysAreNamed) {
   EXPECT_NE(error(R"({"gains": [1, "2"]})").find("key 'gains'"), std::string::npos);
   EXPECT_NE(error(R"({"fast": 1})").find("key 'fast' needs true or false"), std::string::npos);
   EXPECT_NE(error(R"([1, 2])").find("expected a JSON object"), std::string::npos);
-  EXPECT_NE(error("{").find("not JSON"), std::string::npos);
+  EXPECT_NE(error("{").find("malformed JSON"), std::string::npos);
+  EXPECT_NE(error(R"({"gain": 0.1, "gain": 0.7})").find("top level: key 'gain' appears twice"), std::string::npos);
+}
+
+// A flag set in the scenario file is turned off from the command line with --FLAG=false; a value that would not read
+// back as the same text as a number ("007", "0.30") stays a string in the written scenario.
+TEST(CliScenarioFile, TheCommandLineTurnsAFileFlagOffAndTextStaysText) {
+  const std::string path = test::ScratchDir() + "/flag.json";
+  test::WriteText(path, R"({"fast": true})");
+  CommandLine on = Declared();
+  Parse(on, {"--scenario-file", path});
+  EXPECT_TRUE(on.GetFlag("fast"));
+  CommandLine off = Declared();
+  Parse(off, {"--scenario-file", path, "--fast=false"});
+  EXPECT_FALSE(off.GetFlag("fast"));
+  CommandLine text = Declared();
+  Parse(text, {"--mode", "007", "--gains", "0.30,2,3"});
+  const nlohmann::json scenario = nlohmann::json::parse(text.ScenarioJson());
+  EXPECT_EQ(scenario.at("mode"), "007");
+  EXPECT_EQ(scenario.at("gains"), "0.30,2,3");
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ ProcessResult Walking(std::vector<std::string> args) {
 
 TEST(WalkingScenarioFile, ASummarysScenarioReproducesItsRun) {
   const fs::path dir = WorkDir();
-  const ProcessResult first = Walking({"--scenario", "periodic", "--steps", "3", "--gait-a", "0.32,0.40,0.10,0.24", "--touchdown-speed", "0.12",
+  const ProcessResult first = Walking({"--scenario", "periodic", "--steps", "3", "--gait-a", "0.32,0.4,0.1,0.24", "--touchdown-speed", "0.12",
                                        "--force-band", "0.12", "--foothold-tolerance", "0.06", "--cache", "", "--summary", (dir / "a.json").string()});
   ASSERT_TRUE(first.started) << first.error;
   ASSERT_EQ(first.exit_code, 0) << first.error << "\n" << first.out;
@@ -61,7 +61,8 @@ TEST(WalkingScenarioFile, ASummarysScenarioReproducesItsRun) {
   // The scenario holds what was asked, and the defaults of the rest.
   EXPECT_EQ(scenario.at("scenario"), "periodic");
   EXPECT_EQ(scenario.at("steps"), 3);
-  EXPECT_EQ(scenario.at("gait-a"), nlohmann::json({0.32, 0.40, 0.10, 0.24}));
+  EXPECT_EQ(scenario.at("gait-a"), nlohmann::json({0.32, 0.40, 0.10, 0.24}));  // numbers that read back as given: an array
+  EXPECT_EQ(scenario.at("gait-b"), "0.40,0.40,0.10,0.25");                       // the default as written ("0.40"): kept as text
   EXPECT_EQ(scenario.at("force-band"), 0.12);
   EXPECT_EQ(scenario.at("seed"), 1);
   EXPECT_EQ(scenario.at("clf-cost-target"), "pd");

@@ -13,7 +13,13 @@ TEST(SteppingStonesRun, BuildRunResult) {
   SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 8), params);
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
+  // A monitor of the caller's own: it sees every accepted step of the run, and stays after it (the run removes only its own).
+  long user_monitor_calls = 0;
+  sim.add_monitor([&](const Context&) { return ++user_monitor_calls, EventStatus::Succeeded(); }, "user");
   const SteppingStonesResult r = RunSteppingStones(d, sim);
+  EXPECT_EQ(sim.num_monitors(), 1);
+  // Every accepted step but the last: the supervisor ends the run at that step's touchdown, before the monitors run.
+  EXPECT_EQ(user_monitor_calls, r.integrator.steps - 1);
 
   ASSERT_TRUE(r.success) << r.status.ToString();
   EXPECT_EQ(r.status.kind_name(), "success");
