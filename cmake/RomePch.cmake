@@ -14,6 +14,7 @@ set(ROME_PCH_HEADERS <algorithm> <array> <cmath> <cstdint> <cstdio> <functional>
 set(ROME_PCH_SKIP
     rome_planners "systems/planners/stepping_stones_output_adapter.cc"
     rome_example_support "examples/common/cli.cc"
+    rome_example_support "examples/common/cli_scenario.cc"
     rome_visualization "systems/visualization/animation.cc"
     controllers_task_space_qp_controller_allocation_test "tests/systems/controllers/task_space_qp_controller_allocation_test.cc"
     rome_test_source "tests/common/source_path.cc")
