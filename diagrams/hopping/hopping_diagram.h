@@ -85,29 +85,20 @@ struct HoppingDiagramParams {
   double landing_u_regularization_scale = 10.0;
   static HybridContactPlantParams DefaultPlantParams();
   /// The Bullet plant steps at the controller's 2 kHz (0.5 ms, ours: a 1 ms step would apply only every other torque)
-  /// in 5 substeps (ours, see the source), with the hybrid plant's fall height (0.5 m), lift-off force (8 N) and
-  /// minimum time between a lift-off and the next touchdown (20 ms).
+  /// in 5 substeps (ours; docs/design-notes.md#hopping-bullet-substeps), with the hybrid plant's fall height (0.5 m),
+  /// lift-off force (8 N) and minimum time between a lift-off and the next touchdown (20 ms).
   static BulletWorldPlantParams DefaultBulletPlantParams();
   /// The block's defaults, with flight_hip_pitch_follow = −1, jump_momentum_gain = 10, landing_deflection_feedback =
-  /// 0.7, jump_force_feedback = 6, jump_force_integral_per_s = 40 and landing_blend_s = 0.5 (ours; see the source).
+  /// 0.7, jump_force_feedback = 6, jump_force_integral_per_s = 40 and landing_blend_s = 0.5 (ours;
+  /// docs/design-notes.md#hopping-first-landing, #hopping-air-time, #hopping-landing-blend).
   static HoppingReferenceParams DefaultReferenceParams();
   /// Augmented input, 2 kHz (hopping paper), ε = 0.1, F_z ≥ 0 (the paper's GRF rows), μ = 0.8 inscribed pyramid,
-  /// ρ_u = 1e-4 (spec [R]; see the source for why not the block's 1e-6), relaxation weight p = 1e4 (ours; see the
-  /// source for why not the block's 1e5).
+  /// ρ_u = 1e-4 (spec [R]; docs/design-notes.md#hopping-torque-penalty), relaxation weight p = 1e4 (ours;
+  /// docs/design-notes.md#hopping-relaxation-weight).
   static ClfQpParams DefaultControllerParams();
-  /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)). Measured cause: with H_pitch as the
-  /// relative-degree-1 output the closed loop (plant + CLF-QP, linearised by central differences at the first Jump
-  /// sample) has a real eigenvalue at +2305 1/s whose mode is the pelvis pitch, both hip pitches and the shin and heel
-  /// springs (H_pitch stays ~0 while the pelvis and the legs turn against each other through the springs). The 6 Jump
-  /// outputs leave 4 of the 10 torque directions to the QP's least-torque term, and that choice drives the mode: the
-  /// eigenvalue is +206 1/s with u_regularization 1e-3 and +6.9 1/s with 1e-1 (the pelvis pitch then drifts freely);
-  /// adding the pelvis pitch as a seventh output next to H_pitch leaves +83 1/s (tarsus, heel spring, toe). A_pitch and
-  /// Ȧ_pitch q̇ are right (finite differences and Newton-Euler with contact forces, tests/systems/multibody); the
-  /// output's row and sign are right (the momentum weight 1e-4 ... 1e2 changes nothing). With the pelvis pitch output
-  /// the largest eigenvalue is +0.036 1/s. (With this diagram's ρ_u = 1e-4, at the start of the hand-made Jump of
-  /// tests/diagrams/hopping: +444 1/s with H_pitch, +0.11 1/s with the pitch (relaxation weight 1e4; +414 and +0.05 1/s
-  /// with 1e5); that test checks both.) The momentum is steered instead through the pitch reference
-  /// (HoppingReferenceParams::jump_momentum_gain). HOP_MOMENTUM=1 in tests/diagrams/hopping reproduces the slip.
+  /// Jump tracks the pelvis pitch, not H_pitch (ours, a deviation from Eq. (41)): with H_pitch the closed loop has an
+  /// unstable real eigenvalue (docs/design-notes.md#hopping-jump-output); the momentum is steered through the pitch
+  /// reference (HoppingReferenceParams::jump_momentum_gain). Flight motors at 30 rad/s, critically damped (ours).
   static HoppingOutputParams DefaultOutputParams();
   /// Throws std::invalid_argument "HoppingDiagramParams: <field> = <value>: must be in <range>" for the first field out
   /// of its range (the hopping example's flags use the same ranges). BuildHoppingDiagram calls it first.
@@ -168,7 +159,7 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, 
 /// Puts the robot at q (at rest, plant mode "jump": both feet down) and the reference into its settle phase.
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);
 
-/// Integrator settings measured for the hopping loop (see hopping_diagram.cc).
+/// Integrator of the hopping loop: explicit Bogacki-Shampine 3(2), rtol 1e-5, atol 1e-7 (ours; see design-notes.md).
 SimulatorConfig HoppingSimulatorConfig();
 
 }  // namespace rome
