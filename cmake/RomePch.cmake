@@ -12,7 +12,7 @@ set(ROME_PCH_HEADERS <algorithm> <array> <cmath> <cstdint> <cstdio> <functional>
 # false -Warray-bounds / -Wstringop-overflow warnings in libstdc++'s std::string copies (memcpy through char_traits.h),
 # which it does not report when it reads the same headers as text (measured 2026-12-03, -O3).
 set(ROME_PCH_SKIP
-    rome_planners "systems/planners/stepping_stones_output_adapter.cc"
+    rome_stepping_stones_diagram "diagrams/stepping_stones/stepping_stones_output_adapter.cc"
     rome_example_support "examples/common/cli.cc"
     rome_example_support "examples/common/cli_scenario.cc"
     rome_visualization "systems/visualization/animation.cc"

@@ -63,7 +63,7 @@
 #include "framework/vector_logger.h"
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
-#include "systems/planners/hopping_reference.h"
+#include "diagrams/hopping/hopping_reference.h"
 #include "systems/plants/plant_kind.h"
 
 namespace rome {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "systems/controllers/clf_qp_controller.h"
-#include "systems/planners/hopping_reference.h"
+#include "diagrams/hopping/hopping_reference.h"
 
 namespace rome {
 

@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "systems/planners/hopping_reference.h"
+#include "diagrams/hopping/hopping_reference.h"
 #include "systems/planners/spring_mass_hop_planner.h"
 #include "systems/rom/cassie_leg_stiffness.h"
 

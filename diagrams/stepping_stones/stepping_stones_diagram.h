@@ -59,8 +59,8 @@
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/planners/momentum_regulation_planner_system.h"
-#include "systems/planners/stepping_stones_output_adapter.h"
-#include "systems/planners/stepping_stones_outputs_system.h"
+#include "diagrams/stepping_stones/stepping_stones_output_adapter.h"
+#include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
 #include "systems/planners/vertical_com_mpc_system.h"
 #include "systems/plants/bullet_world_plant.h"
 #include "systems/plants/hybrid_contact_plant.h"
@@ -160,9 +160,8 @@ struct SteppingStonesDiagramParams {
 
   static TaskSpaceQpParams DefaultControllerParams() {
     TaskSpaceQpParams p;
-    // Ours: the QP's friction pyramid at 0.95 μ and F_z ≥ 2 N. The QP's forces hold at its solve instant; over the
-    // 1 ms zero-order hold the plant's forces drift with the state, and a QP that used the whole cone measured
-    // |F_x|/F_z up to 0.806 against μ = 0.8 in the plant.
+    // Ours: the QP's friction pyramid at 0.95 μ and F_z ≥ 2 N: over the 1 ms zero-order hold the plant's forces drift
+    // from the QP's (docs/design-notes.md#stepping-stones-friction-margin).
     p.friction_margin = 0.95;
     p.min_normal_force_N = 2.0;
     return p;
@@ -170,21 +169,13 @@ struct SteppingStonesDiagramParams {
   static ClfQpParams DefaultClfParams() {
     ClfQpParams p;
     // The same GRF rows as the task-space QP's (see DefaultControllerParams), with the pyramid's apex raised to 1.5 N
-    // (ours): the CLF-QP's torques change faster than the task-space QP's, and with the apex at 0 the plant's
-    // |F_t|/F_n drifted past μ within a held sample while a foot carried only the 2 N minimum (tuning seeds
-    // 1000-1019: 17 of 20 courses walked with no offset, 19 of 20 with 1.5 N).
+    // (ours): the CLF-QP's torques change faster within a held sample (docs/design-notes.md#stepping-stones-clf-qp).
     p.contact.friction_margin = 0.95;
     p.contact.min_normal_force_N = 2.0;
     p.contact.friction_cone_offset_N = 1.5;
-    // The cost tracks each output's PD target (cost_pd_feedback, ours), so the task weights rank the outputs as in the
-    // task-space QP: with the feedforward ÿ_d alone, the swing foot's weight 5 made correcting its error the most
-    // expensive way to decrease V, the QP held the torso within 0.03 rad instead and the swing foot lagged (stones
-    // missed) or the stance force went to the pyramid's edge (slips). ε = 0.1 (spec [R] 0.02-0.1): the PD targets now
-    // carry the swing foot, and the CLF row only bounds V̇. The wrench rows also hold at the end of the held sample
-    // (predict_hold_drift, ours). Random seeds 1000-1099: 92 of 100 walked before (ε = 0.03, ÿ_d cost), 99 with these
-    // values (seed 1075 fails, as with the task-space QP). ε was picked on a first version whose CLF row wrongly measured
-    // μ against the PD target: 96, 97, 98 and 99 of 100 with ε = 0.03, 0.05, 0.1 and 0.2; we kept 0.1, the top of the
-    // spec's range (with the corrected row: 98 with ε = 0.03, 99 with 0.1).
+    // The cost tracks each output's PD target (cost_pd_feedback, ours) so that the task weights rank the outputs as in
+    // the task-space QP; ε = 0.1 (spec [R] 0.02-0.1); the wrench rows also hold at the end of the held sample
+    // (predict_hold_drift, ours). Chosen on random seeds 1000-1099 (docs/design-notes.md#stepping-stones-clf-qp).
     p.cost_pd_feedback = true;
     p.epsilon = 0.1;
     p.predict_hold_drift = true;

@@ -20,8 +20,9 @@ void SteppingStonesTrackingStatistics::Record(const Eigen::VectorXd& x, int mode
   sum_[0] += std::pow(pitch - desired[0], 2);
   sum_[1] += std::pow(com_z - desired[1], 2);
   ++n_;
-  if (mode == 0 || mode == 1) {  // the swing foot's rows: right foot in left stance (4, 5), left foot in right stance (2, 3)
-    const int contact = mode == 0 ? right_ : left_, row = mode == 0 ? 4 : 2;
+  using Mode = ContactModeGraph::SingleSupportMode;
+  if (mode == Mode::kLeftStance || mode == Mode::kRightStance) {  // the swing foot's rows: right foot in left stance (4, 5), left foot in right stance (2, 3)
+    const int contact = mode == Mode::kLeftStance ? right_ : left_, row = mode == Mode::kLeftStance ? 4 : 2;
     const ContactInfo& info = model_.contacts()[contact];
     const Eigen::Vector3d p = CalcPointPosition(model_, ws_, q, info.body, info.frame_origin);
     sum_[2] += std::pow(p.x() - desired[row], 2) + std::pow(p.z() - desired[row + 1], 2);

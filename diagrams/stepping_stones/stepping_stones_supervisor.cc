@@ -4,13 +4,17 @@
 #include <cmath>
 #include <sstream>
 
+#include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
-#include "systems/planners/stepping_stones_outputs_system.h"
+#include "systems/plants/contact_plant.h"
 
 namespace rome {
 
 namespace {
+// The plant's contact modes (ContactModeGraph::AlternatingSingleSupport).
+constexpr int kLeftStance = ContactModeGraph::SingleSupportMode::kLeftStance;
+constexpr int kRightStance = ContactModeGraph::SingleSupportMode::kRightStance;
 // Discrete-state layout.
 constexpr int kMode = 0, kStanceX = 1, kStanceZ = 2, kStone = 3, kSteps = 4, kPhiF = 5, kComFz = 6, kParams = 7;
 constexpr int kLastUdes = kParams + SteppingStonesOutputsSystem::kNumStepParameters, kLastLdes = kLastUdes + 1, kLastVz = kLastUdes + 2,
@@ -143,11 +147,12 @@ Eigen::Vector3d SteppingStonesSupervisor::FootPosition(MultibodyWorkspace& ws, c
 }
 
 void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::VectorXd& x, int mode) const {
-  if (mode != 0 && mode != 1) ThrowError("Initialize: mode must be 0 (left stance) or 1 (right stance), got " + std::to_string(mode));
+  if (mode != kLeftStance && mode != kRightStance)
+    ThrowError("Initialize: mode must be 0 (left stance) or 1 (right stance), got " + std::to_string(mode));
   if (x.size() != 2 * model_->nv())
     ThrowError("Initialize: plant state has size " + std::to_string(x.size()) + ", expected " + std::to_string(2 * model_->nv()));
   auto& ws = context.scratch<Scratch>().ws;
-  const Eigen::Vector3d foot = FootPosition(ws, x.head(model_->nv()), mode == 0 ? 0 : 1);
+  const Eigen::Vector3d foot = FootPosition(ws, x.head(model_->nv()), mode == kLeftStance ? 0 : 1);
   const int stone = terrain_.StoneAt(foot.x(), 1e-9);
   if (stone < 0)
     ThrowError("the initial stance foot at x = " + std::to_string(foot.x()) + " m is not on any stone; the robot starts standing on the first stone");
@@ -171,7 +176,7 @@ void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen:
   const auto& stones = terrain_.stones();
   const double l = stones[next_stone].x_center_m - (*xd)[kStanceX];
   const double h = stones[next_stone].top_height_m - (*xd)[kStanceZ];
-  const int stance = mode == 0 ? 0 : 1, swing = 1 - stance;
+  const int stance = mode == kLeftStance ? 0 : 1, swing = 1 - stance;
   PreImpactPostureRequest request;
   request.stance_contact = model_->contacts()[contact_[stance]].name;
   request.swing_contact = model_->contacts()[contact_[swing]].name;
@@ -206,7 +211,7 @@ void SteppingStonesSupervisor::ApplyImpact(const LeafContext& context, const Eig
   Eigen::VectorXd& xd = *xd_ptr;
   Scratch& s = context.scratch<Scratch>();
   const int nv = model_->nv();
-  const int stance = mode == 0 ? 0 : 1;
+  const int stance = mode == kLeftStance ? 0 : 1;
   const Eigen::Vector3d foot = FootPosition(s.ws, x.head(nv), stance);
   const int stone = terrain_.NearestStone(foot.x());  // the plant already ended the run if it is off every stone
   if (rec != nullptr) {
@@ -259,7 +264,7 @@ EventStatus SteppingStonesSupervisor::ImpactUpdate(const LeafContext& context, E
   const int mode = EvalTypedInput<int>(context, 1);
   Eigen::VectorXd& xd = *next;
   // Flight (mode 2), or a touchdown from flight onto the committed stance foot: no new step.
-  if ((mode != 0 && mode != 1) || mode == static_cast<int>(xd[kMode])) return EventStatus::Succeeded();
+  if ((mode != kLeftStance && mode != kRightStance) || mode == static_cast<int>(xd[kMode])) return EventStatus::Succeeded();
   // The swing foot touched down: the new stance foot is on the next stone.
   StepRecord rec;
   ApplyImpact(context, EvalInput(context, 0), mode, &xd, &rec);

@@ -64,10 +64,8 @@ struct SteppingStonesSupervisorParams {
   PreImpactPostureParams posture = DefaultPostureParams();  ///< Eq. (21)
   static PreImpactPostureParams DefaultPostureParams() {
     PreImpactPostureParams p;
-    // w_z [1/m²] (ours): as strong as w_x = 1 on the pre-impact COM position ε l. With a weak w_z (0.1) the posture
-    // of a long step down kept the COM high and landed on a straight, fully stretched leg that the swing foot could
-    // not reach under tracking errors (measured while tuning, random courses 1-30: 2 falls and 7 touchdowns more than
-    // 2 cm off with w_z = 0.1; no fall and 1 such touchdown with w_z = 1).
+    // w_z [1/m²] (ours): as strong as w_x = 1 on the pre-impact COM position ε l; a weak w_z leaves a long step down
+    // on a straight leg the swing foot cannot reach (docs/design-notes.md#stepping-stones-posture-height-weight).
     p.com_height_weight = 1.0;
     return p;
   }

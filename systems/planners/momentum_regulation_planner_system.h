@@ -1,6 +1,8 @@
 #pragma once
 // MomentumRegulationPlannerSystem: MomentumRegulationPlanner (stepping-stones paper, Eq. (17)-(18), (25)-(27))
 // as a framework block. Stateless; every output is recomputed from the inputs (direct feedthrough).
+// General, not the stepping-stones diagram's own: it knows only the LIP state about a stance foot and a foothold,
+// no robot and no contact mode, so any planar biped's diagram can use it.
 //
 // inputs:  com_state (4)              = [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
 //          angular_momentum (1)       = L_y (m²/s), mass-normalised, about the stance foot (Eq. (7))

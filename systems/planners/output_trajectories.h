@@ -1,5 +1,6 @@
 #pragma once
-// Desired output trajectories of the stepping-stones paper, Eq. (19)-(24), pure math (no framework).
+// Desired output trajectories of the stepping-stones paper, Eq. (19)-(24), pure math (no framework). General: the
+// phase, Bézier and swing-foot curves know no robot; the diagram's own block is SteppingStonesOutputsSystem.
 //
 //   Eq. (19)  Y_d = [φ_torso^d, p_com^{z,d}, p_sw^{x,d}, p_sw^{z,d}] (the order of Y_a); p_com^{z,d} comes from the
 //             vertical-COM MPC (VerticalComMpc / VerticalComMpcSystem), the rest from polynomials in a phase τ.

@@ -1,5 +1,7 @@
 #pragma once
 // VerticalComMpcSystem: VerticalComMpc (stepping-stones paper, Eq. (28)) re-solved at the control rate.
+// General, not the stepping-stones diagram's own: a double-integrator COM-height MPC to a target height and speed at
+// a predicted time, with no robot and no contact mode.
 //
 // inputs:  com_vertical_state (2) = [p^z (m), ṗ^z (m/s)] measured COM height/velocity (same frame as the target;
 //                                   relative to the stance foot in the paper)

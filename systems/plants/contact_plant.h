@@ -49,6 +49,10 @@ struct ContactModeGraph {
   /// of either foot in flight leads to that foot's stance (plastic impact).
   static ContactModeGraph AlternatingSingleSupport(const std::string& left_contact, const std::string& right_contact,
                                                    bool start_on_left = true);
+  /// The fixed mode indices of AlternatingSingleSupport, as the plant's typed `mode` port carries them.
+  struct SingleSupportMode {
+    static constexpr int kLeftStance = 0, kRightStance = 1, kFlight = 2;
+  };
   /// Walking with double support: left_stance, double_support, right_stance; touchdown leads to double
   /// support, lift-off of the trailing foot to single support.
   static ContactModeGraph WithDoubleSupport(const std::string& left_contact, const std::string& right_contact,

@@ -12,7 +12,7 @@
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
 #include "systems/multibody/contact_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
-#include "systems/planners/stepping_stones_outputs_system.h"
+#include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
 #include "tests/common/source_path.h"
 
 namespace rome {

@@ -1,4 +1,4 @@
-#include "systems/planners/stepping_stones_outputs_system.h"
+#include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "framework/simulator.h"
-#include "systems/planners/hopping_reference.h"
+#include "diagrams/hopping/hopping_reference.h"
 #include "tests/common/source_path.h"
 
 namespace rome {

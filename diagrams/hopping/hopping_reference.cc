@@ -1,4 +1,4 @@
-#include "systems/planners/hopping_reference.h"
+#include "diagrams/hopping/hopping_reference.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // SteppingStonesOutputAdapter: Y_d relative to the stance foot → world-frame rows of the controller's task layout.
 // Expected values are written out by hand from the layout in the header.
-#include "systems/planners/stepping_stones_output_adapter.h"
+#include "diagrams/stepping_stones/stepping_stones_output_adapter.h"
 
 #include <gtest/gtest.h>
 

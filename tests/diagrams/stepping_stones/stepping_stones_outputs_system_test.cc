@@ -1,6 +1,6 @@
 // SteppingStonesOutputsSystem: outputs equal the pure-math trajectories with the LIP estimate of p̈^x, the
 // phase runs 0 → 1 between the step start and ε l, the cache follows new step parameters, bad input is named.
-#include "systems/planners/stepping_stones_outputs_system.h"
+#include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
 
 #include <gtest/gtest.h>
 

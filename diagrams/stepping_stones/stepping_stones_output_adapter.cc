@@ -1,6 +1,16 @@
-#include "systems/planners/stepping_stones_output_adapter.h"
+#include "diagrams/stepping_stones/stepping_stones_output_adapter.h"
+
+#include "systems/plants/contact_plant.h"
 
 namespace rome {
+
+namespace {
+
+// The plant's contact modes (ContactModeGraph::AlternatingSingleSupport).
+constexpr int kLeftStance = ContactModeGraph::SingleSupportMode::kLeftStance;
+constexpr int kRightStance = ContactModeGraph::SingleSupportMode::kRightStance;
+
+}  // namespace
 
 std::vector<std::string> SteppingStonesOutputAdapter::TaskRowNames() {
   return {"torso_pitch", "com_z", "left_foot_x", "left_foot_z", "right_foot_x", "right_foot_z"};
@@ -31,7 +41,7 @@ SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name, Stepp
     const Eigen::VectorXd& stance = EvalInput(c, 3);
     const int mode = EvalTypedInput<int>(c, 4);
     // Left stance: the right foot's rows (4, 5) swing; right stance: the left foot's (2, 3); flight: none.
-    const int swing_offset = mode == 0 ? 4 : mode == 1 ? 2 : -1;
+    const int swing_offset = mode == kLeftStance ? 4 : mode == kRightStance ? 2 : -1;
     out->setZero();
     for (int k = 0; k < 3; ++k) {
       const Eigen::VectorXd& y = EvalInput(c, k);
@@ -46,7 +56,7 @@ SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name, Stepp
     }
     // Swing-foot pitch: hold the sole horizontal (rate and acceleration 0).
     if (params_.foot_pitch && swing_offset >= 0)
-      (*out)[mode == 0 ? 7 : 6] = mode == 0 ? params_.right_foot_flat_pitch_rad : params_.left_foot_flat_pitch_rad;
+      (*out)[mode == kLeftStance ? 7 : 6] = mode == kLeftStance ? params_.right_foot_flat_pitch_rad : params_.left_foot_flat_pitch_rad;
   });
 }
 

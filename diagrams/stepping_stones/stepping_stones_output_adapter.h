@@ -7,8 +7,9 @@
 //                                   Y_d, Ẏ_d, Ÿ_d in the order [φ_torso (rad), p_com^z (m), p_sw^x (m), p_sw^z (m)],
 //                                   positions relative to the stance foot (SteppingStonesOutputsSystem)
 //          stance_foot (2)          world (x, z) of the stance foot [m]
-//          mode (int, typed)        the plant's contact mode: 0 left stance (right foot swings), 1 right stance (left
-//                                   foot swings), anything else (flight) no foot swings
+//          mode (int, typed)        the plant's contact mode (ContactModeGraph::SingleSupportMode): 0 left stance
+//                                   (right foot swings), 1 right stance (left foot swings), anything else (flight) no
+//                                   foot swings
 // outputs: desired (3 rows)         [y_d; ẏ_d; ÿ_d], each in the controller layout
 //                                   [torso pitch (rad), COM z (m), left foot x, left foot z, right foot x, right foot z (m)]
 //                                   (rows = 6), followed, with params.foot_pitch (line/flat feet, e.g. planar Cassie), by
