@@ -36,7 +36,7 @@ struct HoppingOutputParams {
   /// TaskGains default 100, 20: 10 rad/s, critically damped).
   double motor_kp = 100.0, motor_kd = 20.0;
   /// true: Jump tracks H_pitch (Eq. (41)); false: Jump tracks the pelvis pitch as Landing does and the momentum output
-  /// is left out (ours, a deviation: see the README for what we measured with H_pitch).
+  /// is left out (ours, a deviation: docs/design-notes.md#hopping-jump-output).
   bool jump_tracks_momentum = true;
 };
 

@@ -114,16 +114,12 @@ struct HoppingReferenceParams {
   /// missing force. The integral runs in the periodic update (clamped to ±c_max, restarted at 0 with each Jump). w fades
   /// the correction out as the plan's force falls to 0 at lift-off (without it the feet slipped at lift-off at an apex
   /// rise of 0.28 m) and also weakens it in the crouch, where F_plan < F_plan(0). L̇_d and L̈_d stay the plan's: the
-  /// correction swings by up to ±5 cm within 60 ms, which the target's rate does not carry (measured: low-passing it
-  /// with τ = 3 or 10 ms and passing its rate on, or reading it from the periodic update one sample late, let the feet
-  /// slip at lift-off at F_n ≈ 8 N on the hopping diagram's default hop or at 0.20-0.28 m). A jump plan without force
+  /// correction swings fast, and a low-passed or delayed one let the feet slip at lift-off. A jump plan without force
   /// and stiffness while k_F or k_I ≠ 0 is a failed plan. It closes the loop where the ROM's K(L) and the plant's legs
-  /// differ (measured on the default jump without it: the plant's GRF peaked at 1130 N where the plan asked 1430 N, the
-  /// impulse was 5 % short and the lift-off speed 17 % short). Makes 'desired' depend on 'contact_forces'.
+  /// differ (docs/design-notes.md#hopping-air-time). Makes 'desired' depend on 'contact_forces'.
   double jump_force_feedback = 0.0;        ///< k_F [-]
   double jump_force_integral_per_s = 0.0;  ///< k_I [1/s]
-  /// c_max [m] (ours; measured: 0.05 m let the feet slip at lift-off at an apex rise of 0.23 m, 0.1 m changes nothing
-  /// on the tuning apex rises 0.12-0.28 m)
+  /// c_max [m] (ours; 0.05 m let the feet slip at lift-off; docs/design-notes.md#hopping-force-correction-limit)
   double jump_force_correction_max_m = 0.1;
   std::string left_knee = "left_knee", right_knee = "right_knee";
   std::string left_shin = "left_shin_spring", right_shin = "right_shin_spring";

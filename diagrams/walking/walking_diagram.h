@@ -15,12 +15,9 @@
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
-// Status (measured, gait A, seed 1, 2026-12-05): from standing with the feet side by side the robot makes the
-// transition step, walks 6 steps of the start gait, changes gait and walks 10 steps of gait A with the COM within
-// 2 mm RMS of the reference and the plant's forces in the Eq. (25) band at every tick (examples/walking;
-// walking_diagram_test checks it; from a 0.4 m step stance, StandToWalkParams::StepStance, 3.1 mm). The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
-// (compensate_centroidal_momentum), which the point-mass ROMs do not model. The gait change A → B walks with the
-// transition's vertical force bounded (StandToWalkParams::gait_change_max_force_fraction); see the README.
+// The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
+// (compensate_centroidal_momentum), which the point-mass ROMs do not model. What the diagram achieves, measured, is in
+// docs/walking.md (figures) and docs/design-notes.md#walking-status.
 //
 // Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
 //
@@ -245,15 +242,9 @@ struct StandToWalkParams {
   /// Start gait (ours; 0 steps: none, as StepStance()): the standing transition goes into this short, slow gait (at
   /// the requested W), which walks start_gait_steps steps and then changes (as BuildGaitChangePlan does) into the gait,
   /// or into the lead-in first when the gait is faster than the lead-in (if that has no plan, directly). It makes the
-  /// spec's [R] standing start with the feet side by side plannable. Measured (2026-12-05, NLP seed 1001): side by
-  /// side, gait A's pre-impact state (COM 0.113 m ahead of the stance ankle at 0.66 m/s, rising at 0.30 m/s) is locally
-  /// infeasible with a 2 or 5 cm CoP margin and a footed or point-foot SSP, and (0.20 m, 0.50 s, 0.15 s)'s (0.070 m,
-  /// 0.35 m/s; ω (x_f + L_h) = 0.40 m/s with L_h = 5 cm) solves with the stance ankle free in the SSP and a 2 cm margin
-  /// (with a point-foot SSP, or a 5 cm margin, it is infeasible). From it the change into gait A plans, the one into
-  /// gait B (0.40 m) does not (gait B goes through the lead-in); a direct change into the faster (0.34 m, 0.35 s,
-  /// 0.13 s, 0.24 m) plans at 339 N m of the knee and slips, through the lead-in it walks. 6 steps, as the lead-in,
-  /// so that the convergence check (the pre-impact change from step 5 after each transition) applies to the
-  /// start gait too (seed 1001: 4.9e-4 for gaits A and B).
+  /// spec's [R] standing start with the feet side by side plannable: gait A's pre-impact state is beyond what one step
+  /// from rest reaches over one sole (docs/design-notes.md#walking-start-gait). 6 steps, as the lead-in, so that the
+  /// convergence check from step 5 after each transition applies to the start gait too.
   int start_gait_steps = 6;
   double start_gait_step_length_m = 0.20;  ///< [m]
   double start_gait_ssp_duration_s = 0.50;  ///< [s]
@@ -278,8 +269,7 @@ struct StandToWalkParams {
 
   /// The earlier standing start from a step stance (ours): the right foot `stagger_m` behind the left, no start gait,
   /// the standing transition straight into the gait with a point-foot SSP and the 5 cm CoP margin of the push-off
-  /// from the rear heel. Measured with gait A: 0.35 and 0.40 m walk; 0.1-0.2 m have no standing transition, 0.3 m's
-  /// footed H-LIP QP was infeasible (2026-12-03) and 0.5 m has no leg pose.
+  /// from the rear heel. With gait A, 0.35 and 0.40 m walk (docs/design-notes.md#walking-step-stance).
   static StandToWalkParams StepStance(double stagger_m = 0.40) {
     StandToWalkParams p;
     p.stance_stagger_m = stagger_m;

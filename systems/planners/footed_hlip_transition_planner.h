@@ -16,10 +16,9 @@
 // ÿ = a (y − c) + u/(m z0) with a = (F_L + F_R)/(m z0) and c the force-weighted foot position. The paper's DSP row
 // ÿ = u/(m z0) leaves out the lateral push of unequally loaded feet, which a standing start in a step stance
 // (the rear foot carrying ~7/8 of the weight for 0.5 s) turns into a lateral drift the sole cannot correct.
-// With node_heights (ours) the interval's m z is m z_k, z_k the mean of its two nodes' heights, instead of m z0:
-// measured (2026-12-05), a standing start with the feet side by side 0.30 m apart into (0.20 m, 0.50 s, 0.15 s) has a
-// footed-aSLIP plan whose lateral rows hold the CoP inside ±3 cm, while the constant-z0 QP is infeasible at z0 and at
-// z0 − 2 cm and feasible at z0 + 2 cm.
+// With node_heights (ours) the interval's m z is m z_k, z_k the mean of its two nodes' heights, instead of m z0, as
+// the transition NLP's own lateral rows do (with z0 wide side-by-side starts are infeasible:
+// docs/design-notes.md#walking-footed-hlip-heights).
 // Every interval's (a, c, z) is reported with the plan so that it can be re-sampled exactly (WalkingPlan).
 // Variables are ordered [u_L^0..u_L^{N−1}, u_R^0..u_R^{N−1}, y^0, ẏ^0, ..., y^{N−1}, ẏ^{N−1}].
 #include <string>

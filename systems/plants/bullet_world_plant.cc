@@ -588,11 +588,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
           if (d < best) best = d, contact = points[k].second, nearest = k;
         }
         // Sliding: the loaded sole point's velocity along the surface after the last substep (flat surfaces: x, y).
-        // Measured (2026-12-04, 1 ms steps) with slip_speed_mps = 1 cm/s: the longest slide without holding was 1.2 mm
-        // for AMBER (30 steps, flat and random seeds 1-5, either controller), 7.5 mm for planar Cassie (the same
-        // courses; the largest on random seed 1), 0.75 mm for Cassie's hop; loaded points pass 1 cm/s for a step or two at
-        // touchdowns (up to 0.6 m/s). The exoskeleton's front foot, pivoting on its loaded corner in the standing double
-        // support (walking paper, README), slid 31 cm. slip_distance_m = 1 cm lies between.
+        // slip_distance_m = 1 cm lies between the longest slide of the passing runs and the exoskeleton's sliding foot
+        // (docs/design-notes.md#stepping-stones-bullet).
         if (sub == params_.substeps - 1 && pt.m_appliedImpulse > params_.slip_min_point_force_N * h) {
           const Eigen::Vector3d pv = CalcPointVelocity(model, w.ws, w.q, w.v, model.contacts()[contact].body, w.link_body_points[foot->m_link][nearest]);
           w.slide_speed[contact] = std::max(w.slide_speed[contact], pv.head<2>().norm());
