@@ -159,7 +159,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, 
 /// Puts the robot at q (at rest, plant mode "jump": both feet down) and the reference into its settle phase.
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);
 
-/// Integrator of the hopping loop: explicit Bogacki-Shampine 3(2), rtol 1e-5, atol 1e-7 (ours; see design-notes.md).
+/// Integrator of the hopping loop: explicit Bogacki-Shampine 3(2), rtol 1e-5, atol 1e-7 (ours;
+/// docs/design-notes.md#hopping-integrator).
 SimulatorConfig HoppingSimulatorConfig();
 
 }  // namespace rome
