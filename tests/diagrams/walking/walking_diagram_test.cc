@@ -44,16 +44,18 @@ namespace rome {
 namespace {
 
 enum class RunUntil { kLiftoff, kPlanEnd };
-enum class Start { kStanding, kOnTheOrbit, kGaitChange };
+enum class Start { kStanding, kOnTheOrbit, kGaitChange, kSequence };
 
-// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`) plus the run's trailing
+// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`; kSequence: `steps` of each
+// gait of `sequence`, which starts with `gait`) plus the run's trailing
 // steps, and runs all but the trailing ones with RunWalking (the plan's end, where the momentum correction is brought to
 // rest, is not judged). Full runs also check the issue's convergence: the step-to-step change of the pre-impact COM
 // state (about the stance ankle, y mirrored in right stance) is below 1e-2 from the 5th periodic touchdown after each
 // transition. Besides RunWalking's own measures, an observer checks each active foot's wrench from the plant's
 // constrained dynamics at every integrator step (CheckContactForce).
 void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger_m = StandToWalkParams{}.stance_stagger_m,
-                    Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}) {
+                    Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}, const std::vector<WalkingGait>& sequence = {},
+                    WalkingPlanReport* report_out = nullptr) {
   const bool full_run = until == RunUntil::kPlanEnd;
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
@@ -66,7 +68,15 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   WalkingPlanReport report;
   const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, planned, 1, &cache, &report, stand)
                                : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, planned)
+                               : start == Start::kSequence   ? BuildGaitSequencePlan(sequence, steps, 1, &cache, &report, stand, planned)
                                                              : BuildPeriodicWalkingPlan(gait, planned, 1, &cache, stand);
+  if (report.chain.size() > 2 || start == Start::kSequence) {
+    std::printf("  gaits walked after the start (%d transitions tried, %d without a plan, %.2f s):", report.chain_transitions_tried,
+                report.chain_transitions_failed, report.chain_planning_s);
+    for (const WalkingGait& g : report.chain) std::printf(" (%g, %g, %g, %g)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
+    std::printf("\n");
+  }
+  if (report_out != nullptr) *report_out = report;
   const WalkingDiagramParams params;
   WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
   EXPECT_LT(d.compensation.max_correction_m, 0.03);
@@ -131,15 +141,22 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
       EXPECT_LE(r.com_max_error_m[a], 0.03) << "axis " << a;
     }
     EXPECT_LE(r.pelvis_max_orientation_error_rad, 2.0 * M_PI / 180.0);
-    // Transitions: standing (into the start gait when one is used), the start gait's change, a lead-in's change, A → B
-    // (through the gait graph: one per chain link).
-    const size_t changes = start == Start::kGaitChange ? report.chain.size() - 1 : report.lead_in ? 1u : 0u;
+    // Transitions: standing (into the start gait when one is used), the start gait's change, a lead-in's change, each
+    // gait change (through the gait graph: one per chain link).
+    const bool changing = start == Start::kGaitChange || start == Start::kSequence;
+    const size_t changes = changing ? report.chain.size() - 1 : report.lead_in ? 1u : 0u;
     ASSERT_EQ(r.transition_ends_s.size(), (start == Start::kOnTheOrbit ? 0u : 1u) + changes + (report.start_gait_used ? 1u : 0u));
     ASSERT_EQ(r.pre_impact_state_change_from_step5.size(), r.transition_ends_s.size());
-    // A chain's intermediate gaits walk StandToWalkParams::chain_steps (< 6) steps: their convergence is not judged.
-    const size_t intermediate_end = r.transition_ends_s.size() - 1, intermediate_begin = intermediate_end - (changes > 0 ? changes - 1 : 0);
+    // A chain's intermediate gaits walk StandToWalkParams::chain_steps (4) steps, too few to judge the convergence from
+    // the 5th touchdown (-1): exactly those, every other transition is judged.
+    const size_t requested_changes = start == Start::kGaitChange ? 1u : start == Start::kSequence ? sequence.size() - 1 : 0u;
+    const size_t intermediates = changing ? changes - requested_changes : 0u;
+    size_t unjudged = 0;
     for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
-      if (j >= intermediate_begin && j < intermediate_end) continue;
+      if (r.pre_impact_state_change_from_step5[j] < 0 && unjudged < intermediates) {
+        ++unjudged;
+        continue;
+      }
       const double change = r.pre_impact_state_change_from_step5[j];
       std::printf("  after transition %zu: pre-impact state change from the 5th touchdown %.2e\n", j, change);
       EXPECT_GE(change, 0.0) << "transition " << j << ": fewer than 6 touchdowns after it";
@@ -426,11 +443,29 @@ TEST(WalkingDiagram, GaitChangeFromAToBWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_length_m = 0.40});
 }
 
-// A change of step width with a change of length (issue 39): gait A (W 0.25 m) to 0.40 m steps at W 0.28 m, through
-// the lateral footed H-LIP transition onto gait B's P2 orbit.
+// A change of step width alone (issue 39): gait A (W 0.25 m) to W 0.20 m, directly through the lateral footed H-LIP
+// transition onto the narrower gait's P2 orbit (walking_gait_change_plan_test checks the orbit).
 TEST(WalkingDiagram, GaitChangeOfStepWidthWalksWithPhysicalContactForces) {
+  WalkingPlanReport report;
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_width_m = 0.20}, {},
+                 &report);
+  EXPECT_EQ(report.chain.size(), 2u);  // directly
+}
+
+// A change of length and width (issue 39): gait A (W 0.25 m) to 0.40 m steps at W 0.28 m (it has no direct plan:
+// through the gait graph).
+TEST(WalkingDiagram, GaitChangeOfLengthAndStepWidthWalksWithPhysicalContactForces) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
                  WalkingGait{.step_length_m = 0.40, .step_width_m = 0.28});
+}
+
+// A sequence of 4 gaits (issue 39, --gaits): longer, wider, quicker, then back to a short slow gait, 6 steps each.
+TEST(WalkingDiagram, SequenceOfFourGaitsWalksWithPhysicalContactForces) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  const std::vector<WalkingGait> gaits = {
+      {0.30, 0.40, 0.10, 0.25}, {0.36, 0.42, 0.11, 0.27}, {0.33, 0.38, 0.09, 0.23}, {0.25, 0.45, 0.12, 0.22}};
+  RunStandToWalk(RunUntil::kPlanEnd, gaits.front(), StandToWalkParams{}.stance_stagger_m, Start::kSequence, 6, {}, gaits);
 }
 
 // Issue 39's pairs whose direct transition NLP is locally infeasible: the change goes through intermediate gaits of the
