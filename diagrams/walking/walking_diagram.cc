@@ -518,8 +518,15 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
 // Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
 // step stops at its touchdown (its DSP left to a following transition). With StandToWalkParams::start_gait_steps, the
 // standing transition goes into the start gait, which walks those steps and changes into g.
+WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
+                            bool end_in_single_support, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
+                            const std::string& who, const std::string& direct_error, WalkingNlpReport* last_transition,
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked);
+
+// With `chain`, a start gait → g change with no direct plan goes through the gait graph (report->start_chain).
 WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out) {
+                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out,
+                        bool chain = false) {
   sp.Validate(who);
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
   SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
@@ -530,8 +537,19 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true, "start gait");
     WalkingNlpReport change;
     const StandToWalkParams from_start = WithStandingMargin(sp);  // the start gait's change keeps the standing margin
-    AppendGaitChange(plan, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change,
-                     report != nullptr ? &report->start_change_nodes : nullptr);
+    WalkingTransitionNodes* nodes = report != nullptr ? &report->start_change_nodes : nullptr;
+    if (report != nullptr) report->start_chain = {start, g};
+    try {
+      WalkingPlan direct = plan;
+      AppendGaitChange(direct, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change, nodes);
+      plan = std::move(direct);
+    } catch (const std::runtime_error& direct) {
+      if (!chain) throw;
+      std::vector<WalkingGait> walked{start};
+      plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start, who, direct.what(), &change, nodes,
+                             report, &walked);
+      if (report != nullptr) report->start_chain = walked;
+    }
     if (report != nullptr) {
       report->start_gait_used = true;
       report->start_gait = start;
@@ -557,11 +575,11 @@ std::string GaitText(const WalkingGait& g) {
 // `plan` ends at a touchdown of the solved gait `ga`, whose direct change into `gb` has no plan (`direct_error`): the
 // lazy gait-graph search (GaitGraph) appends changes through intermediate gaits, chain_steps steps each, then the
 // change into b and steps_b steps of it. A transition or an intermediate gait that has no plan removes that edge.
-// Appends the gaits after a to report->chain and adds the search's time and counts.
+// Appends the gaits after a to *walked and adds the search's time and counts to the report.
 WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
                             bool end_in_single_support, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
                             const std::string& who, const std::string& direct_error, WalkingNlpReport* last_transition,
-                            WalkingTransitionNodes* nodes, WalkingPlanReport* report) {
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked) {
   const auto t0 = Clock::now();
   GaitGraph graph(sp.gait_graph, AsVector(a), AsVector(b));
   graph.MarkInfeasible(graph.start(), graph.goal());
@@ -601,7 +619,7 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
     report->chain_transitions_failed += chain.transitions_failed;
   }
   if (!chain.found) throw std::runtime_error(direct_error + "; through the gait graph: " + chain.message);
-  if (report != nullptr) report->chain.insert(report->chain.end(), gaits.begin() + 1, gaits.end());
+  if (walked != nullptr) walked->insert(walked->end(), gaits.begin() + 1, gaits.end());
   return std::move(plans.back());
 }
 
@@ -612,8 +630,9 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
                          const StandToWalkParams& sp, int steps_last, bool chain, const std::string& who) {
   if (steps_last < 0) steps_last = steps;
   SolvedGait prev{AslipPeriodicGaitPlanner(GaitParams(gaits.front(), sp)), {}, 0.0};
-  WalkingPlan plan = StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev);
-  if (report != nullptr) report->chain = {gaits.front()}, report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0;
+  if (report != nullptr) report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0;
+  WalkingPlan plan = StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev, chain);
+  if (report != nullptr) report->chain = {gaits.front()};
   for (size_t i = 1; i < gaits.size(); ++i) {
     const bool last = i + 1 == gaits.size();
     const WalkingGait &a = gaits[i - 1], &b = gaits[i];
@@ -629,7 +648,8 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
       if (report != nullptr) report->chain.push_back(b);
     } catch (const std::runtime_error& direct) {
       if (!chain) throw;
-      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(), &transition_report, nodes, report);
+      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(), &transition_report, nodes, report,
+                             report != nullptr ? &report->chain : nullptr);
     }
     if (report != nullptr && last) {
       report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};

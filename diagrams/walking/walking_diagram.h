@@ -360,6 +360,9 @@ struct WalkingPlanReport {
   /// intermediate gaits (A, B alone: the direct transition), and the chain searches' wall time and transitions tried /
   /// failed (0 when every direct transition planned).
   std::vector<WalkingGait> chain;
+  /// With the start gait and chaining on (BuildGaitChangePlan, BuildGaitSequencePlan): the gaits from the start gait
+  /// to gait A (2 entries: the direct change; more: its chain through the gait graph, counted in the figures below).
+  std::vector<WalkingGait> start_chain;
   double chain_planning_s = 0;
   int chain_transitions_tried = 0, chain_transitions_failed = 0;
 };

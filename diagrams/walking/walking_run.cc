@@ -28,6 +28,22 @@ double Percentile(std::vector<double> x, double p) {
   return x[std::min(x.size() - 1, static_cast<size_t>(p * (x.size() - 1) + 0.5))];
 }
 
+// Convergence after each transition: the largest step-to-step change of the pre-impact states from its own touchdown
+// to the next transition's, from the from_step-th periodic touchdown on (−1 with fewer).
+std::vector<double> PreImpactChanges(const WalkingRunResult& r, int from_step) {
+  std::vector<double> changes;
+  for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
+    const double begin = r.transition_ends_s[j] - 0.05, end = j + 1 < r.transition_ends_s.size() ? r.transition_ends_s[j + 1] - 0.05 : 1e9;
+    std::vector<WalkingRunResult::ComState> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
+    for (const auto& [time, state] : r.pre_impact_states)
+      if (time > begin && time < end) states.push_back(state);
+    double worst = -1.0;
+    for (size_t k = static_cast<size_t>(from_step); k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
+    changes.push_back(worst);
+  }
+  return changes;
+}
+
 }  // namespace
 
 void WalkingRunParams::Validate() const {
@@ -222,16 +238,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.interrupted = r.status.kind() == SimulatorStatus::Kind::kInterrupted;
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
 
-  // Convergence after each transition: the pre-impact states from its own touchdown to the next transition's.
-  for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
-    const double begin = r.transition_ends_s[j] - 0.05, end = j + 1 < r.transition_ends_s.size() ? r.transition_ends_s[j + 1] - 0.05 : 1e9;
-    std::vector<WalkingRunResult::ComState> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
-    for (const auto& [time, state] : r.pre_impact_states)
-      if (time > begin && time < end) states.push_back(state);
-    double worst = -1.0;
-    for (size_t k = static_cast<size_t>(params.convergence_from_step); k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
-    r.pre_impact_state_change_from_step5.push_back(worst);
-  }
+  r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
   r.success = !r.fell && r.steps_completed >= r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;

@@ -18,6 +18,12 @@ void PrintPlanReport(const WalkingPlanReport& nlp, const StandToWalkParams& stan
               << " s, " << nlp.lead_in_gait.dsp_duration_s << " s) and changing gait: " << nlp.lead_in_reason << "\n";
   else if (!nlp.lead_in_reason.empty())
     std::cout << "the lead-in " << nlp.lead_in_reason << "\n";
+  if (nlp.start_chain.size() > 2) {
+    std::cout << "no direct start gait -> gait A transition: through the gait graph:";
+    for (const WalkingGait& g : nlp.start_chain)
+      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", " << g.step_width_m << ")";
+    std::cout << "\n";
+  }
   if (nlp.chain.size() > 2) {
     std::cout << "no direct A -> B transition: through the gait graph (" << nlp.chain_transitions_tried << " transitions tried, "
               << nlp.chain_transitions_failed << " without a plan, " << nlp.chain_planning_s << " s):";
@@ -75,9 +81,14 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
   // chain's intermediate gaits, and the chain searches' time.
   s["gait_chain"] = nullptr;
   if (scenario_name == "gait-change" || scenario_name == "gait-sequence") {
-    nlohmann::json gaits = nlohmann::json::array();
-    for (const WalkingGait& g : nlp.chain) gaits.push_back({g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m});
-    s["gait_chain"] = {{"gaits", gaits}, {"planning_s", nlp.chain_planning_s}, {"transitions_tried", nlp.chain_transitions_tried},
+    const auto list = [](const std::vector<WalkingGait>& chain) {
+      nlohmann::json gaits = nlohmann::json::array();
+      for (const WalkingGait& g : chain) gaits.push_back({g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m});
+      return gaits;
+    };
+    // start_gait_chain: the start gait's change into gait A (2 gaits: direct; empty: no start gait).
+    s["gait_chain"] = {{"gaits", list(nlp.chain)}, {"start_gait_chain", list(nlp.start_gait_used ? nlp.start_chain : std::vector<WalkingGait>{})},
+                       {"planning_s", nlp.chain_planning_s}, {"transitions_tried", nlp.chain_transitions_tried},
                        {"transitions_failed", nlp.chain_transitions_failed}};
   }
   // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait A.

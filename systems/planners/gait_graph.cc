@@ -54,7 +54,9 @@ GaitGraph::GaitGraph(const GaitGraphParams& params, const GaitVector& start, con
   std::array<std::vector<double>, 4> axes;
   for (int i = 0; i < 4; ++i) {
     std::vector<double>& a = axes[i];
-    for (int k = 0; params_.min[i] + k * params_.spacing[i] <= params_.max[i] + kSame; ++k) a.push_back(params_.min[i] + k * params_.spacing[i]);
+    // Grid values rounded to 1e-9 (0.35, not 0.35000000000000003: they are printed and are plan-cache keys).
+    for (int k = 0; params_.min[i] + k * params_.spacing[i] <= params_.max[i] + kSame; ++k)
+      a.push_back(std::round((params_.min[i] + k * params_.spacing[i]) * 1e9) / 1e9);
     a.push_back(params_.max[i]);
     a.push_back(start[i]);
     a.push_back(goal[i]);
