@@ -115,6 +115,7 @@ void StandToWalkParams::Validate(const std::string& who) const {
   Require(periodic_max_force_fraction == 0 || (periodic_max_force_fraction > 1 && periodic_max_force_fraction <= 3), who,
           "periodic_max_force_fraction", periodic_max_force_fraction, "m g", "0 (never) or (1, 3] m g");
   Require(chain_steps >= 1 && chain_steps <= 20, who, "chain_steps", chain_steps, "", "[1, 20]");
+  Require(reload_floor_fraction >= 0 && reload_floor_fraction < 0.5, who, "reload_floor_fraction", reload_floor_fraction, "m g", "[0, 0.5)");
   gait_graph.Validate();
   Require(min_dsp_stance_force_fraction >= 0 && min_dsp_stance_force_fraction < 1, who, "min_dsp_stance_force_fraction",
           min_dsp_stance_force_fraction, "", Interval(0, 1, "", '[', ')'));
@@ -347,12 +348,14 @@ AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_par
 void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& planner, const AslipTransitionData& data, double x_offset,
                             double step_width, double landing_x, const StandToWalkParams& sp, const PlanCache* cache, const std::string& who,
                             WalkingNlpReport* report, WalkingTransitionNodes* nodes,
-                            double landing_y = std::numeric_limits<double>::quiet_NaN()) {
+                            double landing_y = std::numeric_limits<double>::quiet_NaN(), double reload_floor_N = 0.0) {
   const auto t0 = Clock::now();
   const AslipTransition transition = planner.Solve(data, cache);
   if (report != nullptr) *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
   if (!transition.success()) throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
   const AslipParams& aslip = planner.params().bounds.aslip;
+  if (const double t = transition.LiftingLegReloadTime(aslip, data, reload_floor_N); reload_floor_N > 0 && !std::isnan(t))
+    throw std::runtime_error(who + ": the transition's plan unloads the lifting foot and loads it again " + std::to_string(t) + " s into its double support");
   FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, aslip, data, planner.params().bounds.nodes_per_domain, step_width);
   lat.stance_left = data.lifting_leg == 1;
   lat.left_foot_y = data.left_foot_y;
@@ -508,7 +511,7 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
   // walking line between them (it moves by (W_A - W_B) / 2 when W changes).
   const double landing_y = old_stance_left ? landed.y() + b.step_width_m : landed.y() - b.step_width_m;
   AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, transition_report, nodes,
-                         landing_y);
+                         landing_y, sp.reload_floor_fraction * pb.aslip.mass * pb.aslip.gravity);
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
   plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
@@ -593,16 +596,11 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
     const bool last = to == goal;
     const WalkingGait g = last ? b : WalkingGait{to[0], to[1], to[2], to[3]};
     try {
-      std::shared_ptr<const SolvedGait> s;
-      if (last) s = std::make_shared<const SolvedGait>(gb);
-      else if (periodic.count(to)) s = periodic[to];
-      else {
-        try {
-          s = std::make_shared<const SolvedGait>(SolveGait(g, seed, cache, sp, who, "the chain gait " + GaitText(g)));
-        } catch (const std::runtime_error&) {
-        }
-        periodic[to] = s;
+      if (!last && !periodic.count(to)) {
+        periodic[to] = nullptr;  // stays null when the gait has no periodic plan (SolveGait throws)
+        periodic[to] = std::make_shared<const SolvedGait>(SolveGait(g, seed, cache, sp, who, "the chain gait " + GaitText(g)));
       }
+      const std::shared_ptr<const SolvedGait> s = last ? std::make_shared<const SolvedGait>(gb) : periodic[to];
       if (s == nullptr) return false;
       WalkingPlan next = plans[depth];
       AppendGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps, last ? end_in_single_support : true, cache, sp,

@@ -278,6 +278,11 @@ struct StandToWalkParams {
   /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
   bool chain_gait_changes = true;
   int chain_steps = 4;
+  /// [-] A gait-change transition whose plan unloads the lifting foot below this fraction of m g and loads it again
+  /// within the double support (AslipTransition::LiftingLegReloadTime) has no plan (ours; 0: off; 2 %: twice the
+  /// plant's 1 % release force). Measured: (0.35, 0.45, 0.12, 0.25) → (0.38, 0.40, 0.10, 0.28) planned such a dip;
+  /// the plant lifted the foot 38 ms into the DSP and it landed again (an extra touchdown, COM error 3.7 cm).
+  double reload_floor_fraction = 0.02;
   GaitGraphParams gait_graph;
 
   /// Ranges of the lead-in and start gaits (L, T_SSP, T_DSP; ours: they may lie outside the walking issue's range).

@@ -371,6 +371,18 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   return out;
 }
 
+double AslipTransition::LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data, double floor_N) const {
+  const Eigen::MatrixXd G = GroundReactions(params, data, 0);
+  const CollocationPhaseSolution& dsp = collocation.phases.at(0);
+  bool unloaded = false;
+  for (Eigen::Index k = 0; k < G.cols(); ++k) {
+    const double f = G(2 * data.lifting_leg + 1, k);
+    if (unloaded && f > floor_N) return dsp.times(k) - dsp.start_time;
+    unloaded = unloaded || f < floor_N;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 Eigen::MatrixXd AslipTransition::GroundReactions(const AslipParams& params, const AslipTransitionData& data,
                                                  int phase) const {
   const CollocationPhaseSolution& s = collocation.phases.at(phase);

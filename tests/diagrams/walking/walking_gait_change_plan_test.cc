@@ -148,5 +148,33 @@ TEST(WalkingGaitChangePlan, AChangeWithNoDirectPlanChainsThroughIntermediateGait
   }
 }
 
+// A chain whose direct last transition planned the lifting foot unloaded and loaded again in its double support (the
+// plant then lifts it early and it lands again): with StandToWalkParams::reload_floor_fraction such a transition has no
+// plan. Checked on the plan's own force reference, sampled every 1 ms: in no transition's double support does the
+// lifting foot's force fall below 2 % m g and rise above it again.
+TEST(WalkingGaitChangePlan, NoTransitionUnloadsTheLiftingFootAndLoadsItAgain) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  const StandToWalkParams stand = Stand(*model);
+  WalkingPlanReport report;
+  const WalkingPlan plan = BuildGaitChangePlan({0.22, 0.48, 0.14, 0.21}, {0.38, 0.40, 0.10, 0.28}, 6, 1, &cache, &report, stand, 4);
+  const double floor = stand.reload_floor_fraction * model->total_mass() * kGravity;
+  int transitions = 0;
+  for (size_t i = 0; i + 1 < plan.segments().size(); ++i) {
+    const WalkingPlanSegment &dsp = plan.segments()[i], &ssp = plan.segments()[i + 1];
+    if (dsp.domain != WalkingDomain::kDoubleSupport || ssp.lateral_nodes.cols() == 0) continue;
+    ++transitions;
+    const int lifting = ssp.domain == WalkingDomain::kLeftStance ? 1 : 0;
+    bool unloaded = false, reloaded = false;
+    for (double t = dsp.start_time; t < dsp.start_time + dsp.duration - 1e-9; t += 1e-3) {
+      const double f = plan.Sample(t).normal_force[lifting];
+      reloaded = reloaded || (unloaded && f > floor);
+      unloaded = unloaded || f < floor;
+    }
+    EXPECT_FALSE(reloaded) << "transition ending at " << ssp.start_time + ssp.duration << " s";
+  }
+  EXPECT_EQ(transitions, 1 + 1 + static_cast<int>(report.chain.size()) - 1);  // standing, start gait -> A, the chain
+}
+
 }  // namespace
 }  // namespace rome
