@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -112,6 +114,9 @@ void StandToWalkParams::Validate(const std::string& who) const {
           "gait_change_max_force_fraction", gait_change_max_force_fraction, "m g", "0 (no bound) or (1, 3] m g");
   Require(periodic_max_force_fraction == 0 || (periodic_max_force_fraction > 1 && periodic_max_force_fraction <= 3), who,
           "periodic_max_force_fraction", periodic_max_force_fraction, "m g", "0 (never) or (1, 3] m g");
+  Require(chain_steps >= 1 && chain_steps <= 20, who, "chain_steps", chain_steps, "", "[1, 20]");
+  Require(reload_floor_fraction >= 0 && reload_floor_fraction < 0.5, who, "reload_floor_fraction", reload_floor_fraction, "m g", "[0, 0.5)");
+  gait_graph.Validate();
   Require(min_dsp_stance_force_fraction >= 0 && min_dsp_stance_force_fraction < 1, who, "min_dsp_stance_force_fraction",
           min_dsp_stance_force_fraction, "", Interval(0, 1, "", '[', ')'));
   const double lateral = lateral_cop_margin_m, sag = sagittal_cop_margin_m, standing = standing_sagittal_cop_margin_m;
@@ -151,7 +156,7 @@ WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, con
 }
 
 std::vector<ClfOutput> WalkingControllerTasks(const MultibodyModel& m, const WalkingDiagramParams& params) {
-  const int left_stance = 0, right_stance = 2;
+  const int left_stance = kWalkingLeftStance, right_stance = kWalkingRightStance;
   TaskGains foot_gains;
   foot_gains.weight = params.swing_foot_weight;
   TaskGains foot_orientation_gains = foot_gains;
@@ -211,7 +216,11 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   BulletWorldPlantParams bullet_params = params.bullet_plant;
   if (bullet_params.planned_liftoff_force_N < 0) bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
   if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"), Terrain::Flat(),
+  const ContactModeGraph modes = ContactModeGraph::WithDoubleSupport("left_foot", "right_foot");
+  if (modes.ModeIndex("left_foot_stance", "plant") != kWalkingLeftStance || modes.ModeIndex("double_support", "plant") != kWalkingDoubleSupport ||
+      modes.ModeIndex("right_foot_stance", "plant") != kWalkingRightStance)
+    throw std::logic_error("BuildWalkingDiagram: the plant's mode numbers differ from WalkingPlantMode");
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, modes, Terrain::Flat(),
                                          plant_params, bullet_params));
   WalkingControllerSpec spec;
   spec.model = model;
@@ -335,14 +344,18 @@ AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_par
 
 // Solves the transition NLP for `data` (legs and pivots in the frame whose origin is world x = x_offset), then the
 // footed H-LIP QP on its nodes (Eq. (11)-(15)), and appends both to `plan`; the lifting foot lands at world landing_x.
+// landing_y: the lifting foot's world y at touchdown (NaN: where it lifted).
 void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& planner, const AslipTransitionData& data, double x_offset,
                             double step_width, double landing_x, const StandToWalkParams& sp, const PlanCache* cache, const std::string& who,
-                            WalkingNlpReport* report, WalkingTransitionNodes* nodes) {
+                            WalkingNlpReport* report, WalkingTransitionNodes* nodes,
+                            double landing_y = std::numeric_limits<double>::quiet_NaN(), double reload_floor_N = 0.0) {
   const auto t0 = Clock::now();
   const AslipTransition transition = planner.Solve(data, cache);
   if (report != nullptr) *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
   if (!transition.success()) throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
   const AslipParams& aslip = planner.params().bounds.aslip;
+  if (const double t = transition.LiftingLegReloadTime(aslip, data, reload_floor_N); reload_floor_N > 0 && !std::isnan(t))
+    throw std::runtime_error(who + ": the transition's plan unloads the lifting foot and loads it again " + std::to_string(t) + " s into its double support");
   FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, aslip, data, planner.params().bounds.nodes_per_domain, step_width);
   lat.stance_left = data.lifting_leg == 1;
   lat.left_foot_y = data.left_foot_y;
@@ -378,7 +391,7 @@ void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& pla
     r.heel_m = aslip.heel_length, r.toe_m = aslip.toe_length;
     r.left_m = lp.foot_width_left_of_ankle, r.right_m = lp.foot_width_right_of_ankle;
   }
-  plan.AppendTransition(planner, transition, data, x_offset, lat, lateral, aslip.mass, landing_x);
+  plan.AppendTransition(planner, transition, data, x_offset, lat, lateral, aslip.mass, landing_x, landing_y);
 }
 
 // Swaps the two legs' rest lengths and rates of an aSLIP state [x, z, ẋ, ż, L_0, L_1, L̇_0, L̇_1].
@@ -493,18 +506,30 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
       for (Eigen::Index k = 0; k < g->cols(); ++k) g->col(k).tail<2>() = from + (to - from) * (double(k) / double(g->cols() - 1));
     }
   }
-  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, transition_report, nodes);
+  // The lateral footed H-LIP transition to B's step width: the landed foot stays, the lifting foot lands W_B to its
+  // side (the final lateral state above is B's P2 pre-impact state about the landed foot), and B walks about the
+  // walking line between them (it moves by (W_A - W_B) / 2 when W changes).
+  const double landing_y = old_stance_left ? landed.y() + b.step_width_m : landed.y() - b.step_width_m;
+  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, transition_report, nodes,
+                         landing_y, sp.reload_floor_fraction * pb.aslip.mass * pb.aslip.gravity);
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
   plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
-                           b.step_width_m, /*begin_with_double_support=*/true, end_in_single_support);
+                           b.step_width_m, /*begin_with_double_support=*/true, end_in_single_support, 0.5 * (landed.y() + landing_y));
 }
 
 // Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
 // step stops at its touchdown (its DSP left to a following transition). With StandToWalkParams::start_gait_steps, the
 // standing transition goes into the start gait, which walks those steps and changes into g.
+WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
+                            bool end_in_single_support, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
+                            const std::string& who, const std::string& direct_error, WalkingNlpReport* last_transition,
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked);
+
+// With `chain`, a start gait → g change with no direct plan goes through the gait graph (report->start_chain).
 WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out) {
+                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out,
+                        bool chain = false) {
   sp.Validate(who);
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
   SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
@@ -515,8 +540,19 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true, "start gait");
     WalkingNlpReport change;
     const StandToWalkParams from_start = WithStandingMargin(sp);  // the start gait's change keeps the standing margin
-    AppendGaitChange(plan, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change,
-                     report != nullptr ? &report->start_change_nodes : nullptr);
+    WalkingTransitionNodes* nodes = report != nullptr ? &report->start_change_nodes : nullptr;
+    if (report != nullptr) report->start_chain = {start, g};
+    try {
+      WalkingPlan direct = plan;
+      AppendGaitChange(direct, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change, nodes);
+      plan = std::move(direct);
+    } catch (const std::runtime_error& direct) {
+      if (!chain) throw;
+      std::vector<WalkingGait> walked{start};
+      plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start, who, direct.what(), &change, nodes,
+                             report, &walked);
+      if (report != nullptr) report->start_chain = walked;
+    }
     if (report != nullptr) {
       report->start_gait_used = true;
       report->start_gait = start;
@@ -532,25 +568,101 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
   return plan;
 }
 
-// BuildGaitChangePlan without the gait range check (the lead-in gait may lie outside it).
-WalkingPlan GaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
-                           WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
-  if (steps_b < 0) steps_b = steps;
-  const std::string who = "BuildGaitChangePlan";
-  if (!(std::abs(a.step_width_m - b.step_width_m) <= 1e-12))
-    throw std::invalid_argument(who + ": gaits A and B must have the same step width W (got " + std::to_string(a.step_width_m) + " and " +
-                                std::to_string(b.step_width_m) + " m); a change of W is not built");
-  SolvedGait ga{AslipPeriodicGaitPlanner(GaitParams(a, sp)), {}, 0.0};
-  WalkingPlan plan = StandToWalk(a, steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &ga);
-  SolvedGait gb = SolveGait(b, seed, cache, sp, who, "gait B");
-  WalkingNlpReport transition_report;
-  AppendGaitChange(plan, ga, a, gb, b, steps_b, /*end_in_single_support=*/false, cache, sp, who + " (gait A -> gait B)", &transition_report,
-                   report != nullptr ? &report->transition_b_nodes : nullptr);
+GaitVector AsVector(const WalkingGait& g) { return {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}; }
+std::string GaitText(const WalkingGait& g) {
+  char b[96];
+  std::snprintf(b, sizeof b, "(%g m, %g s, %g s, %g m)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
+  return b;
+}
+
+// `plan` ends at a touchdown of the solved gait `ga`, whose direct change into `gb` has no plan (`direct_error`): the
+// lazy gait-graph search (GaitGraph) appends changes through intermediate gaits, chain_steps steps each, then the
+// change into b and steps_b steps of it. A transition or an intermediate gait that has no plan removes that edge.
+// Appends the gaits after a to *walked and adds the search's time and counts to the report.
+WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
+                            bool end_in_single_support, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
+                            const std::string& who, const std::string& direct_error, WalkingNlpReport* last_transition,
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked) {
+  const auto t0 = Clock::now();
+  GaitGraph graph(sp.gait_graph, AsVector(a), AsVector(b));
+  graph.MarkInfeasible(graph.start(), graph.goal());
+  const GaitVector goal = graph.node(graph.goal());
+  std::vector<WalkingPlan> plans{std::move(plan)};  // plans[k]: after the chain's first k transitions
+  std::vector<std::shared_ptr<const SolvedGait>> solved{std::make_shared<const SolvedGait>(ga)};
+  std::vector<WalkingGait> gaits{a};
+  std::map<GaitVector, std::shared_ptr<const SolvedGait>> periodic;  // intermediate gaits solved so far (null: no plan)
+  const GaitChain chain = graph.ShortestFeasibleChain([&](int depth, const GaitVector&, const GaitVector& to) {
+    plans.resize(depth + 1), solved.resize(depth + 1), gaits.resize(depth + 1);
+    const bool last = to == goal;
+    const WalkingGait g = last ? b : WalkingGait{to[0], to[1], to[2], to[3]};
+    try {
+      if (!last && !periodic.count(to)) {
+        periodic[to] = nullptr;  // stays null when the gait has no periodic plan (SolveGait throws)
+        periodic[to] = std::make_shared<const SolvedGait>(SolveGait(g, seed, cache, sp, who, "the chain gait " + GaitText(g)));
+      }
+      const std::shared_ptr<const SolvedGait> s = last ? std::make_shared<const SolvedGait>(gb) : periodic[to];
+      if (s == nullptr) return false;
+      WalkingPlan next = plans[depth];
+      AppendGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps, last ? end_in_single_support : true, cache, sp,
+                       who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition, last ? nodes : nullptr);
+      plans.push_back(std::move(next)), solved.push_back(s), gaits.push_back(g);
+      return true;
+    } catch (const std::runtime_error&) {
+      return false;
+    }
+  });
   if (report != nullptr) {
-    report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
-    report->transition_b = transition_report;
+    report->chain_planning_s += SecondsSince(t0);
+    report->chain_transitions_tried += chain.transitions_tried;
+    report->chain_transitions_failed += chain.transitions_failed;
+  }
+  if (!chain.found) throw std::runtime_error(direct_error + "; through the gait graph: " + chain.message);
+  if (walked != nullptr) walked->insert(walked->end(), gaits.begin() + 1, gaits.end());
+  return std::move(plans.back());
+}
+
+// Standing → gaits[0] (as StandToWalk, `steps` steps), then each change into the next gait (directly, or with `chain`
+// through the gait graph when the direct transition has no plan), `steps` steps of each and steps_last of the last.
+// The report's *_b entries are the last gait's and its change's.
+WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
+                         const StandToWalkParams& sp, int steps_last, bool chain, const std::string& who) {
+  if (steps_last < 0) steps_last = steps;
+  SolvedGait prev{AslipPeriodicGaitPlanner(GaitParams(gaits.front(), sp)), {}, 0.0};
+  if (report != nullptr) report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0;
+  WalkingPlan plan = StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev, chain);
+  if (report != nullptr) report->chain = {gaits.front()};
+  for (size_t i = 1; i < gaits.size(); ++i) {
+    const bool last = i + 1 == gaits.size();
+    const WalkingGait &a = gaits[i - 1], &b = gaits[i];
+    SolvedGait gb = SolveGait(b, seed, cache, sp, who, gaits.size() == 2 ? "gait B" : "gait " + std::to_string(i + 1));
+    const std::string change = gaits.size() == 2 ? " (gait A -> gait B)" : " (gait " + std::to_string(i) + " -> gait " + std::to_string(i + 1) + ")";
+    const int steps_b = last ? steps_last : steps;
+    WalkingNlpReport transition_report;
+    WalkingTransitionNodes* nodes = last && report != nullptr ? &report->transition_b_nodes : nullptr;
+    try {
+      WalkingPlan direct = plan;
+      AppendGaitChange(direct, prev, a, gb, b, steps_b, /*end_in_single_support=*/!last, cache, sp, who + change, &transition_report, nodes);
+      plan = std::move(direct);
+      if (report != nullptr) report->chain.push_back(b);
+    } catch (const std::runtime_error& direct) {
+      if (!chain) throw;
+      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(), &transition_report, nodes, report,
+                             report != nullptr ? &report->chain : nullptr);
+    }
+    if (report != nullptr && last) {
+      report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
+      report->transition_b = transition_report;
+    }
+    prev = std::move(gb);
   }
   return plan;
+}
+
+// BuildGaitChangePlan without the gait range check (the lead-in gait may lie outside it); with `chain`, a change with
+// no direct plan goes through the gait graph (ChainGaitChange).
+WalkingPlan GaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
+                           WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b, bool chain = false) {
+  return SequencePlan({a, b}, steps, seed, cache, report, sp, steps_b, chain, "BuildGaitChangePlan");
 }
 
 }  // namespace
@@ -626,7 +738,18 @@ WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int 
   a.Validate("BuildGaitChangePlan: gait A");
   b.Validate("BuildGaitChangePlan: gait B");
   sp.Validate("BuildGaitChangePlan");
-  return GaitChangePlan(a, b, steps, seed, cache, report, sp, steps_b);
+  return GaitChangePlan(a, b, steps, seed, cache, report, sp, steps_b, sp.chain_gait_changes);
+}
+
+WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache,
+                                  WalkingPlanReport* report, const StandToWalkParams& sp, int steps_last) {
+  const std::string who = "BuildGaitSequencePlan";
+  if (gaits.size() < 2 || gaits.size() > 20)
+    throw std::invalid_argument(who + ": the sequence has " + std::to_string(gaits.size()) + " gaits, expected 2 to 20");
+  for (size_t i = 0; i < gaits.size(); ++i) gaits[i].Validate(who + ": gait " + std::to_string(i + 1));
+  sp.Validate(who);
+  if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
+  return SequencePlan(gaits, steps, seed, cache, report, sp, steps_last, sp.chain_gait_changes, who);
 }
 
 WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp) {

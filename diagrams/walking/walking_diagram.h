@@ -19,7 +19,7 @@
 // (compensate_centroidal_momentum), which the point-mass ROMs do not model. What the diagram achieves, measured, is in
 // docs/walking.md (figures) and docs/design-notes.md#walking-status.
 //
-// Plant modes (WithDoubleSupport): 0 left_foot_stance, 1 double_support, 2 right_foot_stance.
+// Plant modes (WithDoubleSupport): WalkingPlantMode below (BuildWalkingDiagram checks them against the plant's names).
 //
 // The controller is a parameter of the builder (WalkingControllerFactory; default MakeWalkingClfQpController, the
 // CLF-QP above). The factory may return any System, a leaf or a Diagram (e.g. controller → Saturation). Its ports:
@@ -53,6 +53,7 @@
 #include "framework/simulator.h"
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/planners/centroidal_momentum_compensation.h"
+#include "systems/planners/gait_graph.h"
 #include "systems/planners/plan_cache.h"
 #include "systems/planners/walking_output_reference.h"
 #include "systems/planners/walking_plan.h"
@@ -61,6 +62,10 @@
 #include "systems/plants/plant_kind.h"
 
 namespace rome {
+
+/// The plant's modes on ContactModeGraph::WithDoubleSupport("left_foot", "right_foot"), as its int 'mode' output
+/// carries them (unscoped so that they compare with that int).
+enum WalkingPlantMode : int { kWalkingLeftStance = 0, kWalkingDoubleSupport = 1, kWalkingRightStance = 2 };
 
 struct WalkingDiagramParams {
   HybridContactPlantParams plant;  ///< PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
@@ -260,6 +265,16 @@ struct StandToWalkParams {
   /// the direct plan of (0.33 m, 0.40 s, 0.12 s, 0.26 m) puts the COM 0.90 m high over the 0.4 m step stance, which
   /// the legs cannot reach (SolveWalkingPose residual 0.6 mm); through the lead-in it walks.
   std::function<void(const WalkingPlan&)> plan_check;
+  /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph
+  /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
+  bool chain_gait_changes = true;
+  int chain_steps = 4;
+  /// [-] A gait-change transition whose plan unloads the lifting foot below this fraction of m g and loads it again
+  /// within the double support (AslipTransition::LiftingLegReloadTime) has no plan (ours; 0: off; 2 %: twice the
+  /// plant's 1 % release force). Measured: (0.35, 0.45, 0.12, 0.25) → (0.38, 0.40, 0.10, 0.28) planned such a dip;
+  /// the plant lifted the foot 38 ms into the DSP and it landed again (an extra touchdown, COM error 3.7 cm).
+  double reload_floor_fraction = 0.02;
+  GaitGraphParams gait_graph;
 
   /// Ranges of the lead-in and start gaits (L, T_SSP, T_DSP; ours: they may lie outside the walking issue's range).
   static constexpr double kSideGaitMin[3] = {0.1, 0.35, 0.08}, kSideGaitMax[3] = {0.45, 0.6, 0.3};
@@ -336,18 +351,35 @@ struct WalkingPlanReport {
   WalkingGait start_gait;
   WalkingNlpReport periodic_start, transition_start;
   WalkingTransitionNodes start_change_nodes;
+  /// BuildGaitChangePlan / BuildGaitSequencePlan: the gaits walked from gait A on, in order, with any chain's
+  /// intermediate gaits (A, B alone: the direct transition), and the chain searches' wall time and transitions tried /
+  /// failed (0 when every direct transition planned).
+  std::vector<WalkingGait> chain;
+  /// With the start gait and chaining on (BuildGaitChangePlan, BuildGaitSequencePlan): the gaits from the start gait
+  /// to gait A (2 entries: the direct change; more: its chain through the gait graph, counted in the figures below).
+  std::vector<WalkingGait> start_chain;
+  double chain_planning_s = 0;
+  int chain_transitions_tried = 0, chain_transitions_failed = 0;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});
 
 /// The gait-change scenario (spec §4 (ii)): standing → gait A as BuildStandToWalkPlan with `steps` steps of A, the
 /// transition footed-aSLIP NLP from A's post-impact state (its last touchdown) to B's pre-impact state (the foot
-/// behind lifts, as in A) with its footed H-LIP QP, then `steps` steps of B. Gaits A and B must share W (a change
-/// of step width is not built). Throws std::invalid_argument for a bad parameter, std::runtime_error naming the
-/// problem that failed.
+/// behind lifts, as in A) with its footed H-LIP QP, then `steps` steps of B. A change of step width W is the lateral
+/// footed H-LIP transition: the QP ends on B's P2 pre-impact state about the landed foot, the lifting foot lands W_B
+/// beside it and B walks about the walking line between them. Throws std::invalid_argument for a bad parameter,
+/// std::runtime_error naming the problem that failed.
 /// steps_b: gait B's steps (default: `steps`).
 WalkingPlan BuildGaitChangePlan(const WalkingGait& gait_a, const WalkingGait& gait_b, int steps, std::uint32_t seed, const PlanCache* cache,
                                 WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {}, int steps_b = -1);
+
+/// A sequence of gaits (2 to 20, each in the WalkingGait range): standing → gaits[0] as BuildGaitChangePlan's gait A,
+/// then each change into the next gait as its A → B (directly, or through the gait graph), `steps` steps of each gait
+/// and steps_last (default `steps`) of the last. report->chain lists every gait walked after the standing start (the
+/// chains' intermediate gaits included); its *_b entries are the last change's. Throws as BuildGaitChangePlan.
+WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache,
+                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {}, int steps_last = -1);
 
 /// `steps` + 1 periodic steps of `gait` alone (no transition), starting with the double support after a right-foot
 /// touchdown (left foot behind at x = 0): a run started on the orbit (WalkingStandingPose and WalkingInitialVelocity at

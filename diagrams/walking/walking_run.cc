@@ -28,6 +28,22 @@ double Percentile(std::vector<double> x, double p) {
   return x[std::min(x.size() - 1, static_cast<size_t>(p * (x.size() - 1) + 0.5))];
 }
 
+// Convergence after each transition: the largest step-to-step change of the pre-impact states from its own touchdown
+// to the next transition's, from the from_step-th periodic touchdown on (−1 with fewer).
+std::vector<double> PreImpactChanges(const WalkingRunResult& r, int from_step) {
+  std::vector<double> changes;
+  for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
+    const double begin = r.transition_ends_s[j] - 0.05, end = j + 1 < r.transition_ends_s.size() ? r.transition_ends_s[j + 1] - 0.05 : 1e9;
+    std::vector<WalkingRunResult::ComState> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
+    for (const auto& [time, state] : r.pre_impact_states)
+      if (time > begin && time < end) states.push_back(state);
+    double worst = -1.0;
+    for (size_t k = static_cast<size_t>(from_step); k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
+    changes.push_back(worst);
+  }
+  return changes;
+}
+
 }  // namespace
 
 void WalkingRunParams::Validate() const {
@@ -77,6 +93,7 @@ std::string WalkingRunResult::ToJson() const {
   s["com_max_error_m"] = {com_max_error_m.x(), com_max_error_m.y(), com_max_error_m.z()};
   s["pelvis_max_orientation_error_rad"] = pelvis_max_orientation_error_rad;
   s["force_in_band_fraction"] = force_in_band_fraction;
+  s["force_in_band_fraction_strict"] = force_in_band_fraction_strict;
   s["liftoff_normal_force_max_N"] = liftoff_normal_force_max_N;
   s["contact_violations"] = contact.violations;
   s["first_contact_violation"] = contact.first_violation;
@@ -130,8 +147,8 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   const int pelvis[3] = {model.VelocityIndex("base_roll"), model.VelocityIndex("base_pitch"), model.VelocityIndex("base_yaw")};
   MultibodyWorkspace ws(model);
   PreImpactSampler single_support_com;
-  long tick = -1, band_ticks = 0, band_in = 0, n_err = 0;
-  int last_mode = 1;
+  long tick = -1, band_ticks = 0, band_in = 0, band_in_strict = 0, n_err = 0;
+  int last_mode = kWalkingDoubleSupport;
   double last_touchdown = -1.0;
   Eigen::Vector2d last_fz = Eigen::Vector2d::Zero();
   Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero();
@@ -149,8 +166,9 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
     const Eigen::VectorXd& q = plant.EvalOutput(ctx, "q");
     const Eigen::VectorXd& v = plant.EvalOutput(ctx, "v");
     r.contact_violation_port_samples += plant.EvalOutput(ctx, "contact_violation").cwiseAbs().sum() > 0 ? 1 : 0;
-    if ((mode == 1 && last_mode != 1) || (mode != 1 && last_mode != 1 && mode != last_mode)) {  // a touchdown
-      const bool right_landed = last_mode == 0;
+    const bool in_double = mode == kWalkingDoubleSupport, was_double = last_mode == kWalkingDoubleSupport;
+    if ((in_double && !was_double) || (!in_double && !was_double && mode != last_mode)) {  // a touchdown
+      const bool right_landed = last_mode == kWalkingLeftStance;
       r.pre_impact_states.push_back({t, single_support_com.At(t)});
       const Eigen::Vector2d ankle = CalcLinkPose(model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
       const WalkingReference ref = plan.Sample(t);
@@ -161,17 +179,18 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
       if (r.first_touchdown_time_s < 0) r.first_touchdown_time_s = t;
       last_touchdown = t;
     }
-    if (mode != 1 && last_mode == 1) {  // a lift-off: the plant's force on the foot just before it left
+    if (!in_double && was_double) {  // a lift-off: the plant's force on the foot just before it left
       ++r.liftoffs;
       if (r.first_liftoff_time_s < 0) r.first_liftoff_time_s = t;
-      r.liftoff_normal_force_max_N = std::max(r.liftoff_normal_force_max_N, mode == 0 ? last_fz[1] : last_fz[0]);
+      r.liftoff_normal_force_max_N = std::max(r.liftoff_normal_force_max_N, mode == kWalkingLeftStance ? last_fz[1] : last_fz[0]);
     }
     last_mode = mode;
     last_fz << f[2], f[5];
-    if (mode != 1) {  // single support: the COM about the stance ankle, y mirrored in right stance (P2 alternates)
+    if (!in_double) {  // single support: the COM about the stance ankle, y mirrored in right stance (P2 alternates)
+      const bool left_stance = mode == kWalkingLeftStance;
       const Eigen::Vector3d p = CalcComPosition(model, ws, q), pv = CalcComVelocity(model, ws, q, v);
-      const Eigen::Vector3d foot = CalcLinkPose(model, ws, q, mode == 0 ? left_foot : right_foot).translation();
-      const double mirror = mode == 0 ? 1.0 : -1.0;
+      const Eigen::Vector3d foot = CalcLinkPose(model, ws, q, left_stance ? left_foot : right_foot).translation();
+      const double mirror = left_stance ? 1.0 : -1.0;
       PreImpactSampler::State com_state;
       com_state << p.x() - foot.x(), mirror * (p.y() - foot.y()), p.z(), pv.x(), mirror * pv.y(), pv.z();
       single_support_com.Record(t, com_state);
@@ -202,6 +221,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
         for (int foot = 0; foot < 2; ++foot) {
           const double fz = f[3 * foot + 2], fref = ref.normal_force[foot];
           band_in += (fz >= (1 - band) * fref - params.band_slack_mg * mg && fz <= (1 + band) * fref + params.band_slack_mg * mg) ? 1 : 0;
+          band_in_strict += (fz >= (1 - band) * fref && fz <= (1 + band) * fref) ? 1 : 0;  // Eq. (25) with no slack
           ++band_ticks;
         }
       }
@@ -218,19 +238,11 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.interrupted = r.status.kind() == SimulatorStatus::Kind::kInterrupted;
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
 
-  // Convergence after each transition: the pre-impact states from its own touchdown to the next transition's.
-  for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
-    const double begin = r.transition_ends_s[j] - 0.05, end = j + 1 < r.transition_ends_s.size() ? r.transition_ends_s[j + 1] - 0.05 : 1e9;
-    std::vector<WalkingRunResult::ComState> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
-    for (const auto& [time, state] : r.pre_impact_states)
-      if (time > begin && time < end) states.push_back(state);
-    double worst = -1.0;
-    for (size_t k = static_cast<size_t>(params.convergence_from_step); k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
-    r.pre_impact_state_change_from_step5.push_back(worst);
-  }
+  r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
   r.success = !r.fell && r.steps_completed >= r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
+  r.force_in_band_fraction_strict = band_ticks ? static_cast<double>(band_in_strict) / band_ticks : 0.0;
   r.band_samples = band_ticks;
   if (clf != nullptr) {
     const LeafContext& cc = diagram.GetSubsystemContext(*clf, sim.get_context());

@@ -20,7 +20,8 @@
 //   COM position error against the plan's COM after the first step (from the plan's third segment), RMS and max per axis;
 //   pelvis roll, pitch, yaw (largest |angle|); the Eq. (25) band on the plant's normal forces: each foot's F_z within
 //   [(1 − c) F_ref − s m g, (1 + c) F_ref + s m g] (c: the controller's force_band_halfwidth, s: band_slack_mg,
-//   F_ref: the plan's aSLIP force), scored outside band_settle_s after each touchdown; the CLF-QP's δ and solve time.
+//   F_ref: the plan's aSLIP force), scored outside band_settle_s after each touchdown, and strictly (s = 0: Eq. (25)
+//   as written); the CLF-QP's δ and solve time.
 // Success: the simulator reached the end time (no failure, no interrupt), every single support of the plan that ends
 // before the end time ended in a step on its foothold, none landed off target, and no contact violation.
 //
@@ -59,7 +60,7 @@ struct WalkingRunParams {
 /// One monitor sample, for an observer (a log, plots, an animation, extra checks). References are valid during the call.
 struct WalkingRunSample {
   double t = 0;
-  int mode = 1;                     ///< the plant's mode (0 left stance, 1 double support, 2 right stance)
+  int mode = kWalkingDoubleSupport;  ///< the plant's mode (WalkingPlantMode)
   bool tick = false;                ///< the first sample of a control tick; the fields below marked (tick) are set then
   long tick_index = -1;             ///< floor(t / tick_period_s)
   const Eigen::VectorXd* q = nullptr;
@@ -96,7 +97,8 @@ struct WalkingRunResult {
   std::vector<double> pre_impact_state_change_from_step5;
   Eigen::Vector3d com_rms_error_m = Eigen::Vector3d::Zero(), com_max_error_m = Eigen::Vector3d::Zero();
   double pelvis_max_orientation_error_rad = 0;
-  double force_in_band_fraction = 0;
+  double force_in_band_fraction = 0;         ///< ticks × feet in the band with the band_slack_mg tolerance
+  double force_in_band_fraction_strict = 0;  ///< the same ticks in the band with no tolerance (Eq. (25) as written)
   long band_samples = 0;
   ContactForceStatistics contact;
   long contact_violation_port_samples = 0;  ///< samples where the plant's contact_violation port was not zero

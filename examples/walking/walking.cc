@@ -1,6 +1,7 @@
 // walking: the 12-joint exoskeleton walks (walking paper: aSLIP + H-LIP planning composed into a 3D COM reference,
 // CLF-QP with force matching). --scenario stand-to-walk (standing -> transition -> gait A), gait-change (standing -> A
-// -> transition -> B) or periodic (started on gait A's orbit). The ROM plans are built offline (NLPs cached in
+// -> transition -> B; with no direct transition plan, through intermediate gaits of a gait graph), gait-sequence
+// (--gaits "A;B;C": as gait-change, one change after another) or periodic (started on gait A's orbit). The ROM plans are built offline (NLPs cached in
 // --cache), the COM reference is corrected for the legs' angular momentum (CompensateCentroidalMomentum), then the
 // diagram of diagrams/walking runs (RunWalking judges it). Writes a CSV log (--log), a JSON summary (--summary, with the
 // effective scenario under "scenario": pass it back as --scenario-file to run it again), PNG plots (--plots DIR: the
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
     const int planned = o.steps + o.run.trailing_steps;
     if (o.scenario == "periodic") plan = BuildPeriodicWalkingPlan(o.gait_a, planned, o.seed, plan_cache, o.stand);
     else if (o.scenario == "gait-change") plan = BuildGaitChangePlan(o.gait_a, o.gait_b, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
+    else if (o.scenario == "gait-sequence") plan = BuildGaitSequencePlan(o.gaits, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
     else plan = BuildStandToWalkPlan(o.gait_a, planned, o.seed, plan_cache, &nlp, o.stand);
     examples::PrintPlanReport(nlp, o.stand);
   } catch (const std::invalid_argument& e) {

@@ -1,5 +1,7 @@
 #include "examples/walking/walking_options.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -16,12 +18,13 @@ const std::vector<std::pair<std::string, std::string>> kWalkingParameterOptions 
     {"lead_in_dsp_duration_s", "lead-in"}, {"lead_in_steps", "lead-in-steps"}, {"transition_min_ssp_duration_s", "transition-ssp"},
     {"gait_change_max_force_fraction", "gait-change-max-force"}, {"periodic_max_force_fraction", "periodic-max-force"},
     {"sagittal_cop_margin_m", "rom-cop-margin"}, {"swing.touchdown_velocity_mps", "touchdown-speed"},
-    {"foothold_tolerance_m", "foothold-tolerance"}, {"same step width", "gait-b"}};
+    {"foothold_tolerance_m", "foothold-tolerance"}};
 
 void DeclareWalkingOptions(CommandLine& cli) {
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> --start-gait-steps of the --start-gait -> gait A; a gait faster than the --lead-in gait (shorter T_SSP or T_DSP), or with no plan from the start gait, walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; the start and lead-in flags do not apply)")
+  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> --start-gait-steps of the --start-gait -> gait A; a gait faster than the --lead-in gait (shorter T_SSP or T_DSP), or with no plan from the start gait, walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; the start and lead-in flags do not apply) | gait-sequence (standing -> the first of --gaits as gait-change's gait A -> a change into each next gait). A change with no direct transition plan goes through intermediate gaits of a gait graph over the range")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
+      .Option("gaits", "", "gait-sequence scenario: 2 to 20 gaits L,T_SSP,T_DSP,W separated by ';' (e.g. \"0.3,0.4,0.1,0.25;0.4,0.4,0.1,0.25\"), --steps each")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
       .Option("stance-stagger", "0", "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
@@ -60,6 +63,27 @@ WalkingGait Gait(const CommandLine& cli, const std::string& flag) {
   return WalkingGait{v[0], v[1], v[2], v[3]};
 }
 
+// --gaits "L,T_SSP,T_DSP,W;...": the form only (the ranges are WalkingGait::Validate's).
+std::vector<WalkingGait> GaitList(const std::string& text) {
+  std::vector<WalkingGait> gaits;
+  size_t begin = 0;
+  for (int index = 1;; ++index) {
+    const size_t end = std::min(text.find(';', begin), text.size());
+    const std::string item = text.substr(begin, end - begin);
+    double v[4];
+    int used = -1;
+    if (std::sscanf(item.c_str(), " %lf , %lf , %lf , %lf %n", &v[0], &v[1], &v[2], &v[3], &used) != 4 || used != static_cast<int>(item.size()))
+      throw std::invalid_argument("walking: --gaits: gait " + std::to_string(index) + " '" + Excerpt(item, 80) +
+                                  "' is not L,T_SSP,T_DSP,W (4 numbers; gaits separated by ';')");
+    gaits.push_back(WalkingGait{v[0], v[1], v[2], v[3]});
+    if (end == text.size()) break;
+    begin = end + 1;
+  }
+  if (gaits.size() < 2 || gaits.size() > 20)
+    throw std::invalid_argument("walking: --gaits has " + std::to_string(gaits.size()) + " gaits, expected 2 to 20 separated by ';'");
+  return gaits;
+}
+
 std::string OneOf(const CommandLine& cli, const std::string& flag, std::initializer_list<const char*> words) {
   const std::string value = cli.Get(flag);
   std::string list;
@@ -75,14 +99,16 @@ std::string OneOf(const CommandLine& cli, const std::string& flag, std::initiali
 WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingOptions o;
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
-  o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic"});
+  o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence"});
   // A flag the chosen scenario or plant ignores is an error (the periodic scenario starts on gait A's orbit).
   for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps", "transition-ssp", "gait-change-max-force"})
-    cli.RequireModeFor(standing, "scenario", {"stand-to-walk", "gait-change"});
+    cli.RequireModeFor(standing, "scenario", {"stand-to-walk", "gait-change", "gait-sequence"});
   cli.RequireModeFor("gait-b", "scenario", {"gait-change"});
+  cli.RequireModeFor("gaits", "scenario", {"gait-sequence"});
   cli.RequireModeFor("joint-limits", "plant", {"bullet"});
   o.gait_a = Gait(cli, "gait-a");
   o.gait_b = Gait(cli, "gait-b");
+  if (o.scenario == "gait-sequence") o.gaits = GaitList(cli.Get("gaits"));
   o.steps = cli.GetInt("steps");
   o.seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
   // Side by side (stagger 0, the default) goes through the start gait; a step stance does not (StepStance).
@@ -118,6 +144,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
 void ValidateWalkingOptions(const WalkingOptions& o) {
   o.gait_a.Validate("walking: --gait-a");
   o.gait_b.Validate("walking: --gait-b");
+  for (size_t i = 0; i < o.gaits.size(); ++i) o.gaits[i].Validate("walking: --gaits: gait " + std::to_string(i + 1));
   if (o.steps < 1 || o.steps > 1000) throw std::invalid_argument("walking: --steps = " + std::to_string(o.steps) + " is outside [1, 1000]");
   o.stand.Validate("walking: StandToWalkParams");
   o.diagram.Validate();

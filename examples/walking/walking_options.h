@@ -4,6 +4,7 @@
 // (WalkingGait, StandToWalkParams, WalkingDiagramParams, WalkingRunParams), called by ValidateWalkingOptions.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "diagrams/walking/walking_diagram.h"
 #include "diagrams/walking/walking_run.h"
@@ -12,8 +13,9 @@
 namespace rome::examples {
 
 struct WalkingOptions {
-  std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic
+  std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic | gait-sequence
   WalkingGait gait_a, gait_b;
+  std::vector<WalkingGait> gaits;          ///< gait-sequence: --gaits
   int steps = 10;                          ///< periodic single supports per gait after each transition
   std::uint32_t seed = 1;                  ///< seed of the NLP initial guesses
   PlantKind plant = PlantKind::kHybrid;

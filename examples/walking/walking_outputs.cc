@@ -148,7 +148,7 @@ void WriteAllPlots(const std::string& dir, const MultibodyModel& model, const Wa
                        nlp.start_gait_used ? "standing -> start" : nlp.lead_in ? "standing -> lead-in gait" : "standing -> gait A");
   if (nlp.start_gait_used)
     WriteTransitionPlots(nlp.start_change_nodes, dir, "transition_start", nlp.lead_in ? "start -> lead-in" : "start -> gait A");
-  if (scenario == "gait-change") WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "gait A -> gait B");
+  if (scenario == "gait-change" || scenario == "gait-sequence") WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "gait A -> gait B");
   if (nlp.lead_in) WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "lead-in -> gait A");
   // Gait tiles (Fig. 5c): 16 frames over the first 3 s (standing, the transition, the first steps), each 0.35 m (sagittal)
   // or 0.6 m (frontal) further along.

@@ -18,6 +18,19 @@ void PrintPlanReport(const WalkingPlanReport& nlp, const StandToWalkParams& stan
               << " s, " << nlp.lead_in_gait.dsp_duration_s << " s) and changing gait: " << nlp.lead_in_reason << "\n";
   else if (!nlp.lead_in_reason.empty())
     std::cout << "the lead-in " << nlp.lead_in_reason << "\n";
+  if (nlp.start_chain.size() > 2) {
+    std::cout << "no direct start gait -> gait A transition: through the gait graph:";
+    for (const WalkingGait& g : nlp.start_chain)
+      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", " << g.step_width_m << ")";
+    std::cout << "\n";
+  }
+  if (nlp.chain.size() > 2) {
+    std::cout << "no direct A -> B transition: through the gait graph (" << nlp.chain_transitions_tried << " transitions tried, "
+              << nlp.chain_transitions_failed << " without a plan, " << nlp.chain_planning_s << " s):";
+    for (const WalkingGait& g : nlp.chain)
+      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", " << g.step_width_m << ")";
+    std::cout << "\n";
+  }
 }
 
 nlohmann::json PlanTorqueReport(const WalkingDiagram& d, const WalkingDiagramParams& params, double t_stop) {
@@ -63,7 +76,21 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
   nlohmann::json s = nlohmann::json::parse(run.ToJson());
   auto nlp_json = [](const WalkingNlpReport& r) { return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}}; };
   s["nlp"] = {{"periodic_aslip_a", nlp_json(nlp.periodic)}, {"transition_aslip", nlp_json(nlp.transition)}};
-  if (scenario_name == "gait-change") s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
+  if (scenario_name == "gait-change" || scenario_name == "gait-sequence") s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
+  // gait-change / gait-sequence: the gaits walked from gait A on (A and B alone: the direct transition), with any
+  // chain's intermediate gaits, and the chain searches' time.
+  s["gait_chain"] = nullptr;
+  if (scenario_name == "gait-change" || scenario_name == "gait-sequence") {
+    const auto list = [](const std::vector<WalkingGait>& chain) {
+      nlohmann::json gaits = nlohmann::json::array();
+      for (const WalkingGait& g : chain) gaits.push_back({g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m});
+      return gaits;
+    };
+    // start_gait_chain: the start gait's change into gait A (2 gaits: direct; empty: no start gait).
+    s["gait_chain"] = {{"gaits", list(nlp.chain)}, {"start_gait_chain", list(nlp.start_gait_used ? nlp.start_chain : std::vector<WalkingGait>{})},
+                       {"planning_s", nlp.chain_planning_s}, {"transitions_tried", nlp.chain_transitions_tried},
+                       {"transitions_failed", nlp.chain_transitions_failed}};
+  }
   // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait A.
   s["lead_in"] = nullptr;
   // A lead-in that was tried, had no plan, and left the plan to the direct change from the start gait: its error.
@@ -95,7 +122,8 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
 void PrintRunResult(const WalkingRunResult& r, PlantKind plant) {
   std::cout << (r.success ? "walked" : "FAILED") << ": " << r.status.ToString() << "\n  " << r.steps_completed << " steps (" << r.touchdowns_off_target
             << " touchdowns off their footholds, largest error " << r.largest_touchdown_error_m << " m), COM RMS error (after the first step) "
-            << r.com_rms_error_m.transpose() << " m, force in band " << nlohmann::json(r.force_in_band_fraction) << ", real-time factor "
+            << r.com_rms_error_m.transpose() << " m, force in band " << nlohmann::json(r.force_in_band_fraction) << " (strictly "
+            << nlohmann::json(r.force_in_band_fraction_strict) << "), real-time factor "
             << nlohmann::json(r.realtime_factor()) << "\n  plant " << ToString(plant) << ": contact violations " << r.contact.violations << " ("
             << r.contact.samples << " samples)" << (r.contact.violations ? ", first: " + r.contact.first_violation : "") << ", max |F_t|/F_n "
             << r.contact.max_friction_ratio << "\n";

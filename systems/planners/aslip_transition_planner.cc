@@ -4,6 +4,8 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
+#include <vector>
 #include <sstream>
 #include <stdexcept>
 
@@ -71,18 +73,15 @@ Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipPar
   return x;
 }
 
-DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData& data) const {
-  if (data.lifting_leg != 0 && data.lifting_leg != 1) {
-    throw std::invalid_argument("AslipTransitionPlanner: lifting_leg must be 0 (left) or 1 (right), got " +
-                                std::to_string(data.lifting_leg));
-  }
-  if (!data.initial_state.allFinite() || !data.final_state.allFinite()) {
-    throw std::invalid_argument("AslipTransitionPlanner: initial_state and final_state must be finite");
-  }
-  const AslipPeriodicGaitParams& q = params_.bounds;
+namespace {
+
+// The DSP and SSP phases of Eq. (9): state bounds (with the lateral rows [y, ẏ] when params.lateral), the footed
+// aSLIP dynamics (and the lateral footed H-LIP rows on the aSLIP's forces), input bounds and the torque cost.
+std::vector<CollocationPhase> TransitionPhases(const AslipTransitionParams& params, const AslipTransitionData& data) {
+  const AslipPeriodicGaitParams& q = params.bounds;
   const AslipParams p = q.aslip;
-  const double v = q.max_speed, umax = params_.max_ankle_torque, us = params_.torque_cost_scale;
-  const bool lat = params_.lateral;
+  const double v = q.max_speed, umax = params.max_ankle_torque, us = params.torque_cost_scale;
+  const bool lat = params.lateral;
   const int kNx = lat ? 10 : kNx8, kNu = lat ? 6 : kNu4;
   Eigen::VectorXd xl(kNx), xu(kNx);
   const double xmin = std::min(data.initial_state(0), data.final_state(0)) - 1.0;
@@ -101,9 +100,9 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     c.num_states = kNx;
     c.num_inputs = kNu;
     c.num_nodes = q.nodes_per_domain;
-    c.min_duration = ph == 0 ? params_.min_dsp_duration : params_.min_ssp_duration;
-    c.max_duration = ph == 0 ? params_.max_dsp_duration : params_.max_ssp_duration;
-    const AslipContact contact = PhaseContact(data, ph);
+    c.min_duration = ph == 0 ? params.min_dsp_duration : params.min_ssp_duration;
+    c.max_duration = ph == 0 ? params.max_dsp_duration : params.max_ssp_duration;
+    const AslipContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
     c.dynamics = [p, contact, lat, foot_y](const NodeVector& x, const NodeVector& u, NodeVector& y) {
       if (!lat) {
         y = AslipDynamics<NodeScalar>(p, contact, x, u);
@@ -127,15 +126,15 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     c.input_lower.head(4) << -q.max_leg_length_acceleration, -q.max_leg_length_acceleration, -umax, -umax;
     c.input_upper.head(4) << q.max_leg_length_acceleration, q.max_leg_length_acceleration, umax, umax;
     if (lat) {
-      c.input_lower.tail(2).setConstant(-params_.max_ankle_roll_torque);
-      c.input_upper.tail(2).setConstant(params_.max_ankle_roll_torque);
+      c.input_lower.tail(2).setConstant(-params.max_ankle_roll_torque);
+      c.input_upper.tail(2).setConstant(params.max_ankle_roll_torque);
     }
     if (ph == 1) {  // no torque at a foot in the air
       c.input_lower(2 + data.lifting_leg) = 0.0;
       c.input_upper(2 + data.lifting_leg) = 0.0;
       if (lat) c.input_lower(4 + data.lifting_leg) = c.input_upper(4 + data.lifting_leg) = 0.0;
-      if (params_.max_ssp_ankle_torque >= 0) {
-        const double ssp_max = std::min(umax, params_.max_ssp_ankle_torque);
+      if (params.max_ssp_ankle_torque >= 0) {
+        const double ssp_max = std::min(umax, params.max_ssp_ankle_torque);
         c.input_lower(3 - data.lifting_leg) = -ssp_max;
         c.input_upper(3 - data.lifting_leg) = ssp_max;
       }
@@ -146,13 +145,19 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
       return cost;
     };
   }
-  DirectCollocation problem("aslip_transition", std::move(phases));
-  problem.SetExactHessian(q.exact_hessian);
+  return phases;
+}
+
+// Per-leg path rows of Eq. (10) (force, friction, spring, sagittal ZMP), the DSP stance load floor, the vertical force
+// bound and, with the lateral rows, Eq. (14)'s lateral ZMP.
+void AddContactConstraints(DirectCollocation& problem, const AslipTransitionParams& params, const AslipTransitionData& data) {
+  const AslipPeriodicGaitParams& q = params.bounds;
+  const AslipParams p = q.aslip;
   const double mu = q.friction_coefficient, inf = std::numeric_limits<double>::infinity();
   Eigen::VectorXd lo1(6), hi1(6);
   lo1 << 0, 0, 0, q.spring_min, 0, 0;
   hi1 << inf, inf, inf, q.spring_max, inf, inf;
-  const AslipContact dsp = PhaseContact(data, 0);
+  const AslipContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
   Eigen::VectorXd lo2(12), hi2(12);
   lo2 << lo1, lo1;
   hi2 << hi1, hi1;
@@ -166,19 +171,19 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
       lo2, hi2, "legs_force_friction_spring_zmp");
   const int stance = 1 - data.lifting_leg;
   const double stance_x = dsp.foot_x(stance);
-  if (params_.min_dsp_stance_force_fraction > 0) {
+  if (params.min_dsp_stance_force_fraction > 0) {
     problem.AddPathConstraint(
         0, 1,
         [p, stance, stance_x](const NodeVector& x, const NodeVector& u, NodeVector& y) {
           y.resize(1);
           y(0) = AslipLegState<NodeScalar>(p, x, stance, stance_x, u(2 + stance)).grf_z / (p.mass * p.gravity);
         },
-        Eigen::VectorXd::Constant(1, params_.min_dsp_stance_force_fraction), Eigen::VectorXd::Constant(1, inf),
+        Eigen::VectorXd::Constant(1, params.min_dsp_stance_force_fraction), Eigen::VectorXd::Constant(1, inf),
         "dsp_stance_leg_min_force");
   }
-  if (params_.max_vertical_force_fraction > 0) {
+  if (params.max_vertical_force_fraction > 0) {
     for (int ph = 0; ph < 2; ++ph) {
-      const AslipContact contact = PhaseContact(data, ph);
+      const AslipContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
       problem.AddPathConstraint(
           ph, 2,
           [p, contact](const NodeVector& x, const NodeVector& u, NodeVector& y) {
@@ -187,7 +192,7 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
               y(leg) = contact.in_contact(leg) ? AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z / (p.mass * p.gravity)
                                                : NodeScalar(0.0 * x(0));
           },
-          Eigen::VectorXd::Constant(2, -inf), Eigen::VectorXd::Constant(2, params_.max_vertical_force_fraction),
+          Eigen::VectorXd::Constant(2, -inf), Eigen::VectorXd::Constant(2, params.max_vertical_force_fraction),
           ph == 0 ? "dsp_leg_max_force" : "ssp_leg_max_force");
     }
   }
@@ -198,10 +203,10 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         LegRows(p, mu, x, u, stance, stance_x, y, 0);
       },
       lo1, hi1, "stance_leg_force_friction_spring_zmp");
-  if (lat) {  // Eq. (14): −W1 G_z ≤ u_x ≤ W2 G_z per leg on the ground, rows scaled by m g
-    const double W1 = params_.foot_width_left_of_ankle, W2 = params_.foot_width_right_of_ankle;
+  if (params.lateral) {  // Eq. (14): −W1 G_z ≤ u_x ≤ W2 G_z per leg on the ground, rows scaled by m g
+    const double W1 = params.foot_width_left_of_ankle, W2 = params.foot_width_right_of_ankle;
     for (int ph = 0; ph < 2; ++ph) {
-      const AslipContact contact = PhaseContact(data, ph);
+      const AslipContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
       problem.AddPathConstraint(
           ph, 4,
           [p, contact, W1, W2](const NodeVector& x, const NodeVector& u, NodeVector& y) {
@@ -217,6 +222,27 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
           Eigen::VectorXd::Zero(4), Eigen::VectorXd::Constant(4, inf), ph == 0 ? "lateral_zmp_dsp" : "lateral_zmp_ssp");
     }
   }
+}
+
+// The boundary states [aSLIP state; y, ẏ with the lateral rows]: initial and final.
+std::pair<Eigen::VectorXd, Eigen::VectorXd> BoundaryStates(const AslipTransitionParams& params, const AslipTransitionData& data) {
+  const int nx = params.lateral ? 10 : kNx8;
+  Eigen::VectorXd x0(nx), xf(nx);
+  x0.head(8) = data.initial_state;
+  xf.head(8) = data.final_state;
+  if (params.lateral) {
+    x0.tail(2) = data.initial_lateral_state;
+    xf.tail(2) = data.final_lateral_state;
+  }
+  return {x0, xf};
+}
+
+// The lift-off (the lifting leg unloaded at the DSP's end), the optional zero final ankle torque, and the boundary
+// states (initial and final, lateral rows included).
+void AddEventConstraints(DirectCollocation& problem, const AslipTransitionParams& params, const AslipTransitionData& data) {
+  const AslipParams p = params.bounds.aslip;
+  const AslipContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
+  const int stance = 1 - data.lifting_leg;
   const int lift = data.lifting_leg;
   const double lift_x = dsp.foot_x(lift);
   problem.AddNodeConstraint(
@@ -226,7 +252,7 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         y(0) = AslipLegState<NodeScalar>(p, x, lift, lift_x, u(2 + lift)).grf_z / (p.mass * p.gravity);
       },
       Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "liftoff");
-  if (params_.zero_final_ankle_torque) {
+  if (params.zero_final_ankle_torque) {
     problem.AddNodeConstraint(
         1, -1, 1,
         [stance](const NodeVector&, const NodeVector& u, NodeVector& y) {
@@ -235,16 +261,17 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
         },
         Eigen::VectorXd::Zero(1), Eigen::VectorXd::Zero(1), "final_ankle_torque");
   }
-  Eigen::VectorXd x0(kNx), xf(kNx);
-  x0.head(8) = data.initial_state;
-  xf.head(8) = data.final_state;
-  if (lat) {
-    x0.tail(2) = data.initial_lateral_state;
-    xf.tail(2) = data.final_lateral_state;
-  }
+  const auto [x0, xf] = BoundaryStates(params, data);
   problem.SetNodeStateBounds(0, 0, x0, x0);
   problem.SetNodeStateBounds(1, -1, xf, xf);
-  // Initial guess: straight line in state space, mid-range durations.
+}
+
+// Initial guess: data's guesses if given (checked), else a straight line in state space at mid-range durations.
+void SetTransitionGuess(DirectCollocation& problem, const AslipTransitionParams& params, const AslipTransitionData& data) {
+  const AslipPeriodicGaitParams& q = params.bounds;
+  const bool lat = params.lateral;
+  const int kNx = lat ? 10 : kNx8, kNu = lat ? 6 : kNu4;
+  const auto [x0, xf] = BoundaryStates(params, data);
   const int N = q.nodes_per_domain;
   const bool guessed = data.dsp_state_guess.size() > 0 || data.ssp_state_guess.size() > 0;
   if (guessed) {
@@ -259,10 +286,10 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     }
     problem.SetInitialGuess(0, data.dsp_state_guess, Eigen::MatrixXd::Zero(kNu, N), data.dsp_duration_guess);
     problem.SetInitialGuess(1, data.ssp_state_guess, Eigen::MatrixXd::Zero(kNu, N), data.ssp_duration_guess);
-    return problem;
+    return;
   }
-  const double Td = 0.5 * (params_.min_dsp_duration + params_.max_dsp_duration);
-  const double Ts = 0.5 * (params_.min_ssp_duration + params_.max_ssp_duration);
+  const double Td = 0.5 * (params.min_dsp_duration + params.max_dsp_duration);
+  const double Ts = 0.5 * (params.min_ssp_duration + params.max_ssp_duration);
   for (int ph = 0; ph < 2; ++ph) {
     Eigen::MatrixXd X(kNx, N);
     for (int k = 0; k < N; ++k) {
@@ -272,6 +299,23 @@ DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData
     }
     problem.SetInitialGuess(ph, X, Eigen::MatrixXd::Zero(kNu, N), ph == 0 ? Td : Ts);
   }
+}
+
+}  // namespace
+
+DirectCollocation AslipTransitionPlanner::BuildProblem(const AslipTransitionData& data) const {
+  if (data.lifting_leg != 0 && data.lifting_leg != 1) {
+    throw std::invalid_argument("AslipTransitionPlanner: lifting_leg must be 0 (left) or 1 (right), got " +
+                                std::to_string(data.lifting_leg));
+  }
+  if (!data.initial_state.allFinite() || !data.final_state.allFinite()) {
+    throw std::invalid_argument("AslipTransitionPlanner: initial_state and final_state must be finite");
+  }
+  DirectCollocation problem("aslip_transition", TransitionPhases(params_, data));
+  problem.SetExactHessian(params_.bounds.exact_hessian);
+  AddContactConstraints(problem, params_, data);
+  AddEventConstraints(problem, params_, data);
+  SetTransitionGuess(problem, params_, data);
   return problem;
 }
 
@@ -325,6 +369,18 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   }
   out.mean_height = integral / total;
   return out;
+}
+
+double AslipTransition::LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data, double floor_N) const {
+  const Eigen::MatrixXd G = GroundReactions(params, data, 0);
+  const CollocationPhaseSolution& dsp = collocation.phases.at(0);
+  bool unloaded = false;
+  for (Eigen::Index k = 0; k < G.cols(); ++k) {
+    const double f = G(2 * data.lifting_leg + 1, k);
+    if (unloaded && f > floor_N) return dsp.times(k) - dsp.start_time;
+    unloaded = unloaded || f < floor_N;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 Eigen::MatrixXd AslipTransition::GroundReactions(const AslipParams& params, const AslipTransitionData& data,

@@ -78,6 +78,10 @@ struct AslipTransition {
   /// With the lateral option the phases' states have 10 rows ([y, ẏ] last) and the inputs 6 ([u_Lx, u_Rx] last).
   /// [G_Lx, G_Lz, G_Rx, G_Rz] (N) at every node of phase p (4 × N), with the ankle torques.
   Eigen::MatrixXd GroundReactions(const AslipParams& params, const AslipTransitionData& data, int phase) const;
+  /// [s, from the DSP's start] The first DSP node where the lifting leg's vertical force, after falling below floor_N at
+  /// an earlier node, is above floor_N again (a plant that releases the foot at that force would lift it and land it
+  /// again in the double support); NaN when it never does.
+  double LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data, double floor_N) const;
 };
 
 class AslipTransitionPlanner {

@@ -99,10 +99,11 @@ Eigen::Vector2d WalkingPlan::ComCorrection(double t) const {
 
 void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
                                       WalkingDomain first_stance, double stance_x, double step_width,
-                                      bool begin_with_double_support, bool end_with_single_support) {
+                                      bool begin_with_double_support, bool end_with_single_support, double walking_line_y) {
   std::ostringstream msg;
   if (steps < 1) msg << "steps must be >= 1, got " << steps;
   if (!(step_width > 0) || !std::isfinite(step_width)) msg << "step_width must be > 0 m, got " << step_width;
+  if (!std::isfinite(walking_line_y)) msg << "walking_line_y must be finite, got " << walking_line_y;
   if (first_stance == WalkingDomain::kDoubleSupport) msg << "first_stance must be kLeftStance or kRightStance";
   if (!gait.success()) msg << "the gait is not solved (" << gait.collocation.nlp.message << ")";
   if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendPeriodicSteps: " + msg.str());
@@ -115,7 +116,7 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
   double x0 = stance_x;
   const double half = 0.5 * step_width;
   for (int step = 0; step < steps; ++step) {
-    const double stance_y = left ? half : -half;
+    const double stance_y = walking_line_y + (left ? half : -half);
     // Pre-impact lateral state about this stance foot: (p, v) for a left stance, −(p, v) for a right stance; by the
     // symmetry of the P2 orbit the SSP starts at (p, −v) (left) or (−p, v) (right).
     const Eigen::Vector2d pre = left ? pre_left : Eigen::Vector2d(-pre_left);
@@ -146,7 +147,7 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
         seg.lateral_start = Eigen::Vector2d(stance_y + pre(0), pre(1));
       }
       // Footholds at the end of this segment: the stance foot at x0, the other at x0 + l (landing point in SSP).
-      const Eigen::Vector2d stance_foot(x0, stance_y), other_foot(x0 + q.step_length, -stance_y);
+      const Eigen::Vector2d stance_foot(x0, stance_y), other_foot(x0 + q.step_length, 2.0 * walking_line_y - stance_y);
       seg.left_foothold = left ? stance_foot : other_foot;
       seg.right_foothold = left ? other_foot : stance_foot;
       t0 += s.duration;
@@ -160,11 +161,12 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
 void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
                                    const AslipTransitionData& data, double x_offset,
                                    const FootedHlipTransitionData& lateral_data, const FootedHlipTransitionPlan& lateral,
-                                   double mass, double landing_x) {
+                                   double mass, double landing_x, double landing_y) {
   std::ostringstream msg;
   if (!transition.success()) msg << "the footed-aSLIP transition is not solved (" << transition.collocation.nlp.message << ")";
   if (!lateral.success()) msg << "the footed H-LIP transition is not solved (" << lateral.message << ")";
   if (!(mass > 0)) msg << "mass must be > 0 kg, got " << mass;
+  if (std::isinf(landing_y)) msg << "landing_y must be finite or NaN (where the foot lifted), got " << landing_y;
   const int Nd = static_cast<int>(transition.collocation.phases.empty() ? 0 : transition.collocation.phases[0].times.size());
   const int Ns = static_cast<int>(transition.collocation.phases.size() < 2 ? 0 : transition.collocation.phases[1].times.size());
   if (msg.str().empty() && lateral_data.node_times.size() != Nd + Ns - 1) {
@@ -215,6 +217,7 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
     Eigen::Vector2d left(x_offset + data.left_foot_x, lateral_data.left_foot_y);
     Eigen::Vector2d right(x_offset + data.right_foot_x, lateral_data.right_foot_y);
     if (ph == 1) (data.lifting_leg == 0 ? left : right)(0) = landing_x;
+    if (ph == 1 && !std::isnan(landing_y)) (data.lifting_leg == 0 ? left : right)(1) = landing_y;
     seg.left_foothold = left;
     seg.right_foothold = right;
     t0 += s.duration;

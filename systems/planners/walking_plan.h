@@ -8,6 +8,7 @@
 // derivatives; its accelerations and forces are linear between nodes (first-order hold of the nodal values, which are
 // the ROM dynamics at the nodes). The H-LIP pieces are closed form (SSP ÿ = λ² (y − y_stance), DSP ÿ = 0).
 // A plan is a list of segments (one domain each) on a global clock starting at 0.
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -76,7 +77,7 @@ class WalkingPlan {
   size_t SegmentIndexAt(double t) const;
 
   /// Appends `steps` steps of a periodic gait (each SSP then DSP), the first SSP standing on `first_stance`
-  /// (kLeftStance or kRightStance) at world x = stance_x, feet at y = ±W/2. The lateral motion is the H-LIP P2 orbit
+  /// (kLeftStance or kRightStance) at world x = stance_x, feet at y = walking_line_y ± W/2. The lateral motion is the H-LIP P2 orbit
   /// with z0 = the gait's mean height, T_SSP and T_DSP from the gait, and foot separation W (spec §2.2).
   /// Throws std::invalid_argument naming the argument for steps < 1, W <= 0, a failed gait, or a non-stance domain.
   /// With begin_with_double_support, the first step contributes only its DSP (e.g. after a transition that ended
@@ -84,12 +85,14 @@ class WalkingPlan {
   /// left out, e.g. for a gait-change transition that starts at this gait's post-impact state).
   void AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
                            WalkingDomain first_stance, double stance_x, double step_width,
-                           bool begin_with_double_support = false, bool end_with_single_support = false);
+                           bool begin_with_double_support = false, bool end_with_single_support = false,
+                           double walking_line_y = 0.0);
 
   /// Appends a transition (spec §3.2-3.3): the footed-aSLIP NLP's DSP and SSP (world x = x_offset + plan x, legs as
   /// labelled there) and the footed H-LIP QP's lateral plan on the same node grid (its node_times start at 0 at the
   /// DSP start; its single_support flags mark the SSP). Throws std::invalid_argument if either is not solved or the
-  /// grids differ. landing_x: world x where the lifting foot lands at the end of the SSP.
+  /// grids differ. landing_x: world x where the lifting foot lands at the end of the SSP; landing_y: its world y (NaN,
+  /// the default: where it lifted, lateral_data's foot y; a change of step width lands elsewhere).
   /// A correction added to the COM reference's x and y on the global clock (e.g. CompensateCentroidalMomentum):
   /// `position` [δx, δy] (m; its time derivative is the velocity correction) and `acceleration` [δẍ, δÿ] (m/s²).
   /// Outside the polynomials' span the correction is 0. Throws std::invalid_argument if either does not have 2 rows.
@@ -100,7 +103,8 @@ class WalkingPlan {
 
   void AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
                         const AslipTransitionData& data, double x_offset, const FootedHlipTransitionData& lateral_data,
-                        const FootedHlipTransitionPlan& lateral, double mass, double landing_x);
+                        const FootedHlipTransitionPlan& lateral, double mass, double landing_x,
+                        double landing_y = std::numeric_limits<double>::quiet_NaN());
 
  private:
   std::vector<WalkingPlanSegment> segments_;

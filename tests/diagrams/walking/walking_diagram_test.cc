@@ -44,16 +44,18 @@ namespace rome {
 namespace {
 
 enum class RunUntil { kLiftoff, kPlanEnd };
-enum class Start { kStanding, kOnTheOrbit, kGaitChange };
+enum class Start { kStanding, kOnTheOrbit, kGaitChange, kSequence };
 
-// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`) plus the run's trailing
+// Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`; kSequence: `steps` of each
+// gait of `sequence`, which starts with `gait`) plus the run's trailing
 // steps, and runs all but the trailing ones with RunWalking (the plan's end, where the momentum correction is brought to
 // rest, is not judged). Full runs also check the issue's convergence: the step-to-step change of the pre-impact COM
 // state (about the stance ankle, y mirrored in right stance) is below 1e-2 from the 5th periodic touchdown after each
 // transition. Besides RunWalking's own measures, an observer checks each active foot's wrench from the plant's
 // constrained dynamics at every integrator step (CheckContactForce).
 void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger_m = StandToWalkParams{}.stance_stagger_m,
-                    Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}) {
+                    Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}, const std::vector<WalkingGait>& sequence = {},
+                    WalkingPlanReport* report_out = nullptr) {
   const bool full_run = until == RunUntil::kPlanEnd;
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
@@ -66,7 +68,15 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   WalkingPlanReport report;
   const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, planned, 1, &cache, &report, stand)
                                : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, planned)
+                               : start == Start::kSequence   ? BuildGaitSequencePlan(sequence, steps, 1, &cache, &report, stand, planned)
                                                              : BuildPeriodicWalkingPlan(gait, planned, 1, &cache, stand);
+  if (report.chain.size() > 2 || start == Start::kSequence) {
+    std::printf("  gaits walked after the start (%d transitions tried, %d without a plan, %.2f s):", report.chain_transitions_tried,
+                report.chain_transitions_failed, report.chain_planning_s);
+    for (const WalkingGait& g : report.chain) std::printf(" (%g, %g, %g, %g)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
+    std::printf("\n");
+  }
+  if (report_out != nullptr) *report_out = report;
   const WalkingDiagramParams params;
   WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
   EXPECT_LT(d.compensation.max_correction_m, 0.03);
@@ -79,12 +89,29 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
 
   MultibodyWorkspace ws(*model);
   long unilateral_bad = 0, friction_bad = 0, cop_bad = 0;
+  // The strict Eq. (25) band recounted here from the plant's forces and the plan (no slack), outside band_settle_s after
+  // each touchdown (a mode change into double support, or from one stance into the other).
+  long strict_in = 0, strict_ticks = 0;
+  int mode_seen = kWalkingDoubleSupport;
+  double touchdown_seen = -1.0;
+  const double c = params.controller.force_band_halfwidth;
   Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
   // The QP puts the centre of pressure on the sole's edge when it needs the whole foot; between samples the plant's
   // CoP may move by rounding-level amounts past it: 0.5 mm of tolerance.
   ContactForceCheckParameters cop_check;
   cop_check.cop_margin_m = -5e-4;
   const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
+    if (s.mode != mode_seen) {
+      if (s.mode == kWalkingDoubleSupport || mode_seen != kWalkingDoubleSupport) touchdown_seen = s.t;
+      mode_seen = s.mode;
+    }
+    if (s.tick && (touchdown_seen < 0 || s.t > touchdown_seen + run.band_settle_s)) {
+      for (int foot = 0; foot < 2; ++foot) {
+        const double fz = (*s.contact_forces)[3 * foot + 2], fref = s.reference.normal_force[foot];
+        strict_in += fz >= (1 - c) * fref && fz <= (1 + c) * fref ? 1 : 0;
+        ++strict_ticks;
+      }
+    }
     const ContactSet active = d.plant->active_contacts(s.mode);
     CalcConstrainedForwardDynamics(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, qdd, F);
     for (int ci = 0; ci < model->num_contacts(); ++ci) {
@@ -99,8 +126,14 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     }
   });
   const double mg = model->total_mass() * 9.81;
-  std::printf("  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band %.3f\n", r.first_liftoff_time_s,
-              t_liftoff_planned, r.liftoff_normal_force_max_N, 100 * r.liftoff_normal_force_max_N / mg, r.force_in_band_fraction);
+  std::printf("  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band %.3f (strictly %.3f)\n",
+              r.first_liftoff_time_s, t_liftoff_planned, r.liftoff_normal_force_max_N, 100 * r.liftoff_normal_force_max_N / mg, r.force_in_band_fraction,
+              r.force_in_band_fraction_strict);
+  // The strict band (no slack) can only score fewer ticks than the tolerant one, and is the count above.
+  EXPECT_LE(r.force_in_band_fraction_strict, r.force_in_band_fraction);
+  ASSERT_GT(strict_ticks, 0);
+  EXPECT_EQ(strict_ticks, r.band_samples);
+  EXPECT_NEAR(r.force_in_band_fraction_strict, static_cast<double>(strict_in) / strict_ticks, 1e-12);
   std::printf("  t = %.3f s of %.3f: %s; %d lift-offs, %d steps (planned %d, %d off target), largest touchdown error %.4f m, COM error RMS (%.4f %.4f %.4f) "
               "max (%.4f %.4f %.4f) m, pelvis %.2f deg, qp_failures %.0f, %ld samples\n",
               r.simulated_s, r.end_time_s, r.status.ToString().c_str(), r.liftoffs, r.steps_completed, r.steps_planned, r.touchdowns_off_target,
@@ -128,11 +161,24 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
       EXPECT_LE(r.com_max_error_m[a], 0.03) << "axis " << a;
     }
     EXPECT_LE(r.pelvis_max_orientation_error_rad, 2.0 * M_PI / 180.0);
-    // Transitions: standing (into the start gait when one is used), the start gait's change, a lead-in's change, A → B.
-    ASSERT_EQ(r.transition_ends_s.size(), (start == Start::kGaitChange || report.lead_in ? 2u : start == Start::kStanding ? 1u : 0u) +
-                                              (report.start_gait_used ? 1u : 0u));
+    // Transitions: standing (into the start gait when one is used), the start gait's change, a lead-in's change, each
+    // gait change (through the gait graph: one per chain link).
+    const bool changing = start == Start::kGaitChange || start == Start::kSequence;
+    // A start gait's change that chained adds its intermediate gaits.
+    const size_t start_intermediates = changing && report.start_gait_used && report.start_chain.size() > 2 ? report.start_chain.size() - 2 : 0u;
+    const size_t changes = (changing ? report.chain.size() - 1 : report.lead_in ? 1u : 0u) + start_intermediates;
+    ASSERT_EQ(r.transition_ends_s.size(), (start == Start::kOnTheOrbit ? 0u : 1u) + changes + (report.start_gait_used ? 1u : 0u));
     ASSERT_EQ(r.pre_impact_state_change_from_step5.size(), r.transition_ends_s.size());
+    // A chain's intermediate gaits walk StandToWalkParams::chain_steps (4) steps, too few to judge the convergence from
+    // the 5th touchdown (-1): exactly those, every other transition is judged.
+    const size_t requested_changes = start == Start::kGaitChange ? 1u : start == Start::kSequence ? sequence.size() - 1 : 0u;
+    const size_t intermediates = changing ? changes - requested_changes : 0u;  // start_intermediates included
+    size_t unjudged = 0;
     for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
+      if (r.pre_impact_state_change_from_step5[j] < 0 && unjudged < intermediates) {
+        ++unjudged;
+        continue;
+      }
       const double change = r.pre_impact_state_change_from_step5[j];
       std::printf("  after transition %zu: pre-impact state change from the 5th touchdown %.2e\n", j, change);
       EXPECT_GE(change, 0.0) << "transition " << j << ": fewer than 6 touchdowns after it";
@@ -417,6 +463,44 @@ TEST(WalkingDiagram, PlanInverseDynamicsFindsTheGaitWhosePlanExceedsTheTorqueLim
 // The gait-change scenario: standing, 6 steps of gait A, the A → B transition, 6 steps of gait B (0.4 m at 0.8 m/s).
 TEST(WalkingDiagram, GaitChangeFromAToBWalksWithPhysicalContactForces) {
   RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_length_m = 0.40});
+}
+
+// A change of step width alone (issue 39): gait A (W 0.25 m) to W 0.20 m, directly through the lateral footed H-LIP
+// transition onto the narrower gait's P2 orbit (walking_gait_change_plan_test checks the orbit).
+TEST(WalkingDiagram, GaitChangeOfStepWidthWalksWithPhysicalContactForces) {
+  WalkingPlanReport report;
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_width_m = 0.20}, {},
+                 &report);
+  EXPECT_EQ(report.chain.size(), 2u);  // directly
+}
+
+// A change of length and width (issue 39): gait A (W 0.25 m) to 0.40 m steps at W 0.28 m (it has no direct plan:
+// through the gait graph).
+TEST(WalkingDiagram, GaitChangeOfLengthAndStepWidthWalksWithPhysicalContactForces) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
+                 WalkingGait{.step_length_m = 0.40, .step_width_m = 0.28});
+}
+
+// A sequence of 4 gaits (issue 39, --gaits): longer, wider, quicker, then back to a short slow gait, 6 steps each.
+TEST(WalkingDiagram, SequenceOfFourGaitsWalksWithPhysicalContactForces) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  const std::vector<WalkingGait> gaits = {
+      {0.30, 0.40, 0.10, 0.25}, {0.36, 0.42, 0.11, 0.27}, {0.33, 0.38, 0.09, 0.23}, {0.25, 0.45, 0.12, 0.22}};
+  RunStandToWalk(RunUntil::kPlanEnd, gaits.front(), StandToWalkParams{}.stance_stagger_m, Start::kSequence, 6, {}, gaits);
+}
+
+// Issue 39's pairs whose direct transition NLP is locally infeasible: the change goes through intermediate gaits of the
+// gait graph (walking_gait_change_plan_test checks the chains).
+TEST(WalkingDiagram, GaitChangeWithNoDirectPlanChainsAndWalks) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{0.25, 0.38, 0.09, 0.27}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
+                 WalkingGait{0.42, 0.42, 0.11, 0.27});
+}
+TEST(WalkingDiagram, SlowShortToQuickLongGaitChangeChainsAndWalks) {
+  ROME_GAIT_VARIANT_RELEASE_ONLY();
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{0.22, 0.48, 0.14, 0.21}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
+                 WalkingGait{0.38, 0.40, 0.10, 0.21});
 }
 
 // Gait B from standing side by side: its change from the start gait has no plan (NLP locally infeasible; from the

@@ -16,6 +16,29 @@
 namespace rome {
 namespace {
 
+// A walking line at y = d is the same motion moved sideways by d (the H-LIP is translation invariant): every sample's
+// lateral COM and footholds differ by d, everything else is equal.
+TEST(WalkingPlan, AWalkingLineOffsetMovesTheLateralMotionAndFootholdsRigidly) {
+  const AslipPeriodicGaitPlanner planner;
+  const AslipPeriodicGait gait = planner.Solve(2);
+  ASSERT_TRUE(gait.success());
+  const double W = 0.22, d = -0.137;
+  WalkingPlan centred, moved;
+  centred.AppendPeriodicSteps(planner, gait, 3, WalkingDomain::kRightStance, 0.4, W);
+  moved.AppendPeriodicSteps(planner, gait, 3, WalkingDomain::kRightStance, 0.4, W, false, false, d);
+  for (int k = 0; k <= 300; ++k) {
+    const double t = centred.end_time() * k / 300.0;
+    const WalkingReference a = centred.Sample(t), b = moved.Sample(t);
+    EXPECT_NEAR(b.com_position.y() - a.com_position.y(), d, 1e-12) << t;
+    EXPECT_NEAR(b.com_position.x(), a.com_position.x(), 1e-12);
+    EXPECT_NEAR(b.com_velocity.y(), a.com_velocity.y(), 1e-12);
+    EXPECT_NEAR(b.com_acceleration.y(), a.com_acceleration.y(), 1e-9);
+    EXPECT_NEAR(b.left_foothold.y() - a.left_foothold.y(), d, 1e-12);
+    EXPECT_NEAR(b.right_foothold.y() - a.right_foothold.y(), d, 1e-12);
+  }
+  EXPECT_THROW(moved.AppendPeriodicSteps(planner, gait, 1, WalkingDomain::kLeftStance, 0.0, W, false, false, std::nan("")), std::invalid_argument);
+}
+
 TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) {
   const AslipPeriodicGaitPlanner planner;
   const AslipPeriodicGait gait = planner.Solve(2);
