@@ -239,7 +239,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
 
   r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
-  r.success = !r.fell && r.steps_completed >= r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
+  r.success = !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
   r.force_in_band_fraction_strict = band_ticks ? static_cast<double>(band_in_strict) / band_ticks : 0.0;

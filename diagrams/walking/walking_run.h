@@ -77,7 +77,7 @@ using WalkingRunObserver = std::function<void(const Context& diagram_context, co
 struct WalkingRunResult {
   using ComState = Eigen::Matrix<double, 6, 1>;
   SimulatorStatus status;
-  bool success = false;
+  bool success = false;  ///< no fall, exactly the planned steps (an extra touchdown is a bounce), none off target, no contact violation
   bool fell = false;          ///< the run ended before its end time for a reason other than an interrupt
   bool interrupted = false;
   double start_time_s = 0, end_time_s = 0;  ///< [s] the run's start and planned end
