@@ -252,49 +252,75 @@ void DiagramBuilder::ExportOutput(const std::string& system, const std::string& 
 
 std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
   std::unique_ptr<Diagram> d(new Diagram(name));
-  using Wiring = Diagram::LeafInputWiring;
-  const int nsys = static_cast<int>(systems_.size());
-  auto port_name = [&](int s, int p, bool input) {
-    const System& sys = *systems_[s];
-    return std::string(input ? "input" : "output") + " port '" + (input ? sys.input_port(p) : sys.output_port(p)).name + "' of system '" +
-           names_[s] + "'";
-  };
+  std::vector<int> offset;
+  std::vector<PendingInput> pending;
+  ExpandLeaves(*d, &offset, &pending);
+  WireInputs(*d, name, offset, pending);
+  for (const auto& [ename, ref] : exported_outputs_) {
+    PortInfo exported = systems_[ref.system]->output_port(ref.port);
+    exported.name = ename;
+    d->output_ports_.push_back(exported);
+    d->exported_outputs_.push_back(LeafOutput(offset, ref));
+  }
+  SortEvaluationOrder(*d, name);
+  d->owned_ = std::move(systems_);
+  systems_.clear();
+  names_.clear();
+  connections_.clear();
+  fixed_.clear();
+  fixed_abstract_.clear();
+  exported_inputs_.clear();
+  exported_outputs_.clear();
+  return d;
+}
 
-  // 1. Expand every block into leaves.
-  std::vector<int> offset(nsys);
-  // Leaf inputs of nested diagrams that come from the nested diagram's exported input m: resolved below.
-  struct Pending {
-    int leaf, port, block, block_input;
-  };
-  std::vector<Pending> pending;
+std::string DiagramBuilder::PortName(int s, int p, bool input) const {
+  const System& sys = *systems_[s];
+  return std::string(input ? "input" : "output") + " port '" + (input ? sys.input_port(p) : sys.output_port(p)).name + "' of system '" +
+         names_[s] + "'";
+}
+
+Diagram::OutputRef DiagramBuilder::LeafOutput(const std::vector<int>& offset, PortRef o) const {
+  if (!systems_[o.system]->is_diagram()) return {offset[o.system], o.port};
+  const auto* child = static_cast<const Diagram*>(systems_[o.system].get());
+  Diagram::OutputRef r = child->exported_outputs_[o.port];
+  r.leaf += offset[o.system];
+  return r;
+}
+
+void DiagramBuilder::ExpandLeaves(Diagram& diagram, std::vector<int>* offset, std::vector<PendingInput>* pending) const {
+  using Wiring = Diagram::LeafInputWiring;
+  Diagram* d = &diagram;
+  const int nsys = static_cast<int>(systems_.size());
+  offset->assign(nsys, 0);
   for (int s = 0; s < nsys; ++s) {
-    offset[s] = d->num_leaves();
+    (*offset)[s] = d->num_leaves();
     if (!systems_[s]->is_diagram()) {
       const auto* leaf = static_cast<const LeafSystem*>(systems_[s].get());
       d->leaves_.push_back({leaf, names_[s]});
       d->wiring_.emplace_back(leaf->num_input_ports(), Wiring{Wiring::Kind::kExported, {-1, -1}, {}, {}, -1});
-      for (int p = 0; p < leaf->num_input_ports(); ++p) pending.push_back({offset[s], p, s, p});
+      for (int p = 0; p < leaf->num_input_ports(); ++p) pending->push_back({(*offset)[s], p, s, p});
     } else {
       const auto* child = static_cast<const Diagram*>(systems_[s].get());
       for (int i = 0; i < child->num_leaves(); ++i) {
         d->leaves_.push_back({child->leaves_[i].system, names_[s] + "/" + child->leaves_[i].path});
         std::vector<Wiring> w = child->wiring_[i];
         for (size_t p = 0; p < w.size(); ++p) {
-          if (w[p].kind == Wiring::Kind::kUpstream) w[p].upstream.leaf += offset[s];
-          if (w[p].kind == Wiring::Kind::kExported) pending.push_back({offset[s] + i, static_cast<int>(p), s, w[p].exported_index});
+          if (w[p].kind == Wiring::Kind::kUpstream) w[p].upstream.leaf += (*offset)[s];
+          if (w[p].kind == Wiring::Kind::kExported) pending->push_back({(*offset)[s] + i, static_cast<int>(p), s, w[p].exported_index});
         }
         d->wiring_.push_back(std::move(w));
       }
     }
   }
-  auto leaf_output = [&](PortRef o) -> Diagram::OutputRef {
-    if (!systems_[o.system]->is_diagram()) return {offset[o.system], o.port};
-    const auto* child = static_cast<const Diagram*>(systems_[o.system].get());
-    Diagram::OutputRef r = child->exported_outputs_[o.port];
-    r.leaf += offset[o.system];
-    return r;
-  };
+}
 
+void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const std::vector<int>& offset, const std::vector<PendingInput>& pending) const {
+  using Wiring = Diagram::LeafInputWiring;
+  Diagram* d = &diagram;
+  const int nsys = static_cast<int>(systems_.size());
+  auto port_name = [&](int s, int p, bool input) { return PortName(s, p, input); };
+  auto leaf_output = [&](PortRef o) { return LeafOutput(offset, o); };
   // 2. One source per block input: a connection, a fixed value, or an export.
   std::map<std::pair<int, int>, int> source_count;
   std::map<std::pair<int, int>, Wiring> source;
@@ -362,7 +388,7 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
     d->input_ports_.push_back(exported);
     d->exported_inputs_.emplace_back();
   }
-  for (const Pending& p : pending) {
+  for (const PendingInput& p : pending) {
     auto key = std::make_pair(p.block, p.block_input);
     auto it = source.find(key);
     if (it == source.end())
@@ -377,15 +403,12 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
       if (!source.count({s, p}))
         throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): " + port_name(s, p, true) +
                                     " is not connected (connect it, fix it with FixInput, or export it)");
+}
 
-  for (const auto& [ename, ref] : exported_outputs_) {
-    PortInfo exported = systems_[ref.system]->output_port(ref.port);
-    exported.name = ename;
-    d->output_ports_.push_back(exported);
-    d->exported_outputs_.push_back(leaf_output(ref));
-  }
-
-  // 3. Algebraic loops and evaluation order over leaf output ports (depth-first topological sort).
+// Algebraic loops and evaluation order over leaf output ports (depth-first topological sort).
+void DiagramBuilder::SortEvaluationOrder(Diagram& diagram, const std::string& name) {
+  using Wiring = Diagram::LeafInputWiring;
+  Diagram* d = &diagram;
   const int nleaves = d->num_leaves();
   std::vector<std::vector<int>> state(nleaves);  // 0 unvisited, 1 on stack, 2 done
   for (int i = 0; i < nleaves; ++i) state[i].assign(d->leaves_[i].system->num_output_ports(), 0);
@@ -416,16 +439,6 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
   };
   for (int i = 0; i < nleaves; ++i)
     for (int p = 0; p < d->leaves_[i].system->num_output_ports(); ++p) visit({i, p});
-
-  d->owned_ = std::move(systems_);
-  systems_.clear();
-  names_.clear();
-  connections_.clear();
-  fixed_.clear();
-  fixed_abstract_.clear();
-  exported_inputs_.clear();
-  exported_outputs_.clear();
-  return d;
 }
 
 }  // namespace rome

@@ -153,6 +153,18 @@ class DiagramBuilder {
   struct Connection {
     PortRef from, to;
   };
+  // A leaf input whose source is block `block`'s input `block_input` (a nested diagram's exported input).
+  struct PendingInput {
+    int leaf, port, block, block_input;
+  };
+  // Build's stages: the blocks expanded into leaves; one source per block input (checked) wired into the leaves; the
+  // leaf outputs in evaluation order (algebraic loops rejected).
+  void ExpandLeaves(Diagram& d, std::vector<int>* offset, std::vector<PendingInput>* pending) const;
+  void WireInputs(Diagram& d, const std::string& name, const std::vector<int>& offset, const std::vector<PendingInput>& pending) const;
+  static void SortEvaluationOrder(Diagram& d, const std::string& name);
+  std::string PortName(int system, int port, bool input) const;
+  /// The leaf output behind output `o` of a block (offset: each block's first leaf).
+  Diagram::OutputRef LeafOutput(const std::vector<int>& offset, PortRef o) const;
   std::vector<std::unique_ptr<System>> systems_;
   std::vector<std::string> names_;
   std::vector<Connection> connections_;

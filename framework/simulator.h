@@ -36,6 +36,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -187,6 +188,21 @@ class Simulator {
   bool terminated_ = false;
   SimulatorStatus terminal_status_;
   friend struct SimulatorCallbacks;
+
+  // AdvanceTo's parts. Each that can end the run returns the run's status then (nullopt: go on).
+  /// Ends the run (a boundary time only pauses it) and copies the integrator's counters into the statistics.
+  SimulatorStatus Finish(SimulatorStatus::Reason reason, const std::string& system, const std::string& message);
+  SimulatorStatus FromEvent(const EventStatus& status, const std::string& system);
+  /// Restarts the integrator at the contexts' state; carry_step: the continuous state did not jump (a discrete update
+  /// only changed the inputs).
+  void Reinitialize(bool carry_step);
+  /// The periodic updates and publishes due at `next_sample`, then the per-step publishes.
+  std::optional<SimulatorStatus> RunPeriodicEvents(double next_sample);
+  /// One integrator step towards `t_stop`: its return flag and time, the state written into the contexts.
+  std::optional<SimulatorStatus> Step(double t_stop, int* flag, double* t_ret);
+  /// After a root return: the resets of the guards that fired (Zeno policy), the event updates, the publishes.
+  std::optional<SimulatorStatus> HandleGuards(double t_ret);
+  std::optional<SimulatorStatus> RunEventUpdates();
 };
 
 }  // namespace rome

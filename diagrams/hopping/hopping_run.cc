@@ -48,6 +48,47 @@ void Require(bool ok, const char* field, double value, const char* rule) {
   throw std::invalid_argument(msg.str());
 }
 
+// The run's metrics once it ended: GRF agreement with the ROM, rest, QP timing, the success rule.
+void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const HoppingRunParams& params, const std::vector<PlannerRecord>* records,
+                          double apex_rise, double com_liftoff, double com_max, bool has_qp_failures, HoppingRunResult* result) {
+  HoppingRunResult& r = *result;
+  std::vector<double> jr, jm, lr, lm, st, sg;
+  for (const HoppingSample& s : r.samples) {
+    if (s.domain == HoppingDomain::kJump && std::isfinite(s.rom_grf)) jr.push_back(s.grf), jm.push_back(s.rom_grf);
+    if (s.domain == HoppingDomain::kLanding && s.since_touchdown > params.landing_grf_skip_s && std::isfinite(s.rom_grf)) lr.push_back(s.grf), lm.push_back(s.rom_grf);
+    if (s.domain != HoppingDomain::kFlight && r.jump_start_s > 0 && s.t >= r.jump_start_s) st.push_back(s.shin_torque), sg.push_back(s.grf);
+  }
+  r.grf_nrmse_jump = Nrmse(jr, jm);
+  r.grf_nrmse_landing = Nrmse(lr, lm);
+  r.spring_torque_grf_correlation = Correlation(st, sg);
+  const Context& context = sim.get_context();
+  const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, context);
+  const Eigen::VectorXd v_end = d.plant->EvalOutput(pc, "v");
+  r.settled = std::isfinite(r.rest_speed) && r.rest_speed < params.rest_max_speed && v_end.cwiseAbs().maxCoeff() < params.rest_max_speed;
+  if (d.controller->HasOutputPort("solve_time_s")) {
+    const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, context));
+    std::vector<double> solve_us;
+    const int solve_col = d.logger->ColumnIndex("controller.solve_time_s[0]");
+    for (const Eigen::VectorXd& row : log.samples) solve_us.push_back(1e6 * row[solve_col]);
+    r.qp_solve_us_median = Percentile(solve_us, 0.5);
+    r.qp_solve_us_p99 = Percentile(solve_us, 0.99);
+  }
+  if (records) r.planner_records = *records;
+  if (r.liftoff_s > 0 && !r.planner_records.empty()) r.takeoff_time_error_s = (r.liftoff_s - r.jump_start_s) - r.planner_records.front().plan.duration;
+  r.hopped = r.liftoff_s > 0 && r.touchdown_s > 0 && com_max - com_liftoff >= params.min_com_rise_fraction * apex_rise;
+  const bool ran = r.status.ok() || r.status.reason == SimulatorStatus::Reason::kReachedTermination;
+  r.success = ran && r.hopped && r.settled && r.contact.violations == 0;
+  r.status_kind = ran ? (r.success ? "success" : "failure") : r.status.kind_name();  // judged by the success rule, never a "limit"
+  r.air_time_s = r.liftoff_s > 0 && r.touchdown_s > 0 ? r.touchdown_s - r.liftoff_s : NAN;
+  r.com_rise_m = r.liftoff_s > 0 ? com_max - com_liftoff : NAN;
+  const Eigen::VectorXd& plan_status = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, context), "plan_status");
+  r.jump_plans = plan_status[0], r.landing_plans = plan_status[1], r.planner_failures = plan_status[2];
+  if (has_qp_failures) r.qp_failures = d.diagram->EvalOutput(context, "qp_failures")[0];
+  r.simulated_s = pc.time();
+  r.realtime_factor = pc.time() / r.wall_s;
+  r.integrator = sim.statistics();
+}
+
 }  // namespace
 
 void HoppingRunParams::Validate() const {
@@ -211,42 +252,7 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   sim.remove_monitor("hopping_run");  // before the metrics: the monitor refers to this function's locals
 
-  // Metrics.
-  std::vector<double> jr, jm, lr, lm, st, sg;
-  for (const HoppingSample& s : r.samples) {
-    if (s.domain == HoppingDomain::kJump && std::isfinite(s.rom_grf)) jr.push_back(s.grf), jm.push_back(s.rom_grf);
-    if (s.domain == HoppingDomain::kLanding && s.since_touchdown > params.landing_grf_skip_s && std::isfinite(s.rom_grf)) lr.push_back(s.grf), lm.push_back(s.rom_grf);
-    if (s.domain != HoppingDomain::kFlight && r.jump_start_s > 0 && s.t >= r.jump_start_s) st.push_back(s.shin_torque), sg.push_back(s.grf);
-  }
-  r.grf_nrmse_jump = Nrmse(jr, jm);
-  r.grf_nrmse_landing = Nrmse(lr, lm);
-  r.spring_torque_grf_correlation = Correlation(st, sg);
-  const Context& context = sim.get_context();
-  const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, context);
-  const Eigen::VectorXd v_end = d.plant->EvalOutput(pc, "v");
-  r.settled = std::isfinite(r.rest_speed) && r.rest_speed < params.rest_max_speed && v_end.cwiseAbs().maxCoeff() < params.rest_max_speed;
-  if (d.controller->HasOutputPort("solve_time_s")) {
-    const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, context));
-    std::vector<double> solve_us;
-    const int solve_col = d.logger->ColumnIndex("controller.solve_time_s[0]");
-    for (const Eigen::VectorXd& row : log.samples) solve_us.push_back(1e6 * row[solve_col]);
-    r.qp_solve_us_median = Percentile(solve_us, 0.5);
-    r.qp_solve_us_p99 = Percentile(solve_us, 0.99);
-  }
-  if (records) r.planner_records = *records;
-  if (r.liftoff_s > 0 && !r.planner_records.empty()) r.takeoff_time_error_s = (r.liftoff_s - r.jump_start_s) - r.planner_records.front().plan.duration;
-  r.hopped = r.liftoff_s > 0 && r.touchdown_s > 0 && com_max - com_liftoff >= params.min_com_rise_fraction * apex_rise;
-  const bool ran = r.status.ok() || r.status.reason == SimulatorStatus::Reason::kReachedTermination;
-  r.success = ran && r.hopped && r.settled && r.contact.violations == 0;
-  r.status_kind = ran ? (r.success ? "success" : "failure") : r.status.kind_name();  // judged by the success rule, never a "limit"
-  r.air_time_s = r.liftoff_s > 0 && r.touchdown_s > 0 ? r.touchdown_s - r.liftoff_s : NAN;
-  r.com_rise_m = r.liftoff_s > 0 ? com_max - com_liftoff : NAN;
-  const Eigen::VectorXd& plan_status = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, context), "plan_status");
-  r.jump_plans = plan_status[0], r.landing_plans = plan_status[1], r.planner_failures = plan_status[2];
-  if (has_qp_failures) r.qp_failures = d.diagram->EvalOutput(context, "qp_failures")[0];
-  r.simulated_s = pc.time();
-  r.realtime_factor = pc.time() / r.wall_s;
-  r.integrator = sim.statistics();
+  FinishHoppingMetrics(d, sim, params, records, apex_rise, com_liftoff, com_max, has_qp_failures, &r);
   return r;
 }
 

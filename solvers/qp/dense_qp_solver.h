@@ -206,6 +206,12 @@ class DenseQpSolver {
 
   bool ValidateInput(bool matrices);  // sizes, finiteness, bounds; finiteness / symmetry of H, A_eq, A if matrices
   bool MatricesMatchHotCache() const;
+  // Solve's stages (dense_qp_solve.cc).
+  bool FindContradictoryBounds();  // records the first row or bound with lower > upper; true if there is one
+  bool FactorizeH();               // H, else H + regularization I, factorized and cached; false if neither is PD
+  void ComputeInverseRowNorms();
+  QpStatus SolveGoldfarbIdnani(bool warm, bool keep_factorization);
+  QpStatus SolveProximal(bool warm);
   QpStatus HotSolve(bool verify);
   bool VerifyHotSolution();
   QpStatus Iterate(const Eigen::VectorXd& g_eff, bool x_current);  // GI pricing loop from a dual feasible start

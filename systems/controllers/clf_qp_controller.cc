@@ -173,20 +173,22 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
   if (params_.force_band) force_ref_port_ = DeclareInputPort("normal_force_reference", nc);
-  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(clf_activity_offset() + 2);
-  xd0[status_offset()] = -1;  // no QP solved yet
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(slot(kNumSlots));
+  xd0[slot(kStatus)] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
   DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
   DeclareOutputPort("contact_forces", 3 * nc, [this, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(forces_offset(), 3 * nc); },
                     Feedthrough::None());
-  DeclareOutputPort("V", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[V_offset()]; }, Feedthrough::None());
-  DeclareOutputPort("delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[delta_offset()]; }, Feedthrough::None());
+  DeclareOutputPort("V", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kV)]; }, Feedthrough::None());
+  DeclareOutputPort("delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kDelta)]; }, Feedthrough::None());
   DeclareOutputPort("fallbacks", {"band_dropped", "cop_dropped", "held"},
-                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(fallbacks_offset()); }, Feedthrough::None());
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(slot(kBandDropped)); }, Feedthrough::None());
   DeclareOutputPort("clf_activity", {"clf_active", "solved"},
-                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<2>(clf_activity_offset()); }, Feedthrough::None());
-  DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<2>(slot(kClfActive)); }, Feedthrough::None());
+  DeclareQpPortsAndUpdates(slot(kFailures), slot(kStatus), slot(kSolveTime), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
                            [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
+  DeclareTypedOutputPort<ClfQpDiagnostics>(
+      "diagnostics", [this](const LeafContext& c, ClfQpDiagnostics* d) { *d = diagnostics(c); }, Feedthrough::None());
 }
 
 std::any ClfQpController::AllocateScratch() const {
@@ -297,23 +299,35 @@ int ClfQpController::ModeFromInput(const LeafContext& context) const {
 }
 
 QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
-  const MultibodyModel& model = *model_;
-  const int nv = model.nv(), nu = model.nu();
-  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
   const int mode = ModeFromInput(context);
   Scratch& s = context.scratch<Scratch>();
-  Scratch::ModeQp& mq = s.modes[mode];
-  DenseQpSolver& qp = mq.qp;
   const bool same_mode = s.last_mode == mode;
   s.last_mode = mode;
-  MultibodyWorkspace& ws = s.ws;
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
   if (!x.allFinite()) throw std::runtime_error("system '" + name() + "': input port 'state' is not finite");
-  const auto q = x.head(nv);
-  const auto v = x.tail(nv);
-  const double alpha = params_.contact_stabilization.baumgarte_alpha_per_s, beta = params_.contact_stabilization.baumgarte_beta_per_s;
+  const auto q = x.head(model_->nv());
+  const auto v = x.tail(model_->nv());
+  const int rows = CalcConstrainedDynamics(context, q, v, same_mode, s, mode);
+  if (rows < 0) return QpStatus::kInvalidInput;
+  const double reg_scale = CalcOutputRows(q, v, desired, rows, s, mode);
+  if (!FillCost(q, reg_scale, rows, s, mode)) return QpStatus::kInvalidInput;
+  FillClfRow(s, mode);
+  FillWrenchRows(context, q, s, mode);
+  const QpStatus status = s.modes[mode].qp.Solve();
+  if (status == QpStatus::kOptimal) StorePlannedForces(rows, s, mode);
+  return status;
+}
 
+int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const VectorRef& q, const VectorRef& v, bool same_mode, Scratch& s,
+                                             int mode) const {
+  const MultibodyModel& model = *model_;
+  const int nv = model.nv(), nu = model.nu();
+  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  MultibodyWorkspace& ws = s.ws;
+  const double alpha = params_.contact_stabilization.baumgarte_alpha_per_s, beta = params_.contact_stabilization.baumgarte_beta_per_s;
   // Free dynamics: M q̈ = τ_s − h + B u + Jᵀ F.
   s.rhs_free = CalcSpringTorques(model, ws, q, v) - CalcBiasForces(model, ws, q, v);
   s.minv_rhs = s.rhs_free;
@@ -322,47 +336,54 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   SolveMassMatrix(model, ws, q, s.MinvB);
   const int rows = CalcConstraintJacobian(model, ws, q, v, mq.active);
   s.qdd0 = s.minv_rhs;
-  if (rows > 0) {
-    const auto J = ws.J.topRows(rows);
-    mq.MinvJT = J.transpose();
-    SolveMassMatrix(model, ws, q, mq.MinvJT);
-    mq.Lambda.noalias() = J.lazyProduct(mq.MinvJT);
-    mq.JMinvB.noalias() = J.lazyProduct(s.MinvB);
-    // J q̈ + J̇ q̇ + 2α J q̇ + β² φ = 0  ⇔  Λ F + J M⁻¹ B u = −(J M⁻¹ (τ_s − h) + J̇ q̇ + 2α J q̇ + β² φ).
-    mq.stab = ws.Jdot_qdot.head(rows) + (beta * beta) * ws.phi.head(rows);
-    mq.stab.noalias() += (2.0 * alpha) * (J * v);
-    mq.stab.noalias() += J * s.minv_rhs;
-    if (augmented) {
-      qp.A_eq.leftCols(nu) = mq.JMinvB;
-      qp.A_eq.middleCols(nu, rows) = mq.Lambda;
-      qp.b_eq = -mq.stab;
-    } else {
-      mq.llt.compute(mq.Lambda);
-      if (mq.llt.info() != Eigen::Success) return QpStatus::kInvalidInput;
-      mq.Av = -mq.JMinvB;
-      mq.llt.solveInPlace(mq.Av);  // A_v = −Λ⁻¹ J M⁻¹ B (Eq. (21))
-      mq.bv = -mq.stab;
-      mq.llt.solveInPlace(mq.bv);  // b_v (Eq. (22))
-      mq.Q = s.MinvB;
-      mq.Q.noalias() += mq.MinvJT.lazyProduct(mq.Av);
-      s.qdd0.noalias() += mq.MinvJT * mq.bv;
-      // Hold drift: F(x_k, u_{k-1}) − F(x_{k-1}, u_{k-1}), per update period (0 without a previous solve in this mode).
-      mq.drift.head(rows).setZero();
-      const double dt = context.time() - mq.t_prev;
-      if (params_.predict_hold_drift && mq.prev_valid && same_mode && dt > 0.25 * params_.update_period_s &&
-          dt < 1.5 * params_.update_period_s) {
-        mq.drift.head(rows) = mq.bv - mq.F_prev.head(rows);
-        mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
-        mq.drift.head(rows) *= params_.update_period_s / dt;
-      }
-    }
-  } else {
+  if (rows == 0) {
     mq.Q = s.MinvB;
+    return rows;
   }
+  const auto J = ws.J.topRows(rows);
+  mq.MinvJT = J.transpose();
+  SolveMassMatrix(model, ws, q, mq.MinvJT);
+  mq.Lambda.noalias() = J.lazyProduct(mq.MinvJT);
+  mq.JMinvB.noalias() = J.lazyProduct(s.MinvB);
+  // J q̈ + J̇ q̇ + 2α J q̇ + β² φ = 0  ⇔  Λ F + J M⁻¹ B u = −(J M⁻¹ (τ_s − h) + J̇ q̇ + 2α J q̇ + β² φ).
+  mq.stab = ws.Jdot_qdot.head(rows) + (beta * beta) * ws.phi.head(rows);
+  mq.stab.noalias() += (2.0 * alpha) * (J * v);
+  mq.stab.noalias() += J * s.minv_rhs;
+  if (augmented) {
+    qp.A_eq.leftCols(nu) = mq.JMinvB;
+    qp.A_eq.middleCols(nu, rows) = mq.Lambda;
+    qp.b_eq = -mq.stab;
+    return rows;
+  }
+  mq.llt.compute(mq.Lambda);
+  if (mq.llt.info() != Eigen::Success) return -1;
+  mq.Av = -mq.JMinvB;
+  mq.llt.solveInPlace(mq.Av);  // A_v = −Λ⁻¹ J M⁻¹ B (Eq. (21))
+  mq.bv = -mq.stab;
+  mq.llt.solveInPlace(mq.bv);  // b_v (Eq. (22))
+  mq.Q = s.MinvB;
+  mq.Q.noalias() += mq.MinvJT.lazyProduct(mq.Av);
+  s.qdd0.noalias() += mq.MinvJT * mq.bv;
+  // Hold drift: F(x_k, u_{k-1}) − F(x_{k-1}, u_{k-1}), per update period (0 without a previous solve in this mode).
+  mq.drift.head(rows).setZero();
+  const double dt = context.time() - mq.t_prev;
+  if (params_.predict_hold_drift && mq.prev_valid && same_mode && dt > 0.25 * params_.update_period_s && dt < 1.5 * params_.update_period_s) {
+    mq.drift.head(rows) = mq.bv - mq.F_prev.head(rows);
+    mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
+    mq.drift.head(rows) *= params_.update_period_s / dt;
+  }
+  return rows;
+}
+
+double ClfQpController::CalcOutputRows(const VectorRef& q, const VectorRef& v, const Eigen::VectorXd& desired, int rows, Scratch& s, int mode) const {
+  const MultibodyModel& model = *model_;
+  const int nu = model.nu();
+  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+  Scratch::ModeQp& mq = s.modes[mode];
+  MultibodyWorkspace& ws = s.ws;
   // q̈ = q̈0 + Qu u (+ M⁻¹ Jᵀ F when augmented).
   const Eigen::MatrixXd& Qu = augmented ? s.MinvB : mq.Q;
-
-  // Outputs: μ rows [RD1; RD2] = Aout x + L_f; η = [y1; y2; ẏ2] errors.
+  // μ rows [RD1; RD2; cost-only] = Aout x + L_f; η = [y1; y2; ẏ2] errors.
   int r = 0;
   int e = 0;
   double reg_scale = 0.0;
@@ -418,8 +439,16 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     s.y.segment(off, n) += gains.kd * desired.segment(ny_ + off, n);
     add_rows(off, n, o.weight(), s.y.segment(off, n));
   }
+  return reg_scale;
+}
 
-  // Cost ½||W^½(Aout x + L_f)||² + ½ ρ s ||u||² + ½ p δ².
+bool ClfQpController::FillCost(const VectorRef& q, double reg_scale, int rows, Scratch& s, int mode) const {
+  const MultibodyModel& model = *model_;
+  const int nu = model.nu();
+  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  // ½||W^½(Aout x + L_f)||² + ½ ρ s ||u||² + ½ p δ².
   qp.H.setZero();
   qp.g.setZero();
   if (mq.nout > 0) {
@@ -435,13 +464,13 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
   } else {
     const bool inertia = params_.u_regularization_kind == TorqueRegularization::kInverseJointInertia;
-    const Eigen::MatrixXd* M = inertia ? &CalcMassMatrix(model, ws, q) : nullptr;
+    const Eigen::MatrixXd* M = inertia ? &CalcMassMatrix(model, s.ws, q) : nullptr;
     for (int j = 0; j < nu; ++j) {
       double s_j = scale;
       if (inertia) {
         s.Mb.noalias() = *M * model.B().col(j);
         const double m_j = model.B().col(j).dot(s.Mb);  // b_jᵀ M b_j [kg m²]
-        if (!(m_j > 0.0)) return QpStatus::kInvalidInput;
+        if (!(m_j > 0.0)) return false;
         s_j = 1.0 / (m_j * m_j);
       }
       if (params_.u_regularization_weights.size() != 0) s_j *= params_.u_regularization_weights[j];
@@ -460,30 +489,42 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     Hn.triangularView<Eigen::StrictlyUpper>() = Hn.transpose();
     qp.g.head(nu + rows).noalias() -= rho * (qp.A_eq.leftCols(nu + rows).transpose() * qp.b_eq);
   }
+  return true;
+}
 
-  // CLF row (Eq. (36)-(37)): L_G V Aout x − δ ≤ −(γ/ε) V − L_F V − L_G V L_f, normalised.
-  if (mq.o1 + mq.o2 > 0) {
-    const ModeClf& clf = clf_[mode];
-    mq.Peta.noalias() = clf.P_epsilon * mq.eta;
-    const double V = mq.eta.dot(mq.Peta);
-    // L_F V = 2 ηᵀ P_ε F η; F η moves ẏ2 into the y2 slots.
-    const double LFV = 2.0 * mq.Peta.segment(mq.o1, mq.o2).dot(mq.eta.tail(mq.o2));
-    // L_G V = 2 ηᵀ P_ε G: G picks the y1 and ẏ2 slots.
-    mq.LGV.head(mq.o1) = 2.0 * mq.Peta.head(mq.o1);
-    mq.LGV.segment(mq.o1, mq.o2) = 2.0 * mq.Peta.tail(mq.o2);
-    mq.LGV.tail(mq.os).setZero();  // cost-only rows are not in V
-    mq.clf_row.noalias() = mq.Aout.transpose() * mq.LGV;
-    mq.clf_row[mq.delta] = -1.0 / std::sqrt(params_.relaxation_weight);
-    const double rhs = -clf.convergence_rate * V - LFV - mq.LGV.dot(mq.Lf);
-    const double norm = 1.0 + mq.clf_row.head(mq.delta).norm();
-    qp.A.row(0) = mq.clf_row.transpose() / norm;
-    qp.u[0] = rhs / norm;
-  } else {
+void ClfQpController::FillClfRow(Scratch& s, int mode) const {
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  // Eq. (36)-(37): L_G V Aout x − δ ≤ −(γ/ε) V − L_F V − L_G V L_f, normalised.
+  if (mq.o1 + mq.o2 == 0) {
     qp.A.row(0).setZero();
     qp.u[0] = kInf;
+    return;
   }
+  const ModeClf& clf = clf_[mode];
+  mq.Peta.noalias() = clf.P_epsilon * mq.eta;
+  const double V = mq.eta.dot(mq.Peta);
+  // L_F V = 2 ηᵀ P_ε F η; F η moves ẏ2 into the y2 slots.
+  const double LFV = 2.0 * mq.Peta.segment(mq.o1, mq.o2).dot(mq.eta.tail(mq.o2));
+  // L_G V = 2 ηᵀ P_ε G: G picks the y1 and ẏ2 slots.
+  mq.LGV.head(mq.o1) = 2.0 * mq.Peta.head(mq.o1);
+  mq.LGV.segment(mq.o1, mq.o2) = 2.0 * mq.Peta.tail(mq.o2);
+  mq.LGV.tail(mq.os).setZero();  // cost-only rows are not in V
+  mq.clf_row.noalias() = mq.Aout.transpose() * mq.LGV;
+  mq.clf_row[mq.delta] = -1.0 / std::sqrt(params_.relaxation_weight);
+  const double rhs = -clf.convergence_rate * V - LFV - mq.LGV.dot(mq.Lf);
+  const double norm = 1.0 + mq.clf_row.head(mq.delta).norm();
+  qp.A.row(0) = mq.clf_row.transpose() / norm;
+  qp.u[0] = rhs / norm;
+}
 
-  // Contact-wrench rows of each active contact, and the force band.
+void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef& q, Scratch& s, int mode) const {
+  const MultibodyModel& model = *model_;
+  const int nu = model.nu();
+  const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  // The contact-wrench rows of each active contact, and the force band.
   const Eigen::VectorXd* force_ref = params_.force_band ? &EvalInput(context, force_ref_port_) : nullptr;
   double active_ref = 0.0, inactive_ref = 0.0;  // force_band_carry_inactive: the load of the contacts not in the mode
   if (force_ref != nullptr && params_.force_band_carry_inactive && !mq.wrench.empty()) {
@@ -501,7 +542,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
     const ContactWrenchConstraints& cw = mq.wrench[k];
     const int nr = cw.num_rows(), nf = cw.num_force_rows(), fo = mq.force_offset[k], io = mq.ineq_offset[k];
     auto G = mq.Gc.topLeftCorner(nr, nf);
-    cw.Fill(model, ws, q, G, mq.lc.head(nr), mq.uc.head(nr));
+    cw.Fill(model, s.ws, q, G, mq.lc.head(nr), mq.uc.head(nr));
     auto A = qp.A.middleRows(io, nr);
     A.setZero();
     if (augmented) {
@@ -526,47 +567,51 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
         }
       }
     }
-    if (force_ref != nullptr) {
-      const int br = mq.band_offset + static_cast<int>(k);
-      const int fz = fo + cw.normal_index();
-      double f_ref = std::max((*force_ref)[cw.contact()], 0.0);
-      if (inactive_ref > 0.0)
-        f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
-      const double c = params_.force_band_halfwidth;
-      qp.A.row(br).setZero();
-      double shift = 0.0;
-      if (augmented) {
-        qp.A(br, nu + fz) = 1.0;
-      } else {
-        qp.A.row(br).head(nu) = mq.Av.row(fz);
-        shift = mq.bv[fz];
-      }
-      double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
-      const int ci = cw.contact();
-      s.band_ref_cur[ci] = f_ref;
-      const bool loading = !(s.band_active_prev & ContactBit(ci)) ||
-                           f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
-      if (loading && params_.force_band_loading_floor_N > 0.0) {
-        lower = std::max(lower, params_.force_band_loading_floor_N);
-        upper = std::max(upper, lower);
-      }
-      qp.l[br] = lower - shift;
-      qp.u[br] = upper - shift;
-    }
+    if (force_ref != nullptr) FillForceBandRow(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode);
   }
-  const QpStatus status = qp.Solve();
-  if (status == QpStatus::kOptimal) {
-    // Planned constraint forces.
-    if (rows > 0) {
-      if (augmented) {
-        mq.F.head(rows) = qp.x().segment(nu, rows);
-      } else {
-        mq.F.head(rows) = mq.bv;
-        mq.F.head(rows).noalias() += mq.Av * qp.x().head(nu);
-      }
-    }
+}
+
+void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s, int mode) const {
+  const int nu = model_->nu();
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  const ContactWrenchConstraints& cw = mq.wrench[k];
+  // Walking paper Eq. (25): (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref, with the loading floor (params).
+  const int br = mq.band_offset + k;
+  const int fz = mq.force_offset[k] + cw.normal_index();
+  double f_ref = std::max(force_ref[cw.contact()], 0.0);
+  if (inactive_ref > 0.0) f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
+  const double c = params_.force_band_halfwidth;
+  qp.A.row(br).setZero();
+  double shift = 0.0;
+  if (params_.formulation == ClfQpFormulation::kAugmentedInput) {
+    qp.A(br, nu + fz) = 1.0;
+  } else {
+    qp.A.row(br).head(nu) = mq.Av.row(fz);
+    shift = mq.bv[fz];
   }
-  return status;
+  double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
+  const int ci = cw.contact();
+  s.band_ref_cur[ci] = f_ref;
+  const bool loading = !(s.band_active_prev & ContactBit(ci)) || f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
+  if (loading && params_.force_band_loading_floor_N > 0.0) {
+    lower = std::max(lower, params_.force_band_loading_floor_N);
+    upper = std::max(upper, lower);
+  }
+  qp.l[br] = lower - shift;
+  qp.u[br] = upper - shift;
+}
+
+void ClfQpController::StorePlannedForces(int rows, Scratch& s, int mode) const {
+  Scratch::ModeQp& mq = s.modes[mode];
+  if (rows <= 0) return;
+  const int nu = model_->nu();
+  if (params_.formulation == ClfQpFormulation::kAugmentedInput) {
+    mq.F.head(rows) = mq.qp.x().segment(nu, rows);
+  } else {
+    mq.F.head(rows) = mq.bv;
+    mq.F.head(rows).noalias() += mq.Av * mq.qp.x().head(nu);
+  }
 }
 
 void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool cop) const {
@@ -596,52 +641,62 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   Scratch& s = context.scratch<Scratch>();
   Scratch::ModeQp& mq = s.modes[s.last_mode];
   if (status != QpStatus::kOptimal && status != QpStatus::kInvalidInput) {
-    (*next)[failures_offset()] += 1.0;
+    (*next)[slot(kFailures)] += 1.0;
     // Fallback 1: drop the force band and the hold-drift rows; 2: also drop the CoP rows (each counted); else hold the previous u.
     if (mq.band_offset >= 0 || mq.drift_offset >= 0) {
       SetRowsEnabled(context, false, true);
       status = mq.qp.Solve();
-      (*next)[fallbacks_offset()] += 1.0;
+      (*next)[slot(kBandDropped)] += 1.0;
     }
     if (status != QpStatus::kOptimal) {
       SetRowsEnabled(context, false, false);
       status = mq.qp.Solve();
-      (*next)[fallbacks_offset() + 1] += 1.0;
+      (*next)[slot(kCopDropped)] += 1.0;
     }
-    if (status == QpStatus::kOptimal && mq.rows > 0) {
-      if (params_.formulation == ClfQpFormulation::kAugmentedInput) {
-        mq.F.head(mq.rows) = mq.qp.x().segment(nu, mq.rows);
-      } else {
-        mq.F.head(mq.rows) = mq.bv;
-        mq.F.head(mq.rows).noalias() += mq.Av * mq.qp.x().head(nu);
-      }
-    }
+    if (status == QpStatus::kOptimal) StorePlannedForces(mq.rows, s, s.last_mode);
   }
-  (*next)[status_offset()] = static_cast<double>(status);
+  (*next)[slot(kStatus)] = static_cast<double>(status);
   if (status != QpStatus::kOptimal) {
     mq.prev_valid = false;
-    (*next)[fallbacks_offset() + 2] += 1.0;
-    if (status == QpStatus::kInvalidInput) (*next)[failures_offset()] += 1.0;
+    (*next)[slot(kHeld)] += 1.0;
+    if (status == QpStatus::kInvalidInput) (*next)[slot(kFailures)] += 1.0;
     return EventStatus::Succeeded();  // hold the previous u
   }
   const Eigen::VectorXd& x = mq.qp.x();
   // CLF activity: δ > 0, or the CLF row (row 0, normalised) within clf_active_tolerance of its bound.
-  (*next)[clf_activity_offset() + 1] += 1.0;
+  (*next)[slot(kSolved)] += 1.0;
   // (At η = 0 the row is 0 ≤ δ, met with equality by every u: not counted.)
   const bool clf_row = mq.o1 + mq.o2 > 0 && mq.eta.squaredNorm() > 0.0;
-  if (clf_row && (x[mq.delta] > 0.0 || mq.qp.u[0] - mq.qp.A.row(0).dot(x) <= params_.clf_active_tolerance)) (*next)[clf_activity_offset()] += 1.0;
+  if (clf_row && (x[mq.delta] > 0.0 || mq.qp.u[0] - mq.qp.A.row(0).dot(x) <= params_.clf_active_tolerance)) (*next)[slot(kClfActive)] += 1.0;
   next->segment(u_offset(), nu) = x.head(nu);
   mq.F_prev = mq.F;  // the applied u's planned forces, for the next update's hold drift
   mq.t_prev = context.time();
   mq.prev_valid = true;
-  (*next)[delta_offset()] = x[mq.delta] / std::sqrt(params_.relaxation_weight);
-  (*next)[V_offset()] = mq.eta.size() > 0 ? mq.eta.dot(mq.Peta) : 0.0;
+  (*next)[slot(kDelta)] = x[mq.delta] / std::sqrt(params_.relaxation_weight);
+  (*next)[slot(kV)] = mq.eta.size() > 0 ? mq.eta.dot(mq.Peta) : 0.0;
   auto forces = next->segment(forces_offset(), 3 * nc);
   forces.setZero();
   const auto q = EvalInput(context, state_port_).head(model_->nv());
   for (const ContactWrenchConstraints& cw : mq.wrench)
     forces.segment<3>(3 * cw.contact()) = ExtractContactWrench(*model_, s.ws, q, mq.active, mq.F.head(std::max(mq.rows, 1)), cw.contact()).force;
   return EventStatus::Succeeded();
+}
+
+ClfQpDiagnostics ClfQpController::diagnostics(const LeafContext& context) const {
+  const Eigen::VectorXd& xd = context.discrete_state();
+  auto count = [&](DiagnosticsSlot k) { return static_cast<int>(xd[slot(k)]); };  // whole numbers, stored as doubles
+  ClfQpDiagnostics d;
+  d.V = xd[slot(kV)];
+  d.delta = xd[slot(kDelta)];
+  d.qp_failures = count(kFailures);
+  if (xd[slot(kStatus)] >= 0.0) d.qp_status = static_cast<QpStatus>(count(kStatus));
+  d.band_dropped = count(kBandDropped);
+  d.cop_dropped = count(kCopDropped);
+  d.held = count(kHeld);
+  d.clf_active = count(kClfActive);
+  d.solved = count(kSolved);
+  d.solve_time_s = xd[slot(kSolveTime)];
+  return d;
 }
 
 const DenseQpSolver& ClfQpController::last_qp(const LeafContext& context) const {

@@ -22,9 +22,10 @@
 //                                      (δ > 0, or the normalised row's slack ≤ params.clf_active_tolerance; η ≠ 0), and
 //                                      updates solved (kOptimal); their ratio is how often the CLF constraint binds
 //          solve_time_s (1)            wall time of the last update [s] (QP assembly, solves, fallbacks; steady_clock)
-// discrete state: [u; contact_forces; V; δ; qp_failures; qp_status; fallbacks (3); solve_time_s; clf_activity (2)]. Updated periodically
-// (params.update_period_s) and by an event update at the guard events params.resolve_at selects (default: every
-// guard event), so the new contact mode's torque acts from the event instant on.
+//          diagnostics (ClfQpDiagnostics, typed)  all of the above but u and contact_forces, by name
+// discrete state: [u; contact_forces; the diagnostics] (read them with diagnostics(), not by offset). Updated
+// periodically (params.update_period_s) and by an event update at the guard events params.resolve_at selects (default:
+// every guard event), so the new contact mode's torque acts from the event instant on.
 //
 // Output dynamics (Eq. (24)): μ = [ẏ1 − ẏ1_d; ÿ2 − ÿ2_d; ÿs − ÿs*] = 𝒜 x + L_f, affine in the decision variables x
 // (ys: the cost-only outputs of params.cost_only_outputs, ÿs* = ÿs_d − Kp es − Kd ės; none by default).
@@ -50,6 +51,7 @@
 // One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -178,6 +180,21 @@ struct ClfQpParams {
   double clf_active_tolerance = 1e-7;
 };
 
+/// What a ClfQpController reports about its updates (output port "diagnostics", ClfQpController::diagnostics). The
+/// counts run over the updates since the context was created.
+struct ClfQpDiagnostics {
+  double V = 0.0;                     ///< V_ε(η) at the last solved update [-]
+  double delta = 0.0;                 ///< the CLF relaxation δ of the last solved update [-]
+  int qp_failures = 0;                ///< updates whose first QP failed (each then took a fallback)
+  std::optional<QpStatus> qp_status;  ///< the last update's final solve; empty before the first update
+  int band_dropped = 0;               ///< updates re-solved without the force band and hold-drift rows (fallback 1)
+  int cop_dropped = 0;                ///< updates re-solved also without the centre-of-pressure rows (fallback 2)
+  int held = 0;                       ///< updates that held the previous u (fallback 3)
+  int clf_active = 0;                 ///< solved updates whose solution has the CLF row active (see clf_activity)
+  int solved = 0;                     ///< updates solved (kOptimal)
+  double solve_time_s = 0.0;          ///< wall time of the last update [s]
+};
+
 class ClfQpController final : public QpControllerSystem {
  public:
   ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts, std::vector<ClfOutput> outputs,
@@ -204,24 +221,36 @@ class ClfQpController final : public QpControllerSystem {
   /// The planned contact forces of the last solve, stacked in contact_dynamics.h row order (active contacts, loops).
   Eigen::Ref<const Eigen::VectorXd> last_constraint_forces(const LeafContext& context) const;
 
-  // Discrete-state layout.
-  int u_offset() const { return 0; }
-  int forces_offset() const { return model_->nu(); }
-  int V_offset() const { return forces_offset() + 3 * model_->num_contacts(); }
-  int delta_offset() const { return V_offset() + 1; }
-  int failures_offset() const { return V_offset() + 2; }
-  int status_offset() const { return V_offset() + 3; }
-  int fallbacks_offset() const { return V_offset() + 4; }
-  int solve_time_offset() const { return fallbacks_offset() + 3; }
-  int clf_activity_offset() const { return solve_time_offset() + 1; }
+  /// The diagnostics after the last update in `context` (the "diagnostics" output's value).
+  ClfQpDiagnostics diagnostics(const LeafContext& context) const;
 
   struct Scratch;
 
  private:
+  // Discrete state: [u (nu); contact_forces (3 nc); one slot per DiagnosticsSlot, in this order].
+  enum DiagnosticsSlot { kV, kDelta, kFailures, kStatus, kBandDropped, kCopDropped, kHeld, kSolveTime, kClfActive, kSolved, kNumSlots };
+  int u_offset() const { return 0; }
+  int forces_offset() const { return model_->nu(); }
+  int slot(DiagnosticsSlot k) const { return forces_offset() + 3 * model_->num_contacts() + k; }
+
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
   void SetRowsEnabled(const LeafContext& context, bool band, bool cop) const;
+  // SolveQp's stages, in call order, on the QP of mode `mode` in `s`.
+  /// M⁻¹ B, q̈0 and the constraint rows (A_v, b_v or the equalities); the number of constraint rows, −1 if Λ is singular.
+  int CalcConstrainedDynamics(const LeafContext& context, const VectorRef& q, const VectorRef& v, bool same_mode, Scratch& s, int mode) const;
+  /// η and the output rows 𝒜, L_f, W of Eq. (24); returns the curvature scale of the torque penalty.
+  double CalcOutputRows(const VectorRef& q, const VectorRef& v, const Eigen::VectorXd& desired, int rows, Scratch& s, int mode) const;
+  /// H and g; false if an actuator's effective inertia is not positive (kInverseJointInertia).
+  bool FillCost(const VectorRef& q, double reg_scale, int rows, Scratch& s, int mode) const;
+  /// Row 0: the CLF row of Eq. (36)-(37), normalised (free when no CLF output is active).
+  void FillClfRow(Scratch& s, int mode) const;
+  /// The contact-wrench rows, their hold-drift copies and the force band of every active contact.
+  void FillWrenchRows(const LeafContext& context, const VectorRef& q, Scratch& s, int mode) const;
+  void FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s, int mode) const;
+  /// The planned constraint forces F of the solution (the first `rows` entries of the mode's F).
+  void StorePlannedForces(int rows, Scratch& s, int mode) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   std::vector<ContactSet> mode_contacts_;

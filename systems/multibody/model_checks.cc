@@ -1,9 +1,13 @@
 #include "systems/multibody/model_checks.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 #include <urdf_model/model.h>
 
@@ -95,6 +99,100 @@ void CheckNominalPose(const MultibodyModel& model, const std::string& where, con
       throw std::runtime_error(where + ": loop closure '" + Excerpt(l.name) + "' does not hold at the nominal pose: |p_a - p_b| = " + Num(d) +
                                " m, distance_m = " + Num(l.distance_m) + " m (tolerance " + Num(kMaxLoopClosureResidual_m) +
                                " m); fix the nominal pose or the attachment points");
+  }
+}
+
+std::string PhysicalInertiaProblem(const Eigen::Matrix3d& inertia, double mass) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d l = eig.eigenvalues();  // ascending
+  const double tol = std::max(kInertiaRelativeTolerance * l.cwiseAbs().maxCoeff(),
+                              mass * kInertiaLengthTolerance_m * kInertiaLengthTolerance_m);
+  const bool not_psd = l[0] < -tol;
+  const bool not_triangle = l[0] + l[1] < l[2] - tol;
+  if (!not_psd && !not_triangle) return "";
+  return std::string(not_psd ? "is not positive semi-definite" : "violates the triangle inequality I1 + I2 >= I3") +
+         " (principal moments " + Num3(l) + " kg m^2)";
+}
+
+std::string DegenerateContactProblem(const ContactInfo& c) {
+  constexpr double kResolution_m = 1e-6;
+  if (c.type == ContactType::kLine && (c.points[0] - c.points[1]).norm() < kResolution_m) return "line contact points coincide";
+  if (c.type != ContactType::kFlat) return "";
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : c.points) mean += p;
+  mean /= static_cast<double>(c.points.size());
+  Eigen::Matrix3Xd centred(3, static_cast<Eigen::Index>(c.points.size()));
+  for (size_t i = 0; i < c.points.size(); ++i) centred.col(static_cast<Eigen::Index>(i)) = c.points[i] - mean;
+  const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();  // descending
+  if (sv[1] < kResolution_m)
+    return "flat contact points lie on one line (they span no area: second singular value " + Num(sv[1]) +
+           " m); use a line contact, or give points that span the sole";
+  return "";
+}
+
+void CheckEveryJointMovesMass(const MultibodyModel& model, const std::string& ufile, const std::string& hint) {
+  const std::vector<MultibodyBody>& bodies = model.bodies();
+  const int nb = static_cast<int>(bodies.size());
+  std::vector<Eigen::Isometry3d> X_w(nb);
+  for (int i = 0; i < nb; ++i)
+    X_w[i] = bodies[i].parent >= 0 ? X_w[bodies[i].parent] * bodies[i].X_parent_joint : bodies[i].X_parent_joint;
+  // Subtree mass, first moment and second moment about the world origin (world axes).
+  std::vector<double> m(nb, 0.0);
+  std::vector<Eigen::Vector3d> h(nb, Eigen::Vector3d::Zero());
+  std::vector<Eigen::Matrix3d> J(nb, Eigen::Matrix3d::Zero());
+  for (int i = 0; i < nb; ++i) {
+    const MultibodyBody& b = bodies[i];
+    const Eigen::Vector3d c = X_w[i] * b.com;
+    const Eigen::Matrix3d& R = X_w[i].linear();
+    m[i] = b.mass;
+    h[i] = b.mass * c;
+    J[i] = R * b.inertia * R.transpose() + b.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  }
+  for (int i = nb - 1; i >= 0; --i) {
+    const int p = bodies[i].parent;
+    if (p < 0) continue;
+    m[p] += m[i];
+    h[p] += h[i];
+    J[p] += J[i];
+  }
+  std::vector<double> value(nb, 0.0);
+  double max_prismatic = 0.0, max_revolute = 0.0, total_m = 0.0;
+  Eigen::Matrix3d total_J = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < nb; ++i) {
+    if (bodies[i].parent < 0) { total_m += m[i]; total_J += J[i]; }
+    if (bodies[i].joint_type == MultibodyJointType::kFixed) continue;
+    if (bodies[i].joint_type == MultibodyJointType::kPrismatic) {
+      value[i] = m[i];
+      max_prismatic = std::max(max_prismatic, value[i]);
+    } else {
+      const Eigen::Vector3d a = X_w[i].linear() * bodies[i].axis;
+      const Eigen::Vector3d o = X_w[i].translation();
+      Eigen::Matrix3d I_o = J[i];
+      if (m[i] > 0.0) {
+        const Eigen::Vector3d c = h[i] / m[i];
+        const Eigen::Vector3d d = c - o;
+        I_o = J[i] - m[i] * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose()) +
+              m[i] * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+      }
+      value[i] = a.dot(I_o * a);
+      max_revolute = std::max(max_revolute, value[i]);
+    }
+  }
+  const double tol_prismatic = 1e-12 * std::max(max_prismatic, total_m);
+  const double tol_revolute = 1e-12 * std::max(max_revolute, total_J.trace());
+  for (int i = 0; i < nb; ++i) {
+    const MultibodyBody& b = bodies[i];
+    if (b.joint_type == MultibodyJointType::kFixed || model.reflected_inertia()[b.v_index] > 0.0) continue;
+    const bool prismatic = b.joint_type == MultibodyJointType::kPrismatic;
+    if (value[i] > (prismatic ? tol_prismatic : tol_revolute)) continue;
+    const std::string carried = b.is_virtual ? "the whole robot" : "link '" + Excerpt(b.name) + "' and its descendants";
+    const std::string verb = b.is_virtual ? " is" : " are";
+    throw std::runtime_error(
+        ufile + ": joint '" + Excerpt(b.joint_name) + "' moves " +
+        (m[i] == 0.0 ? "no mass (" + carried + verb + " massless)"
+                     : "no inertia about its axis (" + carried + (b.is_virtual ? " has" : " have") +
+                           " all the mass on the axis)") +
+        ", so the mass matrix is singular" + hint + "; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
   }
 }
 

@@ -141,6 +141,11 @@ struct BulletWorldPlant::World {
   }
 
   void Build();
+  // Build's parts, in order: the robot, its armature rotors, joint limits and loop closures; the colliders of its
+  // links (contact spheres); the terrain.
+  void AddRobotConstraints();
+  void AddLinkColliders();
+  void AddTerrain();
 
   const BulletWorldPlant* plant;
   MultibodyWorkspace ws;  // COM output and contact heights (our kinematics)
@@ -169,7 +174,7 @@ struct BulletWorldPlant::World {
 void BulletWorldPlant::World::Build() {
   const MultibodyModel& model = plant->model();
   const BulletWorldPlantParams& p = plant->params_;
-  const int nb = model.num_bodies(), nv = model.nv();
+  const int nv = model.nv();
   config = std::make_unique<btDefaultCollisionConfiguration>();
   dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
   broadphase = std::make_unique<btDbvtBroadphase>();
@@ -186,6 +191,24 @@ void BulletWorldPlant::World::Build() {
   info.m_splitImpulse = 0;
   solver->warm_start_factor = p.warm_start_factor;
 
+  AddRobotConstraints();
+  AddLinkColliders();
+  AddTerrain();
+  q.setZero(nv);
+  v.setZero(nv);
+  tau.setZero(nv);
+  u.setZero(model.nu());
+  impulse.setZero(3, model.num_contacts());
+  angular_impulse.setZero(3, model.num_contacts());
+  slide_speed.setZero(model.num_contacts());
+  mb->forwardKinematics(world_to_local, local_origin);
+  mb->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+}
+
+void BulletWorldPlant::World::AddRobotConstraints() {
+  const MultibodyModel& model = plant->model();
+  const BulletWorldPlantParams& p = plant->params_;
+  const int nb = model.num_bodies();
   // The robot: the model's tree; then one rotor per actuated joint with reflected inertia, each its own one-link
   // btMultiBody on a fixed base (a wheel about a fixed axis), geared to the joint.
   const int nr = plant->num_rotors();
@@ -236,7 +259,12 @@ void BulletWorldPlant::World::Build() {
     world->addMultiBodyConstraint(rod.get());
     constraints.push_back(std::move(rod));
   }
+}
 
+void BulletWorldPlant::World::AddLinkColliders() {
+  const MultibodyModel& model = plant->model();
+  const BulletWorldPlantParams& p = plant->params_;
+  const int nb = model.num_bodies();
   // Feet: a compound of spheres, one per contact point, on the contact's body.
   link_points.assign(nb, {});
   link_body_points.assign(nb, {});
@@ -283,7 +311,10 @@ void BulletWorldPlant::World::Build() {
     mb->getLink(i).m_collider = collider.get();
     colliders.push_back(std::move(collider));
   }
+}
 
+void BulletWorldPlant::World::AddTerrain() {
+  const BulletWorldPlantParams& p = plant->params_;
   // Terrain, lowered by the sphere radius (a contact point touches when it reaches the terrain).
   auto add_static = [&](std::unique_ptr<btCollisionShape> shape, const btVector3& origin) {
     auto object = std::make_unique<btCollisionObject>();
@@ -315,15 +346,6 @@ void BulletWorldPlant::World::Build() {
     }
     add_static(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), bottom), btVector3(0, 0, 0));
   }
-  q.setZero(nv);
-  v.setZero(nv);
-  tau.setZero(nv);
-  u.setZero(model.nu());
-  impulse.setZero(3, model.num_contacts());
-  angular_impulse.setZero(3, model.num_contacts());
-  slide_speed.setZero(model.num_contacts());
-  mb->forwardKinematics(world_to_local, local_origin);
-  mb->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
 }
 
 BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,

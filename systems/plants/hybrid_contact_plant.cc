@@ -55,7 +55,6 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
                                        HybridContactPlantParams params)
     : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
-  const int num_modes = static_cast<int>(graph_.modes.size());
   if (!(params_.planned_liftoff_force_N >= 0.0) || !std::isfinite(params_.planned_liftoff_force_N))
     ThrowError("params.planned_liftoff_force_N = " + std::to_string(params_.planned_liftoff_force_N) + " N must be >= 0 and finite");
 
@@ -67,6 +66,14 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   DeclareDiscreteState(Eigen::VectorXd::Zero(1 + nc));
   DeclareInputPort("u", nu);
 
+  DeclarePlantOutputs();
+  DeclareLiftoffAndSlipGuards();
+  DeclarePostEventCheck();
+  DeclareTouchdownAndFallGuards();
+}
+
+void HybridContactPlant::DeclarePlantOutputs() {
+  const int nv = model_->nv(), nc = model_->num_contacts();
   DeclareOutputPort("q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nv); }, Feedthrough::None());
   DeclareOutputPort("v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().tail(nv); }, Feedthrough::None());
   std::vector<std::string> state_names, force_names;
@@ -99,7 +106,11 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     y->head<3>() = CalcComPosition(*model_, ws, q);
     y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
   }, Feedthrough::None());
+}
 
+void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
+  const int nc = model_->num_contacts();
+  const int num_modes = static_cast<int>(graph_.modes.size());
   // Unilateral contact: in every mode, every active contact lifts off when its normal force crosses 0 falling.
   // Target: the graph's lift-off transition, else the mode with exactly the remaining contacts, else failure.
   // Declared before the slip guards of the same mode: when a contact unloads with no tangential force
@@ -177,7 +188,10 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
           return EventStatus::Failed(os.str());
         });
   }
+}
 
+void HybridContactPlant::DeclarePostEventCheck() {
+  const int nc = model_->num_contacts();
   // Violations that no guard can see: right after an event (initialisation, a reset, another system's discrete
   // update such as a zero-order-held input) the witnesses restart from the new values, so a normal force or a
   // friction margin that jumped below 0 would never cross. Such contacts lift off / slip just after the event.
@@ -201,7 +215,10 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
     }
     return EventStatus::Succeeded();
   });
+}
 
+void HybridContactPlant::DeclareTouchdownAndFallGuards() {
+  const int nv = model_->nv();
   // Touchdowns from the graph.
   for (const ResolvedTransition& td : transitions_) {
     if (td.kind != ContactModeGraph::Kind::kTouchdown) continue;

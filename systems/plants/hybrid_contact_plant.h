@@ -104,6 +104,12 @@ class HybridContactPlant final : public ContactPlant {
   double TouchdownWitness(const LeafContext& context, int contact) const;
   /// Mode change at time t: discrete[0] = t, contacts active in `from` but not in `to` left the ground at t.
   void EnterMode(double t, int from, int to, State* next) const;
+  // The constructor's declarations, in this order: the outputs; per mode, each active contact's lift-off guard, then
+  // the mode's slip guard; the event publish that finds violations no guard can see; the graph's touchdowns, the fall.
+  void DeclarePlantOutputs();
+  void DeclareLiftoffAndSlipGuards();
+  void DeclarePostEventCheck();
+  void DeclareTouchdownAndFallGuards();
   /// mu F_n - |F_t| of a contact [N].
   double FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const;
   /// Witness of a violation found right after an event: > 0 at the event, crossing 0 immediate_event_delay_s later.

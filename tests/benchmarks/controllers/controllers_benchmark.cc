@@ -66,7 +66,8 @@ void Loop(benchmark::State& state, const Controller& controller, LeafContext& co
     benchmark::DoNotOptimize(update(context, &next));
   }
   state.counters["qp_iterations"] = controller.last_qp(context).iterations();
-  state.counters["qp_failures"] = next[controller.failures_offset()];
+  context.get_mutable_discrete_state() = next;
+  state.counters["qp_failures"] = controller.EvalOutput(context, "qp_failures")[0];
 }
 
 void ClfAmber(benchmark::State& state, ClfQpFormulation formulation) {

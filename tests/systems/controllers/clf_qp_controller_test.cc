@@ -49,13 +49,15 @@ Solved RunUpdate(const ClfQpController& controller, LeafContext& context, const 
   const EventStatus es = controller.periodic_events().at(0).update(context, &next);
   EXPECT_TRUE(es.ok()) << es.message;
   context.get_mutable_discrete_state() = next;
+  const ClfQpDiagnostics d = controller.diagnostics(context);
+  EXPECT_TRUE(d.qp_status.has_value());
   Solved r;
-  r.u = next.segment(controller.u_offset(), controller.model().nu());
-  r.delta = next[controller.delta_offset()];
-  r.V = next[controller.V_offset()];
-  r.status = static_cast<QpStatus>(static_cast<int>(next[controller.status_offset()]));
-  r.fallbacks = next.segment<3>(controller.fallbacks_offset());
-  r.failures = next[controller.failures_offset()];
+  r.u = controller.EvalOutput(context, "u");
+  r.delta = d.delta;
+  r.V = d.V;
+  r.status = d.qp_status.value_or(QpStatus::kInvalidInput);
+  r.fallbacks = Eigen::Vector3d(d.band_dropped, d.cop_dropped, d.held);
+  r.failures = d.qp_failures;
   return r;
 }
 
@@ -113,16 +115,17 @@ TEST(ClfQpController, ClfActivityCountsTheUpdatesWhereTheClfRowBinds) {
   const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
   const Eigen::MatrixXd P = ClosedFormPEpsilon(1, params.epsilon);
   auto context = controller.CreateDefaultLeafContext();
-  const int off = controller.clf_activity_offset();
   int active = 0, slack = 0;
   for (double q : {-0.5, -0.1, 0.0, 0.05, 0.3})
     for (double v : {-1.0, -0.2, 0.0, 0.4, 3.0}) {
       const Eigen::Vector2d eta(q, v);
       const double V = eta.dot(P * eta), Vdot0 = 2.0 * eta.dot(P * Eigen::Vector2d(v, 0.0));
-      const Eigen::Vector2d before = context->discrete_state().segment<2>(off);
+      const ClfQpDiagnostics before = controller.diagnostics(*context);
       const Solved s = RunUpdate(controller, *context, eta, 0, Eigen::VectorXd::Zero(3));
       ASSERT_EQ(s.status, QpStatus::kOptimal);
-      const Eigen::Vector2d counted = context->discrete_state().segment<2>(off) - before;
+      const ClfQpDiagnostics after = controller.EvalTypedOutput<ClfQpDiagnostics>(*context, "diagnostics");
+      const Eigen::Vector2d counted(after.clf_active - before.clf_active, after.solved - before.solved);
+      EXPECT_EQ(counted, controller.EvalOutput(*context, "clf_activity") - Eigen::Vector2d(before.clf_active, before.solved));
       EXPECT_EQ(counted[1], 1.0);  // one solved update
       if (V == 0.0) {
         EXPECT_EQ(counted[0], 0.0) << "η = 0: the row 0 ≤ δ is not counted";
@@ -140,6 +143,7 @@ TEST(ClfQpController, ClfActivityCountsTheUpdatesWhereTheClfRowBinds) {
   EXPECT_GE(slack, 3);
   auto fresh = controller.CreateDefaultLeafContext();
   EXPECT_EQ(controller.EvalOutput(*fresh, "clf_activity"), Eigen::Vector2d::Zero());
+  EXPECT_FALSE(controller.diagnostics(*fresh).qp_status.has_value()) << "no QP solved in a fresh context";
 }
 
 TEST(ClfQpController, TwoLinkArmMeetsTheClfConditionAgainstIndependentDynamics) {
