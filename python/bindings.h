@@ -35,6 +35,7 @@ void BindLeafSystem(pybind11::module_& m);
 void BindSolvers(pybind11::module_& m);
 void BindBlocks(pybind11::module_& m);
 void BindSteppingStones(pybind11::module_& m);
+void BindLocomotionRuns(pybind11::module_& m);
 
 /// A column vector of doubles from any Python sequence or numpy array; `what` names the value in the error.
 Eigen::VectorXd ToVector(const pybind11::handle& value, const char* what);

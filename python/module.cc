@@ -56,4 +56,5 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindSolvers(m);
   rome::python::BindBlocks(m);
   rome::python::BindSteppingStones(m);
+  rome::python::BindLocomotionRuns(m);
 }

@@ -1,4 +1,4 @@
-"""ROME from Python: the systems framework, solvers and the stepping-stones diagram (docs/python.md).
+"""ROME from Python: the systems framework, solvers, and the stepping-stones, walking and hopping runs (docs/python.md).
 
 Build-tree use: PYTHONPATH=<build>/python /usr/bin/python3 -c "import rome".
 """
