@@ -2,6 +2,7 @@
 // periodic updates in __init__ and overrides do_calc_time_derivatives, as a C++ block does. Every call from the
 // simulator into Python costs an interpreter round trip (measured in docs/python.md).
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <pybind11/eigen.h>
@@ -30,6 +31,34 @@ EventStatus StatusOf(const py::object& result) {
   return result.cast<EventStatus>();
 }
 
+/// A Python callback of a Python LeafSystem. A method bound to the system itself (`self.calc`) is kept unbound and
+/// called with the system's Python object looked up at call time: a strong reference from the C++ system to its own
+/// Python object would be a cycle that Python's collector cannot see, and the system and its diagram would never be freed.
+class Callback {
+ public:
+  Callback(py::function f, const LeafSystem* system) : system_(system) {
+    if (py::hasattr(f, "__self__") && py::hasattr(f, "__func__")) {
+      py::handle self = f.attr("__self__");
+      if (py::isinstance<LeafSystem>(self) && self.cast<const LeafSystem*>() == system) {
+        f_ = f.attr("__func__");
+        bound_ = true;
+        return;
+      }
+    }
+    f_ = std::move(f);
+  }
+  template <class... Args>
+  py::object operator()(Args&&... args) const {
+    if (bound_) return f_(py::cast(system_, py::return_value_policy::reference), std::forward<Args>(args)...);
+    return f_(std::forward<Args>(args)...);
+  }
+
+ private:
+  py::object f_;
+  const LeafSystem* system_;
+  bool bound_ = false;
+};
+
 /// The C++ side of a Python LeafSystem: makes the protected declarations public and forwards the hooks to Python.
 class PyLeafSystem : public LeafSystem {
  public:
@@ -50,7 +79,7 @@ class PyLeafSystem : public LeafSystem {
 
   int OutputPort(std::string port, const py::object& size_or_names, py::function calc, const py::object& feedthrough) {
     const std::string what = "system '" + name() + "': output port '" + port + "'";
-    OutputCalc c = [calc = std::move(calc), what](const LeafContext& context, Eigen::VectorXd* y) {
+    OutputCalc c = [calc = Callback(std::move(calc), this), what](const LeafContext& context, Eigen::VectorXd* y) {
       CopyResult(calc(py::cast(&context, py::return_value_policy::reference)), *y, what);
     };
     const Feedthrough f = FeedthroughOf(feedthrough);
@@ -61,16 +90,16 @@ class PyLeafSystem : public LeafSystem {
   int ScalarGuard(std::string guard, int mode, py::function witness, CrossingDirection direction, py::function reset) {
     return DeclareGuard(
         std::move(guard), mode,
-        [witness = std::move(witness)](const LeafContext& context) { return witness(py::cast(&context, py::return_value_policy::reference)).cast<double>(); },
+        [witness = Callback(std::move(witness), this)](const LeafContext& context) { return witness(py::cast(&context, py::return_value_policy::reference)).cast<double>(); },
         direction,
-        [reset = std::move(reset)](const LeafContext& context, int component, State* next) {
+        [reset = Callback(std::move(reset), this)](const LeafContext& context, int component, State* next) {
           return StatusOf(reset(py::cast(&context, py::return_value_policy::reference), component, py::cast(next, py::return_value_policy::reference)));
         });
   }
 
   void PeriodicUpdate(double period, double offset, py::function update) {
     const std::string what = "system '" + name() + "': periodic update";
-    DeclarePeriodicDiscreteUpdate(period, offset, [update = std::move(update), what](const LeafContext& context, Eigen::VectorXd* next) {
+    DeclarePeriodicDiscreteUpdate(period, offset, [update = Callback(std::move(update), this), what](const LeafContext& context, Eigen::VectorXd* next) {
       py::object result = update(py::cast(&context, py::return_value_policy::reference));
       if (result.is_none()) return EventStatus::Succeeded();
       if (py::isinstance<EventStatus>(result)) return result.cast<EventStatus>();

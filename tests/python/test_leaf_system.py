@@ -115,3 +115,33 @@ def test_python_plant_with_the_cpp_lqr_follows_the_closed_loop_exponential():
     expected = expm((A - B @ K) * 3.0) @ x0
     np.testing.assert_allclose(diagram.get_continuous_state(sim.context), expected, rtol=1e-7, atol=1e-9)
     assert np.max(np.linalg.eigvals(A - B @ K).real) < 0
+
+
+def test_a_python_leaf_is_freed_with_its_diagram():
+    import gc
+    import weakref
+
+    class Source(rome.LeafSystem):
+        def __init__(self):
+            super().__init__("source")
+            self.declare_continuous_state(1)
+            self.declare_output_port("y", 1, self.output, feedthrough=False)  # a bound method of the leaf itself
+
+        def output(self, context):
+            return context.continuous_state
+
+        def do_calc_time_derivatives(self, context):
+            return [1.0]
+
+    builder = rome.DiagramBuilder()
+    leaf = builder.add_system(Source())
+    builder.add_system(rome.ZeroOrderHold("zoh", 0.01, 1))
+    builder.connect("source", "y", "zoh", "u")
+    diagram = builder.build()
+    sim = rome.Simulator(diagram)
+    sim.advance_to(0.1)
+    assert diagram.get_subsystem_context(leaf, sim.context).continuous_state[0] == pytest.approx(0.1)
+    leaf_ref, diagram_ref = weakref.ref(leaf), weakref.ref(diagram)
+    del builder, leaf, diagram, sim
+    gc.collect()
+    assert leaf_ref() is None and diagram_ref() is None

@@ -11,7 +11,7 @@ import rome
 
 WALKING_EXE = os.environ.get("ROME_WALKING_EXE", "")
 HOPPING_EXE = os.environ.get("ROME_HOPPING_EXE", "")
-TIMING = re.compile(r"wall|realtime|_us|solve_time|seconds_per")
+TIMING = re.compile(r"wall|realtime|_us|solve_time|seconds_per|^time_s$")
 
 
 def assert_same_metrics(py, cpp, path=""):
@@ -22,6 +22,10 @@ def assert_same_metrics(py, cpp, path=""):
             continue
         if isinstance(value, dict) and isinstance(cpp[key], dict):
             compared += assert_same_metrics(value, cpp[key], path + key + ".")
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            assert len(value) == len(cpp[key]), path + key
+            for i, (v, c) in enumerate(zip(value, cpp[key])):
+                compared += assert_same_metrics(v, c, f"{path}{key}[{i}].")
         else:
             assert value == cpp[key], path + key
             compared += 1
