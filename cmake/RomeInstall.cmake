@@ -14,6 +14,10 @@ set(ROME_NLP_LIBRARIES rome_nlp rome_collocation rome_trajectory_optimization)
 set(ROME_ALL_LIBRARIES rome_multibody rome_rom rome_plants rome_planners rome_controllers rome_posture rome_classic
     rome_visualization rome_stepping_stones_diagram rome_walking_diagram rome_hopping_diagram)
 set(ROME_LIBRARIES ${ROME_CORE_LIBRARIES} ${ROME_NLP_LIBRARIES} ${ROME_ALL_LIBRARIES})
+if(TARGET rome_python)
+  # The Python module (python/) is a shared object that links every library: they must be position-independent.
+  set_property(TARGET ${ROME_LIBRARIES} PROPERTY POSITION_INDEPENDENT_CODE ON)
+endif()
 foreach(lib ${ROME_LIBRARIES})
   # The source tree in the build, include/rome once installed (code includes "framework/system.h" etc.).
   set_property(TARGET ${lib} PROPERTY INTERFACE_INCLUDE_DIRECTORIES

@@ -3,7 +3,8 @@
 # (the install must be relocatable), and two outside projects built against the moved copy:
 #   tests/install/app       find_package(rome), rome::rome: walks AMBER 3 steps and uses a symbol of every library;
 #   tests/install/core_app  find_package(rome COMPONENTS core), rome::core: must link no Ipopt, Bullet or urdfdom;
-#   tests/install/snippet_app  the README's C++ example, extracted from README.md: must build and walk.
+#   tests/install/snippet_app  the README's C++ example, extracted from README.md: must build and walk;
+# and, with ROME_PYTHON=ON, the rome Python module imported from the moved prefix runs a tiny diagram.
 # Both run from an unrelated folder, with the source and build trees hidden behind empty mounts (a private mount
 # namespace through unshare, where the kernel allows one), and ROME_DATA_DIR unset: the robot must come from the moved
 # prefix. Then ROME_DATA_DIR, when set, must win. No installed file may name the source or the build folder.
@@ -60,6 +61,30 @@ echo "$out"
 out="$(hidden "$work/snippet_app/snippet")" || { echo "$out"; fail "the README example did not walk"; }
 echo "README example: $out"
 grep -q "^walked: " <<< "$out" || fail "the README example did not walk"
+
+# The Python module (when the build has ROME_PYTHON=ON): imported from the moved prefix with the trees hidden, with the
+# interpreter it was built for, it runs a tiny diagram against the closed form and loads a robot from the prefix.
+if grep -q "^ROME_PYTHON:BOOL=ON" "$build/CMakeCache.txt"; then
+  python="$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$build/CMakeCache.txt")"
+  init="$(find "$prefix" -path '*/rome/__init__.py' | head -1)"
+  [ -n "$init" ] || fail "the rome Python package was not installed"
+  pydir="$(dirname "$(dirname "$init")")"
+  out="$(hidden env PYTHONPATH="$pydir" PYTHONDONTWRITEBYTECODE=1 "$python" -c '
+import math, rome
+b = rome.DiagramBuilder()
+b.add_system(rome.LinearInvertedPendulumSystem("lip", initial_x=0.1, initial_L=0.0, z0=0.8, gravity=9.81))
+d = b.build()
+sim = rome.Simulator(d, rome.SimulatorConfig(relative_tolerance=1e-10, absolute_tolerance=1e-12))
+sim.advance_to(0.5)
+x = d.get_continuous_state(sim.context)[0]
+expected = 0.1 * math.cosh(math.sqrt(9.81 / 0.8) * 0.5)
+assert abs(x - expected) < 1e-8, (x, expected)
+params = rome.SteppingStonesDiagramParams.for_robot("robots/amber/amber.rome.json")
+print("python: module", rome.__file__, "x(0.5 s) =", x)
+')" || { echo "$out"; fail "the installed Python module failed"; }
+  echo "$out"
+  grep -qF "python: module $pydir/rome/__init__.py" <<< "$out" || fail "the Python module did not come from the moved prefix"
+fi
 
 # An explicit ROME_DATA_DIR wins over the installed data.
 mkdir -p "$work/own/robots"

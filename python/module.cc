@@ -1,0 +1,60 @@
+// The rome Python module: PYBIND11_MODULE and the ownership rule of bindings.h.
+#include <mutex>
+#include <unordered_set>
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+
+#include "python/bindings.h"
+
+namespace py = pybind11;
+
+namespace rome::python {
+namespace {
+
+std::mutex adopted_mutex;
+std::unordered_set<const System*>& Adopted() {
+  static std::unordered_set<const System*> adopted;
+  return adopted;
+}
+
+}  // namespace
+
+void SystemDeleter::operator()(System* system) const {
+  {
+    std::lock_guard<std::mutex> lock(adopted_mutex);
+    if (Adopted().erase(system) > 0) return;  // a diagram owns it (and frees it)
+  }
+  delete system;
+}
+
+void MarkAdopted(const System* system) {
+  std::lock_guard<std::mutex> lock(adopted_mutex);
+  Adopted().insert(system);
+}
+
+Eigen::VectorXd ToVector(const py::handle& value, const char* what) {
+  py::array_t<double, py::array::c_style | py::array::forcecast> a;
+  try {
+    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  } catch (const py::error_already_set&) {
+  }
+  if (!a || a.ndim() > 1) throw py::value_error(std::string(what) + ": expected a 1-D sequence of numbers, got " + std::string(py::str(py::repr(value))));
+  Eigen::VectorXd v(a.size());
+  for (py::ssize_t i = 0; i < a.size(); ++i) v[i] = a.data()[i];
+  return v;
+}
+
+}  // namespace rome::python
+
+PYBIND11_MODULE(_rome, m) {
+  m.doc() = "ROME: reduced-order models for legged robots (systems framework, solvers, diagrams); see docs/python.md";
+  rome::python::BindSystemBase(m);
+  rome::python::BindLeafSystem(m);
+  rome::python::BindFramework(m);
+  rome::python::BindSimulator(m);
+  rome::python::BindSolvers(m);
+  rome::python::BindBlocks(m);
+  rome::python::BindSteppingStones(m);
+  rome::python::BindLocomotionRuns(m);
+}
