@@ -84,9 +84,9 @@ void WriteFig5Plots(const SteppingStonesDiagram& d, const LogData& log, const st
   const int phi = d.logger->ColumnIndex("plant.state.q_" + d.model->JointName(2));
   using visualization::Series;
   Series phi_act{"actual", {}, {}}, phi_des{"desired", {}, {}, "lines dt 2 lw 2"}, z_act{"actual", {}, {}}, z_des{"desired", {}, {}, "lines dt 2 lw 2"};
-  Series vz{"COM vertical velocity (plant)", {}, {}}, ud{"u_des(t) (planner)", {}, {}, "lines dt 2 lw 2"};
+  Series vz{"plant", {}, {}}, ud{"u_des(t), planner", {}, {}, "lines dt 2 lw 2"};
   Series pre{"COM vz before impact (plant)", {}, {}, "linespoints pt 7"}, pre_u{"u_des (planner)", {}, {}, "linespoints pt 4 dt 2"};
-  Series pre_t{"pre-impact instants", {}, {}, "points pt 7 ps 1.5"};
+  Series pre_t{"pre-impact", {}, {}, "points pt 7 ps 1.5"};
   std::ofstream csv(dir + "/pre_impact_vz.csv");
   if (!csv) std::cerr << "warning: cannot write " << dir << "/pre_impact_vz.csv\n";
   csv << "step,time_s,com_vz_mps,u_des_mps,com_vz_finite_difference_mps\n";
