@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "framework/interrupt.h"
+#include "systems/plants/contact_plant.h"
 #include "systems/visualization/plot.h"
 #include "systems/visualization/stick_figure.h"
 
@@ -71,6 +72,10 @@ nlohmann::json SteppingStonesSummary(const SteppingStonesResult& r, const Steppi
 
 namespace {
 
+bool IsStance(double mode) {
+  return mode == ContactModeGraph::SingleSupportMode::kLeftStance || mode == ContactModeGraph::SingleSupportMode::kRightStance;
+}
+
 // Fig. 5 of the paper from the log: outputs.png (torso pitch and COM height above the stance foot, desired against
 // actual; the COM's vertical velocity against the planner's u_des(t), pre-impact instants marked) and
 // pre_impact_vz.png / pre_impact_vz.csv (per step: the plant's ż at the last logged sample before the stance switch
@@ -98,8 +103,8 @@ void WriteFig5Plots(const SteppingStonesDiagram& d, const LogData& log, const st
     phi_act.x.push_back(t), phi_act.y.push_back(1e3 * s[phi]), phi_des.x.push_back(t), phi_des.y.push_back(1e3 * s[phi_d]);
     z_act.x.push_back(t), z_act.y.push_back(s[rel_z]), z_des.x.push_back(t), z_des.y.push_back(s[z_d]);
     vz.x.push_back(t), vz.y.push_back(s[com_vz]), ud.x.push_back(t), ud.y.push_back(s[u_des]);
-    const bool stance = s[mode] == 0 || s[mode] == 1;
-    if (k == 0 || k + 1 >= n || !stance || log.samples[k + 1][mode] == s[mode]) continue;
+    // A touchdown: one stance mode here, the other at the next sample.
+    if (k == 0 || k + 1 >= n || !IsStance(s[mode]) || !IsStance(log.samples[k + 1][mode]) || log.samples[k + 1][mode] == s[mode]) continue;
     // Backward difference of the logged COM height: a check of the plant's ż that does not use its velocity.
     const double fd = (s[com_z] - log.samples[k - 1][com_z]) / (t - log.times[k - 1]);
     ++step;
