@@ -2,9 +2,10 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
+#include <sstream>
 
+#include "framework/files.h"
 #include "framework/interrupt.h"
 #include "systems/plants/contact_plant.h"
 #include "systems/visualization/plot.h"
@@ -92,8 +93,7 @@ void WriteFig5Plots(const SteppingStonesDiagram& d, const LogData& log, const st
   Series vz{"plant", {}, {}}, ud{"u_des(t), planner", {}, {}, "lines dt 2 lw 2"};
   Series pre{"COM vz before impact (plant)", {}, {}, "linespoints pt 7"}, pre_u{"u_des (planner)", {}, {}, "linespoints pt 4 dt 2"};
   Series pre_t{"pre-impact", {}, {}, "points pt 7 ps 1.5"};
-  std::ofstream csv(dir + "/pre_impact_vz.csv");
-  if (!csv) std::cerr << "warning: cannot write " << dir << "/pre_impact_vz.csv\n";
+  std::ostringstream csv;
   csv << "step,time_s,com_vz_mps,u_des_mps,com_vz_finite_difference_mps\n";
   const size_t n = log.times.size();
   int step = 0;
@@ -111,6 +111,11 @@ void WriteFig5Plots(const SteppingStonesDiagram& d, const LogData& log, const st
     pre.x.push_back(step), pre.y.push_back(s[com_vz]), pre_u.x.push_back(step), pre_u.y.push_back(s[u_des]);
     pre_t.x.push_back(t), pre_t.y.push_back(s[com_vz]);
     csv << step << "," << FormatNumber(t) << "," << FormatNumber(s[com_vz]) << "," << FormatNumber(s[u_des]) << "," << FormatNumber(fd) << "\n";
+  }
+  try {
+    WriteFileAtomically(dir + "/pre_impact_vz.csv", csv.str(), "pre-impact CSV");
+  } catch (const std::exception& e) {
+    std::cerr << "warning: " << e.what() << "\n";
   }
   std::string err;
   std::vector<visualization::PlotSpec> panels{{"Fig. 5: torso pitch", "time [s]", "pitch [mrad]", {phi_act, phi_des}},
