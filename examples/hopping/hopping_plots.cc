@@ -10,22 +10,57 @@
 
 namespace rome::examples {
 
+namespace {
+
+// Jump / Flight / Landing shading (HoppingSample::domain; the reference's settle phase before the first hop is its
+// landing domain) behind a plot of the whole run: one filled rectangle per stretch of a domain, from
+// y_low to y_high (a NaN row starts the next rectangle).
+std::vector<visualization::Series> PhaseShading(const std::vector<HoppingSample>& samples, double y_low, double y_high) {
+  std::vector<visualization::Series> shade{{"Jump", {}, {}, "filledcurves closed fs transparent solid 0.15 noborder lc rgb '#d04040'"},
+                                           {"Flight", {}, {}, "filledcurves closed fs transparent solid 0.15 noborder lc rgb '#4060d0'"},
+                                           {"Landing, settle", {}, {}, "filledcurves closed fs transparent solid 0.15 noborder lc rgb '#30a030'"}};
+  size_t start = 0;
+  for (size_t k = 1; k <= samples.size(); ++k) {
+    if (k < samples.size() && samples[k].domain == samples[start].domain) continue;
+    const int domain = samples[start].domain;
+    if (domain >= 0 && domain < 3) {
+      visualization::Series& s = shade[domain];
+      const double t0 = samples[start].t, t1 = k < samples.size() ? samples[k].t : samples[k - 1].t;
+      if (!s.x.empty()) s.x.push_back(NAN), s.y.push_back(NAN);
+      s.x.insert(s.x.end(), {t0, t0, t1, t1}), s.y.insert(s.y.end(), {y_low, y_high, y_high, y_low});
+    }
+    start = k;
+  }
+  return shade;
+}
+
+}  // namespace
+
 void WriteHoppingPlots(const MultibodyModel& model, const HoppingRunResult& run, const std::string& folder) {
   using visualization::PlotSpec;
   using visualization::Series;
   PlotSpec grf{"Normal GRF: robot vs spring-mass ROM", "t [s]", "F [N]", {}};
   PlotSpec com{"COM height", "t [s]", "z [m]", {}};
-  PlotSpec spring{"Shin spring torque (both legs) and robot normal GRF / 10", "t [s]", "torque [N m], force [10 N]", {}};
+  PlotSpec spring{"Shin spring torque (both legs)", "t [s]", "torque [N m]", {}};
+  PlotSpec spring_grf{"Robot normal GRF (both feet)", "t [s]", "F [kN]", {}};
   PlotSpec momentum{"Centroidal pitch momentum H_pitch", "t [s]", "H [N m s]", {}};
   PlotSpec pitch{"Pelvis pitch", "t [s]", "pitch [rad]", {}};
-  Series robot{"robot", {}, {}}, romf{"ROM", {}, {}}, comz{"COM z", {}, {}}, shin{"shin springs", {}, {}}, grf10{"GRF / 10", {}, {}}, H{"H_pitch", {}, {}},
+  Series robot{"robot", {}, {}, "lines lw 2 lc rgb '#202020'"}, romf{"ROM", {}, {}, "lines dt 2 lw 2 lc rgb '#e07000'"}, comz{"COM z", {}, {}}, shin{"shin springs", {}, {}}, grf_robot{"robot GRF", {}, {}}, H{"H_pitch", {}, {}},
       theta{"pelvis pitch", {}, {}};
   auto push = [](Series& series, double t, double y) { series.x.push_back(t), series.y.push_back(y); };
   for (const HoppingSample& s : run.samples) {
-    push(robot, s.t, s.grf), push(comz, s.t, s.com_z), push(shin, s.t, s.shin_torque), push(grf10, s.t, 0.1 * s.grf);
+    push(robot, s.t, s.grf), push(comz, s.t, s.com_z), push(shin, s.t, s.shin_torque), push(grf_robot, s.t, 1e-3 * s.grf);
     push(H, s.t, s.pitch_momentum), push(theta, s.t, s.pitch);
-    if (std::isfinite(s.rom_grf)) push(romf, s.t, s.rom_grf);
+    // The ROM has no force without a plan (Flight, rest): a NaN row breaks its line there instead of bridging the gap.
+    if (std::isfinite(s.rom_grf))
+      push(romf, s.t, s.rom_grf);
+    else if (!romf.y.empty() && std::isfinite(romf.y.back()))
+      push(romf, s.t, NAN);
   }
+  double f_max = 1.0;  // [N] top of the shading: above every plotted force
+  for (const double f : robot.y) f_max = std::max(f_max, f);
+  for (const double f : romf.y)
+    if (std::isfinite(f)) f_max = std::max(f_max, f);
   // Fig. 6 of the paper from our run, over the first hop (jump start − 0.1 s to touchdown + 1 s): desired vs actual
   // outputs in Jump and Landing, energies robot vs ROM, and hop tiles.
   const double t_from = run.jump_start_s > 0 ? run.jump_start_s - 0.1 : 0.0, t_to = run.touchdown_s > 0 ? run.touchdown_s + 1.0 : 1e9;
@@ -63,17 +98,21 @@ void WriteHoppingPlots(const MultibodyModel& model, const HoppingRunResult& run,
   tiles.equal_axes = true;
   tiles.width_px = 1800;
   tiles.height_px = 600;
-  grf.series = {robot, romf};
+  grf.title = "Normal GRF: robot vs spring-mass ROM, by domain";
+  grf.series = PhaseShading(run.samples, 0.0, 1.05 * f_max);
+  grf.series.insert(grf.series.end(), {robot, romf});
   com.series = {comz};
-  spring.series = {shin, grf10};
+  spring.series = {shin};
+  spring_grf.series = {grf_robot};
   momentum.series = {H};
   pitch.series = {theta};
   std::string error;
-  for (auto& [spec, file] : {std::pair{grf, "grf.png"}, std::pair{com, "com_height.png"}, std::pair{spring, "spring_torque.png"},
-                             std::pair{momentum, "pitch_momentum.png"}, std::pair{pitch, "pelvis_pitch.png"}, std::pair{out_L, "output_leg_length.png"},
-                             std::pair{out_x, "output_com_x.png"}, std::pair{out_th, "output_pitch.png"}, std::pair{energy, "energy.png"},
+  for (auto& [spec, file] : {std::pair{grf, "grf.png"}, std::pair{com, "com_height.png"}, std::pair{momentum, "pitch_momentum.png"},
+                             std::pair{pitch, "pelvis_pitch.png"}, std::pair{out_L, "output_leg_length.png"}, std::pair{out_x, "output_com_x.png"}, std::pair{out_th, "output_pitch.png"}, std::pair{energy, "energy.png"},
                              std::pair{tiles, "hop_tiles.png"}})
     if (!visualization::WritePlot(spec, folder + "/" + file, &error)) std::cerr << "hopping: plot " << file << ": " << error << "\n";
+  // Fig. 6d: the spring torque and the force it follows, one quantity per axis, time axes aligned.
+  if (!visualization::WritePanels({spring, spring_grf}, folder + "/spring_torque.png", &error)) std::cerr << "hopping: plot spring_torque.png: " << error << "\n";
 }
 
 }  // namespace rome::examples

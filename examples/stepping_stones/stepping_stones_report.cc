@@ -3,8 +3,11 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
+#include "framework/files.h"
 #include "framework/interrupt.h"
+#include "systems/plants/contact_plant.h"
 #include "systems/visualization/plot.h"
 #include "systems/visualization/stick_figure.h"
 
@@ -68,6 +71,66 @@ nlohmann::json SteppingStonesSummary(const SteppingStonesResult& r, const Steppi
           {"scenario", nlohmann::json::parse(cli.ScenarioJson())}};
 }
 
+namespace {
+
+bool IsStance(double mode) {
+  return mode == ContactModeGraph::SingleSupportMode::kLeftStance || mode == ContactModeGraph::SingleSupportMode::kRightStance;
+}
+
+// Fig. 5 of the paper from the log: outputs.png (torso pitch and COM height above the stance foot, desired against
+// actual; the COM's vertical velocity against the planner's u_des(t), pre-impact instants marked) and
+// pre_impact_vz.png / pre_impact_vz.csv (per step: the plant's ż at the last logged sample before the stance switch
+// against the planner's u_des at that sample). The pre-impact sample lies at most one log period before the impact;
+// a run that ends at its last touchdown logs no switch for that step.
+void WriteFig5Plots(const SteppingStonesDiagram& d, const LogData& log, const std::string& dir) {
+  const int mode = d.logger->ColumnIndex("plant.mode"), com_z = d.logger->ColumnIndex("plant.com.z"), com_vz = d.logger->ColumnIndex("plant.com.vz");
+  const int u_des = d.logger->ColumnIndex("planner.u_des[0]"), rel_z = d.logger->ColumnIndex("supervisor.com_state.z");
+  const int z_d = d.logger->ColumnIndex("outputs.y_desired.com_z"), phi_d = d.logger->ColumnIndex("outputs.y_desired.torso_pitch");
+  // The supervisor's torso pitch is the planar base pitch, q[2] (SteppingStonesSupervisor).
+  const int phi = d.logger->ColumnIndex("plant.state.q_" + d.model->JointName(2));
+  using visualization::Series;
+  Series phi_act{"actual", {}, {}}, phi_des{"desired", {}, {}, "lines dt 2 lw 2"}, z_act{"actual", {}, {}}, z_des{"desired", {}, {}, "lines dt 2 lw 2"};
+  Series vz{"plant", {}, {}}, ud{"u_des(t), planner", {}, {}, "lines dt 2 lw 2"};
+  Series pre{"COM vz before impact (plant)", {}, {}, "linespoints pt 7"}, pre_u{"u_des (planner)", {}, {}, "linespoints pt 4 dt 2"};
+  Series pre_t{"pre-impact", {}, {}, "points pt 7 ps 1.5"};
+  std::ostringstream csv;
+  csv << "step,time_s,com_vz_mps,u_des_mps,com_vz_finite_difference_mps\n";
+  const size_t n = log.times.size();
+  int step = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const Eigen::VectorXd& s = log.samples[k];
+    const double t = log.times[k];
+    phi_act.x.push_back(t), phi_act.y.push_back(1e3 * s[phi]), phi_des.x.push_back(t), phi_des.y.push_back(1e3 * s[phi_d]);
+    z_act.x.push_back(t), z_act.y.push_back(s[rel_z]), z_des.x.push_back(t), z_des.y.push_back(s[z_d]);
+    vz.x.push_back(t), vz.y.push_back(s[com_vz]), ud.x.push_back(t), ud.y.push_back(s[u_des]);
+    // A touchdown: one stance mode here, the other at the next sample.
+    if (k == 0 || k + 1 >= n || !IsStance(s[mode]) || !IsStance(log.samples[k + 1][mode]) || log.samples[k + 1][mode] == s[mode]) continue;
+    // Backward difference of the logged COM height: a check of the plant's ż that does not use its velocity.
+    const double fd = (s[com_z] - log.samples[k - 1][com_z]) / (t - log.times[k - 1]);
+    ++step;
+    pre.x.push_back(step), pre.y.push_back(s[com_vz]), pre_u.x.push_back(step), pre_u.y.push_back(s[u_des]);
+    pre_t.x.push_back(t), pre_t.y.push_back(s[com_vz]);
+    csv << step << "," << FormatNumber(t) << "," << FormatNumber(s[com_vz]) << "," << FormatNumber(s[u_des]) << "," << FormatNumber(fd) << "\n";
+  }
+  try {
+    WriteFileAtomically(dir + "/pre_impact_vz.csv", csv.str(), "pre-impact CSV");
+  } catch (const std::exception& e) {
+    std::cerr << "warning: " << e.what() << "\n";
+  }
+  std::string err;
+  std::vector<visualization::PlotSpec> panels{{"Fig. 5: torso pitch", "time [s]", "pitch [mrad]", {phi_act, phi_des}},
+                                              {"Fig. 5: COM height above the stance foot", "time [s]", "z [m]", {z_act, z_des}},
+                                              {"Fig. 5: COM vertical velocity and the planner's u_des", "time [s]", "vertical velocity [m/s]", {vz, ud, pre_t}}};
+  for (auto& p : panels) p.height_px = 330;
+  if (!visualization::WritePanels(panels, dir + "/outputs.png", &err)) std::cerr << "warning: " << err << "\n";
+  visualization::PlotSpec per_step{"Fig. 5: pre-impact COM vertical velocity per step", "step", "vertical velocity [m/s]", {pre, pre_u}};
+  per_step.width_px = 1100;
+  if (!visualization::WritePlot(per_step, dir + "/pre_impact_vz.png", &err))
+    std::cerr << "warning: " << err << "\n";
+}
+
+}  // namespace
+
 void WriteSteppingStonesPlots(const SteppingStonesDiagram& d, const Context& context, const SteppingStonesScenario& scenario, const std::string& energy_label,
                               const std::string& dir) {
   std::filesystem::create_directories(dir);
@@ -122,6 +185,7 @@ void WriteSteppingStonesPlots(const SteppingStonesDiagram& d, const Context& con
   tiles.width_px = 1600;
   tiles.height_px = 500;
   if (!visualization::WritePlot(tiles, dir + "/gait_tiles.png", &err)) std::cerr << "warning: " << err << "\n";
+  WriteFig5Plots(d, log, dir);
 }
 
 int PrintSteppingStonesReport(const SteppingStonesResult& r, const SteppingStonesScenario& scenario) {

@@ -15,8 +15,10 @@ namespace rome::examples {
 /// energy, epsilon, terrain and seed.
 nlohmann::json SteppingStonesSummary(const SteppingStonesResult& r, const SteppingStonesScenario& scenario, const CommandLine& cli);
 
-/// Writes com_height.png, phase_portrait.png (p_com^x, L_y against the LIP orbit of E*) and gait_tiles.png (stick
-/// figures every 0.1 s over the stones) into `dir` from the diagram's log; a plot that cannot be drawn is a warning.
+/// Writes com_height.png, phase_portrait.png (p_com^x, L_y against the LIP orbit of E*), gait_tiles.png (stick
+/// figures every 0.1 s over the stones) and the paper's Fig. 5: outputs.png (torso pitch and COM height, desired against
+/// actual; ż against u_des(t)), pre_impact_vz.png and pre_impact_vz.csv (per step, the plant's pre-impact ż against the
+/// planner's u_des) into `dir` from the diagram's log; a plot that cannot be drawn is a warning.
 void WriteSteppingStonesPlots(const SteppingStonesDiagram& d, const Context& context, const SteppingStonesScenario& scenario, const std::string& energy_label,
                               const std::string& dir);
 
