@@ -11,9 +11,9 @@
 5. the log's pre-impact velocity against the supervisor's step record in the JSON summary (another path through the
    diagram, sampled at the same 1 kHz controller tick): within g * 1 ms = 0.0098 m/s;
 6. from step 4 on the gait is periodic (the paper's Fig. 4): consecutive pre-impact velocities within 0.01 m/s;
-7. from step 2 on |z_dot - u_des| <= 12 % of |u_des|. Source: the steady offset measured in issue 44 and
-   docs/stepping-stones.md (-0.640 against -0.708 m/s, 9.6 %), a known gap against the paper's convergence; the bound
-   catches it growing, it does not claim the paper's result.
+
+The pre-impact ż does not reach u_des (a steady 9.6 % offset, docs/stepping-stones.md, a known gap against the
+paper): no bound is asserted on it, since the only bound available would come from this code's own output.
 
 usage: stepping_stones_fig5_test.py STEPPING_STONES_BINARY WORK_DIR   (run from the repository root)
 """
@@ -76,9 +76,6 @@ def main():
         # 6. Periodic from step 4.
         if step >= 4 and abs(vz - float(rows[i - 1]["com_vz_mps"])) > 0.01:
             failures.append(f"step {step}: z_dot {vz} m/s against {rows[i - 1]['com_vz_mps']} one step before: not periodic")
-        # 7. The known offset from u_des does not grow.
-        if step >= 2 and abs(vz - u) > 0.12 * abs(u):
-            failures.append(f"step {step}: |z_dot - u_des| = {abs(vz - u):.4f} m/s exceeds 12 % of |u_des| = {abs(u):.4f} m/s")
     for f in failures:
         print("FAIL: " + f)
     if not failures:
