@@ -13,6 +13,7 @@
 // outputs: desired (54) [y_d; ẏ_d; ÿ_d] for the outputs, in this order (18 rows each):
 //          com x, y, z (m); pelvis roll, pitch, yaw (rad); left ankle x, y, z (m); left foot rotation vector (3, rad);
 //          right ankle x, y, z (m); right foot rotation vector (3, rad)
+// Home: systems/planners, as WalkingPlan: it serves any flat-footed biped tracking a WalkingPlan.
 #include <string>
 
 #include "framework/system.h"

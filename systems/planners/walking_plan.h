@@ -8,6 +8,8 @@
 // derivatives; its accelerations and forces are linear between nodes (first-order hold of the nodal values, which are
 // the ROM dynamics at the nodes). The H-LIP pieces are closed form (SSP ÿ = λ² (y − y_stance), DSP ÿ = 0).
 // A plan is a list of segments (one domain each) on a global clock starting at 0.
+// Home: systems/planners, beside the planners whose orbits it composes; any biped with an aSLIP + H-LIP plan uses it,
+// and centroidal_momentum_compensation.h (a general block) builds on it.
 #include <limits>
 #include <vector>
 

@@ -14,6 +14,7 @@
 //
 // Units: s, N m, N. The model must satisfy SolveWalkingPose's requirements, with as many actuators as the floating
 // base leaves (nv − 6) and flat contacts on links left_foot and right_foot.
+// Home: systems/planners, as WalkingPlan: it judges any WalkingPlan against any MultibodyModel's limits.
 #include <Eigen/Core>
 
 #include <functional>

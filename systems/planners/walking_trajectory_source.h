@@ -7,6 +7,7 @@
 //          footholds (4)              = [left x, left y, right x, right y] (m) at the end of the current segment
 //          normal_force_reference (2) = [F_L, F_R] (N), the aSLIP's vertical GRFs (Eq. (25)'s F^z_aSLIP)
 //          domain (typed WalkingDomain) = the planned domain
+// Home: systems/planners, as WalkingPlan: a block that plays any WalkingPlan, for any biped with such a plan.
 #include <string>
 
 #include "framework/system.h"
