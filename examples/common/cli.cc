@@ -119,6 +119,7 @@ void CommandLine::RequireModeFor(const std::string& option, const std::string& m
 std::string CommandLine::NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const {
   const std::string prefix = program_ + ": ";
   const std::string text = message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+  if (text.rfind("--", 0) == 0) return prefix + text;  // already names its option
   auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };
   for (const auto& [parameter, option] : parameters) {
     if (!decls_.count(option)) continue;  // a table naming an undeclared option must not throw from an error handler
