@@ -140,27 +140,37 @@ std::string CommandLine::Get(const std::string& name) const {
   return d->second.default_value;
 }
 
+std::string CommandLine::ValueError(const std::string& name, const std::string& expected) const {
+  if (const auto it = from_file_.find(name); it != from_file_.end())
+    return program_ + ": --scenario-file " + scenario_file_ + ": key '" + name + "' needs " + expected + ", got " + it->second;
+  return program_ + ": option '--" + name + "' needs " + expected + ", got '" + Excerpt(Get(name), 200) + "'";
+}
+
+// A scalar option from the scenario file is a JSON number or string, never an array (an array of one number would
+// otherwise pass as that number).
 double CommandLine::GetDouble(const std::string& name) const {
   const std::string s = Get(name);
   try {
+    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0) throw std::invalid_argument("");
     size_t used = 0;
     const double v = std::stod(s, &used);
     if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument("");
     return v;
   } catch (const std::exception&) {
-    throw std::invalid_argument(program_ + ": option '--" + name + "' needs a finite number, got '" + s + "'");
+    throw std::invalid_argument(ValueError(name, "a finite number"));
   }
 }
 
 int CommandLine::GetInt(const std::string& name) const {
   const std::string s = Get(name);
   try {
+    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0) throw std::invalid_argument("");
     size_t used = 0;
     const int v = std::stoi(s, &used);
     if (used != s.size()) throw std::invalid_argument("");
     return v;
   } catch (const std::exception&) {
-    throw std::invalid_argument(program_ + ": option '--" + name + "' needs an integer, got '" + s + "'");
+    throw std::invalid_argument(ValueError(name, "an integer"));
   }
 }
 
@@ -186,6 +196,7 @@ std::optional<std::vector<double>> ParseNumberList(const std::string& text, int 
 std::vector<double> CommandLine::GetNumbers(const std::string& name, int n, const std::string& form) const {
   const std::string s = Get(name);
   std::optional<std::vector<double>> v = ParseNumberList(s, n);
+  if (!v && from_file_.count(name)) throw std::invalid_argument(ValueError(name, std::to_string(n) + " numbers " + form));
   if (!v) throw std::invalid_argument(program_ + ": --" + name + " expects " + std::to_string(n) + " numbers " + form + ", got '" + Excerpt(s, 200) + "'");
   return *v;
 }
