@@ -66,6 +66,9 @@ bool CommandLine::Parse(int argc, char** argv) {
     }
     auto it = decls_.find(name);
     if (it == decls_.end()) throw std::invalid_argument(program_ + ": unknown option '--" + name + "' (see --help)");
+    // An option given twice is refused (the first would be dropped without a word).
+    if (const auto seen = values_.find(name); seen != values_.end())
+      throw std::invalid_argument(program_ + ": option '--" + name + "' is given twice (first '" + Excerpt(seen->second, 80) + "'); give it once");
     if (it->second.is_flag) {
       // --FLAG or --FLAG=true|1 turns it on; --FLAG=false|0 turns it off (and overrides a scenario file that sets it).
       if (eq == std::string::npos || value == "1" || value == "true") values_[name] = "1";
@@ -235,6 +238,18 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
     if (const auto [it, inserted] = seen.emplace(key, name); !inserted)
       throw std::invalid_argument(program_ + ": --" + name + " and --" + it->second + " name the same file '" + Excerpt(path, 200) +
                                   "'; give each output its own file");
+  }
+  // An output never overwrites an input: an option's value that names an existing regular file (a terrain, a scenario
+  // file, a robot) is compared with every output, the output's folder and name resolved as above.
+  for (const std::string& name : order_) {
+    const std::string path = Get(name);
+    std::error_code ec;
+    if (path.empty() || decls_.at(name).is_flag || !fs::is_regular_file(path, ec)) continue;
+    const fs::path absolute = fs::absolute(path, ec);
+    for (const std::string& key : {(fs::weakly_canonical(absolute.parent_path(), ec) / absolute.filename()).string(), fs::weakly_canonical(absolute, ec).string()})
+      if (const auto it = seen.find(key); it != seen.end() && it->second != name)
+        throw std::invalid_argument(program_ + ": --" + it->second + " names the file '" + Excerpt(path, 200) + "' that --" + name +
+                                    " reads; writing it would destroy the input: give the output its own file");
   }
   for (const char* name : folders) {
     const std::string path = Get(name);

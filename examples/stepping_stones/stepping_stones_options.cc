@@ -28,6 +28,7 @@ Terrain MakeTerrain(const CommandLine& cli, int steps, double default_stone_leng
     p.max_gap_m = cli.GetDouble("max-gap");
     p.max_rise_m = cli.GetDouble("max-rise");
     p.stone_length_m = stone_length;
+    if (cli.GetInt("seed") < 0) throw std::invalid_argument("stepping_stones: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
     p.seed = static_cast<unsigned>(cli.GetInt("seed"));
     return RandomSteppingStones(p);
   }
