@@ -146,7 +146,7 @@ std::string CommandLine::Get(const std::string& name) const {
 std::string CommandLine::ValueError(const std::string& name, const std::string& expected) const {
   if (const auto it = from_file_.find(name); it != from_file_.end())
     return program_ + ": --scenario-file " + scenario_file_ + ": key '" + name + "' needs " + expected + ", got " + it->second;
-  return program_ + ": option '--" + name + "' needs " + expected + ", got '" + Excerpt(Get(name), 200) + "'";
+  return program_ + ": option '--" + name + "' needs " + expected + ", got '" + Get(name) + "'";
 }
 
 // A scalar option from the scenario file is a JSON number or string, never an array (an array of one number would
