@@ -429,8 +429,10 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   try {
     q = SolvePose(model, ws, q0, pose, {.max_iterations = 100, .tolerance = 1e-12});
   } catch (const std::runtime_error& e) {
+    std::ostringstream height;
+    height << com_height;  // 6 significant digits (std::to_string writes 1e308 with 309)
     throw std::runtime_error("SteppingStonesInitialState: robot '" + model.name() + "' cannot stand on the first stone with its COM " +
-                             std::to_string(com_height) + " m above the feet (supervisor.walking_com_height_m): " + e.what());
+                             height.str() + " m above the feet (supervisor.walking_com_height_m): " + e.what());
   }
   const int m = static_cast<int>(pose.size());
   Eigen::MatrixXd C(m, nv);
