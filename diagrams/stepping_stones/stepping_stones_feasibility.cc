@@ -87,8 +87,12 @@ void CheckSteppingStonesFeasible(const MultibodyModel& model, const Terrain& ter
   const double rise_limit = walking - fall;
   const double sole = SoleLength(model), min_length = sole > 0.0 ? sole + 2.0 * margins.sole_margin_m : 0.0;
   const std::vector<SteppingStone>& stones = terrain.stones();
+  if (stones.size() < 2) {
+    out << "terrain: has " << stones.size() << " stone" << (stones.size() == 1 ? "" : "s") << "; a walk needs at least 2 (the one it starts on and one to step to)";
+    Refuse(out);
+  }
   const size_t last = std::min(stones.size() - 1, static_cast<size_t>(std::max(params.supervisor.max_steps, 0)));
-  for (size_t k = 0; k <= last && !stones.empty(); ++k) {
+  for (size_t k = 0; k <= last; ++k) {
     const SteppingStone& s = stones[k];
     if (s.length_m < min_length) {
       out << "terrain: stone " << k << " (x = " << s.x_center_m << " m) is " << s.length_m << " m long, shorter than the sole of " << robot << ", "

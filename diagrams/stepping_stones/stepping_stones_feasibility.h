@@ -36,6 +36,7 @@ void CheckSteppingStonesRobot(const MultibodyModel& model);
 
 /// Throws std::invalid_argument, one line naming the stone(s), the value and the limit with where it comes from, if the
 /// robot cannot walk the first params.supervisor.max_steps steps of `terrain` (stone k to stone k + 1) with `params`:
+///  * fewer than 2 stones;
 ///  * a step longer (centre to centre) than leg_reach_fraction × (both legs' reach + the hips' distance);
 ///  * a rise or drop of at least supervisor.walking_com_height_m − supervisor.min_com_height_m: the posture NLP aims the
 ///    COM at the walking height above the lower stone, so above the higher one it would be below the fall height;

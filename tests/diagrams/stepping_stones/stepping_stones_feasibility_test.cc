@@ -53,6 +53,12 @@ TEST(SteppingStonesFeasibility, StepBeyondBothLegsIsRefused) {
   EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, far_last, params); }), "");
 }
 
+TEST(SteppingStonesFeasibility, OneStoneHasNoStepToTake) {
+  SteppingStonesDiagramParams params;
+  const std::string m = Refusal([&] { CheckSteppingStonesFeasible(Load("amber"), Terrain::Stones({{0.0, 0.0, 1.0}}), params); });
+  EXPECT_NE(m.find("has 1 stone"), std::string::npos) << m;
+}
+
 TEST(SteppingStonesFeasibility, RiseAndDropBeyondTheSupervisorsHeightsAreRefused) {
   const MultibodyModel amber = Load("amber");
   SteppingStonesDiagramParams params;
