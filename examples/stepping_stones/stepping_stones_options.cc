@@ -22,6 +22,15 @@ Terrain MakeTerrain(const CommandLine& cli, int steps, double default_stone_leng
     return PeriodicSteppingStones(l, h, n, stone_length);
   }
   if (kind == "random") {
+    // Ranges (ours: bounded terrain), each error naming the option; what the robot can step is checked later
+    // (CheckSteppingStonesFeasible).
+    const double min_gap = cli.GetDouble("min-gap"), max_gap = cli.GetDouble("max-gap"), max_rise = cli.GetDouble("max-rise");
+    if (!(min_gap > stone_length && min_gap <= 100.0))
+      throw std::invalid_argument("stepping_stones: --min-gap must be in (" + FormatNumber(stone_length) + ", 100] m (above the stone length), got " + cli.Get("min-gap"));
+    if (!(max_gap >= min_gap && max_gap <= 100.0))
+      throw std::invalid_argument("stepping_stones: --max-gap must be in [--min-gap " + cli.Get("min-gap") + ", 100] m, got " + cli.Get("max-gap"));
+    if (!(max_rise >= 0.0 && max_rise <= 100.0))
+      throw std::invalid_argument("stepping_stones: --max-rise must be in [0, 100] m, got " + cli.Get("max-rise"));
     RandomSteppingStonesParams p;
     p.num_stones = n;
     p.min_gap_m = cli.GetDouble("min-gap");
