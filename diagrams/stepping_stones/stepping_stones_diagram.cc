@@ -397,15 +397,17 @@ SimulatorConfig SteppingStonesSimulatorConfig() {
 Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Terrain& terrain, const SteppingStonesDiagramParams& params) {
   const int nv = model.nv();
   if (terrain.stones().empty()) throw std::runtime_error("SteppingStonesInitialState: the terrain has no stones");
+  if (!model.is_planar()) throw std::invalid_argument("SteppingStonesInitialState: robot '" + model.name() + "' is not planar");
   const auto& stones = terrain.stones();
   MultibodyWorkspace ws(model);
-  const Eigen::Vector2d stone(stones[0].x_center_m, stones[0].top_height_m);
+  // The pose is solved with the first stone at the origin and then moved onto it (exact for the planar base's x and z):
+  // a stone far from the origin (|z| up to 1e6 m) would otherwise leave Newton's 1e-12 tolerance below the
+  // coordinates' resolution.
+  const Eigen::Vector2d stone_world(stones[0].x_center_m, stones[0].top_height_m), stone = Eigen::Vector2d::Zero();
   const double com_height = params.supervisor.walking_com_height_m;
   const int pitch = model.num_base_dofs() - 1;
-  // Configuration: SolvePose (Newton with minimum-norm steps) from the nominal pose moved onto the stone.
+  // Configuration: SolvePose (Newton with minimum-norm steps) from the nominal pose.
   Eigen::VectorXd q0 = model.q_nominal();
-  q0[0] += stone.x();
-  q0[1] += stone.y();
   // Each foot on the stone centre: a point foot by its point; a line/flat foot by its frame origin's x and every
   // contact point's z (the sole flat on the stone). Then the COM, the torso pitch and the loop closures.
   std::vector<PoseConstraint> pose;
@@ -427,8 +429,10 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   try {
     q = SolvePose(model, ws, q0, pose, {.max_iterations = 100, .tolerance = 1e-12});
   } catch (const std::runtime_error& e) {
+    std::ostringstream height;
+    height << com_height;  // 6 significant digits (std::to_string writes 1e308 with 309)
     throw std::runtime_error("SteppingStonesInitialState: robot '" + model.name() + "' cannot stand on the first stone with its COM " +
-                             std::to_string(com_height) + " m above the feet (supervisor.walking_com_height_m): " + e.what());
+                             height.str() + " m above the feet (supervisor.walking_com_height_m): " + e.what());
   }
   const int m = static_cast<int>(pose.size());
   Eigen::MatrixXd C(m, nv);
@@ -442,6 +446,8 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
     throw std::runtime_error("SteppingStonesInitialState: no joint velocity moves the COM of robot '" + model.name() + "' with both feet at rest");
   Eigen::VectorXd x(2 * nv);
   x << q, v;
+  x[0] += stone_world.x();  // planar base: q = [x, z, pitch, joints]
+  x[1] += stone_world.y();
   return x;
 }
 

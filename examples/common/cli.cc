@@ -66,6 +66,9 @@ bool CommandLine::Parse(int argc, char** argv) {
     }
     auto it = decls_.find(name);
     if (it == decls_.end()) throw std::invalid_argument(program_ + ": unknown option '--" + name + "' (see --help)");
+    // An option given twice is refused (the first would be dropped without a word).
+    if (const auto seen = values_.find(name); seen != values_.end())
+      throw std::invalid_argument(program_ + ": option '--" + name + "' is given twice (first '" + Excerpt(seen->second, 80) + "'); give it once");
     if (it->second.is_flag) {
       // --FLAG or --FLAG=true|1 turns it on; --FLAG=false|0 turns it off (and overrides a scenario file that sets it).
       if (eq == std::string::npos || value == "1" || value == "true") values_[name] = "1";
@@ -119,6 +122,7 @@ void CommandLine::RequireModeFor(const std::string& option, const std::string& m
 std::string CommandLine::NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const {
   const std::string prefix = program_ + ": ";
   const std::string text = message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+  if (text.rfind("--", 0) == 0) return prefix + text;  // already names its option
   auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };
   for (const auto& [parameter, option] : parameters) {
     if (!decls_.count(option)) continue;  // a table naming an undeclared option must not throw from an error handler
@@ -139,27 +143,37 @@ std::string CommandLine::Get(const std::string& name) const {
   return d->second.default_value;
 }
 
+std::string CommandLine::ValueError(const std::string& name, const std::string& expected) const {
+  if (const auto it = from_file_.find(name); it != from_file_.end())
+    return program_ + ": --scenario-file " + scenario_file_ + ": key '" + name + "' needs " + expected + ", got " + it->second;
+  return program_ + ": option '--" + name + "' needs " + expected + ", got '" + Get(name) + "'";
+}
+
+// A scalar option from the scenario file is a JSON number or string, never an array (an array of one number would
+// otherwise pass as that number).
 double CommandLine::GetDouble(const std::string& name) const {
   const std::string s = Get(name);
   try {
+    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0) throw std::invalid_argument("");
     size_t used = 0;
     const double v = std::stod(s, &used);
     if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument("");
     return v;
   } catch (const std::exception&) {
-    throw std::invalid_argument(program_ + ": option '--" + name + "' needs a finite number, got '" + s + "'");
+    throw std::invalid_argument(ValueError(name, "a finite number"));
   }
 }
 
 int CommandLine::GetInt(const std::string& name) const {
   const std::string s = Get(name);
   try {
+    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0) throw std::invalid_argument("");
     size_t used = 0;
     const int v = std::stoi(s, &used);
     if (used != s.size()) throw std::invalid_argument("");
     return v;
   } catch (const std::exception&) {
-    throw std::invalid_argument(program_ + ": option '--" + name + "' needs an integer, got '" + s + "'");
+    throw std::invalid_argument(ValueError(name, "an integer"));
   }
 }
 
@@ -185,6 +199,7 @@ std::optional<std::vector<double>> ParseNumberList(const std::string& text, int 
 std::vector<double> CommandLine::GetNumbers(const std::string& name, int n, const std::string& form) const {
   const std::string s = Get(name);
   std::optional<std::vector<double>> v = ParseNumberList(s, n);
+  if (!v && from_file_.count(name)) throw std::invalid_argument(ValueError(name, std::to_string(n) + " numbers " + form));
   if (!v) throw std::invalid_argument(program_ + ": --" + name + " expects " + std::to_string(n) + " numbers " + form + ", got '" + Excerpt(s, 200) + "'");
   return *v;
 }
@@ -223,6 +238,18 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
     if (const auto [it, inserted] = seen.emplace(key, name); !inserted)
       throw std::invalid_argument(program_ + ": --" + name + " and --" + it->second + " name the same file '" + Excerpt(path, 200) +
                                   "'; give each output its own file");
+  }
+  // An output never overwrites an input: an option's value that names an existing regular file (a terrain, a scenario
+  // file, a robot) is compared with every output, the output's folder and name resolved as above.
+  for (const std::string& name : order_) {
+    const std::string path = Get(name);
+    std::error_code ec;
+    if (path.empty() || decls_.at(name).is_flag || !fs::is_regular_file(path, ec)) continue;
+    const fs::path absolute = fs::absolute(path, ec);
+    for (const std::string& key : {(fs::weakly_canonical(absolute.parent_path(), ec) / absolute.filename()).string(), fs::weakly_canonical(absolute, ec).string()})
+      if (const auto it = seen.find(key); it != seen.end() && it->second != name)
+        throw std::invalid_argument(program_ + ": --" + it->second + " names the file '" + Excerpt(path, 200) + "' that --" + name +
+                                    " reads; writing it would destroy the input: give the output its own file");
   }
   for (const char* name : folders) {
     const std::string path = Get(name);

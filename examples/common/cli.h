@@ -83,6 +83,11 @@ class CommandLine {
   std::map<std::string, std::string> values_;
   bool has_scenario_file_ = false;
   std::vector<std::string> outputs_;  // options that are not scenario parameters
+  std::string scenario_file_;                    // the --scenario-file read, for errors
+  std::map<std::string, std::string> from_file_;  // option -> its value as the scenario file wrote it (JSON)
+  /// "PROGRAM: option '--NAME' needs EXPECTED, got 'VALUE'", or, for a value from the scenario file,
+  /// "PROGRAM: --scenario-file FILE: key 'NAME' needs EXPECTED, got JSON".
+  std::string ValueError(const std::string& name, const std::string& expected) const;
   bool IsScenarioParameter(const std::string& name) const;
   void LoadScenarioFile(const std::string& path);
 };

@@ -55,6 +55,7 @@ std::optional<std::vector<double>> NumberList(const std::string& v) {
 
 void CommandLine::LoadScenarioFile(const std::string& path) {
   const std::string where = program_ + ": --scenario-file " + Excerpt(path, 200);
+  scenario_file_ = Excerpt(path, 200);
   std::string text;
   try {
     text = ReadRegularFile(path, "--scenario-file", 1 << 20);
@@ -87,6 +88,7 @@ void CommandLine::LoadScenarioFile(const std::string& path) {
     if (values_.count(key)) continue;  // the command line wins
     if (flag && v.empty()) continue;  // false: the flag stays off
     values_[key] = v;
+    from_file_[key] = Excerpt(value.dump(), 80);
   }
 }
 

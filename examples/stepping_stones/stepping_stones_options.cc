@@ -1,5 +1,8 @@
 #include "examples/stepping_stones/stepping_stones_options.h"
 
+#include "diagrams/stepping_stones/stepping_stones_feasibility.h"
+#include "framework/text.h"
+
 #include <sstream>
 #include <stdexcept>
 
@@ -19,12 +22,22 @@ Terrain MakeTerrain(const CommandLine& cli, int steps, double default_stone_leng
     return PeriodicSteppingStones(l, h, n, stone_length);
   }
   if (kind == "random") {
+    // Ranges (ours: bounded terrain), each error naming the option; what the robot can step is checked later
+    // (CheckSteppingStonesFeasible).
+    const double min_gap = cli.GetDouble("min-gap"), max_gap = cli.GetDouble("max-gap"), max_rise = cli.GetDouble("max-rise");
+    if (!(min_gap > stone_length && min_gap <= 100.0))
+      throw std::invalid_argument("stepping_stones: --min-gap must be in (" + FormatNumber(stone_length) + ", 100] m (above the stone length), got " + cli.Get("min-gap"));
+    if (!(max_gap >= min_gap && max_gap <= 100.0))
+      throw std::invalid_argument("stepping_stones: --max-gap must be in [--min-gap " + cli.Get("min-gap") + ", 100] m, got " + cli.Get("max-gap"));
+    if (!(max_rise >= 0.0 && max_rise <= 100.0))
+      throw std::invalid_argument("stepping_stones: --max-rise must be in [0, 100] m, got " + cli.Get("max-rise"));
     RandomSteppingStonesParams p;
     p.num_stones = n;
     p.min_gap_m = cli.GetDouble("min-gap");
     p.max_gap_m = cli.GetDouble("max-gap");
     p.max_rise_m = cli.GetDouble("max-rise");
     p.stone_length_m = stone_length;
+    if (cli.GetInt("seed") < 0) throw std::invalid_argument("stepping_stones: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
     p.seed = static_cast<unsigned>(cli.GetInt("seed"));
     return RandomSteppingStones(p);
   }
@@ -87,7 +100,8 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
       {"initial_com_x_m", "initial-com-x"}, {"supervisor.max_steps", "steps"}, {"outputs.swing_foot.clearance", "swing-clearance"},
       {"mpc.hold_plan_below_horizon_s", "mpc-hold"}, {"clf_com_height_weight", "clf-com-weight"},
       {"clf_controller.update_period_s", "clf-rate"}, {"controller.friction_margin", "friction-margin"},
-      {"controller.min_normal_force_N", "min-normal-force"}};
+      {"controller.min_normal_force_N", "min-normal-force"},
+      {"supervisor.walking_com_height_m", "walking-height"}};
   for (const auto& [gains, option] : std::vector<std::pair<std::string, std::string>>{
            {"torso_gains", "torso-gains"}, {"com_height_gains", "com-gains"}, {"swing_foot_gains", "swing-gains"}, {"swing_foot_pitch_gains", "foot-pitch-gains"}})
     for (const char* element : {".weight", ".kp", ".kd"}) t.emplace_back(gains + element, option);
@@ -181,7 +195,22 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   if (!cli.Get("log").empty() && log_rows > 5e6)
     throw std::invalid_argument("stepping_stones: --log-period " + cli.Get("log-period") + " s over up to " + std::to_string(3 * steps + 2) + " s would log " +
                                 std::to_string(static_cast<long>(log_rows)) + " rows (limit 5e6); raise --log-period or lower --steps");
-  const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(params.robot_sidecar)));
+  // What the diagram cannot walk is bad input, refused here before the simulation (stepping_stones_feasibility.h).
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar);
+  try {
+    CheckSteppingStonesRobot(model);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("stepping_stones: --robot " + Excerpt(cli.Get("robot"), 200) + ": " + e.what());
+  }
+  const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(model));
+  try {
+    CheckSteppingStonesFeasible(model, terrain, params);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    if (what.rfind("terrain: ", 0) != 0) throw;  // a parameter's limit: the caller names its option
+    throw std::invalid_argument("stepping_stones: --terrain " + Excerpt(cli.Get("terrain"), 200) +
+                                (cli.Get("stone-length") == "default" ? "" : " --stone-length " + Excerpt(cli.Get("stone-length"), 40)) + ": " + what.substr(9));
+  }
   return {params, terrain, controller, ParsePlantKind(cli.Get("plant"), "stepping_stones: --plant"), steps};
 }
 

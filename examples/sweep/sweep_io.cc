@@ -130,7 +130,10 @@ void CheckFlagsGivenOnce(const std::vector<Parameter>& swept, const std::vector<
   static const std::map<std::string, std::string> kReserved = {
       {"summary", "rome_sweep gives every run its own --summary (DIR/runs/run_N.json)"},
       {"log", "rome_sweep runs every example with --log '' (its output goes to DIR/runs/run_N.log)"},
-      {"help", "--help prints the help and runs nothing"}};
+      {"help", "--help prints the help and runs nothing"},
+      {"scenario-file", "a run's parameters are fingerprinted from its command line, not from a file that may change before a resume (give them with --set)"},
+      {"plots", "every run would write its plots into the same folder"},
+      {"animation", "every run would write the same file"}};
   std::map<std::string, std::string> given;  // flag -> the argument that gave it first
   for (const Parameter& p : swept) {
     if (auto r = kReserved.find(p.name); r != kReserved.end()) throw Error(p.origin + ": --" + p.name + " cannot be swept: " + r->second);

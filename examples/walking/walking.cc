@@ -14,12 +14,14 @@
 #include <optional>
 
 #include "diagrams/walking/walking_diagram.h"
+#include "diagrams/walking/walking_robot_check.h"
 #include "diagrams/walking/walking_run.h"
 #include "examples/common/cli.h"
 #include "examples/walking/walking_options.h"
 #include "examples/walking/walking_outputs.h"
 #include "examples/walking/walking_report.h"
 #include "framework/interrupt.h"
+#include "framework/text.h"
 
 using namespace rome;
 
@@ -45,8 +47,9 @@ int main(int argc, char** argv) {
   }
   try {
     model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(cli.Get("robot")));
+    CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input, before any plan
   } catch (const std::exception& e) {
-    std::cerr << "walking: --robot: " << e.what() << "\n";
+    std::cerr << "walking: --robot " << Excerpt(cli.Get("robot"), 200) << ": " << examples::OneLine(e.what()) << "\n";
     return 1;
   }
   WalkingPlanReport nlp;

@@ -110,6 +110,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   o.gait_b = Gait(cli, "gait-b");
   if (o.scenario == "gait-sequence") o.gaits = GaitList(cli.Get("gaits"));
   o.steps = cli.GetInt("steps");
+  if (cli.GetInt("seed") < 0) throw std::invalid_argument("walking: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
   o.seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
   // Side by side (stagger 0, the default) goes through the start gait; a step stance does not (StepStance).
   const double stagger = cli.GetDouble("stance-stagger");

@@ -49,6 +49,10 @@ void WarnUnmodelledUrdfElements(const urdf::ModelInterface& urdf, std::vector<st
     if (joint->dynamics && (joint->dynamics->damping != 0.0 || joint->dynamics->friction != 0.0))
       warnings->push_back("joint '" + Excerpt(name) + "': <dynamics damping=" + Num(joint->dynamics->damping) + " friction=" +
                           Num(joint->dynamics->friction) + "> is not modelled by ROME (ignored; a sidecar spring's damping is)");
+    // ROME has no velocity limits; one that could not be meant (negative) is said, not dropped without a word.
+    if (joint->limits && !(joint->limits->velocity >= 0.0))
+      warnings->push_back("joint '" + Excerpt(name) + "': <limit velocity=" + Num(joint->limits->velocity) +
+                          "> is negative; ROME does not model velocity limits (ignored)");
   }
 }
 

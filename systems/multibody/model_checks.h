@@ -20,7 +20,8 @@ struct ContactInfo;
 /// Every link is the child of at most one joint (a closed chain is written as a loop closure in the sidecar), and no
 /// joint has a <mimic> (ROME does not model coupled joints). `where` names the URDF ("URDF <file>").
 void CheckUrdfIsTree(const urdf::ModelInterface& urdf, const std::string& where);
-/// One warning per joint whose <dynamics> damping or friction is nonzero: ROME does not model them (they are ignored).
+/// One warning per joint whose <dynamics> damping or friction is nonzero, or whose <limit velocity> is negative: ROME
+/// does not model them (they are ignored).
 void WarnUnmodelledUrdfElements(const urdf::ModelInterface& urdf, std::vector<std::string>* warnings);
 /// `axis` scaled to unit length without overflow (1e300 entries stay representable); throws naming `where` if it is
 /// zero or not finite.

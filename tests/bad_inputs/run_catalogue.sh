@@ -41,6 +41,12 @@ awk 'BEGIN { printf "<robot name=\"deep\">"; for (i = 0; i < 200000; i++) printf
 awk 'BEGIN { for (i = 0; i < 1000000; i++) printf "%d,0,0.1\n", i }' > "$tmp/terrain_1M_stones.csv"
 # A sidecar nested 100000 deep under a key whose error would print its value (the depth is capped while parsing).
 awk 'BEGIN { printf "{\"robot\": "; for (i = 0; i < 100000; i++) printf "["; for (i = 0; i < 100000; i++) printf "]"; print "}" }' > "$tmp/deep_100000.rome.json"
+# A sidecar with 200000 contacts (a strict JSON check that was quadratic in an array's length took 158 s).
+cp "$inputs/pendulum.urdf" "$tmp/pendulum.urdf"
+awk 'BEGIN { printf "{\"robot\": \"pendulum\", \"urdf\": \"pendulum.urdf\", \"floating_base\": \"fixed\", \"contacts\": ["
+  for (i = 0; i < 200000; i++) printf "%s{\"name\": \"c%d\", \"link\": \"arm\", \"type\": \"point\", \"points\": [[0, 0, -1]]}", (i ? ", " : ""), i
+  print "]}" }' > "$tmp/contacts_200000.rome.json"
+printf '{"energy": 0.5}\n' > "$tmp/scenario.json"  # an input that an output must not overwrite
 mkdir -p "$tmp/a_folder"
 printf 'not a folder\n' > "$tmp/a_file"
 # Robot packages that reach out: a FIFO as the URDF, a link to a URDF outside the package; a FIFO as a terrain.
