@@ -110,6 +110,40 @@ double HoppingRunDuration(const HoppingDiagram& d, const HoppingRunParams& param
                                : ref.settle_time_s + ref.hops * 1.0 + (ref.hops - 1) * ref.max_rest_time_s + params.stop_after_last_touchdown_s;
 }
 
+namespace {
+
+// The mean x of the contact points less the COM's x [m] (the foot's offset ahead of the COM).
+double FootComOffsetX(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q) {
+  double x_sum = 0;
+  int points = 0;
+  for (int k = 0; k < model.num_contacts(); ++k)
+    for (size_t i = 0; i < model.contacts()[k].points.size(); ++i, ++points)
+      x_sum += CalcContactPointPosition(model, ws, q, k, static_cast<int>(i)).x();
+  return x_sum / points - CalcComPosition(model, ws, q).x();
+}
+
+// The robot's kinetic, potential (COM height rise com_rise_m above the hop's jump start) and spring energies [J].
+void RecordEnergies(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& x, double com_rise_m,
+                    const SpringMassHopPlanners* planners, HoppingSample* s) {
+  const int nv = model.nv();
+  const Eigen::VectorXd q = x.head(nv), v = x.tail(nv);
+  const double gravity = planners ? planners->rom.gravity : 9.81;
+  s->kinetic = 0.5 * v.dot(CalcMassMatrix(model, ws, q) * v);
+  s->potential = model.total_mass() * gravity * com_rise_m;
+  s->spring_energy = 0.5 * (model.spring_stiffness().array() * (q - model.spring_rest()).array().square()).sum();
+}
+
+// The spring-mass ROM's energies [J] on its plan at plan_time_s (potential above rom_x_ref).
+void RecordRomEnergies(const SpringMassParams& rom, const SpringMassPlan& plan, double plan_time_s, double rom_x_ref,
+                       HoppingSample* s) {
+  const Eigen::Vector4d z = plan.State(plan_time_s);
+  s->rom_kinetic = 0.5 * rom.mass * z[1] * z[1];
+  s->rom_potential = rom.mass * rom.gravity * (z[0] - rom_x_ref);
+  s->rom_spring = 0.5 * rom.n_legs * rom.leg.stiffness.Evaluate(z[2]) * (z[2] - z[0]) * (z[2] - z[0]);
+}
+
+}  // namespace
+
 HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const HoppingRunParams& params, const SpringMassHopPlanners* planners) {
   params.Validate();
   if (!d.reference->initialized(d.diagram->GetSubsystemContext(*d.reference, sim.get_context())))
@@ -131,13 +165,6 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
   double next_sample_t = 0.0;
   // *_now: the current hop's (the ROM force of its plans); the result's: the first hop's.
   double jump_start_now = -1, touchdown_now = -1, com_liftoff = 0, com_max = 0, pitch_liftoff = 0;
-  auto foot_com_x = [&](const Eigen::VectorXd& q) {
-    double x_sum = 0;
-    int points = 0;
-    for (int k = 0; k < model.num_contacts(); ++k)
-      for (size_t i = 0; i < model.contacts()[k].points.size(); ++i, ++points) x_sum += CalcContactPointPosition(model, ws, q, k, static_cast<int>(i)).x();
-    return x_sum / points - CalcComPosition(model, ws, q).x();
-  };
   const bool stop_after_last = params.duration_s <= 0;
   const bool has_qp_failures = d.diagram->HasOutputPort("qp_failures");
   double last_progress = 0;
@@ -168,13 +195,13 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
     if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight) touchdown_now = t, ++r.touchdowns;
     if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && r.liftoff_s < 0) {
       r.liftoff_s = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
-      r.liftoff_foot_com_offset_x_m = foot_com_x(q);
+      r.liftoff_foot_com_offset_x_m = FootComOffsetX(model, ws, q);
       r.liftoff_pitch_momentum_Nms = CalcCentroidalMomentum(model, ws, q, x.tail(nv))[1];
       r.liftoff_state = x;
     }
     if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && r.touchdown_s < 0) {
       r.touchdown_s = t;
-      r.touchdown_foot_com_offset_x_m = foot_com_x(q);
+      r.touchdown_foot_com_offset_x_m = FootComOffsetX(model, ws, q);
     }
     if (r.touchdown_s < 0) {
       r.contact_violations_before_first_touchdown = r.contact.violations;
@@ -213,18 +240,10 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
           const Eigen::VectorXd& yd = d.reference->EvalOutput(rc, "desired");
           s.leg_length_d = 0.5 * (yd[layout.leg_left] + yd[layout.leg_right]), s.com_x_d = yd[layout.com_x], s.pitch_d = yd[layout.pitch];
         }
-        const Eigen::VectorXd v = x.tail(nv);
-        const double gravity = planners ? planners->rom.gravity : 9.81;
-        s.kinetic = 0.5 * v.dot(CalcMassMatrix(model, ws, q) * v);
-        s.potential = model.total_mass() * gravity * (com_z - com_z_ref);
-        s.spring_energy = 0.5 * (model.spring_stiffness().array() * (q - model.spring_rest()).array().square()).sum();
-        if (std::isfinite(rom_grf)) {
-          const SpringMassParams& rom = planners->rom;
-          const Eigen::Vector4d z = records->back().plan.State(domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now);
-          s.rom_kinetic = 0.5 * rom.mass * z[1] * z[1];
-          s.rom_potential = rom.mass * rom.gravity * (z[0] - rom_x_ref);
-          s.rom_spring = 0.5 * rom.n_legs * rom.leg.stiffness.Evaluate(z[2]) * (z[2] - z[0]) * (z[2] - z[0]);
-        }
+        RecordEnergies(model, ws, x, com_z - com_z_ref, planners, &s);
+        if (std::isfinite(rom_grf))
+          RecordRomEnergies(planners->rom, records->back().plan,
+                            domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now, rom_x_ref, &s);
         s.q = q;
       }
       r.samples.push_back(std::move(s));

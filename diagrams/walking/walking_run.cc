@@ -110,6 +110,33 @@ std::string WalkingRunResult::ToJson() const {
   return s.dump();
 }
 
+namespace {
+
+// Every single support of the plan that ends by the end time should end in a step; the transitions' ends.
+void CountPlannedSteps(const WalkingPlan& plan, WalkingRunResult& r) {
+  for (const WalkingPlanSegment& seg : plan.segments()) {
+    if (seg.domain == WalkingDomain::kDoubleSupport || seg.start_time + seg.duration > r.end_time_s + 1e-9) continue;
+    ++r.steps_planned;
+    if (seg.lateral_nodes.cols() > 0) r.transition_ends_s.push_back(seg.start_time + seg.duration);
+  }
+}
+
+// The CLF-QP's counts at the end of the run (none without a CLF-QP) and the solve-time percentiles.
+void ReadClfQpTotals(const Diagram& diagram, const ClfQpController* clf, const Context& root, const std::vector<double>& solve_us,
+                     WalkingRunResult& r) {
+  if (clf != nullptr) {
+    const LeafContext& cc = diagram.GetSubsystemContext(*clf, root);
+    r.qp_infeasible_ticks = clf->EvalOutput(cc, "qp_failures")[0];
+    r.qp_fallbacks = clf->EvalOutput(cc, "fallbacks").sum();
+    const Eigen::VectorXd& activity = clf->EvalOutput(cc, "clf_activity");  // [CLF row active, solved] updates
+    r.clf_row_active_fraction = activity[1] > 0 ? activity[0] / activity[1] : 0.0;
+  }
+  r.qp_solve_us_median = Percentile(solve_us, 0.5);
+  r.qp_solve_us_p99 = Percentile(solve_us, 0.99);
+}
+
+}  // namespace
+
 WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParams& params, const WalkingRunObserver& observer) {
   params.Validate();
   if (walking.diagram == nullptr || walking.plant == nullptr) throw std::invalid_argument("RunWalking: the WalkingDiagram is not built");
@@ -124,12 +151,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   if (!(r.end_time_s > r.start_time_s))
     throw std::invalid_argument("RunWalking: the end time " + std::to_string(r.end_time_s) + " s is not after the start " + std::to_string(r.start_time_s) + " s");
 
-  // Every single support of the plan that ends by the end time should end in a step; the transitions' ends.
-  for (const WalkingPlanSegment& seg : plan.segments()) {
-    if (seg.domain == WalkingDomain::kDoubleSupport || seg.start_time + seg.duration > r.end_time_s + 1e-9) continue;
-    ++r.steps_planned;
-    if (seg.lateral_nodes.cols() > 0) r.transition_ends_s.push_back(seg.start_time + seg.duration);
-  }
+  CountPlannedSteps(plan, r);
 
   Simulator sim(diagram, params.simulator);
   sim.get_mutable_context().SetTime(params.start_time_s);
@@ -244,15 +266,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
   r.force_in_band_fraction_strict = band_ticks ? static_cast<double>(band_in_strict) / band_ticks : 0.0;
   r.band_samples = band_ticks;
-  if (clf != nullptr) {
-    const LeafContext& cc = diagram.GetSubsystemContext(*clf, sim.get_context());
-    r.qp_infeasible_ticks = clf->EvalOutput(cc, "qp_failures")[0];
-    r.qp_fallbacks = clf->EvalOutput(cc, "fallbacks").sum();
-    const Eigen::VectorXd& activity = clf->EvalOutput(cc, "clf_activity");  // [CLF row active, solved] updates
-    r.clf_row_active_fraction = activity[1] > 0 ? activity[0] / activity[1] : 0.0;
-  }
-  r.qp_solve_us_median = Percentile(solve_us, 0.5);
-  r.qp_solve_us_p99 = Percentile(solve_us, 0.99);
+  ReadClfQpTotals(diagram, clf, sim.get_context(), solve_us, r);
   return r;
 }
 

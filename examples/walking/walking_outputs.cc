@@ -64,16 +64,40 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
   if (!visualization::WritePanels(lateral, dir + "/" + name + "_lateral.png", &error)) std::cerr << "plot: " << error << "\n";
 }
 
+void WritePlot(const std::vector<visualization::PlotSpec>& panels, const std::string& path) {
+  std::string err;
+  if (!visualization::WritePanels(panels, path, &err)) std::cerr << "plot: " << err << "\n";
+}
+
+// Gait tiles (Fig. 5c): 16 frames over the first 3 s (standing, the transition, the first steps), each 0.35 m (sagittal)
+// or 0.6 m (frontal) further along.
+void WriteGaitTiles(const std::string& dir, const MultibodyModel& model, const std::vector<std::pair<double, Eigen::VectorXd>>& poses) {
+  MultibodyWorkspace ws(model);
+  visualization::Series links[2] = {Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"), Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'")};
+  visualization::Series soles[2] = {Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'"), Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'")};
+  const double span = std::min(3.0, poses.back().first - poses.front().first);
+  constexpr int kTiles = 16;
+  size_t next = 0;
+  for (int i = 0; i < kTiles; ++i) {
+    const double when = poses.front().first + span * i / (kTiles - 1);
+    while (next + 1 < poses.size() && poses[next].first < when - 1e-9) ++next;
+    for (int view = 0; view < 2; ++view)
+      visualization::AppendStickFigure(model, ws, poses[next].second, view, (view == 0 ? 0.35 : 0.6) * i, &links[view], &soles[view]);
+  }
+  const std::string when = "16 frames over the first " + std::to_string(span).substr(0, 4) + " s";
+  visualization::PlotSpec sag{"gait tiles, sagittal projection (" + when + "; each 0.35 m further)", "x [m] (+ 0.35 m per tile)", "z [m]", {soles[0], links[0]}, true, 1800, 450};
+  visualization::PlotSpec front{"gait tiles, frontal projection (" + when + "; each 0.6 m further)", "y [m] (+ 0.6 m per tile)", "z [m]", {soles[1], links[1]}, true, 1800, 450};
+  WritePlot({sag}, dir + "/gait_tiles_sagittal.png");
+  WritePlot({front}, dir + "/gait_tiles_frontal.png");
+}
+
 // The paper's figures from this run: Fig. 2 S2 (periodic aSLIP: z, F_z per leg, ẋ over one step) and L2 (H-LIP P2
 // phase portrait with its σ₂ lines), Fig. 3 S2 / L2 (the transitions), Fig. 5a/b (COM position and velocity, desired
 // vs actual), 5d (plant normal forces in their Eq. (25) band) and gait tiles (Fig. 5c) in sagittal and frontal views.
 void WriteAllPlots(const std::string& dir, const MultibodyModel& model, const WalkingPlan& rom, const WalkingPlanReport& nlp, double band, double mg,
                 const std::string& scenario, double t_stop, const std::vector<double>& t, const Columns& com, const Columns& vel,
                 const Columns& force, const std::vector<std::pair<double, Eigen::VectorXd>>& poses) {
-  std::string err;
-  auto write = [&](const std::vector<visualization::PlotSpec>& panels, const std::string& file) {
-    if (!visualization::WritePanels(panels, dir + "/" + file, &err)) std::cerr << "plot: " << err << "\n";
-  };
+  auto write = [&](const std::vector<visualization::PlotSpec>& panels, const std::string& file) { WritePlot(panels, dir + "/" + file); };
   write({{"COM desired vs actual (Fig. 5a)", "t [s]", "m",
           {Line("x", t, com[0]), Line("x desired", t, com[1]), Line("y", t, com[2]), Line("y desired", t, com[3]), Line("z", t, com[4]),
            Line("z desired", t, com[5])}}},
@@ -150,27 +174,7 @@ void WriteAllPlots(const std::string& dir, const MultibodyModel& model, const Wa
     WriteTransitionPlots(nlp.start_change_nodes, dir, "transition_start", nlp.lead_in ? "start -> lead-in" : "start -> gait A");
   if (scenario == "gait-change" || scenario == "gait-sequence") WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "gait A -> gait B");
   if (nlp.lead_in) WriteTransitionPlots(nlp.transition_b_nodes, dir, "transition_b", "lead-in -> gait A");
-  // Gait tiles (Fig. 5c): 16 frames over the first 3 s (standing, the transition, the first steps), each 0.35 m (sagittal)
-  // or 0.6 m (frontal) further along.
-  if (!poses.empty()) {
-    MultibodyWorkspace ws(model);
-    visualization::Series links[2] = {Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'"), Line("robot", {}, {}, "lines lw 2 lc rgb '#3060c0'")};
-    visualization::Series soles[2] = {Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'"), Line("soles", {}, {}, "lines lw 3 lc rgb '#c03030'")};
-    const double span = std::min(3.0, poses.back().first - poses.front().first);
-    constexpr int kTiles = 16;
-    size_t next = 0;
-    for (int i = 0; i < kTiles; ++i) {
-      const double when = poses.front().first + span * i / (kTiles - 1);
-      while (next + 1 < poses.size() && poses[next].first < when - 1e-9) ++next;
-      for (int view = 0; view < 2; ++view)
-        visualization::AppendStickFigure(model, ws, poses[next].second, view, (view == 0 ? 0.35 : 0.6) * i, &links[view], &soles[view]);
-    }
-    const std::string when = "16 frames over the first " + std::to_string(span).substr(0, 4) + " s";
-    visualization::PlotSpec sag{"gait tiles, sagittal projection (" + when + "; each 0.35 m further)", "x [m] (+ 0.35 m per tile)", "z [m]", {soles[0], links[0]}, true, 1800, 450};
-    visualization::PlotSpec front{"gait tiles, frontal projection (" + when + "; each 0.6 m further)", "y [m] (+ 0.6 m per tile)", "z [m]", {soles[1], links[1]}, true, 1800, 450};
-    write({sag}, "gait_tiles_sagittal.png");
-    write({front}, "gait_tiles_frontal.png");
-  }
+  if (!poses.empty()) WriteGaitTiles(dir, model, poses);
 }
 
 }  // namespace

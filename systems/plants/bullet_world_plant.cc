@@ -415,7 +415,12 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
     y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
   }, Feedthrough::None());
 
-  // Mode changes, announced by guards (see the header). Touchdowns from the graph.
+  DeclareModeChangeGuards();
+}
+
+// Mode changes, announced by guards (see the header). Touchdowns from the graph.
+void BulletWorldPlant::DeclareModeChangeGuards() {
+  const int nc = model_->num_contacts();
   const int num_modes = static_cast<int>(graph_.modes.size());
   for (const ResolvedTransition& t : transitions_) {
     if (t.kind != ContactModeGraph::Kind::kTouchdown) continue;

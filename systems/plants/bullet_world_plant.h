@@ -171,6 +171,7 @@ class BulletWorldPlant final : public ContactPlant {
   EventStatus Step(const LeafContext& context, Eigen::VectorXd* next) const;
   /// Height of the lowest point of `contact` above the terrain surface under it at q [m].
   double ContactHeight(const LeafContext& context, const Eigen::Ref<const Eigen::VectorXd>& q, int contact) const;
+  void DeclareModeChangeGuards();  // the touchdown and lift-off guards of every mode (constructor only)
   void EnterMode(double t, int to, State* next) const;
 
   BulletWorldPlantParams params_;
