@@ -109,7 +109,9 @@ class LeafContext final : public Context {
   template <class T>
   T& scratch() const {
     T* p = std::any_cast<T>(&scratch_);
-    if (p == nullptr) throw std::logic_error("LeafContext::scratch: wrong scratch type requested (" + std::string(typeid(T).name()) + ")");
+    if (p == nullptr)
+      throw std::logic_error("LeafContext::scratch: wrong scratch type requested (" + std::string(typeid(T).name()) +
+                             ")");
     return *p;
   }
 
@@ -124,8 +126,8 @@ class LeafContext final : public Context {
   std::unique_ptr<LeafContext> CloneLeaf() const;
 
   struct OutputCache {
-    Eigen::VectorXd value;   // vector ports
-    std::any abstract;       // typed ports
+    Eigen::VectorXd value;  // vector ports
+    std::any abstract;      // typed ports
     std::uint64_t version = 0;
   };
 

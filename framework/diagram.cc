@@ -105,10 +105,12 @@ void Diagram::FixInputPort(Context& context, int index, const Eigen::VectorXd& v
   auto& dc = const_cast<DiagramContext&>(AsDiagramContext(context));
   const PortInfo& port = input_port(index);
   if (!port.is_vector())
-    throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' carries " + port.TypeString() + "; it cannot be fixed to a vector");
+    throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' carries " +
+                                port.TypeString() + "; it cannot be fixed to a vector");
   if (value.size() != port.size)
-    throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' has size " + std::to_string(port.size) +
-                                " but the fixed value has size " + std::to_string(value.size()));
+    throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' has size " +
+                                std::to_string(port.size) + " but the fixed value has size " +
+                                std::to_string(value.size()));
   dc.fixed_inputs_[index] = value;
   dc.input_fixed_[index] = true;
   for (const InputRef& in : exported_inputs_[index]) {
@@ -122,8 +124,11 @@ void Diagram::FixInputPort(Context& context, int index, const Eigen::VectorXd& v
 const Eigen::VectorXd& Diagram::EvalInput(const Context& context, int index) const {
   const DiagramContext& dc = AsDiagramContext(context);
   const PortInfo& port = input_port(index);
-  if (!port.is_vector()) throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' carries " + port.TypeString() + ", not a vector");
-  if (!dc.input_fixed_[index]) throw std::runtime_error("input port '" + port.name + "' of diagram '" + name() + "' has no fixed value");
+  if (!port.is_vector())
+    throw std::invalid_argument("input port '" + port.name + "' of diagram '" + name() + "' carries " +
+                                port.TypeString() + ", not a vector");
+  if (!dc.input_fixed_[index])
+    throw std::runtime_error("input port '" + port.name + "' of diagram '" + name() + "' has no fixed value");
   return dc.fixed_inputs_[index];
 }
 
@@ -144,7 +149,8 @@ LeafContext& Diagram::GetMutableSubsystemContext(const LeafSystem& system, Conte
   return dc.leaf(GetLeafIndex(system));
 }
 
-const Eigen::VectorXd& Diagram::EvalSubsystemOutput(const System& subsystem, const std::string& port, const Context& context) const {
+const Eigen::VectorXd& Diagram::EvalSubsystemOutput(const System& subsystem, const std::string& port,
+                                                    const Context& context) const {
   const DiagramContext& dc = AsDiagramContext(context);
   const int index = subsystem.GetOutputPortIndex(port);
   if (!subsystem.is_diagram()) {
@@ -173,8 +179,10 @@ void Diagram::EvalAllOutputs(const Context& context) const {
 void DiagramBuilder::AddSystemImpl(std::unique_ptr<System> system, const std::string& name) {
   if (!system) throw std::invalid_argument("DiagramBuilder::AddSystem: null system");
   std::string n = name.empty() ? system->name() : name;
-  if (n.find('/') != std::string::npos) throw std::invalid_argument("DiagramBuilder: system name '" + n + "' must not contain '/'");
-  if (HasSystem(n)) throw std::invalid_argument("DiagramBuilder: a system named '" + n + "' was already added; names must be unique");
+  if (n.find('/') != std::string::npos)
+    throw std::invalid_argument("DiagramBuilder: system name '" + n + "' must not contain '/'");
+  if (HasSystem(n))
+    throw std::invalid_argument("DiagramBuilder: a system named '" + n + "' was already added; names must be unique");
   for (const auto& s : systems_)
     if (s.get() == system.get()) throw std::invalid_argument("DiagramBuilder: system '" + n + "' was added twice");
   system->set_name(n);
@@ -182,7 +190,9 @@ void DiagramBuilder::AddSystemImpl(std::unique_ptr<System> system, const std::st
   systems_.push_back(std::move(system));
 }
 
-bool DiagramBuilder::HasSystem(const std::string& name) const { return std::find(names_.begin(), names_.end(), name) != names_.end(); }
+bool DiagramBuilder::HasSystem(const std::string& name) const {
+  return std::find(names_.begin(), names_.end(), name) != names_.end();
+}
 
 int DiagramBuilder::SystemIndex(const std::string& name) const {
   for (size_t i = 0; i < names_.size(); ++i)
@@ -198,25 +208,26 @@ int DiagramBuilder::SystemIndex(const System& system) const {
 
 System& DiagramBuilder::GetMutableSystem(const std::string& name) const { return *systems_[SystemIndex(name)]; }
 
-void DiagramBuilder::Connect(const std::string& from_system, const std::string& output_port, const std::string& to_system,
-                             const std::string& input_port) {
+void DiagramBuilder::Connect(const std::string& from_system, const std::string& output_port,
+                             const std::string& to_system, const std::string& input_port) {
   const int from = SystemIndex(from_system), to = SystemIndex(to_system);
   const int out = systems_[from]->GetOutputPortIndex(output_port);
   const int in = systems_[to]->GetInputPortIndex(input_port);
   connections_.push_back({{from, out}, {to, in}});
 }
 
-void DiagramBuilder::Connect(const System& from_system, const std::string& output_port, const System& to_system, const std::string& input_port) {
+void DiagramBuilder::Connect(const System& from_system, const std::string& output_port, const System& to_system,
+                             const std::string& input_port) {
   Connect(names_[SystemIndex(from_system)], output_port, names_[SystemIndex(to_system)], input_port);
 }
 
 void DiagramBuilder::Connect(const System& from, const System& to) {
   if (from.num_output_ports() != 1)
-    throw std::invalid_argument("DiagramBuilder::Connect: system '" + from.name() + "' has " + std::to_string(from.num_output_ports()) +
-                                " output ports; name the port");
+    throw std::invalid_argument("DiagramBuilder::Connect: system '" + from.name() + "' has " +
+                                std::to_string(from.num_output_ports()) + " output ports; name the port");
   if (to.num_input_ports() != 1)
-    throw std::invalid_argument("DiagramBuilder::Connect: system '" + to.name() + "' has " + std::to_string(to.num_input_ports()) +
-                                " input ports; name the port");
+    throw std::invalid_argument("DiagramBuilder::Connect: system '" + to.name() + "' has " +
+                                std::to_string(to.num_input_ports()) + " input ports; name the port");
   Connect(from, from.output_port(0).name, to, to.input_port(0).name);
 }
 
@@ -276,8 +287,8 @@ std::unique_ptr<Diagram> DiagramBuilder::Build(const std::string& name) {
 
 std::string DiagramBuilder::PortName(int s, int p, bool input) const {
   const System& sys = *systems_[s];
-  return std::string(input ? "input" : "output") + " port '" + (input ? sys.input_port(p) : sys.output_port(p)).name + "' of system '" +
-         names_[s] + "'";
+  return std::string(input ? "input" : "output") + " port '" + (input ? sys.input_port(p) : sys.output_port(p)).name +
+         "' of system '" + names_[s] + "'";
 }
 
 Diagram::OutputRef DiagramBuilder::LeafOutput(const std::vector<int>& offset, PortRef o) const {
@@ -288,7 +299,8 @@ Diagram::OutputRef DiagramBuilder::LeafOutput(const std::vector<int>& offset, Po
   return r;
 }
 
-void DiagramBuilder::ExpandLeaves(Diagram& diagram, std::vector<int>* offset, std::vector<PendingInput>* pending) const {
+void DiagramBuilder::ExpandLeaves(Diagram& diagram, std::vector<int>* offset,
+                                  std::vector<PendingInput>* pending) const {
   using Wiring = Diagram::LeafInputWiring;
   Diagram* d = &diagram;
   const int nsys = static_cast<int>(systems_.size());
@@ -307,7 +319,8 @@ void DiagramBuilder::ExpandLeaves(Diagram& diagram, std::vector<int>* offset, st
         std::vector<Wiring> w = child->wiring_[i];
         for (size_t p = 0; p < w.size(); ++p) {
           if (w[p].kind == Wiring::Kind::kUpstream) w[p].upstream.leaf += (*offset)[s];
-          if (w[p].kind == Wiring::Kind::kExported) pending->push_back({(*offset)[s] + i, static_cast<int>(p), s, w[p].exported_index});
+          if (w[p].kind == Wiring::Kind::kExported)
+            pending->push_back({(*offset)[s] + i, static_cast<int>(p), s, w[p].exported_index});
         }
         d->wiring_.push_back(std::move(w));
       }
@@ -315,7 +328,8 @@ void DiagramBuilder::ExpandLeaves(Diagram& diagram, std::vector<int>* offset, st
   }
 }
 
-void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const std::vector<int>& offset, const std::vector<PendingInput>& pending) const {
+void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const std::vector<int>& offset,
+                                const std::vector<PendingInput>& pending) const {
   using Wiring = Diagram::LeafInputWiring;
   Diagram* d = &diagram;
   const int nsys = static_cast<int>(systems_.size());
@@ -336,15 +350,17 @@ void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const
     const PortInfo& in_port = systems_[c.to.system]->input_port(c.to.port);
     if (!out_port.is_vector() || !in_port.is_vector()) {
       if (!out_port.SameTypeAs(in_port))
-        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: " + port_name(c.from.system, c.from.port, false) +
-                                    " carries " + out_port.TypeString() + " but " + port_name(c.to.system, c.to.port, true) + " takes " +
-                                    in_port.TypeString());
+        throw std::invalid_argument("DiagramBuilder::Build('" + name +
+                                    "'): type mismatch: " + port_name(c.from.system, c.from.port, false) + " carries " +
+                                    out_port.TypeString() + " but " + port_name(c.to.system, c.to.port, true) +
+                                    " takes " + in_port.TypeString());
     }
     const int out_size = out_port.size;
     const int in_size = in_port.size;
     if (out_size != in_size)
-      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: " + port_name(c.from.system, c.from.port, false) +
-                                  " has size " + std::to_string(out_size) + " but " + port_name(c.to.system, c.to.port, true) +
+      throw std::invalid_argument("DiagramBuilder::Build('" + name +
+                                  "'): size mismatch: " + port_name(c.from.system, c.from.port, false) + " has size " +
+                                  std::to_string(out_size) + " but " + port_name(c.to.system, c.to.port, true) +
                                   " has size " + std::to_string(in_size));
     add_source(c.to, Wiring{Wiring::Kind::kUpstream, leaf_output(c.from), {}, {}, -1},
                "connection from " + port_name(c.from.system, c.from.port, false));
@@ -352,18 +368,21 @@ void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const
   for (const auto& [in, value] : fixed_) {
     const PortInfo& in_port = systems_[in.system]->input_port(in.port);
     if (!in_port.is_vector())
-      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: " + port_name(in.system, in.port, true) + " takes " +
+      throw std::invalid_argument("DiagramBuilder::Build('" + name +
+                                  "'): type mismatch: " + port_name(in.system, in.port, true) + " takes " +
                                   in_port.TypeString() + " but its fixed value is a vector (use FixTypedInput)");
     const int in_size = in_port.size;
     if (value.size() != in_size)
-      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: " + port_name(in.system, in.port, true) +
-                                  " has size " + std::to_string(in_size) + " but its fixed value has size " + std::to_string(value.size()));
+      throw std::invalid_argument(
+          "DiagramBuilder::Build('" + name + "'): size mismatch: " + port_name(in.system, in.port, true) +
+          " has size " + std::to_string(in_size) + " but its fixed value has size " + std::to_string(value.size()));
     add_source(in, Wiring{Wiring::Kind::kFixed, {-1, -1}, value, {}, -1}, "a fixed value");
   }
   for (const auto& [in, value] : fixed_abstract_) {
     const PortInfo& in_port = systems_[in.system]->input_port(in.port);
     if (in_port.is_vector() || *in_port.value_type != value.type())
-      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: " + port_name(in.system, in.port, true) + " takes " +
+      throw std::invalid_argument("DiagramBuilder::Build('" + name +
+                                  "'): type mismatch: " + port_name(in.system, in.port, true) + " takes " +
                                   in_port.TypeString() + " but its fixed value is " + DemangledTypeName(value.type()));
     add_source(in, Wiring{Wiring::Kind::kFixed, {-1, -1}, {}, value, -1}, "a fixed value");
   }
@@ -374,14 +393,16 @@ void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const
     for (const PortRef& in : refs) {
       const int in_size = systems_[in.system]->input_port(in.port).size;
       if (!systems_[in.system]->input_port(in.port).SameTypeAs(first))
-        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: exported input '" + ename + "' fans out to " +
-                                    port_name(in.system, in.port, true) + ", which takes " + systems_[in.system]->input_port(in.port).TypeString() +
+        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): type mismatch: exported input '" + ename +
+                                    "' fans out to " + port_name(in.system, in.port, true) + ", which takes " +
+                                    systems_[in.system]->input_port(in.port).TypeString() +
                                     ", and to a port that takes " + first.TypeString());
       if (in_size != size)
-        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: exported input '" + ename + "' fans out to " +
-                                    port_name(in.system, in.port, true) + " of size " + std::to_string(in_size) + " and to a port of size " +
-                                    std::to_string(size));
-      add_source(in, Wiring{Wiring::Kind::kExported, {-1, -1}, {}, {}, static_cast<int>(k)}, "the diagram input '" + ename + "'");
+        throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): size mismatch: exported input '" + ename +
+                                    "' fans out to " + port_name(in.system, in.port, true) + " of size " +
+                                    std::to_string(in_size) + " and to a port of size " + std::to_string(size));
+      add_source(in, Wiring{Wiring::Kind::kExported, {-1, -1}, {}, {}, static_cast<int>(k)},
+                 "the diagram input '" + ename + "'");
     }
     PortInfo exported = first;
     exported.name = ename;
@@ -395,7 +416,8 @@ void DiagramBuilder::WireInputs(Diagram& diagram, const std::string& name, const
       throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): " + port_name(p.block, p.block_input, true) +
                                   " is not connected (connect it, fix it with FixInput, or export it)");
     d->wiring_[p.leaf][p.port] = it->second;
-    if (it->second.kind == Wiring::Kind::kExported) d->exported_inputs_[it->second.exported_index].push_back({p.leaf, p.port});
+    if (it->second.kind == Wiring::Kind::kExported)
+      d->exported_inputs_[it->second.exported_index].push_back({p.leaf, p.port});
   }
   // Block inputs of nested diagrams whose exported input reaches no leaf still need a source check.
   for (int s = 0; s < nsys; ++s)
@@ -421,10 +443,12 @@ void DiagramBuilder::SortEvaluationOrder(Diagram& diagram, const std::string& na
     if (st == 2) return;
     if (st == 1) {
       std::string loop;
-      auto it = std::find_if(stack.begin(), stack.end(), [&](const Diagram::OutputRef& r) { return r.leaf == o.leaf && r.port == o.port; });
+      auto it = std::find_if(stack.begin(), stack.end(),
+                             [&](const Diagram::OutputRef& r) { return r.leaf == o.leaf && r.port == o.port; });
       for (; it != stack.end(); ++it) loop += describe(*it) + " -> ";
       loop += describe(o);
-      throw std::invalid_argument("DiagramBuilder::Build('" + name + "'): algebraic loop among direct-feedthrough ports: " + loop);
+      throw std::invalid_argument("DiagramBuilder::Build('" + name +
+                                  "'): algebraic loop among direct-feedthrough ports: " + loop);
     }
     st = 1;
     stack.push_back(o);

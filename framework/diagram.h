@@ -61,7 +61,8 @@ class Diagram final : public System {
   /// Output `port` of `subsystem`, a leaf of this diagram or a diagram nested in it (at any depth), evaluated in this
   /// diagram's `context`: a nested diagram's exported output is read from the leaf that produces it. Throws, naming
   /// the system and the port, if `subsystem` is not part of this diagram or has no such (vector) output.
-  const Eigen::VectorXd& EvalSubsystemOutput(const System& subsystem, const std::string& port, const Context& context) const;
+  const Eigen::VectorXd& EvalSubsystemOutput(const System& subsystem, const std::string& port,
+                                             const Context& context) const;
 
   /// Leaf output ports in an order where every direct-feedthrough dependency comes first.
   struct OutputRef {
@@ -95,9 +96,9 @@ class Diagram final : public System {
   };
   std::vector<std::unique_ptr<System>> owned_;
   std::vector<Leaf> leaves_;
-  std::vector<std::vector<LeafInputWiring>> wiring_;  // [leaf][input port]
+  std::vector<std::vector<LeafInputWiring>> wiring_;    // [leaf][input port]
   std::vector<std::vector<InputRef>> exported_inputs_;  // [diagram input] -> leaf inputs
-  std::vector<OutputRef> exported_outputs_;            // [diagram output] -> leaf output
+  std::vector<OutputRef> exported_outputs_;             // [diagram output] -> leaf output
   std::vector<OutputRef> evaluation_order_;
 };
 
@@ -118,8 +119,10 @@ class DiagramBuilder {
     return AddSystem(std::make_unique<S>(std::forward<Args>(args)...), name);
   }
 
-  void Connect(const std::string& from_system, const std::string& output_port, const std::string& to_system, const std::string& input_port);
-  void Connect(const System& from_system, const std::string& output_port, const System& to_system, const std::string& input_port);
+  void Connect(const std::string& from_system, const std::string& output_port, const std::string& to_system,
+               const std::string& input_port);
+  void Connect(const System& from_system, const std::string& output_port, const System& to_system,
+               const std::string& input_port);
   /// Connects the only output of `from` to the only input of `to`.
   void Connect(const System& from, const System& to);
   /// Gives an input a fixed value inside the diagram.
@@ -160,7 +163,8 @@ class DiagramBuilder {
   // Build's stages: the blocks expanded into leaves; one source per block input (checked) wired into the leaves; the
   // leaf outputs in evaluation order (algebraic loops rejected).
   void ExpandLeaves(Diagram& d, std::vector<int>* offset, std::vector<PendingInput>* pending) const;
-  void WireInputs(Diagram& d, const std::string& name, const std::vector<int>& offset, const std::vector<PendingInput>& pending) const;
+  void WireInputs(Diagram& d, const std::string& name, const std::vector<int>& offset,
+                  const std::vector<PendingInput>& pending) const;
   static void SortEvaluationOrder(Diagram& d, const std::string& name);
   std::string PortName(int system, int port, bool input) const;
   /// The leaf output behind output `o` of a block (offset: each block's first leaf).

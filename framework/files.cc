@@ -66,10 +66,14 @@ std::string ReadRegularFile(const std::string& path, const std::string& what, st
     throw FileError(what, path, std::string("cannot be opened (") + std::strerror(err) + ")");
   }
   struct stat st {};
-  if (::fstat(f.fd, &st) != 0) throw FileError(what, path, std::string("cannot be read (") + std::strerror(errno) + ")");
-  if (!S_ISREG(st.st_mode)) throw FileError(what, path, std::string("is ") + FileKind(st.st_mode) + ", not a regular file");
+  if (::fstat(f.fd, &st) != 0)
+    throw FileError(what, path, std::string("cannot be read (") + std::strerror(errno) + ")");
+  if (!S_ISREG(st.st_mode))
+    throw FileError(what, path, std::string("is ") + FileKind(st.st_mode) + ", not a regular file");
   if (static_cast<std::uintmax_t>(st.st_size) > max_bytes)
-    throw FileError(what, path, "file is " + std::to_string(st.st_size) + " bytes; the limit is " + std::to_string(max_bytes) + " bytes");
+    throw FileError(
+        what, path,
+        "file is " + std::to_string(st.st_size) + " bytes; the limit is " + std::to_string(max_bytes) + " bytes");
   std::string text;
   text.reserve(static_cast<size_t>(st.st_size));
   std::vector<char> buffer(1 << 16);
@@ -94,23 +98,30 @@ std::string CheckOutputPath(const std::string& path, const std::string& what) {
   if (::lstat(path.c_str(), &st) == 0) {  // an existing symlink is replaced, never followed
     if (S_ISDIR(st.st_mode)) return what + " " + Excerpt(path, 200) + ": is a directory, not a file";
     if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode))
-      return what + " " + Excerpt(path, 200) + ": is " + FileKind(st.st_mode) + ", not a regular file; give a file name";
+      return what + " " + Excerpt(path, 200) + ": is " + FileKind(st.st_mode) +
+             ", not a regular file; give a file name";
   }
   const std::string folder = FolderOf(path);
-  if (::stat(folder.c_str(), &st) != 0) return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " does not exist";
-  if (!S_ISDIR(st.st_mode)) return what + " " + Excerpt(path, 200) + ": " + Excerpt(folder, 200) + " is a file, not a folder";
-  if (::access(folder.c_str(), W_OK | X_OK) != 0) return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " is not writable";
+  if (::stat(folder.c_str(), &st) != 0)
+    return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " does not exist";
+  if (!S_ISDIR(st.st_mode))
+    return what + " " + Excerpt(path, 200) + ": " + Excerpt(folder, 200) + " is a file, not a folder";
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    return what + " " + Excerpt(path, 200) + ": the folder " + Excerpt(folder, 200) + " is not writable";
   return {};
 }
 
-AtomicFileWriter::AtomicFileWriter(std::string path, std::string what) : path_(std::move(path)), what_(std::move(what)) {
+AtomicFileWriter::AtomicFileWriter(std::string path, std::string what)
+    : path_(std::move(path)), what_(std::move(what)) {
   if (const std::string problem = CheckOutputPath(path_, what_); !problem.empty()) throw std::runtime_error(problem);
   std::string name = ".";  // appended piece by piece: GCC 12 warns falsely (-Wstringop-overflow) on "." + string
   name.append(fs::path(path_).filename().string());
   name.append(".XXXXXX");
   std::string templ = (fs::path(FolderOf(path_)) / name).string();
   const int fd = ::mkstemp(templ.data());  // O_CREAT | O_EXCL, mode 0600
-  if (fd < 0) throw FileError(what_, path_, std::string("cannot create a temporary file beside it (") + std::strerror(errno) + ")");
+  if (fd < 0)
+    throw FileError(what_, path_,
+                    std::string("cannot create a temporary file beside it (") + std::strerror(errno) + ")");
   ::fchmod(fd, 0644 & ~ProcessUmask());  // as an ordinary new file, not mkstemp's 0600
   temp_path_ = templ;
   file_ = ::fdopen(fd, "w");
@@ -130,7 +141,8 @@ AtomicFileWriter::~AtomicFileWriter() {
 
 void AtomicFileWriter::Append(std::string_view text) {
   if (file_ == nullptr) throw FileError(what_, path_, "written after Commit");
-  if (!text.empty() && std::fwrite(text.data(), 1, text.size(), file_) != text.size() && write_errno_ == 0) write_errno_ = errno != 0 ? errno : EIO;
+  if (!text.empty() && std::fwrite(text.data(), 1, text.size(), file_) != text.size() && write_errno_ == 0)
+    write_errno_ = errno != 0 ? errno : EIO;
 }
 
 void AtomicFileWriter::Commit() {
@@ -169,9 +181,13 @@ std::string ResolveInsideFolder(const std::string& root, const std::string& rela
   // by text and keep the link), so the check below sees where the file really is.
   const fs::path full = fs::canonical(base / rel, ec);
   const fs::path where = ec ? (base / rel).lexically_normal() : full;
-  const auto inside = [&base](const fs::path& p) { return std::mismatch(base.begin(), base.end(), p.begin(), p.end()).first == base.end(); };
+  const auto inside = [&base](const fs::path& p) {
+    return std::mismatch(base.begin(), base.end(), p.begin(), p.end()).first == base.end();
+  };
   if (!inside(where))
-    throw FileError(what, relative, "leaves its package folder " + Excerpt(base.string(), 200) + " (to " + Excerpt(where.string(), 200) + ")");
+    throw FileError(
+        what, relative,
+        "leaves its package folder " + Excerpt(base.string(), 200) + " (to " + Excerpt(where.string(), 200) + ")");
   if (ec) throw FileError(what, (base / rel).string(), "file does not exist");
   return full.string();
 }
@@ -180,7 +196,8 @@ TempFolder::TempFolder(const std::string& prefix) {
   const char* env = std::getenv("TMPDIR");
   const std::string base = (env != nullptr && *env != '\0') ? env : "/tmp";
   std::string templ = base + "/" + prefix + "-XXXXXX";
-  if (::mkdtemp(templ.data()) == nullptr) throw FileError("temporary folder", templ, std::string("cannot be created (") + std::strerror(errno) + ")");
+  if (::mkdtemp(templ.data()) == nullptr)
+    throw FileError("temporary folder", templ, std::string("cannot be created (") + std::strerror(errno) + ")");
   path_ = templ;
 }
 

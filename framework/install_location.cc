@@ -12,8 +12,11 @@ namespace rome {
 
 std::string InstalledDataFolder() {
   Dl_info info{};
-  // The address of this function lies in librome_location.so itself: dladdr names that file, wherever it was loaded from.
-  if (dladdr(reinterpret_cast<void*>(&InstalledDataFolder), &info) == 0 || info.dli_fname == nullptr || *info.dli_fname == '\0') return {};
+  // The address of this function lies in librome_location.so itself: dladdr names that file, wherever it was loaded
+  // from.
+  if (dladdr(reinterpret_cast<void*>(&InstalledDataFolder), &info) == 0 || info.dli_fname == nullptr ||
+      *info.dli_fname == '\0')
+    return {};
   std::error_code ec;
   std::filesystem::path library(info.dli_fname);
   if (const std::filesystem::path resolved = std::filesystem::weakly_canonical(library, ec); !ec) library = resolved;

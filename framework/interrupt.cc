@@ -10,7 +10,7 @@ volatile sig_atomic_t received = 0;
 
 extern "C" void RecordInterrupt(int signal) {
   if (received == 0) received = signal;  // the first one decides the exit code
-  ::signal(signal, SIG_DFL);              // async-signal-safe; the next one of this kind ends the process
+  ::signal(signal, SIG_DFL);             // async-signal-safe; the next one of this kind ends the process
 }
 
 // Installs the handler unless the signal is ignored (as a shell ignores SIGINT for a background job without job

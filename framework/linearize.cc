@@ -28,7 +28,8 @@ class StackedState {
         Add(diagram.leaf(i), diagram.GetMutableSubsystemContext(diagram.leaf(i), context), diagram.leaf_path(i));
     } else {
       auto& leaf_context = static_cast<LeafContext&>(context);
-      if (&leaf_context.system() != &system) Fail(system, "was given the context of system '" + leaf_context.system().name() + "'");
+      if (&leaf_context.system() != &system)
+        Fail(system, "was given the context of system '" + leaf_context.system().name() + "'");
       Add(static_cast<const LeafSystem&>(system), leaf_context, system.name());
     }
   }
@@ -52,7 +53,8 @@ class StackedState {
       if (n == 0) continue;
       p.system->CalcTimeDerivatives(*p.context, &p.xdot);
       if (p.xdot.size() != n)
-        Fail(system_, "DoCalcTimeDerivatives of '" + p.path + "' produced size " + std::to_string(p.xdot.size()) + ", expected " + std::to_string(n));
+        Fail(system_, "DoCalcTimeDerivatives of '" + p.path + "' produced size " + std::to_string(p.xdot.size()) +
+                          ", expected " + std::to_string(n));
       xdot->segment(offset, n) = p.xdot;
       offset += n;
     }
@@ -82,7 +84,9 @@ int VectorPortIndex(const System& system, const std::string& name, bool input) {
   if (name.empty()) return -1;
   const int index = input ? system.GetInputPortIndex(name) : system.GetOutputPortIndex(name);  // names the ports it has
   const PortInfo& port = input ? system.input_port(index) : system.output_port(index);
-  if (!port.is_vector()) Fail(system, std::string(input ? "input" : "output") + " port '" + name + "' carries " + port.TypeString() + ", not a vector");
+  if (!port.is_vector())
+    Fail(system, std::string(input ? "input" : "output") + " port '" + name + "' carries " + port.TypeString() +
+                     ", not a vector");
   return index;
 }
 
@@ -91,7 +95,8 @@ Eigen::VectorXd FixedInput(const System& system, const Context& context, int ind
     if (system.is_diagram()) return static_cast<const Diagram&>(system).EvalInput(context, index);
     return static_cast<const LeafSystem&>(system).EvalInput(static_cast<const LeafContext&>(context), index);
   } catch (const std::runtime_error&) {
-    Fail(system, "input port '" + system.input_port(index).name + "' has no fixed value; fix it to the operating-point input u0 first");
+    Fail(system, "input port '" + system.input_port(index).name +
+                     "' has no fixed value; fix it to the operating-point input u0 first");
   }
 }
 
@@ -100,7 +105,11 @@ template <class Where>
 void CheckFinite(const System& system, const Eigen::VectorXd& v, const char* what, const Where& where) {
   for (int i = 0; i < v.size(); ++i)
     if (!std::isfinite(v[i]))
-      Fail(system, std::string(what) + "[" + std::to_string(i) + "] is " + (std::isnan(v[i]) ? "NaN" : v[i] > 0 ? "+Inf" : "-Inf") + " at " + where());
+      Fail(system, std::string(what) + "[" + std::to_string(i) + "] is " +
+                       (std::isnan(v[i]) ? "NaN"
+                        : v[i] > 0       ? "+Inf"
+                                         : "-Inf") +
+                       " at " + where());
 }
 
 std::string OperatingPoint() { return "the operating point"; }
@@ -118,15 +127,15 @@ struct Restore {
     for (int i = 0; i < state.size(); ++i) state[i] = x0[i];
     try {
       if (input_changed) system.FixInputPort(context, input, u0);  // the port took a value of this size before
-    } catch (...) {  // never throw from a destructor
+    } catch (...) {                                                // never throw from a destructor
     }
   }
 };
 
 }  // namespace
 
-LinearSystemMatrices Linearize(const System& system, Context& context, const std::string& input_port, const std::string& output_port,
-                               const LinearizeParams& params) {
+LinearSystemMatrices Linearize(const System& system, Context& context, const std::string& input_port,
+                               const std::string& output_port, const LinearizeParams& params) {
   if (!(params.step_scale > 0) || !std::isfinite(params.step_scale))
     Fail(system, "LinearizeParams::step_scale must be positive and finite, got " + std::to_string(params.step_scale));
   const int input = VectorPortIndex(system, input_port, true);
@@ -159,8 +168,8 @@ LinearSystemMatrices Linearize(const System& system, Context& context, const std
   auto evaluate = [&](int j, double delta, Eigen::VectorXd* f, Eigen::VectorXd* g) {
     const bool is_state = j < n;
     const auto where = [&] {
-      return std::string(is_state ? "x[" : "u[") + std::to_string(is_state ? j : j - n) + "] " + (delta > 0 ? "+ " : "- ") +
-             std::to_string(std::abs(delta));
+      return std::string(is_state ? "x[" : "u[") + std::to_string(is_state ? j : j - n) + "] " +
+             (delta > 0 ? "+ " : "- ") + std::to_string(std::abs(delta));
     };
     if (is_state) {
       state[j] = lin.x0[j] + delta;

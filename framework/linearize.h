@@ -46,15 +46,15 @@ struct LinearizeParams {
 
 /// The linear model δẋ = A δx + B δu, δy = C δx + D δu about (x0, u0) at time `time`.
 struct LinearSystemMatrices {
-  Eigen::MatrixXd A;   ///< ∂f/∂x, n×n
-  Eigen::MatrixXd B;   ///< ∂f/∂u, n×m (m = 0 without an input port)
-  Eigen::MatrixXd C;   ///< ∂g/∂x, p×n (p = 0 without an output port)
-  Eigen::MatrixXd D;   ///< ∂g/∂u, p×m
-  Eigen::VectorXd x0;  ///< operating-point state
-  Eigen::VectorXd u0;  ///< operating-point input (empty without an input port)
-  Eigen::VectorXd y0;  ///< output at the operating point (empty without an output port)
+  Eigen::MatrixXd A;      ///< ∂f/∂x, n×n
+  Eigen::MatrixXd B;      ///< ∂f/∂u, n×m (m = 0 without an input port)
+  Eigen::MatrixXd C;      ///< ∂g/∂x, p×n (p = 0 without an output port)
+  Eigen::MatrixXd D;      ///< ∂g/∂u, p×m
+  Eigen::VectorXd x0;     ///< operating-point state
+  Eigen::VectorXd u0;     ///< operating-point input (empty without an input port)
+  Eigen::VectorXd y0;     ///< output at the operating point (empty without an output port)
   Eigen::VectorXd xdot0;  ///< f(t, x0, u0): zero at an equilibrium
-  double time = 0;     ///< [s]
+  double time = 0;        ///< [s]
 };
 
 /// Linearizes `system` (a LeafSystem or a Diagram with continuous state) about the operating point held by `context`.

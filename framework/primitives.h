@@ -8,7 +8,8 @@
 // Demultiplexer          inputs: u (sum n_i)  outputs: y0..y{k-1} (n_i)           (direct feedthrough)
 // ZeroOrderHold          inputs: u (n)         outputs: y (n)  y = u(t_k) held over [t_k, t_k + period)
 // TrajectorySource       outputs: y (n) [, ydot (n)]          y = trajectory(t)
-// Saturation             inputs: u (n)         outputs: y (n)  y_i = min(max(u_i, lower_i), upper_i) (direct feedthrough)
+// Saturation             inputs: u (n)         outputs: y (n)  y_i = min(max(u_i, lower_i), upper_i) (direct
+// feedthrough)
 
 #include <functional>
 #include <string>
@@ -75,7 +76,8 @@ class TrajectorySource final : public LeafSystem {
   using Function = std::function<void(double t, Eigen::Ref<Eigen::VectorXd> out)>;
   TrajectorySource(std::string name, int size, Function value, Function derivative = nullptr);
   /// Convenience for functions returning a vector (allocates per call).
-  static std::unique_ptr<TrajectorySource> FromFunction(std::string name, int size, std::function<Eigen::VectorXd(double)> value,
+  static std::unique_ptr<TrajectorySource> FromFunction(std::string name, int size,
+                                                        std::function<Eigen::VectorXd(double)> value,
                                                         std::function<Eigen::VectorXd(double)> derivative = nullptr);
 };
 

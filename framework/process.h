@@ -23,10 +23,10 @@ ExitStatus WaitForChild(pid_t pid);
 std::vector<char*> ArgvOf(std::vector<std::string>& args);
 
 struct ProcessResult {
-  bool started = false;     ///< false: the program could not be started (not installed); `error` says why
-  int exit_code = -1;       ///< the program's exit code; -1 if it died from a signal or was not started
-  std::string out;          ///< what it wrote on standard output
-  std::string error;        ///< why it could not be started, or the first line it wrote on standard error
+  bool started = false;  ///< false: the program could not be started (not installed); `error` says why
+  int exit_code = -1;    ///< the program's exit code; -1 if it died from a signal or was not started
+  std::string out;       ///< what it wrote on standard output
+  std::string error;     ///< why it could not be started, or the first line it wrote on standard error
 };
 
 /// Runs argv[0] (looked up on PATH when it has no '/') with the arguments argv[1..], standard input from /dev/null,

@@ -200,8 +200,8 @@ struct SimulatorCallbacks {
         impl->systems[i]->CalcTimeDerivatives(*impl->contexts[i], &impl->xdot[i]);
         const Eigen::VectorXd& d = impl->xdot[i];
         if (d.size() != n)
-          throw std::runtime_error("system '" + impl->paths[i] + "': DoCalcTimeDerivatives produced size " + std::to_string(d.size()) +
-                                   ", expected " + std::to_string(n));
+          throw std::runtime_error("system '" + impl->paths[i] + "': DoCalcTimeDerivatives produced size " +
+                                   std::to_string(d.size()) + ", expected " + std::to_string(n));
         if (!d.allFinite()) {
           std::ostringstream os;
           os << "system '" << impl->paths[i] << "' produced a non-finite time derivative at t = " << t << " (mode '"
@@ -244,7 +244,8 @@ struct SimulatorCallbacks {
   }
 };
 
-Simulator::Simulator(const System& system, SimulatorConfig config) : Simulator(system, system.CreateDefaultContext(), config) {}
+Simulator::Simulator(const System& system, SimulatorConfig config)
+    : Simulator(system, system.CreateDefaultContext(), config) {}
 
 Simulator::Simulator(const System& system, std::unique_ptr<Context> context, SimulatorConfig config)
     : impl_(std::make_unique<Impl>()), system_(system), context_(std::move(context)), config_(config) {
@@ -259,7 +260,8 @@ Simulator::Simulator(const System& system, std::unique_ptr<Context> context, Sim
       m.paths.push_back(d.leaf_path(i));
     }
   } else {
-    if (context_->is_diagram_context()) throw std::invalid_argument("Simulator: leaf system '" + system.name() + "' given a diagram context");
+    if (context_->is_diagram_context())
+      throw std::invalid_argument("Simulator: leaf system '" + system.name() + "' given a diagram context");
     m.systems.push_back(static_cast<const LeafSystem*>(&system));
     m.contexts.push_back(static_cast<LeafContext*>(context_.get()));
     m.paths.push_back(system.name());
@@ -276,7 +278,9 @@ Simulator::Simulator(const System& system, std::unique_ptr<Context> context, Sim
       const auto& guard = s.guards()[g];
       m.guards.push_back({static_cast<int>(i), g, m.nroots});
       for (int c = 0; c < guard.size; ++c)
-        m.rootdir.push_back(guard.direction == CrossingDirection::kRising ? 1 : guard.direction == CrossingDirection::kFalling ? -1 : 0);
+        m.rootdir.push_back(guard.direction == CrossingDirection::kRising    ? 1
+                            : guard.direction == CrossingDirection::kFalling ? -1
+                                                                             : 0);
       m.nroots += guard.size;
     }
     for (int e = 0; e < static_cast<int>(s.periodic_events().size()); ++e) {
@@ -297,7 +301,9 @@ Simulator::Simulator(const System& system, std::unique_ptr<Context> context, Sim
         for (size_t k = 0; k < m.systems.size() && leaf < 0; ++k)
           if (basename(m.paths[k]) == name.system) leaf = static_cast<int>(k);
         const std::string who = "system '" + m.paths[i] + "': event update '" + ups[u].name + "'";
-        if (leaf < 0) throw std::invalid_argument(who + " names system '" + name.system + "', which is not in '" + system.name() + "'");
+        if (leaf < 0)
+          throw std::invalid_argument(who + " names system '" + name.system + "', which is not in '" + system.name() +
+                                      "'");
         const bool prefix = name.guard.back() == '*';
         const std::string stem = prefix ? name.guard.substr(0, name.guard.size() - 1) : name.guard;
         bool found = false;
@@ -312,8 +318,8 @@ Simulator::Simulator(const System& system, std::unique_ptr<Context> context, Sim
           }
         }
         if (!found)
-          throw std::invalid_argument(who + " names guard '" + name.guard + "' of system '" + m.paths[leaf] + "', which has no such guard (it has " +
-                                      (known.empty() ? "none" : known) + ")");
+          throw std::invalid_argument(who + " names guard '" + name.guard + "' of system '" + m.paths[leaf] +
+                                      "', which has no such guard (it has " + (known.empty() ? "none" : known) + ")");
       }
       m.event_updates.push_back(std::move(ref));
     }
@@ -363,10 +369,12 @@ SimulatorStatus Simulator::Initialize() {
   N_VConst(0.0, m.y);
   if (nx_ > 0) m.ContextsToState(N_VGetArrayPointer(m.y));
   if (!(config_.relative_tolerance > 0) || !(config_.absolute_tolerance > 0))
-    throw std::invalid_argument("SimulatorConfig: tolerances must be positive (relative_tolerance = " + std::to_string(config_.relative_tolerance) +
+    throw std::invalid_argument("SimulatorConfig: tolerances must be positive (relative_tolerance = " +
+                                std::to_string(config_.relative_tolerance) +
                                 ", absolute_tolerance = " + std::to_string(config_.absolute_tolerance) + ")");
   if (config_.max_guard_events < 0)
-    throw std::invalid_argument("SimulatorConfig: max_guard_events must be 0 (no limit) or positive, got " + std::to_string(config_.max_guard_events));
+    throw std::invalid_argument("SimulatorConfig: max_guard_events must be 0 (no limit) or positive, got " +
+                                std::to_string(config_.max_guard_events));
   m.erk = config_.scheme == IntegrationScheme::kExplicitRungeKutta;
   if (m.erk) {
     // Dormand-Prince 5(4) or Bogacki-Shampine 3(2), error-controlled; one-step, so a restart at every sample costs
@@ -379,8 +387,9 @@ SimulatorStatus Simulator::Initialize() {
       if (!m.ele || !m.ewt) throw std::runtime_error("Simulator: N_VClone failed");
     }
     ERKStepSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
-    ERKStepSetTableNum(m.mem, config_.explicit_rk_method == ExplicitRungeKuttaMethod::kBogackiShampine32 ? ARKODE_BOGACKI_SHAMPINE_4_2_3
-                                                                                                    : ARKODE_DORMAND_PRINCE_7_4_5);
+    ERKStepSetTableNum(m.mem, config_.explicit_rk_method == ExplicitRungeKuttaMethod::kBogackiShampine32
+                                  ? ARKODE_BOGACKI_SHAMPINE_4_2_3
+                                  : ARKODE_DORMAND_PRINCE_7_4_5);
     ERKStepSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
     ERKStepSetUserData(m.mem, &m);
     if (config_.max_step_s > 0) ERKStepSetMaxStep(m.mem, config_.max_step_s);
@@ -395,7 +404,8 @@ SimulatorStatus Simulator::Initialize() {
     m.mem = CVodeCreate(config_.scheme == IntegrationScheme::kBdf ? CV_BDF : CV_ADAMS, m.sunctx);
     if (!m.mem) throw std::runtime_error("Simulator: CVodeCreate failed");
     CVodeSetErrHandlerFn(m.mem, &SimulatorCallbacks::ErrHandler, &m);
-    if (CVodeInit(m.mem, &SimulatorCallbacks::Rhs, t0, m.y) != CV_SUCCESS) throw std::runtime_error("Simulator: CVodeInit failed: " + m.cvode_message);
+    if (CVodeInit(m.mem, &SimulatorCallbacks::Rhs, t0, m.y) != CV_SUCCESS)
+      throw std::runtime_error("Simulator: CVodeInit failed: " + m.cvode_message);
     CVodeSStolerances(m.mem, config_.relative_tolerance, config_.absolute_tolerance);
     CVodeSetUserData(m.mem, &m);
     if (config_.scheme == IntegrationScheme::kAdamsFunctional) {
@@ -429,7 +439,8 @@ SimulatorStatus Simulator::Initialize() {
   status.time = t0;
   EventStatus es = RunEventPublishes(m);
   if (!es.ok()) {
-    status.reason = es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed : SimulatorStatus::Reason::kReachedTermination;
+    status.reason = es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed
+                                                          : SimulatorStatus::Reason::kReachedTermination;
     status.message = es.message;
     terminated_ = true;
     terminal_status_ = status;
@@ -459,7 +470,8 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
   }
   if (terminated_) return terminal_status_;
   Impl& m = *impl_;
-  if (!std::isfinite(t_final)) throw std::invalid_argument("Simulator::AdvanceTo: t_final must be finite, got " + std::to_string(t_final));
+  if (!std::isfinite(t_final))
+    throw std::invalid_argument("Simulator::AdvanceTo: t_final must be finite, got " + std::to_string(t_final));
   long steps_this_advance = 0;
   while (true) {
     double t = context_->time();
@@ -478,7 +490,8 @@ SimulatorStatus Simulator::AdvanceTo(double t_final) {
     double t_ret = t;
     if (std::optional<SimulatorStatus> end = Step(std::min(next_sample, t_final), &flag, &t_ret)) return *end;
     if (++steps_this_advance > config_.max_steps_per_advance)
-      return Finish(SimulatorStatus::Reason::kFailed, "", "more than max_steps_per_advance = " + std::to_string(config_.max_steps_per_advance) + " steps");
+      return Finish(SimulatorStatus::Reason::kFailed, "",
+                    "more than max_steps_per_advance = " + std::to_string(config_.max_steps_per_advance) + " steps");
     // Non-finite state check, naming the system.
     if (!Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(m.y), m.nx_integrated).allFinite()) {
       for (size_t i = 0; i < m.systems.size(); ++i)
@@ -504,7 +517,8 @@ SimulatorStatus Simulator::Finish(SimulatorStatus::Reason reason, const std::str
   status.system = sys;
   status.message = msg;
   status.time = context_->time();
-  if (reason == SimulatorStatus::Reason::kReachedBoundaryTime) status.message = status.ToString();  // "reached the time limit t = ..."
+  if (reason == SimulatorStatus::Reason::kReachedBoundaryTime)
+    status.message = status.ToString();  // "reached the time limit t = ..."
   if (reason != SimulatorStatus::Reason::kReachedBoundaryTime) {
     terminated_ = true;
     terminal_status_ = status;
@@ -520,12 +534,15 @@ SimulatorStatus Simulator::Finish(SimulatorStatus::Reason reason, const std::str
   stats_.restarts = m.acc.restarts;
   stats_.max_initial_step_after_reset_s = m.acc.max_initial_step_after_reset_s;
   m.AddCounters(&stats_);
-  if (reason == SimulatorStatus::Reason::kZeno && config_.event_policy.throw_on_violation) throw std::runtime_error(status.ToString());
+  if (reason == SimulatorStatus::Reason::kZeno && config_.event_policy.throw_on_violation)
+    throw std::runtime_error(status.ToString());
   return status;
 }
 
 SimulatorStatus Simulator::FromEvent(const EventStatus& es, const std::string& sys) {
-  return Finish(es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed : SimulatorStatus::Reason::kReachedTermination, sys, es.message);
+  return Finish(es.kind == EventStatus::Kind::kFailed ? SimulatorStatus::Reason::kFailed
+                                                      : SimulatorStatus::Reason::kReachedTermination,
+                sys, es.message);
 }
 
 void Simulator::Reinitialize(bool carry_step) {
@@ -566,7 +583,8 @@ std::optional<SimulatorStatus> Simulator::RunPeriodicEvents(double next_sample) 
       }
       EventStatus es = ev.update(*m.contexts[p.leaf], &m.xd_next[p.leaf]);
       if (m.xd_next[p.leaf].size() != m.systems[p.leaf]->num_discrete_states())
-        throw std::runtime_error("system '" + m.paths[p.leaf] + "': a discrete update changed the size of the discrete state to " +
+        throw std::runtime_error("system '" + m.paths[p.leaf] +
+                                 "': a discrete update changed the size of the discrete state to " +
                                  std::to_string(m.xd_next[p.leaf].size()));
       if (!es.ok()) return FromEvent(es, m.paths[p.leaf]);
       any_update = true;
@@ -614,7 +632,8 @@ std::optional<SimulatorStatus> Simulator::Step(double t_stop, int* flag_out, dou
   }
   if (flag < 0) {
     if (!m.failure.empty()) return Finish(SimulatorStatus::Reason::kFailed, "", m.failure);
-    return Finish(SimulatorStatus::Reason::kFailed, "", std::string(m.erk ? "ARKODE" : "CVODE") + " error " + std::to_string(flag) + ": " + m.cvode_message);
+    return Finish(SimulatorStatus::Reason::kFailed, "",
+                  std::string(m.erk ? "ARKODE" : "CVODE") + " error " + std::to_string(flag) + ": " + m.cvode_message);
   }
   if (flag == CV_TSTOP_RETURN) *t_ret = t_stop;  // exact sample times
   m.stop_step_h = 0.0;
@@ -662,8 +681,10 @@ std::optional<SimulatorStatus> Simulator::HandleGuards(double t_ret) {
     if (t_ret - m.last_event_time < config_.event_policy.min_event_separation_s) {
       if (++m.events_at_instant > config_.event_policy.max_events_per_instant) {
         std::ostringstream os;
-        os << "guard '" << guard.name << "' fired " << m.events_at_instant << " times with less than " << config_.event_policy.min_event_separation_s
-           << " s between events (EventPolicy::max_events_per_instant = " << config_.event_policy.max_events_per_instant << ")";
+        os << "guard '" << guard.name << "' fired " << m.events_at_instant << " times with less than "
+           << config_.event_policy.min_event_separation_s
+           << " s between events (EventPolicy::max_events_per_instant = " << config_.event_policy.max_events_per_instant
+           << ")";
         return Finish(SimulatorStatus::Reason::kZeno, m.paths[g.leaf], os.str());
       }
     } else {
@@ -674,8 +695,8 @@ std::optional<SimulatorStatus> Simulator::HandleGuards(double t_ret) {
     next = ctx.state();
     const int mode_before = ctx.mode();
     EventStatus es = guard.reset ? guard.reset(ctx, component, &next) : EventStatus::Succeeded();
-    if (next.continuous.size() != sys.num_continuous_states() || next.discrete.size() != sys.num_discrete_states() || next.mode < 0 ||
-        next.mode >= sys.num_modes())
+    if (next.continuous.size() != sys.num_continuous_states() || next.discrete.size() != sys.num_discrete_states() ||
+        next.mode < 0 || next.mode >= sys.num_modes())
       throw std::runtime_error("system '" + m.paths[g.leaf] + "': the reset of guard '" + guard.name +
                                "' produced a state of the wrong size or an unknown mode " + std::to_string(next.mode));
     ctx.get_mutable_state() = next;
@@ -690,7 +711,8 @@ std::optional<SimulatorStatus> Simulator::HandleGuards(double t_ret) {
   if (!es.ok()) return FromEvent(es, "");
   if (config_.max_guard_events > 0 && stats_.guard_events >= config_.max_guard_events)
     return Finish(SimulatorStatus::Reason::kReachedEventLimit, "",
-                  "reached the event limit of " + std::to_string(config_.max_guard_events) + " guard events (SimulatorConfig::max_guard_events)");
+                  "reached the event limit of " + std::to_string(config_.max_guard_events) +
+                      " guard events (SimulatorConfig::max_guard_events)");
   Reinitialize(false);
   return std::nullopt;
 }
@@ -720,8 +742,9 @@ std::optional<SimulatorStatus> Simulator::RunEventUpdates() {
     next = ctx.state();
     EventStatus es = sys.event_updates()[ref.update].update(ctx, *trigger, &next);
     if (next.discrete.size() != sys.num_discrete_states() || next.mode < 0 || next.mode >= sys.num_modes())
-      throw std::runtime_error("system '" + m.paths[ref.leaf] + "': event update '" + sys.event_updates()[ref.update].name +
-                               "' produced a discrete state of the wrong size or an unknown mode " + std::to_string(next.mode));
+      throw std::runtime_error(
+          "system '" + m.paths[ref.leaf] + "': event update '" + sys.event_updates()[ref.update].name +
+          "' produced a discrete state of the wrong size or an unknown mode " + std::to_string(next.mode));
     State& cur = ctx.get_mutable_state();
     cur.discrete = next.discrete;
     cur.mode = next.mode;

@@ -66,7 +66,7 @@ struct EventPolicy {
   double min_event_separation_s = 1e-4;
   /// Events allowed at one instant (chained resets) before the run stops as Zeno.
   int max_events_per_instant = 5;
-  bool throw_on_violation = false;       ///< Throw std::runtime_error instead of returning kZeno.
+  bool throw_on_violation = false;  ///< Throw std::runtime_error instead of returning kZeno.
 };
 
 struct SimulatorConfig {
@@ -76,7 +76,8 @@ struct SimulatorConfig {
   double max_step_s = 0.0;            ///< [s] 0 = no limit.
   double initial_step_s = 0.0;        ///< [s] 0 = CVODE's estimate.
   int max_order = 0;                  ///< 0 = CVODE's default (5 for BDF, 12 for Adams).
-  ExplicitRungeKuttaMethod explicit_rk_method = ExplicitRungeKuttaMethod::kDormandPrince54;  ///< kExplicitRungeKutta only.
+  ExplicitRungeKuttaMethod explicit_rk_method =
+      ExplicitRungeKuttaMethod::kDormandPrince54;  ///< kExplicitRungeKutta only.
   /// kExplicitRungeKutta only: after a discrete update (not after a guard's reset), start with the step size the
   /// error control asks for at the end of the previous interval instead of ARKODE's initial-step estimate. When that
   /// interval ended with a step clipped to the sample time, the size comes from the clipped step's own error estimate
@@ -91,7 +92,6 @@ struct SimulatorConfig {
   EventPolicy event_policy;
 };
 
-
 struct SimulatorStatistics {
   long steps = 0;
   long rhs_evals = 0;  ///< Every derivative evaluation, including those of finite-difference Jacobians.
@@ -101,7 +101,7 @@ struct SimulatorStatistics {
   long nonlinear_iterations = 0;  ///< Newton (or fixed-point) iterations of the implicit schemes.
   long error_test_failures = 0;   ///< Rejected steps (local error too large).
   long convergence_failures = 0;  ///< Nonlinear-solver convergence failures.
-  long restarts = 0;  ///< Integrator re-initialisations after a discrete update or an event reset.
+  long restarts = 0;              ///< Integrator re-initialisations after a discrete update or an event reset.
   /// [s] Explicit Runge-Kutta only: the largest first step ARKODE took in an interval that began with a state reset
   /// (a guard's reset map), where restart_with_last_step must not carry the step; 0 if there was none.
   double max_initial_step_after_reset_s = 0.0;

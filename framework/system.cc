@@ -59,26 +59,29 @@ static std::string PortList(const std::vector<PortInfo>& ports) {
 int System::GetInputPortIndex(const std::string& port_name) const {
   for (int i = 0; i < num_input_ports(); ++i)
     if (input_ports_[i].name == port_name) return i;
-  throw std::invalid_argument("system '" + name_ + "' has no input port '" + port_name + "' (it has " + PortList(input_ports_) + ")");
+  throw std::invalid_argument("system '" + name_ + "' has no input port '" + port_name + "' (it has " +
+                              PortList(input_ports_) + ")");
 }
 
 int System::GetOutputPortIndex(const std::string& port_name) const {
   for (int i = 0; i < num_output_ports(); ++i)
     if (output_ports_[i].name == port_name) return i;
-  throw std::invalid_argument("system '" + name_ + "' has no output port '" + port_name + "' (it has " + PortList(output_ports_) + ")");
+  throw std::invalid_argument("system '" + name_ + "' has no output port '" + port_name + "' (it has " +
+                              PortList(output_ports_) + ")");
 }
 
 void System::CheckPortType(const PortInfo& port, const std::type_info& type, const char* direction) const {
   if (!port.is_vector() && *port.value_type == type) return;
-  throw std::invalid_argument("system '" + name_ + "': " + direction + " port '" + port.name + "' carries " + port.TypeString() + ", not " +
-                              DemangledTypeName(type));
+  throw std::invalid_argument("system '" + name_ + "': " + direction + " port '" + port.name + "' carries " +
+                              port.TypeString() + ", not " + DemangledTypeName(type));
 }
 
 bool System::HasInputPort(const std::string& port_name) const {
   return std::any_of(input_ports_.begin(), input_ports_.end(), [&](const PortInfo& p) { return p.name == port_name; });
 }
 bool System::HasOutputPort(const std::string& port_name) const {
-  return std::any_of(output_ports_.begin(), output_ports_.end(), [&](const PortInfo& p) { return p.name == port_name; });
+  return std::any_of(output_ports_.begin(), output_ports_.end(),
+                     [&](const PortInfo& p) { return p.name == port_name; });
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -86,8 +89,8 @@ bool System::HasOutputPort(const std::string& port_name) const {
 
 void LeafContext::set_mode(int mode) {
   if (mode < 0 || mode >= system_->num_modes())
-    throw std::out_of_range("system '" + system_->name() + "': mode " + std::to_string(mode) + " does not exist (it has " +
-                            std::to_string(system_->num_modes()) + " modes)");
+    throw std::out_of_range("system '" + system_->name() + "': mode " + std::to_string(mode) +
+                            " does not exist (it has " + std::to_string(system_->num_modes()) + " modes)");
   InvalidateCache();
   state_.mode = mode;
 }
@@ -95,13 +98,15 @@ void LeafContext::set_mode(int mode) {
 void LeafContext::FixInputPort(int index, const Eigen::VectorXd& value) {
   const PortInfo& port = system_->input_port(index);
   if (!port.is_vector())
-    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' carries " + port.TypeString() +
+    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' carries " +
+                                port.TypeString() +
                                 "; fix it with a value of that type (FixTypedInputPort), not a vector");
   if (value.size() != port.size)
-    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' has size " + std::to_string(port.size) +
-                                " but the fixed value has size " + SizeString(value));
+    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' has size " +
+                                std::to_string(port.size) + " but the fixed value has size " + SizeString(value));
   if (inputs_[index].kind == InputSource::Kind::kUpstream)
-    throw std::logic_error("input port '" + port.name + "' of system '" + system_->name() + "' is connected; it cannot also be fixed");
+    throw std::logic_error("input port '" + port.name + "' of system '" + system_->name() +
+                           "' is connected; it cannot also be fixed");
   fixed_inputs_[index] = value;
   inputs_[index].kind = InputSource::Kind::kFixed;
   inputs_[index].fixed_value = &fixed_inputs_[index];
@@ -112,10 +117,11 @@ void LeafContext::FixAbstractInputPort(int index, std::any value) {
   const PortInfo& port = system_->input_port(index);
   const std::type_info& given = value.type();
   if (port.is_vector() || *port.value_type != given)
-    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' carries " + port.TypeString() +
-                                " but the fixed value is " + DemangledTypeName(given));
+    throw std::invalid_argument("input port '" + port.name + "' of system '" + system_->name() + "' carries " +
+                                port.TypeString() + " but the fixed value is " + DemangledTypeName(given));
   if (inputs_[index].kind == InputSource::Kind::kUpstream)
-    throw std::logic_error("input port '" + port.name + "' of system '" + system_->name() + "' is connected; it cannot also be fixed");
+    throw std::logic_error("input port '" + port.name + "' of system '" + system_->name() +
+                           "' is connected; it cannot also be fixed");
   fixed_abstract_inputs_[index] = std::move(value);
   inputs_[index].kind = InputSource::Kind::kFixed;
   inputs_[index].fixed_abstract = &fixed_abstract_inputs_[index];
@@ -137,14 +143,17 @@ std::unique_ptr<LeafContext> LeafContext::CloneLeaf() const {
 std::unique_ptr<Context> LeafContext::Clone() const {
   for (const InputSource& src : inputs_)
     if (src.kind == InputSource::Kind::kUpstream)
-      throw std::logic_error("LeafContext::Clone: system '" + system_->name() + "' is part of a diagram; clone the diagram's context");
+      throw std::logic_error("LeafContext::Clone: system '" + system_->name() +
+                             "' is part of a diagram; clone the diagram's context");
   return CloneLeaf();
 }
 
 // ---------------------------------------------------------------------------------------------------------
 // LeafSystem
 
-void LeafSystem::ThrowError(const std::string& what) const { throw std::runtime_error("system '" + name() + "': " + what); }
+void LeafSystem::ThrowError(const std::string& what) const {
+  throw std::runtime_error("system '" + name() + "': " + what);
+}
 
 int LeafSystem::DeclareInputPort(std::string port_name, int size) {
   if (size < 0) ThrowError("input port '" + port_name + "' has negative size " + std::to_string(size));
@@ -165,18 +174,21 @@ int LeafSystem::DeclareAbstractInputPort(std::string port_name, const std::type_
   return num_input_ports() - 1;
 }
 
-int LeafSystem::DeclareOutputPort(std::string port_name, std::vector<std::string> element_names, OutputCalc calc, Feedthrough feedthrough) {
-  const int index = DeclareOutputPort(std::move(port_name), static_cast<int>(element_names.size()), std::move(calc), std::move(feedthrough));
+int LeafSystem::DeclareOutputPort(std::string port_name, std::vector<std::string> element_names, OutputCalc calc,
+                                  Feedthrough feedthrough) {
+  const int index = DeclareOutputPort(std::move(port_name), static_cast<int>(element_names.size()), std::move(calc),
+                                      std::move(feedthrough));
   output_ports_[index].element_names = std::move(element_names);
   return index;
 }
 
-int LeafSystem::DeclareAbstractOutputPort(std::string port_name, const std::type_info& type, std::any default_value, AbstractOutputCalc calc,
-                                          Feedthrough feedthrough) {
+int LeafSystem::DeclareAbstractOutputPort(std::string port_name, const std::type_info& type, std::any default_value,
+                                          AbstractOutputCalc calc, Feedthrough feedthrough) {
   if (HasOutputPort(port_name)) ThrowError("output port '" + port_name + "' is declared twice");
   if (!calc) ThrowError("output port '" + port_name + "' has no calculation function");
   if (default_value.type() != type)
-    ThrowError("output port '" + port_name + "' carries " + DemangledTypeName(type) + " but its default value is " + DemangledTypeName(default_value.type()));
+    ThrowError("output port '" + port_name + "' carries " + DemangledTypeName(type) + " but its default value is " +
+               DemangledTypeName(default_value.type()));
   output_ports_.push_back({std::move(port_name), 0, {}, &type});
   output_decls_.push_back({nullptr, std::move(calc), std::move(default_value), std::move(feedthrough)});
   return num_output_ports() - 1;
@@ -232,13 +244,15 @@ int LeafSystem::GetModeIndex(const std::string& mode) const {
 }
 
 void LeafSystem::DeclarePeriodicDiscreteUpdate(double period, double offset, DiscreteUpdate update) {
-  if (!(period > 0) || !std::isfinite(period)) ThrowError("periodic update period must be positive and finite, got " + std::to_string(period));
+  if (!(period > 0) || !std::isfinite(period))
+    ThrowError("periodic update period must be positive and finite, got " + std::to_string(period));
   if (!(offset >= 0)) ThrowError("periodic update offset must be non-negative, got " + std::to_string(offset));
   periodic_events_.push_back({period, offset, std::move(update), nullptr});
 }
 
 void LeafSystem::DeclarePeriodicPublish(double period, double offset, Publish publish) {
-  if (!(period > 0) || !std::isfinite(period)) ThrowError("periodic publish period must be positive and finite, got " + std::to_string(period));
+  if (!(period > 0) || !std::isfinite(period))
+    ThrowError("periodic publish period must be positive and finite, got " + std::to_string(period));
   if (!(offset >= 0)) ThrowError("periodic publish offset must be non-negative, got " + std::to_string(offset));
   periodic_events_.push_back({period, offset, nullptr, std::move(publish)});
 }
@@ -249,24 +263,29 @@ void LeafSystem::DeclareEventUpdate(std::string update_name, EventTrigger trigge
   if (!update) ThrowError("event update '" + update_name + "' has no update function");
   for (const auto& g : trigger.guards)
     if (g.system.empty() || g.guard.empty())
-      ThrowError("event update '" + update_name + "' names an empty system or guard ('" + g.system + "', '" + g.guard + "')");
+      ThrowError("event update '" + update_name + "' names an empty system or guard ('" + g.system + "', '" + g.guard +
+                 "')");
   event_updates_.push_back({std::move(update_name), std::move(trigger), std::move(update)});
 }
 
-int LeafSystem::DeclareGuard(std::string guard_name, int mode, int size, WitnessCalc witness, CrossingDirection direction, ResetMap reset) {
+int LeafSystem::DeclareGuard(std::string guard_name, int mode, int size, WitnessCalc witness,
+                             CrossingDirection direction, ResetMap reset) {
   if (size <= 0) ThrowError("guard '" + guard_name + "' needs a positive witness size, got " + std::to_string(size));
   if (mode != kAllModes && (mode < 0 || mode >= num_modes()))
-    ThrowError("guard '" + guard_name + "' names mode " + std::to_string(mode) + ", which is not declared (declare modes first)");
+    ThrowError("guard '" + guard_name + "' names mode " + std::to_string(mode) +
+               ", which is not declared (declare modes first)");
   if (!witness) ThrowError("guard '" + guard_name + "' has no witness function");
   guards_.push_back({std::move(guard_name), mode, size, std::move(witness), direction, std::move(reset)});
   return static_cast<int>(guards_.size()) - 1;
 }
 
-int LeafSystem::DeclareGuard(std::string guard_name, int mode, ScalarWitnessCalc witness, CrossingDirection direction, ResetMap reset) {
+int LeafSystem::DeclareGuard(std::string guard_name, int mode, ScalarWitnessCalc witness, CrossingDirection direction,
+                             ResetMap reset) {
   if (!witness) ThrowError("guard '" + guard_name + "' has no witness function");
-  return DeclareGuard(std::move(guard_name), mode, 1,
-                      [w = std::move(witness)](const LeafContext& c, Eigen::Ref<Eigen::VectorXd> out) { out[0] = w(c); }, direction,
-                      std::move(reset));
+  return DeclareGuard(
+      std::move(guard_name), mode, 1,
+      [w = std::move(witness)](const LeafContext& c, Eigen::Ref<Eigen::VectorXd> out) { out[0] = w(c); }, direction,
+      std::move(reset));
 }
 
 std::unique_ptr<LeafContext> LeafSystem::CreateDefaultLeafContext() const {
@@ -294,23 +313,28 @@ std::unique_ptr<Context> LeafSystem::CreateDefaultContext() const { return Creat
 
 static const LeafContext& AsLeafContext(const Context& context, const LeafSystem& sys) {
   if (context.is_diagram_context())
-    throw std::invalid_argument("system '" + sys.name() + "' was given a diagram context; use Diagram::GetSubsystemContext()");
+    throw std::invalid_argument("system '" + sys.name() +
+                                "' was given a diagram context; use Diagram::GetSubsystemContext()");
   const auto& leaf = static_cast<const LeafContext&>(context);
   if (&leaf.system() != &sys)
-    throw std::invalid_argument("system '" + sys.name() + "' was given the context of system '" + leaf.system().name() + "'");
+    throw std::invalid_argument("system '" + sys.name() + "' was given the context of system '" + leaf.system().name() +
+                                "'");
   return leaf;
 }
 
 const Eigen::VectorXd& LeafSystem::EvalOutput(const Context& context, int index) const {
   const LeafContext& c = AsLeafContext(context, *this);
   const PortInfo& port = output_port(index);  // range check with a named error
-  if (!port.is_vector()) ThrowError("output port '" + port.name + "' carries " + port.TypeString() + "; read it with EvalTypedOutput<T>, not as a vector");
+  if (!port.is_vector())
+    ThrowError("output port '" + port.name + "' carries " + port.TypeString() +
+               "; read it with EvalTypedOutput<T>, not as a vector");
   auto& cache = c.outputs_[index];
   if (cache.version != c.version()) {
     output_decls_[index].calc(c, &cache.value);
     if (cache.value.size() != output_ports_[index].size)
-      ThrowError("output port '" + output_ports_[index].name + "' has size " + std::to_string(output_ports_[index].size) +
-                 " but its calculation produced size " + SizeString(cache.value));
+      ThrowError("output port '" + output_ports_[index].name + "' has size " +
+                 std::to_string(output_ports_[index].size) + " but its calculation produced size " +
+                 SizeString(cache.value));
     cache.version = c.version();
   }
   return cache.value;
@@ -341,12 +365,10 @@ const std::any& LeafSystem::EvalAbstractInput(const LeafContext& context, int in
   if (port.is_vector()) ThrowError("input port '" + port.name + "' is a vector port; read it with EvalInput");
   const InputSource& src = context.inputs_[index];
   switch (src.kind) {
-    case InputSource::Kind::kFixed:
-      return *src.fixed_abstract;
+    case InputSource::Kind::kFixed: return *src.fixed_abstract;
     case InputSource::Kind::kUpstream:
       return src.upstream_system->EvalAbstractOutput(*src.upstream_context, src.upstream_port);
-    case InputSource::Kind::kUnconnected:
-      break;
+    case InputSource::Kind::kUnconnected: break;
   }
   throw std::runtime_error("input port '" + port.name + "' of system '" + name() + "' is not connected");
 }
@@ -357,12 +379,9 @@ const Eigen::VectorXd& LeafSystem::EvalInput(const LeafContext& context, int ind
     ThrowError("input port '" + input_ports_[index].name + "' carries " + input_ports_[index].TypeString() +
                "; read it with EvalTypedInput<T>, not as a vector");
   switch (src.kind) {
-    case InputSource::Kind::kFixed:
-      return *src.fixed_value;
-    case InputSource::Kind::kUpstream:
-      return src.upstream_system->EvalOutput(*src.upstream_context, src.upstream_port);
-    case InputSource::Kind::kUnconnected:
-      break;
+    case InputSource::Kind::kFixed: return *src.fixed_value;
+    case InputSource::Kind::kUpstream: return src.upstream_system->EvalOutput(*src.upstream_context, src.upstream_port);
+    case InputSource::Kind::kUnconnected: break;
   }
   throw std::runtime_error("input port '" + input_port(index).name + "' of system '" + name() + "' is not connected");
 }
@@ -377,7 +396,8 @@ void LeafSystem::CalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd
 }
 
 void LeafSystem::DoCalcTimeDerivatives(const LeafContext&, Eigen::VectorXd*) const {
-  ThrowError("declares " + std::to_string(num_continuous_states_) + " continuous states but does not override DoCalcTimeDerivatives");
+  ThrowError("declares " + std::to_string(num_continuous_states_) +
+             " continuous states but does not override DoCalcTimeDerivatives");
 }
 
 }  // namespace rome

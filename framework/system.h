@@ -73,8 +73,8 @@ std::string DemangledTypeName(const std::type_info& type);
 
 struct PortInfo {
   std::string name;
-  int size = 0;                              ///< vector ports: number of elements; typed ports: 0
-  std::vector<std::string> element_names;    ///< vector ports: one name per element, or empty
+  int size = 0;                                ///< vector ports: number of elements; typed ports: 0
+  std::vector<std::string> element_names;      ///< vector ports: one name per element, or empty
   const std::type_info* value_type = nullptr;  ///< typed ports: the C++ type carried; nullptr for vector ports
   bool is_vector() const { return value_type == nullptr; }
   /// "a vector of size 4" or the demangled type name, e.g. "int".
@@ -175,9 +175,9 @@ class LeafSystem : public System {
   using EventUpdate = std::function<EventStatus(const LeafContext&, const EventRecord& event, State* next)>;
 
   struct OutputPortDecl {
-    OutputCalc calc;                 // vector ports
+    OutputCalc calc;                   // vector ports
     AbstractOutputCalc abstract_calc;  // typed ports
-    std::any default_value;          // typed ports: the value a new context starts with
+    std::any default_value;            // typed ports: the value a new context starts with
     Feedthrough feedthrough = Feedthrough::All();
   };
   struct EventUpdateDecl {
@@ -259,7 +259,8 @@ class LeafSystem : public System {
   int DeclareInputPort(std::string name, std::vector<std::string> element_names);
   int DeclareOutputPort(std::string name, int size, OutputCalc calc, Feedthrough feedthrough = Feedthrough::All());
   /// Vector output with element names (its size is the number of names), e.g. {"x", "z", "vx", "vz"}.
-  int DeclareOutputPort(std::string name, std::vector<std::string> element_names, OutputCalc calc, Feedthrough feedthrough = Feedthrough::All());
+  int DeclareOutputPort(std::string name, std::vector<std::string> element_names, OutputCalc calc,
+                        Feedthrough feedthrough = Feedthrough::All());
   /// Typed input port carrying a T.
   template <class T>
   int DeclareTypedInputPort(std::string name) {
@@ -267,16 +268,17 @@ class LeafSystem : public System {
   }
   /// Typed output port carrying a T; `calc` fills the cached value in place (no allocation once T has its size).
   template <class T>
-  int DeclareTypedOutputPort(std::string name, std::function<void(const LeafContext&, T*)> calc, Feedthrough feedthrough = Feedthrough::All(),
-                             T default_value = T{}) {
+  int DeclareTypedOutputPort(std::string name, std::function<void(const LeafContext&, T*)> calc,
+                             Feedthrough feedthrough = Feedthrough::All(), T default_value = T{}) {
     if (!calc) ThrowError("output port '" + name + "' has no calculation function");
     return DeclareAbstractOutputPort(
         std::move(name), typeid(T), std::any(std::move(default_value)),
-        [calc = std::move(calc)](const LeafContext& c, std::any* value) { calc(c, std::any_cast<T>(value)); }, std::move(feedthrough));
+        [calc = std::move(calc)](const LeafContext& c, std::any* value) { calc(c, std::any_cast<T>(value)); },
+        std::move(feedthrough));
   }
   int DeclareAbstractInputPort(std::string name, const std::type_info& type);
-  int DeclareAbstractOutputPort(std::string name, const std::type_info& type, std::any default_value, AbstractOutputCalc calc,
-                                Feedthrough feedthrough = Feedthrough::All());
+  int DeclareAbstractOutputPort(std::string name, const std::type_info& type, std::any default_value,
+                                AbstractOutputCalc calc, Feedthrough feedthrough = Feedthrough::All());
   /// Declares `size` continuous states with default values zero.
   void DeclareContinuousState(int size);
   void DeclareContinuousState(const Eigen::VectorXd& default_value);
@@ -293,7 +295,8 @@ class LeafSystem : public System {
   /// is built, that every named system and guard exists.
   void DeclareEventUpdate(std::string name, EventTrigger trigger, EventUpdate update);
   /// Vector guard: fires when any component crosses zero in `direction`.
-  int DeclareGuard(std::string name, int mode, int size, WitnessCalc witness, CrossingDirection direction, ResetMap reset);
+  int DeclareGuard(std::string name, int mode, int size, WitnessCalc witness, CrossingDirection direction,
+                   ResetMap reset);
   /// Scalar guard.
   int DeclareGuard(std::string name, int mode, ScalarWitnessCalc witness, CrossingDirection direction, ResetMap reset);
 

@@ -14,10 +14,18 @@ size_t Utf8SequenceLength(const std::string& s, size_t i) {
   if (c < 0x80) return 1;
   size_t n = 0;
   unsigned lo = 0x80, hi = 0xBF;
-  if (c >= 0xC2 && c <= 0xDF) n = 2;
-  else if (c >= 0xE0 && c <= 0xEF) { n = 3; if (c == 0xE0) lo = 0xA0; if (c == 0xED) hi = 0x9F; }
-  else if (c >= 0xF0 && c <= 0xF4) { n = 4; if (c == 0xF0) lo = 0x90; if (c == 0xF4) hi = 0x8F; }
-  else return 0;
+  if (c >= 0xC2 && c <= 0xDF)
+    n = 2;
+  else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    if (c == 0xE0) lo = 0xA0;
+    if (c == 0xED) hi = 0x9F;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    if (c == 0xF0) lo = 0x90;
+    if (c == 0xF4) hi = 0x8F;
+  } else
+    return 0;
   if (i + n > s.size()) return 0;
   if (b(i + 1) < lo || b(i + 1) > hi) return 0;
   for (size_t k = 2; k < n; ++k)
@@ -86,8 +94,10 @@ std::string JsonStringForScript(const std::string& s) {
   std::string out = "\"";
   char buf[16];
   ForEachCodePoint(s, [&](unsigned cp, std::string_view bytes) {
-    if (cp == '"') out += "\\\"";
-    else if (cp == '\\') out += "\\\\";
+    if (cp == '"')
+      out += "\\\"";
+    else if (cp == '\\')
+      out += "\\\\";
     else if (cp < 0x20 || cp == '<' || cp == '>' || cp == '&' || cp == 0x7F || cp == 0x2028 || cp == 0x2029) {
       std::snprintf(buf, sizeof(buf), "\\u%04X", cp);
       out += buf;
@@ -108,8 +118,10 @@ std::string HtmlText(const std::string& s) {
       case '"': out += "&quot;"; break;
       case '\'': out += "&#39;"; break;
       default:
-        if ((cp < 0x20 && cp != '\t' && cp != '\n') || (cp >= 0x7F && cp < 0xA0)) out += "\xEF\xBF\xBD";
-        else out += bytes;
+        if ((cp < 0x20 && cp != '\t' && cp != '\n') || (cp >= 0x7F && cp < 0xA0))
+          out += "\xEF\xBF\xBD";
+        else
+          out += bytes;
     }
   });
   return out;
@@ -120,9 +132,12 @@ std::string GnuplotString(const std::string& s) {
   // in as sprintf('%c',39) instead.
   std::string out = "'";
   ForEachCodePoint(s, [&](unsigned cp, std::string_view bytes) {
-    if (cp == '\'') out += "'.sprintf('%c',39).'";
-    else if (cp < 0x20 || cp == 0x7F) out += ' ';
-    else out += bytes;
+    if (cp == '\'')
+      out += "'.sprintf('%c',39).'";
+    else if (cp < 0x20 || cp == 0x7F)
+      out += ' ';
+    else
+      out += bytes;
   });
   return out + "'";
 }
@@ -132,7 +147,8 @@ std::string CsvCell(const std::string& s) {
   double number = 0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), number);
   const bool is_number = !s.empty() && ec == std::errc() && end == s.data() + s.size() && std::isfinite(number);
-  if (!cell.empty() && !is_number && std::string_view("=+-@\t\r").find(cell.front()) != std::string_view::npos) cell.insert(0, 1, '\'');
+  if (!cell.empty() && !is_number && std::string_view("=+-@\t\r").find(cell.front()) != std::string_view::npos)
+    cell.insert(0, 1, '\'');
   if (cell.find_first_of(",\"\r\n") == std::string::npos) return cell;
   std::string out = "\"";
   for (char c : cell) out += (c == '"') ? std::string("\"\"") : std::string(1, c);

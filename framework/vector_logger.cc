@@ -12,11 +12,14 @@ VectorLogger::VectorLogger(std::string name, std::vector<LoggedSignal> signals, 
     : LeafSystem(std::move(name)), signals_(std::move(signals)) {
   for (const auto& s : signals_) {
     if (!s.element_names.empty() && static_cast<int>(s.element_names.size()) != s.size)
-      ThrowError("signal '" + s.name + "' has size " + std::to_string(s.size) + " but " + std::to_string(s.element_names.size()) + " element names");
+      ThrowError("signal '" + s.name + "' has size " + std::to_string(s.size) + " but " +
+                 std::to_string(s.element_names.size()) + " element names");
     if (s.scalar_type != nullptr) {
       if (*s.scalar_type != typeid(int) && *s.scalar_type != typeid(double))
-        ThrowError("signal '" + s.name + "' is a typed port carrying " + DemangledTypeName(*s.scalar_type) + "; only int and double typed ports can be logged");
-      if (s.size != 1) ThrowError("signal '" + s.name + "' is a typed scalar port but has size " + std::to_string(s.size));
+        ThrowError("signal '" + s.name + "' is a typed port carrying " + DemangledTypeName(*s.scalar_type) +
+                   "; only int and double typed ports can be logged");
+      if (s.size != 1)
+        ThrowError("signal '" + s.name + "' is a typed scalar port but has size " + std::to_string(s.size));
       DeclareAbstractInputPort(s.name, *s.scalar_type);
     } else {
       DeclareInputPort(s.name, s.size);
@@ -42,7 +45,8 @@ EventStatus VectorLogger::Record(const LeafContext& context) const {
       row.segment(at, u.size()) = u;
       at += static_cast<int>(u.size());
     } else {
-      row[at++] = *signals_[i].scalar_type == typeid(int) ? static_cast<double>(EvalTypedInput<int>(context, i)) : EvalTypedInput<double>(context, i);
+      row[at++] = *signals_[i].scalar_type == typeid(int) ? static_cast<double>(EvalTypedInput<int>(context, i))
+                                                          : EvalTypedInput<double>(context, i);
     }
   }
   data.times.push_back(context.time());
@@ -78,7 +82,8 @@ int VectorLogger::ColumnIndex(const std::string& column) const {
 std::string VectorLogger::CsvText(const LeafContext& context) const {
   std::ostringstream out;
   const auto names = ColumnNames();
-  for (size_t i = 0; i < names.size(); ++i) out << (i ? "," : "") << CsvCell(names[i]);  // names may come from a robot file
+  for (size_t i = 0; i < names.size(); ++i)
+    out << (i ? "," : "") << CsvCell(names[i]);  // names may come from a robot file
   out << "\n" << std::setprecision(12);
   const LogData& data = log(context);
   for (size_t k = 0; k < data.times.size(); ++k) {
@@ -93,8 +98,8 @@ void VectorLogger::WriteCsv(const LeafContext& context, const std::string& path)
   WriteFileAtomically(path, CsvText(context), "system '" + name() + "': log file");
 }
 
-VectorLogger* AddVectorLogger(DiagramBuilder& builder, const std::string& name, const std::vector<std::pair<std::string, std::string>>& ports,
-                              double period_s) {
+VectorLogger* AddVectorLogger(DiagramBuilder& builder, const std::string& name,
+                              const std::vector<std::pair<std::string, std::string>>& ports, double period_s) {
   std::vector<LoggedSignal> signals;
   for (const auto& [sys, port] : ports) {
     const System& s = builder.GetMutableSystem(sys);

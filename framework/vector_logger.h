@@ -17,10 +17,12 @@
 namespace rome {
 
 struct LoggedSignal {
-  std::string name;                        ///< Input port name, also the column prefix.
+  std::string name;  ///< Input port name, also the column prefix.
   int size = 0;
-  std::vector<std::string> element_names;  ///< Optional element names (size entries): columns name.element; default name[i].
-  const std::type_info* scalar_type = nullptr;  ///< typeid(int) or typeid(double) for a typed scalar port (size 1); nullptr: vector
+  std::vector<std::string>
+      element_names;  ///< Optional element names (size entries): columns name.element; default name[i].
+  const std::type_info* scalar_type =
+      nullptr;  ///< typeid(int) or typeid(double) for a typed scalar port (size 1); nullptr: vector
 };
 
 struct LogData {
@@ -55,7 +57,7 @@ class VectorLogger final : public LeafSystem {
 
 /// Adds a VectorLogger named `name` to `builder` and connects each (system, output port) to it.
 /// Signals are named "<system>.<port>".
-VectorLogger* AddVectorLogger(DiagramBuilder& builder, const std::string& name, const std::vector<std::pair<std::string, std::string>>& ports,
-                              double period_s);
+VectorLogger* AddVectorLogger(DiagramBuilder& builder, const std::string& name,
+                              const std::vector<std::pair<std::string, std::string>>& ports, double period_s);
 
 }  // namespace rome

@@ -1,5 +1,5 @@
-// Python bindings of the stepping-stones diagram and its run (diagrams/stepping_stones/stepping_stones_run.h): terrains,
-// the diagram's parameters as Python objects, and RunSteppingStones with its result as a dict.
+// Python bindings of the stepping-stones diagram and its run (diagrams/stepping_stones/stepping_stones_run.h):
+// terrains, the diagram's parameters as Python objects, and RunSteppingStones with its result as a dict.
 #include <cmath>
 #include <string>
 
@@ -23,8 +23,8 @@ void BindTerrain(py::module_& m) {
       .def_readwrite("top_height_m", &SteppingStone::top_height_m)
       .def_readwrite("length_m", &SteppingStone::length_m)
       .def("__repr__", [](const SteppingStone& s) {
-        return "SteppingStone(x_center_m=" + std::to_string(s.x_center_m) + ", top_height_m=" + std::to_string(s.top_height_m) +
-               ", length_m=" + std::to_string(s.length_m) + ")";
+        return "SteppingStone(x_center_m=" + std::to_string(s.x_center_m) +
+               ", top_height_m=" + std::to_string(s.top_height_m) + ", length_m=" + std::to_string(s.length_m) + ")";
       });
   py::class_<Terrain>(m, "Terrain", "Flat ground or a row of stepping stones along x (systems/plants/terrain.h).")
       .def_static("flat", &Terrain::Flat, py::arg("height_m") = 0.0)
@@ -38,21 +38,25 @@ void BindTerrain(py::module_& m) {
       .Field("max_rise_m", &RandomSteppingStonesParams::max_rise_m)
       .Field("stone_length_m", &RandomSteppingStonesParams::stone_length_m)
       .Field("seed", &RandomSteppingStonesParams::seed);
-  m.def("periodic_stepping_stones", &PeriodicSteppingStones, py::arg("step_length_m"), py::arg("step_height_m"), py::arg("num_stones"),
-        py::arg("stone_length_m") = 0.1, "Stones step_length_m apart, each step_height_m above the previous, the first at x = 0.");
+  m.def("periodic_stepping_stones", &PeriodicSteppingStones, py::arg("step_length_m"), py::arg("step_height_m"),
+        py::arg("num_stones"), py::arg("stone_length_m") = 0.1,
+        "Stones step_length_m apart, each step_height_m above the previous, the first at x = 0.");
   m.def("random_stepping_stones", &RandomSteppingStones, py::arg("params"));
 }
 
 void BindParams(py::module_& m) {
-  ParamsClass<SteppingStonesSupervisorParams>(m, "SteppingStonesSupervisorParams", "The supervisor's parameters (stepping_stones_supervisor.h).")
+  ParamsClass<SteppingStonesSupervisorParams>(m, "SteppingStonesSupervisorParams",
+                                              "The supervisor's parameters (stepping_stones_supervisor.h).")
       .Field("update_period_s", &SteppingStonesSupervisorParams::update_period_s, "[s]")
       .Field("impact_fraction", &SteppingStonesSupervisorParams::impact_fraction, "epsilon [-]")
       .Field("max_steps", &SteppingStonesSupervisorParams::max_steps, "the run ends after this many steps")
-      .Field("min_com_height_m", &SteppingStonesSupervisorParams::min_com_height_m, "[m] fall threshold above the stance foot")
+      .Field("min_com_height_m", &SteppingStonesSupervisorParams::min_com_height_m,
+             "[m] fall threshold above the stance foot")
       .Field("nominal_step_duration_s", &SteppingStonesSupervisorParams::nominal_step_duration_s, "[s]")
       .Field("walking_com_height_m", &SteppingStonesSupervisorParams::walking_com_height_m, "[m]");
-  ParamsClass<SteppingStonesDiagramParams> p(m, "SteppingStonesDiagramParams",
-                                             "The stepping-stones diagram's parameters (stepping_stones_diagram.h); keyword constructor.");
+  ParamsClass<SteppingStonesDiagramParams> p(
+      m, "SteppingStonesDiagramParams",
+      "The stepping-stones diagram's parameters (stepping_stones_diagram.h); keyword constructor.");
   p.Field("robot_sidecar", &SteppingStonesDiagramParams::robot_sidecar)
       .Field("target_orbital_energy", &SteppingStonesDiagramParams::target_orbital_energy, "E* [m^2/s^2]")
       .Field("impact_fraction", &SteppingStonesDiagramParams::impact_fraction, "epsilon [-]")
@@ -60,7 +64,8 @@ void BindParams(py::module_& m) {
       .Field("initial_com_x_m", &SteppingStonesDiagramParams::initial_com_x_m, "[m]")
       .Field("supervisor", &SteppingStonesDiagramParams::supervisor);
   p.cls()
-      .def_static("for_robot", &SteppingStonesDiagramParams::ForRobot, py::arg("sidecar"), "The defaults adapted to the robot of `sidecar`.")
+      .def_static("for_robot", &SteppingStonesDiagramParams::ForRobot, py::arg("sidecar"),
+                  "The defaults adapted to the robot of `sidecar`.")
       .def("validate", &SteppingStonesDiagramParams::Validate);
 }
 
@@ -95,7 +100,8 @@ py::dict ResultDict(const SteppingStonesResult& r) {
   d["mean_forward_speed_mps"] = r.mean_forward_speed_mps();
   d["u_squared_integral_N2m2s"] = r.u_squared_integral_N2m2s;
   d["u_squared_integral_per_step"] = r.u_squared_integral_per_step();
-  d["tracking_rms"] = py::dict(py::arg("torso_pitch_rad") = r.tracking_torso_pitch_rms_rad, py::arg("com_height_m") = r.tracking_com_height_rms_m,
+  d["tracking_rms"] = py::dict(py::arg("torso_pitch_rad") = r.tracking_torso_pitch_rms_rad,
+                               py::arg("com_height_m") = r.tracking_com_height_rms_m,
                                py::arg("swing_foot_m") = r.tracking_swing_foot_rms_m);
   d["sim_time_s"] = r.sim_time_s;
   d["wall_time_s"] = r.wall_time_s;
@@ -108,14 +114,15 @@ py::dict ResultDict(const SteppingStonesResult& r) {
   d["max_friction_ratio"] = r.contact.max_friction_ratio;
   d["contact_violations"] = r.contact.violations;
   d["integrator"] = py::dict(py::arg("steps") = r.integrator.steps, py::arg("rhs_evaluations") = r.integrator.rhs_evals,
-                             py::arg("root_evaluations") = r.integrator.root_evals, py::arg("guard_events") = r.integrator.guard_events,
+                             py::arg("root_evaluations") = r.integrator.root_evals,
+                             py::arg("guard_events") = r.integrator.guard_events,
                              py::arg("discrete_samples") = r.integrator.discrete_samples);
   return d;
 }
 
 /// Build → initial state → RunSteppingStones, as examples/stepping_stones does (SteppingStonesSimulatorConfig).
-py::dict RunSteppingStonesFromPython(const Terrain& terrain, const SteppingStonesDiagramParams& params, const std::string& controller,
-                                     double max_time_s) {
+py::dict RunSteppingStonesFromPython(const Terrain& terrain, const SteppingStonesDiagramParams& params,
+                                     const std::string& controller, double max_time_s) {
   SteppingStonesControllerFactory factory;
   if (controller == "clf-qp")
     factory = ClfQpControllerFactory(params);
@@ -135,10 +142,13 @@ py::dict RunSteppingStonesFromPython(const Terrain& terrain, const SteppingStone
 void BindSteppingStones(py::module_& m) {
   BindTerrain(m);
   BindParams(m);
-  m.def("run_stepping_stones", &RunSteppingStonesFromPython, py::arg("terrain"), py::arg("params") = SteppingStonesDiagramParams{},
-        py::arg("controller") = "tsc-qp", py::arg("max_time_s") = std::nan(""),
-        "Builds the stepping-stones diagram for `terrain`, starts it standing on the first stone and runs it to the supervisor's "
-        "verdict (RunSteppingStones). Returns the result as a dict (success, status_kind, steps, mean_forward_speed_mps, ...).");
+  m.def("run_stepping_stones", &RunSteppingStonesFromPython, py::arg("terrain"),
+        py::arg("params") = SteppingStonesDiagramParams{}, py::arg("controller") = "tsc-qp",
+        py::arg("max_time_s") = std::nan(""),
+        "Builds the stepping-stones diagram for `terrain`, starts it standing on the first stone and runs it to the "
+        "supervisor's "
+        "verdict (RunSteppingStones). Returns the result as a dict (success, status_kind, steps, "
+        "mean_forward_speed_mps, ...).");
 }
 
 }  // namespace rome::python

@@ -26,8 +26,8 @@ int PortIndex(const System& system, const py::handle& port, bool input) {
   const int index = port.cast<int>();
   const int count = input ? system.num_input_ports() : system.num_output_ports();
   if (index < 0 || index >= count)
-    throw py::index_error("system '" + system.name() + "': " + (input ? "input" : "output") + " port index " + std::to_string(index) +
-                          " is outside [0, " + std::to_string(count) + ")");
+    throw py::index_error("system '" + system.name() + "': " + (input ? "input" : "output") + " port index " +
+                          std::to_string(index) + " is outside [0, " + std::to_string(count) + ")");
   return index;
 }
 
@@ -42,12 +42,14 @@ std::vector<std::string> PortNames(const System& system, bool input) {
 void AssignSized(Eigen::VectorXd& target, const py::handle& value, const std::string& what) {
   Eigen::VectorXd v = ToVector(value, what.c_str());
   if (v.size() != target.size())
-    throw py::value_error(what + ": expected " + std::to_string(target.size()) + " elements, got " + std::to_string(v.size()));
+    throw py::value_error(what + ": expected " + std::to_string(target.size()) + " elements, got " +
+                          std::to_string(v.size()));
   target = v;
 }
 
 void BindEventStatus(py::module_& m) {
-  py::class_<EventStatus> status(m, "EventStatus", "What a reset, update, publish or monitor returns; any kind but succeeded ends the run.");
+  py::class_<EventStatus> status(
+      m, "EventStatus", "What a reset, update, publish or monitor returns; any kind but succeeded ends the run.");
   py::enum_<EventStatus::Kind>(status, "Kind")
       .value("succeeded", EventStatus::Kind::kSucceeded)
       .value("reached_termination", EventStatus::Kind::kReachedTermination)
@@ -63,7 +65,8 @@ void BindEventStatus(py::module_& m) {
 }
 
 void BindContexts(py::module_& m) {
-  py::class_<Context>(m, "Context", "The values of one run: time, state, parameters, fixed inputs (framework/context.h).")
+  py::class_<Context>(m, "Context",
+                      "The values of one run: time, state, parameters, fixed inputs (framework/context.h).")
       .def_property("time", &Context::time, &Context::SetTime, "[s]")
       .def("clone", &Context::Clone, "A deep copy (its own clock, state and scratch).");
   py::class_<LeafContext, Context>(m, "LeafContext")
@@ -80,7 +83,8 @@ void BindContexts(py::module_& m) {
           },
           "numpy copy; assigning checks the size")
       .def_property("mode", &LeafContext::mode, &LeafContext::set_mode);
-  py::class_<DiagramContext, Context>(m, "DiagramContext").def_property_readonly("num_leaves", [](const DiagramContext& c) { return c.num_leaves(); });
+  py::class_<DiagramContext, Context>(m, "DiagramContext")
+      .def_property_readonly("num_leaves", [](const DiagramContext& c) { return c.num_leaves(); });
 }
 
 void BindSystem(py::module_& m) {
@@ -93,7 +97,9 @@ void BindSystem(py::module_& m) {
       .def("create_default_context", &System::CreateDefaultContext, py::keep_alive<0, 1>())
       .def(
           "eval_output",
-          [](const System& s, const Context& c, const py::handle& port) { return Eigen::VectorXd(s.EvalOutput(c, PortIndex(s, port, false))); },
+          [](const System& s, const Context& c, const py::handle& port) {
+            return Eigen::VectorXd(s.EvalOutput(c, PortIndex(s, port, false)));
+          },
           py::arg("context"), py::arg("port"), "Value of a vector output port (by name or index), as a numpy copy.")
       .def(
           "fix_input_port",
@@ -114,9 +120,12 @@ py::object AddSystem(py::object builder_object, py::object system_object, const 
   if (system == nullptr) throw py::value_error("DiagramBuilder.add_system: None is not a system");
   const std::string n = name.empty() ? system->name() : name;
   if (py::hasattr(system_object, "_rome_owner"))
-    throw py::value_error("DiagramBuilder.add_system: system '" + system->name() + "' already belongs to a builder or a diagram");
-  if (n.find('/') != std::string::npos) throw py::value_error("DiagramBuilder: system name '" + n + "' must not contain '/'");
-  if (builder.HasSystem(n)) throw py::value_error("DiagramBuilder: a system named '" + n + "' was already added; names must be unique");
+    throw py::value_error("DiagramBuilder.add_system: system '" + system->name() +
+                          "' already belongs to a builder or a diagram");
+  if (n.find('/') != std::string::npos)
+    throw py::value_error("DiagramBuilder: system name '" + n + "' must not contain '/'");
+  if (builder.HasSystem(n))
+    throw py::value_error("DiagramBuilder: a system named '" + n + "' was already added; names must be unique");
   if (!py::hasattr(builder_object, "_rome_systems")) builder_object.attr("_rome_systems") = py::list();
   MarkAdopted(system);
   builder.AddSystem(std::unique_ptr<System>(system), name);
@@ -138,14 +147,18 @@ py::object Build(py::object builder_object, const std::string& name) {
 }
 
 void BindBuilder(py::module_& m) {
-  py::class_<DiagramBuilder>(m, "DiagramBuilder", py::dynamic_attr(), "Wires systems by port name (framework/diagram.h).")
+  py::class_<DiagramBuilder>(m, "DiagramBuilder", py::dynamic_attr(),
+                             "Wires systems by port name (framework/diagram.h).")
       .def(py::init([]() { return std::make_unique<DiagramBuilder>(); }))
       .def("add_system", &AddSystem, py::arg("system"), py::arg("name") = "",
            "Adds a system (renamed to `name` if given); the diagram owns it from now on. Returns the system.")
       .def("connect",
-           py::overload_cast<const std::string&, const std::string&, const std::string&, const std::string&>(&DiagramBuilder::Connect),
+           py::overload_cast<const std::string&, const std::string&, const std::string&, const std::string&>(
+               &DiagramBuilder::Connect),
            py::arg("from_system"), py::arg("output_port"), py::arg("to_system"), py::arg("input_port"))
-      .def("connect", py::overload_cast<const System&, const std::string&, const System&, const std::string&>(&DiagramBuilder::Connect),
+      .def("connect",
+           py::overload_cast<const System&, const std::string&, const System&, const std::string&>(
+               &DiagramBuilder::Connect),
            py::arg("from_system"), py::arg("output_port"), py::arg("to_system"), py::arg("input_port"))
       .def(
           "fix_input",
@@ -154,7 +167,8 @@ void BindBuilder(py::module_& m) {
           },
           py::arg("system"), py::arg("input_port"), py::arg("value"))
       .def("export_input", &DiagramBuilder::ExportInput, py::arg("system"), py::arg("input_port"), py::arg("name") = "")
-      .def("export_output", &DiagramBuilder::ExportOutput, py::arg("system"), py::arg("output_port"), py::arg("name") = "")
+      .def("export_output", &DiagramBuilder::ExportOutput, py::arg("system"), py::arg("output_port"),
+           py::arg("name") = "")
       .def("has_system", &DiagramBuilder::HasSystem)
       .def("build", &Build, py::arg("name") = "diagram", "Builds the diagram; the builder is empty afterwards.");
 }
@@ -163,7 +177,8 @@ void BindBuilder(py::module_& m) {
 Eigen::VectorXd StackedContinuousState(const Diagram& d, const Context& context, bool discrete) {
   const auto& dc = dynamic_cast<const DiagramContext&>(context);
   Eigen::Index n = 0;
-  for (int i = 0; i < dc.num_leaves(); ++i) n += discrete ? dc.leaf(i).discrete_state().size() : dc.leaf(i).continuous_state().size();
+  for (int i = 0; i < dc.num_leaves(); ++i)
+    n += discrete ? dc.leaf(i).discrete_state().size() : dc.leaf(i).continuous_state().size();
   Eigen::VectorXd x(n);
   n = 0;
   for (int i = 0; i < dc.num_leaves(); ++i) {
@@ -181,11 +196,12 @@ void SetStackedState(const Diagram& d, Context& context, const py::handle& value
   const Eigen::VectorXd x = ToVector(value, "diagram state");
   const char* kind = discrete ? "discrete" : "continuous";
   if (x.size() != now.size())
-    throw py::value_error("diagram '" + d.name() + "': the " + kind + " state has " + std::to_string(now.size()) + " elements, got " +
-                          std::to_string(x.size()));
+    throw py::value_error("diagram '" + d.name() + "': the " + kind + " state has " + std::to_string(now.size()) +
+                          " elements, got " + std::to_string(x.size()));
   Eigen::Index n = 0;
   for (int i = 0; i < dc.num_leaves(); ++i) {
-    Eigen::VectorXd& xi = discrete ? dc.leaf(i).get_mutable_discrete_state() : dc.leaf(i).get_mutable_continuous_state();
+    Eigen::VectorXd& xi =
+        discrete ? dc.leaf(i).get_mutable_discrete_state() : dc.leaf(i).get_mutable_continuous_state();
     xi = x.segment(n, xi.size());
     n += xi.size();
   }
@@ -194,41 +210,61 @@ void SetStackedState(const Diagram& d, Context& context, const py::handle& value
 void BindDiagram(py::module_& m) {
   py::class_<Diagram, System, Holder<Diagram>>(m, "Diagram", py::dynamic_attr())
       .def_property_readonly("num_leaves", &Diagram::num_leaves)
-      .def("leaf_paths", [](const Diagram& d) {
-        std::vector<std::string> paths;
-        for (int i = 0; i < d.num_leaves(); ++i) paths.push_back(d.leaf_path(i));
-        return paths;
-      })
+      .def("leaf_paths",
+           [](const Diagram& d) {
+             std::vector<std::string> paths;
+             for (int i = 0; i < d.num_leaves(); ++i) paths.push_back(d.leaf_path(i));
+             return paths;
+           })
       .def("get_leaf", &Diagram::GetLeafByPath, py::arg("path"), py::return_value_policy::reference_internal)
-      .def("get_subsystem_context", [](const Diagram& d, const LeafSystem& s, Context& c) -> LeafContext& { return d.GetMutableSubsystemContext(s, c); },
-           py::arg("system"), py::arg("context"), py::return_value_policy::reference, py::keep_alive<0, 3>(),
-           "The leaf's own context inside the diagram's `context` (a view: changes act on the diagram's context).")
+      .def(
+          "get_subsystem_context",
+          [](const Diagram& d, const LeafSystem& s, Context& c) -> LeafContext& {
+            return d.GetMutableSubsystemContext(s, c);
+          },
+          py::arg("system"), py::arg("context"), py::return_value_policy::reference, py::keep_alive<0, 3>(),
+          "The leaf's own context inside the diagram's `context` (a view: changes act on the diagram's context).")
       .def(
           "eval_subsystem_output",
-          [](const Diagram& d, const System& s, const std::string& port, const Context& c) { return Eigen::VectorXd(d.EvalSubsystemOutput(s, port, c)); },
+          [](const Diagram& d, const System& s, const std::string& port, const Context& c) {
+            return Eigen::VectorXd(d.EvalSubsystemOutput(s, port, c));
+          },
           py::arg("system"), py::arg("port"), py::arg("context"))
-      .def("get_continuous_state", [](const Diagram& d, const Context& c) { return StackedContinuousState(d, c, false); }, py::arg("context"),
-           "The leaves' continuous states stacked in leaf order (numpy copy).")
-      .def("set_continuous_state", [](const Diagram& d, Context& c, const py::handle& x) { SetStackedState(d, c, x, false); }, py::arg("context"),
-           py::arg("x"))
-      .def("get_discrete_state", [](const Diagram& d, const Context& c) { return StackedContinuousState(d, c, true); }, py::arg("context"))
-      .def("set_discrete_state", [](const Diagram& d, Context& c, const py::handle& x) { SetStackedState(d, c, x, true); }, py::arg("context"),
-           py::arg("x"));
+      .def(
+          "get_continuous_state",
+          [](const Diagram& d, const Context& c) { return StackedContinuousState(d, c, false); }, py::arg("context"),
+          "The leaves' continuous states stacked in leaf order (numpy copy).")
+      .def(
+          "set_continuous_state",
+          [](const Diagram& d, Context& c, const py::handle& x) { SetStackedState(d, c, x, false); },
+          py::arg("context"), py::arg("x"))
+      .def(
+          "get_discrete_state", [](const Diagram& d, const Context& c) { return StackedContinuousState(d, c, true); },
+          py::arg("context"))
+      .def(
+          "set_discrete_state",
+          [](const Diagram& d, Context& c, const py::handle& x) { SetStackedState(d, c, x, true); }, py::arg("context"),
+          py::arg("x"));
 }
 
 void BindPrimitives(py::module_& m) {
   py::class_<ConstantVectorSource, LeafSystem, Holder<ConstantVectorSource>>(m, "ConstantVectorSource")
-      .def(py::init([](std::string name, const py::handle& value) { return new ConstantVectorSource(std::move(name), ToVector(value, "ConstantVectorSource value")); }),
+      .def(py::init([](std::string name, const py::handle& value) {
+             return new ConstantVectorSource(std::move(name), ToVector(value, "ConstantVectorSource value"));
+           }),
            py::arg("name"), py::arg("value"));
   py::class_<Gain, LeafSystem, Holder<Gain>>(m, "Gain")
       .def(py::init<std::string, double, int>(), py::arg("name"), py::arg("k"), py::arg("size"))
       .def(py::init<std::string, const Eigen::MatrixXd&>(), py::arg("name"), py::arg("K"));
-  py::class_<Adder, LeafSystem, Holder<Adder>>(m, "Adder").def(py::init<std::string, int, int>(), py::arg("name"), py::arg("num_inputs"), py::arg("size"));
+  py::class_<Adder, LeafSystem, Holder<Adder>>(m, "Adder")
+      .def(py::init<std::string, int, int>(), py::arg("name"), py::arg("num_inputs"), py::arg("size"));
   py::class_<Saturation, LeafSystem, Holder<Saturation>>(m, "Saturation")
-      .def(py::init<std::string, const Eigen::VectorXd&, const Eigen::VectorXd&>(), py::arg("name"), py::arg("lower"), py::arg("upper"))
+      .def(py::init<std::string, const Eigen::VectorXd&, const Eigen::VectorXd&>(), py::arg("name"), py::arg("lower"),
+           py::arg("upper"))
       .def(py::init<std::string, double, int>(), py::arg("name"), py::arg("limit"), py::arg("size"));
   py::class_<ZeroOrderHold, LeafSystem, Holder<ZeroOrderHold>>(m, "ZeroOrderHold")
-      .def(py::init<std::string, double, int, double>(), py::arg("name"), py::arg("period_s"), py::arg("size"), py::arg("offset_s") = 0.0);
+      .def(py::init<std::string, double, int, double>(), py::arg("name"), py::arg("period_s"), py::arg("size"),
+           py::arg("offset_s") = 0.0);
 }
 
 /// The log as {column name: numpy array}, "time" first.
@@ -257,7 +293,8 @@ void BindLogger(py::module_& m) {
       .def("write_csv", &VectorLogger::WriteCsv, py::arg("context"), py::arg("path"));
   m.def(
       "add_vector_logger",
-      [](py::object builder, const std::string& name, const std::vector<std::pair<std::string, std::string>>& ports, double period_s) {
+      [](py::object builder, const std::string& name, const std::vector<std::pair<std::string, std::string>>& ports,
+         double period_s) {
         DiagramBuilder& b = builder.cast<DiagramBuilder&>();
         VectorLogger* logger = AddVectorLogger(b, name, ports, period_s);
         py::object object = py::cast(logger, py::return_value_policy::reference);
@@ -267,11 +304,13 @@ void BindLogger(py::module_& m) {
         return object;
       },
       py::arg("builder"), py::arg("name"), py::arg("ports"), py::arg("period_s"),
-      "Adds a VectorLogger and connects each (system, output port); columns are '<system>.<port>.<element>' or '<system>.<port>[i]'.");
+      "Adds a VectorLogger and connects each (system, output port); columns are '<system>.<port>.<element>' or "
+      "'<system>.<port>[i]'.");
 }
 
 void BindLinearize(py::module_& m) {
-  py::class_<LinearSystemMatrices>(m, "LinearSystemMatrices", "δẋ = A δx + B δu, δy = C δx + D δu about (x0, u0) (framework/linearize.h).")
+  py::class_<LinearSystemMatrices>(m, "LinearSystemMatrices",
+                                   "δẋ = A δx + B δu, δy = C δx + D δu about (x0, u0) (framework/linearize.h).")
       .def_readonly("A", &LinearSystemMatrices::A)
       .def_readonly("B", &LinearSystemMatrices::B)
       .def_readonly("C", &LinearSystemMatrices::C)
@@ -283,13 +322,15 @@ void BindLinearize(py::module_& m) {
       .def_readonly("time", &LinearSystemMatrices::time);
   m.def(
       "linearize",
-      [](const System& system, Context& context, const std::string& input_port, const std::string& output_port, double step_scale) {
+      [](const System& system, Context& context, const std::string& input_port, const std::string& output_port,
+         double step_scale) {
         LinearizeParams params;
         params.step_scale = step_scale;
         return Linearize(system, context, input_port, output_port, params);
       },
       py::arg("system"), py::arg("context"), py::arg("input_port") = "", py::arg("output_port") = "",
-      py::arg("step_scale") = LinearizeParams{}.step_scale, "Central-difference linearization about the point held by `context`.");
+      py::arg("step_scale") = LinearizeParams{}.step_scale,
+      "Central-difference linearization about the point held by `context`.");
 }
 
 }  // namespace

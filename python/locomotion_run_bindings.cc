@@ -18,11 +18,12 @@ namespace {
 py::object JsonToPython(const std::string& json_text) { return py::module_::import("json").attr("loads")(json_text); }
 
 /// Plan → build → RunWalking as examples/walking does for its stand-to-walk and periodic scenarios.
-py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gait, int steps, const std::string& scenario, unsigned seed,
-                                WalkingRunParams run) {
+py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gait, int steps,
+                                const std::string& scenario, unsigned seed, WalkingRunParams run) {
   if (scenario != "stand-to-walk" && scenario != "periodic")
     throw py::value_error("run_walking: scenario must be 'stand-to-walk' or 'periodic', got '" + scenario + "'");
-  if (steps < 1 || steps > 1000) throw py::value_error("run_walking: steps = " + std::to_string(steps) + " is outside [1, 1000]");
+  if (steps < 1 || steps > 1000)
+    throw py::value_error("run_walking: steps = " + std::to_string(steps) + " is outside [1, 1000]");
   if (scenario == "periodic") {
     run.start_time_s = 0.5 * gait.dsp_duration_s;
     run.start_at_rest = false;
@@ -45,15 +46,19 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
 }
 
 /// Planners → build → RunHopping as examples/hopping does (Cassie, the hybrid plant).
-py::object RunHoppingFromPython(int hops, double apex_rise_m, const std::string& leg_stiffness, const HoppingRunParams& run) {
+py::object RunHoppingFromPython(int hops, double apex_rise_m, const std::string& leg_stiffness,
+                                const HoppingRunParams& run) {
   run.Validate();
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
+  auto model =
+      std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
   SpringMassJumpParams jump;
   jump.apex_rise = apex_rise_m;
   HoppingDiagramParams diagram_params;
   diagram_params.reference.hops = hops;
-  auto planners = std::make_unique<SpringMassHopPlanners>(*model, ParseLegStiffnessVariant(leg_stiffness), jump, SpringMassLandingParams{});
-  HoppingDiagram d = BuildHoppingDiagram(model, planners->leg_length, planners->jump, planners->landing, diagram_params);
+  auto planners = std::make_unique<SpringMassHopPlanners>(*model, ParseLegStiffnessVariant(leg_stiffness), jump,
+                                                          SpringMassLandingParams{});
+  HoppingDiagram d =
+      BuildHoppingDiagram(model, planners->leg_length, planners->jump, planners->landing, diagram_params);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const HoppingRunResult r = RunHopping(d, sim, run, planners.get());
@@ -63,7 +68,8 @@ py::object RunHoppingFromPython(int hops, double apex_rise_m, const std::string&
 }  // namespace
 
 void BindLocomotionRuns(py::module_& m) {
-  ParamsClass<WalkingGait>(m, "WalkingGait", "A periodic walking gait (diagrams/walking/walking_diagram.h), gait A by default.")
+  ParamsClass<WalkingGait>(m, "WalkingGait",
+                           "A periodic walking gait (diagrams/walking/walking_diagram.h), gait A by default.")
       .Field("step_length_m", &WalkingGait::step_length_m)
       .Field("ssp_duration_s", &WalkingGait::ssp_duration_s)
       .Field("dsp_duration_s", &WalkingGait::dsp_duration_s)
@@ -90,13 +96,16 @@ void BindLocomotionRuns(py::module_& m) {
       .Field("landing_grf_skip_s", &HoppingRunParams::landing_grf_skip_s)
       .cls()
       .def("validate", &HoppingRunParams::Validate);
-  m.def("run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json", py::arg("gait") = WalkingGait{},
-        py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk", py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
+  m.def("run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json",
+        py::arg("gait") = WalkingGait{}, py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk",
+        py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
         "Plans (stand-to-walk or periodic), builds the walking diagram and runs it (RunWalking). Returns the walking "
         "program's summary metrics as a dict (success, steps_completed, ...), plus wall_s and simulated_s.");
-  m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1, py::arg("apex_rise_m") = SpringMassJumpParams{}.apex_rise,
-        py::arg("leg_stiffness") = "identified", py::arg("run") = HoppingRunParams{},
-        "Builds Cassie's hopping diagram with the spring-mass planners and runs it (RunHopping). Returns the hopping program's "
+  m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1,
+        py::arg("apex_rise_m") = SpringMassJumpParams{}.apex_rise, py::arg("leg_stiffness") = "identified",
+        py::arg("run") = HoppingRunParams{},
+        "Builds Cassie's hopping diagram with the spring-mass planners and runs it (RunHopping). Returns the hopping "
+        "program's "
         "summary as a dict (success, hopped, air_time_s, ...).");
 }
 

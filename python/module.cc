@@ -37,9 +37,10 @@ Eigen::VectorXd ToVector(const py::handle& value, const char* what) {
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
     a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
-  } catch (const py::error_already_set&) {
-  }
-  if (!a || a.ndim() > 1) throw py::value_error(std::string(what) + ": expected a 1-D sequence of numbers, got " + std::string(py::str(py::repr(value))));
+  } catch (const py::error_already_set&) {}
+  if (!a || a.ndim() > 1)
+    throw py::value_error(std::string(what) + ": expected a 1-D sequence of numbers, got " +
+                          std::string(py::str(py::repr(value))));
   Eigen::VectorXd v(a.size());
   for (py::ssize_t i = 0; i < a.size(); ++i) v[i] = a.data()[i];
   return v;

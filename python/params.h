@@ -1,6 +1,7 @@
 #pragma once
 // ParamsClass: binds a C++ parameter struct as a Python class with a keyword constructor (unknown names are a
-// TypeError listing the fields) and a repr that lists every bound field, e.g. SteppingStonesSupervisorParams(max_steps=30, ...).
+// TypeError listing the fields) and a repr that lists every bound field, e.g.
+// SteppingStonesSupervisorParams(max_steps=30, ...).
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,7 +13,8 @@ namespace rome::python {
 template <class T>
 class ParamsClass {
  public:
-  ParamsClass(pybind11::module_& m, const char* name, const char* doc) : class_(m, name, doc), name_(name), fields_(std::make_shared<std::vector<std::string>>()) {
+  ParamsClass(pybind11::module_& m, const char* name, const char* doc)
+      : class_(m, name, doc), name_(name), fields_(std::make_shared<std::vector<std::string>>()) {
     namespace py = pybind11;
     auto fields = fields_;
     std::string type_name = name_;

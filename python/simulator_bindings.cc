@@ -43,7 +43,8 @@ void BindConfig(py::module_& m) {
         SimulatorConfig config;
         py::object self = py::cast(&config, py::return_value_policy::reference);
         for (const auto& [key, value] : kwargs) {
-          if (!py::hasattr(self, key)) throw py::type_error("SimulatorConfig has no field '" + std::string(py::str(key)) + "'");
+          if (!py::hasattr(self, key))
+            throw py::type_error("SimulatorConfig has no field '" + std::string(py::str(key)) + "'");
           self.attr(key) = value;
         }
         return config;
@@ -61,8 +62,9 @@ void BindConfig(py::module_& m) {
       .def_readwrite("event_policy", &SimulatorConfig::event_policy)
       .def("__repr__", [](const py::object& self) {
         return "SimulatorConfig(" +
-               AttributeList(self, {"scheme", "relative_tolerance", "absolute_tolerance", "max_step_s", "initial_step_s", "max_order",
-                                    "explicit_rk_method", "restart_with_last_step", "max_guard_events"}) +
+               AttributeList(self,
+                             {"scheme", "relative_tolerance", "absolute_tolerance", "max_step_s", "initial_step_s",
+                              "max_order", "explicit_rk_method", "restart_with_last_step", "max_guard_events"}) +
                ")";
       });
 }
@@ -116,17 +118,23 @@ void BindSimulator(py::module_& m) {
   BindConfig(m);
   BindStatus(m);
   py::class_<Simulator>(m, "Simulator", "Hybrid simulator (CVODE / ARKODE with root finding) of a system.")
-      .def(py::init<const System&, SimulatorConfig>(), py::arg("system"), py::arg("config") = SimulatorConfig{}, py::keep_alive<1, 2>())
-      .def_property_readonly("context", py::overload_cast<>(&Simulator::get_mutable_context), py::return_value_policy::reference_internal)
+      .def(py::init<const System&, SimulatorConfig>(), py::arg("system"), py::arg("config") = SimulatorConfig{},
+           py::keep_alive<1, 2>())
+      .def_property_readonly("context", py::overload_cast<>(&Simulator::get_mutable_context),
+                             py::return_value_policy::reference_internal)
       .def_property("config", &Simulator::config, &Simulator::set_config)
       .def("initialize", &Simulator::Initialize)
       .def("advance_to", &Simulator::AdvanceTo, py::arg("t_final"))
       .def_property_readonly("statistics", &Simulator::statistics, py::return_value_policy::copy)
       .def_property_readonly("num_continuous_states", &Simulator::num_continuous_states)
       .def(
-          "add_monitor", [](Simulator& s, py::function f, std::string name) { s.add_monitor(PythonMonitor(std::move(f)), std::move(name)); },
+          "add_monitor",
+          [](Simulator& s, py::function f, std::string name) {
+            s.add_monitor(PythonMonitor(std::move(f)), std::move(name));
+          },
           py::arg("monitor"), py::arg("name") = "monitor",
-          "monitor(context) runs after every accepted step; returning an EventStatus other than succeeded ends the run.")
+          "monitor(context) runs after every accepted step; returning an EventStatus other than succeeded ends the "
+          "run.")
       .def("remove_monitor", &Simulator::remove_monitor, py::arg("name"));
 }
 

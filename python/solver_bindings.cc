@@ -24,7 +24,8 @@ using OptVector = std::optional<Eigen::VectorXd>;
 int RowsOf(const OptMatrix& M, Eigen::Index n, const char* what) {
   if (!M) return 0;
   if (M->cols() != n)
-    throw py::value_error(std::string("solve_qp: ") + what + " has " + std::to_string(M->cols()) + " columns, expected n = " + std::to_string(n));
+    throw py::value_error(std::string("solve_qp: ") + what + " has " + std::to_string(M->cols()) +
+                          " columns, expected n = " + std::to_string(n));
   return static_cast<int>(M->rows());
 }
 
@@ -32,15 +33,21 @@ int RowsOf(const OptMatrix& M, Eigen::Index n, const char* what) {
 void CopyVector(const OptVector& v, Eigen::VectorXd& target, const char* what) {
   if (!v) return;
   if (v->size() != target.size())
-    throw py::value_error(std::string("solve_qp: ") + what + " has " + std::to_string(v->size()) + " elements, expected " + std::to_string(target.size()));
+    throw py::value_error(std::string("solve_qp: ") + what + " has " + std::to_string(v->size()) +
+                          " elements, expected " + std::to_string(target.size()));
   target = *v;
 }
 
-py::dict SolveQp(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, const OptMatrix& A_eq, const OptVector& b_eq, const OptMatrix& A,
-                 const OptVector& l, const OptVector& u, const OptVector& lb, const OptVector& ub, int max_iterations) {
+py::dict SolveQp(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, const OptMatrix& A_eq, const OptVector& b_eq,
+                 const OptMatrix& A, const OptVector& l, const OptVector& u, const OptVector& lb, const OptVector& ub,
+                 int max_iterations) {
   const Eigen::Index n = H.rows();
-  if (H.cols() != n) throw py::value_error("solve_qp: H is " + std::to_string(H.rows()) + "x" + std::to_string(H.cols()) + ", expected square");
-  if (g.size() != n) throw py::value_error("solve_qp: g has " + std::to_string(g.size()) + " elements, expected n = " + std::to_string(n));
+  if (H.cols() != n)
+    throw py::value_error("solve_qp: H is " + std::to_string(H.rows()) + "x" + std::to_string(H.cols()) +
+                          ", expected square");
+  if (g.size() != n)
+    throw py::value_error("solve_qp: g has " + std::to_string(g.size()) +
+                          " elements, expected n = " + std::to_string(n));
   if (A_eq.has_value() != b_eq.has_value()) throw py::value_error("solve_qp: give A_eq and b_eq together");
   if (A && !l && !u) throw py::value_error("solve_qp: A needs l, u or both");
   QpSettings settings;
@@ -73,11 +80,13 @@ py::dict SolveQp(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, const OptMa
 }  // namespace
 
 void BindSolvers(py::module_& m) {
-  m.def("solve_qp", &SolveQp, py::arg("H"), py::arg("g"), py::arg("A_eq") = py::none(), py::arg("b_eq") = py::none(), py::arg("A") = py::none(),
-        py::arg("l") = py::none(), py::arg("u") = py::none(), py::arg("lb") = py::none(), py::arg("ub") = py::none(),
-        py::arg("max_iterations") = QpSettings{}.max_iterations,
-        "min 1/2 x'Hx + g'x s.t. A_eq x = b_eq, l <= A x <= u, lb <= x <= ub (solvers/qp/dense_qp_solver.h). Returns a dict: "
-        "status ('optimal', 'infeasible', ...), message, x, y_eq, y_ineq, y_bounds (H x + g + A_eq'y_eq + A'y_ineq + y_bounds = 0), "
+  m.def("solve_qp", &SolveQp, py::arg("H"), py::arg("g"), py::arg("A_eq") = py::none(), py::arg("b_eq") = py::none(),
+        py::arg("A") = py::none(), py::arg("l") = py::none(), py::arg("u") = py::none(), py::arg("lb") = py::none(),
+        py::arg("ub") = py::none(), py::arg("max_iterations") = QpSettings{}.max_iterations,
+        "min 1/2 x'Hx + g'x s.t. A_eq x = b_eq, l <= A x <= u, lb <= x <= ub (solvers/qp/dense_qp_solver.h). Returns a "
+        "dict: "
+        "status ('optimal', 'infeasible', ...), message, x, y_eq, y_ineq, y_bounds (H x + g + A_eq'y_eq + A'y_ineq + "
+        "y_bounds = 0), "
         "objective, iterations. Bad data raises ValueError.");
   m.def(
       "solve_care",
@@ -93,14 +102,17 @@ void BindSolvers(py::module_& m) {
       "Stabilizing solution of A'P + PA - PBR^-1B'P + Q = 0: a dict with P, K = R^-1 B'P and relative_residual.");
   m.def(
       "lqr",
-      [](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R, const OptMatrix& N) {
+      [](const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+         const OptMatrix& N) {
         const LinearQuadraticRegulatorResult r = LinearQuadraticRegulator(A, B, Q, R, N.value_or(Eigen::MatrixXd()));
         return py::make_tuple(r.K, r.S);
       },
-      py::arg("A"), py::arg("B"), py::arg("Q"), py::arg("R"), py::arg("N") = py::none(), "(K, S) of the infinite-horizon LQR, u = -K x.");
+      py::arg("A"), py::arg("B"), py::arg("Q"), py::arg("R"), py::arg("N") = py::none(),
+      "(K, S) of the infinite-horizon LQR, u = -K x.");
   m.def(
       "lqr_of_system",
-      [](const System& system, Context& context, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R, const std::string& input_port) {
+      [](const System& system, Context& context, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+         const std::string& input_port) {
         const LinearQuadraticRegulatorResult r = LinearQuadraticRegulator(system, context, Q, R, input_port);
         return py::make_tuple(r.K, r.S);
       },

@@ -11,9 +11,10 @@ namespace rome {
 
 HybridContactPlantParams HoppingDiagramParams::DefaultPlantParams() {
   HybridContactPlantParams p;
-  p.min_base_height_m = 0.5;  // [m] pelvis below this is a fall (standing pelvis ~1.0 m, crouched ~0.85 m)
+  p.min_base_height_m = 0.5;    // [m] pelvis below this is a fall (standing pelvis ~1.0 m, crouched ~0.85 m)
   p.min_time_in_mode_s = 0.02;  // spec [R] A3: minimum 20 ms between events
-  // [N] ours: lift-off at 8 N (2.4 % of m g); at the spec's 3.3 N the take-off slips first (docs/design-notes.md#hopping-liftoff-force).
+  // [N] ours: lift-off at 8 N (2.4 % of m g); at the spec's 3.3 N the take-off slips first
+  // (docs/design-notes.md#hopping-liftoff-force).
   p.planned_liftoff_force_N = 8.0;
   return p;
 }
@@ -35,7 +36,8 @@ ClfQpParams HoppingDiagramParams::DefaultControllerParams() {
   p.formulation = ClfQpFormulation::kAugmentedInput;
   p.update_period_s = 5e-4;
   p.epsilon = 0.1;
-  // ρ_u = 1e-4 (spec [R] A4.5); the block's 1e-6 leaves the landing QP ill-conditioned (docs/design-notes.md#hopping-torque-penalty).
+  // ρ_u = 1e-4 (spec [R] A4.5); the block's 1e-6 leaves the landing QP ill-conditioned
+  // (docs/design-notes.md#hopping-torque-penalty).
   p.u_regularization = 1e-4;
   // The cost targets ÿ_d − Kp e − Kd ė on every CLF output (ours; the paper's targets ÿ_d): with ÿ_d alone the flight
   // knees drift and the landing slips (docs/design-notes.md#hopping-cost-target).
@@ -43,7 +45,8 @@ ClfQpParams HoppingDiagramParams::DefaultControllerParams() {
   // Relaxation weight p = 1e4 on ½ p δ² (ours; the block's and the walking spec's 1e5, the hopping spec says "large"):
   // with 1e5 the landing torques jump between ticks (docs/design-notes.md#hopping-relaxation-weight).
   p.relaxation_weight = 1e4;
-  // The uniform torque penalty stays: the per-actuator one changed nothing (docs/design-notes.md#hopping-relaxation-weight).
+  // The uniform torque penalty stays: the per-actuator one changed nothing
+  // (docs/design-notes.md#hopping-relaxation-weight).
   return p;
 }
 
@@ -56,7 +59,8 @@ HoppingReferenceParams HoppingDiagramParams::DefaultReferenceParams() {
   // (docs/design-notes.md#hopping-first-landing).
   p.jump_momentum_gain = 10.0;
   p.landing_deflection_feedback = 0.7;
-  // GRF feedback in Jump, k_F = 6, k_I = 40 1/s (ours): closes the air-time gap (docs/design-notes.md#hopping-air-time).
+  // GRF feedback in Jump, k_F = 6, k_I = 40 1/s (ours): closes the air-time gap
+  // (docs/design-notes.md#hopping-air-time).
   p.jump_force_feedback = 6.0;
   p.jump_force_integral_per_s = 40.0;
   // Landing quintics (COM x, pelvis pitch back to 0) over 0.5 s (ours; spec [R] C10: 0.3 s, with which the third of
@@ -98,10 +102,12 @@ void HoppingDiagramParams::Validate() const {
   CheckRange("landing_u_regularization_scale", landing_u_regularization_scale, 1e-3, 1e3);
   CheckRange("bullet_plant.substeps", bullet_plant.substeps, 1, 100);
   CheckRange("log_period_s", log_period_s, 1e-5, 10.0, " s");
-  if (landing_u_regularization_scale != 1.0 && (controller.u_regularization_weights.size() != 0 || !controller.u_regularization_modes.empty())) {
+  if (landing_u_regularization_scale != 1.0 &&
+      (controller.u_regularization_weights.size() != 0 || !controller.u_regularization_modes.empty())) {
     std::ostringstream msg;
     msg << "HoppingDiagramParams: landing_u_regularization_scale = " << landing_u_regularization_scale
-        << " sets the controller's u_regularization_weights and u_regularization_modes; leave those empty or set the scale to 1";
+        << " sets the controller's u_regularization_weights and u_regularization_modes; leave those empty or set the "
+           "scale to 1";
     throw std::invalid_argument(msg.str());
   }
 }
@@ -129,12 +135,15 @@ std::vector<HoppingTask> TasksOf(const std::vector<ClfOutput>& outputs) {
 
 std::vector<HoppingTask> HoppingTasks(const MultibodyModel& model, const HoppingOutputParams& params) {
   // Only the names, sizes and domains are read: any leg-length function will do.
-  return TasksOf(MakeHoppingOutputs(model, [](double, double* L, double* dL) { *L = 0.0, *dL = 0.0; }, params));
+  return TasksOf(MakeHoppingOutputs(
+      model, [](double, double* L, double* dL) { *L = 0.0, *dL = 0.0; }, params));
 }
 
-HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
-                                   HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
-                                   const HoppingDiagramParams& params, PlantKind plant, const HoppingControllerFactory& controller_factory) {
+HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
+                                   const HoppingReference::LegLengthFunction& leg_length,
+                                   HoppingReference::JumpPlanner jump_planner,
+                                   HoppingReference::LandingPlanner landing_planner, const HoppingDiagramParams& params,
+                                   PlantKind plant, const HoppingControllerFactory& controller_factory) {
   params.Validate();
   if (!controller_factory) throw std::invalid_argument("BuildHoppingDiagram: the controller factory is empty");
   HoppingDiagram d;
@@ -144,10 +153,11 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, 
   d.layout = MakeHoppingOutputLayout(params.outputs);
   d.plant_kind = plant;
   DiagramBuilder b;
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat(),
-                                         params.plant, params.bullet_plant));
-  d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner), std::move(landing_planner),
-                                                               d.layout, params.reference));
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model,
+                                         ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
+                                         Terrain::Flat(), params.plant, params.bullet_plant));
+  d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner),
+                                                               std::move(landing_planner), d.layout, params.reference));
   HoppingControllerSpec spec;
   spec.model = model;
   spec.mode_contacts = ActiveContactsPerMode(*d.plant);
@@ -157,7 +167,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, 
   spec.controller = params.controller;
   spec.controller.contact_stabilization = params.plant.dynamics;
   if (params.landing_u_regularization_scale != 1.0) {
-    spec.controller.u_regularization_weights = Eigen::VectorXd::Constant(model->nu(), params.landing_u_regularization_scale);
+    spec.controller.u_regularization_weights =
+        Eigen::VectorXd::Constant(model->nu(), params.landing_u_regularization_scale);
     spec.controller.u_regularization_modes = {HoppingDomain::kLanding};
   }
   d.tasks = spec.tasks;
@@ -174,8 +185,9 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, 
   b.Connect(spec.name, "u", "plant", "u");
   b.ExportOutput(spec.name, "u", "u");
   if (d.controller->HasOutputPort("qp_failures")) b.ExportOutput(spec.name, "qp_failures", "qp_failures");
-  std::vector<std::pair<std::string, std::string>> logged = {
-      {"plant", "state"}, {"plant", "mode"}, {"plant", "com"}, {"plant", "contact_forces"}, {"reference", "domain"}, {"reference", "desired"}};
+  std::vector<std::pair<std::string, std::string>> logged = {{"plant", "state"},      {"plant", "mode"},
+                                                             {"plant", "com"},        {"plant", "contact_forces"},
+                                                             {"reference", "domain"}, {"reference", "desired"}};
   for (const char* port : {"u", "V", "delta", "contact_forces", "qp_status", "solve_time_s"})
     if (d.controller->HasOutputPort(port)) logged.push_back({spec.name, port});
   d.logger = AddVectorLogger(b, "logger", logged, params.log_period_s);

@@ -9,7 +9,8 @@
 //                  (Eq. (14)-(15), solved from the measured standing state) and landing plan (Eq. (16), solved at
 //                  lift-off from the predicted touchdown and again, warm, from the post-impact state); it reads the
 //                  plant's state, mode and contact forces (the Jump's GRF feedback, ours))
-//     → controller (any System from a HoppingControllerFactory, a leaf or a diagram; default MakeDefaultHoppingController:
+//     → controller (any System from a HoppingControllerFactory, a leaf or a diagram; default
+//     MakeDefaultHoppingController:
 //                   ClfQpController, augmented input [u; F_h], Eq. (45)-(51), RES-CLF Eq. (29)-(37), line-foot wrench
 //                   rows and torque limits, 2 kHz and re-solved at every event; outputs per domain from
 //                   MakeHoppingOutputs)
@@ -33,18 +34,18 @@
 // on. Swapping it is one argument:
 //   BuildHoppingDiagram(model, leg_length, jump, landing, params, PlantKind::kHybrid, MyControllerFactory)
 // A diagram built with DiagramBuilder is a controller too when it exports these ports, e.g. the default controller →
-// Saturation (framework/primitives.h) exporting the saturation's y as u (tests/diagrams/hopping, SaturatedSubDiagram...).
+// Saturation (framework/primitives.h) exporting the saturation's y as u (tests/diagrams/hopping,
+// SaturatedSubDiagram...).
 //
 // Build → run → result from C++ (diagrams/hopping/hopping_run.h; tests/diagrams/hopping/hopping_diagram_test.cc
 // compiles exactly this):
-//   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
-//   SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{}, SpringMassLandingParams{});
-//   HoppingDiagramParams params;
-//   params.reference.hops = 1;
-//   HoppingDiagram d = BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, params);
-//   Simulator sim(*d.diagram, HoppingSimulatorConfig());
-//   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
-//   const HoppingRunResult result = RunHopping(d, sim, HoppingRunParams{}, &rom);
+//   auto model = std::make_shared<const
+//   MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+//   SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{},
+//   SpringMassLandingParams{}); HoppingDiagramParams params; params.reference.hops = 1; HoppingDiagram d =
+//   BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, params); Simulator sim(*d.diagram,
+//   HoppingSimulatorConfig()); SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal()); const
+//   HoppingRunResult result = RunHopping(d, sim, HoppingRunParams{}, &rom);
 //   // result.success, result.hopped, result.air_time_s, result.grf_nrmse_jump, result.contact.violations, ...
 // (headers: diagrams/hopping/hopping_run.h, systems/multibody/robot_files.h)
 //
@@ -69,7 +70,8 @@
 namespace rome {
 
 struct HoppingDiagramParams {
-  HybridContactPlantParams plant = DefaultPlantParams();  ///< PlantKind::kHybrid; its dynamics are the controller's on either plant
+  HybridContactPlantParams plant =
+      DefaultPlantParams();  ///< PlantKind::kHybrid; its dynamics are the controller's on either plant
   BulletWorldPlantParams bullet_plant = DefaultBulletPlantParams();  ///< PlantKind::kBullet
   ClfQpParams controller = DefaultControllerParams();  ///< contact_stabilization is overwritten with plant.dynamics
   HoppingOutputParams outputs = DefaultOutputParams();
@@ -77,8 +79,8 @@ struct HoppingDiagramParams {
   double log_period_s = 1e-3;  ///< [s]
   /// [-] ρ_u is multiplied by this in the Landing domain (ours, measured; 1: off), which also covers the settle before
   /// the first hop and the rests between hops. It sets the controller's u_regularization_weights and
-  /// u_regularization_modes (BuildHoppingDiagram throws if those are set too). With the Jump's GRF feedback the robot lands
-  /// from higher and, 0.1-0.2 s after touchdown with ~100 N on each foot, the landing QP's torques jumped between
+  /// u_regularization_modes (BuildHoppingDiagram throws if those are set too). With the Jump's GRF feedback the robot
+  /// lands from higher and, 0.1-0.2 s after touchdown with ~100 N on each foot, the landing QP's torques jumped between
   /// solutions tick to tick (hip pitches +177 / −195 N m, the legs scissoring) while V stayed ~0.1: the 4 torque
   /// directions the 6 landing outputs leave free are set by ρ_u alone. Each jump put the feet's forces on the friction
   /// pyramid's edge and a foot slipped (apex rises 0.23 and 0.28 m). With 10 all six tuning apex rises land.
@@ -151,8 +153,10 @@ struct HoppingDiagram {
 
 /// The diagram also exports the controller's u (as "u") and, when the controller has it, qp_failures (as
 /// "qp_failures"), so a run reads them whatever the controller is. Validates `params` first.
-HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model, const HoppingReference::LegLengthFunction& leg_length,
-                                   HoppingReference::JumpPlanner jump_planner, HoppingReference::LandingPlanner landing_planner,
+HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
+                                   const HoppingReference::LegLengthFunction& leg_length,
+                                   HoppingReference::JumpPlanner jump_planner,
+                                   HoppingReference::LandingPlanner landing_planner,
                                    const HoppingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid,
                                    const HoppingControllerFactory& controller = MakeDefaultHoppingController);
 

@@ -27,11 +27,11 @@ struct HoppingDomain {
 
 /// Cost weights of the outputs (ours: the paper weighs every output by 1 in A ubar + L_f).
 struct HoppingOutputParams {
-  double momentum_weight = 1.0;     ///< [-] H_pitch (its unit, N m s per s, differs from the RD2 rows' m/s²)
-  double leg_length_weight = 1.0;   ///< [-]
-  double com_weight = 1.0;          ///< [-]
-  double pelvis_weight = 1.0;       ///< [-] yaw and pitch
-  double motor_weight = 1.0;        ///< [-] flight motor positions
+  double momentum_weight = 1.0;    ///< [-] H_pitch (its unit, N m s per s, differs from the RD2 rows' m/s²)
+  double leg_length_weight = 1.0;  ///< [-]
+  double com_weight = 1.0;         ///< [-]
+  double pelvis_weight = 1.0;      ///< [-] yaw and pitch
+  double motor_weight = 1.0;       ///< [-] flight motor positions
   /// Kp [1/s²], Kd [1/s] of the flight motors' PD target ÿ* (with ClfQpParams::cost_pd_feedback; ours, the
   /// TaskGains default 100, 20: 10 rad/s, critically damped).
   double motor_kp = 100.0, motor_kd = 20.0;
@@ -43,7 +43,8 @@ struct HoppingOutputParams {
 /// The outputs above for `model` (Cassie: joints left_/right_ knee etc.; the 10 actuated joints in actuator order),
 /// and their offsets in the stacked output vector y (HoppingOutputLayout; momentum = -1 when Jump tracks the pitch).
 /// `leg_length(q_knee, &L, &dL/dq_knee)` is Eq. (13).
-std::vector<ClfOutput> MakeHoppingOutputs(const MultibodyModel& model, const JointFunctionTask::Function& leg_length, const HoppingOutputParams& params = {});
+std::vector<ClfOutput> MakeHoppingOutputs(const MultibodyModel& model, const JointFunctionTask::Function& leg_length,
+                                          const HoppingOutputParams& params = {});
 HoppingOutputLayout MakeHoppingOutputLayout(const HoppingOutputParams& params = {});
 
 }  // namespace rome

@@ -8,12 +8,14 @@
 namespace rome {
 
 LegLengthTable::LegLengthTable(const MultibodyModel& model, const std::string& side, int nodes) {
-  if (nodes < 2) throw std::invalid_argument("LegLengthTable: nodes = " + std::to_string(nodes) + " must be at least 2");
+  if (nodes < 2)
+    throw std::invalid_argument("LegLengthTable: nodes = " + std::to_string(nodes) + " must be at least 2");
   const CassieVirtualLeg leg(model, side);
   const int k = leg.knee_index();
   const double lo = model.position_lower_limits()[k], hi = model.position_upper_limits()[k];
   if (!std::isfinite(lo) || !std::isfinite(hi) || !(hi > lo))
-    throw std::invalid_argument("LegLengthTable: robot '" + model.name() + "': joint '" + side + "_knee' needs finite limits");
+    throw std::invalid_argument("LegLengthTable: robot '" + model.name() + "': joint '" + side +
+                                "_knee' needs finite limits");
   knee_.resize(nodes), length_.resize(nodes), slope_.resize(nodes);
   for (int i = 0; i < nodes; ++i) {
     knee_[i] = lo + (hi - lo) * i / (nodes - 1);
@@ -31,14 +33,20 @@ void LegLengthTable::operator()(double q_knee, double* L, double* dL_dq) const {
 }
 
 LegLengthPlan ToLegLengthPlan(const SpringMassParams& rom, const SpringMassPlan& plan) {
-  LegLengthPlan out{plan.times, plan.states.row(2).transpose(), plan.states.row(3).transpose(), plan.states.row(0).transpose(),
-                    plan.states.row(1).transpose(), plan.leg_force, Eigen::VectorXd(plan.times.size())};
-  for (int k = 0; k < plan.times.size(); ++k) out.stiffness[k] = rom.n_legs * rom.leg.stiffness.Evaluate(plan.states(2, k));
+  LegLengthPlan out{plan.times,
+                    plan.states.row(2).transpose(),
+                    plan.states.row(3).transpose(),
+                    plan.states.row(0).transpose(),
+                    plan.states.row(1).transpose(),
+                    plan.leg_force,
+                    Eigen::VectorXd(plan.times.size())};
+  for (int k = 0; k < plan.times.size(); ++k)
+    out.stiffness[k] = rom.n_legs * rom.leg.stiffness.Evaluate(plan.states(2, k));
   return out;
 }
 
-HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
-                                                        std::shared_ptr<double> rest_height) {
+HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params,
+                                                        PlannerRecords records, std::shared_ptr<double> rest_height) {
   auto planner = std::make_shared<SpringMassJumpPlanner>(rom, params);
   return [planner, records, rest_height](const RomState& start, LegLengthPlan* out, std::string* message) {
     const Eigen::Vector4d z0 = planner->rom().StaticState(start.L);  // spec A2 [R]: static ROM state at the measured L
@@ -60,15 +68,17 @@ HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& 
   };
 }
 
-HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom, const SpringMassLandingParams& params, PlannerRecords records,
+HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom,
+                                                              const SpringMassLandingParams& params,
+                                                              PlannerRecords records,
                                                               std::shared_ptr<double> rest_height) {
   struct State {
     std::unique_ptr<SpringMassLandingPlanner> planner;
     double rest_height = -1;
   };
   auto state = std::make_shared<State>();
-  return [rom, params, state, records, rest_height](const RomState& measured, HoppingReference::LandingSolve when, LegLengthPlan* out,
-                                                    std::string* message) {
+  return [rom, params, state, records, rest_height](const RomState& measured, HoppingReference::LandingSolve when,
+                                                    LegLengthPlan* out, std::string* message) {
     const bool predicted = when == HoppingReference::LandingSolve::kPredictedAtLiftoff;
     const PlannerRecord::Kind kind = predicted ? PlannerRecord::Kind::kLandingPredicted : PlannerRecord::Kind::kLanding;
     SpringMassPlan plan;
@@ -76,13 +86,16 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
       RomState post = measured;
       if (predicted) {
         // Ballistic ROM flight from the measured lift-off state with the leg held (PredictFlight): the touchdown state.
-        const Eigen::Vector4d td = PredictFlight(SpringMassModel(rom), Eigen::Vector4d(measured.x, measured.xdot, measured.L, 0.0)).touchdown_state;
+        const Eigen::Vector4d td =
+            PredictFlight(SpringMassModel(rom), Eigen::Vector4d(measured.x, measured.xdot, measured.L, 0.0))
+                .touchdown_state;
         post = RomState{td[0], td[1], td[2], td[3]};
       }
       if (!state->planner || state->rest_height != *rest_height) {
         SpringMassLandingParams p = params;
         p.rest_height = *rest_height;
-        state->planner = std::make_unique<SpringMassLandingPlanner>(rom, p);  // throws e.g. before any jump set the rest height
+        state->planner =
+            std::make_unique<SpringMassLandingPlanner>(rom, p);  // throws e.g. before any jump set the rest height
         state->rest_height = *rest_height;
       }
       // The measured leg length may sit outside the NLP's L bounds (the knees overshoot the jump's last L in the push
@@ -115,8 +128,8 @@ const SpringMassJumpParams& CheckedJumpParams(const SpringMassJumpParams& p) {
   p.Validate();
   if (!(p.apex_rise <= SpringMassHopPlanners::kMaxApexRise)) {
     std::ostringstream msg;
-    msg << "SpringMassJumpParams: apex_rise = " << p.apex_rise << " m: outside what the legs can reach (0 < H <= " << SpringMassHopPlanners::kMaxApexRise
-        << " m)";
+    msg << "SpringMassJumpParams: apex_rise = " << p.apex_rise
+        << " m: outside what the legs can reach (0 < H <= " << SpringMassHopPlanners::kMaxApexRise << " m)";
     throw std::invalid_argument(msg.str());
   }
   return p;
@@ -129,7 +142,8 @@ const SpringMassLandingParams& CheckedLandingParams(const SpringMassLandingParam
 
 }  // namespace
 
-SpringMassHopPlanners::SpringMassHopPlanners(const MultibodyModel& model, LegStiffnessVariant variant, const SpringMassJumpParams& jump_params,
+SpringMassHopPlanners::SpringMassHopPlanners(const MultibodyModel& model, LegStiffnessVariant variant,
+                                             const SpringMassJumpParams& jump_params,
                                              const SpringMassLandingParams& landing_params)
     : variant(variant),
       rom(CassieSpringMassParams(model, variant)),

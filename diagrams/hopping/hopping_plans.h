@@ -6,7 +6,8 @@
 //   MakeSpringMassJumpPlanner the jump NLP (Eq. (14)-(15)) from the measured standing state (the ROM's static state at
 //                             the measured L, spec A2 [R]);
 //   MakeSpringMassLandingPlanner the landing NLP (Eq. (16)) from the measured post-impact state, warm-started from the
-//                             previous landing solution; its rest height is the jump's initial mass height (spec A2 [R]).
+//                             previous landing solution; its rest height is the jump's initial mass height (spec A2
+//                             [R]).
 // Every solve is appended to a shared record (for the example's summary: time, iterations, violation).
 #include <memory>
 #include <vector>
@@ -30,7 +31,11 @@ class LegLengthTable {
 };
 
 struct PlannerRecord {
-  enum class Kind { kJump, kLanding, kLandingPredicted };  ///< kLandingPredicted: solved at lift-off from the predicted touchdown
+  enum class Kind {
+    kJump,
+    kLanding,
+    kLandingPredicted
+  };  ///< kLandingPredicted: solved at lift-off from the predicted touchdown
   Kind kind = Kind::kJump;
   double time_s = 0.0;  ///< simulated time of the solve [s]
   SpringMassPlan plan;
@@ -40,9 +45,11 @@ using PlannerRecords = std::shared_ptr<std::vector<PlannerRecord>>;
 /// The plan as HoppingReference's node plan (times, L, L̇, x, ẋ, F of the collocation nodes, and n_legs K(L) of `rom`).
 LegLengthPlan ToLegLengthPlan(const SpringMassParams& rom, const SpringMassPlan& plan);
 
-HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params, PlannerRecords records,
-                                                        std::shared_ptr<double> rest_height);
-HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom, const SpringMassLandingParams& params, PlannerRecords records,
+HoppingReference::JumpPlanner MakeSpringMassJumpPlanner(const SpringMassParams& rom, const SpringMassJumpParams& params,
+                                                        PlannerRecords records, std::shared_ptr<double> rest_height);
+HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassParams& rom,
+                                                              const SpringMassLandingParams& params,
+                                                              PlannerRecords records,
                                                               std::shared_ptr<double> rest_height);
 
 /// The spring-mass ROM's pieces for BuildHoppingDiagram in one place: Cassie's ROM (CassieSpringMassParams), the
@@ -51,7 +58,8 @@ HoppingReference::LandingPlanner MakeSpringMassLandingPlanner(const SpringMassPa
 /// against what Cassie's legs can reach (0 < H <= kMaxApexRise), naming the field and the value.
 struct SpringMassHopPlanners {
   static constexpr double kMaxApexRise = 0.35;  ///< [m] largest apex rise H the hopping diagram accepts (ours)
-  SpringMassHopPlanners(const MultibodyModel& model, LegStiffnessVariant variant, const SpringMassJumpParams& jump_params = {},
+  SpringMassHopPlanners(const MultibodyModel& model, LegStiffnessVariant variant,
+                        const SpringMassJumpParams& jump_params = {},
                         const SpringMassLandingParams& landing_params = {});
   LegStiffnessVariant variant;
   SpringMassParams rom;

@@ -14,10 +14,12 @@ namespace rome {
 namespace {
 constexpr int kJump = 0, kFlight = 1, kLanding = 2;
 // Discrete state.
-constexpr int kDomain = 0, kDomainStart = 1, kCentreX = 2, kCentreY = 3, kYaw0 = 4, kMotorTargets = 5;  // 10 motor targets
-constexpr int kLandComX = 15, kLandComXdot = 16, kLandPitch = 17, kLandPitchRate = 18, kHopsDone = 19, kJumpPlans = 20, kLandingPlans = 21,
-              kPlanFailures = 22, kHoldL = 23, kJumpPitch = 24, kJumpPitchRate = 25,
-              kJumpHipPerPitch = 26, kFlightPitch0 = 28, kFlightHipPerPitch = 29, kForceIntegral = 31, kFixed = 32;  // *HipPerPitch: 2 legs
+constexpr int kDomain = 0, kDomainStart = 1, kCentreX = 2, kCentreY = 3, kYaw0 = 4,
+              kMotorTargets = 5;  // 10 motor targets
+constexpr int kLandComX = 15, kLandComXdot = 16, kLandPitch = 17, kLandPitchRate = 18, kHopsDone = 19, kJumpPlans = 20,
+              kLandingPlans = 21, kPlanFailures = 22, kHoldL = 23, kJumpPitch = 24, kJumpPitchRate = 25,
+              kJumpHipPerPitch = 26, kFlightPitch0 = 28, kFlightHipPerPitch = 29, kForceIntegral = 31,
+              kFixed = 32;  // *HipPerPitch: 2 legs
 
 // Quintic from (p0, v0, a0 = 0) to (p1, 0, 0) over T; value, rate, acceleration at s (held after T).
 Eigen::Vector3d Blend(double s, double T, double p0, double v0, double p1) {
@@ -51,8 +53,10 @@ double HoppingReference::HipPerPitch(const Eigen::VectorXd& q, int leg) const {
   return std::abs(per_hip) > 1e-9 ? per_base / per_hip : 0.0;
 }
 
-HoppingReference::HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
-                                   LandingPlanner landing_planner, HoppingOutputLayout layout, HoppingReferenceParams params)
+HoppingReference::HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model,
+                                   LegLengthFunction leg_length, JumpPlanner jump_planner,
+                                   LandingPlanner landing_planner, HoppingOutputLayout layout,
+                                   HoppingReferenceParams params)
     : LeafSystem(std::move(name)),
       model_(std::move(model)),
       leg_length_(std::move(leg_length)),
@@ -63,31 +67,42 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   if (!model_) ThrowError("null MultibodyModel");
   if (!leg_length_) ThrowError("no leg-length function given");
   if (!jump_planner_) ThrowError("no jump planner given");
-  if (model_->nu() != 10) ThrowError("robot '" + model_->name() + "' has " + std::to_string(model_->nu()) + " actuators; the hopping outputs need Cassie's 10");
+  if (model_->nu() != 10)
+    ThrowError("robot '" + model_->name() + "' has " + std::to_string(model_->nu()) +
+               " actuators; the hopping outputs need Cassie's 10");
   if (params_.hops < 1) ThrowError("params.hops = " + std::to_string(params_.hops) + " must be at least 1");
-  if (params_.max_plan_nodes < 2) ThrowError("params.max_plan_nodes = " + std::to_string(params_.max_plan_nodes) + " must be at least 2");
+  if (params_.max_plan_nodes < 2)
+    ThrowError("params.max_plan_nodes = " + std::to_string(params_.max_plan_nodes) + " must be at least 2");
   for (double value : {params_.update_period_s, params_.landing_blend_s, params_.landing_fallback_s})
-    if (!(value > 0.0) || !std::isfinite(value)) ThrowError("update_period_s, landing_blend_s and landing_fallback_s must be positive, got " + std::to_string(value));
+    if (!(value > 0.0) || !std::isfinite(value))
+      ThrowError("update_period_s, landing_blend_s and landing_fallback_s must be positive, got " +
+                 std::to_string(value));
   if (params_.landing_blend_s < params_.update_period_s)
-    ThrowError("params.landing_blend_s = " + std::to_string(params_.landing_blend_s) + " s must be at least update_period_s = " +
-               std::to_string(params_.update_period_s) + " s");
-  if (!(params_.settle_time_s >= 0.0) || !(params_.rest_time_s >= 0.0)) ThrowError("settle_time_s and rest_time_s must be >= 0");
-  if (!(params_.jump_force_feedback >= 0.0) || !std::isfinite(params_.jump_force_feedback) || !(params_.jump_force_integral_per_s >= 0.0) ||
-      !std::isfinite(params_.jump_force_integral_per_s) || !(params_.jump_force_correction_max_m > 0.0) ||
-      !std::isfinite(params_.jump_force_correction_max_m))
-    ThrowError("jump_force_feedback = " + std::to_string(params_.jump_force_feedback) + " and jump_force_integral_per_s = " +
-               std::to_string(params_.jump_force_integral_per_s) + " must be finite and >= 0, jump_force_correction_max_m = " +
+    ThrowError("params.landing_blend_s = " + std::to_string(params_.landing_blend_s) +
+               " s must be at least update_period_s = " + std::to_string(params_.update_period_s) + " s");
+  if (!(params_.settle_time_s >= 0.0) || !(params_.rest_time_s >= 0.0))
+    ThrowError("settle_time_s and rest_time_s must be >= 0");
+  if (!(params_.jump_force_feedback >= 0.0) || !std::isfinite(params_.jump_force_feedback) ||
+      !(params_.jump_force_integral_per_s >= 0.0) || !std::isfinite(params_.jump_force_integral_per_s) ||
+      !(params_.jump_force_correction_max_m > 0.0) || !std::isfinite(params_.jump_force_correction_max_m))
+    ThrowError("jump_force_feedback = " + std::to_string(params_.jump_force_feedback) +
+               " and jump_force_integral_per_s = " + std::to_string(params_.jump_force_integral_per_s) +
+               " must be finite and >= 0, jump_force_correction_max_m = " +
                std::to_string(params_.jump_force_correction_max_m) + " finite and > 0");
-  if (!(params_.rest_max_speed >= 0.0) || !(params_.max_rest_time_s >= params_.rest_time_s) || !std::isfinite(params_.max_rest_time_s))
-    ThrowError("rest_max_speed = " + std::to_string(params_.rest_max_speed) + " must be >= 0 and max_rest_time_s = " + std::to_string(params_.max_rest_time_s) +
+  if (!(params_.rest_max_speed >= 0.0) || !(params_.max_rest_time_s >= params_.rest_time_s) ||
+      !std::isfinite(params_.max_rest_time_s))
+    ThrowError("rest_max_speed = " + std::to_string(params_.rest_max_speed) +
+               " must be >= 0 and max_rest_time_s = " + std::to_string(params_.max_rest_time_s) +
                " finite and >= rest_time_s = " + std::to_string(params_.rest_time_s));
   if (!(params_.landing_deflection_feedback >= 0.0) || !std::isfinite(params_.landing_deflection_feedback))
-    ThrowError("params.landing_deflection_feedback = " + std::to_string(params_.landing_deflection_feedback) + " must be finite and >= 0");
+    ThrowError("params.landing_deflection_feedback = " + std::to_string(params_.landing_deflection_feedback) +
+               " must be finite and >= 0");
   const std::string* knees[2] = {&params_.left_knee, &params_.right_knee};
   const std::string* shins[2] = {&params_.left_shin, &params_.right_shin};
   const std::string* tarsi[2] = {&params_.left_tarsus, &params_.right_tarsus};
   const std::string* toes[2] = {&params_.left_toe, &params_.right_toe};
-  const std::string* hips[2] = {&params_.left_hip_pitch_link, &params_.right_hip_pitch_link};  // link and joint share the name
+  const std::string* hips[2] = {&params_.left_hip_pitch_link,
+                                &params_.right_hip_pitch_link};  // link and joint share the name
   const std::string* feet[2] = {&params_.left_toe_link, &params_.right_toe_link};
   try {
     for (int leg = 0; leg < 2; ++leg) {
@@ -104,9 +119,7 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
       toe_link_[leg] = model_->BodyIndex(*feet[leg]);
       contact_[leg] = model_->ContactIndex(leg == 0 ? params_.left_contact : params_.right_contact);
     }
-  } catch (const std::exception& e) {
-    ThrowError(std::string("robot '") + model_->name() + "': " + e.what());
-  }
+  } catch (const std::exception& e) { ThrowError(std::string("robot '") + model_->name() + "': " + e.what()); }
   // The rigid-spring rule knee + tarsus = c at the nominal pose (springs undeflected there).
   const Eigen::VectorXd& qn = model_->q_nominal();
   rigid_knee_plus_tarsus_ = qn[knee_[0]] + qn[tarsus_[0]];
@@ -123,15 +136,25 @@ HoppingReference::HoppingReference(std::string name, std::shared_ptr<const Multi
   forces_port_ = DeclareInputPort("contact_forces", 3 * model_->num_contacts());
   // The flight hip targets read the state when params.flight_hip_pitch_follow ≠ 0.
   std::vector<int> reads;
-  if (params_.flight_hip_pitch_follow != 0.0 || params_.landing_deflection_feedback != 0.0) reads.push_back(state_port_);
+  if (params_.flight_hip_pitch_follow != 0.0 || params_.landing_deflection_feedback != 0.0)
+    reads.push_back(state_port_);
   if (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) reads.push_back(forces_port_);
-  DeclareOutputPort("desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); },
-                    reads.empty() ? Feedthrough::None() : Feedthrough::From(reads));
-  DeclareTypedOutputPort<int>("domain", [](const LeafContext& c, int* y) { *y = static_cast<int>(c.discrete_state()[kDomain]); }, Feedthrough::None());
-  DeclareOutputPort("plan_status", {"jump_plans", "landing_plans", "planner_failures"},
-                    [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(kJumpPlans); }, Feedthrough::None());
-  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) { return PeriodicUpdate(c, next); });
-  DeclareEventUpdate("domain_switch", EventTrigger::AnyGuard(), [this](const LeafContext& c, const EventRecord& e, State* next) { return GuardUpdate(c, e, next); });
+  DeclareOutputPort(
+      "desired", 3 * layout_.size, [this](const LeafContext& c, Eigen::VectorXd* y) { CalcDesired(c, y); },
+      reads.empty() ? Feedthrough::None() : Feedthrough::From(reads));
+  DeclareTypedOutputPort<int>(
+      "domain", [](const LeafContext& c, int* y) { *y = static_cast<int>(c.discrete_state()[kDomain]); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "plan_status", {"jump_plans", "landing_plans", "planner_failures"},
+      [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(kJumpPlans); },
+      Feedthrough::None());
+  DeclarePeriodicDiscreteUpdate(params_.update_period_s, 0.0, [this](const LeafContext& c, Eigen::VectorXd* next) {
+    return PeriodicUpdate(c, next);
+  });
+  DeclareEventUpdate(
+      "domain_switch", EventTrigger::AnyGuard(),
+      [this](const LeafContext& c, const EventRecord& e, State* next) { return GuardUpdate(c, e, next); });
 }
 
 RomState HoppingReference::MeasureRomState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
@@ -169,7 +192,8 @@ void HoppingReference::SnapshotSupport(const Eigen::VectorXd& q, Eigen::VectorXd
 
 double HoppingReference::SolePitch(const Eigen::VectorXd& q, int contact) const {
   MultibodyWorkspace ws(*model_);
-  const Eigen::Vector3d d = CalcContactPointPosition(*model_, ws, q, contact, 1) - CalcContactPointPosition(*model_, ws, q, contact, 0);
+  const Eigen::Vector3d d =
+      CalcContactPointPosition(*model_, ws, q, contact, 1) - CalcContactPointPosition(*model_, ws, q, contact, 0);
   return std::atan2(d.z(), d.head<2>().norm());
 }
 
@@ -191,33 +215,42 @@ void HoppingReference::Initialize(LeafContext& context, const Eigen::VectorXd& q
 void HoppingReference::WritePlan(int offset, const LegLengthPlan& plan, Eigen::VectorXd* xd) const {
   const int n = static_cast<int>(plan.t.size()), N = params_.max_plan_nodes;
   if (n < 2 || n > N || plan.L.size() != n || plan.Ldot.size() != n)
-    throw std::invalid_argument("system '" + name() + "': a leg-length plan needs 2.." + std::to_string(N) + " nodes with t, L, Ldot of equal size; got " +
-                                std::to_string(n) + ", " + std::to_string(plan.L.size()) + ", " + std::to_string(plan.Ldot.size()));
+    throw std::invalid_argument("system '" + name() + "': a leg-length plan needs 2.." + std::to_string(N) +
+                                " nodes with t, L, Ldot of equal size; got " + std::to_string(n) + ", " +
+                                std::to_string(plan.L.size()) + ", " + std::to_string(plan.Ldot.size()));
   (*xd)[offset] = n;
   xd->segment(offset + 1, n) = plan.t;
   xd->segment(offset + 1 + N, n) = plan.L;
   xd->segment(offset + 1 + 2 * N, n) = plan.Ldot;
   if ((plan.x.size() != 0 || plan.xdot.size() != 0) && (plan.x.size() != n || plan.xdot.size() != n))
-    throw std::invalid_argument("system '" + name() + "': a leg-length plan's x and xdot must be empty or have its " + std::to_string(n) +
-                                " nodes; got " + std::to_string(plan.x.size()) + " and " + std::to_string(plan.xdot.size()));
+    throw std::invalid_argument("system '" + name() + "': a leg-length plan's x and xdot must be empty or have its " +
+                                std::to_string(n) + " nodes; got " + std::to_string(plan.x.size()) + " and " +
+                                std::to_string(plan.xdot.size()));
   const bool has_x = plan.x.size() == n;
-  if (has_x) xd->segment(offset + 1 + 3 * N, n) = plan.x, xd->segment(offset + 1 + 4 * N, n) = plan.xdot;
-  else xd->segment(offset + 1 + 3 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
+  if (has_x)
+    xd->segment(offset + 1 + 3 * N, n) = plan.x, xd->segment(offset + 1 + 4 * N, n) = plan.xdot;
+  else
+    xd->segment(offset + 1 + 3 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
   if ((plan.force.size() != 0 || plan.stiffness.size() != 0) && (plan.force.size() != n || plan.stiffness.size() != n))
-    throw std::invalid_argument("system '" + name() + "': a leg-length plan's force and stiffness must be empty or have its " + std::to_string(n) +
-                                " nodes; got " + std::to_string(plan.force.size()) + " and " + std::to_string(plan.stiffness.size()));
+    throw std::invalid_argument("system '" + name() +
+                                "': a leg-length plan's force and stiffness must be empty or have its " +
+                                std::to_string(n) + " nodes; got " + std::to_string(plan.force.size()) + " and " +
+                                std::to_string(plan.stiffness.size()));
   if (plan.force.size() == n) {
     for (int k = 0; k < n; ++k)
       if (!(std::isfinite(plan.force[k]) && plan.stiffness[k] > 0.0))
-        throw std::invalid_argument("system '" + name() + "': a leg-length plan's force must be finite and its stiffness > 0; node " + std::to_string(k) +
-                                    " has " + std::to_string(plan.force[k]) + " N, " + std::to_string(plan.stiffness[k]) + " N/m");
+        throw std::invalid_argument("system '" + name() +
+                                    "': a leg-length plan's force must be finite and its stiffness > 0; node " +
+                                    std::to_string(k) + " has " + std::to_string(plan.force[k]) + " N, " +
+                                    std::to_string(plan.stiffness[k]) + " N/m");
     xd->segment(offset + 1 + 5 * N, n) = plan.force, xd->segment(offset + 1 + 6 * N, n) = plan.stiffness;
   } else {
     xd->segment(offset + 1 + 5 * N, 2 * N).setConstant(std::numeric_limits<double>::quiet_NaN());
   }
 }
 
-Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t, const Eigen::Ref<const Eigen::VectorXd>& L,
+Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t,
+                                           const Eigen::Ref<const Eigen::VectorXd>& L,
                                            const Eigen::Ref<const Eigen::VectorXd>& Ldot, int n, double s) {
   if (n < 2) return {n == 1 ? L[0] : 0.0, 0.0, 0.0};
   if (s >= t[n - 1]) return {L[n - 1], 0.0, 0.0};  // hold the last node (spec [R])
@@ -228,7 +261,8 @@ Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorX
   const double p0 = L[k], p1 = L[k + 1], m0 = h * Ldot[k], m1 = h * Ldot[k + 1];
   const double t2 = tau * tau, t3 = t2 * tau;
   const double value = (2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + tau) * m0 + (-2 * t3 + 3 * t2) * p1 + (t3 - t2) * m1;
-  const double rate = ((6 * t2 - 6 * tau) * p0 + (3 * t2 - 4 * tau + 1) * m0 + (-6 * t2 + 6 * tau) * p1 + (3 * t2 - 2 * tau) * m1) / h;
+  const double rate =
+      ((6 * t2 - 6 * tau) * p0 + (3 * t2 - 4 * tau + 1) * m0 + (-6 * t2 + 6 * tau) * p1 + (3 * t2 - 2 * tau) * m1) / h;
   const double accel = ((12 * tau - 6) * p0 + (6 * tau - 4) * m0 + (-12 * tau + 6) * p1 + (6 * tau - 2) * m1) / (h * h);
   return {value, rate, accel};
 }
@@ -236,26 +270,33 @@ Eigen::Vector3d HoppingReference::Evaluate(const Eigen::Ref<const Eigen::VectorX
 LegLengthPlan HoppingReference::jump_plan(const LeafContext& context) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int n = static_cast<int>(xd[jump_plan_offset_]), N = params_.max_plan_nodes;
-  return {xd.segment(jump_plan_offset_ + 1, n), xd.segment(jump_plan_offset_ + 1 + N, n), xd.segment(jump_plan_offset_ + 1 + 2 * N, n), xd.segment(jump_plan_offset_ + 1 + 3 * N, n),
-          xd.segment(jump_plan_offset_ + 1 + 4 * N, n), xd.segment(jump_plan_offset_ + 1 + 5 * N, n), xd.segment(jump_plan_offset_ + 1 + 6 * N, n)};
+  return {xd.segment(jump_plan_offset_ + 1, n),         xd.segment(jump_plan_offset_ + 1 + N, n),
+          xd.segment(jump_plan_offset_ + 1 + 2 * N, n), xd.segment(jump_plan_offset_ + 1 + 3 * N, n),
+          xd.segment(jump_plan_offset_ + 1 + 4 * N, n), xd.segment(jump_plan_offset_ + 1 + 5 * N, n),
+          xd.segment(jump_plan_offset_ + 1 + 6 * N, n)};
 }
 
 LegLengthPlan HoppingReference::landing_plan(const LeafContext& context) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int n = static_cast<int>(xd[landing_plan_offset_]), N = params_.max_plan_nodes;
-  return {xd.segment(landing_plan_offset_ + 1, n), xd.segment(landing_plan_offset_ + 1 + N, n), xd.segment(landing_plan_offset_ + 1 + 2 * N, n), xd.segment(landing_plan_offset_ + 1 + 3 * N, n),
-          xd.segment(landing_plan_offset_ + 1 + 4 * N, n), xd.segment(landing_plan_offset_ + 1 + 5 * N, n), xd.segment(landing_plan_offset_ + 1 + 6 * N, n)};
+  return {xd.segment(landing_plan_offset_ + 1, n),         xd.segment(landing_plan_offset_ + 1 + N, n),
+          xd.segment(landing_plan_offset_ + 1 + 2 * N, n), xd.segment(landing_plan_offset_ + 1 + 3 * N, n),
+          xd.segment(landing_plan_offset_ + 1 + 4 * N, n), xd.segment(landing_plan_offset_ + 1 + 5 * N, n),
+          xd.segment(landing_plan_offset_ + 1 + 6 * N, n)};
 }
 
 // Initialize holds the standing leg length (> 0); the declared default state holds 0.
 bool HoppingReference::initialized(const LeafContext& context) const { return context.discrete_state()[kHoldL] > 0.0; }
 
-double HoppingReference::domain_start_time(const LeafContext& context) const { return context.discrete_state()[kDomainStart]; }
+double HoppingReference::domain_start_time(const LeafContext& context) const {
+  return context.discrete_state()[kDomainStart];
+}
 
 void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* y) const {
   const Eigen::VectorXd& xd = context.discrete_state();
   const int N = params_.max_plan_nodes, kNy = layout_.size;
-  const int kComX = layout_.com_x, kComY = layout_.com_y, kYaw = layout_.yaw, kPitch = layout_.pitch, kMotors = layout_.motors;
+  const int kComX = layout_.com_x, kComY = layout_.com_y, kYaw = layout_.yaw, kPitch = layout_.pitch,
+            kMotors = layout_.motors;
   y->setZero();
   auto set = [&](int index, const Eigen::Vector3d& value) {
     for (int k = 0; k < 3; ++k) (*y)[k * kNy + index] = value[k];
@@ -285,7 +326,8 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
   if (domain == kJump) {
     set(kPitch, {xd[kJumpPitch], xd[kJumpPitchRate], 0.0});
     const int o = jump_plan_offset_;
-    L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
+    L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]),
+                 s);
     if (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) {
       // GRF feedback (see the params), from the force measured now; the integral comes from the periodic update.
       double fade = 0.0;
@@ -295,9 +337,11 @@ void HoppingReference::CalcDesired(const LeafContext& context, Eigen::VectorXd* 
     }
   } else if (xd[kHopsDone] > 0) {  // landing after a hop (before the first hop: settle at the held length)
     const int o = landing_plan_offset_;
-    L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]), s);
+    L = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + N, N), xd.segment(o + 1 + 2 * N, N), static_cast<int>(xd[o]),
+                 s);
     if (params_.landing_deflection_feedback != 0.0 && std::isfinite(xd[o + 1 + 3 * N])) {
-      const Eigen::Vector3d x_plan = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + 3 * N, N), xd.segment(o + 1 + 4 * N, N), static_cast<int>(xd[o]), s);
+      const Eigen::Vector3d x_plan = Evaluate(xd.segment(o + 1, N), xd.segment(o + 1 + 3 * N, N),
+                                              xd.segment(o + 1 + 4 * N, N), static_cast<int>(xd[o]), s);
       const Eigen::VectorXd& x = EvalInput(context, state_port_);
       const int nv = model_->nv();
       const RomState r = MeasureRomState(context.scratch<Scratch>().ws, x.head(nv), x.tail(nv));
@@ -332,12 +376,14 @@ double HoppingReference::JumpForceError(const LeafContext& context, double s, do
 
 EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::VectorXd* next) const {
   const Eigen::VectorXd& xd = context.discrete_state();
-  if (static_cast<int>(xd[kDomain]) == kJump && (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0)) {
+  if (static_cast<int>(xd[kDomain]) == kJump &&
+      (params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0)) {
     // The integral of the GRF feedback: I += T k_I e, clamped to ±jump_force_correction_max_m.
     double fade = 0.0;
     const double e = JumpForceError(context, context.time() - xd[kDomainStart], &fade);
     const double limit = params_.jump_force_correction_max_m;
-    (*next)[kForceIntegral] = std::clamp(xd[kForceIntegral] + params_.update_period_s * params_.jump_force_integral_per_s * e, -limit, limit);
+    (*next)[kForceIntegral] =
+        std::clamp(xd[kForceIntegral] + params_.update_period_s * params_.jump_force_integral_per_s * e, -limit, limit);
   }
   if (static_cast<int>(xd[kDomain]) == kJump && params_.jump_momentum_gain > 0.0) {
     // Jump pitch reference from the centroidal pitch momentum (ours, in place of the H_pitch output of Eq. (41)): the
@@ -376,14 +422,13 @@ EventStatus HoppingReference::PeriodicUpdate(const LeafContext& context, Eigen::
   }
   if ((params_.jump_force_feedback != 0.0 || params_.jump_force_integral_per_s != 0.0) && plan.force.size() == 0) {
     (*next)[kPlanFailures] += 1.0;
-    return EventStatus::Failed("system '" + name() + "': the jump plan at t = " + std::to_string(context.time()) +
-                               " s has no force and stiffness, which jump_force_feedback / jump_force_integral_per_s need (set both to 0)");
+    return EventStatus::Failed(
+        "system '" + name() + "': the jump plan at t = " + std::to_string(context.time()) +
+        " s has no force and stiffness, which jump_force_feedback / jump_force_integral_per_s need (set both to 0)");
   }
   try {
     WritePlan(jump_plan_offset_, plan, next);
-  } catch (const std::exception& e) {
-    return EventStatus::Failed(e.what());
-  }
+  } catch (const std::exception& e) { return EventStatus::Failed(e.what()); }
   (*next)[kJumpPlans] += 1.0;
   (*next)[kJumpPitch] = q[model_->VelocityIndex("base_pitch")];
   (*next)[kJumpPitchRate] = 0.0;
@@ -431,8 +476,10 @@ EventStatus HoppingReference::GuardUpdate(const LeafContext& context, const Even
       // for the touchdown solve, so a failure is counted (planner_failures) and nothing falls back.
       LegLengthPlan predicted;
       std::string message;
-      if (landing_planner_(MeasureRomState(q, v), LandingSolve::kPredictedAtLiftoff, &predicted, &message)) (*next)[kLandingPlans] += 1.0;
-      else (*next)[kPlanFailures] += 1.0;
+      if (landing_planner_(MeasureRomState(q, v), LandingSolve::kPredictedAtLiftoff, &predicted, &message))
+        (*next)[kLandingPlans] += 1.0;
+      else
+        (*next)[kPlanFailures] += 1.0;
     }
   } else if (plant_mode != kFlight && domain == kFlight) {
     // Touchdown (Eq. (21)): landing from the post-impact state.
@@ -458,15 +505,14 @@ EventStatus HoppingReference::GuardUpdate(const LeafContext& context, const Even
       plan.t.resize(n), plan.L.resize(n), plan.Ldot.resize(n);
       for (int k = 0; k < n; ++k) {
         const double s = params_.landing_fallback_s * k / (n - 1);
-        const Eigen::Vector3d b = Blend(s, params_.landing_fallback_s, post.L, post.Ldot, context.discrete_state()[kHoldL]);
+        const Eigen::Vector3d b =
+            Blend(s, params_.landing_fallback_s, post.L, post.Ldot, context.discrete_state()[kHoldL]);
         plan.t[k] = s, plan.L[k] = b[0], plan.Ldot[k] = b[1];
       }
     }
     try {
       WritePlan(landing_plan_offset_, plan, next);
-    } catch (const std::exception& e) {
-      return EventStatus::Failed(e.what());
-    }
+    } catch (const std::exception& e) { return EventStatus::Failed(e.what()); }
   }
   return EventStatus::Succeeded();
 }

@@ -16,7 +16,8 @@
 //            landing: L_L = L_R = L_plan(t − t_touchdown); COM x: quintic from its post-impact value and rate to the
 //                     support centre over landing_blend_s; pitch: quintic from its post-impact value and rate to 0
 //                     (spec [R], C10); COM y = support centre; yaw as in jump
-//          domain (int, typed) 0 jump, 1 flight, 2 landing: the controller's mode. It follows the plant's mode at lift-off
+//          domain (int, typed) 0 jump, 1 flight, 2 landing: the controller's mode. It follows the plant's mode at
+//          lift-off
 //                              and touchdown; the first "landing" domain (before any hop) is the settle phase, and a
 //                              landing domain turns into jump after settle_time_s (the first hop) or, if hops remain,
 //                              once the robot is at rest: rest_time_s, then until max |q̇| < rest_max_speed, at most
@@ -85,16 +86,16 @@ struct RomState {
 };
 
 struct HoppingReferenceParams {
-  double update_period_s = 5e-4;       ///< [s] periodic check for the timed landing → jump switch (hopping: 2 kHz)
-  double settle_time_s = 1.5;          ///< [s] settle in landing before the first jump (spec [R] A5: 1.5 s)
-  double rest_time_s = 1.5;            ///< [s] between a touchdown and the next jump when hops remain (ours): at least
+  double update_period_s = 5e-4;  ///< [s] periodic check for the timed landing → jump switch (hopping: 2 kHz)
+  double settle_time_s = 1.5;     ///< [s] settle in landing before the first jump (spec [R] A5: 1.5 s)
+  double rest_time_s = 1.5;       ///< [s] between a touchdown and the next jump when hops remain (ours): at least
   /// [rad/s, m/s] ...and until every |q̇_i| < this (ours: the hopping issue's "at rest"; 0: rest_time_s alone), ...
   double rest_max_speed = 0.05;
-  double max_rest_time_s = 5.0;        ///< [s] ...but at most this long (ours)
-  int hops = 1;                        ///< number of hops (≥ 1)
-  double landing_blend_s = 0.3;        ///< [s] COM x and pitch quintics after touchdown (spec [R] C10: 0.3 s)
-  double landing_fallback_s = 0.5;     ///< [s] fallback landing quintic (ours)
-  int max_plan_nodes = 201;            ///< nodes a plan may have
+  double max_rest_time_s = 5.0;     ///< [s] ...but at most this long (ours)
+  int hops = 1;                     ///< number of hops (≥ 1)
+  double landing_blend_s = 0.3;     ///< [s] COM x and pitch quintics after touchdown (spec [R] C10: 0.3 s)
+  double landing_fallback_s = 0.5;  ///< [s] fallback landing quintic (ours)
+  int max_plan_nodes = 201;         ///< nodes a plan may have
   /// k [-] of the Jump pitch reference θ̇_d = θ̇ − k H_pitch / I_p (see PeriodicUpdate; ours); 0: hold the pitch.
   double jump_momentum_gain = 2.0;
   /// k [-] (ours; 0 holds the hips at their lift-off angles, Eq. (43)): in Flight the hip-pitch targets turn with the
@@ -110,10 +111,10 @@ struct HoppingReferenceParams {
   ///   L_d = L_plan + w clamp(k_F e + ∫ k_I e dt, ±c_max),  e = (F_plan − F) / (n_legs K(L_plan)),
   ///   w = clamp(F_plan / F_plan(0), 0, 1)
   /// with F the plant's total normal ground force (input 'contact_forces', read when 'desired' is evaluated) and
-  /// F_plan, n_legs K the plan's (LegLengthPlan::force, stiffness): the legs are lengthened by the ROM deflection of the
-  /// missing force. The integral runs in the periodic update (clamped to ±c_max, restarted at 0 with each Jump). w fades
-  /// the correction out as the plan's force falls to 0 at lift-off (without it the feet slipped at lift-off at an apex
-  /// rise of 0.28 m) and also weakens it in the crouch, where F_plan < F_plan(0). L̇_d and L̈_d stay the plan's: the
+  /// F_plan, n_legs K the plan's (LegLengthPlan::force, stiffness): the legs are lengthened by the ROM deflection of
+  /// the missing force. The integral runs in the periodic update (clamped to ±c_max, restarted at 0 with each Jump). w
+  /// fades the correction out as the plan's force falls to 0 at lift-off (without it the feet slipped at lift-off at an
+  /// apex rise of 0.28 m) and also weakens it in the crouch, where F_plan < F_plan(0). L̇_d and L̈_d stay the plan's: the
   /// correction swings fast, and a low-passed or delayed one let the feet slip at lift-off. A jump plan without force
   /// and stiffness while k_F or k_I ≠ 0 is a failed plan. It closes the loop where the ROM's K(L) and the plant's legs
   /// differ (docs/design-notes.md#hopping-air-time). Makes 'desired' depend on 'contact_forces'.
@@ -127,7 +128,7 @@ struct HoppingReferenceParams {
   std::string left_toe = "left_toe", right_toe = "right_toe";
   std::string left_hip_pitch_link = "left_hip_pitch", right_hip_pitch_link = "right_hip_pitch";
   std::string left_toe_link = "left_foot", right_toe_link = "right_foot";  ///< link whose frame origin is the toe joint
-  std::string left_contact = "left_foot", right_contact = "right_foot";  ///< the feet's line contacts
+  std::string left_contact = "left_foot", right_contact = "right_foot";    ///< the feet's line contacts
 };
 
 class HoppingReference final : public LeafSystem {
@@ -142,10 +143,12 @@ class HoppingReference final : public LeafSystem {
     kAtTouchdown,         ///< `state` is the post-impact ROM state (the plan the Landing tracks)
   };
   /// Landing plan (Eq. (16)); returns false on failure. The plan solved at lift-off only warms the touchdown solve.
-  using LandingPlanner = std::function<bool(const RomState& state, LandingSolve when, LegLengthPlan* plan, std::string* message)>;
+  using LandingPlanner =
+      std::function<bool(const RomState& state, LandingSolve when, LegLengthPlan* plan, std::string* message)>;
 
-  HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length, JumpPlanner jump_planner,
-                   LandingPlanner landing_planner, HoppingOutputLayout layout, HoppingReferenceParams params = {});
+  HoppingReference(std::string name, std::shared_ptr<const MultibodyModel> model, LegLengthFunction leg_length,
+                   JumpPlanner jump_planner, LandingPlanner landing_planner, HoppingOutputLayout layout,
+                   HoppingReferenceParams params = {});
 
   const HoppingReferenceParams& params() const { return params_; }
   /// The ROM state of the robot at (q, v) (see RomState).
@@ -163,7 +166,8 @@ class HoppingReference final : public LeafSystem {
   /// Time the current domain began [s].
   double domain_start_time(const LeafContext& context) const;
   /// L, L̇, L̈ of a plan at time s from its start (held at the last node after the end).
-  static Eigen::Vector3d Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t, const Eigen::Ref<const Eigen::VectorXd>& L,
+  static Eigen::Vector3d Evaluate(const Eigen::Ref<const Eigen::VectorXd>& t,
+                                  const Eigen::Ref<const Eigen::VectorXd>& L,
                                   const Eigen::Ref<const Eigen::VectorXd>& Ldot, int n, double s);
 
  private:

@@ -37,7 +37,8 @@ double Correlation(const std::vector<double>& a, const std::vector<double>& b) {
   double ma = 0, mb = 0;
   for (size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
   double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < a.size(); ++i) sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma), sbb += (b[i] - mb) * (b[i] - mb);
+  for (size_t i = 0; i < a.size(); ++i)
+    sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma), sbb += (b[i] - mb) * (b[i] - mb);
   return sab / std::sqrt(saa * sbb);
 }
 
@@ -49,14 +50,18 @@ void Require(bool ok, const char* field, double value, const char* rule) {
 }
 
 // The run's metrics once it ended: GRF agreement with the ROM, rest, QP timing, the success rule.
-void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const HoppingRunParams& params, const std::vector<PlannerRecord>* records,
-                          double apex_rise, double com_liftoff, double com_max, bool has_qp_failures, HoppingRunResult* result) {
+void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const HoppingRunParams& params,
+                          const std::vector<PlannerRecord>* records, double apex_rise, double com_liftoff,
+                          double com_max, bool has_qp_failures, HoppingRunResult* result) {
   HoppingRunResult& r = *result;
   std::vector<double> jr, jm, lr, lm, st, sg;
   for (const HoppingSample& s : r.samples) {
     if (s.domain == HoppingDomain::kJump && std::isfinite(s.rom_grf)) jr.push_back(s.grf), jm.push_back(s.rom_grf);
-    if (s.domain == HoppingDomain::kLanding && s.since_touchdown > params.landing_grf_skip_s && std::isfinite(s.rom_grf)) lr.push_back(s.grf), lm.push_back(s.rom_grf);
-    if (s.domain != HoppingDomain::kFlight && r.jump_start_s > 0 && s.t >= r.jump_start_s) st.push_back(s.shin_torque), sg.push_back(s.grf);
+    if (s.domain == HoppingDomain::kLanding && s.since_touchdown > params.landing_grf_skip_s &&
+        std::isfinite(s.rom_grf))
+      lr.push_back(s.grf), lm.push_back(s.rom_grf);
+    if (s.domain != HoppingDomain::kFlight && r.jump_start_s > 0 && s.t >= r.jump_start_s)
+      st.push_back(s.shin_torque), sg.push_back(s.grf);
   }
   r.grf_nrmse_jump = Nrmse(jr, jm);
   r.grf_nrmse_landing = Nrmse(lr, lm);
@@ -64,7 +69,8 @@ void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const H
   const Context& context = sim.get_context();
   const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, context);
   const Eigen::VectorXd v_end = d.plant->EvalOutput(pc, "v");
-  r.settled = std::isfinite(r.rest_speed) && r.rest_speed < params.rest_max_speed && v_end.cwiseAbs().maxCoeff() < params.rest_max_speed;
+  r.settled = std::isfinite(r.rest_speed) && r.rest_speed < params.rest_max_speed &&
+              v_end.cwiseAbs().maxCoeff() < params.rest_max_speed;
   if (d.controller->HasOutputPort("solve_time_s")) {
     const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, context));
     std::vector<double> solve_us;
@@ -74,14 +80,17 @@ void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const H
     r.qp_solve_us_p99 = Percentile(solve_us, 0.99);
   }
   if (records) r.planner_records = *records;
-  if (r.liftoff_s > 0 && !r.planner_records.empty()) r.takeoff_time_error_s = (r.liftoff_s - r.jump_start_s) - r.planner_records.front().plan.duration;
+  if (r.liftoff_s > 0 && !r.planner_records.empty())
+    r.takeoff_time_error_s = (r.liftoff_s - r.jump_start_s) - r.planner_records.front().plan.duration;
   r.hopped = r.liftoff_s > 0 && r.touchdown_s > 0 && com_max - com_liftoff >= params.min_com_rise_fraction * apex_rise;
   const bool ran = r.status.ok() || r.status.reason == SimulatorStatus::Reason::kReachedTermination;
   r.success = ran && r.hopped && r.settled && r.contact.violations == 0;
-  r.status_kind = ran ? (r.success ? "success" : "failure") : r.status.kind_name();  // judged by the success rule, never a "limit"
+  r.status_kind =
+      ran ? (r.success ? "success" : "failure") : r.status.kind_name();  // judged by the success rule, never a "limit"
   r.air_time_s = r.liftoff_s > 0 && r.touchdown_s > 0 ? r.touchdown_s - r.liftoff_s : NAN;
   r.com_rise_m = r.liftoff_s > 0 ? com_max - com_liftoff : NAN;
-  const Eigen::VectorXd& plan_status = d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, context), "plan_status");
+  const Eigen::VectorXd& plan_status =
+      d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, context), "plan_status");
   r.jump_plans = plan_status[0], r.landing_plans = plan_status[1], r.planner_failures = plan_status[2];
   if (has_qp_failures) r.qp_failures = d.diagram->EvalOutput(context, "qp_failures")[0];
   r.simulated_s = pc.time();
@@ -92,22 +101,29 @@ void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const H
 }  // namespace
 
 void HoppingRunParams::Validate() const {
-  Require(duration_s >= 0.0 && duration_s <= 3600.0, "duration_s", duration_s, "in [0, 3600] s (0: until the robot rests)");
-  Require(stop_after_last_touchdown_s >= rest_check_delay_s && stop_after_last_touchdown_s <= 60.0, "stop_after_last_touchdown_s",
-          stop_after_last_touchdown_s, "in [rest_check_delay_s, 60] s");
-  Require(rest_check_delay_s >= 0.0 && rest_check_delay_s <= 60.0, "rest_check_delay_s", rest_check_delay_s, "in [0, 60] s");
-  Require(rest_max_speed > 0.0 && std::isfinite(rest_max_speed), "rest_max_speed", rest_max_speed, "positive and finite");
-  Require(min_com_rise_fraction >= 0.0 && min_com_rise_fraction <= 1.0, "min_com_rise_fraction", min_com_rise_fraction, "in [0, 1]");
-  Require(std::isnan(apex_rise_m) || (apex_rise_m > 0.0 && std::isfinite(apex_rise_m)), "apex_rise_m", apex_rise_m, "positive and finite, or NaN");
+  Require(duration_s >= 0.0 && duration_s <= 3600.0, "duration_s", duration_s,
+          "in [0, 3600] s (0: until the robot rests)");
+  Require(stop_after_last_touchdown_s >= rest_check_delay_s && stop_after_last_touchdown_s <= 60.0,
+          "stop_after_last_touchdown_s", stop_after_last_touchdown_s, "in [rest_check_delay_s, 60] s");
+  Require(rest_check_delay_s >= 0.0 && rest_check_delay_s <= 60.0, "rest_check_delay_s", rest_check_delay_s,
+          "in [0, 60] s");
+  Require(rest_max_speed > 0.0 && std::isfinite(rest_max_speed), "rest_max_speed", rest_max_speed,
+          "positive and finite");
+  Require(min_com_rise_fraction >= 0.0 && min_com_rise_fraction <= 1.0, "min_com_rise_fraction", min_com_rise_fraction,
+          "in [0, 1]");
+  Require(std::isnan(apex_rise_m) || (apex_rise_m > 0.0 && std::isfinite(apex_rise_m)), "apex_rise_m", apex_rise_m,
+          "positive and finite, or NaN");
   Require(sample_period_s > 0.0 && sample_period_s <= 1.0, "sample_period_s", sample_period_s, "in (0, 1] s");
-  Require(landing_grf_skip_s >= 0.0 && landing_grf_skip_s <= 1.0, "landing_grf_skip_s", landing_grf_skip_s, "in [0, 1] s");
+  Require(landing_grf_skip_s >= 0.0 && landing_grf_skip_s <= 1.0, "landing_grf_skip_s", landing_grf_skip_s,
+          "in [0, 1] s");
   Require(progress_period_s > 0.0, "progress_period_s", progress_period_s, "positive");
 }
 
 double HoppingRunDuration(const HoppingDiagram& d, const HoppingRunParams& params) {
   const HoppingReferenceParams& ref = d.params.reference;
   return params.duration_s > 0 ? params.duration_s
-                               : ref.settle_time_s + ref.hops * 1.0 + (ref.hops - 1) * ref.max_rest_time_s + params.stop_after_last_touchdown_s;
+                               : ref.settle_time_s + ref.hops * 1.0 + (ref.hops - 1) * ref.max_rest_time_s +
+                                     params.stop_after_last_touchdown_s;
 }
 
 namespace {
@@ -144,12 +160,16 @@ void RecordRomEnergies(const SpringMassParams& rom, const SpringMassPlan& plan, 
 
 }  // namespace
 
-HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const HoppingRunParams& params, const SpringMassHopPlanners* planners) {
+HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const HoppingRunParams& params,
+                            const SpringMassHopPlanners* planners) {
   params.Validate();
   if (!d.reference->initialized(d.diagram->GetSubsystemContext(*d.reference, sim.get_context())))
-    throw std::invalid_argument("RunHopping: the initial state is not set: call SetHoppingInitialState(diagram, context, q) before running");
-  const double apex_rise = std::isnan(params.apex_rise_m) && planners ? planners->jump_params.apex_rise : params.apex_rise_m;
-  if (std::isnan(apex_rise)) throw std::invalid_argument("RunHopping: HoppingRunParams::apex_rise_m = nan needs the planners (got none)");
+    throw std::invalid_argument(
+        "RunHopping: the initial state is not set: call SetHoppingInitialState(diagram, context, q) before running");
+  const double apex_rise =
+      std::isnan(params.apex_rise_m) && planners ? planners->jump_params.apex_rise : params.apex_rise_m;
+  if (std::isnan(apex_rise))
+    throw std::invalid_argument("RunHopping: HoppingRunParams::apex_rise_m = nan needs the planners (got none)");
   const MultibodyModel& model = *d.model;
   const int nv = model.nv(), hops = d.params.reference.hops;
   MultibodyWorkspace ws(model);
@@ -173,97 +193,110 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
     Simulator& sim;
     ~RemoveMonitor() { sim.remove_monitor("hopping_run"); }
   } remove_monitor{sim};
-  sim.add_monitor([&](const Context& c) {
-    const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
-    const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
-    r.contact.Record(*d.plant, pc);
-    const Eigen::VectorXd& x = d.plant->EvalOutput(pc, "state");
-    const Eigen::VectorXd q = x.head(nv);
-    const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
-    const int last_domain = state.domain;
-    const double t = pc.time();
-    const Eigen::VectorXd& f = d.plant->EvalOutput(pc, "contact_forces");
-    // The COM height only where it is used (a domain change, Flight, a sample): a new q costs the forward kinematics.
-    const bool sample_due = t >= next_sample_t;
-    const double com_z = domain != last_domain || domain == HoppingDomain::kFlight || sample_due ? CalcComPosition(model, ws, q).z() : NAN;
-    if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) {
-      jump_start_now = t;
-      if (r.jump_start_s < 0) r.jump_start_s = t;
-      com_z_ref = com_z;
-      if (records && !records->empty()) rom_x_ref = records->back().plan.states(0, 0);
-    }
-    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight) touchdown_now = t, ++r.touchdowns;
-    if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && r.liftoff_s < 0) {
-      r.liftoff_s = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
-      r.liftoff_foot_com_offset_x_m = FootComOffsetX(model, ws, q);
-      r.liftoff_pitch_momentum_Nms = CalcCentroidalMomentum(model, ws, q, x.tail(nv))[1];
-      r.liftoff_state = x;
-    }
-    if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && r.touchdown_s < 0) {
-      r.touchdown_s = t;
-      r.touchdown_foot_com_offset_x_m = FootComOffsetX(model, ws, q);
-    }
-    if (r.touchdown_s < 0) {
-      r.contact_violations_before_first_touchdown = r.contact.violations;
-      if (has_qp_failures) r.qp_failures_at_first_touchdown = d.diagram->EvalOutput(c, "qp_failures")[0];
-    }
-    if (r.touchdown_s > 0)
-      r.min_pelvis_height_after_touchdown_m =
-          std::isfinite(r.min_pelvis_height_after_touchdown_m) ? std::min(r.min_pelvis_height_after_touchdown_m, q[base_z]) : q[base_z];
-    if (domain == HoppingDomain::kFlight && r.touchdown_s < 0) {
-      double lowest = 1e9;
-      for (int k = 0; k < model.num_contacts(); ++k) lowest = std::min(lowest, CalcContactHeight(model, ws, q, k));
-      r.foot_clearance_m = std::max(r.foot_clearance_m, lowest);
-      com_max = std::max(com_max, com_z);
-      r.max_pelvis_pitch_change_flight_rad = std::max(r.max_pelvis_pitch_change_flight_rad, std::abs(q[pitch_index] - pitch_liftoff));
-    }
-    // ROM force of the active plan (Jump: the jump plan from its start; Landing after a hop: the landing plan).
-    double rom_grf = NAN;
-    if (records && domain == HoppingDomain::kJump && !records->empty() && records->back().plan.success())
-      rom_grf = records->back().plan.LegForce(planners->rom, t - jump_start_now);
-    if (records && domain == HoppingDomain::kLanding && touchdown_now > 0 && !records->empty() &&
-        records->back().kind == PlannerRecord::Kind::kLanding && records->back().plan.success())  // a failed solve: the quintic fallback
-      rom_grf = records->back().plan.LegForce(planners->rom, t - touchdown_now);
-    if (sample_due) {
-      HoppingSample s;
-      s.t = t, s.grf = f[2] + f[5], s.rom_grf = rom_grf, s.com_z = com_z, s.pitch = q[pitch_index];
-      s.shin_torque = -model.spring_stiffness()[shin[0]] * x[shin[0]] - model.spring_stiffness()[shin[1]] * x[shin[1]];
-      s.pitch_momentum = CalcCentroidalMomentum(model, ws, q, x.tail(nv))[1];
-      s.since_touchdown = touchdown_now > 0 ? t - touchdown_now : -1.0;
-      s.domain = domain;
-      if (params.record_plot_samples) {
-        double L_leg[2], dL;
-        for (int leg = 0; leg < 2; ++leg) d.leg_length(q[knee[leg]], &L_leg[leg], &dL);
-        s.leg_length = 0.5 * (L_leg[0] + L_leg[1]);
-        s.com_x = CalcComPosition(model, ws, q).x();
-        if (domain != HoppingDomain::kFlight) {
-          const Eigen::VectorXd& yd = d.reference->EvalOutput(rc, "desired");
-          s.leg_length_d = 0.5 * (yd[layout.leg_left] + yd[layout.leg_right]), s.com_x_d = yd[layout.com_x], s.pitch_d = yd[layout.pitch];
+  sim.add_monitor(
+      [&](const Context& c) {
+        const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
+        const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
+        r.contact.Record(*d.plant, pc);
+        const Eigen::VectorXd& x = d.plant->EvalOutput(pc, "state");
+        const Eigen::VectorXd q = x.head(nv);
+        const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
+        const int last_domain = state.domain;
+        const double t = pc.time();
+        const Eigen::VectorXd& f = d.plant->EvalOutput(pc, "contact_forces");
+        // The COM height only where it is used (a domain change, Flight, a sample): a new q costs the forward
+        // kinematics.
+        const bool sample_due = t >= next_sample_t;
+        const double com_z = domain != last_domain || domain == HoppingDomain::kFlight || sample_due
+                                 ? CalcComPosition(model, ws, q).z()
+                                 : NAN;
+        if (domain == HoppingDomain::kJump && last_domain != HoppingDomain::kJump) {
+          jump_start_now = t;
+          if (r.jump_start_s < 0) r.jump_start_s = t;
+          com_z_ref = com_z;
+          if (records && !records->empty()) rom_x_ref = records->back().plan.states(0, 0);
         }
-        RecordEnergies(model, ws, x, com_z - com_z_ref, planners, &s);
-        if (std::isfinite(rom_grf))
-          RecordRomEnergies(planners->rom, records->back().plan,
-                            domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now, rom_x_ref, &s);
-        s.q = q;
-      }
-      r.samples.push_back(std::move(s));
-      next_sample_t = std::floor(t / params.sample_period_s + 1.0) * params.sample_period_s;
-    }
-    state.previous_domain = last_domain, state.domain = domain, state.touchdowns = r.touchdowns;
-    state.liftoff_s = r.liftoff_s, state.touchdown_s = r.touchdown_s;
-    if (params.observer) params.observer(c, state);
-    if (r.touchdowns >= hops && t >= touchdown_now + params.rest_check_delay_s && std::isnan(r.rest_speed)) r.rest_speed = x.tail(nv).cwiseAbs().maxCoeff();
-    if (stop_after_last && r.touchdowns >= hops && t >= touchdown_now + params.stop_after_last_touchdown_s) {
-      std::ostringstream why;
-      why << "all " << hops << " hop(s) landed; " << params.stop_after_last_touchdown_s << " s after the last touchdown";
-      return EventStatus::ReachedTermination(why.str());
-    }
-    if (params.progress && t - last_progress >= params.progress_period_s) {
-      last_progress = t;
-      *params.progress << "  t = " << t << " s, domain " << domain << "\n";
-    }
-    return EventStatus::Succeeded();
-  }, "hopping_run");
+        if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight)
+          touchdown_now = t, ++r.touchdowns;
+        if (domain == HoppingDomain::kFlight && last_domain != HoppingDomain::kFlight && r.liftoff_s < 0) {
+          r.liftoff_s = t, com_liftoff = com_max = com_z, pitch_liftoff = q[pitch_index];
+          r.liftoff_foot_com_offset_x_m = FootComOffsetX(model, ws, q);
+          r.liftoff_pitch_momentum_Nms = CalcCentroidalMomentum(model, ws, q, x.tail(nv))[1];
+          r.liftoff_state = x;
+        }
+        if (domain == HoppingDomain::kLanding && last_domain == HoppingDomain::kFlight && r.touchdown_s < 0) {
+          r.touchdown_s = t;
+          r.touchdown_foot_com_offset_x_m = FootComOffsetX(model, ws, q);
+        }
+        if (r.touchdown_s < 0) {
+          r.contact_violations_before_first_touchdown = r.contact.violations;
+          if (has_qp_failures) r.qp_failures_at_first_touchdown = d.diagram->EvalOutput(c, "qp_failures")[0];
+        }
+        if (r.touchdown_s > 0)
+          r.min_pelvis_height_after_touchdown_m = std::isfinite(r.min_pelvis_height_after_touchdown_m)
+                                                      ? std::min(r.min_pelvis_height_after_touchdown_m, q[base_z])
+                                                      : q[base_z];
+        if (domain == HoppingDomain::kFlight && r.touchdown_s < 0) {
+          double lowest = 1e9;
+          for (int k = 0; k < model.num_contacts(); ++k) lowest = std::min(lowest, CalcContactHeight(model, ws, q, k));
+          r.foot_clearance_m = std::max(r.foot_clearance_m, lowest);
+          com_max = std::max(com_max, com_z);
+          r.max_pelvis_pitch_change_flight_rad =
+              std::max(r.max_pelvis_pitch_change_flight_rad, std::abs(q[pitch_index] - pitch_liftoff));
+        }
+        // ROM force of the active plan (Jump: the jump plan from its start; Landing after a hop: the landing plan).
+        double rom_grf = NAN;
+        if (records && domain == HoppingDomain::kJump && !records->empty() && records->back().plan.success())
+          rom_grf = records->back().plan.LegForce(planners->rom, t - jump_start_now);
+        if (records && domain == HoppingDomain::kLanding && touchdown_now > 0 && !records->empty() &&
+            records->back().kind == PlannerRecord::Kind::kLanding &&
+            records->back().plan.success())  // a failed solve: the quintic fallback
+          rom_grf = records->back().plan.LegForce(planners->rom, t - touchdown_now);
+        if (sample_due) {
+          HoppingSample s;
+          s.t = t, s.grf = f[2] + f[5], s.rom_grf = rom_grf, s.com_z = com_z, s.pitch = q[pitch_index];
+          s.shin_torque =
+              -model.spring_stiffness()[shin[0]] * x[shin[0]] - model.spring_stiffness()[shin[1]] * x[shin[1]];
+          s.pitch_momentum = CalcCentroidalMomentum(model, ws, q, x.tail(nv))[1];
+          s.since_touchdown = touchdown_now > 0 ? t - touchdown_now : -1.0;
+          s.domain = domain;
+          if (params.record_plot_samples) {
+            double L_leg[2], dL;
+            for (int leg = 0; leg < 2; ++leg) d.leg_length(q[knee[leg]], &L_leg[leg], &dL);
+            s.leg_length = 0.5 * (L_leg[0] + L_leg[1]);
+            s.com_x = CalcComPosition(model, ws, q).x();
+            if (domain != HoppingDomain::kFlight) {
+              const Eigen::VectorXd& yd = d.reference->EvalOutput(rc, "desired");
+              s.leg_length_d = 0.5 * (yd[layout.leg_left] + yd[layout.leg_right]), s.com_x_d = yd[layout.com_x],
+              s.pitch_d = yd[layout.pitch];
+            }
+            RecordEnergies(model, ws, x, com_z - com_z_ref, planners, &s);
+            if (std::isfinite(rom_grf))
+              RecordRomEnergies(planners->rom, records->back().plan,
+                                domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now, rom_x_ref, &s);
+            s.q = q;
+          }
+          r.samples.push_back(std::move(s));
+          next_sample_t = std::floor(t / params.sample_period_s + 1.0) * params.sample_period_s;
+        }
+        state.previous_domain = last_domain, state.domain = domain, state.touchdowns = r.touchdowns;
+        state.liftoff_s = r.liftoff_s, state.touchdown_s = r.touchdown_s;
+        if (params.observer) params.observer(c, state);
+        if (r.touchdowns >= hops && t >= touchdown_now + params.rest_check_delay_s && std::isnan(r.rest_speed))
+          r.rest_speed = x.tail(nv).cwiseAbs().maxCoeff();
+        if (stop_after_last && r.touchdowns >= hops && t >= touchdown_now + params.stop_after_last_touchdown_s) {
+          std::ostringstream why;
+          why << "all " << hops << " hop(s) landed; " << params.stop_after_last_touchdown_s
+              << " s after the last touchdown";
+          return EventStatus::ReachedTermination(why.str());
+        }
+        if (params.progress && t - last_progress >= params.progress_period_s) {
+          last_progress = t;
+          *params.progress << "  t = " << t << " s, domain " << domain << "\n";
+        }
+        return EventStatus::Succeeded();
+      },
+      "hopping_run");
 
   const double duration = HoppingRunDuration(d, params);
   const auto wall0 = std::chrono::steady_clock::now();
@@ -275,7 +308,8 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
   return r;
 }
 
-std::string HoppingSummaryJson(const HoppingDiagram& d, const HoppingRunResult& r, const SpringMassHopPlanners* planners, const std::string& scenario_json) {
+std::string HoppingSummaryJson(const HoppingDiagram& d, const HoppingRunResult& r,
+                               const SpringMassHopPlanners* planners, const std::string& scenario_json) {
   nlohmann::json s;
   s["success"] = r.success;
   s["status_kind"] = r.status_kind;
@@ -324,7 +358,9 @@ std::string HoppingSummaryJson(const HoppingDiagram& d, const HoppingRunResult& 
   s["simulated_s"] = r.simulated_s;
   nlohmann::json nlp = nlohmann::json::array();
   for (const PlannerRecord& p : r.planner_records)
-    nlp.push_back({{"problem", p.kind == PlannerRecord::Kind::kJump ? "jump" : p.kind == PlannerRecord::Kind::kLanding ? "landing" : "landing_predicted_at_liftoff"},
+    nlp.push_back({{"problem", p.kind == PlannerRecord::Kind::kJump      ? "jump"
+                               : p.kind == PlannerRecord::Kind::kLanding ? "landing"
+                                                                         : "landing_predicted_at_liftoff"},
                    {"time_s", p.plan.solve_time_s},
                    {"iterations", p.plan.iterations},
                    {"violation", p.plan.max_violation},

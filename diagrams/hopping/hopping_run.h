@@ -38,10 +38,10 @@ struct HoppingRunState {
 };
 
 struct HoppingRunParams {
-  double duration_s = 0.0;                  ///< [s] simulated time; 0: until stop_after_last_touchdown_s after the last hop
+  double duration_s = 0.0;  ///< [s] simulated time; 0: until stop_after_last_touchdown_s after the last hop
   double stop_after_last_touchdown_s = 2.5;  ///< [s] (ours)
-  double rest_check_delay_s = 2.0;          ///< [s] rest is judged this long after the last touchdown (hopping issue)
-  double rest_max_speed = 0.05;             ///< [rad/s, m/s] settled: every |q̇| below this (hopping issue)
+  double rest_check_delay_s = 2.0;           ///< [s] rest is judged this long after the last touchdown (hopping issue)
+  double rest_max_speed = 0.05;              ///< [rad/s, m/s] settled: every |q̇| below this (hopping issue)
   /// [-] a hop counts when the COM rises at least this fraction of the planned apex rise H in flight (ours: a foot's
   /// normal force dipping to the lift-off threshold in the crouch is no hop).
   double min_com_rise_fraction = 0.5;
@@ -74,19 +74,21 @@ struct HoppingSample {
 struct HoppingRunResult {
   SimulatorStatus status;
   bool success = false, hopped = false, settled = false;
-  std::string status_kind;  ///< "success" or "failure" by the success rule when the run ended normally; else the status kind
-  int touchdowns = 0;       ///< hops landed
+  std::string
+      status_kind;     ///< "success" or "failure" by the success rule when the run ended normally; else the status kind
+  int touchdowns = 0;  ///< hops landed
   double jump_start_s = -1, liftoff_s = -1, touchdown_s = -1;  ///< the first hop's
   double air_time_s = NAN, foot_clearance_m = 0, com_rise_m = NAN, takeoff_time_error_s = NAN;
   double jump_plans = 0, landing_plans = 0, planner_failures = 0;  ///< HoppingReference's plan_status
   double rest_speed = NAN;  ///< max |q̇| rest_check_delay_s after the last touchdown
   double grf_nrmse_jump = NAN, grf_nrmse_landing = NAN, spring_torque_grf_correlation = NAN;
   double max_pelvis_pitch_change_flight_rad = 0;
-  double liftoff_foot_com_offset_x_m = NAN, touchdown_foot_com_offset_x_m = NAN, min_pelvis_height_after_touchdown_m = NAN;
+  double liftoff_foot_com_offset_x_m = NAN, touchdown_foot_com_offset_x_m = NAN,
+         min_pelvis_height_after_touchdown_m = NAN;
   double liftoff_pitch_momentum_Nms = NAN;  ///< H_pitch about the COM at the first lift-off
   Eigen::VectorXd liftoff_state;            ///< plant [q; v] at the first lift-off (empty: none)
   double qp_failures = NAN;                 ///< the controller's qp_failures at the end (NaN: it has no such output)
-  double qp_failures_at_first_touchdown = NAN;  ///< ... through the last monitor call before the first touchdown
+  double qp_failures_at_first_touchdown = NAN;         ///< ... through the last monitor call before the first touchdown
   double qp_solve_us_median = 0, qp_solve_us_p99 = 0;  ///< from the logged solve_time_s (0: not logged)
   double simulated_s = 0, wall_s = 0, realtime_factor = 0;
   ContactForceStatistics contact;
@@ -103,11 +105,12 @@ double HoppingRunDuration(const HoppingDiagram& d, const HoppingRunParams& param
 /// Runs `sim` (built on d.diagram, initial state set: SetHoppingInitialState) to the end and returns what it measured.
 /// `planners` (may be null: no ROM force, NaN GRF metrics) are the ones the diagram was built with. Sets the
 /// simulator's monitor. Exceptions from the simulation propagate.
-HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const HoppingRunParams& params = {}, const SpringMassHopPlanners* planners = nullptr);
+HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const HoppingRunParams& params = {},
+                            const SpringMassHopPlanners* planners = nullptr);
 
 /// The run's JSON summary (keys as the hopping example writes them, plus the diagram's and the planners' parameters);
 /// `scenario_json` (a JSON object's text; empty: none) goes under "scenario".
-std::string HoppingSummaryJson(const HoppingDiagram& d, const HoppingRunResult& r, const SpringMassHopPlanners* planners,
-                               const std::string& scenario_json = "");
+std::string HoppingSummaryJson(const HoppingDiagram& d, const HoppingRunResult& r,
+                               const SpringMassHopPlanners* planners, const std::string& scenario_json = "");
 
 }  // namespace rome

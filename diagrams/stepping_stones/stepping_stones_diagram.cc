@@ -22,13 +22,15 @@ void CheckControllerPorts(const System& controller, int nv, int nu, int task_row
     const bool has = input ? controller.HasInputPort(port) : controller.HasOutputPort(port);
     const std::string what = std::string(input ? "input" : "output") + " port '" + port + "'";
     if (!has)
-      throw std::invalid_argument("BuildSteppingStonesDiagram: controller '" + controller.name() + "' has no " + what + " (" +
-                                  expected.TypeString() + "); a stepping-stones controller needs inputs state, mode, desired and outputs u, "
+      throw std::invalid_argument("BuildSteppingStonesDiagram: controller '" + controller.name() + "' has no " + what +
+                                  " (" + expected.TypeString() +
+                                  "); a stepping-stones controller needs inputs state, mode, desired and outputs u, "
                                   "qp_failures, qp_status");
-    const PortInfo& info = input ? controller.input_port(controller.GetInputPortIndex(port)) : controller.output_port(controller.GetOutputPortIndex(port));
+    const PortInfo& info = input ? controller.input_port(controller.GetInputPortIndex(port))
+                                 : controller.output_port(controller.GetOutputPortIndex(port));
     if (!info.SameTypeAs(expected))
-      throw std::invalid_argument("BuildSteppingStonesDiagram: controller '" + controller.name() + "': " + what + " carries " + info.TypeString() +
-                                  ", expected " + expected.TypeString());
+      throw std::invalid_argument("BuildSteppingStonesDiagram: controller '" + controller.name() + "': " + what +
+                                  " carries " + info.TypeString() + ", expected " + expected.TypeString());
   };
   check(true, "state", {"state", 2 * nv, {}, nullptr});
   check(true, "mode", {"mode", 0, {}, &typeid(int)});
@@ -40,7 +42,8 @@ void CheckControllerPorts(const System& controller, int nv, int nu, int task_row
 
 // {contact, joint} pairs whose actuator gets zero torque while the contact is active: the actuated inboard joint of a
 // line/flat foot's link (planar Cassie's toe), so that the stance ankle is passive like AMBER's point foot.
-std::vector<std::pair<std::string, std::string>> PassiveStanceAnkles(const SteppingStonesDiagramParams& params, const MultibodyModel& model) {
+std::vector<std::pair<std::string, std::string>> PassiveStanceAnkles(const SteppingStonesDiagramParams& params,
+                                                                     const MultibodyModel& model) {
   std::vector<std::pair<std::string, std::string>> out;
   if (!params.passive_stance_ankle) return out;
   for (const char* foot : {"left_foot", "right_foot"}) {
@@ -62,20 +65,26 @@ double FlatFootPitch(const MultibodyModel& model, const std::string& contact) {
 
 }  // namespace
 
-std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec) {
+std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params,
+                                                                      const SteppingStonesControllerSpec& spec) {
   const MultibodyModel& model = *spec.model;
   std::vector<std::shared_ptr<const TaskSpaceTask>> tasks = {
-      std::make_shared<BodyPitchTask>("torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
+      std::make_shared<BodyPitchTask>(
+          "torso_pitch", model, model.body(model.BodyOfVelocity(model.num_base_dofs() - 1)).name, params.torso_gains),
       std::make_shared<ComPositionTask>("com_height", std::vector<Axis>{Axis::kZ}, params.com_height_gains),
-      PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.right_stance_mode}),
-      PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, params.swing_foot_gains, {spec.left_stance_mode}),
+      PointPositionTask::ForContact("left_swing_foot", model, "left_foot", {Axis::kX, Axis::kZ},
+                                    params.swing_foot_gains, {spec.right_stance_mode}),
+      PointPositionTask::ForContact("right_swing_foot", model, "right_foot", {Axis::kX, Axis::kZ},
+                                    params.swing_foot_gains, {spec.left_stance_mode}),
   };
   // Line/flat feet: the fifth output, the swing foot's pitch (its sole lands parallel to the stone).
   if (HasFootPitchOutput(model)) {
-    tasks.push_back(std::make_shared<BodyPitchTask>("left_swing_foot_pitch", model, model.contacts()[model.ContactIndex("left_foot")].link,
-                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.right_stance_mode}));
-    tasks.push_back(std::make_shared<BodyPitchTask>("right_swing_foot_pitch", model, model.contacts()[model.ContactIndex("right_foot")].link,
-                                                    params.swing_foot_pitch_gains, std::vector<int>{spec.left_stance_mode}));
+    tasks.push_back(std::make_shared<BodyPitchTask>(
+        "left_swing_foot_pitch", model, model.contacts()[model.ContactIndex("left_foot")].link,
+        params.swing_foot_pitch_gains, std::vector<int>{spec.right_stance_mode}));
+    tasks.push_back(std::make_shared<BodyPitchTask>(
+        "right_swing_foot_pitch", model, model.contacts()[model.ContactIndex("right_foot")].link,
+        params.swing_foot_pitch_gains, std::vector<int>{spec.left_stance_mode}));
   }
   return tasks;
 }
@@ -155,13 +164,15 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
   SteppingStonesDiagramParams clf_params = params;
   if (!std::isnan(params.clf_com_height_weight)) {
     if (!(params.clf_com_height_weight > 0) || !std::isfinite(params.clf_com_height_weight))
-      throw std::invalid_argument("ClfQpControllerFactory: params.clf_com_height_weight must be positive (or NaN), got " +
-                                  std::to_string(params.clf_com_height_weight));
+      throw std::invalid_argument(
+          "ClfQpControllerFactory: params.clf_com_height_weight must be positive (or NaN), got " +
+          std::to_string(params.clf_com_height_weight));
     clf_params.com_height_gains.weight = params.clf_com_height_weight;
   }
   return [params = std::move(clf_params)](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<System> {
     std::vector<ClfOutput> outputs;
-    for (auto& task : SteppingStonesTasks(params, spec)) outputs.push_back(ClfOutput::RelativeDegreeTwo(std::move(task)));
+    for (auto& task : SteppingStonesTasks(params, spec))
+      outputs.push_back(ClfOutput::RelativeDegreeTwo(std::move(task)));
     ClfQpParams cp = params.clf_controller;
     cp.contact_stabilization = spec.contact_stabilization;
     for (const auto& pair : PassiveStanceAnkles(params, *spec.model)) cp.zero_torque_in_contact.push_back(pair);
@@ -169,17 +180,21 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
   };
 }
 
-SteppingStonesControllerFactory SaturatedControllerFactory(SteppingStonesControllerFactory controller, Eigen::VectorXd lower, Eigen::VectorXd upper) {
+SteppingStonesControllerFactory SaturatedControllerFactory(SteppingStonesControllerFactory controller,
+                                                           Eigen::VectorXd lower, Eigen::VectorXd upper) {
   if (!controller) throw std::invalid_argument("SaturatedControllerFactory: the controller factory is empty");
-  return [controller = std::move(controller), lower = std::move(lower), upper = std::move(upper)](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<System> {
+  return [controller = std::move(controller), lower = std::move(lower),
+          upper = std::move(upper)](const SteppingStonesControllerSpec& spec) -> std::unique_ptr<System> {
     const int nu = spec.model->nu();
     if (lower.size() != nu || upper.size() != nu)
-      throw std::invalid_argument("SaturatedControllerFactory: lower and upper need nu = " + std::to_string(nu) + " elements (robot '" + spec.model->name() +
-                                  "'), got " + std::to_string(lower.size()) + " and " + std::to_string(upper.size()));
+      throw std::invalid_argument("SaturatedControllerFactory: lower and upper need nu = " + std::to_string(nu) +
+                                  " elements (robot '" + spec.model->name() + "'), got " +
+                                  std::to_string(lower.size()) + " and " + std::to_string(upper.size()));
     SteppingStonesControllerSpec inner = spec;
     inner.name = "controller";
     std::unique_ptr<System> block = controller(inner);
-    if (!block) throw std::invalid_argument("SaturatedControllerFactory: the wrapped controller factory returned no block");
+    if (!block)
+      throw std::invalid_argument("SaturatedControllerFactory: the wrapped controller factory returned no block");
     DiagramBuilder b;
     b.AddSystem(std::move(block), "controller");
     b.AddSystem(std::make_unique<Saturation>("saturation", lower, upper));
@@ -196,7 +211,8 @@ SteppingStonesControllerFactory TaskSpaceQpControllerFactory(const SteppingStone
     TaskSpaceQpParams cp = params.controller;
     cp.contact_stabilization = spec.contact_stabilization;
     for (const auto& pair : PassiveStanceAnkles(params, *spec.model)) cp.zero_torque_in_contact.push_back(pair);
-    return std::make_unique<TaskSpaceQpController>(spec.name, spec.model, spec.mode_contacts, SteppingStonesTasks(params, spec), cp);
+    return std::make_unique<TaskSpaceQpController>(spec.name, spec.model, spec.mode_contacts,
+                                                   SteppingStonesTasks(params, spec), cp);
   };
 }
 
@@ -207,8 +223,8 @@ namespace {
 void RequireIn(const char* field, double value, double lo, double hi, bool lo_open, const char* unit) {
   if ((lo_open ? value > lo : value >= lo) && value <= hi) return;
   std::ostringstream out;
-  out << "SteppingStonesDiagramParams: " << field << " = " << value << (*unit ? " " : "") << unit << " is outside " << (lo_open ? "(" : "[") << lo
-      << ", " << hi << "]" << (*unit ? " " : "") << unit;
+  out << "SteppingStonesDiagramParams: " << field << " = " << value << (*unit ? " " : "") << unit << " is outside "
+      << (lo_open ? "(" : "[") << lo << ", " << hi << "]" << (*unit ? " " : "") << unit;
   throw std::invalid_argument(out.str());
 }
 
@@ -230,7 +246,8 @@ void SteppingStonesDiagramParams::Validate() const {
   RequireIn("supervisor.max_steps", supervisor.max_steps, 1, 10000, false, "");
   RequireIn("outputs.swing_foot.clearance", outputs.swing_foot.clearance, 0.0, 1.0, true, "m");
   RequireIn("mpc.hold_plan_below_horizon_s", mpc.hold_plan_below_horizon_s, 0.0, 10.0, false, "s");
-  if (!std::isnan(clf_com_height_weight)) RequireIn("clf_com_height_weight", clf_com_height_weight, 0.0, 1000.0, true, "");
+  if (!std::isnan(clf_com_height_weight))
+    RequireIn("clf_com_height_weight", clf_com_height_weight, 0.0, 1000.0, true, "");
   RequireIn("clf_controller.update_period_s", clf_controller.update_period_s, 1e-5, 1.0, false, "s");
   RequireIn("controller.friction_margin", controller.friction_margin, 0.0, 1.0, true, "");
   RequireIn("controller.min_normal_force_N", controller.min_normal_force_N, 0.0, 1e4, false, "N");
@@ -272,7 +289,8 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   SteppingStonesOutputsSystemParams op = params.outputs;
   if (std::isnan(op.swing_foot.stance_stone_half_length)) {
     op.swing_foot.stance_stone_half_length = 0.0;
-    for (const SteppingStone& stone : terrain.stones()) op.swing_foot.stance_stone_half_length = std::max(op.swing_foot.stance_stone_half_length, 0.5 * stone.length_m);
+    for (const SteppingStone& stone : terrain.stones())
+      op.swing_foot.stance_stone_half_length = std::max(op.swing_foot.stance_stone_half_length, 0.5 * stone.length_m);
     // A line/flat sole reaches half its length beyond its midpoint (the swing output): its heel and toe must clear
     // the stance stone too (0 for point feet).
     op.swing_foot.stance_stone_half_length += 0.5 * SoleLength(model);
@@ -297,11 +315,13 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
     const std::vector<std::string> row_names = d.output_adapter->task_row_names();
     int row = 0;
     for (const auto& task : SteppingStonesTasks(params, spec)) {
-      spec.tasks.push_back({task->name(), row, {row_names.begin() + row, row_names.begin() + row + task->size()}, task->active_modes()});
+      spec.tasks.push_back(
+          {task->name(), row, {row_names.begin() + row, row_names.begin() + row + task->size()}, task->active_modes()});
       row += task->size();
     }
     if (row != spec.num_task_rows)
-      throw std::logic_error("BuildSteppingStonesDiagram: the tasks span " + std::to_string(row) + " rows, the output adapter " + std::to_string(spec.num_task_rows));
+      throw std::logic_error("BuildSteppingStonesDiagram: the tasks span " + std::to_string(row) +
+                             " rows, the output adapter " + std::to_string(spec.num_task_rows));
   }
   std::unique_ptr<System> block = controller ? controller(spec) : TaskSpaceQpControllerFactory(params)(spec);
   if (!block) throw std::invalid_argument("BuildSteppingStonesDiagram: the controller factory returned no block");
@@ -330,8 +350,7 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   b.Connect("plant", "mode", "controller", "mode");
   b.Connect("output_adapter", "desired", "controller", "desired");
   b.Connect("controller", "u", "plant", "u");
-  d.logger = AddVectorLogger(b,
-                             "logger",
+  d.logger = AddVectorLogger(b, "logger",
                              {{"plant", "state"},
                               {"plant", "mode"},
                               {"plant", "com"},
@@ -356,9 +375,10 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
 
 Terrain PeriodicSteppingStones(double step_length_m, double step_height_m, int num_stones, double stone_length_m) {
   if (!(step_length_m > stone_length_m))
-    throw std::invalid_argument("PeriodicSteppingStones: step length " + std::to_string(step_length_m) + " m must exceed the stone length " +
-                                std::to_string(stone_length_m) + " m");
-  if (num_stones < 2) throw std::invalid_argument("PeriodicSteppingStones: needs at least 2 stones, got " + std::to_string(num_stones));
+    throw std::invalid_argument("PeriodicSteppingStones: step length " + std::to_string(step_length_m) +
+                                " m must exceed the stone length " + std::to_string(stone_length_m) + " m");
+  if (num_stones < 2)
+    throw std::invalid_argument("PeriodicSteppingStones: needs at least 2 stones, got " + std::to_string(num_stones));
   std::vector<SteppingStone> stones;
   for (int k = 0; k < num_stones; ++k) stones.push_back({k * step_length_m, k * step_height_m, stone_length_m});
   return Terrain::Stones(stones);
@@ -366,10 +386,12 @@ Terrain PeriodicSteppingStones(double step_length_m, double step_height_m, int n
 
 Terrain RandomSteppingStones(const RandomSteppingStonesParams& p) {
   if (!(p.min_gap_m > p.stone_length_m && p.max_gap_m >= p.min_gap_m && p.max_rise_m >= 0))
-    throw std::invalid_argument("RandomSteppingStones: needs stone_length_m < min_gap_m <= max_gap_m and max_rise_m >= 0, got " +
-                                std::to_string(p.stone_length_m) + ", " + std::to_string(p.min_gap_m) + ", " + std::to_string(p.max_gap_m) + ", " +
-                                std::to_string(p.max_rise_m));
-  if (p.num_stones < 2) throw std::invalid_argument("RandomSteppingStones: needs at least 2 stones, got " + std::to_string(p.num_stones));
+    throw std::invalid_argument(
+        "RandomSteppingStones: needs stone_length_m < min_gap_m <= max_gap_m and max_rise_m >= 0, got " +
+        std::to_string(p.stone_length_m) + ", " + std::to_string(p.min_gap_m) + ", " + std::to_string(p.max_gap_m) +
+        ", " + std::to_string(p.max_rise_m));
+  if (p.num_stones < 2)
+    throw std::invalid_argument("RandomSteppingStones: needs at least 2 stones, got " + std::to_string(p.num_stones));
   std::mt19937 rng(p.seed);
   std::uniform_real_distribution<double> gap(p.min_gap_m, p.max_gap_m);
   std::uniform_real_distribution<double> rise(-p.max_rise_m, p.max_rise_m);
@@ -394,10 +416,12 @@ SimulatorConfig SteppingStonesSimulatorConfig() {
   return config;
 }
 
-Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Terrain& terrain, const SteppingStonesDiagramParams& params) {
+Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Terrain& terrain,
+                                           const SteppingStonesDiagramParams& params) {
   const int nv = model.nv();
   if (terrain.stones().empty()) throw std::runtime_error("SteppingStonesInitialState: the terrain has no stones");
-  if (!model.is_planar()) throw std::invalid_argument("SteppingStonesInitialState: robot '" + model.name() + "' is not planar");
+  if (!model.is_planar())
+    throw std::invalid_argument("SteppingStonesInitialState: robot '" + model.name() + "' is not planar");
   const auto& stones = terrain.stones();
   MultibodyWorkspace ws(model);
   // The pose is solved with the first stone at the origin and then moved onto it (exact for the planar base's x and z):
@@ -417,7 +441,8 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
     if (info.type == ContactType::kPoint) {
       pose.push_back(PoseConstraint::ContactPoint(model, foot, 2, stone.y()));
     } else {
-      for (const Eigen::Vector3d& p : info.points) pose.push_back(PoseConstraint::Point(model, info.link, p, 2, stone.y()));
+      for (const Eigen::Vector3d& p : info.points)
+        pose.push_back(PoseConstraint::Point(model, info.link, p, 2, stone.y()));
     }
   }
   const int com_x_row = static_cast<int>(pose.size());
@@ -431,8 +456,9 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   } catch (const std::runtime_error& e) {
     std::ostringstream height;
     height << com_height;  // 6 significant digits (std::to_string writes 1e308 with 309)
-    throw std::runtime_error("SteppingStonesInitialState: robot '" + model.name() + "' cannot stand on the first stone with its COM " +
-                             height.str() + " m above the feet (supervisor.walking_com_height_m): " + e.what());
+    throw std::runtime_error("SteppingStonesInitialState: robot '" + model.name() +
+                             "' cannot stand on the first stone with its COM " + height.str() +
+                             " m above the feet (supervisor.walking_com_height_m): " + e.what());
   }
   const int m = static_cast<int>(pose.size());
   Eigen::MatrixXd C(m, nv);
@@ -440,10 +466,12 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   CalcPoseConstraints(model, ws, q, pose, c, C);  // C = d(constraints)/dq at the solution
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
   const double lambda_squared = params.planner.gravity / com_height;
-  rhs[com_x_row] = std::sqrt(std::max(params.target_orbital_energy + lambda_squared * params.initial_com_x_m * params.initial_com_x_m, 0.0));
+  rhs[com_x_row] = std::sqrt(
+      std::max(params.target_orbital_energy + lambda_squared * params.initial_com_x_m * params.initial_com_x_m, 0.0));
   const Eigen::VectorXd v = C.completeOrthogonalDecomposition().solve(rhs);
   if (!((C * v - rhs).norm() < 1e-9))
-    throw std::runtime_error("SteppingStonesInitialState: no joint velocity moves the COM of robot '" + model.name() + "' with both feet at rest");
+    throw std::runtime_error("SteppingStonesInitialState: no joint velocity moves the COM of robot '" + model.name() +
+                             "' with both feet at rest");
   Eigen::VectorXd x(2 * nv);
   x << q, v;
   x[0] += stone_world.x();  // planar base: q = [x, z, pitch, joints]
@@ -451,10 +479,12 @@ Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Te
   return x;
 }
 
-void SetSteppingStonesInitialState(const SteppingStonesDiagram& d, const SteppingStonesDiagramParams& params, Context& context) {
+void SetSteppingStonesInitialState(const SteppingStonesDiagram& d, const SteppingStonesDiagramParams& params,
+                                   Context& context) {
   const int nv = d.model->nv();
   const Eigen::VectorXd x = SteppingStonesInitialState(*d.model, d.plant->terrain(), params);
-  d.plant->SetState(d.diagram->GetMutableSubsystemContext(*d.plant, context), x.head(nv), x.tail(nv), "left_foot_stance");
+  d.plant->SetState(d.diagram->GetMutableSubsystemContext(*d.plant, context), x.head(nv), x.tail(nv),
+                    "left_foot_stance");
   d.supervisor->Initialize(d.diagram->GetMutableSubsystemContext(*d.supervisor, context), x, 0);
 }
 

@@ -91,13 +91,13 @@ struct SteppingStonesTaskRows {
 ///     right_swing_foot_pitch  row 7  right_foot_pitch (rad)  left stance
 /// The element names of the port are the row names, prefixed "d_" in the second third and "dd_" in the third.
 struct SteppingStonesControllerSpec {
-  std::string name = "controller";                 ///< the block's name in the diagram
+  std::string name = "controller";  ///< the block's name in the diagram
   std::shared_ptr<const MultibodyModel> model;
-  std::vector<ContactSet> mode_contacts;           ///< active contacts of each plant mode (0 left, 1 right stance, 2 flight)
+  std::vector<ContactSet> mode_contacts;  ///< active contacts of each plant mode (0 left, 1 right stance, 2 flight)
   ConstrainedDynamicsParameters contact_stabilization;  ///< the plant's (HybridContactPlantParams::dynamics)
   int left_stance_mode = 0, right_stance_mode = 1;
-  int num_task_rows = 0;                           ///< rows of one third of `desired` (6 point feet, 8 line/flat feet)
-  std::vector<SteppingStonesTaskRows> tasks;       ///< the tasks of `desired`, in row order (see above)
+  int num_task_rows = 0;                      ///< rows of one third of `desired` (6 point feet, 8 line/flat feet)
+  std::vector<SteppingStonesTaskRows> tasks;  ///< the tasks of `desired`, in row order (see above)
 };
 /// Builds the controller block: any System (a leaf system or a Diagram) with the controller ports (see the top of this
 /// file), connected by port name.
@@ -105,15 +105,16 @@ using SteppingStonesControllerFactory = std::function<std::unique_ptr<System>(co
 
 struct SteppingStonesDiagramParams {
   std::string robot_sidecar = "robots/amber/amber.rome.json";  ///< planar point-foot robot
-  double target_orbital_energy = 0.5;   ///< E* [m²/s²] (paper: 0.5 random stones, 0.3 in Fig. 6)
-  double impact_fraction = 0.6;         ///< ε [-] (paper: 0.6)
-  double log_period_s = 5e-3;           ///< [s]
+  double target_orbital_energy = 0.5;  ///< E* [m²/s²] (paper: 0.5 random stones, 0.3 in Fig. 6)
+  double impact_fraction = 0.6;        ///< ε [-] (paper: 0.6)
+  double log_period_s = 5e-3;          ///< [s]
   /// [m] COM position relative to the stance foot at the start (ours; the paper gives no initial state). The
   /// robot starts on the E* orbit there: ṗx = sqrt(E* + λ² x²), λ² = g / walking height (Eq. (16)). Starting
   /// behind the foot gives the first swing (from standing, both feet on the first stone) time to lift; from
   /// x = 0 the first step of a short random step lasts only about 0.2 s.
   double initial_com_x_m = -0.1;
-  HybridContactPlantParams plant;  ///< min_base_height_m is taken above the lowest stone (see BuildSteppingStonesDiagram)
+  HybridContactPlantParams
+      plant;  ///< min_base_height_m is taken above the lowest stone (see BuildSteppingStonesDiagram)
   /// The Bullet plant's (PlantKind::kBullet); min_base_height_m likewise. Its contact points are 1 mm spheres
   /// on the stones' boxes, its step 1 ms, its update just after the controller's sample (bullet_world_plant.h).
   BulletWorldPlantParams bullet_plant;
@@ -152,8 +153,8 @@ struct SteppingStonesDiagramParams {
   /// RoMoCo-like Cassie anchors (Kp 150-600 1/s², Kd 2-40 1/s).
   static SteppingStonesDiagramParams ForRobot(const std::string& sidecar);
   /// Throws std::invalid_argument naming the field, the value and the allowed range (ranges ours: bounded work and a
-  /// meaningful gait): E* in (0, 10] m²/s², ε in (0, 1), log period [1e-4, 10] s, initial COM x [-0.5, 0.5] m, max_steps
-  /// [1, 10000], swing clearance (0, 1] m, MPC hold [0, 10] s, CLF COM weight (0, 1000] (or NaN), CLF period
+  /// meaningful gait): E* in (0, 10] m²/s², ε in (0, 1), log period [1e-4, 10] s, initial COM x [-0.5, 0.5] m,
+  /// max_steps [1, 10000], swing clearance (0, 1] m, MPC hold [0, 10] s, CLF COM weight (0, 1000] (or NaN), CLF period
   /// [1e-5, 1] s, friction margin (0, 1], min normal force [0, 1e4] N, task weights [0, 1e6], kp [0, 1e6], kd [0, 1e5].
   /// BuildSteppingStonesDiagram calls it first.
   void Validate() const;
@@ -258,13 +259,15 @@ bool HasFootPitchOutput(const MultibodyModel& model);
 /// The outputs of Eq. (19) that the default controllers track, in the row order of `desired` (spec.tasks): torso pitch,
 /// COM height, each foot's x and z while it swings, and for line/flat feet each foot's pitch while it swings, with the
 /// task gains of `params`. For a controller of your own built on TaskSpaceTask.
-std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params, const SteppingStonesControllerSpec& spec);
+std::vector<std::shared_ptr<const TaskSpaceTask>> SteppingStonesTasks(const SteppingStonesDiagramParams& params,
+                                                                      const SteppingStonesControllerSpec& spec);
 
 /// Wraps the block of `controller` in a diagram (controller → Saturation) that clamps its torques u to [lower, upper]
 /// (N m, nu each; the Saturation block's contract, framework/primitives.h) and exports the same controller ports.
 /// The inner block is named "controller" inside the diagram, the Saturation "saturation". Throws, naming the sizes, if
 /// lower or upper does not have nu elements, and as Saturation does for crossed or NaN bounds.
-SteppingStonesControllerFactory SaturatedControllerFactory(SteppingStonesControllerFactory controller, Eigen::VectorXd lower, Eigen::VectorXd upper);
+SteppingStonesControllerFactory SaturatedControllerFactory(SteppingStonesControllerFactory controller,
+                                                           Eigen::VectorXd lower, Eigen::VectorXd upper);
 
 /// The paper's controller: TaskSpaceQpController (Eq. (29)-(31)) with params.controller and the task gains of
 /// `params` (torso pitch, COM height, swing foot), the plant's contact stabilisation.
@@ -277,7 +280,8 @@ SteppingStonesControllerFactory ClfQpControllerFactory(const SteppingStonesDiagr
 
 /// Builds the diagram for `terrain` (the robot starts standing on its first stone). `controller`: the controller
 /// block's factory; empty = TaskSpaceQpControllerFactory(params). `plant`: which plant (params.plant or
-/// params.bullet_plant). Throws, naming the port, if the block lacks a controller port or a port has the wrong type or size.
+/// params.bullet_plant). Throws, naming the port, if the block lacks a controller port or a port has the wrong type or
+/// size.
 SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const SteppingStonesDiagramParams& params,
                                                  const SteppingStonesControllerFactory& controller = nullptr,
                                                  PlantKind plant = PlantKind::kHybrid);
@@ -287,10 +291,12 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
 /// rotating, COM moving forward at the speed of the E* orbit at mid-stance (ṗ^x = sqrt(E*), Eq. (16)) and not
 /// vertically (the stance foot must not slide: J_c v = 0). Throws std::runtime_error naming the robot if no such
 /// pose exists.
-Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Terrain& terrain, const SteppingStonesDiagramParams& params);
+Eigen::VectorXd SteppingStonesInitialState(const MultibodyModel& model, const Terrain& terrain,
+                                           const SteppingStonesDiagramParams& params);
 
 /// Sets SteppingStonesInitialState() in the plant (left stance) and initialises the supervisor. `context` is the
 /// diagram's.
-void SetSteppingStonesInitialState(const SteppingStonesDiagram& d, const SteppingStonesDiagramParams& params, Context& context);
+void SetSteppingStonesInitialState(const SteppingStonesDiagram& d, const SteppingStonesDiagramParams& params,
+                                   Context& context);
 
 }  // namespace rome

@@ -25,7 +25,7 @@ struct SteppingStonesFeasibilityParams {
 /// contact point. [m]; infinity if a prismatic joint on the way has no finite limit.
 struct LegReach {
   double reach_m = 0.0;
-  int hip_body = -1;                                ///< the body whose inboard joint is the hip joint
+  int hip_body = -1;                                      ///< the body whose inboard joint is the hip joint
   Eigen::Vector3d hip_in_base = Eigen::Vector3d::Zero();  ///< the hip joint's origin in the base body's frame [m]
 };
 LegReach CalcLegReach(const MultibodyModel& model, int contact);
@@ -38,14 +38,16 @@ void CheckSteppingStonesRobot(const MultibodyModel& model);
 /// robot cannot walk the first params.supervisor.max_steps steps of `terrain` (stone k to stone k + 1) with `params`:
 ///  * fewer than 2 stones;
 ///  * a step longer (centre to centre) than leg_reach_fraction × (both legs' reach + the hips' distance);
-///  * a rise or drop of at least supervisor.walking_com_height_m − supervisor.min_com_height_m: the posture NLP aims the
+///  * a rise or drop of at least supervisor.walking_com_height_m − supervisor.min_com_height_m: the posture NLP aims
+///  the
 ///    COM at the walking height above the lower stone, so above the higher one it would be below the fall height;
 ///  * a walking height at or below the fall height (the run would end as a fall at once);
 ///  * a stone shorter than the robot's sole plus 2 sole_margin_m (line/flat feet);
 ///  * a smallest stance normal force (controller.min_normal_force_N, clf_controller.contact.min_normal_force_N) at or
 ///    above the robot's weight: one stance foot cannot push that hard for a whole step.
 /// Calls CheckSteppingStonesRobot first.
-void CheckSteppingStonesFeasible(const MultibodyModel& model, const Terrain& terrain, const SteppingStonesDiagramParams& params,
+void CheckSteppingStonesFeasible(const MultibodyModel& model, const Terrain& terrain,
+                                 const SteppingStonesDiagramParams& params,
                                  const SteppingStonesFeasibilityParams& margins = {});
 
 }  // namespace rome

@@ -56,7 +56,8 @@ SteppingStonesOutputAdapter::SteppingStonesOutputAdapter(std::string name, Stepp
     }
     // Swing-foot pitch: hold the sole horizontal (rate and acceleration 0).
     if (params_.foot_pitch && swing_offset >= 0)
-      (*out)[mode == kLeftStance ? 7 : 6] = mode == kLeftStance ? params_.right_foot_flat_pitch_rad : params_.left_foot_flat_pitch_rad;
+      (*out)[mode == kLeftStance ? 7 : 6] =
+          mode == kLeftStance ? params_.right_foot_flat_pitch_rad : params_.left_foot_flat_pitch_rad;
   });
 }
 

@@ -11,13 +11,14 @@
 //                                   (right foot swings), 1 right stance (left foot swings), anything else (flight) no
 //                                   foot swings
 // outputs: desired (3 rows)         [y_d; ẏ_d; ÿ_d], each in the controller layout
-//                                   [torso pitch (rad), COM z (m), left foot x, left foot z, right foot x, right foot z (m)]
-//                                   (rows = 6), followed, with params.foot_pitch (line/flat feet, e.g. planar Cassie), by
-//                                   [left foot pitch, right foot pitch (rad)] (rows = 8), in world coordinates
-//                                   (positions shifted by the stance foot; rates unchanged). The rows of a foot that does
-//                                   not swing are zero (its task is inactive in that mode). The swing foot's pitch
-//                                   target is its flat pitch (params; the sole parallel to the horizontal stones) with
-//                                   zero rate and acceleration: the fifth output of planar Cassie (hopping spec C.12).
+//                                   [torso pitch (rad), COM z (m), left foot x, left foot z, right foot x, right foot z
+//                                   (m)] (rows = 6), followed, with params.foot_pitch (line/flat feet, e.g. planar
+//                                   Cassie), by [left foot pitch, right foot pitch (rad)] (rows = 8), in world
+//                                   coordinates (positions shifted by the stance foot; rates unchanged). The rows of a
+//                                   foot that does not swing are zero (its task is inactive in that mode). The swing
+//                                   foot's pitch target is its flat pitch (params; the sole parallel to the horizontal
+//                                   stones) with zero rate and acceleration: the fifth output of planar Cassie (hopping
+//                                   spec C.12).
 // Direct feedthrough from every input; no state.
 
 #include <string>
@@ -37,7 +38,8 @@ struct SteppingStonesOutputAdapterParams {
 class SteppingStonesOutputAdapter final : public LeafSystem {
  public:
   static constexpr int kNumTaskRows = 6;  ///< rows of one third of the desired port without foot pitch
-  explicit SteppingStonesOutputAdapter(std::string name = "output_adapter", SteppingStonesOutputAdapterParams params = {});
+  explicit SteppingStonesOutputAdapter(std::string name = "output_adapter",
+                                       SteppingStonesOutputAdapterParams params = {});
   /// Element names of one third of the desired port: "torso_pitch", "com_z", "left_foot_x", ... (6 rows).
   static std::vector<std::string> TaskRowNames();
   /// This adapter's rows of one third of the desired port (6, or 8 with foot pitch) and their names.

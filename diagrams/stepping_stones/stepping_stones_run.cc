@@ -21,7 +21,8 @@ void SteppingStonesTrackingStatistics::Record(const Eigen::VectorXd& x, int mode
   sum_[1] += std::pow(com_z - desired[1], 2);
   ++n_;
   using Mode = ContactModeGraph::SingleSupportMode;
-  if (mode == Mode::kLeftStance || mode == Mode::kRightStance) {  // the swing foot's rows: right foot in left stance (4, 5), left foot in right stance (2, 3)
+  if (mode == Mode::kLeftStance || mode == Mode::kRightStance) {  // the swing foot's rows: right foot in left stance
+                                                                  // (4, 5), left foot in right stance (2, 3)
     const int contact = mode == Mode::kLeftStance ? right_ : left_, row = mode == Mode::kLeftStance ? 4 : 2;
     const ContactInfo& info = model_.contacts()[contact];
     const Eigen::Vector3d p = CalcPointPosition(model_, ws_, q, info.body, info.frame_origin);
@@ -30,7 +31,9 @@ void SteppingStonesTrackingStatistics::Record(const Eigen::VectorXd& x, int mode
   }
 }
 
-double SteppingStonesTrackingStatistics::Rms(int k) const { return std::sqrt(sum_[k] / std::max<long>(k == 2 ? n_swing_ : n_, 1)); }
+double SteppingStonesTrackingStatistics::Rms(int k) const {
+  return std::sqrt(sum_[k] / std::max<long>(k == 2 ? n_swing_ : n_, 1));
+}
 
 double SteppingStonesResult::ControllerUpdateTime(double p) const {
   std::vector<double> v = controller_update_times_s;
@@ -53,36 +56,44 @@ struct RunMeasurements {
 
 }  // namespace
 
-SteppingStonesResult RunSteppingStones(const SteppingStonesDiagram& d, Simulator& sim, const SteppingStonesRunOptions& options) {
-  if (!(options.chunk_s > 0)) throw std::invalid_argument("RunSteppingStones: options.chunk_s must be positive, got " + std::to_string(options.chunk_s) + " s");
+SteppingStonesResult RunSteppingStones(const SteppingStonesDiagram& d, Simulator& sim,
+                                       const SteppingStonesRunOptions& options) {
+  if (!(options.chunk_s > 0))
+    throw std::invalid_argument("RunSteppingStones: options.chunk_s must be positive, got " +
+                                std::to_string(options.chunk_s) + " s");
   const LeafContext& sup_ctx = d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context());
-  const double max_time = std::isnan(options.max_time_s) ? 3.0 * d.supervisor->params().max_steps + 2.0 : options.max_time_s;
+  const double max_time =
+      std::isnan(options.max_time_s) ? 3.0 * d.supervisor->params().max_steps + 2.0 : options.max_time_s;
   if (!(max_time > 0 && max_time <= kMaxRunTime_s))
-    throw std::invalid_argument("RunSteppingStones: options.max_time_s must be NaN or in (0, " + std::to_string(kMaxRunTime_s) + "] s, got " +
-                                std::to_string(options.max_time_s));
+    throw std::invalid_argument("RunSteppingStones: options.max_time_s must be NaN or in (0, " +
+                                std::to_string(kMaxRunTime_s) + "] s, got " + std::to_string(options.max_time_s));
   auto m = std::make_shared<RunMeasurements>(*d.model);
-  m->solve_times.reserve(static_cast<size_t>(std::min(max_time, 3600.0) * 1000.0) + 1000);  // 1 kHz updates; grows beyond an hour
+  m->solve_times.reserve(static_cast<size_t>(std::min(max_time, 3600.0) * 1000.0) +
+                         1000);  // 1 kHz updates; grows beyond an hour
   // The run's monitor is removed when the function leaves (also by an exception): the caller's monitors stay.
   struct RemoveMonitor {
     Simulator& sim;
     ~RemoveMonitor() { sim.remove_monitor("stepping_stones_run"); }
   } remove_monitor{sim};
   const bool has_solve_time = d.controller->HasOutputPort("solve_time_s");
-  sim.add_monitor([&d, m, has_solve_time](const Context& c) {
-    const LeafContext& plant_context = d.diagram->GetSubsystemContext(*d.plant, c);
-    m->contact.Record(*d.plant, plant_context);
-    m->u2_integral += m->last_u.squaredNorm() * (c.time() - m->last_time);  // u is held between updates
-    m->last_time = c.time();
-    m->last_u = d.EvalControllerOutput(c, "u");
-    m->tracking.Record(d.plant->EvalOutput(plant_context, "state"), d.plant->EvalTypedOutput<int>(plant_context, "mode"),
-                       d.output_adapter->EvalOutput(d.diagram->GetSubsystemContext(*d.output_adapter, c), "desired"));
-    if (has_solve_time) {
-      const double st = d.EvalControllerOutput(c, "solve_time_s")[0];
-      if (st != m->last_solve_time && st > 0) m->solve_times.push_back(st);
-      m->last_solve_time = st;
-    }
-    return EventStatus::Succeeded();
-  }, "stepping_stones_run");
+  sim.add_monitor(
+      [&d, m, has_solve_time](const Context& c) {
+        const LeafContext& plant_context = d.diagram->GetSubsystemContext(*d.plant, c);
+        m->contact.Record(*d.plant, plant_context);
+        m->u2_integral += m->last_u.squaredNorm() * (c.time() - m->last_time);  // u is held between updates
+        m->last_time = c.time();
+        m->last_u = d.EvalControllerOutput(c, "u");
+        m->tracking.Record(
+            d.plant->EvalOutput(plant_context, "state"), d.plant->EvalTypedOutput<int>(plant_context, "mode"),
+            d.output_adapter->EvalOutput(d.diagram->GetSubsystemContext(*d.output_adapter, c), "desired"));
+        if (has_solve_time) {
+          const double st = d.EvalControllerOutput(c, "solve_time_s")[0];
+          if (st != m->last_solve_time && st > 0) m->solve_times.push_back(st);
+          m->last_solve_time = st;
+        }
+        return EventStatus::Succeeded();
+      },
+      "stepping_stones_run");
 
   SteppingStonesResult r;
   const auto start = std::chrono::steady_clock::now();

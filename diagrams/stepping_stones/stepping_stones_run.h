@@ -52,7 +52,8 @@ class SteppingStonesTrackingStatistics {
 inline constexpr double kMaxRunTime_s = 1e5;
 
 struct SteppingStonesRunOptions {
-  /// [s] Simulated time limit; NaN: 3 s per step of params.supervisor.max_steps, plus 2 s (ours: a step lasts 0.3-0.6 s).
+  /// [s] Simulated time limit; NaN: 3 s per step of params.supervisor.max_steps, plus 2 s (ours: a step lasts 0.3-0.6
+  /// s).
   double max_time_s = std::numeric_limits<double>::quiet_NaN();
   /// [s] The run advances in chunks of this length; `progress` is called after each.
   double chunk_s = 0.5;
@@ -61,27 +62,31 @@ struct SteppingStonesRunOptions {
 };
 
 struct SteppingStonesResult {
-  SimulatorStatus status;  ///< how the run ended; a block that threw mid-run gives kFailed with its message
-  bool success = false;    ///< the success rule (top of this file)
-  bool fell = false;       ///< a failure whose message says the robot fell
+  SimulatorStatus status;          ///< how the run ended; a block that threw mid-run gives kFailed with its message
+  bool success = false;            ///< the success rule (top of this file)
+  bool fell = false;               ///< a failure whose message says the robot fell
   std::vector<StepRecord> steps;   ///< the supervisor's step records
   ContactForceStatistics contact;  ///< the plant's contact forces after every integrator step and event
   /// RMS tracking errors (SteppingStonesTrackingStatistics), sampled after every integrator step and event.
   double tracking_torso_pitch_rms_rad = 0, tracking_com_height_rms_m = 0, tracking_swing_foot_rms_m = 0;
   double u_squared_integral_N2m2s = 0;  ///< [N² m² s] ∫ |u|² dt of the held torque
-  std::vector<double> controller_update_times_s;  ///< [s] each new value of the controller's solve_time_s port, if it has one
+  std::vector<double>
+      controller_update_times_s;  ///< [s] each new value of the controller's solve_time_s port, if it has one
   double sim_time_s = 0, wall_time_s = 0;
   double x_start_m = 0, x_end_m = 0;  ///< [m] COM x at the first logged sample and at the end
   double max_foothold_error_m = 0;    ///< [m] largest StepRecord::foothold_error_m
-  int qp_failures = 0;   ///< the controller's and the vertical-COM MPC's qp_failures
-  int nlp_failures = 0;  ///< posture NLP failures (SteppingStonesSupervisor::posture_failures)
-  bool has_clf_activity = false;  ///< the controller has a clf_activity port (CLF-QP)
+  int qp_failures = 0;                ///< the controller's and the vertical-COM MPC's qp_failures
+  int nlp_failures = 0;               ///< posture NLP failures (SteppingStonesSupervisor::posture_failures)
+  bool has_clf_activity = false;      ///< the controller has a clf_activity port (CLF-QP)
   double clf_active_updates = 0, clf_solved_updates = 0;
-  std::string controller_kind;    ///< the controller block's C++ class without its namespace, e.g. "TaskSpaceQpController"
+  std::string
+      controller_kind;  ///< the controller block's C++ class without its namespace, e.g. "TaskSpaceQpController"
   SimulatorStatistics integrator;
 
   double mean_forward_speed_mps() const { return sim_time_s > 0 ? (x_end_m - x_start_m) / sim_time_s : 0.0; }
-  double u_squared_integral_per_step() const { return steps.empty() ? 0.0 : u_squared_integral_N2m2s / static_cast<double>(steps.size()); }
+  double u_squared_integral_per_step() const {
+    return steps.empty() ? 0.0 : u_squared_integral_N2m2s / static_cast<double>(steps.size());
+  }
   /// [s] The p-quantile (p in [0, 1], nearest rank) of controller_update_times_s; 0 if there are none.
   double ControllerUpdateTime(double p) const;
 };
@@ -90,6 +95,7 @@ struct SteppingStonesResult {
 /// limit, measuring the figures of SteppingStonesResult with a monitor it adds to `sim` (other monitors may be added
 /// before; the monitor refers to `d`, which must outlive any later use of `sim`). Returns the result with the success
 /// rule applied.
-SteppingStonesResult RunSteppingStones(const SteppingStonesDiagram& d, Simulator& sim, const SteppingStonesRunOptions& options = {});
+SteppingStonesResult RunSteppingStones(const SteppingStonesDiagram& d, Simulator& sim,
+                                       const SteppingStonesRunOptions& options = {});
 
 }  // namespace rome

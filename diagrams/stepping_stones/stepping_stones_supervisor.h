@@ -9,7 +9,8 @@
 //          u_des (1)                  planner's desired pre-impact vertical COM velocity [m/s] (for the step log)
 //          L_des (1)                  planner's desired post-impact momentum [m²/s] (for the step log)
 // outputs: com_state (4)              [p^x, p^z (m), ṗ^x, ṗ^z (m/s)] COM relative to the stance foot
-//          angular_momentum (1)       L_y [m²/s], mass-normalised, about the stance pivot a: r_z ṗ^x − r_x ṗ^z + k_G,y/m,
+//          angular_momentum (1)       L_y [m²/s], mass-normalised, about the stance pivot a: r_z ṗ^x − r_x ṗ^z +
+//          k_G,y/m,
 //                                     r = p_com − a; a = the point foot, or for a line/flat foot the origin of the foot
 //                                     link (its inboard joint: planar Cassie's toe joint, the passive stance ankle
 //                                     whose torque is 0; hopping spec C.12), not the sole midpoint
@@ -56,10 +57,10 @@ struct SteppingStonesSupervisorParams {
   double min_com_height_m = 0.45;
   double nominal_step_duration_s = 0.4;  ///< [s] T_s written into the step parameters (time-based phase only)
   /// [m] COM height above the lower of the stance foot and the next stone that the pre-impact posture aims for (the
-  /// request's com_height_m, weighted by posture.com_height_weight), and at which the robot starts. Ours: the paper gives none. Eq. (21) alone leaves
-  /// the height to the posture term, which picks AMBER's nearly straight nominal legs (COM 0.90 m, 7 mm of leg
-  /// extension left), so the COM cannot rise after an impact without the stance knee reaching its singular straight
-  /// position. 0.80 m keeps the knees bent 0.6-0.9 rad over a 0.4 m step.
+  /// request's com_height_m, weighted by posture.com_height_weight), and at which the robot starts. Ours: the paper
+  /// gives none. Eq. (21) alone leaves the height to the posture term, which picks AMBER's nearly straight nominal legs
+  /// (COM 0.90 m, 7 mm of leg extension left), so the COM cannot rise after an impact without the stance knee reaching
+  /// its singular straight position. 0.80 m keeps the knees bent 0.6-0.9 rad over a 0.4 m step.
   double walking_com_height_m = 0.80;
   PreImpactPostureParams posture = DefaultPostureParams();  ///< Eq. (21)
   static PreImpactPostureParams DefaultPostureParams() {
@@ -74,20 +75,21 @@ struct SteppingStonesSupervisorParams {
 /// One completed step, for summaries.
 struct StepRecord {
   double start_time_s = 0, duration_s = 0;
-  double step_length_m = 0, step_height_m = 0;       ///< l, h planned for the step
-  double pre_impact_com_vz_mps = 0;                  ///< ṗ^z⁻ measured just before touchdown
-  double u_des_mps = 0;                              ///< planner's u_des just before touchdown
-  double post_impact_momentum = 0;                   ///< L_y⁺ about the new stance foot [m²/s]
-  double L_des = 0;                                  ///< planner's L_des for the step [m²/s]
-  double foothold_error_m = 0;                       ///< |touchdown x − stone centre|
-  int stone = -1;                                    ///< stone the swing foot landed on (nearest to the foot)
-  int planned_stone = -1;                            ///< stone it was aimed at
+  double step_length_m = 0, step_height_m = 0;  ///< l, h planned for the step
+  double pre_impact_com_vz_mps = 0;             ///< ṗ^z⁻ measured just before touchdown
+  double u_des_mps = 0;                         ///< planner's u_des just before touchdown
+  double post_impact_momentum = 0;              ///< L_y⁺ about the new stance foot [m²/s]
+  double L_des = 0;                             ///< planner's L_des for the step [m²/s]
+  double foothold_error_m = 0;                  ///< |touchdown x − stone centre|
+  int stone = -1;                               ///< stone the swing foot landed on (nearest to the foot)
+  int planned_stone = -1;                       ///< stone it was aimed at
   bool posture_ok = true;
 };
 
 class SteppingStonesSupervisor final : public LeafSystem {
  public:
-  SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain, SteppingStonesSupervisorParams params = {});
+  SteppingStonesSupervisor(std::string name, std::shared_ptr<const MultibodyModel> model, Terrain terrain,
+                           SteppingStonesSupervisorParams params = {});
 
   const SteppingStonesSupervisorParams& params() const { return params_; }
   const std::vector<StepRecord>& steps(const LeafContext& context) const;
@@ -112,9 +114,11 @@ class SteppingStonesSupervisor final : public LeafSystem {
   const Eigen::VectorXd& Committed(const LeafContext& context) const;
   static StepOutputParameters step_parameters(const Eigen::VectorXd& xd);
   /// Impact bookkeeping on the step state xd (new stance foot, stone, α_0, posture); fills `rec` if given.
-  void ApplyImpact(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, StepRecord* rec) const;
+  void ApplyImpact(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd,
+                   StepRecord* rec) const;
   void PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const;
-  void ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x, Eigen::Vector4d* com, double* L) const;
+  void ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x,
+                   Eigen::Vector4d* com, double* L) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   Terrain terrain_;
@@ -122,10 +126,11 @@ class SteppingStonesSupervisor final : public LeafSystem {
   /// World position of the foothold of foot `side` (0 left, 1 right): its contact frame origin.
   Eigen::Vector3d FootPosition(MultibodyWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q, int side) const;
 
-  int contact_[2];  // left, right contact indices
-  Eigen::Vector3d foot_point_[2];   // foothold (contact frame origin), foot link frame
+  int contact_[2];                 // left, right contact indices
+  Eigen::Vector3d foot_point_[2];  // foothold (contact frame origin), foot link frame
   bool pivot_is_foot_[2] = {true, true};
-  Eigen::Vector3d pivot_point_[2];  // pivot of L_y (point foot, or the ankle joint of a line/flat foot), foot link frame
+  Eigen::Vector3d
+      pivot_point_[2];  // pivot of L_y (point foot, or the ankle joint of a line/flat foot), foot link frame
   int torso_pitch_index_ = 2;
 };
 

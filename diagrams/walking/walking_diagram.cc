@@ -28,14 +28,15 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.friction_coefficient = 0.6;
   p.contact.min_normal_force_N = 0.0;
   p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
-  p.contact.friction_margin = 0.5;  // ours: room for the force drift over a held sample as a foot unloads
+  p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
   // Ours (spec [R]: 0.02 m). Measured on gait A: the swing leg's yaw momentum and the horizontal force of the
   // momentum compensation ask the stance sole for |M_z| up to ~0.08 F_z (41 N m at F_z = 514 N just after lift-off);
   // with 0.02, 0.04 or 0.05 m the pelvis yaws and the run fails within 3 steps, 0.057 m fails at step 9, 0.07-0.1 m
   // walk. A rigid 0.25 x 0.10 m sole under uniform pressure transmits at most mu * 0.068 m = 0.054 m F_z (mu = 0.8):
   // the hybrid plant's rigid flat foot has no torsional slip, so this exceeds what a real sole could hold.
   p.contact.yaw_moment_coefficient_m = 0.1;
-  p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
+  p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on
+                                  // the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;
   // Ours (default 1e-6): the torque penalty is relative to the largest output curvature, the swing foot's rotation
   // (a 1.3 kg foot); DenseQpSolver needs pivots above 1e-8 of H's largest diagonal, so 1e-8 is the least it accepts
@@ -57,7 +58,8 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
 
 namespace {
 // "WHO: FIELD = VALUE UNIT is outside RANGE" when !ok.
-void Require(bool ok, const std::string& who, const char* field, double value, const char* unit, const std::string& range) {
+void Require(bool ok, const std::string& who, const char* field, double value, const char* unit,
+             const std::string& range) {
   if (ok) return;
   std::ostringstream os;
   os << who << ": " << field << " = " << value << (*unit ? " " : "") << unit << " is outside " << range;
@@ -75,18 +77,22 @@ void WalkingDiagramParams::Validate() const {
   const std::string who = "WalkingDiagramParams";
   const double c = controller.force_band_halfwidth;
   Require(c > 0 && c < 1, who, "controller.force_band_halfwidth", c, "", Interval(0, 1, "", '(', ')'));
-  Require(In(swing.touchdown_velocity_mps, 0.05, 0.5), who, "swing.touchdown_velocity_mps", swing.touchdown_velocity_mps, "m/s", Interval(0.05, 0.5, "m/s"));
-  Require(swing.apex_height_m > 0 && swing.apex_height_m <= 0.3, who, "swing.apex_height_m", swing.apex_height_m, "m", Interval(0, 0.3, "m", '('));
-  Require(swing_foot_weight > 0 && std::isfinite(swing_foot_weight), who, "swing_foot_weight", swing_foot_weight, "", "(0, inf)");
-  Require(swing_foot_orientation_weight > 0 && std::isfinite(swing_foot_orientation_weight), who, "swing_foot_orientation_weight",
-          swing_foot_orientation_weight, "", "(0, inf)");
+  Require(In(swing.touchdown_velocity_mps, 0.05, 0.5), who, "swing.touchdown_velocity_mps",
+          swing.touchdown_velocity_mps, "m/s", Interval(0.05, 0.5, "m/s"));
+  Require(swing.apex_height_m > 0 && swing.apex_height_m <= 0.3, who, "swing.apex_height_m", swing.apex_height_m, "m",
+          Interval(0, 0.3, "m", '('));
+  Require(swing_foot_weight > 0 && std::isfinite(swing_foot_weight), who, "swing_foot_weight", swing_foot_weight, "",
+          "(0, inf)");
+  Require(swing_foot_orientation_weight > 0 && std::isfinite(swing_foot_orientation_weight), who,
+          "swing_foot_orientation_weight", swing_foot_orientation_weight, "", "(0, inf)");
 }
 
 void WalkingGait::Validate(const std::string& who) const {
   const double v[4] = {step_length_m, ssp_duration_s, dsp_duration_s, step_width_m};
   const char* names[4] = {"step_length_m", "ssp_duration_s", "dsp_duration_s", "step_width_m"};
   const char* units[4] = {"m", "s", "s", "m"};
-  for (int i = 0; i < 4; ++i) Require(In(v[i], kMin[i], kMax[i]), who, names[i], v[i], units[i], Interval(kMin[i], kMax[i], units[i]));
+  for (int i = 0; i < 4; ++i)
+    Require(In(v[i], kMin[i], kMax[i]), who, names[i], v[i], units[i], Interval(kMin[i], kMax[i], units[i]));
 }
 
 void StandToWalkParams::Validate(const std::string& who) const {
@@ -99,32 +105,38 @@ void StandToWalkParams::Validate(const std::string& who) const {
   const double lead[3] = {lead_in_step_length_m, lead_in_ssp_duration_s, lead_in_dsp_duration_s};
   const char* lead_names[3] = {"lead_in_step_length_m", "lead_in_ssp_duration_s", "lead_in_dsp_duration_s"};
   for (int i = 0; i < 3; ++i) {
-    Require(In(start[i], kSideGaitMin[i], kSideGaitMax[i]), who, start_names[i], start[i], units[i], Interval(kSideGaitMin[i], kSideGaitMax[i], units[i]));
-    Require(In(lead[i], kSideGaitMin[i], kSideGaitMax[i]), who, lead_names[i], lead[i], units[i], Interval(kSideGaitMin[i], kSideGaitMax[i], units[i]));
+    Require(In(start[i], kSideGaitMin[i], kSideGaitMax[i]), who, start_names[i], start[i], units[i],
+            Interval(kSideGaitMin[i], kSideGaitMax[i], units[i]));
+    Require(In(lead[i], kSideGaitMin[i], kSideGaitMax[i]), who, lead_names[i], lead[i], units[i],
+            Interval(kSideGaitMin[i], kSideGaitMax[i], units[i]));
   }
-  Require(sagittal_cop_margin_m >= 0 && sagittal_cop_margin_m < 0.07, who, "sagittal_cop_margin_m", sagittal_cop_margin_m, "m", Interval(0, 0.07, "m", '[', ')'));
-  Require(transition_min_ssp_duration_s == 0 || In(transition_min_ssp_duration_s, 0.3, 1.0), who, "transition_min_ssp_duration_s",
-          transition_min_ssp_duration_s, "s", "0 or [0.3, 1] s");
+  Require(sagittal_cop_margin_m >= 0 && sagittal_cop_margin_m < 0.07, who, "sagittal_cop_margin_m",
+          sagittal_cop_margin_m, "m", Interval(0, 0.07, "m", '[', ')'));
+  Require(transition_min_ssp_duration_s == 0 || In(transition_min_ssp_duration_s, 0.3, 1.0), who,
+          "transition_min_ssp_duration_s", transition_min_ssp_duration_s, "s", "0 or [0.3, 1] s");
   Require(In(height_min_m, 0.7, 1.0), who, "height_min_m", height_min_m, "m", Interval(0.7, 1.0, "m"));
   Require(In(height_max_m, 0.7, 1.0) && height_max_m > height_min_m, who, "height_max_m", height_max_m, "m",
           "(height_min_m, 1] m = " + Interval(height_min_m, 1.0, "m", '('));
-  Require(standing_height_m >= height_min_m && standing_height_m <= height_max_m, who, "standing_height_m", standing_height_m, "m",
-          "[height_min_m, height_max_m] = " + Interval(height_min_m, height_max_m, "m"));
-  Require(gait_change_max_force_fraction == 0 || (gait_change_max_force_fraction > 1 && gait_change_max_force_fraction <= 3), who,
-          "gait_change_max_force_fraction", gait_change_max_force_fraction, "m g", "0 (no bound) or (1, 3] m g");
-  Require(periodic_max_force_fraction == 0 || (periodic_max_force_fraction > 1 && periodic_max_force_fraction <= 3), who,
-          "periodic_max_force_fraction", periodic_max_force_fraction, "m g", "0 (never) or (1, 3] m g");
+  Require(standing_height_m >= height_min_m && standing_height_m <= height_max_m, who, "standing_height_m",
+          standing_height_m, "m", "[height_min_m, height_max_m] = " + Interval(height_min_m, height_max_m, "m"));
+  Require(gait_change_max_force_fraction == 0 ||
+              (gait_change_max_force_fraction > 1 && gait_change_max_force_fraction <= 3),
+          who, "gait_change_max_force_fraction", gait_change_max_force_fraction, "m g", "0 (no bound) or (1, 3] m g");
+  Require(periodic_max_force_fraction == 0 || (periodic_max_force_fraction > 1 && periodic_max_force_fraction <= 3),
+          who, "periodic_max_force_fraction", periodic_max_force_fraction, "m g", "0 (never) or (1, 3] m g");
   Require(chain_steps >= 1 && chain_steps <= 20, who, "chain_steps", chain_steps, "", "[1, 20]");
-  Require(reload_floor_fraction >= 0 && reload_floor_fraction < 0.5, who, "reload_floor_fraction", reload_floor_fraction, "m g", "[0, 0.5)");
+  Require(reload_floor_fraction >= 0 && reload_floor_fraction < 0.5, who, "reload_floor_fraction",
+          reload_floor_fraction, "m g", "[0, 0.5)");
   gait_graph.Validate();
   Require(min_dsp_stance_force_fraction >= 0 && min_dsp_stance_force_fraction < 1, who, "min_dsp_stance_force_fraction",
           min_dsp_stance_force_fraction, "", Interval(0, 1, "", '[', ')'));
   const double lateral = lateral_cop_margin_m, sag = sagittal_cop_margin_m, standing = standing_sagittal_cop_margin_m;
   if (!(sole.heel_m - sag > 0 && sole.toe_m - sag > 0))
-    throw std::invalid_argument(who + ": sagittal_cop_margin_m = " + std::to_string(sag) + " m leaves no sole (heel " + std::to_string(sole.heel_m) +
-                                " m, toe " + std::to_string(sole.toe_m) + " m)");
+    throw std::invalid_argument(who + ": sagittal_cop_margin_m = " + std::to_string(sag) + " m leaves no sole (heel " +
+                                std::to_string(sole.heel_m) + " m, toe " + std::to_string(sole.toe_m) + " m)");
   if (!(lateral >= 0) || !(sole.left_m - lateral > 0 && sole.right_m - lateral > 0))
-    throw std::invalid_argument(who + ": lateral_cop_margin_m = " + std::to_string(lateral) + " must be >= 0 and leave a sole");
+    throw std::invalid_argument(who + ": lateral_cop_margin_m = " + std::to_string(lateral) +
+                                " must be >= 0 and leave a sole");
   if (!(standing < 0 || (sole.heel_m - standing > 0 && sole.toe_m - standing > 0)))
     throw std::invalid_argument(who + ": standing_sagittal_cop_margin_m = " + std::to_string(standing) +
                                 " must be negative (use sagittal_cop_margin_m) or >= 0 and leave a sole");
@@ -139,7 +151,8 @@ SwingFootTrajectoryParams RobotSwing(const MultibodyModel& m, const WalkingDiagr
 }
 }  // namespace
 
-std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& params) {
+std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model,
+                                                         const WalkingDiagramParams& params) {
   if (model == nullptr) throw std::invalid_argument("WalkingPoseCheck: the model is null");
   if (!params.compensate_centroidal_momentum) return {};
   const SwingFootTrajectoryParams swing = RobotSwing(*model, params);
@@ -150,8 +163,8 @@ std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const M
   };
 }
 
-WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan, const WalkingDiagramParams& params,
-                                                double end_time_s) {
+WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan,
+                                                const WalkingDiagramParams& params, double end_time_s) {
   return CalcWalkingPlanTorques(model, plan, RobotSwing(model, params), {.end_time_s = end_time_s});
 }
 
@@ -170,12 +183,14 @@ std::vector<ClfOutput> WalkingControllerTasks(const MultibodyModel& m, const Wal
       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_pitch", m, "base_pitch", pelvis_gains)),
       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_yaw", m, "base_yaw", pelvis_gains)),
       // Eq. (17): swing foot position and orientation, in the other foot's stance only.
-      ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>("left_ankle", m, "left_foot", Eigen::Vector3d::Zero(), xyz, foot_gains,
-                                                                       std::vector<int>{right_stance})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("left_foot_orientation", m, "left_foot", foot_orientation_gains, std::vector<int>{right_stance})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>("right_ankle", m, "right_foot", Eigen::Vector3d::Zero(), xyz, foot_gains,
-                                                                       std::vector<int>{left_stance})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>("right_foot_orientation", m, "right_foot", foot_orientation_gains, std::vector<int>{left_stance})),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>(
+          "left_ankle", m, "left_foot", Eigen::Vector3d::Zero(), xyz, foot_gains, std::vector<int>{right_stance})),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>(
+          "left_foot_orientation", m, "left_foot", foot_orientation_gains, std::vector<int>{right_stance})),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>(
+          "right_ankle", m, "right_foot", Eigen::Vector3d::Zero(), xyz, foot_gains, std::vector<int>{left_stance})),
+      ClfOutput::RelativeDegreeTwo(std::make_shared<BodyOrientationTask>(
+          "right_foot_orientation", m, "right_foot", foot_orientation_gains, std::vector<int>{left_stance})),
   };
 }
 
@@ -193,15 +208,17 @@ std::unique_ptr<System> MakeWalkingClfQpController(const WalkingControllerSpec& 
   return std::make_unique<ClfQpController>(spec.name, spec.model, spec.mode_contacts, spec.tasks, spec.params);
 }
 
-WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan, const WalkingDiagramParams& params,
-                                   PlantKind plant, const WalkingControllerFactory& controller) {
+WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, const WalkingPlan& plan,
+                                   const WalkingDiagramParams& params, PlantKind plant,
+                                   const WalkingControllerFactory& controller) {
   params.Validate();
   if (model == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the model is null");
   const MultibodyModel& m = *model;
   for (const char* foot : {"left_foot", "right_foot"}) {
     const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
     if (c.type != ContactType::kFlat)
-      throw std::invalid_argument(std::string("BuildWalkingDiagram: robot '") + m.name() + "': contact '" + foot + "' is not a flat foot");
+      throw std::invalid_argument(std::string("BuildWalkingDiagram: robot '") + m.name() + "': contact '" + foot +
+                                  "' is not a flat foot");
   }
   const SwingFootTrajectoryParams swing = RobotSwing(m, params);
 
@@ -209,19 +226,22 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   WalkingDiagram d;
   d.model = model;
   d.plan = plan;
-  if (params.compensate_centroidal_momentum) d.compensation = CompensateCentroidalMomentum(m, d.plan, swing, params.compensation);
+  if (params.compensate_centroidal_momentum)
+    d.compensation = CompensateCentroidalMomentum(m, d.plan, swing, params.compensation);
   HybridContactPlantParams plant_params = params.plant;
-  if (plant_params.planned_liftoff_force_N <= 0.0) plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
+  if (plant_params.planned_liftoff_force_N <= 0.0)
+    plant_params.planned_liftoff_force_N = 0.01 * m.total_mass() * 9.81;  // spec §7.5 [R]
   // The Bullet plant releases the trailing foot at the same force (a planned lift-off; see bullet_world_plant.h).
   BulletWorldPlantParams bullet_params = params.bullet_plant;
-  if (bullet_params.planned_liftoff_force_N < 0) bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
+  if (bullet_params.planned_liftoff_force_N < 0)
+    bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
   if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
   const ContactModeGraph modes = ContactModeGraph::WithDoubleSupport("left_foot", "right_foot");
-  if (modes.ModeIndex("left_foot_stance", "plant") != kWalkingLeftStance || modes.ModeIndex("double_support", "plant") != kWalkingDoubleSupport ||
+  if (modes.ModeIndex("left_foot_stance", "plant") != kWalkingLeftStance ||
+      modes.ModeIndex("double_support", "plant") != kWalkingDoubleSupport ||
       modes.ModeIndex("right_foot_stance", "plant") != kWalkingRightStance)
     throw std::logic_error("BuildWalkingDiagram: the plant's mode numbers differ from WalkingPlantMode");
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, modes, Terrain::Flat(),
-                                         plant_params, bullet_params));
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, modes, Terrain::Flat(), plant_params, bullet_params));
   WalkingControllerSpec spec;
   spec.model = model;
   spec.mode_contacts = ActiveContactsPerMode(*d.plant);
@@ -229,15 +249,19 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   spec.layout = WalkingDesiredLayout(spec.tasks);
   spec.params = params.controller;
   spec.params.contact_stabilization = plant_params.dynamics;
-  if (spec.params.force_band_loading_floor_N < 0.0) spec.params.force_band_loading_floor_N = 2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force
+  if (spec.params.force_band_loading_floor_N < 0.0)
+    spec.params.force_band_loading_floor_N =
+        2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force
   d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>("walking_reference", d.plan));
   d.outputs = b.AddSystem(std::make_unique<WalkingOutputReference>("outputs", d.plan, swing));
   std::unique_ptr<System> block = controller ? controller(spec) : MakeWalkingClfQpController(spec);
   if (block == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the controller factory returned no system");
   for (const char* port : {"state", "mode", "desired"})
     if (!block->HasInputPort(port))
-      throw std::invalid_argument("BuildWalkingDiagram: controller '" + block->name() + "' has no input port '" + port + "' (the seam needs state, mode, desired)");
-  if (!block->HasOutputPort("u")) throw std::invalid_argument("BuildWalkingDiagram: controller '" + block->name() + "' has no output port 'u'");
+      throw std::invalid_argument("BuildWalkingDiagram: controller '" + block->name() + "' has no input port '" + port +
+                                  "' (the seam needs state, mode, desired)");
+  if (!block->HasOutputPort("u"))
+    throw std::invalid_argument("BuildWalkingDiagram: controller '" + block->name() + "' has no output port 'u'");
   const bool force_reference = block->HasInputPort("normal_force_reference");
   d.controller = b.AddSystem(std::move(block), spec.name);
   b.Connect("walking_reference", "com", "outputs", "com");
@@ -247,16 +271,15 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   b.Connect("plant", "mode", spec.name, "mode");
   b.Connect(spec.name, "u", "plant", "u");
   d.diagram = b.Build("walking");
-  for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i) d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));
+  for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i)
+    d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));
   return d;
 }
 
-SimulatorConfig WalkingSimulatorConfig() {
-  return ExplicitRestartingSimulatorConfig(1e-5, 1e-7);
-}
+SimulatorConfig WalkingSimulatorConfig() { return ExplicitRestartingSimulatorConfig(1e-5, 1e-7); }
 
-
-Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, const WalkingPlan& plan, double t) {
+Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, const WalkingPlan& plan,
+                                       double t) {
   const WalkingReference r = plan.Sample(t);
   const int nv = model.nv();
   MultibodyWorkspace ws(model);
@@ -271,7 +294,8 @@ Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen:
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(15);
   rhs.head<3>() = r.com_velocity;
   std::vector<int> free;
-  const int yaw = model.VelocityIndex("base_yaw"), pitch = model.VelocityIndex("base_pitch"), roll = model.VelocityIndex("base_roll");
+  const int yaw = model.VelocityIndex("base_yaw"), pitch = model.VelocityIndex("base_pitch"),
+            roll = model.VelocityIndex("base_roll");
   for (int i = 0; i < nv; ++i)
     if (i != yaw && i != pitch && i != roll) free.push_back(i);
   Eigen::MatrixXd Jr(15, free.size());

@@ -35,13 +35,15 @@
 // It should re-solve at guard events so that the new contact mode's torque acts from the event instant on.
 //
 // A run from C++ (build → run → result; RunWalking and WalkingRunResult in walking_run.h judge it as the example does):
-//   auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
+//   auto model = std::make_shared<const
+//   rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
 //   rome::StandToWalkParams stand;
 //   stand.sole = rome::SoleOf(*model, "left_foot");
 //   const rome::WalkingPlan plan = rome::BuildStandToWalkPlan(rome::WalkingGait{}, 8, 1, nullptr, nullptr, stand);
 //   rome::WalkingDiagram walking = rome::BuildWalkingDiagram(model, plan);
 //   const rome::WalkingRunResult result = rome::RunWalking(walking);
-//   std::printf("%s: %d of %d steps, COM RMS error %.4f m\n", result.success ? "walked" : "failed", result.steps_completed,
+//   std::printf("%s: %d of %d steps, COM RMS error %.4f m\n", result.success ? "walked" : "failed",
+//   result.steps_completed,
 //               result.steps_planned, result.com_rms_error_m.maxCoeff());
 #include <cstdint>
 #include <functional>
@@ -68,7 +70,8 @@ namespace rome {
 enum WalkingPlantMode : int { kWalkingLeftStance = 0, kWalkingDoubleSupport = 1, kWalkingRightStance = 2 };
 
 struct WalkingDiagramParams {
-  HybridContactPlantParams plant;  ///< PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
+  HybridContactPlantParams
+      plant;  ///< PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
   /// PlantKind::kBullet (defaults: 1 ms step, the controller's 1 kHz; rigid contact, μ from the sidecar). Its
   /// planned_liftoff_force_N and min_time_in_mode_s, when left at their "off" defaults, are taken from `plant` (the
   /// trailing foot is released at 1 % of m g on either plant).
@@ -79,16 +82,17 @@ struct WalkingDiagramParams {
   /// not by the CoP (CompensateCentroidalMomentum, ours; the paper's point-mass ROMs have none).
   bool compensate_centroidal_momentum = true;
   CentroidalMomentumCompensationParams compensation;
-  double swing_foot_weight = 5.0;   ///< [-] cost weight of the swing ankle's position (ours: land on the foothold)
+  double swing_foot_weight = 5.0;  ///< [-] cost weight of the swing ankle's position (ours: land on the foothold)
   /// [-] cost weight of the swing foot's orientation (ours). The foot is light, so its rows set the largest curvature
   /// of the QP's cost and, with it, the torque penalty's scale (ClfQpParams::u_regularization); measured: with 5 the
-  /// walk needs u_regularization within [1e-8, 2e-8], with 0.1 it walks over [1e-8, 5e-8] with the touchdown within 1 cm.
+  /// walk needs u_regularization within [1e-8, 2e-8], with 0.1 it walks over [1e-8, 5e-8] with the touchdown within 1
+  /// cm.
   double swing_foot_orientation_weight = 0.1;
 
   /// Spec §5 [R]: ε = 0.1, p = 1e5, 1 kHz, force band c = 0.1 (Eq. (25)), μ = 0.6 pyramid, yaw moment |τ_z| ≤ 0.02 f_z,
-  /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event. Ours, differing:
-  /// yaw |τ_z| ≤ 0.1 m f_z, the torque penalty 3e-8, and the cost's target is the outputs' PD law (cost_pd_feedback),
-  /// not the spec's minimum-norm μ = 0 (the measurements are in the .cc).
+  /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event. Ours,
+  /// differing: yaw |τ_z| ≤ 0.1 m f_z, the torque penalty 3e-8, and the cost's target is the outputs' PD law
+  /// (cost_pd_feedback), not the spec's minimum-norm μ = 0 (the measurements are in the .cc).
   static ClfQpParams DefaultWalkingControllerParams();
 
   /// Throws std::invalid_argument "WalkingDiagramParams: FIELD = VALUE is outside RANGE" for the first field out of
@@ -105,11 +109,11 @@ struct WalkingTaskRows {
 
 /// What the diagram hands a controller factory.
 struct WalkingControllerSpec {
-  std::string name = "controller";                ///< the block's name in the diagram
+  std::string name = "controller";  ///< the block's name in the diagram
   std::shared_ptr<const MultibodyModel> model;
-  std::vector<ContactSet> mode_contacts;          ///< active contacts of each plant mode (0 left, 1 double, 2 right stance)
-  std::vector<ClfOutput> tasks;                   ///< WalkingControllerTasks: the default controller's outputs, in layout order
-  std::vector<WalkingTaskRows> layout;            ///< each task's rows of `desired` (18 rows per third)
+  std::vector<ContactSet> mode_contacts;  ///< active contacts of each plant mode (0 left, 1 double, 2 right stance)
+  std::vector<ClfOutput> tasks;           ///< WalkingControllerTasks: the default controller's outputs, in layout order
+  std::vector<WalkingTaskRows> layout;    ///< each task's rows of `desired` (18 rows per third)
   /// params.controller with the plant's contact stabilisation (HybridContactPlantParams::dynamics) and the force band's
   /// loading floor resolved (2 x the plant's planned lift-off force when negative).
   ClfQpParams params;
@@ -135,7 +139,7 @@ struct WalkingDiagram {
   /// null when there is none): RunWalking reads its diagnostics (δ, solve time, QP failures).
   const ClfQpController* clf_qp = nullptr;
   CentroidalMomentumCompensationReport compensation;  ///< zeros when params.compensate_centroidal_momentum is off
-  WalkingPlan plan;  ///< the plan the diagram runs (with the compensation, if on)
+  WalkingPlan plan;                                   ///< the plan the diagram runs (with the compensation, if on)
 };
 
 /// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant) with the controller `controller`
@@ -145,14 +149,15 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
                                    const WalkingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid,
                                    const WalkingControllerFactory& controller = {});
 
-/// The simulator settings of the walking runs (example, tests, benchmark): ExplicitRestartingSimulatorConfig at rtol 1e-5,
-/// atol 1e-7, as hopping (ours; measured on gait A: 2-3x faster than Dormand-Prince 5(4) at rtol 1e-6 / atol 1e-8 without
-/// the restart option, with the same summary to the digits shown).
+/// The simulator settings of the walking runs (example, tests, benchmark): ExplicitRestartingSimulatorConfig at rtol
+/// 1e-5, atol 1e-7, as hopping (ours; measured on gait A: 2-3x faster than Dormand-Prince 5(4) at rtol 1e-6 / atol 1e-8
+/// without the restart option, with the same summary to the digits shown).
 SimulatorConfig WalkingSimulatorConfig();
 
 /// One gait of the issue's --gait flags: step length l, T_SSP, T_DSP, step width W.
 struct WalkingGait {
-  double step_length_m = 0.30, ssp_duration_s = 0.40, dsp_duration_s = 0.10, step_width_m = 0.25;  ///< gait A (spec §3.1)
+  double step_length_m = 0.30, ssp_duration_s = 0.40, dsp_duration_s = 0.10,
+         step_width_m = 0.25;  ///< gait A (spec §3.1)
   /// The range the ROM planners are built and tested for (the walking issue's gait range).
   static constexpr double kMin[4] = {0.2, 0.35, 0.08, 0.2}, kMax[4] = {0.45, 0.5, 0.15, 0.3};
   /// Throws std::invalid_argument "WHO: FIELD = VALUE UNIT is outside [MIN, MAX] UNIT" for the first field out of the
@@ -181,10 +186,10 @@ struct StandToWalkParams {
   double height_min_m = 0.84, height_max_m = 0.90;
   /// [m] the lifting (right) foot starts this far behind the stance (left) foot (spec [R]: 0, feet side by side, the
   /// default). Side by side, the standing transition's single step must reach the next gait's pre-impact state over one
-  /// sole: a LIP from rest with its CoP on the heel (L_h behind the ankle) reaches at most ω (x_f + L_h) at x_f, so gait
-  /// A's state (COM 0.113 m ahead of the stance ankle at 0.66 m/s) is out of reach (NLP locally infeasible) and the
-  /// plan goes through the start gait (start_gait_steps). StepStance() is the earlier start from a 0.4 m step stance,
-  /// whose double support pushes off the rear heel straight into the gait.
+  /// sole: a LIP from rest with its CoP on the heel (L_h behind the ankle) reaches at most ω (x_f + L_h) at x_f, so
+  /// gait A's state (COM 0.113 m ahead of the stance ankle at 0.66 m/s) is out of reach (NLP locally infeasible) and
+  /// the plan goes through the start gait (start_gait_steps). StepStance() is the earlier start from a 0.4 m step
+  /// stance, whose double support pushes off the rear heel straight into the gait.
   double stance_stagger_m = 0.0;
   /// [m] the footed ROMs' ZMP bounds are the sole's, this much inside (ours): sagittal (Eq. (10) L_h, L_t) and
   /// lateral (Eq. (14) W1, W2). The whole-body controller keeps its own CoP margin (ClfQpParams
@@ -251,7 +256,7 @@ struct StandToWalkParams {
   /// from rest reaches over one sole (docs/design-notes.md#walking-start-gait). 6 steps, as the lead-in, so that the
   /// convergence check from step 5 after each transition applies to the start gait too.
   int start_gait_steps = 6;
-  double start_gait_step_length_m = 0.20;  ///< [m]
+  double start_gait_step_length_m = 0.20;   ///< [m]
   double start_gait_ssp_duration_s = 0.50;  ///< [s]
   double start_gait_dsp_duration_s = 0.15;  ///< [s]
   /// [m] the footed-aSLIP CoP margin (Eq. (10)) of the standing transition and of the start gait's change into the next
@@ -298,13 +303,15 @@ struct StandToWalkParams {
 /// A StandToWalkParams::plan_check for `model`: the angular-momentum compensation of BuildWalkingDiagram (with
 /// `params`' swing and compensation settings) on a copy of the plan; it throws std::runtime_error when a replay pose
 /// does not exist. Nothing when params.compensate_centroidal_momentum is off.
-std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& params);
+std::function<void(const WalkingPlan&)> WalkingPoseCheck(std::shared_ptr<const MultibodyModel> model,
+                                                         const WalkingDiagramParams& params);
 
 /// The inverse dynamics of `plan`'s single supports on `model` (CalcWalkingPlanTorques, with `params`' swing settings):
 /// the joint torques the plan's kinematic replay needs, against the robot's torque limits. Pass the diagram's plan
 /// (WalkingDiagram::plan, with its COM correction) to check what the controller will track. Throws as
 /// CalcWalkingPlanTorques. `end_time_s`: the run's end, when the plan goes on past it.
-WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan, const WalkingDiagramParams& params = {},
+WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan,
+                                                const WalkingDiagramParams& params = {},
                                                 double end_time_s = std::numeric_limits<double>::infinity());
 
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
@@ -340,8 +347,8 @@ struct WalkingPlanReport {
   /// BuildStandToWalkPlan only: the plan starts with a lead-in (StandToWalkParams::lead_in_steps) of `lead_in_gait`
   /// (with lead_in false and lead_in_reason set, a lead-in was tried, had no plan, and the plan goes directly from the
   /// start gait);
-  /// the *_b entries are then the requested gait and the lead-in → gait transition. lead_in_reason: why (the gait is faster
-  /// than the lead-in, or the direct standing transition's error).
+  /// the *_b entries are then the requested gait and the lead-in → gait transition. lead_in_reason: why (the gait is
+  /// faster than the lead-in, or the direct standing transition's error).
   bool lead_in = false;
   WalkingGait lead_in_gait;
   std::string lead_in_reason;
@@ -371,27 +378,31 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32
 /// beside it and B walks about the walking line between them. Throws std::invalid_argument for a bad parameter,
 /// std::runtime_error naming the problem that failed.
 /// steps_b: gait B's steps (default: `steps`).
-WalkingPlan BuildGaitChangePlan(const WalkingGait& gait_a, const WalkingGait& gait_b, int steps, std::uint32_t seed, const PlanCache* cache,
-                                WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {}, int steps_b = -1);
+WalkingPlan BuildGaitChangePlan(const WalkingGait& gait_a, const WalkingGait& gait_b, int steps, std::uint32_t seed,
+                                const PlanCache* cache, WalkingPlanReport* report = nullptr,
+                                const StandToWalkParams& params = {}, int steps_b = -1);
 
 /// A sequence of gaits (2 to 20, each in the WalkingGait range): standing → gaits[0] as BuildGaitChangePlan's gait A,
 /// then each change into the next gait as its A → B (directly, or through the gait graph), `steps` steps of each gait
 /// and steps_last (default `steps`) of the last. report->chain lists every gait walked after the standing start (the
 /// chains' intermediate gaits included); its *_b entries are the last change's. Throws as BuildGaitChangePlan.
-WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache,
-                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {}, int steps_last = -1);
+WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed,
+                                  const PlanCache* cache, WalkingPlanReport* report = nullptr,
+                                  const StandToWalkParams& params = {}, int steps_last = -1);
 
 /// `steps` + 1 periodic steps of `gait` alone (no transition), starting with the double support after a right-foot
 /// touchdown (left foot behind at x = 0): a run started on the orbit (WalkingStandingPose and WalkingInitialVelocity at
 /// a time inside that double support) tests the controller on the periodic gait alone. Throws as BuildStandToWalkPlan.
-WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& params = {});
+WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
+                                     const StandToWalkParams& params = {});
 /// Joint and base velocities with both feet still, the pelvis not rotating and the COM at the plan's velocity at t
 /// (least squares on the 15 coordinates other than the base angles).
-Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, const WalkingPlan& plan, double t = 0.0);
+Eigen::VectorXd WalkingInitialVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, const WalkingPlan& plan,
+                                       double t = 0.0);
 
 /// A standing configuration for the plan at time t (default its start): pelvis level with zero yaw, both feet flat on
-/// the ground with the ankles at the plan's footholds at t, and the COM at the plan's COM (Newton on the 15 remaining coordinates,
-/// from the model's nominal pose). Throws std::runtime_error if it does not converge to 1e-10.
+/// the ground with the ankles at the plan's footholds at t, and the COM at the plan's COM (Newton on the 15 remaining
+/// coordinates, from the model's nominal pose). Throws std::runtime_error if it does not converge to 1e-10.
 Eigen::VectorXd WalkingStandingPose(const MultibodyModel& model, const WalkingPlan& plan, double t = 0.0);
 
 }  // namespace rome

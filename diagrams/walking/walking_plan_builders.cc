@@ -18,7 +18,6 @@
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/multibody/multibody_kinematics.h"
 
-
 namespace rome {
 
 SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact) {
@@ -34,7 +33,8 @@ SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact) {
     s.right_m = std::max(s.right_m, -p.y());
   }
   if (!(s.heel_m > 0 && s.toe_m > 0 && s.left_m > 0 && s.right_m > 0))
-    throw std::invalid_argument("SoleOf: robot '" + model.name() + "': contact '" + contact + "': the ankle is not over the sole");
+    throw std::invalid_argument("SoleOf: robot '" + model.name() + "': contact '" + contact +
+                                "': the ankle is not over the sole");
   return s;
 }
 
@@ -59,16 +59,19 @@ struct SolvedGait {
   double solve_s = 0;
 };
 
-SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
-                     const std::string& which) {
-  if (!(sp.periodic_max_force_fraction == 0 || (sp.periodic_max_force_fraction > 1 && std::isfinite(sp.periodic_max_force_fraction))))
+SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
+                     const std::string& who, const std::string& which) {
+  if (!(sp.periodic_max_force_fraction == 0 ||
+        (sp.periodic_max_force_fraction > 1 && std::isfinite(sp.periodic_max_force_fraction))))
     throw std::invalid_argument(who + ": periodic_max_force_fraction must be 0 (no bound) or > 1, got " +
                                 std::to_string(sp.periodic_max_force_fraction));
   SolvedGait r{AslipPeriodicGaitPlanner(GaitParams(g, sp)), {}, 0.0};
   const auto t0 = Clock::now();
   r.gait = r.planner.Solve(seed, cache);
   r.solve_s = SecondsSince(t0);
-  if (!r.gait.success()) throw std::runtime_error(who + ": the periodic aSLIP NLP of " + which + " failed: " + r.gait.collocation.nlp.message);
+  if (!r.gait.success())
+    throw std::runtime_error(who + ": the periodic aSLIP NLP of " + which +
+                             " failed: " + r.gait.collocation.nlp.message);
   if (sp.periodic_max_force_fraction > 0) {  // re-plan a gait that asks more than the bound (see the parameter)
     const AslipPeriodicGaitParams& gp = r.planner.params();
     double peak = 0;
@@ -83,9 +86,11 @@ SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* 
       b.gait = b.planner.Solve(seed, cache);
       b.solve_s = r.solve_s + SecondsSince(t0);
       if (!b.gait.success())
-        throw std::runtime_error(who + ": the periodic aSLIP NLP of " + which + " asks " + std::to_string(peak / (gp.aslip.mass * gp.aslip.gravity)) +
-                                 " m g per leg, and with periodic_max_force_fraction = " + std::to_string(sp.periodic_max_force_fraction) +
-                                 " it failed: " + b.gait.collocation.nlp.message);
+        throw std::runtime_error(
+            who + ": the periodic aSLIP NLP of " + which + " asks " +
+            std::to_string(peak / (gp.aslip.mass * gp.aslip.gravity)) +
+            " m g per leg, and with periodic_max_force_fraction = " + std::to_string(sp.periodic_max_force_fraction) +
+            " it failed: " + b.gait.collocation.nlp.message);
       return b;
     }
   }
@@ -93,7 +98,8 @@ SolvedGait SolveGait(const WalkingGait& g, std::uint32_t seed, const PlanCache* 
 }
 
 // The footed-aSLIP transition NLP onto `target` (Eq. (9)-(10) on the robot's sole, less the ROM margins).
-AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_params, const WalkingGait& target, const StandToWalkParams& sp) {
+AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_params, const WalkingGait& target,
+                                       const StandToWalkParams& sp) {
   AslipTransitionParams tp;
   tp.bounds = target_params;
   tp.bounds.aslip.heel_length = sp.sole.heel_m - sp.sagittal_cop_margin_m;
@@ -111,18 +117,24 @@ AslipTransitionParams TransitionParams(const AslipPeriodicGaitParams& target_par
 // Solves the transition NLP for `data` (legs and pivots in the frame whose origin is world x = x_offset), then the
 // footed H-LIP QP on its nodes (Eq. (11)-(15)), and appends both to `plan`; the lifting foot lands at world landing_x.
 // landing_y: the lifting foot's world y at touchdown (NaN: where it lifted).
-void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& planner, const AslipTransitionData& data, double x_offset,
-                            double step_width, double landing_x, const StandToWalkParams& sp, const PlanCache* cache, const std::string& who,
-                            WalkingNlpReport* report, WalkingTransitionNodes* nodes,
-                            double landing_y = std::numeric_limits<double>::quiet_NaN(), double reload_floor_N = 0.0) {
+void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& planner, const AslipTransitionData& data,
+                            double x_offset, double step_width, double landing_x, const StandToWalkParams& sp,
+                            const PlanCache* cache, const std::string& who, WalkingNlpReport* report,
+                            WalkingTransitionNodes* nodes, double landing_y = std::numeric_limits<double>::quiet_NaN(),
+                            double reload_floor_N = 0.0) {
   const auto t0 = Clock::now();
   const AslipTransition transition = planner.Solve(data, cache);
-  if (report != nullptr) *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
-  if (!transition.success()) throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
+  if (report != nullptr)
+    *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
+  if (!transition.success())
+    throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
   const AslipParams& aslip = planner.params().bounds.aslip;
-  if (const double t = transition.LiftingLegReloadTime(aslip, data, reload_floor_N); reload_floor_N > 0 && !std::isnan(t))
-    throw std::runtime_error(who + ": the transition's plan unloads the lifting foot and loads it again " + std::to_string(t) + " s into its double support");
-  FootedHlipTransitionData lat = LateralDataOnTransitionNodes(transition, aslip, data, planner.params().bounds.nodes_per_domain, step_width);
+  if (const double t = transition.LiftingLegReloadTime(aslip, data, reload_floor_N);
+      reload_floor_N > 0 && !std::isnan(t))
+    throw std::runtime_error(who + ": the transition's plan unloads the lifting foot and loads it again " +
+                             std::to_string(t) + " s into its double support");
+  FootedHlipTransitionData lat =
+      LateralDataOnTransitionNodes(transition, aslip, data, planner.params().bounds.nodes_per_domain, step_width);
   lat.stance_left = data.lifting_leg == 1;
   lat.left_foot_y = data.left_foot_y;
   lat.right_foot_y = data.right_foot_y;
@@ -181,17 +193,20 @@ StandToWalkParams WithStandingMargin(const StandToWalkParams& sp) {
 
 // Stand → the solved gait `a` (timing of `g`; the right foot lifts first) and `steps` periodic steps of it; with
 // end_in_single_support the last step stops at its touchdown (its DSP left to a following transition).
-WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, const PlanCache* cache, WalkingPlanReport* report,
-                         const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, const char* into = "gait") {
+WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, const PlanCache* cache,
+                         WalkingPlanReport* report, const StandToWalkParams& sp, const std::string& who,
+                         bool end_in_single_support, const char* into = "gait") {
   const AslipPeriodicGaitParams& gp = a.planner.params();
   const StandToWalkParams standing = WithStandingMargin(sp);
   const AslipTransitionPlanner transition_planner(TransitionParams(gp, g, standing));
   AslipTransitionData data;
   data.left_foot_x = 0.0;
   data.right_foot_x = -sp.stance_stagger_m;
-  data.initial_state = AslipTransitionPlanner::StandingState(gp.aslip, sp.standing_height_m, data.left_foot_x, data.right_foot_x);
+  data.initial_state =
+      AslipTransitionPlanner::StandingState(gp.aslip, sp.standing_height_m, data.left_foot_x, data.right_foot_x);
   data.final_state = a.gait.collocation.phases[0].states.col(gp.nodes_per_domain - 1);
-  const HybridLinearInvertedPendulum hlip({.z0 = a.gait.mean_height, .ssp_duration = g.ssp_duration_s, .dsp_duration = g.dsp_duration_s});
+  const HybridLinearInvertedPendulum hlip(
+      {.z0 = a.gait.mean_height, .ssp_duration = g.ssp_duration_s, .dsp_duration = g.dsp_duration_s});
   const Eigen::Vector2d pre = hlip.P2PreImpactState(g.step_width_m);  // end of a left stance, about the left foot
   data.left_foot_y = g.step_width_m / 2;
   data.right_foot_y = -g.step_width_m / 2;
@@ -200,21 +215,23 @@ WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, c
   data.lifting_leg = 1;
   WalkingPlan plan;
   WalkingNlpReport transition_report;
-  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, standing, cache, who + " (standing -> " + into + ")", &transition_report,
+  AppendSolvedTransition(plan, transition_planner, data, 0.0, g.step_width_m, gp.step_length, standing, cache,
+                         who + " (standing -> " + into + ")", &transition_report,
                          report != nullptr ? &report->transition_nodes : nullptr);
   // The transition lands the right foot one step ahead: the first periodic step contributes its DSP only, so `steps`
   // single supports of the gait follow.
-  plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true,
-                           end_in_single_support);
+  plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m,
+                           /*begin_with_double_support=*/true, end_in_single_support);
   if (report != nullptr) report->transition = transition_report;
   return plan;
 }
 
 // `plan` ends at a touchdown of the solved gait `ga` (timing `a`): the transition footed-aSLIP NLP from its post-impact
 // state to `gb`'s pre-impact state (the foot behind lifts) with its footed H-LIP QP, then `steps_b` steps of b.
-void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
-                      bool end_in_single_support, const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
-                      WalkingNlpReport* transition_report, WalkingTransitionNodes* nodes) {
+void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
+                      const WalkingGait& b, int steps_b, bool end_in_single_support, const PlanCache* cache,
+                      const StandToWalkParams& sp, const std::string& who, WalkingNlpReport* transition_report,
+                      WalkingTransitionNodes* nodes) {
   const AslipPeriodicGaitParams& pa = ga.planner.params();
   const AslipPeriodicGaitParams& pb = gb.planner.params();
   // The plan ends at a touchdown of gait A: the foot that just landed is the transition's stance foot, the one behind
@@ -239,9 +256,11 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
   data.final_state = old_stance_left ? SwapLegs(end) : end;
   const WalkingReference at_touchdown = plan.Sample(plan.end_time());
   data.initial_lateral_state = Eigen::Vector2d(at_touchdown.com_position.y(), at_touchdown.com_velocity.y());
-  const HybridLinearInvertedPendulum hlip({.z0 = gb.gait.mean_height, .ssp_duration = b.ssp_duration_s, .dsp_duration = b.dsp_duration_s});
+  const HybridLinearInvertedPendulum hlip(
+      {.z0 = gb.gait.mean_height, .ssp_duration = b.ssp_duration_s, .dsp_duration = b.dsp_duration_s});
   const Eigen::Vector2d pre = hlip.P2PreImpactState(b.step_width_m);  // end of a left stance, about the left foot
-  data.final_lateral_state = old_stance_left ? Eigen::Vector2d(landed.y() - pre(0), -pre(1)) : Eigen::Vector2d(landed.y() + pre(0), pre(1));
+  data.final_lateral_state =
+      old_stance_left ? Eigen::Vector2d(landed.y() - pre(0), -pre(1)) : Eigen::Vector2d(landed.y() + pre(0), pre(1));
   // Initial guess: gait A's DSP and gait B's SSP in the new frame, world legs.
   data.dsp_state_guess = ga.gait.collocation.phases[1].states.topRows(8);
   data.dsp_state_guess.row(0).array() -= pa.step_length;
@@ -264,59 +283,68 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
   // measured, (0.20 m, 0.35 s, 0.08 s, 0.20 m) -> 0.25 m steps is locally infeasible with 0.1 s and walks with 0.08 s.
   tp.min_dsp_duration = std::min({tp.min_dsp_duration, a.dsp_duration_s, b.dsp_duration_s});
   const AslipTransitionPlanner transition_planner(tp);
-  if (transition_planner.params().lateral) {  // lateral rows [y, ẏ]: straight from the initial to the final lateral state
+  if (transition_planner.params()
+          .lateral) {  // lateral rows [y, ẏ]: straight from the initial to the final lateral state
     const Eigen::Vector2d y0 = data.initial_lateral_state, y1 = data.final_lateral_state, mid = 0.5 * (y0 + y1);
     for (Eigen::MatrixXd* g : {&data.dsp_state_guess, &data.ssp_state_guess}) {
       const Eigen::Vector2d from = g == &data.dsp_state_guess ? y0 : mid, to = g == &data.dsp_state_guess ? mid : y1;
       g->conservativeResize(10, Eigen::NoChange);
-      for (Eigen::Index k = 0; k < g->cols(); ++k) g->col(k).tail<2>() = from + (to - from) * (double(k) / double(g->cols() - 1));
+      for (Eigen::Index k = 0; k < g->cols(); ++k)
+        g->col(k).tail<2>() = from + (to - from) * (double(k) / double(g->cols() - 1));
     }
   }
   // The lateral footed H-LIP transition to B's step width: the landed foot stays, the lifting foot lands W_B to its
   // side (the final lateral state above is B's P2 pre-impact state about the landed foot), and B walks about the
   // walking line between them (it moves by (W_A - W_B) / 2 when W changes).
   const double landing_y = old_stance_left ? landed.y() + b.step_width_m : landed.y() - b.step_width_m;
-  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache, who, transition_report, nodes,
-                         landing_y, sp.reload_floor_fraction * pb.aslip.mass * pb.aslip.gravity);
+  AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache,
+                         who, transition_report, nodes, landing_y,
+                         sp.reload_floor_fraction * pb.aslip.mass * pb.aslip.gravity);
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
-  plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1, old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
-                           b.step_width_m, /*begin_with_double_support=*/true, end_in_single_support, 0.5 * (landed.y() + landing_y));
+  plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1,
+                           old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
+                           b.step_width_m, /*begin_with_double_support=*/true, end_in_single_support,
+                           0.5 * (landed.y() + landing_y));
 }
 
 // Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
 // step stops at its touchdown (its DSP left to a following transition). With StandToWalkParams::start_gait_steps, the
 // standing transition goes into the start gait, which walks those steps and changes into g.
-WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
-                            bool end_in_single_support, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
-                            const std::string& who, const std::string& direct_error, WalkingNlpReport* last_transition,
+WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
+                            const WalkingGait& b, int steps_b, bool end_in_single_support, std::uint32_t seed,
+                            const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
+                            const std::string& direct_error, WalkingNlpReport* last_transition,
                             WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked);
 
 // With `chain`, a start gait → g change with no direct plan goes through the gait graph (report->start_chain).
-WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                        const StandToWalkParams& sp, const std::string& who, bool end_in_single_support, SolvedGait* gait_out,
-                        bool chain = false) {
+WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
+                        WalkingPlanReport* report, const StandToWalkParams& sp, const std::string& who,
+                        bool end_in_single_support, SolvedGait* gait_out, bool chain = false) {
   sp.Validate(who);
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
   SolvedGait a = SolveGait(g, seed, cache, sp, who, "the gait");
-  const WalkingGait start{sp.start_gait_step_length_m, sp.start_gait_ssp_duration_s, sp.start_gait_dsp_duration_s, g.step_width_m};
+  const WalkingGait start{sp.start_gait_step_length_m, sp.start_gait_ssp_duration_s, sp.start_gait_dsp_duration_s,
+                          g.step_width_m};
   WalkingPlan plan;
   if (sp.start_gait_steps > 0 && !SameTiming(g, start)) {
     const SolvedGait s = SolveGait(start, seed, cache, sp, who, "the start gait");
-    plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true, "start gait");
+    plan = StandingInto(s, start, sp.start_gait_steps, cache, report, sp, who, /*end_in_single_support=*/true,
+                        "start gait");
     WalkingNlpReport change;
     const StandToWalkParams from_start = WithStandingMargin(sp);  // the start gait's change keeps the standing margin
     WalkingTransitionNodes* nodes = report != nullptr ? &report->start_change_nodes : nullptr;
     if (report != nullptr) report->start_chain = {start, g};
     try {
       WalkingPlan direct = plan;
-      AppendGaitChange(direct, s, start, a, g, steps, end_in_single_support, cache, from_start, who + " (start gait -> gait)", &change, nodes);
+      AppendGaitChange(direct, s, start, a, g, steps, end_in_single_support, cache, from_start,
+                       who + " (start gait -> gait)", &change, nodes);
       plan = std::move(direct);
     } catch (const std::runtime_error& direct) {
       if (!chain) throw;
       std::vector<WalkingGait> walked{start};
-      plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start, who, direct.what(), &change, nodes,
-                             report, &walked);
+      plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start,
+                             who, direct.what(), &change, nodes, report, &walked);
       if (report != nullptr) report->start_chain = walked;
     }
     if (report != nullptr) {
@@ -329,15 +357,19 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     plan = StandingInto(a, g, steps, cache, report, sp, who, end_in_single_support);
     if (report != nullptr) report->start_gait_used = false, report->periodic_start = {}, report->transition_start = {};
   }
-  if (report != nullptr) report->periodic = {a.solve_s, a.gait.collocation.nlp.iterations, a.gait.max_constraint_violation};
+  if (report != nullptr)
+    report->periodic = {a.solve_s, a.gait.collocation.nlp.iterations, a.gait.max_constraint_violation};
   if (gait_out != nullptr) *gait_out = std::move(a);
   return plan;
 }
 
-GaitVector AsVector(const WalkingGait& g) { return {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}; }
+GaitVector AsVector(const WalkingGait& g) {
+  return {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m};
+}
 std::string GaitText(const WalkingGait& g) {
   char b[96];
-  std::snprintf(b, sizeof b, "(%g m, %g s, %g s, %g m)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
+  std::snprintf(b, sizeof b, "(%g m, %g s, %g s, %g m)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s,
+                g.step_width_m);
   return b;
 }
 
@@ -345,10 +377,12 @@ std::string GaitText(const WalkingGait& g) {
 // lazy gait-graph search (GaitGraph) appends changes through intermediate gaits, chain_steps steps each, then the
 // change into b and steps_b steps of it. A transition or an intermediate gait that has no plan removes that edge.
 // Appends the gaits after a to *walked and adds the search's time and counts to the report.
-WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb, const WalkingGait& b, int steps_b,
-                            bool end_in_single_support, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp,
-                            const std::string& who, const std::string& direct_error, WalkingNlpReport* last_transition,
-                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked) {
+WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
+                            const WalkingGait& b, int steps_b, bool end_in_single_support, std::uint32_t seed,
+                            const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
+                            const std::string& direct_error, WalkingNlpReport* last_transition,
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report,
+                            std::vector<WalkingGait>* walked) {
   const auto t0 = Clock::now();
   GaitGraph graph(sp.gait_graph, AsVector(a), AsVector(b));
   graph.MarkInfeasible(graph.start(), graph.goal());
@@ -364,18 +398,19 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
     try {
       if (!last && !periodic.count(to)) {
         periodic[to] = nullptr;  // stays null when the gait has no periodic plan (SolveGait throws)
-        periodic[to] = std::make_shared<const SolvedGait>(SolveGait(g, seed, cache, sp, who, "the chain gait " + GaitText(g)));
+        periodic[to] =
+            std::make_shared<const SolvedGait>(SolveGait(g, seed, cache, sp, who, "the chain gait " + GaitText(g)));
       }
       const std::shared_ptr<const SolvedGait> s = last ? std::make_shared<const SolvedGait>(gb) : periodic[to];
       if (s == nullptr) return false;
       WalkingPlan next = plans[depth];
-      AppendGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps, last ? end_in_single_support : true, cache, sp,
-                       who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition, last ? nodes : nullptr);
+      AppendGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps,
+                       last ? end_in_single_support : true, cache, sp,
+                       who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition,
+                       last ? nodes : nullptr);
       plans.push_back(std::move(next)), solved.push_back(s), gaits.push_back(g);
       return true;
-    } catch (const std::runtime_error&) {
-      return false;
-    }
+    } catch (const std::runtime_error&) { return false; }
   });
   if (report != nullptr) {
     report->chain_planning_s += SecondsSince(t0);
@@ -390,30 +425,36 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
 // Standing → gaits[0] (as StandToWalk, `steps` steps), then each change into the next gait (directly, or with `chain`
 // through the gait graph when the direct transition has no plan), `steps` steps of each and steps_last of the last.
 // The report's *_b entries are the last gait's and its change's.
-WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                         const StandToWalkParams& sp, int steps_last, bool chain, const std::string& who) {
+WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache,
+                         WalkingPlanReport* report, const StandToWalkParams& sp, int steps_last, bool chain,
+                         const std::string& who) {
   if (steps_last < 0) steps_last = steps;
   SolvedGait prev{AslipPeriodicGaitPlanner(GaitParams(gaits.front(), sp)), {}, 0.0};
-  if (report != nullptr) report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0;
-  WalkingPlan plan = StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev, chain);
+  if (report != nullptr)
+    report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0;
+  WalkingPlan plan =
+      StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev, chain);
   if (report != nullptr) report->chain = {gaits.front()};
   for (size_t i = 1; i < gaits.size(); ++i) {
     const bool last = i + 1 == gaits.size();
     const WalkingGait &a = gaits[i - 1], &b = gaits[i];
     SolvedGait gb = SolveGait(b, seed, cache, sp, who, gaits.size() == 2 ? "gait B" : "gait " + std::to_string(i + 1));
-    const std::string change = gaits.size() == 2 ? " (gait A -> gait B)" : " (gait " + std::to_string(i) + " -> gait " + std::to_string(i + 1) + ")";
+    const std::string change = gaits.size() == 2
+                                   ? " (gait A -> gait B)"
+                                   : " (gait " + std::to_string(i) + " -> gait " + std::to_string(i + 1) + ")";
     const int steps_b = last ? steps_last : steps;
     WalkingNlpReport transition_report;
     WalkingTransitionNodes* nodes = last && report != nullptr ? &report->transition_b_nodes : nullptr;
     try {
       WalkingPlan direct = plan;
-      AppendGaitChange(direct, prev, a, gb, b, steps_b, /*end_in_single_support=*/!last, cache, sp, who + change, &transition_report, nodes);
+      AppendGaitChange(direct, prev, a, gb, b, steps_b, /*end_in_single_support=*/!last, cache, sp, who + change,
+                       &transition_report, nodes);
       plan = std::move(direct);
       if (report != nullptr) report->chain.push_back(b);
     } catch (const std::runtime_error& direct) {
       if (!chain) throw;
-      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(), &transition_report, nodes, report,
-                             report != nullptr ? &report->chain : nullptr);
+      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
+                             &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr);
     }
     if (report != nullptr && last) {
       report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
@@ -426,15 +467,16 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
 
 // BuildGaitChangePlan without the gait range check (the lead-in gait may lie outside it); with `chain`, a change with
 // no direct plan goes through the gait graph (ChainGaitChange).
-WalkingPlan GaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
-                           WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b, bool chain = false) {
+WalkingPlan GaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed,
+                           const PlanCache* cache, WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b,
+                           bool chain = false) {
   return SequencePlan({a, b}, steps, seed, cache, report, sp, steps_b, chain, "BuildGaitChangePlan");
 }
 
 }  // namespace
 
-WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, WalkingPlanReport* report,
-                                 const StandToWalkParams& sp) {
+WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
+                                 WalkingPlanReport* report, const StandToWalkParams& sp) {
   g.Validate("BuildStandToWalkPlan: gait");
   sp.Validate("BuildStandToWalkPlan");
   if (steps < 1) throw std::invalid_argument("BuildStandToWalkPlan: steps must be >= 1, got " + std::to_string(steps));
@@ -468,15 +510,18 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
     try {
       return with_lead_in(reason);
     } catch (const std::runtime_error& e) {  // "gait A" / "gait B" in e are the lead-in and the gait
-      const std::string through = "BuildStandToWalkPlan: " + reason + "; through a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
-                                  with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " + seconds(lead.dsp_duration_s) +
-                                  "): " + e.what();
+      const std::string through = "BuildStandToWalkPlan: " + reason + "; through a lead-in of " +
+                                  std::to_string(sp.lead_in_steps) + " steps of (" +
+                                  with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
+                                  seconds(lead.dsp_duration_s) + "): " + e.what();
       if (sp.start_gait_steps == 0) throw std::runtime_error(through);
       // From the start gait (a short, slow first swing) the direct change may still plan.
       try {
         WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
         if (sp.plan_check) sp.plan_check(plan);
-        if (report != nullptr) report->lead_in = false, report->lead_in_reason = "tried and had no plan, so planned directly from the start gait: " + through;
+        if (report != nullptr)
+          report->lead_in = false,
+          report->lead_in_reason = "tried and had no plan, so planned directly from the start gait: " + through;
         return plan;
       } catch (const std::runtime_error& direct) {
         throw std::runtime_error(through + "; directly from the start gait: " + direct.what());
@@ -492,39 +537,45 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
     try {
       return with_lead_in(direct.what());
     } catch (const std::runtime_error& e) {
-      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) + " steps of (" +
-                               with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
-                               seconds(lead.dsp_duration_s) + "): " + e.what());
+      throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) +
+                               " steps of (" + with_unit(lead.step_length_m, "m") + ", " +
+                               seconds(lead.ssp_duration_s) + ", " + seconds(lead.dsp_duration_s) + "): " + e.what());
     }
   }
 }
 
-WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed, const PlanCache* cache,
-                                WalkingPlanReport* report, const StandToWalkParams& sp, int steps_b) {
+WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps, std::uint32_t seed,
+                                const PlanCache* cache, WalkingPlanReport* report, const StandToWalkParams& sp,
+                                int steps_b) {
   a.Validate("BuildGaitChangePlan: gait A");
   b.Validate("BuildGaitChangePlan: gait B");
   sp.Validate("BuildGaitChangePlan");
   return GaitChangePlan(a, b, steps, seed, cache, report, sp, steps_b, sp.chain_gait_changes);
 }
 
-WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed, const PlanCache* cache,
-                                  WalkingPlanReport* report, const StandToWalkParams& sp, int steps_last) {
+WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed,
+                                  const PlanCache* cache, WalkingPlanReport* report, const StandToWalkParams& sp,
+                                  int steps_last) {
   const std::string who = "BuildGaitSequencePlan";
   if (gaits.size() < 2 || gaits.size() > 20)
-    throw std::invalid_argument(who + ": the sequence has " + std::to_string(gaits.size()) + " gaits, expected 2 to 20");
+    throw std::invalid_argument(who + ": the sequence has " + std::to_string(gaits.size()) +
+                                " gaits, expected 2 to 20");
   for (size_t i = 0; i < gaits.size(); ++i) gaits[i].Validate(who + ": gait " + std::to_string(i + 1));
   sp.Validate(who);
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
   return SequencePlan(gaits, steps, seed, cache, report, sp, steps_last, sp.chain_gait_changes, who);
 }
 
-WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache, const StandToWalkParams& sp) {
+WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
+                                     const StandToWalkParams& sp) {
   g.Validate("BuildPeriodicWalkingPlan: gait");
   sp.Validate("BuildPeriodicWalkingPlan");
-  if (steps < 1) throw std::invalid_argument("BuildPeriodicWalkingPlan: steps must be >= 1, got " + std::to_string(steps));
+  if (steps < 1)
+    throw std::invalid_argument("BuildPeriodicWalkingPlan: steps must be >= 1, got " + std::to_string(steps));
   const SolvedGait a = SolveGait(g, seed, cache, sp, "BuildPeriodicWalkingPlan", "the gait");
   WalkingPlan plan;
-  plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m, /*begin_with_double_support=*/true);
+  plan.AppendPeriodicSteps(a.planner, a.gait, steps + 1, WalkingDomain::kLeftStance, 0.0, g.step_width_m,
+                           /*begin_with_double_support=*/true);
   return plan;
 }
 }  // namespace rome

@@ -33,12 +33,15 @@ double Percentile(std::vector<double> x, double p) {
 std::vector<double> PreImpactChanges(const WalkingRunResult& r, int from_step) {
   std::vector<double> changes;
   for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
-    const double begin = r.transition_ends_s[j] - 0.05, end = j + 1 < r.transition_ends_s.size() ? r.transition_ends_s[j + 1] - 0.05 : 1e9;
-    std::vector<WalkingRunResult::ComState> states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
+    const double begin = r.transition_ends_s[j] - 0.05,
+                 end = j + 1 < r.transition_ends_s.size() ? r.transition_ends_s[j + 1] - 0.05 : 1e9;
+    std::vector<WalkingRunResult::ComState>
+        states;  // states[0]: the transition's own touchdown; states[k]: the k-th periodic one
     for (const auto& [time, state] : r.pre_impact_states)
       if (time > begin && time < end) states.push_back(state);
     double worst = -1.0;
-    for (size_t k = static_cast<size_t>(from_step); k < states.size(); ++k) worst = std::max(worst, (states[k] - states[k - 1]).norm());
+    for (size_t k = static_cast<size_t>(from_step); k < states.size(); ++k)
+      worst = std::max(worst, (states[k] - states[k - 1]).norm());
     changes.push_back(worst);
   }
   return changes;
@@ -47,14 +50,17 @@ std::vector<double> PreImpactChanges(const WalkingRunResult& r, int from_step) {
 }  // namespace
 
 void WalkingRunParams::Validate() const {
-  Require(std::isnan(end_time_s) || std::isfinite(end_time_s), "end_time_s", end_time_s, "the finite numbers (NaN: from the plan)");
+  Require(std::isnan(end_time_s) || std::isfinite(end_time_s), "end_time_s", end_time_s,
+          "the finite numbers (NaN: from the plan)");
   Require(trailing_steps >= 0 && trailing_steps <= 1000, "trailing_steps", trailing_steps, "[0, 1000]");
   Require(std::isfinite(start_time_s) && start_time_s >= 0, "start_time_s", start_time_s, "[0, inf) s");
-  Require(foothold_tolerance_m > 0 && foothold_tolerance_m <= 0.5, "foothold_tolerance_m", foothold_tolerance_m, "(0, 0.5] m");
+  Require(foothold_tolerance_m > 0 && foothold_tolerance_m <= 0.5, "foothold_tolerance_m", foothold_tolerance_m,
+          "(0, 0.5] m");
   Require(tick_period_s > 0 && tick_period_s <= 0.1, "tick_period_s", tick_period_s, "(0, 0.1] s");
   Require(band_settle_s >= 0 && band_settle_s <= 1, "band_settle_s", band_settle_s, "[0, 1] s");
   Require(band_slack_mg >= 0 && band_slack_mg <= 1, "band_slack_mg", band_slack_mg, "[0, 1]");
-  Require(convergence_from_step >= 1 && convergence_from_step <= 1000, "convergence_from_step", convergence_from_step, "[1, 1000]");
+  Require(convergence_from_step >= 1 && convergence_from_step <= 1000, "convergence_from_step", convergence_from_step,
+          "[1, 1000]");
 }
 
 double WalkingRunEndTime(const WalkingPlan& plan, const WalkingRunParams& params) {
@@ -79,7 +85,8 @@ std::string WalkingRunResult::ToJson() const {
   s["fell"] = fell;
   s["steps_completed"] = steps_completed;
   s["steps_planned"] = steps_planned;
-  s["pre_impact_state_change_from_step5"] = pre_impact_state_change_from_step5;  // per transition; -1: too few touchdowns
+  s["pre_impact_state_change_from_step5"] =
+      pre_impact_state_change_from_step5;  // per transition; -1: too few touchdowns
   // Each touchdown's pre-impact COM state about the stance ankle, y mirrored in right stance: [t, x, y, z, ẋ, ẏ, ż].
   s["pre_impact_states"] = nlohmann::json::array();
   for (const auto& [time, state] : pre_impact_states) {
@@ -122,8 +129,8 @@ void CountPlannedSteps(const WalkingPlan& plan, WalkingRunResult& r) {
 }
 
 // The CLF-QP's counts at the end of the run (none without a CLF-QP) and the solve-time percentiles.
-void ReadClfQpTotals(const Diagram& diagram, const ClfQpController* clf, const Context& root, const std::vector<double>& solve_us,
-                     WalkingRunResult& r) {
+void ReadClfQpTotals(const Diagram& diagram, const ClfQpController* clf, const Context& root,
+                     const std::vector<double>& solve_us, WalkingRunResult& r) {
   if (clf != nullptr) {
     const LeafContext& cc = diagram.GetSubsystemContext(*clf, root);
     r.qp_infeasible_ticks = clf->EvalOutput(cc, "qp_failures")[0];
@@ -137,9 +144,11 @@ void ReadClfQpTotals(const Diagram& diagram, const ClfQpController* clf, const C
 
 }  // namespace
 
-WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParams& params, const WalkingRunObserver& observer) {
+WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParams& params,
+                            const WalkingRunObserver& observer) {
   params.Validate();
-  if (walking.diagram == nullptr || walking.plant == nullptr) throw std::invalid_argument("RunWalking: the WalkingDiagram is not built");
+  if (walking.diagram == nullptr || walking.plant == nullptr)
+    throw std::invalid_argument("RunWalking: the WalkingDiagram is not built");
   const Diagram& diagram = *walking.diagram;
   const ContactPlant& plant = *walking.plant;
   const MultibodyModel& model = plant.model();
@@ -149,7 +158,8 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.start_time_s = params.start_time_s;
   r.end_time_s = WalkingRunEndTime(plan, params);
   if (!(r.end_time_s > r.start_time_s))
-    throw std::invalid_argument("RunWalking: the end time " + std::to_string(r.end_time_s) + " s is not after the start " + std::to_string(r.start_time_s) + " s");
+    throw std::invalid_argument("RunWalking: the end time " + std::to_string(r.end_time_s) +
+                                " s is not after the start " + std::to_string(r.start_time_s) + " s");
 
   CountPlannedSteps(plan, r);
 
@@ -157,16 +167,20 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   sim.get_mutable_context().SetTime(params.start_time_s);
   LeafContext& pc = diagram.GetMutableSubsystemContext(plant, sim.get_mutable_context());
   const Eigen::VectorXd q_init = WalkingStandingPose(model, plan, params.start_time_s);
-  plant.SetState(pc, q_init, params.start_at_rest ? Eigen::VectorXd::Zero(model.nv()) : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
+  plant.SetState(pc, q_init,
+                 params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
+                                      : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
                  "double_support");
 
   const double mg = model.total_mass() * 9.81;
-  const double band = clf != nullptr ? clf->params().force_band_halfwidth : WalkingDiagramParams{}.controller.force_band_halfwidth;
+  const double band =
+      clf != nullptr ? clf->params().force_band_halfwidth : WalkingDiagramParams{}.controller.force_band_halfwidth;
   const double ticks_per_s = 1.0 / params.tick_period_s;
   const double after_first_step = plan.segments().size() > 2 ? plan.segments()[2].start_time : 0.0;
   const int left_foot = model.BodyIndex("left_foot"), right_foot = model.BodyIndex("right_foot");
   const int u_port = plant.GetInputPortIndex("u");
-  const int pelvis[3] = {model.VelocityIndex("base_roll"), model.VelocityIndex("base_pitch"), model.VelocityIndex("base_yaw")};
+  const int pelvis[3] = {model.VelocityIndex("base_roll"), model.VelocityIndex("base_pitch"),
+                         model.VelocityIndex("base_yaw")};
   MultibodyWorkspace ws(model);
   PreImpactSampler single_support_com;
   long tick = -1, band_ticks = 0, band_in = 0, band_in_strict = 0, n_err = 0;
@@ -192,19 +206,23 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
     if ((in_double && !was_double) || (!in_double && !was_double && mode != last_mode)) {  // a touchdown
       const bool right_landed = last_mode == kWalkingLeftStance;
       r.pre_impact_states.push_back({t, single_support_com.At(t)});
-      const Eigen::Vector2d ankle = CalcLinkPose(model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
+      const Eigen::Vector2d ankle =
+          CalcLinkPose(model, ws, q, right_landed ? right_foot : left_foot).translation().head<2>();
       const WalkingReference ref = plan.Sample(t);
       const double error = (ankle - (right_landed ? ref.right_foothold : ref.left_foothold)).norm();
       r.largest_touchdown_error_m = std::max(r.largest_touchdown_error_m, error);
-      if (error <= params.foothold_tolerance_m) ++r.steps_completed;
-      else ++r.touchdowns_off_target;
+      if (error <= params.foothold_tolerance_m)
+        ++r.steps_completed;
+      else
+        ++r.touchdowns_off_target;
       if (r.first_touchdown_time_s < 0) r.first_touchdown_time_s = t;
       last_touchdown = t;
     }
     if (!in_double && was_double) {  // a lift-off: the plant's force on the foot just before it left
       ++r.liftoffs;
       if (r.first_liftoff_time_s < 0) r.first_liftoff_time_s = t;
-      r.liftoff_normal_force_max_N = std::max(r.liftoff_normal_force_max_N, mode == kWalkingLeftStance ? last_fz[1] : last_fz[0]);
+      r.liftoff_normal_force_max_N =
+          std::max(r.liftoff_normal_force_max_N, mode == kWalkingLeftStance ? last_fz[1] : last_fz[0]);
     }
     last_mode = mode;
     last_fz << f[2], f[5];
@@ -232,7 +250,8 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
         solve_us.push_back(1e6 * clf->EvalOutput(cc, "solve_time_s")[0]);
         r.clf_relaxation_max = std::max(r.clf_relaxation_max, clf->EvalOutput(cc, "delta")[0]);
       }
-      for (int a : pelvis) r.pelvis_max_orientation_error_rad = std::max(r.pelvis_max_orientation_error_rad, std::abs(q[a]));
+      for (int a : pelvis)
+        r.pelvis_max_orientation_error_rad = std::max(r.pelvis_max_orientation_error_rad, std::abs(q[a]));
       if (t > after_first_step) {
         const Eigen::Vector3d e = (sample.com - ref.com_position).cwiseAbs();
         sum_sq += e.cwiseProduct(e);
@@ -242,7 +261,10 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
       if (last_touchdown < 0 || t > last_touchdown + params.band_settle_s) {
         for (int foot = 0; foot < 2; ++foot) {
           const double fz = f[3 * foot + 2], fref = ref.normal_force[foot];
-          band_in += (fz >= (1 - band) * fref - params.band_slack_mg * mg && fz <= (1 + band) * fref + params.band_slack_mg * mg) ? 1 : 0;
+          band_in += (fz >= (1 - band) * fref - params.band_slack_mg * mg &&
+                      fz <= (1 + band) * fref + params.band_slack_mg * mg)
+                         ? 1
+                         : 0;
           band_in_strict += (fz >= (1 - band) * fref && fz <= (1 + band) * fref) ? 1 : 0;  // Eq. (25) with no slack
           ++band_ticks;
         }
@@ -261,7 +283,8 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
 
   r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
-  r.success = !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
+  r.success =
+      !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
   r.force_in_band_fraction_strict = band_ticks ? static_cast<double>(band_in_strict) / band_ticks : 0.0;

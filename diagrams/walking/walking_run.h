@@ -17,8 +17,9 @@
 //   lift-off force: the plant's normal force on the foot just before it leaves (the largest over the run);
 //   contact: ContactForceStatistics of the plant's own forces; the plant's contact_violation port.
 // Once per control tick (tick_period_s, the controller's 1 kHz):
-//   COM position error against the plan's COM after the first step (from the plan's third segment), RMS and max per axis;
-//   pelvis roll, pitch, yaw (largest |angle|); the Eq. (25) band on the plant's normal forces: each foot's F_z within
+//   COM position error against the plan's COM after the first step (from the plan's third segment), RMS and max per
+//   axis; pelvis roll, pitch, yaw (largest |angle|); the Eq. (25) band on the plant's normal forces: each foot's F_z
+//   within
 //   [(1 − c) F_ref − s m g, (1 + c) F_ref + s m g] (c: the controller's force_band_halfwidth, s: band_slack_mg,
 //   F_ref: the plan's aSLIP force), scored outside band_settle_s after each touchdown, and strictly (s = 0: Eq. (25)
 //   as written); the CLF-QP's δ and solve time.
@@ -43,48 +44,50 @@ namespace rome {
 struct WalkingRunParams {
   /// [s] end of the run; NaN: the plan's end less trailing_steps steps of its last gait.
   double end_time_s = std::numeric_limits<double>::quiet_NaN();
-  int trailing_steps = 2;           ///< [-] planned steps past the run's end (ours: the plan's end is not judged)
-  double start_time_s = 0.0;        ///< [s] start, inside the plan's first double support
-  bool start_at_rest = true;        ///< false: the plan's COM velocity (WalkingInitialVelocity; the periodic scenario)
+  int trailing_steps = 2;     ///< [-] planned steps past the run's end (ours: the plan's end is not judged)
+  double start_time_s = 0.0;  ///< [s] start, inside the plan's first double support
+  bool start_at_rest = true;  ///< false: the plan's COM velocity (WalkingInitialVelocity; the periodic scenario)
   double foothold_tolerance_m = 0.05;  ///< [m] a touchdown is a step only this close to its planned foothold (ours)
-  double tick_period_s = 1e-3;      ///< [s] the per-tick metrics' sampling (the controller's 1 kHz)
-  double band_settle_s = 0.02;      ///< [s] the force band is not scored this long after each touchdown (ours)
-  double band_slack_mg = 0.02;      ///< [-] the band's slack, a fraction of m g (ours)
-  int convergence_from_step = 5;    ///< the pre-impact change is judged from this periodic touchdown after a transition
+  double tick_period_s = 1e-3;         ///< [s] the per-tick metrics' sampling (the controller's 1 kHz)
+  double band_settle_s = 0.02;         ///< [s] the force band is not scored this long after each touchdown (ours)
+  double band_slack_mg = 0.02;         ///< [-] the band's slack, a fraction of m g (ours)
+  int convergence_from_step = 5;  ///< the pre-impact change is judged from this periodic touchdown after a transition
   SimulatorConfig simulator = WalkingSimulatorConfig();
 
   /// Throws std::invalid_argument "WalkingRunParams: FIELD = VALUE is outside RANGE" for the first bad field.
   void Validate() const;
 };
 
-/// One monitor sample, for an observer (a log, plots, an animation, extra checks). References are valid during the call.
+/// One monitor sample, for an observer (a log, plots, an animation, extra checks). References are valid during the
+/// call.
 struct WalkingRunSample {
   double t = 0;
   int mode = kWalkingDoubleSupport;  ///< the plant's mode (WalkingPlantMode)
-  bool tick = false;                ///< the first sample of a control tick; the fields below marked (tick) are set then
-  long tick_index = -1;             ///< floor(t / tick_period_s)
+  bool tick = false;     ///< the first sample of a control tick; the fields below marked (tick) are set then
+  long tick_index = -1;  ///< floor(t / tick_period_s)
   const Eigen::VectorXd* q = nullptr;
   const Eigen::VectorXd* v = nullptr;
-  const Eigen::VectorXd* contact_forces = nullptr;  ///< the plant's [F_left; F_right] (world, N)
-  const Eigen::VectorXd* u = nullptr;               ///< the torque the plant receives (its input 'u', N m)
+  const Eigen::VectorXd* contact_forces = nullptr;         ///< the plant's [F_left; F_right] (world, N)
+  const Eigen::VectorXd* u = nullptr;                      ///< the torque the plant receives (its input 'u', N m)
   Eigen::Vector3d com = Eigen::Vector3d::Zero();           ///< (tick) [m]
   Eigen::Vector3d com_velocity = Eigen::Vector3d::Zero();  ///< (tick) [m/s]
-  WalkingReference reference;       ///< (tick) the plan at t
-  int steps = 0;                    ///< steps so far
+  WalkingReference reference;                              ///< (tick) the plan at t
+  int steps = 0;                                           ///< steps so far
 };
 using WalkingRunObserver = std::function<void(const Context& diagram_context, const WalkingRunSample& sample)>;
 
 struct WalkingRunResult {
   using ComState = Eigen::Matrix<double, 6, 1>;
   SimulatorStatus status;
-  bool success = false;  ///< no fall, exactly the planned steps (an extra touchdown is a bounce), none off target, no contact violation
-  bool fell = false;          ///< the run ended before its end time for a reason other than an interrupt
+  bool success = false;  ///< no fall, exactly the planned steps (an extra touchdown is a bounce), none off target, no
+                         ///< contact violation
+  bool fell = false;     ///< the run ended before its end time for a reason other than an interrupt
   bool interrupted = false;
   double start_time_s = 0, end_time_s = 0;  ///< [s] the run's start and planned end
-  double simulated_s = 0;     ///< [s] the context's time at the end
-  double wall_s = 0;          ///< [s] wall time of the simulation
-  int steps_completed = 0;    ///< touchdowns on their footholds
-  int steps_planned = 0;      ///< single supports of the plan ending before end_time_s
+  double simulated_s = 0;                   ///< [s] the context's time at the end
+  double wall_s = 0;                        ///< [s] wall time of the simulation
+  int steps_completed = 0;                  ///< touchdowns on their footholds
+  int steps_planned = 0;                    ///< single supports of the plan ending before end_time_s
   int touchdowns_off_target = 0;
   double largest_touchdown_error_m = 0;
   int liftoffs = 0;
@@ -109,14 +112,16 @@ struct WalkingRunResult {
   double realtime_factor() const { return wall_s > 0 ? simulated_s / wall_s : 0.0; }
   /// "interrupted", "success" or "failure" (the summary's status_kind; the same words as SimulatorStatus::kind_name).
   std::string status_kind() const;
-  /// The run's metrics as JSON object text: the walking example's summary fields (success, status_kind, steps_completed,
-  /// steps_planned, the pre-impact states and their change, COM and pelvis errors, band, contact and QP figures).
+  /// The run's metrics as JSON object text: the walking example's summary fields (success, status_kind,
+  /// steps_completed, steps_planned, the pre-impact states and their change, COM and pelvis errors, band, contact and
+  /// QP figures).
   std::string ToJson() const;
 };
 
 /// Simulates `walking` as described above. `observer`, if given, is called after the run's own bookkeeping at every
 /// monitor sample. Throws std::invalid_argument for bad params (Validate) or an end time before the start.
-WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParams& params = {}, const WalkingRunObserver& observer = {});
+WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParams& params = {},
+                            const WalkingRunObserver& observer = {});
 
 /// The planned end of a run of `plan` with `params` (params.end_time_s, or the plan's end less trailing_steps steps).
 double WalkingRunEndTime(const WalkingPlan& plan, const WalkingRunParams& params);

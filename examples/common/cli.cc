@@ -24,10 +24,17 @@ std::string OneLine(const std::string& message) {
   char buf[8];
   for (char ch : message) {
     const unsigned char c = static_cast<unsigned char>(ch);
-    if (c == '\n' || c == '\r' || c == '\t') out += ' ';
-    else if (c < 0x20 || c == 0x7F) { std::snprintf(buf, sizeof(buf), "\\x%02X", c); out += buf; }
-    else out += ch;
-    if (out.size() >= 2000) { out += "..."; break; }
+    if (c == '\n' || c == '\r' || c == '\t')
+      out += ' ';
+    else if (c < 0x20 || c == 0x7F) {
+      std::snprintf(buf, sizeof(buf), "\\x%02X", c);
+      out += buf;
+    } else
+      out += ch;
+    if (out.size() >= 2000) {
+      out += "...";
+      break;
+    }
   }
   return out;
 }
@@ -57,7 +64,8 @@ bool CommandLine::Parse(int argc, char** argv) {
       std::cout << Help();
       return false;
     }
-    if (arg.rfind("--", 0) != 0) throw std::invalid_argument(program_ + ": unexpected argument '" + arg + "' (options start with --; see --help)");
+    if (arg.rfind("--", 0) != 0)
+      throw std::invalid_argument(program_ + ": unexpected argument '" + arg + "' (options start with --; see --help)");
     std::string name = arg.substr(2), value;
     const auto eq = name.find('=');
     if (eq != std::string::npos) {
@@ -68,12 +76,17 @@ bool CommandLine::Parse(int argc, char** argv) {
     if (it == decls_.end()) throw std::invalid_argument(program_ + ": unknown option '--" + name + "' (see --help)");
     // An option given twice is refused (the first would be dropped without a word).
     if (const auto seen = values_.find(name); seen != values_.end())
-      throw std::invalid_argument(program_ + ": option '--" + name + "' is given twice (first '" + Excerpt(seen->second, 80) + "'); give it once");
+      throw std::invalid_argument(program_ + ": option '--" + name + "' is given twice (first '" +
+                                  Excerpt(seen->second, 80) + "'); give it once");
     if (it->second.is_flag) {
       // --FLAG or --FLAG=true|1 turns it on; --FLAG=false|0 turns it off (and overrides a scenario file that sets it).
-      if (eq == std::string::npos || value == "1" || value == "true") values_[name] = "1";
-      else if (value == "0" || value == "false") values_[name] = "";
-      else throw std::invalid_argument(program_ + ": '--" + name + "' is a flag: give it alone, or as --" + name + "=true|false (got '" + Excerpt(arg.substr(2), 80) + "')");
+      if (eq == std::string::npos || value == "1" || value == "true")
+        values_[name] = "1";
+      else if (value == "0" || value == "false")
+        values_[name] = "";
+      else
+        throw std::invalid_argument(program_ + ": '--" + name + "' is a flag: give it alone, or as --" + name +
+                                    "=true|false (got '" + Excerpt(arg.substr(2), 80) + "')");
       continue;
     }
     if (eq == std::string::npos) {
@@ -100,9 +113,7 @@ bool CommandLine::IsSet(const std::string& name) const {
       size_t used = 0;
       try {
         out.push_back(std::stod(item, &used));
-      } catch (const std::exception&) {
-        return std::vector<double>{};
-      }
+      } catch (const std::exception&) { return std::vector<double>{}; }
       if (used != item.size()) return std::vector<double>{};
     }
     return out;
@@ -111,15 +122,17 @@ bool CommandLine::IsSet(const std::string& name) const {
   return a.empty() || a != b;
 }
 
-void CommandLine::RequireModeFor(const std::string& option, const std::string& mode, const std::vector<std::string>& modes) const {
+void CommandLine::RequireModeFor(const std::string& option, const std::string& mode,
+                                 const std::vector<std::string>& modes) const {
   if (!IsSet(option) || std::find(modes.begin(), modes.end(), Get(mode)) != modes.end()) return;
   std::string allowed;
   for (const std::string& m : modes) allowed += (allowed.empty() ? "" : "|") + m;
-  throw std::invalid_argument(program_ + ": --" + option + " applies to --" + mode + " " + allowed + " only (got --" + mode + " " + Excerpt(Get(mode), 80) +
-                              "); leave --" + option + " out");
+  throw std::invalid_argument(program_ + ": --" + option + " applies to --" + mode + " " + allowed + " only (got --" +
+                              mode + " " + Excerpt(Get(mode), 80) + "); leave --" + option + " out");
 }
 
-std::string CommandLine::NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const {
+std::string CommandLine::NameTheOption(const std::string& message,
+                                       const std::vector<std::pair<std::string, std::string>>& parameters) const {
   const std::string prefix = program_ + ": ";
   const std::string text = message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
   if (text.rfind("--", 0) == 0) return prefix + text;  // already names its option
@@ -128,7 +141,8 @@ std::string CommandLine::NameTheOption(const std::string& message, const std::ve
     if (!decls_.count(option)) continue;  // a table naming an undeclared option must not throw from an error handler
     for (size_t at = text.find(parameter); at != std::string::npos; at = text.find(parameter, at + 1)) {
       const size_t end = at + parameter.size();
-      if ((at > 0 && is_name_char(text[at - 1])) || (end < text.size() && is_name_char(text[end]))) continue;  // part of a longer name
+      if ((at > 0 && is_name_char(text[at - 1])) || (end < text.size() && is_name_char(text[end])))
+        continue;  // part of a longer name
       return prefix + "--" + option + " " + Excerpt(Get(option), 200) + ": " + text;
     }
   }
@@ -145,7 +159,8 @@ std::string CommandLine::Get(const std::string& name) const {
 
 std::string CommandLine::ValueError(const std::string& name, const std::string& expected) const {
   if (const auto it = from_file_.find(name); it != from_file_.end())
-    return program_ + ": --scenario-file " + scenario_file_ + ": key '" + name + "' needs " + expected + ", got " + it->second;
+    return program_ + ": --scenario-file " + scenario_file_ + ": key '" + name + "' needs " + expected + ", got " +
+           it->second;
   return program_ + ": option '--" + name + "' needs " + expected + ", got '" + Get(name) + "'";
 }
 
@@ -154,27 +169,25 @@ std::string CommandLine::ValueError(const std::string& name, const std::string& 
 double CommandLine::GetDouble(const std::string& name) const {
   const std::string s = Get(name);
   try {
-    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0) throw std::invalid_argument("");
+    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0)
+      throw std::invalid_argument("");
     size_t used = 0;
     const double v = std::stod(s, &used);
     if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument("");
     return v;
-  } catch (const std::exception&) {
-    throw std::invalid_argument(ValueError(name, "a finite number"));
-  }
+  } catch (const std::exception&) { throw std::invalid_argument(ValueError(name, "a finite number")); }
 }
 
 int CommandLine::GetInt(const std::string& name) const {
   const std::string s = Get(name);
   try {
-    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0) throw std::invalid_argument("");
+    if (const auto it = from_file_.find(name); it != from_file_.end() && it->second.rfind('[', 0) == 0)
+      throw std::invalid_argument("");
     size_t used = 0;
     const int v = std::stoi(s, &used);
     if (used != s.size()) throw std::invalid_argument("");
     return v;
-  } catch (const std::exception&) {
-    throw std::invalid_argument(ValueError(name, "an integer"));
-  }
+  } catch (const std::exception&) { throw std::invalid_argument(ValueError(name, "an integer")); }
 }
 
 std::optional<std::vector<double>> ParseNumberList(const std::string& text, int n) {
@@ -185,9 +198,7 @@ std::optional<std::vector<double>> ParseNumberList(const std::string& text, int 
     size_t used = 0;
     try {
       v.push_back(std::stod(item, &used));
-    } catch (const std::exception&) {
-      return std::nullopt;
-    }
+    } catch (const std::exception&) { return std::nullopt; }
     if (used != item.size() || !std::isfinite(v.back()) || static_cast<int>(v.size()) > n) return std::nullopt;
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -199,8 +210,11 @@ std::optional<std::vector<double>> ParseNumberList(const std::string& text, int 
 std::vector<double> CommandLine::GetNumbers(const std::string& name, int n, const std::string& form) const {
   const std::string s = Get(name);
   std::optional<std::vector<double>> v = ParseNumberList(s, n);
-  if (!v && from_file_.count(name)) throw std::invalid_argument(ValueError(name, std::to_string(n) + " numbers " + form));
-  if (!v) throw std::invalid_argument(program_ + ": --" + name + " expects " + std::to_string(n) + " numbers " + form + ", got '" + Excerpt(s, 200) + "'");
+  if (!v && from_file_.count(name))
+    throw std::invalid_argument(ValueError(name, std::to_string(n) + " numbers " + form));
+  if (!v)
+    throw std::invalid_argument(program_ + ": --" + name + " expects " + std::to_string(n) + " numbers " + form +
+                                ", got '" + Excerpt(s, 200) + "'");
   return *v;
 }
 
@@ -223,7 +237,8 @@ std::string CommandLine::Help() const {
   return os.str();
 }
 
-void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::initializer_list<const char*> folders) const {
+void CommandLine::CheckOutputs(std::initializer_list<const char*> files,
+                               std::initializer_list<const char*> folders) const {
   namespace fs = std::filesystem;
   std::map<std::string, std::string> seen;  // absolute, normalised path -> the option that names it
   for (const char* name : files) {
@@ -236,8 +251,8 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
     const fs::path absolute = fs::absolute(path, ec);
     const std::string key = (fs::weakly_canonical(absolute.parent_path(), ec) / absolute.filename()).string();
     if (const auto [it, inserted] = seen.emplace(key, name); !inserted)
-      throw std::invalid_argument(program_ + ": --" + name + " and --" + it->second + " name the same file '" + Excerpt(path, 200) +
-                                  "'; give each output its own file");
+      throw std::invalid_argument(program_ + ": --" + name + " and --" + it->second + " name the same file '" +
+                                  Excerpt(path, 200) + "'; give each output its own file");
   }
   // An output never overwrites an input: an option's value that names an existing regular file (a terrain, a scenario
   // file, a robot) is compared with every output, the output's folder and name resolved as above.
@@ -246,9 +261,11 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
     std::error_code ec;
     if (path.empty() || decls_.at(name).is_flag || !fs::is_regular_file(path, ec)) continue;
     const fs::path absolute = fs::absolute(path, ec);
-    for (const std::string& key : {(fs::weakly_canonical(absolute.parent_path(), ec) / absolute.filename()).string(), fs::weakly_canonical(absolute, ec).string()})
+    for (const std::string& key : {(fs::weakly_canonical(absolute.parent_path(), ec) / absolute.filename()).string(),
+                                   fs::weakly_canonical(absolute, ec).string()})
       if (const auto it = seen.find(key); it != seen.end() && it->second != name)
-        throw std::invalid_argument(program_ + ": --" + it->second + " names the file '" + Excerpt(path, 200) + "' that --" + name +
+        throw std::invalid_argument(program_ + ": --" + it->second + " names the file '" + Excerpt(path, 200) +
+                                    "' that --" + name +
                                     " reads; writing it would destroy the input: give the output its own file");
   }
   for (const char* name : folders) {
@@ -261,7 +278,8 @@ void CommandLine::CheckOutputs(std::initializer_list<const char*> files, std::in
   }
 }
 
-bool WriteOutputFile(const std::string& program, const std::string& path, const std::string& content, const std::string& what) {
+bool WriteOutputFile(const std::string& program, const std::string& path, const std::string& content,
+                     const std::string& what) {
   try {
     WriteFileAtomically(path, content, what);
     return true;

@@ -20,7 +20,8 @@ std::string FormatNumber(double v);
 
 /// Writes an output atomically (framework/files.h: a temporary file beside it, renamed when complete, so a failure
 /// or an interrupted run keeps the old file). False after printing "PROGRAM: <what> PATH: <reason>" on stderr.
-bool WriteOutputFile(const std::string& program, const std::string& path, const std::string& content, const std::string& what);
+bool WriteOutputFile(const std::string& program, const std::string& path, const std::string& content,
+                     const std::string& what);
 
 /// Exactly `n` finite numbers separated by commas: no empty item, no junk, no trailing comma; nullopt otherwise.
 std::optional<std::vector<double>> ParseNumberList(const std::string& text, int n);
@@ -35,16 +36,18 @@ class CommandLine {
   CommandLine& Flag(const std::string& name, const std::string& help);
 
   /// Declares --scenario-file FILE.json: a JSON object whose keys are this program's option names (without "--") and
-  /// whose values are strings, numbers, arrays of numbers (an option of comma-separated numbers) or, for flags, booleans. Parse() reads it after argv: options given on the
-  /// command line win. Every option except `outputs` (and scenario-file itself) is a scenario parameter; any other key
-  /// is an error naming the key. ScenarioJson() writes the effective parameters back in the same form.
+  /// whose values are strings, numbers, arrays of numbers (an option of comma-separated numbers) or, for flags,
+  /// booleans. Parse() reads it after argv: options given on the command line win. Every option except `outputs` (and
+  /// scenario-file itself) is a scenario parameter; any other key is an error naming the key. ScenarioJson() writes the
+  /// effective parameters back in the same form.
   CommandLine& ScenarioFile(std::vector<std::string> outputs);
   /// Parses argv (and the scenario file, if declared and given). Returns false if --help was given (the help text is
   /// printed). Throws std::invalid_argument naming the option for unknown options or missing values, and naming the
   /// file and the key for a scenario file that cannot be read or holds an unknown key or a value of another type.
   bool Parse(int argc, char** argv);
   /// Every scenario parameter's effective value as a JSON object's text (numbers as numbers, comma-separated numbers
-  /// as arrays, flags as booleans, other values as strings), so that --scenario-file with it reproduces the run's parameters.
+  /// as arrays, flags as booleans, other values as strings), so that --scenario-file with it reproduces the run's
+  /// parameters.
   std::string ScenarioJson() const;
 
   std::string Get(const std::string& name) const;
@@ -52,7 +55,8 @@ class CommandLine {
   /// the library's message writes it, the option that sets it}) that `message` names gives
   /// "PROGRAM: --OPTION VALUE: MESSAGE" (the program's own prefix is not repeated); a message naming none comes back as
   /// it is (with the program's prefix).
-  std::string NameTheOption(const std::string& message, const std::vector<std::pair<std::string, std::string>>& parameters) const;
+  std::string NameTheOption(const std::string& message,
+                            const std::vector<std::pair<std::string, std::string>>& parameters) const;
   double GetDouble(const std::string& name) const;
   int GetInt(const std::string& name) const;
   /// Exactly `n` finite numbers separated by commas (`form` names them, e.g. "weight,kp,kd"): no empty item, no
@@ -63,7 +67,8 @@ class CommandLine {
   /// lists of numbers compared by value, so a summary's scenario, which writes every default, sets nothing).
   bool IsSet(const std::string& name) const;
   /// A flag the chosen mode ignores is an error, never dropped: throws std::invalid_argument
-  /// "PROGRAM: --OPTION applies to --MODE A|B only (got --MODE C)" when `option` is set and `mode` is not one of `modes`.
+  /// "PROGRAM: --OPTION applies to --MODE A|B only (got --MODE C)" when `option` is set and `mode` is not one of
+  /// `modes`.
   void RequireModeFor(const std::string& option, const std::string& mode, const std::vector<std::string>& modes) const;
   std::string Help() const;
   /// Checks, before a long run, that the output options can be written: each of `files` (when not empty) is not a
@@ -82,8 +87,8 @@ class CommandLine {
   std::map<std::string, Decl> decls_;
   std::map<std::string, std::string> values_;
   bool has_scenario_file_ = false;
-  std::vector<std::string> outputs_;  // options that are not scenario parameters
-  std::string scenario_file_;                    // the --scenario-file read, for errors
+  std::vector<std::string> outputs_;              // options that are not scenario parameters
+  std::string scenario_file_;                     // the --scenario-file read, for errors
   std::map<std::string, std::string> from_file_;  // option -> its value as the scenario file wrote it (JSON)
   /// "PROGRAM: option '--NAME' needs EXPECTED, got 'VALUE'", or, for a value from the scenario file,
   /// "PROGRAM: --scenario-file FILE: key 'NAME' needs EXPECTED, got JSON".

@@ -16,14 +16,16 @@
 namespace rome::examples {
 
 CommandLine& CommandLine::ScenarioFile(std::vector<std::string> outputs) {
-  Option("scenario-file", "", "FILE.json: any of the other options (not the outputs) as {\"name\": value}; options given here win");
+  Option("scenario-file", "",
+         "FILE.json: any of the other options (not the outputs) as {\"name\": value}; options given here win");
   outputs_ = std::move(outputs);
   has_scenario_file_ = true;
   return *this;
 }
 
 bool CommandLine::IsScenarioParameter(const std::string& name) const {
-  return decls_.count(name) > 0 && name != "scenario-file" && std::find(outputs_.begin(), outputs_.end(), name) == outputs_.end();
+  return decls_.count(name) > 0 && name != "scenario-file" &&
+         std::find(outputs_.begin(), outputs_.end(), name) == outputs_.end();
 }
 
 namespace {
@@ -59,34 +61,38 @@ void CommandLine::LoadScenarioFile(const std::string& path) {
   std::string text;
   try {
     text = ReadRegularFile(path, "--scenario-file", 1 << 20);
-  } catch (const std::exception& e) {
-    throw std::invalid_argument(program_ + ": " + e.what());
-  }
+  } catch (const std::exception& e) { throw std::invalid_argument(program_ + ": " + e.what()); }
   nlohmann::json j;
   try {
     j = ParseJsonStrict(text, where);  // no key twice (the last would silently win), nesting capped
-  } catch (const std::exception& e) {
-    throw std::invalid_argument(e.what());
-  }
+  } catch (const std::exception& e) { throw std::invalid_argument(e.what()); }
   if (!j.is_object()) throw std::invalid_argument(where + ": expected a JSON object {\"option\": value, ...}");
   for (const auto& [key, value] : j.items()) {
     if (!IsScenarioParameter(key))
-      throw std::invalid_argument(where + ": unknown key '" + Excerpt(key, 60) + "'" + (decls_.count(key) ? " (an output or the file itself, not a scenario parameter)" : " (see --help)"));
+      throw std::invalid_argument(
+          where + ": unknown key '" + Excerpt(key, 60) + "'" +
+          (decls_.count(key) ? " (an output or the file itself, not a scenario parameter)" : " (see --help)"));
     const bool flag = decls_.at(key).is_flag;
     std::string v;
-    if (flag && value.is_boolean()) v = value.get<bool>() ? "1" : "";
-    else if (!flag && value.is_string()) v = value.get<std::string>();
-    else if (!flag && value.is_number_integer()) v = value.dump();
-    else if (!flag && value.is_number_float()) v = ExactNumber(value.get<double>());
+    if (flag && value.is_boolean())
+      v = value.get<bool>() ? "1" : "";
+    else if (!flag && value.is_string())
+      v = value.get<std::string>();
+    else if (!flag && value.is_number_integer())
+      v = value.dump();
+    else if (!flag && value.is_number_float())
+      v = ExactNumber(value.get<double>());
     else if (!flag && value.is_array() && !value.empty() &&
              std::all_of(value.begin(), value.end(), [](const nlohmann::json& x) { return x.is_number(); })) {
-      for (const auto& x : value) v += (v.empty() ? "" : ",") + (x.is_number_integer() ? x.dump() : ExactNumber(x.get<double>()));
+      for (const auto& x : value)
+        v += (v.empty() ? "" : ",") + (x.is_number_integer() ? x.dump() : ExactNumber(x.get<double>()));
     } else {
-      throw std::invalid_argument(where + ": key '" + key + "' needs " + (flag ? "true or false" : "a string, a number or an array of numbers") +
-                                  ", got " + Excerpt(value.dump(), 80));
+      throw std::invalid_argument(where + ": key '" + key + "' needs " +
+                                  (flag ? "true or false" : "a string, a number or an array of numbers") + ", got " +
+                                  Excerpt(value.dump(), 80));
     }
     if (values_.count(key)) continue;  // the command line wins
-    if (flag && v.empty()) continue;  // false: the flag stays off
+    if (flag && v.empty()) continue;   // false: the flag stays off
     values_[key] = v;
     from_file_[key] = Excerpt(value.dump(), 80);
   }
@@ -114,10 +120,11 @@ std::string CommandLine::ScenarioJson() const {
     const char* const last = v.data() + v.size();
     long long integer = 0;
     double number = 0;
-    if (const auto [end, ec] = std::from_chars(v.data(), last, integer); !v.empty() && ec == std::errc() && end == last && std::to_string(integer) == v)
+    if (const auto [end, ec] = std::from_chars(v.data(), last, integer);
+        !v.empty() && ec == std::errc() && end == last && std::to_string(integer) == v)
       j[name] = integer;
-    else if (const auto [end2, ec2] = std::from_chars(v.data(), last, number); !v.empty() && ec2 == std::errc() && end2 == last && std::isfinite(number) &&
-                                                                                ExactNumber(number) == v)
+    else if (const auto [end2, ec2] = std::from_chars(v.data(), last, number);
+             !v.empty() && ec2 == std::errc() && end2 == last && std::isfinite(number) && ExactNumber(number) == v)
       j[name] = number;
     else
       j[name] = v;

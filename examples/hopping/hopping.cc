@@ -25,29 +25,44 @@ namespace {
 void DeclareOptions(examples::CommandLine& cli) {
   const HoppingReferenceParams ref = HoppingDiagramParams::DefaultReferenceParams();
   using examples::FormatNumber;
-  cli.Option("apex-rise", FormatNumber(SpringMassJumpParams{}.apex_rise),
-             "H [m]: COM rise above the take-off height (default: the ROM's air time is 0.423 s with the identified K(L))")
-      .Option("leg-stiffness", "identified", "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
-      .Option("hops", "1", "number of hops (1 to 1000); the landing of one hop is the crouch of the next (a bounce off the ground after a landing counts as a hop)")
-      .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 2 kHz, BulletWorldPlant)")
-      .Option("bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
-              "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")
+  cli.Option(
+         "apex-rise", FormatNumber(SpringMassJumpParams{}.apex_rise),
+         "H [m]: COM rise above the take-off height (default: the ROM's air time is 0.423 s with the identified K(L))")
+      .Option("leg-stiffness", "identified",
+              "K(L), D(L) of the ROM: published (walking paper) or identified (Eq. (4)-(13) on our model)")
+      .Option("hops", "1",
+              "number of hops (1 to 1000); the landing of one hop is the crouch of the next (a bounce off the ground "
+              "after a landing counts as a hop)")
+      .Option("plant", "hybrid",
+              "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 2 kHz, "
+              "BulletWorldPlant)")
+      .Option(
+          "bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
+          "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")
       .Option("jump-momentum-gain", FormatNumber(ref.jump_momentum_gain),
-              "k [-] of the Jump pitch reference, theta_dot_d = theta_dot - k H_pitch / I_p (0: hold the pitch; HoppingReferenceParams)")
+              "k [-] of the Jump pitch reference, theta_dot_d = theta_dot - k H_pitch / I_p (0: hold the pitch; "
+              "HoppingReferenceParams)")
       .Option("flight-hip-follow", FormatNumber(ref.flight_hip_pitch_follow),
-              "k [-]: in Flight the hip-pitch targets turn with the pelvis pitch, q_hip_d = q_hip_lo - k r (theta - theta_lo) (HoppingReferenceParams)")
+              "k [-]: in Flight the hip-pitch targets turn with the pelvis pitch, q_hip_d = q_hip_lo - k r (theta - "
+              "theta_lo) (HoppingReferenceParams)")
       .Option("landing-deflection-feedback", FormatNumber(ref.landing_deflection_feedback),
-              "g [-]: Landing leg-length target L_plan + g (x - x_plan), so the spring deflection follows the plan's (0: off; HoppingReferenceParams)")
+              "g [-]: Landing leg-length target L_plan + g (x - x_plan), so the spring deflection follows the plan's "
+              "(0: off; HoppingReferenceParams)")
       .Option("jump-force-feedback", FormatNumber(ref.jump_force_feedback),
-              "k_F [-]: Jump leg-length target L_plan + k_F (F_plan - F) / (n K(L)), F the plant's normal GRF (0: off; HoppingReferenceParams)")
+              "k_F [-]: Jump leg-length target L_plan + k_F (F_plan - F) / (n K(L)), F the plant's normal GRF (0: off; "
+              "HoppingReferenceParams)")
       .Option("jump-force-integral", FormatNumber(ref.jump_force_integral_per_s),
-              "k_I [1/s]: Jump leg-length target also + integral of k_I (F_plan - F) / (n K(L)) dt (0: off; HoppingReferenceParams)")
+              "k_I [1/s]: Jump leg-length target also + integral of k_I (F_plan - F) / (n K(L)) dt (0: off; "
+              "HoppingReferenceParams)")
       .Option("landing-torque-regularization", FormatNumber(HoppingDiagramParams{}.landing_u_regularization_scale),
               "[-] the CLF-QP's torque penalty rho_u is multiplied by this in Landing (1: off; HoppingDiagramParams)")
       .Option("landing-min-force", FormatNumber(SpringMassLandingParams{}.min_force_fraction),
               "F_min / (m g) [-]: the landing plan's smallest leg force (spec [R] 0.25)")
-      .Option("landing-blend", FormatNumber(ref.landing_blend_s), "[s] Landing: duration of the COM-x and pitch quintics to the support centre and 0 (spec [R] 0.3 s)")
-      .Option("duration", "0", "[s] simulated time; 0: until 2.5 s after the last hop's touchdown (rest is judged 2 s after it: a shorter run is not 'settled')")
+      .Option("landing-blend", FormatNumber(ref.landing_blend_s),
+              "[s] Landing: duration of the COM-x and pitch quintics to the support centre and 0 (spec [R] 0.3 s)")
+      .Option("duration", "0",
+              "[s] simulated time; 0: until 2.5 s after the last hop's touchdown (rest is judged 2 s after it: a "
+              "shorter run is not 'settled')")
       .Option("log", "", "CSV log path (empty: none)")
       .Option("summary", "", "JSON summary path (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none)")
@@ -72,7 +87,8 @@ Scenario ScenarioFromOptions(const examples::CommandLine& cli) {
   try {
     s.leg_stiffness = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
   } catch (const std::exception&) {
-    throw std::invalid_argument("--leg-stiffness " + cli.Get("leg-stiffness") + ": unknown variant (published or identified)");
+    throw std::invalid_argument("--leg-stiffness " + cli.Get("leg-stiffness") +
+                                ": unknown variant (published or identified)");
   }
   s.jump.apex_rise = cli.GetDouble("apex-rise");
   s.landing.min_force_fraction = cli.GetDouble("landing-min-force");
@@ -96,11 +112,17 @@ Scenario ScenarioFromOptions(const examples::CommandLine& cli) {
 
 // The library parameter each option sets, as Validate()'s messages name it (for errors in the options' terms).
 const std::vector<std::pair<std::string, std::string>> kParameterOptions = {
-    {"reference.hops", "hops"}, {"apex_rise", "apex-rise"}, {"reference.jump_momentum_gain", "jump-momentum-gain"},
-    {"reference.flight_hip_pitch_follow", "flight-hip-follow"}, {"reference.landing_deflection_feedback", "landing-deflection-feedback"},
-    {"min_force_fraction", "landing-min-force"}, {"reference.landing_blend_s", "landing-blend"},
-    {"reference.jump_force_feedback", "jump-force-feedback"}, {"reference.jump_force_integral_per_s", "jump-force-integral"},
-    {"landing_u_regularization_scale", "landing-torque-regularization"}, {"bullet_plant.substeps", "bullet-substeps"},
+    {"reference.hops", "hops"},
+    {"apex_rise", "apex-rise"},
+    {"reference.jump_momentum_gain", "jump-momentum-gain"},
+    {"reference.flight_hip_pitch_follow", "flight-hip-follow"},
+    {"reference.landing_deflection_feedback", "landing-deflection-feedback"},
+    {"min_force_fraction", "landing-min-force"},
+    {"reference.landing_blend_s", "landing-blend"},
+    {"reference.jump_force_feedback", "jump-force-feedback"},
+    {"reference.jump_force_integral_per_s", "jump-force-integral"},
+    {"landing_u_regularization_scale", "landing-torque-regularization"},
+    {"bullet_plant.substeps", "bullet-substeps"},
     {"duration_s", "duration"}};
 
 int main(int argc, char** argv) {
@@ -131,11 +153,14 @@ int main(int argc, char** argv) {
     animation = std::make_unique<visualization::AnimationRecorder>(*model);
     s.run.observer = [&](const Context& c, const HoppingRunState&) {
       const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
-      animation->Record(pc.time(), d.plant->EvalOutput(pc, "q"), d.plant->mode_name(d.plant->EvalTypedOutput<int>(pc, "mode")),
+      animation->Record(pc.time(), d.plant->EvalOutput(pc, "q"),
+                        d.plant->mode_name(d.plant->EvalTypedOutput<int>(pc, "mode")),
                         d.plant->EvalOutput(pc, "contact_forces"));
     };
   }
-  std::cout << "hopping: simulating " << HoppingRunDuration(d, s.run) << " s on the " << ToString(s.plant) << " plant ...\n" << std::flush;
+  std::cout << "hopping: simulating " << HoppingRunDuration(d, s.run) << " s on the " << ToString(s.plant)
+            << " plant ...\n"
+            << std::flush;
   HoppingRunResult r;
   try {
     r = RunHopping(d, sim, s.run, planners.get());
@@ -145,24 +170,32 @@ int main(int argc, char** argv) {
   }
 
   const std::string summary = HoppingSummaryJson(d, r, planners.get(), cli.ScenarioJson());
-  if (!cli.Get("summary").empty() && !examples::WriteOutputFile("hopping", cli.Get("summary"), summary, "summary")) return 1;
+  if (!cli.Get("summary").empty() && !examples::WriteOutputFile("hopping", cli.Get("summary"), summary, "summary"))
+    return 1;
   if (!cli.Get("log").empty() &&
-      !examples::WriteOutputFile("hopping", cli.Get("log"), d.logger->CsvText(d.diagram->GetSubsystemContext(*d.logger, sim.get_context())), "log"))
+      !examples::WriteOutputFile("hopping", cli.Get("log"),
+                                 d.logger->CsvText(d.diagram->GetSubsystemContext(*d.logger, sim.get_context())),
+                                 "log"))
     return 1;
   if (animation) {
     std::string error;
-    if (!animation->WriteHtml(cli.Get("animation"), "ROME hopping, Cassie", {}, &error)) std::cerr << "hopping: " << error << "\n";
-    else std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
+    if (!animation->WriteHtml(cli.Get("animation"), "ROME hopping, Cassie", {}, &error))
+      std::cerr << "hopping: " << error << "\n";
+    else
+      std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
   }
   if (!cli.Get("plots").empty()) examples::WriteHoppingPlots(*model, r, cli.Get("plots"));
   std::cout << "hopping (" << ToString(s.plant) << " plant): " << r.status.ToString() << "\n"
-            << "  air time " << r.air_time_s << " s (paper 0.423), foot clearance " << r.foot_clearance_m << " m (paper ~0.18), COM rise " << r.com_rise_m
-            << " m, lift-off vs ROM " << r.takeoff_time_error_s << " s\n"
-            << "  GRF NRMSE jump " << r.grf_nrmse_jump << ", landing " << r.grf_nrmse_landing << "; pitch change in flight "
-            << r.max_pelvis_pitch_change_flight_rad * 180 / M_PI << " deg; hops landed " << r.touchdowns << "; hopped " << (r.hopped ? "yes" : "no")
-            << "; settled " << (r.settled ? "yes" : "no") << "; QP median " << r.qp_solve_us_median << " us; real-time factor " << r.realtime_factor
+            << "  air time " << r.air_time_s << " s (paper 0.423), foot clearance " << r.foot_clearance_m
+            << " m (paper ~0.18), COM rise " << r.com_rise_m << " m, lift-off vs ROM " << r.takeoff_time_error_s
+            << " s\n"
+            << "  GRF NRMSE jump " << r.grf_nrmse_jump << ", landing " << r.grf_nrmse_landing
+            << "; pitch change in flight " << r.max_pelvis_pitch_change_flight_rad * 180 / M_PI << " deg; hops landed "
+            << r.touchdowns << "; hopped " << (r.hopped ? "yes" : "no") << "; settled " << (r.settled ? "yes" : "no")
+            << "; QP median " << r.qp_solve_us_median << " us; real-time factor " << r.realtime_factor
             << "\n  plant contact violations " << r.contact.violations << " (" << r.contact.samples << " samples)"
-            << (r.contact.violations ? ", first: " + r.contact.first_violation : "") << ", max |F_t|/F_n " << r.contact.max_friction_ratio << "\n";
+            << (r.contact.violations ? ", first: " + r.contact.first_violation : "") << ", max |F_t|/F_n "
+            << r.contact.max_friction_ratio << "\n";
   if (r.status.kind() == SimulatorStatus::Kind::kInterrupted) {
     std::cout << "result: interrupted (" << r.status.ToString() << "); outputs written up to there\n";
     return 128 + InterruptSignal();

@@ -67,8 +67,11 @@ int Run(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   const bool sidecar_alone = urdf.size() >= 5 && urdf.compare(urdf.size() - 5, 5, ".json") == 0;
   if (sidecar_alone && !sidecar.empty())
-    throw std::invalid_argument("--sidecar: '" + urdf + "' is a sidecar already (it names its URDF); give ROBOT.urdf --sidecar FILE, or the sidecar alone");
-  const MultibodyModel model = sidecar_alone ? MultibodyModel::LoadFromSidecar(urdf, options) : MultibodyModel::Load(urdf, sidecar, options);
+    throw std::invalid_argument(
+        "--sidecar: '" + urdf +
+        "' is a sidecar already (it names its URDF); give ROBOT.urdf --sidecar FILE, or the sidecar alone");
+  const MultibodyModel model =
+      sidecar_alone ? MultibodyModel::LoadFromSidecar(urdf, options) : MultibodyModel::Load(urdf, sidecar, options);
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   rome::MultibodyWorkspace ws(model);
   std::vector<std::string> warnings = model.warnings();
@@ -110,19 +113,24 @@ int Run(int argc, char** argv) {
   auto frames = nlohmann::ordered_json::array();
   for (const auto& f : model.frames()) {
     const Eigen::Vector3d p = f.X_body_frame.translation();
-    frames.push_back({{"name", f.name}, {"body", model.body(f.body).name}, {"position_in_body_m", {p.x(), p.y(), p.z()}}});
+    frames.push_back(
+        {{"name", f.name}, {"body", model.body(f.body).name}, {"position_in_body_m", {p.x(), p.y(), p.z()}}});
   }
   out["frames"] = frames;
   out["joints"] = model.joint_names();
   auto acts = nlohmann::ordered_json::array();
   for (const auto& a : model.actuators())
-    acts.push_back({{"joint", a.joint}, {"torque_limit_Nm", a.torque_limit_Nm}, {"gear_ratio", a.gear_ratio},
+    acts.push_back({{"joint", a.joint},
+                    {"torque_limit_Nm", a.torque_limit_Nm},
+                    {"gear_ratio", a.gear_ratio},
                     {"reflected_inertia_kgm2", a.reflected_inertia_kgm2}});
   out["actuated_joints"] = acts;
   auto springs = nlohmann::ordered_json::array();
   for (const auto& s : model.springs())
-    springs.push_back({{"joint", s.joint}, {"stiffness_Nm_per_rad", s.stiffness_Nm_per_rad},
-                       {"damping_Nms_per_rad", s.damping_Nms_per_rad}, {"rest_angle_rad", s.rest_angle_rad}});
+    springs.push_back({{"joint", s.joint},
+                       {"stiffness_Nm_per_rad", s.stiffness_Nm_per_rad},
+                       {"damping_Nms_per_rad", s.damping_Nms_per_rad},
+                       {"rest_angle_rad", s.rest_angle_rad}});
   out["spring_joints"] = springs;
   auto contacts = nlohmann::ordered_json::array();
   for (int c = 0; c < model.num_contacts(); ++c) {
@@ -144,7 +152,10 @@ int Run(int argc, char** argv) {
   for (const auto& l : model.loop_closures()) {
     const Eigen::Vector3d pa = rome::CalcPointPosition(model, ws, model.q_nominal(), l.body_a, l.point_a);
     const Eigen::Vector3d pb = rome::CalcPointPosition(model, ws, model.q_nominal(), l.body_b, l.point_b);
-    loops.push_back({{"name", l.name}, {"link_a", l.link_a}, {"link_b", l.link_b}, {"distance_m", l.distance_m},
+    loops.push_back({{"name", l.name},
+                     {"link_a", l.link_a},
+                     {"link_b", l.link_b},
+                     {"distance_m", l.distance_m},
                      {"nominal_error_m", (pa - pb).norm() - l.distance_m}});
   }
   out["loop_closures"] = loops;
@@ -164,8 +175,6 @@ int main(int argc, char** argv) {
     return Run(argc, argv);
   } catch (const std::exception& e) {
     std::cerr << "model_info: error: " << rome::examples::OneLine(e.what()) << std::endl;
-  } catch (...) {
-    std::cerr << "model_info: error: unknown exception" << std::endl;
-  }
+  } catch (...) { std::cerr << "model_info: error: unknown exception" << std::endl; }
   return 1;
 }

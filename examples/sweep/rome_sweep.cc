@@ -39,16 +39,21 @@ using rome::Excerpt;
 using namespace rome::sweep;
 
 void PrintHelp() {
-  std::cout << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... --out DIR\n"
-               "  EXAMPLE        " << ExampleNames(" | ") << " (the program next to rome_sweep)\n"
-               "  --grid         N values from LO to HI (N = 1: LO) of the example's flag --NAME; several grids multiply\n"
-               "                 (whole numbers only for the flags that take them: seed, steps, hops, ...)\n"
-               "  --seeds A:B    --seed A, A+1, ..., B (a Monte Carlo; multiplies with the grids)\n"
-               "  --set          a fixed flag --NAME VALUE for every run (not a swept flag)\n"
-               "  --out DIR      results: runs/, sweep.csv, sweep.json, PNG plots; a rerun with the same DIR and the same\n"
-               "                 parameters resumes (other parameters are refused)\n"
-               "At most " << rome::sweep::kMaxRuns << " runs. Run it under mpirun (mpirun -np 2 ...); each rank runs every size-th run.\n"
-               "Exit codes: 0 the sweep completed (its success rate is in sweep.json), 1 bad input or unwritable results.\n";
+  std::cout
+      << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... --out DIR\n"
+         "  EXAMPLE        "
+      << ExampleNames(" | ")
+      << " (the program next to rome_sweep)\n"
+         "  --grid         N values from LO to HI (N = 1: LO) of the example's flag --NAME; several grids multiply\n"
+         "                 (whole numbers only for the flags that take them: seed, steps, hops, ...)\n"
+         "  --seeds A:B    --seed A, A+1, ..., B (a Monte Carlo; multiplies with the grids)\n"
+         "  --set          a fixed flag --NAME VALUE for every run (not a swept flag)\n"
+         "  --out DIR      results: runs/, sweep.csv, sweep.json, PNG plots; a rerun with the same DIR and the same\n"
+         "                 parameters resumes (other parameters are refused)\n"
+         "At most "
+      << rome::sweep::kMaxRuns
+      << " runs. Run it under mpirun (mpirun -np 2 ...); each rank runs every size-th run.\n"
+         "Exit codes: 0 the sweep completed (its success rate is in sweep.json), 1 bad input or unwritable results.\n";
 }
 
 // The flags the example accepts, read from its --help (run without a shell: the build folder may hold any character).
@@ -66,7 +71,8 @@ void CheckExampleHasFlags(const Sweep& s, const std::set<std::string>& flags) {
     std::string known;
     for (const auto& f : flags)
       if (f != "help") known += (known.empty() ? "" : ", ") + f;
-    throw std::invalid_argument("rome_sweep: example '" + s.example + "' has no parameter '" + Excerpt(name) + "' (it has " + known + ")");
+    throw std::invalid_argument("rome_sweep: example '" + s.example + "' has no parameter '" + Excerpt(name) +
+                                "' (it has " + known + ")");
   };
   for (const auto& p : s.swept) check(p.name);
   for (const auto& [name, v] : s.fixed) check(name);
@@ -77,7 +83,9 @@ Sweep Parse(int argc, char** argv) {
   if (argc < 2) throw std::invalid_argument("rome_sweep: name an example (" + ExampleNames(" | ") + "); see --help");
   s.example = argv[1];
   auto it = kExamples.find(s.example);
-  if (it == kExamples.end()) throw std::invalid_argument("rome_sweep: unknown example '" + Excerpt(s.example) + "' (known: " + ExampleNames(", ") + ")");
+  if (it == kExamples.end())
+    throw std::invalid_argument("rome_sweep: unknown example '" + Excerpt(s.example) +
+                                "' (known: " + ExampleNames(", ") + ")");
   const Example& example = it->second;
   // The example beside this program's own file (/proc/self/exe), never a name looked up in the current folder or PATH.
   std::error_code ec;
@@ -106,7 +114,9 @@ Sweep Parse(int argc, char** argv) {
   if (s.swept.empty()) throw std::invalid_argument("rome_sweep: nothing to sweep: give --grid or --seeds");
   rome::sweep::CheckFlagsGivenOnce(s.swept, s.fixed);
   s.total = rome::sweep::CountRuns(s.swept);
-  if (!fs::exists(s.binary)) throw std::invalid_argument("rome_sweep: the example program '" + Excerpt(s.binary, 200) + "' does not exist (build it first)");
+  if (!fs::exists(s.binary))
+    throw std::invalid_argument("rome_sweep: the example program '" + Excerpt(s.binary, 200) +
+                                "' does not exist (build it first)");
   CheckExampleHasFlags(s, ExampleFlags(s.binary));
   return s;
 }
@@ -142,7 +152,9 @@ int main(int argc, char** argv) {
     return 1;
   }
   const auto start = std::chrono::steady_clock::now();
-  if (rank == 0) std::cout << "rome_sweep: " << s.total << " runs of " << s.example << " on " << size << " rank(s), results in " << Excerpt(s.out, 200) << "\n";
+  if (rank == 0)
+    std::cout << "rome_sweep: " << s.total << " runs of " << s.example << " on " << size << " rank(s), results in "
+              << Excerpt(s.out, 200) << "\n";
   long ran = 0, ran_total = 0;
   try {
     ran = RunShare(s, rank, size);

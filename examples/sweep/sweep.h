@@ -43,7 +43,6 @@ struct Sweep {
   long total = 0;                                          // runs
 };
 
-
 /// Creates DIR/runs and checks that files can be created in it, before any run starts (sweep_runs.cc).
 void PrepareOutFolder(const Sweep& s);
 /// Refuses to resume into a folder whose runs were made with other flags (sweep_runs.cc).

@@ -69,10 +69,10 @@ Parameter ParseGrid(const std::string& spec, bool integer) {
   const std::vector<std::string_view> parts = Split(range, ':');
   double lo = 0, hi = 0;
   int n = 0;
-  if (parts.size() != 3 || !ParseDouble(parts[0], &lo) || !ParseDouble(parts[1], &hi) || !ParseWhole(parts[2], &n) || n < 1 ||
-      n > kMaxGridPoints)
-    throw Error("--grid " + Excerpt(p.name) + ": malformed range '" + Excerpt(range) + "' (expected LO:HI:N with finite LO, HI and N in 1.." +
-                std::to_string(kMaxGridPoints) + ")");
+  if (parts.size() != 3 || !ParseDouble(parts[0], &lo) || !ParseDouble(parts[1], &hi) || !ParseWhole(parts[2], &n) ||
+      n < 1 || n > kMaxGridPoints)
+    throw Error("--grid " + Excerpt(p.name) + ": malformed range '" + Excerpt(range) +
+                "' (expected LO:HI:N with finite LO, HI and N in 1.." + std::to_string(kMaxGridPoints) + ")");
   for (int k = 0; k < n; ++k) {
     const double v = n == 1 ? lo : lo + (hi - lo) * k / (n - 1);
     if (!std::isfinite(v)) throw Error(p.origin + ": the values overflow (LO and HI are too far apart)");
@@ -92,9 +92,11 @@ Parameter ParseSeeds(const std::string& range) {
   const std::vector<std::string_view> parts = Split(range, ':');
   long a = 0, b = 0;
   if (parts.size() != 2 || !ParseWhole(parts[0], &a) || !ParseWhole(parts[1], &b) || a < 0 || b < a || b > INT_MAX)
-    throw Error("--seeds: malformed range '" + Excerpt(range) + "' (expected A:B with whole numbers 0 <= A <= B <= " + std::to_string(INT_MAX) + ")");
+    throw Error("--seeds: malformed range '" + Excerpt(range) +
+                "' (expected A:B with whole numbers 0 <= A <= B <= " + std::to_string(INT_MAX) + ")");
   if (b - a + 1 > kMaxRuns)
-    throw Error("--seeds " + Excerpt(range) + ": " + std::to_string(b - a + 1) + " seeds; a sweep has at most " + std::to_string(kMaxRuns) + " runs");
+    throw Error("--seeds " + Excerpt(range) + ": " + std::to_string(b - a + 1) + " seeds; a sweep has at most " +
+                std::to_string(kMaxRuns) + " runs");
   Parameter p{"seed", {}, "--seeds " + Excerpt(range)};
   for (long s = a; s <= b; ++s) p.values.push_back(std::to_string(s));
   return p;
@@ -113,8 +115,8 @@ long CountRuns(const std::vector<Parameter>& swept) {
     if (!over) total *= n;
   }
   if (over)
-    throw Error("the grids and seeds give " + factors + " = " + Format(product) + " runs; a sweep has at most " + std::to_string(kMaxRuns) +
-                " (split it into several sweeps)");
+    throw Error("the grids and seeds give " + factors + " = " + Format(product) + " runs; a sweep has at most " +
+                std::to_string(kMaxRuns) + " (split it into several sweeps)");
   return total;
 }
 
@@ -126,26 +128,33 @@ std::pair<std::string, std::string> ParseSet(const std::string& arg) {
   return {arg.substr(0, eq), arg.substr(eq + 1)};
 }
 
-void CheckFlagsGivenOnce(const std::vector<Parameter>& swept, const std::vector<std::pair<std::string, std::string>>& fixed) {
+void CheckFlagsGivenOnce(const std::vector<Parameter>& swept,
+                         const std::vector<std::pair<std::string, std::string>>& fixed) {
   static const std::map<std::string, std::string> kReserved = {
       {"summary", "rome_sweep gives every run its own --summary (DIR/runs/run_N.json)"},
       {"log", "rome_sweep runs every example with --log '' (its output goes to DIR/runs/run_N.log)"},
       {"help", "--help prints the help and runs nothing"},
-      {"scenario-file", "a run's parameters are fingerprinted from its command line, not from a file that may change before a resume (give them with --set)"},
+      {"scenario-file",
+       "a run's parameters are fingerprinted from its command line, not from a file that may change before a resume "
+       "(give them with --set)"},
       {"plots", "every run would write its plots into the same folder"},
       {"animation", "every run would write the same file"}};
   std::map<std::string, std::string> given;  // flag -> the argument that gave it first
   for (const Parameter& p : swept) {
-    if (auto r = kReserved.find(p.name); r != kReserved.end()) throw Error(p.origin + ": --" + p.name + " cannot be swept: " + r->second);
+    if (auto r = kReserved.find(p.name); r != kReserved.end())
+      throw Error(p.origin + ": --" + p.name + " cannot be swept: " + r->second);
     if (auto [it, fresh] = given.emplace(p.name, p.origin); !fresh)
       throw Error(p.origin + ": --" + Excerpt(p.name) + " is already swept by " + it->second + " (one grid per flag)");
   }
   for (const auto& [name, value] : fixed) {
     const std::string origin = "--set " + Excerpt(name + "=" + value);
-    if (auto r = kReserved.find(name); r != kReserved.end()) throw Error(origin + ": --" + name + " cannot be set: " + r->second);
+    if (auto r = kReserved.find(name); r != kReserved.end())
+      throw Error(origin + ": --" + name + " cannot be set: " + r->second);
     if (auto [it, fresh] = given.emplace(name, origin); !fresh) {
-      if (it->second.rfind("--set", 0) == 0) throw Error(origin + ": --" + Excerpt(name) + " is already set by " + it->second);
-      throw Error(origin + ": --" + Excerpt(name) + " is swept by " + it->second + " (a fixed value would replace the swept one in every run)");
+      if (it->second.rfind("--set", 0) == 0)
+        throw Error(origin + ": --" + Excerpt(name) + " is already set by " + it->second);
+      throw Error(origin + ": --" + Excerpt(name) + " is swept by " + it->second +
+                  " (a fixed value would replace the swept one in every run)");
     }
   }
 }
@@ -162,7 +171,8 @@ std::set<std::string> FlagsInHelp(const std::string& help) {
 
 std::string RunRecordText(const RunRecord& record) {
   // ParseSet admits only valid UTF-8, so `replace` never changes a flag; it keeps dump() from throwing.
-  return std::to_string(record.exit_code) + "\n" + json(record.flags).dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
+  return std::to_string(record.exit_code) + "\n" +
+         json(record.flags).dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
 }
 
 std::optional<RunRecord> ParseRunRecord(const std::string& text) {
@@ -172,7 +182,8 @@ std::optional<RunRecord> ParseRunRecord(const std::string& text) {
   const std::string_view second = body.substr(first + 1, body.size() - first - 2);  // without its final newline
   if (first + 1 == body.size() || second.find('\n') != std::string_view::npos) return std::nullopt;
   RunRecord record;
-  if (!ParseWhole(body.substr(0, first), &record.exit_code) || record.exit_code < kMinExitCode || record.exit_code > kMaxExitCode)
+  if (!ParseWhole(body.substr(0, first), &record.exit_code) || record.exit_code < kMinExitCode ||
+      record.exit_code > kMaxExitCode)
     return std::nullopt;
   try {
     const json flags = ParseWithDepthCap(second);
@@ -191,9 +202,7 @@ std::optional<nlohmann::json> ParseSummary(const std::string& text) {
   json summary;
   try {
     summary = ParseWithDepthCap(text);
-  } catch (...) {
-    return std::nullopt;
-  }
+  } catch (...) { return std::nullopt; }
   if (!summary.is_object()) return std::nullopt;
   for (const char* field : {"status", "status_kind"}) {
     const auto it = summary.find(field);

@@ -50,7 +50,8 @@ std::pair<std::string, std::string> ParseSet(const std::string& arg);
 
 /// Refuses a flag swept twice, a --set of a swept flag, a flag set twice, and the flags rome_sweep gives every run
 /// itself (--summary, --log) or that end a run (--help). `fixed` holds the --set NAME=VALUE pairs.
-void CheckFlagsGivenOnce(const std::vector<Parameter>& swept, const std::vector<std::pair<std::string, std::string>>& fixed);
+void CheckFlagsGivenOnce(const std::vector<Parameter>& swept,
+                         const std::vector<std::pair<std::string, std::string>>& fixed);
 
 /// The flag names a program's --help text shows ("--name").
 std::set<std::string> FlagsInHelp(const std::string& help);
@@ -75,6 +76,5 @@ std::optional<RunRecord> ParseRunRecord(const std::string& text);
 /// A run's summary: a JSON object, nested at most kMaxSummaryDepth deep, with the string fields "status" and
 /// "status_kind" (which stepping_stones and bouncing_ball write); anything else is nothing.
 std::optional<nlohmann::json> ParseSummary(const std::string& text);
-
 
 }  // namespace rome::sweep

@@ -29,9 +29,11 @@ std::string FailureReason(const std::optional<json>& summary, const std::optiona
   if (!record) return "no run record";
   if (record->KilledBySignal()) return "killed by signal " + std::to_string(-record->exit_code);
   if (!summary) return "no summary (exit code " + std::to_string(record->exit_code) + ")";
-  const std::string status = summary->at("status").get<std::string>(), kind = summary->at("status_kind").get<std::string>();
+  const std::string status = summary->at("status").get<std::string>(),
+                    kind = summary->at("status_kind").get<std::string>();
   const auto violations = summary->find("contact_violations");
-  if (violations != summary->end() && violations->is_number() && violations->get<double>() > 0) return "contact violation";
+  if (violations != summary->end() && violations->is_number() && violations->get<double>() > 0)
+    return "contact violation";
   if (status.find("slipped") != std::string::npos) return "slip";
   if (status.find("missed its stone") != std::string::npos) return "missed stone";
   if (status.find("fell") != std::string::npos) return "fell";
@@ -137,7 +139,11 @@ json Aggregate(const Sweep& s, const Results& r) {
   for (const auto& [key, v] : r.numeric) {
     double mean = 0;
     for (double x : v) mean += x / static_cast<double>(v.size());
-    stats[key] = {{"mean", mean}, {"p5", Percentile(v, 0.05)}, {"p50", Percentile(v, 0.5)}, {"p95", Percentile(v, 0.95)}, {"min", Percentile(v, 0)},
+    stats[key] = {{"mean", mean},
+                  {"p5", Percentile(v, 0.05)},
+                  {"p50", Percentile(v, 0.5)},
+                  {"p95", Percentile(v, 0.95)},
+                  {"min", Percentile(v, 0)},
                   {"max", Percentile(v, 1)}};
   }
   agg["fields"] = stats;
@@ -156,7 +162,8 @@ void WritePlots(const Sweep& s, const Results& r) {
     const Parameter& x = s.swept[0];
     const size_t lines = s.swept.size() > 1 ? s.swept[1].values.size() : 1;
     for (size_t l = 0; l < lines; ++l) {
-      rome::visualization::Series ser{s.swept.size() > 1 ? s.swept[1].name + " = " + s.swept[1].values[l] : "runs", {}, {}, "linespoints"};
+      rome::visualization::Series ser{
+          s.swept.size() > 1 ? s.swept[1].name + " = " + s.swept[1].values[l] : "runs", {}, {}, "linespoints"};
       for (long i = 0; i < s.total; ++i) {
         const auto v = RunValues(s, i);
         if (s.swept.size() > 1 && v[1] != s.swept[1].values[l]) continue;
@@ -167,7 +174,8 @@ void WritePlots(const Sweep& s, const Results& r) {
       }
       series.push_back(ser);
     }
-    WritePlotInto({"Mean forward speed (successful runs)", x.name, "speed [m/s]", series}, (fs::path(s.out) / "sweep_speed.png").string());
+    WritePlotInto({"Mean forward speed (successful runs)", x.name, "speed [m/s]", series},
+                  (fs::path(s.out) / "sweep_speed.png").string());
   } else {
     rome::visualization::Series ser{"success rate so far", {}, {}, "lines"};
     long ok = 0;
@@ -176,7 +184,8 @@ void WritePlots(const Sweep& s, const Results& r) {
       ser.x.push_back(static_cast<double>(i + 1));
       ser.y.push_back(static_cast<double>(ok) / static_cast<double>(i + 1));
     }
-    WritePlotInto({"Success rate over runs", "runs", "success rate", {ser}}, (fs::path(s.out) / "sweep_success.png").string());
+    WritePlotInto({"Success rate over runs", "runs", "success rate", {ser}},
+                  (fs::path(s.out) / "sweep_success.png").string());
   }
 }
 
@@ -186,11 +195,14 @@ void Gather(const Sweep& s) {
   const Results r = ReadResults(s);
   rome::WriteFileAtomically((fs::path(s.out) / "sweep.csv").string(), CsvText(s, r), "sweep CSV");
   const json agg = Aggregate(s, r);
-  rome::WriteFileAtomically((fs::path(s.out) / "sweep.json").string(), agg.dump(2, ' ', false, json::error_handler_t::replace) + "\n", "sweep JSON");
+  rome::WriteFileAtomically((fs::path(s.out) / "sweep.json").string(),
+                            agg.dump(2, ' ', false, json::error_handler_t::replace) + "\n", "sweep JSON");
   WritePlots(s, r);
-  std::cout << "rome_sweep: " << r.succeeded << " of " << s.total << " runs succeeded (" << 100.0 * agg["success_rate"].get<double>() << " %)";
+  std::cout << "rome_sweep: " << r.succeeded << " of " << s.total << " runs succeeded ("
+            << 100.0 * agg["success_rate"].get<double>() << " %)";
   for (const auto& [reason, n] : r.failures) std::cout << "; " << Excerpt(reason) << ": " << n;
-  std::cout << "\nrome_sweep: " << Excerpt((fs::path(s.out) / "sweep.csv").string(), 200) << ", sweep.json and the plots written\n";
+  std::cout << "\nrome_sweep: " << Excerpt((fs::path(s.out) / "sweep.csv").string(), 200)
+            << ", sweep.json and the plots written\n";
 }
 
 }  // namespace rome::sweep

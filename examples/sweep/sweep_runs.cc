@@ -74,16 +74,17 @@ void PrepareOutFolder(const Sweep& s) {
   struct stat st {};
   // A symlink at DIR/runs (planted in a shared folder) would send every run's files wherever it points.
   if (!ec && (::lstat(runs.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)))
-    throw std::invalid_argument("rome_sweep: the output folder '" + Excerpt(s.out, 200) + "' has a 'runs' that is not a folder (a symlink or a file)");
+    throw std::invalid_argument("rome_sweep: the output folder '" + Excerpt(s.out, 200) +
+                                "' has a 'runs' that is not a folder (a symlink or a file)");
   std::string reason = ec ? ec.message() : "";
   if (!ec) {
     try {
       const rome::AtomicFileWriter probe(runs + "/.write_probe", "output folder");
-    } catch (const std::exception& e) {
-      reason = e.what();
-    }
+    } catch (const std::exception& e) { reason = e.what(); }
   }
-  if (!reason.empty()) throw std::invalid_argument("rome_sweep: cannot write to the output folder '" + Excerpt(s.out, 200) + "' (" + Excerpt(reason, 300) + ")");
+  if (!reason.empty())
+    throw std::invalid_argument("rome_sweep: cannot write to the output folder '" + Excerpt(s.out, 200) + "' (" +
+                                Excerpt(reason, 300) + ")");
 }
 
 // Run i's record, if there is a valid one.
@@ -105,9 +106,7 @@ SummaryFile ReadSummary(const Sweep& s, long i) {
   if (!S_ISREG(st.st_mode)) return {true, std::nullopt};
   try {
     return {true, rome::sweep::ParseSummary(rome::ReadRegularFile(path, "run summary", kMaxSummaryBytes))};
-  } catch (const std::exception&) {
-    return {true, std::nullopt};
-  }
+  } catch (const std::exception&) { return {true, std::nullopt}; }
 }
 
 // Whether run i can be skipped on resume: a valid record of these flags that no signal ended, and a valid summary if
@@ -116,7 +115,8 @@ bool RunIsDone(const Sweep& s, long i, const std::vector<std::string>& flags) {
   const std::optional<RunRecord> record = ReadRecord(s, i);
   // A run stopped by a signal, whether it died of it or caught it (exit 128 + SIGINT/SIGTERM, summary "interrupted"),
   // runs again.
-  if (!record || record->KilledBySignal() || record->exit_code == 128 + SIGINT || record->exit_code == 128 + SIGTERM || record->flags != flags)
+  if (!record || record->KilledBySignal() || record->exit_code == 128 + SIGINT || record->exit_code == 128 + SIGTERM ||
+      record->flags != flags)
     return false;
   const SummaryFile summary = ReadSummary(s, i);
   return summary.present ? summary.summary.has_value() : record->exit_code != 0;
@@ -129,8 +129,9 @@ void CheckResume(const Sweep& s) {
     if (!record) continue;
     const std::vector<std::string> flags = RunFlags(s, i);
     if (record->flags != flags)
-      throw std::invalid_argument("rome_sweep: --out '" + Excerpt(s.out, 200) + "' holds run " + std::to_string(i) + " made with other parameters ('" +
-                                  Excerpt(Join(record->flags), 200) + "', this sweep's: '" + Excerpt(Join(flags), 200) +
+      throw std::invalid_argument("rome_sweep: --out '" + Excerpt(s.out, 200) + "' holds run " + std::to_string(i) +
+                                  " made with other parameters ('" + Excerpt(Join(record->flags), 200) +
+                                  "', this sweep's: '" + Excerpt(Join(flags), 200) +
                                   "'); resume with the same parameters or choose another --out");
   }
 }
@@ -145,12 +146,13 @@ int CreateRunLog(const std::string& path) {
 // Runs the example with run i's flags; its output goes to run i's log; its record is written last.
 void RunOne(const Sweep& s, long i) {
   const std::vector<std::string> flags = RunFlags(s, i);
-  for (const char* ext : {"exit", "json"}) ::unlink(RunPath(s, i, ext).c_str());  // an earlier attempt's, never followed
+  for (const char* ext : {"exit", "json"})
+    ::unlink(RunPath(s, i, ext).c_str());  // an earlier attempt's, never followed
   const std::string log = RunPath(s, i, "log");
   const int log_fd = CreateRunLog(log);
   if (log_fd < 0) {
-    std::cerr << "rome_sweep: run " << i << ": cannot create its log '" << Excerpt(log, 200) << "' (" << std::strerror(errno)
-              << "); the run is left for a resume\n";
+    std::cerr << "rome_sweep: run " << i << ": cannot create its log '" << Excerpt(log, 200) << "' ("
+              << std::strerror(errno) << "); the run is left for a resume\n";
     return;
   }
   std::vector<std::string> args = {s.binary};
@@ -202,12 +204,12 @@ long RunShare(const Sweep& s, int rank, int size) {
       const long done = CountDone(s);
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double rate = static_cast<double>(done - already) / std::max(elapsed, 1e-9);
-      std::cout << "  " << done << " / " << s.total << " runs done, ETA " << (rate > 0 ? static_cast<long>((s.total - done) / rate) : 0) << " s\n"
+      std::cout << "  " << done << " / " << s.total << " runs done, ETA "
+                << (rate > 0 ? static_cast<long>((s.total - done) / rate) : 0) << " s\n"
                 << std::flush;
     }
   }
   return ran;
 }
-
 
 }  // namespace rome::sweep

@@ -1,13 +1,14 @@
 // walking: the 12-joint exoskeleton walks (walking paper: aSLIP + H-LIP planning composed into a 3D COM reference,
 // CLF-QP with force matching). --scenario stand-to-walk (standing -> transition -> gait A), gait-change (standing -> A
 // -> transition -> B; with no direct transition plan, through intermediate gaits of a gait graph), gait-sequence
-// (--gaits "A;B;C": as gait-change, one change after another) or periodic (started on gait A's orbit). The ROM plans are built offline (NLPs cached in
+// (--gaits "A;B;C": as gait-change, one change after another) or periodic (started on gait A's orbit). The ROM plans
+// are built offline (NLPs cached in
 // --cache), the COM reference is corrected for the legs' angular momentum (CompensateCentroidalMomentum), then the
-// diagram of diagrams/walking runs (RunWalking judges it). Writes a CSV log (--log), a JSON summary (--summary, with the
-// effective scenario under "scenario": pass it back as --scenario-file to run it again), PNG plots (--plots DIR: the
-// paper's Fig. 2 S2/L2 and 3 S2/L2 from this run's plans, COM position and velocity desired vs actual, per-foot normal
-// force in its band, gait tiles) and an HTML animation (--animation). Exit 0 success, 3 failed run (fell, slipped, a
-// planner failed), 1 bad input.
+// diagram of diagrams/walking runs (RunWalking judges it). Writes a CSV log (--log), a JSON summary (--summary, with
+// the effective scenario under "scenario": pass it back as --scenario-file to run it again), PNG plots (--plots DIR:
+// the paper's Fig. 2 S2/L2 and 3 S2/L2 from this run's plans, COM position and velocity desired vs actual, per-foot
+// normal force in its band, gait tiles) and an HTML animation (--animation). Exit 0 success, 3 failed run (fell,
+// slipped, a planner failed), 1 bad input.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -26,7 +27,9 @@
 using namespace rome;
 
 int main(int argc, char** argv) {
-  examples::CommandLine cli("walking", "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
+  examples::CommandLine cli(
+      "walking",
+      "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).");
   examples::DeclareWalkingOptions(cli);
   examples::WalkingOptions o;
   std::optional<PlanCache> cache;
@@ -39,7 +42,8 @@ int main(int argc, char** argv) {
     // Before any NLP runs: a cache that cannot be written is bad input, not a failed run after the solves.
     if (!cli.Get("cache").empty()) {
       cache.emplace(cli.Get("cache"));
-      if (const std::string problem = cache->EnsureDirectory(); !problem.empty()) throw std::invalid_argument("walking: --cache: " + problem);
+      if (const std::string problem = cache->EnsureDirectory(); !problem.empty())
+        throw std::invalid_argument("walking: --cache: " + problem);
     }
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
@@ -57,16 +61,21 @@ int main(int argc, char** argv) {
   try {
     o.stand.sole = SoleOf(*model, "left_foot");
     examples::ValidateWalkingOptions(o);  // the library's ranges, before any NLP
-    o.stand.plan_check = WalkingPoseCheck(model, o.diagram);  // a direct plan the legs cannot follow goes through the lead-in
+    o.stand.plan_check =
+        WalkingPoseCheck(model, o.diagram);  // a direct plan the legs cannot follow goes through the lead-in
     std::cout << "planning: periodic aSLIP, standing transition, footed H-LIP ...\n";
     // The plan runs trailing_steps steps past the simulated ones, so that the last simulated steps are not the plan's
     // (and the momentum correction's) end.
     const PlanCache* plan_cache = cache ? &*cache : nullptr;
     const int planned = o.steps + o.run.trailing_steps;
-    if (o.scenario == "periodic") plan = BuildPeriodicWalkingPlan(o.gait_a, planned, o.seed, plan_cache, o.stand);
-    else if (o.scenario == "gait-change") plan = BuildGaitChangePlan(o.gait_a, o.gait_b, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
-    else if (o.scenario == "gait-sequence") plan = BuildGaitSequencePlan(o.gaits, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
-    else plan = BuildStandToWalkPlan(o.gait_a, planned, o.seed, plan_cache, &nlp, o.stand);
+    if (o.scenario == "periodic")
+      plan = BuildPeriodicWalkingPlan(o.gait_a, planned, o.seed, plan_cache, o.stand);
+    else if (o.scenario == "gait-change")
+      plan = BuildGaitChangePlan(o.gait_a, o.gait_b, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
+    else if (o.scenario == "gait-sequence")
+      plan = BuildGaitSequencePlan(o.gaits, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
+    else
+      plan = BuildStandToWalkPlan(o.gait_a, planned, o.seed, plan_cache, &nlp, o.stand);
     examples::PrintPlanReport(nlp, o.stand);
   } catch (const std::invalid_argument& e) {
     std::cerr << cli.NameTheOption(e.what(), examples::kWalkingParameterOptions) << "\n";
@@ -85,11 +94,15 @@ int main(int argc, char** argv) {
     std::cerr << "walking: " << e.what() << "\n";
     return 3;
   }
-  std::printf("angular-momentum compensation: largest CoP shift in single support %.3f m -> %.3f m, COM correction up to %.3f m (%.2f s)\n",
-              d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m, d.compensation.max_correction_m, compensation_s);
+  std::printf(
+      "angular-momentum compensation: largest CoP shift in single support %.3f m -> %.3f m, COM correction up to %.3f "
+      "m (%.2f s)\n",
+      d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m,
+      d.compensation.max_correction_m, compensation_s);
   const double t_stop = WalkingRunEndTime(d.plan, o.run);
   const nlohmann::json plan_torques = examples::PlanTorqueReport(d, o.diagram, t_stop);
-  examples::WalkingRecorder recorder(d, !cli.Get("log").empty(), !cli.Get("plots").empty(), !cli.Get("animation").empty());
+  examples::WalkingRecorder recorder(d, !cli.Get("log").empty(), !cli.Get("plots").empty(),
+                                     !cli.Get("animation").empty());
   std::cout << "simulating " << t_stop << " s on the " << ToString(o.plant) << " plant ...\n";
   WalkingRunResult run;
   try {
@@ -99,15 +112,21 @@ int main(int argc, char** argv) {
     return 3;
   }
   nlohmann::json scenario = nlohmann::json::parse(cli.ScenarioJson());
-  if (o.scenario != "periodic") scenario["start-gait-steps"] = o.stand.start_gait_steps;  // "auto" resolved (periodic: no start gait)
-  const nlohmann::json s = examples::WalkingSummary(run, d, nlp, o.scenario, o.stand, compensation_s, plan_torques, o.plant, scenario);
-  if (!cli.Get("summary").empty() && !examples::WriteOutputFile("walking", cli.Get("summary"), s.dump(2) + "\n", "summary")) return 1;
+  if (o.scenario != "periodic")
+    scenario["start-gait-steps"] = o.stand.start_gait_steps;  // "auto" resolved (periodic: no start gait)
+  const nlohmann::json s =
+      examples::WalkingSummary(run, d, nlp, o.scenario, o.stand, compensation_s, plan_torques, o.plant, scenario);
+  if (!cli.Get("summary").empty() &&
+      !examples::WriteOutputFile("walking", cli.Get("summary"), s.dump(2) + "\n", "summary"))
+    return 1;
   if (!cli.Get("log").empty() && !examples::WriteOutputFile("walking", cli.Get("log"), recorder.log(), "log")) return 1;
   if (!cli.Get("plots").empty()) recorder.WritePlots(cli.Get("plots"), plan, nlp, o.scenario, t_stop);
   if (const visualization::AnimationRecorder* animation = recorder.animation()) {
     std::string error;
-    if (!animation->WriteHtml(cli.Get("animation"), "ROME walking, " + o.scenario, {}, &error)) std::cerr << "walking: " << error << "\n";
-    else std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
+    if (!animation->WriteHtml(cli.Get("animation"), "ROME walking, " + o.scenario, {}, &error))
+      std::cerr << "walking: " << error << "\n";
+    else
+      std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
   }
   examples::PrintRunResult(run, o.plant);
   if (run.interrupted) {

@@ -11,44 +11,98 @@
 namespace rome::examples {
 
 const std::vector<std::pair<std::string, std::string>> kWalkingParameterOptions = {
-    {"controller.force_band_halfwidth", "force-band"}, {"stance_stagger_m", "stance-stagger"},
-    {"standing_height_m", "com-heights"}, {"height_min_m", "com-heights"}, {"height_max_m", "com-heights"},
-    {"start_gait_step_length_m", "start-gait"}, {"start_gait_ssp_duration_s", "start-gait"}, {"start_gait_dsp_duration_s", "start-gait"},
-    {"start_gait_steps", "start-gait-steps"}, {"lead_in_step_length_m", "lead-in"}, {"lead_in_ssp_duration_s", "lead-in"},
-    {"lead_in_dsp_duration_s", "lead-in"}, {"lead_in_steps", "lead-in-steps"}, {"transition_min_ssp_duration_s", "transition-ssp"},
-    {"gait_change_max_force_fraction", "gait-change-max-force"}, {"periodic_max_force_fraction", "periodic-max-force"},
-    {"sagittal_cop_margin_m", "rom-cop-margin"}, {"swing.touchdown_velocity_mps", "touchdown-speed"},
+    {"controller.force_band_halfwidth", "force-band"},
+    {"stance_stagger_m", "stance-stagger"},
+    {"standing_height_m", "com-heights"},
+    {"height_min_m", "com-heights"},
+    {"height_max_m", "com-heights"},
+    {"start_gait_step_length_m", "start-gait"},
+    {"start_gait_ssp_duration_s", "start-gait"},
+    {"start_gait_dsp_duration_s", "start-gait"},
+    {"start_gait_steps", "start-gait-steps"},
+    {"lead_in_step_length_m", "lead-in"},
+    {"lead_in_ssp_duration_s", "lead-in"},
+    {"lead_in_dsp_duration_s", "lead-in"},
+    {"lead_in_steps", "lead-in-steps"},
+    {"transition_min_ssp_duration_s", "transition-ssp"},
+    {"gait_change_max_force_fraction", "gait-change-max-force"},
+    {"periodic_max_force_fraction", "periodic-max-force"},
+    {"sagittal_cop_margin_m", "rom-cop-margin"},
+    {"swing.touchdown_velocity_mps", "touchdown-speed"},
     {"foothold_tolerance_m", "foothold-tolerance"}};
 
 void DeclareWalkingOptions(CommandLine& cli) {
-  cli.Option("scenario", "stand-to-walk", "stand-to-walk (standing side by side -> transition -> --start-gait-steps of the --start-gait -> gait A; a gait faster than the --lead-in gait (shorter T_SSP or T_DSP), or with no plan from the start gait, walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; the start and lead-in flags do not apply) | gait-sequence (standing -> the first of --gaits as gait-change's gait A -> a change into each next gait). A change with no direct transition plan goes through intermediate gaits of a gait graph over the range")
+  cli.Option("scenario", "stand-to-walk",
+             "stand-to-walk (standing side by side -> transition -> --start-gait-steps of the --start-gait -> gait A; "
+             "a gait faster than the --lead-in gait (shorter T_SSP or T_DSP), or with no plan from the start gait, "
+             "walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but "
+             "never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; "
+             "the start and lead-in flags do not apply) | gait-sequence (standing -> the first of --gaits as "
+             "gait-change's gait A -> a change into each next gait). A change with no direct transition plan goes "
+             "through intermediate gaits of a gait graph over the range")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
-      .Option("gaits", "", "gait-sequence scenario: 2 to 20 gaits L,T_SSP,T_DSP,W separated by ';' (e.g. \"0.3,0.4,0.1,0.25;0.4,0.4,0.1,0.25\"), --steps each")
+      .Option("gaits", "",
+              "gait-sequence scenario: 2 to 20 gaits L,T_SSP,T_DSP,W separated by ';' (e.g. "
+              "\"0.3,0.4,0.1,0.25;0.4,0.4,0.1,0.25\"), --steps each")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
-      .Option("stance-stagger", "0", "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
-      .Option("start-gait", "0.20,0.50,0.15", "the start gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): from standing side by side, the standing transition goes into it (ours; same ranges as --lead-in)")
-      .Option("start-gait-steps", "auto", "periodic steps of the start gait before the change into gait A or the lead-in (0 to 20; auto: 6 side by side, 0 from a step stance)")
-      .Option("lead-in", "0.30,0.40,0.10", "the lead-in gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): stand-to-walk walks it before gait A when gait A is faster or has no plan otherwise (ours; L 0.1-0.45 m, T_SSP 0.35-0.6 s, T_DSP 0.08-0.3 s)")
-      .Option("lead-in-steps", "6", "periodic steps of the lead-in gait before the change to gait A (0: no lead-in; up to 20)")
-      .Option("transition-ssp", "0", "lower bound of the standing transition's single-support time [s] (0: the T_SSP of the gait it goes into: the start gait's side by side, gait A's from a step stance)")
-      .Option("com-heights", "0.86,0.84,0.90", "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
-      .Option("gait-change-max-force", "1.6", "the gait-change transition NLPs (A -> B, a lead-in -> A, the start gait -> the next gait) keep each leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
-      .Option("periodic-max-force", "1.5", "a periodic aSLIP plan whose leg force exceeds this many m g is planned again with that bound (ours; 0: never, else in (1, 3])")
-      .Option("rom-cop-margin", "0.05", "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m] (side by side, the standing transition and the start gait's change keep 0.02 m: StandToWalkParams::standing_sagittal_cop_margin_m)")
-      .Option("touchdown-speed", "0.1", "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
-      .Option("clf-cost-target", "pd", "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec §5.5 [C22]: minimum-norm μ = 0)")
-      .Option("sole-torsion", "coefficient", "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z (ours, default) or by the contact wrench cone of its four corners (less where the CoP nears an edge or the foot carries a tangential force)")
-      .Option("foothold-tolerance", "0.05", "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
-      .Option("plant", "hybrid", "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, BulletWorldPlant)")
-      .Option("joint-limits", "on", "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
+      .Option("stance-stagger", "0",
+              "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the "
+              "right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
+      .Option("start-gait", "0.20,0.50,0.15",
+              "the start gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): from standing side by side, the standing "
+              "transition goes into it (ours; same ranges as --lead-in)")
+      .Option("start-gait-steps", "auto",
+              "periodic steps of the start gait before the change into gait A or the lead-in (0 to 20; auto: 6 side by "
+              "side, 0 from a step stance)")
+      .Option("lead-in", "0.30,0.40,0.10",
+              "the lead-in gait L,T_SSP,T_DSP [m, s, s] (at gait A's W): stand-to-walk walks it before gait A when "
+              "gait A is faster or has no plan otherwise (ours; L 0.1-0.45 m, T_SSP 0.35-0.6 s, T_DSP 0.08-0.3 s)")
+      .Option("lead-in-steps", "6",
+              "periodic steps of the lead-in gait before the change to gait A (0: no lead-in; up to 20)")
+      .Option("transition-ssp", "0",
+              "lower bound of the standing transition's single-support time [s] (0: the T_SSP of the gait it goes "
+              "into: the start gait's side by side, gait A's from a step stance)")
+      .Option("com-heights", "0.86,0.84,0.90",
+              "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
+      .Option("gait-change-max-force", "1.6",
+              "the gait-change transition NLPs (A -> B, a lead-in -> A, the start gait -> the next gait) keep each "
+              "leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
+      .Option("periodic-max-force", "1.5",
+              "a periodic aSLIP plan whose leg force exceeds this many m g is planned again with that bound (ours; 0: "
+              "never, else in (1, 3])")
+      .Option("rom-cop-margin", "0.05",
+              "the footed aSLIP keeps its CoP this far inside the robot's heel and toe [m] (side by side, the standing "
+              "transition and the start gait's change keep 0.02 m: StandToWalkParams::standing_sagittal_cop_margin_m)")
+      .Option("touchdown-speed", "0.1",
+              "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
+      .Option("clf-cost-target", "pd",
+              "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec "
+              "§5.5 [C22]: minimum-norm μ = 0)")
+      .Option("sole-torsion", "coefficient",
+              "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z (ours, "
+              "default) or by the contact wrench cone of its four corners (less where the CoP nears an edge or the "
+              "foot carries a tangential force)")
+      .Option("foothold-tolerance", "0.05",
+              "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
+      .Option("plant", "hybrid",
+              "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, "
+              "BulletWorldPlant)")
+      .Option("joint-limits", "on",
+              "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
       .Option("seed", "1", "seed of the NLP initial guesses")
-      .Option("robot", "robots/exoskeleton/exoskeleton.rome.json", "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
-      .Option("cache", "walking_plans", "directory of cached ROM plans, created if missing (empty: none, every NLP is solved)")
+      .Option("robot", "robots/exoskeleton/exoskeleton.rome.json",
+              "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
+      .Option("cache", "walking_plans",
+              "directory of cached ROM plans, created if missing (empty: none, every NLP is solved)")
       .Option("log", "", "CSV log file (empty: none)")
-      .Option("summary", "", "JSON summary file (empty: none); its \"scenario\" holds every option's effective value (a --scenario-file)")
-      .Option("plots", "", "directory for PNG plots (empty: none): the paper's Fig. 2 S2/L2, 3 S2/L2 and 5a/b/d from this run, and gait tiles")
+      .Option(
+          "summary", "",
+          "JSON summary file (empty: none); its \"scenario\" holds every option's effective value (a --scenario-file)")
+      .Option("plots", "",
+              "directory for PNG plots (empty: none): the paper's Fig. 2 S2/L2, 3 S2/L2 and 5a/b/d from this run, and "
+              "gait tiles")
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)")
       .ScenarioFile({"log", "summary", "plots", "animation", "cache"});
 }
@@ -56,7 +110,9 @@ void DeclareWalkingOptions(CommandLine& cli) {
 namespace {
 
 // `n` comma-separated numbers of option `flag` (form checked here, ranges by Validate).
-std::vector<double> Numbers(const CommandLine& cli, const std::string& flag, int n, const std::string& form) { return cli.GetNumbers(flag, n, form); }
+std::vector<double> Numbers(const CommandLine& cli, const std::string& flag, int n, const std::string& form) {
+  return cli.GetNumbers(flag, n, form);
+}
 
 WalkingGait Gait(const CommandLine& cli, const std::string& flag) {
   const std::vector<double> v = Numbers(cli, flag, 4, "L,T_SSP,T_DSP,W");
@@ -72,7 +128,8 @@ std::vector<WalkingGait> GaitList(const std::string& text) {
     const std::string item = text.substr(begin, end - begin);
     double v[4];
     int used = -1;
-    if (std::sscanf(item.c_str(), " %lf , %lf , %lf , %lf %n", &v[0], &v[1], &v[2], &v[3], &used) != 4 || used != static_cast<int>(item.size()))
+    if (std::sscanf(item.c_str(), " %lf , %lf , %lf , %lf %n", &v[0], &v[1], &v[2], &v[3], &used) != 4 ||
+        used != static_cast<int>(item.size()))
       throw std::invalid_argument("walking: --gaits: gait " + std::to_string(index) + " '" + Excerpt(item, 80) +
                                   "' is not L,T_SSP,T_DSP,W (4 numbers; gaits separated by ';')");
     gaits.push_back(WalkingGait{v[0], v[1], v[2], v[3]});
@@ -80,7 +137,8 @@ std::vector<WalkingGait> GaitList(const std::string& text) {
     begin = end + 1;
   }
   if (gaits.size() < 2 || gaits.size() > 20)
-    throw std::invalid_argument("walking: --gaits has " + std::to_string(gaits.size()) + " gaits, expected 2 to 20 separated by ';'");
+    throw std::invalid_argument("walking: --gaits has " + std::to_string(gaits.size()) +
+                                " gaits, expected 2 to 20 separated by ';'");
   return gaits;
 }
 
@@ -101,7 +159,8 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
   o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence"});
   // A flag the chosen scenario or plant ignores is an error (the periodic scenario starts on gait A's orbit).
-  for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps", "transition-ssp", "gait-change-max-force"})
+  for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps",
+                               "transition-ssp", "gait-change-max-force"})
     cli.RequireModeFor(standing, "scenario", {"stand-to-walk", "gait-change", "gait-sequence"});
   cli.RequireModeFor("gait-b", "scenario", {"gait-change"});
   cli.RequireModeFor("gaits", "scenario", {"gait-sequence"});
@@ -110,7 +169,8 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   o.gait_b = Gait(cli, "gait-b");
   if (o.scenario == "gait-sequence") o.gaits = GaitList(cli.Get("gaits"));
   o.steps = cli.GetInt("steps");
-  if (cli.GetInt("seed") < 0) throw std::invalid_argument("walking: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
+  if (cli.GetInt("seed") < 0)
+    throw std::invalid_argument("walking: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
   o.seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
   // Side by side (stagger 0, the default) goes through the start gait; a step stance does not (StepStance).
   const double stagger = cli.GetDouble("stance-stagger");
@@ -146,7 +206,8 @@ void ValidateWalkingOptions(const WalkingOptions& o) {
   o.gait_a.Validate("walking: --gait-a");
   o.gait_b.Validate("walking: --gait-b");
   for (size_t i = 0; i < o.gaits.size(); ++i) o.gaits[i].Validate("walking: --gaits: gait " + std::to_string(i + 1));
-  if (o.steps < 1 || o.steps > 1000) throw std::invalid_argument("walking: --steps = " + std::to_string(o.steps) + " is outside [1, 1000]");
+  if (o.steps < 1 || o.steps > 1000)
+    throw std::invalid_argument("walking: --steps = " + std::to_string(o.steps) + " is outside [1, 1000]");
   o.stand.Validate("walking: StandToWalkParams");
   o.diagram.Validate();
   o.run.Validate();

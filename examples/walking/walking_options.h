@@ -15,13 +15,13 @@ namespace rome::examples {
 struct WalkingOptions {
   std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic | gait-sequence
   WalkingGait gait_a, gait_b;
-  std::vector<WalkingGait> gaits;          ///< gait-sequence: --gaits
-  int steps = 10;                          ///< periodic single supports per gait after each transition
-  std::uint32_t seed = 1;                  ///< seed of the NLP initial guesses
+  std::vector<WalkingGait> gaits;  ///< gait-sequence: --gaits
+  int steps = 10;                  ///< periodic single supports per gait after each transition
+  std::uint32_t seed = 1;          ///< seed of the NLP initial guesses
   PlantKind plant = PlantKind::kHybrid;
-  StandToWalkParams stand;                 ///< its sole is set from the robot (SoleOf) before planning
+  StandToWalkParams stand;  ///< its sole is set from the robot (SoleOf) before planning
   WalkingDiagramParams diagram;
-  WalkingRunParams run;                    ///< start time and velocity set for the periodic scenario
+  WalkingRunParams run;  ///< start time and velocity set for the periodic scenario
 };
 
 /// The library parameter each option sets, as the Validate() messages name it ({parameter, option}), so that an error

@@ -22,7 +22,8 @@ class WalkingRecorder {
   WalkingRunObserver Observer();
   std::string log() const { return log_.str(); }
   /// PNG plots into `dir` (errors of single plots are printed, the others still written).
-  void WritePlots(const std::string& dir, const WalkingPlan& rom_plan, const WalkingPlanReport& nlp, const std::string& scenario, double t_stop) const;
+  void WritePlots(const std::string& dir, const WalkingPlan& rom_plan, const WalkingPlanReport& nlp,
+                  const std::string& scenario, double t_stop) const;
   const visualization::AnimationRecorder* animation() const { return animation_.get(); }
 
  private:
@@ -32,7 +33,7 @@ class WalkingRecorder {
   bool logging_, plotting_;
   std::ostringstream log_;
   std::unique_ptr<visualization::AnimationRecorder> animation_;
-  std::vector<double> t_, com_[6], vel_[6], force_[4];     // per tick: x, x_d, y, y_d, z, z_d; F_l, F_l ref, F_r, F_r ref
+  std::vector<double> t_, com_[6], vel_[6], force_[4];  // per tick: x, x_d, y, y_d, z, z_d; F_l, F_l ref, F_r, F_r ref
   std::vector<std::pair<double, Eigen::VectorXd>> poses_;  // q every 10 ms, for the gait tiles
 };
 

@@ -10,25 +10,31 @@ namespace rome::examples {
 void PrintPlanReport(const WalkingPlanReport& nlp, const StandToWalkParams& stand) {
   const double stagger = stand.stance_stagger_m;
   if (nlp.start_gait_used)
-    std::cout << (stagger == 0 ? std::string("standing side by side: ") : "standing in a " + std::to_string(stagger) + " m step stance: ") << stand.start_gait_steps
-              << " steps of the start gait (" << nlp.start_gait.step_length_m << " m, " << nlp.start_gait.ssp_duration_s << " s, " << nlp.start_gait.dsp_duration_s
+    std::cout << (stagger == 0 ? std::string("standing side by side: ")
+                               : "standing in a " + std::to_string(stagger) + " m step stance: ")
+              << stand.start_gait_steps << " steps of the start gait (" << nlp.start_gait.step_length_m << " m, "
+              << nlp.start_gait.ssp_duration_s << " s, " << nlp.start_gait.dsp_duration_s
               << " s), then a gait change\n";
   if (nlp.lead_in)
-    std::cout << "starting with " << stand.lead_in_steps << " lead-in steps of (" << nlp.lead_in_gait.step_length_m << " m, " << nlp.lead_in_gait.ssp_duration_s
-              << " s, " << nlp.lead_in_gait.dsp_duration_s << " s) and changing gait: " << nlp.lead_in_reason << "\n";
+    std::cout << "starting with " << stand.lead_in_steps << " lead-in steps of (" << nlp.lead_in_gait.step_length_m
+              << " m, " << nlp.lead_in_gait.ssp_duration_s << " s, " << nlp.lead_in_gait.dsp_duration_s
+              << " s) and changing gait: " << nlp.lead_in_reason << "\n";
   else if (!nlp.lead_in_reason.empty())
     std::cout << "the lead-in " << nlp.lead_in_reason << "\n";
   if (nlp.start_chain.size() > 2) {
     std::cout << "no direct start gait -> gait A transition: through the gait graph:";
     for (const WalkingGait& g : nlp.start_chain)
-      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", " << g.step_width_m << ")";
+      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", "
+                << g.step_width_m << ")";
     std::cout << "\n";
   }
   if (nlp.chain.size() > 2) {
-    std::cout << "no direct A -> B transition: through the gait graph (" << nlp.chain_transitions_tried << " transitions tried, "
-              << nlp.chain_transitions_failed << " without a plan, " << nlp.chain_planning_s << " s):";
+    std::cout << "no direct A -> B transition: through the gait graph (" << nlp.chain_transitions_tried
+              << " transitions tried, " << nlp.chain_transitions_failed << " without a plan, " << nlp.chain_planning_s
+              << " s):";
     for (const WalkingGait& g : nlp.chain)
-      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", " << g.step_width_m << ")";
+      std::cout << " (" << g.step_length_m << ", " << g.ssp_duration_s << ", " << g.dsp_duration_s << ", "
+                << g.step_width_m << ")";
     std::cout << "\n";
   }
 }
@@ -41,16 +47,23 @@ nlohmann::json PlanTorqueReport(const WalkingDiagram& d, const WalkingDiagramPar
     const double solve_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (r.worst_actuator < 0) throw std::runtime_error("the plan has no single-support sample");
     const ActuatorInfo& worst = model.actuators()[r.worst_actuator];
-    std::printf("plan inverse dynamics (%d single-support samples): largest torque for its limit %s %.0f of %.0f N m at t = %.3f s, "
-                "peak stance F_z %.2f m g (%.2f s)\n",
-                r.samples, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm, r.peak_time_s[r.worst_actuator],
-                r.peak_normal_force_N / (model.total_mass() * 9.81), solve_s);
-    std::printf("plan inverse dynamics: the stance sole needs |F_t|/F_n up to %.2f (t = %.3f s), its CoP up to %.3f m (x) / %.3f m (y) "
-                "from the ankle, |M_z|/F_n up to %.3f m\n",
-                r.peak_friction_ratio, r.peak_friction_ratio_time_s, r.peak_cop_offset_m.x(), r.peak_cop_offset_m.y(), r.peak_yaw_moment_ratio_m);
+    std::printf(
+        "plan inverse dynamics (%d single-support samples): largest torque for its limit %s %.0f of %.0f N m at t = "
+        "%.3f s, "
+        "peak stance F_z %.2f m g (%.2f s)\n",
+        r.samples, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm,
+        r.peak_time_s[r.worst_actuator], r.peak_normal_force_N / (model.total_mass() * 9.81), solve_s);
+    std::printf(
+        "plan inverse dynamics: the stance sole needs |F_t|/F_n up to %.2f (t = %.3f s), its CoP up to %.3f m (x) / "
+        "%.3f m (y) "
+        "from the ankle, |M_z|/F_n up to %.3f m\n",
+        r.peak_friction_ratio, r.peak_friction_ratio_time_s, r.peak_cop_offset_m.x(), r.peak_cop_offset_m.y(),
+        r.peak_yaw_moment_ratio_m);
     if (r.worst_limit_fraction > 1.0)
-      std::printf("warning: the plan asks %s for %.0f N m, above its %.0f N m limit; the CLF-QP keeps torques within the limits, so it cannot follow the plan exactly there\n",
-                  worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm);
+      std::printf(
+          "warning: the plan asks %s for %.0f N m, above its %.0f N m limit; the CLF-QP keeps torques within the "
+          "limits, so it cannot follow the plan exactly there\n",
+          worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm);
     nlohmann::json peaks = nlohmann::json::object();
     for (int j = 0; j < model.nu(); ++j) peaks[model.actuators()[j].joint] = r.peak_torque_Nm[j];
     return {{"peak_torque_Nm", peaks},
@@ -70,43 +83,56 @@ nlohmann::json PlanTorqueReport(const WalkingDiagram& d, const WalkingDiagramPar
   }
 }
 
-nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram& d, const WalkingPlanReport& nlp, const std::string& scenario_name,
-                              const StandToWalkParams& stand, double compensation_s, const nlohmann::json& plan_torques, PlantKind plant,
-                              const nlohmann::json& scenario) {
+nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram& d, const WalkingPlanReport& nlp,
+                              const std::string& scenario_name, const StandToWalkParams& stand, double compensation_s,
+                              const nlohmann::json& plan_torques, PlantKind plant, const nlohmann::json& scenario) {
   nlohmann::json s = nlohmann::json::parse(run.ToJson());
-  auto nlp_json = [](const WalkingNlpReport& r) { return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}}; };
+  auto nlp_json = [](const WalkingNlpReport& r) {
+    return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}};
+  };
   s["nlp"] = {{"periodic_aslip_a", nlp_json(nlp.periodic)}, {"transition_aslip", nlp_json(nlp.transition)}};
-  if (scenario_name == "gait-change" || scenario_name == "gait-sequence") s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
+  if (scenario_name == "gait-change" || scenario_name == "gait-sequence")
+    s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b),
+    s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
   // gait-change / gait-sequence: the gaits walked from gait A on (A and B alone: the direct transition), with any
   // chain's intermediate gaits, and the chain searches' time.
   s["gait_chain"] = nullptr;
   if (scenario_name == "gait-change" || scenario_name == "gait-sequence") {
     const auto list = [](const std::vector<WalkingGait>& chain) {
       nlohmann::json gaits = nlohmann::json::array();
-      for (const WalkingGait& g : chain) gaits.push_back({g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m});
+      for (const WalkingGait& g : chain)
+        gaits.push_back({g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m});
       return gaits;
     };
     // start_gait_chain: the start gait's change into gait A (2 gaits: direct; empty: no start gait).
-    s["gait_chain"] = {{"gaits", list(nlp.chain)}, {"start_gait_chain", list(nlp.start_gait_used ? nlp.start_chain : std::vector<WalkingGait>{})},
-                       {"planning_s", nlp.chain_planning_s}, {"transitions_tried", nlp.chain_transitions_tried},
+    s["gait_chain"] = {{"gaits", list(nlp.chain)},
+                       {"start_gait_chain", list(nlp.start_gait_used ? nlp.start_chain : std::vector<WalkingGait>{})},
+                       {"planning_s", nlp.chain_planning_s},
+                       {"transitions_tried", nlp.chain_transitions_tried},
                        {"transitions_failed", nlp.chain_transitions_failed}};
   }
-  // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait A.
+  // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait
+  // A.
   s["lead_in"] = nullptr;
   // A lead-in that was tried, had no plan, and left the plan to the direct change from the start gait: its error.
-  s["lead_in_tried"] = !nlp.lead_in && !nlp.lead_in_reason.empty() ? nlohmann::json(nlp.lead_in_reason) : nlohmann::json(nullptr);
+  s["lead_in_tried"] =
+      !nlp.lead_in && !nlp.lead_in_reason.empty() ? nlohmann::json(nlp.lead_in_reason) : nlohmann::json(nullptr);
   if (nlp.lead_in) {
     const WalkingGait& g = nlp.lead_in_gait;
-    s["lead_in"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}}, {"reason", nlp.lead_in_reason}};
-    s["nlp"]["periodic_aslip_gait_a"] = nlp_json(nlp.periodic_b), s["nlp"]["transition_aslip_lead_in_to_a"] = nlp_json(nlp.transition_b);
+    s["lead_in"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}},
+                    {"reason", nlp.lead_in_reason}};
+    s["nlp"]["periodic_aslip_gait_a"] = nlp_json(nlp.periodic_b),
+    s["nlp"]["transition_aslip_lead_in_to_a"] = nlp_json(nlp.transition_b);
   }
   // Standing side by side: the standing transition (transition_aslip) goes into the start gait, which changes into the
   // next gait (the lead-in, or gait A).
   s["start_gait"] = nullptr;
   if (nlp.start_gait_used) {
     const WalkingGait& g = nlp.start_gait;
-    s["start_gait"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}}, {"steps", stand.start_gait_steps}};
-    s["nlp"]["periodic_aslip_start_gait"] = nlp_json(nlp.periodic_start), s["nlp"]["transition_aslip_start_to_next"] = nlp_json(nlp.transition_start);
+    s["start_gait"] = {{"gait", {g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m}},
+                       {"steps", stand.start_gait_steps}};
+    s["nlp"]["periodic_aslip_start_gait"] = nlp_json(nlp.periodic_start),
+    s["nlp"]["transition_aslip_start_to_next"] = nlp_json(nlp.transition_start);
   }
   s["stance_stagger_m"] = stand.stance_stagger_m;
   s["scenario"] = scenario;
@@ -120,12 +146,14 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
 }
 
 void PrintRunResult(const WalkingRunResult& r, PlantKind plant) {
-  std::cout << (r.success ? "walked" : "FAILED") << ": " << r.status.ToString() << "\n  " << r.steps_completed << " steps (" << r.touchdowns_off_target
-            << " touchdowns off their footholds, largest error " << r.largest_touchdown_error_m << " m), COM RMS error (after the first step) "
-            << r.com_rms_error_m.transpose() << " m, force in band " << nlohmann::json(r.force_in_band_fraction) << " (strictly "
-            << nlohmann::json(r.force_in_band_fraction_strict) << "), real-time factor "
-            << nlohmann::json(r.realtime_factor()) << "\n  plant " << ToString(plant) << ": contact violations " << r.contact.violations << " ("
-            << r.contact.samples << " samples)" << (r.contact.violations ? ", first: " + r.contact.first_violation : "") << ", max |F_t|/F_n "
+  std::cout << (r.success ? "walked" : "FAILED") << ": " << r.status.ToString() << "\n  " << r.steps_completed
+            << " steps (" << r.touchdowns_off_target << " touchdowns off their footholds, largest error "
+            << r.largest_touchdown_error_m << " m), COM RMS error (after the first step) "
+            << r.com_rms_error_m.transpose() << " m, force in band " << nlohmann::json(r.force_in_band_fraction)
+            << " (strictly " << nlohmann::json(r.force_in_band_fraction_strict) << "), real-time factor "
+            << nlohmann::json(r.realtime_factor()) << "\n  plant " << ToString(plant) << ": contact violations "
+            << r.contact.violations << " (" << r.contact.samples << " samples)"
+            << (r.contact.violations ? ", first: " + r.contact.first_violation : "") << ", max |F_t|/F_n "
             << r.contact.max_friction_ratio << "\n";
 }
 

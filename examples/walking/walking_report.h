@@ -17,9 +17,9 @@ void PrintPlanReport(const WalkingPlanReport& nlp, const StandToWalkParams& stan
 nlohmann::json PlanTorqueReport(const WalkingDiagram& d, const WalkingDiagramParams& params, double t_stop);
 /// The summary: the run's metrics, the NLP reports ("nlp", "lead_in", "lead_in_tried", "start_gait"), the momentum
 /// compensation, `plan_torques`, the plant and the effective scenario (`scenario`: every option's value).
-nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram& d, const WalkingPlanReport& nlp, const std::string& scenario_name,
-                              const StandToWalkParams& stand, double compensation_s, const nlohmann::json& plan_torques, PlantKind plant,
-                              const nlohmann::json& scenario);
+nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram& d, const WalkingPlanReport& nlp,
+                              const std::string& scenario_name, const StandToWalkParams& stand, double compensation_s,
+                              const nlohmann::json& plan_torques, PlantKind plant, const nlohmann::json& scenario);
 /// The closing lines on stdout.
 void PrintRunResult(const WalkingRunResult& run, PlantKind plant);
 

@@ -20,8 +20,7 @@ class JacobianWriter {
   explicit JacobianWriter(Eigen::VectorXd* values) : values_(values) {}
   void Block(int row0, int col0, const Eigen::MatrixXd& M) {
     for (Eigen::Index j = 0; j < M.cols(); ++j) {
-      for (Eigen::Index i = 0; i < M.rows(); ++i) Put(row0 + static_cast<int>(i),
-                                                      col0 + static_cast<int>(j), M(i, j));
+      for (Eigen::Index i = 0; i < M.rows(); ++i) Put(row0 + static_cast<int>(i), col0 + static_cast<int>(j), M(i, j));
     }
   }
   int count() const { return next_; }
@@ -40,14 +39,13 @@ class JacobianWriter {
   int next_ = 0;
 };
 
-void EvalScalar(const ScalarStateInputFunction& F, const Eigen::VectorXd& x,
-                const Eigen::VectorXd& u, double* value, Eigen::VectorXd* gradient) {
+void EvalScalar(const ScalarStateInputFunction& F, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double* value,
+                Eigen::VectorXd* gradient) {
   const int nd = static_cast<int>(x.size() + u.size());
-  const NodeScalar y = F(InitializeAutoDiff<NodeScalar>(x, nd, 0),
-                         InitializeAutoDiff<NodeScalar>(u, nd, static_cast<int>(x.size())));
+  const NodeScalar y =
+      F(InitializeAutoDiff<NodeScalar>(x, nd, 0), InitializeAutoDiff<NodeScalar>(u, nd, static_cast<int>(x.size())));
   *value = y.value();
-  *gradient = y.derivatives().size() == nd ? Eigen::VectorXd(y.derivatives())
-                                           : Eigen::VectorXd::Zero(nd);
+  *gradient = y.derivatives().size() == nd ? Eigen::VectorXd(y.derivatives()) : Eigen::VectorXd::Zero(nd);
 }
 
 }  // namespace
@@ -78,8 +76,7 @@ class CollocationNlp final : public NlpProblem {
                  const std::vector<PhaseLayout>& layout, int num_variables, int num_constraints,
                  const std::vector<DirectCollocation::NodeConstraint>& constraints,
                  const std::vector<StateFunction>& transitions, const StateFunction& periodic_transition,
-                 const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe,
-                 bool exact_hessian)
+                 const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe, bool exact_hessian)
       : NlpProblem(name, num_variables, num_constraints),
         phases_(phases),
         layout_(layout),
@@ -185,18 +182,15 @@ class CollocationNlp final : public NlpProblem {
     UpdateCost(z);
     return cost_;
   }
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& z,
-                        Eigen::Ref<Eigen::VectorXd> gradient) override {
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> gradient) override {
     UpdateCost(z);
     gradient = gradient_;
   }
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& z,
-                       Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> g) override {
     UpdateConstraints(z);
     g = g_values_;
   }
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& z,
-                              Eigen::Ref<Eigen::VectorXd> values) override {
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& z, Eigen::Ref<Eigen::VectorXd> values) override {
     UpdateConstraints(z);
     values = jacobian_values_;
   }
@@ -220,8 +214,7 @@ class CollocationNlp final : public NlpProblem {
       if (phase.running_cost) {
         for (int k = 0; k < L.N; ++k) {
           const double c = (k == 0 || k == L.N - 1) ? 0.5 : 1.0;  // trapezoid weights
-          EvalScalar(phase.running_cost, z.segment(L.x(k), L.nx), z.segment(L.u(k), L.nu), &value,
-                     &grad);
+          EvalScalar(phase.running_cost, z.segment(L.x(k), L.nx), z.segment(L.u(k), L.nu), &value, &grad);
           cost_ += c * h * value;
           gradient_.segment(L.x(k), L.nx) += c * h * grad.head(L.nx);
           gradient_.segment(L.u(k), L.nu) += c * h * grad.tail(L.nu);
@@ -235,8 +228,7 @@ class CollocationNlp final : public NlpProblem {
     }
     if (terminal_cost_) {
       const PhaseLayout& L = layout_.back();
-      EvalScalar(terminal_cost_, z.segment(L.x(L.N - 1), L.nx), z.segment(L.u(L.N - 1), L.nu),
-                 &value, &grad);
+      EvalScalar(terminal_cost_, z.segment(L.x(L.N - 1), L.nx), z.segment(L.u(L.N - 1), L.nu), &value, &grad);
       cost_ += value;
       gradient_.segment(L.x(L.N - 1), L.nx) += grad.head(L.nx);
       gradient_.segment(L.u(L.N - 1), L.nu) += grad.tail(L.nu);
@@ -356,21 +348,20 @@ class CollocationNlp final : public NlpProblem {
       const double h = T / (L.N - 1);
       const std::string what = "dynamics of phase '" + phase.name + "'";
       const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(L.nx, L.nx);
-      EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(0), L.nx), z.segment(L.u(0), L.nu),
-                       what, &f_k, &J_k);
+      EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(0), L.nx), z.segment(L.u(0), L.nu), what, &f_k, &J_k);
       for (int k = 0; k + 1 < L.N; ++k) {
-        EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(k + 1), L.nx),
-                         z.segment(L.u(k + 1), L.nu), what, &f_next, &J_next);
+        EvalWithJacobian(phase.dynamics, L.nx, z.segment(L.x(k + 1), L.nx), z.segment(L.u(k + 1), L.nu), what, &f_next,
+                         &J_next);
         if (phase.method == CollocationMethod::kHermiteSimpson) {
           // x_c = (x_k + x_{k+1})/2 + (h/8)(f_k − f_{k+1}), u_c = (u_k + u_{k+1})/2,
           // defect x_{k+1} − x_k − (h/6)(f_k + 4 f(x_c, u_c) + f_{k+1}).
-          const Eigen::VectorXd x_c = 0.5 * (z.segment(L.x(k), L.nx) + z.segment(L.x(k + 1), L.nx)) +
-                                      (h / 8.0) * (f_k - f_next);
+          const Eigen::VectorXd x_c =
+              0.5 * (z.segment(L.x(k), L.nx) + z.segment(L.x(k + 1), L.nx)) + (h / 8.0) * (f_k - f_next);
           const Eigen::VectorXd u_c = 0.5 * (z.segment(L.u(k), L.nu) + z.segment(L.u(k + 1), L.nu));
           EvalWithJacobian(phase.dynamics, L.nx, x_c, u_c, what, &f_c, &J_c);
           const Eigen::MatrixXd Jcx = J_c.leftCols(L.nx);
-          g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) -
-                                 (h / 6.0) * (f_k + 4.0 * f_c + f_next);
+          g.segment(row, L.nx) =
+              z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) - (h / 6.0) * (f_k + 4.0 * f_c + f_next);
           writer.Block(row, L.x(k),
                        -I - (h / 6.0) * (J_k.leftCols(L.nx) + 4.0 * Jcx * (0.5 * I + (h / 8.0) * J_k.leftCols(L.nx))));
           if (L.nu > 0) {
@@ -378,22 +369,22 @@ class CollocationNlp final : public NlpProblem {
                          -(h / 6.0) * (J_k.rightCols(L.nu) +
                                        4.0 * (Jcx * ((h / 8.0) * J_k.rightCols(L.nu)) + 0.5 * J_c.rightCols(L.nu))));
           }
-          writer.Block(row, L.x(k + 1),
-                       I - (h / 6.0) * (J_next.leftCols(L.nx) +
-                                        4.0 * Jcx * (0.5 * I - (h / 8.0) * J_next.leftCols(L.nx))));
+          writer.Block(
+              row, L.x(k + 1),
+              I - (h / 6.0) * (J_next.leftCols(L.nx) + 4.0 * Jcx * (0.5 * I - (h / 8.0) * J_next.leftCols(L.nx))));
           if (L.nu > 0) {
             writer.Block(row, L.u(k + 1),
-                         -(h / 6.0) * (J_next.rightCols(L.nu) +
-                                       4.0 * (Jcx * (-(h / 8.0) * J_next.rightCols(L.nu)) + 0.5 * J_c.rightCols(L.nu))));
+                         -(h / 6.0) * (J_next.rightCols(L.nu) + 4.0 * (Jcx * (-(h / 8.0) * J_next.rightCols(L.nu)) +
+                                                                       0.5 * J_c.rightCols(L.nu))));
           }
           if (L.T_index >= 0) {
             const double dh = 1.0 / (L.N - 1);  // ∂h/∂T
-            writer.Block(row, L.T_index,
-                         -(dh / 6.0) * (f_k + 4.0 * f_c + f_next) - (h / 6.0) * 4.0 * Jcx * ((dh / 8.0) * (f_k - f_next)));
+            writer.Block(
+                row, L.T_index,
+                -(dh / 6.0) * (f_k + 4.0 * f_c + f_next) - (h / 6.0) * 4.0 * Jcx * ((dh / 8.0) * (f_k - f_next)));
           }
         } else {
-          g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) -
-                                 0.5 * h * (f_k + f_next);
+          g.segment(row, L.nx) = z.segment(L.x(k + 1), L.nx) - z.segment(L.x(k), L.nx) - 0.5 * h * (f_k + f_next);
           writer.Block(row, L.x(k), -I - 0.5 * h * J_k.leftCols(L.nx));
           if (L.nu > 0) writer.Block(row, L.u(k), -0.5 * h * J_k.rightCols(L.nu));
           writer.Block(row, L.x(k + 1), I - 0.5 * h * J_next.leftCols(L.nx));
@@ -415,8 +406,8 @@ class CollocationNlp final : public NlpProblem {
         transitions_[p](InitializeAutoDiff<NodeScalar>(x_end), y);
         if (y.size() != B.nx) {
           std::ostringstream msg;
-          msg << "transition from phase '" << phases_[p].name << "' to '" << phases_[p + 1].name
-              << "' returned " << y.size() << " values, expected " << B.nx;
+          msg << "transition from phase '" << phases_[p].name << "' to '" << phases_[p + 1].name << "' returned "
+              << y.size() << " values, expected " << B.nx;
           throw std::runtime_error(msg.str());
         }
         value = ExtractValue(y);
@@ -452,11 +443,9 @@ class CollocationNlp final : public NlpProblem {
       const PhaseLayout& L = layout_[c.phase];
       const int first = c.node == kEveryNode ? 0 : c.node;
       const int last = c.node == kEveryNode ? L.N - 1 : c.node;
-      const std::string what =
-          "constraint '" + c.name + "' of phase '" + phases_[c.phase].name + "'";
+      const std::string what = "constraint '" + c.name + "' of phase '" + phases_[c.phase].name + "'";
       for (int k = first; k <= last; ++k) {
-        EvalWithJacobian(c.function, c.size, z.segment(L.x(k), L.nx), z.segment(L.u(k), L.nu),
-                         what, &value, &J);
+        EvalWithJacobian(c.function, c.size, z.segment(L.x(k), L.nx), z.segment(L.u(k), L.nu), what, &value, &J);
         g.segment(row, c.size) = value;
         writer.Block(row, L.x(k), J.leftCols(L.nx));
         if (L.nu > 0) writer.Block(row, L.u(k), J.rightCols(L.nu));
@@ -480,8 +469,7 @@ class CollocationNlp final : public NlpProblem {
 
 }  // namespace
 
-std::vector<PhaseLayout> MakeLayout(const std::vector<CollocationPhase>& phases,
-                                    int* num_variables) {
+std::vector<PhaseLayout> MakeLayout(const std::vector<CollocationPhase>& phases, int* num_variables) {
   std::vector<PhaseLayout> layout;
   int offset = 0, row = 0;
   for (const auto& phase : phases) {
@@ -505,14 +493,13 @@ std::vector<PhaseLayout> MakeLayout(const std::vector<CollocationPhase>& phases,
   return layout;
 }
 
-std::unique_ptr<NlpProblem> MakeCollocationNlp(const std::string& name, const std::vector<CollocationPhase>& phases,
-                                               const std::vector<PhaseLayout>& layout, int num_variables, int num_constraints,
-                                               const std::vector<DirectCollocation::NodeConstraint>& constraints,
-                                               const std::vector<StateFunction>& transitions, const StateFunction& periodic_transition,
-                                               const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe,
-                                               bool exact_hessian) {
-  return std::make_unique<CollocationNlp>(name, phases, layout, num_variables, num_constraints, constraints, transitions, periodic_transition,
-                                          terminal_cost, z_probe, exact_hessian);
+std::unique_ptr<NlpProblem> MakeCollocationNlp(
+    const std::string& name, const std::vector<CollocationPhase>& phases, const std::vector<PhaseLayout>& layout,
+    int num_variables, int num_constraints, const std::vector<DirectCollocation::NodeConstraint>& constraints,
+    const std::vector<StateFunction>& transitions, const StateFunction& periodic_transition,
+    const ScalarStateInputFunction& terminal_cost, const Eigen::VectorXd& z_probe, bool exact_hessian) {
+  return std::make_unique<CollocationNlp>(name, phases, layout, num_variables, num_constraints, constraints,
+                                          transitions, periodic_transition, terminal_cost, z_probe, exact_hessian);
 }
 
 }  // namespace rome::collocation_internal

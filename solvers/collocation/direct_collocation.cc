@@ -20,9 +20,7 @@ using namespace collocation_internal;
 DirectCollocation::DirectCollocation(std::string name, std::vector<CollocationPhase> phases)
     : name_(std::move(name)), phases_(std::move(phases)) {
   std::ostringstream msg;
-  if (phases_.empty()) {
-    throw std::invalid_argument("DirectCollocation '" + name_ + "': needs at least one phase");
-  }
+  if (phases_.empty()) { throw std::invalid_argument("DirectCollocation '" + name_ + "': needs at least one phase"); }
   for (size_t p = 0; p < phases_.size(); ++p) {
     CollocationPhase& ph = phases_[p];
     if (ph.name.empty()) ph.name = "phase" + std::to_string(p);
@@ -36,11 +34,10 @@ DirectCollocation::DirectCollocation(std::string name, std::vector<CollocationPh
            std::to_string(ph.num_states + ph.num_inputs));
     }
     if (!ph.dynamics) fail("dynamics function is empty");
-    if (!(ph.min_duration > 0.0) || !(ph.max_duration >= ph.min_duration) ||
-        !std::isfinite(ph.max_duration)) {
+    if (!(ph.min_duration > 0.0) || !(ph.max_duration >= ph.min_duration) || !std::isfinite(ph.max_duration)) {
       std::ostringstream m;
-      m << "durations must satisfy 0 < min_duration ≤ max_duration < ∞, got [" << ph.min_duration
-        << ", " << ph.max_duration << "] s";
+      m << "durations must satisfy 0 < min_duration ≤ max_duration < ∞, got [" << ph.min_duration << ", "
+        << ph.max_duration << "] s";
       fail(m.str());
     }
     auto check_bounds = [&](Eigen::VectorXd& lo, Eigen::VectorXd& hi, int n, const char* what) {
@@ -48,8 +45,7 @@ DirectCollocation::DirectCollocation(std::string name, std::vector<CollocationPh
       if (hi.size() == 0) hi = Eigen::VectorXd::Constant(n, kInf);
       if (lo.size() != n || hi.size() != n) {
         std::ostringstream m;
-        m << what << " bounds must have size " << n << " (or be empty), got " << lo.size()
-          << " and " << hi.size();
+        m << what << " bounds must have size " << n << " (or be empty), got " << lo.size() << " and " << hi.size();
         fail(m.str());
       }
       for (int i = 0; i < n; ++i) {
@@ -81,8 +77,8 @@ int DirectCollocation::NodeIndex(int p, int node, const char* who) const {
   const int k = node < 0 ? N + node : node;
   if (k < 0 || k >= N) {
     std::ostringstream msg;
-    msg << "DirectCollocation '" << name_ << "'::" << who << ": phase '" << phases_[p].name
-        << "' has " << N << " nodes, node " << node << " is out of range";
+    msg << "DirectCollocation '" << name_ << "'::" << who << ": phase '" << phases_[p].name << "' has " << N
+        << " nodes, node " << node << " is out of range";
     throw std::out_of_range(msg.str());
   }
   return k;
@@ -94,8 +90,7 @@ void CheckConstraintBounds(const std::string& who, int size, const Eigen::Vector
                            const Eigen::VectorXd& upper) {
   std::ostringstream msg;
   if (size < 1 || lower.size() != size || upper.size() != size) {
-    msg << who << ": size " << size << " with bounds of size " << lower.size() << "/"
-        << upper.size();
+    msg << who << ": size " << size << " with bounds of size " << lower.size() << "/" << upper.size();
     throw std::invalid_argument(msg.str());
   }
   for (int i = 0; i < size; ++i) {
@@ -108,8 +103,7 @@ void CheckConstraintBounds(const std::string& who, int size, const Eigen::Vector
 
 }  // namespace
 
-void DirectCollocation::AddPathConstraint(int p, int size, StateInputFunction g,
-                                          const Eigen::VectorXd& lower,
+void DirectCollocation::AddPathConstraint(int p, int size, StateInputFunction g, const Eigen::VectorXd& lower,
                                           const Eigen::VectorXd& upper, std::string name) {
   phase(p);
   const std::string who = "DirectCollocation '" + name_ + "': path constraint '" + name + "'";
@@ -118,8 +112,7 @@ void DirectCollocation::AddPathConstraint(int p, int size, StateInputFunction g,
   path_constraints_.push_back({p, kEveryNode, size, std::move(g), lower, upper, std::move(name)});
 }
 
-void DirectCollocation::AddNodeConstraint(int p, int node, int size, StateInputFunction c,
-                                          const Eigen::VectorXd& lower,
+void DirectCollocation::AddNodeConstraint(int p, int node, int size, StateInputFunction c, const Eigen::VectorXd& lower,
                                           const Eigen::VectorXd& upper, std::string name) {
   const int k = NodeIndex(p, node, "AddNodeConstraint");
   const std::string who = "DirectCollocation '" + name_ + "': node constraint '" + name + "'";
@@ -131,8 +124,7 @@ void DirectCollocation::AddNodeConstraint(int p, int node, int size, StateInputF
 void DirectCollocation::SetNodeStateBounds(int p, int node, const Eigen::VectorXd& lower,
                                            const Eigen::VectorXd& upper) {
   const int k = NodeIndex(p, node, "SetNodeStateBounds");
-  CheckConstraintBounds("DirectCollocation '" + name_ + "'::SetNodeStateBounds, phase '" +
-                            phases_[p].name + "'",
+  CheckConstraintBounds("DirectCollocation '" + name_ + "'::SetNodeStateBounds, phase '" + phases_[p].name + "'",
                         phases_[p].num_states, lower, upper);
   node_bounds_.push_back({p, k, lower, upper});
 }
@@ -140,8 +132,8 @@ void DirectCollocation::SetNodeStateBounds(int p, int node, const Eigen::VectorX
 void DirectCollocation::SetTransition(int p, StateFunction reset) {
   if (p < 0 || p + 1 >= num_phases()) {
     std::ostringstream msg;
-    msg << "DirectCollocation '" << name_ << "'::SetTransition: phase " << p
-        << " has no successor (" << num_phases() << " phases)";
+    msg << "DirectCollocation '" << name_ << "'::SetTransition: phase " << p << " has no successor (" << num_phases()
+        << " phases)";
     throw std::out_of_range(msg.str());
   }
   transitions_[p] = std::move(reset);
@@ -156,20 +148,18 @@ void DirectCollocation::SetPeriodicTransition(StateFunction reset) {
 
 void DirectCollocation::SetExactHessian(bool exact) { exact_hessian_ = exact; }
 
-void DirectCollocation::SetTerminalCost(ScalarStateInputFunction cost) {
-  terminal_cost_ = std::move(cost);
-}
+void DirectCollocation::SetTerminalCost(ScalarStateInputFunction cost) { terminal_cost_ = std::move(cost); }
 
-void DirectCollocation::SetInitialGuess(int p, const Eigen::MatrixXd& states,
-                                        const Eigen::MatrixXd& inputs, double duration) {
+void DirectCollocation::SetInitialGuess(int p, const Eigen::MatrixXd& states, const Eigen::MatrixXd& inputs,
+                                        double duration) {
   const CollocationPhase& ph = phase(p);
-  if (states.rows() != ph.num_states || states.cols() != ph.num_nodes ||
-      inputs.rows() != ph.num_inputs || inputs.cols() != ph.num_nodes || !(duration > 0.0)) {
+  if (states.rows() != ph.num_states || states.cols() != ph.num_nodes || inputs.rows() != ph.num_inputs ||
+      inputs.cols() != ph.num_nodes || !(duration > 0.0)) {
     std::ostringstream msg;
-    msg << "DirectCollocation '" << name_ << "'::SetInitialGuess, phase '" << ph.name
-        << "': expected states " << ph.num_states << "x" << ph.num_nodes << ", inputs "
-        << ph.num_inputs << "x" << ph.num_nodes << ", duration > 0; got " << states.rows() << "x"
-        << states.cols() << ", " << inputs.rows() << "x" << inputs.cols() << ", " << duration;
+    msg << "DirectCollocation '" << name_ << "'::SetInitialGuess, phase '" << ph.name << "': expected states "
+        << ph.num_states << "x" << ph.num_nodes << ", inputs " << ph.num_inputs << "x" << ph.num_nodes
+        << ", duration > 0; got " << states.rows() << "x" << states.cols() << ", " << inputs.rows() << "x"
+        << inputs.cols() << ", " << duration;
     throw std::invalid_argument(msg.str());
   }
   guesses_[p] = {states, inputs, duration, true};
@@ -179,9 +169,9 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
   for (size_t p = 0; p + 1 < phases_.size(); ++p) {
     if (!transitions_[p] && phases_[p].num_states != phases_[p + 1].num_states) {
       std::ostringstream msg;
-      msg << "DirectCollocation '" << name_ << "': phases '" << phases_[p].name << "' ("
-          << phases_[p].num_states << " states) and '" << phases_[p + 1].name << "' ("
-          << phases_[p + 1].num_states << " states) need a transition map (SetTransition)";
+      msg << "DirectCollocation '" << name_ << "': phases '" << phases_[p].name << "' (" << phases_[p].num_states
+          << " states) and '" << phases_[p + 1].name << "' (" << phases_[p + 1].num_states
+          << " states) need a transition map (SetTransition)";
       throw std::invalid_argument(msg.str());
     }
   }
@@ -205,8 +195,9 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
   const int num_dynamic = num_constraints;
   num_constraints += static_cast<int>(lo.size());
 
-  std::unique_ptr<NlpProblem> nlp = MakeCollocationNlp(name_, phases_, layout, num_variables, num_constraints, constraints, transitions_,
-                                                       periodic_transition_, terminal_cost_, InitialGuessVector(), exact_hessian_);
+  std::unique_ptr<NlpProblem> nlp =
+      MakeCollocationNlp(name_, phases_, layout, num_variables, num_constraints, constraints, transitions_,
+                         periodic_transition_, terminal_cost_, InitialGuessVector(), exact_hessian_);
   Eigen::VectorXd gl = Eigen::VectorXd::Zero(num_constraints);
   Eigen::VectorXd gu = Eigen::VectorXd::Zero(num_constraints);
   for (size_t i = 0; i < lo.size(); ++i) {
@@ -238,9 +229,8 @@ std::unique_ptr<NlpProblem> DirectCollocation::BuildNlp() const {
       xu(v) = std::min(xu(v), b.upper(i));
       if (xl(v) > xu(v)) {
         std::ostringstream msg;
-        msg << "DirectCollocation '" << name_ << "': state " << i << " at node " << b.node
-            << " of phase '" << phases_[b.phase].name << "' has empty bounds [" << xl(v) << ", "
-            << xu(v) << "]";
+        msg << "DirectCollocation '" << name_ << "': state " << i << " at node " << b.node << " of phase '"
+            << phases_[b.phase].name << "' has empty bounds [" << xl(v) << ", " << xu(v) << "]";
         throw std::invalid_argument(msg.str());
       }
     }
@@ -262,10 +252,8 @@ Eigen::VectorXd DirectCollocation::InitialGuessVector() const {
         z.segment(L.x(k), L.nx) = guess.states.col(k);
         z.segment(L.u(k), L.nu) = guess.inputs.col(k);
       } else {
-        z.segment(L.x(k), L.nx) =
-            Eigen::VectorXd::Zero(L.nx).cwiseMax(ph.state_lower).cwiseMin(ph.state_upper);
-        z.segment(L.u(k), L.nu) =
-            Eigen::VectorXd::Zero(L.nu).cwiseMax(ph.input_lower).cwiseMin(ph.input_upper);
+        z.segment(L.x(k), L.nx) = Eigen::VectorXd::Zero(L.nx).cwiseMax(ph.state_lower).cwiseMin(ph.state_upper);
+        z.segment(L.u(k), L.nu) = Eigen::VectorXd::Zero(L.nu).cwiseMax(ph.input_lower).cwiseMin(ph.input_upper);
       }
     }
     if (L.T_index >= 0) {
@@ -276,8 +264,7 @@ Eigen::VectorXd DirectCollocation::InitialGuessVector() const {
   // Node bounds (boundary conditions) are applied to the default guess as well.
   for (const auto& b : node_bounds_) {
     const PhaseLayout& L = layout[b.phase];
-    z.segment(L.x(b.node), L.nx) =
-        z.segment(L.x(b.node), L.nx).cwiseMax(b.lower).cwiseMin(b.upper);
+    z.segment(L.x(b.node), L.nx) = z.segment(L.x(b.node), L.nx).cwiseMax(b.lower).cwiseMin(b.upper);
   }
   return z;
 }
@@ -287,8 +274,8 @@ CollocationResult DirectCollocation::Unpack(const Eigen::VectorXd& z) const {
   const std::vector<PhaseLayout> layout = MakeLayout(phases_, &num_variables);
   if (z.size() != num_variables) {
     std::ostringstream msg;
-    msg << "DirectCollocation '" << name_ << "'::Unpack: decision vector has size " << z.size()
-        << ", expected " << num_variables;
+    msg << "DirectCollocation '" << name_ << "'::Unpack: decision vector has size " << z.size() << ", expected "
+        << num_variables;
     throw std::invalid_argument(msg.str());
   }
   CollocationResult result;
@@ -310,8 +297,8 @@ CollocationResult DirectCollocation::Unpack(const Eigen::VectorXd& z) const {
     for (int k = 0; k < L.N; ++k) {
       s.states.col(k) = z.segment(L.x(k), L.nx);
       s.inputs.col(k) = z.segment(L.u(k), L.nu);
-      EvalWithJacobian(ph.dynamics, L.nx, s.states.col(k), s.inputs.col(k),
-                       "dynamics of phase '" + ph.name + "'", &value, &J);
+      EvalWithJacobian(ph.dynamics, L.nx, s.states.col(k), s.inputs.col(k), "dynamics of phase '" + ph.name + "'",
+                       &value, &J);
       s.state_derivatives.col(k) = value;
     }
     for (int k = 0; k + 1 < L.N; ++k) {
@@ -352,8 +339,8 @@ PiecewisePolynomial Concatenate(const std::vector<CollocationPhaseSolution>& pha
     const PiecewisePolynomial& piece = states ? s.state_trajectory : s.input_trajectory;
     if (!joined.empty() && piece.rows() != joined.rows()) {
       std::ostringstream msg;
-      msg << "CollocationResult: cannot concatenate " << (states ? "state" : "input")
-          << " trajectories, phase '" << s.name << "' has " << piece.rows() << " rows, earlier "
+      msg << "CollocationResult: cannot concatenate " << (states ? "state" : "input") << " trajectories, phase '"
+          << s.name << "' has " << piece.rows() << " rows, earlier "
           << "phases " << joined.rows();
       throw std::invalid_argument(msg.str());
     }
@@ -364,12 +351,8 @@ PiecewisePolynomial Concatenate(const std::vector<CollocationPhaseSolution>& pha
 
 }  // namespace
 
-PiecewisePolynomial CollocationResult::ConcatenatedStateTrajectory() const {
-  return Concatenate(phases, true);
-}
+PiecewisePolynomial CollocationResult::ConcatenatedStateTrajectory() const { return Concatenate(phases, true); }
 
-PiecewisePolynomial CollocationResult::ConcatenatedInputTrajectory() const {
-  return Concatenate(phases, false);
-}
+PiecewisePolynomial CollocationResult::ConcatenatedInputTrajectory() const { return Concatenate(phases, false); }
 
 }  // namespace rome

@@ -53,8 +53,7 @@ using NodeScalar = AutoDiffMax<kMaxNodeVariables>;
 using NodeVector = Eigen::Matrix<NodeScalar, Eigen::Dynamic, 1>;
 
 // y = F(x, u); F must resize y itself.
-using StateInputFunction =
-    std::function<void(const NodeVector& x, const NodeVector& u, NodeVector& y)>;
+using StateInputFunction = std::function<void(const NodeVector& x, const NodeVector& u, NodeVector& y)>;
 // y = F(x) (reset maps).
 using StateFunction = std::function<void(const NodeVector& x, NodeVector& y)>;
 // Scalar L(x, u) (running and terminal costs).
@@ -63,30 +62,30 @@ using ScalarStateInputFunction = std::function<NodeScalar(const NodeVector& x, c
 enum class CollocationMethod { kTrapezoidal, kHermiteSimpson };
 
 struct CollocationPhase {
-  std::string name;               // used in every message about this phase
-  int num_states = 0;             // n_x ≥ 1
-  int num_inputs = 0;             // n_u ≥ 0
-  int num_nodes = 21;             // N ≥ 2
-  StateInputFunction dynamics;    // ẋ = f(x, u), required
+  std::string name;                                            // used in every message about this phase
+  int num_states = 0;                                          // n_x ≥ 1
+  int num_inputs = 0;                                          // n_u ≥ 0
+  int num_nodes = 21;                                          // N ≥ 2
+  StateInputFunction dynamics;                                 // ẋ = f(x, u), required
   CollocationMethod method = CollocationMethod::kTrapezoidal;  // defect rule (cost: trapezoid quadrature always)
-  double min_duration = 1.0;      // [s], > 0
-  double max_duration = 1.0;      // [s], ≥ min_duration; equal ⇒ fixed duration
-  Eigen::VectorXd state_lower;    // size n_x or empty (unbounded), applied at every node
+  double min_duration = 1.0;                                   // [s], > 0
+  double max_duration = 1.0;                                   // [s], ≥ min_duration; equal ⇒ fixed duration
+  Eigen::VectorXd state_lower;                                 // size n_x or empty (unbounded), applied at every node
   Eigen::VectorXd state_upper;
-  Eigen::VectorXd input_lower;    // size n_u or empty
+  Eigen::VectorXd input_lower;  // size n_u or empty
   Eigen::VectorXd input_upper;
   ScalarStateInputFunction running_cost;  // L(x, u), optional
-  double duration_cost = 0.0;     // w_T [cost unit / s]
+  double duration_cost = 0.0;             // w_T [cost unit / s]
 };
 
 struct CollocationPhaseSolution {
   std::string name;
-  double start_time = 0.0;         // [s]
-  double duration = 0.0;           // [s]
-  Eigen::VectorXd times;           // N node times [s]
-  Eigen::MatrixXd states;          // n_x × N
-  Eigen::MatrixXd inputs;          // n_u × N
-  Eigen::MatrixXd state_derivatives;  // f(x_k, u_k), n_x × N
+  double start_time = 0.0;               // [s]
+  double duration = 0.0;                 // [s]
+  Eigen::VectorXd times;                 // N node times [s]
+  Eigen::MatrixXd states;                // n_x × N
+  Eigen::MatrixXd inputs;                // n_u × N
+  Eigen::MatrixXd state_derivatives;     // f(x_k, u_k), n_x × N
   PiecewisePolynomial state_trajectory;  // cubic Hermite through (x_k, f_k)
   PiecewisePolynomial input_trajectory;  // first-order hold (empty if n_u = 0)
 };
@@ -116,12 +115,10 @@ class DirectCollocation {
   void AddPathConstraint(int p, int size, StateInputFunction g, const Eigen::VectorXd& lower,
                          const Eigen::VectorXd& upper, std::string name = "path");
   // c_lo ≤ c(x_k, u_k) ≤ c_hi at node k of phase p (k = −1: last node).
-  void AddNodeConstraint(int p, int node, int size, StateInputFunction c,
-                         const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
-                         std::string name = "node");
+  void AddNodeConstraint(int p, int node, int size, StateInputFunction c, const Eigen::VectorXd& lower,
+                         const Eigen::VectorXd& upper, std::string name = "node");
   // State bounds at one node (boundary conditions), intersected with the phase bounds.
-  void SetNodeStateBounds(int p, int node, const Eigen::VectorXd& lower,
-                          const Eigen::VectorXd& upper);
+  void SetNodeStateBounds(int p, int node, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper);
   // x_0^{p+1} = Δ(x_{N−1}^p) with Δ: R^{n_x^p} → R^{n_x^{p+1}}. Default: identity (needs equal n_x).
   void SetTransition(int p, StateFunction reset);
   // Closes the phase sequence into a cycle: x_0^0 = Δ(x_{N−1}^{P−1}) with Δ: R^{n_x^{P−1}} → R^{n_x^0}
@@ -132,8 +129,7 @@ class DirectCollocation {
   // Φ(x, u) at the last node of the last phase.
   void SetTerminalCost(ScalarStateInputFunction cost);
   // Initial guess of phase p: states n_x × N, inputs n_u × N, duration [s].
-  void SetInitialGuess(int p, const Eigen::MatrixXd& states, const Eigen::MatrixXd& inputs,
-                       double duration);
+  void SetInitialGuess(int p, const Eigen::MatrixXd& states, const Eigen::MatrixXd& inputs, double duration);
 
   // The NLP for the current definition (rebuilt on every call) and the matching initial guess
   // vector; exposed for derivative checks and custom solvers.
@@ -174,7 +170,7 @@ class DirectCollocation {
   std::vector<NodeConstraint> node_constraints_;
   std::vector<NodeBounds> node_bounds_;
   std::vector<StateFunction> transitions_;  // size P − 1, empty function = identity
-  StateFunction periodic_transition_;        // empty: not periodic
+  StateFunction periodic_transition_;       // empty: not periodic
   bool exact_hessian_ = false;
   ScalarStateInputFunction terminal_cost_;
   std::vector<Guess> guesses_;

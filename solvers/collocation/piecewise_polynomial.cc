@@ -15,14 +15,13 @@ void CheckBreaks(const char* who, const Eigen::VectorXd& breaks, Eigen::Index co
     throw std::invalid_argument(msg.str());
   }
   if (columns != breaks.size()) {
-    msg << "PiecewisePolynomial::" << who << ": " << breaks.size() << " breaks but " << columns
-        << " sample columns";
+    msg << "PiecewisePolynomial::" << who << ": " << breaks.size() << " breaks but " << columns << " sample columns";
     throw std::invalid_argument(msg.str());
   }
   for (Eigen::Index k = 0; k + 1 < breaks.size(); ++k) {
     if (!(breaks(k + 1) > breaks(k))) {
-      msg << "PiecewisePolynomial::" << who << ": breaks must be strictly increasing, breaks["
-          << k << "] = " << breaks(k) << ", breaks[" << k + 1 << "] = " << breaks(k + 1);
+      msg << "PiecewisePolynomial::" << who << ": breaks must be strictly increasing, breaks[" << k
+          << "] = " << breaks(k) << ", breaks[" << k + 1 << "] = " << breaks(k + 1);
       throw std::invalid_argument(msg.str());
     }
   }
@@ -32,20 +31,18 @@ std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data()
 
 }  // namespace
 
-PiecewisePolynomial::PiecewisePolynomial(std::vector<double> breaks,
-                                         std::vector<Eigen::MatrixXd> coefficients)
+PiecewisePolynomial::PiecewisePolynomial(std::vector<double> breaks, std::vector<Eigen::MatrixXd> coefficients)
     : rows_(coefficients.empty() ? 0 : static_cast<int>(coefficients.front().rows())),
       breaks_(std::move(breaks)),
       coefficients_(std::move(coefficients)) {}
 
-PiecewisePolynomial PiecewisePolynomial::CubicHermite(const Eigen::VectorXd& breaks,
-                                                      const Eigen::MatrixXd& values,
+PiecewisePolynomial PiecewisePolynomial::CubicHermite(const Eigen::VectorXd& breaks, const Eigen::MatrixXd& values,
                                                       const Eigen::MatrixXd& derivatives) {
   CheckBreaks("CubicHermite", breaks, values.cols());
   if (derivatives.rows() != values.rows() || derivatives.cols() != values.cols()) {
     std::ostringstream msg;
-    msg << "PiecewisePolynomial::CubicHermite: derivatives are " << derivatives.rows() << "x"
-        << derivatives.cols() << ", values " << values.rows() << "x" << values.cols();
+    msg << "PiecewisePolynomial::CubicHermite: derivatives are " << derivatives.rows() << "x" << derivatives.cols()
+        << ", values " << values.rows() << "x" << values.cols();
     throw std::invalid_argument(msg.str());
   }
   std::vector<Eigen::MatrixXd> coefficients;
@@ -63,8 +60,7 @@ PiecewisePolynomial PiecewisePolynomial::CubicHermite(const Eigen::VectorXd& bre
   return PiecewisePolynomial(ToStd(breaks), std::move(coefficients));
 }
 
-PiecewisePolynomial PiecewisePolynomial::FirstOrderHold(const Eigen::VectorXd& breaks,
-                                                        const Eigen::MatrixXd& values) {
+PiecewisePolynomial PiecewisePolynomial::FirstOrderHold(const Eigen::VectorXd& breaks, const Eigen::MatrixXd& values) {
   CheckBreaks("FirstOrderHold", breaks, values.cols());
   std::vector<Eigen::MatrixXd> coefficients;
   for (Eigen::Index k = 0; k + 1 < breaks.size(); ++k) {
@@ -76,8 +72,7 @@ PiecewisePolynomial PiecewisePolynomial::FirstOrderHold(const Eigen::VectorXd& b
   return PiecewisePolynomial(ToStd(breaks), std::move(coefficients));
 }
 
-PiecewisePolynomial PiecewisePolynomial::ZeroOrderHold(const Eigen::VectorXd& breaks,
-                                                       const Eigen::MatrixXd& values) {
+PiecewisePolynomial PiecewisePolynomial::ZeroOrderHold(const Eigen::VectorXd& breaks, const Eigen::MatrixXd& values) {
   CheckBreaks("ZeroOrderHold", breaks, values.cols());
   std::vector<Eigen::MatrixXd> coefficients;
   for (Eigen::Index k = 0; k + 1 < breaks.size(); ++k) coefficients.push_back(values.col(k));
@@ -101,17 +96,14 @@ int PiecewisePolynomial::SegmentIndex(double t) const {
   return std::clamp(index, 0, num_segments() - 1);
 }
 
-void PiecewisePolynomial::ValueInto(double t, Eigen::Ref<Eigen::VectorXd> out) const {
-  DerivativeInto(t, 0, out);
-}
+void PiecewisePolynomial::ValueInto(double t, Eigen::Ref<Eigen::VectorXd> out) const { DerivativeInto(t, 0, out); }
 
-void PiecewisePolynomial::DerivativeInto(double t, int order,
-                                         Eigen::Ref<Eigen::VectorXd> out) const {
+void PiecewisePolynomial::DerivativeInto(double t, int order, Eigen::Ref<Eigen::VectorXd> out) const {
   if (empty()) throw std::logic_error("PiecewisePolynomial: evaluating an empty polynomial");
   if (order < 0 || out.size() != rows_) {
     std::ostringstream msg;
-    msg << "PiecewisePolynomial::DerivativeInto: order " << order << " (must be ≥ 0), output size "
-        << out.size() << " (must be " << rows_ << ")";
+    msg << "PiecewisePolynomial::DerivativeInto: order " << order << " (must be ≥ 0), output size " << out.size()
+        << " (must be " << rows_ << ")";
     throw std::invalid_argument(msg.str());
   }
   t = std::clamp(t, breaks_.front(), breaks_.back());
@@ -158,8 +150,7 @@ void PiecewisePolynomial::Append(const PiecewisePolynomial& next, double time_of
     throw std::invalid_argument(msg.str());
   }
   if (std::abs(next_start - end_time()) > 1e-9 * scale) {
-    msg << "PiecewisePolynomial::Append: next starts at " << next_start << " but this ends at "
-        << end_time();
+    msg << "PiecewisePolynomial::Append: next starts at " << next_start << " but this ends at " << end_time();
     throw std::invalid_argument(msg.str());
   }
   for (size_t k = 1; k < next.breaks_.size(); ++k) breaks_.push_back(next.breaks_[k] + time_offset);

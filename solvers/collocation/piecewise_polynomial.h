@@ -20,15 +20,12 @@ class PiecewisePolynomial {
 
   // Cubic Hermite interpolant: values and derivatives are rows × num_breaks.
   // Throws std::invalid_argument on size mismatch or non-increasing breaks.
-  static PiecewisePolynomial CubicHermite(const Eigen::VectorXd& breaks,
-                                          const Eigen::MatrixXd& values,
+  static PiecewisePolynomial CubicHermite(const Eigen::VectorXd& breaks, const Eigen::MatrixXd& values,
                                           const Eigen::MatrixXd& derivatives);
   // Linear interpolation (first-order hold) between the columns of `values`.
-  static PiecewisePolynomial FirstOrderHold(const Eigen::VectorXd& breaks,
-                                            const Eigen::MatrixXd& values);
+  static PiecewisePolynomial FirstOrderHold(const Eigen::VectorXd& breaks, const Eigen::MatrixXd& values);
   // Piecewise constant: segment k holds values(:, k) (last column used only at end_time).
-  static PiecewisePolynomial ZeroOrderHold(const Eigen::VectorXd& breaks,
-                                           const Eigen::MatrixXd& values);
+  static PiecewisePolynomial ZeroOrderHold(const Eigen::VectorXd& breaks, const Eigen::MatrixXd& values);
 
   bool empty() const { return coefficients_.empty(); }
   int rows() const { return rows_; }

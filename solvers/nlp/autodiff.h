@@ -39,10 +39,9 @@ constexpr int MaxDerivativesOf() {
 template <class AD = AutoDiffXd>
 Eigen::Matrix<AD, Eigen::Dynamic, 1> InitializeAutoDiff(const Eigen::Ref<const Eigen::VectorXd>& value,
                                                         int num_derivatives, int offset) {
-  if (num_derivatives != 0 &&
-      (offset < 0 || offset + value.size() > num_derivatives)) {
-    throw std::invalid_argument("InitializeAutoDiff: " + std::to_string(value.size()) +
-                                " seeds at offset " + std::to_string(offset) +
+  if (num_derivatives != 0 && (offset < 0 || offset + value.size() > num_derivatives)) {
+    throw std::invalid_argument("InitializeAutoDiff: " + std::to_string(value.size()) + " seeds at offset " +
+                                std::to_string(offset) +
                                 " exceed num_derivatives = " + std::to_string(num_derivatives));
   }
   constexpr int kMax = MaxDerivativesOf<AD>();

@@ -5,8 +5,8 @@
 
 namespace rome {
 
-AutoDiffNlpProblem::AutoDiffNlpProblem(std::string name, int num_variables, int num_constraints,
-                                       CostFunction cost, ConstraintFunction constraints)
+AutoDiffNlpProblem::AutoDiffNlpProblem(std::string name, int num_variables, int num_constraints, CostFunction cost,
+                                       ConstraintFunction constraints)
     : NlpProblem(std::move(name), num_variables, num_constraints),
       cost_(std::move(cost)),
       constraints_(std::move(constraints)) {
@@ -26,8 +26,8 @@ VectorXad AutoDiffNlpProblem::CheckedConstraints(const VectorXad& x) const {
   VectorXad g = constraints_(x);
   if (g.size() != num_constraints()) {
     std::ostringstream msg;
-    msg << "NLP '" << name() << "': constraint function returned size " << g.size()
-        << ", expected " << num_constraints();
+    msg << "NLP '" << name() << "': constraint function returned size " << g.size() << ", expected "
+        << num_constraints();
     throw std::runtime_error(msg.str());
   }
   return g;
@@ -38,8 +38,8 @@ void AutoDiffNlpProblem::Evaluate(const Eigen::Ref<const Eigen::VectorXd>& x) {
   const VectorXad xa = InitializeAutoDiff(x);
   const AutoDiffXd f = cost_(xa);
   cost_value_ = f.value();
-  cost_gradient_ = f.derivatives().size() == x.size() ? Eigen::VectorXd(f.derivatives())
-                                                      : Eigen::VectorXd::Zero(x.size());
+  cost_gradient_ =
+      f.derivatives().size() == x.size() ? Eigen::VectorXd(f.derivatives()) : Eigen::VectorXd::Zero(x.size());
   const VectorXad g = CheckedConstraints(xa);
   g_value_ = ExtractValue(g);
   g_jacobian_ = ExtractJacobian(g, static_cast<int>(x.size()));
@@ -57,8 +57,7 @@ void AutoDiffNlpProblem::EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd
   gradient = cost_gradient_;
 }
 
-void AutoDiffNlpProblem::EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                         Eigen::Ref<Eigen::VectorXd> g) {
+void AutoDiffNlpProblem::EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) {
   Evaluate(x);
   g = g_value_;
 }

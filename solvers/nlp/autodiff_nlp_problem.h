@@ -23,12 +23,9 @@ class AutoDiffNlpProblem final : public NlpProblem {
                      ConstraintFunction constraints);
 
   double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& x) override;
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
-                        Eigen::Ref<Eigen::VectorXd> gradient) override;
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x,
-                       Eigen::Ref<Eigen::VectorXd> g) override;
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x,
-                              Eigen::Ref<Eigen::VectorXd> values) override;
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> gradient) override;
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override;
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> values) override;
 
  private:
   void Evaluate(const Eigen::Ref<const Eigen::VectorXd>& x);

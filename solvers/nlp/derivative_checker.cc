@@ -25,15 +25,13 @@ Eigen::VectorXd LagrangianGradient(NlpProblem& problem, const Eigen::VectorXd& x
 
 }  // namespace
 
-DerivativeCheckResult CheckDerivatives(NlpProblem& problem, const Eigen::VectorXd& x,
-                                       const Eigen::VectorXd& lambda_in,
+DerivativeCheckResult CheckDerivatives(NlpProblem& problem, const Eigen::VectorXd& x, const Eigen::VectorXd& lambda_in,
                                        const DerivativeCheckOptions& options) {
   const int n = problem.num_variables();
   const int m = problem.num_constraints();
   if (x.size() != n) {
     std::ostringstream msg;
-    msg << "CheckDerivatives: NLP '" << problem.name() << "' has " << n
-        << " variables, x has size " << x.size();
+    msg << "CheckDerivatives: NLP '" << problem.name() << "' has " << n << " variables, x has size " << x.size();
     throw std::invalid_argument(msg.str());
   }
   problem.Validate();
@@ -55,16 +53,15 @@ DerivativeCheckResult CheckDerivatives(NlpProblem& problem, const Eigen::VectorX
     xp(j) += h;
     xm(j) -= h;
     const double fd_grad = (problem.EvalCost(xp) - problem.EvalCost(xm)) / (2.0 * h);
-    result.max_gradient_error = std::max(
-        result.max_gradient_error, std::abs(grad(j) - fd_grad) / std::max(1.0, std::abs(fd_grad)));
+    result.max_gradient_error =
+        std::max(result.max_gradient_error, std::abs(grad(j) - fd_grad) / std::max(1.0, std::abs(fd_grad)));
     problem.EvalConstraints(xp, g_plus);
     problem.EvalConstraints(xm, g_minus);
     for (int i = 0; i < m; ++i) {
       const double fd = (g_plus(i) - g_minus(i)) / (2.0 * h);
       const double err = std::abs(J(i, j) - fd) / std::max(1.0, std::abs(fd));
       if (!in_pattern(i, j)) {
-        result.max_missing_jacobian_entry = std::max(result.max_missing_jacobian_entry,
-                                                     std::abs(fd));
+        result.max_missing_jacobian_entry = std::max(result.max_missing_jacobian_entry, std::abs(fd));
       }
       if (err > result.max_jacobian_error) {
         result.max_jacobian_error = err;
@@ -87,9 +84,8 @@ DerivativeCheckResult CheckDerivatives(NlpProblem& problem, const Eigen::VectorX
     const Eigen::MatrixXd H_fd_sym = 0.5 * (H_fd + H_fd.transpose());
     for (int j = 0; j < n; ++j) {
       for (int i = j; i < n; ++i) {
-        result.max_hessian_error =
-            std::max(result.max_hessian_error,
-                     std::abs(H(i, j) - H_fd_sym(i, j)) / std::max(1.0, std::abs(H_fd_sym(i, j))));
+        result.max_hessian_error = std::max(
+            result.max_hessian_error, std::abs(H(i, j) - H_fd_sym(i, j)) / std::max(1.0, std::abs(H_fd_sym(i, j))));
       }
     }
   }

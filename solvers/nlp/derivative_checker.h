@@ -13,16 +13,16 @@
 namespace rome {
 
 struct DerivativeCheckOptions {
-  double step = 1e-6;         // h, relative finite-difference step [-]
-  double cost_factor = 1.0;   // σ used for the Hessian check [-]
+  double step = 1e-6;        // h, relative finite-difference step [-]
+  double cost_factor = 1.0;  // σ used for the Hessian check [-]
 };
 
 struct DerivativeCheckResult {
   double max_gradient_error = 0.0;
-  double max_jacobian_error = 0.0;   // includes entries missing from the pattern
+  double max_jacobian_error = 0.0;  // includes entries missing from the pattern
   int worst_jacobian_row = -1;
   int worst_jacobian_col = -1;
-  double max_hessian_error = 0.0;    // 0 when the problem has no exact Hessian
+  double max_hessian_error = 0.0;           // 0 when the problem has no exact Hessian
   double max_missing_jacobian_entry = 0.0;  // largest |fd| at a position outside the pattern
 };
 

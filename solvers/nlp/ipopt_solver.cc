@@ -42,15 +42,13 @@ using Ipopt::Number;
 // the solve (Ipopt is C++ but must not unwind through MUMPS/Fortran frames).
 class TnlpAdapter final : public Ipopt::TNLP {
  public:
-  TnlpAdapter(NlpProblem& problem, const Eigen::VectorXd& x0, const NlpMultipliers* warm,
-              NlpResult* result)
+  TnlpAdapter(NlpProblem& problem, const Eigen::VectorXd& x0, const NlpMultipliers* warm, NlpResult* result)
       : problem_(problem), x0_(x0), warm_(warm), result_(result) {}
 
   std::exception_ptr exception() const { return exception_; }
   int iterations() const { return iterations_; }
 
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag,
-                    IndexStyleEnum& index_style) override {
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag, IndexStyleEnum& index_style) override {
     n = problem_.num_variables();
     m = problem_.num_constraints();
     nnz_jac_g = problem_.constraint_jacobian_sparsity().nnz();
@@ -59,8 +57,7 @@ class TnlpAdapter final : public Ipopt::TNLP {
     return true;
   }
 
-  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l,
-                       Number* g_u) override {
+  bool get_bounds_info(Index n, Number* x_l, Number* x_u, Index m, Number* g_l, Number* g_u) override {
     // Ipopt treats |bound| ≥ 1e19 as infinite.
     auto clip = [](double v) { return std::isinf(v) ? (v > 0 ? 2e19 : -2e19) : v; };
     for (Index i = 0; i < n; ++i) {
@@ -74,8 +71,8 @@ class TnlpAdapter final : public Ipopt::TNLP {
     return true;
   }
 
-  bool get_starting_point(Index n, bool init_x, Number* x, bool init_z, Number* z_L, Number* z_U,
-                          Index m, bool init_lambda, Number* lambda) override {
+  bool get_starting_point(Index n, bool init_x, Number* x, bool init_z, Number* z_L, Number* z_U, Index m,
+                          bool init_lambda, Number* lambda) override {
     if (init_x) Eigen::Map<Eigen::VectorXd>(x, n) = x0_;
     if (init_z) {
       if (warm_ == nullptr) return false;
@@ -123,8 +120,8 @@ class TnlpAdapter final : public Ipopt::TNLP {
     });
   }
 
-  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index m, const Number* lambda,
-              bool, Index nele_hess, Index* iRow, Index* jCol, Number* values) override {
+  bool eval_h(Index n, const Number* x, bool, Number obj_factor, Index m, const Number* lambda, bool, Index nele_hess,
+              Index* iRow, Index* jCol, Number* values) override {
     if (!problem_.has_lagrangian_hessian()) return false;
     if (values == nullptr) {
       const auto& H = problem_.lagrangian_hessian_sparsity();
@@ -142,16 +139,14 @@ class TnlpAdapter final : public Ipopt::TNLP {
     });
   }
 
-  bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number, Number, Number, Number,
-                             Number, Number, Number, Number, Index, const Ipopt::IpoptData*,
-                             Ipopt::IpoptCalculatedQuantities*) override {
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index iter, Number, Number, Number, Number, Number, Number, Number,
+                             Number, Index, const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
     iterations_ = iter;
     return exception_ == nullptr;
   }
 
-  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number* z_L,
-                         const Number* z_U, Index m, const Number* g, const Number* lambda,
-                         Number obj_value, const Ipopt::IpoptData*,
+  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number* z_L, const Number* z_U, Index m,
+                         const Number* g, const Number* lambda, Number obj_value, const Ipopt::IpoptData*,
                          Ipopt::IpoptCalculatedQuantities*) override {
     result_->x = Eigen::Map<const Eigen::VectorXd>(x, n);
     result_->multipliers.lower_bounds = Eigen::Map<const Eigen::VectorXd>(z_L, n);
@@ -210,8 +205,7 @@ std::string Describe(NlpStatus status, Ipopt::ApplicationReturnStatus raw) {
     case NlpStatus::kMaxIterations: return "stopped at the iteration limit";
     case NlpStatus::kMaxCpuTime: return "stopped at the CPU time limit";
     case NlpStatus::kDivergingIterates: return "iterates diverge (problem unbounded?)";
-    case NlpStatus::kRestorationFailed:
-      return "restoration phase failed (possibly infeasible or badly scaled)";
+    case NlpStatus::kRestorationFailed: return "restoration phase failed (possibly infeasible or badly scaled)";
     case NlpStatus::kSearchDirectionTooSmall: return "search direction became too small";
     case NlpStatus::kInvalidProblem: break;
     case NlpStatus::kError: break;
@@ -225,23 +219,20 @@ std::string Describe(NlpStatus status, Ipopt::ApplicationReturnStatus raw) {
 
 IpoptSolver::IpoptSolver(IpoptSolverOptions options) : options_(std::move(options)) {}
 
-NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
-                             const NlpMultipliers* warm_start) const {
+NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0, const NlpMultipliers* warm_start) const {
   const auto start = std::chrono::steady_clock::now();
   const int n = problem.num_variables();
   const int m = problem.num_constraints();
   std::ostringstream err;
   if (x0.size() != n) {
-    err << "NLP '" << problem.name() << "': initial guess has size " << x0.size() << ", expected "
-        << n;
+    err << "NLP '" << problem.name() << "': initial guess has size " << x0.size() << ", expected " << n;
     throw std::invalid_argument(err.str());
   }
-  if (warm_start != nullptr &&
-      (warm_start->constraints.size() != m || warm_start->lower_bounds.size() != n ||
-       warm_start->upper_bounds.size() != n)) {
-    err << "NLP '" << problem.name() << "': warm-start multipliers have sizes "
-        << warm_start->constraints.size() << "/" << warm_start->lower_bounds.size() << "/"
-        << warm_start->upper_bounds.size() << ", expected " << m << "/" << n << "/" << n;
+  if (warm_start != nullptr && (warm_start->constraints.size() != m || warm_start->lower_bounds.size() != n ||
+                                warm_start->upper_bounds.size() != n)) {
+    err << "NLP '" << problem.name() << "': warm-start multipliers have sizes " << warm_start->constraints.size() << "/"
+        << warm_start->lower_bounds.size() << "/" << warm_start->upper_bounds.size() << ", expected " << m << "/" << n
+        << "/" << n;
     throw std::invalid_argument(err.str());
   }
   problem.Validate();
@@ -255,8 +246,8 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
     auto opts = app->Options();
     // Ipopt's setters return false for a value it rejects (e.g. mu_strategy "fast", tol ≤ 0): say which.
     auto reject = [&](const char* option, const std::string& value) {
-      throw std::invalid_argument("NLP '" + problem.name() + "': IpoptSolverOptions: Ipopt rejects " + option +
-                                  " = " + value);
+      throw std::invalid_argument("NLP '" + problem.name() + "': IpoptSolverOptions: Ipopt rejects " + option + " = " +
+                                  value);
     };
     auto set_str = [&](const char* option, const std::string& value) {
       if (!opts->SetStringValue(option, value)) reject(option, "'" + value + "'");
@@ -304,8 +295,8 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
   if (result.iterations == 0) result.iterations = adapter->iterations();
   result.status = Translate(raw);
   std::ostringstream msg;
-  msg << "NLP '" << problem.name() << "': " << Describe(result.status, raw) << " after "
-      << result.iterations << " iterations";
+  msg << "NLP '" << problem.name() << "': " << Describe(result.status, raw) << " after " << result.iterations
+      << " iterations";
   if (result.x.size() == n) {
     // Report the worst constraint/bound violation; useful for infeasible outcomes.
     double violation = 0.0;
@@ -318,8 +309,7 @@ NlpResult IpoptSolver::Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
     result.x = x0;
   }
   result.message = msg.str();
-  result.wall_time =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -33,17 +33,17 @@ struct IpoptSolverOptions {
   // Ipopt `bound_relax_factor` [-] (Ipopt's default): bounds are relaxed by this relative amount while solving and
   // x is moved back inside them at the end, so g(x) can differ from the last iterate's; 0 solves on exact bounds.
   double bound_relax_factor = 1e-8;
-  std::string mu_strategy = "monotone";          // Ipopt `mu_strategy`: "monotone" or "adaptive"
-  double mu_init = 0.1;                          // Ipopt `mu_init`, initial barrier parameter of a cold start [-]
+  std::string mu_strategy = "monotone";  // Ipopt `mu_strategy`: "monotone" or "adaptive"
+  double mu_init = 0.1;                  // Ipopt `mu_init`, initial barrier parameter of a cold start [-]
   // Ipopt `bound_mult_init_method`: "constant" (every bound multiplier starts at 1) or "mu-based" (mu_init / slack).
   std::string bound_mult_init_method = "constant";
   // Ipopt `mumps_pivot_order`: MUMPS's fill-reducing ordering (ICNTL(7)): 0 AMD, 2 AMF, 4 PORD, 6 QAMD (AMD that
   // detects quasi-dense rows, e.g. a free duration coupling every node), 7 MUMPS's automatic choice (Ipopt's default).
   int mumps_pivot_order = 7;
   // Warm start: when Solve() receives multipliers, use them (Ipopt `warm_start_init_point`).
-  double warm_start_bound_push = 1e-9;           // Ipopt `warm_start_bound_push` [-]
-  double warm_start_mult_bound_push = 1e-9;      // Ipopt `warm_start_mult_bound_push` [-]
-  double warm_start_mu_init = 1e-6;              // Ipopt `mu_init` used for warm starts [-]
+  double warm_start_bound_push = 1e-9;       // Ipopt `warm_start_bound_push` [-]
+  double warm_start_mult_bound_push = 1e-9;  // Ipopt `warm_start_mult_bound_push` [-]
+  double warm_start_mu_init = 1e-6;          // Ipopt `mu_init` used for warm starts [-]
 };
 
 enum class NlpStatus {
@@ -55,8 +55,8 @@ enum class NlpStatus {
   kDivergingIterates,
   kRestorationFailed,
   kSearchDirectionTooSmall,
-  kInvalidProblem,           // bad problem definition, too few degrees of freedom, NaN, …
-  kError,                    // any other Ipopt failure
+  kInvalidProblem,  // bad problem definition, too few degrees of freedom, NaN, …
+  kError,           // any other Ipopt failure
 };
 
 const char* ToString(NlpStatus status);
@@ -70,16 +70,14 @@ struct NlpMultipliers {
 
 struct NlpResult {
   NlpStatus status = NlpStatus::kError;
-  std::string message;   // names the problem and the outcome, e.g. "NLP 'hs071': solved (…)"
+  std::string message;  // names the problem and the outcome, e.g. "NLP 'hs071': solved (…)"
   int iterations = 0;
   double wall_time = 0.0;  // [s], whole Solve() including the wait for the Ipopt mutex
   double cost = 0.0;
   Eigen::VectorXd x;
   Eigen::VectorXd constraints;  // g(x)
   NlpMultipliers multipliers;
-  bool success() const {
-    return status == NlpStatus::kSolved || status == NlpStatus::kSolvedToAcceptableLevel;
-  }
+  bool success() const { return status == NlpStatus::kSolved || status == NlpStatus::kSolvedToAcceptableLevel; }
 };
 
 class IpoptSolver {
@@ -91,8 +89,7 @@ class IpoptSolver {
   // Solves from the initial guess x0 (size num_variables). With `warm_start` the multipliers
   // are used as the initial dual point (e.g. NlpResult::multipliers of a previous solve).
   // Throws std::invalid_argument on size mismatches or an invalid problem definition.
-  NlpResult Solve(NlpProblem& problem, const Eigen::VectorXd& x0,
-                  const NlpMultipliers* warm_start = nullptr) const;
+  NlpResult Solve(NlpProblem& problem, const Eigen::VectorXd& x0, const NlpMultipliers* warm_start = nullptr) const;
 
  private:
   IpoptSolverOptions options_;

@@ -57,11 +57,9 @@ class NlpProblem {
   // f(x).
   virtual double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& x) = 0;
   // ∇f(x), size num_variables.
-  virtual void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
-                                Eigen::Ref<Eigen::VectorXd> gradient) = 0;
+  virtual void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> gradient) = 0;
   // g(x), size num_constraints.
-  virtual void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x,
-                               Eigen::Ref<Eigen::VectorXd> g) = 0;
+  virtual void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) = 0;
   // Values of ∂g/∂x in the order of constraint_jacobian_sparsity().
   virtual void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x,
                                       Eigen::Ref<Eigen::VectorXd> values) = 0;

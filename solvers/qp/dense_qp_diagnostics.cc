@@ -48,10 +48,9 @@ ROME_QP_HOT bool DenseQpSolver::ValidateInput(bool matrices) {
   };
   if (size_error("H", H.rows(), H.cols(), n_, n_) || size_error("g", g.rows(), g.cols(), n_, 1) ||
       size_error("A_eq", A_eq.rows(), A_eq.cols(), n_eq_, n_) ||
-      size_error("b_eq", b_eq.rows(), b_eq.cols(), n_eq_, 1) ||
-      size_error("A", A.rows(), A.cols(), n_ineq_, n_) || size_error("l", l.rows(), l.cols(), n_ineq_, 1) ||
-      size_error("u", u.rows(), u.cols(), n_ineq_, 1) || size_error("lb", lb.rows(), lb.cols(), n_, 1) ||
-      size_error("ub", ub.rows(), ub.cols(), n_, 1)) {
+      size_error("b_eq", b_eq.rows(), b_eq.cols(), n_eq_, 1) || size_error("A", A.rows(), A.cols(), n_ineq_, n_) ||
+      size_error("l", l.rows(), l.cols(), n_ineq_, 1) || size_error("u", u.rows(), u.cols(), n_ineq_, 1) ||
+      size_error("lb", lb.rows(), lb.cols(), n_, 1) || size_error("ub", ub.rows(), ub.cols(), n_, 1)) {
     return false;
   }
   // (m * 0).sum() is 0 exactly when every entry is finite (inf * 0 and NaN give NaN); vectorized by Eigen.
@@ -161,8 +160,9 @@ std::string DenseQpSolver::status_message() const {
   char buf[256];
   switch (status_) {
     case QpStatus::kOptimal:
-      std::snprintf(buf, sizeof(buf), "DenseQpSolver: optimal after %d iterations, objective %.17g, %d active constraints",
-                    iterations_, objective_, q_);
+      std::snprintf(buf, sizeof(buf),
+                    "DenseQpSolver: optimal after %d iterations, objective %.17g, %d active constraints", iterations_,
+                    objective_, q_);
       return buf;
     case QpStatus::kNonConvex:
       std::snprintf(buf, sizeof(buf),
@@ -229,11 +229,11 @@ std::string DenseQpSolver::status_message() const {
                         bad_row_, bad_value_);
           return buf;
         case InputError::kNotSymmetric:
-          std::snprintf(buf, sizeof(buf), "DenseQpSolver: invalid input: H is not symmetric: H(%d, %d) = %.17g but H(%d, %d) = %.17g",
+          std::snprintf(buf, sizeof(buf),
+                        "DenseQpSolver: invalid input: H is not symmetric: H(%d, %d) = %.17g but H(%d, %d) = %.17g",
                         bad_row_, bad_col_, bad_value_, bad_col_, bad_row_, bad_value2_);
           return buf;
-        default:
-          return "DenseQpSolver: Solve() has not been called";
+        default: return "DenseQpSolver: Solve() has not been called";
       }
   }
   return "DenseQpSolver: unknown status";

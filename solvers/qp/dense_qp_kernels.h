@@ -40,8 +40,8 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // y = M v for a column-major block (leading dimension ld): axpys over four columns at a time (one pass over y
 // per four columns), vectorized by the compiler.
-[[gnu::always_inline]] inline void Gemv(const double* __restrict m, Eigen::Index ld, int rows, int cols, const double* __restrict v,
-                 double* __restrict y) {
+[[gnu::always_inline]] inline void Gemv(const double* __restrict m, Eigen::Index ld, int rows, int cols,
+                                        const double* __restrict v, double* __restrict y) {
   int c = 0;
   if (cols >= 4) {
     const double* __restrict m0 = m;
@@ -80,8 +80,7 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
       for (int i = 0; i < rows; ++i) y[i] += v0 * m0[i];
       break;
     }
-    default:
-      break;
+    default: break;
   }
 }
 
@@ -94,8 +93,8 @@ typedef double Double2 __attribute__((vector_size(16)));
 }
 
 // y_c = M(:, c) . x for a column-major block: two columns per pass, two-lane vector accumulators.
-[[gnu::always_inline]] inline void GemvTransposed(const double* m, Eigen::Index ld, int rows, int cols,
-                                                  const double* x, double* y) {
+[[gnu::always_inline]] inline void GemvTransposed(const double* m, Eigen::Index ld, int rows, int cols, const double* x,
+                                                  double* y) {
   const int rows2 = rows & ~1;
   int c = 0;
   for (; c + 2 <= cols; c += 2) {

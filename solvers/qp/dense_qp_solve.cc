@@ -299,8 +299,7 @@ bool DenseQpSolver::MatricesMatchHotCache() const {
   // were validated).
   auto same = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
-    return a.size() == 0 ||
-           std::memcmp(a.data(), b.data(), static_cast<size_t>(a.size()) * sizeof(double)) == 0;
+    return a.size() == 0 || std::memcmp(a.data(), b.data(), static_cast<size_t>(a.size()) * sizeof(double)) == 0;
   };
   return same(H, H_cached_) && same(A_eq, A_eq_hot_) && same(A, A_hot_);
 }

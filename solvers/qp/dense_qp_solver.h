@@ -11,10 +11,10 @@
 // Method: Goldfarb-Idnani dual active-set method (Goldfarb & Idnani, Math. Programming 27, 1983).
 //   H = L L^T (Cholesky). The active constraint normals N (n x q) are kept through the factorization
 //   L^{-1} N = Q [R; 0], stored as J = L^{-T} Q (n x n) and the upper triangular R (q x q); a constraint is
-//   added with one Householder reflection and removed with Givens rotations (O(n^2) each). The method starts from a dual feasible point
-//   (the unconstrained minimum, or the previous active set when warm-starting), adds the most violated
-//   constraint at each iteration and keeps all multipliers dual feasible, so the first primal feasible
-//   iterate is optimal. The active set of the last optimal solve is reused by the next Solve() (warm start).
+//   added with one Householder reflection and removed with Givens rotations (O(n^2) each). The method starts from a
+//   dual feasible point (the unconstrained minimum, or the previous active set when warm-starting), adds the most
+//   violated constraint at each iteration and keeps all multipliers dual feasible, so the first primal feasible iterate
+//   is optimal. The active set of the last optimal solve is reused by the next Solve() (warm start).
 //
 // Warm start (1 kHz control loops, where the active set rarely changes between ticks):
 //   1. Range-space check: the equality-constrained QP on the previous active set W is solved directly,
@@ -152,12 +152,12 @@ class DenseQpSolver {
   void Resize(int n, int n_eq, int n_ineq);
 
   // Problem data: public and preallocated; overwrite in place each control tick (do not resize them).
-  Eigen::MatrixXd H;     // n x n, symmetric, positive (semi)definite
-  Eigen::VectorXd g;     // n
-  Eigen::MatrixXd A_eq;  // n_eq x n
-  Eigen::VectorXd b_eq;  // n_eq
-  Eigen::MatrixXd A;     // n_ineq x n
-  Eigen::VectorXd l, u;  // n_ineq each, l <= A x <= u
+  Eigen::MatrixXd H;       // n x n, symmetric, positive (semi)definite
+  Eigen::VectorXd g;       // n
+  Eigen::MatrixXd A_eq;    // n_eq x n
+  Eigen::VectorXd b_eq;    // n_eq
+  Eigen::MatrixXd A;       // n_ineq x n
+  Eigen::VectorXd l, u;    // n_ineq each, l <= A x <= u
   Eigen::VectorXd lb, ub;  // n each, lb <= x <= ub
 
   // Solves the problem currently stored in the data members. Never allocates, never throws.
@@ -219,7 +219,7 @@ class DenseQpSolver {
   void ComputeJ0();              // J0_ = L^{-T}
   QpStatus SolveFromFactor(const Eigen::VectorXd& g_eff, bool use_warm_start);
   bool TryWarmActiveSet();  // optimal solution on the previous active set, if it is still optimal
-  void ComputeD(int id);   // d_ = J^T n_id
+  void ComputeD(int id);    // d_ = J^T n_id
   bool DIsDependent() const;
   void AddConstraint(int id, double multiplier);
   void DropConstraint(int position);
@@ -245,8 +245,9 @@ class DenseQpSolver {
   bool eq_cache_valid_ = false, use_eq_cache_ = false, store_eq_cache_ = false;
   bool j0_valid_ = false;
   bool factor_regularized_ = false;
-  Eigen::VectorXd inv_diag_, t_col_, g_eff_refine_, b_refine_, d_, row_, z_, r_, v_, w_, Ax_, inv_row_norm_, g_eff_, x_prev_, dx_prev_, u_active_;
-  std::vector<int> active_;            // constraint id at each active position
+  Eigen::VectorXd inv_diag_, t_col_, g_eff_refine_, b_refine_, d_, row_, z_, r_, v_, w_, Ax_, inv_row_norm_, g_eff_,
+      x_prev_, dx_prev_, u_active_;
+  std::vector<int> active_;               // constraint id at each active position
   std::vector<unsigned char> is_active_;  // per constraint id
   std::vector<int> dependent_eq_;
   int q_ = 0, q_eq_ = 0;
@@ -257,7 +258,7 @@ class DenseQpSolver {
   // optimal solve, for the matrices H_cached_, A_eq_hot_, A_hot_.
   Eigen::MatrixXd A_eq_hot_, A_hot_;
   bool hot_valid_ = false, hot_started_ = false;
-  int hot_updates_ = 0;  // rank-one updates of the kept factorization since it was built
+  int hot_updates_ = 0;    // rank-one updates of the kept factorization since it was built
   int num_dependent_ = 0;  // dependent equalities skipped by the last SolveFromFactor()
 
   // Results.
@@ -285,9 +286,8 @@ struct QpKktResiduals {
 };
 
 // Residuals of (x, y_eq, y_ineq, y_bounds) for the problem stored in `qp` (sign convention of DenseQpSolver).
-QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp, const Eigen::VectorXd& x,
-                                     const Eigen::VectorXd& y_eq, const Eigen::VectorXd& y_ineq,
-                                     const Eigen::VectorXd& y_bounds);
+QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp, const Eigen::VectorXd& x, const Eigen::VectorXd& y_eq,
+                                     const Eigen::VectorXd& y_ineq, const Eigen::VectorXd& y_bounds);
 // Residuals of the solver's own solution.
 QpKktResiduals ComputeQpKktResiduals(const DenseQpSolver& qp);
 

@@ -14,9 +14,7 @@ namespace {
 
 constexpr const char* kWho = "SolveContinuousAlgebraicRiccatiEquation";
 
-[[noreturn]] void Fail(const std::string& what) {
-  throw std::invalid_argument(std::string(kWho) + ": " + what);
-}
+[[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument(std::string(kWho) + ": " + what); }
 
 void CheckSymmetric(const Eigen::Ref<const Eigen::MatrixXd>& M, const char* name, double tol) {
   const double asym = (M - M.transpose()).norm();
@@ -27,10 +25,8 @@ void CheckSymmetric(const Eigen::Ref<const Eigen::MatrixXd>& M, const char* name
   }
 }
 
-void CheckInputs(const Eigen::Ref<const Eigen::MatrixXd>& A,
-                 const Eigen::Ref<const Eigen::MatrixXd>& B,
-                 const Eigen::Ref<const Eigen::MatrixXd>& Q,
-                 const Eigen::Ref<const Eigen::MatrixXd>& R,
+void CheckInputs(const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
+                 const Eigen::Ref<const Eigen::MatrixXd>& Q, const Eigen::Ref<const Eigen::MatrixXd>& R,
                  const ContinuousAlgebraicRiccatiOptions& options) {
   const Eigen::Index n = A.rows();
   const Eigen::Index m = B.cols();
@@ -51,21 +47,17 @@ void CheckInputs(const Eigen::Ref<const Eigen::MatrixXd>& A,
     msg << "R must be " << m << "x" << m << ", got " << R.rows() << "x" << R.cols();
     Fail(msg.str());
   }
-  if (!A.allFinite() || !B.allFinite() || !Q.allFinite() || !R.allFinite()) {
-    Fail("A, B, Q or R contains NaN/Inf");
-  }
+  if (!A.allFinite() || !B.allFinite() || !Q.allFinite() || !R.allFinite()) { Fail("A, B, Q or R contains NaN/Inf"); }
   CheckSymmetric(Q, "Q", options.symmetry_tolerance);
   CheckSymmetric(R, "R", options.symmetry_tolerance);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_r(R, Eigen::EigenvaluesOnly);
   if (eig_r.eigenvalues().minCoeff() <= 0.0) {
-    msg << "R must be positive definite, its smallest eigenvalue is "
-        << eig_r.eigenvalues().minCoeff();
+    msg << "R must be positive definite, its smallest eigenvalue is " << eig_r.eigenvalues().minCoeff();
     Fail(msg.str());
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_q(Q, Eigen::EigenvaluesOnly);
   if (eig_q.eigenvalues().minCoeff() < -options.symmetry_tolerance * std::max(1.0, Q.norm())) {
-    msg << "Q must be positive semidefinite, its smallest eigenvalue is "
-        << eig_q.eigenvalues().minCoeff();
+    msg << "Q must be positive semidefinite, its smallest eigenvalue is " << eig_q.eigenvalues().minCoeff();
     Fail(msg.str());
   }
   // PBH test: every eigenvalue λ of A with Re λ ≥ 0 needs rank [A − λI, B] = n.
@@ -103,8 +95,7 @@ double ContinuousAlgebraicRiccatiRelativeResidual(const Eigen::Ref<const Eigen::
   const Eigen::MatrixXd PA = P * A;
   const Eigen::MatrixXd BtP = B.transpose() * P;
   const Eigen::MatrixXd PSP = BtP.transpose() * R.llt().solve(BtP);
-  const double denom = std::max(AtP.norm() + PA.norm() + PSP.norm() + Q.norm(),
-                                std::numeric_limits<double>::min());
+  const double denom = std::max(AtP.norm() + PA.norm() + PSP.norm() + Q.norm(), std::numeric_limits<double>::min());
   return (AtP + PA - PSP + Q).norm() / denom;
 }
 
@@ -164,9 +155,7 @@ ContinuousAlgebraicRiccatiSolution SolveContinuousAlgebraicRiccatiEquationWithDe
     Eigen::MatrixXd P_next;
     try {
       P_next = P + SolveContinuousLyapunovEquationUnchecked(Acl, 0.5 * (Res + Res.transpose()));
-    } catch (const std::invalid_argument&) {
-      break;
-    }
+    } catch (const std::invalid_argument&) { break; }
     const double next_residual = ContinuousAlgebraicRiccatiRelativeResidual(A, B, Q, R, P_next);
     if (!(next_residual < residual)) break;
     P = P_next;
@@ -180,8 +169,7 @@ ContinuousAlgebraicRiccatiSolution SolveContinuousAlgebraicRiccatiEquationWithDe
   if (!P.allFinite() || max_real >= 0.0 || residual > 1e-6) {
     std::ostringstream msg;
     msg << "failed to find the stabilizing solution (relative residual " << residual
-        << ", max Re λ(A − B K) = " << max_real << ", sign iterations "
-        << solution.sign_iterations << ")";
+        << ", max Re λ(A − B K) = " << max_real << ", sign iterations " << solution.sign_iterations << ")";
     Fail(msg.str());
   }
   solution.K = R_llt.solve(B.transpose() * P);
@@ -190,10 +178,11 @@ ContinuousAlgebraicRiccatiSolution SolveContinuousAlgebraicRiccatiEquationWithDe
   return solution;
 }
 
-Eigen::MatrixXd SolveContinuousAlgebraicRiccatiEquation(
-    const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
-    const Eigen::Ref<const Eigen::MatrixXd>& Q, const Eigen::Ref<const Eigen::MatrixXd>& R,
-    const ContinuousAlgebraicRiccatiOptions& options) {
+Eigen::MatrixXd SolveContinuousAlgebraicRiccatiEquation(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                                                        const Eigen::Ref<const Eigen::MatrixXd>& B,
+                                                        const Eigen::Ref<const Eigen::MatrixXd>& Q,
+                                                        const Eigen::Ref<const Eigen::MatrixXd>& R,
+                                                        const ContinuousAlgebraicRiccatiOptions& options) {
   return SolveContinuousAlgebraicRiccatiEquationWithDetails(A, B, Q, R, options).P;
 }
 

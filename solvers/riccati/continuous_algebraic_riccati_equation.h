@@ -39,11 +39,11 @@ struct ContinuousAlgebraicRiccatiOptions {
 };
 
 struct ContinuousAlgebraicRiccatiSolution {
-  Eigen::MatrixXd P;            // stabilizing solution, symmetric
-  Eigen::MatrixXd K;            // optimal gain R⁻¹ Bᵀ P (u = −K x)
-  double relative_residual{};   // see ContinuousAlgebraicRiccatiRelativeResidual
-  int sign_iterations{};        // Newton iterations of the sign function
-  int newton_refinements{};     // Newton–Kleinman polishing steps taken
+  Eigen::MatrixXd P;           // stabilizing solution, symmetric
+  Eigen::MatrixXd K;           // optimal gain R⁻¹ Bᵀ P (u = −K x)
+  double relative_residual{};  // see ContinuousAlgebraicRiccatiRelativeResidual
+  int sign_iterations{};       // Newton iterations of the sign function
+  int newton_refinements{};    // Newton–Kleinman polishing steps taken
 };
 
 ContinuousAlgebraicRiccatiSolution SolveContinuousAlgebraicRiccatiEquationWithDetails(
@@ -52,10 +52,11 @@ ContinuousAlgebraicRiccatiSolution SolveContinuousAlgebraicRiccatiEquationWithDe
     const ContinuousAlgebraicRiccatiOptions& options = {});
 
 // Convenience: returns only P.
-Eigen::MatrixXd SolveContinuousAlgebraicRiccatiEquation(
-    const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& B,
-    const Eigen::Ref<const Eigen::MatrixXd>& Q, const Eigen::Ref<const Eigen::MatrixXd>& R,
-    const ContinuousAlgebraicRiccatiOptions& options = {});
+Eigen::MatrixXd SolveContinuousAlgebraicRiccatiEquation(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                                                        const Eigen::Ref<const Eigen::MatrixXd>& B,
+                                                        const Eigen::Ref<const Eigen::MatrixXd>& Q,
+                                                        const Eigen::Ref<const Eigen::MatrixXd>& R,
+                                                        const ContinuousAlgebraicRiccatiOptions& options = {});
 
 // ‖Aᵀ P + P A − P B R⁻¹ Bᵀ P + Q‖_F divided by the sum of the Frobenius norms of the four terms.
 double ContinuousAlgebraicRiccatiRelativeResidual(const Eigen::Ref<const Eigen::MatrixXd>& A,

@@ -10,18 +10,17 @@
 namespace rome {
 namespace {
 
-void CheckSizes(const Eigen::Ref<const Eigen::MatrixXd>& A,
-                const Eigen::Ref<const Eigen::MatrixXd>& Q, double symmetry_tolerance) {
+void CheckSizes(const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& Q,
+                double symmetry_tolerance) {
   if (A.rows() != A.cols() || A.rows() == 0) {
     std::ostringstream msg;
-    msg << "SolveContinuousLyapunovEquation: A must be square and non-empty, got " << A.rows()
-        << "x" << A.cols();
+    msg << "SolveContinuousLyapunovEquation: A must be square and non-empty, got " << A.rows() << "x" << A.cols();
     throw std::invalid_argument(msg.str());
   }
   if (Q.rows() != A.rows() || Q.cols() != A.cols()) {
     std::ostringstream msg;
-    msg << "SolveContinuousLyapunovEquation: Q must be " << A.rows() << "x" << A.cols() << ", got "
-        << Q.rows() << "x" << Q.cols();
+    msg << "SolveContinuousLyapunovEquation: Q must be " << A.rows() << "x" << A.cols() << ", got " << Q.rows() << "x"
+        << Q.cols();
     throw std::invalid_argument(msg.str());
   }
   if (!A.allFinite() || !Q.allFinite()) {
@@ -37,8 +36,8 @@ void CheckSizes(const Eigen::Ref<const Eigen::MatrixXd>& A,
 
 }  // namespace
 
-Eigen::MatrixXd SolveContinuousLyapunovEquationUnchecked(
-    const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& Q) {
+Eigen::MatrixXd SolveContinuousLyapunovEquationUnchecked(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                                                         const Eigen::Ref<const Eigen::MatrixXd>& Q) {
   const Eigen::Index n = A.rows();
   Eigen::ComplexSchur<Eigen::MatrixXd> schur(A, true);
   if (schur.info() != Eigen::Success) {
@@ -57,8 +56,8 @@ Eigen::MatrixXd SolveContinuousLyapunovEquationUnchecked(
       const std::complex<double> denom = std::conj(T(i, i)) + T(j, j);
       if (std::abs(denom) <= 1e3 * std::numeric_limits<double>::epsilon() * scale) {
         std::ostringstream msg;
-        msg << "SolveContinuousLyapunovEquation: singular equation, eigenvalues " << T(i, i)
-            << " and " << T(j, j) << " of A satisfy λ_i + conj(λ_j) ≈ 0";
+        msg << "SolveContinuousLyapunovEquation: singular equation, eigenvalues " << T(i, i) << " and " << T(j, j)
+            << " of A satisfy λ_i + conj(λ_j) ≈ 0";
         throw std::invalid_argument(msg.str());
       }
       Y(i, j) = rhs / denom;
@@ -77,8 +76,8 @@ Eigen::MatrixXd SolveContinuousLyapunovEquation(const Eigen::Ref<const Eigen::Ma
   eigenvalues.real().maxCoeff(&worst);
   if (eigenvalues(worst).real() >= -options.hurwitz_margin * std::max(1.0, A.norm())) {
     std::ostringstream msg;
-    msg << "SolveContinuousLyapunovEquation: A is not Hurwitz, it has eigenvalue "
-        << eigenvalues(worst) << " with non-negative real part (Aᵀ P + P A + Q = 0 has no "
+    msg << "SolveContinuousLyapunovEquation: A is not Hurwitz, it has eigenvalue " << eigenvalues(worst)
+        << " with non-negative real part (Aᵀ P + P A + Q = 0 has no "
         << "positive-definite solution)";
     throw std::invalid_argument(msg.str());
   }
@@ -90,8 +89,7 @@ double ContinuousLyapunovRelativeResidual(const Eigen::Ref<const Eigen::MatrixXd
                                           const Eigen::Ref<const Eigen::MatrixXd>& P) {
   const Eigen::MatrixXd AtP = A.transpose() * P;
   const Eigen::MatrixXd PA = P * A;
-  const double denom = std::max(AtP.norm() + PA.norm() + Q.norm(),
-                                std::numeric_limits<double>::min());
+  const double denom = std::max(AtP.norm() + PA.norm() + Q.norm(), std::numeric_limits<double>::min());
   return (AtP + PA + Q).norm() / denom;
 }
 

@@ -31,8 +31,8 @@ Eigen::MatrixXd SolveContinuousLyapunovEquation(const Eigen::Ref<const Eigen::Ma
 // Same equation, without the Hurwitz requirement: only needs λ_i(A) + conj(λ_j(A)) ≠ 0
 // for all i, j (unique solution). Used by the Newton refinement of the Riccati solver.
 // Throws std::invalid_argument when the equation is singular.
-Eigen::MatrixXd SolveContinuousLyapunovEquationUnchecked(
-    const Eigen::Ref<const Eigen::MatrixXd>& A, const Eigen::Ref<const Eigen::MatrixXd>& Q);
+Eigen::MatrixXd SolveContinuousLyapunovEquationUnchecked(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                                                         const Eigen::Ref<const Eigen::MatrixXd>& Q);
 
 // ‖Aᵀ P + P A + Q‖_F / max(‖Aᵀ P‖_F + ‖P A‖_F + ‖Q‖_F, tiny): relative residual.
 double ContinuousLyapunovRelativeResidual(const Eigen::Ref<const Eigen::MatrixXd>& A,

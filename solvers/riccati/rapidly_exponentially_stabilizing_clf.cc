@@ -20,8 +20,7 @@ namespace {
 void MakeOutputDynamics(int o1, int o2, Eigen::MatrixXd* F, Eigen::MatrixXd* G) {
   if (o1 < 0 || o2 < 0 || o1 + o2 == 0) {
     std::ostringstream msg;
-    msg << "MakeOutputDynamics: need o1 ≥ 0, o2 ≥ 0 and o1 + o2 > 0, got o1 = " << o1
-        << ", o2 = " << o2;
+    msg << "MakeOutputDynamics: need o1 ≥ 0, o2 ≥ 0 and o1 + o2 > 0, got o1 = " << o1 << ", o2 = " << o2;
     throw std::invalid_argument(msg.str());
   }
   const int n = o1 + 2 * o2;
@@ -34,14 +33,13 @@ void MakeOutputDynamics(int o1, int o2, Eigen::MatrixXd* F, Eigen::MatrixXd* G) 
 
 RapidlyExponentiallyStabilizingClf ComputeRapidlyExponentiallyStabilizingClf(
     const Eigen::Ref<const Eigen::MatrixXd>& F, const Eigen::Ref<const Eigen::MatrixXd>& G,
-    const Eigen::Ref<const Eigen::MatrixXd>& Q,
-    const RapidlyExponentiallyStabilizingClfParameters& parameters) {
+    const Eigen::Ref<const Eigen::MatrixXd>& Q, const RapidlyExponentiallyStabilizingClfParameters& parameters) {
   const int o1 = parameters.num_relative_degree_one_outputs;
   const int o2 = parameters.num_relative_degree_two_outputs;
   std::ostringstream msg;
   if (o1 < 0 || o2 < 0 || o1 + o2 == 0) {
-    msg << "num_relative_degree_one_outputs = " << o1 << " and num_relative_degree_two_outputs = "
-        << o2 << " must be ≥ 0 with a positive sum";
+    msg << "num_relative_degree_one_outputs = " << o1 << " and num_relative_degree_two_outputs = " << o2
+        << " must be ≥ 0 with a positive sum";
     Fail(msg.str());
   }
   const Eigen::Index n = o1 + 2 * o2;
@@ -61,8 +59,7 @@ RapidlyExponentiallyStabilizingClf ComputeRapidlyExponentiallyStabilizingClf(
     msg << "epsilon must be > 0, got " << parameters.epsilon;
     Fail(msg.str());
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_q(0.5 * (Q + Q.transpose()),
-                                                             Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_q(0.5 * (Q + Q.transpose()), Eigen::EigenvaluesOnly);
   const double lambda_min_Q = eig_q.eigenvalues().minCoeff();
   if (!(lambda_min_Q > 0.0)) {
     msg << "Q must be positive definite, its smallest eigenvalue is " << lambda_min_Q;

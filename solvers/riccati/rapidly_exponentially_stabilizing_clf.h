@@ -38,15 +38,14 @@ struct RapidlyExponentiallyStabilizingClf {
 };
 
 // F and G of Eq. (26) for o1 relative-degree-one and o2 relative-degree-two outputs.
-void MakeOutputDynamics(int num_relative_degree_one_outputs, int num_relative_degree_two_outputs,
-                        Eigen::MatrixXd* F, Eigen::MatrixXd* G);
+void MakeOutputDynamics(int num_relative_degree_one_outputs, int num_relative_degree_two_outputs, Eigen::MatrixXd* F,
+                        Eigen::MatrixXd* G);
 
 // Builds the RES-CLF from F, G, Q (symmetric positive definite) and the parameters.
 // Throws std::invalid_argument on inconsistent sizes, ε ≤ 0, Q not positive definite, or when
 // the chosen equation has no positive-definite solution (message names the cause).
 RapidlyExponentiallyStabilizingClf ComputeRapidlyExponentiallyStabilizingClf(
     const Eigen::Ref<const Eigen::MatrixXd>& F, const Eigen::Ref<const Eigen::MatrixXd>& G,
-    const Eigen::Ref<const Eigen::MatrixXd>& Q,
-    const RapidlyExponentiallyStabilizingClfParameters& parameters);
+    const Eigen::Ref<const Eigen::MatrixXd>& Q, const RapidlyExponentiallyStabilizingClfParameters& parameters);
 
 }  // namespace rome

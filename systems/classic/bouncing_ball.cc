@@ -5,15 +5,19 @@
 namespace rome {
 
 BouncingBall::BouncingBall(std::string name, BouncingBallParams params) : LeafSystem(std::move(name)), params_(params) {
-  if (!(params_.restitution >= 0 && params_.restitution <= 1)) ThrowError("restitution must be in [0, 1], got " + std::to_string(params_.restitution));
+  if (!(params_.restitution >= 0 && params_.restitution <= 1))
+    ThrowError("restitution must be in [0, 1], got " + std::to_string(params_.restitution));
   if (!(params_.gravity > 0)) ThrowError("gravity must be positive, got " + std::to_string(params_.gravity));
-  if (!(params_.initial_height >= 0)) ThrowError("initial_height must be >= 0 m, got " + std::to_string(params_.initial_height));
+  if (!(params_.initial_height >= 0))
+    ThrowError("initial_height must be >= 0 m, got " + std::to_string(params_.initial_height));
   // A ball released at rest on the ground starts resting (its guard starts at 0 and would never cross).
   DeclareModes({"flight", "resting"}, params_.initial_height == 0 && params_.initial_velocity <= 0 ? 1 : 0);
   DeclareContinuousState(Eigen::Vector2d(params_.initial_height, params_.initial_velocity));
-  DeclareOutputPort("state", 2, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+  DeclareOutputPort(
+      "state", 2, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   DeclareGuard(
-      "ground_contact", /*mode=*/0, [](const LeafContext& c) { return c.continuous_state()[0]; }, CrossingDirection::kFalling,
+      "ground_contact", /*mode=*/0, [](const LeafContext& c) { return c.continuous_state()[0]; },
+      CrossingDirection::kFalling,
       [this](const LeafContext&, int, State* next) {
         const double v_after = -params_.restitution * next->continuous[1];
         if (!(std::abs(v_after) > params_.rest_velocity_cutoff)) {  // includes e = 0: no rebound, the ball stays

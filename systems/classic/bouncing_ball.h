@@ -16,8 +16,8 @@
 namespace rome {
 
 struct BouncingBallParams {
-  double restitution = 0.8;  ///< [-] coefficient of restitution e.
-  double gravity = 9.81;     ///< [m/s²] used throughout ROME.
+  double restitution = 0.8;       ///< [-] coefficient of restitution e.
+  double gravity = 9.81;          ///< [m/s²] used throughout ROME.
   double initial_height = 1.0;    ///< [m]
   double initial_velocity = 0.0;  ///< [m/s]
   /// [m/s] below this impact speed the ball comes to rest (v⁺ = 0, and it stays on the ground); 0 = no cutoff.

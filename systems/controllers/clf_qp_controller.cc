@@ -22,21 +22,26 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // ---------------------------------------------------------------------------------------------------------
 // Relative-degree-one outputs
 
-RelativeDegreeOneOutput::RelativeDegreeOneOutput(std::string name, int size, double weight, std::vector<int> active_modes)
+RelativeDegreeOneOutput::RelativeDegreeOneOutput(std::string name, int size, double weight,
+                                                 std::vector<int> active_modes)
     : name_(std::move(name)), size_(size), weight_(weight), active_modes_(std::move(active_modes)) {
-  if (size_ <= 0) throw std::invalid_argument("output '" + name_ + "': size must be positive, got " + std::to_string(size_));
-  if (!(weight_ > 0) || !std::isfinite(weight_)) throw std::invalid_argument("output '" + name_ + "': weight must be positive, got " + std::to_string(weight_));
+  if (size_ <= 0)
+    throw std::invalid_argument("output '" + name_ + "': size must be positive, got " + std::to_string(size_));
+  if (!(weight_ > 0) || !std::isfinite(weight_))
+    throw std::invalid_argument("output '" + name_ + "': weight must be positive, got " + std::to_string(weight_));
 }
 
 bool RelativeDegreeOneOutput::IsActiveIn(int mode) const {
   return active_modes_.empty() || std::find(active_modes_.begin(), active_modes_.end(), mode) != active_modes_.end();
 }
 
-CentroidalPitchMomentumOutput::CentroidalPitchMomentumOutput(std::string name, double weight, std::vector<int> active_modes)
+CentroidalPitchMomentumOutput::CentroidalPitchMomentumOutput(std::string name, double weight,
+                                                             std::vector<int> active_modes)
     : RelativeDegreeOneOutput(std::move(name), 1, weight, std::move(active_modes)) {}
 
-void CentroidalPitchMomentumOutput::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
-                                         Eigen::Ref<Eigen::VectorXd> y1, Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const {
+void CentroidalPitchMomentumOutput::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y1,
+                                         Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const {
   // A_G rows: [angular about the COM (x, y, z); linear]; the pitch row is the angular y row (Eq. (39)).
   CalcCentroidalMomentumMatrix(model, ws, q, ws.J_point);
   A = ws.J_point.row(1);
@@ -55,8 +60,8 @@ struct ClfQpController::Scratch {
     std::vector<ContactWrenchConstraints> wrench;
     std::vector<int> force_offset, ineq_offset;
     int band_offset = -1;
-    int drift_offset = -1;      // first hold-drift row (params.predict_hold_drift), the wrench rows again
-    Eigen::VectorXd F_prev;     // planned constraint forces of the last solve in this mode, and its time
+    int drift_offset = -1;   // first hold-drift row (params.predict_hold_drift), the wrench rows again
+    Eigen::VectorXd F_prev;  // planned constraint forces of the last solve in this mode, and its time
     double t_prev = -kInf;
     bool prev_valid = false;
     std::vector<int> rd1, rd2, soft;  // active outputs: CLF (relative degree 1, 2), cost-only
@@ -80,61 +85,80 @@ struct ClfQpController::Scratch {
   double band_time = -std::numeric_limits<double>::infinity();
 };
 
-ClfQpController::ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
-                                 std::vector<ClfOutput> outputs, ClfQpParams params)
-    : QpControllerSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), outputs_(std::move(outputs)), params_(std::move(params)) {
+ClfQpController::ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model,
+                                 std::vector<ContactSet> mode_contacts, std::vector<ClfOutput> outputs,
+                                 ClfQpParams params)
+    : QpControllerSystem(std::move(name)),
+      model_(std::move(model)),
+      mode_contacts_(std::move(mode_contacts)),
+      outputs_(std::move(outputs)),
+      params_(std::move(params)) {
   if (!model_) ThrowError("null MultibodyModel");
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
   auto positive = [&](double value, const char* what) {
-    if (!(value > 0.0) || !std::isfinite(value)) ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be positive and finite");
+    if (!(value > 0.0) || !std::isfinite(value))
+      ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be positive and finite");
   };
   positive(params_.update_period_s, "update_period_s");
   positive(params_.epsilon, "epsilon");
   positive(params_.relaxation_weight, "relaxation_weight");
-  if (!(params_.u_regularization >= 0.0)) ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
+  if (!(params_.u_regularization >= 0.0))
+    ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
   if (!(params_.force_band_loading_floor_N >= 0.0) || !std::isfinite(params_.force_band_loading_floor_N))
-    ThrowError("params.force_band_loading_floor_N = " + std::to_string(params_.force_band_loading_floor_N) + " must be >= 0 N and finite");
-  if (!(params_.force_band_loading_fall_tolerance_N >= 0.0) || !std::isfinite(params_.force_band_loading_fall_tolerance_N))
-    ThrowError("params.force_band_loading_fall_tolerance_N = " + std::to_string(params_.force_band_loading_fall_tolerance_N) +
+    ThrowError("params.force_band_loading_floor_N = " + std::to_string(params_.force_band_loading_floor_N) +
                " must be >= 0 N and finite");
+  if (!(params_.force_band_loading_fall_tolerance_N >= 0.0) ||
+      !std::isfinite(params_.force_band_loading_fall_tolerance_N))
+    ThrowError("params.force_band_loading_fall_tolerance_N = " +
+               std::to_string(params_.force_band_loading_fall_tolerance_N) + " must be >= 0 N and finite");
   if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
     ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
   if (params_.predict_hold_drift && params_.formulation != ClfQpFormulation::kEliminateContactForces)
     ThrowError("params.predict_hold_drift needs formulation kEliminateContactForces");
   if (!(params_.contact.friction_margin > 0.0 && params_.contact.friction_margin <= 1.0))
-    ThrowError("params.contact.friction_margin = " + std::to_string(params_.contact.friction_margin) + " must be in (0, 1]");
+    ThrowError("params.contact.friction_margin = " + std::to_string(params_.contact.friction_margin) +
+               " must be in (0, 1]");
   for (size_t i = 0; i < outputs_.size(); ++i) {
     const ClfOutput& o = outputs_[i];
-    if (!o.rd1 == !o.rd2) ThrowError("output " + std::to_string(i) + " must be exactly one of a relative-degree-1 and a relative-degree-2 output");
+    if (!o.rd1 == !o.rd2)
+      ThrowError("output " + std::to_string(i) +
+                 " must be exactly one of a relative-degree-1 and a relative-degree-2 output");
     offsets_.push_back(ny_);
     ny_ += o.size();
     const std::vector<int>& modes = o.rd2 ? o.rd2->active_modes() : o.rd1->active_modes();
     for (int m : modes)
       if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
-        ThrowError("output '" + o.name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
+        ThrowError("output '" + o.name() + "' is active in mode " + std::to_string(m) + ", but only " +
+                   std::to_string(mode_contacts_.size()) + " modes were given");
   }
   if (params_.u_regularization_weights.size() != 0) {
     if (params_.u_regularization_weights.size() != nu)
-      ThrowError("params.u_regularization_weights has " + std::to_string(params_.u_regularization_weights.size()) + " entries, expected " + std::to_string(nu) +
-                 " (one per actuator)");
+      ThrowError("params.u_regularization_weights has " + std::to_string(params_.u_regularization_weights.size()) +
+                 " entries, expected " + std::to_string(nu) + " (one per actuator)");
     for (int j = 0; j < nu; ++j)
       if (!(params_.u_regularization_weights[j] > 0.0) || !std::isfinite(params_.u_regularization_weights[j]))
-        ThrowError("params.u_regularization_weights[" + std::to_string(j) + "] = " + std::to_string(params_.u_regularization_weights[j]) +
-                   " must be positive and finite");
+        ThrowError("params.u_regularization_weights[" + std::to_string(j) +
+                   "] = " + std::to_string(params_.u_regularization_weights[j]) + " must be positive and finite");
   }
   for (int m : params_.u_regularization_modes)
     if (m < 0 || m >= static_cast<int>(mode_contacts_.size()))
-      ThrowError("params.u_regularization_modes names mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) + " modes were given");
+      ThrowError("params.u_regularization_modes names mode " + std::to_string(m) + ", but only " +
+                 std::to_string(mode_contacts_.size()) + " modes were given");
   cost_only_.assign(outputs_.size(), false);
   for (const std::string& name : params_.cost_only_outputs) {
-    const auto it = std::find_if(outputs_.begin(), outputs_.end(), [&](const ClfOutput& o) { return o.name() == name; });
-    if (it == outputs_.end()) ThrowError("params.cost_only_outputs names '" + name + "', which is not an output of this controller");
-    if (!it->rd2) ThrowError("params.cost_only_outputs names '" + name + "', a relative-degree-1 output; only relative-degree-2 outputs (with PD gains) may be cost-only");
+    const auto it =
+        std::find_if(outputs_.begin(), outputs_.end(), [&](const ClfOutput& o) { return o.name() == name; });
+    if (it == outputs_.end())
+      ThrowError("params.cost_only_outputs names '" + name + "', which is not an output of this controller");
+    if (!it->rd2)
+      ThrowError("params.cost_only_outputs names '" + name +
+                 "', a relative-degree-1 output; only relative-degree-2 outputs (with PD gains) may be cost-only");
     cost_only_[it - outputs_.begin()] = true;
   }
   if (!(params_.clf_active_tolerance >= 0.0) || !std::isfinite(params_.clf_active_tolerance))
-    ThrowError("params.clf_active_tolerance = " + std::to_string(params_.clf_active_tolerance) + " must be finite and >= 0");
+    ThrowError("params.clf_active_tolerance = " + std::to_string(params_.clf_active_tolerance) +
+               " must be finite and >= 0");
   u_max_ = ResolveTorqueLimits(*model_, params_.torque_limits, this->name());
   zero_torque_ = ZeroTorqueActuatorsPerMode(*model_, mode_contacts_, params_.zero_torque_in_contact, this->name());
   // RES-CLF of every mode (Eq. (26)-(30)), Q = I.
@@ -145,15 +169,17 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
         if (mode_contacts_[m] & ContactBit(c)) {
           const ContactWrenchConstraints cw(*model_, c, params_.contact, this->name());
           if (params_.force_band && !cw.has_normal_entry())
-            throw std::invalid_argument("params.force_band needs a single F_z entry per contact, which the 3D line contact '" + model_->contacts()[c].name +
-                                        "' does not have");
+            throw std::invalid_argument(
+                "params.force_band needs a single F_z entry per contact, which the 3D line contact '" +
+                model_->contacts()[c].name + "' does not have");
         }
     } catch (const std::invalid_argument& e) {
       ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what());
     }
     int o1 = 0, o2 = 0;
     for (size_t i = 0; i < outputs_.size(); ++i)
-      if (outputs_[i].IsActiveIn(static_cast<int>(m)) && !cost_only_[i]) (outputs_[i].rd1 ? o1 : o2) += outputs_[i].size();
+      if (outputs_[i].IsActiveIn(static_cast<int>(m)) && !cost_only_[i])
+        (outputs_[i].rd1 ? o1 : o2) += outputs_[i].size();
     ModeClf clf;
     if (o1 + o2 > 0) {
       MakeOutputDynamics(o1, o2, &clf.F, &clf.G);
@@ -162,7 +188,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
       p.num_relative_degree_two_outputs = o2;
       p.epsilon = params_.epsilon;
       const int n_eta = o1 + 2 * o2;
-      const RapidlyExponentiallyStabilizingClf res = ComputeRapidlyExponentiallyStabilizingClf(clf.F, clf.G, Eigen::MatrixXd::Identity(n_eta, n_eta), p);
+      const RapidlyExponentiallyStabilizingClf res =
+          ComputeRapidlyExponentiallyStabilizingClf(clf.F, clf.G, Eigen::MatrixXd::Identity(n_eta, n_eta), p);
       clf.P_epsilon = res.P_epsilon;
       clf.convergence_rate = params_.gamma > 0.0 ? params_.gamma / params_.epsilon : res.convergence_rate;
     }
@@ -176,16 +203,32 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(slot(kNumSlots));
   xd0[slot(kStatus)] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
-  DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
-  DeclareOutputPort("contact_forces", 3 * nc, [this, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(forces_offset(), 3 * nc); },
-                    Feedthrough::None());
-  DeclareOutputPort("V", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kV)]; }, Feedthrough::None());
-  DeclareOutputPort("delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kDelta)]; }, Feedthrough::None());
-  DeclareOutputPort("fallbacks", {"band_dropped", "cop_dropped", "held"},
-                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(slot(kBandDropped)); }, Feedthrough::None());
-  DeclareOutputPort("clf_activity", {"clf_active", "solved"},
-                    [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<2>(slot(kClfActive)); }, Feedthrough::None());
-  DeclareQpPortsAndUpdates(slot(kFailures), slot(kStatus), slot(kSolveTime), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
+  DeclareOutputPort(
+      "u", nu,
+      [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "contact_forces", 3 * nc,
+      [this, nc](const LeafContext& c, Eigen::VectorXd* y) {
+        *y = c.discrete_state().segment(forces_offset(), 3 * nc);
+      },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "V", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kV)]; },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kDelta)]; },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "fallbacks", {"band_dropped", "cop_dropped", "held"},
+      [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(slot(kBandDropped)); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "clf_activity", {"clf_active", "solved"},
+      [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<2>(slot(kClfActive)); },
+      Feedthrough::None());
+  DeclareQpPortsAndUpdates(slot(kFailures), slot(kStatus), slot(kSolveTime), params_.update_period_s,
+                           params_.resolve_at_events, params_.resolve_at,
                            [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
   DeclareTypedOutputPort<ClfQpDiagnostics>(
       "diagnostics", [this](const LeafContext& c, ClfQpDiagnostics* d) { *d = diagnostics(c); }, Feedthrough::None());
@@ -319,15 +362,16 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   return status;
 }
 
-int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const VectorRef& q, const VectorRef& v, bool same_mode, Scratch& s,
-                                             int mode) const {
+int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const VectorRef& q, const VectorRef& v,
+                                             bool same_mode, Scratch& s, int mode) const {
   const MultibodyModel& model = *model_;
   const int nv = model.nv(), nu = model.nu();
   const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
   MultibodyWorkspace& ws = s.ws;
-  const double alpha = params_.contact_stabilization.baumgarte_alpha_per_s, beta = params_.contact_stabilization.baumgarte_beta_per_s;
+  const double alpha = params_.contact_stabilization.baumgarte_alpha_per_s,
+               beta = params_.contact_stabilization.baumgarte_beta_per_s;
   // Free dynamics: M q̈ = τ_s − h + B u + Jᵀ F.
   s.rhs_free = CalcSpringTorques(model, ws, q, v) - CalcBiasForces(model, ws, q, v);
   s.minv_rhs = s.rhs_free;
@@ -367,7 +411,8 @@ int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const V
   // Hold drift: F(x_k, u_{k-1}) − F(x_{k-1}, u_{k-1}), per update period (0 without a previous solve in this mode).
   mq.drift.head(rows).setZero();
   const double dt = context.time() - mq.t_prev;
-  if (params_.predict_hold_drift && mq.prev_valid && same_mode && dt > 0.25 * params_.update_period_s && dt < 1.5 * params_.update_period_s) {
+  if (params_.predict_hold_drift && mq.prev_valid && same_mode && dt > 0.25 * params_.update_period_s &&
+      dt < 1.5 * params_.update_period_s) {
     mq.drift.head(rows) = mq.bv - mq.F_prev.head(rows);
     mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
     mq.drift.head(rows) *= params_.update_period_s / dt;
@@ -375,7 +420,8 @@ int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const V
   return rows;
 }
 
-double ClfQpController::CalcOutputRows(const VectorRef& q, const VectorRef& v, const Eigen::VectorXd& desired, int rows, Scratch& s, int mode) const {
+double ClfQpController::CalcOutputRows(const VectorRef& q, const VectorRef& v, const Eigen::VectorXd& desired, int rows,
+                                       Scratch& s, int mode) const {
   const MultibodyModel& model = *model_;
   const int nu = model.nu();
   const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
@@ -434,7 +480,8 @@ double ClfQpController::CalcOutputRows(const VectorRef& q, const VectorRef& v, c
     const TaskGains& gains = o.rd2->gains();
     o.rd2->Calc(model, ws, q, v, s.y.segment(off, n), s.Jy.middleRows(off, n), s.Jdv.segment(off, n));
     // ÿ* into s.y's rows (y is not needed after this).
-    s.y.segment(off, n) = desired.segment(2 * ny_ + off, n) - gains.kp * (s.y.segment(off, n) - desired.segment(off, n));
+    s.y.segment(off, n) =
+        desired.segment(2 * ny_ + off, n) - gains.kp * (s.y.segment(off, n) - desired.segment(off, n));
     s.y.segment(off, n).noalias() -= gains.kd * (s.Jy.middleRows(off, n) * v);
     s.y.segment(off, n) += gains.kd * desired.segment(ny_ + off, n);
     add_rows(off, n, o.weight(), s.y.segment(off, n));
@@ -459,7 +506,8 @@ bool ClfQpController::FillCost(const VectorRef& q, double reg_scale, int rows, S
   }
   const double scale = reg_scale > 0.0 ? reg_scale : 1.0;
   const bool per_actuator = params_.u_regularization_modes.empty() ||
-                            std::find(params_.u_regularization_modes.begin(), params_.u_regularization_modes.end(), mode) != params_.u_regularization_modes.end();
+                            std::find(params_.u_regularization_modes.begin(), params_.u_regularization_modes.end(),
+                                      mode) != params_.u_regularization_modes.end();
   if (!per_actuator) {
     qp.H.diagonal().head(nu).array() += params_.u_regularization * scale;
   } else {
@@ -571,7 +619,8 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
   }
 }
 
-void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s, int mode) const {
+void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref,
+                                       Scratch& s, int mode) const {
   const int nu = model_->nu();
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
@@ -580,7 +629,8 @@ void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, 
   const int br = mq.band_offset + k;
   const int fz = mq.force_offset[k] + cw.normal_index();
   double f_ref = std::max(force_ref[cw.contact()], 0.0);
-  if (inactive_ref > 0.0) f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
+  if (inactive_ref > 0.0)
+    f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
   const double c = params_.force_band_halfwidth;
   qp.A.row(br).setZero();
   double shift = 0.0;
@@ -593,7 +643,8 @@ void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, 
   double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
   const int ci = cw.contact();
   s.band_ref_cur[ci] = f_ref;
-  const bool loading = !(s.band_active_prev & ContactBit(ci)) || f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
+  const bool loading = !(s.band_active_prev & ContactBit(ci)) ||
+                       f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
   if (loading && params_.force_band_loading_floor_N > 0.0) {
     lower = std::max(lower, params_.force_band_loading_floor_N);
     upper = std::max(upper, lower);
@@ -621,7 +672,8 @@ void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool
   if (!band && mq.band_offset >= 0)
     for (size_t k = 0; k < mq.wrench.size(); ++k) qp.l[mq.band_offset + k] = -kInf, qp.u[mq.band_offset + k] = kInf;
   if (!band && mq.drift_offset >= 0)
-    for (int i = mq.drift_offset; i < mq.drift_offset + mq.ineq_offset.back() + mq.wrench.back().num_rows() - mq.ineq_offset[0]; ++i)
+    for (int i = mq.drift_offset;
+         i < mq.drift_offset + mq.ineq_offset.back() + mq.wrench.back().num_rows() - mq.ineq_offset[0]; ++i)
       qp.l[i] = -kInf, qp.u[i] = kInf;
   if (!cop)
     for (size_t k = 0; k < mq.wrench.size(); ++k)
@@ -635,14 +687,13 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   QpStatus status;
   try {
     status = SolveQp(context);
-  } catch (const std::exception& e) {
-    return EventStatus::Failed(e.what());
-  }
+  } catch (const std::exception& e) { return EventStatus::Failed(e.what()); }
   Scratch& s = context.scratch<Scratch>();
   Scratch::ModeQp& mq = s.modes[s.last_mode];
   if (status != QpStatus::kOptimal && status != QpStatus::kInvalidInput) {
     (*next)[slot(kFailures)] += 1.0;
-    // Fallback 1: drop the force band and the hold-drift rows; 2: also drop the CoP rows (each counted); else hold the previous u.
+    // Fallback 1: drop the force band and the hold-drift rows; 2: also drop the CoP rows (each counted); else hold the
+    // previous u.
     if (mq.band_offset >= 0 || mq.drift_offset >= 0) {
       SetRowsEnabled(context, false, true);
       status = mq.qp.Solve();
@@ -667,7 +718,8 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   (*next)[slot(kSolved)] += 1.0;
   // (At η = 0 the row is 0 ≤ δ, met with equality by every u: not counted.)
   const bool clf_row = mq.o1 + mq.o2 > 0 && mq.eta.squaredNorm() > 0.0;
-  if (clf_row && (x[mq.delta] > 0.0 || mq.qp.u[0] - mq.qp.A.row(0).dot(x) <= params_.clf_active_tolerance)) (*next)[slot(kClfActive)] += 1.0;
+  if (clf_row && (x[mq.delta] > 0.0 || mq.qp.u[0] - mq.qp.A.row(0).dot(x) <= params_.clf_active_tolerance))
+    (*next)[slot(kClfActive)] += 1.0;
   next->segment(u_offset(), nu) = x.head(nu);
   mq.F_prev = mq.F;  // the applied u's planned forces, for the next update's hold drift
   mq.t_prev = context.time();
@@ -678,7 +730,8 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   forces.setZero();
   const auto q = EvalInput(context, state_port_).head(model_->nv());
   for (const ContactWrenchConstraints& cw : mq.wrench)
-    forces.segment<3>(3 * cw.contact()) = ExtractContactWrench(*model_, s.ws, q, mq.active, mq.F.head(std::max(mq.rows, 1)), cw.contact()).force;
+    forces.segment<3>(3 * cw.contact()) =
+        ExtractContactWrench(*model_, s.ws, q, mq.active, mq.F.head(std::max(mq.rows, 1)), cw.contact()).force;
   return EventStatus::Succeeded();
 }
 

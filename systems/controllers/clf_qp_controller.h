@@ -8,7 +8,8 @@
 //          desired (3 ny)              [y_d; ẏ_d; ÿ_d], ny = Σ output sizes, outputs in construction order. For a
 //                                      relative-degree-2 output the three thirds hold y_d (m, rad), ẏ_d, ÿ_d; for a
 //                                      relative-degree-1 output y_d holds y1_d (its own unit, e.g. N m s), ẏ_d holds
-//                                      ẏ1_d and ÿ_d is unused. Rows of outputs inactive in the current mode are ignored.
+//                                      ẏ1_d and ÿ_d is unused. Rows of outputs inactive in the current mode are
+//                                      ignored.
 //          normal_force_reference (nc) [N] only with params.force_band: the reference normal force of each contact
 //                                      (walking paper Eq. (25); e.g. the aSLIP's leg force); inactive contacts ignored
 // outputs: u (nu)                      actuator torques [N m], zero-order held between updates (no feedthrough)
@@ -47,7 +48,8 @@
 // α, β come from params.contact_stabilization: pass the plant's (HybridContactPlantParams::dynamics).
 //
 // Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
-//   1. drop the force band and the hold-drift rows (params.predict_hold_drift) and re-solve; 2. also drop the centre-of-pressure rows and re-solve; 3. hold the previous u.
+//   1. drop the force band and the hold-drift rows (params.predict_hold_drift) and re-solve; 2. also drop the
+//   centre-of-pressure rows and re-solve; 3. hold the previous u.
 // One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
 
 #include <memory>
@@ -77,8 +79,9 @@ class RelativeDegreeOneOutput {
   double weight() const { return weight_; }
   const std::vector<int>& active_modes() const { return active_modes_; }
   bool IsActiveIn(int mode) const;
-  virtual void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y1,
-                    Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const = 0;
+  virtual void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                    Eigen::Ref<Eigen::VectorXd> y1, Eigen::Ref<Eigen::MatrixXd> A,
+                    Eigen::Ref<Eigen::VectorXd> Adot_v) const = 0;
 
  private:
   std::string name_;
@@ -91,9 +94,11 @@ class RelativeDegreeOneOutput {
 /// Eq. (38)-(40)); Ȧ_pitch q̇ from the centroidal momentum bias.
 class CentroidalPitchMomentumOutput final : public RelativeDegreeOneOutput {
  public:
-  explicit CentroidalPitchMomentumOutput(std::string name = "centroidal_pitch_momentum", double weight = 1.0, std::vector<int> active_modes = {});
-  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y1,
-            Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const override;
+  explicit CentroidalPitchMomentumOutput(std::string name = "centroidal_pitch_momentum", double weight = 1.0,
+                                         std::vector<int> active_modes = {});
+  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+            Eigen::Ref<Eigen::VectorXd> y1, Eigen::Ref<Eigen::MatrixXd> A,
+            Eigen::Ref<Eigen::VectorXd> Adot_v) const override;
 };
 
 /// One output of the CLF-QP: relative degree 2 (a TaskSpaceTask: COM, a point, a body's pitch, a joint; its weight
@@ -102,7 +107,9 @@ struct ClfOutput {
   std::shared_ptr<const TaskSpaceTask> rd2;
   std::shared_ptr<const RelativeDegreeOneOutput> rd1;
   static ClfOutput RelativeDegreeTwo(std::shared_ptr<const TaskSpaceTask> task) { return {std::move(task), nullptr}; }
-  static ClfOutput RelativeDegreeOne(std::shared_ptr<const RelativeDegreeOneOutput> output) { return {nullptr, std::move(output)}; }
+  static ClfOutput RelativeDegreeOne(std::shared_ptr<const RelativeDegreeOneOutput> output) {
+    return {nullptr, std::move(output)};
+  }
   const std::string& name() const { return rd2 ? rd2->name() : rd1->name(); }
   int size() const { return rd2 ? rd2->size() : rd1->size(); }
   bool IsActiveIn(int mode) const { return rd2 ? rd2->IsActiveIn(mode) : rd1->IsActiveIn(mode); }
@@ -111,7 +118,7 @@ struct ClfOutput {
 
 /// How the torque penalty ½ ρ_u Σ_j s_j u_j² scales each actuator (params.u_regularization_kind).
 enum class TorqueRegularization {
-  kUniform,              ///< s_j = s, the largest output curvature on u (diagonal of 𝒜ᵀW𝒜), times w_j
+  kUniform,  ///< s_j = s, the largest output curvature on u (diagonal of 𝒜ᵀW𝒜), times w_j
   /// s_j = w_j / m_j², m_j = b_jᵀ M(q) b_j [kg m²] the effective inertia of actuator j's joint (b_j: column j of B):
   /// ½ ρ_u s_j u_j² is ½ ρ_u w_j times the squared acceleration u_j alone gives that joint, the unit of the output
   /// rows. Light joints (a toe) then no longer set the penalty of heavy ones (a hip), as the uniform s does.
@@ -126,8 +133,8 @@ enum class ClfQpFormulation {
 struct ClfQpParams {
   double update_period_s = 1e-3;  ///< [s] QP rate (walking [R]: 1 kHz; hopping paper: 2 kHz)
   ClfQpFormulation formulation = ClfQpFormulation::kEliminateContactForces;
-  double epsilon = 0.1;           ///< ε [-] of the RES-CLF (ours; spec [R]: 0.02-0.1)
-  double gamma = -1.0;            ///< γ [-]; ≤ 0: λ_min(Q)/λ_max(P) (spec [R])
+  double epsilon = 0.1;            ///< ε [-] of the RES-CLF (ours; spec [R]: 0.02-0.1)
+  double gamma = -1.0;             ///< γ [-]; ≤ 0: λ_min(Q)/λ_max(P) (spec [R])
   double relaxation_weight = 1e5;  ///< p [-] on ½ δ² (walking spec [R]: 1e5)
   double u_regularization = 1e-6;  ///< ρ_u [-], relative to the largest output curvature on u (ours)
   /// Ours (default kUniform, every mode): how ρ_u is spread over the actuators (see TorqueRegularization).
@@ -137,8 +144,8 @@ struct ClfQpParams {
   /// The modes in which u_regularization_kind and u_regularization_weights apply; empty: every mode. Other modes use
   /// kUniform with w_j = 1.
   std::vector<int> u_regularization_modes;
-  ContactWrenchParams contact;     ///< unilateral, friction, CoP and yaw rows per contact
-  bool force_band = false;         ///< walking Eq. (25): declares the normal_force_reference input
+  ContactWrenchParams contact;        ///< unilateral, friction, CoP and yaw rows per contact
+  bool force_band = false;            ///< walking Eq. (25): declares the normal_force_reference input
   double force_band_halfwidth = 0.1;  ///< c [-] of Eq. (25) (walking paper: 0.1)
   /// [N] Ours (default 0, off): while a contact is loading (it was not in the mode at the previous update, or its
   /// reference did not fall since then) the band's lower edge is at least this. Without it a foot that touches down
@@ -152,13 +159,13 @@ struct ClfQpParams {
   /// contacts, in proportion to their references (evenly if those are 0), so the band keeps the total (ours; off:
   /// each active contact keeps its own reference).
   bool force_band_carry_inactive = false;
-  Eigen::VectorXd torque_limits;   ///< [N m]; empty: the model's
+  Eigen::VectorXd torque_limits;  ///< [N m]; empty: the model's
   /// {contact, joint}: the actuator of `joint` gets u = 0 while `contact` is active (e.g. a passive stance ankle).
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;
   ConstrainedDynamicsParameters contact_stabilization;  ///< α, β: pass the plant's
-  bool resolve_at_events = true;   ///< also re-solve at guard events (see the header)
+  bool resolve_at_events = true;                        ///< also re-solve at guard events (see the header)
   EventTrigger resolve_at = EventTrigger::AnyGuard();
-  QpSettings qp;                   ///< DenseQpSolver tolerances (warm start on by default)
+  QpSettings qp;  ///< DenseQpSolver tolerances (warm start on by default)
   /// Names of relative-degree-2 outputs kept out of the RES-CLF (ours; default none): such an output is tracked in the
   /// cost only, toward ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d) with its task's gains (TaskGains kp [1/s²], kd [1/s]), as
   /// in a task-space QP. When the torque or friction limits bind, the QP then trades that output's accuracy against
@@ -166,9 +173,9 @@ struct ClfQpParams {
   std::vector<std::string> cost_only_outputs;
   /// Ours (default off; kEliminateContactForces only): the contact-wrench rows of every active contact are imposed a
   /// second time on the force predicted at the end of the zero-order hold, F(u) + d, where d is how far the planned
-  /// force drifted with the state over the last held sample at constant u (F(x_k, u_{k−1}) − F(x_{k−1}, u_{k−1}), scaled
-  /// to one update period; 0 after a mode change). A stance force moving quickly toward the friction-pyramid edge keeps
-  /// that margin over the hold, since the plant sees the held u, not the QP's solve instant.
+  /// force drifted with the state over the last held sample at constant u (F(x_k, u_{k−1}) − F(x_{k−1}, u_{k−1}),
+  /// scaled to one update period; 0 after a mode change). A stance force moving quickly toward the friction-pyramid
+  /// edge keeps that margin over the hold, since the plant sees the held u, not the QP's solve instant.
   bool predict_hold_drift = false;
   /// Ours (default off): the cost of every relative-degree-2 CLF output targets ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d)
   /// with its task's gains (as the task-space QP's cost) instead of ÿ_d. With ÿ_d alone, an output's cost weight makes
@@ -197,8 +204,8 @@ struct ClfQpDiagnostics {
 
 class ClfQpController final : public QpControllerSystem {
  public:
-  ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts, std::vector<ClfOutput> outputs,
-                  ClfQpParams params = {});
+  ClfQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
+                  std::vector<ClfOutput> outputs, ClfQpParams params = {});
 
   const MultibodyModel& model() const { return *model_; }
   const ClfQpParams& params() const { return params_; }
@@ -228,7 +235,19 @@ class ClfQpController final : public QpControllerSystem {
 
  private:
   // Discrete state: [u (nu); contact_forces (3 nc); one slot per DiagnosticsSlot, in this order].
-  enum DiagnosticsSlot { kV, kDelta, kFailures, kStatus, kBandDropped, kCopDropped, kHeld, kSolveTime, kClfActive, kSolved, kNumSlots };
+  enum DiagnosticsSlot {
+    kV,
+    kDelta,
+    kFailures,
+    kStatus,
+    kBandDropped,
+    kCopDropped,
+    kHeld,
+    kSolveTime,
+    kClfActive,
+    kSolved,
+    kNumSlots
+  };
   int u_offset() const { return 0; }
   int forces_offset() const { return model_->nu(); }
   int slot(DiagnosticsSlot k) const { return forces_offset() + 3 * model_->num_contacts() + k; }
@@ -238,17 +257,21 @@ class ClfQpController final : public QpControllerSystem {
   int ModeFromInput(const LeafContext& context) const;
   void SetRowsEnabled(const LeafContext& context, bool band, bool cop) const;
   // SolveQp's stages, in call order, on the QP of mode `mode` in `s`.
-  /// M⁻¹ B, q̈0 and the constraint rows (A_v, b_v or the equalities); the number of constraint rows, −1 if Λ is singular.
-  int CalcConstrainedDynamics(const LeafContext& context, const VectorRef& q, const VectorRef& v, bool same_mode, Scratch& s, int mode) const;
+  /// M⁻¹ B, q̈0 and the constraint rows (A_v, b_v or the equalities); the number of constraint rows, −1 if Λ is
+  /// singular.
+  int CalcConstrainedDynamics(const LeafContext& context, const VectorRef& q, const VectorRef& v, bool same_mode,
+                              Scratch& s, int mode) const;
   /// η and the output rows 𝒜, L_f, W of Eq. (24); returns the curvature scale of the torque penalty.
-  double CalcOutputRows(const VectorRef& q, const VectorRef& v, const Eigen::VectorXd& desired, int rows, Scratch& s, int mode) const;
+  double CalcOutputRows(const VectorRef& q, const VectorRef& v, const Eigen::VectorXd& desired, int rows, Scratch& s,
+                        int mode) const;
   /// H and g; false if an actuator's effective inertia is not positive (kInverseJointInertia).
   bool FillCost(const VectorRef& q, double reg_scale, int rows, Scratch& s, int mode) const;
   /// Row 0: the CLF row of Eq. (36)-(37), normalised (free when no CLF output is active).
   void FillClfRow(Scratch& s, int mode) const;
   /// The contact-wrench rows, their hold-drift copies and the force band of every active contact.
   void FillWrenchRows(const LeafContext& context, const VectorRef& q, Scratch& s, int mode) const;
-  void FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s, int mode) const;
+  void FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s,
+                        int mode) const;
   /// The planned constraint forces F of the solution (the first `rows` entries of the mode's F).
   void StorePlannedForces(int rows, Scratch& s, int mode) const;
 

@@ -13,8 +13,8 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 }
 
-ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, int contact, const ContactWrenchParams& params,
-                                                   const std::string& system)
+ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, int contact,
+                                                   const ContactWrenchParams& params, const std::string& system)
     : contact_(contact),
       planar_(model.is_planar()),
       min_normal_(params.min_normal_force_N),
@@ -26,7 +26,8 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
   const double mu = params.friction_coefficient >= 0.0 ? params.friction_coefficient : info.friction_coefficient;
   mu_ = params.friction_margin * mu;
   if (!(mu_ >= 0.0) || !std::isfinite(mu_))
-    throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' has friction coefficient " + std::to_string(mu_));
+    throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' has friction coefficient " +
+                                std::to_string(mu_));
   // Sole extent relative to the frame origin, in the link (foot) frame.
   x_min_ = y_min_ = kInf;
   x_max_ = y_max_ = -kInf;
@@ -36,7 +37,8 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     y_min_ = std::min(y_min_, d.y()), y_max_ = std::max(y_max_, d.y());
   }
   // The CoP rows keep the centre of pressure cop_margin_m inside the sole's edges (never past its middle).
-  const double mx = std::clamp(params.cop_margin_m, 0.0, 0.5 * (x_max_ - x_min_)), my = std::clamp(params.cop_margin_m, 0.0, 0.5 * (y_max_ - y_min_));
+  const double mx = std::clamp(params.cop_margin_m, 0.0, 0.5 * (x_max_ - x_min_)),
+               my = std::clamp(params.cop_margin_m, 0.0, 0.5 * (y_max_ - y_min_));
   if (info.type != ContactType::kPoint) x_min_ += mx, x_max_ -= mx, y_min_ += my, y_max_ -= my;
   if (planar_) {
     normal_ = num_force_rows_ - 1;
@@ -51,33 +53,41 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     flat3d_ = cop_ = true;
     normal_ = 5;
     if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
-    kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,         RowKind::kFriction,        RowKind::kFriction,
-              RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
+    kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,
+              RowKind::kFriction,         RowKind::kFriction,         RowKind::kCenterOfPressure,
+              RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
     if (cwc_ && (std::abs(x_max_ + x_min_) > 1e-9 || std::abs(y_max_ + y_min_) > 1e-9))
-      throw std::invalid_argument("system '" + system + "': contact '" + info.name + "': corner_wrench_cone needs a sole centred on the contact frame origin");
-    if (cwc_) kinds_.insert(kinds_.end(), 8, RowKind::kYawMoment);
-    else if (yaw_ >= 0.0) kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
+      throw std::invalid_argument("system '" + system + "': contact '" + info.name +
+                                  "': corner_wrench_cone needs a sole centred on the contact frame origin");
+    if (cwc_)
+      kinds_.insert(kinds_.end(), 8, RowKind::kYawMoment);
+    else if (yaw_ >= 0.0)
+      kinds_.insert(kinds_.end(), {RowKind::kYawMoment, RowKind::kYawMoment});
   } else if (info.type == ContactType::kLine && info.points.size() == 2) {
     line3d_ = cop_ = true;
     normal_ = 2;  // f_0z; the total F_z is f_0z + f_1z
     if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
-    kinds_ = {RowKind::kNormal,   RowKind::kFriction, RowKind::kFriction, RowKind::kFriction, RowKind::kFriction, RowKind::kCenterOfPressure,
-              RowKind::kCenterOfPressure};
+    kinds_ = {RowKind::kNormal,   RowKind::kFriction,         RowKind::kFriction,        RowKind::kFriction,
+              RowKind::kFriction, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
   } else {
-    throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' of robot '" + model.name() + "' is a " + ToString(info.type) +
-                                " contact with " + std::to_string(info.points.size()) +
-                                " points on a 3D model; contact-wrench rows exist for point, two-point line and flat contacts in 3D");
+    throw std::invalid_argument(
+        "system '" + system + "': contact '" + info.name + "' of robot '" + model.name() + "' is a " +
+        ToString(info.type) + " contact with " + std::to_string(info.points.size()) +
+        " points on a 3D model; contact-wrench rows exist for point, two-point line and flat contacts in 3D");
   }
 }
 
-void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> G,
-                                    Eigen::Ref<Eigen::VectorXd> l, Eigen::Ref<Eigen::VectorXd> u) const {
+void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                    Eigen::Ref<Eigen::MatrixXd> G, Eigen::Ref<Eigen::VectorXd> l,
+                                    Eigen::Ref<Eigen::VectorXd> u) const {
   G.setZero();
   int r = 0;
   if (line3d_) {
     // Rows over F = [f_0; a; b] with f_1 = a n1 + b n2 (n1, n2 as in contact_dynamics.h: n2 = z × d normalised,
     // n1 = d × n2, d the unit toe-heel direction in the world); the total force is f = f_0 + f_1.
-    const Eigen::Vector3d d = (CalcContactPointPosition(model, ws, q, contact_, 1) - CalcContactPointPosition(model, ws, q, contact_, 0)).normalized();
+    const Eigen::Vector3d d =
+        (CalcContactPointPosition(model, ws, q, contact_, 1) - CalcContactPointPosition(model, ws, q, contact_, 0))
+            .normalized();
     Eigen::Vector3d n2 = Eigen::Vector3d::UnitZ().cross(d);
     if (n2.norm() < 1e-6) n2 = Eigen::Vector3d::UnitX().cross(d);
     n2.normalize();
@@ -89,8 +99,8 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
       G.row(r) = ((k % 2 == 0) ? 1.0 : -1.0) * total.row(k < 2 ? 0 : 1) - mu_ * total.row(2);
       l[r] = -kInf, u[r] = -mu_ * offset_, ++r;
     }
-    G(r, 2) = 1.0, l[r] = 0.0, u[r] = kInf, ++r;                               // f_0z ≥ 0 (heel/toe point 0)
-    G(r, 3) = n1.z(), G(r, 4) = n2.z(), l[r] = 0.0, u[r] = kInf, ++r;         // f_1z ≥ 0 (point 1)
+    G(r, 2) = 1.0, l[r] = 0.0, u[r] = kInf, ++r;                       // f_0z ≥ 0 (heel/toe point 0)
+    G(r, 3) = n1.z(), G(r, 4) = n2.z(), l[r] = 0.0, u[r] = kInf, ++r;  // f_1z ≥ 0 (point 1)
     return;
   }
   // Unilateral: F_z ≥ F_min.
@@ -98,7 +108,7 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
   if (planar_) {
     const int fx = normal_ - 1;
     G(r, fx) = 1.0, G(r, normal_) = -mu_, l[r] = -kInf, u[r] = -mu_ * offset_, ++r;  // F_x − μ (F_z − F_0) ≤ 0
-    G(r, fx) = 1.0, G(r, normal_) = mu_, l[r] = mu_ * offset_, u[r] = kInf, ++r;    // F_x + μ (F_z − F_0) ≥ 0
+    G(r, fx) = 1.0, G(r, normal_) = mu_, l[r] = mu_ * offset_, u[r] = kInf, ++r;     // F_x + μ (F_z − F_0) ≥ 0
     if (cop_) {
       // x_min F_z ≤ −τ_y ≤ x_max F_z, x along world x (planar: the foot's x axis is pitched with the foot; the
       // contact points' world x offsets give the extent at this pose).
@@ -143,9 +153,11 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
     for (const double s1 : {1.0, -1.0})
       for (const double s2 : {1.0, -1.0}) {
         // τ_z + μ(X+Y) f_z − s1 (Y f_x − μ τ_x) − s2 (X f_y − μ τ_y) ≥ 0
-        G.row(r) = tz + mu_ * (X + Y) * fz - s1 * (Y * fx - mu_ * tx) - s2 * (X * fy - mu_ * ty), l[r] = 0.0, u[r] = kInf, ++r;
+        G.row(r) = tz + mu_ * (X + Y) * fz - s1 * (Y * fx - mu_ * tx) - s2 * (X * fy - mu_ * ty), l[r] = 0.0,
+        u[r] = kInf, ++r;
         // −τ_z + μ(X+Y) f_z − s1 (Y f_x + μ τ_x) − s2 (X f_y + μ τ_y) ≥ 0
-        G.row(r) = -tz + mu_ * (X + Y) * fz - s1 * (Y * fx + mu_ * tx) - s2 * (X * fy + mu_ * ty), l[r] = 0.0, u[r] = kInf, ++r;
+        G.row(r) = -tz + mu_ * (X + Y) * fz - s1 * (Y * fx + mu_ * tx) - s2 * (X * fy + mu_ * ty), l[r] = 0.0,
+        u[r] = kInf, ++r;
       }
   } else if (yaw_ >= 0.0) {
     const Eigen::RowVector3d ez = R.col(2).transpose();

@@ -33,21 +33,22 @@
 namespace rome {
 
 struct ContactWrenchParams {
-  double min_normal_force_N = 0.0;      ///< [N] F_z ≥ this (0: the paper's unilateral contact)
-  double friction_coefficient = -1.0;   ///< [-] μ; < 0 uses each contact's model value
-  double friction_margin = 1.0;         ///< [-] the pyramid uses friction_margin · μ (1: the full cone)
+  double min_normal_force_N = 0.0;     ///< [N] F_z ≥ this (0: the paper's unilateral contact)
+  double friction_coefficient = -1.0;  ///< [-] μ; < 0 uses each contact's model value
+  double friction_margin = 1.0;        ///< [-] the pyramid uses friction_margin · μ (1: the full cone)
   /// [N] the pyramid's apex is shifted up to F_z = this: |F_t| ≤ μ' (F_z − offset). At small loads (a foot about to
   /// lift off) the ratio |F_t|/F_z then stays well inside the cone while the plant's forces drift over a held sample.
   /// 0: the paper's cone.
   double friction_cone_offset_N = 0.0;
-  bool inscribe_pyramid = true;         ///< 3D: |F_x|, |F_y| ≤ μ'/√2 F_z, inside the cone (hopping spec [R])
+  bool inscribe_pyramid = true;  ///< 3D: |F_x|, |F_y| ≤ μ'/√2 F_z, inside the cone (hopping spec [R])
   /// [m] line/flat contacts: the CoP rows keep the centre of pressure this far inside the sole's edges (0: the edges;
   /// ours: the plant's CoP drifts over a held sample, so a CoP held on the edge leaves the sole between samples)
   double cop_margin_m = 0.0;
   double yaw_moment_coefficient_m = -1.0;  ///< [m] 3D flat: |τ_z| ≤ this · f_z; < 0: no yaw-moment bound
   /// 3D flat (ours; default off): instead of yaw_moment_coefficient_m, the yaw rows of the contact wrench cone of the
   /// sole rectangle with a friction pyramid (μ') at each corner, in closed form (Caron, Pham, Nakamura, ICRA 2015;
-  /// half-sizes X, Y after cop_margin_m, foot frame, τ about the sole's centre, which must be the contact frame origin):
+  /// half-sizes X, Y after cop_margin_m, foot frame, τ about the sole's centre, which must be the contact frame
+  /// origin):
   ///   −μ'(X+Y) f_z + |Y f_x − μ' τ_x| + |X f_y − μ' τ_y| ≤ τ_z ≤ μ'(X+Y) f_z − |Y f_x + μ' τ_x| − |X f_y + μ' τ_y|
   /// (8 rows): the torsion a sole can hold shrinks as its CoP nears an edge or corner and as it carries a tangential
   /// force, as on BulletWorldPlant's four corner contacts.
@@ -57,7 +58,8 @@ struct ContactWrenchParams {
 class ContactWrenchConstraints {
  public:
   enum class RowKind { kNormal, kFriction, kCenterOfPressure, kYawMoment };
-  ContactWrenchConstraints(const MultibodyModel& model, int contact, const ContactWrenchParams& params, const std::string& system);
+  ContactWrenchConstraints(const MultibodyModel& model, int contact, const ContactWrenchParams& params,
+                           const std::string& system);
 
   int contact() const { return contact_; }
   int num_force_rows() const { return num_force_rows_; }  ///< size of this contact's F
@@ -67,8 +69,8 @@ class ContactWrenchConstraints {
   /// false for a 3D line contact, whose F_z is the sum f_0z + f_1z of two entries (see the header).
   bool has_normal_entry() const { return !line3d_; }
   /// G (num_rows × num_force_rows), l, u at configuration q (ws is used for the foot pose). Rows are written in place.
-  void Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> G, Eigen::Ref<Eigen::VectorXd> l,
-            Eigen::Ref<Eigen::VectorXd> u) const;
+  void Fill(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> G,
+            Eigen::Ref<Eigen::VectorXd> l, Eigen::Ref<Eigen::VectorXd> u) const;
 
  private:
   int contact_ = -1;

@@ -10,10 +10,10 @@
 namespace rome {
 
 struct JointPdGains {
-  Eigen::VectorXd kp;      ///< [N m/rad] per actuator
-  Eigen::VectorXd kd;      ///< [N m s/rad] per actuator
-  Eigen::VectorXd q_des;   ///< [rad] per actuator
-  Eigen::VectorXd u_ff;    ///< [N m] per actuator
+  Eigen::VectorXd kp;     ///< [N m/rad] per actuator
+  Eigen::VectorXd kd;     ///< [N m s/rad] per actuator
+  Eigen::VectorXd q_des;  ///< [rad] per actuator
+  Eigen::VectorXd u_ff;   ///< [N m] per actuator
 };
 
 class JointPdController final : public LeafSystem {

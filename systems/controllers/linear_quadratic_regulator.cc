@@ -33,8 +33,9 @@ void CheckSymmetric(const Eigen::MatrixXd& M, const char* name, double tolerance
 
 }  // namespace
 
-LinearQuadraticRegulatorResult LinearQuadraticRegulator(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                                                        const Eigen::MatrixXd& R, const Eigen::MatrixXd& N,
+LinearQuadraticRegulatorResult LinearQuadraticRegulator(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
+                                                        const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+                                                        const Eigen::MatrixXd& N,
                                                         const ContinuousAlgebraicRiccatiOptions& riccati) {
   const Eigen::Index n = A.rows(), m = B.cols();
   if (n == 0 || A.cols() != n) Fail("A must be square and non-empty, got " + Shape(A));
@@ -43,13 +44,15 @@ LinearQuadraticRegulatorResult LinearQuadraticRegulator(const Eigen::MatrixXd& A
   CheckShape(Q, "Q", n, n);
   CheckShape(R, "R", m, m);
   if (N.size() != 0) CheckShape(N, "N", n, m);
-  if (!A.allFinite() || !B.allFinite() || !Q.allFinite() || !R.allFinite() || !N.allFinite()) Fail("A, B, Q, R or N contains NaN or Inf");
+  if (!A.allFinite() || !B.allFinite() || !Q.allFinite() || !R.allFinite() || !N.allFinite())
+    Fail("A, B, Q, R or N contains NaN or Inf");
   CheckSymmetric(Q, "Q", riccati.symmetry_tolerance);
   CheckSymmetric(R, "R", riccati.symmetry_tolerance);
   const Eigen::LLT<Eigen::MatrixXd> R_llt(R);
   if (R_llt.info() != Eigen::Success) {
     std::ostringstream msg;
-    msg << "R must be positive definite, its smallest eigenvalue is " << Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(R).eigenvalues().minCoeff();
+    msg << "R must be positive definite, its smallest eigenvalue is "
+        << Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(R).eigenvalues().minCoeff();
     Fail(msg.str());
   }
   Eigen::MatrixXd A_bar = A, Q_bar = Q;
@@ -68,18 +71,18 @@ LinearQuadraticRegulatorResult LinearQuadraticRegulator(const Eigen::MatrixXd& A
   LinearQuadraticRegulatorResult result;
   try {
     result.S = SolveContinuousAlgebraicRiccatiEquation(A_bar, B, Q_bar, R, riccati);
-  } catch (const std::invalid_argument& e) {
-    Fail(e.what());
-  }
+  } catch (const std::invalid_argument& e) { Fail(e.what()); }
   Eigen::MatrixXd Bt_S_plus_Nt = B.transpose() * result.S;
   if (N.size() != 0) Bt_S_plus_Nt += N.transpose();
   result.K = R_llt.solve(Bt_S_plus_Nt);
   return result;
 }
 
-LinearQuadraticRegulatorResult LinearQuadraticRegulator(const System& system, Context& context, const Eigen::MatrixXd& Q,
-                                                        const Eigen::MatrixXd& R, const std::string& input_port, const Eigen::MatrixXd& N,
-                                                        const LinearizeParams& linearize, const ContinuousAlgebraicRiccatiOptions& riccati) {
+LinearQuadraticRegulatorResult LinearQuadraticRegulator(const System& system, Context& context,
+                                                        const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+                                                        const std::string& input_port, const Eigen::MatrixXd& N,
+                                                        const LinearizeParams& linearize,
+                                                        const ContinuousAlgebraicRiccatiOptions& riccati) {
   if (input_port.empty()) Fail("system '" + system.name() + "': name the input port u");
   const LinearSystemMatrices lin = Linearize(system, context, input_port, "", linearize);
   return LinearQuadraticRegulator(lin.A, lin.B, Q, R, N, riccati);

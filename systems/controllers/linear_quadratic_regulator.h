@@ -28,14 +28,16 @@ struct LinearQuadraticRegulatorResult {
 };
 
 /// The LQR of (A, B) with weights Q (n×n), R (m×m) and cross weight N (n×m; empty means zero).
-LinearQuadraticRegulatorResult LinearQuadraticRegulator(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                                                        const Eigen::MatrixXd& R, const Eigen::MatrixXd& N = Eigen::MatrixXd(),
+LinearQuadraticRegulatorResult LinearQuadraticRegulator(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
+                                                        const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+                                                        const Eigen::MatrixXd& N = Eigen::MatrixXd(),
                                                         const ContinuousAlgebraicRiccatiOptions& riccati = {});
 
 /// The LQR of `system` linearised (framework/linearize.h) about the operating point held by `context` (its state x0
 /// and the value u0 fixed on `input_port`, usually an equilibrium). u = u0 − K (x − x0) then stabilises x0.
-LinearQuadraticRegulatorResult LinearQuadraticRegulator(const System& system, Context& context, const Eigen::MatrixXd& Q,
-                                                        const Eigen::MatrixXd& R, const std::string& input_port,
+LinearQuadraticRegulatorResult LinearQuadraticRegulator(const System& system, Context& context,
+                                                        const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+                                                        const std::string& input_port,
                                                         const Eigen::MatrixXd& N = Eigen::MatrixXd(),
                                                         const LinearizeParams& linearize = {},
                                                         const ContinuousAlgebraicRiccatiOptions& riccati = {});

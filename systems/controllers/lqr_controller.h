@@ -23,12 +23,13 @@ namespace rome {
 class LqrController final : public LeafSystem {
  public:
   /// Gain from the CARE of (A, B, Q, R, N) (N empty: no cross term), operating point x0 (n), u0 (m).
-  LqrController(std::string name, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
-                const Eigen::VectorXd& x0, const Eigen::VectorXd& u0, const Eigen::MatrixXd& N = Eigen::MatrixXd(),
-                const ContinuousAlgebraicRiccatiOptions& riccati = {});
-  /// Gain from the CARE of a linearisation (framework/linearize.h): its A, B, x0 and u0.
-  LqrController(std::string name, const LinearSystemMatrices& linearization, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
+  LqrController(std::string name, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                const Eigen::MatrixXd& R, const Eigen::VectorXd& x0, const Eigen::VectorXd& u0,
                 const Eigen::MatrixXd& N = Eigen::MatrixXd(), const ContinuousAlgebraicRiccatiOptions& riccati = {});
+  /// Gain from the CARE of a linearisation (framework/linearize.h): its A, B, x0 and u0.
+  LqrController(std::string name, const LinearSystemMatrices& linearization, const Eigen::MatrixXd& Q,
+                const Eigen::MatrixXd& R, const Eigen::MatrixXd& N = Eigen::MatrixXd(),
+                const ContinuousAlgebraicRiccatiOptions& riccati = {});
 
   const Eigen::MatrixXd& K() const { return lqr_.K; }
   const Eigen::MatrixXd& S() const { return lqr_.S; }

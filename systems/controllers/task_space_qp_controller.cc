@@ -25,15 +25,17 @@ struct ContactBlock {
   int normal = 0;       // x index of F_z
   int ineq_offset = 0;  // first inequality row
   int num_ineq = 0;
-  bool cop = false;     // planar line/flat foot: CoP rows
+  bool cop = false;  // planar line/flat foot: CoP rows
   double mu = 1.0;
 };
 
 int InequalityRows(const MultibodyModel& model, const ContactInfo& c, const std::string& system) {
   if (model.is_planar()) return c.type == ContactType::kPoint ? 2 : 4;
   if (c.type == ContactType::kPoint) return 4;
-  throw std::invalid_argument("system '" + system + "': contact '" + c.name + "' of robot '" + model.name() + "' is a " + ToString(c.type) +
-                              " contact on a 3D model; the task-space QP supports point contacts in 3D and every contact type in planar models");
+  throw std::invalid_argument("system '" + system + "': contact '" + c.name + "' of robot '" + model.name() +
+                              "' is a " + ToString(c.type) +
+                              " contact on a 3D model; the task-space QP supports point contacts in 3D and every "
+                              "contact type in planar models");
 }
 }  // namespace
 
@@ -56,17 +58,23 @@ struct TaskSpaceQpController::Scratch {
   long relaxed_solves = 0;
 };
 
-
-TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
-                                             std::vector<std::shared_ptr<const TaskSpaceTask>> tasks, TaskSpaceQpParams params)
-    : QpControllerSystem(std::move(name)), model_(std::move(model)), mode_contacts_(std::move(mode_contacts)), tasks_(std::move(tasks)), params_(std::move(params)) {
+TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model,
+                                             std::vector<ContactSet> mode_contacts,
+                                             std::vector<std::shared_ptr<const TaskSpaceTask>> tasks,
+                                             TaskSpaceQpParams params)
+    : QpControllerSystem(std::move(name)),
+      model_(std::move(model)),
+      mode_contacts_(std::move(mode_contacts)),
+      tasks_(std::move(tasks)),
+      params_(std::move(params)) {
   if (!model_) ThrowError("null MultibodyModel");
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
   if (!(params_.update_period_s > 0.0) || !std::isfinite(params_.update_period_s))
     ThrowError("params.update_period_s = " + std::to_string(params_.update_period_s) + " must be positive");
   auto check_nonneg = [&](double value, const char* what) {
-    if (!(value >= 0.0) || !std::isfinite(value)) ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be finite and >= 0");
+    if (!(value >= 0.0) || !std::isfinite(value))
+      ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be finite and >= 0");
   };
   check_nonneg(params_.qdd_regularization, "qdd_regularization");
   check_nonneg(params_.u_regularization, "u_regularization");
@@ -85,8 +93,8 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
     ny_ += tasks_[i]->size();
     for (int m : tasks_[i]->active_modes())
       if (m >= static_cast<int>(mode_contacts_.size()))
-        ThrowError("task '" + tasks_[i]->name() + "' is active in mode " + std::to_string(m) + ", but only " + std::to_string(mode_contacts_.size()) +
-                   " modes were given");
+        ThrowError("task '" + tasks_[i]->name() + "' is active in mode " + std::to_string(m) + ", but only " +
+                   std::to_string(mode_contacts_.size()) + " modes were given");
   }
 
   u_max_ = ResolveTorqueLimits(*model_, params_.torque_limits, this->name());
@@ -95,9 +103,7 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   for (size_t m = 0; m < mode_contacts_.size(); ++m) {
     try {
       CountConstraintRows(*model_, mode_contacts_[m]);
-    } catch (const std::exception& e) {
-      ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what());
-    }
+    } catch (const std::exception& e) { ThrowError("contact set of mode " + std::to_string(m) + ": " + e.what()); }
     for (int c = 0; c < nc; ++c)
       if (mode_contacts_[m] & ContactBit(c)) InequalityRows(*model_, model_->contacts()[c], this->name());
   }
@@ -109,11 +115,22 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(solve_time_offset() + 1);
   xd0[status_offset()] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
-  DeclareOutputPort("u", nu, [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); }, Feedthrough::None());
-  DeclareOutputPort("qdd", nv, [this, nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(qdd_offset(), nv); }, Feedthrough::None());
-  DeclareOutputPort("contact_forces", 3 * nc, [this, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(forces_offset(), 3 * nc); },
-                    Feedthrough::None());
-  DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s, params_.resolve_at_events, params_.resolve_at,
+  DeclareOutputPort(
+      "u", nu,
+      [this, nu](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(u_offset(), nu); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "qdd", nv,
+      [this, nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(qdd_offset(), nv); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "contact_forces", 3 * nc,
+      [this, nc](const LeafContext& c, Eigen::VectorXd* y) {
+        *y = c.discrete_state().segment(forces_offset(), 3 * nc);
+      },
+      Feedthrough::None());
+  DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s,
+                           params_.resolve_at_events, params_.resolve_at,
                            [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
 }
 
@@ -146,7 +163,8 @@ std::any TaskSpaceQpController::AllocateScratch() const {
       b.ineq_offset = ineq;
       b.num_ineq = InequalityRows(model, info, name());
       b.cop = model.is_planar() && info.type != ContactType::kPoint;
-      b.mu = params_.friction_margin * (params_.friction_coefficient >= 0.0 ? params_.friction_coefficient : info.friction_coefficient);
+      b.mu = params_.friction_margin *
+             (params_.friction_coefficient >= 0.0 ? params_.friction_coefficient : info.friction_coefficient);
       blocks.push_back(b);
       f_row += info.num_rows;
       ineq += b.num_ineq;
@@ -223,7 +241,8 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
     const TaskGains& g = task.gains();
     s.w_rows.segment(off, n).setConstant(task.IsActiveIn(mode) ? g.weight : 0.0);
     s.ydot.segment(off, n).noalias() = s.Jy.middleRows(off, n) * v;
-    s.ydd_star.segment(off, n) = desired.segment(2 * ny_ + off, n) + g.kp * (desired.segment(off, n) - s.y.segment(off, n)) +
+    s.ydd_star.segment(off, n) = desired.segment(2 * ny_ + off, n) +
+                                 g.kp * (desired.segment(off, n) - s.y.segment(off, n)) +
                                  g.kd * (desired.segment(ny_ + off, n) - s.ydot.segment(off, n));
   }
   // Cost: 1/2 xᵀHx + gᵀx with H_q̈q̈ = J_yᵀ W J_y, g_q̈ = J_yᵀ W (J̇_y q̇ − ÿ*), plus the regularisation.
@@ -252,7 +271,9 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
     const auto Jc = ws.J.topRows(rows);
     qp.A_eq.block(0, nv + nu, nv, rows) = -Jc.transpose();
     qp.A_eq.bottomLeftCorner(rows, nv) = Jc;
-    qp.b_eq.tail(rows) = -ws.Jdot_qdot.head(rows) - ws.phi.head(rows) * (params_.contact_stabilization.baumgarte_beta_per_s * params_.contact_stabilization.baumgarte_beta_per_s);
+    qp.b_eq.tail(rows) =
+        -ws.Jdot_qdot.head(rows) - ws.phi.head(rows) * (params_.contact_stabilization.baumgarte_beta_per_s *
+                                                        params_.contact_stabilization.baumgarte_beta_per_s);
     qp.b_eq.tail(rows).noalias() -= (2.0 * params_.contact_stabilization.baumgarte_alpha_per_s) * (Jc * v);
   }
   // CoP rows of planar line/flat feet: x_min, x_max of the contact points relative to the frame origin.
@@ -292,21 +313,22 @@ QpStatus TaskSpaceQpController::SolveRelaxedQp(const LeafContext& context) const
   return status;
 }
 
-long TaskSpaceQpController::relaxed_solves(const LeafContext& context) const { return context.scratch<Scratch>().relaxed_solves; }
+long TaskSpaceQpController::relaxed_solves(const LeafContext& context) const {
+  return context.scratch<Scratch>().relaxed_solves;
+}
 
 EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   QpStatus status;
   try {
     status = SolveQp(context);
-  } catch (const std::exception& e) {
-    return EventStatus::Failed(e.what());
-  }
+  } catch (const std::exception& e) { return EventStatus::Failed(e.what()); }
   Scratch& s = context.scratch<Scratch>();
   const Scratch::ModeQp& mq = s.modes[s.last_mode];
   (*next)[status_offset()] = static_cast<double>(status);
   bool use_solution = status == QpStatus::kOptimal;
-  if (!use_solution && status != QpStatus::kInvalidInput && params_.failure_policy == QpFailurePolicy::kRelaxContactForces) {
+  if (!use_solution && status != QpStatus::kInvalidInput &&
+      params_.failure_policy == QpFailurePolicy::kRelaxContactForces) {
     (*next)[failures_offset()] += 1.0;
     const QpStatus relaxed = SolveRelaxedQp(context);
     if (relaxed == QpStatus::kOptimal) {
@@ -325,7 +347,8 @@ EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::Vec
     forces.setZero();
     const auto q = EvalInput(context, state_port_).head(nv);
     for (const ContactBlock& b : mq.contacts)
-      forces.segment<3>(3 * b.contact) = ExtractContactWrench(*model_, s.ws, q, mq.active, x.tail(mq.rows), b.contact).force;
+      forces.segment<3>(3 * b.contact) =
+          ExtractContactWrench(*model_, s.ws, q, mq.active, x.tail(mq.rows), b.contact).force;
   } else {
     (*next)[failures_offset()] += 1.0;
     if (params_.failure_policy == QpFailurePolicy::kZeroTorque) next->segment(u_offset(), nu).setZero();

@@ -26,10 +26,11 @@
 //              ÿ*_i = ÿ_d + Kp (y_d − y) + Kd (ẏ_d − J_i q̇)                       (PD output dynamics)
 //   subject to M q̈ + h = B u + τ_spring + J_cᵀ F                                   (Eq. (3) of the paper)
 //              J_c q̈ + J̇_c q̇ = −2α J_c q̇ − β² φ                                 (stance contact and loop closures,
-//                                                                                α, β from params.contact_stabilization:
-//                                                                                pass the plant's, so that the QP's
-//                                                                                forces are the plant's; α = β = 0 is
-//                                                                                the paper's J_c q̈ + J̇_c q̇ = 0)
+//                                                                                α, β from
+//                                                                                params.contact_stabilization: pass the
+//                                                                                plant's, so that the QP's forces are
+//                                                                                the plant's; α = β = 0 is the paper's
+//                                                                                J_c q̈ + J̇_c q̇ = 0)
 //              F_z ≥ F_min, |F_x| ≤ μ F_z (|F_y| too for 3D point feet)          (GRF, Eq. (31))
 //              line/flat planar foot [τ_y, F_x, F_z]: CoP inside the foot, x_min F_z ≤ −τ_y ≤ x_max F_z
 //              −u_max ≤ u ≤ u_max                                                 (torque limit, Eq. (31))
@@ -69,7 +70,7 @@ enum class QpFailurePolicy {
 };
 
 struct TaskSpaceQpParams {
-  double update_period_s = 1e-3;       ///< [s] QP rate (the paper solves its low-level QP at 1 kHz).
+  double update_period_s = 1e-3;  ///< [s] QP rate (the paper solves its low-level QP at 1 kHz).
   // Regularisation weights are relative: each is multiplied by the largest diagonal entry s of J_yᵀ W J_y, so the
   // QP stays well conditioned for any task weights. They bias task accelerations that the robot could meet exactly
   // by about ρ s |u| / (w |∂ÿ/∂u|²); the PD loop turns that into a steady output error of bias / Kp (measured on
@@ -82,28 +83,30 @@ struct TaskSpaceQpParams {
   /// [-] the pyramid uses friction_margin · μ (1 = the paper's cone; < 1 keeps the plant's forces, which drift over a
   /// zero-order-held sample, inside the true cone).
   double friction_margin = 1.0;
-  Eigen::VectorXd torque_limits;       ///< [N m] per actuator; empty = the model's torque limits.
+  Eigen::VectorXd torque_limits;  ///< [N m] per actuator; empty = the model's torque limits.
   /// α [1/s] on contact and loop-closure velocities, β [1/s] on loop-closure position errors φ: the same struct the
-  /// plant integrates with (HybridContactPlantParams::dynamics), so the planned forces are the forces the plant applies.
-  /// Default: the plant's default (α = β = 10 1/s; ours); the paper's J_c q̈ + J̇_c q̇ = 0 is α = β = 0.
+  /// plant integrates with (HybridContactPlantParams::dynamics), so the planned forces are the forces the plant
+  /// applies. Default: the plant's default (α = β = 10 1/s; ours); the paper's J_c q̈ + J̇_c q̇ = 0 is α = β = 0.
   ConstrainedDynamicsParameters contact_stabilization;
   /// Re-solve at guard events (touchdown, lift-off) as well as periodically, so the new mode's torque acts from the
-  /// event on. false reproduces a plain 1 kHz zero-order hold (the previous mode's torque is held until the next sample).
+  /// event on. false reproduces a plain 1 kHz zero-order hold (the previous mode's torque is held until the next
+  /// sample).
   bool resolve_at_events = true;
   EventTrigger resolve_at = EventTrigger::AnyGuard();  ///< which guard events re-solve the QP
   /// {contact, joint}: the actuator on `joint` gets u = 0 while `contact` is active (the paper zeroes Cassie's
   /// stance toe torque). Empty for point-foot robots.
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;
   QpFailurePolicy failure_policy = QpFailurePolicy::kRelaxContactForces;
-  QpSettings qp;                       ///< DenseQpSolver tolerances (warm start on by default).
+  QpSettings qp;  ///< DenseQpSolver tolerances (warm start on by default).
 };
 
 class TaskSpaceQpController final : public QpControllerSystem {
  public:
   /// `mode_contacts[m]`: the contacts active in the plant's mode m (see ActiveContactsPerMode). Tasks are
   /// stacked in the given order in the desired port.
-  TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model, std::vector<ContactSet> mode_contacts,
-                        std::vector<std::shared_ptr<const TaskSpaceTask>> tasks, TaskSpaceQpParams params = {});
+  TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model,
+                        std::vector<ContactSet> mode_contacts, std::vector<std::shared_ptr<const TaskSpaceTask>> tasks,
+                        TaskSpaceQpParams params = {});
 
   const MultibodyModel& model() const { return *model_; }
   const TaskSpaceQpParams& params() const { return params_; }

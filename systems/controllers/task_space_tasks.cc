@@ -11,43 +11,54 @@ void CheckAxes(const std::string& task, const std::vector<Axis>& axes) {
   if (axes.empty()) throw std::invalid_argument("task '" + task + "': no axes given");
   for (size_t i = 0; i < axes.size(); ++i)
     for (size_t j = 0; j < i; ++j)
-      if (axes[i] == axes[j]) throw std::invalid_argument("task '" + task + "': axis " + std::to_string(static_cast<int>(axes[i])) + " is listed twice");
+      if (axes[i] == axes[j])
+        throw std::invalid_argument("task '" + task + "': axis " + std::to_string(static_cast<int>(axes[i])) +
+                                    " is listed twice");
 }
 }  // namespace
 
 TaskSpaceTask::TaskSpaceTask(std::string name, int size, TaskGains gains, std::vector<int> active_modes)
     : name_(std::move(name)), size_(size), gains_(gains), active_modes_(std::move(active_modes)) {
-  if (size_ <= 0) throw std::invalid_argument("task '" + name_ + "': size " + std::to_string(size_) + " must be positive");
+  if (size_ <= 0)
+    throw std::invalid_argument("task '" + name_ + "': size " + std::to_string(size_) + " must be positive");
   if (!(gains_.weight >= 0.0) || !std::isfinite(gains_.weight))
-    throw std::invalid_argument("task '" + name_ + "': weight " + std::to_string(gains_.weight) + " must be finite and >= 0");
+    throw std::invalid_argument("task '" + name_ + "': weight " + std::to_string(gains_.weight) +
+                                " must be finite and >= 0");
   if (!std::isfinite(gains_.kp) || !std::isfinite(gains_.kd))
-    throw std::invalid_argument("task '" + name_ + "': gains kp = " + std::to_string(gains_.kp) + ", kd = " + std::to_string(gains_.kd) + " must be finite");
+    throw std::invalid_argument("task '" + name_ + "': gains kp = " + std::to_string(gains_.kp) +
+                                ", kd = " + std::to_string(gains_.kd) + " must be finite");
   for (int m : active_modes_)
-    if (m < 0) throw std::invalid_argument("task '" + name_ + "': active mode index " + std::to_string(m) + " is negative");
+    if (m < 0)
+      throw std::invalid_argument("task '" + name_ + "': active mode index " + std::to_string(m) + " is negative");
 }
 
 bool TaskSpaceTask::IsActiveIn(int mode) const {
   return active_modes_.empty() || std::find(active_modes_.begin(), active_modes_.end(), mode) != active_modes_.end();
 }
 
-void TaskSpaceTask::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-                         Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void TaskSpaceTask::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                         Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                         Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   if (y.size() != size_ || J.rows() != size_ || J.cols() != model.nv() || Jdot_qdot.size() != size_)
-    throw std::invalid_argument("task '" + name_ + "': Calc outputs have sizes y " + std::to_string(y.size()) + ", J " + std::to_string(J.rows()) + "x" +
-                                std::to_string(J.cols()) + ", Jdot_qdot " + std::to_string(Jdot_qdot.size()) + "; expected " + std::to_string(size_) +
+    throw std::invalid_argument("task '" + name_ + "': Calc outputs have sizes y " + std::to_string(y.size()) + ", J " +
+                                std::to_string(J.rows()) + "x" + std::to_string(J.cols()) + ", Jdot_qdot " +
+                                std::to_string(Jdot_qdot.size()) + "; expected " + std::to_string(size_) +
                                 " and nv = " + std::to_string(model.nv()));
   DoCalc(model, ws, q, v, y, J, Jdot_qdot);
 }
 
 // ---------------------------------------------------------------------------------------------------------
 
-ComPositionTask::ComPositionTask(std::string name, std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes)
-    : TaskSpaceTask(std::move(name), static_cast<int>(axes.size()), gains, std::move(active_modes)), axes_(std::move(axes)) {
+ComPositionTask::ComPositionTask(std::string name, std::vector<Axis> axes, TaskGains gains,
+                                 std::vector<int> active_modes)
+    : TaskSpaceTask(std::move(name), static_cast<int>(axes.size()), gains, std::move(active_modes)),
+      axes_(std::move(axes)) {
   CheckAxes(this->name(), axes_);
 }
 
-void ComPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-                             Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void ComPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                             const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                             Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   const Eigen::Vector3d p = CalcComPosition(model, ws, q);
   const Eigen::Vector3d a = CalcComJdotQdot(model, ws, q, v);
   auto J3 = ws.J_point.topRows(3);
@@ -62,23 +73,25 @@ void ComPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws
 
 // ---------------------------------------------------------------------------------------------------------
 
-BodyPitchTask::BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains, std::vector<int> active_modes)
+BodyPitchTask::BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains,
+                             std::vector<int> active_modes)
     : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)) {
   if (!model.is_planar())
-    throw std::invalid_argument("task '" + this->name() + "': BodyPitchTask needs a planar model; robot '" + model.name() + "' has a " +
-                                ToString(model.floating_base()) + " floating base");
+    throw std::invalid_argument("task '" + this->name() + "': BodyPitchTask needs a planar model; robot '" +
+                                model.name() + "' has a " + ToString(model.floating_base()) + " floating base");
   body_ = model.BodyIndex(body);
   if (model.HasFrame(body)) {
     const Eigen::Matrix3d& R = model.Frame(body).X_body_frame.linear();
     if (std::abs(R(1, 1) - 1.0) > 1e-12)
-      throw std::invalid_argument("task '" + this->name() + "': link '" + body + "' is welded to body '" + model.body(body_).name +
-                                  "' with a rotation that is not about y");
+      throw std::invalid_argument("task '" + this->name() + "': link '" + body + "' is welded to body '" +
+                                  model.body(body_).name + "' with a rotation that is not about y");
     pitch_offset_ = std::atan2(R(0, 2), R(0, 0));
   }
 }
 
-void BodyPitchTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-                           Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void BodyPitchTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                           Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   ws.SetPositions(model, q);
   // R_y(θ) = [[c, 0, s], [0, 1, 0], [−s, 0, c]].
   const Eigen::Matrix3d& R = ws.R_world_link(body_);
@@ -91,8 +104,9 @@ void BodyPitchTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, 
 
 // ---------------------------------------------------------------------------------------------------------
 
-PointPositionTask::PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body, const Eigen::Vector3d& p_link,
-                                     std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes)
+PointPositionTask::PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body,
+                                     const Eigen::Vector3d& p_link, std::vector<Axis> axes, TaskGains gains,
+                                     std::vector<int> active_modes)
     : TaskSpaceTask(std::move(name), static_cast<int>(axes.size()), gains, std::move(active_modes)),
       body_(model.BodyIndex(body)),
       p_link_(model.HasFrame(body) ? Eigen::Vector3d(model.Frame(body).X_body_frame * p_link) : p_link),
@@ -100,15 +114,18 @@ PointPositionTask::PointPositionTask(std::string name, const MultibodyModel& mod
   CheckAxes(this->name(), axes_);
 }
 
-std::shared_ptr<PointPositionTask> PointPositionTask::ForContact(std::string name, const MultibodyModel& model, const std::string& contact,
-                                                                 std::vector<Axis> axes, TaskGains gains, std::vector<int> active_modes) {
+std::shared_ptr<PointPositionTask> PointPositionTask::ForContact(std::string name, const MultibodyModel& model,
+                                                                 const std::string& contact, std::vector<Axis> axes,
+                                                                 TaskGains gains, std::vector<int> active_modes) {
   const ContactInfo& c = model.contacts()[model.ContactIndex(contact)];
   // frame_origin is in the body frame (c.link may have been merged into that body).
-  return std::make_shared<PointPositionTask>(std::move(name), model, model.body(c.body).name, c.frame_origin, std::move(axes), gains, std::move(active_modes));
+  return std::make_shared<PointPositionTask>(std::move(name), model, model.body(c.body).name, c.frame_origin,
+                                             std::move(axes), gains, std::move(active_modes));
 }
 
-void PointPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-                               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void PointPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                               const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                               Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   const Eigen::Vector3d p = CalcPointPosition(model, ws, q, body_, p_link_);
   const Eigen::Vector3d a = CalcPointJdotQdot(model, ws, q, v, body_, p_link_);
   auto J3 = ws.J_point.topRows(3);
@@ -123,29 +140,35 @@ void PointPositionTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& 
 
 // ---------------------------------------------------------------------------------------------------------
 
-JointPositionTask::JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint, TaskGains gains,
-                                     std::vector<int> active_modes)
+JointPositionTask::JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint,
+                                     TaskGains gains, std::vector<int> active_modes)
     : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)), index_(model.VelocityIndex(joint)) {}
 
-void JointPositionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const VectorRef& q, const VectorRef&, Eigen::Ref<Eigen::VectorXd> y,
-                               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void JointPositionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const VectorRef& q, const VectorRef&,
+                               Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                               Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   y[0] = q[index_];
   J.setZero();
   J(0, index_) = 1.0;
   Jdot_qdot[0] = 0.0;
 }
 
-JointFunctionTask::JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function, TaskGains gains,
-                                     std::vector<int> active_modes, double second_derivative_step)
-    : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)), index_(model.VelocityIndex(joint)), function_(std::move(function)),
+JointFunctionTask::JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint,
+                                     Function function, TaskGains gains, std::vector<int> active_modes,
+                                     double second_derivative_step)
+    : TaskSpaceTask(std::move(name), 1, gains, std::move(active_modes)),
+      index_(model.VelocityIndex(joint)),
+      function_(std::move(function)),
       step_(second_derivative_step) {
   if (!function_) throw std::invalid_argument("task '" + this->name() + "': no function given");
   if (!(step_ > 0.0) || !std::isfinite(step_))
-    throw std::invalid_argument("task '" + this->name() + "': second_derivative_step = " + std::to_string(step_) + " must be positive");
+    throw std::invalid_argument("task '" + this->name() + "': second_derivative_step = " + std::to_string(step_) +
+                                " must be positive");
 }
 
-void JointFunctionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-                               Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void JointFunctionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const VectorRef& q, const VectorRef& v,
+                               Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                               Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   const double qi = q[index_];
   double value = 0.0, slope = 0.0, unused = 0.0, slope_plus = 0.0, slope_minus = 0.0;
   function_(qi, &value, &slope);
@@ -159,16 +182,18 @@ void JointFunctionTask::DoCalc(const MultibodyModel&, MultibodyWorkspace&, const
 
 // ---------------------------------------------------------------------------------------------------------
 
-BodyOrientationTask::BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains,
-                                         std::vector<int> active_modes)
+BodyOrientationTask::BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body,
+                                         TaskGains gains, std::vector<int> active_modes)
     : TaskSpaceTask(std::move(name), 3, gains, std::move(active_modes)), body_(model.BodyIndex(body)) {
   if (model.is_planar())
-    throw std::invalid_argument("task '" + this->name() + "': BodyOrientationTask needs a 3D model; robot '" + model.name() + "' is planar");
+    throw std::invalid_argument("task '" + this->name() + "': BodyOrientationTask needs a 3D model; robot '" +
+                                model.name() + "' is planar");
   if (model.HasFrame(body)) R_body_link_ = model.Frame(body).X_body_frame.linear();
 }
 
-void BodyOrientationTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
-                                 Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
+void BodyOrientationTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                 const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                                 Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const {
   ws.SetPositions(model, q);
   const Eigen::Matrix3d R = ws.R_world_link(body_) * R_body_link_;
   const Eigen::AngleAxisd aa(R);

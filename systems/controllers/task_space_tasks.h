@@ -35,8 +35,8 @@ namespace rome {
 /// PD gains and cost weight of one task (the same for every row of the task).
 struct TaskGains {
   double weight = 1.0;  ///< [-] weight of ||ÿ − ÿ*||² in the QP cost (Eq. (30) uses 1 for every output).
-  double kp = 100.0;    ///< [1/s²] Kp of ÿ* (the paper gives no values; 100 with kd 20 is critically damped, 10 rad/s).
-  double kd = 20.0;     ///< [1/s] Kd of ÿ*.
+  double kp = 100.0;  ///< [1/s²] Kp of ÿ* (the paper gives no values; 100 with kd 20 is critically damped, 10 rad/s).
+  double kd = 20.0;   ///< [1/s] Kd of ÿ*.
 };
 
 enum class Axis { kX = 0, kY = 1, kZ = 2 };
@@ -57,12 +57,13 @@ class TaskSpaceTask {
 
   /// y (size), J (size × nv) and J̇q̇ (size) at (q, v). The outputs are preallocated by the caller; the
   /// workspace's J_point scratch may be overwritten. Throws std::invalid_argument on wrong sizes.
-  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-            Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const;
+  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+            Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const;
 
  protected:
-  virtual void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-                      Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const = 0;
+  virtual void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                      Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+                      Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const = 0;
 
  private:
   std::string name_;
@@ -77,8 +78,9 @@ class ComPositionTask final : public TaskSpaceTask {
   ComPositionTask(std::string name, std::vector<Axis> axes, TaskGains gains = {}, std::vector<int> active_modes = {});
 
  private:
-  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   std::vector<Axis> axes_;
 };
 
@@ -88,11 +90,13 @@ class BodyPitchTask final : public TaskSpaceTask {
  public:
   /// `body` may be any URDF link; a link merged into a body through a fixed joint adds its fixed pitch
   /// offset (its fixed rotation must be about y, else std::invalid_argument).
-  BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {}, std::vector<int> active_modes = {});
+  BodyPitchTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {},
+                std::vector<int> active_modes = {});
 
  private:
-  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int body_;
   double pitch_offset_ = 0.0;  // pitch of the link frame in the body frame (merged links)
 };
@@ -101,15 +105,18 @@ class BodyPitchTask final : public TaskSpaceTask {
 class PointPositionTask final : public TaskSpaceTask {
  public:
   /// p_link is in the frame of link `body` (any URDF link, also one merged through a fixed joint).
-  PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body, const Eigen::Vector3d& p_link, std::vector<Axis> axes,
-                    TaskGains gains = {}, std::vector<int> active_modes = {});
+  PointPositionTask(std::string name, const MultibodyModel& model, const std::string& body,
+                    const Eigen::Vector3d& p_link, std::vector<Axis> axes, TaskGains gains = {},
+                    std::vector<int> active_modes = {});
   /// The frame origin of contact `contact` (e.g. the swing foot "right_foot").
-  static std::shared_ptr<PointPositionTask> ForContact(std::string name, const MultibodyModel& model, const std::string& contact,
-                                                       std::vector<Axis> axes, TaskGains gains = {}, std::vector<int> active_modes = {});
+  static std::shared_ptr<PointPositionTask> ForContact(std::string name, const MultibodyModel& model,
+                                                       const std::string& contact, std::vector<Axis> axes,
+                                                       TaskGains gains = {}, std::vector<int> active_modes = {});
 
  private:
-  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int body_;
   Eigen::Vector3d p_link_;  // in the body frame (a link merged through a fixed joint is converted)
   std::vector<Axis> axes_;
@@ -118,11 +125,13 @@ class PointPositionTask final : public TaskSpaceTask {
 /// One generalized coordinate q[i] of the joint `joint` (or a base coordinate such as "base_pitch").
 class JointPositionTask final : public TaskSpaceTask {
  public:
-  JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint, TaskGains gains = {}, std::vector<int> active_modes = {});
+  JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint, TaskGains gains = {},
+                    std::vector<int> active_modes = {});
 
  private:
-  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int index_;
 };
 
@@ -134,12 +143,13 @@ class JointFunctionTask final : public TaskSpaceTask {
  public:
   /// Writes f(q) and f'(q).
   using Function = std::function<void(double q, double* value, double* derivative)>;
-  JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function, TaskGains gains = {},
-                    std::vector<int> active_modes = {}, double second_derivative_step = 1e-5);
+  JointFunctionTask(std::string name, const MultibodyModel& model, const std::string& joint, Function function,
+                    TaskGains gains = {}, std::vector<int> active_modes = {}, double second_derivative_step = 1e-5);
 
  private:
-  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int index_;
   Function function_;
   double step_;
@@ -149,11 +159,13 @@ class JointFunctionTask final : public TaskSpaceTask {
 /// (3D models; see the header for the small-angle reading of ẏ).
 class BodyOrientationTask final : public TaskSpaceTask {
  public:
-  BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {}, std::vector<int> active_modes = {});
+  BodyOrientationTask(std::string name, const MultibodyModel& model, const std::string& body, TaskGains gains = {},
+                      std::vector<int> active_modes = {});
 
  private:
-  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y,
-              Eigen::Ref<Eigen::MatrixXd> J, Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
   int body_;
   Eigen::Matrix3d R_body_link_ = Eigen::Matrix3d::Identity();  // a link merged through a fixed joint
 };

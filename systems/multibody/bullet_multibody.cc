@@ -15,7 +15,8 @@ Eigen::Vector3d BodyPointInBulletLink(const MultibodyBody& body, const Eigen::Ve
 std::unique_ptr<btMultiBody> BuildBulletMultiBody(const std::vector<MultibodyBody>& bodies, int extra_links) {
   const int nb = static_cast<int>(bodies.size());
   // Fixed, massless Bullet base at the world origin; every body is a Bullet link.
-  auto mb = std::make_unique<btMultiBody>(nb + extra_links, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true, /*canSleep=*/false);
+  auto mb =
+      std::make_unique<btMultiBody>(nb + extra_links, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true, /*canSleep=*/false);
   mb->setBasePos(btVector3(0, 0, 0));
   mb->setWorldToBaseRot(btQuaternion(0, 0, 0, 1));
   for (int i = 0; i < nb; ++i) {
@@ -35,10 +36,12 @@ std::unique_ptr<btMultiBody> BuildBulletMultiBody(const std::vector<MultibodyBod
     const btVector3 inertia = ToBt(b.principal_moments);
     switch (b.joint_type) {
       case MultibodyJointType::kRevolute:
-        mb->setupRevolute(i, b.mass, inertia, b.parent, rot_parent_to_this, ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com, true);
+        mb->setupRevolute(i, b.mass, inertia, b.parent, rot_parent_to_this, ToBt(V.transpose() * b.axis),
+                          parent_com_to_pivot, pivot_to_com, true);
         break;
       case MultibodyJointType::kPrismatic:
-        mb->setupPrismatic(i, b.mass, inertia, b.parent, rot_parent_to_this, ToBt(V.transpose() * b.axis), parent_com_to_pivot, pivot_to_com, true);
+        mb->setupPrismatic(i, b.mass, inertia, b.parent, rot_parent_to_this, ToBt(V.transpose() * b.axis),
+                           parent_com_to_pivot, pivot_to_com, true);
         break;
       case MultibodyJointType::kFixed:
         mb->setupFixed(i, b.mass, inertia, b.parent, rot_parent_to_this, parent_com_to_pivot, pivot_to_com, true);

@@ -13,13 +13,14 @@ namespace rome {
 
 class BulletRodConstraint final : public btMultiBodyConstraint {
  public:
-  BulletRodConstraint(btMultiBody* body_a, int link_a, const btVector3& point_a, btMultiBody* body_b, int link_b, const btVector3& point_b,
-                      double length_m);
+  BulletRodConstraint(btMultiBody* body_a, int link_a, const btVector3& point_a, btMultiBody* body_b, int link_b,
+                      const btVector3& point_b, double length_m);
 
   void finalizeMultiDof() override;
   int getIslandIdA() const override;
   int getIslandIdB() const override;
-  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data, const btContactSolverInfo& info) override;
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override;
   void debugDraw(btIDebugDraw*) override {}
 
   /// |p_a − p_b| − L at the bodies' current (cached) link transforms [m].

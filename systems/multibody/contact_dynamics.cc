@@ -14,14 +14,14 @@ namespace {
 void CheckActive(const MultibodyModel& model, ContactSet active) {
   const int nc = model.num_contacts();
   if (nc < 64 && (active >> nc) != 0)
-    throw std::invalid_argument("robot '" + model.name() + "': contact set has bits beyond its " +
-                                std::to_string(nc) + " contacts");
+    throw std::invalid_argument("robot '" + model.name() + "': contact set has bits beyond its " + std::to_string(nc) +
+                                " contacts");
 }
 
 void CheckContact(const MultibodyModel& model, int contact) {
   if (contact < 0 || contact >= model.num_contacts())
-    throw std::invalid_argument("robot '" + model.name() + "': contact index " +
-                                std::to_string(contact) + " out of range");
+    throw std::invalid_argument("robot '" + model.name() + "': contact index " + std::to_string(contact) +
+                                " out of range");
 }
 
 // Unit vectors perpendicular to the (world) line direction d: n1 (most vertical), n2.
@@ -35,8 +35,8 @@ void LineNormals(const Eigen::Vector3d& d, Eigen::Vector3d& n1, Eigen::Vector3d&
 // Rows row0 .. row0 + R − 1 of ws.J += W J_p, with J_p the 3 x nv Jacobian of the world point p_world fixed on `body`
 // (ws.SetPositions done). Only the columns of the body's support are touched.
 template <int R>
-void AddWeightedPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, int body, const Eigen::Vector3d& p_world,
-                              const Eigen::Matrix<double, R, 3>& W, int row0) {
+void AddWeightedPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, int body,
+                              const Eigen::Vector3d& p_world, const Eigen::Matrix<double, R, 3>& W, int row0) {
   const Eigen::Vector3d r = p_world - ws.reference_point();
   for (int m = ws.support_begin[body]; m < ws.support_begin[body + 1]; ++m) {
     const int b = ws.support_body[m];
@@ -51,8 +51,8 @@ Eigen::Vector3d WorldPoint(const MultibodyWorkspace& ws, int body, const Eigen::
 }
 
 // Fills ws.J, ws.phi and (if v) ws.Jdot_qdot. Returns the number of rows.
-int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                       const VectorRef* v, ContactSet active) {
+int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef* v,
+                       ContactSet active) {
   const int rows = CountConstraintRows(model, active);  // also checks `active`
   ws.SetPositions(model, q);
   if (v) ws.SetVelocities(model, *v);
@@ -88,10 +88,10 @@ int FillConstraintRows(const MultibodyModel& model, MultibodyWorkspace& ws, cons
         ws.Jdot_qdot[row + r] = Jd[sel[r]];
       }
     } else if (info.type == ContactType::kLine) {
-      AddWeightedPointJacobian<3>(model, ws, body, WorldPoint(ws, body, info.points[0]), Eigen::Matrix3d::Identity(), row);
+      AddWeightedPointJacobian<3>(model, ws, body, WorldPoint(ws, body, info.points[0]), Eigen::Matrix3d::Identity(),
+                                  row);
       if (v) ws.Jdot_qdot.segment<3>(row) = CalcPointJdotQdot(model, ws, q, *v, body, info.points[0]);
-      const Eigen::Vector3d d =
-          (ws.R_world_link(body) * (info.points[1] - info.points[0])).normalized();
+      const Eigen::Vector3d d = (ws.R_world_link(body) * (info.points[1] - info.points[0])).normalized();
       Eigen::Vector3d n1, n2;
       LineNormals(d, n1, n2);
       Eigen::Matrix<double, 2, 3> W;
@@ -239,26 +239,23 @@ int CountConstraintRows(const MultibodyModel& model, ContactSet active) {
   return rows;
 }
 
-int CalcConstraintJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                           const VectorRef& v, ContactSet active) {
+int CalcConstraintJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           ContactSet active) {
   return FillConstraintRows(model, ws, q, &v, active);
 }
 
-int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                   const VectorRef& q, const VectorRef& v, const VectorRef& u,
-                                   const VectorRef& tau_ext, ContactSet active,
-                                   const ConstrainedDynamicsParameters& params,
-                                   Eigen::Ref<Eigen::VectorXd> qdd, Eigen::Ref<Eigen::VectorXd> F) {
-  if (u.size() != model.nu() || qdd.size() != model.nv() ||
-      (tau_ext.size() != 0 && tau_ext.size() != model.nv()))
+int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                   const VectorRef& v, const VectorRef& u, const VectorRef& tau_ext, ContactSet active,
+                                   const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> qdd,
+                                   Eigen::Ref<Eigen::VectorXd> F) {
+  if (u.size() != model.nu() || qdd.size() != model.nv() || (tau_ext.size() != 0 && tau_ext.size() != model.nv()))
     throw std::invalid_argument("CalcConstrainedForwardDynamics of robot '" + model.name() +
                                 "': u must have size nu = " + std::to_string(model.nu()) +
                                 ", qdd and tau_ext size nv = " + std::to_string(model.nv()));
   const int k = FillConstraintRows(model, ws, q, &v, active);
   if (F.size() < k)
-    throw std::invalid_argument("CalcConstrainedForwardDynamics of robot '" + model.name() +
-                                "': F has size " + std::to_string(F.size()) + " < " +
-                                std::to_string(k) + " constraint rows");
+    throw std::invalid_argument("CalcConstrainedForwardDynamics of robot '" + model.name() + "': F has size " +
+                                std::to_string(F.size()) + " < " + std::to_string(k) + " constraint rows");
   // qdd_free = M^-1 (B u + tau_spring + tau_ext - h)
   const Eigen::VectorXd& h = CalcBiasForces(model, ws, q, v);
   const Eigen::VectorXd& ts = CalcSpringTorques(model, ws, q, v);
@@ -283,22 +280,19 @@ int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspa
   return k;
 }
 
-int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                   const VectorRef& q, const VectorRef& v, const VectorRef& u,
-                                   ContactSet active, const ConstrainedDynamicsParameters& params,
-                                   Eigen::Ref<Eigen::VectorXd> qdd, Eigen::Ref<Eigen::VectorXd> F) {
-  return CalcConstrainedForwardDynamics(model, ws, q, v, u, Eigen::VectorXd(), active,
-                                        params, qdd, F);
+int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                   const VectorRef& v, const VectorRef& u, ContactSet active,
+                                   const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> qdd,
+                                   Eigen::Ref<Eigen::VectorXd> F) {
+  return CalcConstrainedForwardDynamics(model, ws, q, v, u, Eigen::VectorXd(), active, params, qdd, F);
 }
 
-int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                  const VectorRef& v_minus, ContactSet active,
-                  const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> v_plus,
+int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v_minus,
+                  ContactSet active, const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> v_plus,
                   Eigen::Ref<Eigen::VectorXd> impulse) {
   if (v_minus.size() != model.nv() || v_plus.size() != model.nv())
     throw std::invalid_argument("CalcImpactMap of robot '" + model.name() +
-                                "': v_minus and v_plus must have size nv = " +
-                                std::to_string(model.nv()));
+                                "': v_minus and v_plus must have size nv = " + std::to_string(model.nv()));
   const int k = FillConstraintRows(model, ws, q, nullptr, active);
   if (impulse.size() < k)
     throw std::invalid_argument("CalcImpactMap of robot '" + model.name() + "': impulse has size " +
@@ -317,8 +311,8 @@ int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const Vec
   return k;
 }
 
-Eigen::Vector3d CalcContactPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                         const VectorRef& q, int contact, int point) {
+Eigen::Vector3d CalcContactPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         int contact, int point) {
   CheckContact(model, contact);
   const ContactInfo& c = model.contacts()[contact];
   if (point < 0 || point >= static_cast<int>(c.points.size()))
@@ -326,9 +320,8 @@ Eigen::Vector3d CalcContactPointPosition(const MultibodyModel& model, MultibodyW
   return CalcPointPosition(model, ws, q, c.body, c.points[point]);
 }
 
-Eigen::Vector3d CalcContactPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                         const VectorRef& q, const VectorRef& v, int contact,
-                                         int point) {
+Eigen::Vector3d CalcContactPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         const VectorRef& v, int contact, int point) {
   CheckContact(model, contact);
   const ContactInfo& c = model.contacts()[contact];
   if (point < 0 || point >= static_cast<int>(c.points.size()))
@@ -336,8 +329,7 @@ Eigen::Vector3d CalcContactPointVelocity(const MultibodyModel& model, MultibodyW
   return CalcPointVelocity(model, ws, q, v, c.body, c.points[point]);
 }
 
-double CalcContactHeight(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         int contact) {
+double CalcContactHeight(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int contact) {
   CheckContact(model, contact);
   const ContactInfo& c = model.contacts()[contact];
   double z = std::numeric_limits<double>::infinity();
@@ -345,14 +337,12 @@ double CalcContactHeight(const MultibodyModel& model, MultibodyWorkspace& ws, co
   return z;
 }
 
-ContactWrench ExtractContactWrench(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                   const VectorRef& q, ContactSet active,
-                                   const Eigen::Ref<const Eigen::VectorXd>& F, int contact) {
+ContactWrench ExtractContactWrench(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                   ContactSet active, const Eigen::Ref<const Eigen::VectorXd>& F, int contact) {
   CheckContact(model, contact);
   CheckActive(model, active);
   if (!(active & ContactBit(contact)))
-    throw std::invalid_argument("contact '" + model.contacts()[contact].name +
-                                "' is not in the active contact set");
+    throw std::invalid_argument("contact '" + model.contacts()[contact].name + "' is not in the active contact set");
   int row = 0;
   for (int c = 0; c < contact; ++c)
     if (active & ContactBit(c)) row += model.contacts()[c].num_rows;
@@ -388,7 +378,8 @@ ContactWrench ExtractContactWrench(const MultibodyModel& model, MultibodyWorkspa
   return w;
 }
 
-Eigen::VectorXd CalcStanceGravityCompensation(const MultibodyModel& model, ContactSet active, const Eigen::VectorXd& q) {
+Eigen::VectorXd CalcStanceGravityCompensation(const MultibodyModel& model, ContactSet active,
+                                              const Eigen::VectorXd& q) {
   MultibodyWorkspace ws(model);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv());
   const int rows = CalcConstraintJacobian(model, ws, q, zero, active);
@@ -398,19 +389,19 @@ Eigen::VectorXd CalcStanceGravityCompensation(const MultibodyModel& model, Conta
   return A.completeOrthogonalDecomposition().solve(rhs).head(model.nu());
 }
 
-ContactForceCheck CheckContactForce(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                    const VectorRef& q, int contact, const ContactWrench& wrench,
+ContactForceCheck CheckContactForce(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                    int contact, const ContactWrench& wrench,
                                     const ContactForceCheckParameters& params) {
   CheckContact(model, contact);
   const ContactInfo& info = model.contacts()[contact];
   ContactForceCheck out;
   out.normal_force_N = wrench.force.z();
   out.tangential_force_N = wrench.force.head<2>().norm();
-  out.friction_ratio = out.normal_force_N > 0.0 ? out.tangential_force_N / out.normal_force_N
-                                                : std::numeric_limits<double>::infinity();
+  out.friction_ratio =
+      out.normal_force_N > 0.0 ? out.tangential_force_N / out.normal_force_N : std::numeric_limits<double>::infinity();
   out.unilateral_ok = out.normal_force_N >= params.min_normal_force_N;
-  out.friction_ok = out.normal_force_N > 0.0 &&
-                    out.tangential_force_N <= info.friction_coefficient * out.normal_force_N;
+  out.friction_ok =
+      out.normal_force_N > 0.0 && out.tangential_force_N <= info.friction_coefficient * out.normal_force_N;
   if (out.normal_force_N <= 0.0) {
     out.cop = wrench.origin.head<2>();
     out.cop_ok = false;
@@ -435,22 +426,24 @@ ContactForceCheck CheckContactForce(const MultibodyModel& model, MultibodyWorksp
     Eigen::Vector2d d = b - a;
     if (model.is_planar()) {
       double lo = pts[0].x(), hi = pts[0].x();
-      for (int i = 1; i < n; ++i) { lo = std::min(lo, pts[i].x()); hi = std::max(hi, pts[i].x()); }
+      for (int i = 1; i < n; ++i) {
+        lo = std::min(lo, pts[i].x());
+        hi = std::max(hi, pts[i].x());
+      }
       out.cop_ok = out.cop.x() >= lo + params.cop_margin_m && out.cop.x() <= hi - params.cop_margin_m;
       return out;
     }
     const double len = d.norm();
     const double s = (out.cop - a).dot(d) / (len * len);
     const double lateral = std::abs(d.x() * (out.cop - a).y() - d.y() * (out.cop - a).x()) / len;
-    out.cop_ok = s * len >= params.cop_margin_m && (1.0 - s) * len >= params.cop_margin_m &&
-                 lateral <= 1e-9 + 1e-6 * len;
+    out.cop_ok =
+        s * len >= params.cop_margin_m && (1.0 - s) * len >= params.cop_margin_m && lateral <= 1e-9 + 1e-6 * len;
     return out;
   }
   // Flat: CoP inside the convex hull (gift wrapping on <= 64 points, no allocation).
   int start = 0;
   for (int i = 1; i < n; ++i)
-    if (pts[i].x() < pts[start].x() || (pts[i].x() == pts[start].x() && pts[i].y() < pts[start].y()))
-      start = i;
+    if (pts[i].x() < pts[start].x() || (pts[i].x() == pts[start].x() && pts[i].y() < pts[start].y())) start = i;
   out.cop_ok = true;
   int current = start;
   for (int guard = 0; guard <= n; ++guard) {

@@ -54,20 +54,19 @@ struct ConstrainedDynamicsParameters {
 int CountConstraintRows(const MultibodyModel& model, ContactSet active);
 
 // Fills ws.J (rows x nv), ws.Jdot_qdot and ws.phi (top `rows` entries); returns rows.
-int CalcConstraintJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                           const VectorRef& v, ContactSet active);
+int CalcConstraintJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           ContactSet active);
 
 // qdd (nv) and F (first `rows` entries written; F.size() >= rows). Returns rows.
-int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                   const VectorRef& q, const VectorRef& v, const VectorRef& u,
-                                   ContactSet active, const ConstrainedDynamicsParameters& params,
-                                   Eigen::Ref<Eigen::VectorXd> qdd, Eigen::Ref<Eigen::VectorXd> F);
+int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                   const VectorRef& v, const VectorRef& u, ContactSet active,
+                                   const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> qdd,
+                                   Eigen::Ref<Eigen::VectorXd> F);
 // Same with an extra generalized force tau_ext (nv) on the right-hand side.
-int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                   const VectorRef& q, const VectorRef& v, const VectorRef& u,
-                                   const VectorRef& tau_ext, ContactSet active,
-                                   const ConstrainedDynamicsParameters& params,
-                                   Eigen::Ref<Eigen::VectorXd> qdd, Eigen::Ref<Eigen::VectorXd> F);
+int CalcConstrainedForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                   const VectorRef& v, const VectorRef& u, const VectorRef& tau_ext, ContactSet active,
+                                   const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> qdd,
+                                   Eigen::Ref<Eigen::VectorXd> F);
 
 // Static gravity compensation in a stance: the minimum-norm [u; F] of [B Jᵀ] [u; F] = h(q, 0) − τ_spring(q, 0) (the
 // motor torques and the active contacts' and loop closures' forces that hold q at rest); returns u (nu). Not
@@ -76,48 +75,44 @@ Eigen::VectorXd CalcStanceGravityCompensation(const MultibodyModel& model, Conta
 
 // Plastic impact with the constraint set `active` (new stance contacts + loop closures).
 // Returns rows; impulse (first `rows` entries) in the row convention above.
-int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                  const VectorRef& v_minus, ContactSet active,
-                  const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> v_plus,
+int CalcImpactMap(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v_minus,
+                  ContactSet active, const ConstrainedDynamicsParameters& params, Eigen::Ref<Eigen::VectorXd> v_plus,
                   Eigen::Ref<Eigen::VectorXd> impulse);
 
 // ---------------- ground-contact helpers (flat ground z = 0, normal +z) ----------------
 // World position / velocity of point `point` of contact `contact`.
-Eigen::Vector3d CalcContactPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                         const VectorRef& q, int contact, int point);
-Eigen::Vector3d CalcContactPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                         const VectorRef& q, const VectorRef& v, int contact,
-                                         int point);
+Eigen::Vector3d CalcContactPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         int contact, int point);
+Eigen::Vector3d CalcContactPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         const VectorRef& v, int contact, int point);
 // Lowest world height over the contact's points (the guard "foot touches the ground").
-double CalcContactHeight(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         int contact);
+double CalcContactHeight(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int contact);
 
 struct ContactWrench {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();         // N, world axes
-  Eigen::Vector3d torque = Eigen::Vector3d::Zero();        // N m about origin, world axes
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();        // contact frame origin, world
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   // N, world axes
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // N m about origin, world axes
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // contact frame origin, world
 };
 // Wrench the ground applies on contact `contact`, from the stacked F of `active`.
-ContactWrench ExtractContactWrench(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                   const VectorRef& q, ContactSet active,
-                                   const Eigen::Ref<const Eigen::VectorXd>& F, int contact);
+ContactWrench ExtractContactWrench(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                   ContactSet active, const Eigen::Ref<const Eigen::VectorXd>& F, int contact);
 
 struct ContactForceCheckParameters {
-  double min_normal_force_N = 0.0;   // unilateral: F_z >= this
-  double cop_margin_m = 0.0;         // CoP must stay this far inside the support polygon
+  double min_normal_force_N = 0.0;  // unilateral: F_z >= this
+  double cop_margin_m = 0.0;        // CoP must stay this far inside the support polygon
 };
 struct ContactForceCheck {
-  double normal_force_N = 0.0;       // F_z
-  double tangential_force_N = 0.0;   // |F_xy|
-  double friction_ratio = 0.0;       // |F_xy| / F_z (inf if F_z <= 0)
+  double normal_force_N = 0.0;                    // F_z
+  double tangential_force_N = 0.0;                // |F_xy|
+  double friction_ratio = 0.0;                    // |F_xy| / F_z (inf if F_z <= 0)
   Eigen::Vector2d cop = Eigen::Vector2d::Zero();  // centre of pressure (x, y), world
   bool unilateral_ok = false, friction_ok = false, cop_ok = false;
   bool ok() const { return unilateral_ok && friction_ok && cop_ok; }
 };
 // Normal force, friction-cone (|F_t| <= mu F_n) and centre-of-pressure check (CoP inside the
 // convex hull of the contact points; always true for point contacts).
-ContactForceCheck CheckContactForce(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                    const VectorRef& q, int contact, const ContactWrench& wrench,
+ContactForceCheck CheckContactForce(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                    int contact, const ContactWrench& wrench,
                                     const ContactForceCheckParameters& params = {});
 
 }  // namespace rome

@@ -34,21 +34,24 @@ void CheckUrdfIsTree(const urdf::ModelInterface& urdf, const std::string& where)
   std::map<std::string, std::string> parent_joint;  // child link -> the joint that names it
   for (const auto& [name, joint] : urdf.joints_) {
     if (joint->mimic)
-      throw std::runtime_error(where + ": joint '" + Excerpt(name) + "' has <mimic joint='" + Excerpt(joint->mimic->joint_name) +
-                               "'>; ROME does not model coupled joints: remove the <mimic> (the joint becomes independent) "
-                               "or write the coupling as a loop closure in the sidecar");
+      throw std::runtime_error(
+          where + ": joint '" + Excerpt(name) + "' has <mimic joint='" + Excerpt(joint->mimic->joint_name) +
+          "'>; ROME does not model coupled joints: remove the <mimic> (the joint becomes independent) "
+          "or write the coupling as a loop closure in the sidecar");
     const auto [it, inserted] = parent_joint.emplace(joint->child_link_name, name);
     if (!inserted)
-      throw std::runtime_error(where + ": link '" + Excerpt(joint->child_link_name) + "' is the child of two joints ('" + Excerpt(it->second) +
-                               "' and '" + Excerpt(name) + "'); a URDF must be a tree: write a closed chain as a loop closure in the sidecar");
+      throw std::runtime_error(where + ": link '" + Excerpt(joint->child_link_name) +
+                               "' is the child of two joints ('" + Excerpt(it->second) + "' and '" + Excerpt(name) +
+                               "'); a URDF must be a tree: write a closed chain as a loop closure in the sidecar");
   }
 }
 
 void WarnUnmodelledUrdfElements(const urdf::ModelInterface& urdf, std::vector<std::string>* warnings) {
   for (const auto& [name, joint] : urdf.joints_) {
     if (joint->dynamics && (joint->dynamics->damping != 0.0 || joint->dynamics->friction != 0.0))
-      warnings->push_back("joint '" + Excerpt(name) + "': <dynamics damping=" + Num(joint->dynamics->damping) + " friction=" +
-                          Num(joint->dynamics->friction) + "> is not modelled by ROME (ignored; a sidecar spring's damping is)");
+      warnings->push_back("joint '" + Excerpt(name) + "': <dynamics damping=" + Num(joint->dynamics->damping) +
+                          " friction=" + Num(joint->dynamics->friction) +
+                          "> is not modelled by ROME (ignored; a sidecar spring's damping is)");
     // ROME has no velocity limits; one that could not be meant (negative) is said, not dropped without a word.
     if (joint->limits && !(joint->limits->velocity >= 0.0))
       warnings->push_back("joint '" + Excerpt(name) + "': <limit velocity=" + Num(joint->limits->velocity) +
@@ -74,10 +77,12 @@ void CheckPlanarJoints(const MultibodyModel& model, const std::string& where) {
     const bool revolute = b.joint_type == MultibodyJointType::kRevolute;
     const double off_plane = revolute ? std::hypot(a.x(), a.z()) : std::abs(a.y());
     if (off_plane > kPlanarAxisTolerance)
-      throw std::runtime_error(where + ": joint '" + Excerpt(b.joint_name) + "' " + (revolute ? "turns about" : "slides along") +
-                               " world axis " + Num3(a) + " at q = 0; the robot is planar (x-z plane), so a revolute joint must turn "
-                               "about y (0 ±1 0) and a prismatic joint slide in the x-z plane (check its <axis> and the rpy of the "
-                               "<origin>s above it)");
+      throw std::runtime_error(
+          where + ": joint '" + Excerpt(b.joint_name) + "' " + (revolute ? "turns about" : "slides along") +
+          " world axis " + Num3(a) +
+          " at q = 0; the robot is planar (x-z plane), so a revolute joint must turn "
+          "about y (0 ±1 0) and a prismatic joint slide in the x-z plane (check its <axis> and the rpy of the "
+          "<origin>s above it)");
   }
 }
 
@@ -89,20 +94,26 @@ void CheckNominalPose(const MultibodyModel& model, const std::string& where, con
     const double lo = model.position_lower_limits()[k], hi = model.position_upper_limits()[k];
     const std::string joint = "nominal_pose: joint '" + Excerpt(model.JointName(k)) + "' at " + Num(q[k]);
     const std::string limits = " is outside its limits [" + Num(lo) + ", " + Num(hi) + "]";
-    if ((q[k] < lo || q[k] > hi) && given[static_cast<size_t>(k)]) throw std::runtime_error(where + ": " + joint + limits);
+    if ((q[k] < lo || q[k] > hi) && given[static_cast<size_t>(k)])
+      throw std::runtime_error(where + ": " + joint + limits);
     if (q[k] < lo || q[k] > hi)
       warnings->push_back(joint + limits + " (not given in the sidecar's nominal_pose.joints, so 0; give it there)");
-    if (model.body(model.BodyOfVelocity(k)).joint_type == MultibodyJointType::kRevolute && std::abs(q[k]) > kMaxJointAngle_rad)
-      throw std::runtime_error(where + ": " + joint + " rad is beyond +-" + Num(kMaxJointAngle_rad) + " rad (one turn)");
+    if (model.body(model.BodyOfVelocity(k)).joint_type == MultibodyJointType::kRevolute &&
+        std::abs(q[k]) > kMaxJointAngle_rad)
+      throw std::runtime_error(where + ": " + joint + " rad is beyond +-" + Num(kMaxJointAngle_rad) +
+                               " rad (one turn)");
   }
   if (model.loop_closures().empty()) return;
   MultibodyWorkspace ws(model);
   for (const LoopClosureInfo& l : model.loop_closures()) {
-    const double d = (CalcPointPosition(model, ws, q, l.body_a, l.point_a) - CalcPointPosition(model, ws, q, l.body_b, l.point_b)).norm();
+    const double d =
+        (CalcPointPosition(model, ws, q, l.body_a, l.point_a) - CalcPointPosition(model, ws, q, l.body_b, l.point_b))
+            .norm();
     if (!(std::abs(d - l.distance_m) <= kMaxLoopClosureResidual_m))
-      throw std::runtime_error(where + ": loop closure '" + Excerpt(l.name) + "' does not hold at the nominal pose: |p_a - p_b| = " + Num(d) +
-                               " m, distance_m = " + Num(l.distance_m) + " m (tolerance " + Num(kMaxLoopClosureResidual_m) +
-                               " m); fix the nominal pose or the attachment points");
+      throw std::runtime_error(where + ": loop closure '" + Excerpt(l.name) +
+                               "' does not hold at the nominal pose: |p_a - p_b| = " + Num(d) +
+                               " m, distance_m = " + Num(l.distance_m) + " m (tolerance " +
+                               Num(kMaxLoopClosureResidual_m) + " m); fix the nominal pose or the attachment points");
   }
 }
 
@@ -120,7 +131,8 @@ std::string PhysicalInertiaProblem(const Eigen::Matrix3d& inertia, double mass) 
 
 std::string DegenerateContactProblem(const ContactInfo& c) {
   constexpr double kResolution_m = 1e-6;
-  if (c.type == ContactType::kLine && (c.points[0] - c.points[1]).norm() < kResolution_m) return "line contact points coincide";
+  if (c.type == ContactType::kLine && (c.points[0] - c.points[1]).norm() < kResolution_m)
+    return "line contact points coincide";
   if (c.type != ContactType::kFlat) return "";
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto& p : c.points) mean += p;
@@ -163,7 +175,10 @@ void CheckEveryJointMovesMass(const MultibodyModel& model, const std::string& uf
   double max_prismatic = 0.0, max_revolute = 0.0, total_m = 0.0;
   Eigen::Matrix3d total_J = Eigen::Matrix3d::Zero();
   for (int i = 0; i < nb; ++i) {
-    if (bodies[i].parent < 0) { total_m += m[i]; total_J += J[i]; }
+    if (bodies[i].parent < 0) {
+      total_m += m[i];
+      total_J += J[i];
+    }
     if (bodies[i].joint_type == MultibodyJointType::kFixed) continue;
     if (bodies[i].joint_type == MultibodyJointType::kPrismatic) {
       value[i] = m[i];
@@ -191,12 +206,12 @@ void CheckEveryJointMovesMass(const MultibodyModel& model, const std::string& uf
     if (value[i] > (prismatic ? tol_prismatic : tol_revolute)) continue;
     const std::string carried = b.is_virtual ? "the whole robot" : "link '" + Excerpt(b.name) + "' and its descendants";
     const std::string verb = b.is_virtual ? " is" : " are";
-    throw std::runtime_error(
-        ufile + ": joint '" + Excerpt(b.joint_name) + "' moves " +
-        (m[i] == 0.0 ? "no mass (" + carried + verb + " massless)"
-                     : "no inertia about its axis (" + carried + (b.is_virtual ? " has" : " have") +
-                           " all the mass on the axis)") +
-        ", so the mass matrix is singular" + hint + "; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
+    throw std::runtime_error(ufile + ": joint '" + Excerpt(b.joint_name) + "' moves " +
+                             (m[i] == 0.0 ? "no mass (" + carried + verb + " massless)"
+                                          : "no inertia about its axis (" + carried +
+                                                (b.is_virtual ? " has" : " have") + " all the mass on the axis)") +
+                             ", so the mass matrix is singular" + hint +
+                             "; give them an <inertial>, or the joint a reflected_inertia_kgm2 in the sidecar");
   }
 }
 

@@ -40,9 +40,11 @@ std::string Num3(const Eigen::Vector3d& v);
 std::string FolderOf(const std::string& path);
 /// A file a robot package names: `entry`, relative to `folder` (the folder of the file that names it), resolved inside
 /// that folder tree; with options.allow_files_outside_package, anywhere (an absolute entry as given).
-std::string PackageFile(const std::string& folder, const std::string& entry, const std::string& what, const LoadOptions& options);
+std::string PackageFile(const std::string& folder, const std::string& entry, const std::string& what,
+                        const LoadOptions& options);
 /// Text given in memory instead of a file: the same size cap as ReadRegularFile.
-const std::string& CheckTextSize(const std::string& text, const char* what, const std::string& name, std::uintmax_t max_bytes);
+const std::string& CheckTextSize(const std::string& text, const char* what, const std::string& name,
+                                 std::uintmax_t max_bytes);
 /// Whether two paths name one file (both resolved on the disk; a path that cannot be resolved names no file).
 bool SameFile(const std::string& a, const std::string& b);
 
@@ -65,8 +67,8 @@ struct SidecarReader {
 };
 
 /// A magnitude a robot file gives: within [lo, hi], else "<name> <value> <unit> is outside [lo, hi] <unit>".
-void CheckMagnitude(const SidecarReader& sc, const std::string& context, const std::string& name, double value, double lo, double hi,
-                    const std::string& unit);
+void CheckMagnitude(const SidecarReader& sc, const std::string& context, const std::string& name, double value,
+                    double lo, double hi, const std::string& unit);
 
 /// A link's mass properties in its link frame (inertia about the COM, link axes). A non-physical <inertia> is not
 /// rejected here: it is judged with the body it ends up in (MultibodyModelLoader::CheckBodyInertias), so `problem`
@@ -93,8 +95,9 @@ class MultibodyModelLoader {
  public:
   // urdf_text / sidecar_text, when given, are the files' contents (urdf_path and sidecar_path then only name them,
   // and no sidecar is looked for next to the URDF).
-  static MultibodyModel Load(const std::string& urdf_path, std::string sidecar_path, bool sidecar_required, const LoadOptions& options,
-                             const std::string* urdf_text = nullptr, const std::string* sidecar_text = nullptr);
+  static MultibodyModel Load(const std::string& urdf_path, std::string sidecar_path, bool sidecar_required,
+                             const LoadOptions& options, const std::string* urdf_text = nullptr,
+                             const std::string* sidecar_text = nullptr);
 
  private:
   // What one Load builds, stage by stage.
@@ -111,13 +114,13 @@ class MultibodyModelLoader {
     Eigen::VectorXd base_nominal;   // default nominal_pose.base from that floating joint's <origin>
     std::shared_ptr<std::vector<MultibodyBody>> bodies = std::make_shared<std::vector<MultibodyBody>>();
     std::vector<std::vector<model_loading::BodyPart>> parts;  // per body
-    std::vector<std::pair<double, double>> limits;             // per body: the joint's position limits
+    std::vector<std::pair<double, double>> limits;            // per body: the joint's position limits
   };
   static void Warn(LoadState& s, const std::string& warning) { s.model.warnings_.push_back(warning); }
 
   // Sidecar file (model_loader_sidecar.cc).
-  static void ReadSidecarFile(LoadState& s, const std::string& urdf_path, std::string sidecar_path, bool sidecar_required,
-                              const std::string* urdf_text, const std::string* sidecar_text);
+  static void ReadSidecarFile(LoadState& s, const std::string& urdf_path, std::string sidecar_path,
+                              bool sidecar_required, const std::string* urdf_text, const std::string* sidecar_text);
   static void ReadFloatingBaseEntry(LoadState& s);
 
   // URDF (model_loader_urdf.cc).
@@ -129,7 +132,8 @@ class MultibodyModelLoader {
 
   // Merging (model_loader_merge.cc).
   static void AddFrame(LoadState& s, const std::string& link, int body, const Eigen::Isometry3d& X_body_link);
-  static void AddPart(LoadState& s, int body, const urdf::Link& link, const model_loading::LinkMass& lm, const Eigen::Isometry3d* X_body_link);
+  static void AddPart(LoadState& s, int body, const urdf::Link& link, const model_loading::LinkMass& lm,
+                      const Eigen::Isometry3d* X_body_link);
   static void CheckBodyInertias(LoadState& s);
   static void CombineBodyParts(LoadState& s);
   static void IndexDegreesOfFreedom(LoadState& s);

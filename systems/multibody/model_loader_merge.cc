@@ -41,7 +41,10 @@ Eigen::Vector3d ProjectPhysicalMoments(const Eigen::Vector3d& l) {
     }
     if ((A * x).minCoeff() < -1e-14 * (1.0 + l.cwiseAbs().maxCoeff())) continue;
     const double d = (l - x).squaredNorm();
-    if (d < best_dist) { best_dist = d; best = x; }
+    if (d < best_dist) {
+      best_dist = d;
+      best = x;
+    }
   }
   return best.cwiseMax(0.0);
 }
@@ -77,7 +80,8 @@ BodyPart CombineParts(const std::vector<BodyPart>& parts) {
 
 using namespace model_loading;
 
-void MultibodyModelLoader::AddFrame(LoadState& s, const std::string& link, int body, const Eigen::Isometry3d& X_body_link) {
+void MultibodyModelLoader::AddFrame(LoadState& s, const std::string& link, int body,
+                                    const Eigen::Isometry3d& X_body_link) {
   MultibodyModel& model = s.model;
   model.frame_index_[link] = static_cast<int>(model.frames_.size());
   model.frames_.push_back({link, body, X_body_link});
@@ -85,7 +89,8 @@ void MultibodyModelLoader::AddFrame(LoadState& s, const std::string& link, int b
 }
 
 // Adds a link's mass properties to `body` (X_body_link: the link's pose in the body, null for the body's own link).
-void MultibodyModelLoader::AddPart(LoadState& s, int body, const urdf::Link& link, const LinkMass& lm, const Eigen::Isometry3d* X_body_link) {
+void MultibodyModelLoader::AddPart(LoadState& s, int body, const urdf::Link& link, const LinkMass& lm,
+                                   const Eigen::Isometry3d* X_body_link) {
   std::vector<std::vector<BodyPart>>& parts = s.parts;
   if (lm.mass == 0.0) return;
   if (!X_body_link) {
@@ -127,9 +132,10 @@ void MultibodyModelLoader::CheckBodyInertias(LoadState& s) {
         continue;
       }
       if (!options.repair_inertia)
-        throw std::runtime_error(ufile + ": link '" + link + "': <inertia> " + part.problem +
-                                 (welded ? ", and so does rigid body '" + body_name + "' (its links merged over fixed joints)" : "") +
-                                 "; fix it, or repair it with model_info --repair-inertia / LoadOptions::repair_inertia");
+        throw std::runtime_error(
+            ufile + ": link '" + link + "': <inertia> " + part.problem +
+            (welded ? ", and so does rigid body '" + body_name + "' (its links merged over fixed joints)" : "") +
+            "; fix it, or repair it with model_info --repair-inertia / LoadOptions::repair_inertia");
       Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(part.inertia);
       const Eigen::Vector3d fixed = ProjectPhysicalMoments(eig.eigenvalues());
       part.inertia = eig.eigenvectors() * fixed.asDiagonal() * eig.eigenvectors().transpose();
@@ -192,7 +198,10 @@ void MultibodyModelLoader::IndexDegreesOfFreedom(LoadState& s) {
   model.q_upper_.setConstant(nv, kInf);
   for (int i = 0; i < static_cast<int>(bodies->size()); ++i) {
     const int k = (*bodies)[i].v_index;
-    if (k >= 0) { model.q_lower_[k] = limits[i].first; model.q_upper_[k] = limits[i].second; }
+    if (k >= 0) {
+      model.q_lower_[k] = limits[i].first;
+      model.q_upper_[k] = limits[i].second;
+    }
   }
   model.bodies_ = bodies;
   if (model.floating_base_ == FloatingBaseType::kPlanar) CheckPlanarJoints(model, ufile);

@@ -26,8 +26,8 @@ size_t EditDistance(const std::string& a, const std::string& b) {
   for (size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
     for (size_t j = 1; j <= b.size(); ++j) {
-      const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+      const bool same =
+          std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
       cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (same ? 0 : 1)});
     }
     std::swap(prev, cur);
@@ -41,7 +41,9 @@ void SidecarReader::Fail(const std::string& context, const std::string& problem)
   throw std::runtime_error("sidecar " + Excerpt(file, 200) + ": " + context + ": " + problem);
 }
 
-std::string SidecarReader::Dump(const json& v) { return Excerpt(v.dump(-1, ' ', false, json::error_handler_t::replace), 60); }
+std::string SidecarReader::Dump(const json& v) {
+  return Excerpt(v.dump(-1, ' ', false, json::error_handler_t::replace), 60);
+}
 
 const json& SidecarReader::Get(const json& obj, const std::string& key, const std::string& context) const {
   if (!obj.is_object()) Fail(context, "expected a JSON object, got " + Dump(obj));
@@ -50,7 +52,8 @@ const json& SidecarReader::Get(const json& obj, const std::string& key, const st
   return *it;
 }
 
-void SidecarReader::CheckKeys(const json& obj, std::initializer_list<const char*> known, const std::string& context) const {
+void SidecarReader::CheckKeys(const json& obj, std::initializer_list<const char*> known,
+                              const std::string& context) const {
   if (!obj.is_object()) Fail(context, "expected a JSON object, got " + Dump(obj));
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     bool ok = false;
@@ -60,11 +63,14 @@ void SidecarReader::CheckKeys(const json& obj, std::initializer_list<const char*
     size_t best = std::numeric_limits<size_t>::max();
     for (const char* k : known) {
       const size_t d = it.key().size() > 64 ? it.key().size() : EditDistance(it.key(), k);
-      if (d < best) { best = d; nearest = k; }
+      if (d < best) {
+        best = d;
+        nearest = k;
+      }
       all += std::string(all.empty() ? "" : ", ") + k;
     }
     std::string hint = best <= std::max<size_t>(2, nearest.size() / 3) ? " (did you mean '" + nearest + "'?)"
-                                                                         : " (known keys: " + all + ")";
+                                                                       : " (known keys: " + all + ")";
     Fail(context, "unknown key '" + Excerpt(it.key(), 60) + "'" + hint);
   }
 }
@@ -77,7 +83,8 @@ double SidecarReader::Number(const json& obj, const std::string& key, const std:
   return x;
 }
 
-double SidecarReader::NumberOr(const json& obj, const std::string& key, double fallback, const std::string& context) const {
+double SidecarReader::NumberOr(const json& obj, const std::string& key, double fallback,
+                               const std::string& context) const {
   if (!obj.contains(key)) return fallback;
   return Number(obj, key, context);
 }
@@ -109,8 +116,8 @@ const json& SidecarReader::Array(const json& obj, const std::string& key, const 
 }
 
 // A magnitude a robot file gives: within [lo, hi], else "<name> <value> <unit> is outside [lo, hi] <unit>".
-void CheckMagnitude(const SidecarReader& sc, const std::string& context, const std::string& name, double value, double lo, double hi,
-                    const std::string& unit) {
+void CheckMagnitude(const SidecarReader& sc, const std::string& context, const std::string& name, double value,
+                    double lo, double hi, const std::string& unit) {
   if (value >= lo && value <= hi) return;
   const std::string u = unit.empty() ? "" : " " + unit;
   sc.Fail(context, name + " " + Num(value) + u + " is outside [" + Num(lo) + ", " + Num(hi) + "]" + u);
@@ -120,8 +127,8 @@ namespace {
 
 // The sidecar's "urdf" entry when a URDF is loaded with a sidecar: a non-empty path that is not the sidecar itself.
 // One that names another URDF than the one loaded is reported as a warning (a sidecar may be shared by variants).
-void CheckSidecarNamesUrdf(const SidecarReader& sc, const std::string& entry, const std::string& urdf_path, const LoadOptions& options,
-                           std::vector<std::string>* warnings) {
+void CheckSidecarNamesUrdf(const SidecarReader& sc, const std::string& entry, const std::string& urdf_path,
+                           const LoadOptions& options, std::vector<std::string>* warnings) {
   if (entry.empty()) sc.Fail("urdf", "the entry is empty; name the URDF file, relative to the sidecar");
   std::string named;
   try {
@@ -130,10 +137,11 @@ void CheckSidecarNamesUrdf(const SidecarReader& sc, const std::string& entry, co
     warnings->push_back(e.what());
     return;
   }
-  if (SameFile(named, sc.file)) sc.Fail("urdf", "'" + Excerpt(entry) + "' names the sidecar itself; name the URDF file");
+  if (SameFile(named, sc.file))
+    sc.Fail("urdf", "'" + Excerpt(entry) + "' names the sidecar itself; name the URDF file");
   if (!SameFile(named, urdf_path))
-    warnings->push_back("sidecar \"urdf\" names '" + Excerpt(entry) + "', but the URDF loaded is '" + Excerpt(urdf_path, 200) +
-                        "' (given explicitly)");
+    warnings->push_back("sidecar \"urdf\" names '" + Excerpt(entry) + "', but the URDF loaded is '" +
+                        Excerpt(urdf_path, 200) + "' (given explicitly)");
 }
 
 }  // namespace
@@ -142,8 +150,9 @@ void CheckSidecarNamesUrdf(const SidecarReader& sc, const std::string& entry, co
 
 using namespace model_loading;
 
-void MultibodyModelLoader::ReadSidecarFile(LoadState& s, const std::string& urdf_path, std::string sidecar_path, bool sidecar_required,
-                                           const std::string* urdf_text, const std::string* sidecar_text) {
+void MultibodyModelLoader::ReadSidecarFile(LoadState& s, const std::string& urdf_path, std::string sidecar_path,
+                                           bool sidecar_required, const std::string* urdf_text,
+                                           const std::string* sidecar_text) {
   MultibodyModel& model = s.model;
   const LoadOptions& options = s.options;
   const std::string& ufile = s.ufile;
@@ -166,12 +175,14 @@ void MultibodyModelLoader::ReadSidecarFile(LoadState& s, const std::string& urdf
                                           : ReadRegularFile(sidecar_path, "sidecar", kMaxUrdfBytes);
     sidecar = ParseSidecarJson(text, sidecar_path);
     if (!sidecar.is_object()) sc.Fail("top level", "expected a JSON object");
-    sc.CheckKeys(sidecar, {"robot", "urdf", "floating_base", "actuators", "springs", "contacts", "loop_closures",
-                           "nominal_pose"},
-                 "top level");
+    sc.CheckKeys(
+        sidecar,
+        {"robot", "urdf", "floating_base", "actuators", "springs", "contacts", "loop_closures", "nominal_pose"},
+        "top level");
   }
   model.sidecar_path_ = sidecar_path;
-  if (!urdf_text && sidecar.contains("urdf")) CheckSidecarNamesUrdf(sc, sc.String(sidecar, "urdf", "urdf"), urdf_path, options, &model.warnings_);
+  if (!urdf_text && sidecar.contains("urdf"))
+    CheckSidecarNamesUrdf(sc, sc.String(sidecar, "urdf", "urdf"), urdf_path, options, &model.warnings_);
 }
 
 void MultibodyModelLoader::ReadFloatingBaseEntry(LoadState& s) {
@@ -181,10 +192,14 @@ void MultibodyModelLoader::ReadFloatingBaseEntry(LoadState& s) {
   model.floating_base_ = FloatingBaseType::kFixed;
   if (sidecar.contains("floating_base")) {
     const std::string fb = sc.String(sidecar, "floating_base", "floating_base");
-    if (fb == "fixed") model.floating_base_ = FloatingBaseType::kFixed;
-    else if (fb == "planar") model.floating_base_ = FloatingBaseType::kPlanar;
-    else if (fb == "spatial") model.floating_base_ = FloatingBaseType::kSpatial;
-    else sc.Fail("floating_base", "unknown type '" + Excerpt(fb) + "' (expected fixed, planar or spatial)");
+    if (fb == "fixed")
+      model.floating_base_ = FloatingBaseType::kFixed;
+    else if (fb == "planar")
+      model.floating_base_ = FloatingBaseType::kPlanar;
+    else if (fb == "spatial")
+      model.floating_base_ = FloatingBaseType::kSpatial;
+    else
+      sc.Fail("floating_base", "unknown type '" + Excerpt(fb) + "' (expected fixed, planar or spatial)");
   }
 }
 

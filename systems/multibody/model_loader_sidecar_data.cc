@@ -37,10 +37,10 @@ int MultibodyModelLoader::MovableJoint(const LoadState& s, const std::string& jo
   return model.joint_index_.at(joint);
 }
 
-const MultibodyFrame& MultibodyModelLoader::ExistingFrame(const LoadState& s, const std::string& link, const std::string& context) {
+const MultibodyFrame& MultibodyModelLoader::ExistingFrame(const LoadState& s, const std::string& link,
+                                                          const std::string& context) {
   const MultibodyModel& model = s.model;
-  if (!model.frame_index_.count(link))
-    s.sc.Fail(context, "link '" + Excerpt(link) + "' does not exist in " + s.ufile);
+  if (!model.frame_index_.count(link)) s.sc.Fail(context, "link '" + Excerpt(link) + "' does not exist in " + s.ufile);
   return model.frames_[model.frame_index_.at(link)];
 }
 
@@ -72,9 +72,11 @@ void MultibodyModelLoader::ReadActuators(LoadState& s) {
                          " (give a positive torque_limit_Nm)");
       a.torque_limit_Nm = effort;
     }
-    CheckMagnitude(sc, ctx, "torque limit (torque_limit_Nm or the URDF <limit effort>)", a.torque_limit_Nm, kMinTorqueLimit_Nm, kMaxTorqueLimit_Nm, "N m");
+    CheckMagnitude(sc, ctx, "torque limit (torque_limit_Nm or the URDF <limit effort>)", a.torque_limit_Nm,
+                   kMinTorqueLimit_Nm, kMaxTorqueLimit_Nm, "N m");
     if (a.reflected_inertia_kgm2 != 0.0)
-      CheckMagnitude(sc, ctx, "reflected_inertia_kgm2", a.reflected_inertia_kgm2, kMinPositiveParameter, kMaxInertia_kgm2, "kg m^2");
+      CheckMagnitude(sc, ctx, "reflected_inertia_kgm2", a.reflected_inertia_kgm2, kMinPositiveParameter,
+                     kMaxInertia_kgm2, "kg m^2");
     CheckMagnitude(sc, ctx, "gear_ratio", a.gear_ratio, kMinGearRatio, kMaxGearRatio, "");
     for (const auto& other : model.actuators_)
       if (other.v_index == a.v_index) sc.Fail(ctx, "joint '" + Excerpt(a.joint) + "' is actuated twice");
@@ -113,9 +115,11 @@ void MultibodyModelLoader::ReadSprings(LoadState& state) {
       sc.Fail(ctx, "stiffness and damping must be >= 0, got " + Num(s.stiffness_Nm_per_rad) + " and " +
                        Num(s.damping_Nms_per_rad));
     if (s.stiffness_Nm_per_rad != 0.0)
-      CheckMagnitude(sc, ctx, "stiffness_Nm_per_rad", s.stiffness_Nm_per_rad, kMinPositiveParameter, kMaxSpringStiffness_Nm_per_rad, "N m/rad");
+      CheckMagnitude(sc, ctx, "stiffness_Nm_per_rad", s.stiffness_Nm_per_rad, kMinPositiveParameter,
+                     kMaxSpringStiffness_Nm_per_rad, "N m/rad");
     if (s.damping_Nms_per_rad != 0.0)
-      CheckMagnitude(sc, ctx, "damping_Nms_per_rad", s.damping_Nms_per_rad, kMinPositiveParameter, kMaxSpringDamping_Nms_per_rad, "N m s/rad");
+      CheckMagnitude(sc, ctx, "damping_Nms_per_rad", s.damping_Nms_per_rad, kMinPositiveParameter,
+                     kMaxSpringDamping_Nms_per_rad, "N m s/rad");
     if (std::abs(s.rest_angle_rad) > kMaxJointAngle_rad)
       sc.Fail(ctx, "rest_angle_rad " + Num(s.rest_angle_rad) + " is beyond +-" + Num(kMaxJointAngle_rad) + " rad");
     for (const auto& other : model.springs_)
@@ -133,7 +137,8 @@ void MultibodyModelLoader::ReadContacts(LoadState& s) {
   const json& sidecar = s.sidecar;
   const bool planar = model.floating_base_ == FloatingBaseType::kPlanar;
   const json& contacts = sc.Array(sidecar, "contacts", "contacts");
-  if (contacts.size() > 64) sc.Fail("contacts", "at most 64 contacts are supported, got " + std::to_string(contacts.size()));
+  if (contacts.size() > 64)
+    sc.Fail("contacts", "at most 64 contacts are supported, got " + std::to_string(contacts.size()));
   for (size_t i = 0; i < contacts.size(); ++i) {
     ContactInfo c;
     c.name = sc.String(contacts[i], "name", "contacts[" + std::to_string(i) + "]");
@@ -144,24 +149,34 @@ void MultibodyModelLoader::ReadContacts(LoadState& s) {
     c.body = frame.body;
     const std::string type = sc.String(contacts[i], "type", ctx);
     size_t min_points = 1, max_points = 1;
-    if (type == "point") { c.type = ContactType::kPoint; }
-    else if (type == "line") { c.type = ContactType::kLine; min_points = max_points = 2; }
-    else if (type == "flat") { c.type = ContactType::kFlat; min_points = 3; max_points = 64; }
-    else sc.Fail(ctx, "unknown contact type '" + Excerpt(type) + "' (expected point, line or flat)");
+    if (type == "point") {
+      c.type = ContactType::kPoint;
+    } else if (type == "line") {
+      c.type = ContactType::kLine;
+      min_points = max_points = 2;
+    } else if (type == "flat") {
+      c.type = ContactType::kFlat;
+      min_points = 3;
+      max_points = 64;
+    } else
+      sc.Fail(ctx, "unknown contact type '" + Excerpt(type) + "' (expected point, line or flat)");
     const json& pts = sc.Get(contacts[i], "points", ctx);
     if (!pts.is_array() || pts.size() < min_points || pts.size() > max_points)
-      sc.Fail(ctx, "a " + type + " contact needs " + std::to_string(min_points) +
-                       (max_points > min_points ? "+" : "") + " points, got " + SidecarReader::Dump(pts));
+      sc.Fail(ctx, "a " + type + " contact needs " + std::to_string(min_points) + (max_points > min_points ? "+" : "") +
+                       " points, got " + SidecarReader::Dump(pts));
     for (const auto& p : pts) c.points.push_back(sc.Vec3(p, ctx + " points"));
     c.friction_coefficient = sc.NumberOr(contacts[i], "friction_coefficient", 1.0, ctx);
-    CheckMagnitude(sc, ctx, "friction_coefficient", c.friction_coefficient, kMinFrictionCoefficient, kMaxFrictionCoefficient, "");
+    CheckMagnitude(sc, ctx, "friction_coefficient", c.friction_coefficient, kMinFrictionCoefficient,
+                   kMaxFrictionCoefficient, "");
     if (const std::string problem = DegenerateContactProblem(c); !problem.empty()) sc.Fail(ctx, problem);
     for (auto& p : c.points) p = ToBody(frame, p);
     c.frame_origin.setZero();
     for (const auto& p : c.points) c.frame_origin += p;
     c.frame_origin /= static_cast<double>(c.points.size());
-    if (planar) c.num_rows = c.type == ContactType::kPoint ? 2 : 3;
-    else c.num_rows = c.type == ContactType::kPoint ? 3 : (c.type == ContactType::kLine ? 5 : 6);
+    if (planar)
+      c.num_rows = c.type == ContactType::kPoint ? 2 : 3;
+    else
+      c.num_rows = c.type == ContactType::kPoint ? 3 : (c.type == ContactType::kLine ? 5 : 6);
     if (model.contact_index_.count(c.name)) sc.Fail(ctx, "duplicate contact name");
     model.contact_index_[c.name] = static_cast<int>(model.contacts_.size());
     model.max_constraint_rows_ += c.num_rows;
@@ -220,8 +235,8 @@ std::vector<bool> MultibodyModelLoader::ReadNominalPose(LoadState& s) {
         if (!base[k].is_number()) sc.Fail("nominal_pose.base", "expected numbers, got " + SidecarReader::Dump(base));
         const double x = base[k].get<double>();
         if (!std::isfinite(x) || std::abs(x) > kMaxLength_m)
-          sc.Fail("nominal_pose.base", "entry " + std::to_string(k) + " is " + Num(x) + " (not finite or beyond " +
-                                           Num(kMaxLength_m) + ")");
+          sc.Fail("nominal_pose.base",
+                  "entry " + std::to_string(k) + " is " + Num(x) + " (not finite or beyond " + Num(kMaxLength_m) + ")");
         model.q_nominal_[k] = x;
       }
     }

@@ -126,17 +126,19 @@ void MultibodyModelLoader::ReadFloatingJointFromWorld(LoadState& s) {
     const std::string where = ufile + ": " + (floating ? "floating" : "planar") + " joint '" + jname + "'";
     const std::string supported = std::string("; a ") + (floating ? "floating" : "planar") +
                                   " joint is supported only as the single joint of a massless root link (the world), "
-                                  "where it becomes the robot's " + ToString(type) + " floating base";
+                                  "where it becomes the robot's " +
+                                  ToString(type) + " floating base";
     if (root->inertial && root->inertial->mass != 0.0)
-      throw std::runtime_error(where + ": its parent, root link '" + rname + "', has mass " + Num(root->inertial->mass) +
-                               " kg" + supported);
+      throw std::runtime_error(where + ": its parent, root link '" + rname + "', has mass " +
+                               Num(root->inertial->mass) + " kg" + supported);
     if (root->child_joints.size() != 1)
       throw std::runtime_error(where + ": root link '" + rname + "' has " + std::to_string(root->child_joints.size()) +
                                " joints" + supported);
     if (sidecar.contains("floating_base") && model.floating_base_ != type)
-      sc.Fail("floating_base", std::string("'") + ToString(model.floating_base_) + "' contradicts " + ufile + ", whose " +
-                                   (floating ? "floating" : "planar") + " joint '" + jname + "' makes a " +
-                                   ToString(type) + " floating base (remove the entry, or make it '" + ToString(type) + "')");
+      sc.Fail("floating_base", std::string("'") + ToString(model.floating_base_) + "' contradicts " + ufile +
+                                   ", whose " + (floating ? "floating" : "planar") + " joint '" + jname + "' makes a " +
+                                   ToString(type) + " floating base (remove the entry, or make it '" + ToString(type) +
+                                   "')");
     const Eigen::Isometry3d X = ToEigen(joint->parent_to_joint_origin_transform);
     if (!X.matrix().allFinite() || X.translation().cwiseAbs().maxCoeff() > kMaxLength_m)
       throw std::runtime_error(where + ": <origin> " + Num3(X.translation()) + " m is not finite or exceeds " +
@@ -153,11 +155,14 @@ void MultibodyModelLoader::ReadFloatingJointFromWorld(LoadState& s) {
       const Eigen::Vector3d axis = ToEigen(joint->axis);
       const double scale = axis.cwiseAbs().maxCoeff();
       if (!axis.allFinite() || !(scale > 0.0) || ((axis / scale).normalized() - Eigen::Vector3d::UnitY()).norm() > 1e-9)
-        throw std::runtime_error(where + ": <axis> " + Num3(axis) + " is not supported; ROME's planar base moves in the "
+        throw std::runtime_error(where + ": <axis> " + Num3(axis) +
+                                 " is not supported; ROME's planar base moves in the "
                                  "world x-z plane, so the planar joint's axis (the plane's normal) must be 0 1 0");
       if (std::abs(X.translation().y()) > 0.0 || std::abs(R(1, 1) - 1.0) > 1e-12)
-        throw std::runtime_error(where + ": <origin> (xyz " + Num3(X.translation()) + ") leaves the world x-z plane or "
-                                 "turns about an axis other than y; ROME's planar base needs y = 0 and rpy = (0, pitch, 0)");
+        throw std::runtime_error(
+            where + ": <origin> (xyz " + Num3(X.translation()) +
+            ") leaves the world x-z plane or "
+            "turns about an axis other than y; ROME's planar base needs y = 0 and rpy = (0, pitch, 0)");
       base_nominal.resize(3);
       base_nominal << X.translation().x(), X.translation().z(), std::atan2(R(0, 2), R(0, 0));
     }
@@ -166,7 +171,8 @@ void MultibodyModelLoader::ReadFloatingJointFromWorld(LoadState& s) {
          "': the fixed world, not a frame of the robot; the joint is the robot's " + ToString(type) +
          " floating base (its <origin> is the default nominal base pose)");
     urdf::LinkConstSharedPtr child = s.urdf->getLink(joint->child_link_name);
-    if (!child) throw std::runtime_error(where + ": child link '" + Excerpt(joint->child_link_name) + "' does not exist");
+    if (!child)
+      throw std::runtime_error(where + ": child link '" + Excerpt(joint->child_link_name) + "' does not exist");
     root = child;
     break;  // the root's only joint
   }
@@ -188,8 +194,7 @@ void MultibodyModelLoader::AddBaseBodies(LoadState& s) {
     b.is_virtual = true;
     bodies->push_back(b);
   };
-  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(),
-                        ez = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY(), ez = Eigen::Vector3d::UnitZ();
   // The last virtual joint's child is the URDF root link itself.
   MultibodyJointType root_type = MultibodyJointType::kFixed;
   Eigen::Vector3d root_axis = ez;
@@ -199,7 +204,9 @@ void MultibodyModelLoader::AddBaseBodies(LoadState& s) {
     case FloatingBaseType::kPlanar:
       add_virtual("base_x", MultibodyJointType::kPrismatic, ex);
       add_virtual("base_z", MultibodyJointType::kPrismatic, ez);
-      root_type = MultibodyJointType::kRevolute; root_axis = ey; root_joint_name = "base_pitch";
+      root_type = MultibodyJointType::kRevolute;
+      root_axis = ey;
+      root_joint_name = "base_pitch";
       break;
     case FloatingBaseType::kSpatial:
       add_virtual("base_x", MultibodyJointType::kPrismatic, ex);
@@ -207,7 +214,9 @@ void MultibodyModelLoader::AddBaseBodies(LoadState& s) {
       add_virtual("base_z", MultibodyJointType::kPrismatic, ez);
       add_virtual("base_yaw", MultibodyJointType::kRevolute, ez);
       add_virtual("base_pitch", MultibodyJointType::kRevolute, ey);
-      root_type = MultibodyJointType::kRevolute; root_axis = ex; root_joint_name = "base_roll";
+      root_type = MultibodyJointType::kRevolute;
+      root_axis = ex;
+      root_joint_name = "base_roll";
       break;
   }
   s.parts.resize(bodies->size());
@@ -239,10 +248,16 @@ model_loading::LinkMass MultibodyModelLoader::ReadLinkMass(LoadState& s, const u
   }
   const urdf::Inertial& in = *link.inertial;
   const std::pair<const char*, double> values[] = {
-      {"<mass value>", in.mass}, {"<inertia ixx>", in.ixx}, {"<inertia ixy>", in.ixy},
-      {"<inertia ixz>", in.ixz}, {"<inertia iyy>", in.iyy}, {"<inertia iyz>", in.iyz},
-      {"<inertia izz>", in.izz}, {"<origin xyz> x", in.origin.position.x},
-      {"<origin xyz> y", in.origin.position.y}, {"<origin xyz> z", in.origin.position.z},
+      {"<mass value>", in.mass},
+      {"<inertia ixx>", in.ixx},
+      {"<inertia ixy>", in.ixy},
+      {"<inertia ixz>", in.ixz},
+      {"<inertia iyy>", in.iyy},
+      {"<inertia iyz>", in.iyz},
+      {"<inertia izz>", in.izz},
+      {"<origin xyz> x", in.origin.position.x},
+      {"<origin xyz> y", in.origin.position.y},
+      {"<origin xyz> z", in.origin.position.z},
       {"<origin rpy>", in.origin.rotation.w + in.origin.rotation.x + in.origin.rotation.y + in.origin.rotation.z}};
   for (const auto& [what, x] : values)
     if (!std::isfinite(x)) throw std::runtime_error(where + ": <inertial> " + what + " is " + Num(x));
@@ -251,7 +266,8 @@ model_loading::LinkMass MultibodyModelLoader::ReadLinkMass(LoadState& s, const u
     throw std::runtime_error(where + ": <mass> " + Num(in.mass) + " kg exceeds " + Num(kMaxMass_kg) + " kg");
   for (const auto& [what, x] : values)
     if (std::string(what).rfind("<inertia", 0) == 0 && std::abs(x) > kMaxInertia_kgm2)
-      throw std::runtime_error(where + ": " + what + " " + Num(x) + " kg m^2 exceeds " + Num(kMaxInertia_kgm2) + " kg m^2");
+      throw std::runtime_error(where + ": " + what + " " + Num(x) + " kg m^2 exceeds " + Num(kMaxInertia_kgm2) +
+                               " kg m^2");
   const Eigen::Isometry3d X = ToEigen(in.origin);
   if (X.translation().cwiseAbs().maxCoeff() > kMaxLength_m)
     throw std::runtime_error(where + ": <inertial> <origin xyz> " + Num3(X.translation()) + " m exceeds " +
@@ -280,7 +296,7 @@ void MultibodyModelLoader::WalkJointTree(LoadState& s) {
   struct Item {
     const urdf::Link* link;
     int body;
-    bool merged;                  // link is not the body's own frame
+    bool merged;  // link is not the body's own frame
     Eigen::Isometry3d X_body_link;
     size_t next_child;
   };
@@ -315,11 +331,13 @@ void MultibodyModelLoader::WalkJointTree(LoadState& s) {
       case urdf::Joint::PLANAR:
         throw std::runtime_error(ufile + ": " + (joint->type == urdf::Joint::FLOATING ? "floating" : "planar") +
                                  " joint '" + jname + "' between links '" + Excerpt(parent.link->name) + "' and '" +
-                                 Excerpt(child.name) + "' is not supported; a floating or planar joint is supported "
+                                 Excerpt(child.name) +
+                                 "' is not supported; a floating or planar joint is supported "
                                  "only as the single joint of a massless root link (the world), where it becomes the "
                                  "floating base");
       default:
-        throw std::runtime_error(where + ": unsupported joint type (only revolute, continuous, "
+        throw std::runtime_error(where +
+                                 ": unsupported joint type (only revolute, continuous, "
                                  "prismatic and fixed are supported)");
     }
     if (type == MultibodyJointType::kFixed) {
@@ -334,9 +352,8 @@ void MultibodyModelLoader::WalkJointTree(LoadState& s) {
       continue;
     }
     if (++nv_count > kMaxDofs)
-      throw std::runtime_error(ufile + ": more than " + std::to_string(kMaxDofs) +
-                               " degrees of freedom (at joint '" + jname + "'); ROME's dense mass matrix supports at most " +
-                               std::to_string(kMaxDofs));
+      throw std::runtime_error(ufile + ": more than " + std::to_string(kMaxDofs) + " degrees of freedom (at joint '" +
+                               jname + "'); ROME's dense mass matrix supports at most " + std::to_string(kMaxDofs));
     MultibodyBody b;
     b.name = child.name;
     b.joint_name = joint->name;
@@ -349,8 +366,10 @@ void MultibodyModelLoader::WalkJointTree(LoadState& s) {
       const double lo = joint->limits->lower, hi = joint->limits->upper;
       if (std::isnan(lo) || std::isnan(hi) || lo > hi)
         throw std::runtime_error(where + ": <limit> lower " + Num(lo) + " must not exceed upper " + Num(hi));
-      if (lo < hi) lim = {lo, hi};
-      else warn("joint '" + jname + "': <limit> lower == upper (" + Num(lo) + "): treated as no position limit");
+      if (lo < hi)
+        lim = {lo, hi};
+      else
+        warn("joint '" + jname + "': <limit> lower == upper (" + Num(lo) + "): treated as no position limit");
     }
     const int index = static_cast<int>(bodies->size());
     bodies->push_back(b);

@@ -23,8 +23,8 @@ namespace {
 
 void CheckSize(const MultibodyModel& model, Eigen::Index got, Eigen::Index expected, const char* what) {
   if (got != expected)
-    throw std::invalid_argument("robot '" + model.name() + "': " + what + " has size " +
-                                std::to_string(got) + ", expected " + std::to_string(expected));
+    throw std::invalid_argument("robot '" + model.name() + "': " + what + " has size " + std::to_string(got) +
+                                ", expected " + std::to_string(expected));
 }
 
 // Runs Bullet's ABA once at the current q so that its cached articulated inertias (needed by
@@ -38,16 +38,15 @@ void EnsureBulletMinv(const MultibodyModel& model, MultibodyWorkspace& ws) {
     if (model.body(i).v_index >= 0) mb.setJointVel(i, 0.0);
   ws.valid.bullet_v = false;
   auto& s = ws.bullet_scratch();
-  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, s.scratch_r, s.scratch_v, s.scratch_m,
-                                                          false, false, false);
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, s.scratch_r, s.scratch_v, s.scratch_m, false, false,
+                                                          false);
   ws.valid.bullet_minv = true;
 }
 
 // Rigid (Bullet) M_r^-1 applied to ws.bullet_in (6 base entries + nv), result in ws.bullet_out.
 void BulletMinv(MultibodyWorkspace& ws) {
   auto& s = ws.bullet_scratch();
-  ws.bullet().calcAccelerationDeltasMultiDof(ws.bullet_in.data(), ws.bullet_out.data(), s.scratch_r2,
-                                             s.scratch_v2);
+  ws.bullet().calcAccelerationDeltasMultiDof(ws.bullet_in.data(), ws.bullet_out.data(), s.scratch_r2, s.scratch_v2);
 }
 
 void EnsureArmature(const MultibodyModel& model, MultibodyWorkspace& ws) {
@@ -80,8 +79,7 @@ void ApplyArmatureCorrection(MultibodyWorkspace& ws, Eigen::Ref<Eigen::VectorXd>
 
 }  // namespace
 
-const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                      const VectorRef& q) {
+const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q) {
   ws.SetPositions(model, q);
   if (ws.valid.M) return ws.M;
   // CRBA in world axes at O: M_kj = S_j^T (Ic_i S_i) for j an ancestor of (or equal to) i.
@@ -103,8 +101,8 @@ const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWork
   return ws.M;
 }
 
-const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                      const VectorRef& q, const VectorRef& v) {
+const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                      const VectorRef& v) {
   ws.SetState(model, q, v);
   if (ws.valid.h) return ws.h;
   // RNEA with qdd = 0; gravity enters as a fictitious base acceleration a_0 = [0; -g].
@@ -136,8 +134,8 @@ const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWork
   return ws.h;
 }
 
-const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                         const VectorRef& q, const VectorRef& v) {
+const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         const VectorRef& v) {
   CheckSize(model, q.size(), model.nq(), "q");
   CheckSize(model, v.size(), model.nv(), "v");
   ws.tau_spring.array() = -model.spring_stiffness().array() * (q - model.spring_rest()).array() -
@@ -145,8 +143,8 @@ const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyW
   return ws.tau_spring;
 }
 
-void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         const VectorRef& v, const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau) {
+void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                         const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau) {
   CheckSize(model, qdd.size(), model.nv(), "qdd");
   CheckSize(model, tau.size(), model.nv(), "tau");
   const Eigen::MatrixXd& M = CalcMassMatrix(model, ws, q);
@@ -156,8 +154,8 @@ void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, co
   tau += h - ts;
 }
 
-void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                            const VectorRef& f, Eigen::Ref<Eigen::VectorXd> out) {
+void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& f,
+                            Eigen::Ref<Eigen::VectorXd> out) {
   CheckSize(model, f.size(), model.nv(), "f");
   CheckSize(model, out.size(), model.nv(), "M^-1 f output");
   ws.SetPositions(model, q);
@@ -189,8 +187,8 @@ void FactorMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const
     for (int k = nv - 1; k >= 0; --k) {
       const double Dk = D[k];
       if (!(Dk > 0.0))
-        throw std::runtime_error("robot '" + model.name() + "': mass matrix is not positive definite (pivot " + std::to_string(Dk) +
-                                 " at dof " + std::to_string(k) + ")");
+        throw std::runtime_error("robot '" + model.name() + "': mass matrix is not positive definite (pivot " +
+                                 std::to_string(Dk) + " at dof " + std::to_string(k) + ")");
       double* Lk = L + begin[k];
       const int nk = begin[k + 1] - begin[k];
       for (int m = 0; m < nk; ++m) {
@@ -230,7 +228,8 @@ void SolveMassMatrixTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eig
 namespace {
 
 // rows <- rows D^-1 L^-T (Z L^T = Y D^-1, root to leaves), the last two steps of rows M^-1.
-ROME_MULTIBODY_HOT void SolveRowsDiagonalAndTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows) {
+ROME_MULTIBODY_HOT void SolveRowsDiagonalAndTransposeFactor(const MultibodyWorkspace& ws,
+                                                            Eigen::Ref<Eigen::MatrixXd> rows) {
   const int* begin = ws.ancestor_begin.data();
   const int* index = ws.ancestor_index.data();
   const double* L = ws.L_packed.data();
@@ -305,9 +304,8 @@ void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const 
   }
 }
 
-void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         const VectorRef& v, const VectorRef& u, const VectorRef& tau_ext,
-                         Eigen::Ref<Eigen::VectorXd> qdd) {
+void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                         const VectorRef& u, const VectorRef& tau_ext, Eigen::Ref<Eigen::VectorXd> qdd) {
   CheckSize(model, u.size(), model.nu(), "u");
   CheckSize(model, qdd.size(), model.nv(), "qdd");
   if (tau_ext.size() != 0) CheckSize(model, tau_ext.size(), model.nv(), "tau_ext");
@@ -330,8 +328,8 @@ void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, co
     }
   }
   auto& s = ws.bullet_scratch();
-  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, s.scratch_r, s.scratch_v, s.scratch_m,
-                                                          false, false, false);
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, s.scratch_r, s.scratch_v, s.scratch_m, false, false,
+                                                          false);
   mb.clearForcesAndTorques();
   ws.valid.bullet_minv = true;
   ws.valid.bullet_v = true;

@@ -16,21 +16,20 @@
 namespace rome {
 
 // Returns ws.M (valid until the next call with a different q).
-const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                      const VectorRef& q);
+const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q);
 // Returns ws.h = C(q, v) v + g(q).
-const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                      const VectorRef& q, const VectorRef& v);
+const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                      const VectorRef& v);
 // Returns ws.tau_spring = -K (q - rest) - D v.
-const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                         const VectorRef& q, const VectorRef& v);
+const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                         const VectorRef& v);
 // Inverse dynamics: tau = M qdd + h - tau_spring (the generalized force that produces qdd).
-void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         const VectorRef& v, const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau);
+void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                         const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau);
 
 // out = M(q)^-1 f, via Bullet's calcAccelerationDeltasMultiDof (+ armature correction).
-void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                            const VectorRef& f, Eigen::Ref<Eigen::VectorXd> out);
+void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& f,
+                            Eigen::Ref<Eigen::VectorXd> out);
 // Same product through the tree-sparse L^T D L factor of the CRBA mass matrix (Featherstone's
 // LTDL; dense Cholesky if the dof order is not parent-first). Faster for many columns.
 void SolveMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
@@ -48,8 +47,7 @@ void SolveMassMatrixFactorRows(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::M
 
 // Forward dynamics with Bullet's ABA: qdd = M^-1 (B u + tau_spring + tau_ext - h).
 // tau_ext may be empty (size 0) for none.
-void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         const VectorRef& v, const VectorRef& u, const VectorRef& tau_ext,
-                         Eigen::Ref<Eigen::VectorXd> qdd);
+void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                         const VectorRef& u, const VectorRef& tau_ext, Eigen::Ref<Eigen::VectorXd> qdd);
 
 }  // namespace rome

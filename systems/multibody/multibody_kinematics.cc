@@ -9,24 +9,20 @@ namespace {
 
 void CheckBody(const MultibodyModel& model, int body) {
   if (body < 0 || body >= model.num_bodies())
-    throw std::invalid_argument("robot '" + model.name() + "': body index " +
-                                std::to_string(body) + " out of range [0, " +
-                                std::to_string(model.num_bodies()) + ")");
+    throw std::invalid_argument("robot '" + model.name() + "': body index " + std::to_string(body) +
+                                " out of range [0, " + std::to_string(model.num_bodies()) + ")");
 }
 
-void CheckJacobianSize(const MultibodyModel& model, const Eigen::Ref<Eigen::MatrixXd>& J, int rows,
-                       const char* what) {
+void CheckJacobianSize(const MultibodyModel& model, const Eigen::Ref<Eigen::MatrixXd>& J, int rows, const char* what) {
   if (J.rows() != rows || J.cols() != model.nv())
     throw std::invalid_argument(std::string(what) + " of robot '" + model.name() + "': output is " +
-                                std::to_string(J.rows()) + "x" + std::to_string(J.cols()) +
-                                ", expected " + std::to_string(rows) + "x" +
-                                std::to_string(model.nv()));
+                                std::to_string(J.rows()) + "x" + std::to_string(J.cols()) + ", expected " +
+                                std::to_string(rows) + "x" + std::to_string(model.nv()));
 }
 
 }  // namespace
 
-Eigen::Isometry3d CalcLinkPose(const MultibodyModel& model, MultibodyWorkspace& ws,
-                               const VectorRef& q, int body) {
+Eigen::Isometry3d CalcLinkPose(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body) {
   CheckBody(model, body);
   ws.SetPositions(model, q);
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
@@ -35,15 +31,15 @@ Eigen::Isometry3d CalcLinkPose(const MultibodyModel& model, MultibodyWorkspace& 
   return X;
 }
 
-Eigen::Vector3d CalcPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, int body, const Eigen::Vector3d& p_link) {
+Eigen::Vector3d CalcPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body,
+                                  const Eigen::Vector3d& p_link) {
   CheckBody(model, body);
   ws.SetPositions(model, q);
   return ws.p_world_link(body) + ws.R_world_link(body) * p_link;
 }
 
-Vector6d CalcFrameVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                           const VectorRef& v, int body, const Eigen::Vector3d& p_link) {
+Vector6d CalcFrameVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           int body, const Eigen::Vector3d& p_link) {
   CheckBody(model, body);
   ws.SetState(model, q, v);
   const Eigen::Vector3d r = ws.p_world_link(body) + ws.R_world_link(body) * p_link - ws.reference_point();
@@ -54,14 +50,13 @@ Vector6d CalcFrameVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, 
   return out;
 }
 
-Eigen::Vector3d CalcPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, const VectorRef& v, int body,
-                                  const Eigen::Vector3d& p_link) {
+Eigen::Vector3d CalcPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                  const VectorRef& v, int body, const Eigen::Vector3d& p_link) {
   return CalcFrameVelocity(model, ws, q, v, body, p_link).tail<3>();
 }
 
-void CalcFrameJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                       int body, const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J) {
+void CalcFrameJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body,
+                       const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J) {
   CheckBody(model, body);
   CheckJacobianSize(model, J, 6, "CalcFrameJacobian");
   ws.SetPositions(model, q);
@@ -76,8 +71,8 @@ void CalcFrameJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, cons
   }
 }
 
-void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                       int body, const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J) {
+void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body,
+                       const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J) {
   CheckBody(model, body);
   CheckJacobianSize(model, J, 3, "CalcPointJacobian");
   ws.SetPositions(model, q);
@@ -90,8 +85,8 @@ void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, cons
   }
 }
 
-Vector6d CalcFrameJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                           const VectorRef& v, int body, const Eigen::Vector3d& p_link) {
+Vector6d CalcFrameJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           int body, const Eigen::Vector3d& p_link) {
   CheckBody(model, body);
   ws.SetState(model, q, v);
   const Eigen::Vector3d r = ws.p_world_link(body) + ws.R_world_link(body) * p_link - ws.reference_point();
@@ -106,14 +101,12 @@ Vector6d CalcFrameJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, 
   return out;
 }
 
-Eigen::Vector3d CalcPointJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, const VectorRef& v, int body,
-                                  const Eigen::Vector3d& p_link) {
+Eigen::Vector3d CalcPointJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                  const VectorRef& v, int body, const Eigen::Vector3d& p_link) {
   return CalcFrameJdotQdot(model, ws, q, v, body, p_link).tail<3>();
 }
 
-Eigen::Vector3d CalcComPosition(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q) {
+Eigen::Vector3d CalcComPosition(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q) {
   ws.SetPositions(model, q);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (int b = 0; b < model.num_bodies(); ++b) c += model.body(b).mass * ws.com_world(b);
@@ -155,14 +148,14 @@ Vector6d ShiftToCom(const Vector6d& hO, const Eigen::Vector3d& c_minus_O) {
 
 }  // namespace
 
-Eigen::Vector3d CalcComVelocity(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q, const VectorRef& v) {
+Eigen::Vector3d CalcComVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                const VectorRef& v) {
   ws.SetState(model, q, v);
   return SpatialMomentumAtO(model, ws).tail<3>() / model.total_mass();
 }
 
-void CalcCentroidalMomentumMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> A_G) {
+void CalcCentroidalMomentumMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                  Eigen::Ref<Eigen::MatrixXd> A_G) {
   CheckJacobianSize(model, A_G, 6, "CalcCentroidalMomentumMatrix");
   ws.SetPositions(model, q);
   const Eigen::Vector3d c = CalcComPosition(model, ws, q) - ws.reference_point();
@@ -186,29 +179,28 @@ void CalcComJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const 
   }
 }
 
-Vector6d CalcCentroidalMomentum(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q, const VectorRef& v) {
+Vector6d CalcCentroidalMomentum(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                const VectorRef& v) {
   ws.SetState(model, q, v);
   const Eigen::Vector3d c = CalcComPosition(model, ws, q) - ws.reference_point();
   return ShiftToCom(SpatialMomentumAtO(model, ws), c);
 }
 
-Vector6d CalcCentroidalMomentumBias(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                    const VectorRef& q, const VectorRef& v) {
+Vector6d CalcCentroidalMomentumBias(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                    const VectorRef& v) {
   ws.SetState(model, q, v);
   const Eigen::Vector3d c = CalcComPosition(model, ws, q) - ws.reference_point();
   // d/dt k_G = d/dt k_O - cdot x l - (c - O) x ldot, and cdot x l = 0 (l = m cdot).
   return ShiftToCom(SpatialMomentumBiasAtO(model, ws), c);
 }
 
-Eigen::Vector3d CalcComJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q, const VectorRef& v) {
+Eigen::Vector3d CalcComJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                const VectorRef& v) {
   ws.SetState(model, q, v);
   return SpatialMomentumBiasAtO(model, ws).tail<3>() / model.total_mass();
 }
 
-double CalcKineticEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         const VectorRef& v) {
+double CalcKineticEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v) {
   ws.SetState(model, q, v);
   double T = 0.0;
   for (int b = 0; b < model.num_bodies(); ++b) T += 0.5 * ws.V(b).dot(ws.inertia(b) * ws.V(b));
@@ -216,12 +208,10 @@ double CalcKineticEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, co
   return T;
 }
 
-double CalcPotentialEnergy(const MultibodyModel& model, MultibodyWorkspace& ws,
-                           const VectorRef& q) {
+double CalcPotentialEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q) {
   ws.SetPositions(model, q);
   double U = 0.0;
-  for (int b = 0; b < model.num_bodies(); ++b)
-    U -= model.body(b).mass * model.gravity().dot(ws.com_world(b));
+  for (int b = 0; b < model.num_bodies(); ++b) U -= model.body(b).mass * model.gravity().dot(ws.com_world(b));
   U += 0.5 * (model.spring_stiffness().array() * (q - model.spring_rest()).array().square()).sum();
   return U;
 }

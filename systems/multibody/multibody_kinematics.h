@@ -24,50 +24,44 @@ namespace rome {
 using VectorRef = Eigen::Ref<const Eigen::VectorXd>;
 
 // Pose of the link frame in the world.
-Eigen::Isometry3d CalcLinkPose(const MultibodyModel& model, MultibodyWorkspace& ws,
-                               const VectorRef& q, int body);
-Eigen::Vector3d CalcPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, int body, const Eigen::Vector3d& p_link);
+Eigen::Isometry3d CalcLinkPose(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body);
+Eigen::Vector3d CalcPointPosition(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body,
+                                  const Eigen::Vector3d& p_link);
 // [omega; v_p] of the frame attached to the link at p_link.
-Vector6d CalcFrameVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                           const VectorRef& v, int body, const Eigen::Vector3d& p_link);
-Eigen::Vector3d CalcPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, const VectorRef& v, int body,
-                                  const Eigen::Vector3d& p_link);
+Vector6d CalcFrameVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           int body, const Eigen::Vector3d& p_link);
+Eigen::Vector3d CalcPointVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                  const VectorRef& v, int body, const Eigen::Vector3d& p_link);
 // J is 6 x nv (frame) or 3 x nv (point); overwritten.
-void CalcFrameJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                       int body, const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J);
-void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                       int body, const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J);
-Vector6d CalcFrameJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                           const VectorRef& v, int body, const Eigen::Vector3d& p_link);
-Eigen::Vector3d CalcPointJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, const VectorRef& v, int body,
-                                  const Eigen::Vector3d& p_link);
+void CalcFrameJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body,
+                       const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J);
+void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, int body,
+                       const Eigen::Vector3d& p_link, Eigen::Ref<Eigen::MatrixXd> J);
+Vector6d CalcFrameJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+                           int body, const Eigen::Vector3d& p_link);
+Eigen::Vector3d CalcPointJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                  const VectorRef& v, int body, const Eigen::Vector3d& p_link);
 
 // Centre of mass.
-Eigen::Vector3d CalcComPosition(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q);
-Eigen::Vector3d CalcComVelocity(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q, const VectorRef& v);
+Eigen::Vector3d CalcComPosition(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q);
+Eigen::Vector3d CalcComVelocity(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                const VectorRef& v);
 void CalcComJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
                      Eigen::Ref<Eigen::MatrixXd> J_com);  // 3 x nv
-Eigen::Vector3d CalcComJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q, const VectorRef& v);
+Eigen::Vector3d CalcComJdotQdot(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                const VectorRef& v);
 
 // Centroidal momentum (6 x nv matrix A_G, rows [angular about COM; linear]).
-void CalcCentroidalMomentumMatrix(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                  const VectorRef& q, Eigen::Ref<Eigen::MatrixXd> A_G);
-Vector6d CalcCentroidalMomentum(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                const VectorRef& q, const VectorRef& v);
-Vector6d CalcCentroidalMomentumBias(const MultibodyModel& model, MultibodyWorkspace& ws,
-                                    const VectorRef& q, const VectorRef& v);  // Adot_G v
+void CalcCentroidalMomentumMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                  Eigen::Ref<Eigen::MatrixXd> A_G);
+Vector6d CalcCentroidalMomentum(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                const VectorRef& v);
+Vector6d CalcCentroidalMomentumBias(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
+                                    const VectorRef& v);  // Adot_G v
 
 // Energies: kinetic (rigid bodies + reflected rotor inertia 1/2 I_r v^2), potential
 // (gravity + spring 1/2 k (q - rest)^2).
-double CalcKineticEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                         const VectorRef& v);
-double CalcPotentialEnergy(const MultibodyModel& model, MultibodyWorkspace& ws,
-                           const VectorRef& q);
+double CalcKineticEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v);
+double CalcPotentialEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q);
 
 }  // namespace rome

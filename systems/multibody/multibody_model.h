@@ -37,9 +37,9 @@
 //  * Every <inertial> is checked: finite (a NaN is named), mass >= 0, inertia positive
 //    semi-definite and satisfying the triangle inequality (I1 + I2 >= I3 for the principal
 //    moments), each with a tolerance of kInertiaRelativeTolerance times the largest principal
-//    moment or, if larger, the body's mass times kInertiaLengthTolerance_m^2. Physical validity is required of each rigid body the dynamics sees: a link whose own
-//    <inertia> violates it (typically a dummy value such as every entry 1e-6 on a sensor, foot or
-//    base frame) is accepted, with a warning naming it, when the body it is merged into over
+//    moment or, if larger, the body's mass times kInertiaLengthTolerance_m^2. Physical validity is required of each
+//    rigid body the dynamics sees: a link whose own <inertia> violates it (typically a dummy value such as every entry
+//    1e-6 on a sensor, foot or base frame) is accepted, with a warning naming it, when the body it is merged into over
 //    fixed joints has a physical combined inertia; otherwise the file is rejected naming the link.
 //    LoadOptions::repair_inertia projects a rejected inertia onto the nearest physical one
 //    (Frobenius norm, same principal axes) instead, with a warning.
@@ -96,13 +96,13 @@ struct MultibodyBody {
   std::string joint_name;  // inboard joint; virtual joints are "base_x", "base_z", "base_pitch"...
   int parent = -1;         // parent body index, -1 = world
   MultibodyJointType joint_type = MultibodyJointType::kFixed;
-  int v_index = -1;                                     // dof index in q and v, -1 if fixed
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();      // joint axis in this link frame (unit)
+  int v_index = -1;                                                  // dof index in q and v, -1 if fixed
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();                   // joint axis in this link frame (unit)
   Eigen::Isometry3d X_parent_joint = Eigen::Isometry3d::Identity();  // this link frame in the
-                                                        // parent link frame at q = 0
-  double mass = 0.0;                                    // kg
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();        // COM in the link frame, m
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();    // about the COM, link axes, kg m^2
+                                                                     // parent link frame at q = 0
+  double mass = 0.0;                                                 // kg
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();                     // COM in the link frame, m
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();                 // about the COM, link axes, kg m^2
   // Bullet needs a diagonal inertia: inertia = R_link_principal diag(principal_moments) R^T.
   // The Bullet link frame is the principal frame at the COM; the link frame is recovered as
   // X_world_link = X_world_principal * X_link_principal^-1.
@@ -142,14 +142,14 @@ inline constexpr double kMaxLength_m = 1e3;
 inline constexpr double kMaxMass_kg = 1e6;
 // Magnitude caps of a robot description (ours: each a few orders beyond any legged robot's value, so that a typo or an
 // overflow such as 1e308 or 1e-300 is refused, with the cap in the message, instead of ending as a physics failure).
-inline constexpr double kMaxInertia_kgm2 = 1e6;                ///< |entries| of <inertia>, reflected_inertia_kgm2
+inline constexpr double kMaxInertia_kgm2 = 1e6;  ///< |entries| of <inertia>, reflected_inertia_kgm2
 inline constexpr double kMinTorqueLimit_Nm = 1e-3, kMaxTorqueLimit_Nm = 1e5;
 inline constexpr double kMinGearRatio = 1e-2, kMaxGearRatio = 1e4;
 inline constexpr double kMaxSpringStiffness_Nm_per_rad = 1e7, kMaxSpringDamping_Nms_per_rad = 1e5;
 inline constexpr double kMinFrictionCoefficient = 1e-3, kMaxFrictionCoefficient = 10.0;
-inline constexpr double kMinPositiveParameter = 1e-9;          ///< smallest nonzero stiffness, damping or armature
+inline constexpr double kMinPositiveParameter = 1e-9;            ///< smallest nonzero stiffness, damping or armature
 inline constexpr double kMaxJointAngle_rad = 6.283185307179586;  ///< |nominal or rest angle| of a revolute joint
-inline constexpr double kMaxLoopClosureResidual_m = 1e-3;      ///< | |p_a - p_b| - distance_m | at the nominal pose
+inline constexpr double kMaxLoopClosureResidual_m = 1e-3;        ///< | |p_a - p_b| - distance_m | at the nominal pose
 /// Out-of-plane part of a planar robot's joint axis (ours: rpy written with 1.5708 for π/2 leaves 3.7e-6).
 inline constexpr double kPlanarAxisTolerance = 1e-4;
 
@@ -195,7 +195,7 @@ struct LoopClosureInfo {
   int body_a = -1, body_b = -1;
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  // body_a frame, m (sidecar: link_a frame)
   Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  // body_b frame, m (sidecar: link_b frame)
-  double distance_m = 0.0;                             // |p_a - p_b| = distance_m
+  double distance_m = 0.0;                            // |p_a - p_b| = distance_m
 };
 
 class MultibodyModel {
@@ -255,8 +255,8 @@ class MultibodyModel {
   double total_mass() const { return total_mass_; }
 
   const std::vector<ActuatorInfo>& actuators() const { return actuators_; }
-  const Eigen::MatrixXd& B() const { return B_; }                            // nv x nu
-  const Eigen::VectorXd& torque_limits() const { return torque_limits_; }    // nu
+  const Eigen::MatrixXd& B() const { return B_; }                                  // nv x nu
+  const Eigen::VectorXd& torque_limits() const { return torque_limits_; }          // nu
   const Eigen::VectorXd& reflected_inertia() const { return reflected_inertia_; }  // nv
   const std::vector<SpringInfo>& springs() const { return springs_; }
   const Eigen::VectorXd& spring_stiffness() const { return spring_stiffness_; }  // nv
@@ -266,7 +266,7 @@ class MultibodyModel {
   const std::vector<LoopClosureInfo>& loop_closures() const { return loop_closures_; }
   int num_contacts() const { return static_cast<int>(contacts_.size()); }
   int num_loop_closures() const { return static_cast<int>(loop_closures_.size()); }
-  int max_constraint_rows() const { return max_constraint_rows_; }  // all contacts + loops
+  int max_constraint_rows() const { return max_constraint_rows_; }           // all contacts + loops
   const Eigen::VectorXd& position_lower_limits() const { return q_lower_; }  // -inf if none
   const Eigen::VectorXd& position_upper_limits() const { return q_upper_; }
   const Eigen::VectorXd& q_nominal() const { return q_nominal_; }

@@ -14,28 +14,64 @@
 
 namespace rome {
 
-
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyModel& model) { Build(model); }
 MultibodyWorkspace::~MultibodyWorkspace() = default;
 MultibodyWorkspace::MultibodyWorkspace(MultibodyWorkspace&&) noexcept = default;
 MultibodyWorkspace& MultibodyWorkspace::operator=(MultibodyWorkspace&&) noexcept = default;
 
 MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
-    : valid(), M(other.M), dof_parent(other.dof_parent), support_begin(other.support_begin),
-      support_body(other.support_body), ancestor_begin(other.ancestor_begin),
-      ancestor_index(other.ancestor_index), L_packed(other.L_packed), D(other.D),
-      use_tree_factor(other.use_tree_factor), M_llt(other.M_llt), h(other.h), tau_spring(other.tau_spring),
-      tmp_nv(other.tmp_nv), tmp2_nv(other.tmp2_nv), tau_total(other.tau_total), f_(other.f_),
-      bullet_in(other.bullet_in), bullet_out(other.bullet_out),
-      armature_dofs(other.armature_dofs), Minv_P(other.Minv_P),
-      armature_system(other.armature_system), armature_llt(other.armature_llt),
-      armature_y(other.armature_y), J(other.J), Jdot_qdot(other.Jdot_qdot), phi(other.phi),
-      Minv_JT(other.Minv_JT), JLinv(other.JLinv), solve_rows(other.solve_rows), Lambda(other.Lambda), Lambda_L(other.Lambda_L), rhs(other.rhs),
-      lambda_sol(other.lambda_sol), residual(other.residual),
-      J_point(other.J_point), bodies_(other.bodies_), q_(other.q_), v_(other.v_),
-      has_q_(false), has_v_(false), axis_index_(other.axis_index_), axis_sign_(other.axis_sign_),
-      joint_rotation_identity_(other.joint_rotation_identity_), O_(other.O_), R_wl_(other.R_wl_), p_wl_(other.p_wl_),
-      c_w_(other.c_w_), S_(other.S_), V_(other.V_), A_bias_(other.A_bias_), I_(other.I_),
+    : valid(),
+      M(other.M),
+      dof_parent(other.dof_parent),
+      support_begin(other.support_begin),
+      support_body(other.support_body),
+      ancestor_begin(other.ancestor_begin),
+      ancestor_index(other.ancestor_index),
+      L_packed(other.L_packed),
+      D(other.D),
+      use_tree_factor(other.use_tree_factor),
+      M_llt(other.M_llt),
+      h(other.h),
+      tau_spring(other.tau_spring),
+      tmp_nv(other.tmp_nv),
+      tmp2_nv(other.tmp2_nv),
+      tau_total(other.tau_total),
+      f_(other.f_),
+      bullet_in(other.bullet_in),
+      bullet_out(other.bullet_out),
+      armature_dofs(other.armature_dofs),
+      Minv_P(other.Minv_P),
+      armature_system(other.armature_system),
+      armature_llt(other.armature_llt),
+      armature_y(other.armature_y),
+      J(other.J),
+      Jdot_qdot(other.Jdot_qdot),
+      phi(other.phi),
+      Minv_JT(other.Minv_JT),
+      JLinv(other.JLinv),
+      solve_rows(other.solve_rows),
+      Lambda(other.Lambda),
+      Lambda_L(other.Lambda_L),
+      rhs(other.rhs),
+      lambda_sol(other.lambda_sol),
+      residual(other.residual),
+      J_point(other.J_point),
+      bodies_(other.bodies_),
+      q_(other.q_),
+      v_(other.v_),
+      has_q_(false),
+      has_v_(false),
+      axis_index_(other.axis_index_),
+      axis_sign_(other.axis_sign_),
+      joint_rotation_identity_(other.joint_rotation_identity_),
+      O_(other.O_),
+      R_wl_(other.R_wl_),
+      p_wl_(other.p_wl_),
+      c_w_(other.c_w_),
+      S_(other.S_),
+      V_(other.V_),
+      A_bias_(other.A_bias_),
+      I_(other.I_),
       Ic_(other.Ic_) {}
 
 MultibodyWorkspace& MultibodyWorkspace::operator=(const MultibodyWorkspace& other) {
@@ -150,8 +186,8 @@ void MultibodyWorkspace::BuildBullet() {
   bullet_->finalizeMultiDof();
   // Size Bullet's scratch arrays once (later calls resize to the same sizes: no allocation).
   bullet_->forwardKinematics(scratch_->world_to_local, scratch_->local_origin);
-  bullet_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(
-      0.0, scratch_->scratch_r, scratch_->scratch_v, scratch_->scratch_m, false, false, false);
+  bullet_->computeAccelerationsArticulatedBodyAlgorithmMultiDof(0.0, scratch_->scratch_r, scratch_->scratch_v,
+                                                                scratch_->scratch_m, false, false, false);
   // Own buffers: a lazy build must not overwrite bullet_in, which a caller may have filled already.
   Eigen::VectorXd in = Eigen::VectorXd::Zero(bullet_in.size()), out(bullet_out.size());
   bullet_->calcAccelerationDeltasMultiDof(in.data(), out.data(), scratch_->scratch_r2, scratch_->scratch_v2);
@@ -159,15 +195,14 @@ void MultibodyWorkspace::BuildBullet() {
   valid.bullet_q = valid.bullet_v = valid.bullet_minv = valid.armature = false;
 }
 
-void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
-                                      const Eigen::Ref<const Eigen::VectorXd>& q) {
+void MultibodyWorkspace::SetPositions(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& q) {
   if (q.size() != model.nq())
-    throw std::invalid_argument("robot '" + model.name() + "': q has size " +
-                                std::to_string(q.size()) + ", expected nq = " +
-                                std::to_string(model.nq()));
+    throw std::invalid_argument("robot '" + model.name() + "': q has size " + std::to_string(q.size()) +
+                                ", expected nq = " + std::to_string(model.nq()));
   // Bitwise compare (memcmp beats an element-wise == loop). -0.0 against 0.0 only costs a recomputation; the same NaN
   // bits count as unchanged (== recomputed them), which is harmless: the results would be the same NaNs.
-  if (has_q_ && (q_.size() == 0 || std::memcmp(q.data(), q_.data(), sizeof(double) * q_.size()) == 0)) return;  // no dof: null data
+  if (has_q_ && (q_.size() == 0 || std::memcmp(q.data(), q_.data(), sizeof(double) * q_.size()) == 0))
+    return;  // no dof: null data
   q_ = q;
   has_q_ = true;
   has_v_ = false;  // velocity kinematics depend on q
@@ -240,7 +275,8 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
   for (int i = 0; i < nb; ++i) {
     const MultibodyBody& b = bodies[i];
     // Motion subspace in world axes at O.
-    const Eigen::Vector3d axis = axis_index_[i] >= 0 ? Eigen::Vector3d(axis_sign_[i] * R_wl_[i].col(axis_index_[i])) : Eigen::Vector3d(R_wl_[i] * b.axis);
+    const Eigen::Vector3d axis = axis_index_[i] >= 0 ? Eigen::Vector3d(axis_sign_[i] * R_wl_[i].col(axis_index_[i]))
+                                                     : Eigen::Vector3d(R_wl_[i] * b.axis);
     switch (b.joint_type) {
       case MultibodyJointType::kRevolute:
         S_[i].head<3>() = axis;
@@ -250,9 +286,7 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model,
         S_[i].head<3>().setZero();
         S_[i].tail<3>() = axis;
         break;
-      case MultibodyJointType::kFixed:
-        S_[i].setZero();
-        break;
+      case MultibodyJointType::kFixed: S_[i].setZero(); break;
     }
     // Spatial inertia at O: I_O = R I_c R^T + m (|c|^2 1 - c c^T), h = m c.
     SpatialInertia& I = I_[i];
@@ -300,19 +334,15 @@ void MultibodyWorkspace::CalcBulletLinkPoses(std::vector<Eigen::Isometry3d>& X_w
       for (int c = 0; c < 3; ++c) R_wb(r, c) = Rb[r][c];
     const btVector3& o = X.getOrigin();
     X_world_link[i].linear() = R_wb * bodies[i].R_link_principal.transpose();
-    X_world_link[i].translation() =
-        Eigen::Vector3d(o.x(), o.y(), o.z()) - X_world_link[i].linear() * bodies[i].com;
+    X_world_link[i].translation() = Eigen::Vector3d(o.x(), o.y(), o.z()) - X_world_link[i].linear() * bodies[i].com;
   }
 }
 
-void MultibodyWorkspace::SetVelocities(const MultibodyModel& model,
-                                       const Eigen::Ref<const Eigen::VectorXd>& v) {
-  if (!has_q_)
-    throw std::logic_error("robot '" + model.name() + "': SetVelocities called before SetPositions");
+void MultibodyWorkspace::SetVelocities(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& v) {
+  if (!has_q_) throw std::logic_error("robot '" + model.name() + "': SetVelocities called before SetPositions");
   if (v.size() != model.nv())
-    throw std::invalid_argument("robot '" + model.name() + "': v has size " +
-                                std::to_string(v.size()) + ", expected nv = " +
-                                std::to_string(model.nv()));
+    throw std::invalid_argument("robot '" + model.name() + "': v has size " + std::to_string(v.size()) +
+                                ", expected nv = " + std::to_string(model.nv()));
   if (has_v_ && (v_.size() == 0 || std::memcmp(v.data(), v_.data(), sizeof(double) * v_.size()) == 0)) return;
   v_ = v;
   has_v_ = true;

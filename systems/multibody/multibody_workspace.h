@@ -48,7 +48,9 @@ struct SpatialInertia {
     return f;
   }
   SpatialInertia& operator+=(const SpatialInertia& o) {
-    m += o.m; h += o.h; I += o.I;
+    m += o.m;
+    h += o.h;
+    I += o.I;
     return *this;
   }
 };
@@ -100,17 +102,17 @@ class MultibodyWorkspace {
 
   // ---------------- internal scratch (used by the free functions) ----------------
   struct Flags {
-    bool M = false, M_factor = false, h = false, bullet_q = false, bullet_v = false,
-         bullet_minv = false, armature = false;
+    bool M = false, M_factor = false, h = false, bullet_q = false, bullet_v = false, bullet_minv = false,
+         armature = false;
   } valid;
 
-  Eigen::MatrixXd M;              // nv x nv
+  Eigen::MatrixXd M;  // nv x nv
   // The tree factor (below) is used when every dof's parent dof has a smaller index (dof_parent[k] < k); otherwise
   // the dense Cholesky M_llt is used.
-  std::vector<int> dof_parent;    // nearest ancestor dof of each dof, -1 for none
+  std::vector<int> dof_parent;  // nearest ancestor dof of each dof, -1 for none
   // The bodies with a dof on the path from each body to the root (the body first): those of body b are
   // support_body[support_begin[b] .. support_begin[b + 1]). A point Jacobian of b has columns only there.
-  std::vector<int> support_begin;   // num_bodies + 1
+  std::vector<int> support_begin;  // num_bodies + 1
   std::vector<int> support_body;
   // Tree factor M = L^T D L (Featherstone's LTDL, RBDA 6.3; L unit lower triangular, L_ki != 0 only for dof i an
   // ancestor of dof k), packed by rows: row k of L holds one entry per ancestor dof of k,
@@ -119,34 +121,34 @@ class MultibodyWorkspace {
   // contiguous memory.
   std::vector<int> ancestor_begin;  // nv + 1
   std::vector<int> ancestor_index;
-  Eigen::VectorXd L_packed;         // ancestor_index.size()
-  Eigen::VectorXd D;                // nv
+  Eigen::VectorXd L_packed;  // ancestor_index.size()
+  Eigen::VectorXd D;         // nv
   bool use_tree_factor = false;
   Eigen::LLT<Eigen::MatrixXd> M_llt;
-  Eigen::VectorXd h;              // nv: C v + g
-  Eigen::VectorXd tau_spring;     // nv
+  Eigen::VectorXd h;           // nv: C v + g
+  Eigen::VectorXd tau_spring;  // nv
   Eigen::VectorXd tmp_nv, tmp2_nv, tau_total;
-  std::vector<Vector6d> f_;       // per-body spatial forces (RNEA)
+  std::vector<Vector6d> f_;  // per-body spatial forces (RNEA)
 
   // Bullet scratch (sized 6 + nv) and M^-1 armature correction.
   Eigen::VectorXd bullet_in, bullet_out;
-  std::vector<int> armature_dofs;    // dofs with reflected inertia
-  Eigen::MatrixXd Minv_P;            // nv x na: rigid M^-1 columns of armature dofs
-  Eigen::MatrixXd armature_system;   // na x na: D^-1 + P^T M_rigid^-1 P
+  std::vector<int> armature_dofs;   // dofs with reflected inertia
+  Eigen::MatrixXd Minv_P;           // nv x na: rigid M^-1 columns of armature dofs
+  Eigen::MatrixXd armature_system;  // na x na: D^-1 + P^T M_rigid^-1 P
   Eigen::LLT<Eigen::MatrixXd> armature_llt;
   Eigen::VectorXd armature_y;
 
   // Constraint scratch (rows up to model.max_constraint_rows()).
-  Eigen::MatrixXd J;          // rows x nv
-  Eigen::VectorXd Jdot_qdot;  // rows
-  Eigen::VectorXd phi;        // rows (position error; zero for contact rows)
-  Eigen::MatrixXd Minv_JT;    // nv x rows: M^-1 J^T (dense factor only)
-  Eigen::MatrixXd JLinv;      // rows x nv: J L^-1 D^-1/2 (tree factor only)
+  Eigen::MatrixXd J;           // rows x nv
+  Eigen::VectorXd Jdot_qdot;   // rows
+  Eigen::VectorXd phi;         // rows (position error; zero for contact rows)
+  Eigen::MatrixXd Minv_JT;     // nv x rows: M^-1 J^T (dense factor only)
+  Eigen::MatrixXd JLinv;       // rows x nv: J L^-1 D^-1/2 (tree factor only)
   Eigen::MatrixXd solve_rows;  // max(nv, nu, rows) x nv: SolveMassMatrix's transposed operand (tree factor)
-  Eigen::MatrixXd Lambda;     // rows x rows: J M^-1 J^T
-  Eigen::MatrixXd Lambda_L;   // rows x rows: Cholesky factor of J M^-1 J^T + eps I
+  Eigen::MatrixXd Lambda;      // rows x rows: J M^-1 J^T
+  Eigen::MatrixXd Lambda_L;    // rows x rows: Cholesky factor of J M^-1 J^T + eps I
   Eigen::VectorXd rhs, lambda_sol, residual;
-  Eigen::MatrixXd J_point;    // 6 x nv scratch for point/frame Jacobians
+  Eigen::MatrixXd J_point;  // 6 x nv scratch for point/frame Jacobians
 
  private:
   void Build(const MultibodyModel& model);

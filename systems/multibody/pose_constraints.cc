@@ -15,7 +15,8 @@ const char* AxisName(int axis) { return axis == 0 ? "x" : axis == 1 ? "y" : axis
 
 }  // namespace
 
-PoseConstraint PoseConstraint::ContactPoint(const MultibodyModel& model, const std::string& contact, int axis, double target) {
+PoseConstraint PoseConstraint::ContactPoint(const MultibodyModel& model, const std::string& contact, int axis,
+                                            double target) {
   const ContactInfo& info = model.contacts()[model.ContactIndex(contact)];
   PoseConstraint c;
   c.kind = Kind::kPoint;
@@ -27,8 +28,8 @@ PoseConstraint PoseConstraint::ContactPoint(const MultibodyModel& model, const s
   return c;
 }
 
-PoseConstraint PoseConstraint::Point(const MultibodyModel& model, const std::string& link, const Eigen::Vector3d& p_link, int axis,
-                                     double target) {
+PoseConstraint PoseConstraint::Point(const MultibodyModel& model, const std::string& link,
+                                     const Eigen::Vector3d& p_link, int axis, double target) {
   PoseConstraint c;
   c.kind = Kind::kPoint;
   c.axis = axis;
@@ -80,9 +81,7 @@ std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstr
       else
         s << "body index " << c.body;
       break;
-    case PoseConstraint::Kind::kCom:
-      s << "COM " << AxisName(c.axis);
-      break;
+    case PoseConstraint::Kind::kCom: s << "COM " << AxisName(c.axis); break;
     case PoseConstraint::Kind::kCoordinate:
       s << "q[" << c.coordinate << "]";
       if (c.coordinate >= 0 && c.coordinate < model.nq()) s << " (" << model.JointName(c.coordinate) << ")";
@@ -113,27 +112,29 @@ void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<Pose
         if (!c.p_link.allFinite()) throw std::invalid_argument(what + "has a non-finite point");
         [[fallthrough]];
       case PoseConstraint::Kind::kCom:
-        if (c.axis < 0 || c.axis > 2) throw std::invalid_argument(what + "has axis " + std::to_string(c.axis) + ", expected 0 (x), 1 (y) or 2 (z)");
+        if (c.axis < 0 || c.axis > 2)
+          throw std::invalid_argument(what + "has axis " + std::to_string(c.axis) + ", expected 0 (x), 1 (y) or 2 (z)");
         if (c.axis == 1 && model.is_planar())
-          throw std::invalid_argument(what + "constrains y, but the model is planar (motion in the x-z plane): y cannot change");
+          throw std::invalid_argument(
+              what + "constrains y, but the model is planar (motion in the x-z plane): y cannot change");
         break;
       case PoseConstraint::Kind::kCoordinate:
         if (c.coordinate < 0 || c.coordinate >= model.nq())
-          throw std::invalid_argument(what + "names coordinate " + std::to_string(c.coordinate) + ", the model has nq = " +
-                                      std::to_string(model.nq()));
+          throw std::invalid_argument(what + "names coordinate " + std::to_string(c.coordinate) +
+                                      ", the model has nq = " + std::to_string(model.nq()));
         break;
       case PoseConstraint::Kind::kLoopClosure:
         if (c.loop_closure < 0 || c.loop_closure >= model.num_loop_closures())
-          throw std::invalid_argument(what + "names loop closure " + std::to_string(c.loop_closure) + ", the model has " +
-                                      std::to_string(model.num_loop_closures()));
+          throw std::invalid_argument(what + "names loop closure " + std::to_string(c.loop_closure) +
+                                      ", the model has " + std::to_string(model.num_loop_closures()));
         break;
     }
   }
 }
 
-void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q,
-                         const std::vector<PoseConstraint>& constraints, Eigen::Ref<Eigen::VectorXd> residual,
-                         Eigen::Ref<Eigen::MatrixXd> jacobian) {
+void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
+                         const Eigen::Ref<const Eigen::VectorXd>& q, const std::vector<PoseConstraint>& constraints,
+                         Eigen::Ref<Eigen::VectorXd> residual, Eigen::Ref<Eigen::MatrixXd> jacobian) {
   const int nv = model.nv();
   // Scratch for one 3 x nv Jacobian, on the stack up to 64 dofs (no heap allocation for the robots of ROME).
   constexpr int kMaxStackDofs = 64;
@@ -165,7 +166,8 @@ void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws, co
         break;
       case PoseConstraint::Kind::kLoopClosure: {
         const LoopClosureInfo& lc = model.loop_closures()[c.loop_closure];
-        const Eigen::Vector3d d = CalcPointPosition(model, ws, q, lc.body_a, lc.point_a) - CalcPointPosition(model, ws, q, lc.body_b, lc.point_b);
+        const Eigen::Vector3d d = CalcPointPosition(model, ws, q, lc.body_a, lc.point_a) -
+                                  CalcPointPosition(model, ws, q, lc.body_b, lc.point_b);
         const double length = d.norm();
         residual[r] = length - lc.distance_m - c.target;
         CalcPointJacobian(model, ws, q, lc.body_a, lc.point_a, J3);
@@ -182,11 +184,12 @@ Eigen::VectorXd SolvePose(const MultibodyModel& model, MultibodyWorkspace& ws, c
                           const std::vector<PoseConstraint>& constraints, const PoseSolverOptions& options) {
   const std::string who = "SolvePose (robot '" + model.name() + "'): ";
   if (q0.size() != model.nq())
-    throw std::invalid_argument(who + "q0 has size " + std::to_string(q0.size()) + ", the model has nq = " + std::to_string(model.nq()));
+    throw std::invalid_argument(who + "q0 has size " + std::to_string(q0.size()) +
+                                ", the model has nq = " + std::to_string(model.nq()));
   if (!q0.allFinite()) throw std::invalid_argument(who + "q0 is not finite");
   if (options.max_iterations < 0 || !(options.tolerance > 0))
-    throw std::invalid_argument(who + "needs max_iterations >= 0 and tolerance > 0, got " + std::to_string(options.max_iterations) + " and " +
-                                std::to_string(options.tolerance));
+    throw std::invalid_argument(who + "needs max_iterations >= 0 and tolerance > 0, got " +
+                                std::to_string(options.max_iterations) + " and " + std::to_string(options.tolerance));
   ValidatePoseConstraints(model, constraints);
   const Eigen::Index m = static_cast<Eigen::Index>(constraints.size());
   Eigen::VectorXd q = q0, c(m);
@@ -200,9 +203,10 @@ Eigen::VectorXd SolvePose(const MultibodyModel& model, MultibodyWorkspace& ws, c
   Eigen::Index worst = 0;
   if (c.allFinite()) c.cwiseAbs().maxCoeff(&worst);
   std::ostringstream s;
-  s << who << "Newton did not converge in " << options.max_iterations << " steps: residual norm " << c.norm() << " (tolerance "
-    << options.tolerance << "), largest residual " << c[worst] << " in constraint " << worst << " ("
-    << DescribePoseConstraint(model, constraints[static_cast<std::size_t>(worst)]) << ", target " << constraints[static_cast<std::size_t>(worst)].target
+  s << who << "Newton did not converge in " << options.max_iterations << " steps: residual norm " << c.norm()
+    << " (tolerance " << options.tolerance << "), largest residual " << c[worst] << " in constraint " << worst << " ("
+    << DescribePoseConstraint(model, constraints[static_cast<std::size_t>(worst)]) << ", target "
+    << constraints[static_cast<std::size_t>(worst)].target
     << "); the pose is probably out of reach or the constraints contradict each other";
   throw std::runtime_error(s.str());
 }

@@ -3,7 +3,8 @@
 //
 // A pose request is a list of scalar constraints g_i(q) = target_i, each one world coordinate of a point on a
 // link (e.g. a contact frame origin), one world coordinate of the whole-body COM, or one generalized coordinate
-// (e.g. the base pitch), or the length error of one of the model's loop closures. SolvePose() finds q by Newton iterations with minimum-norm steps from a start q0:
+// (e.g. the base pitch), or the length error of one of the model's loop closures. SolvePose() finds q by Newton
+// iterations with minimum-norm steps from a start q0:
 //
 //   c_k = g(q_k) - target,   C_k = dg/dq (q_k)  (rows of CalcPointJacobian / CalcComJacobian / unit rows),
 //   q_{k+1} = q_k - C_k^+ c_k                    (C^+ from a complete orthogonal decomposition),
@@ -15,9 +16,9 @@
 //
 // Example (planar AMBER on its left foot at (0, 0), COM above it, torso upright, right foot at (0.12, 0.08)):
 //   const std::vector<PoseConstraint> pose = {
-//       PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0), PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
-//       PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0),
-//       PoseConstraint::ContactPoint(model, "right_foot", 0, 0.12), PoseConstraint::ContactPoint(model, "right_foot", 2, 0.08)};
+//       PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0), PoseConstraint::ContactPoint(model, "left_foot", 2,
+//       0.0), PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0), PoseConstraint::ContactPoint(model,
+//       "right_foot", 0, 0.12), PoseConstraint::ContactPoint(model, "right_foot", 2, 0.08)};
 //   const Eigen::VectorXd q = SolvePose(model, ws, model.q_nominal(), pose);
 #include <string>
 #include <vector>
@@ -32,26 +33,27 @@ namespace rome {
 /// One scalar equality constraint g(q) = target on a configuration q.
 struct PoseConstraint {
   enum class Kind {
-    kPoint,       ///< world coordinate `axis` of the point `p_link` of link `body`
-    kCom,         ///< world coordinate `axis` of the whole-body centre of mass
-    kCoordinate,  ///< generalized coordinate q[coordinate]
+    kPoint,        ///< world coordinate `axis` of the point `p_link` of link `body`
+    kCom,          ///< world coordinate `axis` of the whole-body centre of mass
+    kCoordinate,   ///< generalized coordinate q[coordinate]
     kLoopClosure,  ///< |p_a − p_b| − distance_m of loop closure `loop_closure` (target 0 keeps the rod length)
   };
   Kind kind = Kind::kCoordinate;
-  int axis = 0;                                        ///< kPoint, kCom: world axis, 0 = x, 1 = y, 2 = z
-  int body = -1;                                       ///< kPoint: body index (MultibodyModel::BodyIndex)
-  Eigen::Vector3d p_link = Eigen::Vector3d::Zero();    ///< kPoint: point in the body frame, m (Point() converts from the link frame)
-  int coordinate = -1;                                 ///< kCoordinate: index into q
-  int loop_closure = -1;                               ///< kLoopClosure: index into MultibodyModel::loop_closures()
-  double target = 0.0;                                 ///< m for kPoint/kCom, units of q for kCoordinate
-  std::string name;                                    ///< for error messages; "" = generated from the fields
+  int axis = 0;   ///< kPoint, kCom: world axis, 0 = x, 1 = y, 2 = z
+  int body = -1;  ///< kPoint: body index (MultibodyModel::BodyIndex)
+  Eigen::Vector3d p_link =
+      Eigen::Vector3d::Zero();  ///< kPoint: point in the body frame, m (Point() converts from the link frame)
+  int coordinate = -1;          ///< kCoordinate: index into q
+  int loop_closure = -1;        ///< kLoopClosure: index into MultibodyModel::loop_closures()
+  double target = 0.0;          ///< m for kPoint/kCom, units of q for kCoordinate
+  std::string name;             ///< for error messages; "" = generated from the fields
 
   /// Coordinate `axis` of the contact frame origin of `contact` (ContactInfo::frame_origin: the point, the line
   /// midpoint or the sole centroid). Throws std::invalid_argument if the model has no such contact.
   static PoseConstraint ContactPoint(const MultibodyModel& model, const std::string& contact, int axis, double target);
   /// Coordinate `axis` of the point `p_link` of link `link`. Throws std::invalid_argument for an unknown link.
-  static PoseConstraint Point(const MultibodyModel& model, const std::string& link, const Eigen::Vector3d& p_link, int axis,
-                              double target);
+  static PoseConstraint Point(const MultibodyModel& model, const std::string& link, const Eigen::Vector3d& p_link,
+                              int axis, double target);
   /// Coordinate `axis` of the whole-body COM.
   static PoseConstraint Com(int axis, double target);
   /// q[index] = target (e.g. index num_base_dofs() - 1 is the base pitch of a planar model).
@@ -77,9 +79,9 @@ void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<Pose
 
 /// Residual c = g(q) - target (size m) and Jacobian C = dg/dq (m x nv) of the constraints at q (m =
 /// constraints.size()). Does not validate (call ValidatePoseConstraints once). No heap allocation.
-void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::Ref<const Eigen::VectorXd>& q,
-                         const std::vector<PoseConstraint>& constraints, Eigen::Ref<Eigen::VectorXd> residual,
-                         Eigen::Ref<Eigen::MatrixXd> jacobian);
+void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
+                         const Eigen::Ref<const Eigen::VectorXd>& q, const std::vector<PoseConstraint>& constraints,
+                         Eigen::Ref<Eigen::VectorXd> residual, Eigen::Ref<Eigen::MatrixXd> jacobian);
 
 /// Solves g(q) = target by Newton iterations with minimum-norm steps from q0 (see the file comment) and returns q
 /// with |g(q) - target| < options.tolerance.

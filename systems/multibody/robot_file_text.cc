@@ -29,8 +29,9 @@ void CheckXmlEncoding(const std::string& xml, const std::string& path) {
     if (n == 0) {
       char byte[8];
       std::snprintf(byte, sizeof(byte), "0x%02X", static_cast<unsigned>(static_cast<unsigned char>(xml[i])));
-      FailUrdf(path, line, std::string("byte ") + byte + " at offset " + std::to_string(i) +
-                               (xml[i] == '\0' ? " is a NUL byte" : " is not valid UTF-8") + "; a URDF must be UTF-8 text");
+      FailUrdf(path, line,
+               std::string("byte ") + byte + " at offset " + std::to_string(i) +
+                   (xml[i] == '\0' ? " is a NUL byte" : " is not valid UTF-8") + "; a URDF must be UTF-8 text");
     }
     line += xml[i] == '\n';
     i += n;
@@ -45,15 +46,19 @@ std::string ElementName(const std::string& xml, size_t open, size_t end) {
 }
 
 // One opening tag: the xacro and <robot> rules (depth = the tag's depth, 0 at the top).
-void CheckElement(const std::string& xml, const std::string& path, size_t open, size_t end, int depth, size_t line, int* robots) {
+void CheckElement(const std::string& xml, const std::string& path, size_t open, size_t end, int depth, size_t line,
+                  int* robots) {
   const std::string name = ElementName(xml, open, end);
   const std::string tag = xml.substr(open, end - open + 1);
-  if (name.rfind("xacro:", 0) == 0 || tag.find("xmlns:xacro") != std::string::npos || tag.find("${") != std::string::npos ||
-      tag.find("$(") != std::string::npos)
-    FailUrdf(path, line, "xacro in " + Excerpt(tag, 80) + ": this is a xacro file, not a URDF; expand it with xacro first "
-                         "(xacro ROBOT.urdf.xacro > ROBOT.urdf)");
+  if (name.rfind("xacro:", 0) == 0 || tag.find("xmlns:xacro") != std::string::npos ||
+      tag.find("${") != std::string::npos || tag.find("$(") != std::string::npos)
+    FailUrdf(path, line,
+             "xacro in " + Excerpt(tag, 80) +
+                 ": this is a xacro file, not a URDF; expand it with xacro first "
+                 "(xacro ROBOT.urdf.xacro > ROBOT.urdf)");
   if (depth == 0 && name == "robot" && ++*robots > 1)
-    FailUrdf(path, line, "a second <robot> element; a URDF describes one robot (urdfdom would read the first and drop the rest)");
+    FailUrdf(path, line,
+             "a second <robot> element; a URDF describes one robot (urdfdom would read the first and drop the rest)");
 }
 
 }  // namespace
@@ -73,36 +78,63 @@ void CheckXmlText(const std::string& xml, const std::string& path) {
   for (size_t i = 0; i < n;) {
     const char c = xml[i];
     if (c == '\n') ++line;
-    if (c != '<') { ++i; continue; }
-    if (xml.compare(i, 4, "<!--") == 0) { i += 4; skip_to(i, "-->"); continue; }
-    if (xml.compare(i, 9, "<![CDATA[") == 0) { i += 9; skip_to(i, "]]>"); continue; }
-    if (xml.compare(i, 2, "<?") == 0) { i += 2; skip_to(i, "?>"); continue; }
-    if (xml.compare(i, 2, "<!") == 0) { i += 2; skip_to(i, ">"); continue; }
+    if (c != '<') {
+      ++i;
+      continue;
+    }
+    if (xml.compare(i, 4, "<!--") == 0) {
+      i += 4;
+      skip_to(i, "-->");
+      continue;
+    }
+    if (xml.compare(i, 9, "<![CDATA[") == 0) {
+      i += 9;
+      skip_to(i, "]]>");
+      continue;
+    }
+    if (xml.compare(i, 2, "<?") == 0) {
+      i += 2;
+      skip_to(i, "?>");
+      continue;
+    }
+    if (xml.compare(i, 2, "<!") == 0) {
+      i += 2;
+      skip_to(i, ">");
+      continue;
+    }
     const bool closing = i + 1 < n && xml[i + 1] == '/';
     const size_t tag_line = line;
     size_t j = i + 1;  // scan to the end of the tag, skipping quoted attribute values
     char quote = 0;
     for (; j < n; ++j) {
       if (xml[j] == '\n') ++line;
-      if (quote) { if (xml[j] == quote) quote = 0; }
-      else if (xml[j] == '"' || xml[j] == '\'') quote = xml[j];
-      else if (xml[j] == '>') break;
+      if (quote) {
+        if (xml[j] == quote) quote = 0;
+      } else if (xml[j] == '"' || xml[j] == '\'')
+        quote = xml[j];
+      else if (xml[j] == '>')
+        break;
     }
     const bool self_closing = j < n && j > i + 1 && xml[j - 1] == '/';
     if (closing) {
       // A closing tag with no element open: the parser would skip it, and the depth and <robot> counts would drift.
-      if (depth == 0) FailUrdf(path, tag_line, Excerpt(xml.substr(i, std::min(j, n - 1) - i + 1), 80) + " closes no element");
+      if (depth == 0)
+        FailUrdf(path, tag_line, Excerpt(xml.substr(i, std::min(j, n - 1) - i + 1), 80) + " closes no element");
       --depth;
     } else {
       CheckElement(xml, path, i, std::min(j, n - 1), depth, tag_line, &robots);
       if (!self_closing && ++depth > kMaxXmlDepth)
-        FailUrdf(path, line, "XML elements nested more than " + std::to_string(kMaxXmlDepth) + " deep (a URDF needs fewer than 10 levels)");
+        FailUrdf(path, line,
+                 "XML elements nested more than " + std::to_string(kMaxXmlDepth) +
+                     " deep (a URDF needs fewer than 10 levels)");
     }
     i = j + 1;
   }
 }
 
-json ParseSidecarJson(const std::string& text, const std::string& file_path) { return ParseJsonStrict(text, "sidecar " + Excerpt(file_path, 200)); }
+json ParseSidecarJson(const std::string& text, const std::string& file_path) {
+  return ParseJsonStrict(text, "sidecar " + Excerpt(file_path, 200));
+}
 
 namespace {
 
@@ -126,8 +158,9 @@ class StrictJsonChecker final : public json::json_sax_t {
   bool key(string_t& k) override {
     last_key_ = k;
     if (!keys_.back().insert(k).second)
-      throw std::runtime_error(file_ + ": " + (path_.back().empty() ? std::string("top level") : Excerpt(path_.back(), 80)) + ": key '" +
-                               Excerpt(k, 60) + "' appears twice (JSON would keep only the last); write it once");
+      throw std::runtime_error(
+          file_ + ": " + (path_.back().empty() ? std::string("top level") : Excerpt(path_.back(), 80)) + ": key '" +
+          Excerpt(k, 60) + "' appears twice (JSON would keep only the last); write it once");
     return true;
   }
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception& e) override {
@@ -138,11 +171,15 @@ class StrictJsonChecker final : public json::json_sax_t {
   bool Value() { return true; }
   bool Open(bool object) {
     if (static_cast<int>(path_.size()) >= kMaxJsonDepth)
-      throw std::runtime_error(file_ + ": objects and arrays nested more than " + std::to_string(kMaxJsonDepth) + " deep");
+      throw std::runtime_error(file_ + ": objects and arrays nested more than " + std::to_string(kMaxJsonDepth) +
+                               " deep");
     // Its key path ("" at the top; "a.b", "a[]"), for the messages.
     const std::string parent = path_.empty() ? "" : path_.back();
     const bool in_array = !is_object_.empty() && !is_object_.back();
-    path_.push_back(path_.empty() ? "" : in_array ? parent + "[]" : parent.empty() ? last_key_ : parent + "." + last_key_);
+    path_.push_back(path_.empty()    ? ""
+                    : in_array       ? parent + "[]"
+                    : parent.empty() ? last_key_
+                                     : parent + "." + last_key_);
     keys_.emplace_back();
     is_object_.push_back(object);
     return true;
@@ -167,9 +204,7 @@ json ParseJsonStrict(const std::string& text, const std::string& file) {
   json::sax_parse(text, &checker, json::input_format_t::json, /*strict=*/true, /*ignore_comments=*/true);
   try {
     return json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-  } catch (const json::exception& e) {
-    throw std::runtime_error(file + ": malformed JSON: " + Excerpt(e.what(), 200));
-  }
+  } catch (const json::exception& e) { throw std::runtime_error(file + ": malformed JSON: " + Excerpt(e.what(), 200)); }
 }
 
 // " (line N: NaN in name="...")" for the first attribute value holding a NaN or an infinity (urdfdom only says
@@ -177,7 +212,10 @@ json ParseJsonStrict(const std::string& text, const std::string& file) {
 std::string NonFiniteNumberHint(const std::string& xml) {
   size_t line = 1;
   for (size_t i = 0; i < xml.size(); ++i) {
-    if (xml[i] == '\n') { ++line; continue; }
+    if (xml[i] == '\n') {
+      ++line;
+      continue;
+    }
     if (xml[i] != '"' && xml[i] != '\'' && xml[i] != ' ') continue;
     size_t j = i + 1;
     if (j < xml.size() && (xml[j] == '-' || xml[j] == '+')) ++j;
@@ -188,8 +226,10 @@ std::string NonFiniteNumberHint(const std::string& xml) {
     if (word == "nan" || word == "inf" || word == "infinity") {
       const size_t tag = xml.rfind('<', i);
       const size_t end = tag == std::string::npos ? std::string::npos : xml.find('>', tag);
-      const std::string element = tag == std::string::npos ? "" : xml.substr(tag, end == std::string::npos ? 120 : end - tag + 1);
-      return " (line " + std::to_string(line) + ": " + (word == "nan" ? "NaN" : "infinity") + " in " + Excerpt(element, 120) + ")";
+      const std::string element =
+          tag == std::string::npos ? "" : xml.substr(tag, end == std::string::npos ? 120 : end - tag + 1);
+      return " (line " + std::to_string(line) + ": " + (word == "nan" ? "NaN" : "infinity") + " in " +
+             Excerpt(element, 120) + ")";
     }
   }
   return "";

@@ -35,13 +35,15 @@ std::string FindRobotFile(const std::string& path) {
   std::string tried;
   for (const std::string& folder : RobotDataFolders()) {
     const fs::path candidate = fs::path(folder) / given;
-    if (fs::is_regular_file(candidate, ec)) return fs::absolute(candidate, ec).string();  // absolute: a second lookup finds it as given
+    if (fs::is_regular_file(candidate, ec))
+      return fs::absolute(candidate, ec).string();  // absolute: a second lookup finds it as given
     tried += (tried.empty() ? "'" : ", '") + Excerpt(candidate.string(), 200) + "'";
   }
   const std::string shown = Excerpt(path, 200);
-  throw std::runtime_error("robot file " + shown + ": file does not exist in the data folders (looked at " +
-                           (tried.empty() ? std::string("none: no data folder is set") : tried) +
-                           "); write ./" + shown + " to read it from the current folder, or set ROME_DATA_DIR to the folder that holds robots/");
+  throw std::runtime_error(
+      "robot file " + shown + ": file does not exist in the data folders (looked at " +
+      (tried.empty() ? std::string("none: no data folder is set") : tried) + "); write ./" + shown +
+      " to read it from the current folder, or set ROME_DATA_DIR to the folder that holds robots/");
 }
 
 }  // namespace rome

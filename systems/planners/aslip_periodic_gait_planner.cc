@@ -51,8 +51,8 @@ AslipPeriodicGaitPlanner::AslipPeriodicGaitPlanner(AslipPeriodicGaitParams param
 
 AslipContact AslipPeriodicGaitPlanner::PhaseContact(int phase) const {
   AslipContact c;
-  c.left = true;               // leg 0 stands in both domains
-  c.right = phase == 1;        // leg 1 only in DSP
+  c.left = true;         // leg 0 stands in both domains
+  c.right = phase == 1;  // leg 1 only in DSP
   c.left_foot_x = 0.0;
   c.right_foot_x = params_.step_length;
   return c;
@@ -85,7 +85,9 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
     c.state_upper = xu;
     c.input_lower = ul;
     c.input_upper = uu;
-    c.running_cost = [](const NodeVector&, const NodeVector& u) { return NodeScalar(u(0) * u(0) + u(1) * u(1)); };  // Eq. (4)
+    c.running_cost = [](const NodeVector&, const NodeVector& u) {
+      return NodeScalar(u(0) * u(0) + u(1) * u(1));
+    };  // Eq. (4)
   }
   DirectCollocation problem("aslip_periodic_gait", std::move(phases));
   problem.SetExactHessian(q.exact_hessian);
@@ -96,7 +98,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   lo1 << 0, 0, 0, q.spring_min;
   hi1 << inf, inf, inf, q.spring_max;
   problem.AddPathConstraint(
-      0, 4, [p, mu](const NodeVector& x, const NodeVector&, NodeVector& y) {
+      0, 4,
+      [p, mu](const NodeVector& x, const NodeVector&, NodeVector& y) {
         y.resize(4);
         LegRows(p, mu, x, 0, 0.0, y, 0);
       },
@@ -105,7 +108,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   lo2 << lo1, lo1;
   hi2 << hi1, hi1;
   problem.AddPathConstraint(
-      1, 8, [p, mu, l](const NodeVector& x, const NodeVector&, NodeVector& y) {
+      1, 8,
+      [p, mu, l](const NodeVector& x, const NodeVector&, NodeVector& y) {
         y.resize(8);
         LegRows(p, mu, x, 0, 0.0, y, 0);
         LegRows(p, mu, x, 1, l, y, 4);
@@ -119,7 +123,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
           [p, l, legs](const NodeVector& x, const NodeVector&, NodeVector& y) {
             y.resize(legs);
             for (int leg = 0; leg < legs; ++leg)
-              y(leg) = AslipLegState<NodeScalar>(p, x, leg, leg == 0 ? 0.0 : l, NodeScalar(0.0)).grf_z / (p.mass * p.gravity);
+              y(leg) = AslipLegState<NodeScalar>(p, x, leg, leg == 0 ? 0.0 : l, NodeScalar(0.0)).grf_z /
+                       (p.mass * p.gravity);
           },
           Eigen::VectorXd::Constant(legs, -inf), Eigen::VectorXd::Constant(legs, q.max_vertical_force_fraction),
           ph == 0 ? "ssp_leg_max_force" : "dsp_leg_max_force");
@@ -128,7 +133,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   // Touchdown at the last SSP node: s_1 = 0 (and ṡ_1 = 0 for a smooth force rise).
   const int td_rows = q.smooth_touchdown ? 2 : 1;
   problem.AddNodeConstraint(
-      0, -1, td_rows, [p, l, td_rows](const NodeVector& x, const NodeVector&, NodeVector& y) {
+      0, -1, td_rows,
+      [p, l, td_rows](const NodeVector& x, const NodeVector&, NodeVector& y) {
         const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, 1, l, NodeScalar(0.0));
         y.resize(td_rows);
         y(0) = g.spring;
@@ -137,7 +143,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
       Eigen::VectorXd::Zero(td_rows), Eigen::VectorXd::Zero(td_rows), "touchdown");
   // Lift-off guard at the last DSP node: F_0 = 0.
   problem.AddNodeConstraint(
-      1, -1, 1, [p](const NodeVector& x, const NodeVector&, NodeVector& y) {
+      1, -1, 1,
+      [p](const NodeVector& x, const NodeVector&, NodeVector& y) {
         y.resize(1);
         y(0) = AslipLegState<NodeScalar>(p, x, 0, 0.0, NodeScalar(0.0)).force / (p.mass * p.gravity);
       },
@@ -238,7 +245,8 @@ std::optional<CollocationResult> LoadCachedCollocation(const DirectCollocation& 
   return result;
 }
 
-AslipPeriodicGait AslipPeriodicGaitPlanner::Summarize(CollocationResult result, const DirectCollocation& problem) const {
+AslipPeriodicGait AslipPeriodicGaitPlanner::Summarize(CollocationResult result,
+                                                      const DirectCollocation& problem) const {
   AslipPeriodicGait gait;
   gait.collocation = std::move(result);
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();

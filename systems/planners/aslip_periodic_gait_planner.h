@@ -28,34 +28,35 @@ namespace rome {
 
 struct AslipPeriodicGaitParams {
   AslipParams aslip{};
-  double step_length = 0.30;   ///< [m] l (gait A, spec §3.1 [R])
-  double ssp_duration = 0.40;  ///< [s] T_SSP (gait A)
-  double dsp_duration = 0.10;  ///< [s] T_DSP (gait A)
-  int nodes_per_domain = 21;   ///< [-] N (spec [R])
-  double friction_coefficient = 0.6;       ///< [-] μ (spec [R])
-  double spring_min = -0.01;               ///< [m] s lower bound (spec [R])
-  double spring_max = 0.12;                ///< [m] s upper bound (spec [R])
-  double leg_length_min = 0.70;            ///< [m] L lower bound (spec [R])
-  double leg_length_max = 1.00;            ///< [m] L upper bound (spec [R])
-  double height_min = 0.85;                ///< [m] z lower bound (spec [R])
-  double height_max = 0.95;                ///< [m] z upper bound (spec [R])
+  double step_length = 0.30;                ///< [m] l (gait A, spec §3.1 [R])
+  double ssp_duration = 0.40;               ///< [s] T_SSP (gait A)
+  double dsp_duration = 0.10;               ///< [s] T_DSP (gait A)
+  int nodes_per_domain = 21;                ///< [-] N (spec [R])
+  double friction_coefficient = 0.6;        ///< [-] μ (spec [R])
+  double spring_min = -0.01;                ///< [m] s lower bound (spec [R])
+  double spring_max = 0.12;                 ///< [m] s upper bound (spec [R])
+  double leg_length_min = 0.70;             ///< [m] L lower bound (spec [R])
+  double leg_length_max = 1.00;             ///< [m] L upper bound (spec [R])
+  double height_min = 0.85;                 ///< [m] z lower bound (spec [R])
+  double height_max = 0.95;                 ///< [m] z upper bound (spec [R])
   double max_leg_length_acceleration = 50;  ///< [m/s²] |L̈| bound (spec [R])
-  double max_speed = 5.0;                  ///< [m/s] |ẋ|, |ż|, |L̇| bound (ours: keeps Ipopt's iterates sane)
+  double max_speed = 5.0;                   ///< [m/s] |ẋ|, |ż|, |L̇| bound (ours: keeps Ipopt's iterates sane)
   /// [-] every leg's vertical GRF G_z ≤ this fraction of m g, in both domains (ours; 0: no bound, else > 1). The
   /// NLP's cost does not see the robot's knees: a caller that knows them can bound the force they must carry.
   double max_vertical_force_fraction = 0.0;
-  bool smooth_touchdown = true;            ///< F_1 = 0 just after touchdown (spec §2.1 [R], optional there)
-  double tolerance = 1e-6;                 ///< [-] Ipopt tol (ours)
-  double constraint_tolerance = 1e-8;      ///< [unit of the row] Ipopt constr_viol_tol (ours; acceptance is 1e-6)
-  int max_iterations = 1000;               ///< Ipopt max_iter (ours)
-  int limited_memory_history = 6;          ///< Ipopt limited_memory_max_history when !exact_hessian (ours)
-  bool exact_hessian = true;               ///< collocation Hessian (true) or Ipopt's L-BFGS (false) (ours)
-  std::string mu_strategy = "adaptive";    ///< Ipopt mu_strategy (ours: ~10 % fewer iterations than monotone on seeds 1001-1010)
+  bool smooth_touchdown = true;        ///< F_1 = 0 just after touchdown (spec §2.1 [R], optional there)
+  double tolerance = 1e-6;             ///< [-] Ipopt tol (ours)
+  double constraint_tolerance = 1e-8;  ///< [unit of the row] Ipopt constr_viol_tol (ours; acceptance is 1e-6)
+  int max_iterations = 1000;           ///< Ipopt max_iter (ours)
+  int limited_memory_history = 6;      ///< Ipopt limited_memory_max_history when !exact_hessian (ours)
+  bool exact_hessian = true;           ///< collocation Hessian (true) or Ipopt's L-BFGS (false) (ours)
+  std::string mu_strategy =
+      "adaptive";  ///< Ipopt mu_strategy (ours: ~10 % fewer iterations than monotone on seeds 1001-1010)
   /// Ipopt bound_mult_init_method and mu_init (ours). Bound multipliers start at mu_init / slack instead of 1, with a
   /// small initial barrier: on seeds 1001-1010 the periodic NLP takes a median 12.5 / 14 iterations (gaits A / B)
   /// instead of 55 / 58 with Ipopt's defaults ("constant", 0.1), every seed converging; the optimum is the same.
   std::string bound_mult_init_method = "mu-based";
-  double mu_init = 0.01;                   ///< [-] Ipopt mu_init (ours; see bound_mult_init_method)
+  double mu_init = 0.01;  ///< [-] Ipopt mu_init (ours; see bound_mult_init_method)
   /// MUMPS ordering (Ipopt mumps_pivot_order; ours): 6, QAMD, handles the free durations' dense columns. On the
   /// standing transitions of four gaits that no test runs (seeds 1001-1002) it takes the same iterations as MUMPS's
   /// automatic choice (7) in 18 % less time (e.g. 0.23 m steps: 221 → 167 ms).
@@ -64,7 +65,7 @@ struct AslipPeriodicGaitParams {
 
 /// A solved (or failed) periodic gait.
 struct AslipPeriodicGait {
-  CollocationResult collocation;  ///< phases 0 = "ssp", 1 = "dsp"
+  CollocationResult collocation;          ///< phases 0 = "ssp", 1 = "dsp"
   double max_constraint_violation = 0.0;  ///< ‖violation‖_∞ of every row and bound of the NLP at the answer
   double mean_height = 0.0;  ///< [m] time average of z over the step (trapezoid rule), the H-LIP z0 (spec §2.2)
   bool success() const { return collocation.success(); }

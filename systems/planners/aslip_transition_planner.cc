@@ -63,8 +63,8 @@ Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipPar
   return StandingState(params, z, 0.0, 0.0);
 }
 
-Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipParams& params, double z, double left_foot_x,
-                                                                  double right_foot_x) {
+Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipParams& params, double z,
+                                                                  double left_foot_x, double right_foot_x) {
   const double half = 0.5 * std::abs(left_foot_x - right_foot_x), r = std::hypot(half, z);
   // Leg force F along the leg with vertical component F z / r = m g / 2.
   const double L = AslipRestLengthForForce(params, r, 0.5 * params.mass * params.gravity * r / z);
@@ -150,7 +150,8 @@ std::vector<CollocationPhase> TransitionPhases(const AslipTransitionParams& para
 
 // Per-leg path rows of Eq. (10) (force, friction, spring, sagittal ZMP), the DSP stance load floor, the vertical force
 // bound and, with the lateral rows, Eq. (14)'s lateral ZMP.
-void AddContactConstraints(DirectCollocation& problem, const AslipTransitionParams& params, const AslipTransitionData& data) {
+void AddContactConstraints(DirectCollocation& problem, const AslipTransitionParams& params,
+                           const AslipTransitionData& data) {
   const AslipPeriodicGaitParams& q = params.bounds;
   const AslipParams p = q.aslip;
   const double mu = q.friction_coefficient, inf = std::numeric_limits<double>::infinity();
@@ -189,8 +190,10 @@ void AddContactConstraints(DirectCollocation& problem, const AslipTransitionPara
           [p, contact](const NodeVector& x, const NodeVector& u, NodeVector& y) {
             y.resize(2);
             for (int leg = 0; leg < 2; ++leg)
-              y(leg) = contact.in_contact(leg) ? AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z / (p.mass * p.gravity)
-                                               : NodeScalar(0.0 * x(0));
+              y(leg) = contact.in_contact(leg)
+                           ? AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg)).grf_z /
+                                 (p.mass * p.gravity)
+                           : NodeScalar(0.0 * x(0));
           },
           Eigen::VectorXd::Constant(2, -inf), Eigen::VectorXd::Constant(2, params.max_vertical_force_fraction),
           ph == 0 ? "dsp_leg_max_force" : "ssp_leg_max_force");
@@ -225,7 +228,8 @@ void AddContactConstraints(DirectCollocation& problem, const AslipTransitionPara
 }
 
 // The boundary states [aSLIP state; y, ẏ with the lateral rows]: initial and final.
-std::pair<Eigen::VectorXd, Eigen::VectorXd> BoundaryStates(const AslipTransitionParams& params, const AslipTransitionData& data) {
+std::pair<Eigen::VectorXd, Eigen::VectorXd> BoundaryStates(const AslipTransitionParams& params,
+                                                           const AslipTransitionData& data) {
   const int nx = params.lateral ? 10 : kNx8;
   Eigen::VectorXd x0(nx), xf(nx);
   x0.head(8) = data.initial_state;
@@ -239,7 +243,8 @@ std::pair<Eigen::VectorXd, Eigen::VectorXd> BoundaryStates(const AslipTransition
 
 // The lift-off (the lifting leg unloaded at the DSP's end), the optional zero final ankle torque, and the boundary
 // states (initial and final, lateral rows included).
-void AddEventConstraints(DirectCollocation& problem, const AslipTransitionParams& params, const AslipTransitionData& data) {
+void AddEventConstraints(DirectCollocation& problem, const AslipTransitionParams& params,
+                         const AslipTransitionData& data) {
   const AslipParams p = params.bounds.aslip;
   const AslipContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
   const int stance = 1 - data.lifting_leg;
@@ -267,7 +272,8 @@ void AddEventConstraints(DirectCollocation& problem, const AslipTransitionParams
 }
 
 // Initial guess: data's guesses if given (checked), else a straight line in state space at mid-range durations.
-void SetTransitionGuess(DirectCollocation& problem, const AslipTransitionParams& params, const AslipTransitionData& data) {
+void SetTransitionGuess(DirectCollocation& problem, const AslipTransitionParams& params,
+                        const AslipTransitionData& data) {
   const AslipPeriodicGaitParams& q = params.bounds;
   const bool lat = params.lateral;
   const int kNx = lat ? 10 : kNx8, kNu = lat ? 6 : kNu4;
@@ -278,10 +284,10 @@ void SetTransitionGuess(DirectCollocation& problem, const AslipTransitionParams&
     if (data.dsp_state_guess.rows() != kNx || data.dsp_state_guess.cols() != N || data.ssp_state_guess.rows() != kNx ||
         data.ssp_state_guess.cols() != N || !(data.dsp_duration_guess > 0) || !(data.ssp_duration_guess > 0)) {
       std::ostringstream msg;
-      msg << "AslipTransitionPlanner: the state guesses must be " << kNx << " x " << N << " each with durations > 0, got "
-          << data.dsp_state_guess.rows() << "x" << data.dsp_state_guess.cols() << " and "
-          << data.ssp_state_guess.rows() << "x" << data.ssp_state_guess.cols() << ", " << data.dsp_duration_guess
-          << " and " << data.ssp_duration_guess << " s";
+      msg << "AslipTransitionPlanner: the state guesses must be " << kNx << " x " << N
+          << " each with durations > 0, got " << data.dsp_state_guess.rows() << "x" << data.dsp_state_guess.cols()
+          << " and " << data.ssp_state_guess.rows() << "x" << data.ssp_state_guess.cols() << ", "
+          << data.dsp_duration_guess << " and " << data.ssp_duration_guess << " s";
       throw std::invalid_argument(msg.str());
     }
     problem.SetInitialGuess(0, data.dsp_state_guess, Eigen::MatrixXd::Zero(kNu, N), data.dsp_duration_guess);
@@ -332,7 +338,9 @@ PlanCacheKey AslipTransitionPlanner::CacheKey(const AslipTransitionData& data) c
   key.Add("foot_L", data.left_foot_x).Add("foot_R", data.right_foot_x).Add("lift", data.lifting_leg);
   if (params_.lateral) {
     key.Add("lateral", true).Add("W1", params_.foot_width_left_of_ankle).Add("W2", params_.foot_width_right_of_ankle);
-    key.Add("u_x_max", params_.max_ankle_roll_torque).Add("foot_L_y", data.left_foot_y).Add("foot_R_y", data.right_foot_y);
+    key.Add("u_x_max", params_.max_ankle_roll_torque)
+        .Add("foot_L_y", data.left_foot_y)
+        .Add("foot_R_y", data.right_foot_y);
     key.Add("y0", Eigen::MatrixXd(data.initial_lateral_state)).Add("yf", Eigen::MatrixXd(data.final_lateral_state));
   }
   key.Add("guess_dsp", data.dsp_state_guess).Add("guess_ssp", data.ssp_state_guess);
@@ -371,7 +379,8 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   return out;
 }
 
-double AslipTransition::LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data, double floor_N) const {
+double AslipTransition::LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data,
+                                             double floor_N) const {
   const Eigen::MatrixXd G = GroundReactions(params, data, 0);
   const CollocationPhaseSolution& dsp = collocation.phases.at(0);
   bool unloaded = false;

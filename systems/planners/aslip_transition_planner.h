@@ -34,8 +34,8 @@ struct AslipTransitionParams {
   AslipPeriodicGaitParams bounds{};  ///< model, bounds, N, μ, tolerances (shared with the periodic NLP)
   double min_dsp_duration = 0.1, max_dsp_duration = 1.0;  ///< [s] (spec [R])
   double min_ssp_duration = 0.3, max_ssp_duration = 0.6;  ///< [s] (spec [R])
-  double max_ankle_torque = 150.0;   ///< [N m] u_y,max, ankle pitch limit (spec §1.1 [R])
-  double torque_cost_scale = 100.0;  ///< [N m] u_s in Eq. (9) (spec [R])
+  double max_ankle_torque = 150.0;                        ///< [N m] u_y,max, ankle pitch limit (spec §1.1 [R])
+  double torque_cost_scale = 100.0;                       ///< [N m] u_s in Eq. (9) (spec [R])
   /// u = 0 at the last SSP node (ours): the transition then joins a point-foot periodic gait without a jump in the
   /// ground reaction (the state is continuous there; the torque would not be).
   bool zero_final_ankle_torque = true;
@@ -48,10 +48,10 @@ struct AslipTransitionParams {
   /// [-] every leg's vertical GRF stays ≤ this fraction of m g in both domains (ours; 0: no bound). The NLP's cost
   /// (leg accelerations and ankle torques) does not see the robot's knees: unbounded, a gait change asks up to 1.9 m g.
   double max_vertical_force_fraction = 0.0;
-  bool lateral = false;                      ///< see the header (ours)
-  double foot_width_left_of_ankle = 0.06;    ///< [m] W1 of Eq. (14) (lateral only)
-  double foot_width_right_of_ankle = 0.06;   ///< [m] W2 of Eq. (14) (lateral only)
-  double max_ankle_roll_torque = 80.0;       ///< [N m] u_x,max (spec §1.1 [R]; lateral only)
+  bool lateral = false;                     ///< see the header (ours)
+  double foot_width_left_of_ankle = 0.06;   ///< [m] W1 of Eq. (14) (lateral only)
+  double foot_width_right_of_ankle = 0.06;  ///< [m] W2 of Eq. (14) (lateral only)
+  double max_ankle_roll_torque = 80.0;      ///< [N m] u_x,max (spec §1.1 [R]; lateral only)
 };
 
 struct AslipTransitionData {
@@ -59,7 +59,7 @@ struct AslipTransitionData {
   Eigen::Matrix<double, 8, 1> final_state;    ///< at the end of the SSP (pre-impact)
   double left_foot_x = 0.0;                   ///< [m] pivots during the DSP
   double right_foot_x = 0.0;
-  int lifting_leg = 1;                        ///< 0 = left, 1 = right (spec [R] default: right)
+  int lifting_leg = 1;  ///< 0 = left, 1 = right (spec [R] default: right)
   /// Lateral option only: world y of the feet [m] and the boundary lateral states [y (m), ẏ (m/s)].
   double left_foot_y = 0.125, right_foot_y = -0.125;
   Eigen::Vector2d initial_lateral_state = Eigen::Vector2d::Zero(), final_lateral_state = Eigen::Vector2d::Zero();
@@ -78,8 +78,8 @@ struct AslipTransition {
   /// With the lateral option the phases' states have 10 rows ([y, ẏ] last) and the inputs 6 ([u_Lx, u_Rx] last).
   /// [G_Lx, G_Lz, G_Rx, G_Rz] (N) at every node of phase p (4 × N), with the ankle torques.
   Eigen::MatrixXd GroundReactions(const AslipParams& params, const AslipTransitionData& data, int phase) const;
-  /// [s, from the DSP's start] The first DSP node where the lifting leg's vertical force, after falling below floor_N at
-  /// an earlier node, is above floor_N again (a plant that releases the foot at that force would lift it and land it
+  /// [s, from the DSP's start] The first DSP node where the lifting leg's vertical force, after falling below floor_N
+  /// at an earlier node, is above floor_N again (a plant that releases the foot at that force would lift it and land it
   /// again in the double support); NaN when it never does.
   double LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data, double floor_N) const;
 };
@@ -105,7 +105,8 @@ class AslipTransitionPlanner {
   /// Standing at rest in DSP with the pivots at left_foot_x and right_foot_x (a step stance when they differ): the
   /// mass midway between them at height z, both legs equally long and each carrying a vertical m g / 2 (their
   /// horizontal components cancel), rest lengths by AslipRestLengthForForce.
-  static Eigen::Matrix<double, 8, 1> StandingState(const AslipParams& params, double z, double left_foot_x, double right_foot_x);
+  static Eigen::Matrix<double, 8, 1> StandingState(const AslipParams& params, double z, double left_foot_x,
+                                                   double right_foot_x);
 
  private:
   AslipTransitionParams params_;

@@ -15,7 +15,8 @@ namespace {
 
 // The 15 coordinates Newton moves: every velocity index but the base angles.
 std::vector<int> FreeCoordinates(const MultibodyModel& model) {
-  const int yaw = model.VelocityIndex("base_yaw"), pitch = model.VelocityIndex("base_pitch"), roll = model.VelocityIndex("base_roll");
+  const int yaw = model.VelocityIndex("base_yaw"), pitch = model.VelocityIndex("base_pitch"),
+            roll = model.VelocityIndex("base_roll");
   std::vector<int> free;
   for (int i = 0; i < model.nv(); ++i)
     if (i != yaw && i != pitch && i != roll) free.push_back(i);
@@ -29,8 +30,9 @@ std::vector<int> FreeCoordinates(const MultibodyModel& model) {
 Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const Eigen::VectorXd& a, double h) {
   const Eigen::Index n = a.size();
   if (omega2.size() != n || !(h > 0))
-    throw std::invalid_argument("SolveDrivenInvertedPendulum: omega2 has " + std::to_string(omega2.size()) + " samples, a " + std::to_string(n) +
-                                ", h = " + std::to_string(h) + " s (sizes must match, h > 0)");
+    throw std::invalid_argument("SolveDrivenInvertedPendulum: omega2 has " + std::to_string(omega2.size()) +
+                                " samples, a " + std::to_string(n) + ", h = " + std::to_string(h) +
+                                " s (sizes must match, h > 0)");
   Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
   if (n < 3) return d;
   const Eigen::Index m = n - 1;  // unknowns δ_1 … δ_N
@@ -50,12 +52,15 @@ Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const
   return d;
 }
 
-Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com, const Eigen::Vector3d& left_ankle,
-                                 const Eigen::Vector3d& right_ankle, const Eigen::VectorXd& q_guess) {
+Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com,
+                                 const Eigen::Vector3d& left_ankle, const Eigen::Vector3d& right_ankle,
+                                 const Eigen::VectorXd& q_guess) {
   const int nv = model.nv();
   const std::vector<int> free = FreeCoordinates(model);
   const int n = static_cast<int>(free.size());
-  if (n != 15) throw std::invalid_argument("SolveWalkingPose: robot '" + model.name() + "' must have 18 velocities (a spatial base and 12 joints), got " + std::to_string(nv));
+  if (n != 15)
+    throw std::invalid_argument("SolveWalkingPose: robot '" + model.name() +
+                                "' must have 18 velocities (a spatial base and 12 joints), got " + std::to_string(nv));
   const int feet[2] = {model.BodyIndex("left_foot"), model.BodyIndex("right_foot")};
   const Eigen::Vector3d target[2] = {left_ankle, right_ankle};
   MultibodyWorkspace ws(model);
@@ -79,19 +84,21 @@ Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vecto
     dq = Jr.fullPivLu().solve(-res);
     for (int k = 0; k < n; ++k) q[free[k]] += dq[k];
   }
-  throw std::runtime_error("SolveWalkingPose: robot '" + model.name() + "': no pose with the COM at (" + std::to_string(com.x()) + ", " +
-                           std::to_string(com.y()) + ", " + std::to_string(com.z()) + ") m and the feet on their targets (residual " +
-                           std::to_string(res.norm()) + ")");
+  throw std::runtime_error("SolveWalkingPose: robot '" + model.name() + "': no pose with the COM at (" +
+                           std::to_string(com.x()) + ", " + std::to_string(com.y()) + ", " + std::to_string(com.z()) +
+                           ") m and the feet on their targets (residual " + std::to_string(res.norm()) + ")");
 }
 
-Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing, double h,
-                                  const Eigen::MatrixXd& com_shift) {
-  if (!(h > 0 && h <= 0.02)) throw std::invalid_argument("ReplayWalkingPlan: the sample period must be in (0, 0.02] s, got " + std::to_string(h));
+Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan,
+                                  const SwingFootTrajectoryParams& swing, double h, const Eigen::MatrixXd& com_shift) {
+  if (!(h > 0 && h <= 0.02))
+    throw std::invalid_argument("ReplayWalkingPlan: the sample period must be in (0, 0.02] s, got " +
+                                std::to_string(h));
   if (plan.segments().empty()) throw std::invalid_argument("ReplayWalkingPlan: the plan is empty");
   const Eigen::Index N = static_cast<Eigen::Index>(std::floor(plan.end_time() / h + 1e-9));
   if (com_shift.size() != 0 && (com_shift.rows() != 2 || com_shift.cols() != N + 1))
-    throw std::invalid_argument("ReplayWalkingPlan: com_shift must be 2 x " + std::to_string(N + 1) + ", got " + std::to_string(com_shift.rows()) + " x " +
-                                std::to_string(com_shift.cols()));
+    throw std::invalid_argument("ReplayWalkingPlan: com_shift must be 2 x " + std::to_string(N + 1) + ", got " +
+                                std::to_string(com_shift.rows()) + " x " + std::to_string(com_shift.cols()));
   const WalkingOutputReference feet("replay_swing", plan, swing);
   Eigen::MatrixXd q(model.nv(), N + 1);
   const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(N + 1, 0.0, static_cast<double>(N) * h);
@@ -103,7 +110,8 @@ Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan
     Eigen::Vector3d p[2], v, a;
     for (int f = 0; f < 2; ++f) {
       feet.SwingFoot(f, t, p[f], v, a);
-      p[f].z() = std::max(p[f].z(), swing.ankle_height_m);  // on its foothold after T_SSP (SwingFoot's late-touchdown descent)
+      p[f].z() =
+          std::max(p[f].z(), swing.ankle_height_m);  // on its foothold after T_SSP (SwingFoot's late-touchdown descent)
     }
     q.col(k) = SolveWalkingPose(model, r.com_position, p[0], p[1], guess);
     guess = q.col(k);
@@ -116,9 +124,11 @@ CentroidalMomentumCompensationReport CompensateCentroidalMomentum(const Multibod
                                                                   const CentroidalMomentumCompensationParams& params) {
   const double h = params.sample_period_s;
   if (!(h > 0 && h <= 0.02))
-    throw std::invalid_argument("CompensateCentroidalMomentum: sample_period_s must be in (0, 0.02] s, got " + std::to_string(h));
+    throw std::invalid_argument("CompensateCentroidalMomentum: sample_period_s must be in (0, 0.02] s, got " +
+                                std::to_string(h));
   if (params.iterations < 1 || params.iterations > 10)
-    throw std::invalid_argument("CompensateCentroidalMomentum: iterations must be in [1, 10], got " + std::to_string(params.iterations));
+    throw std::invalid_argument("CompensateCentroidalMomentum: iterations must be in [1, 10], got " +
+                                std::to_string(params.iterations));
   if (plan.segments().empty()) throw std::invalid_argument("CompensateCentroidalMomentum: the plan is empty");
   const double m = model.total_mass(), g = 9.81;
   const Eigen::Index N = static_cast<Eigen::Index>(std::floor(plan.end_time() / h + 1e-9));
@@ -175,9 +185,11 @@ CentroidalMomentumCompensationReport CompensateCentroidalMomentum(const Multibod
   for (Eigen::Index k = 0; k <= N; ++k) {
     const Eigen::Index a = std::max<Eigen::Index>(k - 1, 0), b = std::min<Eigen::Index>(k + 1, N);
     vel.col(k) = (delta.col(b) - delta.col(a)) / ((b - a) * h);
-    acc.col(k) = k > 0 && k < N ? Eigen::Vector2d((delta.col(k + 1) - 2.0 * delta.col(k) + delta.col(k - 1)) / (h * h)) : Eigen::Vector2d::Zero();
+    acc.col(k) = k > 0 && k < N ? Eigen::Vector2d((delta.col(k + 1) - 2.0 * delta.col(k) + delta.col(k - 1)) / (h * h))
+                                : Eigen::Vector2d::Zero();
   }
-  plan.SetComCorrection(PiecewisePolynomial::CubicHermite(times, delta, vel), PiecewisePolynomial::FirstOrderHold(times, acc));
+  plan.SetComCorrection(PiecewisePolynomial::CubicHermite(times, delta, vel),
+                        PiecewisePolynomial::FirstOrderHold(times, acc));
   return report;
 }
 

@@ -13,10 +13,10 @@
 // (C1) is a linear inverted pendulum driven by Ḣ: it is solved as a two-point boundary-value problem over the whole
 // plan by central differences on a uniform grid (a tridiagonal system), with δ = 0 at its start (a standing start)
 // and the bounded end δ + δ̇/ω = 0 (the unstable mode of (C1) at rest: the plan may end while walking, and δ = 0 there
-// bent the last steps measurably). Ḣ(t) is predicted by a kinematic replay of the plan on the robot: at each sample, Newton's
-// method puts the COM on the (corrected) reference, the pelvis level with zero yaw, and each ankle on its foothold or
-// its swing trajectory with the foot flat; v and Ḣ follow by central differences. H depends weakly on δ, so replay
-// and solve alternate `iterations` times.
+// bent the last steps measurably). Ḣ(t) is predicted by a kinematic replay of the plan on the robot: at each sample,
+// Newton's method puts the COM on the (corrected) reference, the pelvis level with zero yaw, and each ankle on its
+// foothold or its swing trajectory with the foot flat; v and Ḣ follow by central differences. H depends weakly on δ, so
+// replay and solve alternate `iterations` times.
 //
 // Units: m, s, N m. The model must have a spatial floating base with joints base_yaw, base_pitch, base_roll and flat
 // contacts on links left_foot and right_foot.
@@ -37,7 +37,7 @@ struct CentroidalMomentumCompensationReport {
   /// [m] the largest CoP offset from the ROM's pivot that the robot's angular momentum asks for in single support,
   /// |Ḣ × ẑ| / F_z, without the correction and with it (the last replay against the last δ)
   double max_cop_shift_uncorrected_m = 0, max_cop_shift_corrected_m = 0;
-  double max_correction_m = 0;  ///< [m] largest |δ| (x or y)
+  double max_correction_m = 0;              ///< [m] largest |δ| (x or y)
   double max_angular_momentum_rate_Nm = 0;  ///< [N m] largest |Ḣ_x|, |Ḣ_y| of the last replay
 };
 
@@ -49,21 +49,23 @@ Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const
 /// A whole-body pose with the COM at `com`, the pelvis level with zero yaw and each foot flat with its ankle (the foot
 /// frame's origin) at `left_ankle` / `right_ankle`; Newton from `q_guess` on the 15 coordinates other than the base
 /// angles. Throws std::runtime_error naming the robot if it does not converge to 1e-10.
-Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com, const Eigen::Vector3d& left_ankle,
-                                 const Eigen::Vector3d& right_ankle, const Eigen::VectorXd& q_guess);
+Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com,
+                                 const Eigen::Vector3d& left_ankle, const Eigen::Vector3d& right_ankle,
+                                 const Eigen::VectorXd& q_guess);
 
 /// The kinematic replay of `plan` described above, at t_k = k h, k = 0 … N (N = ⌊end_time / h⌋): column k is the
 /// SolveWalkingPose pose with the COM at the plan's plus column k of `com_shift` (2 × (N + 1), x and y; empty: none),
 /// each ankle on its foothold or swing trajectory (never below swing.ankle_height_m). Throws std::invalid_argument for
 /// h outside (0, 0.02] s, an empty plan or a mis-sized com_shift; std::runtime_error if a pose does not converge.
-Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing, double h,
+Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan,
+                                  const SwingFootTrajectoryParams& swing, double h,
                                   const Eigen::MatrixXd& com_shift = {});
 
 /// Adds the correction δ of (C1) to `plan` (WalkingPlan::SetComCorrection). `swing` must be the swing-foot
 /// parameters the diagram tracks (their ankle height set from the robot). Throws std::invalid_argument for a bad
 /// parameter, std::runtime_error if a replay pose does not converge.
-CentroidalMomentumCompensationReport CompensateCentroidalMomentum(const MultibodyModel& model, WalkingPlan& plan,
-                                                                  const SwingFootTrajectoryParams& swing,
-                                                                  const CentroidalMomentumCompensationParams& params = {});
+CentroidalMomentumCompensationReport CompensateCentroidalMomentum(
+    const MultibodyModel& model, WalkingPlan& plan, const SwingFootTrajectoryParams& swing,
+    const CentroidalMomentumCompensationParams& params = {});
 
 }  // namespace rome

@@ -9,9 +9,7 @@
 namespace rome {
 namespace {
 
-[[noreturn]] void Fail(const std::string& what) {
-  throw std::invalid_argument("FootedHlipTransitionPlanner: " + what);
-}
+[[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument("FootedHlipTransitionPlanner: " + what); }
 
 }  // namespace
 
@@ -50,8 +48,8 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
   }
   for (int k = 0; k < N; ++k) {
     if (!(d.left_normal_force(k) >= 0) || !(d.right_normal_force(k) >= 0)) {
-      msg << "normal forces must be >= 0 N and finite, got F_L[" << k << "] = " << d.left_normal_force(k)
-          << ", F_R[" << k << "] = " << d.right_normal_force(k);
+      msg << "normal forces must be >= 0 N and finite, got F_L[" << k << "] = " << d.left_normal_force(k) << ", F_R["
+          << k << "] = " << d.right_normal_force(k);
       Fail(msg.str());
     }
   }
@@ -60,9 +58,11 @@ FootedHlipTransitionPlan FootedHlipTransitionPlanner::Solve(const FootedHlipTran
     Fail(msg.str());
   }
   const bool heights = params_.normal_force_pivots && d.node_heights.size() > 0;
-  if (d.node_heights.size() > 0 && (d.node_heights.size() != N || !(d.node_heights.minCoeff() > 0) || !d.node_heights.allFinite())) {
+  if (d.node_heights.size() > 0 &&
+      (d.node_heights.size() != N || !(d.node_heights.minCoeff() > 0) || !d.node_heights.allFinite())) {
     msg << "node_heights must hold " << N << " heights > 0 m (or none), got " << d.node_heights.size()
-        << (d.node_heights.size() > 0 ? " with the smallest " + std::to_string(d.node_heights.minCoeff()) + " m" : std::string());
+        << (d.node_heights.size() > 0 ? " with the smallest " + std::to_string(d.node_heights.minCoeff()) + " m"
+                                      : std::string());
     Fail(msg.str());
   }
   const double m = params_.mass, lambda = std::sqrt(params_.gravity / d.z0);

@@ -31,8 +31,8 @@
 namespace rome {
 
 struct FootedHlipTransitionParams {
-  double mass = 76.0;        ///< [kg] m (the aSLIP mass, spec §2.3)
-  double gravity = 9.81;     ///< [m/s²]
+  double mass = 76.0;                       ///< [kg] m (the aSLIP mass, spec §2.3)
+  double gravity = 9.81;                    ///< [m/s²]
   double foot_width_left_of_ankle = 0.06;   ///< [m] W1 (robots.md; symmetric foot, spec §2.3 [R])
   double foot_width_right_of_ankle = 0.06;  ///< [m] W2
   double max_ankle_roll_torque = 80.0;      ///< [N m] u_x,max (spec §1.1 [R] ankle roll limit)
@@ -41,14 +41,14 @@ struct FootedHlipTransitionParams {
 
 /// One transition: the grid, the footed-aSLIP normal forces on it, the feet and the boundary states.
 struct FootedHlipTransitionData {
-  Eigen::VectorXd node_times;             ///< N ≥ 2 strictly increasing times [s]
-  std::vector<bool> single_support;       ///< N − 1 intervals: true = SSP on `stance_left` foot
-  bool stance_left = true;                ///< which foot stands in the SSP intervals
-  Eigen::VectorXd left_normal_force;      ///< N vertical GRFs F_L^k [N] (≥ 0)
-  Eigen::VectorXd right_normal_force;     ///< N vertical GRFs F_R^k [N] (≥ 0)
-  double left_foot_y = 0.125;             ///< [m] world y of the left ankle
-  double right_foot_y = -0.125;           ///< [m] world y of the right ankle
-  double z0 = 0.9;                        ///< [m] mean footed-aSLIP height over the transition (spec §2.3)
+  Eigen::VectorXd node_times;          ///< N ≥ 2 strictly increasing times [s]
+  std::vector<bool> single_support;    ///< N − 1 intervals: true = SSP on `stance_left` foot
+  bool stance_left = true;             ///< which foot stands in the SSP intervals
+  Eigen::VectorXd left_normal_force;   ///< N vertical GRFs F_L^k [N] (≥ 0)
+  Eigen::VectorXd right_normal_force;  ///< N vertical GRFs F_R^k [N] (≥ 0)
+  double left_foot_y = 0.125;          ///< [m] world y of the left ankle
+  double right_foot_y = -0.125;        ///< [m] world y of the right ankle
+  double z0 = 0.9;                     ///< [m] mean footed-aSLIP height over the transition (spec §2.3)
   /// [m] N footed-aSLIP heights at the nodes (ours; checked whenever given, used with normal_force_pivots only; empty:
   /// z0 everywhere). Interval k then
   /// uses z_k = (h_k + h_{k+1})/2 for m z, the height the footed-aSLIP NLP's own lateral rows move the mass on.
@@ -59,16 +59,16 @@ struct FootedHlipTransitionData {
 
 struct FootedHlipTransitionPlan {
   QpStatus status = QpStatus::kInvalidInput;
-  std::string message;            ///< names the planner and the QP status
-  Eigen::VectorXd left_torque;    ///< u_L^k [N m], N
-  Eigen::VectorXd right_torque;   ///< u_R^k [N m], N
-  Eigen::MatrixXd states;         ///< 2 × N, [y; ẏ] world
+  std::string message;           ///< names the planner and the QP status
+  Eigen::VectorXd left_torque;   ///< u_L^k [N m], N
+  Eigen::VectorXd right_torque;  ///< u_R^k [N m], N
+  Eigen::MatrixXd states;        ///< 2 × N, [y; ẏ] world
   /// Per interval k (N − 1): ÿ = a_k (y − c_k) + u_k/(m z_k) with u_k the torque driving it (u_stance in the paper's
   /// SSP, u_L + u_R otherwise). a_k [1/s²] = λ² (paper SSP), 0 (paper DSP) or (F_L + F_R)/(m z_k); c_k [m] world.
   Eigen::VectorXd interval_stiffness;
   Eigen::VectorXd interval_pivot;
   Eigen::VectorXd interval_height;  ///< [m] z of each interval's m z (z0, or the node heights' mean)
-  double cost = 0.0;              ///< Σ (u_L² + u_R²) [N² m²]
+  double cost = 0.0;                ///< Σ (u_L² + u_R²) [N² m²]
   int iterations = 0;
   bool success() const { return status == QpStatus::kOptimal; }
 };

@@ -40,17 +40,20 @@ void GaitGraphParams::Validate() const {
     Require(std::isfinite(min[i]) && min[i] > 0, "min." + axis, min[i], "(0, inf)");
     Require(std::isfinite(max[i]) && max[i] >= min[i], "max." + axis, max[i], "[min, inf)");
     Require(std::isfinite(spacing[i]) && spacing[i] > 0, "spacing." + axis, spacing[i], "(0, inf)");
-    Require(std::isfinite(reach[i]) && reach[i] >= spacing[i], "reach." + axis, reach[i], "[spacing, inf) (a grid step must be an edge)");
+    Require(std::isfinite(reach[i]) && reach[i] >= spacing[i], "reach." + axis, reach[i],
+            "[spacing, inf) (a grid step must be an edge)");
   }
   Require(std::isfinite(step_cost_weight) && step_cost_weight >= 0, "step_cost_weight", step_cost_weight, "[0, inf)");
-  Require(max_failed_transitions >= 1 && max_failed_transitions <= 1000, "max_failed_transitions", max_failed_transitions, "[1, 1000]");
+  Require(max_failed_transitions >= 1 && max_failed_transitions <= 1000, "max_failed_transitions",
+          max_failed_transitions, "[1, 1000]");
 }
 
 GaitGraph::GaitGraph(const GaitGraphParams& params, const GaitVector& start, const GaitVector& goal) : params_(params) {
   params_.Validate();
   for (const GaitVector* g : {&start, &goal})
     if (!InRange(*g, params_))
-      throw std::invalid_argument("GaitGraph: gait " + Text(*g) + " is outside the graph's range [" + Text(params_.min) + "] to [" + Text(params_.max) + "]");
+      throw std::invalid_argument("GaitGraph: gait " + Text(*g) + " is outside the graph's range [" +
+                                  Text(params_.min) + "] to [" + Text(params_.max) + "]");
   std::array<std::vector<double>, 4> axes;
   for (int i = 0; i < 4; ++i) {
     std::vector<double>& a = axes[i];
@@ -144,7 +147,8 @@ GaitChain GaitGraph::ShortestFeasibleChain(const GaitTransitionTry& try_transiti
   for (;;) {
     const std::vector<int> path = ShortestPath();
     if (path.empty()) {
-      chain.message = "no chain of feasible transitions is left in the gait graph (" + std::to_string(chain.transitions_failed) + " failed)";
+      chain.message = "no chain of feasible transitions is left in the gait graph (" +
+                      std::to_string(chain.transitions_failed) + " failed)";
       return chain;
     }
     size_t common = 1;  // nodes shared with the verified chain: those edges need no new try
@@ -168,7 +172,8 @@ GaitChain GaitGraph::ShortestFeasibleChain(const GaitTransitionTry& try_transiti
       return chain;
     }
     if (chain.transitions_failed >= params_.max_failed_transitions) {
-      chain.message = "gave up after " + std::to_string(chain.transitions_failed) + " failed transitions (max_failed_transitions)";
+      chain.message =
+          "gave up after " + std::to_string(chain.transitions_failed) + " failed transitions (max_failed_transitions)";
       return chain;
     }
   }

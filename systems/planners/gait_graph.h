@@ -25,7 +25,7 @@ namespace rome {
 using GaitVector = std::array<double, 4>;  ///< (L m, T_SSP s, T_DSP s, W m)
 
 struct GaitGraphParams {
-  GaitVector min = {0.2, 0.35, 0.08, 0.2};   ///< the walking issue's gait range (m, s, s, m)
+  GaitVector min = {0.2, 0.35, 0.08, 0.2};  ///< the walking issue's gait range (m, s, s, m)
   GaitVector max = {0.45, 0.5, 0.15, 0.3};
   GaitVector spacing = {0.05, 0.05, 0.02, 0.05};  ///< grid spacing per axis (ours)
   /// Largest change per axis along one edge (ours; measured, NLP seed 1: gait A 0.30 m → 0.40 m plans and walks,
@@ -50,7 +50,7 @@ struct GaitChain {
   std::vector<GaitVector> gaits;  ///< the chain's gaits, start and goal included (found only)
   int transitions_tried = 0;      ///< callback calls
   int transitions_failed = 0;
-  std::string message;            ///< why no chain was found
+  std::string message;  ///< why no chain was found
 };
 
 class GaitGraph {
@@ -68,7 +68,8 @@ class GaitGraph {
 
   /// Removes the edge from node i to node j, e.g. a direct transition already found infeasible.
   void MarkInfeasible(int i, int j);
-  /// Removes i → j and every edge i → k whose change k − i has the signs of j − i and is at least as large on every axis.
+  /// Removes i → j and every edge i → k whose change k − i has the signs of j − i and is at least as large on every
+  /// axis.
   void MarkInfeasibleWithLarger(int i, int j);
   /// The cheapest start → goal path over the remaining edges (node indices; empty when there is none).
   std::vector<int> ShortestPath() const;

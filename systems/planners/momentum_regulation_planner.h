@@ -44,12 +44,12 @@ struct MomentumRegulationPlannerParams {
 
 /// Current robot (or ROM) state relative to the stance foot, and the next step.
 struct MomentumRegulationInput {
-  double p_com_x = 0;      ///< [m]
-  double p_com_z = 0;      ///< [m]
-  double pdot_com_x = 0;   ///< [m/s]
-  double L_y = 0;          ///< [m²/s] about the stance foot
-  double step_length = 0;  ///< [m] l_des > 0
-  double step_height = 0;  ///< [m] h_des
+  double p_com_x = 0;                ///< [m]
+  double p_com_z = 0;                ///< [m]
+  double pdot_com_x = 0;             ///< [m/s]
+  double L_y = 0;                    ///< [m²/s] about the stance foot
+  double step_length = 0;            ///< [m] l_des > 0
+  double step_height = 0;            ///< [m] h_des
   double pre_impact_com_height = 0;  ///< [m] p_comf^{z,d}, relative to the current stance foot
 };
 
@@ -57,19 +57,19 @@ struct MomentumRegulationPlan {
   /// Bits of `status`.
   enum StatusBit : std::uint32_t {
     kOk = 0,
-    kPreImpactMomentumClamped = 1u << 0,  ///< Eq. (25) radicand < 0 (cannot reach ε l): L̂⁻ set to 0.
+    kPreImpactMomentumClamped = 1u << 0,        ///< Eq. (25) radicand < 0 (cannot reach ε l): L̂⁻ set to 0.
     kTimeToImpactInsufficientEnergy = 1u << 1,  ///< Eq. (14) has no real root: T̂ = max.
-    kTimeToImpactPassed = 1u << 2,               ///< ε l reached only backwards in time: T̂ = min.
-    kTimeToImpactClamped = 1u << 3,              ///< T̂ was outside [min, max].
+    kTimeToImpactPassed = 1u << 2,              ///< ε l reached only backwards in time: T̂ = min.
+    kTimeToImpactClamped = 1u << 3,             ///< T̂ was outside [min, max].
   };
-  double L_des = 0;                 ///< [m²/s] desired post-impact momentum
-  double L_pre_impact = 0;          ///< [m²/s] L̂⁻, Eq. (25)
-  double u_des = 0;                 ///< [m/s] desired pre-impact vertical COM velocity, Eq. (26)
-  double time_to_impact = 0;        ///< [s] T̂_s, Eq. (27), after clamping
-  double time_to_impact_raw = 0;    ///< [s] T_I before clamping (0 if no root)
-  double slope_adjusted_height = 0; ///< [m] ẑ0 = p^z − (h/l) p^x
-  double post_impact_height = 0;    ///< [m] z0⁺
-  double pre_impact_position = 0;   ///< [m] ε l
+  double L_des = 0;                  ///< [m²/s] desired post-impact momentum
+  double L_pre_impact = 0;           ///< [m²/s] L̂⁻, Eq. (25)
+  double u_des = 0;                  ///< [m/s] desired pre-impact vertical COM velocity, Eq. (26)
+  double time_to_impact = 0;         ///< [s] T̂_s, Eq. (27), after clamping
+  double time_to_impact_raw = 0;     ///< [s] T_I before clamping (0 if no root)
+  double slope_adjusted_height = 0;  ///< [m] ẑ0 = p^z − (h/l) p^x
+  double post_impact_height = 0;     ///< [m] z0⁺
+  double pre_impact_position = 0;    ///< [m] ε l
   std::uint32_t status = kOk;
   bool ok() const { return status == kOk; }
 };
@@ -87,14 +87,14 @@ class MomentumRegulationPlanner {
   /// L_des for a step (l, h) and pre-impact COM height p^{z−} (see the header comment).
   double DesiredPostImpactMomentum(double step_length, double step_height, double pre_impact_com_height) const;
   /// Eq. (25). Returns the radicand's square root, or 0 with *clamped = true when the radicand is negative.
-  static double PredictPreImpactMomentum(double p_com_x, double L_y, double z0_hat, double pre_impact_position, double gravity,
-                                         bool* clamped);
+  static double PredictPreImpactMomentum(double p_com_x, double L_y, double z0_hat, double pre_impact_position,
+                                         double gravity, bool* clamped);
   /// Eq. (18)/(26).
-  static double DesiredPreImpactVerticalVelocity(double step_length, double step_height, double L_des, double L_pre_impact,
-                                                 double pdot_com_x_pre_impact);
+  static double DesiredPreImpactVerticalVelocity(double step_length, double step_height, double L_des,
+                                                 double L_pre_impact, double pdot_com_x_pre_impact);
   /// Eq. (17): post-impact (p^x, L) from the pre-impact values.
-  static Eigen::Vector2d ImpactMap(double p_com_x_pre, double L_pre, double pdot_com_x_pre, double pdot_com_z_pre, double step_length,
-                                   double step_height);
+  static Eigen::Vector2d ImpactMap(double p_com_x_pre, double L_pre, double pdot_com_x_pre, double pdot_com_z_pre,
+                                   double step_length, double step_height);
 
  private:
   MomentumRegulationPlannerParams params_;

@@ -4,7 +4,8 @@
 
 namespace rome {
 
-MomentumRegulationPlannerSystem::MomentumRegulationPlannerSystem(std::string name, MomentumRegulationPlannerParams params)
+MomentumRegulationPlannerSystem::MomentumRegulationPlannerSystem(std::string name,
+                                                                 MomentumRegulationPlannerParams params)
     : LeafSystem(std::move(name)), planner_(params) {
   com_port_ = DeclareInputPort("com_state", 4);
   momentum_port_ = DeclareInputPort("angular_momentum", 1);
@@ -12,14 +13,19 @@ MomentumRegulationPlannerSystem::MomentumRegulationPlannerSystem(std::string nam
   height_port_ = DeclareInputPort("pre_impact_com_height", 1);
   DeclareOutputPort("u_des", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).u_des; });
   DeclareOutputPort("L_des", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).L_des; });
-  DeclareOutputPort("predicted_pre_impact_momentum", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).L_pre_impact; });
-  DeclareOutputPort("time_to_impact", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).time_to_impact; });
-  DeclareOutputPort("slope_adjusted_height", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).slope_adjusted_height; });
+  DeclareOutputPort("predicted_pre_impact_momentum", 1,
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).L_pre_impact; });
+  DeclareOutputPort("time_to_impact", 1,
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).time_to_impact; });
+  DeclareOutputPort("slope_adjusted_height", 1,
+                    [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = CalcPlan(c).slope_adjusted_height; });
   DeclareOutputPort("vertical_com_target", 3, [this](const LeafContext& c, Eigen::VectorXd* y) {
     const MomentumRegulationPlan plan = CalcPlan(c);
     *y << EvalInput(c, height_port_)[0], plan.u_des, plan.time_to_impact;
   });
-  DeclareOutputPort("status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = static_cast<double>(CalcPlan(c).status); });
+  DeclareOutputPort("status", 1, [this](const LeafContext& c, Eigen::VectorXd* y) {
+    (*y)[0] = static_cast<double>(CalcPlan(c).status);
+  });
 }
 
 MomentumRegulationPlan MomentumRegulationPlannerSystem::CalcPlan(const LeafContext& context) const {

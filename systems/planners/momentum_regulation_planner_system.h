@@ -13,8 +13,8 @@
 //          predicted_pre_impact_momentum (1) = L̂⁻ (m²/s), Eq. (25)
 //          time_to_impact (1)         = T̂_s (s), Eq. (27), clamped to the params' [min, max]
 //          slope_adjusted_height (1)  = ẑ0 (m), Eq. (27)
-//          vertical_com_target (3)    = [p_comf^{z,d} (m), u_des (m/s), T̂_s (s)]: the 'target' input of VerticalComMpcSystem
-//          status (1)                 = MomentumRegulationPlan::status bits (0 = ok)
+//          vertical_com_target (3)    = [p_comf^{z,d} (m), u_des (m/s), T̂_s (s)]: the 'target' input of
+//          VerticalComMpcSystem status (1)                 = MomentumRegulationPlan::status bits (0 = ok)
 // Bad inputs (l_des <= 0, ẑ0 <= 0, non-finite values) throw std::runtime_error naming this system.
 
 #include <string>
@@ -26,7 +26,8 @@ namespace rome {
 
 class MomentumRegulationPlannerSystem final : public LeafSystem {
  public:
-  explicit MomentumRegulationPlannerSystem(std::string name = "momentum_planner", MomentumRegulationPlannerParams params = {});
+  explicit MomentumRegulationPlannerSystem(std::string name = "momentum_planner",
+                                           MomentumRegulationPlannerParams params = {});
   const MomentumRegulationPlanner& planner() const { return planner_; }
   /// The plan for the inputs in `context`.
   MomentumRegulationPlan CalcPlan(const LeafContext& context) const;

@@ -38,7 +38,8 @@ Phase PhaseVariable::Saturate(Phase phase) const {
   return phase;
 }
 
-Phase PhaseVariable::StateBased(double p_com_x, double pdot_com_x, double pddot_com_x, double p_com_x0, double p_com_xf) const {
+Phase PhaseVariable::StateBased(double p_com_x, double pdot_com_x, double pddot_com_x, double p_com_x0,
+                                double p_com_xf) const {
   const double span = p_com_xf - p_com_x0;
   if (!(span != 0 && std::isfinite(span)))
     throw std::invalid_argument("PhaseVariable (Eq. (20)): the final COM position ε l_des (" + Num(p_com_xf) +
@@ -49,7 +50,8 @@ Phase PhaseVariable::StateBased(double p_com_x, double pdot_com_x, double pddot_
 
 Phase PhaseVariable::TimeBased(double t, double step_start_time, double step_duration) const {
   if (!(step_duration > 0 && std::isfinite(step_duration)))
-    throw std::invalid_argument("PhaseVariable (time-based, Sec. VI-D): step duration T_s must be positive, got " + Num(step_duration) + " s");
+    throw std::invalid_argument("PhaseVariable (time-based, Sec. VI-D): step duration T_s must be positive, got " +
+                                Num(step_duration) + " s");
   return Saturate({(t - step_start_time) / step_duration, 1.0 / step_duration, 0.0});
 }
 
@@ -60,13 +62,15 @@ TorsoPitchCubic::TorsoPitchCubic(double phi_0, double phi_f) {
 }
 
 ScalarDerivatives TorsoPitchCubic::Evaluate(double tau) const {
-  return {c_[0] + tau * (c_[1] + tau * (c_[2] + tau * c_[3])), c_[1] + tau * (2 * c_[2] + 3 * tau * c_[3]), 2 * c_[2] + 6 * tau * c_[3]};
+  return {c_[0] + tau * (c_[1] + tau * (c_[2] + tau * c_[3])), c_[1] + tau * (2 * c_[2] + 3 * tau * c_[3]),
+          2 * c_[2] + 6 * tau * c_[3]};
 }
 
 BezierCurve::BezierCurve(const Eigen::Ref<const Eigen::VectorXd>& control_points) {
   const int n = static_cast<int>(control_points.size());
   if (n < 2 || n > kMaxControlPoints)
-    throw std::invalid_argument("BezierCurve: needs 2.." + std::to_string(kMaxControlPoints) + " control points, got " + std::to_string(n));
+    throw std::invalid_argument("BezierCurve: needs 2.." + std::to_string(kMaxControlPoints) + " control points, got " +
+                                std::to_string(n));
   for (int k = 0; k < n; ++k) gamma_[k] = control_points[k];
   num_points_ = n;
 }
@@ -83,17 +87,22 @@ ScalarDerivatives BezierCurve::Evaluate(double tau) const {
   return out;
 }
 
-SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, double p_sw0_z, double step_length, double step_height)
+SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, double p_sw0_z, double step_length,
+                                 double step_height)
     : params_(params), p_sw0_x_(p_sw0_x), step_length_(step_length), step_height_(step_height) {
   if (!(params_.strike_depth < 0))
-    throw std::invalid_argument("SwingFootBezier: parameter strike_depth (z_sw^neg) must be negative so that the foot strikes, got " +
-                                Num(params_.strike_depth) + " m");
+    throw std::invalid_argument(
+        "SwingFootBezier: parameter strike_depth (z_sw^neg) must be negative so that the foot strikes, got " +
+        Num(params_.strike_depth) + " m");
   if (!(params_.horizontal_arrival_phase > 0 && params_.horizontal_arrival_phase <= 1))
-    throw std::invalid_argument("SwingFootBezier: parameter horizontal_arrival_phase must be in (0, 1], got " + Num(params_.horizontal_arrival_phase));
+    throw std::invalid_argument("SwingFootBezier: parameter horizontal_arrival_phase must be in (0, 1], got " +
+                                Num(params_.horizontal_arrival_phase));
   if (params_.apex_shape == SwingApexShape::kClearStanceStone &&
-      !(params_.stance_stone_half_length >= 0 && std::isfinite(params_.stance_stone_half_length) && std::isfinite(params_.stance_stone_clearance)))
-    throw std::invalid_argument("SwingFootBezier: parameters stance_stone_half_length (" + Num(params_.stance_stone_half_length) +
-                                " m) and stance_stone_clearance (" + Num(params_.stance_stone_clearance) + " m) must be finite, the length >= 0");
+      !(params_.stance_stone_half_length >= 0 && std::isfinite(params_.stance_stone_half_length) &&
+        std::isfinite(params_.stance_stone_clearance)))
+    throw std::invalid_argument("SwingFootBezier: parameters stance_stone_half_length (" +
+                                Num(params_.stance_stone_half_length) + " m) and stance_stone_clearance (" +
+                                Num(params_.stance_stone_clearance) + " m) must be finite, the length >= 0");
   if (!std::isfinite(p_sw0_x) || !std::isfinite(p_sw0_z) || !std::isfinite(step_length) || !std::isfinite(step_height))
     throw std::invalid_argument("SwingFootBezier: start position and step must be finite");
   switch (params_.apex_reference) {
@@ -104,11 +113,13 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
   // Table under Eq. (24): b_h: [0, 0, 0, 1, 1, 1]; b_v: [p_sw0^z, z_max 1_3, h_des, h_des + z_neg].
   using Vector6d = Eigen::Matrix<double, 6, 1>;
   b_h_ = BezierCurve((Vector6d() << 0, 0, 0, 1, 1, 1).finished());
-  b_v_ = BezierCurve((Vector6d() << p_sw0_z, apex_, apex_, apex_, step_height, step_height + params_.strike_depth).finished());
+  b_v_ = BezierCurve(
+      (Vector6d() << p_sw0_z, apex_, apex_, apex_, step_height, step_height + params_.strike_depth).finished());
   if (params_.lift_off_at_rest) b_v_.set_control_point(1, p_sw0_z);
   if (params_.apex_shape != SwingApexShape::kControlPoints) {
     if (!(apex_ > std::max(p_sw0_z, step_height)))
-      throw std::invalid_argument("SwingFootBezier: exact apex height " + Num(apex_) + " m must lie above both the start height " + Num(p_sw0_z) +
+      throw std::invalid_argument("SwingFootBezier: exact apex height " + Num(apex_) +
+                                  " m must lie above both the start height " + Num(p_sw0_z) +
                                   " m and the foothold height " + Num(step_height) + " m");
     SetExactPeak();
   }
@@ -129,8 +140,8 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
         const double B1 = params_.lift_off_at_rest ? 5 * sigma * std::pow(1 - sigma, 4) : 0.0;
         const double middle = 1 - B0 - B1 - B4 - B5;
         if (middle > 1e-6)
-          c = std::max(c, (params_.stance_stone_clearance - (B0 + B1) * b_v_.control_point(0) - B4 * b_v_.control_point(4) -
-                           B5 * b_v_.control_point(5)) /
+          c = std::max(c, (params_.stance_stone_clearance - (B0 + B1) * b_v_.control_point(0) -
+                           B4 * b_v_.control_point(4) - B5 * b_v_.control_point(5)) /
                               middle);
       }
       for (int k = params_.lift_off_at_rest ? 2 : 1; k <= 3; ++k) b_v_.set_control_point(k, c);
@@ -140,8 +151,9 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
     }
   }
   if (!(tau_touchdown_ > 0) && params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd)
-    throw std::invalid_argument("SwingFootBezier: touchdown_timing kAtPhaseEnd needs the swing curve to rise above the foothold height " +
-                                Num(step_height) + " m; its peak is " + Num(MaxHeight()) + " m");
+    throw std::invalid_argument(
+        "SwingFootBezier: touchdown_timing kAtPhaseEnd needs the swing curve to rise above the foothold height " +
+        Num(step_height) + " m; its peak is " + Num(MaxHeight()) + " m");
 }
 
 void SwingFootBezier::SetExactPeak() {
@@ -153,8 +165,8 @@ void SwingFootBezier::SetExactPeak() {
     for (int k = first; k <= 3; ++k) b_v_.set_control_point(k, c);
     double tau_max = 0;
     const double F = MaxHeight(&tau_max);
-    const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) - std::pow(tau_max, 5) -
-                     (first == 2 ? 5 * tau_max * std::pow(1 - tau_max, 4) : 0.0);
+    const double m = 1 - std::pow(1 - tau_max, 5) - 5 * tau_max * tau_max * tau_max * tau_max * (1 - tau_max) -
+                     std::pow(tau_max, 5) - (first == 2 ? 5 * tau_max * std::pow(1 - tau_max, 4) : 0.0);
     if (std::abs(F - apex_) <= 1e-14 * (1 + std::abs(apex_)) || !(m > 0)) break;
     c -= (F - apex_) / m;
   }
@@ -185,7 +197,9 @@ double SwingFootBezier::CrossingPhase(double x) const {
   return params_.horizontal_arrival_phase * 0.5 * (lo + hi);
 }
 
-double SwingFootBezier::touchdown_phase() const { return params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? 1.0 : tau_touchdown_; }
+double SwingFootBezier::touchdown_phase() const {
+  return params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? 1.0 : tau_touchdown_;
+}
 
 ScalarDerivatives SwingFootBezier::X(double tau) const {
   // Eq. (23). Beyond τ = 1 (only reached with kAtPhaseEnd) the foot stays at l_des.
@@ -233,7 +247,8 @@ double SwingFootBezier::MaxHeight(double* tau_at_max) const {
   return std::max(value, best_value);
 }
 
-SteppingStonesOutputTrajectories::SteppingStonesOutputTrajectories(PhaseVariableParams phase_params, SwingFootBezierParams swing_params,
+SteppingStonesOutputTrajectories::SteppingStonesOutputTrajectories(PhaseVariableParams phase_params,
+                                                                   SwingFootBezierParams swing_params,
                                                                    const StepOutputParameters& step)
     : phase_(phase_params),
       raw_phase_({.type = phase_params.type, .saturate = false}),
@@ -241,12 +256,15 @@ SteppingStonesOutputTrajectories::SteppingStonesOutputTrajectories(PhaseVariable
       torso_(step.phi_0, step.phi_f),
       swing_(swing_params, step.p_sw0_x, step.p_sw0_z, step.step_length, step.step_height) {}
 
-Phase SteppingStonesOutputTrajectories::CalcPhase(double t, double p_com_x, double pdot_com_x, double pddot_com_x) const {
-  if (phase_.params().type == PhaseType::kTimeBased) return phase_.TimeBased(t, step_.step_start_time, step_.step_duration);
+Phase SteppingStonesOutputTrajectories::CalcPhase(double t, double p_com_x, double pdot_com_x,
+                                                  double pddot_com_x) const {
+  if (phase_.params().type == PhaseType::kTimeBased)
+    return phase_.TimeBased(t, step_.step_start_time, step_.step_duration);
   return phase_.StateBased(p_com_x, pdot_com_x, pddot_com_x, step_.p_com_x0, step_.impact_fraction * step_.step_length);
 }
 
-DesiredOutputs SteppingStonesOutputTrajectories::Evaluate(double t, double p_com_x, double pdot_com_x, double pddot_com_x,
+DesiredOutputs SteppingStonesOutputTrajectories::Evaluate(double t, double p_com_x, double pdot_com_x,
+                                                          double pddot_com_x,
                                                           const Eigen::Vector3d& com_height_desired) const {
   DesiredOutputs out;
   out.phase = CalcPhase(t, p_com_x, pdot_com_x, pddot_com_x);
@@ -256,7 +274,8 @@ DesiredOutputs SteppingStonesOutputTrajectories::Evaluate(double t, double p_com
   if (swing_.params().touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd) {
     const Phase raw = phase_.params().type == PhaseType::kTimeBased
                           ? raw_phase_.TimeBased(t, step_.step_start_time, step_.step_duration)
-                          : raw_phase_.StateBased(p_com_x, pdot_com_x, pddot_com_x, step_.p_com_x0, step_.impact_fraction * step_.step_length);
+                          : raw_phase_.StateBased(p_com_x, pdot_com_x, pddot_com_x, step_.p_com_x0,
+                                                  step_.impact_fraction * step_.step_length);
     if (raw.tau > 1.0) swing_z_phase = raw;
   }
   const ScalarDerivatives parts[4] = {ToTimeDerivatives(torso_.Evaluate(tau), out.phase),

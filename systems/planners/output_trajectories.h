@@ -117,8 +117,8 @@ enum class SwingTouchdownTiming {
   kAtPhaseEnd,
 };
 enum class SwingApexReference {
-  kStanceFoot,       ///< Paper: z_max is a height relative to the stance foot.
-  kHigherFoothold,   ///< Ours: z_max = max(p_sw0^z, h_des) + clearance (stairs-friendly).
+  kStanceFoot,      ///< Paper: z_max is a height relative to the stance foot.
+  kHigherFoothold,  ///< Ours: z_max = max(p_sw0^z, h_des) + clearance (stairs-friendly).
   /// Ours: z_max = max(p_sw0^z, 0, h_des) + clearance: also clears the stance foot's stone, which the swing foot
   /// passes over (on random stones both neighbours can lie below it).
   kHighestStone,
@@ -139,9 +139,9 @@ struct SwingFootBezierParams {
   /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a
   /// short, fast step then still lands on the stone centre instead of its near edge.
   double horizontal_arrival_phase = 1.0;
-  /// Ours, off by default (the paper's table under Eq. (24)): the vertical curve's second control point equals its first,
-  /// [p_sw0^z, p_sw0^z, c, c, h_des, h_des + z_neg] instead of [p_sw0^z, c, c, c, ...], so the swing foot's desired
-  /// vertical velocity at lift-off is 0 like the foot's own (the horizontal curve already starts at rest). For
+  /// Ours, off by default (the paper's table under Eq. (24)): the vertical curve's second control point equals its
+  /// first, [p_sw0^z, p_sw0^z, c, c, h_des, h_des + z_neg] instead of [p_sw0^z, c, c, c, ...], so the swing foot's
+  /// desired vertical velocity at lift-off is 0 like the foot's own (the horizontal curve already starts at rest). For
   /// controllers that correct a velocity error fast (a CLF-QP with a small ε), which otherwise kick the swing leg at
   /// the torque limits at every lift-off. The apex (kExactPeak, kClearStanceStone) is still met by raising c.
   bool lift_off_at_rest = false;
@@ -182,13 +182,13 @@ class SwingFootBezier {
 /// Per-step constants of the outputs: α_0 (post-impact) and α_f (pre-impact posture, Eq. (21)), the step, and
 /// the phase bounds.
 struct StepOutputParameters {
-  double phi_0 = 0;           ///< [rad] torso pitch at the start of the step
-  double phi_f = 0;           ///< [rad] desired pre-impact torso pitch (Eq. (21))
-  double p_com_x0 = 0;        ///< [m] COM forward position at the start of the step
-  double p_sw0_x = 0;         ///< [m] swing foot at the start of the step
-  double p_sw0_z = 0;         ///< [m]
-  double step_length = 0.4;   ///< [m] l_des
-  double step_height = 0;     ///< [m] h_des
+  double phi_0 = 0;              ///< [rad] torso pitch at the start of the step
+  double phi_f = 0;              ///< [rad] desired pre-impact torso pitch (Eq. (21))
+  double p_com_x0 = 0;           ///< [m] COM forward position at the start of the step
+  double p_sw0_x = 0;            ///< [m] swing foot at the start of the step
+  double p_sw0_z = 0;            ///< [m]
+  double step_length = 0.4;      ///< [m] l_des
+  double step_height = 0;        ///< [m] h_des
   double impact_fraction = 0.6;  ///< [-] ε, p_comf^{x,d} = ε l_des
   double step_start_time = 0;    ///< [s] t_0 (time-based phase)
   double step_duration = 0.4;    ///< [s] T_s from Eq. (27) at the start of the step (time-based phase)
@@ -205,14 +205,16 @@ struct DesiredOutputs {
 /// Eq. (19): all desired outputs of one step.
 class SteppingStonesOutputTrajectories {
  public:
-  SteppingStonesOutputTrajectories(PhaseVariableParams phase_params, SwingFootBezierParams swing_params, const StepOutputParameters& step);
+  SteppingStonesOutputTrajectories(PhaseVariableParams phase_params, SwingFootBezierParams swing_params,
+                                   const StepOutputParameters& step);
   const StepOutputParameters& step() const { return step_; }
   const SwingFootBezier& swing_foot() const { return swing_; }
   const TorsoPitchCubic& torso() const { return torso_; }
   /// The phase from the COM forward state (state-based) or the time (time-based).
   Phase CalcPhase(double t, double p_com_x, double pdot_com_x, double pddot_com_x) const;
   /// Y_d and its time derivatives; com_height_desired = [p^{z,d}, ṗ^{z,d}, p̈^{z,d}] from the MPC.
-  DesiredOutputs Evaluate(double t, double p_com_x, double pdot_com_x, double pddot_com_x, const Eigen::Vector3d& com_height_desired) const;
+  DesiredOutputs Evaluate(double t, double p_com_x, double pdot_com_x, double pddot_com_x,
+                          const Eigen::Vector3d& com_height_desired) const;
 
  private:
   PhaseVariable phase_;

@@ -90,9 +90,7 @@ std::string PlanCache::EnsureDirectory() const {
   try {
     // A real probe (a temporary file, removed again): access() says yes to root on a read-only file system.
     const AtomicFileWriter probe(directory_ + "/.write_probe", "plan cache folder");
-  } catch (const std::exception& e) {
-    return name + ": is not writable (" + Excerpt(e.what(), 300) + ")";
-  }
+  } catch (const std::exception& e) { return name + ": is not writable (" + Excerpt(e.what(), 300) + ")"; }
   return {};
 }
 
@@ -122,7 +120,8 @@ std::optional<Eigen::VectorXd> PlanCache::ParseEntry(const std::string& text, co
   if (!NextLine(text, &at, &line) || line != kFormatLine) return std::nullopt;
   if (!NextLine(text, &at, &line) || line != key_text) return std::nullopt;
   if (!NextLine(text, &at, &line) || !ParseField(line, kCountPrefix, 10, &count)) return std::nullopt;
-  if (!NextLine(text, &at, &line) || line.size() != kChecksumPrefix.size() + 16 || !ParseField(line, kChecksumPrefix, 16, &checksum))
+  if (!NextLine(text, &at, &line) || line.size() != kChecksumPrefix.size() + 16 ||
+      !ParseField(line, kChecksumPrefix, 16, &checksum))
     return std::nullopt;
   const std::string_view payload = std::string_view(text).substr(at);
   // Each value takes two bytes at least (a digit and its newline): a count the file cannot hold is refused before
@@ -159,9 +158,7 @@ std::string PlanCache::Store(const PlanCacheKey& key, const Eigen::VectorXd& val
     std::filesystem::remove(file, ignored);  // a folder with content stays, and the write below names it
   try {
     WriteFileAtomically(file, EntryText(key, value), "plan cache entry");
-  } catch (const std::exception& e) {
-    return e.what();
-  }
+  } catch (const std::exception& e) { return e.what(); }
   return {};
 }
 

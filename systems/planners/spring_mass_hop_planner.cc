@@ -174,7 +174,8 @@ SpringMassJumpPlanner::SpringMassJumpPlanner(SpringMassParams rom, SpringMassJum
 }
 
 void SpringMassJumpParams::Validate() const {
-  CheckBounds("SpringMassJumpParams", {num_intervals, min_duration, max_duration, min_leg_length, max_leg_length, max_leg_speed, max_leg_acceleration});
+  CheckBounds("SpringMassJumpParams", {num_intervals, min_duration, max_duration, min_leg_length, max_leg_length,
+                                       max_leg_speed, max_leg_acceleration});
   if (!(apex_rise > 0.0) || !std::isfinite(apex_rise)) {
     std::ostringstream msg;
     msg << "SpringMassJumpParams: apex_rise = " << apex_rise << " m must be positive and finite";
@@ -184,7 +185,7 @@ void SpringMassJumpParams::Validate() const {
 
 SpringMassPlan SpringMassJumpPlanner::Solve(const Eigen::Vector4d& z0) const {
   const SpringMassJumpParams& P = params_;
-  const LegBounds b{P.num_intervals, P.min_duration, P.max_duration, P.min_leg_length,
+  const LegBounds b{P.num_intervals,  P.min_duration,  P.max_duration,        P.min_leg_length,
                     P.max_leg_length, P.max_leg_speed, P.max_leg_acceleration};
   CheckState("SpringMassJumpPlanner::Solve", z0, b);
   const SpringMassParams& rom = rom_.params();
@@ -227,21 +228,22 @@ SpringMassLandingPlanner::SpringMassLandingPlanner(SpringMassParams rom, SpringM
   if (L_rest < P.min_leg_length || L_rest > P.max_leg_length || L_rest - P.rest_height > P.max_spring_compression) {
     std::ostringstream msg;
     msg << "SpringMassLandingParams: rest_height = " << P.rest_height << " m needs leg length " << L_rest
-        << " m and compression " << L_rest - P.rest_height << " m at rest, outside the leg bounds ["
-        << P.min_leg_length << ", " << P.max_leg_length << "] m or max_spring_compression " << P.max_spring_compression
-        << " m";
+        << " m and compression " << L_rest - P.rest_height << " m at rest, outside the leg bounds [" << P.min_leg_length
+        << ", " << P.max_leg_length << "] m or max_spring_compression " << P.max_spring_compression << " m";
     throw std::invalid_argument(msg.str());
   }
 }
 
 void SpringMassLandingParams::Validate() const {
-  CheckBounds("SpringMassLandingParams", {num_intervals, min_duration, max_duration, min_leg_length, max_leg_length, max_leg_speed, max_leg_acceleration});
+  CheckBounds("SpringMassLandingParams", {num_intervals, min_duration, max_duration, min_leg_length, max_leg_length,
+                                          max_leg_speed, max_leg_acceleration});
   auto fail = [](const std::string& what, double value) {
     std::ostringstream msg;
     msg << "SpringMassLandingParams: " << what << " = " << value << " is invalid";
     throw std::invalid_argument(msg.str());
   };
-  if (!(min_force_fraction >= 0.0 && min_force_fraction < 1.0)) fail("min_force_fraction (must be in [0, 1))", min_force_fraction);
+  if (!(min_force_fraction >= 0.0 && min_force_fraction < 1.0))
+    fail("min_force_fraction (must be in [0, 1))", min_force_fraction);
   if (!(max_spring_compression > 0.0)) fail("max_spring_compression (must be > 0 m)", max_spring_compression);
   if (!(spring_rate_weight >= 0.0)) fail("spring_rate_weight (must be >= 0)", spring_rate_weight);
 }
@@ -269,7 +271,7 @@ SpringMassPlan SpringMassLandingPlanner::Resolve(const Eigen::Vector4d& z0) {
 
 SpringMassPlan SpringMassLandingPlanner::SolveFrom(const Eigen::Vector4d& z0, const SpringMassPlan* warm) {
   const SpringMassLandingParams& P = params_;
-  const LegBounds b{P.num_intervals, P.min_duration, P.max_duration, P.min_leg_length,
+  const LegBounds b{P.num_intervals,  P.min_duration,  P.max_duration,        P.min_leg_length,
                     P.max_leg_length, P.max_leg_speed, P.max_leg_acceleration};
   CheckState("SpringMassLandingPlanner::Solve", z0, b);
   const SpringMassParams& rom = rom_.params();
@@ -286,8 +288,8 @@ SpringMassPlan SpringMassLandingPlanner::SolveFrom(const Eigen::Vector4d& z0, co
   // Terminal rest: x_N = x_des, ẋ_N = 0 (ṡ_N = L̇_N − ẋ_N = 0 with L̇_N = 0), L̇_N = 0.
   dc.SetNodeStateBounds(0, -1, Eigen::Vector4d(P.rest_height, 0.0, -kInf, 0.0),
                         Eigen::Vector4d(P.rest_height, 0.0, kInf, 0.0));
-  dc.AddNodeConstraint(0, -1, 1, LegForceFunction(rom), Eigen::VectorXd::Constant(1, W), Eigen::VectorXd::Constant(1, W),
-                       "rest: leg force = m g");
+  dc.AddNodeConstraint(0, -1, 1, LegForceFunction(rom), Eigen::VectorXd::Constant(1, W),
+                       Eigen::VectorXd::Constant(1, W), "rest: leg force = m g");
   dc.AddNodeConstraint(
       0, -1, 1,
       [](const NodeVector&, const NodeVector& u, NodeVector& y) {

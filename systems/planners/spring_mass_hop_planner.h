@@ -51,16 +51,16 @@ IpoptSolverOptions SpringMassPlannerSolverOptions();
 /// One solved (or failed) jump or landing NLP.
 struct SpringMassPlan {
   NlpStatus status = NlpStatus::kError;
-  std::string message;          ///< Ipopt's outcome, naming the problem
+  std::string message;  ///< Ipopt's outcome, naming the problem
   int iterations = 0;
-  double solve_time_s = 0.0;    ///< wall time of the Ipopt solve [s]
-  double max_violation = 0.0;   ///< max violation of every constraint and bound at the solution (unscaled)
+  double solve_time_s = 0.0;   ///< wall time of the Ipopt solve [s]
+  double max_violation = 0.0;  ///< max violation of every constraint and bound at the solution (unscaled)
   double cost = 0.0;
-  double duration = 0.0;        ///< T [s]
-  Eigen::VectorXd times;        ///< node times [s], N + 1
-  Eigen::MatrixXd states;       ///< 4 × (N + 1): x, ẋ, L, L̇
-  Eigen::VectorXd inputs;       ///< L̈ at the nodes [m/s²]
-  Eigen::VectorXd leg_force;    ///< F at the nodes [N]
+  double duration = 0.0;                 ///< T [s]
+  Eigen::VectorXd times;                 ///< node times [s], N + 1
+  Eigen::MatrixXd states;                ///< 4 × (N + 1): x, ẋ, L, L̇
+  Eigen::VectorXd inputs;                ///< L̈ at the nodes [m/s²]
+  Eigen::VectorXd leg_force;             ///< F at the nodes [N]
   PiecewisePolynomial state_trajectory;  ///< cubic Hermite through (z_k, ż_k)
   PiecewisePolynomial input_trajectory;  ///< first-order hold of L̈
   Eigen::VectorXd decision_variables;    ///< for warm starts
@@ -81,17 +81,17 @@ struct SpringMassPlan {
 };
 
 struct SpringMassJumpParams {
-  double apex_rise = 0.2205;          ///< H [m]: COM rise above take-off. Default: the ROM air time is the paper's
-                                      ///< 0.423 s with the identified K(L) from standing at L = 0.85 m
-                                      ///< (ApexRiseForAirTime; 0.2286 m with the published K(L))
-  int num_intervals = 30;             ///< N (spec A2 [R]: 40 trapezoid intervals; 30 Hermite–Simpson intervals
-                                      ///< re-integrate to ~1e-4, measured)
-  double min_duration = 0.15;         ///< [s] (spec A2 [R])
-  double max_duration = 1.0;          ///< [s]
-  double min_leg_length = 0.60;       ///< [m] (spec A2 [R])
-  double max_leg_length = 0.92;       ///< [m] (spec A2 [R]: Caltech knee limit −54.4°)
-  double max_leg_speed = 2.5;         ///< [m/s] (knee 8.5 rad/s × dL/dq ≈ 0.3 m/rad)
-  double max_leg_acceleration = 100;  ///< [m/s²] (spec A2 [R])
+  double apex_rise = 0.2205;            ///< H [m]: COM rise above take-off. Default: the ROM air time is the paper's
+                                        ///< 0.423 s with the identified K(L) from standing at L = 0.85 m
+                                        ///< (ApexRiseForAirTime; 0.2286 m with the published K(L))
+  int num_intervals = 30;               ///< N (spec A2 [R]: 40 trapezoid intervals; 30 Hermite–Simpson intervals
+                                        ///< re-integrate to ~1e-4, measured)
+  double min_duration = 0.15;           ///< [s] (spec A2 [R])
+  double max_duration = 1.0;            ///< [s]
+  double min_leg_length = 0.60;         ///< [m] (spec A2 [R])
+  double max_leg_length = 0.92;         ///< [m] (spec A2 [R]: Caltech knee limit −54.4°)
+  double max_leg_speed = 2.5;           ///< [m/s] (knee 8.5 rad/s × dL/dq ≈ 0.3 m/rad)
+  double max_leg_acceleration = 100;    ///< [m/s²] (spec A2 [R])
   double initial_guess_duration = 0.0;  ///< [s] (ours); ≤ 0: automatic, 2.75 π / sqrt(n_legs K(L_0) / m) (the
                                         ///< stance times of both K variants are ~2.5-3 loaded half-periods)
   IpoptSolverOptions solver = SpringMassPlannerSolverOptions();
@@ -101,19 +101,19 @@ struct SpringMassJumpParams {
 };
 
 struct SpringMassLandingParams {
-  double rest_height = 0.83;          ///< x_des [m]: mass height at rest (spec A2 [R]: x_0 of the jump; set it)
-  int num_intervals = 30;             ///< N (as the jump)
-  double min_duration = 0.3;          ///< [s] (spec A2 [R])
-  double max_duration = 1.5;          ///< [s]
-  double min_leg_length = 0.60;       ///< [m]
-  double max_leg_length = 0.92;       ///< [m]
-  double max_leg_speed = 2.5;         ///< [m/s]
-  double max_leg_acceleration = 100;  ///< [m/s²]
-  double min_force_fraction = 0.25;   ///< F_min / (m g) (spec A2 [R])
+  double rest_height = 0.83;             ///< x_des [m]: mass height at rest (spec A2 [R]: x_0 of the jump; set it)
+  int num_intervals = 30;                ///< N (as the jump)
+  double min_duration = 0.3;             ///< [s] (spec A2 [R])
+  double max_duration = 1.5;             ///< [s]
+  double min_leg_length = 0.60;          ///< [m]
+  double max_leg_length = 0.92;          ///< [m]
+  double max_leg_speed = 2.5;            ///< [m/s]
+  double max_leg_acceleration = 100;     ///< [m/s²]
+  double min_force_fraction = 0.25;      ///< F_min / (m g) (spec A2 [R])
   double max_spring_compression = 0.10;  ///< s_max [m] (spec A2 [R])
-  double spring_rate_weight = 100.0;  ///< α of Eq. (16) [1/s²] (spec A2 [R])
-  double initial_guess_duration = 0.6;  ///< [s] (ours)
-  bool warm_start_multipliers = true;   ///< Resolve() also passes the last multipliers to Ipopt
+  double spring_rate_weight = 100.0;     ///< α of Eq. (16) [1/s²] (spec A2 [R])
+  double initial_guess_duration = 0.6;   ///< [s] (ours)
+  bool warm_start_multipliers = true;    ///< Resolve() also passes the last multipliers to Ipopt
   IpoptSolverOptions solver = SpringMassPlannerSolverOptions();
   /// Throws std::invalid_argument "SpringMassLandingParams: <field> ... = <value> ..." for the first invalid field
   /// (the jump's bounds, min_force_fraction in [0, 1), max_spring_compression > 0, spring_rate_weight >= 0). The
@@ -157,8 +157,8 @@ class SpringMassLandingPlanner {
 
 /// Ballistic flight after lift-off with the leg held at L(T) (the ROM's flight phase).
 struct SpringMassFlight {
-  double air_time = 0.0;           ///< [s] from lift-off until x = L(T) on the way down
-  double apex_height = 0.0;        ///< x at the apex [m]
+  double air_time = 0.0;                                      ///< [s] from lift-off until x = L(T) on the way down
+  double apex_height = 0.0;                                   ///< x at the apex [m]
   Eigen::Vector4d touchdown_state = Eigen::Vector4d::Zero();  ///< [L(T), ẋ_td, L(T), 0]
 };
 /// std::domain_error if the mass never returns to the leg length (it cannot: gravity) or lift-off is not upward.

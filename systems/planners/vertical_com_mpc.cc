@@ -9,14 +9,18 @@ namespace rome {
 
 VerticalComMpc::VerticalComMpc(VerticalComMpcParams params) : params_(params) {
   const int N = params_.horizon_steps;
-  if (N < 1) throw std::invalid_argument("VerticalComMpc: parameter horizon_steps (N) must be >= 1, got " + std::to_string(N));
+  if (N < 1)
+    throw std::invalid_argument("VerticalComMpc: parameter horizon_steps (N) must be >= 1, got " + std::to_string(N));
   if (!(params_.gravity > 0 && std::isfinite(params_.gravity)))
-    throw std::invalid_argument("VerticalComMpc: parameter gravity must be positive (m/s²), got " + std::to_string(params_.gravity));
+    throw std::invalid_argument("VerticalComMpc: parameter gravity must be positive (m/s²), got " +
+                                std::to_string(params_.gravity));
   if (!(params_.min_horizon_s > 0 && std::isfinite(params_.min_horizon_s)))
-    throw std::invalid_argument("VerticalComMpc: parameter min_horizon_s must be positive (s), got " + std::to_string(params_.min_horizon_s));
+    throw std::invalid_argument("VerticalComMpc: parameter min_horizon_s must be positive (s), got " +
+                                std::to_string(params_.min_horizon_s));
   if (!(params_.terminal_position_weight > 0) || !(params_.terminal_velocity_weight > 0))
-    throw std::invalid_argument("VerticalComMpc: parameters terminal_position_weight / terminal_velocity_weight must be > 0, got " +
-                                std::to_string(params_.terminal_position_weight) + " / " + std::to_string(params_.terminal_velocity_weight));
+    throw std::invalid_argument(
+        "VerticalComMpc: parameters terminal_position_weight / terminal_velocity_weight must be > 0, got " +
+        std::to_string(params_.terminal_position_weight) + " / " + std::to_string(params_.terminal_velocity_weight));
   const bool equality = params_.terminal_condition == VerticalComMpcParams::TerminalCondition::kEquality;
   qp_ = std::make_unique<DenseQpSolver>(equality ? N : N + 2, 2, 0, params_.qp);
   BuildQp(qp_.get(), /*with_slacks=*/!equality);
@@ -51,7 +55,8 @@ void VerticalComMpc::BuildQp(DenseQpSolver* qp, bool with_slacks) const {
 }
 
 QpStatus VerticalComMpc::Solve(double p_z, double pdot_z, double p_final, double v_final, double horizon_s) {
-  if (!(std::isfinite(p_z) && std::isfinite(pdot_z) && std::isfinite(p_final) && std::isfinite(v_final) && std::isfinite(horizon_s))) {
+  if (!(std::isfinite(p_z) && std::isfinite(pdot_z) && std::isfinite(p_final) && std::isfinite(v_final) &&
+        std::isfinite(horizon_s))) {
     status_ = QpStatus::kInvalidInput;
     return status_;
   }
@@ -91,7 +96,8 @@ void VerticalComMpc::StorePlan(const Eigen::VectorXd& x, double p_z, double pdot
   has_plan_ = true;
 }
 
-Eigen::Vector3d VerticalComMpc::EvaluatePlan(double p0, double v0, const Eigen::Ref<const Eigen::VectorXd>& u, double dt, double s) {
+Eigen::Vector3d VerticalComMpc::EvaluatePlan(double p0, double v0, const Eigen::Ref<const Eigen::VectorXd>& u,
+                                             double dt, double s) {
   double p = p0, v = v0;
   if (s <= 0) return Eigen::Vector3d(p, v, u.size() > 0 ? u[0] : 0.0);
   const int N = static_cast<int>(u.size());

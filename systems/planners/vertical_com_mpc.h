@@ -36,7 +36,7 @@ struct VerticalComMpcParams {
   enum class TerminalCondition { kEquality, kWeightedCost };
   /// [-] N, number of intervals. The paper leaves N to the user (Algorithm 1); ours: 20.
   int horizon_steps = 20;
-  double gravity = 9.81;  ///< [m/s²] the contact constraint u_k >= −g
+  double gravity = 9.81;                                                ///< [m/s²] the contact constraint u_k >= −g
   TerminalCondition terminal_condition = TerminalCondition::kEquality;  ///< Paper: equality (Eq. (28))
   double terminal_position_weight = 1e6;  ///< [-] ρ_p > 0, for kWeightedCost and the relaxation (ours)
   double terminal_velocity_weight = 1e6;  ///< [-] ρ_v > 0, for kWeightedCost and the relaxation (ours)
@@ -77,7 +77,8 @@ class VerticalComMpc {
 
   /// Position, velocity and acceleration of a plan (start state p0, v0, piecewise-constant inputs u over
   /// intervals dt) at time s after its start. Beyond the horizon the plan continues with zero acceleration.
-  static Eigen::Vector3d EvaluatePlan(double p0, double v0, const Eigen::Ref<const Eigen::VectorXd>& u, double dt, double s);
+  static Eigen::Vector3d EvaluatePlan(double p0, double v0, const Eigen::Ref<const Eigen::VectorXd>& u, double dt,
+                                      double s);
 
  private:
   VerticalComMpcParams params_;

@@ -9,7 +9,8 @@ VerticalComMpcSystem::VerticalComMpcSystem(std::string name, VerticalComMpcSyste
   if (!(params_.control_period_s > 0 && std::isfinite(params_.control_period_s)))
     ThrowError("parameter control_period_s must be positive (s), got " + std::to_string(params_.control_period_s));
   if (!(params_.hold_plan_below_horizon_s >= 0 && std::isfinite(params_.hold_plan_below_horizon_s)))
-    ThrowError("parameter hold_plan_below_horizon_s must be finite and >= 0 (s), got " + std::to_string(params_.hold_plan_below_horizon_s));
+    ThrowError("parameter hold_plan_below_horizon_s must be finite and >= 0 (s), got " +
+               std::to_string(params_.hold_plan_below_horizon_s));
   VerticalComMpc check(params_.mpc);  // validates the MPC parameters at construction
   const int N = params_.mpc.horizon_steps;
   state_port_ = DeclareInputPort("com_vertical_state", 2);
@@ -21,23 +22,31 @@ VerticalComMpcSystem::VerticalComMpcSystem(std::string name, VerticalComMpcSyste
   DeclarePeriodicDiscreteUpdate(params_.control_period_s, 0.0,
                                 [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
   if (params_.resolve_at_events)
-    DeclareEventUpdate("resolve_mpc", EventTrigger::AnyGuard(),
-                       [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
+    DeclareEventUpdate(
+        "resolve_mpc", EventTrigger::AnyGuard(),
+        [this](const LeafContext& c, const EventRecord&, State* next) { return Update(c, &next->discrete); });
   DeclareOutputPort(
       "com_height_desired", 3,
       [N](const LeafContext& c, Eigen::VectorXd* y) {
         const Eigen::VectorXd& xd = c.discrete_state();
-        *y = VerticalComMpc::EvaluatePlan(xd[kPlanPosition], xd[kPlanVelocity], xd.segment(kInputs, N), xd[kPlanDt], c.time() - xd[kPlanTime]);
+        *y = VerticalComMpc::EvaluatePlan(xd[kPlanPosition], xd[kPlanVelocity], xd.segment(kInputs, N), xd[kPlanDt],
+                                          c.time() - xd[kPlanTime]);
       },
       Feedthrough::None());
-  DeclareOutputPort("planned_inputs", N, [N](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(kInputs, N); },
-                    Feedthrough::None());
-  DeclareOutputPort("qp_failures", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kFailures]; },
-                    Feedthrough::None());
-  DeclareOutputPort("terminal_relaxations", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kRelaxations]; },
-                    Feedthrough::None());
-  DeclareOutputPort("qp_status", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kLastStatus]; },
-                    Feedthrough::None());
+  DeclareOutputPort(
+      "planned_inputs", N,
+      [N](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(kInputs, N); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "qp_failures", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kFailures]; },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "terminal_relaxations", 1,
+      [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kRelaxations]; },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "qp_status", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[kLastStatus]; },
+      Feedthrough::None());
 }
 
 EventStatus VerticalComMpcSystem::Update(const LeafContext& context, Eigen::VectorXd* next) const {

@@ -8,8 +8,8 @@
 //          target (3)             = [p_comf^{z,d} (m), u_des (m/s), T̂_s (s)] (MomentumRegulationPlannerSystem's
 //                                   'vertical_com_target', Eq. (26)-(27))
 // discrete state (8 + N): [t_plan (s), p_plan (m), v_plan (m/s), dt (s), last QP status (QpStatus as a number),
-//                          QP failures, QP solves, terminal relaxations, u_0..u_{N−1} (m/s²)] — the plan that started at t_plan from the
-//                          measured state (p_plan, v_plan).
+//                          QP failures, QP solves, terminal relaxations, u_0..u_{N−1} (m/s²)] — the plan that started
+//                          at t_plan from the measured state (p_plan, v_plan).
 // periodic update (period = params.control_period_s, offset 0): solve Eq. (28) from the measured state
 //          (warm-started QP, no heap allocation). If the terminal equality is infeasible the weighted terminal
 //          cost is used instead (VerticalComMpcParams::relax_terminal_on_infeasible; counted in
@@ -56,14 +56,16 @@ struct VerticalComMpcSystemParams {
 class VerticalComMpcSystem final : public LeafSystem {
  public:
   // Indices into the discrete state.
-  static constexpr int kPlanTime = 0, kPlanPosition = 1, kPlanVelocity = 2, kPlanDt = 3, kLastStatus = 4, kFailures = 5, kSolves = 6,
-                       kRelaxations = 7, kInputs = 8;
+  static constexpr int kPlanTime = 0, kPlanPosition = 1, kPlanVelocity = 2, kPlanDt = 3, kLastStatus = 4, kFailures = 5,
+                       kSolves = 6, kRelaxations = 7, kInputs = 8;
 
   explicit VerticalComMpcSystem(std::string name = "vertical_com_mpc", VerticalComMpcSystemParams params = {});
   const VerticalComMpcSystemParams& params() const { return params_; }
   int horizon_steps() const { return params_.mpc.horizon_steps; }
   /// The MPC workspace of a context (for inspection in tests).
-  const VerticalComMpc& workspace(const LeafContext& context) const { return *context.scratch<std::shared_ptr<VerticalComMpc>>(); }
+  const VerticalComMpc& workspace(const LeafContext& context) const {
+    return *context.scratch<std::shared_ptr<VerticalComMpc>>();
+  }
 
  protected:
   std::any AllocateScratch() const override { return std::make_shared<VerticalComMpc>(params_.mpc); }

@@ -5,10 +5,13 @@
 namespace rome {
 namespace {
 
-Eigen::Vector2d Foothold(const WalkingPlanSegment& s, int foot) { return foot == 0 ? s.left_foothold : s.right_foothold; }
+Eigen::Vector2d Foothold(const WalkingPlanSegment& s, int foot) {
+  return foot == 0 ? s.left_foothold : s.right_foothold;
+}
 
 bool Swings(const WalkingPlanSegment& s, int foot) {
-  return (foot == 0 && s.domain == WalkingDomain::kRightStance) || (foot == 1 && s.domain == WalkingDomain::kLeftStance);
+  return (foot == 0 && s.domain == WalkingDomain::kRightStance) ||
+         (foot == 1 && s.domain == WalkingDomain::kLeftStance);
 }
 
 // Quintic h(τ), τ ∈ [0, T]: h(0) = 0, ḣ(0) = 0, h(T/2) = apex, ḣ(T/2) = 0, h(T) = 0, ḣ(T) = −v_td.
@@ -31,31 +34,33 @@ Eigen::Matrix<double, 6, 1> HeightCoefficients(double T, double apex, double v_t
 WalkingOutputReference::WalkingOutputReference(std::string name, WalkingPlan plan, SwingFootTrajectoryParams params)
     : LeafSystem(std::move(name)), plan_(std::move(plan)), params_(params) {
   if (plan_.segments().empty()) ThrowError("the walking plan is empty");
-  if (!(params_.apex_height_m > 0.0)) ThrowError("parameter apex_height_m must be > 0, got " + std::to_string(params_.apex_height_m));
+  if (!(params_.apex_height_m > 0.0))
+    ThrowError("parameter apex_height_m must be > 0, got " + std::to_string(params_.apex_height_m));
   // > 0: after T_SSP a late foot keeps descending at this speed; at 0 it would hover on the ground and never land.
   if (!(params_.touchdown_velocity_mps > 0.0))
     ThrowError("parameter touchdown_velocity_mps must be > 0, got " + std::to_string(params_.touchdown_velocity_mps));
   const int com = DeclareInputPort("com", 9);
-  DeclareOutputPort("desired", 3 * kNumOutputs,
-                    [this, com](const LeafContext& c, Eigen::VectorXd* y) {
-                      const Eigen::VectorXd& r = EvalInput(c, com);
-                      constexpr int n = kNumOutputs;
-                      y->setZero();
-                      for (int i = 0; i < 3; ++i) {
-                        (*y)[i] = r[i];
-                        (*y)[n + i] = r[3 + i];
-                        (*y)[2 * n + i] = r[6 + i];
-                      }
-                      Eigen::Vector3d p, v, a;
-                      for (int foot = 0; foot < 2; ++foot) {
-                        SwingFoot(foot, c.time(), p, v, a);
-                        const int o = 6 + 6 * foot;
-                        y->segment<3>(o) = p;
-                        y->segment<3>(n + o) = v;
-                        y->segment<3>(2 * n + o) = a;
-                      }
-                    },
-                    Feedthrough::All());
+  DeclareOutputPort(
+      "desired", 3 * kNumOutputs,
+      [this, com](const LeafContext& c, Eigen::VectorXd* y) {
+        const Eigen::VectorXd& r = EvalInput(c, com);
+        constexpr int n = kNumOutputs;
+        y->setZero();
+        for (int i = 0; i < 3; ++i) {
+          (*y)[i] = r[i];
+          (*y)[n + i] = r[3 + i];
+          (*y)[2 * n + i] = r[6 + i];
+        }
+        Eigen::Vector3d p, v, a;
+        for (int foot = 0; foot < 2; ++foot) {
+          SwingFoot(foot, c.time(), p, v, a);
+          const int o = 6 + 6 * foot;
+          y->segment<3>(o) = p;
+          y->segment<3>(n + o) = v;
+          y->segment<3>(2 * n + o) = a;
+        }
+      },
+      Feedthrough::All());
 }
 
 void WalkingOutputReference::SwingFoot(int foot, double t, Eigen::Ref<Eigen::Vector3d> p, Eigen::Ref<Eigen::Vector3d> v,

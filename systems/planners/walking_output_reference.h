@@ -22,9 +22,9 @@
 namespace rome {
 
 struct SwingFootTrajectoryParams {
-  double apex_height_m = 0.08;           ///< [m] sole clearance at mid-SSP (spec [R])
-  double touchdown_velocity_mps = 0.1;   ///< [m/s] downward sole speed at T_SSP, > 0 (spec [R]); a late foot keeps it
-  double ankle_height_m = 0.08;          ///< [m] ankle above the sole (the exoskeleton's model; set from the robot)
+  double apex_height_m = 0.08;          ///< [m] sole clearance at mid-SSP (spec [R])
+  double touchdown_velocity_mps = 0.1;  ///< [m/s] downward sole speed at T_SSP, > 0 (spec [R]); a late foot keeps it
+  double ankle_height_m = 0.08;         ///< [m] ankle above the sole (the exoskeleton's model; set from the robot)
 };
 
 class WalkingOutputReference final : public LeafSystem {
@@ -33,7 +33,8 @@ class WalkingOutputReference final : public LeafSystem {
   WalkingOutputReference(std::string name, WalkingPlan plan, SwingFootTrajectoryParams params = {});
   const SwingFootTrajectoryParams& params() const { return params_; }
   /// Ankle position, velocity, acceleration [m, m/s, m/s²] of foot `foot` (0 left, 1 right) at global time t.
-  void SwingFoot(int foot, double t, Eigen::Ref<Eigen::Vector3d> p, Eigen::Ref<Eigen::Vector3d> v, Eigen::Ref<Eigen::Vector3d> a) const;
+  void SwingFoot(int foot, double t, Eigen::Ref<Eigen::Vector3d> p, Eigen::Ref<Eigen::Vector3d> v,
+                 Eigen::Ref<Eigen::Vector3d> a) const;
 
  private:
   WalkingPlan plan_;

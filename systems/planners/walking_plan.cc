@@ -35,10 +35,12 @@ WalkingReference WalkingPlan::Sample(double t) const {
   if (s.lateral_nodes.cols() > 0) {
     // Footed H-LIP with the torque held on [t_k, t_{k+1}).
     const Eigen::Index n = s.lateral_node_times.size();
-    Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n, tau + kSegmentBoundaryTolerance_s) -
+    Eigen::Index k = std::upper_bound(s.lateral_node_times.data(), s.lateral_node_times.data() + n,
+                                      tau + kSegmentBoundaryTolerance_s) -
                      s.lateral_node_times.data() - 1;
     k = std::clamp<Eigen::Index>(k, 0, n - 2);
-    const double mz = s.lateral_mass_heights.size() == s.lateral_stiffness.size() ? s.lateral_mass_heights(k) : s.mass_height;
+    const double mz =
+        s.lateral_mass_heights.size() == s.lateral_stiffness.size() ? s.lateral_mass_heights(k) : s.mass_height;
     const double dt = tau - s.lateral_node_times(k), a_u = s.lateral_torques(k) / mz;
     const double y0 = s.lateral_nodes(0, k), v0 = s.lateral_nodes(1, k);
     const double a = s.lateral_stiffness(k);
@@ -85,21 +87,24 @@ WalkingReference WalkingPlan::Sample(double t) const {
 
 void WalkingPlan::SetComCorrection(PiecewisePolynomial position, PiecewisePolynomial acceleration) {
   if (position.rows() != 2 || acceleration.rows() != 2)
-    throw std::invalid_argument("WalkingPlan::SetComCorrection: position and acceleration must have 2 rows (x, y), got " +
-                                std::to_string(position.rows()) + " and " + std::to_string(acceleration.rows()));
+    throw std::invalid_argument(
+        "WalkingPlan::SetComCorrection: position and acceleration must have 2 rows (x, y), got " +
+        std::to_string(position.rows()) + " and " + std::to_string(acceleration.rows()));
   correction_position_ = std::move(position);
   correction_acceleration_ = std::move(acceleration);
 }
 
 Eigen::Vector2d WalkingPlan::ComCorrection(double t) const {
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
-  if (has_com_correction() && t >= correction_position_.start_time() && t <= correction_position_.end_time()) correction_position_.ValueInto(t, c);
+  if (has_com_correction() && t >= correction_position_.start_time() && t <= correction_position_.end_time())
+    correction_position_.ValueInto(t, c);
   return c;
 }
 
 void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, int steps,
                                       WalkingDomain first_stance, double stance_x, double step_width,
-                                      bool begin_with_double_support, bool end_with_single_support, double walking_line_y) {
+                                      bool begin_with_double_support, bool end_with_single_support,
+                                      double walking_line_y) {
   std::ostringstream msg;
   if (steps < 1) msg << "steps must be >= 1, got " << steps;
   if (!(step_width > 0) || !std::isfinite(step_width)) msg << "step_width must be > 0 m, got " << step_width;
@@ -108,8 +113,10 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
   if (!gait.success()) msg << "the gait is not solved (" << gait.collocation.nlp.message << ")";
   if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendPeriodicSteps: " + msg.str());
   const AslipPeriodicGaitParams& q = planner.params();
-  const HybridLinearInvertedPendulum hlip(
-      {.z0 = gait.mean_height, .ssp_duration = q.ssp_duration, .dsp_duration = q.dsp_duration, .gravity = q.aslip.gravity});
+  const HybridLinearInvertedPendulum hlip({.z0 = gait.mean_height,
+                                           .ssp_duration = q.ssp_duration,
+                                           .dsp_duration = q.dsp_duration,
+                                           .gravity = q.aslip.gravity});
   const Eigen::Vector2d pre_left = hlip.P2PreImpactState(step_width);  // end of a left stance, about the left foot
   double t0 = end_time();
   bool left = first_stance == WalkingDomain::kLeftStance;
@@ -128,7 +135,8 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
       WalkingPlanSegment seg;
       seg.start_time = t0;
       seg.duration = s.duration;
-      seg.domain = ph == 1 ? WalkingDomain::kDoubleSupport : (left ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance);
+      seg.domain =
+          ph == 1 ? WalkingDomain::kDoubleSupport : (left ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance);
       seg.sagittal_x_offset = x0;
       seg.sagittal = PiecewisePolynomial::CubicHermite(s.times.array() - s.start_time, s.states.topRows(4),
                                                        s.state_derivatives.topRows(4));
@@ -160,20 +168,25 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
 
 void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
                                    const AslipTransitionData& data, double x_offset,
-                                   const FootedHlipTransitionData& lateral_data, const FootedHlipTransitionPlan& lateral,
-                                   double mass, double landing_x, double landing_y) {
+                                   const FootedHlipTransitionData& lateral_data,
+                                   const FootedHlipTransitionPlan& lateral, double mass, double landing_x,
+                                   double landing_y) {
   std::ostringstream msg;
-  if (!transition.success()) msg << "the footed-aSLIP transition is not solved (" << transition.collocation.nlp.message << ")";
+  if (!transition.success())
+    msg << "the footed-aSLIP transition is not solved (" << transition.collocation.nlp.message << ")";
   if (!lateral.success()) msg << "the footed H-LIP transition is not solved (" << lateral.message << ")";
   if (!(mass > 0)) msg << "mass must be > 0 kg, got " << mass;
   if (std::isinf(landing_y)) msg << "landing_y must be finite or NaN (where the foot lifted), got " << landing_y;
-  const int Nd = static_cast<int>(transition.collocation.phases.empty() ? 0 : transition.collocation.phases[0].times.size());
-  const int Ns = static_cast<int>(transition.collocation.phases.size() < 2 ? 0 : transition.collocation.phases[1].times.size());
+  const int Nd =
+      static_cast<int>(transition.collocation.phases.empty() ? 0 : transition.collocation.phases[0].times.size());
+  const int Ns =
+      static_cast<int>(transition.collocation.phases.size() < 2 ? 0 : transition.collocation.phases[1].times.size());
   if (msg.str().empty() && lateral_data.node_times.size() != Nd + Ns - 1) {
     msg << "the lateral plan has " << lateral_data.node_times.size() << " nodes, the sagittal grid " << Nd + Ns - 1;
   }
   if (msg.str().empty() && lateral.interval_stiffness.size() != lateral_data.node_times.size() - 1) {
-    msg << "the lateral plan has " << lateral.interval_stiffness.size() << " interval models for " << lateral_data.node_times.size() << " nodes";
+    msg << "the lateral plan has " << lateral.interval_stiffness.size() << " interval models for "
+        << lateral_data.node_times.size() << " nodes";
   }
   if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendTransition: " + msg.str());
   const AslipParams& p = planner.params().bounds.aslip;
@@ -185,7 +198,8 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
     WalkingPlanSegment seg;
     seg.start_time = t0;
     seg.duration = s.duration;
-    seg.domain = ph == 0 ? WalkingDomain::kDoubleSupport : (stance == 0 ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance);
+    seg.domain = ph == 0 ? WalkingDomain::kDoubleSupport
+                         : (stance == 0 ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance);
     seg.sagittal_x_offset = x_offset;
     const Eigen::VectorXd tau = s.times.array() - s.start_time;
     seg.sagittal = PiecewisePolynomial::CubicHermite(tau, s.states.topRows(4), s.state_derivatives.topRows(4));
@@ -226,7 +240,8 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
 }
 
 FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
-                                                      const AslipTransitionData& data, int nodes_per_domain, double step_width_m) {
+                                                      const AslipTransitionData& data, int nodes_per_domain,
+                                                      double step_width_m) {
   const int N = nodes_per_domain;
   FootedHlipTransitionData lat;
   lat.node_times.resize(2 * N - 1);

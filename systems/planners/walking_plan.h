@@ -30,9 +30,9 @@ struct WalkingReference {
   Eigen::Vector3d com_position = Eigen::Vector3d::Zero();      ///< [m] world
   Eigen::Vector3d com_velocity = Eigen::Vector3d::Zero();      ///< [m/s]
   Eigen::Vector3d com_acceleration = Eigen::Vector3d::Zero();  ///< [m/s²]
-  Eigen::Vector2d left_foothold = Eigen::Vector2d::Zero();   ///< [m] (x, y) of the left ankle at the segment's end
-  Eigen::Vector2d right_foothold = Eigen::Vector2d::Zero();  ///< [m] (x, y) of the right ankle at the segment's end
-  Eigen::Vector2d normal_force = Eigen::Vector2d::Zero();    ///< [N] F^z_aSLIP of the left and right foot
+  Eigen::Vector2d left_foothold = Eigen::Vector2d::Zero();     ///< [m] (x, y) of the left ankle at the segment's end
+  Eigen::Vector2d right_foothold = Eigen::Vector2d::Zero();    ///< [m] (x, y) of the right ankle at the segment's end
+  Eigen::Vector2d normal_force = Eigen::Vector2d::Zero();      ///< [N] F^z_aSLIP of the left and right foot
   WalkingDomain domain = WalkingDomain::kDoubleSupport;
 };
 
@@ -40,13 +40,13 @@ struct WalkingPlanSegment {
   double start_time = 0.0;  ///< [s] global
   double duration = 0.0;    ///< [s]
   WalkingDomain domain = WalkingDomain::kDoubleSupport;
-  double sagittal_x_offset = 0.0;   ///< [m] world x of the aSLIP plan's origin (its stance foot)
-  PiecewisePolynomial sagittal;     ///< [x, z, ẋ, ż] of the aSLIP on [0, duration]
+  double sagittal_x_offset = 0.0;             ///< [m] world x of the aSLIP plan's origin (its stance foot)
+  PiecewisePolynomial sagittal;               ///< [x, z, ẋ, ż] of the aSLIP on [0, duration]
   PiecewisePolynomial sagittal_acceleration;  ///< [ẍ, z̈] (first-order hold)
   PiecewisePolynomial normal_forces;          ///< [F_L, F_R] (first-order hold)
   Eigen::Vector2d lateral_start = Eigen::Vector2d::Zero();  ///< [y (m), ẏ (m/s)] world, at the segment start
-  double lateral_pivot_y = 0.0;  ///< [m] stance foot y (SSP)
-  double lambda = 0.0;           ///< [1/s] H-LIP λ
+  double lateral_pivot_y = 0.0;                             ///< [m] stance foot y (SSP)
+  double lambda = 0.0;                                      ///< [1/s] H-LIP λ
   /// Footed H-LIP (transitions): lateral node times (relative to the segment start), node states [y; ẏ] (world) and
   /// the torque driving each interval (u_stance in SSP, u_L + u_R in DSP), held constant; m z0 of the model. Empty:
   /// the point-foot H-LIP from lateral_start.
@@ -79,8 +79,8 @@ class WalkingPlan {
   size_t SegmentIndexAt(double t) const;
 
   /// Appends `steps` steps of a periodic gait (each SSP then DSP), the first SSP standing on `first_stance`
-  /// (kLeftStance or kRightStance) at world x = stance_x, feet at y = walking_line_y ± W/2. The lateral motion is the H-LIP P2 orbit
-  /// with z0 = the gait's mean height, T_SSP and T_DSP from the gait, and foot separation W (spec §2.2).
+  /// (kLeftStance or kRightStance) at world x = stance_x, feet at y = walking_line_y ± W/2. The lateral motion is the
+  /// H-LIP P2 orbit with z0 = the gait's mean height, T_SSP and T_DSP from the gait, and foot separation W (spec §2.2).
   /// Throws std::invalid_argument naming the argument for steps < 1, W <= 0, a failed gait, or a non-stance domain.
   /// With begin_with_double_support, the first step contributes only its DSP (e.g. after a transition that ended
   /// at this gait's pre-impact state). With end_with_single_support the last step stops at its touchdown (its DSP is
@@ -116,8 +116,10 @@ class WalkingPlan {
 /// The footed H-LIP transition QP's data on the nodes of a solved standing transition (DSP then SSP; the DSP's last
 /// node is the SSP's first): node times, each foot's normal force from the transition's ground reactions (clipped at
 /// 0), the single-support flags, left stance, feet at ±step_width_m / 2, z0 = the transition's mean height, the node
-/// heights (used by the normal-force-pivot model) and a zero initial lateral state. The caller sets the final state and any other option.
+/// heights (used by the normal-force-pivot model) and a zero initial lateral state. The caller sets the final state and
+/// any other option.
 FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
-                                                      const AslipTransitionData& data, int nodes_per_domain, double step_width_m);
+                                                      const AslipTransitionData& data, int nodes_per_domain,
+                                                      double step_width_m);
 
 }  // namespace rome

@@ -13,22 +13,27 @@
 
 namespace rome {
 
-void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing,
+void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const WalkingPlan& plan,
+                                         const SwingFootTrajectoryParams& swing,
                                          const WalkingPlanInverseDynamicsParams& params,
                                          const std::function<void(const WalkingPlanInverseDynamicsSample&)>& visit) {
   const double h = params.sample_period_s;
   if (!(h > 0 && h <= 0.02))
-    throw std::invalid_argument("ForEachSingleSupportInverseDynamics: sample_period_s must be in (0, 0.02] s, got " + std::to_string(h));
+    throw std::invalid_argument("ForEachSingleSupportInverseDynamics: sample_period_s must be in (0, 0.02] s, got " +
+                                std::to_string(h));
   if (!(params.end_time_s > 0))
-    throw std::invalid_argument("ForEachSingleSupportInverseDynamics: end_time_s must be > 0 s, got " + std::to_string(params.end_time_s));
+    throw std::invalid_argument("ForEachSingleSupportInverseDynamics: end_time_s must be > 0 s, got " +
+                                std::to_string(params.end_time_s));
   const int nv = model.nv(), nu = model.nu();
   if (nu + 6 != nv)
-    throw std::invalid_argument("ForEachSingleSupportInverseDynamics: robot '" + model.name() + "' has " + std::to_string(nu) + " actuators for " +
-                                std::to_string(nv) + " velocities; single support is square only with nv - 6");
+    throw std::invalid_argument("ForEachSingleSupportInverseDynamics: robot '" + model.name() + "' has " +
+                                std::to_string(nu) + " actuators for " + std::to_string(nv) +
+                                " velocities; single support is square only with nv - 6");
   const int feet[2] = {model.BodyIndex("left_foot"), model.BodyIndex("right_foot")};
   const Eigen::MatrixXd q = ReplayWalkingPlan(model, plan, swing, h);
   const Eigen::Index N = q.cols() - 1;
-  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(N + 1, 0.0, static_cast<double>(N) * h);  // ReplayWalkingPlan's grid
+  const Eigen::VectorXd times =
+      Eigen::VectorXd::LinSpaced(N + 1, 0.0, static_cast<double>(N) * h);  // ReplayWalkingPlan's grid
   Eigen::MatrixXd A(nv, nv), J(6, nv);
   A.setZero();
   for (int j = 0; j < nu; ++j) A(model.actuators()[j].v_index, j) = 1.0;
@@ -38,19 +43,22 @@ void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const Walk
   for (Eigen::Index k = 1; k < N && times[k] <= params.end_time_s; ++k) {
     const WalkingDomain domain = plan.Sample(times[k]).domain;
     if (domain == WalkingDomain::kDoubleSupport) continue;
-    if (plan.Sample(times[k - 1]).domain != domain || plan.Sample(times[k + 1]).domain != domain) continue;  // a difference across a switch
+    if (plan.Sample(times[k - 1]).domain != domain || plan.Sample(times[k + 1]).domain != domain)
+      continue;  // a difference across a switch
     s.time_s = times[k];
     s.stance_body = feet[domain == WalkingDomain::kLeftStance ? 0 : 1];
     s.q = q.col(k);
     s.v = (q.col(k + 1) - q.col(k - 1)) / (2.0 * h);
     s.qdd = (q.col(k + 1) - 2.0 * q.col(k) + q.col(k - 1)) / (h * h);
     CalcInverseDynamics(model, ws, s.q, s.v, s.qdd, tau);
-    CalcFrameJacobian(model, ws, s.q, s.stance_body, Eigen::Vector3d(0, 0, -swing.ankle_height_m), J);  // the sole point below the ankle
+    CalcFrameJacobian(model, ws, s.q, s.stance_body, Eigen::Vector3d(0, 0, -swing.ankle_height_m),
+                      J);  // the sole point below the ankle
     A.rightCols(6) = J.transpose();
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(A);
     if (!(std::abs(lu.determinant()) > 0.0))
-      throw std::runtime_error("ForEachSingleSupportInverseDynamics: robot '" + model.name() + "': the single-support equations are singular at t = " +
-                               std::to_string(s.time_s) + " s");
+      throw std::runtime_error("ForEachSingleSupportInverseDynamics: robot '" + model.name() +
+                               "': the single-support equations are singular at t = " + std::to_string(s.time_s) +
+                               " s");
     const Eigen::VectorXd x = lu.solve(tau);
     s.u = x.head(nu);
     s.wrench = x.tail<6>();
@@ -58,7 +66,8 @@ void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const Walk
   }
 }
 
-WalkingPlanTorqueReport CalcWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing,
+WalkingPlanTorqueReport CalcWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan,
+                                               const SwingFootTrajectoryParams& swing,
                                                const WalkingPlanInverseDynamicsParams& params) {
   WalkingPlanTorqueReport r;
   r.peak_torque_Nm = Eigen::VectorXd::Zero(model.nu());

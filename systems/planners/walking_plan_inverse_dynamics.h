@@ -37,18 +37,18 @@ struct WalkingPlanInverseDynamicsParams {
 /// One single-support sample of the plan's inverse dynamics.
 struct WalkingPlanInverseDynamicsSample {
   double time_s = 0;
-  int stance_body = -1;           ///< body index of the stance foot
-  Eigen::VectorXd q, v, qdd;      ///< the replay's pose and its central differences
-  Eigen::VectorXd u;              ///< [N m] actuator torques (actuator order)
+  int stance_body = -1;                ///< body index of the stance foot
+  Eigen::VectorXd q, v, qdd;           ///< the replay's pose and its central differences
+  Eigen::VectorXd u;                   ///< [N m] actuator torques (actuator order)
   Eigen::Matrix<double, 6, 1> wrench;  ///< [N m; N] the stance sole's wrench at the point below the ankle, world axes
 };
 
 struct WalkingPlanTorqueReport {
-  Eigen::VectorXd peak_torque_Nm;  ///< [N m] largest |u_j| over the single-support samples, per actuator
-  Eigen::VectorXd peak_time_s;     ///< [s] where each peak occurs
-  int worst_actuator = -1;         ///< the actuator with the largest peak / torque limit
+  Eigen::VectorXd peak_torque_Nm;   ///< [N m] largest |u_j| over the single-support samples, per actuator
+  Eigen::VectorXd peak_time_s;      ///< [s] where each peak occurs
+  int worst_actuator = -1;          ///< the actuator with the largest peak / torque limit
   double worst_limit_fraction = 0;  ///< [-] that ratio (above 1: the plan asks more than the actuator has)
-  double peak_normal_force_N = 0;  ///< [N] largest stance normal force
+  double peak_normal_force_N = 0;   ///< [N] largest stance normal force
   /// [-] largest |F_t| / F_n of the stance sole: the friction coefficient the plan needs (above the ground's μ the
   /// stance foot must slip); a sample with F_n <= 0 (the foot would have to pull) counts as infinity
   double peak_friction_ratio = 0;
@@ -58,18 +58,20 @@ struct WalkingPlanTorqueReport {
   /// edges are measured from that same point
   Eigen::Vector2d peak_cop_offset_m = Eigen::Vector2d::Zero();
   double peak_yaw_moment_ratio_m = 0;  ///< [m] largest |M_z| / F_n (the torsion the sole must hold by friction)
-  int samples = 0;                 ///< single-support samples solved
+  int samples = 0;                     ///< single-support samples solved
 };
 
 /// Calls `visit` for every single-support sample of `plan` (see the header). `swing` must be the swing-foot parameters
 /// the diagram tracks (ankle height set from the robot). Throws std::invalid_argument for a bad parameter or model,
 /// std::runtime_error if a replay pose does not converge or the equations of motion are singular at a sample.
-void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing,
+void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const WalkingPlan& plan,
+                                         const SwingFootTrajectoryParams& swing,
                                          const WalkingPlanInverseDynamicsParams& params,
                                          const std::function<void(const WalkingPlanInverseDynamicsSample&)>& visit);
 
 /// The peak torques of ForEachSingleSupportInverseDynamics against the model's torque limits.
-WalkingPlanTorqueReport CalcWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan, const SwingFootTrajectoryParams& swing,
+WalkingPlanTorqueReport CalcWalkingPlanTorques(const MultibodyModel& model, const WalkingPlan& plan,
+                                               const SwingFootTrajectoryParams& swing,
                                                const WalkingPlanInverseDynamicsParams& params = {});
 
 }  // namespace rome

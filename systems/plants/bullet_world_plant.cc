@@ -48,8 +48,9 @@ class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
   double warm_start_factor = 0.0;
 
  protected:
-  btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds, int num_manifolds,
-                                        btTypedConstraint** constraints, int num_constraints, const btContactSolverInfo& info, btIDebugDraw* draw) override {
+  btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds,
+                                        int num_manifolds, btTypedConstraint** constraints, int num_constraints,
+                                        const btContactSolverInfo& info, btIDebugDraw* draw) override {
     // Each manifold point's friction impulse of the previous substep as a world vector (its directions change).
     friction_points_.resize(0);
     friction_impulses_.resize(0);
@@ -58,14 +59,17 @@ class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
         for (int j = 0; j < manifolds[m]->getNumContacts(); ++j) {
           const btManifoldPoint& cp = manifolds[m]->getContactPoint(j);
           friction_points_.push_back(&cp);
-          friction_impulses_.push_back(cp.m_lateralFrictionDir1 * cp.m_appliedImpulseLateral1 + cp.m_lateralFrictionDir2 * cp.m_appliedImpulseLateral2);
+          friction_impulses_.push_back(cp.m_lateralFrictionDir1 * cp.m_appliedImpulseLateral1 +
+                                       cp.m_lateralFrictionDir2 * cp.m_appliedImpulseLateral2);
         }
-    const btScalar result =
-        btMultiBodyConstraintSolver::solveGroupCacheFriendlySetup(bodies, num_bodies, manifolds, num_manifolds, constraints, num_constraints, info, draw);
+    const btScalar result = btMultiBodyConstraintSolver::solveGroupCacheFriendlySetup(
+        bodies, num_bodies, manifolds, num_manifolds, constraints, num_constraints, info, draw);
     if (warm_start_factor > 0) {
       for (int i = 0; i < m_multiBodyNonContactConstraints.size(); ++i) {
         btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
-        if (c.m_orgConstraint != nullptr) WarmStart(c, warm_start_factor * c.m_orgConstraint->getAppliedImpulse(c.m_orgDofIndex), c.m_lowerLimit, c.m_upperLimit);
+        if (c.m_orgConstraint != nullptr)
+          WarmStart(c, warm_start_factor * c.m_orgConstraint->getAppliedImpulse(c.m_orgDofIndex), c.m_lowerLimit,
+                    c.m_upperLimit);
       }
       const int num_directions = (info.m_solverMode & SOLVER_USE_2_FRICTION_DIRECTIONS) ? 2 : 1;
       for (int i = 0; i < m_multiBodyNormalContactConstraints.size(); ++i) {
@@ -75,7 +79,9 @@ class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
         WarmStart(c, warm_start_factor * cp->m_appliedImpulse, c.m_lowerLimit, c.m_upperLimit);
         const btScalar normal = c.m_appliedImpulse;
         const int k = friction_points_.findLinearSearch(cp);
-        if (normal <= 0 || k == friction_points_.size() || c.m_frictionIndex + num_directions > m_multiBodyFrictionContactConstraints.size()) continue;
+        if (normal <= 0 || k == friction_points_.size() ||
+            c.m_frictionIndex + num_directions > m_multiBodyFrictionContactConstraints.size())
+          continue;
         const btVector3 directions[2] = {cp->m_lateralFrictionDir1, cp->m_lateralFrictionDir2};
         for (int d = 0; d < num_directions; ++d) {
           btMultiBodySolverConstraint& f = m_multiBodyFrictionContactConstraints[c.m_frictionIndex + d];
@@ -86,9 +92,11 @@ class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
     }
     return result;
   }
-  btScalar solveSingleIteration(int iteration, btCollisionObject** bodies, int num_bodies, btPersistentManifold** manifolds, int num_manifolds,
-                                btTypedConstraint** constraints, int num_constraints, const btContactSolverInfo& info, btIDebugDraw* draw) override {
-    btMultiBodyConstraintSolver::solveSingleIteration(iteration, bodies, num_bodies, manifolds, num_manifolds, constraints, num_constraints, info, draw);
+  btScalar solveSingleIteration(int iteration, btCollisionObject** bodies, int num_bodies,
+                                btPersistentManifold** manifolds, int num_manifolds, btTypedConstraint** constraints,
+                                int num_constraints, const btContactSolverInfo& info, btIDebugDraw* draw) override {
+    btMultiBodyConstraintSolver::solveSingleIteration(iteration, bodies, num_bodies, manifolds, num_manifolds,
+                                                      constraints, num_constraints, info, draw);
     const btAlignedObjectArray<btScalar>& dv = m_data.m_deltaVelocities;
     if (previous_.size() != dv.size()) previous_.resize(dv.size(), 0.0);  // grows to the high-water mark only
     btScalar change = 0;
@@ -108,12 +116,16 @@ class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
   // Starts row c at warm_start_factor * previous (clamped to its limits). Only rows between multibodies and static
   // objects (the terrain): a dynamic rigid body's solver body would need the impulse too, and there is none.
   void WarmStart(btMultiBodySolverConstraint& c, btScalar start, btScalar lower, btScalar upper) {
-    if ((c.m_multiBodyA == nullptr && !IsStatic(c.m_solverBodyIdA)) || (c.m_multiBodyB == nullptr && !IsStatic(c.m_solverBodyIdB))) return;
+    if ((c.m_multiBodyA == nullptr && !IsStatic(c.m_solverBodyIdA)) ||
+        (c.m_multiBodyB == nullptr && !IsStatic(c.m_solverBodyIdB)))
+      return;
     const btScalar impulse = btMin(upper, btMax(lower, start));
     if (impulse == 0) return;
     c.m_appliedImpulse = impulse;
-    if (c.m_multiBodyA) Apply(c.m_multiBodyA, &m_data.m_deltaVelocitiesUnitImpulse[c.m_jacAindex], impulse, c.m_deltaVelAindex);
-    if (c.m_multiBodyB) Apply(c.m_multiBodyB, &m_data.m_deltaVelocitiesUnitImpulse[c.m_jacBindex], impulse, c.m_deltaVelBindex);
+    if (c.m_multiBodyA)
+      Apply(c.m_multiBodyA, &m_data.m_deltaVelocitiesUnitImpulse[c.m_jacAindex], impulse, c.m_deltaVelAindex);
+    if (c.m_multiBodyB)
+      Apply(c.m_multiBodyB, &m_data.m_deltaVelocitiesUnitImpulse[c.m_jacBindex], impulse, c.m_deltaVelBindex);
   }
   // As Bullet's rows do: the solver's velocity change and the multibody's deferred one (m_deltaV, which the world adds
   // to the velocities after the solve).
@@ -121,7 +133,9 @@ class ConvergingMultiBodySolver final : public btMultiBodyConstraintSolver {
     body->applyDeltaVeeMultiDof2(unit_response, impulse);
     applyDeltaVee(const_cast<btScalar*>(unit_response), impulse, velocity_index, body->getNumDofs() + 6);
   }
-  bool IsStatic(int solver_body) const { return solver_body < 0 || m_tmpSolverBodyPool[solver_body].m_originalBody == nullptr; }
+  bool IsStatic(int solver_body) const {
+    return solver_body < 0 || m_tmpSolverBodyPool[solver_body].m_originalBody == nullptr;
+  }
 };
 
 }  // namespace
@@ -219,7 +233,8 @@ void BulletWorldPlant::World::AddRobotConstraints() {
   for (int r = 0; r < nr; ++r) {
     const double I = model.reflected_inertia()[plant->rotor_dofs_[r]];
     auto rotor = std::make_unique<btMultiBody>(1, 0.0, btVector3(0, 0, 0), /*fixedBase=*/true, /*canSleep=*/false);
-    rotor->setupRevolute(0, 0.0, btVector3(I, I, I), -1, btQuaternion(0, 0, 0, 1), btVector3(0, 0, 1), btVector3(0, 0, 0), btVector3(0, 0, 0), true);
+    rotor->setupRevolute(0, 0.0, btVector3(I, I, I), -1, btQuaternion(0, 0, 0, 1), btVector3(0, 0, 1),
+                         btVector3(0, 0, 0), btVector3(0, 0, 0), true);
     rotor->finalizeMultiDof();
     rotor->setLinearDamping(0.0);
     rotor->setAngularDamping(0.0);
@@ -230,8 +245,9 @@ void BulletWorldPlant::World::AddRobotConstraints() {
     const int link = model.BodyOfVelocity(plant->rotor_dofs_[r]);
     // Row: q̇_joint + ratio q̇_rotor = 0 with ratio −1, i.e. the rotor turns with the joint. No position error term: the
     // rotor angle enters nothing.
-    auto gear = std::make_unique<btMultiBodyGearConstraint>(mb.get(), link, rotor.get(), 0, btVector3(0, 0, 0), btVector3(0, 0, 0),
-                                                            btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity());
+    auto gear = std::make_unique<btMultiBodyGearConstraint>(mb.get(), link, rotor.get(), 0, btVector3(0, 0, 0),
+                                                            btVector3(0, 0, 0), btMatrix3x3::getIdentity(),
+                                                            btMatrix3x3::getIdentity());
     gear->setGearRatio(-1.0);
     gear->setErp(0.0);
     gear->setMaxAppliedImpulse(p.max_impulse_Ns);
@@ -253,8 +269,9 @@ void BulletWorldPlant::World::AddRobotConstraints() {
 
   // Loop closures: one rod (distance) row each, between the two points on their Bullet links.
   for (const LoopClosureInfo& loop : model.loop_closures()) {
-    auto rod = std::make_unique<BulletRodConstraint>(mb.get(), loop.body_a, ToBt(BodyPointInBulletLink(model.body(loop.body_a), loop.point_a)), mb.get(),
-                                                     loop.body_b, ToBt(BodyPointInBulletLink(model.body(loop.body_b), loop.point_b)), loop.distance_m);
+    auto rod = std::make_unique<BulletRodConstraint>(
+        mb.get(), loop.body_a, ToBt(BodyPointInBulletLink(model.body(loop.body_a), loop.point_a)), mb.get(),
+        loop.body_b, ToBt(BodyPointInBulletLink(model.body(loop.body_b), loop.point_b)), loop.distance_m);
     rod->setMaxAppliedImpulse(p.max_impulse_Ns);
     world->addMultiBodyConstraint(rod.get());
     constraints.push_back(std::move(rod));
@@ -305,7 +322,8 @@ void BulletWorldPlant::World::AddLinkColliders() {
     collider->setCollisionShape(compound.get());
     collider->setFriction(link_mu[i]);
     collider->setRestitution(p.restitution);
-    if (p.contact_stiffness_N_per_m > 0) collider->setContactStiffnessAndDamping(p.contact_stiffness_N_per_m, p.contact_damping_Ns_per_m);
+    if (p.contact_stiffness_N_per_m > 0)
+      collider->setContactStiffnessAndDamping(p.contact_stiffness_N_per_m, p.contact_damping_Ns_per_m);
     shapes.push_back(std::move(compound));
     world->addCollisionObject(collider.get(), kRobotGroup, kTerrainGroup);
     mb->getLink(i).m_collider = collider.get();
@@ -325,7 +343,8 @@ void BulletWorldPlant::World::AddTerrain() {
     object->setCollisionShape(shape.get());
     object->setFriction(1.0);
     object->setRestitution(p.restitution);
-    if (p.contact_stiffness_N_per_m > 0) object->setContactStiffnessAndDamping(p.contact_stiffness_N_per_m, p.contact_damping_Ns_per_m);
+    if (p.contact_stiffness_N_per_m > 0)
+      object->setContactStiffnessAndDamping(p.contact_stiffness_N_per_m, p.contact_damping_Ns_per_m);
     world->addCollisionObject(object.get(), kTerrainGroup, kRobotGroup);
     shapes.push_back(std::move(shape));
     terrain.push_back(std::move(object));
@@ -333,7 +352,8 @@ void BulletWorldPlant::World::AddTerrain() {
   const Terrain& ground = plant->terrain();
   const double r = p.point_radius_m;
   if (ground.is_flat()) {
-    add_static(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), ground.SurfaceHeight(0.0) - r), btVector3(0, 0, 0));
+    add_static(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), ground.SurfaceHeight(0.0) - r),
+               btVector3(0, 0, 0));
   } else {
     double lowest = std::numeric_limits<double>::infinity();
     for (const SteppingStone& s : ground.stones()) lowest = std::min(lowest, s.top_height_m);
@@ -348,32 +368,46 @@ void BulletWorldPlant::World::AddTerrain() {
   }
 }
 
-BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
-                                   BulletWorldPlantParams params)
+BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const MultibodyModel> model,
+                                   ContactModeGraph graph, Terrain terrain, BulletWorldPlantParams params)
     : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
-  if (!(params_.step_s > 0) || !std::isfinite(params_.step_s)) ThrowError("parameter step_s must be positive, got " + Num(params_.step_s) + " s");
-  if (params_.substeps < 1) ThrowError("parameter substeps must be at least 1, got " + std::to_string(params_.substeps));
+  if (!(params_.step_s > 0) || !std::isfinite(params_.step_s))
+    ThrowError("parameter step_s must be positive, got " + Num(params_.step_s) + " s");
+  if (params_.substeps < 1)
+    ThrowError("parameter substeps must be at least 1, got " + std::to_string(params_.substeps));
   if (!(params_.update_offset_s >= 0 && params_.update_offset_s < params_.step_s))
     ThrowError("parameter update_offset_s must be in [0, step_s), got " + Num(params_.update_offset_s) + " s");
-  if (!(params_.point_radius_m > 0)) ThrowError("parameter point_radius_m must be positive, got " + Num(params_.point_radius_m) + " m");
+  if (!(params_.point_radius_m > 0))
+    ThrowError("parameter point_radius_m must be positive, got " + Num(params_.point_radius_m) + " m");
   if (!(params_.solver_residual_threshold >= 0))
-    ThrowError("parameter solver_residual_threshold must be >= 0, got " + Num(params_.solver_residual_threshold) + " (m/s)^2");
+    ThrowError("parameter solver_residual_threshold must be >= 0, got " + Num(params_.solver_residual_threshold) +
+               " (m/s)^2");
   if (!(params_.min_time_in_mode_s >= 0) || !std::isfinite(params_.min_time_in_mode_s))
     ThrowError("parameter min_time_in_mode_s must be >= 0, got " + Num(params_.min_time_in_mode_s) + " s");
-  if (std::isnan(params_.planned_liftoff_force_N)) ThrowError("parameter planned_liftoff_force_N is NaN (negative: off)");
+  if (std::isnan(params_.planned_liftoff_force_N))
+    ThrowError("parameter planned_liftoff_force_N is NaN (negative: off)");
   if (!(params_.slip_speed_mps >= 0) || !std::isfinite(params_.slip_speed_mps))
     ThrowError("parameter slip_speed_mps must be finite and >= 0, got " + Num(params_.slip_speed_mps) + " m/s");
-  if (!(params_.slip_distance_m > 0)) ThrowError("parameter slip_distance_m must be positive (infinity: off), got " + Num(params_.slip_distance_m) + " m");
+  if (!(params_.slip_distance_m > 0))
+    ThrowError("parameter slip_distance_m must be positive (infinity: off), got " + Num(params_.slip_distance_m) +
+               " m");
   if (!(params_.slip_min_point_force_N >= 0) || !std::isfinite(params_.slip_min_point_force_N))
-    ThrowError("parameter slip_min_point_force_N must be finite and >= 0, got " + Num(params_.slip_min_point_force_N) + " N");
-  if (params_.solver_iterations < 1) ThrowError("parameter solver_iterations must be at least 1, got " + std::to_string(params_.solver_iterations));
+    ThrowError("parameter slip_min_point_force_N must be finite and >= 0, got " + Num(params_.slip_min_point_force_N) +
+               " N");
+  if (params_.solver_iterations < 1)
+    ThrowError("parameter solver_iterations must be at least 1, got " + std::to_string(params_.solver_iterations));
   if (!(params_.mode_change_delay_s > 0 && params_.mode_change_delay_s < params_.step_s - params_.update_offset_s))
-    ThrowError("parameter mode_change_delay_s must be in (0, step_s - update_offset_s), got " + Num(params_.mode_change_delay_s) + " s");
+    ThrowError("parameter mode_change_delay_s must be in (0, step_s - update_offset_s), got " +
+               Num(params_.mode_change_delay_s) + " s");
   for (const ContactInfo& c : model_->contacts())
-    if (c.points.empty()) ThrowError("contact '" + c.name + "' of robot '" + model_->name() + "' has no points, so it has no collision geometry");
+    if (c.points.empty())
+      ThrowError("contact '" + c.name + "' of robot '" + model_->name() +
+                 "' has no points, so it has no collision geometry");
   for (const SteppingStone& s : terrain_.stones())
-    if (!(s.length_m > 0)) ThrowError("a stepping stone at x = " + Num(s.x_center_m) + " m has length " + Num(s.length_m) + " m; it must be positive");
+    if (!(s.length_m > 0))
+      ThrowError("a stepping stone at x = " + Num(s.x_center_m) + " m has length " + Num(s.length_m) +
+                 " m; it must be positive");
   for (int k = 0; k < nv; ++k)
     if (model_->reflected_inertia()[k] > 0) rotor_dofs_.push_back(k);
 
@@ -385,35 +419,51 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   xd.head(nv) = model_->q_nominal();
   DeclareDiscreteState(xd);
   DeclareInputPort("u", nu);
-  DeclarePeriodicDiscreteUpdate(params_.step_s, params_.update_offset_s, [this](const LeafContext& c, Eigen::VectorXd* next) { return Step(c, next); });
+  DeclarePeriodicDiscreteUpdate(params_.step_s, params_.update_offset_s,
+                                [this](const LeafContext& c, Eigen::VectorXd* next) { return Step(c, next); });
 
-  DeclareOutputPort("q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().head(nv); }, Feedthrough::None());
-  DeclareOutputPort("v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(nv, nv); }, Feedthrough::None());
+  DeclareOutputPort(
+      "q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().head(nv); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(nv, nv); },
+      Feedthrough::None());
   std::vector<std::string> state_names, force_names;
   for (const std::string& j : model_->joint_names()) state_names.push_back("q_" + j);
   for (const std::string& j : model_->joint_names()) state_names.push_back("v_" + j);
   for (const ContactInfo& contact : model_->contacts())
     for (const char* axis : {"fx", "fy", "fz"}) force_names.push_back(contact.name + "_" + axis);
-  DeclareOutputPort("state", state_names, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().head(2 * nv); }, Feedthrough::None());
-  DeclareTypedOutputPort<int>("mode", [](const LeafContext& c, int* y) { *y = c.mode(); }, Feedthrough::None());
+  DeclareOutputPort(
+      "state", state_names, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().head(2 * nv); },
+      Feedthrough::None());
+  DeclareTypedOutputPort<int>(
+      "mode", [](const LeafContext& c, int* y) { *y = c.mode(); }, Feedthrough::None());
   const int f0 = forces_offset();
-  DeclareOutputPort("contact_forces", force_names, [f0, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(f0, 3 * nc); },
-                    Feedthrough::None());
-  DeclareOutputPort("contact_violation", nc, [this, f0, nc](const LeafContext& c, Eigen::VectorXd* y) {
-    for (int i = 0; i < nc; ++i) {
-      const Eigen::Vector3d f = c.discrete_state().segment<3>(f0 + 3 * i);
-      const double mu = model_->contacts()[i].friction_coefficient;
-      const bool sliding = f.head<2>().norm() > mu * f.z() * (1 + 1e-6) + 1e-6 || SlipDistance(c, i) > 0.0;
-      (*y)[i] = (f.z() < -1e-9 ? 1 : 0) + (sliding ? 2 : 0);
-    }
-  }, Feedthrough::None());
-  DeclareOutputPort("com", {"x", "y", "z", "vx", "vy", "vz"}, [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
-    auto& ws = c.scratch<World>().ws;
-    const auto q = c.discrete_state().head(nv);
-    const auto v = c.discrete_state().segment(nv, nv);
-    y->head<3>() = CalcComPosition(*model_, ws, q);
-    y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
-  }, Feedthrough::None());
+  DeclareOutputPort(
+      "contact_forces", force_names,
+      [f0, nc](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment(f0, 3 * nc); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "contact_violation", nc,
+      [this, f0, nc](const LeafContext& c, Eigen::VectorXd* y) {
+        for (int i = 0; i < nc; ++i) {
+          const Eigen::Vector3d f = c.discrete_state().segment<3>(f0 + 3 * i);
+          const double mu = model_->contacts()[i].friction_coefficient;
+          const bool sliding = f.head<2>().norm() > mu * f.z() * (1 + 1e-6) + 1e-6 || SlipDistance(c, i) > 0.0;
+          (*y)[i] = (f.z() < -1e-9 ? 1 : 0) + (sliding ? 2 : 0);
+        }
+      },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "com", {"x", "y", "z", "vx", "vy", "vz"},
+      [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
+        auto& ws = c.scratch<World>().ws;
+        const auto q = c.discrete_state().head(nv);
+        const auto v = c.discrete_state().segment(nv, nv);
+        y->head<3>() = CalcComPosition(*model_, ws, q);
+        y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
+      },
+      Feedthrough::None());
 
   DeclareModeChangeGuards();
 }
@@ -433,19 +483,22 @@ void BulletWorldPlant::DeclareModeChangeGuards() {
           const double td = xd[td_time_offset_ + c];
           const bool armed = xd[touching_offset() + c] > 0.5 && td > xd[mode_start_offset_];
           // Announced no earlier than min_time_in_mode_s after the contact last stopped touching.
-          return armed ? std::max(td, xd[lo_time_offset_ + c] + params_.min_time_in_mode_s) + params_.mode_change_delay_s - ctx.time() : 1.0;
+          return armed ? std::max(td, xd[lo_time_offset_ + c] + params_.min_time_in_mode_s) +
+                             params_.mode_change_delay_s - ctx.time()
+                       : 1.0;
         },
         CrossingDirection::kFalling,
         [this, c, contact_name, to](const LeafContext& ctx, int, State* next) {
           if (!terrain_.is_flat()) {
             auto& ws = ctx.scratch<World>().ws;
-            const Eigen::Vector3d p = CalcPointPosition(*model_, ws, ctx.discrete_state().head(model_->nv()), model_->contacts()[c].body,
-                                                        model_->contacts()[c].frame_origin);
+            const Eigen::Vector3d p = CalcPointPosition(*model_, ws, ctx.discrete_state().head(model_->nv()),
+                                                        model_->contacts()[c].body, model_->contacts()[c].frame_origin);
             if (terrain_.StoneAt(p.x(), params_.stone_tolerance_m) < 0) {
               const int near = terrain_.NearestStone(p.x());
               std::ostringstream os;
-              os << "robot fell: '" << contact_name << "' touched down at x = " << p.x() << " m, z = " << p.z() << " m, not on any stone (nearest stone "
-                 << near << " spans " << terrain_.stones()[near].x_center_m - terrain_.stones()[near].length_m / 2 << " .. "
+              os << "robot fell: '" << contact_name << "' touched down at x = " << p.x() << " m, z = " << p.z()
+                 << " m, not on any stone (nearest stone " << near << " spans "
+                 << terrain_.stones()[near].x_center_m - terrain_.stones()[near].length_m / 2 << " .. "
                  << terrain_.stones()[near].x_center_m + terrain_.stones()[near].length_m / 2 << " m)";
               return EventStatus::Failed(os.str());
             }
@@ -469,7 +522,8 @@ void BulletWorldPlant::DeclareModeChangeGuards() {
           CrossingDirection::kFalling,
           [this, m, to, contact_name](const LeafContext& ctx, int, State* next) {
             if (to < 0)
-              return EventStatus::Failed("'" + contact_name + "' lifted off at t = " + Num(ctx.time()) + " s in mode '" + graph_.modes[m].name +
+              return EventStatus::Failed("'" + contact_name + "' lifted off at t = " + Num(ctx.time()) +
+                                         " s in mode '" + graph_.modes[m].name +
                                          "', but the contact-mode graph has no mode to lift off into");
             EnterMode(ctx.time(), to, next);
             return EventStatus::Succeeded();
@@ -486,7 +540,8 @@ void BulletWorldPlant::EnterMode(double t, int to, State* next) const {
   next->mode = to;
 }
 
-double BulletWorldPlant::ContactHeight(const LeafContext& context, const Eigen::Ref<const Eigen::VectorXd>& q, int contact) const {
+double BulletWorldPlant::ContactHeight(const LeafContext& context, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                       int contact) const {
   auto& ws = context.scratch<World>().ws;
   const ContactInfo& info = model_->contacts()[contact];
   double lowest = std::numeric_limits<double>::infinity();
@@ -497,11 +552,12 @@ double BulletWorldPlant::ContactHeight(const LeafContext& context, const Eigen::
   return lowest;
 }
 
-void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const {
+void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                const std::string& mode) const {
   const int nv = model_->nv(), nc = model_->num_contacts();
   if (q.size() != nv || v.size() != nv)
-    ThrowError("SetState: q has size " + std::to_string(q.size()) + " and v size " + std::to_string(v.size()) + "; robot '" + model_->name() +
-               "' has nv = " + std::to_string(nv));
+    ThrowError("SetState: q has size " + std::to_string(q.size()) + " and v size " + std::to_string(v.size()) +
+               "; robot '" + model_->name() + "' has nv = " + std::to_string(nv));
   const double t = context.time();
   std::vector<double> touching(nc);
   for (int c = 0; c < nc; ++c) touching[c] = ContactHeight(context, q, c) <= params_.liftoff_height_m ? 1.0 : 0.0;
@@ -520,8 +576,8 @@ void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, 
 
 ContactWrench BulletWorldPlant::LastStepContactWrench(const LeafContext& context, int contact) const {
   if (contact < 0 || contact >= model_->num_contacts())
-    ThrowError("LastStepContactWrench: contact " + std::to_string(contact) + " is out of range; robot '" + model_->name() + "' has " +
-               std::to_string(model_->num_contacts()));
+    ThrowError("LastStepContactWrench: contact " + std::to_string(contact) + " is out of range; robot '" +
+               model_->name() + "' has " + std::to_string(model_->num_contacts()));
   const World& w = context.scratch<World>();
   ContactWrench wrench;
   wrench.force = w.impulse.col(contact) / params_.step_s;
@@ -531,13 +587,15 @@ ContactWrench BulletWorldPlant::LastStepContactWrench(const LeafContext& context
 
 double BulletWorldPlant::SlipDistance(const LeafContext& context, int contact) const {
   if (contact < 0 || contact >= model_->num_contacts())
-    ThrowError("SlipDistance: contact " + std::to_string(contact) + " is out of range; robot '" + model_->name() + "' has " +
-               std::to_string(model_->num_contacts()));
+    ThrowError("SlipDistance: contact " + std::to_string(contact) + " is out of range; robot '" + model_->name() +
+               "' has " + std::to_string(model_->num_contacts()));
   const double slid = context.discrete_state()[slide_offset_ + contact];
   return slid > params_.slip_distance_m ? slid : 0.0;
 }
 
-int BulletWorldPlant::SolverIterationsUsed(const LeafContext& context) const { return context.scratch<World>().solver->m_analyticsData.m_numIterationsUsed; }
+int BulletWorldPlant::SolverIterationsUsed(const LeafContext& context) const {
+  return context.scratch<World>().solver->m_analyticsData.m_numIterationsUsed;
+}
 
 double BulletWorldPlant::SolverResidual(const LeafContext& context) const {
   return context.scratch<World>().solver->m_analyticsData.m_remainingLeastSquaresResidual;
@@ -546,7 +604,9 @@ double BulletWorldPlant::SolverResidual(const LeafContext& context) const {
 double BulletWorldPlant::GearVelocityError(const LeafContext& context) const {
   World& w = context.scratch<World>();
   double err = 0;
-  for (int r = 0; r < num_rotors(); ++r) err = std::max(err, std::abs(w.mb->getJointVel(model_->BodyOfVelocity(rotor_dofs_[r])) - w.rotors[r]->getJointVel(0)));
+  for (int r = 0; r < num_rotors(); ++r)
+    err = std::max(err,
+                   std::abs(w.mb->getJointVel(model_->BodyOfVelocity(rotor_dofs_[r])) - w.rotors[r]->getJointVel(0)));
   return err;
 }
 
@@ -580,7 +640,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
   for (int sub = 0; sub < params_.substeps; ++sub) {
     // Joint torques of this substep: B sat(u) + τ_spring at the substep's start.
     w.tau.noalias() = model.B() * w.u;
-    w.tau.array() -= model.spring_stiffness().array() * (w.q - model.spring_rest()).array() + model.spring_damping().array() * w.v.array();
+    w.tau.array() -= model.spring_stiffness().array() * (w.q - model.spring_rest()).array() +
+                     model.spring_damping().array() * w.v.array();
     for (int i = 0; i < nb; ++i) {
       const int k = model.body(i).v_index;
       if (k >= 0 && w.tau[k] != 0.0) w.mb->addJointTorque(i, w.tau[k]);
@@ -618,10 +679,12 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
         // slip_distance_m = 1 cm lies between the longest slide of the passing runs and the exoskeleton's sliding foot
         // (docs/design-notes.md#stepping-stones-bullet).
         if (sub == params_.substeps - 1 && pt.m_appliedImpulse > params_.slip_min_point_force_N * h) {
-          const Eigen::Vector3d pv = CalcPointVelocity(model, w.ws, w.q, w.v, model.contacts()[contact].body, w.link_body_points[foot->m_link][nearest]);
+          const Eigen::Vector3d pv = CalcPointVelocity(model, w.ws, w.q, w.v, model.contacts()[contact].body,
+                                                       w.link_body_points[foot->m_link][nearest]);
           w.slide_speed[contact] = std::max(w.slide_speed[contact], pv.head<2>().norm());
         }
-        const btVector3 J = pt.m_normalWorldOnB * pt.m_appliedImpulse + pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
+        const btVector3 J = pt.m_normalWorldOnB * pt.m_appliedImpulse +
+                            pt.m_lateralFrictionDir1 * pt.m_appliedImpulseLateral1 +
                             pt.m_lateralFrictionDir2 * pt.m_appliedImpulseLateral2;
         w.impulse.col(contact) += sign * FromBt(J);
         const btVector3& at = sign > 0 ? pt.m_positionWorldOnA : pt.m_positionWorldOnB;
@@ -644,16 +707,20 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     if (!was && f.z() > params_.touchdown_force_N) {
       x[touching_offset() + c] = 1.0;
       x[td_time_offset_ + c] = t;
-    } else if (was && ((f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) ||
-                       (params_.planned_liftoff_force_N >= 0 && IsGraphLiftoff(context.mode(), c) && f.z() <= params_.planned_liftoff_force_N))) {
+    } else if (was &&
+               ((f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) ||
+                (params_.planned_liftoff_force_N >= 0 && IsGraphLiftoff(context.mode(), c) &&
+                 f.z() <= params_.planned_liftoff_force_N))) {
       x[touching_offset() + c] = 0.0;
       x[lo_time_offset_ + c] = t;
     }
   }
-  if (!w.q.allFinite() || !w.v.allFinite()) return EventStatus::Failed("the Bullet world's state is not finite at t = " + Num(t) + " s");
+  if (!w.q.allFinite() || !w.v.allFinite())
+    return EventStatus::Failed("the Bullet world's state is not finite at t = " + Num(t) + " s");
   const int zi = base_height_index();
   if (zi >= 0 && w.q[zi] < params_.min_base_height_m)
-    return EventStatus::Failed("robot fell: base height " + Num(w.q[zi]) + " m is below min_base_height_m = " + Num(params_.min_base_height_m) + " m");
+    return EventStatus::Failed("robot fell: base height " + Num(w.q[zi]) +
+                               " m is below min_base_height_m = " + Num(params_.min_base_height_m) + " m");
   return EventStatus::Succeeded();
 }
 

@@ -30,14 +30,16 @@
 //     liftoff_<contact> (every mode, every active contact): the contact stopped touching. Reset: the graph's lift-off
 //       target, else the mode with exactly the remaining contacts, else Failed.
 //   No velocity jump at a touchdown: Bullet's contact solver resolves the impact (restitution 0) within the step.
-// Planned lift-offs (planned_liftoff_force_N >= 0): a contact whose lift-off from the current mode is a transition of the
+// Planned lift-offs (planned_liftoff_force_N >= 0): a contact whose lift-off from the current mode is a transition of
+// the
 //   graph also stops touching when the step's mean normal force is at most planned_liftoff_force_N. Any touchdown is
 //   announced no earlier than min_time_in_mode_s after its contact last stopped touching.
 // Falls: the update ends the run (Failed "robot fell") when the base height is below min_base_height_m.
 // contact_violation: +2 when a contact slides: its |F_t| exceeds μ F_n (Bullet clamps each of its two friction
 //   directions at μ F_n, a pyramid, so this marks a sliding contact), or a loaded point of it slides faster than
-//   slip_speed_mps for more than slip_distance_m (Bullet's clamped friction rarely shows a slide in the force: a foot pivoting on its one loaded
-//   corner keeps |F_t| well inside μ F_n); +1 never occurs (Bullet's normal impulses are ≥ 0).
+//   slip_speed_mps for more than slip_distance_m (Bullet's clamped friction rarely shows a slide in the force: a foot
+//   pivoting on its one loaded corner keeps |F_t| well inside μ F_n); +1 never occurs (Bullet's normal impulses are ≥
+//   0).
 //
 // The Bullet model (BuildBulletMultiBody, shared with MultibodyWorkspace): the model's tree on a fixed Bullet base,
 // the floating base as the model's virtual joints, so q and v are the model's coordinates exactly.
@@ -78,10 +80,12 @@
 namespace rome {
 
 struct BulletWorldPlantParams {
-  double step_s = 1e-3;            ///< [s] world step (ours: the controllers' 1 kHz)
-  int substeps = 1;                ///< [-] Bullet steps per world step (each step_s / substeps long)
-  double update_offset_s = 1e-6;   ///< [s] the update runs this long after each multiple of step_s (after the controllers' samples)
-  int solver_iterations = 100;     ///< [-] most sequential-impulse iterations per substep (Bullet's default 10; ours: the armature gears need more)
+  double step_s = 1e-3;  ///< [s] world step (ours: the controllers' 1 kHz)
+  int substeps = 1;      ///< [-] Bullet steps per world step (each step_s / substeps long)
+  double update_offset_s =
+      1e-6;  ///< [s] the update runs this long after each multiple of step_s (after the controllers' samples)
+  int solver_iterations = 100;  ///< [-] most sequential-impulse iterations per substep (Bullet's default 10; ours: the
+                                ///< armature gears need more)
   /// [(m/s)², (rad/s)²] the solver stops before solver_iterations once no velocity coordinate changed by more than
   /// its square root in the last iteration (Bullet's m_leastSquaresResidualThreshold, on our own residual: see
   /// ConvergingMultiBodySolver in the .cc; 0: always solver_iterations)
@@ -94,40 +98,45 @@ struct BulletWorldPlantParams {
   /// (1e-9 at 0.98) and the dropped box's rest force failed its 1e-3 bound; 0.98 leaves a margin below 0.99, the
   /// largest value that passed.
   double warm_start_factor = 0.98;
-  double contact_erp = 0.2;        ///< [-] contact penetration correction per substep (Bullet's m_erp2, default 0.2)
-  double joint_erp = 0.2;          ///< [-] joint-limit error correction per substep (Bullet's m_erp, default 0.2)
-  double cfm = 0.0;                ///< [-] constraint force mixing (Bullet's m_globalCfm, default 0: rigid)
+  double contact_erp = 0.2;  ///< [-] contact penetration correction per substep (Bullet's m_erp2, default 0.2)
+  double joint_erp = 0.2;    ///< [-] joint-limit error correction per substep (Bullet's m_erp, default 0.2)
+  double cfm = 0.0;          ///< [-] constraint force mixing (Bullet's m_globalCfm, default 0: rigid)
   /// [N/m], [N s/m] contact spring and damper (Bullet's btCollisionObject::setContactStiffnessAndDamping); 0 (default):
   /// rigid contact with contact_erp and cfm.
   double contact_stiffness_N_per_m = 0.0;
   double contact_damping_Ns_per_m = 0.0;
-  double restitution = 0.0;        ///< [-] coefficient of restitution (0: plastic impacts, as HybridContactPlant)
+  double restitution = 0.0;  ///< [-] coefficient of restitution (0: plastic impacts, as HybridContactPlant)
   /// [-] Bullet multiplies the two objects' friction coefficients: the terrain gets 1 and each foot its contact's
   /// friction_coefficient (the sidecar's μ), so μ is the model's.
-  double point_radius_m = 1e-3;    ///< [m] radius of the sphere at each contact point (ours)
-  double stone_depth_m = 1.0;      ///< [m] stones reach this far below the lowest stone top, where a floor plane lies
-  double touchdown_force_N = 1e-6; ///< [N] a contact starts touching when the step's mean normal force exceeds this (ours)
-  double liftoff_height_m = 2e-3;  ///< [m] and stops when its lowest point is this far above the surface under it (ours)
+  double point_radius_m = 1e-3;  ///< [m] radius of the sphere at each contact point (ours)
+  double stone_depth_m = 1.0;    ///< [m] stones reach this far below the lowest stone top, where a floor plane lies
+  double touchdown_force_N =
+      1e-6;  ///< [N] a contact starts touching when the step's mean normal force exceeds this (ours)
+  double liftoff_height_m =
+      2e-3;  ///< [m] and stops when its lowest point is this far above the surface under it (ours)
   /// [N] A planned lift-off (a lift-off transition of the graph from the current mode: the trailing foot of a double
-  /// support, both feet at a jump's take-off) also stops touching when the step's mean normal force falls to this value,
-  /// as HybridContactPlantParams::planned_liftoff_force_N, without waiting for the foot to rise liftoff_height_m: a
-  /// controller that unloads a foot and waits for the mode change to lift it would otherwise wait forever (walking), and
-  /// one whose stance torques assume contact would act on an airborne robot until its feet are 2 mm up (hopping:
-  /// measured 10 ms, in which the pelvis pitch rate swung from +3.3 to −6.5 rad/s). Negative (default): off.
+  /// support, both feet at a jump's take-off) also stops touching when the step's mean normal force falls to this
+  /// value, as HybridContactPlantParams::planned_liftoff_force_N, without waiting for the foot to rise
+  /// liftoff_height_m: a controller that unloads a foot and waits for the mode change to lift it would otherwise wait
+  /// forever (walking), and one whose stance torques assume contact would act on an airborne robot until its feet are 2
+  /// mm up (hopping: measured 10 ms, in which the pelvis pitch rate swung from +3.3 to −6.5 rad/s). Negative (default):
+  /// off.
   double planned_liftoff_force_N = -1.0;
   /// [s] A contact's touchdown is announced no earlier than this long after it last stopped touching
   /// (HybridContactPlantParams::min_time_in_mode_s): a foot released by planned_liftoff_force_N still rests on the
   /// ground and touches again in the next step; if it is still touching then, the touchdown is announced. 0: at once.
   double min_time_in_mode_s = 0.0;
   double mode_change_delay_s = 1e-9;  ///< [s] the touchdown/lift-off guard fires this long after the update that saw it
-  double min_base_height_m = 0.2;  ///< [m] base below this height ends the run as a fall
-  double stone_tolerance_m = 0.0;  ///< [m] how far beyond a stone's edge a touchdown still counts
-  bool saturate_torques = true;    ///< clip u to the model's torque limits before applying it
-  bool enable_joint_limits = true; ///< the URDF's finite position limits as Bullet joint-limit constraints
-  double max_impulse_Ns = 1e6;     ///< [N s] cap of every constraint impulse (Bullet's default 1000 would bind in hard impacts at small steps)
+  double min_base_height_m = 0.2;     ///< [m] base below this height ends the run as a fall
+  double stone_tolerance_m = 0.0;     ///< [m] how far beyond a stone's edge a touchdown still counts
+  bool saturate_torques = true;       ///< clip u to the model's torque limits before applying it
+  bool enable_joint_limits = true;    ///< the URDF's finite position limits as Bullet joint-limit constraints
+  double max_impulse_Ns =
+      1e6;  ///< [N s] cap of every constraint impulse (Bullet's default 1000 would bind in hard impacts at small steps)
   /// Slip by sliding (ours): a touching contact slides while one of its loaded points (normal force above
   /// slip_min_point_force_N) moves along the surface faster than slip_speed_mps; it slips (contact_violation +2) once
-  /// it has slid more than slip_distance_m without holding in between (infinity: off). See the .cc for the measurements.
+  /// it has slid more than slip_distance_m without holding in between (infinity: off). See the .cc for the
+  /// measurements.
   double slip_speed_mps = 0.01;         ///< [m/s]
   double slip_distance_m = 0.01;        ///< [m]
   double slip_min_point_force_N = 1.0;  ///< [N]
@@ -135,15 +144,16 @@ struct BulletWorldPlantParams {
 
 class BulletWorldPlant final : public ContactPlant {
  public:
-  BulletWorldPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
-                   BulletWorldPlantParams params = {});
+  BulletWorldPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
+                   Terrain terrain, BulletWorldPlantParams params = {});
   ~BulletWorldPlant() override;
 
   const BulletWorldPlantParams& params() const { return params_; }
   /// Sets q, v (sizes checked) and the mode; the mode clock starts at the context time; a contact counts as touching
   /// when its lowest point is within liftoff_height_m of the terrain (so a foot standing there must first lift off
   /// before its touchdown is announced).
-  void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const override;
+  void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                const std::string& mode) const override;
   /// Number of rotor links (actuated joints with reflected inertia) added to the Bullet tree.
   int num_rotors() const { return static_cast<int>(rotor_dofs_.size()); }
   /// Sequential-impulse iterations Bullet's solver used in the last substep of `context` (-1 before any step).

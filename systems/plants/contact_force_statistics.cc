@@ -23,8 +23,8 @@ void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext
     if (Violates(fn, ft, mu)) {
       if (!violated && violations == 0) {
         std::ostringstream os;
-        os << "t = " << context.time() << " s: contact '" << model.contacts()[c].name << "' F_n = " << fn << " N, |F_t| = " << ft
-           << " N (mu = " << mu << ")";
+        os << "t = " << context.time() << " s: contact '" << model.contacts()[c].name << "' F_n = " << fn
+           << " N, |F_t| = " << ft << " N (mu = " << mu << ")";
         first_violation = os.str();
       }
       violated = true;
@@ -36,7 +36,8 @@ void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext
     if (slid > 0.0) {
       if (violations == 0) {
         std::ostringstream os;
-        os << "t = " << context.time() << " s: contact '" << model.contacts()[c].name << "' slid " << slid << " m with its force inside the cone";
+        os << "t = " << context.time() << " s: contact '" << model.contacts()[c].name << "' slid " << slid
+           << " m with its force inside the cone";
         first_violation = os.str();
       }
       violated = true;
@@ -47,7 +48,8 @@ void ContactForceStatistics::Record(const ContactPlant& plant, const LeafContext
 
 bool ContactForceStatistics::Violates(double normal_N, double tangential_N, double mu) const {
   // Written so that NaN forces count as violations.
-  return !(normal_N >= -tolerance_N) || !(tangential_N <= mu * std::max(normal_N, 0.0) * (1 + relative_tolerance) + tolerance_N);
+  return !(normal_N >= -tolerance_N) ||
+         !(tangential_N <= mu * std::max(normal_N, 0.0) * (1 + relative_tolerance) + tolerance_N);
 }
 
 }  // namespace rome

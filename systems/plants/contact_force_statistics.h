@@ -17,14 +17,14 @@
 namespace rome {
 
 struct ContactForceStatistics {
-  double tolerance_N = 1e-6;           ///< [N] allowed violation (integration and round-off), ours
-  double relative_tolerance = 1e-6;    ///< [-] allowed friction excess as a fraction of μ F_n (round-off), ours
+  double tolerance_N = 1e-6;         ///< [N] allowed violation (integration and round-off), ours
+  double relative_tolerance = 1e-6;  ///< [-] allowed friction excess as a fraction of μ F_n (round-off), ours
   double min_normal_force_N = std::numeric_limits<double>::infinity();  ///< [N] smallest F_n of an active contact
-  double max_friction_ratio = 0.0;    ///< [-] largest |F_t| / F_n of an active contact with F_n > 0
-  double max_cone_excess_N = 0.0;     ///< [N] largest |F_t| − μ F_n (≤ 0 inside the cone; 0 if never positive)
-  long samples = 0;                   ///< samples with at least one active contact
-  long violations = 0;                ///< samples that violated unilateral contact or the friction cone
-  std::string first_violation;        ///< "t = … s: contact 'left_foot' F_n = … N, |F_t|/F_n = …" of the first one
+  double max_friction_ratio = 0.0;  ///< [-] largest |F_t| / F_n of an active contact with F_n > 0
+  double max_cone_excess_N = 0.0;   ///< [N] largest |F_t| − μ F_n (≤ 0 inside the cone; 0 if never positive)
+  long samples = 0;                 ///< samples with at least one active contact
+  long violations = 0;              ///< samples that violated unilateral contact or the friction cone
+  std::string first_violation;      ///< "t = … s: contact 'left_foot' F_n = … N, |F_t|/F_n = …" of the first one
 
   void Record(const ContactPlant& plant, const LeafContext& plant_context);
   /// The rule above for one contact force (normal F_n [N], tangential magnitude |F_t| [N], friction coefficient μ).

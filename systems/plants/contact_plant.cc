@@ -4,21 +4,27 @@
 
 namespace rome {
 
-ContactModeGraph ContactModeGraph::AlternatingSingleSupport(const std::string& left, const std::string& right, bool start_on_left) {
+ContactModeGraph ContactModeGraph::AlternatingSingleSupport(const std::string& left, const std::string& right,
+                                                            bool start_on_left) {
   ContactModeGraph g;
   const std::string ls = left + "_stance", rs = right + "_stance", fl = "flight";
   g.modes = {{ls, {left}}, {rs, {right}}, {fl, {}}};  // indices 0, 1, 2: other code relies on them
-  g.transitions = {{ls, rs, Kind::kTouchdown, right}, {rs, ls, Kind::kTouchdown, left}, {ls, fl, Kind::kLiftoff, left},
-                   {rs, fl, Kind::kLiftoff, right},   {fl, ls, Kind::kTouchdown, left}, {fl, rs, Kind::kTouchdown, right}};
+  g.transitions = {{ls, rs, Kind::kTouchdown, right}, {rs, ls, Kind::kTouchdown, left},
+                   {ls, fl, Kind::kLiftoff, left},    {rs, fl, Kind::kLiftoff, right},
+                   {fl, ls, Kind::kTouchdown, left},  {fl, rs, Kind::kTouchdown, right}};
   g.initial_mode = start_on_left ? ls : rs;
   return g;
 }
 
-ContactModeGraph ContactModeGraph::WithDoubleSupport(const std::string& left, const std::string& right, const std::string& initial_mode) {
+ContactModeGraph ContactModeGraph::WithDoubleSupport(const std::string& left, const std::string& right,
+                                                     const std::string& initial_mode) {
   ContactModeGraph g;
   const std::string ls = left + "_stance", rs = right + "_stance", ds = "double_support";
   g.modes = {{ls, {left}}, {ds, {left, right}}, {rs, {right}}};
-  g.transitions = {{ls, ds, Kind::kTouchdown, right}, {rs, ds, Kind::kTouchdown, left}, {ds, rs, Kind::kLiftoff, left}, {ds, ls, Kind::kLiftoff, right}};
+  g.transitions = {{ls, ds, Kind::kTouchdown, right},
+                   {rs, ds, Kind::kTouchdown, left},
+                   {ds, rs, Kind::kLiftoff, left},
+                   {ds, ls, Kind::kLiftoff, right}};
   g.initial_mode = initial_mode;
   return g;
 }
@@ -37,9 +43,9 @@ ContactModeGraph ContactModeGraph::Hopping(const std::string& left, const std::s
 ContactModeGraph ContactModeGraph::JumpFlightLanding(const std::string& left, const std::string& right) {
   ContactModeGraph g;
   g.modes = {{"jump", {left, right}}, {"flight", {}}, {"landing", {left, right}}};  // indices 0, 1, 2
-  g.transitions = {{"jump", "flight", Kind::kLiftoff, left},        {"jump", "flight", Kind::kLiftoff, right},
-                   {"flight", "landing", Kind::kTouchdown, left},   {"flight", "landing", Kind::kTouchdown, right},
-                   {"landing", "flight", Kind::kLiftoff, left},     {"landing", "flight", Kind::kLiftoff, right}};
+  g.transitions = {{"jump", "flight", Kind::kLiftoff, left},      {"jump", "flight", Kind::kLiftoff, right},
+                   {"flight", "landing", Kind::kTouchdown, left}, {"flight", "landing", Kind::kTouchdown, right},
+                   {"landing", "flight", Kind::kLiftoff, left},   {"landing", "flight", Kind::kLiftoff, right}};
   g.initial_mode = "jump";
   return g;
 }
@@ -50,7 +56,8 @@ int ContactModeGraph::ModeIndex(const std::string& name, const std::string& syst
   throw std::invalid_argument("system '" + system + "': the contact-mode graph has no mode named '" + name + "'");
 }
 
-ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain)
+ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
+                           Terrain terrain)
     : LeafSystem(std::move(name)), model_(std::move(model)), graph_(std::move(graph)), terrain_(std::move(terrain)) {
   if (!model_) ThrowError("null MultibodyModel");
   if (graph_.modes.empty()) ThrowError("the contact-mode graph has no modes");
@@ -62,14 +69,16 @@ ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyMode
       try {
         idx = model_->ContactIndex(c);
       } catch (const std::exception&) {
-        ThrowError("mode '" + m.name + "' names contact '" + c + "', which robot '" + model_->name() + "' does not have");
+        ThrowError("mode '" + m.name + "' names contact '" + c + "', which robot '" + model_->name() +
+                   "' does not have");
       }
       set |= ContactBit(idx);
     }
     mode_contacts_.push_back(set);
     names.push_back(m.name);
   }
-  const int initial = graph_.ModeIndex(graph_.initial_mode.empty() ? graph_.modes[0].name : graph_.initial_mode, this->name());
+  const int initial =
+      graph_.ModeIndex(graph_.initial_mode.empty() ? graph_.modes[0].name : graph_.initial_mode, this->name());
   DeclareModes(names, initial);
 
   // Transitions: modes and contact resolved; a touchdown needs the contact inactive, a lift-off active.
@@ -82,13 +91,15 @@ ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyMode
     try {
       r.contact = model_->ContactIndex(t.contact);
     } catch (const std::exception&) {
-      ThrowError("transition '" + t.from + "' -> '" + t.to + "' names contact '" + t.contact + "', which robot '" + model_->name() + "' does not have");
+      ThrowError("transition '" + t.from + "' -> '" + t.to + "' names contact '" + t.contact + "', which robot '" +
+                 model_->name() + "' does not have");
     }
     const bool active = mode_contacts_[r.from] & ContactBit(r.contact);
     if (t.kind == ContactModeGraph::Kind::kTouchdown && active)
       ThrowError("touchdown of '" + t.contact + "' from mode '" + t.from + "', where that contact is already active");
     if (t.kind == ContactModeGraph::Kind::kLiftoff) {
-      if (!active) ThrowError("lift-off of '" + t.contact + "' from mode '" + t.from + "', where that contact is not active");
+      if (!active)
+        ThrowError("lift-off of '" + t.contact + "' from mode '" + t.from + "', where that contact is not active");
       if (graph_liftoff_[r.from][r.contact] < 0) graph_liftoff_[r.from][r.contact] = r.to;
     }
     transitions_.push_back(r);

@@ -84,7 +84,8 @@ class ContactPlant : public LeafSystem {
   int base_height_index() const;
 
   /// Sets q, v and the mode in a context (sizes checked); the mode clock starts at the context time.
-  virtual void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const = 0;
+  virtual void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                        const std::string& mode) const = 0;
   /// [m] how far contact `contact` has slid along the surface while in contact, when the plant counts that as a slip
   /// although the force stays in the friction cone; 0 otherwise. HybridContactPlant: always 0 (its contacts hold, and a
   /// force reaching the cone ends the run). BulletWorldPlant: the distance slid once it exceeds slip_distance_m.

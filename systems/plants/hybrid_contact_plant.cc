@@ -51,12 +51,13 @@ void HybridContactPlant::EnterMode(double t, int from, int to, State* next) cons
   next->mode = to;
 }
 
-HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
-                                       HybridContactPlantParams params)
+HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model,
+                                       ContactModeGraph graph, Terrain terrain, HybridContactPlantParams params)
     : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (!(params_.planned_liftoff_force_N >= 0.0) || !std::isfinite(params_.planned_liftoff_force_N))
-    ThrowError("params.planned_liftoff_force_N = " + std::to_string(params_.planned_liftoff_force_N) + " N must be >= 0 and finite");
+    ThrowError("params.planned_liftoff_force_N = " + std::to_string(params_.planned_liftoff_force_N) +
+               " N must be >= 0 and finite");
 
   Eigen::VectorXd x0(2 * nv);
   x0 << model_->q_nominal(), Eigen::VectorXd::Zero(nv);
@@ -74,15 +75,22 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
 
 void HybridContactPlant::DeclarePlantOutputs() {
   const int nv = model_->nv(), nc = model_->num_contacts();
-  DeclareOutputPort("q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nv); }, Feedthrough::None());
-  DeclareOutputPort("v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().tail(nv); }, Feedthrough::None());
+  DeclareOutputPort(
+      "q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nv); },
+      Feedthrough::None());
+  DeclareOutputPort(
+      "v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().tail(nv); },
+      Feedthrough::None());
   std::vector<std::string> state_names, force_names;
   for (const std::string& j : model_->joint_names()) state_names.push_back("q_" + j);
   for (const std::string& j : model_->joint_names()) state_names.push_back("v_" + j);
   for (const ContactInfo& contact : model_->contacts())
     for (const char* axis : {"fx", "fy", "fz"}) force_names.push_back(contact.name + "_" + axis);
-  DeclareOutputPort("state", state_names, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
-  DeclareTypedOutputPort<int>("mode", [](const LeafContext& c, int* y) { *y = c.mode(); }, Feedthrough::None());
+  DeclareOutputPort(
+      "state", state_names, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); },
+      Feedthrough::None());
+  DeclareTypedOutputPort<int>(
+      "mode", [](const LeafContext& c, int* y) { *y = c.mode(); }, Feedthrough::None());
   DeclareOutputPort("contact_forces", force_names, [this, nc](const LeafContext& c, Eigen::VectorXd* y) {
     const Eigen::Matrix3Xd& f = EvalContactForces(c);
     for (int i = 0; i < nc; ++i) y->segment<3>(3 * i) = f.col(i);
@@ -99,13 +107,16 @@ void HybridContactPlant::DeclarePlantOutputs() {
         (*y)[i] = (check.unilateral_ok ? 0 : 1) + (check.friction_ok ? 0 : 2);
       }
   });
-  DeclareOutputPort("com", {"x", "y", "z", "vx", "vy", "vz"}, [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
-    auto& ws = c.scratch<Scratch>().ws;
-    const auto q = c.continuous_state().head(nv);
-    const auto v = c.continuous_state().tail(nv);
-    y->head<3>() = CalcComPosition(*model_, ws, q);
-    y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
-  }, Feedthrough::None());
+  DeclareOutputPort(
+      "com", {"x", "y", "z", "vx", "vy", "vz"},
+      [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
+        auto& ws = c.scratch<Scratch>().ws;
+        const auto q = c.continuous_state().head(nv);
+        const auto v = c.continuous_state().tail(nv);
+        y->head<3>() = CalcComPosition(*model_, ws, q);
+        y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
+      },
+      Feedthrough::None());
 }
 
 void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
@@ -140,12 +151,14 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
               const Scratch& s = ctx.scratch<Scratch>();
               const bool pending = s.pending_mode == ctx.mode() && (s.pending_liftoff & ContactBit(c));
               std::ostringstream os;
-              os << "'" << contact_name << "' lifted off at t = " << (pending ? s.pending_time : ctx.time()) << " s (normal force ";
+              os << "'" << contact_name << "' lifted off at t = " << (pending ? s.pending_time : ctx.time())
+                 << " s (normal force ";
               if (pending)
                 os << s.event_forces(2, c) << " N right after an event";
               else
                 os << "0 N";
-              os << " in mode '" << graph_.modes[m].name << "'), but the contact-mode graph has no mode to lift off into";
+              os << " in mode '" << graph_.modes[m].name
+                 << "'), but the contact-mode graph has no mode to lift off into";
               return EventStatus::Failed(os.str());
             }
             EnterMode(ctx.time(), m, to, next);
@@ -167,9 +180,9 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
           const ContactSet releasing = valid ? s.pending_liftoff : 0;
           for (int c = 0; c < nc; ++c)
             w[c] = !(active & ContactBit(c)) || (releasing & ContactBit(c)) ? 1.0
-                   : (pending & ContactBit(c)) ? PendingWitness(ctx)
-                   : (grace & ContactBit(c))   ? FrictionMargin(f, c) + params_.event_tolerance_N
-                                               : FrictionMargin(f, c);
+                   : (pending & ContactBit(c))                              ? PendingWitness(ctx)
+                   : (grace & ContactBit(c)) ? FrictionMargin(f, c) + params_.event_tolerance_N
+                                             : FrictionMargin(f, c);
         },
         CrossingDirection::kFalling,
         [this](const LeafContext& ctx, int c, State*) {
@@ -178,13 +191,15 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
           const Eigen::Matrix3Xd& f = pending ? s.event_forces : EvalContactForces(ctx);
           const double ft = f.col(c).head<2>().norm(), fn = f(2, c);
           std::ostringstream os;
-          os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time()) << " s: |F_t|/F_n = " << ft / fn
-             << (pending ? " exceeded" : " reached") << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient
-             << " (|F_t| = " << ft << " N, F_n = " << fn << " N" << (pending ? "; already outside the cone right after an event" : "") << ")";
+          os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time())
+             << " s: |F_t|/F_n = " << ft / fn << (pending ? " exceeded" : " reached")
+             << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient << " (|F_t| = " << ft
+             << " N, F_n = " << fn << " N" << (pending ? "; already outside the cone right after an event" : "") << ")";
           // A contact that unloads with a tangential force left (even round-off) meets the cone's apex just before its
           // normal force reaches 0: say so, since the ratio of two near-zero forces alone reads like a violent slip.
           if (std::abs(fn) <= params_.event_tolerance_N)
-            os << "; the contact was unloading (F_n within event_tolerance_N = " << params_.event_tolerance_N << " N of 0): it lost its load with a tangential force left";
+            os << "; the contact was unloading (F_n within event_tolerance_N = " << params_.event_tolerance_N
+               << " N of 0): it lost its load with a tangential force left";
           return EventStatus::Failed(os.str());
         });
   }
@@ -195,26 +210,27 @@ void HybridContactPlant::DeclarePostEventCheck() {
   // Violations that no guard can see: right after an event (initialisation, a reset, another system's discrete
   // update such as a zero-order-held input) the witnesses restart from the new values, so a normal force or a
   // friction margin that jumped below 0 would never cross. Such contacts lift off / slip just after the event.
-  if (params_.unilateral_contact) DeclareEventPublish([this, nc](const LeafContext& ctx) {
-    Scratch& s = ctx.scratch<Scratch>();
-    const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
-    s.pending_time = ctx.time();
-    s.pending_mode = ctx.mode();
-    s.event_forces = f;
-    s.pending_liftoff = s.pending_slip = s.grace_liftoff = s.grace_slip = 0;
-    const double tol = params_.event_tolerance_N;
-    for (int c = 0; c < nc; ++c) {
-      if (!(s.active & ContactBit(c))) continue;
-      const double fn = f(2, c) - liftoff_threshold_[ctx.mode()][c], margin = FrictionMargin(f, c);
-      if (fn < -tol)
-        s.pending_liftoff |= ContactBit(c);
-      else if (margin < -tol)
-        s.pending_slip |= ContactBit(c);
-      if (fn < 0 && fn >= -tol) s.grace_liftoff |= ContactBit(c);
-      if (margin < 0 && margin >= -tol) s.grace_slip |= ContactBit(c);
-    }
-    return EventStatus::Succeeded();
-  });
+  if (params_.unilateral_contact)
+    DeclareEventPublish([this, nc](const LeafContext& ctx) {
+      Scratch& s = ctx.scratch<Scratch>();
+      const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
+      s.pending_time = ctx.time();
+      s.pending_mode = ctx.mode();
+      s.event_forces = f;
+      s.pending_liftoff = s.pending_slip = s.grace_liftoff = s.grace_slip = 0;
+      const double tol = params_.event_tolerance_N;
+      for (int c = 0; c < nc; ++c) {
+        if (!(s.active & ContactBit(c))) continue;
+        const double fn = f(2, c) - liftoff_threshold_[ctx.mode()][c], margin = FrictionMargin(f, c);
+        if (fn < -tol)
+          s.pending_liftoff |= ContactBit(c);
+        else if (margin < -tol)
+          s.pending_slip |= ContactBit(c);
+        if (fn < 0 && fn >= -tol) s.grace_liftoff |= ContactBit(c);
+        if (margin < 0 && margin >= -tol) s.grace_slip |= ContactBit(c);
+      }
+      return EventStatus::Succeeded();
+    });
 }
 
 void HybridContactPlant::DeclareTouchdownAndFallGuards() {
@@ -225,7 +241,8 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
     const int from = td.from, to = td.to, contact = td.contact;
     const std::string contact_name = model_->contacts()[contact].name;
     DeclareGuard(
-        "touchdown_" + contact_name, from, [this, contact](const LeafContext& c) { return TouchdownWitness(c, contact); }, CrossingDirection::kFalling,
+        "touchdown_" + contact_name, from,
+        [this, contact](const LeafContext& c) { return TouchdownWitness(c, contact); }, CrossingDirection::kFalling,
         [this, contact, contact_name, from, to, nv](const LeafContext& c, int, State* next) {
           auto& s = c.scratch<Scratch>();
           const auto q = c.continuous_state().head(nv);
@@ -234,13 +251,15 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
             if (terrain_.StoneAt(p.x(), params_.stone_tolerance_m) < 0) {
               std::ostringstream os;
               const int near = terrain_.NearestStone(p.x());
-              os << "robot fell: '" << contact_name << "' touched down at x = " << p.x() << " m, not on any stone (nearest stone " << near
-                 << " spans " << terrain_.stones()[near].x_center_m - terrain_.stones()[near].length_m / 2 << " .. "
+              os << "robot fell: '" << contact_name << "' touched down at x = " << p.x()
+                 << " m, not on any stone (nearest stone " << near << " spans "
+                 << terrain_.stones()[near].x_center_m - terrain_.stones()[near].length_m / 2 << " .. "
                  << terrain_.stones()[near].x_center_m + terrain_.stones()[near].length_m / 2 << " m)";
               return EventStatus::Failed(os.str());
             }
           }
-          CalcImpactMap(*model_, s.ws, q, c.continuous_state().tail(nv), mode_contacts_[to], params_.dynamics, s.v_plus, s.impulse);
+          CalcImpactMap(*model_, s.ws, q, c.continuous_state().tail(nv), mode_contacts_[to], params_.dynamics, s.v_plus,
+                        s.impulse);
           next->continuous.tail(nv) = s.v_plus;
           EnterMode(c.time(), from, to, next);
           return EventStatus::Succeeded();
@@ -248,11 +267,13 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
   }
   if (base_height_index() >= 0) {
     DeclareGuard(
-        "fall", kAllModes, [this](const LeafContext& c) { return c.continuous_state()[base_height_index()] - params_.min_base_height_m; },
-        CrossingDirection::kFalling, [this](const LeafContext& c, int, State*) {
+        "fall", kAllModes,
+        [this](const LeafContext& c) { return c.continuous_state()[base_height_index()] - params_.min_base_height_m; },
+        CrossingDirection::kFalling,
+        [this](const LeafContext& c, int, State*) {
           std::ostringstream os;
-          os << "robot fell: base height " << c.continuous_state()[base_height_index()] << " m is below min_base_height_m = " << params_.min_base_height_m
-             << " m";
+          os << "robot fell: base height " << c.continuous_state()[base_height_index()]
+             << " m is below min_base_height_m = " << params_.min_base_height_m << " m";
           return EventStatus::Failed(os.str());
         });
   }
@@ -260,11 +281,12 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
 
 std::any HybridContactPlant::AllocateScratch() const { return Scratch(*model_); }
 
-void HybridContactPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const {
+void HybridContactPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                  const std::string& mode) const {
   const int nv = model_->nv();
   if (q.size() != nv || v.size() != nv)
-    ThrowError("SetState: q has size " + std::to_string(q.size()) + " and v size " + std::to_string(v.size()) + "; robot '" + model_->name() +
-               "' has nv = " + std::to_string(nv));
+    ThrowError("SetState: q has size " + std::to_string(q.size()) + " and v size " + std::to_string(v.size()) +
+               "; robot '" + model_->name() + "' has nv = " + std::to_string(nv));
   State& s = context.get_mutable_state();
   s.continuous << q, v;
   s.mode = graph_.ModeIndex(mode, name());
@@ -301,7 +323,8 @@ const Eigen::Matrix3Xd& HybridContactPlant::EvalContactForces(const LeafContext&
   if (s.forces_version == s.dynamics_id) return s.forces;
   const auto q = context.continuous_state().head(model_->nv());
   for (int i = 0; i < model_->num_contacts(); ++i)
-    s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force : Eigen::Vector3d::Zero();
+    s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force
+                                                 : Eigen::Vector3d::Zero();
   s.forces_version = s.dynamics_id;
   return s.forces;
 }

@@ -25,10 +25,10 @@
 //     Reset: plastic impact q̇⁺ = (I − M⁻¹Jᵀ(JM⁻¹Jᵀ)⁻¹J) q̇⁻ with the TARGET mode's contact set; on a
 //     stepping-stone terrain a touchdown that is not on a stone ends the run: Failed("robot fell: ...").
 //   liftoff_<contact>  (every mode, every contact c ∈ C(m)): the normal force on c (world z of the ground force,
-//     ExtractContactWrench) crosses 0 falling (params.planned_liftoff_force_N for the graph's own lift-off transitions). Contact is unilateral in every graph. Reset: mode change only, to the
-//     graph's lift-off transition of c from m if there is one, else to the mode whose contact set is exactly
-//     C(m) \ {c}, else the run ends: Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no
-//     mode to lift off into").
+//     ExtractContactWrench) crosses 0 falling (params.planned_liftoff_force_N for the graph's own lift-off
+//     transitions). Contact is unilateral in every graph. Reset: mode change only, to the graph's lift-off transition
+//     of c from m if there is one, else to the mode whose contact set is exactly C(m) \ {c}, else the run ends:
+//     Failed("'<c>' lifted off at t = ... s (...), but the contact-mode graph has no mode to lift off into").
 //   slip  (every mode with contacts; one witness component per contact, index = contact index): μ_c F_n − |F_t|
 //     crosses 0 falling (inactive contacts: +1). μ_c = ContactInfo::friction_coefficient. Ends the run:
 //     Failed("'<c>' slipped at t = ... s: |F_t|/F_n = ... reached the friction coefficient mu = ..."). A slip is a
@@ -46,8 +46,9 @@
 // messages then give t_event and the force right after the event. Example: a touchdown whose held input makes the
 // new stance foot pull lifts that foot off again at once. A value within event_tolerance_N beyond its bound (rounding,
 // when a controller holds the force on the cone or at F_n = 0) is taken as on the bound: until the next event that
-// contact's witness is the value + event_tolerance_N, so it still fires if the force then leaves the bound. (The pending set lives in the context's scratch, not in the
-// state: every event publish recomputes it, and it only applies while the mode it was found in is active.)
+// contact's witness is the value + event_tolerance_N, so it still fires if the force then leaves the bound. (The
+// pending set lives in the context's scratch, not in the state: every event publish recomputes it, and it only applies
+// while the mode it was found in is active.)
 
 #include <memory>
 #include <string>
@@ -83,14 +84,15 @@ struct HybridContactPlantParams {
 
 class HybridContactPlant final : public ContactPlant {
  public:
-  HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, Terrain terrain,
-                     HybridContactPlantParams params = {});
+  HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
+                     Terrain terrain, HybridContactPlantParams params = {});
 
   const HybridContactPlantParams& params() const { return params_; }
 
   /// Sets q, v and the mode in a context (sizes checked); the mode clock starts at the context time, and every
   /// contact counts as having left the ground then (touchdown guards arm min_time_in_mode_s later).
-  void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode) const override;
+  void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                const std::string& mode) const override;
 
   struct Scratch;
 

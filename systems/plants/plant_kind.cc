@@ -18,11 +18,15 @@ PlantKind ParsePlantKind(const std::string& value, const std::string& source) {
   throw std::invalid_argument(source + " '" + value + "': unknown plant (expected hybrid or bullet)");
 }
 
-std::unique_ptr<ContactPlant> MakeContactPlant(PlantKind kind, std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
-                                               Terrain terrain, const HybridContactPlantParams& hybrid, const BulletWorldPlantParams& bullet) {
+std::unique_ptr<ContactPlant> MakeContactPlant(PlantKind kind, std::string name,
+                                               std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
+                                               Terrain terrain, const HybridContactPlantParams& hybrid,
+                                               const BulletWorldPlantParams& bullet) {
   if (kind == PlantKind::kBullet)
-    return std::make_unique<BulletWorldPlant>(std::move(name), std::move(model), std::move(graph), std::move(terrain), bullet);
-  return std::make_unique<HybridContactPlant>(std::move(name), std::move(model), std::move(graph), std::move(terrain), hybrid);
+    return std::make_unique<BulletWorldPlant>(std::move(name), std::move(model), std::move(graph), std::move(terrain),
+                                              bullet);
+  return std::make_unique<HybridContactPlant>(std::move(name), std::move(model), std::move(graph), std::move(terrain),
+                                              hybrid);
 }
 
 }  // namespace rome

@@ -24,7 +24,9 @@ const char* ToString(PlantKind kind);
 PlantKind ParsePlantKind(const std::string& value, const std::string& source = "plant");
 
 /// The plant of `kind`, built with `hybrid` (kHybrid) or `bullet` (kBullet) parameters; the other set is ignored.
-std::unique_ptr<ContactPlant> MakeContactPlant(PlantKind kind, std::string name, std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
-                                               Terrain terrain, const HybridContactPlantParams& hybrid, const BulletWorldPlantParams& bullet);
+std::unique_ptr<ContactPlant> MakeContactPlant(PlantKind kind, std::string name,
+                                               std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph,
+                                               Terrain terrain, const HybridContactPlantParams& hybrid,
+                                               const BulletWorldPlantParams& bullet);
 
 }  // namespace rome

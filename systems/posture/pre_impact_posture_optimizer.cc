@@ -20,8 +20,8 @@ double Pitch(const Eigen::Matrix3d& R) { return std::atan2(R(0, 2), R(0, 0)); }
 
 std::string RequestText(const PreImpactPostureRequest& r) {
   std::ostringstream os;
-  os << "pre-impact posture for the step (l = " << r.step_length_m << " m, h = " << r.step_height_m << " m) of '" << r.swing_contact << "' from stance '"
-     << r.stance_contact << "'";
+  os << "pre-impact posture for the step (l = " << r.step_length_m << " m, h = " << r.step_height_m << " m) of '"
+     << r.swing_contact << "' from stance '" << r.stance_contact << "'";
   return os.str();
 }
 
@@ -34,7 +34,8 @@ int CountFlatContacts(const MultibodyModel& model, const PreImpactPostureRequest
 
 void ValidateRequest(const MultibodyModel& model, const PreImpactPostureRequest& r) {
   if (!model.is_planar())
-    throw std::invalid_argument("PreImpactPostureOptimizer: robot '" + model.name() + "' has a " + ToString(model.floating_base()) +
+    throw std::invalid_argument("PreImpactPostureOptimizer: robot '" + model.name() + "' has a " +
+                                ToString(model.floating_base()) +
                                 " floating base; Eq. (21) is implemented for planar models");
   for (const std::string* c : {&r.stance_contact, &r.swing_contact})
     if (!model.num_contacts() || [&] {
@@ -42,19 +43,24 @@ void ValidateRequest(const MultibodyModel& model, const PreImpactPostureRequest&
             if (info.name == *c) return false;
           return true;
         }())
-      throw std::invalid_argument("PreImpactPostureOptimizer: robot '" + model.name() + "' has no contact named '" + *c + "'");
+      throw std::invalid_argument("PreImpactPostureOptimizer: robot '" + model.name() + "' has no contact named '" +
+                                  *c + "'");
   if (r.stance_contact == r.swing_contact)
-    throw std::invalid_argument("PreImpactPostureOptimizer: stance and swing contact are both '" + r.stance_contact + "'");
+    throw std::invalid_argument("PreImpactPostureOptimizer: stance and swing contact are both '" + r.stance_contact +
+                                "'");
   if (!std::isfinite(r.step_length_m) || !std::isfinite(r.step_height_m) || !r.stance_foot_position.allFinite())
-    throw std::invalid_argument("PreImpactPostureOptimizer: " + RequestText(r) + " has a non-finite step or stance position");
+    throw std::invalid_argument("PreImpactPostureOptimizer: " + RequestText(r) +
+                                " has a non-finite step or stance position");
 }
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------------------
 // The NLP
 
-PreImpactPostureProblem::PreImpactPostureProblem(const MultibodyModel& model, const PreImpactPostureParams& params, const PreImpactPostureRequest& request)
-    : NlpProblem("pre_impact_posture", model.nv() - kBase, 3 + model.num_loop_closures() + CountFlatContacts(model, request)),
+PreImpactPostureProblem::PreImpactPostureProblem(const MultibodyModel& model, const PreImpactPostureParams& params,
+                                                 const PreImpactPostureRequest& request)
+    : NlpProblem("pre_impact_posture", model.nv() - kBase,
+                 3 + model.num_loop_closures() + CountFlatContacts(model, request)),
       model_(model),
       params_(params),
       request_(request),
@@ -101,7 +107,9 @@ PreImpactPostureProblem::PreImpactPostureProblem(const MultibodyModel& model, co
   SetLagrangianHessianSparsity(std::move(hessian));
 }
 
-Eigen::VectorXd PreImpactPostureProblem::FromConfiguration(const Eigen::VectorXd& q) const { return q.tail(num_variables()); }
+Eigen::VectorXd PreImpactPostureProblem::FromConfiguration(const Eigen::VectorXd& q) const {
+  return q.tail(num_variables());
+}
 
 Eigen::VectorXd PreImpactPostureProblem::ToConfiguration(const Eigen::Ref<const Eigen::VectorXd>& x) {
   Eigen::VectorXd q(model_.nv());
@@ -175,17 +183,20 @@ double PreImpactPostureProblem::EvalCost(const Eigen::Ref<const Eigen::VectorXd>
   return cost_;
 }
 
-void PreImpactPostureProblem::EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> gradient) {
+void PreImpactPostureProblem::EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                               Eigen::Ref<Eigen::VectorXd> gradient) {
   Evaluate(x);
   gradient = cost_gradient_;
 }
 
-void PreImpactPostureProblem::EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) {
+void PreImpactPostureProblem::EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                              Eigen::Ref<Eigen::VectorXd> g) {
   Evaluate(x);
   g = g_;
 }
 
-void PreImpactPostureProblem::EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> values) {
+void PreImpactPostureProblem::EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x,
+                                                     Eigen::Ref<Eigen::VectorXd> values) {
   Evaluate(x);
   int k = 0;
   for (int i = 0; i < G_.rows(); ++i)
@@ -193,7 +204,8 @@ void PreImpactPostureProblem::EvalConstraintJacobian(const Eigen::Ref<const Eige
 }
 
 void PreImpactPostureProblem::EvalLagrangianHessian(const Eigen::Ref<const Eigen::VectorXd>& x, double cost_factor,
-                                                    const Eigen::Ref<const Eigen::VectorXd>& lambda, Eigen::Ref<Eigen::VectorXd> values) {
+                                                    const Eigen::Ref<const Eigen::VectorXd>& lambda,
+                                                    Eigen::Ref<Eigen::VectorXd> values) {
   // Central differences of the analytic gradient ∇L = σ∇f + Gᵀλ (n = nv − 2 = 5 for AMBER: 10 gradient
   // evaluations of about a microsecond each). Cuts Ipopt's iterations by about half against L-BFGS.
   const int n = num_variables();
@@ -217,15 +229,18 @@ void PreImpactPostureProblem::EvalLagrangianHessian(const Eigen::Ref<const Eigen
 // ---------------------------------------------------------------------------------------------------------
 // The optimizer
 
-PreImpactPostureOptimizer::PreImpactPostureOptimizer(std::shared_ptr<const MultibodyModel> model, PreImpactPostureParams params)
+PreImpactPostureOptimizer::PreImpactPostureOptimizer(std::shared_ptr<const MultibodyModel> model,
+                                                     PreImpactPostureParams params)
     : model_(std::move(model)), params_(std::move(params)), solver_(params_.ipopt) {
   if (!model_) throw std::invalid_argument("PreImpactPostureOptimizer: null MultibodyModel");
   if (!model_->is_planar())
-    throw std::invalid_argument("PreImpactPostureOptimizer: robot '" + model_->name() + "' has a " + ToString(model_->floating_base()) +
+    throw std::invalid_argument("PreImpactPostureOptimizer: robot '" + model_->name() + "' has a " +
+                                ToString(model_->floating_base()) +
                                 " floating base; Eq. (21) is implemented for planar models");
   auto check = [](double value, const char* what) {
     if (!(value >= 0.0) || !std::isfinite(value))
-      throw std::invalid_argument(std::string("PreImpactPostureParams::") + what + " = " + std::to_string(value) + " must be finite and >= 0");
+      throw std::invalid_argument(std::string("PreImpactPostureParams::") + what + " = " + std::to_string(value) +
+                                  " must be finite and >= 0");
   };
   check(params_.com_x_weight, "com_x_weight");
   check(params_.torso_pitch_weight, "torso_pitch_weight");
@@ -242,7 +257,8 @@ void PreImpactPostureOptimizer::Reset() {
   for (auto& m : previous_multipliers_) m = NlpMultipliers{};
 }
 
-PreImpactPosture PreImpactPostureOptimizer::Describe(PreImpactPostureProblem& problem, const PreImpactPostureRequest& request,
+PreImpactPosture PreImpactPostureOptimizer::Describe(PreImpactPostureProblem& problem,
+                                                     const PreImpactPostureRequest& request,
                                                      const Eigen::VectorXd& x) const {
   PreImpactPosture out;
   out.q = problem.ToConfiguration(x);
@@ -261,8 +277,10 @@ PreImpactPosture PreImpactPostureOptimizer::Solve(const PreImpactPostureRequest&
   ValidateRequest(*model_, request);
   PreImpactPostureProblem problem(*model_, params_, request);
   const int stance = model_->ContactIndex(request.stance_contact);
-  const Eigen::VectorXd x0 = previous_[stance].size() > 0 ? previous_[stance] : problem.FromConfiguration(model_->q_nominal());
-  const bool warm = previous_[stance].size() > 0 && previous_multipliers_[stance].constraints.size() == problem.num_constraints();
+  const Eigen::VectorXd x0 =
+      previous_[stance].size() > 0 ? previous_[stance] : problem.FromConfiguration(model_->q_nominal());
+  const bool warm =
+      previous_[stance].size() > 0 && previous_multipliers_[stance].constraints.size() == problem.num_constraints();
   NlpResult result = solver_.Solve(problem, x0, warm ? &previous_multipliers_[stance] : nullptr);
   if (!result.success() && previous_[stance].size() > 0) {
     // A warm start from a very different step can lead Ipopt to a point of local infeasibility: retry once from
@@ -279,7 +297,10 @@ PreImpactPosture PreImpactPostureOptimizer::Solve(const PreImpactPostureRequest&
   if (success) {
     Eigen::VectorXd g(problem.num_constraints());
     problem.EvalConstraints(result.x, g);
-    violation = (problem.constraint_lower_bounds() - g).cwiseMax(g - problem.constraint_upper_bounds()).cwiseMax(0.0).maxCoeff();
+    violation = (problem.constraint_lower_bounds() - g)
+                    .cwiseMax(g - problem.constraint_upper_bounds())
+                    .cwiseMax(0.0)
+                    .maxCoeff();
     if (violation > 1e-6) success = false;
   }
 
@@ -290,14 +311,21 @@ PreImpactPosture PreImpactPostureOptimizer::Solve(const PreImpactPostureRequest&
     previous_[stance] = result.x;
     previous_multipliers_[stance] = result.multipliers;
     out = Describe(problem, request, result.x);
-    msg << "solved (" << ToString(result.status) << ", " << result.iterations << " iterations, " << result.wall_time * 1e3 << " ms)";
+    msg << "solved (" << ToString(result.status) << ", " << result.iterations << " iterations, "
+        << result.wall_time * 1e3 << " ms)";
   } else {
     const bool have_previous = previous_[stance].size() > 0;
-    out = Describe(problem, request, have_previous ? previous_[stance] : problem.FromConfiguration(model_->q_nominal()));
-    out.fallback = have_previous ? PreImpactPosture::Fallback::kPreviousSolution : PreImpactPosture::Fallback::kNominalPose;
-    msg << "FAILED: " << (result.status == NlpStatus::kInfeasible ? "infeasible (stone out of reach or COM height/joint limits unattainable)" : ToString(result.status));
+    out =
+        Describe(problem, request, have_previous ? previous_[stance] : problem.FromConfiguration(model_->q_nominal()));
+    out.fallback =
+        have_previous ? PreImpactPosture::Fallback::kPreviousSolution : PreImpactPosture::Fallback::kNominalPose;
+    msg << "FAILED: "
+        << (result.status == NlpStatus::kInfeasible
+                ? "infeasible (stone out of reach or COM height/joint limits unattainable)"
+                : ToString(result.status));
     if (violation > 1e-6) msg << ", constraint violation " << violation;
-    msg << "; Ipopt: " << result.message << "; falling back to " << (have_previous ? "the previous solution for this stance" : "the nominal pose");
+    msg << "; Ipopt: " << result.message << "; falling back to "
+        << (have_previous ? "the previous solution for this stance" : "the nominal pose");
   }
   out.success = success;
   out.status = result.status;

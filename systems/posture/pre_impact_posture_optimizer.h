@@ -45,13 +45,13 @@
 namespace rome {
 
 struct PreImpactPostureParams {
-  double com_x_fraction = 0.6;          ///< ε [-]: p_com,f^{x,d} = ε l (paper: ε ∈ [0, 1]; 0.6 in its random-stone runs).
-  double min_com_height_m = 0.7;        ///< p_com^{z,min} [m] above the lower of the two feet (paper gives no value;
-                                        ///< AMBER's nominal COM is 0.90 m above its feet).
-  double com_x_weight = 1.0;            ///< w_x [1/m²] (Eq. (21): 1).
-  double torso_pitch_weight = 1.0;      ///< w_φ [1/rad²] (Eq. (21): 1).
-  double com_height_weight = 0.0;       ///< w_z [1/m²] on a requested COM height (0: not in Eq. (21)).
-  double posture_weight = 1e-4;         ///< w_r [1/rad²] on the joints' distance to the nominal posture (ours).
+  double com_x_fraction = 0.6;  ///< ε [-]: p_com,f^{x,d} = ε l (paper: ε ∈ [0, 1]; 0.6 in its random-stone runs).
+  double min_com_height_m = 0.7;    ///< p_com^{z,min} [m] above the lower of the two feet (paper gives no value;
+                                    ///< AMBER's nominal COM is 0.90 m above its feet).
+  double com_x_weight = 1.0;        ///< w_x [1/m²] (Eq. (21): 1).
+  double torso_pitch_weight = 1.0;  ///< w_φ [1/rad²] (Eq. (21): 1).
+  double com_height_weight = 0.0;   ///< w_z [1/m²] on a requested COM height (0: not in Eq. (21)).
+  double posture_weight = 1e-4;     ///< w_r [1/rad²] on the joints' distance to the nominal posture (ours).
   /// [rad] step of the central differences of the analytic gradients that give Ipopt its Lagrangian Hessian
   /// (first derivatives are exact; the Hessian is accurate to about step² ≈ 1e-10 relative).
   double hessian_difference_step = 1e-5;
@@ -66,13 +66,13 @@ struct PreImpactPostureParams {
 };
 
 struct PreImpactPostureRequest {
-  std::string stance_contact = "left_foot";   ///< contact on the current stone
-  std::string swing_contact = "right_foot";   ///< contact that lands on the next stone
-  double step_length_m = 0.3;                 ///< l [m]: next stone minus stance foot, along x
-  double step_height_m = 0.0;                 ///< h [m]: next stone minus stance foot, along z
+  std::string stance_contact = "left_foot";                        ///< contact on the current stone
+  std::string swing_contact = "right_foot";                        ///< contact that lands on the next stone
+  double step_length_m = 0.3;                                      ///< l [m]: next stone minus stance foot, along x
+  double step_height_m = 0.0;                                      ///< h [m]: next stone minus stance foot, along z
   double com_x_m = std::numeric_limits<double>::quiet_NaN();       ///< p_com,f^{x,d} [m]; NaN = ε l
   double com_height_m = std::numeric_limits<double>::quiet_NaN();  ///< target for w_z [m]; NaN = no target
-  Eigen::Vector2d stance_foot_position = Eigen::Vector2d::Zero();   ///< world (x, z) [m] of the stance foot for q*
+  Eigen::Vector2d stance_foot_position = Eigen::Vector2d::Zero();  ///< world (x, z) [m] of the stance foot for q*
 };
 
 struct PreImpactPosture {
@@ -80,15 +80,15 @@ struct PreImpactPosture {
   bool success = false;
   NlpStatus status = NlpStatus::kError;
   Fallback fallback = Fallback::kNone;
-  std::string message;            ///< names the request, the outcome and the fallback used
-  Eigen::VectorXd q;              ///< pre-impact configuration (nq), stance foot at request.stance_foot_position
-  double torso_pitch_rad = 0.0;   ///< φ_f^d of q
-  double com_x_m = 0.0;           ///< p_com^x of q relative to the stance foot [m]
-  double com_height_m = 0.0;      ///< p_com,f^{z,d}: p_com^z of q relative to the stance foot [m]
+  std::string message;           ///< names the request, the outcome and the fallback used
+  Eigen::VectorXd q;             ///< pre-impact configuration (nq), stance foot at request.stance_foot_position
+  double torso_pitch_rad = 0.0;  ///< φ_f^d of q
+  double com_x_m = 0.0;          ///< p_com^x of q relative to the stance foot [m]
+  double com_height_m = 0.0;     ///< p_com,f^{z,d}: p_com^z of q relative to the stance foot [m]
   Eigen::Vector2d swing_foot = Eigen::Vector2d::Zero();  ///< p_sw − p_st of q [m]
   double cost = 0.0;
   int iterations = 0;
-  double solve_time_s = 0.0;      ///< wall time of the Ipopt solve [s]
+  double solve_time_s = 0.0;  ///< wall time of the Ipopt solve [s]
 };
 
 /// The NLP of Eq. (21) for one request (public so that tests can evaluate cost and constraints).
@@ -97,7 +97,8 @@ struct PreImpactPosture {
 /// every loop closure (|p_a − p_b| − d); for a line/flat swing then stance contact, its link pitch minus the nominal.
 class PreImpactPostureProblem final : public NlpProblem {
  public:
-  PreImpactPostureProblem(const MultibodyModel& model, const PreImpactPostureParams& params, const PreImpactPostureRequest& request);
+  PreImpactPostureProblem(const MultibodyModel& model, const PreImpactPostureParams& params,
+                          const PreImpactPostureRequest& request);
 
   /// Full configuration from the variables, with the stance foot at request.stance_foot_position.
   Eigen::VectorXd ToConfiguration(const Eigen::Ref<const Eigen::VectorXd>& x);
@@ -110,7 +111,8 @@ class PreImpactPostureProblem final : public NlpProblem {
   void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override;
   void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> values) override;
   /// Central differences of the analytic Lagrangian gradient (see params.hessian_difference_step).
-  void EvalLagrangianHessian(const Eigen::Ref<const Eigen::VectorXd>& x, double cost_factor, const Eigen::Ref<const Eigen::VectorXd>& lambda,
+  void EvalLagrangianHessian(const Eigen::Ref<const Eigen::VectorXd>& x, double cost_factor,
+                             const Eigen::Ref<const Eigen::VectorXd>& lambda,
                              Eigen::Ref<Eigen::VectorXd> values) override;
 
  private:
@@ -120,8 +122,8 @@ class PreImpactPostureProblem final : public NlpProblem {
   PreImpactPostureParams params_;
   PreImpactPostureRequest request_;
   int stance_ = -1, swing_ = -1;
-  std::vector<int> flat_contacts_;       // contacts whose pitch is constrained
-  std::vector<double> flat_pitch_;       // their nominal-pose pitch
+  std::vector<int> flat_contacts_;  // contacts whose pitch is constrained
+  std::vector<double> flat_pitch_;  // their nominal-pose pitch
   double com_x_target_ = 0.0;
   MultibodyWorkspace ws_;
   Eigen::VectorXd q_nominal_, cached_x_, q_, g_, cost_gradient_;
@@ -146,7 +148,8 @@ class PreImpactPostureOptimizer {
   void Reset();
 
  private:
-  PreImpactPosture Describe(PreImpactPostureProblem& problem, const PreImpactPostureRequest& request, const Eigen::VectorXd& x) const;
+  PreImpactPosture Describe(PreImpactPostureProblem& problem, const PreImpactPostureRequest& request,
+                            const Eigen::VectorXd& x) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   PreImpactPostureParams params_;

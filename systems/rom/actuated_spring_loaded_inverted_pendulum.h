@@ -26,8 +26,8 @@ namespace rome {
 
 /// Parameters of the aSLIP. Defaults: the 76 kg exoskeleton of robots.md (spec §1.1, §2.1).
 struct AslipParams {
-  double mass = 76.0;      ///< [kg] m = 2.28 × 33.3 kg (Cassie), so that c stays consistent (robots.md, spec §1.1).
-  double gravity = 9.81;   ///< [m/s²]
+  double mass = 76.0;     ///< [kg] m = 2.28 × 33.3 kg (Cassie), so that c stays consistent (robots.md, spec §1.1).
+  double gravity = 9.81;  ///< [m/s²]
   double spring_scale = 2.28;  ///< [-] c, the exo-to-Cassie mass ratio multiplying K(L) and D(L) (paper, Appendix 3).
   /// [N/m/c] K(L)/c = k4 L⁴ + k2 L² + k1 L + k0 (ref [22]; there is no L³ term).
   double k4 = 23309, k2 = -55230, k1 = 48657, k0 = -9451;
@@ -63,12 +63,12 @@ T AslipDamping(const AslipParams& p, const T& L) {
 /// Kinematics and forces of one leg at a state.
 template <class T>
 struct AslipLeg {
-  T r;         ///< [m] actual leg length |p − f|
-  T r_dot;     ///< [m/s] ṙ = e · ṗ
-  T ex, ez;    ///< unit vector from the pivot to the mass
-  T spring;    ///< [m] s = L − r
-  T spring_rate;  ///< [m/s] ṡ = L̇ − ṙ
-  T force;     ///< [N] F = K(L) s + D(L) ṡ along the leg (0 is not imposed: the NLP constrains F ≥ 0)
+  T r;             ///< [m] actual leg length |p − f|
+  T r_dot;         ///< [m/s] ṙ = e · ṗ
+  T ex, ez;        ///< unit vector from the pivot to the mass
+  T spring;        ///< [m] s = L − r
+  T spring_rate;   ///< [m/s] ṡ = L̇ − ṙ
+  T force;         ///< [N] F = K(L) s + D(L) ṡ along the leg (0 is not imposed: the NLP constrains F ≥ 0)
   T grf_x, grf_z;  ///< [N] G = F e + (u/r) n, the ground reaction on the mass
 };
 
@@ -128,7 +128,8 @@ double AslipRestLengthForForce(const AslipParams& params, double r, double F);
 /// with Δq = q1 − q2 and the leg angle convention e = (−sin q, cos q). Returns (ṙ2⁺, q̇2⁺).
 inline Eigen::Vector2d AslipPolarImpactMap(double r1, double q1, double r1_dot, double q1_dot, double r2, double q2) {
   const double dq = q1 - q2;
-  return {r1_dot * std::cos(dq) - q1_dot * r1 * std::sin(dq), (q1_dot * r1 * std::cos(dq) + r1_dot * std::sin(dq)) / r2};
+  return {r1_dot * std::cos(dq) - q1_dot * r1 * std::sin(dq),
+          (q1_dot * r1 * std::cos(dq) + r1_dot * std::sin(dq)) / r2};
 }
 
 }  // namespace rome

@@ -32,11 +32,12 @@ ActuatedSpringLoadedInvertedPendulumSystem::ActuatedSpringLoadedInvertedPendulum
   DeclareContinuousState(Eigen::VectorXd(params_.initial_state));
   DeclareDiscreteState(Eigen::Vector3d(params_.initial_left_foot_x, params_.initial_right_foot_x, 0.0));
 
-  DeclareOutputPort("state", {"x", "z", "xdot", "zdot", "L_left", "L_right", "Ldot_left", "Ldot_right"},
-                    [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
-  DeclareOutputPort("com", {"x", "z", "xdot", "zdot"},
-                    [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head<4>(); },
-                    Feedthrough::None());
+  DeclareOutputPort(
+      "state", {"x", "z", "xdot", "zdot", "L_left", "L_right", "Ldot_left", "Ldot_right"},
+      [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+  DeclareOutputPort(
+      "com", {"x", "z", "xdot", "zdot"},
+      [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head<4>(); }, Feedthrough::None());
   DeclareOutputPort(
       "grf", {"left_x", "left_z", "right_x", "right_z"},
       [this](const LeafContext& c, Eigen::VectorXd* y) {
@@ -53,9 +54,9 @@ ActuatedSpringLoadedInvertedPendulumSystem::ActuatedSpringLoadedInvertedPendulum
         }
       },
       params_.footed ? Feedthrough::From({torque_port_}) : Feedthrough::None());
-  DeclareOutputPort("foot_x", {"left", "right"},
-                    [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().head<2>(); },
-                    Feedthrough::None());
+  DeclareOutputPort(
+      "foot_x", {"left", "right"}, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().head<2>(); },
+      Feedthrough::None());
 
   for (int stance = 0; stance < 2; ++stance) {
     const int swing = 1 - stance;
@@ -82,7 +83,8 @@ ActuatedSpringLoadedInvertedPendulumSystem::ActuatedSpringLoadedInvertedPendulum
         const Eigen::VectorXd u = Input(c);
         for (int leg = 0; leg < 2; ++leg) {
           const double torque = params_.footed ? u(2 + leg) : 0.0;
-          w(leg) = AslipLegState<double>(params_.aslip, c.continuous_state(), leg, c.discrete_state()(leg), torque).grf_z;
+          w(leg) =
+              AslipLegState<double>(params_.aslip, c.continuous_state(), leg, c.discrete_state()(leg), torque).grf_z;
         }
       },
       CrossingDirection::kFalling,

@@ -28,7 +28,8 @@ namespace rome {
 struct ActuatedSpringLoadedInvertedPendulumSystemParams {
   AslipParams aslip{};
   bool footed = false;  ///< declares the ankle_torque input (footed aSLIP, Sec. IV-A)
-  Eigen::Matrix<double, 8, 1> initial_state = (Eigen::Matrix<double, 8, 1>() << 0, 0.9, 0, 0, 0.97, 0.97, 0, 0).finished();
+  Eigen::Matrix<double, 8, 1> initial_state =
+      (Eigen::Matrix<double, 8, 1>() << 0, 0.9, 0, 0, 0.97, 0.97, 0, 0).finished();
   std::string initial_mode = "double_support";
   double initial_left_foot_x = 0.0;   ///< [m]
   double initial_right_foot_x = 0.0;  ///< [m]
@@ -37,7 +38,7 @@ struct ActuatedSpringLoadedInvertedPendulumSystemParams {
 class ActuatedSpringLoadedInvertedPendulumSystem final : public LeafSystem {
  public:
   explicit ActuatedSpringLoadedInvertedPendulumSystem(std::string name = "aslip",
-                                                     ActuatedSpringLoadedInvertedPendulumSystemParams params = {});
+                                                      ActuatedSpringLoadedInvertedPendulumSystemParams params = {});
   const ActuatedSpringLoadedInvertedPendulumSystemParams& params() const { return params_; }
   int double_support_mode() const { return 0; }
   int left_stance_mode() const { return 1; }

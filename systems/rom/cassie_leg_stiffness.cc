@@ -19,7 +19,8 @@ std::string Where(const MultibodyModel& model, const std::string& side) {
 
 }  // namespace
 
-CassieVirtualLeg::CassieVirtualLeg(const MultibodyModel& model, std::string side) : model_(&model), side_(std::move(side)) {
+CassieVirtualLeg::CassieVirtualLeg(const MultibodyModel& model, std::string side)
+    : model_(&model), side_(std::move(side)) {
   if (side_ != "left" && side_ != "right") {
     throw std::invalid_argument(Where(model, side_) + ": side must be 'left' or 'right'");
   }
@@ -59,10 +60,21 @@ CassieVirtualLeg::CassieVirtualLeg(const MultibodyModel& model, std::string side
 }
 
 CassieVirtualLeg::CassieVirtualLeg(const CassieVirtualLeg& other)
-    : model_(other.model_), side_(other.side_), knee_(other.knee_), shin_(other.shin_), tarsus_(other.tarsus_),
-      heel_(other.heel_), loop_(other.loop_), hip_body_(other.hip_body_), foot_body_(other.foot_body_),
-      p_hip_link_(other.p_hip_link_), p_foot_link_(other.p_foot_link_), k_shin_(other.k_shin_),
-      k_heel_(other.k_heel_), d_shin_(other.d_shin_), d_heel_(other.d_heel_),
+    : model_(other.model_),
+      side_(other.side_),
+      knee_(other.knee_),
+      shin_(other.shin_),
+      tarsus_(other.tarsus_),
+      heel_(other.heel_),
+      loop_(other.loop_),
+      hip_body_(other.hip_body_),
+      foot_body_(other.foot_body_),
+      p_hip_link_(other.p_hip_link_),
+      p_foot_link_(other.p_foot_link_),
+      k_shin_(other.k_shin_),
+      k_heel_(other.k_heel_),
+      d_shin_(other.d_shin_),
+      d_heel_(other.d_heel_),
       ws_(std::make_unique<MultibodyWorkspace>(*other.model_)) {}
 
 CassieVirtualLeg::~CassieVirtualLeg() = default;
@@ -84,8 +96,8 @@ Eigen::VectorXd CassieVirtualLeg::LegConfiguration(double q_knee) const {
     q(tarsus_) -= r(0) / C(0, tarsus_);
   }
   std::ostringstream msg;
-  msg << Where(model, side_) << ": the achilles rod does not close at q_knee = " << q_knee
-      << " rad (residual " << r(0) << " m)";
+  msg << Where(model, side_) << ": the achilles rod does not close at q_knee = " << q_knee << " rad (residual " << r(0)
+      << " m)";
   throw std::runtime_error(msg.str());
 }
 
@@ -109,13 +121,13 @@ namespace {
 // through the closure (Eq. 8-11).
 struct ReducedJacobian {
   Eigen::Vector2d knee, shin, heel;
-  Eigen::Vector2d axis;       // unit leg axis in the sagittal plane (x, z)
+  Eigen::Vector2d axis;        // unit leg axis in the sagittal plane (x, z)
   double length_jacobian = 0;  // dL_r/dq_knee with the 3D distance (the leg has a small lateral offset)
 };
 
 ReducedJacobian CalcReducedJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q,
-                                           int loop, int hip_body, const Eigen::Vector3d& p_hip_link, int foot_body,
-                                           const Eigen::Vector3d& p_foot_link, int knee, int shin, int tarsus, int heel) {
+                                    int loop, int hip_body, const Eigen::Vector3d& p_hip_link, int foot_body,
+                                    const Eigen::Vector3d& p_foot_link, int knee, int shin, int tarsus, int heel) {
   Eigen::MatrixXd J_toe(3, model.nv()), J_hip(3, model.nv()), C(1, model.nv());
   Eigen::VectorXd r(1);
   CalcPointJacobian(model, ws, q, foot_body, p_foot_link, J_toe);
@@ -130,8 +142,8 @@ ReducedJacobian CalcReducedJacobian(const MultibodyModel& model, MultibodyWorksp
   out.knee = column(knee);
   out.shin = column(shin);
   out.heel = column(heel);
-  const Eigen::Vector3d d = CalcPointPosition(model, ws, q, foot_body, p_foot_link) -
-                            CalcPointPosition(model, ws, q, hip_body, p_hip_link);
+  const Eigen::Vector3d d =
+      CalcPointPosition(model, ws, q, foot_body, p_foot_link) - CalcPointPosition(model, ws, q, hip_body, p_hip_link);
   out.axis = Eigen::Vector2d(d(0), d(2)).normalized();
   const Eigen::Vector3d d_knee = J.col(knee) - J.col(tarsus) * (C(0, knee) / C(0, tarsus));
   out.length_jacobian = d.normalized().dot(d_knee);
@@ -176,7 +188,9 @@ Eigen::Matrix2d CassieVirtualLeg::Compliance(double q_knee, bool damping) const 
   return J.shin * J.shin.transpose() / a + J.heel * J.heel.transpose() / b;
 }
 
-Eigen::Matrix2d CassieVirtualLeg::CartesianStiffness(double q_knee) const { return Compliance(q_knee, false).inverse(); }
+Eigen::Matrix2d CassieVirtualLeg::CartesianStiffness(double q_knee) const {
+  return Compliance(q_knee, false).inverse();
+}
 
 double CassieVirtualLeg::AlongLeg(double q_knee, bool damping) const {
   const Eigen::VectorXd q = LegConfiguration(q_knee);
@@ -221,11 +235,11 @@ LegStiffnessIdentification IdentifyCassieLegStiffness(const CassieVirtualLeg& le
   out.leg.damping = {cd(0), cd(1), cd(2), cd(3)};
   for (int i = 0; i < n; ++i) {
     const double L = out.lengths(i);
-    out.max_relative_fit_error = std::max(out.max_relative_fit_error,
-                                          std::abs(out.leg.stiffness.Evaluate(L) - out.stiffness(i)) / out.stiffness(i));
+    out.max_relative_fit_error = std::max(
+        out.max_relative_fit_error, std::abs(out.leg.stiffness.Evaluate(L) - out.stiffness(i)) / out.stiffness(i));
     if (out.damping(i) > 0.0) {
-      out.max_relative_fit_error = std::max(out.max_relative_fit_error,
-                                            std::abs(out.leg.damping.Evaluate(L) - out.damping(i)) / out.damping(i));
+      out.max_relative_fit_error =
+          std::max(out.max_relative_fit_error, std::abs(out.leg.damping.Evaluate(L) - out.damping(i)) / out.damping(i));
     }
   }
   return out;
@@ -236,7 +250,7 @@ SpringMassParams CassieSpringMassParams(const MultibodyModel& model, LegStiffnes
   p.mass = model.total_mass();
   p.n_legs = 2;
   p.leg = variant == LegStiffnessVariant::kPublished ? PublishedLegStiffness()
-                                                      : IdentifyCassieLegStiffness(CassieVirtualLeg(model, "left")).leg;
+                                                     : IdentifyCassieLegStiffness(CassieVirtualLeg(model, "left")).leg;
   return p;
 }
 

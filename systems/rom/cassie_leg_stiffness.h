@@ -51,7 +51,7 @@ class CassieVirtualLeg {
 
   const std::string& side() const { return side_; }
   const MultibodyModel& model() const { return *model_; }
-  int knee_index() const { return knee_; }    ///< velocity (= position) index of <side>_knee
+  int knee_index() const { return knee_; }  ///< velocity (= position) index of <side>_knee
   int tarsus_index() const { return tarsus_; }
   int shin_index() const { return shin_; }
   int heel_index() const { return heel_; }
@@ -96,10 +96,10 @@ struct LegStiffnessIdentificationOptions {
 };
 
 struct LegStiffnessIdentification {
-  LegStiffness leg;                 ///< regressed K(L), D(L) (coefficients of L⁰, L¹, L², L⁴)
-  Eigen::VectorXd lengths;          ///< sample L [m]
-  Eigen::VectorXd stiffness;        ///< Eq. (12) at the samples [N/m]
-  Eigen::VectorXd damping;          ///< [N s/m]
+  LegStiffness leg;                     ///< regressed K(L), D(L) (coefficients of L⁰, L¹, L², L⁴)
+  Eigen::VectorXd lengths;              ///< sample L [m]
+  Eigen::VectorXd stiffness;            ///< Eq. (12) at the samples [N/m]
+  Eigen::VectorXd damping;              ///< [N s/m]
   double max_relative_fit_error = 0.0;  ///< max |fit − sample| / sample over the samples (K and D)
 };
 

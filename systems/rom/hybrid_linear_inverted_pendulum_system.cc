@@ -22,8 +22,9 @@ HybridLinearInvertedPendulumSystem::HybridLinearInvertedPendulumSystem(std::stri
   DeclareContinuousState(Eigen::VectorXd(params_.initial_state));
   const double first_switch = params_.start_in_single_support ? h.ssp_duration : h.dsp_duration;
   DeclareDiscreteState(Eigen::Vector4d(first_switch, params_.initial_stance_foot_y, params_.initial_stance_side, 0.0));
-  DeclareOutputPort("state", {"y", "ydot"}, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); },
-                    Feedthrough::None());
+  DeclareOutputPort(
+      "state", {"y", "ydot"}, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); },
+      Feedthrough::None());
   DeclareOutputPort(
       "com_y", {"y", "ydot"},
       [](const LeafContext& c, Eigen::VectorXd* y) {
@@ -53,7 +54,8 @@ HybridLinearInvertedPendulumSystem::HybridLinearInvertedPendulumSystem(std::stri
       });
 }
 
-void HybridLinearInvertedPendulumSystem::DoCalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd* xdot) const {
+void HybridLinearInvertedPendulumSystem::DoCalcTimeDerivatives(const LeafContext& context,
+                                                               Eigen::VectorXd* xdot) const {
   const Eigen::VectorXd& x = context.continuous_state();
   const bool single = context.mode() == single_support_mode();
   double accel = single ? hlip_.lambda() * hlip_.lambda() * x(0) : 0.0;

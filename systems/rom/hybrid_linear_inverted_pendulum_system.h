@@ -34,7 +34,8 @@ struct HybridLinearInvertedPendulumSystemParams {
 
 class HybridLinearInvertedPendulumSystem final : public LeafSystem {
  public:
-  explicit HybridLinearInvertedPendulumSystem(std::string name = "hlip", HybridLinearInvertedPendulumSystemParams params = {});
+  explicit HybridLinearInvertedPendulumSystem(std::string name = "hlip",
+                                              HybridLinearInvertedPendulumSystemParams params = {});
   const HybridLinearInvertedPendulum& hlip() const { return hlip_; }
   int single_support_mode() const { return 0; }
   int double_support_mode() const { return 1; }

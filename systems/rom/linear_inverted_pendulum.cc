@@ -21,22 +21,21 @@ std::string Num(double v) {
 
 std::string ToString(TimeToImpact::Status status) {
   switch (status) {
-    case TimeToImpact::Status::kReached:
-      return "reached";
-    case TimeToImpact::Status::kInsufficientEnergy:
-      return "insufficient orbital energy to reach the target";
-    case TimeToImpact::Status::kNotReachedForward:
-      return "target is reached only backwards in time";
+    case TimeToImpact::Status::kReached: return "reached";
+    case TimeToImpact::Status::kInsufficientEnergy: return "insufficient orbital energy to reach the target";
+    case TimeToImpact::Status::kNotReachedForward: return "target is reached only backwards in time";
   }
   return "unknown";
 }
 
 LinearInvertedPendulum::LinearInvertedPendulum(LinearInvertedPendulumParams params) : params_(params) {
   if (!(std::isfinite(params_.z0) && params_.z0 > 0)) {
-    throw std::invalid_argument("LinearInvertedPendulum: parameter z0 must be a positive height in m, got " + Num(params_.z0));
+    throw std::invalid_argument("LinearInvertedPendulum: parameter z0 must be a positive height in m, got " +
+                                Num(params_.z0));
   }
   if (!(std::isfinite(params_.gravity) && params_.gravity > 0)) {
-    throw std::invalid_argument("LinearInvertedPendulum: parameter gravity must be positive in m/s², got " + Num(params_.gravity));
+    throw std::invalid_argument("LinearInvertedPendulum: parameter gravity must be positive in m/s², got " +
+                                Num(params_.gravity));
   }
   lambda_ = std::sqrt(params_.gravity / params_.z0);
 }
@@ -54,7 +53,9 @@ Eigen::Matrix2d LinearInvertedPendulum::TransitionMatrix(double t) const {
   return A;
 }
 
-Eigen::Vector2d LinearInvertedPendulum::Flow(const Eigen::Vector2d& state, double t) const { return TransitionMatrix(t) * state; }
+Eigen::Vector2d LinearInvertedPendulum::Flow(const Eigen::Vector2d& state, double t) const {
+  return TransitionMatrix(t) * state;
+}
 
 double LinearInvertedPendulum::OrbitalEnergy(const Eigen::Vector2d& state) const {
   // Eq. (16).
@@ -108,9 +109,12 @@ TimeToImpact LinearInvertedPendulum::TimeToReach(double x_des, const Eigen::Vect
   return {TimeToImpact::Status::kReached, best};
 }
 
-double LinearInvertedPendulum::SlopeAdjustedHeight(double p_com_x, double p_com_z, double step_length, double step_height) {
+double LinearInvertedPendulum::SlopeAdjustedHeight(double p_com_x, double p_com_z, double step_length,
+                                                   double step_height) {
   if (!(step_length != 0 && std::isfinite(step_length))) {
-    throw std::invalid_argument("LinearInvertedPendulum::SlopeAdjustedHeight: step_length l must be nonzero and finite, got " + Num(step_length));
+    throw std::invalid_argument(
+        "LinearInvertedPendulum::SlopeAdjustedHeight: step_length l must be nonzero and finite, got " +
+        Num(step_length));
   }
   // Eq. (27): ẑ0 = p^z − (h/l) p^x.
   return p_com_z - step_height / step_length * p_com_x;
@@ -118,7 +122,8 @@ double LinearInvertedPendulum::SlopeAdjustedHeight(double p_com_x, double p_com_
 
 double LinearInvertedPendulum::ComHeightOnSlope(double x, double z0, double step_length, double step_height) {
   if (!(step_length != 0 && std::isfinite(step_length))) {
-    throw std::invalid_argument("LinearInvertedPendulum::ComHeightOnSlope: step_length l must be nonzero and finite, got " + Num(step_length));
+    throw std::invalid_argument(
+        "LinearInvertedPendulum::ComHeightOnSlope: step_length l must be nonzero and finite, got " + Num(step_length));
   }
   return step_height / step_length * x + z0;
 }

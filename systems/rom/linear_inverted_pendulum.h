@@ -35,7 +35,7 @@
 namespace rome {
 
 struct LinearInvertedPendulumParams {
-  double z0 = 0.8;       ///< [m] COM height above the virtual slope (AMBER-like default; the paper gives none).
+  double z0 = 0.8;        ///< [m] COM height above the virtual slope (AMBER-like default; the paper gives none).
   double gravity = 9.81;  ///< [m/s²] used throughout ROME.
 };
 

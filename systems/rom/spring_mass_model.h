@@ -94,7 +94,8 @@ void SpringMassDerivative(const SpringMassParams& p, const Eigen::Matrix<T, Eige
   zdot(3) = v;
 }
 
-/// Energies of the spring-mass model [J]: kinetic ½ m ẋ², potential m g x, spring n_legs ∫₀ˢ K(L) σ dσ = ½ n_legs K(L) s².
+/// Energies of the spring-mass model [J]: kinetic ½ m ẋ², potential m g x, spring n_legs ∫₀ˢ K(L) σ dσ = ½ n_legs K(L)
+/// s².
 struct SpringMassEnergy {
   double kinetic = 0.0;
   double potential = 0.0;

@@ -8,8 +8,8 @@ SpringMassSystem::SpringMassSystem(std::string name, SpringMassSystemParams para
     : LeafSystem(std::move(name)), model_(params.model) {
   DeclareContinuousState(Eigen::VectorXd(params.initial_state));
   input_port_ = DeclareInputPort("leg_length_acceleration", 1);
-  DeclareOutputPort("state", 4, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); },
-                    Feedthrough::None());
+  DeclareOutputPort(
+      "state", 4, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   DeclareOutputPort(
       "leg_force", 1,
       [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = ContactForce(c.continuous_state().head<4>()); },

@@ -34,7 +34,8 @@ struct SteppingLinearInvertedPendulumParams {
 
 class SteppingLinearInvertedPendulum final : public LeafSystem {
  public:
-  explicit SteppingLinearInvertedPendulum(std::string name = "stepping_lip", SteppingLinearInvertedPendulumParams params = {});
+  explicit SteppingLinearInvertedPendulum(std::string name = "stepping_lip",
+                                          SteppingLinearInvertedPendulumParams params = {});
   const LinearInvertedPendulum& lip() const { return lip_; }
   const SteppingLinearInvertedPendulumParams& params() const { return params_; }
 

@@ -35,15 +35,17 @@ Eigen::Index NumDerivatives(const NodeVector& x, const NodeVector& u) {
 
 }  // namespace
 
-StateInputFunction CollocationDynamicsFromSystem(const LeafSystem& system, const LeafContext& context, const std::string& input_port,
-                                                 const LinearizeParams& params) {
+StateInputFunction CollocationDynamicsFromSystem(const LeafSystem& system, const LeafContext& context,
+                                                 const std::string& input_port, const LinearizeParams& params) {
   if (&context.system() != &system) Fail(system, "was given the context of system '" + context.system().name() + "'");
   const int n = system.num_continuous_states();
   if (n == 0) Fail(system, "has no continuous state; collocation needs xdot = f(x, u)");
   int input = -1;
   if (!input_port.empty()) {
     input = system.GetInputPortIndex(input_port);  // names the ports the system has
-    if (!system.input_port(input).is_vector()) Fail(system, "input port '" + input_port + "' carries " + system.input_port(input).TypeString() + ", not a vector");
+    if (!system.input_port(input).is_vector())
+      Fail(system,
+           "input port '" + input_port + "' carries " + system.input_port(input).TypeString() + ", not a vector");
   }
   const int m = input >= 0 ? system.input_port(input).size : 0;
   std::shared_ptr<LeafContext> own;
@@ -55,8 +57,12 @@ StateInputFunction CollocationDynamicsFromSystem(const LeafSystem& system, const
   if (input >= 0) system.FixInputPort(*own, input, Eigen::VectorXd::Zero(m));
 
   return [&system, own, input, input_port, params, n, m](const NodeVector& x, const NodeVector& u, NodeVector& y) {
-    if (x.size() != n) Fail(system, "x has size " + std::to_string(x.size()) + ", the system has " + std::to_string(n) + " continuous states");
-    if (u.size() != m) Fail(system, "u has size " + std::to_string(u.size()) + ", input port '" + input_port + "' has size " + std::to_string(m));
+    if (x.size() != n)
+      Fail(system,
+           "x has size " + std::to_string(x.size()) + ", the system has " + std::to_string(n) + " continuous states");
+    if (u.size() != m)
+      Fail(system, "u has size " + std::to_string(u.size()) + ", input port '" + input_port + "' has size " +
+                       std::to_string(m));
     own->get_mutable_continuous_state() = Values(x);
     if (input >= 0) system.FixInputPort(*own, input, Values(u));
     const Eigen::Index nd = NumDerivatives(x, u);
@@ -64,7 +70,9 @@ StateInputFunction CollocationDynamicsFromSystem(const LeafSystem& system, const
     if (nd == 0) {
       Eigen::VectorXd xdot;
       system.CalcTimeDerivatives(*own, &xdot);
-      if (xdot.size() != n) Fail(system, "DoCalcTimeDerivatives produced size " + std::to_string(xdot.size()) + ", expected " + std::to_string(n));
+      if (xdot.size() != n)
+        Fail(system,
+             "DoCalcTimeDerivatives produced size " + std::to_string(xdot.size()) + ", expected " + std::to_string(n));
       for (int i = 0; i < n; ++i) y[i] = NodeScalar(xdot[i]);
       return;
     }

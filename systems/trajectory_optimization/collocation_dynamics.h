@@ -29,7 +29,7 @@ namespace rome {
 
 /// ẋ = f(x, u) of `system` for CollocationPhase::dynamics. `input_port` names the vector input that carries u
 /// (empty: the system has no input for the collocation, the phase has num_inputs = 0).
-StateInputFunction CollocationDynamicsFromSystem(const LeafSystem& system, const LeafContext& context, const std::string& input_port,
-                                                 const LinearizeParams& params = {});
+StateInputFunction CollocationDynamicsFromSystem(const LeafSystem& system, const LeafContext& context,
+                                                 const std::string& input_port, const LinearizeParams& params = {});
 
 }  // namespace rome

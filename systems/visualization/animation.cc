@@ -37,9 +37,7 @@ void AppendVec(std::ostringstream& os, const Eigen::Vector3d& v) {
 urdf::ModelInterfaceSharedPtr ParseVisualUrdf(const std::string& path) {
   try {
     return urdf::parseURDF(ReadRegularFile(path, "URDF", kMaxUrdfBytes));
-  } catch (const std::exception&) {
-    return nullptr;
-  }
+  } catch (const std::exception&) { return nullptr; }
 }
 
 std::string ReadThreeJs(const std::string& path, std::string* error) {
@@ -85,13 +83,15 @@ const char* kStyle = R"PAGE(
 )PAGE";
 
 // @TITLE@ is replaced by the title as HTML text.
-const char* kBody = R"PAGE(<div id="hud"><b>@TITLE@</b><br><span id="time"></span> &nbsp; mode: <span id="mode"></span></div>
+const char* kBody =
+    R"PAGE(<div id="hud"><b>@TITLE@</b><br><span id="time"></span> &nbsp; mode: <span id="mode"></span></div>
 <div id="bar"><button id="play">pause</button><input id="slider" type="range" min="0" max="1000" value="0">
 <select id="speed"><option>0.25</option><option>0.5</option><option selected>1</option><option>2</option></select> &times; real time</div>
 <pre id="test-result"></pre>
 )PAGE";
 
-const char* kErrorScript = "window.__errors=[];window.addEventListener('error',function(e){window.__errors.push(String(e.message));});";
+const char* kErrorScript =
+    "window.__errors=[];window.addEventListener('error',function(e){window.__errors.push(String(e.message));});";
 
 // Follows "const D = <data>;" in the page's last script.
 const char* kMainScript = R"PAGE(
@@ -245,7 +245,8 @@ bool AnimationRecorder::CheckWritable(const std::string& path, std::string* erro
   return error->empty();
 }
 
-void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::string& mode, const Eigen::VectorXd& contact_forces) {
+void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::string& mode,
+                               const Eigen::VectorXd& contact_forces) {
   const MultibodyModel& model_ = *this->model_;
   if (!BeginFrame(t, mode)) return;
   MultibodyWorkspace& ws = *ws_;
@@ -266,7 +267,8 @@ void AnimationRecorder::Record(double t, const Eigen::VectorXd& q, const std::st
   }
 }
 
-bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, std::string* error) const {
+bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& title,
+                                  const std::vector<AnimationStone>& stones, std::string* error) const {
   const std::string three = ReadThreeJs(three_js_path_, error);
   if (three.empty()) return false;
   if (model_ == nullptr) return WritePage(path, title, stones, three, "", error);
@@ -306,16 +308,15 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
             size = {static_cast<const urdf::Sphere*>(visual->geometry.get())->radius};
             break;
           }
-          default:
-            continue;  // meshes: drawn as capsules
+          default: continue;  // meshes: drawn as capsules
         }
         const Eigen::Matrix3d& C = ToThree();
         const Eigen::Quaterniond q3(Eigen::Matrix3d(C * R * C.transpose()));
         const Eigen::Vector3d p3 = C * X.translation();
         os << "{\"type\":\"" << type << "\",\"size\":[";
         for (size_t i = 0; i < size.size(); ++i) os << (i ? "," : "") << size[i];
-        os << "],\"pos\":[" << p3.x() << "," << p3.y() << "," << p3.z() << "],\"quat\":[" << q3.x() << "," << q3.y() << "," << q3.z() << "," << q3.w()
-           << "]}";
+        os << "],\"pos\":[" << p3.x() << "," << p3.y() << "," << p3.z() << "],\"quat\":[" << q3.x() << "," << q3.y()
+           << "," << q3.z() << "," << q3.w() << "]}";
         std::string& list = visuals[frame.body];
         list += (list.empty() ? "" : ",") + os.str();
       }
@@ -326,7 +327,8 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
   data << "\"bodies\":[";
   for (size_t i = 0; i < drawn_bodies_.size(); ++i) {
     const int b = drawn_bodies_[i];
-    data << (i ? "," : "") << "{\"name\":" << JsonStringForScript(model_.body(b).name) << ",\"radius\":0.02,\"segments\":[";
+    data << (i ? "," : "") << "{\"name\":" << JsonStringForScript(model_.body(b).name)
+         << ",\"radius\":0.02,\"segments\":[";
     bool first = true;
     if (visuals[b].empty()) {
       // Capsules from the body's joint origin to each child's joint origin and to its contact points.
@@ -358,20 +360,26 @@ bool AnimationRecorder::WriteHtml(const std::string& path, const std::string& ti
   }
   std::vector<std::string> contact_names;
   for (const ContactInfo& info : model_.contacts()) contact_names.push_back(info.name);
-  data << "],\"contacts\":" << JsonStringList(contact_names) << ",\"mg\":" << model_.total_mass() * 9.81 << ",\"com_radius\":0.03,";
+  data << "],\"contacts\":" << JsonStringList(contact_names) << ",\"mg\":" << model_.total_mass() * 9.81
+       << ",\"com_radius\":0.03,";
   return WritePage(path, title, stones, three, data.str(), error);
 }
 
-bool AnimationRecorder::WritePage(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, const std::string& three,
+bool AnimationRecorder::WritePage(const std::string& path, const std::string& title,
+                                  const std::vector<AnimationStone>& stones, const std::string& three,
                                   const std::string& model_json, std::string* error) const {
   std::ostringstream data;
   data.precision(6);
-  data << "{" << (model_json.empty() ? "\"bodies\":[],\"contacts\":[],\"mg\":1,\"com_radius\":" + Format(point_radius_m_) + "," : model_json);
+  data << "{"
+       << (model_json.empty() ? "\"bodies\":[],\"contacts\":[],\"mg\":1,\"com_radius\":" + Format(point_radius_m_) + ","
+                              : model_json);
   data << "\"modes\":" << JsonStringList(modes_);
   double floor = 0.0;
   for (const AnimationStone& s : stones) floor = std::min(floor, s.top_height_m - 0.3);
   data << ",\"floor\":" << floor << ",\"stones\":[";
-  for (size_t i = 0; i < stones.size(); ++i) data << (i ? "," : "") << "[" << stones[i].x_center_m << "," << stones[i].top_height_m << "," << stones[i].length_m << "]";
+  for (size_t i = 0; i < stones.size(); ++i)
+    data << (i ? "," : "") << "[" << stones[i].x_center_m << "," << stones[i].top_height_m << "," << stones[i].length_m
+         << "]";
   data << "],\"t\":";
   std::vector<float> t(times_.begin(), times_.end());
   AppendFloats(data, t, 4);
@@ -388,8 +396,10 @@ bool AnimationRecorder::WritePage(const std::string& path, const std::string& ti
   const std::vector<std::string> scripts = {kErrorScript, three, main_script};
   std::string body = kBody;
   body.replace(body.find("@TITLE@"), 7, HtmlText(title));
-  std::string page = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">\n<meta http-equiv=\"Content-Security-Policy\" content=\"" +
-                     Csp(scripts, kStyle) + "\">\n<title>" + HtmlText(title) + "</title>\n<style>" + kStyle + "</style></head><body>\n" + body;
+  std::string page =
+      "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">\n<meta http-equiv=\"Content-Security-Policy\" content=\"" +
+      Csp(scripts, kStyle) + "\">\n<title>" + HtmlText(title) + "</title>\n<style>" + kStyle +
+      "</style></head><body>\n" + body;
   for (const std::string& script : scripts) page += "<script>" + script + "</script>\n";
   page += "</body></html>\n";
   try {

@@ -43,13 +43,14 @@ class AnimationRecorder {
   /// Checks before a run that `path` can be written (creates and removes the file); false with `error` otherwise.
   static bool CheckWritable(const std::string& path, std::string* error);
   /// Writes the page; false with `error` (naming the file) if three.js or the output cannot be read or written.
-  bool WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, std::string* error) const;
+  bool WriteHtml(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones,
+                 std::string* error) const;
 
  private:
   /// Appends the frame's time and mode unless it comes sooner than 1/fps after the last frame.
   bool BeginFrame(double t, const std::string& mode);
-  bool WritePage(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones, const std::string& three,
-                 const std::string& model_json, std::string* error) const;
+  bool WritePage(const std::string& path, const std::string& title, const std::vector<AnimationStone>& stones,
+                 const std::string& three, const std::string& model_json, std::string* error) const;
   const MultibodyModel* model_ = nullptr;  // null: a point mass
   double point_radius_m_ = 0.03;
   double fps_;

@@ -27,7 +27,8 @@ std::string GnuplotScript(const std::vector<PlotSpec>& panels) {
   for (const PlotSpec& spec : panels) height += spec.height_px;
   g << "set terminal pngcairo size " << panels[0].width_px << "," << height << " noenhanced\n";
   // Stacked panels share their left and right margins, so that their time axes line up.
-  if (panels.size() > 1) g << "set multiplot layout " << panels.size() << ",1\nset lmargin at screen 0.09\nset rmargin at screen 0.74\n";
+  if (panels.size() > 1)
+    g << "set multiplot layout " << panels.size() << ",1\nset lmargin at screen 0.09\nset rmargin at screen 0.74\n";
   index = 0;
   for (const PlotSpec& spec : panels) {
     g << "set title " << GnuplotString(spec.title) << "\nset xlabel " << GnuplotString(spec.xlabel) << "\nset ylabel "
@@ -36,7 +37,8 @@ std::string GnuplotScript(const std::vector<PlotSpec>& panels) {
     g << (spec.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
     g << "plot ";
     for (size_t i = 0; i < spec.series.size(); ++i, ++index)
-      g << (i ? ", " : "") << "$s" << index << " with " << spec.series[i].style << " title " << GnuplotString(spec.series[i].title);
+      g << (i ? ", " : "") << "$s" << index << " with " << spec.series[i].style << " title "
+        << GnuplotString(spec.series[i].title);
     g << "\n";
   }
   if (panels.size() > 1) g << "unset multiplot\n";
@@ -50,7 +52,9 @@ bool Fail(std::string* error, const std::string& message) {
 
 }  // namespace
 
-bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* error) { return WritePanels({spec}, png_path, error); }
+bool WritePlot(const PlotSpec& spec, const std::string& png_path, std::string* error) {
+  return WritePanels({spec}, png_path, error);
+}
 
 bool WritePanels(const std::vector<PlotSpec>& panels, const std::string& png_path, std::string* error) {
   if (panels.empty()) return Fail(error, "no panels to plot for " + png_path);
@@ -61,11 +65,10 @@ bool WritePanels(const std::vector<PlotSpec>& panels, const std::string& png_pat
     const ProcessResult run = RunProgram({"gnuplot", script});
     if (!run.started) return Fail(error, run.error + "; is gnuplot installed (./rome setup)?");
     if (run.exit_code != 0 || run.out.empty())
-      return Fail(error, "gnuplot failed (exit " + std::to_string(run.exit_code) + ": " + Excerpt(run.error, 200) + ") for " + Excerpt(png_path, 200));
+      return Fail(error, "gnuplot failed (exit " + std::to_string(run.exit_code) + ": " + Excerpt(run.error, 200) +
+                             ") for " + Excerpt(png_path, 200));
     WriteFileAtomically(png_path, run.out, "plot");
-  } catch (const std::exception& e) {
-    return Fail(error, e.what());
-  }
+  } catch (const std::exception& e) { return Fail(error, e.what()); }
   return true;
 }
 

@@ -14,7 +14,7 @@ namespace rome::visualization {
 /// the plane spanned by world axis `horizontal_axis` (0 = x: sagittal, 1 = y: frontal) and z, shifted by `offset_m`
 /// along the horizontal. Links whose parent is massless (the virtual floating-base chain) are left out; each contact's
 /// points are joined in order and closed, and joined to their link's origin by one segment to their centroid.
-void AppendStickFigure(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q, int horizontal_axis, double offset_m,
-                       Series* links, Series* soles);
+void AppendStickFigure(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q,
+                       int horizontal_axis, double offset_m, Series* links, Series* soles);
 
 }  // namespace rome::visualization

@@ -11,9 +11,7 @@ template <class F>
 std::string ErrorOf(F f) {
   try {
     f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
+  } catch (const std::exception& e) { return e.what(); }
   return "(no error)";
 }
 

@@ -16,6 +16,8 @@ inline std::string ReadText(const std::string& path) {
 }
 
 /// Writes `text` to `path`, replacing it.
-inline void WriteText(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+inline void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
 
 }  // namespace rome::test

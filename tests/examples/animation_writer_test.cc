@@ -14,7 +14,8 @@ namespace {
 TEST(AnimationRecorder, VisualsAndDecimation) {
   const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("tests/examples/data_visual_slider.urdf"));
   AnimationRecorder rec(model, 60.0);
-  for (int k = 0; k <= 1000; ++k) rec.Record(k * 1e-3, Eigen::VectorXd::Constant(1, 0.001 * k), "free", Eigen::VectorXd::Zero(0));
+  for (int k = 0; k <= 1000; ++k)
+    rec.Record(k * 1e-3, Eigen::VectorXd::Constant(1, 0.001 * k), "free", Eigen::VectorXd::Zero(0));
   // Samples every 1 ms, a frame at least 1/60 s after the previous: frames 17 ms apart, 0 ... 986 ms.
   EXPECT_EQ(rec.num_frames(), 1000 / 17 + 1);
   const std::string path = rome::test::ScratchDir() + "/visual_slider.html";

@@ -1,6 +1,6 @@
-// CommandLine::ScenarioFile (--scenario-file) and ScenarioJson (examples/common/cli.h): the scenario a program writes reads back to
-// the same option values, bit for bit for numbers; the command line wins over the file; unknown keys, refused keys and
-// values of another type are errors naming the key.
+// CommandLine::ScenarioFile (--scenario-file) and ScenarioJson (examples/common/cli.h): the scenario a program writes
+// reads back to the same option values, bit for bit for numbers; the command line wins over the file; unknown keys,
+// refused keys and values of another type are errors naming the key.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -17,7 +17,10 @@ namespace {
 
 CommandLine Declared() {
   CommandLine cli("demo", "test program");
-  cli.Option("gain", "0.1", "a number").Option("gains", "1,2,3", "numbers").Option("count", "6", "an integer").Option("mode", "auto", "a word");
+  cli.Option("gain", "0.1", "a number")
+      .Option("gains", "1,2,3", "numbers")
+      .Option("count", "6", "an integer")
+      .Option("mode", "auto", "a word");
   cli.Option("out", "", "an output").Flag("fast", "a flag").ScenarioFile({"out"});
   return cli;
 }
@@ -32,7 +35,8 @@ void Parse(CommandLine& cli, std::vector<std::string> args) {
 TEST(CliScenarioFile, TheWrittenScenarioReadsBackToTheSameValues) {
   CommandLine first = Declared();
   // 0.1 + 0.2 and 1e-7 need all 17 digits / an exponent to round-trip.
-  Parse(first, {"--gain", "0.30000000000000004", "--gains", "1e-07,-2.5,3", "--count", "12", "--mode", "min-norm", "--fast"});
+  Parse(first,
+        {"--gain", "0.30000000000000004", "--gains", "1e-07,-2.5,3", "--count", "12", "--mode", "min-norm", "--fast"});
   const nlohmann::json scenario = nlohmann::json::parse(first.ScenarioJson());
   EXPECT_FALSE(scenario.contains("out"));
   EXPECT_EQ(scenario.at("count"), 12);
@@ -68,13 +72,13 @@ TEST(CliScenarioFile, TheCommandLineWinsAndBadKeysAreNamed) {
     for (std::string& a : args) argv.push_back(a.data());
     try {
       c.Parse(static_cast<int>(argv.size()), argv.data());
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
+    } catch (const std::invalid_argument& e) { return std::string(e.what()); }
     return std::string("no error");
   };
   EXPECT_NE(error(R"({"gian": 1})").find("unknown key 'gian'"), std::string::npos);
-  EXPECT_NE(error(R"({"out": "x.csv"})").find("unknown key 'out' (an output or the file itself, not a scenario parameter)"), std::string::npos);
+  EXPECT_NE(
+      error(R"({"out": "x.csv"})").find("unknown key 'out' (an output or the file itself, not a scenario parameter)"),
+      std::string::npos);
   EXPECT_NE(error(R"({"gains": [1, "2"]})").find("key 'gains'"), std::string::npos);
   EXPECT_NE(error(R"({"fast": 1})").find("key 'fast' needs true or false"), std::string::npos);
   EXPECT_NE(error(R"([1, 2])").find("expected a JSON object"), std::string::npos);

@@ -25,8 +25,12 @@ using examples::WriteOutputFile;
 
 // Each string, if a shell or gnuplot ran it, would create the file named by its marker in the current folder.
 std::vector<std::string> Hostile(const std::string& marker) {
-  return {"`touch " + marker + "1`", "$(touch " + marker + "2)", "'; system('touch " + marker + "3'); '", "\"`touch " + marker + "4`\"",
-          "line\n!touch " + marker + "5\nprint 1", "@x"};
+  return {"`touch " + marker + "1`",
+          "$(touch " + marker + "2)",
+          "'; system('touch " + marker + "3'); '",
+          "\"`touch " + marker + "4`\"",
+          "line\n!touch " + marker + "5\nprint 1",
+          "@x"};
 }
 
 // Runs `body` in a fresh current folder and checks that it created nothing there but the files it names.
@@ -64,7 +68,10 @@ TEST_F(InScratchFolder, HostileTitlesAndPathsRunNothing) {
   const std::vector<std::string> hostile = Hostile("pwned");
   std::string folder = "out `touch pwned6` $(touch pwned7) ' \" \n x";
   fs::create_directories(folder);
-  PlotSpec spec{hostile[0], hostile[1], hostile[2], {{hostile[3], {0, 1, 2}, {0, 1, 4}, "lines"}, {hostile[4], {0, 1}, {1, 0}, "points"}}};
+  PlotSpec spec{hostile[0],
+                hostile[1],
+                hostile[2],
+                {{hostile[3], {0, 1, 2}, {0, 1, 4}, "lines"}, {hostile[4], {0, 1}, {1, 0}, "points"}}};
   std::string error;
   const std::string png = folder + "/p`touch pwned8`$(touch pwned9).png";
   ASSERT_TRUE(WritePlot(spec, png, &error)) << error;
@@ -95,7 +102,8 @@ TEST_F(InScratchFolder, TwoOutputsCannotNameOneFile) {
     cli.CheckOutputs({"log", "summary"}, {});
     FAIL() << "the same file was accepted twice";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "prog: --summary and --log name the same file './out.csv'; give each output its own file");
+    EXPECT_EQ(std::string(e.what()),
+              "prog: --summary and --log name the same file './out.csv'; give each output its own file");
   }
   EXPECT_TRUE(FilesHere().empty());  // the check creates nothing
 }
@@ -105,10 +113,16 @@ TEST_F(InScratchFolder, TwoOutputsCannotNameOneFile) {
 // second parse of that text gives the same values; unknown keys and outputs are refused, naming the key.
 TEST_F(InScratchFolder, ScenarioFileRoundTripsEveryParameterExactly) {
   auto declare = [](CommandLine& cli) {
-    cli.Option("gain", "1", "").Option("steps", "3", "").Option("terrain", "flat", "").Option("speed", "0.5", "").Flag("fast", "").Option("log", "", "");
+    cli.Option("gain", "1", "")
+        .Option("steps", "3", "")
+        .Option("terrain", "flat", "")
+        .Option("speed", "0.5", "")
+        .Flag("fast", "")
+        .Option("log", "", "");
     cli.ScenarioFile({"log"});
   };
-  test::WriteText("s.json", R"({"gain": 0.30000000000000004, "steps": 7, "terrain": "stairs", "speed": 2.5, "fast": true})");
+  test::WriteText("s.json",
+                  R"({"gain": 0.30000000000000004, "steps": 7, "terrain": "stairs", "speed": 2.5, "fast": true})");
   CommandLine cli("prog", "test");
   declare(cli);
   const char* argv[] = {"prog", "--scenario-file", "s.json", "--speed", "1.25", "--log", "x.csv"};
@@ -132,7 +146,9 @@ TEST_F(InScratchFolder, ScenarioFileRoundTripsEveryParameterExactly) {
   EXPECT_TRUE(again.GetFlag("fast"));
   for (const auto& [text, message] : std::vector<std::pair<std::string, std::string>>{
            {R"({"gian": 1})", "prog: --scenario-file bad.json: unknown key 'gian' (see --help)"},
-           {R"({"log": "y.csv"})", "prog: --scenario-file bad.json: unknown key 'log' (an output or the file itself, not a scenario parameter)"},
+           {R"({"log": "y.csv"})",
+            "prog: --scenario-file bad.json: unknown key 'log' (an output or the file itself, not a scenario "
+            "parameter)"},
            {R"({"fast": 1})", "prog: --scenario-file bad.json: key 'fast' needs true or false, got 1"}}) {
     test::WriteText("bad.json", text);
     CommandLine bad("prog", "test");
@@ -141,16 +157,15 @@ TEST_F(InScratchFolder, ScenarioFileRoundTripsEveryParameterExactly) {
     try {
       bad.Parse(3, const_cast<char**>(argv3));
       ADD_FAILURE() << "accepted " << text;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_EQ(std::string(e.what()), message);
-    }
+    } catch (const std::invalid_argument& e) { EXPECT_EQ(std::string(e.what()), message); }
   }
 }
 
 TEST(WriteOutputFile, AFailedWriteIsReportedAndReturnsFalse) {
   testing::internal::CaptureStderr();
   EXPECT_FALSE(WriteOutputFile("prog", "/dev/full", "{}", "summary"));
-  EXPECT_EQ(testing::internal::GetCapturedStderr(), "prog: summary /dev/full: is a device, not a regular file; give a file name\n");
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "prog: summary /dev/full: is a device, not a regular file; give a file name\n");
 }
 
 }  // namespace

@@ -18,9 +18,7 @@ template <typename F>
 std::string ErrorOf(F f) {
   try {
     f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
+  } catch (const std::invalid_argument& e) { return e.what(); }
   return "";
 }
 
@@ -65,9 +63,7 @@ TEST(SweepCsvCell, ReadsBackAsTheTextWithAtMostALeadingQuoteMark) {
     if (back != text && !back.empty() && back[0] == '\'') back.erase(0, 1);
     EXPECT_EQ(back, text) << "cell " << cell;
     // No separator, line break or lone quote outside the quotes.
-    if (cell.empty() || cell[0] != '"') {
-      EXPECT_EQ(cell.find_first_of(",\"\r\n"), std::string::npos) << cell;
-    }
+    if (cell.empty() || cell[0] != '"') { EXPECT_EQ(cell.find_first_of(",\"\r\n"), std::string::npos) << cell; }
   }
 }
 
@@ -76,17 +72,20 @@ TEST(SweepGrid, SpreadsValuesAndGivesIntegerFlagsWholeNumbers) {
   EXPECT_EQ(ParseGrid("energy=0.3:0.9:1", false).values, (std::vector<std::string>{"0.3"}));
   EXPECT_EQ(ParseGrid("steps=1:5:5", true).values, (std::vector<std::string>{"1", "2", "3", "4", "5"}));
   EXPECT_EQ(ParseGrid("steps=-2:2:3", true).values, (std::vector<std::string>{"-2", "0", "2"}));
-  EXPECT_EQ(ParseGrid("steps=0:3000000:4", true).values, (std::vector<std::string>{"0", "1000000", "2000000", "3000000"}));
+  EXPECT_EQ(ParseGrid("steps=0:3000000:4", true).values,
+            (std::vector<std::string>{"0", "1000000", "2000000", "3000000"}));
   EXPECT_EQ(ParseGrid("energy=+0.5:1:2", false).values, (std::vector<std::string>{"0.5", "1"}));
   const std::string half = ErrorOf([] { ParseGrid("steps=1:2:3", true); });
-  EXPECT_NE(half.find("--grid steps=1:2:3: --steps takes whole numbers, and this grid gives 1.5"), std::string::npos) << half;
+  EXPECT_NE(half.find("--grid steps=1:2:3: --steps takes whole numbers, and this grid gives 1.5"), std::string::npos)
+      << half;
   EXPECT_NE(ErrorOf([] { ParseGrid("steps=1:3000000000:2", true); }).find("3000000000"), std::string::npos);
 }
 
 TEST(SweepGrid, RefusesMalformedRangesWithOneLine) {
   EXPECT_NE(ErrorOf([] { ParseGrid("energy=0.1:0.7", false); }).find("malformed range '0.1:0.7'"), std::string::npos);
-  for (const char* bad : {"energy=nan:1:2", "energy=0:inf:2", "energy=0:1:0", "energy=0:1:100001", "energy=0:1:2junk", "energy=0:1:2:3",
-                          "energy=0: 1:2", "energy=0:1:-2", "energy=0x1:2:2", "energy=::", "energy="}) {
+  for (const char* bad :
+       {"energy=nan:1:2", "energy=0:inf:2", "energy=0:1:0", "energy=0:1:100001", "energy=0:1:2junk", "energy=0:1:2:3",
+        "energy=0: 1:2", "energy=0:1:-2", "energy=0x1:2:2", "energy=::", "energy="}) {
     const std::string e = ErrorOf([&] { ParseGrid(bad, false); });
     EXPECT_NE(e.find("malformed range"), std::string::npos) << bad << ": " << e;
   }
@@ -110,24 +109,37 @@ TEST(SweepSeeds, AreWholeNumbersInRangeAndNameTheRunCap) {
 TEST(SweepRunCount, IsCappedWithoutOverflow) {
   const Parameter big{"energy", std::vector<std::string>(100000, "1"), "--grid energy=0:1:100000"};
   const std::string e = ErrorOf([&] { CountRuns({big, big, big, big}); });
-  EXPECT_NE(e.find("100000 x 100000 x 100000 x 100000 = 1e+20 runs; a sweep has at most 1000000"), std::string::npos) << e;
-  const Parameter thousand{"a", std::vector<std::string>(1000, "1"), ""}, more{"b", std::vector<std::string>(1001, "1"), ""};
+  EXPECT_NE(e.find("100000 x 100000 x 100000 x 100000 = 1e+20 runs; a sweep has at most 1000000"), std::string::npos)
+      << e;
+  const Parameter thousand{"a", std::vector<std::string>(1000, "1"), ""},
+      more{"b", std::vector<std::string>(1001, "1"), ""};
   EXPECT_EQ(CountRuns({thousand, thousand}), 1000000);
   EXPECT_NE(ErrorOf([&] { CountRuns({thousand, more}); }).find("1000 x 1001 = 1001000 runs"), std::string::npos);
   EXPECT_EQ(CountRuns({Parameter{"seed", {"1", "2", "3"}, ""}}), 3);
 }
 
 TEST(SweepFlags, EachFlagIsGivenOnceAndOutputsAreRomeSweeps) {
-  const Parameter seeds = ParseSeeds("1:3"), energy = ParseGrid("energy=0.1:0.7:4", false), energy2 = ParseGrid("energy=0:1:3", false);
+  const Parameter seeds = ParseSeeds("1:3"), energy = ParseGrid("energy=0.1:0.7:4", false),
+                  energy2 = ParseGrid("energy=0:1:3", false);
   EXPECT_EQ(ErrorOf([&] { CheckFlagsGivenOnce({seeds, energy}, {{"steps", "4"}}); }), "");
-  EXPECT_NE(ErrorOf([&] { CheckFlagsGivenOnce({energy, energy2}, {}); })
-                .find("--grid energy=0:1:3: --energy is already swept by --grid energy=0.1:0.7:4"),
+  EXPECT_NE(ErrorOf([&] {
+              CheckFlagsGivenOnce({energy, energy2}, {});
+            }).find("--grid energy=0:1:3: --energy is already swept by --grid energy=0.1:0.7:4"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CheckFlagsGivenOnce({seeds}, {{"seed", "7"}}); }).find("--set seed=7: --seed is swept by --seeds 1:3"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CheckFlagsGivenOnce({seeds}, {{"steps", "4"}, {"steps", "5"}}); }).find("--set steps=5: --steps is already set by --set steps=4"),
+  EXPECT_NE(ErrorOf([&] {
+              CheckFlagsGivenOnce({seeds}, {{"seed", "7"}});
+            }).find("--set seed=7: --seed is swept by --seeds 1:3"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CheckFlagsGivenOnce({seeds}, {{"summary", "x.json"}}); }).find("--summary cannot be set"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CheckFlagsGivenOnce({ParseGrid("log=0:1:2", false)}, {}); }).find("--log cannot be swept"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              CheckFlagsGivenOnce({seeds}, {{"steps", "4"}, {"steps", "5"}});
+            }).find("--set steps=5: --steps is already set by --set steps=4"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              CheckFlagsGivenOnce({seeds}, {{"summary", "x.json"}});
+            }).find("--summary cannot be set"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { CheckFlagsGivenOnce({ParseGrid("log=0:1:2", false)}, {}); }).find("--log cannot be swept"),
+            std::string::npos);
   EXPECT_EQ(ParseSet("terrain=flat"), (std::pair<std::string, std::string>{"terrain", "flat"}));
   EXPECT_EQ(ParseSet("terrain="), (std::pair<std::string, std::string>{"terrain", ""}));
   EXPECT_NE(ErrorOf([] { ParseSet("=flat"); }).find("must be NAME=VALUE"), std::string::npos);
@@ -135,13 +147,15 @@ TEST(SweepFlags, EachFlagIsGivenOnceAndOutputsAreRomeSweeps) {
 }
 
 TEST(SweepFlags, AreReadFromTheHelp) {
-  const std::set<std::string> flags = FlagsInHelp("Usage: x [options]\n  --steps VALUE\n      n (default: 3)\n  --step-length VALUE\n  --help\n");
+  const std::set<std::string> flags =
+      FlagsInHelp("Usage: x [options]\n  --steps VALUE\n      n (default: 3)\n  --step-length VALUE\n  --help\n");
   EXPECT_EQ(flags, (std::set<std::string>{"steps", "step-length", "help"}));
 }
 
 TEST(SweepRunRecord, RoundTrips) {
-  for (const RunRecord& r : {RunRecord{0, {"--seed", "1", "--steps", "4"}}, RunRecord{-9, {}}, RunRecord{255, {"--terrain", "a\nb\"c,\\"}},
-                             RunRecord{3, {"--set", "\xc3\xa9t\xc3\xa9"}}}) {
+  for (const RunRecord& r :
+       {RunRecord{0, {"--seed", "1", "--steps", "4"}}, RunRecord{-9, {}}, RunRecord{255, {"--terrain", "a\nb\"c,\\"}},
+        RunRecord{3, {"--set", "\xc3\xa9t\xc3\xa9"}}}) {
     const auto back = ParseRunRecord(RunRecordText(r));
     ASSERT_TRUE(back.has_value()) << RunRecordText(r);
     EXPECT_EQ(*back, r);
@@ -154,21 +168,41 @@ TEST(SweepRunRecord, AnythingElseIsNotTrusted) {
   std::string deep = "0\n";
   for (int i = 0; i < 100000; ++i) deep += '[';
   deep += "\n";
-  for (const std::string& bad : std::vector<std::string>{"", "0", "0\n", "\n[]\n", "abc\n[]\n", "256\n[]\n", "-65\n[]\n", "0\n[]", "0\n[]\n\n", "0\n[1]\n", "0\n{}\n",
-                                "0 \n[]\n", " 0\n[]\n", "1e2\n[]\n", "0\n[\"a\"]\nextra\n", "0\n[\"a\"\n", "0\r\n[]\r\n", "99999999999\n[]\n",
-                                std::string("0\n[\"\xff\"]\n"), deep})
+  for (const std::string& bad : std::vector<std::string>{"",
+                                                         "0",
+                                                         "0\n",
+                                                         "\n[]\n",
+                                                         "abc\n[]\n",
+                                                         "256\n[]\n",
+                                                         "-65\n[]\n",
+                                                         "0\n[]",
+                                                         "0\n[]\n\n",
+                                                         "0\n[1]\n",
+                                                         "0\n{}\n",
+                                                         "0 \n[]\n",
+                                                         " 0\n[]\n",
+                                                         "1e2\n[]\n",
+                                                         "0\n[\"a\"]\nextra\n",
+                                                         "0\n[\"a\"\n",
+                                                         "0\r\n[]\r\n",
+                                                         "99999999999\n[]\n",
+                                                         std::string("0\n[\"\xff\"]\n"),
+                                                         deep})
     EXPECT_FALSE(ParseRunRecord(bad).has_value()) << "'" << bad.substr(0, 40) << "'";
 }
 
 TEST(SweepSummary, IsAnObjectWithItsStatusFields) {
-  const auto ok = ParseSummary(R"({"status": "walked 4 steps", "status_kind": "success", "steps": 4, "tracking_rms": {"torso": 0.1}})");
+  const auto ok = ParseSummary(
+      R"({"status": "walked 4 steps", "status_kind": "success", "steps": 4, "tracking_rms": {"torso": 0.1}})");
   ASSERT_TRUE(ok.has_value());
   EXPECT_EQ((*ok)["steps"], 4);
   std::string deep;
   for (int i = 0; i < 100000; ++i) deep += "{\"a\":";
-  for (const std::string& bad : std::vector<std::string>{"", "not json", "[]", "42", R"({"status": "x"})", R"({"status": 1, "status_kind": "success"})",
-                                R"({"status": "x", "status_kind": null})", R"({"status": "x", "status_kind": "success")",
-                                std::string("{\"status\": \"\xff\", \"status_kind\": \"success\"}"), R"({"status": "x", "status_kind": "y", "n": 1e999})", deep})
+  for (const std::string& bad : std::vector<std::string>{
+           "", "not json", "[]", "42", R"({"status": "x"})", R"({"status": 1, "status_kind": "success"})",
+           R"({"status": "x", "status_kind": null})", R"({"status": "x", "status_kind": "success")",
+           std::string("{\"status\": \"\xff\", \"status_kind\": \"success\"}"),
+           R"({"status": "x", "status_kind": "y", "n": 1e999})", deep})
     EXPECT_FALSE(ParseSummary(bad).has_value()) << bad.substr(0, 60);
 }
 

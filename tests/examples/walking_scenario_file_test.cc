@@ -34,7 +34,8 @@ nlohmann::json WithoutTimes(const nlohmann::json& j) {
   if (j.is_object()) {
     nlohmann::json out = nlohmann::json::object();
     for (const auto& [key, value] : j.items())
-      if (key != "solve_s" && key != "realtime_factor" && key.rfind("qp_solve_us", 0) != 0) out[key] = WithoutTimes(value);
+      if (key != "solve_s" && key != "realtime_factor" && key.rfind("qp_solve_us", 0) != 0)
+        out[key] = WithoutTimes(value);
     return out;
   }
   if (j.is_array()) {
@@ -52,8 +53,9 @@ ProcessResult Walking(std::vector<std::string> args) {
 
 TEST(WalkingScenarioFile, ASummarysScenarioReproducesItsRun) {
   const fs::path dir = WorkDir();
-  const ProcessResult first = Walking({"--scenario", "periodic", "--steps", "3", "--gait-a", "0.32,0.4,0.1,0.24", "--touchdown-speed", "0.12",
-                                       "--force-band", "0.12", "--foothold-tolerance", "0.06", "--cache", "", "--summary", (dir / "a.json").string()});
+  const ProcessResult first = Walking({"--scenario", "periodic", "--steps", "3", "--gait-a", "0.32,0.4,0.1,0.24",
+                                       "--touchdown-speed", "0.12", "--force-band", "0.12", "--foothold-tolerance",
+                                       "0.06", "--cache", "", "--summary", (dir / "a.json").string()});
   ASSERT_TRUE(first.started) << first.error;
   ASSERT_EQ(first.exit_code, 0) << first.error << "\n" << first.out;
   const nlohmann::json a = ReadJson(dir / "a.json");
@@ -61,22 +63,27 @@ TEST(WalkingScenarioFile, ASummarysScenarioReproducesItsRun) {
   // The scenario holds what was asked, and the defaults of the rest.
   EXPECT_EQ(scenario.at("scenario"), "periodic");
   EXPECT_EQ(scenario.at("steps"), 3);
-  EXPECT_EQ(scenario.at("gait-a"), nlohmann::json({0.32, 0.40, 0.10, 0.24}));  // numbers that read back as given: an array
-  EXPECT_EQ(scenario.at("gait-b"), "0.40,0.40,0.10,0.25");                       // the default as written ("0.40"): kept as text
+  EXPECT_EQ(scenario.at("gait-a"),
+            nlohmann::json({0.32, 0.40, 0.10, 0.24}));      // numbers that read back as given: an array
+  EXPECT_EQ(scenario.at("gait-b"), "0.40,0.40,0.10,0.25");  // the default as written ("0.40"): kept as text
   EXPECT_EQ(scenario.at("force-band"), 0.12);
   EXPECT_EQ(scenario.at("seed"), 1);
   EXPECT_EQ(scenario.at("clf-cost-target"), "pd");
   EXPECT_FALSE(scenario.contains("summary"));
   WriteJson(dir / "scenario.json", scenario);
 
-  const ProcessResult second = Walking({"--scenario-file", (dir / "scenario.json").string(), "--cache", "", "--summary", (dir / "b.json").string()});
+  const ProcessResult second = Walking(
+      {"--scenario-file", (dir / "scenario.json").string(), "--cache", "", "--summary", (dir / "b.json").string()});
   ASSERT_EQ(second.exit_code, 0) << second.error << "\n" << second.out;
   const nlohmann::json b = ReadJson(dir / "b.json");
   EXPECT_GT(a.at("steps_completed").get<int>(), 2);
-  EXPECT_EQ(WithoutTimes(a), WithoutTimes(b)) << "first:\n" << WithoutTimes(a).dump(1) << "\nsecond:\n" << WithoutTimes(b).dump(1);
+  EXPECT_EQ(WithoutTimes(a), WithoutTimes(b)) << "first:\n"
+                                              << WithoutTimes(a).dump(1) << "\nsecond:\n"
+                                              << WithoutTimes(b).dump(1);
 
   // The command line wins over the file.
-  const ProcessResult third = Walking({"--scenario-file", (dir / "scenario.json").string(), "--steps", "2", "--cache", "", "--summary", (dir / "c.json").string()});
+  const ProcessResult third = Walking({"--scenario-file", (dir / "scenario.json").string(), "--steps", "2", "--cache",
+                                       "", "--summary", (dir / "c.json").string()});
   ASSERT_EQ(third.exit_code, 0) << third.error;
   const nlohmann::json c = ReadJson(dir / "c.json");
   EXPECT_EQ(c.at("scenario").at("steps"), 2);

@@ -15,7 +15,8 @@ class Lag final : public LeafSystem {
   explicit Lag(std::string name, double x0 = 1.0) : LeafSystem(std::move(name)) {
     DeclareInputPort("u", 1);
     DeclareContinuousState(Eigen::VectorXd::Constant(1, x0));
-    DeclareOutputPort("y", 1, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+    DeclareOutputPort(
+        "y", 1, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   }
   void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
     (*xdot)[0] = -c.continuous_state()[0] + EvalInput(c, 0)[0];
@@ -27,7 +28,8 @@ void ExpectBuildError(DiagramBuilder& b, const std::vector<std::string>& fragmen
     b.Build("d");
     FAIL() << "Build() should have thrown";
   } catch (const std::invalid_argument& e) {
-    for (const auto& f : fragments) EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << "missing '" << f << "' in: " << e.what();
+    for (const auto& f : fragments)
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << "missing '" << f << "' in: " << e.what();
   }
 }
 
@@ -52,7 +54,8 @@ TEST(DiagramBuilder, RejectsSizeMismatch) {
   b.AddSystem(std::make_unique<ConstantVectorSource>("source", Eigen::Vector3d::Zero()));
   b.AddSystem(std::make_unique<Gain>("gain", 2.0, 2));
   b.Connect("source", "y", "gain", "u");
-  ExpectBuildError(b, {"size mismatch", "output port 'y' of system 'source' has size 3", "input port 'u' of system 'gain' has size 2"});
+  ExpectBuildError(b, {"size mismatch", "output port 'y' of system 'source' has size 3",
+                       "input port 'u' of system 'gain' has size 2"});
 }
 
 TEST(DiagramBuilder, RejectsSecondConnection) {

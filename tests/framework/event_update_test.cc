@@ -34,7 +34,9 @@ class EventCounter final : public LeafSystem {
       times_seen.push_back(c.time());
       return EventStatus::Succeeded();
     });
-    DeclareOutputPort("count", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[0]; }, Feedthrough::None());
+    DeclareOutputPort(
+        "count", 1, [](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[0]; },
+        Feedthrough::None());
   }
   mutable std::vector<double> times_seen;
 };
@@ -61,7 +63,8 @@ struct BallDiagram {
 BallDiagram MakeBallDiagram(EventTrigger trigger, bool follower = false) {
   DiagramBuilder b;
   BallDiagram d;
-  d.ball = b.AddSystem(std::make_unique<BouncingBall>("ball", BouncingBallParams{.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0}));
+  d.ball = b.AddSystem(std::make_unique<BouncingBall>(
+      "ball", BouncingBallParams{.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0}));
   b.AddSystem(std::make_unique<Demultiplexer>("demux", std::vector<int>{1, 1}));
   d.counter = b.AddSystem(std::make_unique<EventCounter>("counter", std::move(trigger)));
   b.Connect("ball", "state", "demux", "u");
@@ -115,7 +118,8 @@ TEST(EventUpdate, UnknownGuardOrSystemIsAOneLineError) {
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
-              "system 'counter': event update 'count' names guard 'touchdown' of system 'ball', which has no such guard (it has "
+              "system 'counter': event update 'count' names guard 'touchdown' of system 'ball', which has no such "
+              "guard (it has "
               "'ground_contact')");
   }
   BallDiagram d2 = MakeBallDiagram(EventTrigger::Guards({{"plant", "ground_contact"}}));
@@ -123,7 +127,8 @@ TEST(EventUpdate, UnknownGuardOrSystemIsAOneLineError) {
     Simulator sim(*d2.diagram);
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "system 'counter': event update 'count' names system 'plant', which is not in 'balls'");
+    EXPECT_EQ(std::string(e.what()),
+              "system 'counter': event update 'count' names system 'plant', which is not in 'balls'");
   }
 }
 
@@ -132,7 +137,8 @@ TEST(EventUpdate, UnknownGuardOrSystemIsAOneLineError) {
 class ModeSource final : public LeafSystem {
  public:
   explicit ModeSource(int mode) : LeafSystem("source") {
-    DeclareTypedOutputPort<int>("mode", [mode](const LeafContext&, int* y) { *y = mode; }, Feedthrough::None());
+    DeclareTypedOutputPort<int>(
+        "mode", [mode](const LeafContext&, int* y) { *y = mode; }, Feedthrough::None());
   }
 };
 class ModeSink final : public LeafSystem {
@@ -142,7 +148,8 @@ class ModeSink final : public LeafSystem {
       DeclareTypedInputPort<int>("mode");
     else
       DeclareInputPort("mode", 1);
-    DeclareOutputPort("twice", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = 2.0 * EvalTypedInput<int>(c, 0); });
+    DeclareOutputPort("twice", 1,
+                      [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = 2.0 * EvalTypedInput<int>(c, 0); });
   }
 };
 
@@ -166,7 +173,8 @@ TEST(TypedPorts, BuildRejectsATypeMismatchWordForWord) {
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
-              "DiagramBuilder::Build('typed'): type mismatch: output port 'mode' of system 'source' carries int but input port 'mode' of "
+              "DiagramBuilder::Build('typed'): type mismatch: output port 'mode' of system 'source' carries int but "
+              "input port 'mode' of "
               "system 'sink' takes a vector of size 1");
   }
 }
@@ -185,7 +193,8 @@ TEST(TypedPorts, ReadingAsTheWrongTypeNamesSystemPortAndTypes) {
     source.EvalOutput(*ctx, "mode");
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "system 'source': output port 'mode' carries int; read it with EvalTypedOutput<T>, not as a vector");
+    EXPECT_EQ(std::string(e.what()),
+              "system 'source': output port 'mode' carries int; read it with EvalTypedOutput<T>, not as a vector");
   }
   ModeSink sink(true);
   auto sctx = sink.CreateDefaultContext();

@@ -29,9 +29,7 @@ template <typename F>
 std::string ErrorOf(F f) {
   try {
     f();
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
+  } catch (const std::runtime_error& e) { return e.what(); }
   return "";
 }
 
@@ -52,17 +50,23 @@ TEST(ReadRegularFile, ReadsAFileWhole) {
   test::WriteText(dir.File("f"), text);
   EXPECT_EQ(ReadRegularFile(dir.File("f"), "test file", 1u << 20), text);
   EXPECT_EQ(ReadRegularFile(dir.File("f"), "test file", text.size()), text);  // exactly at the cap
-  EXPECT_NE(ErrorOf([&] { ReadRegularFile(dir.File("f"), "test file", text.size() - 1); }).find("limit is 199999 bytes"), std::string::npos);
+  EXPECT_NE(
+      ErrorOf([&] { ReadRegularFile(dir.File("f"), "test file", text.size() - 1); }).find("limit is 199999 bytes"),
+      std::string::npos);
 }
 
 TEST(ReadRegularFile, RefusesWhatIsNotARegularFile) {
   TempFolder dir;
-  EXPECT_EQ(ErrorOf([] { ReadRegularFile("/dev/zero", "terrain", 1u << 20); }), "terrain /dev/zero: is a device, not a regular file");
-  EXPECT_EQ(ErrorOf([&] { ReadRegularFile(dir.path(), "URDF", 1u << 20); }), "URDF " + dir.path() + ": is a directory, not a regular file");
-  EXPECT_EQ(ErrorOf([&] { ReadRegularFile(dir.File("none"), "URDF", 1u << 20); }), "URDF " + dir.File("none") + ": file does not exist");
+  EXPECT_EQ(ErrorOf([] { ReadRegularFile("/dev/zero", "terrain", 1u << 20); }),
+            "terrain /dev/zero: is a device, not a regular file");
+  EXPECT_EQ(ErrorOf([&] { ReadRegularFile(dir.path(), "URDF", 1u << 20); }),
+            "URDF " + dir.path() + ": is a directory, not a regular file");
+  EXPECT_EQ(ErrorOf([&] { ReadRegularFile(dir.File("none"), "URDF", 1u << 20); }),
+            "URDF " + dir.File("none") + ": file does not exist");
   ASSERT_EQ(::mkfifo(dir.File("fifo").c_str(), 0600), 0);
   // A FIFO with no writer would block a plain open() forever: the read runs on its own thread with a deadline.
-  auto fifo = std::async(std::launch::async, [&] { return ErrorOf([&] { ReadRegularFile(dir.File("fifo"), "sidecar", 1u << 20); }); });
+  auto fifo = std::async(std::launch::async,
+                         [&] { return ErrorOf([&] { ReadRegularFile(dir.File("fifo"), "sidecar", 1u << 20); }); });
   if (fifo.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
     const int writer = ::open(dir.File("fifo").c_str(), O_WRONLY | O_NONBLOCK);  // releases the blocked reader
     if (writer >= 0) ::close(writer);
@@ -104,7 +108,8 @@ TEST(AtomicFileWriter, AFailedWriteIsReportedAndKeepsTheOldFile) {
     std::signal(SIGXFSZ, SIG_IGN);
     const rlimit limit{4096, 4096};
     ::setrlimit(RLIMIT_FSIZE, &limit);
-    const std::string error = ErrorOf([&] { WriteFileAtomically(out.File("log.csv"), std::string(1 << 20, 'x'), "log"); });
+    const std::string error =
+        ErrorOf([&] { WriteFileAtomically(out.File("log.csv"), std::string(1 << 20, 'x'), "log"); });
     const bool named = error.rfind("log " + out.File("log.csv") + ": writing failed", 0) == 0;
     std::_Exit(named ? 0 : 1);
   }
@@ -118,9 +123,11 @@ TEST(AtomicFileWriter, AFailedWriteIsReportedAndKeepsTheOldFile) {
 
 TEST(AtomicFileWriter, RefusesDevicesFoldersAndMissingFolders) {
   TempFolder out;
-  EXPECT_EQ(CheckOutputPath("/dev/full", "summary"), "summary /dev/full: is a device, not a regular file; give a file name");
+  EXPECT_EQ(CheckOutputPath("/dev/full", "summary"),
+            "summary /dev/full: is a device, not a regular file; give a file name");
   EXPECT_EQ(CheckOutputPath(out.path(), "log"), "log " + out.path() + ": is a directory, not a file");
-  EXPECT_EQ(CheckOutputPath(out.File("no/x.csv"), "log"), "log " + out.File("no/x.csv") + ": the folder " + out.File("no") + " does not exist");
+  EXPECT_EQ(CheckOutputPath(out.File("no/x.csv"), "log"),
+            "log " + out.File("no/x.csv") + ": the folder " + out.File("no") + " does not exist");
   EXPECT_EQ(CheckOutputPath(out.File("x.csv"), "log"), "");
   EXPECT_THROW(AtomicFileWriter("/dev/full", "summary"), std::runtime_error);
   struct stat st {};
@@ -133,26 +140,38 @@ TEST(ResolveInsideFolder, KeepsPathsInsideTheirPackage) {
   fs::create_directories(pkg.File("meshes"));
   test::WriteText(pkg.File("meshes/a.urdf"), "x");
   test::WriteText(outside.File("secret"), "x");
-  EXPECT_EQ(ResolveInsideFolder(pkg.path(), "meshes/a.urdf", "urdf"), fs::canonical(pkg.File("meshes/a.urdf")).string());
-  EXPECT_EQ(ResolveInsideFolder(pkg.path(), "meshes/../meshes/a.urdf", "urdf"), fs::canonical(pkg.File("meshes/a.urdf")).string());
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "/etc/passwd", "urdf"); }).find("is an absolute path"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "../" + fs::path(outside.path()).filename().string() + "/secret", "urdf"); })
-                .find("leaves its package folder"),
+  EXPECT_EQ(ResolveInsideFolder(pkg.path(), "meshes/a.urdf", "urdf"),
+            fs::canonical(pkg.File("meshes/a.urdf")).string());
+  EXPECT_EQ(ResolveInsideFolder(pkg.path(), "meshes/../meshes/a.urdf", "urdf"),
+            fs::canonical(pkg.File("meshes/a.urdf")).string());
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "/etc/passwd", "urdf"); }).find("is an absolute path"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              ResolveInsideFolder(pkg.path(), "../" + fs::path(outside.path()).filename().string() + "/secret", "urdf");
+            }).find("leaves its package folder"),
             std::string::npos);
   ASSERT_EQ(::symlink(outside.File("secret").c_str(), pkg.File("link").c_str()), 0);
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "link", "urdf"); }).find("leaves its package folder"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "link", "urdf"); }).find("leaves its package folder"),
+            std::string::npos);
   // A missing folder before "..": resolved by text alone, "nope/../link" would be "link" inside the package, and
   // reading it would follow the link out. The system does not resolve it at all (nope does not exist): refused.
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "nope/../link", "urdf"); }).find("file does not exist"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "nope/../link", "urdf"); }).find("file does not exist"),
+            std::string::npos);
   ASSERT_EQ(::symlink("/", pkg.File("up").c_str()), 0);
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "x/../up/etc/passwd", "urdf"); }).find("file does not exist"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "meshes/../up/etc/passwd", "urdf"); }).find("leaves its package folder"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "meshes/none.urdf", "urdf"); }).find("file does not exist"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "x/../up/etc/passwd", "urdf"); }).find("file does not exist"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              ResolveInsideFolder(pkg.path(), "meshes/../up/etc/passwd", "urdf");
+            }).find("leaves its package folder"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "meshes/none.urdf", "urdf"); }).find("file does not exist"),
+            std::string::npos);
   // A sibling folder whose name starts with the package's is outside too (a prefix is not a parent).
   fs::create_directories(pkg.path() + "-evil");
   test::WriteText(pkg.path() + "-evil/x", "x");
-  EXPECT_NE(ErrorOf([&] { ResolveInsideFolder(pkg.path(), "../" + fs::path(pkg.path()).filename().string() + "-evil/x", "urdf"); })
-                .find("leaves its package folder"),
+  EXPECT_NE(ErrorOf([&] {
+              ResolveInsideFolder(pkg.path(), "../" + fs::path(pkg.path()).filename().string() + "-evil/x", "urdf");
+            }).find("leaves its package folder"),
             std::string::npos);
   fs::remove_all(pkg.path() + "-evil");
 }

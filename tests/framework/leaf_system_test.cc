@@ -18,7 +18,8 @@ class Counted final : public LeafSystem {
       ++calls;
       *y = c.numeric_parameter(k_)[0] * EvalInput(c, 0);
     });
-    DeclareOutputPort("bad", 3, [](const LeafContext&, Eigen::VectorXd* y) { y->resize(1); }, Feedthrough::None());
+    DeclareOutputPort(
+        "bad", 3, [](const LeafContext&, Eigen::VectorXd* y) { y->resize(1); }, Feedthrough::None());
   }
   mutable int calls = 0;
   int k_;
@@ -68,13 +69,17 @@ TEST(LeafSystem, ErrorsNameSystemAndPort) {
     c->FixInputPort(0, Eigen::Vector3d::Zero());
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("input port 'u' of system 'counted' has size 2 but the fixed value has size 3"), std::string::npos);
+    EXPECT_NE(
+        std::string(e.what()).find("input port 'u' of system 'counted' has size 2 but the fixed value has size 3"),
+        std::string::npos);
   }
   try {
     s.EvalOutput(*c, 1);
     FAIL();
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("output port 'bad' has size 3 but its calculation produced size 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("output port 'bad' has size 3 but its calculation produced size 1"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(s.GetInputPortIndex("v"), std::invalid_argument);
 }

@@ -47,12 +47,15 @@ class LinearBlock final : public LeafSystem {
       : LeafSystem(std::move(name)), A_(std::move(A)), B_(std::move(B)), C_(std::move(C)), D_(std::move(D)) {
     DeclareContinuousState(static_cast<int>(A_.rows()));
     DeclareInputPort("u", static_cast<int>(B_.cols()));
-    DeclareOutputPort("y", static_cast<int>(C_.rows()),
-                      [this](const LeafContext& c, Eigen::VectorXd* y) { *y = C_ * c.continuous_state() + D_ * EvalInput(c, 0); });
+    DeclareOutputPort("y", static_cast<int>(C_.rows()), [this](const LeafContext& c, Eigen::VectorXd* y) {
+      *y = C_ * c.continuous_state() + D_ * EvalInput(c, 0);
+    });
   }
 
  private:
-  void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override { *xdot = A_ * c.continuous_state() + B_ * EvalInput(c, 0); }
+  void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
+    *xdot = A_ * c.continuous_state() + B_ * EvalInput(c, 0);
+  }
   Eigen::MatrixXd A_, B_, C_, D_;
 };
 
@@ -62,7 +65,9 @@ class SquareRootFlow final : public LeafSystem {
   SquareRootFlow() : LeafSystem("sqrt_flow") { DeclareContinuousState(Eigen::VectorXd::Constant(1, 0.0)); }
 
  private:
-  void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override { *xdot = c.continuous_state().cwiseSqrt(); }
+  void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
+    *xdot = c.continuous_state().cwiseSqrt();
+  }
 };
 
 // Error bound of the header for one entry: h²/6 · M3 (truncation, M3 bounds |∂³F|) + ε |F| / h (round-off), with
@@ -98,10 +103,14 @@ TEST(Linearize, PendulumMatchesHandDerivedJacobians) {
   EXPECT_LT((lin.B - B).cwiseAbs().maxCoeff(), tol) << lin.B;
   EXPECT_LT((lin.C - C).cwiseAbs().maxCoeff(), tol) << lin.C;
   EXPECT_LT((lin.D - D).cwiseAbs().maxCoeff(), tol) << lin.D;
-  std::printf("pendulum: bound %.1e; max error A %.1e, B %.1e, C %.1e, D %.1e\n", tol, (lin.A - A).cwiseAbs().maxCoeff(),
-              (lin.B - B).cwiseAbs().maxCoeff(), (lin.C - C).cwiseAbs().maxCoeff(), (lin.D - D).cwiseAbs().maxCoeff());
+  std::printf("pendulum: bound %.1e; max error A %.1e, B %.1e, C %.1e, D %.1e\n", tol,
+              (lin.A - A).cwiseAbs().maxCoeff(), (lin.B - B).cwiseAbs().maxCoeff(), (lin.C - C).cwiseAbs().maxCoeff(),
+              (lin.D - D).cwiseAbs().maxCoeff());
   EXPECT_EQ(lin.time, 0.25);
-  EXPECT_NEAR(lin.xdot0[1], -(Pendulum::g / Pendulum::l) * std::sin(theta) - Pendulum::b * omega + tau / (Pendulum::m * Pendulum::l * Pendulum::l), 1e-14);
+  EXPECT_NEAR(lin.xdot0[1],
+              -(Pendulum::g / Pendulum::l) * std::sin(theta) - Pendulum::b * omega +
+                  tau / (Pendulum::m * Pendulum::l * Pendulum::l),
+              1e-14);
 }
 
 // ẍ = −ω² x written element by element into xdot, as the simulator's contract allows (xdot arrives sized): Linearize
@@ -162,7 +171,8 @@ TEST(Linearize, DiagramInSeriesGivesTheComposedMatrices) {
   auto diagram = builder.Build("series");
   auto context = diagram->CreateDefaultContext();
   diagram->FixInputPort(*context, 0, Eigen::VectorXd::Constant(1, 0.8));
-  diagram->GetMutableSubsystemContext(diagram->GetLeafByPath("first"), *context).get_mutable_continuous_state() << 2.0, -1.0;
+  diagram->GetMutableSubsystemContext(diagram->GetLeafByPath("first"), *context).get_mutable_continuous_state() << 2.0,
+      -1.0;
   diagram->GetMutableSubsystemContext(diagram->GetLeafByPath("second"), *context).get_mutable_continuous_state() << 0.5;
 
   const LinearSystemMatrices lin = Linearize(*diagram, *context, "u", "y");
@@ -215,11 +225,15 @@ TEST(Linearize, ErrorsNameTheSystemAndWhatIsWrong) {
   Pendulum p;
   auto context = p.CreateDefaultLeafContext();
   EXPECT_EQ(ErrorOf([&] { Linearize(p, *context, "tau", "y"); }),
-            "Linearize: system 'pendulum': input port 'tau' has no fixed value; fix it to the operating-point input u0 first");
+            "Linearize: system 'pendulum': input port 'tau' has no fixed value; fix it to the operating-point input u0 "
+            "first");
   p.FixInputPort(*context, 0, Eigen::VectorXd::Zero(1));
-  EXPECT_EQ(ErrorOf([&] { Linearize(p, *context, "torque", "y"); }), "system 'pendulum' has no input port 'torque' (it has 'tau')");
-  EXPECT_EQ(ErrorOf([&] { Linearize(p, *context, "tau", "tip"); }), "system 'pendulum' has no output port 'tip' (it has 'y')");
-  EXPECT_NE(ErrorOf([&] { Linearize(p, *context, "tau", "y", LinearizeParams{0.0}); }).find("step_scale"), std::string::npos);
+  EXPECT_EQ(ErrorOf([&] { Linearize(p, *context, "torque", "y"); }),
+            "system 'pendulum' has no input port 'torque' (it has 'tau')");
+  EXPECT_EQ(ErrorOf([&] { Linearize(p, *context, "tau", "tip"); }),
+            "system 'pendulum' has no output port 'tip' (it has 'y')");
+  EXPECT_NE(ErrorOf([&] { Linearize(p, *context, "tau", "y", LinearizeParams{0.0}); }).find("step_scale"),
+            std::string::npos);
 
   Gain gain("gain", 2.0, 1);
   auto gain_context = gain.CreateDefaultLeafContext();
@@ -235,7 +249,8 @@ TEST(Linearize, ErrorsNameTheSystemAndWhatIsWrong) {
   auto diagram = builder.Build();
   auto diagram_context = diagram->CreateDefaultContext();
   LeafContext& inner_context = diagram->GetMutableSubsystemContext(*inner, *diagram_context);
-  EXPECT_EQ(ErrorOf([&] { Linearize(*inner, inner_context, "tau", "y"); }), "input port 'tau' of system 'pendulum' is connected; it cannot also be fixed");
+  EXPECT_EQ(ErrorOf([&] { Linearize(*inner, inner_context, "tau", "y"); }),
+            "input port 'tau' of system 'pendulum' is connected; it cannot also be fixed");
   EXPECT_EQ(inner->EvalInput(inner_context, 0)[0], 0.5);  // still connected
 
   SquareRootFlow flow;
@@ -244,7 +259,8 @@ TEST(Linearize, ErrorsNameTheSystemAndWhatIsWrong) {
   EXPECT_NE(at_perturbed.find("time derivative xdot[0] is NaN at x[0] - "), std::string::npos) << at_perturbed;
   EXPECT_EQ(flow_context->continuous_state()[0], 0.0);  // restored after the error
   flow_context->get_mutable_continuous_state()[0] = -1.0;
-  EXPECT_NE(ErrorOf([&] { Linearize(flow, *flow_context, "", ""); }).find("xdot[0] is NaN at the operating point"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { Linearize(flow, *flow_context, "", ""); }).find("xdot[0] is NaN at the operating point"),
+            std::string::npos);
 }
 
 }  // namespace

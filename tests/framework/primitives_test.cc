@@ -82,8 +82,9 @@ TEST(Primitives, GainAdderMuxDemux) {
 
 TEST(Primitives, ZeroOrderHoldHoldsBetweenSamples) {
   DiagramBuilder b;
-  auto sine = TrajectorySource::FromFunction("sine", 1, [](double t) { return Eigen::VectorXd::Constant(1, std::sin(t)); },
-                                             [](double t) { return Eigen::VectorXd::Constant(1, std::cos(t)); });
+  auto sine = TrajectorySource::FromFunction(
+      "sine", 1, [](double t) { return Eigen::VectorXd::Constant(1, std::sin(t)); },
+      [](double t) { return Eigen::VectorXd::Constant(1, std::cos(t)); });
   b.AddSystem(std::move(sine));
   b.AddSystem(std::make_unique<ZeroOrderHold>("zoh", 0.1, 1));
   b.Connect("sine", "y", "zoh", "u");

@@ -23,7 +23,8 @@ TEST(Simulator, BouncingBallImpactTimesMatchClosedForm) {
   BouncingBall ball("ball", {.restitution = 0.8, .gravity = 9.81, .initial_height = 1.0});
   // The four schemes, plus the explicit Runge-Kutta scheme with its second embedded pair (index 4).
   for (int variant = 0; variant < 5; ++variant) {
-    const IntegrationScheme scheme = variant < 4 ? static_cast<IntegrationScheme>(variant) : IntegrationScheme::kExplicitRungeKutta;
+    const IntegrationScheme scheme =
+        variant < 4 ? static_cast<IntegrationScheme>(variant) : IntegrationScheme::kExplicitRungeKutta;
     SimulatorConfig config = Tight();
     config.scheme = scheme;
     if (variant >= 4) config.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
@@ -127,7 +128,8 @@ class Counter final : public LeafSystem {
       (*xd)[0] = c.discrete_state()[0] + 1;
       return EventStatus::Succeeded();
     });
-    DeclareOutputPort("count", 1, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state(); }, Feedthrough::None());
+    DeclareOutputPort(
+        "count", 1, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state(); }, Feedthrough::None());
   }
 };
 
@@ -148,7 +150,8 @@ class FirstOrderPlant final : public LeafSystem {
   FirstOrderPlant(double a, double b, double x0) : LeafSystem("plant"), a_(a), b_(b) {
     DeclareInputPort("u", 1);
     DeclareContinuousState(Eigen::VectorXd::Constant(1, x0));
-    DeclareOutputPort("x", 1, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+    DeclareOutputPort(
+        "x", 1, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   }
   void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
     (*xdot)[0] = a_ * c.continuous_state()[0] + b_ * EvalInput(c, 0)[0];
@@ -232,7 +235,8 @@ TEST(Simulator, RestartWithLastStepTakesOneStepPerSampleWhenTheErrorTestAllows) 
   // discretisation to the tolerance's order.
   const double a = 0.7, b = 2.0, K = 1.5, h = 0.01, x0 = 1.0;
   const double Phi = std::exp(a * h), Gamma = (std::exp(a * h) - 1) * b / a;
-  for (ExplicitRungeKuttaMethod method : {ExplicitRungeKuttaMethod::kBogackiShampine32, ExplicitRungeKuttaMethod::kDormandPrince54}) {
+  for (ExplicitRungeKuttaMethod method :
+       {ExplicitRungeKuttaMethod::kBogackiShampine32, ExplicitRungeKuttaMethod::kDormandPrince54}) {
     auto diagram = BuildZeroOrderHoldLoop(a, b, K, h, x0);
     SimulatorConfig config;
     config.scheme = IntegrationScheme::kExplicitRungeKutta;
@@ -249,7 +253,8 @@ TEST(Simulator, RestartWithLastStepTakesOneStepPerSampleWhenTheErrorTestAllows) 
     }
     const SimulatorStatistics& s = sim.statistics();
     // A few extra steps for ARKODE's first estimate; none per interval.
-    EXPECT_LE(s.steps, s.restarts + 10) << "method " << static_cast<int>(method) << ": " << s.steps << " steps, " << s.restarts << " restarts";
+    EXPECT_LE(s.steps, s.restarts + 10) << "method " << static_cast<int>(method) << ": " << s.steps << " steps, "
+                                        << s.restarts << " restarts";
     EXPECT_LE(s.error_test_failures, 5);
   }
 }
@@ -268,7 +273,8 @@ class Pendulum final : public LeafSystem {
 TEST(Simulator, UndampedPendulumConservesEnergy) {
   Pendulum p;
   for (int variant = 0; variant < 5; ++variant) {
-    const IntegrationScheme scheme = variant < 4 ? static_cast<IntegrationScheme>(variant) : IntegrationScheme::kExplicitRungeKutta;
+    const IntegrationScheme scheme =
+        variant < 4 ? static_cast<IntegrationScheme>(variant) : IntegrationScheme::kExplicitRungeKutta;
     SimulatorConfig config = Tight();
     config.scheme = scheme;
     if (variant == 4) config.explicit_rk_method = ExplicitRungeKuttaMethod::kBogackiShampine32;
@@ -297,16 +303,18 @@ class Thermostat final : public LeafSystem {
   Thermostat() : LeafSystem("thermostat") {
     DeclareModes({"off", "on"}, 1);
     DeclareContinuousState(Eigen::VectorXd::Constant(1, 15.0));
-    DeclareGuard("too_hot", 1, [](const LeafContext& c) { return c.continuous_state()[0] - high; }, CrossingDirection::kRising,
-                 [](const LeafContext&, int, State* s) {
-                   s->mode = 0;
-                   return EventStatus::Succeeded();
-                 });
-    DeclareGuard("too_cold", 0, [](const LeafContext& c) { return c.continuous_state()[0] - low; }, CrossingDirection::kFalling,
-                 [](const LeafContext&, int, State* s) {
-                   s->mode = 1;
-                   return EventStatus::Succeeded();
-                 });
+    DeclareGuard(
+        "too_hot", 1, [](const LeafContext& c) { return c.continuous_state()[0] - high; }, CrossingDirection::kRising,
+        [](const LeafContext&, int, State* s) {
+          s->mode = 0;
+          return EventStatus::Succeeded();
+        });
+    DeclareGuard(
+        "too_cold", 0, [](const LeafContext& c) { return c.continuous_state()[0] - low; }, CrossingDirection::kFalling,
+        [](const LeafContext&, int, State* s) {
+          s->mode = 1;
+          return EventStatus::Succeeded();
+        });
   }
   void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
     (*xdot)[0] = -k * (c.continuous_state()[0] - ambient) + (c.mode() == 1 ? heating : 0.0);
@@ -323,7 +331,8 @@ TEST(Simulator, ThermostatSwitchesAtThresholds) {
   const double T_on = Thermostat::ambient + Thermostat::heating / Thermostat::k;
   const double t_first = std::log((15.0 - T_on) / (Thermostat::high - T_on)) / Thermostat::k;
   EXPECT_NEAR(ev[0].time, t_first, 1e-9);
-  const double t_cool = std::log((Thermostat::high - Thermostat::ambient) / (Thermostat::low - Thermostat::ambient)) / Thermostat::k;
+  const double t_cool =
+      std::log((Thermostat::high - Thermostat::ambient) / (Thermostat::low - Thermostat::ambient)) / Thermostat::k;
   const double t_heat = std::log((Thermostat::low - T_on) / (Thermostat::high - T_on)) / Thermostat::k;
   for (size_t i = 1; i < ev.size(); ++i) {
     const bool was_on = ev[i - 1].guard == "too_hot";
@@ -338,8 +347,12 @@ class Faller final : public LeafSystem {
  public:
   explicit Faller(bool produce_nan) : LeafSystem("robot"), nan_(produce_nan) {
     DeclareContinuousState(Eigen::Vector2d(1.0, 0.0));
-    DeclareGuard("fell", kAllModes, [](const LeafContext& c) { return c.continuous_state()[0] - 0.5; }, CrossingDirection::kFalling,
-                 [](const LeafContext&, int, State*) { return EventStatus::ReachedTermination("robot fell: height below 0.5 m"); });
+    DeclareGuard(
+        "fell", kAllModes, [](const LeafContext& c) { return c.continuous_state()[0] - 0.5; },
+        CrossingDirection::kFalling,
+        [](const LeafContext&, int, State*) {
+          return EventStatus::ReachedTermination("robot fell: height below 0.5 m");
+        });
   }
   void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
     (*xdot)[0] = c.continuous_state()[1];
@@ -371,7 +384,9 @@ TEST(Simulator, NonFiniteDerivativeIsReportedWithSystemName) {
 TEST(Simulator, MonitorCanTerminate) {
   BouncingBall ball;
   Simulator sim(ball);
-  sim.set_monitor([](const Context& c) { return c.time() > 0.2 ? EventStatus::ReachedTermination("enough") : EventStatus::Succeeded(); });
+  sim.set_monitor([](const Context& c) {
+    return c.time() > 0.2 ? EventStatus::ReachedTermination("enough") : EventStatus::Succeeded();
+  });
   const auto status = sim.AdvanceTo(5.0);
   EXPECT_EQ(status.reason, SimulatorStatus::Reason::kReachedTermination);
   EXPECT_EQ(status.message, "enough");
@@ -387,19 +402,25 @@ TEST(Simulator, MonitorsRunInOrderAndTheFirstVerdictEndsTheRun) {
   config.max_step_s = 1e-3;  // accepted steps at most 1 ms apart
   Simulator sim(ball, config);
   int calls_first = 0, calls_third = 0;
-  sim.add_monitor([&](const Context&) {
-    ++calls_first;
-    return EventStatus::Succeeded();
-  }, "counter");
-  sim.add_monitor([](const Context& c) {
-    const double h = static_cast<const LeafContext&>(c).continuous_state()[0];
-    return h < 0.5 ? EventStatus::Failed("below half height") : EventStatus::Succeeded();
-  }, "height_check");
-  sim.add_monitor([&](const Context& c) {
-    ++calls_third;
-    const double h = static_cast<const LeafContext&>(c).continuous_state()[0];
-    return h < 0.5 ? EventStatus::ReachedTermination("must not be reached") : EventStatus::Succeeded();
-  }, "late");
+  sim.add_monitor(
+      [&](const Context&) {
+        ++calls_first;
+        return EventStatus::Succeeded();
+      },
+      "counter");
+  sim.add_monitor(
+      [](const Context& c) {
+        const double h = static_cast<const LeafContext&>(c).continuous_state()[0];
+        return h < 0.5 ? EventStatus::Failed("below half height") : EventStatus::Succeeded();
+      },
+      "height_check");
+  sim.add_monitor(
+      [&](const Context& c) {
+        ++calls_third;
+        const double h = static_cast<const LeafContext&>(c).continuous_state()[0];
+        return h < 0.5 ? EventStatus::ReachedTermination("must not be reached") : EventStatus::Succeeded();
+      },
+      "late");
   EXPECT_EQ(sim.num_monitors(), 3);
   const SimulatorStatus status = sim.AdvanceTo(5.0);
   EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed);
@@ -460,7 +481,8 @@ TEST(Simulator, TimeLimitIsNamedAndIsNoVerdict) {
   EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit);
   EXPECT_EQ(status.message, "reached the time limit t = 0.25 s");
   EXPECT_EQ(status.ToString(), "reached the time limit t = 0.25 s");
-  for (const char* verdict : {"success", "fail", "terminat"}) EXPECT_EQ(status.ToString().find(verdict), std::string::npos) << verdict;
+  for (const char* verdict : {"success", "fail", "terminat"})
+    EXPECT_EQ(status.ToString().find(verdict), std::string::npos) << verdict;
 }
 
 TEST(Simulator, ExceptionInDynamicsPropagates) {
@@ -470,7 +492,8 @@ TEST(Simulator, ExceptionInDynamicsPropagates) {
     sim.AdvanceTo(1.0);
     FAIL() << "expected an exception";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("input port 'u' of system 'plant' is not connected"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("input port 'u' of system 'plant' is not connected"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -483,7 +506,8 @@ namespace {
 // e = 0: no rebound, the ball stays on the ground after its first impact (it must not fall through the floor);
 // a ball released on the ground stays there.
 TEST(Simulator, BallWithoutReboundOrHeightStaysOnTheGround) {
-  for (const BouncingBallParams& p : {BouncingBallParams{.restitution = 0.0, .initial_height = 1.0}, BouncingBallParams{.restitution = 0.8, .initial_height = 0.0}}) {
+  for (const BouncingBallParams& p : {BouncingBallParams{.restitution = 0.0, .initial_height = 1.0},
+                                      BouncingBallParams{.restitution = 0.8, .initial_height = 0.0}}) {
     BouncingBall ball("ball", p);
     Simulator sim(ball, Tight());
     ASSERT_TRUE(sim.AdvanceTo(3.0).ok());
@@ -491,9 +515,7 @@ TEST(Simulator, BallWithoutReboundOrHeightStaysOnTheGround) {
     EXPECT_EQ(x[0], 0.0) << "e = " << p.restitution << ", h0 = " << p.initial_height;
     EXPECT_EQ(x[1], 0.0);
     EXPECT_EQ(sim.statistics().guard_events, p.initial_height > 0 ? 1 : 0);
-    if (p.initial_height > 0) {
-      EXPECT_NEAR(sim.statistics().events[0].time, std::sqrt(2.0 / 9.81), 1e-9);
-    }
+    if (p.initial_height > 0) { EXPECT_NEAR(sim.statistics().events[0].time, std::sqrt(2.0 / 9.81), 1e-9); }
   }
 }
 

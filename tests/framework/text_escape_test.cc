@@ -41,11 +41,16 @@ TEST(JsonStringForScript, ParsesBackAndCannotEndTheScript) {
     for (char c : out) EXPECT_GE(static_cast<unsigned char>(c), 0x20) << out;
   }
   // Invalid UTF-8 becomes U+FFFD, so the result is always valid JSON.
-  EXPECT_EQ(nlohmann::json::parse(JsonStringForScript("a\xff" "b")).get<std::string>(), "a\xef\xbf\xbd" "b");
+  EXPECT_EQ(nlohmann::json::parse(JsonStringForScript("a\xff"
+                                                      "b"))
+                .get<std::string>(),
+            "a\xef\xbf\xbd"
+            "b");
 }
 
 std::string DecodeEntities(const std::string& s) {
-  static const std::vector<std::pair<std::string, char>> entities = {{"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&#39;", '\''}};
+  static const std::vector<std::pair<std::string, char>> entities = {
+      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&#39;", '\''}};
   std::string out;
   for (size_t i = 0; i < s.size();) {
     bool matched = false;
@@ -67,9 +72,7 @@ TEST(HtmlText, DecodesBackAndHasNoMarkup) {
     EXPECT_EQ(out.find_first_of("<>\"'"), std::string::npos) << out;
     bool has_control = false;
     for (char c : s) has_control |= (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n') || c == 0x7f;
-    if (!has_control) {
-      EXPECT_EQ(DecodeEntities(out), s);
-    }
+    if (!has_control) { EXPECT_EQ(DecodeEntities(out), s); }
   }
   EXPECT_EQ(HtmlText("a&lt;"), "a&amp;lt;");  // an entity in the input is shown as typed, not decoded
 }
@@ -81,9 +84,12 @@ std::vector<std::string> ReadCsvLine(const std::string& line) {
   for (size_t i = 0; i < line.size(); ++i) {
     const char c = line[i];
     if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') cells.back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else cells.back() += c;
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+        cells.back() += '"', ++i;
+      else if (c == '"')
+        quoted = false;
+      else
+        cells.back() += c;
     } else if (c == '"') {
       quoted = true;
     } else if (c == ',') {
@@ -105,7 +111,7 @@ TEST(CsvCell, ReadsBackAsOneCellAndIsNeverAFormula) {
     EXPECT_EQ(cells[0], formula ? "'" + s : s) << out;
   }
   EXPECT_EQ(CsvCell("plain_name"), "plain_name");
-  EXPECT_EQ(CsvCell("-0.5"), "-0.5");  // a number stays a number
+  EXPECT_EQ(CsvCell("-0.5"), "-0.5");     // a number stays a number
   EXPECT_EQ(CsvCell("+1e-3"), "'+1e-3");  // from_chars reads no leading '+': kept as text, neutralised
   EXPECT_EQ(CsvCell("-inf"), "'-inf");
 }

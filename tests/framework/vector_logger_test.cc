@@ -37,7 +37,8 @@ TEST(VectorLogger, PeriodicSamplesMatchClosedForm) {
   EXPECT_EQ(header, "time,ball.state[0],ball.state[1]");
   EXPECT_EQ(first, "0,1,0");
   std::remove(path.c_str());
-  EXPECT_THROW(logger->WriteCsv(d->GetSubsystemContext(*logger, sim.get_context()), "/nonexistent/dir/x.csv"), std::runtime_error);
+  EXPECT_THROW(logger->WriteCsv(d->GetSubsystemContext(*logger, sim.get_context()), "/nonexistent/dir/x.csv"),
+               std::runtime_error);
 }
 
 TEST(VectorLogger, EventModeRecordsEveryImpact) {

@@ -6,8 +6,8 @@
 // Fine: escaped text that keeps its promise; std::invalid_argument (the parser's documented error).
 // A finding: JsonStringForScript output that nlohmann::json does not parse back to the input (valid UTF-8 input), or
 // that holds '<', '>', '&' or a raw U+2028/U+2029; HtmlText output with '<', '>', '"' or '\''; GnuplotString output
-// with a line break, or a quote that is not joined in by sprintf; CsvCell output that does not read back as one cell; any other
-// exception, a crash or a sanitizer report.
+// with a line break, or a quote that is not joined in by sprintf; CsvCell output that does not read back as one cell;
+// any other exception, a crash or a sanitizer report.
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -37,9 +37,7 @@ void CheckEscapers(const std::string& s) {
   try {
     const std::string back = nlohmann::json::parse(json).get<std::string>();
     if (rome::IsValidUtf8(s) && back != s) Finding("JSON does not parse back to its input", json);
-  } catch (const nlohmann::json::exception&) {
-    Finding("JSON does not parse", json);
-  }
+  } catch (const nlohmann::json::exception&) { Finding("JSON does not parse", json); }
   if (rome::HtmlText(s).find_first_of("<>\"'") != std::string::npos) Finding("HTML text holds markup", s);
   // Without its joined-in quotes, the gnuplot expression is quoted pieces "'...'" joined by '.', nothing else.
   std::string gp = rome::GnuplotString(s);
@@ -60,12 +58,16 @@ void CheckEscapers(const std::string& s) {
 void CheckCommandLine(const std::string& input) {
   std::vector<std::string> args = {"prog"};
   size_t start = 0;
-  for (size_t end; (end = input.find('\0', start)) != std::string::npos && args.size() < 64; start = end + 1) args.push_back(input.substr(start, end - start));
+  for (size_t end; (end = input.find('\0', start)) != std::string::npos && args.size() < 64; start = end + 1)
+    args.push_back(input.substr(start, end - start));
   if (start < input.size() && args.size() < 64) args.push_back(input.substr(start));
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   rome::examples::CommandLine cli("prog", "fuzz");
-  cli.Option("x", "1", "a number").Option("n", "2", "an integer").Option("list", "1,2,3", "three numbers").Flag("f", "a flag");
+  cli.Option("x", "1", "a number")
+      .Option("n", "2", "an integer")
+      .Option("list", "1,2,3", "three numbers")
+      .Flag("f", "a flag");
   try {
     if (!cli.Parse(static_cast<int>(argv.size()), argv.data())) return;
     (void)cli.GetDouble("x");

@@ -33,7 +33,8 @@ rome::PlanCacheKey Key() {
 }
 
 bool BitEqual(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
+  return a.size() == b.size() &&
+         (a.size() == 0 || std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0);
 }
 
 void LoadFile(const std::string& bytes) {
@@ -43,9 +44,7 @@ void LoadFile(const std::string& bytes) {
   std::optional<Eigen::VectorXd> loaded;
   try {
     loaded = cache.Load(Key());
-  } catch (...) {
-    Finding("Load threw");
-  }
+  } catch (...) { Finding("Load threw"); }
   if (!loaded) return;
   if (static_cast<size_t>(loaded->size()) > bytes.size() / 2) Finding("more values than the file can hold");
   if (!loaded->allFinite()) Finding("a value that is not finite was loaded");
@@ -57,7 +56,8 @@ void RoundTrip(const uint8_t* data, size_t size) {
   Eigen::VectorXd v(static_cast<Eigen::Index>(size / sizeof(double)));
   if (v.size() > 0) std::memcpy(v.data(), data, sizeof(double) * static_cast<size_t>(v.size()));
   const auto back = rome::PlanCache::ParseEntry(rome::PlanCache::EntryText(Key(), v), Key().text());
-  if (v.allFinite() ? !back || !BitEqual(*back, v) : back.has_value()) Finding("EntryText and ParseEntry do not round-trip");
+  if (v.allFinite() ? !back || !BitEqual(*back, v) : back.has_value())
+    Finding("EntryText and ParseEntry do not round-trip");
 }
 
 }  // namespace

@@ -82,8 +82,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       Finding("a URDF outside the package was read", model.urdf_path());
   } catch (const std::runtime_error& e) {
     if (std::strchr(e.what(), '\n') != nullptr) Finding("multi-line error message", e.what());
-  } catch (const std::exception& e) {
-    Finding("an exception other than std::runtime_error", e.what());
-  }
+  } catch (const std::exception& e) { Finding("an exception other than std::runtime_error", e.what()); }
   return 0;
 }

@@ -41,11 +41,13 @@ double Number(const std::string& text) {
 
 void Grid(const std::string& text, bool integer) {
   const Parameter p = ParseGrid(text, integer);
-  if (p.values.empty() || p.values.size() > static_cast<size_t>(kMaxGridPoints)) Finding("grid value count out of range", text);
+  if (p.values.empty() || p.values.size() > static_cast<size_t>(kMaxGridPoints))
+    Finding("grid value count out of range", text);
   for (const std::string& v : p.values) {
     const double x = Number(v);
     if (!std::isfinite(x)) Finding("grid value is not a finite number", text);
-    if (integer && (x != std::floor(x) || v.find_first_not_of("-0123456789") != std::string::npos)) Finding("integer grid value is not whole", text);
+    if (integer && (x != std::floor(x) || v.find_first_not_of("-0123456789") != std::string::npos))
+      Finding("integer grid value is not whole", text);
   }
 }
 
@@ -67,7 +69,8 @@ void Record(const std::string& text) {
 void Summary(const std::string& text) {
   const auto summary = ParseSummary(text);
   if (!summary) return;
-  if (!summary->is_object() || !summary->at("status").is_string() || !summary->at("status_kind").is_string()) Finding("summary without its fields", text);
+  if (!summary->is_object() || !summary->at("status").is_string() || !summary->at("status_kind").is_string())
+    Finding("summary without its fields", text);
 }
 
 // The text of a CSV cell as a spreadsheet reads it (RFC 4180).
@@ -88,13 +91,15 @@ void Cell(const std::string& text) {
   if (!quoted && cell.find_first_of(",\"\r\n") != std::string::npos) Finding("special character outside quotes", text);
   const std::string back = ReadCell(cell);
   if (back != text && back != "'" + text) Finding("cell does not read back as its text", text);
-  if (!back.empty() && std::string_view("=+-@\t\r").find(back[0]) != std::string_view::npos && !std::isfinite(Number(back)))
+  if (!back.empty() && std::string_view("=+-@\t\r").find(back[0]) != std::string_view::npos &&
+      !std::isfinite(Number(back)))
     Finding("cell would run as a formula", text);
 }
 
 void Set(const std::string& text) {
   const auto [name, value] = ParseSet(text);
-  if (name.empty() || !rome::IsValidUtf8(name + value)) Finding("--set accepted an empty name or text that is not UTF-8", text);
+  if (name.empty() || !rome::IsValidUtf8(name + value))
+    Finding("--set accepted an empty name or text that is not UTF-8", text);
 }
 
 }  // namespace

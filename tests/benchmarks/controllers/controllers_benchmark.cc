@@ -23,12 +23,16 @@ void Run(benchmark::State& state, bool double_support) {
   auto model = test::LoadRobot("amber");
   const ContactSet set = double_support ? (ContactBit(0) | ContactBit(1)) : ContactBit(0);
   std::vector<std::shared_ptr<const TaskSpaceTask>> tasks =
-      double_support ? std::vector<std::shared_ptr<const TaskSpaceTask>>{std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}),
-                                                                          std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")}
-                     : test::AmberWalkingTasks(*model);
+      double_support
+          ? std::vector<std::shared_ptr<const TaskSpaceTask>>{std::make_shared<ComPositionTask>(
+                                                                  "com", std::vector<Axis>{Axis::kX, Axis::kZ}),
+                                                              std::make_shared<BodyPitchTask>("torso_pitch", *model,
+                                                                                              "torso")}
+          : test::AmberWalkingTasks(*model);
   TaskSpaceQpController controller("tsc", model, {set}, tasks);
   auto context = controller.CreateDefaultLeafContext();
-  const Eigen::VectorXd q = double_support ? test::AmberDoubleSupportPose(*model) : test::AmberSingleSupportPose(*model);
+  const Eigen::VectorXd q =
+      double_support ? test::AmberDoubleSupportPose(*model) : test::AmberSingleSupportPose(*model);
   Eigen::VectorXd x(14);
   x << q, Eigen::VectorXd::Zero(7);
   const int ny = controller.num_task_outputs();
@@ -95,7 +99,8 @@ void ClfExoskeleton(benchmark::State& state, ClfQpFormulation formulation) {
   auto model = test::LoadRobot("exoskeleton");
   const ContactSet both = ContactBit(model->ContactIndex("left_foot")) | ContactBit(model->ContactIndex("right_foot"));
   std::vector<ClfOutput> outputs = {
-      ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kY, Axis::kZ})),
+      ClfOutput::RelativeDegreeTwo(
+          std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kY, Axis::kZ})),
       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("roll", *model, "base_roll")),
       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pitch", *model, "base_pitch")),
       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("yaw", *model, "base_yaw"))};
@@ -120,13 +125,15 @@ void ClfExoskeleton(benchmark::State& state, ClfQpFormulation formulation) {
 // (hopping Eq. (45)-(51)): 10 torques + 12 constraint forces (two line feet, two rods) + δ; domain `mode`.
 void ClfCassieHopping(benchmark::State& state, int mode) {
   auto model = test::LoadRobot("cassie");
-  HybridContactPlant plant("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat());
+  HybridContactPlant plant("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
+                           Terrain::Flat());
   const LegLengthTable leg_length(*model);
   HoppingOutputParams outputs;
   outputs.jump_tracks_momentum = mode == HoppingDomain::kJump;  // the paper's Jump set (H_pitch) in the jump case
   ClfQpParams params = HoppingDiagramParams::DefaultControllerParams();
   params.contact_stabilization = plant.params().dynamics;
-  ClfQpController controller("clf", model, ActiveContactsPerMode(plant), MakeHoppingOutputs(*model, leg_length, outputs), params);
+  ClfQpController controller("clf", model, ActiveContactsPerMode(plant),
+                             MakeHoppingOutputs(*model, leg_length, outputs), params);
   const HoppingOutputLayout layout = MakeHoppingOutputLayout(outputs);
   auto context = controller.CreateDefaultLeafContext();
   const int nv = model->nv();
@@ -134,7 +141,8 @@ void ClfCassieHopping(benchmark::State& state, int mode) {
   x.head(nv) = model->q_nominal();
   Eigen::VectorXd desired = Eigen::VectorXd::Zero(3 * layout.size);
   desired.segment(layout.leg_left, 2).setConstant(0.85);
-  for (int i = 0; i < model->nu(); ++i) desired[layout.motors + i] = model->q_nominal()[model->actuators()[i].v_index] + 0.01;
+  for (int i = 0; i < model->nu(); ++i)
+    desired[layout.motors + i] = model->q_nominal()[model->actuators()[i].v_index] + 0.01;
   context->FixInputPort(0, x);
   context->FixAbstractInputPort(1, std::any(mode));
   context->FixInputPort(2, desired);
@@ -143,12 +151,22 @@ void ClfCassieHopping(benchmark::State& state, int mode) {
 
 void BM_AmberSingleSupport(benchmark::State& state) { Run(state, false); }
 void BM_ClfQpCassieHoppingJumpAugmented(benchmark::State& state) { ClfCassieHopping(state, HoppingDomain::kJump); }
-void BM_ClfQpCassieHoppingLandingAugmented(benchmark::State& state) { ClfCassieHopping(state, HoppingDomain::kLanding); }
+void BM_ClfQpCassieHoppingLandingAugmented(benchmark::State& state) {
+  ClfCassieHopping(state, HoppingDomain::kLanding);
+}
 void BM_ClfQpCassieHoppingFlightAugmented(benchmark::State& state) { ClfCassieHopping(state, HoppingDomain::kFlight); }
-void BM_ClfQpAmberSingleSupportEliminated(benchmark::State& state) { ClfAmber(state, ClfQpFormulation::kEliminateContactForces); }
-void BM_ClfQpAmberSingleSupportAugmented(benchmark::State& state) { ClfAmber(state, ClfQpFormulation::kAugmentedInput); }
-void BM_ClfQpExoskeletonDoubleSupportEliminated(benchmark::State& state) { ClfExoskeleton(state, ClfQpFormulation::kEliminateContactForces); }
-void BM_ClfQpExoskeletonDoubleSupportAugmented(benchmark::State& state) { ClfExoskeleton(state, ClfQpFormulation::kAugmentedInput); }
+void BM_ClfQpAmberSingleSupportEliminated(benchmark::State& state) {
+  ClfAmber(state, ClfQpFormulation::kEliminateContactForces);
+}
+void BM_ClfQpAmberSingleSupportAugmented(benchmark::State& state) {
+  ClfAmber(state, ClfQpFormulation::kAugmentedInput);
+}
+void BM_ClfQpExoskeletonDoubleSupportEliminated(benchmark::State& state) {
+  ClfExoskeleton(state, ClfQpFormulation::kEliminateContactForces);
+}
+void BM_ClfQpExoskeletonDoubleSupportAugmented(benchmark::State& state) {
+  ClfExoskeleton(state, ClfQpFormulation::kAugmentedInput);
+}
 BENCHMARK(BM_ClfQpAmberSingleSupportEliminated)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ClfQpCassieHoppingJumpAugmented)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ClfQpCassieHoppingLandingAugmented)->Unit(benchmark::kMicrosecond);

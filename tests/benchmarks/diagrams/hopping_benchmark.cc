@@ -1,6 +1,6 @@
-// hopping_benchmark: the closed-loop real-time factor of the default hop (examples/hopping: 3D Cassie, springs, achilles
-// rods, HybridContactPlant, CLF-QP at 2 kHz, jump and landing NLPs), simulated from rest to t = 2.2 s (1.5 s settle,
-// jump, 0.35 s flight, the first 60 ms of the landing), with three integrators:
+// hopping_benchmark: the closed-loop real-time factor of the default hop (examples/hopping: 3D Cassie, springs,
+// achilles rods, HybridContactPlant, CLF-QP at 2 kHz, jump and landing NLPs), simulated from rest to t = 2.2 s (1.5 s
+// settle, jump, 0.35 s flight, the first 60 ms of the landing), with three integrators:
 //   scheme 0: CVODE BDF, rtol 1e-6, atol 1e-8 (the diagram's integrator before; a new finite-difference Jacobian at
 //             each of the 4 400 restarts the 2 kHz zero-order hold forces)
 //   scheme 1: ARKODE Dormand-Prince 5(4), same tolerances
@@ -25,7 +25,8 @@ namespace {
 constexpr double kDuration = 2.2;  // [s] simulated
 
 void HoppingClosedLoop(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   const LegLengthTable leg_length(*model);
   SimulatorConfig config = HoppingSimulatorConfig();
@@ -41,7 +42,8 @@ void HoppingClosedLoop(benchmark::State& state) {
     state.PauseTiming();
     auto records = std::make_shared<std::vector<PlannerRecord>>();
     auto rest_height = std::make_shared<double>(0.0);
-    HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, SpringMassJumpParams{}, records, rest_height),
+    HoppingDiagram d = BuildHoppingDiagram(model, leg_length,
+                                           MakeSpringMassJumpPlanner(rom, SpringMassJumpParams{}, records, rest_height),
                                            MakeSpringMassLandingPlanner(rom, {}, records, rest_height));
     Simulator sim(*d.diagram, config);
     SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
@@ -67,7 +69,12 @@ void HoppingClosedLoop(benchmark::State& state) {
   state.counters["root_evals"] = static_cast<double>(stats.root_evals);
   state.counters["air_time_s"] = air_time;
 }
-BENCHMARK(HoppingClosedLoop)->ArgName("scheme")->DenseRange(0, 2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(HoppingClosedLoop)
+    ->ArgName("scheme")
+    ->DenseRange(0, 2)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace rome

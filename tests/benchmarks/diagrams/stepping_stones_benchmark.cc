@@ -46,7 +46,8 @@ Run Once(bool resolve_at_events) {
   Run r;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.sim_time_s = sim.get_context().time();
-  r.steps = static_cast<int>(d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context())).size());
+  r.steps =
+      static_cast<int>(d.supervisor->steps(d.diagram->GetSubsystemContext(*d.supervisor, sim.get_context())).size());
   r.status = status.kind_name();
   return r;
 }
@@ -79,11 +80,13 @@ int main(int argc, char** argv) {
     previous.push_back(last_previous.sim_time_s / last_previous.wall_s);
   }
   std::printf("stepping-stones closed loop, AMBER, 30 random stones (seed 7), %d runs each, interleaved:\n", runs);
-  std::printf("  %-52s %6.1fx real time (median; %.1f-%.1fx), %d steps, %.2f s simulated, %s\n", "current (unilateral contact, re-solve at touchdowns):",
-              Median(current), *std::min_element(current.begin(), current.end()), *std::max_element(current.begin(), current.end()),
+  std::printf("  %-52s %6.1fx real time (median; %.1f-%.1fx), %d steps, %.2f s simulated, %s\n",
+              "current (unilateral contact, re-solve at touchdowns):", Median(current),
+              *std::min_element(current.begin(), current.end()), *std::max_element(current.begin(), current.end()),
               last_current.steps, last_current.sim_time_s, last_current.status.c_str());
-  std::printf("  %-52s %6.1fx real time (median; %.1f-%.1fx), %d steps, %.2f s simulated, %s\n", "previous (welded contacts, 1 kHz hold only):",
-              Median(previous), *std::min_element(previous.begin(), previous.end()), *std::max_element(previous.begin(), previous.end()),
+  std::printf("  %-52s %6.1fx real time (median; %.1f-%.1fx), %d steps, %.2f s simulated, %s\n",
+              "previous (welded contacts, 1 kHz hold only):", Median(previous),
+              *std::min_element(previous.begin(), previous.end()), *std::max_element(previous.begin(), previous.end()),
               last_previous.steps, last_previous.sim_time_s, last_previous.status.c_str());
   return 0;
 }

@@ -67,7 +67,7 @@ void RegisterAll() {
   // Loading (URDF parse + merging fixed joints + checks): a 100-link humanoid, 61 DOF, 38 welded
   // links (issue 18 asks for < 50 ms), and the robots.
   for (const std::string& path : {rome::test::SourcePath("tests/systems/multibody/data/humanoid_100.urdf"),
-                                 rome::test::SourcePath("robots/cassie/cassie.urdf")}) {
+                                  rome::test::SourcePath("robots/cassie/cassie.urdf")}) {
     const std::string name = std::filesystem::path(path).stem().string();
     benchmark::RegisterBenchmark(("Load/" + name).c_str(), [path](benchmark::State& state) {
       for (auto _ : state) {
@@ -88,12 +88,10 @@ void RegisterAll() {
       x.ws.SetState(x.model, x.q[s], x.v[s]);
       benchmark::DoNotOptimize(x.ws.V(x.model.num_bodies() - 1));
     });
-    Register(name, fx, "MassMatrix_CRBA", [](Fixture& x, int s) {
-      benchmark::DoNotOptimize(CalcMassMatrix(x.model, x.ws, x.q[s]).data());
-    });
-    Register(name, fx, "BiasForces_RNEA", [](Fixture& x, int s) {
-      benchmark::DoNotOptimize(CalcBiasForces(x.model, x.ws, x.q[s], x.v[s]).data());
-    });
+    Register(name, fx, "MassMatrix_CRBA",
+             [](Fixture& x, int s) { benchmark::DoNotOptimize(CalcMassMatrix(x.model, x.ws, x.q[s]).data()); });
+    Register(name, fx, "BiasForces_RNEA",
+             [](Fixture& x, int s) { benchmark::DoNotOptimize(CalcBiasForces(x.model, x.ws, x.q[s], x.v[s]).data()); });
     Register(name, fx, "InverseDynamics", [](Fixture& x, int s) {
       CalcInverseDynamics(x.model, x.ws, x.q[s], x.v[s], x.f, x.out);
       benchmark::DoNotOptimize(x.out.data());

@@ -24,7 +24,8 @@ void BM_VerticalComMpcSolve(benchmark::State& state) {
   params.qp.warm_start = warm;
   VerticalComMpc mpc(params);
   // Inactive: smooth plan. Active: ends in a free-fall arc (see vertical_com_mpc_test.cc).
-  const double p0 = active ? 0.80 : 0.82, v0 = active ? 0.5 : -0.05, pf = active ? 0.735 : 0.80, vf = active ? -1.5 : 0.25;
+  const double p0 = active ? 0.80 : 0.82, v0 = active ? 0.5 : -0.05, pf = active ? 0.735 : 0.80,
+               vf = active ? -1.5 : 0.25;
   const double T = active ? 0.3 : 0.35;
   int k = 0;
   for (auto _ : state) {
@@ -35,13 +36,16 @@ void BM_VerticalComMpcSolve(benchmark::State& state) {
   state.counters["qp_iterations"] = mpc.qp().iterations();
   state.SetLabel(std::string(active ? "contact active" : "contact inactive") + (warm ? ", warm" : ", cold"));
 }
-BENCHMARK(BM_VerticalComMpcSolve)
-    ->ArgsProduct({{10, 20, 40}, {0, 1}, {0, 1}})
-    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_VerticalComMpcSolve)->ArgsProduct({{10, 20, 40}, {0, 1}, {0, 1}})->Unit(benchmark::kMicrosecond);
 
 void BM_MomentumRegulationPlan(benchmark::State& state) {
   const MomentumRegulationPlanner planner;
-  MomentumRegulationInput in{.p_com_x = -0.05, .p_com_z = 0.82, .pdot_com_x = 1.0, .L_y = 0.8, .step_length = 0.5, .step_height = 0.1,
+  MomentumRegulationInput in{.p_com_x = -0.05,
+                             .p_com_z = 0.82,
+                             .pdot_com_x = 1.0,
+                             .L_y = 0.8,
+                             .step_length = 0.5,
+                             .step_height = 0.1,
                              .pre_impact_com_height = 0.86};
   for (auto _ : state) benchmark::DoNotOptimize(planner.Plan(in));
   state.SetLabel("Eq. (25)-(27)");
@@ -64,7 +68,8 @@ BENCHMARK(BM_OutputTrajectoriesEvaluate)->Unit(benchmark::kMicrosecond);
 // One random-stone-like sequence of steps, solved one after the other (warm start from the previous solution for the
 // same stance, as in the closed loop).
 void BM_PreImpactPostureSolve(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
   PreImpactPostureOptimizer optimizer(model);
   const double steps[][2] = {{0.4, 0.0}, {0.35, -0.1}, {0.5, 0.15}, {0.3, -0.2}, {0.6, 0.05}, {0.25, 0.2}};
   int k = 0;

@@ -18,8 +18,7 @@ constexpr double kStandingLegLength = 0.85;  // [m] ≈ L(q_knee = −1.2 rad)
 SpringMassParams Rom(bool identified) {
   SpringMassParams p;
   if (identified) {
-    static const MultibodyModel model =
-        MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
+    static const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
     static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
     p = identified;
   }

@@ -96,7 +96,8 @@ void BM_FootedHlipTransitionQp(benchmark::State& state) {
   d.right_normal_force.resize(N);
   for (int k = 0; k < N; ++k) {
     const bool dsp = k <= dsp_intervals;
-    const double s = dsp ? static_cast<double>(k) / dsp_intervals : static_cast<double>(k - dsp_intervals) / ssp_intervals;
+    const double s =
+        dsp ? static_cast<double>(k) / dsp_intervals : static_cast<double>(k - dsp_intervals) / ssp_intervals;
     d.node_times(k) = dsp ? 0.6 * s : 0.6 + 0.4 * s;
     d.left_normal_force(k) = dsp ? 0.5 * mg * (1 + s) : mg;
     d.right_normal_force(k) = dsp ? 0.5 * mg * (1 - s) : 0.0;

@@ -29,7 +29,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
 }
 
 ClfQpParams HoppingQpParams(const HybridContactPlant& plant) {
@@ -46,7 +47,8 @@ Eigen::Vector2d SupportCentre(const MultibodyModel& model, const Eigen::VectorXd
   MultibodyWorkspace ws(model);
   Eigen::Vector2d c = Eigen::Vector2d::Zero();
   for (int k = 0; k < model.num_contacts(); ++k)
-    for (int p = 0; p < 2; ++p) c += CalcContactPointPosition(model, ws, q, k, p).head<2>() / (2.0 * model.num_contacts());
+    for (int p = 0; p < 2; ++p)
+      c += CalcContactPointPosition(model, ws, q, k, p).head<2>() / (2.0 * model.num_contacts());
   return c;
 }
 
@@ -54,7 +56,8 @@ Eigen::Vector2d SupportCentre(const MultibodyModel& model, const Eigen::VectorXd
 Eigen::Vector3d Quintic(double t, double t0, double t1, double a, double b) {
   const double T = t1 - t0, s = std::clamp((t - t0) / T, 0.0, 1.0);
   const double p = 10 * s * s * s - 15 * s * s * s * s + 6 * s * s * s * s * s;
-  const double dp = (30 * s * s - 60 * s * s * s + 30 * s * s * s * s) / T, ddp = (60 * s - 180 * s * s + 120 * s * s * s) / (T * T);
+  const double dp = (30 * s * s - 60 * s * s * s + 30 * s * s * s * s) / T,
+               ddp = (60 * s - 180 * s * s + 120 * s * s * s) / (T * T);
   const bool inside = t > t0 && t < t1;
   return {a + (b - a) * p, inside ? (b - a) * dp : 0.0, inside ? (b - a) * ddp : 0.0};
 }
@@ -68,8 +71,9 @@ TEST_P(HoppingCrouch, CrouchAndHoldWithPhysicalContactForces) {
   const ContactModeGraph graph = ContactModeGraph::JumpFlightLanding("left_foot", "right_foot");
   DiagramBuilder b;
   auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, graph, Terrain::Flat()));
-  auto* controller = b.AddSystem(
-      std::make_unique<ClfQpController>("clf", model, ActiveContactsPerMode(*plant), MakeHoppingOutputs(*model, test::SpecLegLength), HoppingQpParams(*plant)));
+  auto* controller = b.AddSystem(std::make_unique<ClfQpController>("clf", model, ActiveContactsPerMode(*plant),
+                                                                   MakeHoppingOutputs(*model, test::SpecLegLength),
+                                                                   HoppingQpParams(*plant)));
   const Eigen::VectorXd q0 = model->q_nominal();
   double L0 = 0, dL0 = 0;
   test::SpecLegLength(q0[model->VelocityIndex("left_knee")], &L0, &dL0);
@@ -78,14 +82,15 @@ TEST_P(HoppingCrouch, CrouchAndHoldWithPhysicalContactForces) {
   const HoppingOutputLayout layout = MakeHoppingOutputLayout();
   const int ny = layout.size;
   ASSERT_EQ(controller->num_outputs(), ny);
-  b.AddSystem(std::make_unique<TrajectorySource>("reference", 3 * ny, [=, layout = layout](double t, Eigen::Ref<Eigen::VectorXd> d) {
-    d.setZero();
-    const Eigen::Vector3d L = Quintic(t, t0, t1, L0, L0 - crouch);
-    for (int leg : {layout.leg_left, layout.leg_right})
-      for (int k = 0; k < 3; ++k) d[k * ny + leg] = L[k];
-    d[layout.com_x] = centre.x();
-    d[layout.com_y] = centre.y();
-  }));
+  b.AddSystem(std::make_unique<TrajectorySource>("reference", 3 * ny,
+                                                 [=, layout = layout](double t, Eigen::Ref<Eigen::VectorXd> d) {
+                                                   d.setZero();
+                                                   const Eigen::Vector3d L = Quintic(t, t0, t1, L0, L0 - crouch);
+                                                   for (int leg : {layout.leg_left, layout.leg_right})
+                                                     for (int k = 0; k < 3; ++k) d[k * ny + leg] = L[k];
+                                                   d[layout.com_x] = centre.x();
+                                                   d[layout.com_y] = centre.y();
+                                                 }));
   b.Connect("reference", "y", "clf", "desired");
   b.Connect("plant", "state", "clf", "state");
   b.Connect("plant", "mode", "clf", "mode");
@@ -123,10 +128,12 @@ TEST_P(HoppingCrouch, CrouchAndHoldWithPhysicalContactForces) {
   const Eigen::VectorXd& f_qp = controller->EvalOutput(cctx, "contact_forces");
   max_qp_plant_force_gap = (f - f_qp).cwiseAbs().maxCoeff();
   const double weight = model->total_mass() * 9.81;
-  std::printf("  %ld steps; L command %.4f m, L_left %.4f, L_right %.4f; COM xy error %.2e m; total F_z %.2f N vs m g %.2f N; min F_z %.1f N;\n"
-              "  |v| %.2e; pelvis z %.4f m (nominal %.4f); QP vs plant force gap %.2e N; qp_failures %.0f\n",
-              steps, L0 - crouch, L_left, L_right, (com.head<2>() - centre).norm(), f[2] + f[5], weight, min_fz, v.norm(), q[2], q0[2],
-              max_qp_plant_force_gap, controller->EvalOutput(cctx, "qp_failures")[0]);
+  std::printf(
+      "  %ld steps; L command %.4f m, L_left %.4f, L_right %.4f; COM xy error %.2e m; total F_z %.2f N vs m g %.2f N; "
+      "min F_z %.1f N;\n"
+      "  |v| %.2e; pelvis z %.4f m (nominal %.4f); QP vs plant force gap %.2e N; qp_failures %.0f\n",
+      steps, L0 - crouch, L_left, L_right, (com.head<2>() - centre).norm(), f[2] + f[5], weight, min_fz, v.norm(), q[2],
+      q0[2], max_qp_plant_force_gap, controller->EvalOutput(cctx, "qp_failures")[0]);
   EXPECT_GT(steps, 200);
   EXPECT_EQ(violations, 0);
   EXPECT_GT(min_fz, 0.0);
@@ -147,8 +154,10 @@ INSTANTIATE_TEST_SUITE_P(Domains, HoppingCrouch, ::testing::Values("landing"));
 
 TEST(HoppingController, UpdateAllocatesNothingInAnyDomain) {
   auto model = LoadCassie();
-  HybridContactPlant plant("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat());
-  ClfQpController controller("clf", model, ActiveContactsPerMode(plant), MakeHoppingOutputs(*model, test::SpecLegLength), HoppingQpParams(plant));
+  HybridContactPlant plant("plant", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
+                           Terrain::Flat());
+  ClfQpController controller("clf", model, ActiveContactsPerMode(plant),
+                             MakeHoppingOutputs(*model, test::SpecLegLength), HoppingQpParams(plant));
   auto context = controller.CreateDefaultLeafContext();
   const int nv = model->nv();
   Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * nv);

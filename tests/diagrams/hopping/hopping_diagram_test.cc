@@ -39,7 +39,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
 }
 
 // Quintic rest-to-rest from a to b over [t0, t0 + T], sampled into plan nodes.
@@ -58,7 +59,8 @@ void AppendQuintic(double t0, double T, double a, double b, int n, LegLengthPlan
 
 struct HopRun {
   SimulatorStatus status;
-  double liftoff_time = -1, touchdown_time = -1, max_pitch_change = 0, H_liftoff = 0, I_yy = 0, flight_rate = 0, H_flight_drift = 0, worst_rod = 0, qp_failures = 0, qp_failures_before_touchdown = -1;
+  double liftoff_time = -1, touchdown_time = -1, max_pitch_change = 0, H_liftoff = 0, I_yy = 0, flight_rate = 0,
+         H_flight_drift = 0, worst_rod = 0, qp_failures = 0, qp_failures_before_touchdown = -1;
   Eigen::Vector3d vcom_liftoff = Eigen::Vector3d::Zero();
   long violations = 0, contact_samples = 0;
 };
@@ -81,7 +83,8 @@ HopRun RunHandMadeHop(double gain, double duration) {
   // otherwise).
   params.reference.jump_force_feedback = 0.0;
   params.reference.jump_force_integral_per_s = 0.0;
-  if (std::getenv("HOP_MOMENTUM")) params.outputs.jump_tracks_momentum = true;  // the paper's Eq. (41) (see hopping_diagram.h)
+  if (std::getenv("HOP_MOMENTUM"))
+    params.outputs.jump_tracks_momentum = true;  // the paper's Eq. (41) (see hopping_diagram.h)
   // No landing planner: the reference's documented fallback (a quintic back to the standing leg length).
   HoppingDiagram d = BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
@@ -99,10 +102,11 @@ HopRun RunHandMadeHop(double gain, double duration) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
     const Eigen::VectorXd x = pc.continuous_state();
     for (const LoopClosureInfo& loop : model->loop_closures())
-      r.worst_rod = std::max(r.worst_rod, std::abs((CalcPointPosition(*model, ws, x.head(nv), loop.body_a, loop.point_a) -
-                                                    CalcPointPosition(*model, ws, x.head(nv), loop.body_b, loop.point_b))
-                                                       .norm() -
-                                                   loop.distance_m));
+      r.worst_rod =
+          std::max(r.worst_rod, std::abs((CalcPointPosition(*model, ws, x.head(nv), loop.body_a, loop.point_a) -
+                                          CalcPointPosition(*model, ws, x.head(nv), loop.body_b, loop.point_b))
+                                             .norm() -
+                                         loop.distance_m));
     // The first flight only: with the fallback landing (no landing planner) the robot may bounce off again after its
     // touchdown (it does with the diagram's relaxation weight 1e4; the landing is not this test's subject).
     if (s.touchdown_s >= 0 || s.domain != HoppingDomain::kFlight) return;
@@ -118,10 +122,13 @@ HopRun RunHandMadeHop(double gain, double duration) {
       motor_error = std::max(motor_error, std::abs(x[k] - y_d[d.layout.motors + i]));
       motor_rate = std::max(motor_rate, std::abs(x[nv + k]));
     }
-    if (motor_error < 0.02 && motor_rate < 0.2) flight_rate_sum += x[nv + model->VelocityIndex("base_pitch")], ++flight_samples;
+    if (motor_error < 0.02 && motor_rate < 0.2)
+      flight_rate_sum += x[nv + model->VelocityIndex("base_pitch")], ++flight_samples;
   };
   const HoppingRunResult result = RunHopping(d, sim, run);
-  for (const EventRecord& e : result.integrator.events) std::printf("  event %s/%s at %.4f s: %d -> %d\n", e.system.c_str(), e.guard.c_str(), e.time, e.mode_before, e.mode_after);
+  for (const EventRecord& e : result.integrator.events)
+    std::printf("  event %s/%s at %.4f s: %d -> %d\n", e.system.c_str(), e.guard.c_str(), e.time, e.mode_before,
+                e.mode_after);
   r.status = result.status;
   r.liftoff_time = result.liftoff_s;
   r.touchdown_time = result.touchdown_s;
@@ -145,12 +152,16 @@ TEST(HoppingDiagram, HandMadeExtensionLiftsOffFliesAndTouchesDown) {
   // Ballistic air time of the COM from its lift-off state back to its lift-off height... the feet land when the COM
   // is back near that height (the legs are held): t = 2 vz / g.
   const double ballistic = 2.0 * r.vcom_liftoff.z() / 9.81;
-  std::printf("  %s; lift-off %.4f s (COM vz %.3f m/s), touchdown %.4f s, air %.4f s vs ballistic %.4f s; pitch change %.2f deg; rod %.2e m;\n"
-              "  violations %ld / %ld; qp_failures %.0f; H_pitch at lift-off %.3f N m s, I_yy %.3f kg m^2, flight pitch rate %.3f rad/s "
-              "vs H/I %.3f; qp failures before touchdown %.0f; H_pitch drift in flight %.2e N m s\n",
-              r.status.ToString().c_str(), r.liftoff_time, r.vcom_liftoff.z(), r.touchdown_time, r.touchdown_time - r.liftoff_time, ballistic,
-              r.max_pitch_change * 180 / M_PI, r.worst_rod, r.violations, r.contact_samples, r.qp_failures, r.H_liftoff, r.I_yy, r.flight_rate,
-              r.H_liftoff / r.I_yy, r.qp_failures_before_touchdown, r.H_flight_drift);
+  std::printf(
+      "  %s; lift-off %.4f s (COM vz %.3f m/s), touchdown %.4f s, air %.4f s vs ballistic %.4f s; pitch change %.2f "
+      "deg; rod %.2e m;\n"
+      "  violations %ld / %ld; qp_failures %.0f; H_pitch at lift-off %.3f N m s, I_yy %.3f kg m^2, flight pitch rate "
+      "%.3f rad/s "
+      "vs H/I %.3f; qp failures before touchdown %.0f; H_pitch drift in flight %.2e N m s\n",
+      r.status.ToString().c_str(), r.liftoff_time, r.vcom_liftoff.z(), r.touchdown_time,
+      r.touchdown_time - r.liftoff_time, ballistic, r.max_pitch_change * 180 / M_PI, r.worst_rod, r.violations,
+      r.contact_samples, r.qp_failures, r.H_liftoff, r.I_yy, r.flight_rate, r.H_liftoff / r.I_yy,
+      r.qp_failures_before_touchdown, r.H_flight_drift);
   ASSERT_GT(r.liftoff_time, 0.0) << r.status.ToString();
   ASSERT_GT(r.touchdown_time, r.liftoff_time) << r.status.ToString();
   EXPECT_GE(r.status.time, r.touchdown_time);  // nothing failed before the touchdown
@@ -159,7 +170,8 @@ TEST(HoppingDiagram, HandMadeExtensionLiftsOffFliesAndTouchesDown) {
   EXPECT_EQ(r.violations, 0);  // the plant's forces through the Jump, including the take-off (ContactForceStatistics)
   EXPECT_EQ(r.qp_failures_before_touchdown, 0.0);
   // After the touchdown (the landing, not met yet: see below) the QP failures are reported, not asserted: measured 0 in
-  // the Release build (ρ_u = 1e-4 keeps the Hessian well conditioned after the impact) and 10 in the -O1 sanitizer build.
+  // the Release build (ρ_u = 1e-4 keeps the Hessian well conditioned after the impact) and 10 in the -O1 sanitizer
+  // build.
   EXPECT_LT(r.worst_rod, 1e-6);
   // Conserved H_pitch: while the motors are held (the samples above) the body turns nearly rigidly, θ̇ ≈ H / I_yy (I_yy
   // at lift-off; the springs' small motion and the change of I_yy in flight account for the 25 %).
@@ -178,7 +190,8 @@ TEST(HoppingDiagram, MomentumPitchReferenceLowersLiftoffMomentum) {
   // Until just after lift-off, with the pelvis held level (gain 0) and with the momentum pitch reference.
   const HopRun held = RunHandMadeHop(0.0, 2.3);
   const HopRun steered = RunHandMadeHop(HoppingReferenceParams{}.jump_momentum_gain, 2.3);
-  std::printf("  H_pitch at lift-off: pelvis held %.3f N m s, momentum reference %.3f N m s\n", held.H_liftoff, steered.H_liftoff);
+  std::printf("  H_pitch at lift-off: pelvis held %.3f N m s, momentum reference %.3f N m s\n", held.H_liftoff,
+              steered.H_liftoff);
   ASSERT_GT(held.liftoff_time, 0.0) << held.status.ToString();
   ASSERT_GT(steered.liftoff_time, 0.0) << steered.status.ToString();
   EXPECT_EQ(steered.violations, 0);
@@ -215,7 +228,8 @@ double LargestClosedLoopEigenvalue(bool jump_tracks_momentum) {
   if (x0.size() == 0) return NAN;
   ClfQpParams cp = params.controller;
   cp.contact_stabilization = params.plant.dynamics;
-  ClfQpController controller("clf", model, ActiveContactsPerMode(*d.plant), MakeHoppingOutputs(*model, test::SpecLegLength, params.outputs), cp);
+  ClfQpController controller("clf", model, ActiveContactsPerMode(*d.plant),
+                             MakeHoppingOutputs(*model, test::SpecLegLength, params.outputs), cp);
   auto context = controller.CreateDefaultLeafContext();
   context->FixInputPort(0, x0);
   context->FixAbstractInputPort(1, std::any(HoppingDomain::kJump));
@@ -245,8 +259,9 @@ double LargestClosedLoopEigenvalue(bool jump_tracks_momentum) {
 
 TEST(HoppingDiagram, JumpClosedLoopIsStableWithPitchAndNotWithMomentumOutput) {
   const double with_pitch = LargestClosedLoopEigenvalue(false), with_momentum = LargestClosedLoopEigenvalue(true);
-  std::printf("  largest closed-loop eigenvalue at the start of Jump: pelvis pitch output %.3f 1/s, H_pitch output %.1f 1/s\n", with_pitch,
-              with_momentum);
+  std::printf(
+      "  largest closed-loop eigenvalue at the start of Jump: pelvis pitch output %.3f 1/s, H_pitch output %.1f 1/s\n",
+      with_pitch, with_momentum);
   EXPECT_LT(with_pitch, 1.0);
   EXPECT_GT(with_momentum, 100.0);
 }
@@ -280,7 +295,8 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
     const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
     other_mode += d.plant->EvalTypedOutput<int>(pc, "mode") != 0;
     const Eigen::VectorXd& q = d.plant->EvalOutput(pc, "q");
-    worst_tilt = std::max({worst_tilt, std::abs(q[model->VelocityIndex("base_pitch")]), std::abs(q[model->VelocityIndex("base_roll")])});
+    worst_tilt = std::max(
+        {worst_tilt, std::abs(q[model->VelocityIndex("base_pitch")]), std::abs(q[model->VelocityIndex("base_roll")])});
     lowest_pelvis = std::min(lowest_pelvis, q[2]);
     // One sample per plant step: after its update at t_k + offset the plant holds the state at t_(k+1) and the mean
     // ground force over [t_k, t_(k+1)].
@@ -294,14 +310,18 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
       if (std::abs(step_end - t_end) < 0.5 * h) vz1 = vz;
     }
   };
-  const HoppingRunResult result = RunHopping(d, sim, run);  // its ContactForceStatistics: the plant's forces at every step
+  const HoppingRunResult result =
+      RunHopping(d, sim, run);  // its ContactForceStatistics: the plant's forces at every step
   const SimulatorStatus& status = result.status;
   const ContactForceStatistics& contact = result.contact;
   const double T = t_end - t0, momentum_error = impulse - m * g * T - m * (vz1 - vz0);
-  std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; tilt %.4f rad, pelvis >= %.3f m; "
-              "impulse %.3f N s vs m g T + m dv %.3f N s (difference %.2e N s)\n",
-              status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(), contact.min_normal_force_N,
-              contact.max_friction_ratio, worst_tilt, lowest_pelvis, impulse, m * g * T + m * (vz1 - vz0), momentum_error);
+  std::printf(
+      "  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; tilt %.4f rad, pelvis >= "
+      "%.3f m; "
+      "impulse %.3f N s vs m g T + m dv %.3f N s (difference %.2e N s)\n",
+      status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(),
+      contact.min_normal_force_N, contact.max_friction_ratio, worst_tilt, lowest_pelvis, impulse,
+      m * g * T + m * (vz1 - vz0), momentum_error);
   EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit) << status.ToString();
   EXPECT_GT(contact.samples, 1000);
   EXPECT_EQ(contact.violations, 0) << contact.first_violation;
@@ -312,13 +332,14 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
   EXPECT_LT(std::abs(momentum_error), 1e-5 * m * g * T);
 }
 
-
 // The build → run → result snippet of hopping_diagram.h's header, exactly: the default hop (spring-mass ROM plans)
 // succeeds, lands once, and the run's COM rise in flight is the ballistic one from the COM's vertical speed at
 // lift-off, v_z² / (2 g) (closed form; the flight has only gravity acting on the COM).
 TEST(HoppingRun, HeaderSnippetHopsAndTheComRiseIsBallistic) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
-  SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{}, SpringMassLandingParams{});
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+  SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{},
+                            SpringMassLandingParams{});
   HoppingDiagramParams params;
   params.reference.hops = 1;
   HoppingDiagram d = BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, params);
@@ -331,9 +352,11 @@ TEST(HoppingRun, HeaderSnippetHopsAndTheComRiseIsBallistic) {
   const Eigen::VectorXd& x = result.liftoff_state;
   const double vz = CalcComVelocity(*model, ws, x.head(model->nv()), x.tail(model->nv())).z();
   const double ballistic_rise = vz * vz / (2.0 * rom.rom.gravity);
-  std::printf("  %s; %s, hops landed %d, air %.4f s, COM rise %.4f m vs v_z^2/(2g) %.4f m, NRMSE jump %.3f landing %.3f, violations %ld\n",
-              result.status.ToString().c_str(), result.status_kind.c_str(), result.touchdowns, result.air_time_s, result.com_rise_m, ballistic_rise,
-              result.grf_nrmse_jump, result.grf_nrmse_landing, result.contact.violations);
+  std::printf(
+      "  %s; %s, hops landed %d, air %.4f s, COM rise %.4f m vs v_z^2/(2g) %.4f m, NRMSE jump %.3f landing %.3f, "
+      "violations %ld\n",
+      result.status.ToString().c_str(), result.status_kind.c_str(), result.touchdowns, result.air_time_s,
+      result.com_rise_m, ballistic_rise, result.grf_nrmse_jump, result.grf_nrmse_landing, result.contact.violations);
   EXPECT_TRUE(result.success) << result.status.ToString();
   EXPECT_EQ(result.status_kind, "success");
   EXPECT_EQ(result.touchdowns, 1);
@@ -359,7 +382,8 @@ TEST(HoppingRun, AForgottenInitialStateNamesTheCallToMake) {
     RunHopping(d, sim, run, nullptr);
     FAIL() << "a run without its initial state was simulated";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("call SetHoppingInitialState(diagram, context, q)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("call SetHoppingInitialState(diagram, context, q)"), std::string::npos)
+        << e.what();
   }
   EXPECT_EQ(planner_calls, 0);
   EXPECT_EQ(sim.get_context().time(), 0.0);
@@ -382,19 +406,24 @@ TEST(HoppingDiagram, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
   HoppingDiagramParams params;
   params.reference.jump_momentum_gain = 250.0;
   const auto t0 = std::chrono::steady_clock::now();
-  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); }, "reference.jump_momentum_gain", "250");
+  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); },
+               "reference.jump_momentum_gain", "250");
   params = {};
   params.reference.hops = 0;
-  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); }, "reference.hops", "0");
+  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); },
+               "reference.hops", "0");
   params = {};
   params.bullet_plant.substeps = 500;
-  expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params, PlantKind::kBullet); }, "bullet_plant.substeps", "500");
+  expect_error(
+      [&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params, PlantKind::kBullet); },
+      "bullet_plant.substeps", "500");
   SpringMassJumpParams jump;
   jump.apex_rise = 0.6;
   expect_error([&] { SpringMassHopPlanners(*model, LegStiffnessVariant::kIdentified, jump); }, "apex_rise", "0.6");
   SpringMassLandingParams landing;
   landing.min_force_fraction = 1.5;
-  expect_error([&] { SpringMassHopPlanners(*model, LegStiffnessVariant::kIdentified, {}, landing); }, "min_force_fraction", "1.5");
+  expect_error([&] { SpringMassHopPlanners(*model, LegStiffnessVariant::kIdentified, {}, landing); },
+               "min_force_fraction", "1.5");
   HoppingRunParams run;
   run.duration_s = -2.0;
   expect_error([&] { run.Validate(); }, "duration_s", "-2");
@@ -418,13 +447,16 @@ TEST(HoppingDiagram, TaskListGivesTheDesiredRowsOfEachDomain) {
   }
   auto context = d.diagram->CreateDefaultContext();
   // [y_d; ẏ_d; ÿ_d]
-  EXPECT_EQ(3 * next_row, d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, *context), "desired").size());
+  EXPECT_EQ(3 * next_row,
+            d.reference->EvalOutput(d.diagram->GetSubsystemContext(*d.reference, *context), "desired").size());
   EXPECT_EQ(rows[HoppingDomain::kJump], 6);
   EXPECT_EQ(rows[HoppingDomain::kFlight], model->nu());
   EXPECT_EQ(rows[HoppingDomain::kLanding], 6);
   const std::vector<HoppingTask> listed = HoppingTasks(*model, d.params.outputs);  // without building a diagram
   ASSERT_EQ(listed.size(), d.tasks.size());
-  for (size_t i = 0; i < listed.size(); ++i) EXPECT_TRUE(listed[i].name == d.tasks[i].name && listed[i].row == d.tasks[i].row && listed[i].size == d.tasks[i].size);
+  for (size_t i = 0; i < listed.size(); ++i)
+    EXPECT_TRUE(listed[i].name == d.tasks[i].name && listed[i].row == d.tasks[i].row &&
+                listed[i].size == d.tasks[i].size);
 }
 
 // The controller seam takes a sub-diagram: the default controller → Saturation (framework/primitives.h), built with
@@ -452,7 +484,8 @@ TEST(HoppingDiagram, SaturatedSubDiagramControllerHops) {
     return b.Build(spec.name);
   };
   SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified);
-  HoppingDiagram d = BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, {}, PlantKind::kHybrid, saturated);
+  HoppingDiagram d =
+      BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, {}, PlantKind::kHybrid, saturated);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const HoppingRunResult result = RunHopping(d, sim, {}, &rom);
@@ -460,7 +493,8 @@ TEST(HoppingDiagram, SaturatedSubDiagramControllerHops) {
   const std::vector<std::string> columns = d.logger->ColumnNames();  // "time" first, then the sample's entries
   int u0 = -1;
   for (size_t i = 1; i < columns.size() && u0 < 0; ++i)
-    if (columns[i].rfind("controller.u", 0) == 0 && (columns[i][12] == '[' || columns[i][12] == '.')) u0 = static_cast<int>(i) - 1;
+    if (columns[i].rfind("controller.u", 0) == 0 && (columns[i][12] == '[' || columns[i][12] == '.'))
+      u0 = static_cast<int>(i) - 1;
   ASSERT_GE(u0, 0);
   double worst_excess = -1e9;
   long at_limit = 0;
@@ -470,8 +504,11 @@ TEST(HoppingDiagram, SaturatedSubDiagramControllerHops) {
       worst_excess = std::max(worst_excess, std::abs(u) - limit[i]);
       at_limit += std::abs(u) >= limit[i] - 1e-9;
     }
-  std::printf("  %s; %s, air %.4f s, COM rise %.4f m, %zu logged samples, %ld torques at the limit, largest |u| - limit %.3g N m\n",
-              result.status.ToString().c_str(), result.status_kind.c_str(), result.air_time_s, result.com_rise_m, log.samples.size(), at_limit, worst_excess);
+  std::printf(
+      "  %s; %s, air %.4f s, COM rise %.4f m, %zu logged samples, %ld torques at the limit, largest |u| - limit %.3g N "
+      "m\n",
+      result.status.ToString().c_str(), result.status_kind.c_str(), result.air_time_s, result.com_rise_m,
+      log.samples.size(), at_limit, worst_excess);
   ASSERT_GT(log.samples.size(), 1000u);
   EXPECT_LE(worst_excess, 0.0);
   EXPECT_GT(at_limit, 0) << "the limits never bound: the test would not show the seam";

@@ -17,12 +17,14 @@ namespace rome {
 namespace {
 
 TEST(LegLengthTable, MatchesTheSpecTable) {
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
+  const MultibodyModel model =
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
   const LegLengthTable table(model);
   const double q_deg[] = {-45, -54.4, -60, -70, -80, -90, -100, -110, -120};
   const double L_m[] = {0.9577, 0.9235, 0.9003, 0.8535, 0.8002, 0.7407, 0.6757, 0.6055, 0.5308};
   const double dL[] = {0.188, 0.227, 0.249, 0.287, 0.323, 0.357, 0.388, 0.416, 0.440};
-  const double lo = model.position_lower_limits()[model.VelocityIndex("left_knee")], hi = model.position_upper_limits()[model.VelocityIndex("left_knee")];
+  const double lo = model.position_lower_limits()[model.VelocityIndex("left_knee")],
+               hi = model.position_upper_limits()[model.VelocityIndex("left_knee")];
   int checked = 0;
   for (int i = 0; i < 9; ++i) {
     const double q = q_deg[i] * M_PI / 180;
@@ -63,7 +65,8 @@ TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
 }
 
 TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection) {
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
+  const MultibodyModel model =
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
   const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
   const SpringMassLandingParams params;
   auto records = std::make_shared<std::vector<PlannerRecord>>();
@@ -93,7 +96,8 @@ TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection)
 // The landing NLP solved at lift-off starts from the touchdown of the ROM's ballistic flight with the leg held
 // (closed form: x = L, ẋ = −sqrt(ẋ_lo² + 2 g (x_lo − L))), and the touchdown solve that follows is recorded after it.
 TEST(SpringMassLandingPlanner, LiftoffSolveStartsFromTheBallisticTouchdown) {
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
+  const MultibodyModel model =
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
   const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
   const SpringMassLandingParams params;
   auto records = std::make_shared<std::vector<PlannerRecord>>();
@@ -119,11 +123,12 @@ TEST(SpringMassLandingPlanner, LiftoffSolveStartsFromTheBallisticTouchdown) {
   auto cold_records = std::make_shared<std::vector<PlannerRecord>>();
   auto cold = MakeSpringMassLandingPlanner(rom, params, cold_records, std::make_shared<double>(0.83));
   ASSERT_TRUE(cold(post, HoppingReference::LandingSolve::kAtTouchdown, &plan, &message)) << message;
-  std::printf("  iterations: predicted at lift-off %d (cold), at touchdown %d (warm), the same touchdown cold %d\n", records->front().plan.iterations,
-              records->back().plan.iterations, cold_records->back().plan.iterations);
+  std::printf("  iterations: predicted at lift-off %d (cold), at touchdown %d (warm), the same touchdown cold %d\n",
+              records->front().plan.iterations, records->back().plan.iterations, cold_records->back().plan.iterations);
   EXPECT_LT(records->back().plan.iterations, cold_records->back().plan.iterations);
   // A lift-off that does not leave the ground upwards cannot be predicted: false with PredictFlight's message.
-  EXPECT_FALSE(planner(RomState{0.9, -0.1, 0.92, 0.0}, HoppingReference::LandingSolve::kPredictedAtLiftoff, &plan, &message));
+  EXPECT_FALSE(
+      planner(RomState{0.9, -0.1, 0.92, 0.0}, HoppingReference::LandingSolve::kPredictedAtLiftoff, &plan, &message));
   EXPECT_NE(message.find("PredictFlight"), std::string::npos) << message;
 }
 

@@ -2,9 +2,8 @@
 // jump_force_correction_max_m), on the block alone with fixed inputs (standing Cassie, plant mode "jump", a fixed
 // measured ground force) and a hand-made jump plan of constant force F_plan and stiffness n K. Expected values in
 // closed form: e = (F_plan − F) / (n K), w = 1 (the plan's force does not fall), and after m periodic updates in Jump
-// the leg-length target is L_plan + k_F e + m T k_I e (the integral and the sum each clamped to ±c_max); with F = F_plan
-// it is L_plan.
-// A plan without force while the feedback is on fails the jump with a message naming the block.
+// the leg-length target is L_plan + k_F e + m T k_I e (the integral and the sum each clamped to ±c_max); with F =
+// F_plan it is L_plan. A plan without force while the feedback is on fails the jump with a message naming the block.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,7 +27,8 @@ struct ReferenceRun {
 // Standing Cassie, the reference told the plant is in "jump" with total normal force `F` [N] (half per foot), `until`
 // [s] simulated; the jump starts at kSettle.
 ReferenceRun RunReference(double F, double k_F, double k_I, double c_max, double until, bool plan_has_force = true) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   auto leg_length = [](double q, double* L, double* dL) { *L = 0.9 - 0.2 * q, *dL = -0.2; };  // any smooth L(q_knee)
   auto jump = [plan_has_force](const RomState&, LegLengthPlan* plan, std::string*) {
     plan->t = Eigen::Vector3d(0.0, 0.1, 0.2);

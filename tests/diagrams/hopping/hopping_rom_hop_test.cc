@@ -1,7 +1,8 @@
-// The default hop end to end, as the hopping example runs it (and apex rises 0.10 and 0.25 m): Cassie (3D, springs, achilles rods) settles, jumps on the
-// spring-mass ROM's jump plan (Eq. (14)-(15), Ipopt), flies, lands on the landing plan solved from the post-impact
-// state (Eq. (16)) and comes to rest, under the diagram's defaults (HoppingDiagramParams). Checks, with the hopping
-// spec's acceptance thresholds (shared/specs/hopping.md A6) where it gives one:
+// The default hop end to end, as the hopping example runs it (and apex rises 0.10 and 0.25 m): Cassie (3D, springs,
+// achilles rods) settles, jumps on the spring-mass ROM's jump plan (Eq. (14)-(15), Ipopt), flies, lands on the landing
+// plan solved from the post-impact state (Eq. (16)) and comes to rest, under the diagram's defaults
+// (HoppingDiagramParams). Checks, with the hopping spec's acceptance thresholds (shared/specs/hopping.md A6) where it
+// gives one:
 //   * the domains run Jump → Flight → Landing once, and the simulation ends without a failure;
 //   * the plant's own contact forces are unilateral and inside the friction cone after every integrator step, through
 //     the landing until rest (ContactForceStatistics);
@@ -11,7 +12,8 @@
 //   * landing: the robot's total normal force follows the landing plan's ROM leg force (NRMSE < 25 % after the first
 //     20 ms, spec 6), and the vertical momentum balance ∫ΣF_z dt − m g T = m Δż holds over the landing (trapezoidal
 //     sum over integrator steps, to 0.2 % of m |Δż|); in Jump the normal force follows the jump plan's (NRMSE < 15 %);
-//   * rest: every joint and base speed below 0.05 within 2 s of touchdown and the pelvis above 0.6 m throughout (spec 5);
+//   * rest: every joint and base speed below 0.05 within 2 s of touchdown and the pelvis above 0.6 m throughout (spec
+//   5);
 //   * the Jump reference (its GRF feedback reads the plant's contact forces) and the Landing reference (its deflection
 //     feedback reads the state) allocate nothing when evaluated;
 //   * the default hop meets the paper's numbers (hopping issue, acceptance): air time 0.423 ± 0.04 s, lowest sole point
@@ -44,14 +46,16 @@ class HoppingRomHop : public ::testing::TestWithParam<double> {};
 TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   SpringMassJumpParams jump;
   if (GetParam() > 0) jump.apex_rise = GetParam();
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   auto records = std::make_shared<std::vector<PlannerRecord>>();
   auto rest_height = std::make_shared<double>(0.0);
   const LegLengthTable leg_length(*model);
   const HoppingDiagramParams params;
-  HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump, records, rest_height),
-                                         MakeSpringMassLandingPlanner(rom, SpringMassLandingParams{}, records, rest_height), params);
+  HoppingDiagram d =
+      BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, jump, records, rest_height),
+                          MakeSpringMassLandingPlanner(rom, SpringMassLandingParams{}, records, rest_height), params);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
 
@@ -61,7 +65,8 @@ TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   MultibodyWorkspace ws(*model);
   ContactForceStatistics contact;
   int last_domain = HoppingDomain::kLanding, jumps = 0, flights = 0, landings = 0;
-  double liftoff = -1, touchdown = -1, H_liftoff = NAN, z_liftoff = 0, vz_liftoff = 0, z_touchdown = 0, pitch_liftoff = 0, pitch_change = 0;
+  double liftoff = -1, touchdown = -1, H_liftoff = NAN, z_liftoff = 0, vz_liftoff = 0, z_touchdown = 0,
+         pitch_liftoff = 0, pitch_change = 0;
   double pelvis_min = 1e9, rest_speed = NAN, clearance = 0;
   // Landing: (t, ΣF_z, ROM force) on the integrator's steps, and the COM's vertical speed at touchdown.
   std::vector<double> land_t, land_fz, land_rom;
@@ -78,7 +83,8 @@ TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
     const double t = pc.time();
     pelvis_min = std::min(pelvis_min, q[base_z]);
     if (domain != last_domain) {
-      jumps += domain == HoppingDomain::kJump, flights += domain == HoppingDomain::kFlight, landings += domain == HoppingDomain::kLanding;
+      jumps += domain == HoppingDomain::kJump, flights += domain == HoppingDomain::kFlight,
+          landings += domain == HoppingDomain::kLanding;
       if (domain == HoppingDomain::kJump) jump_start = t;
       if (domain == HoppingDomain::kFlight) {
         liftoff = t, pitch_liftoff = q[pitch];
@@ -163,7 +169,8 @@ TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   // Jump: the robot's normal force against the jump plan's ROM force (spec 6: NRMSE < 15 %).
   auto nrmse_of = [](const std::vector<double>& robot, const std::vector<double>& ref) {
     double se = 0, lo = 1e300, hi = -1e300;
-    for (size_t k = 0; k < robot.size(); ++k) se += (robot[k] - ref[k]) * (robot[k] - ref[k]), lo = std::min(lo, ref[k]), hi = std::max(hi, ref[k]);
+    for (size_t k = 0; k < robot.size(); ++k)
+      se += (robot[k] - ref[k]) * (robot[k] - ref[k]), lo = std::min(lo, ref[k]), hi = std::max(hi, ref[k]);
     return std::sqrt(se / static_cast<double>(robot.size())) / (hi - lo);
   };
   ASSERT_GT(jump_fz.size(), 100u);
@@ -183,10 +190,12 @@ TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   const double nrmse = std::sqrt(se / n) / (hi - lo);
   const double T = land_t.back() - land_t.front();
   const double momentum_residual = impulse - mass * g * T - mass * (vz_end - vz_touchdown);
-  std::printf("  lift-off H_pitch %.3f N m s (%+.4f s vs the ROM), flight pitch change %.2f deg, air %.4f s (ballistic %.4f s), clearance %.3f m, "
-              "GRF NRMSE jump %.3f landing %.3f, landing momentum residual %.3g N s (m dz %.3g N s)\n",
-              H_liftoff, takeoff_error, pitch_change * 180 / M_PI, touchdown - liftoff, t_ballistic, clearance, nrmse_jump, nrmse, momentum_residual,
-              mass * (vz_end - vz_touchdown));
+  std::printf(
+      "  lift-off H_pitch %.3f N m s (%+.4f s vs the ROM), flight pitch change %.2f deg, air %.4f s (ballistic %.4f "
+      "s), clearance %.3f m, "
+      "GRF NRMSE jump %.3f landing %.3f, landing momentum residual %.3g N s (m dz %.3g N s)\n",
+      H_liftoff, takeoff_error, pitch_change * 180 / M_PI, touchdown - liftoff, t_ballistic, clearance, nrmse_jump,
+      nrmse, momentum_residual, mass * (vz_end - vz_touchdown));
   EXPECT_LT(nrmse, 0.25);
   EXPECT_LT(std::abs(momentum_residual), 2e-3 * mass * std::abs(vz_end - vz_touchdown));  // measured ≤ 2e-4 of it
 
@@ -210,23 +219,28 @@ TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   EXPECT_GT(pelvis_min, 0.6);
 }
 
-INSTANTIATE_TEST_SUITE_P(ApexRise, HoppingRomHop, ::testing::Values(0.0, 0.10, 0.25), [](const ::testing::TestParamInfo<double>& info) {
-  return info.param > 0 ? "H_" + std::to_string(static_cast<int>(std::lround(100 * info.param))) + "cm" : std::string("default");
-});
+INSTANTIATE_TEST_SUITE_P(ApexRise, HoppingRomHop, ::testing::Values(0.0, 0.10, 0.25),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return info.param > 0
+                                      ? "H_" + std::to_string(static_cast<int>(std::lround(100 * info.param))) + "cm"
+                                      : std::string("default");
+                         });
 
 // Three hops in a row, as `hopping --hops 3` runs them: each hop jumps, flies and lands once, each next jump starts
 // at rest (every |q̇| < rest_max_speed) or after max_rest_time_s, the plant's contact forces stay unilateral and inside
 // the friction cone throughout, and the robot is at rest (every |q̇| < 0.05) 2 s after the last touchdown.
 TEST(HoppingRomHops, ThreeHopsInARowLandAndComeToRest) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   auto records = std::make_shared<std::vector<PlannerRecord>>();
   auto rest_height = std::make_shared<double>(0.0);
   const LegLengthTable leg_length(*model);
   HoppingDiagramParams params;
   params.reference.hops = 3;
-  HoppingDiagram d = BuildHoppingDiagram(model, leg_length, MakeSpringMassJumpPlanner(rom, SpringMassJumpParams{}, records, rest_height),
-                                         MakeSpringMassLandingPlanner(rom, SpringMassLandingParams{}, records, rest_height), params);
+  HoppingDiagram d = BuildHoppingDiagram(
+      model, leg_length, MakeSpringMassJumpPlanner(rom, SpringMassJumpParams{}, records, rest_height),
+      MakeSpringMassLandingPlanner(rom, SpringMassLandingParams{}, records, rest_height), params);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const int nv = model->nv(), base_z = model->VelocityIndex("base_z");
@@ -242,15 +256,18 @@ TEST(HoppingRomHops, ThreeHopsInARowLandAndComeToRest) {
     const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
     pelvis_min = std::min(pelvis_min, d.plant->EvalOutput(pc, "state")[base_z]);
     if (domain != last_domain) {
-      jumps += domain == HoppingDomain::kJump, flights += domain == HoppingDomain::kFlight, landings += domain == HoppingDomain::kLanding;
+      jumps += domain == HoppingDomain::kJump, flights += domain == HoppingDomain::kFlight,
+          landings += domain == HoppingDomain::kLanding;
       if (domain == HoppingDomain::kFlight) liftoff = pc.time();
       if (domain == HoppingDomain::kJump && last_touchdown > 0) {
         const double speed = d.plant->EvalOutput(pc, "state").tail(nv).cwiseAbs().maxCoeff();
         const bool waited_max = pc.time() >= last_touchdown + params.reference.max_rest_time_s - 1e-3;
-        EXPECT_TRUE(speed < params.reference.rest_max_speed + 1e-3 || waited_max) << "hop started at t = " << pc.time() << " s with max |qdot| " << speed;
+        EXPECT_TRUE(speed < params.reference.rest_max_speed + 1e-3 || waited_max)
+            << "hop started at t = " << pc.time() << " s with max |qdot| " << speed;
         EXPECT_GE(pc.time(), last_touchdown + params.reference.rest_time_s - 1e-3);
       }
-      if (domain == HoppingDomain::kLanding && liftoff > 0) last_touchdown = pc.time(), air_times.push_back(last_touchdown - liftoff), rest_speed = NAN;
+      if (domain == HoppingDomain::kLanding && liftoff > 0)
+        last_touchdown = pc.time(), air_times.push_back(last_touchdown - liftoff), rest_speed = NAN;
     }
     if (last_touchdown > 0 && pc.time() >= last_touchdown + 2.0 && std::isnan(rest_speed))
       rest_speed = d.plant->EvalOutput(pc, "state").tail(nv).cwiseAbs().maxCoeff();
@@ -270,7 +287,8 @@ TEST(HoppingRomHops, ThreeHopsInARowLandAndComeToRest) {
   ASSERT_TRUE(std::isfinite(rest_speed)) << "the run ended less than 2 s after the last touchdown";
   EXPECT_LT(rest_speed, 0.05);
   EXPECT_GT(pelvis_min, 0.6);
-  std::printf("  air times %.4f %.4f %.4f s, last touchdown at %.3f s\n", air_times[0], air_times[1], air_times[2], last_touchdown);
+  std::printf("  air times %.4f %.4f %.4f s, last touchdown at %.3f s\n", air_times[0], air_times[1], air_times[2],
+              last_touchdown);
 }
 
 }  // namespace

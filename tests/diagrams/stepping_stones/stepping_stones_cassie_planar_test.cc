@@ -61,11 +61,12 @@ TEST(CassiePlanar, InitialStateStandsFlatOnTheFirstStoneWithTheRodsClosed) {
   for (int c = 0; c < 2; ++c)
     for (int k = 0; k < 2; ++k) {
       EXPECT_NEAR(CalcContactPointPosition(model, ws, q, c, k).z(), 0.0, 1e-9) << "contact " << c << " point " << k;
-      EXPECT_NEAR(CalcPointVelocity(model, ws, q, v, model.contacts()[c].body, model.contacts()[c].points[k]).norm(), 0.0, 1e-9);
+      EXPECT_NEAR(CalcPointVelocity(model, ws, q, v, model.contacts()[c].body, model.contacts()[c].points[k]).norm(),
+                  0.0, 1e-9);
     }
   const int rows = CalcConstraintJacobian(model, ws, q, v, ContactSet{0});
-  EXPECT_LT(ws.phi.head(rows).cwiseAbs().maxCoeff(), 1e-9);              // achilles rods at their length
-  EXPECT_LT((ws.J.topRows(rows) * v).cwiseAbs().maxCoeff(), 1e-9);     // and not stretching
+  EXPECT_LT(ws.phi.head(rows).cwiseAbs().maxCoeff(), 1e-9);         // achilles rods at their length
+  EXPECT_LT((ws.J.topRows(rows) * v).cwiseAbs().maxCoeff(), 1e-9);  // and not stretching
   EXPECT_NEAR(CalcComPosition(model, ws, q).z(), p.supervisor.walking_com_height_m, 1e-9);
 }
 
@@ -79,11 +80,13 @@ TEST_P(CassieFlatGround, ConvergesToAPeriodicOrbit) {
 INSTANTIATE_TEST_SUITE_P(StepLengths, CassieFlatGround, ::testing::Values(0.2, 0.4, 0.6, 0.8));
 
 TEST(CassieStairs, UpstairsConvergesToAPeriodicOrbit) {
-  test::ExpectPeriodicWalk(WalkCassie(PeriodicSteppingStones(0.5, 0.2, kSteps + 2, StoneLength()), kSteps), kSteps, "Cassie, upstairs (0.5, 0.2)", kMomentumTolerance);
+  test::ExpectPeriodicWalk(WalkCassie(PeriodicSteppingStones(0.5, 0.2, kSteps + 2, StoneLength()), kSteps), kSteps,
+                           "Cassie, upstairs (0.5, 0.2)", kMomentumTolerance);
 }
 
 TEST(CassieStairs, DownstairsConvergesToAPeriodicOrbit) {
-  test::ExpectPeriodicWalk(WalkCassie(PeriodicSteppingStones(0.4, -0.1, kSteps + 2, StoneLength()), kSteps), kSteps, "Cassie, downstairs (0.4, -0.1)", kMomentumTolerance);
+  test::ExpectPeriodicWalk(WalkCassie(PeriodicSteppingStones(0.4, -0.1, kSteps + 2, StoneLength()), kSteps), kSteps,
+                           "Cassie, downstairs (0.4, -0.1)", kMomentumTolerance);
 }
 
 // Random courses, seeds 1-10 (tuned on seeds >= 1000 only): no fall, every touchdown on its stone within 2 cm, the
@@ -95,7 +98,8 @@ void ExpectTenRandomCourses(bool clf) {
     p.num_stones = kSteps + 2;
     p.seed = seed;
     p.stone_length_m = StoneLength();
-    const test::WalkResult r = clf ? WalkCassieClf(RandomSteppingStones(p), kSteps) : WalkCassie(RandomSteppingStones(p), kSteps);
+    const test::WalkResult r =
+        clf ? WalkCassieClf(RandomSteppingStones(p), kSteps) : WalkCassie(RandomSteppingStones(p), kSteps);
     EXPECT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << "seed " << seed << ": " << r.status.ToString();
     test::ExpectPhysicalContact(r, "seed " + std::to_string(seed));
     EXPECT_EQ(static_cast<int>(r.steps.size()), kSteps) << "seed " << seed << ": " << r.status.message;
@@ -105,31 +109,40 @@ void ExpectTenRandomCourses(bool clf) {
       const StepRecord& s = r.steps[k];
       if (s.stone != s.planned_stone || !(s.foothold_error_m < 0.02)) {
         ++misplaced;
-        std::printf("  seed %u step %zu (l = %.3f m, h = %.3f m): landed on stone %d (planned %d), %.2f cm from its centre\n", seed, k + 1,
-                    s.step_length_m, s.step_height_m, s.stone, s.planned_stone, 100 * s.foothold_error_m);
+        std::printf(
+            "  seed %u step %zu (l = %.3f m, h = %.3f m): landed on stone %d (planned %d), %.2f cm from its centre\n",
+            seed, k + 1, s.step_length_m, s.step_height_m, s.stone, s.planned_stone, 100 * s.foothold_error_m);
       }
       worst = std::max(worst, s.foothold_error_m);
     }
-    std::printf("  Cassie %s seed %u: %zu steps, mean speed %.3f m/s, largest foothold error %.2f cm, %g QP failures, plant F_n >= %.2f N, |F_t|/F_n <= %.3f\n",
-                clf ? "CLF-QP" : "TSC-QP", seed, r.steps.size(), r.mean_speed_mps, 100 * worst, r.qp_failures, r.contact.min_normal_force_N, r.contact.max_friction_ratio);
+    std::printf(
+        "  Cassie %s seed %u: %zu steps, mean speed %.3f m/s, largest foothold error %.2f cm, %g QP failures, plant "
+        "F_n >= %.2f N, |F_t|/F_n <= %.3f\n",
+        clf ? "CLF-QP" : "TSC-QP", seed, r.steps.size(), r.mean_speed_mps, 100 * worst, r.qp_failures,
+        r.contact.min_normal_force_N, r.contact.max_friction_ratio);
   }
-  EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over " << 30 * test::kRandomCourseSeeds << " (seeds 1-" << test::kRandomCourseSeeds << ")";
+  EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over "
+                          << 30 * test::kRandomCourseSeeds << " (seeds 1-" << test::kRandomCourseSeeds << ")";
 }
 
 TEST(CassieRandomStones, TenCoursesOfThirtyStepsWithoutAFall) { ExpectTenRandomCourses(false); }
 
-// Fig. 6: the converged speed rises with E* (l = 0.4 m) and with l (E* = 0.3); the last 5 of 15 steps. Both controllers.
+// Fig. 6: the converged speed rises with E* (l = 0.4 m) and with l (E* = 0.3); the last 5 of 15 steps. Both
+// controllers.
 void ExpectFig6Trends(bool clf) {
   constexpr int kTrendSteps = 15;
   auto speed = [&](double l, double energy) {
     SteppingStonesDiagramParams params = CassieParams();
     params.target_orbital_energy = energy;
     const Terrain terrain = PeriodicSteppingStones(l, 0.0, kTrendSteps + 2, StoneLength());
-    const test::WalkResult r = clf ? WalkCassieClf(terrain, kTrendSteps, params) : WalkCassie(terrain, kTrendSteps, params);
-    EXPECT_EQ(static_cast<int>(r.steps.size()), kTrendSteps) << "l = " << l << " m, E* = " << energy << ": " << r.status.message;
+    const test::WalkResult r =
+        clf ? WalkCassieClf(terrain, kTrendSteps, params) : WalkCassie(terrain, kTrendSteps, params);
+    EXPECT_EQ(static_cast<int>(r.steps.size()), kTrendSteps)
+        << "l = " << l << " m, E* = " << energy << ": " << r.status.message;
     if (static_cast<int>(r.steps.size()) < kTrendSteps) return 0.0;
     const double v = test::LastStepsSpeed(r, 5);
-    std::printf("  Cassie %s l = %.1f m, E* = %.1f m^2/s^2: converged speed %.3f m/s\n", clf ? "CLF-QP" : "TSC-QP", l, energy, v);
+    std::printf("  Cassie %s l = %.1f m, E* = %.1f m^2/s^2: converged speed %.3f m/s\n", clf ? "CLF-QP" : "TSC-QP", l,
+                energy, v);
     return v;
   };
   double previous = 0;
@@ -166,8 +179,9 @@ TEST_P(ClfCourses, ClfQpConvergesToAPeriodicOrbit) {
                            std::string("Cassie CLF-QP, ") + c.name, kMomentumTolerance);
 }
 INSTANTIATE_TEST_SUITE_P(PeriodicFootholds, ClfCourses,
-                         ::testing::Values(Course{"flat_0_2", 0.2, 0.0}, Course{"flat_0_4", 0.4, 0.0}, Course{"flat_0_6", 0.6, 0.0},
-                                           Course{"flat_0_8", 0.8, 0.0}, Course{"upstairs", 0.5, 0.2}, Course{"downstairs", 0.4, -0.1}),
+                         ::testing::Values(Course{"flat_0_2", 0.2, 0.0}, Course{"flat_0_4", 0.4, 0.0},
+                                           Course{"flat_0_6", 0.6, 0.0}, Course{"flat_0_8", 0.8, 0.0},
+                                           Course{"upstairs", 0.5, 0.2}, Course{"downstairs", 0.4, -0.1}),
                          [](const ::testing::TestParamInfo<Course>& info) { return std::string(info.param.name); });
 
 // Every random course, seeds 1-10 (parameters chosen on seeds 1000-1099: 99 of 100 walked; 1059 slips).

@@ -71,8 +71,10 @@ class NoStatusController final : public LeafSystem {
     DeclareInputPort("state", 2 * nv);
     DeclareTypedInputPort<int>("mode");
     DeclareInputPort("desired", 18);
-    DeclareOutputPort("u", nu, [nu](const LeafContext&, Eigen::VectorXd* y) { y->setZero(nu); }, Feedthrough::None());
-    DeclareOutputPort("qp_failures", 1, [](const LeafContext&, Eigen::VectorXd* y) { y->setZero(1); }, Feedthrough::None());
+    DeclareOutputPort(
+        "u", nu, [nu](const LeafContext&, Eigen::VectorXd* y) { y->setZero(nu); }, Feedthrough::None());
+    DeclareOutputPort(
+        "qp_failures", 1, [](const LeafContext&, Eigen::VectorXd* y) { y->setZero(1); }, Feedthrough::None());
   }
 };
 
@@ -81,17 +83,21 @@ TEST(SteppingStonesDiagram, ControllerIsAParameterOfTheBuilder) {
   SteppingStonesDiagramParams params;
   params.swing_foot_gains = {5.0, 300.0, 35.0};  // a differently tuned task-space QP, through the same seam
   SteppingStonesDiagramParams tuned = params;
-  const test::WalkResult r = test::Walk(PeriodicSteppingStones(0.4, 0.0, steps + 2), steps, params, TaskSpaceQpControllerFactory(tuned));
+  const test::WalkResult r =
+      test::Walk(PeriodicSteppingStones(0.4, 0.0, steps + 2), steps, params, TaskSpaceQpControllerFactory(tuned));
   ASSERT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << r.status.ToString();
   EXPECT_EQ(static_cast<int>(r.steps.size()), steps);
   test::ExpectPhysicalContact(r, "tuned TSC");
   try {
     BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 8), params,
-                               [](const SteppingStonesControllerSpec& spec) { return std::make_unique<NoStatusController>(spec.model->nv(), spec.model->nu()); });
+                               [](const SteppingStonesControllerSpec& spec) {
+                                 return std::make_unique<NoStatusController>(spec.model->nv(), spec.model->nu());
+                               });
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()),
-              "BuildSteppingStonesDiagram: controller 'bare' has no output port 'qp_status' (a vector of size 1); a stepping-stones controller needs "
+              "BuildSteppingStonesDiagram: controller 'bare' has no output port 'qp_status' (a vector of size 1); a "
+              "stepping-stones controller needs "
               "inputs state, mode, desired and outputs u, qp_failures, qp_status");
   }
 }
@@ -119,7 +125,8 @@ TEST(SteppingStonesDiagram, ControllerResolvesAtEveryTouchdown) {
       const Eigen::VectorXd& planned = d.EvalControllerOutput(c, "contact_forces");
       const int stance = mode == 0 ? left : right, old = mode == 0 ? right : left;
       EXPECT_GT(planned[3 * stance + 2], 1.0) << "t = " << c.time() << ": the new stance foot carries the robot";
-      EXPECT_EQ(planned.segment<3>(3 * old).norm(), 0.0) << "t = " << c.time() << ": the old stance foot carries nothing";
+      EXPECT_EQ(planned.segment<3>(3 * old).norm(), 0.0)
+          << "t = " << c.time() << ": the old stance foot carries nothing";
       ++checked;
       return EventStatus::Succeeded();
     });
@@ -169,8 +176,9 @@ TEST(SteppingStonesDiagram, TaskSpaceQpAndClfQpWalkTheSameTerrain) {
   const int steps = 12;
   const Terrain terrain = PeriodicSteppingStones(0.5, 0.0, steps + 2);
   SteppingStonesDiagramParams params;
-  for (const auto& [name, factory] : {std::pair<std::string, SteppingStonesControllerFactory>{"tsc-qp", TaskSpaceQpControllerFactory(params)},
-                                      std::pair<std::string, SteppingStonesControllerFactory>{"clf-qp", ClfQpControllerFactory(params)}}) {
+  for (const auto& [name, factory] :
+       {std::pair<std::string, SteppingStonesControllerFactory>{"tsc-qp", TaskSpaceQpControllerFactory(params)},
+        std::pair<std::string, SteppingStonesControllerFactory>{"clf-qp", ClfQpControllerFactory(params)}}) {
     const test::WalkResult r = test::Walk(terrain, steps, params, factory);
     ASSERT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << name << ": " << r.status.ToString();
     ASSERT_EQ(static_cast<int>(r.steps.size()), steps) << name;
@@ -197,11 +205,13 @@ TEST(SteppingStonesDiagram, SaturatedSubDiagramControllerWalks) {
   const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar);
   const int nu = model.nu();
   ASSERT_GT(model.torque_limits().minCoeff(), kLimitNm);  // below the default limits
-  const Eigen::VectorXd lower = Eigen::VectorXd::Constant(nu, -kLimitNm), upper = Eigen::VectorXd::Constant(nu, kLimitNm);
+  const Eigen::VectorXd lower = Eigen::VectorXd::Constant(nu, -kLimitNm),
+                        upper = Eigen::VectorXd::Constant(nu, kLimitNm);
   const test::WalkResult free = test::Walk(terrain, steps, params);
   SteppingStonesDiagramParams limited = params;
   limited.controller.torque_limits = Eigen::VectorXd::Constant(nu, kQpLimitNm);
-  const test::WalkResult saturated = test::Walk(terrain, steps, params, SaturatedControllerFactory(TaskSpaceQpControllerFactory(limited), lower, upper));
+  const test::WalkResult saturated = test::Walk(
+      terrain, steps, params, SaturatedControllerFactory(TaskSpaceQpControllerFactory(limited), lower, upper));
   for (const auto* r : {&free, &saturated}) {
     const std::string what = r == &free ? "unsaturated" : "saturated";
     ASSERT_EQ(r->status.kind(), SimulatorStatus::Kind::kSuccess) << what << ": " << r->status.ToString();
@@ -218,14 +228,17 @@ TEST(SteppingStonesDiagram, SaturatedSubDiagramControllerWalks) {
     EXPECT_GE(saturated.u_min[i], -kLimitNm) << "actuator " << model.actuators()[i].joint;
     EXPECT_LE(saturated.u_max[i], kLimitNm) << "actuator " << model.actuators()[i].joint;
   }
-  EXPECT_GT(std::max(free.u_max.maxCoeff(), -free.u_min.minCoeff()), kQpLimitNm) << "the unconstrained run never needs more than the limits";
+  EXPECT_GT(std::max(free.u_max.maxCoeff(), -free.u_min.minCoeff()), kQpLimitNm)
+      << "the unconstrained run never needs more than the limits";
   EXPECT_GT(saturated.inner_u_abs_max, kLimitNm) << "the saturation never acted";
   EXPECT_EQ(free.inner_u_abs_max, 0.0);  // a leaf controller: no inner block
   // The same walk: the saturation changes the gait little (speed within 10 %).
   EXPECT_NEAR(saturated.mean_speed_mps, free.mean_speed_mps, 0.1 * free.mean_speed_mps);
   // A nu mismatch is refused with the sizes.
   try {
-    BuildSteppingStonesDiagram(terrain, params, SaturatedControllerFactory(TaskSpaceQpControllerFactory(params), lower.head(2), upper.head(2)));
+    BuildSteppingStonesDiagram(
+        terrain, params,
+        SaturatedControllerFactory(TaskSpaceQpControllerFactory(params), lower.head(2), upper.head(2)));
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("need nu = 4 elements"), std::string::npos) << e.what();
@@ -244,7 +257,8 @@ TEST(SteppingStonesDiagram, ControllerSpecGivesTheLayoutOfDesired) {
   std::vector<std::string> cassie_tasks = amber_tasks;
   cassie_tasks.push_back("left_swing_foot_pitch");
   cassie_tasks.push_back("right_swing_foot_pitch");
-  for (const Case& c : {Case{"robots/amber/amber.rome.json", 6, amber_tasks}, Case{"robots/cassie_planar/cassie_planar.rome.json", 8, cassie_tasks}}) {
+  for (const Case& c : {Case{"robots/amber/amber.rome.json", 6, amber_tasks},
+                        Case{"robots/cassie_planar/cassie_planar.rome.json", 8, cassie_tasks}}) {
     const SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot(c.sidecar);
     SteppingStonesControllerSpec seen;
     const auto spy = [&](const SteppingStonesControllerSpec& spec) {
@@ -252,7 +266,8 @@ TEST(SteppingStonesDiagram, ControllerSpecGivesTheLayoutOfDesired) {
       return TaskSpaceQpControllerFactory(params)(spec);
     };
     const MultibodyModel model = MultibodyModel::LoadFromSidecar(c.sidecar);
-    const SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.5, 0.0, 4, SteppingStoneLengthFor(model)), params, spy);
+    const SteppingStonesDiagram d =
+        BuildSteppingStonesDiagram(PeriodicSteppingStones(0.5, 0.0, 4, SteppingStoneLengthFor(model)), params, spy);
     EXPECT_EQ(seen.num_task_rows, c.rows) << c.sidecar;
     const PortInfo& desired = d.output_adapter->output_port(d.output_adapter->GetOutputPortIndex("desired"));
     ASSERT_EQ(desired.size, 3 * seen.num_task_rows) << c.sidecar;
@@ -293,7 +308,9 @@ TEST(SteppingStonesDiagram, ForgottenInitialStateNamesTheCall) {
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("call SetSteppingStonesInitialState(diagram, params, context) before simulating"), std::string::npos) << what;
+    EXPECT_NE(what.find("call SetSteppingStonesInitialState(diagram, params, context) before simulating"),
+              std::string::npos)
+        << what;
     EXPECT_NE(what.find("system 'supervisor'"), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
   }
@@ -312,17 +329,22 @@ TEST(SteppingStonesDiagram, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheVa
     change(params);
     try {
       BuildSteppingStonesDiagram(flat, params);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
+    } catch (const std::invalid_argument& e) { return std::string(e.what()); }
     return std::string("no error");
   };
   EXPECT_EQ(error_of([](auto& p) { p.target_orbital_energy = 0.0; }),
             "SteppingStonesDiagramParams: target_orbital_energy = 0 m^2/s^2 is outside (0, 10] m^2/s^2");
-  EXPECT_NE(error_of([](auto& p) { p.impact_fraction = 1.0; }).find("impact_fraction = 1 is outside (0,"), std::string::npos);
-  EXPECT_NE(error_of([](auto& p) { p.torso_gains.kp = 1e308; }).find("torso_gains.kp = 1e+308 1/s^2 is outside [0, 1e+06]"), std::string::npos);
-  EXPECT_NE(error_of([](auto& p) { p.controller.min_normal_force_N = 1e308; }).find("controller.min_normal_force_N = 1e+308 N"), std::string::npos);
-  EXPECT_NE(error_of([](auto& p) { p.initial_com_x_m = 5.0; }).find("initial_com_x_m = 5 m is outside [-0.5, 0.5] m"), std::string::npos);
+  EXPECT_NE(error_of([](auto& p) { p.impact_fraction = 1.0; }).find("impact_fraction = 1 is outside (0,"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of([](auto& p) { p.torso_gains.kp = 1e308; }).find("torso_gains.kp = 1e+308 1/s^2 is outside [0, 1e+06]"),
+      std::string::npos);
+  EXPECT_NE(error_of([](auto& p) {
+              p.controller.min_normal_force_N = 1e308;
+            }).find("controller.min_normal_force_N = 1e+308 N"),
+            std::string::npos);
+  EXPECT_NE(error_of([](auto& p) { p.initial_com_x_m = 5.0; }).find("initial_com_x_m = 5 m is outside [-0.5, 0.5] m"),
+            std::string::npos);
   EXPECT_NE(error_of([](auto& p) { p.log_period_s = std::nan(""); }).find("log_period_s = nan"), std::string::npos);
   EXPECT_EQ(error_of([](auto&) {}), "no error");
 }

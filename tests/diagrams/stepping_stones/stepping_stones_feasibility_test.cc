@@ -10,16 +10,16 @@
 namespace rome {
 namespace {
 
-MultibodyModel Load(const std::string& robot) { return MultibodyModel::LoadFromSidecar("robots/" + robot + "/" + robot + ".rome.json"); }
+MultibodyModel Load(const std::string& robot) {
+  return MultibodyModel::LoadFromSidecar("robots/" + robot + "/" + robot + ".rome.json");
+}
 
 // The message of the std::invalid_argument that `f` throws ("" if none).
 template <typename F>
 std::string Refusal(F f) {
   try {
     f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
+  } catch (const std::invalid_argument& e) { return e.what(); }
   return "";
 }
 
@@ -47,7 +47,10 @@ TEST(SteppingStonesFeasibility, StepBeyondBothLegsIsRefused) {
   EXPECT_NE(m.find("stone 1"), std::string::npos) << m;
   EXPECT_NE(m.find("reach at most 1.7462 m"), std::string::npos) << m;
   // The margin is a parameter: half the reach refuses a step of 0.6 reach.
-  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.6 * reach, 0.0), params, {.leg_reach_fraction = 0.5}); }), "");
+  EXPECT_NE(Refusal([&] {
+              CheckSteppingStonesFeasible(amber, TwoSteps(0.6 * reach, 0.0), params, {.leg_reach_fraction = 0.5});
+            }),
+            "");
   // Only the steps to be walked are checked: stone 3, beyond max_steps = 2, may be far.
   const Terrain far_last = Terrain::Stones({{0.0, 0.0, 0.1}, {0.4, 0.0, 0.1}, {0.8, 0.0, 0.1}, {50.0, 0.0, 0.1}});
   EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, far_last, params); }), "");
@@ -55,7 +58,9 @@ TEST(SteppingStonesFeasibility, StepBeyondBothLegsIsRefused) {
 
 TEST(SteppingStonesFeasibility, OneStoneHasNoStepToTake) {
   SteppingStonesDiagramParams params;
-  const std::string m = Refusal([&] { CheckSteppingStonesFeasible(Load("amber"), Terrain::Stones({{0.0, 0.0, 1.0}}), params); });
+  const std::string m = Refusal([&] {
+    CheckSteppingStonesFeasible(Load("amber"), Terrain::Stones({{0.0, 0.0, 1.0}}), params);
+  });
   EXPECT_NE(m.find("has 1 stone"), std::string::npos) << m;
 }
 
@@ -65,25 +70,32 @@ TEST(SteppingStonesFeasibility, RiseAndDropBeyondTheSupervisorsHeightsAreRefused
   params.supervisor.max_steps = 2;
   const double limit = params.supervisor.walking_com_height_m - params.supervisor.min_com_height_m;  // 0.8 - 0.45 m
   for (const double sign : {1.0, -1.0}) {
-    EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, sign * (limit - 0.001)), params); }), "") << sign;
-    const std::string m = Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, sign * (limit + 0.001)), params); });
+    EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, sign * (limit - 0.001)), params); }), "")
+        << sign;
+    const std::string m =
+        Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, sign * (limit + 0.001)), params); });
     EXPECT_NE(m.find(sign > 0 ? "above stone 0" : "below stone 0"), std::string::npos) << m;
     EXPECT_NE(m.find("below 0.35 m"), std::string::npos) << m;
   }
   params.supervisor.walking_com_height_m = params.supervisor.min_com_height_m;  // would fall at once
-  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, 0.0), params); }).find("min_com_height_m"), std::string::npos);
+  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, 0.0), params); }).find("min_com_height_m"),
+            std::string::npos);
 }
 
 TEST(SteppingStonesFeasibility, StoneShorterThanTheSoleIsRefused) {
   const MultibodyModel cassie = Load("cassie_planar");
-  SteppingStonesDiagramParams params = SteppingStonesDiagramParams::ForRobot("robots/cassie_planar/cassie_planar.rome.json");
+  SteppingStonesDiagramParams params =
+      SteppingStonesDiagramParams::ForRobot("robots/cassie_planar/cassie_planar.rome.json");
   params.supervisor.max_steps = 2;
   // robots.md: toe and heel 0.07 m either side of the sole midpoint; the nominal pose holds the sole level.
   const double sole = 0.14;
   EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(cassie, TwoSteps(0.4, 0.0, sole + 1e-3), params); }), "");
   const std::string m = Refusal([&] { CheckSteppingStonesFeasible(cassie, TwoSteps(0.4, 0.0, sole - 1e-3), params); });
   EXPECT_NE(m.find("shorter than the sole"), std::string::npos) << m;
-  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(cassie, TwoSteps(0.4, 0.0, sole + 1e-3), params, {.sole_margin_m = 0.01}); }), "");
+  EXPECT_NE(Refusal([&] {
+              CheckSteppingStonesFeasible(cassie, TwoSteps(0.4, 0.0, sole + 1e-3), params, {.sole_margin_m = 0.01});
+            }),
+            "");
   // Point feet have no sole: any stone length passes.
   SteppingStonesDiagramParams amber_params;
   amber_params.supervisor.max_steps = 2;
@@ -99,11 +111,13 @@ TEST(SteppingStonesFeasibility, MinimumNormalForceMustBeBelowTheWeight) {
   params.controller.min_normal_force_N = params.clf_controller.contact.min_normal_force_N = 0.99 * mass * 9.81;
   EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, 0.0), params); }), "");
   params.controller.min_normal_force_N = 1.01 * mass * 9.81;
-  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, 0.0), params); }).find("below the weight"), std::string::npos);
+  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(amber, TwoSteps(0.4, 0.0), params); }).find("below the weight"),
+            std::string::npos);
 }
 
 TEST(SteppingStonesFeasibility, RobotsTheDiagramsCannotUse) {
-  EXPECT_NE(Refusal([] { CheckSteppingStonesRobot(Load("exoskeleton")); }).find("planar robots only"), std::string::npos);
+  EXPECT_NE(Refusal([] { CheckSteppingStonesRobot(Load("exoskeleton")); }).find("planar robots only"),
+            std::string::npos);
   EXPECT_EQ(Refusal([] { CheckSteppingStonesRobot(Load("amber")); }), "");
   EXPECT_NE(Refusal([] { CheckWalkingRobot(Load("amber")); }).find("spatial"), std::string::npos);
   EXPECT_NE(Refusal([] { CheckWalkingRobot(Load("cassie")); }).find("flat feet"), std::string::npos);

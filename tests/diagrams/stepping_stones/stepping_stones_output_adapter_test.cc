@@ -10,10 +10,11 @@ namespace {
 Eigen::VectorXd Desired(int mode) {
   SteppingStonesOutputAdapter adapter;
   auto c = adapter.CreateDefaultLeafContext();
-  adapter.FixInputPort(*c, 0, Eigen::Vector4d(0.1, 0.8, 0.25, 0.05));    // φ, p_com^z, p_sw^x, p_sw^z relative to the stance foot
-  adapter.FixInputPort(*c, 1, Eigen::Vector4d(0.2, -0.1, 1.5, 0.3));    // rates
-  adapter.FixInputPort(*c, 2, Eigen::Vector4d(-1.0, 2.0, 3.0, -4.0));   // accelerations
-  adapter.FixInputPort(*c, 3, Eigen::Vector2d(2.0, 0.4));               // stance foot in the world
+  adapter.FixInputPort(
+      *c, 0, Eigen::Vector4d(0.1, 0.8, 0.25, 0.05));  // φ, p_com^z, p_sw^x, p_sw^z relative to the stance foot
+  adapter.FixInputPort(*c, 1, Eigen::Vector4d(0.2, -0.1, 1.5, 0.3));   // rates
+  adapter.FixInputPort(*c, 2, Eigen::Vector4d(-1.0, 2.0, 3.0, -4.0));  // accelerations
+  adapter.FixInputPort(*c, 3, Eigen::Vector2d(2.0, 0.4));              // stance foot in the world
   adapter.FixTypedInputPort(*c, 4, mode);
   return adapter.EvalOutput(*c, "desired");
 }

@@ -13,7 +13,8 @@ TEST(SteppingStonesRun, BuildRunResult) {
   SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 8), params);
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
-  // A monitor of the caller's own: it sees every accepted step of the run, and stays after it (the run removes only its own).
+  // A monitor of the caller's own: it sees every accepted step of the run, and stays after it (the run removes only its
+  // own).
   long user_monitor_calls = 0;
   sim.add_monitor([&](const Context&) { return ++user_monitor_calls, EventStatus::Succeeded(); }, "user");
   const SteppingStonesResult r = RunSteppingStones(d, sim);

@@ -23,7 +23,8 @@ constexpr double kStep = 0.4;
 class SupervisorTest : public ::testing::Test {
  protected:
   SupervisorTest()
-      : model_(std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")))),
+      : model_(std::make_shared<const MultibodyModel>(
+            MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")))),
         terrain_(PeriodicSteppingStones(kStep, 0.0, 6)),
         ws_(*model_) {
     params_.max_steps = 3;
@@ -33,7 +34,9 @@ class SupervisorTest : public ::testing::Test {
     right_ = model_->ContactIndex("right_foot");
   }
 
-  Eigen::Vector3d Foot(const Eigen::VectorXd& x, int contact) { return CalcContactPointPosition(*model_, ws_, x.head(model_->nv()), contact, 0); }
+  Eigen::Vector3d Foot(const Eigen::VectorXd& x, int contact) {
+    return CalcContactPointPosition(*model_, ws_, x.head(model_->nv()), contact, 0);
+  }
   Eigen::VectorXd Output(const std::string& port) { return supervisor_->EvalOutput(*context_, port); }
   void SetInputs(const Eigen::VectorXd& x, int mode) {
     supervisor_->FixInputPort(*context_, 0, x);
@@ -50,12 +53,14 @@ class SupervisorTest : public ::testing::Test {
   // The event update the simulator runs right after a guard's reset (here: a touchdown).
   EventStatus RunEventUpdate() {
     State next = context_->state();
-    const EventStatus status = supervisor_->event_updates().at(0).update(*context_, EventRecord{context_->time(), "plant", "touchdown", 0, 0, 0}, &next);
+    const EventStatus status = supervisor_->event_updates().at(0).update(
+        *context_, EventRecord{context_->time(), "plant", "touchdown", 0, 0, 0}, &next);
     context_->get_mutable_state() = next;
     return status;
   }
   // A configuration with the `stance` foot at `stance_xz` and the other foot on the stone (l, h) ahead (Eq. (21)).
-  Eigen::VectorXd PreImpactState(const std::string& stance, const std::string& swing, const Eigen::Vector2d& stance_xz, double l) {
+  Eigen::VectorXd PreImpactState(const std::string& stance, const std::string& swing, const Eigen::Vector2d& stance_xz,
+                                 double l) {
     PreImpactPostureOptimizer optimizer(model_);
     PreImpactPostureRequest request;
     request.stance_contact = stance;
@@ -87,8 +92,10 @@ TEST_F(SupervisorTest, InitialStepAndRigidTranslationMomentum) {
   // The initial state stands on the first stone's centre with both feet at rest.
   EXPECT_NEAR(Foot(x, left_).x(), 0.0, 1e-10);
   EXPECT_NEAR(Foot(x, right_).z(), 0.0, 1e-10);
-  EXPECT_NEAR(CalcPointVelocity(*model_, ws_, x.head(nv), x.tail(nv), model_->contacts()[left_].body, model_->contacts()[left_].frame_origin).norm(), 0.0,
-              1e-10);
+  EXPECT_NEAR(CalcPointVelocity(*model_, ws_, x.head(nv), x.tail(nv), model_->contacts()[left_].body,
+                                model_->contacts()[left_].frame_origin)
+                  .norm(),
+              0.0, 1e-10);
   // ... with the COM at initial_com_x_m on the E* orbit of the LIP at the walking height (Eq. (16)).
   const double x0 = dp.initial_com_x_m, lambda_squared = 9.81 / dp.supervisor.walking_com_height_m;
   EXPECT_NEAR(CalcComPosition(*model_, ws_, x.head(nv)).x(), x0, 1e-10);
@@ -189,13 +196,15 @@ TEST_F(SupervisorTest, ImpactBookkeeping) {
   EXPECT_EQ(supervisor_->posture_failures(*context_), 0);
 
   // Second impact: left foot onto stone 2 (mode 0), third: right foot onto stone 3 ends the run (max_steps = 3).
-  const Eigen::VectorXd x2 = PreImpactState("right_foot", "left_foot", Eigen::Vector2d(foot.x(), foot.z()), 2 * kStep - foot.x());
+  const Eigen::VectorXd x2 =
+      PreImpactState("right_foot", "left_foot", Eigen::Vector2d(foot.x(), foot.z()), 2 * kStep - foot.x());
   SetInputs(x2, 0);
   EXPECT_TRUE(RunEventUpdate().ok());
   EXPECT_EQ(supervisor_->stone(*context_), 2);
   EXPECT_EQ(supervisor_->stance_mode(*context_), 0);
   const Eigen::Vector3d foot2 = Foot(x2, left_);
-  const Eigen::VectorXd x3 = PreImpactState("left_foot", "right_foot", Eigen::Vector2d(foot2.x(), foot2.z()), 3 * kStep - foot2.x());
+  const Eigen::VectorXd x3 =
+      PreImpactState("left_foot", "right_foot", Eigen::Vector2d(foot2.x(), foot2.z()), 3 * kStep - foot2.x());
   SetInputs(x3, 1);
   const EventStatus end = RunEventUpdate();
   EXPECT_EQ(end.kind, EventStatus::Kind::kReachedTermination);

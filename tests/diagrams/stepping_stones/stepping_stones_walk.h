@@ -22,8 +22,9 @@ struct WalkResult {
   std::vector<StepRecord> steps;
   double mean_speed_mps = 0;
   double qp_failures = 0;  ///< the controller's (not the MPC's)
-  ContactForceStatistics contact;  ///< the plant's contact forces, after every integrator step and event (RunSteppingStones)
-  long touchdowns = 0;             ///< the plant's touchdown events
+  ContactForceStatistics
+      contact;          ///< the plant's contact forces, after every integrator step and event (RunSteppingStones)
+  long touchdowns = 0;  ///< the plant's touchdown events
   /// [N m] per actuator, the smallest and largest torque the plant received (the controller's u port, which feeds the
   /// plant's u), over every logged sample and every integrator step.
   Eigen::VectorXd u_min, u_max;
@@ -54,11 +55,15 @@ inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramP
   const LeafSystem* inner = nullptr;
   for (int i = 0; i < d.diagram->num_leaves(); ++i)
     if (d.diagram->leaf_path(i) == "controller/controller") inner = &d.diagram->leaf(i);
-  sim.add_monitor([&](const Context& c) {
-    RecordTorque(d.EvalControllerOutput(c, "u"), &r);
-    if (inner != nullptr) r.inner_u_abs_max = std::max(r.inner_u_abs_max, d.diagram->EvalSubsystemOutput(*inner, "u", c).cwiseAbs().maxCoeff());
-    return EventStatus::Succeeded();
-  }, "torques");
+  sim.add_monitor(
+      [&](const Context& c) {
+        RecordTorque(d.EvalControllerOutput(c, "u"), &r);
+        if (inner != nullptr)
+          r.inner_u_abs_max =
+              std::max(r.inner_u_abs_max, d.diagram->EvalSubsystemOutput(*inner, "u", c).cwiseAbs().maxCoeff());
+        return EventStatus::Succeeded();
+      },
+      "torques");
   // The library's run (what the example runs): contact statistics, step records, speed, success rule.
   SteppingStonesRunOptions options;
   options.max_time_s = options.chunk_s = 3.0 * steps;
@@ -73,7 +78,8 @@ inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramP
   const std::vector<std::string> columns = d.logger->ColumnNames();
   int first_u = -1;
   for (size_t i = 1; i < columns.size() && first_u < 0; ++i)
-    if (columns[i].rfind("controller.u.", 0) == 0 || columns[i].rfind("controller.u[", 0) == 0) first_u = static_cast<int>(i) - 1;
+    if (columns[i].rfind("controller.u.", 0) == 0 || columns[i].rfind("controller.u[", 0) == 0)
+      first_u = static_cast<int>(i) - 1;
   EXPECT_GE(first_u, 0) << "no logged controller.u column";
   const LogData& log = d.logger->log(d.diagram->GetSubsystemContext(*d.logger, sim.get_context()));
   EXPECT_FALSE(log.samples.empty());
@@ -102,7 +108,8 @@ inline void ExpectPhysicalContact(const WalkResult& r, const std::string& what) 
 
 /// `momentum_tolerance`: relative distance of the last L+ from L_des (3 %: the task-space QP's tracking; the CLF-QP's
 /// looser output tracking leaves the planner's target less exactly met).
-inline void ExpectPeriodicWalk(const WalkResult& r, int steps, const std::string& what, double momentum_tolerance = 0.03) {
+inline void ExpectPeriodicWalk(const WalkResult& r, int steps, const std::string& what,
+                               double momentum_tolerance = 0.03) {
   ASSERT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << what << ": " << r.status.ToString();
   ExpectPhysicalContact(r, what);
   EXPECT_NE(r.status.message.find("completed"), std::string::npos) << what << ": " << r.status.message;
@@ -114,8 +121,10 @@ inline void ExpectPeriodicWalk(const WalkResult& r, int steps, const std::string
   // Periodic orbit: the post-impact momentum of the last steps repeats to within 1 % ...
   const int n = static_cast<int>(r.steps.size());
   for (int k = n - 3; k < n; ++k) {
-    const double change = std::abs(r.steps[k].post_impact_momentum - r.steps[k - 1].post_impact_momentum) / r.steps[k - 1].post_impact_momentum;
-    EXPECT_LT(change, 0.01) << what << ", step " << k << ": L+ " << r.steps[k - 1].post_impact_momentum << " -> " << r.steps[k].post_impact_momentum;
+    const double change = std::abs(r.steps[k].post_impact_momentum - r.steps[k - 1].post_impact_momentum) /
+                          r.steps[k - 1].post_impact_momentum;
+    EXPECT_LT(change, 0.01) << what << ", step " << k << ": L+ " << r.steps[k - 1].post_impact_momentum << " -> "
+                            << r.steps[k].post_impact_momentum;
   }
   // ... and sits on the planner's target: Eq. (17)-(18) drive L+ to L_des.
   const StepRecord& last = r.steps.back();

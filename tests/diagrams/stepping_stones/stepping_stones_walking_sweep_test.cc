@@ -21,16 +21,19 @@ class FlatGround : public ::testing::TestWithParam<double> {};
 
 TEST_P(FlatGround, ConvergesToAPeriodicOrbit) {
   const double l = GetParam();
-  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(l, 0.0, kSteps + 2), kSteps), kSteps, "flat l = " + std::to_string(l) + " m");
+  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(l, 0.0, kSteps + 2), kSteps), kSteps,
+                           "flat l = " + std::to_string(l) + " m");
 }
 INSTANTIATE_TEST_SUITE_P(StepLengths, FlatGround, ::testing::Values(0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8));
 
 TEST(Stairs, UpstairsConvergesToAPeriodicOrbit) {
-  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.5, 0.2, kSteps + 2), kSteps), kSteps, "upstairs (0.5, 0.2)");
+  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.5, 0.2, kSteps + 2), kSteps), kSteps,
+                           "upstairs (0.5, 0.2)");
 }
 
 TEST(Stairs, DownstairsConvergesToAPeriodicOrbit) {
-  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.4, -0.1, kSteps + 2), kSteps), kSteps, "downstairs (0.4, -0.1)");
+  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.4, -0.1, kSteps + 2), kSteps), kSteps,
+                           "downstairs (0.4, -0.1)");
 }
 
 // Random stones (Sec. VI-C: 0.2-0.7 m apart, ±0.25 m, E* = 0.5, ε = 0.6): seeds 1-10, 30 steps each without a fall,
@@ -51,15 +54,20 @@ TEST(RandomStones, TenCoursesOfThirtyStepsWithoutAFall) {
       const StepRecord& s = r.steps[k];
       if (s.stone != s.planned_stone || !(s.foothold_error_m < 0.02)) {
         ++misplaced;
-        std::printf("  seed %u step %zu (l = %.3f m, h = %.3f m): landed on stone %d (planned %d), %.2f cm from its centre\n", seed, k + 1,
-                    s.step_length_m, s.step_height_m, s.stone, s.planned_stone, 100 * s.foothold_error_m);
+        std::printf(
+            "  seed %u step %zu (l = %.3f m, h = %.3f m): landed on stone %d (planned %d), %.2f cm from its centre\n",
+            seed, k + 1, s.step_length_m, s.step_height_m, s.stone, s.planned_stone, 100 * s.foothold_error_m);
       }
       worst = std::max(worst, s.foothold_error_m);
     }
-    std::printf("  seed %u: %zu steps, mean speed %.3f m/s, largest foothold error %.2f cm, %g QP failures, plant F_n >= %.2f N, |F_t|/F_n <= %.3f\n",
-                seed, r.steps.size(), r.mean_speed_mps, 100 * worst, r.qp_failures, r.contact.min_normal_force_N, r.contact.max_friction_ratio);
+    std::printf(
+        "  seed %u: %zu steps, mean speed %.3f m/s, largest foothold error %.2f cm, %g QP failures, plant F_n >= %.2f "
+        "N, |F_t|/F_n <= %.3f\n",
+        seed, r.steps.size(), r.mean_speed_mps, 100 * worst, r.qp_failures, r.contact.min_normal_force_N,
+        r.contact.max_friction_ratio);
   }
-  EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over " << 30 * test::kRandomCourseSeeds << " (seeds 1-" << test::kRandomCourseSeeds << ")";
+  EXPECT_EQ(misplaced, 0) << "touchdowns off the planned stone or more than 2 cm from its centre, over "
+                          << 30 * test::kRandomCourseSeeds << " (seeds 1-" << test::kRandomCourseSeeds << ")";
 }
 
 // The CLF-QP (ClfQpControllerFactory) on the same courses: periodic footholds walk to a periodic orbit; the random
@@ -72,17 +80,20 @@ class ClfFlatGround : public ::testing::TestWithParam<double> {};
 TEST_P(ClfFlatGround, ConvergesToAPeriodicOrbit) {
   const double l = GetParam();
   SteppingStonesDiagramParams params;
-  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(l, 0.0, kSteps + 2), kSteps, params, ClfQpControllerFactory(params)), kSteps,
-                           "CLF-QP, flat l = " + std::to_string(l) + " m", kClfMomentumTolerance);
+  test::ExpectPeriodicWalk(
+      test::Walk(PeriodicSteppingStones(l, 0.0, kSteps + 2), kSteps, params, ClfQpControllerFactory(params)), kSteps,
+      "CLF-QP, flat l = " + std::to_string(l) + " m", kClfMomentumTolerance);
 }
 INSTANTIATE_TEST_SUITE_P(StepLengths, ClfFlatGround, ::testing::Values(0.2, 0.4, 0.6, 0.8));
 
 TEST(ClfStairs, UpAndDownConvergeToPeriodicOrbits) {
   SteppingStonesDiagramParams params;
-  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.5, 0.2, kSteps + 2), kSteps, params, ClfQpControllerFactory(params)), kSteps,
-                           "CLF-QP upstairs (0.5, 0.2)", kClfMomentumTolerance);
-  test::ExpectPeriodicWalk(test::Walk(PeriodicSteppingStones(0.4, -0.1, kSteps + 2), kSteps, params, ClfQpControllerFactory(params)), kSteps,
-                           "CLF-QP downstairs (0.4, -0.1)", kClfMomentumTolerance);
+  test::ExpectPeriodicWalk(
+      test::Walk(PeriodicSteppingStones(0.5, 0.2, kSteps + 2), kSteps, params, ClfQpControllerFactory(params)), kSteps,
+      "CLF-QP upstairs (0.5, 0.2)", kClfMomentumTolerance);
+  test::ExpectPeriodicWalk(
+      test::Walk(PeriodicSteppingStones(0.4, -0.1, kSteps + 2), kSteps, params, ClfQpControllerFactory(params)), kSteps,
+      "CLF-QP downstairs (0.4, -0.1)", kClfMomentumTolerance);
 }
 
 TEST(ClfRandomStones, AllTenCoursesWithPhysicalContact) {
@@ -93,7 +104,8 @@ TEST(ClfRandomStones, AllTenCoursesWithPhysicalContact) {
     p.num_stones = kSteps + 2;
     p.seed = seed;
     const test::WalkResult r = test::Walk(RandomSteppingStones(p), kSteps, params, ClfQpControllerFactory(params));
-    bool ok = r.status.kind() == SimulatorStatus::Kind::kSuccess && static_cast<int>(r.steps.size()) == kSteps && r.contact.violations == 0;
+    bool ok = r.status.kind() == SimulatorStatus::Kind::kSuccess && static_cast<int>(r.steps.size()) == kSteps &&
+              r.contact.violations == 0;
     double worst = 0;
     for (const StepRecord& s : r.steps) {
       ok = ok && s.stone == s.planned_stone && s.foothold_error_m < 0.02;
@@ -114,7 +126,8 @@ TEST(Fig6Trends, SpeedRisesWithOrbitalEnergyAndWithStepLength) {
     SteppingStonesDiagramParams params;
     params.target_orbital_energy = energy;
     const test::WalkResult r = test::Walk(PeriodicSteppingStones(l, 0.0, kTrendSteps + 2), kTrendSteps, params);
-    EXPECT_EQ(static_cast<int>(r.steps.size()), kTrendSteps) << "l = " << l << " m, E* = " << energy << ": " << r.status.message;
+    EXPECT_EQ(static_cast<int>(r.steps.size()), kTrendSteps)
+        << "l = " << l << " m, E* = " << energy << ": " << r.status.message;
     if (static_cast<int>(r.steps.size()) < kTrendSteps) return 0.0;
     const double v = test::LastStepsSpeed(r, 5);
     std::printf("  l = %.1f m, E* = %.1f m^2/s^2: converged speed %.3f m/s\n", l, energy, v);

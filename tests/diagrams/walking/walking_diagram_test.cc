@@ -8,8 +8,8 @@
 // controller runs (the composed aSLIP + H-LIP plan with the angular-momentum correction, at most 1.4 cm) to 1 cm RMS
 // and 3 cm at most per axis after the first step, the pelvis stays within 2°, every touchdown lands within 5 cm of its
 // planned foothold and no QP update fails. Thresholds are the walking issue's acceptance; the gaits other than the
-// default are not the ones the controller settings were chosen on (gait A, stand-to-walk and periodic). Steps, the band,
-// the COM error and the lift-off are RunWalking's measures (walking_run.h), the example's.
+// default are not the ones the controller settings were chosen on (gait A, stand-to-walk and periodic). Steps, the
+// band, the COM error and the lift-off are RunWalking's measures (walking_run.h), the example's.
 #include "diagrams/walking/walking_diagram.h"
 #include "diagrams/walking/walking_run.h"
 
@@ -48,32 +48,36 @@ enum class Start { kStanding, kOnTheOrbit, kGaitChange, kSequence };
 
 // Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`; kSequence: `steps` of each
 // gait of `sequence`, which starts with `gait`) plus the run's trailing
-// steps, and runs all but the trailing ones with RunWalking (the plan's end, where the momentum correction is brought to
-// rest, is not judged). Full runs also check the issue's convergence: the step-to-step change of the pre-impact COM
+// steps, and runs all but the trailing ones with RunWalking (the plan's end, where the momentum correction is brought
+// to rest, is not judged). Full runs also check the issue's convergence: the step-to-step change of the pre-impact COM
 // state (about the stance ankle, y mirrored in right stance) is below 1e-2 from the 5th periodic touchdown after each
 // transition. Besides RunWalking's own measures, an observer checks each active foot's wrench from the plant's
 // constrained dynamics at every integrator step (CheckContactForce).
-void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger_m = StandToWalkParams{}.stance_stagger_m,
-                    Start start = Start::kStanding, int steps = 6, const WalkingGait& gait_b = {}, const std::vector<WalkingGait>& sequence = {},
+void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
+                    double stagger_m = StandToWalkParams{}.stance_stagger_m, Start start = Start::kStanding,
+                    int steps = 6, const WalkingGait& gait_b = {}, const std::vector<WalkingGait>& sequence = {},
                     WalkingPlanReport* report_out = nullptr) {
   const bool full_run = until == RunUntil::kPlanEnd;
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
-  // Feet side by side (stagger 0, the default: through the start gait) or a step stance (StandToWalkParams::StepStance).
+  // Feet side by side (stagger 0, the default: through the start gait) or a step stance
+  // (StandToWalkParams::StepStance).
   StandToWalkParams stand = stagger_m > 0 ? StandToWalkParams::StepStance(stagger_m) : StandToWalkParams{};
   stand.sole = SoleOf(*model, "left_foot");
   stand.plan_check = WalkingPoseCheck(model, WalkingDiagramParams{});  // as the example
   WalkingRunParams run;
   const int planned = steps + run.trailing_steps;
   WalkingPlanReport report;
-  const WalkingPlan rom_plan = start == Start::kStanding   ? BuildStandToWalkPlan(gait, planned, 1, &cache, &report, stand)
-                               : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, planned)
-                               : start == Start::kSequence   ? BuildGaitSequencePlan(sequence, steps, 1, &cache, &report, stand, planned)
-                                                             : BuildPeriodicWalkingPlan(gait, planned, 1, &cache, stand);
+  const WalkingPlan rom_plan =
+      start == Start::kStanding     ? BuildStandToWalkPlan(gait, planned, 1, &cache, &report, stand)
+      : start == Start::kGaitChange ? BuildGaitChangePlan(gait, gait_b, steps, 1, &cache, &report, stand, planned)
+      : start == Start::kSequence   ? BuildGaitSequencePlan(sequence, steps, 1, &cache, &report, stand, planned)
+                                    : BuildPeriodicWalkingPlan(gait, planned, 1, &cache, stand);
   if (report.chain.size() > 2 || start == Start::kSequence) {
-    std::printf("  gaits walked after the start (%d transitions tried, %d without a plan, %.2f s):", report.chain_transitions_tried,
-                report.chain_transitions_failed, report.chain_planning_s);
-    for (const WalkingGait& g : report.chain) std::printf(" (%g, %g, %g, %g)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
+    std::printf("  gaits walked after the start (%d transitions tried, %d without a plan, %.2f s):",
+                report.chain_transitions_tried, report.chain_transitions_failed, report.chain_planning_s);
+    for (const WalkingGait& g : report.chain)
+      std::printf(" (%g, %g, %g, %g)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
     std::printf("\n");
   }
   if (report_out != nullptr) *report_out = report;
@@ -81,7 +85,8 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
   WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
   EXPECT_LT(d.compensation.max_correction_m, 0.03);
   EXPECT_LT(d.compensation.max_cop_shift_corrected_m, 0.5 * d.compensation.max_cop_shift_uncorrected_m);
-  run.start_time_s = start == Start::kStanding ? 0.0 : 0.5 * gait.dsp_duration_s;  // inside the first DSP, both feet loaded
+  run.start_time_s =
+      start == Start::kStanding ? 0.0 : 0.5 * gait.dsp_duration_s;  // inside the first DSP, both feet loaded
   run.start_at_rest = start == Start::kStanding;
   // kLiftoff: stop 50 ms after the first lift-off; kPlanEnd: the whole plan but its trailing steps.
   const double t_liftoff_planned = d.plan.segments().at(0).start_time + d.plan.segments().at(0).duration;
@@ -89,8 +94,8 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
 
   MultibodyWorkspace ws(*model);
   long unilateral_bad = 0, friction_bad = 0, cop_bad = 0;
-  // The strict Eq. (25) band recounted here from the plant's forces and the plan (no slack), outside band_settle_s after
-  // each touchdown (a mode change into double support, or from one stance into the other).
+  // The strict Eq. (25) band recounted here from the plant's forces and the plan (no slack), outside band_settle_s
+  // after each touchdown (a mode change into double support, or from one stance into the other).
   long strict_in = 0, strict_ticks = 0;
   int mode_seen = kWalkingDoubleSupport;
   double touchdown_seen = -1.0;
@@ -116,7 +121,8 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     CalcConstrainedForwardDynamics(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, qdd, F);
     for (int ci = 0; ci < model->num_contacts(); ++ci) {
       if (!(active & ContactBit(ci))) continue;
-      const ContactForceCheck check = CheckContactForce(*model, ws, *s.q, ci, ExtractContactWrench(*model, ws, *s.q, active, F, ci), cop_check);
+      const ContactForceCheck check =
+          CheckContactForce(*model, ws, *s.q, ci, ExtractContactWrench(*model, ws, *s.q, active, F, ci), cop_check);
       // A foot at the instant of lift-off carries ~0 N: judge its cone and CoP only with a load on it.
       unilateral_bad += check.normal_force_N >= -1e-6 ? 0 : 1;
       if (check.normal_force_N > 1.0) {
@@ -126,19 +132,24 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     }
   });
   const double mg = model->total_mass() * 9.81;
-  std::printf("  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band %.3f (strictly %.3f)\n",
-              r.first_liftoff_time_s, t_liftoff_planned, r.liftoff_normal_force_max_N, 100 * r.liftoff_normal_force_max_N / mg, r.force_in_band_fraction,
-              r.force_in_band_fraction_strict);
+  std::printf(
+      "  lift-off at %.3f s (planned %.3f s), largest lift-off force %.2f N (%.2f %% of m g); plant forces in the band "
+      "%.3f (strictly %.3f)\n",
+      r.first_liftoff_time_s, t_liftoff_planned, r.liftoff_normal_force_max_N, 100 * r.liftoff_normal_force_max_N / mg,
+      r.force_in_band_fraction, r.force_in_band_fraction_strict);
   // The strict band (no slack) can only score fewer ticks than the tolerant one, and is the count above.
   EXPECT_LE(r.force_in_band_fraction_strict, r.force_in_band_fraction);
   ASSERT_GT(strict_ticks, 0);
   EXPECT_EQ(strict_ticks, r.band_samples);
   EXPECT_NEAR(r.force_in_band_fraction_strict, static_cast<double>(strict_in) / strict_ticks, 1e-12);
-  std::printf("  t = %.3f s of %.3f: %s; %d lift-offs, %d steps (planned %d, %d off target), largest touchdown error %.4f m, COM error RMS (%.4f %.4f %.4f) "
-              "max (%.4f %.4f %.4f) m, pelvis %.2f deg, qp_failures %.0f, %ld samples\n",
-              r.simulated_s, r.end_time_s, r.status.ToString().c_str(), r.liftoffs, r.steps_completed, r.steps_planned, r.touchdowns_off_target,
-              r.largest_touchdown_error_m, r.com_rms_error_m.x(), r.com_rms_error_m.y(), r.com_rms_error_m.z(), r.com_max_error_m.x(), r.com_max_error_m.y(),
-              r.com_max_error_m.z(), r.pelvis_max_orientation_error_rad * 180 / M_PI, r.qp_infeasible_ticks, r.samples);
+  std::printf(
+      "  t = %.3f s of %.3f: %s; %d lift-offs, %d steps (planned %d, %d off target), largest touchdown error %.4f m, "
+      "COM error RMS (%.4f %.4f %.4f) "
+      "max (%.4f %.4f %.4f) m, pelvis %.2f deg, qp_failures %.0f, %ld samples\n",
+      r.simulated_s, r.end_time_s, r.status.ToString().c_str(), r.liftoffs, r.steps_completed, r.steps_planned,
+      r.touchdowns_off_target, r.largest_touchdown_error_m, r.com_rms_error_m.x(), r.com_rms_error_m.y(),
+      r.com_rms_error_m.z(), r.com_max_error_m.x(), r.com_max_error_m.y(), r.com_max_error_m.z(),
+      r.pelvis_max_orientation_error_rad * 180 / M_PI, r.qp_infeasible_ticks, r.samples);
   EXPECT_EQ(r.status.kind(), SimulatorStatus::Kind::kLimit) << r.status.ToString();
   EXPECT_GT(r.samples, 100);
   EXPECT_EQ(unilateral_bad, 0);
@@ -165,13 +176,17 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {}, double stagger
     // gait change (through the gait graph: one per chain link).
     const bool changing = start == Start::kGaitChange || start == Start::kSequence;
     // A start gait's change that chained adds its intermediate gaits.
-    const size_t start_intermediates = changing && report.start_gait_used && report.start_chain.size() > 2 ? report.start_chain.size() - 2 : 0u;
+    const size_t start_intermediates =
+        changing && report.start_gait_used && report.start_chain.size() > 2 ? report.start_chain.size() - 2 : 0u;
     const size_t changes = (changing ? report.chain.size() - 1 : report.lead_in ? 1u : 0u) + start_intermediates;
-    ASSERT_EQ(r.transition_ends_s.size(), (start == Start::kOnTheOrbit ? 0u : 1u) + changes + (report.start_gait_used ? 1u : 0u));
+    ASSERT_EQ(r.transition_ends_s.size(),
+              (start == Start::kOnTheOrbit ? 0u : 1u) + changes + (report.start_gait_used ? 1u : 0u));
     ASSERT_EQ(r.pre_impact_state_change_from_step5.size(), r.transition_ends_s.size());
     // A chain's intermediate gaits walk StandToWalkParams::chain_steps (4) steps, too few to judge the convergence from
     // the 5th touchdown (-1): exactly those, every other transition is judged.
-    const size_t requested_changes = start == Start::kGaitChange ? 1u : start == Start::kSequence ? sequence.size() - 1 : 0u;
+    const size_t requested_changes = start == Start::kGaitChange ? 1u
+                                     : start == Start::kSequence ? sequence.size() - 1
+                                                                 : 0u;
     const size_t intermediates = changing ? changes - requested_changes : 0u;  // start_intermediates included
     size_t unjudged = 0;
     for (size_t j = 0; j < r.transition_ends_s.size(); ++j) {
@@ -223,32 +238,45 @@ TEST(WalkingDiagram, StandToWalkGaitAFromAStepStanceWalksWithPhysicalContactForc
 // node_heights).
 TEST(WalkingDiagram, StandToWalkSideBySideWideLongGaitWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.45, .ssp_duration_s = 0.50, .dsp_duration_s = 0.15, .step_width_m = 0.30});
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.45, .ssp_duration_s = 0.50, .dsp_duration_s = 0.15, .step_width_m = 0.30});
 }
 
 // Side by side into a quick gait, (0.34 m, 0.35 s, 0.13 s, 0.24 m): start gait, lead-in, gait (measured on NLP seed
 // 1001: the direct change from the start gait asks 339 N m of the knee and slips at 6.2 s).
 TEST(WalkingDiagram, StandToWalkSideBySideQuickGaitThroughStartGaitAndLeadInWalks) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.34, .ssp_duration_s = 0.35, .dsp_duration_s = 0.13, .step_width_m = 0.24});
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.34, .ssp_duration_s = 0.35, .dsp_duration_s = 0.13, .step_width_m = 0.24});
 }
 
 // Two gaits in the issue's range that are not the defaults, from standing (0.4 m step stance, StepStance()).
 TEST(WalkingDiagram, StandToWalkShortSlowGaitWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22}, kStepStance_m);
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22},
+      kStepStance_m);
 }
 // A gait faster than the lead-in (T_SSP 0.35 s < 0.40 s) starts through it: 6 steps of (0.30 m, 0.40 s, 0.10 s), the
 // change, then the gait.
 TEST(WalkingDiagram, StandToWalkShortQuickGaitThroughTheLeadInWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20}, kStepStance_m);
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.20, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
+      kStepStance_m);
 }
 // A long, quick, wide gait. Before the lead-in took the spec's gait A timing, its lead-in ran at the gait's own 0.38 s
 // / 0.09 s and the first swing (0.7 m from the step stance) lagged: that step landed 7.3 cm short of its foothold.
 TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.35, .ssp_duration_s = 0.38, .dsp_duration_s = 0.09, .step_width_m = 0.28}, kStepStance_m);
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.35, .ssp_duration_s = 0.38, .dsp_duration_s = 0.09, .step_width_m = 0.28},
+      kStepStance_m);
 }
 // A quick gait whose CLF row chattered: with the spec's minimum-norm cost (target μ = 0) the CLF row was the only
 // feedback, δ reached 1.8 where the stance foot's CoP, yaw and friction rows were active, the swing hip's torque swung
@@ -256,14 +284,20 @@ TEST(WalkingDiagram, StandToWalkLongQuickWideGaitThroughTheLeadInWalksWithPhysic
 // (ClfQpParams::cost_pd_feedback, the walking default) it walks.
 TEST(WalkingDiagram, StandToWalkGaitWhoseMinimumNormClfRowChatteredWalks) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.23, .ssp_duration_s = 0.38, .dsp_duration_s = 0.12, .step_width_m = 0.26}, kStepStance_m);
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.23, .ssp_duration_s = 0.38, .dsp_duration_s = 0.12, .step_width_m = 0.26},
+      kStepStance_m);
 }
 
 // A gait whose direct standing plan the legs cannot follow: the COM 0.90 m high over the 0.4 m step stance has no leg
 // pose (StandToWalkParams::plan_check = WalkingPoseCheck), so it starts through the lead-in (before the check, the
 // walking example stopped in BuildWalkingDiagram).
 TEST(WalkingDiagram, StandToWalkGaitWithNoPoseForItsDirectPlanGoesThroughTheLeadInAndWalks) {
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.33, .ssp_duration_s = 0.40, .dsp_duration_s = 0.12, .step_width_m = 0.26}, kStepStance_m);
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.33, .ssp_duration_s = 0.40, .dsp_duration_s = 0.12, .step_width_m = 0.26},
+      kStepStance_m);
 }
 
 // The lead-in rule (StandToWalkParams): a gait with a shorter T_SSP or T_DSP than the lead-in goes through it, at
@@ -291,12 +325,14 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
     gait_ssp += std::abs(s.duration - quick.ssp_duration_s) < 1e-9 ? 1 : 0;
     last_ssp = s.duration;
   }
-  EXPECT_GE(lead_ssp, stand.lead_in_steps - 1);  // the lead-in's periodic single supports (the first is the transition's)
+  EXPECT_GE(lead_ssp,
+            stand.lead_in_steps - 1);  // the lead-in's periodic single supports (the first is the transition's)
   EXPECT_GE(gait_ssp, 4 - 1);
   EXPECT_NEAR(last_ssp, quick.ssp_duration_s, 1e-9);
   WalkingPlanReport slow_report;
-  BuildStandToWalkPlan(WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22}, 4, 1, &cache,
-                       &slow_report, stand);
+  BuildStandToWalkPlan(
+      WalkingGait{.step_length_m = 0.25, .ssp_duration_s = 0.45, .dsp_duration_s = 0.12, .step_width_m = 0.22}, 4, 1,
+      &cache, &slow_report, stand);
   EXPECT_FALSE(slow_report.lead_in) << slow_report.lead_in_reason;
   StandToWalkParams bad = stand;
   for (const double f : {0.9, -1.0, std::nan("")}) {
@@ -345,19 +381,22 @@ TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   ASSERT_EQ(stand.stance_stagger_m, 0.0);
-  const double omega = std::sqrt(9.81 / stand.standing_height_m), heel = stand.sole.heel_m - stand.standing_sagittal_cop_margin_m;
+  const double omega = std::sqrt(9.81 / stand.standing_height_m),
+               heel = stand.sole.heel_m - stand.standing_sagittal_cop_margin_m;
   auto margin = [&](double L, double T_ssp, double T_dsp) {  // ω (x_f + L_h) − ẋ_f of the gait's periodic plan
     AslipPeriodicGaitParams gp;
-    gp.step_length = L, gp.ssp_duration = T_ssp, gp.dsp_duration = T_dsp, gp.height_min = stand.height_min_m, gp.height_max = stand.height_max_m;
+    gp.step_length = L, gp.ssp_duration = T_ssp, gp.dsp_duration = T_dsp, gp.height_min = stand.height_min_m,
+    gp.height_max = stand.height_max_m;
     const AslipPeriodicGait g = AslipPeriodicGaitPlanner(gp).Solve(1, &cache);
     EXPECT_TRUE(g.success()) << g.collocation.nlp.message;
     const Eigen::VectorXd pre = g.collocation.phases[0].states.col(gp.nodes_per_domain - 1);
-    std::printf("  (%.2f m, %.2f s, %.2f s): pre-impact x %.4f m, xdot %.4f m/s, LIP bound %.4f m/s\n", L, T_ssp, T_dsp, pre(0), pre(2),
-                omega * (pre(0) + heel));
+    std::printf("  (%.2f m, %.2f s, %.2f s): pre-impact x %.4f m, xdot %.4f m/s, LIP bound %.4f m/s\n", L, T_ssp, T_dsp,
+                pre(0), pre(2), omega * (pre(0) + heel));
     return omega * (pre(0) + heel) - pre(2);
   };
   EXPECT_LT(margin(0.30, 0.40, 0.10), -0.05);  // gait A: out of reach
-  EXPECT_GT(margin(stand.start_gait_step_length_m, stand.start_gait_ssp_duration_s, stand.start_gait_dsp_duration_s), 0.02);
+  EXPECT_GT(margin(stand.start_gait_step_length_m, stand.start_gait_ssp_duration_s, stand.start_gait_dsp_duration_s),
+            0.02);
   StandToWalkParams direct = stand;  // no start gait, no lead-in: the standing transition straight into gait A
   direct.start_gait_steps = 0;
   direct.lead_in_steps = 0;
@@ -415,7 +454,8 @@ TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) 
   EXPECT_TRUE(report.start_gait_used);
   EXPECT_FALSE(report.lead_in);
   // The lead-in was tried first (the gait is faster than it) and its NLP failed: the report says so.
-  EXPECT_NE(report.lead_in_reason.find("no plan, so planned directly from the start gait"), std::string::npos) << report.lead_in_reason;
+  EXPECT_NE(report.lead_in_reason.find("no plan, so planned directly from the start gait"), std::string::npos)
+      << report.lead_in_reason;
   EXPECT_NE(report.lead_in_reason.find("footed-aSLIP NLP failed"), std::string::npos) << report.lead_in_reason;
   EXPECT_NEAR(plan.segments().back().duration, quick.dsp_duration_s, 1e-9);
   for (const WalkingPlanSegment& s : plan.segments())
@@ -449,28 +489,31 @@ TEST(WalkingDiagram, PlanInverseDynamicsFindsTheGaitWhosePlanExceedsTheTorqueLim
     const WalkingPlanTorqueReport r = CheckWalkingPlanTorques(*model, d.plan, params);
     EXPECT_GT(r.samples, 4 * 0.3 / 2e-3);
     const ActuatorInfo& worst = model->actuators()[r.worst_actuator];
-    std::printf("  %s: %s %.1f of %.0f N m (%.3f), peak stance F_z %.2f m g\n", label, worst.joint.c_str(), r.peak_torque_Nm[r.worst_actuator],
-                worst.torque_limit_Nm, r.worst_limit_fraction, r.peak_normal_force_N / (model->total_mass() * 9.81));
+    std::printf("  %s: %s %.1f of %.0f N m (%.3f), peak stance F_z %.2f m g\n", label, worst.joint.c_str(),
+                r.peak_torque_Nm[r.worst_actuator], worst.torque_limit_Nm, r.worst_limit_fraction,
+                r.peak_normal_force_N / (model->total_mass() * 9.81));
     return r.worst_limit_fraction;
   };
   const double gait_a = fraction(WalkingGait{}, "gait A");
-  const double quick_long = fraction(WalkingGait{.step_length_m = 0.45, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
-                                     "(0.45, 0.35, 0.08, 0.20)");
+  const double quick_long =
+      fraction(WalkingGait{.step_length_m = 0.45, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
+               "(0.45, 0.35, 0.08, 0.20)");
   EXPECT_LT(gait_a, 1.0);
   EXPECT_GT(quick_long, 1.0);
 }
 
 // The gait-change scenario: standing, 6 steps of gait A, the A → B transition, 6 steps of gait B (0.4 m at 0.8 m/s).
 TEST(WalkingDiagram, GaitChangeFromAToBWalksWithPhysicalContactForces) {
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_length_m = 0.40});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
+                 WalkingGait{.step_length_m = 0.40});
 }
 
 // A change of step width alone (issue 39): gait A (W 0.25 m) to W 0.20 m, directly through the lateral footed H-LIP
 // transition onto the narrower gait's P2 orbit (walking_gait_change_plan_test checks the orbit).
 TEST(WalkingDiagram, GaitChangeOfStepWidthWalksWithPhysicalContactForces) {
   WalkingPlanReport report;
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6, WalkingGait{.step_width_m = 0.20}, {},
-                 &report);
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
+                 WalkingGait{.step_width_m = 0.20}, {}, &report);
   EXPECT_EQ(report.chain.size(), 2u);  // directly
 }
 
@@ -487,20 +530,21 @@ TEST(WalkingDiagram, SequenceOfFourGaitsWalksWithPhysicalContactForces) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
   const std::vector<WalkingGait> gaits = {
       {0.30, 0.40, 0.10, 0.25}, {0.36, 0.42, 0.11, 0.27}, {0.33, 0.38, 0.09, 0.23}, {0.25, 0.45, 0.12, 0.22}};
-  RunStandToWalk(RunUntil::kPlanEnd, gaits.front(), StandToWalkParams{}.stance_stagger_m, Start::kSequence, 6, {}, gaits);
+  RunStandToWalk(RunUntil::kPlanEnd, gaits.front(), StandToWalkParams{}.stance_stagger_m, Start::kSequence, 6, {},
+                 gaits);
 }
 
 // Issue 39's pairs whose direct transition NLP is locally infeasible: the change goes through intermediate gaits of the
 // gait graph (walking_gait_change_plan_test checks the chains).
 TEST(WalkingDiagram, GaitChangeWithNoDirectPlanChainsAndWalks) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{0.25, 0.38, 0.09, 0.27}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
-                 WalkingGait{0.42, 0.42, 0.11, 0.27});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{0.25, 0.38, 0.09, 0.27}, StandToWalkParams{}.stance_stagger_m,
+                 Start::kGaitChange, 6, WalkingGait{0.42, 0.42, 0.11, 0.27});
 }
 TEST(WalkingDiagram, SlowShortToQuickLongGaitChangeChainsAndWalks) {
   ROME_GAIT_VARIANT_RELEASE_ONLY();
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{0.22, 0.48, 0.14, 0.21}, StandToWalkParams{}.stance_stagger_m, Start::kGaitChange, 6,
-                 WalkingGait{0.38, 0.40, 0.10, 0.21});
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{0.22, 0.48, 0.14, 0.21}, StandToWalkParams{}.stance_stagger_m,
+                 Start::kGaitChange, 6, WalkingGait{0.38, 0.40, 0.10, 0.21});
 }
 
 // Gait B from standing side by side: its change from the start gait has no plan (NLP locally infeasible; from the
@@ -534,13 +578,16 @@ TEST(WalkingDiagram, GaitChangeAtTheQuickestTimingWalksWithPhysicalContactForces
 // falls behind (RMS x 1.37 cm over these 6 steps, measured); planned again with the 1.5 m g bound
 // (StandToWalkParams::periodic_max_force_fraction) it tracks.
 TEST(WalkingDiagram, QuickGaitOnItsOrbitWithTheForceBoundWalksWithPhysicalContactForces) {
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.30, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
-                 StandToWalkParams{}.stance_stagger_m, Start::kOnTheOrbit);
+  RunStandToWalk(
+      RunUntil::kPlanEnd,
+      WalkingGait{.step_length_m = 0.30, .ssp_duration_s = 0.35, .dsp_duration_s = 0.08, .step_width_m = 0.20},
+      StandToWalkParams{}.stance_stagger_m, Start::kOnTheOrbit);
 }
 
 // Gait B (0.4 m steps at 0.8 m/s) started on its periodic orbit: the controller alone, without a transition.
 TEST(WalkingDiagram, GaitBOnItsOrbitWalksWithPhysicalContactForces) {
-  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.40}, StandToWalkParams{}.stance_stagger_m, Start::kOnTheOrbit);
+  RunStandToWalk(RunUntil::kPlanEnd, WalkingGait{.step_length_m = 0.40}, StandToWalkParams{}.stance_stagger_m,
+                 Start::kOnTheOrbit);
 }
 
 // The same diagram on the Bullet plant (PlantKind::kBullet, the one builder argument), through the double support and
@@ -593,10 +640,13 @@ TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForc
   const SimulatorStatus& status = r.status;
   const ContactForceStatistics& contact = r.contact;
   const double liftoff_time = r.first_liftoff_time_s;
-  std::printf("  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; total F_z error / bound %.2f; "
-              "lift-off at %.3f s (planned %.3f s) into mode %d\n",
-              status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(), contact.min_normal_force_N,
-              contact.max_friction_ratio, worst_force_error, liftoff_time, planned_liftoff, liftoff_mode);
+  std::printf(
+      "  %s; %ld contact samples, %ld violations (%s), min F_n %.1f N, max |F_t|/F_n %.3f; total F_z error / bound "
+      "%.2f; "
+      "lift-off at %.3f s (planned %.3f s) into mode %d\n",
+      status.ToString().c_str(), contact.samples, contact.violations, contact.first_violation.c_str(),
+      contact.min_normal_force_N, contact.max_friction_ratio, worst_force_error, liftoff_time, planned_liftoff,
+      liftoff_mode);
   EXPECT_EQ(status.kind(), SimulatorStatus::Kind::kLimit) << status.ToString();
   EXPECT_GT(contact.samples, 500);
   EXPECT_EQ(contact.violations, 0) << contact.first_violation;
@@ -605,7 +655,6 @@ TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForc
   EXPECT_GT(force_samples, 500);
   EXPECT_LT(worst_force_error, 1.0);
 }
-
 
 // The build → run → result snippet of walking_diagram.h's header, verbatim (no plan cache: every NLP is solved), then
 // the walking issue's acceptance on its result: every planned step on its foothold, the COM within 1 cm RMS per axis.
@@ -640,7 +689,8 @@ TEST(WalkingRun, TheHeaderSnippetIsTheOneThisTestCompiles) {
   const std::string snippet = source.substr(snippet_begin, snippet_end - snippet_begin);
   int n = 0;
   for (std::string line; std::getline(lines, line) && line.rfind("//   ", 0) == 0; ++n)
-    EXPECT_NE(snippet.find("\n  " + line.substr(5) + "\n"), std::string::npos) << "header line not in the test's snippet: " << line;
+    EXPECT_NE(snippet.find("\n  " + line.substr(5) + "\n"), std::string::npos)
+        << "header line not in the test's snippet: " << line;
   EXPECT_GE(n, 7);
   EXPECT_LE(n, 15);
 }
@@ -653,7 +703,8 @@ TEST(WalkingRun, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   const WalkingGait long_step{.step_length_m = 0.60};
-  const auto expect_message = [](const std::function<void()>& f, const std::string& who, const std::string& field, const std::string& value) {
+  const auto expect_message = [](const std::function<void()>& f, const std::string& who, const std::string& field,
+                                 const std::string& value) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       f();
@@ -663,17 +714,23 @@ TEST(WalkingRun, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
       EXPECT_NE(m.find(who), std::string::npos) << m;
       EXPECT_NE(m.find(field + " = " + value), std::string::npos) << m;
     }
-    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.1) << who << " did work before failing";
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.1)
+        << who << " did work before failing";
   };
-  expect_message([&] { BuildStandToWalkPlan(long_step, 8, 1, nullptr, nullptr, stand); }, "BuildStandToWalkPlan", "step_length_m", "0.6 m");
-  expect_message([&] { BuildGaitChangePlan(WalkingGait{}, long_step, 8, 1, nullptr, nullptr, stand); }, "BuildGaitChangePlan: gait B", "step_length_m", "0.6 m");
-  expect_message([&] { BuildPeriodicWalkingPlan(long_step, 8, 1, nullptr, stand); }, "BuildPeriodicWalkingPlan", "step_length_m", "0.6 m");
+  expect_message([&] { BuildStandToWalkPlan(long_step, 8, 1, nullptr, nullptr, stand); }, "BuildStandToWalkPlan",
+                 "step_length_m", "0.6 m");
+  expect_message([&] { BuildGaitChangePlan(WalkingGait{}, long_step, 8, 1, nullptr, nullptr, stand); },
+                 "BuildGaitChangePlan: gait B", "step_length_m", "0.6 m");
+  expect_message([&] { BuildPeriodicWalkingPlan(long_step, 8, 1, nullptr, stand); }, "BuildPeriodicWalkingPlan",
+                 "step_length_m", "0.6 m");
   StandToWalkParams bad_lead_in = stand;
   bad_lead_in.lead_in_ssp_duration_s = 0.9;
-  expect_message([&] { BuildStandToWalkPlan(WalkingGait{}, 8, 1, nullptr, nullptr, bad_lead_in); }, "BuildStandToWalkPlan", "lead_in_ssp_duration_s", "0.9 s");
+  expect_message([&] { BuildStandToWalkPlan(WalkingGait{}, 8, 1, nullptr, nullptr, bad_lead_in); },
+                 "BuildStandToWalkPlan", "lead_in_ssp_duration_s", "0.9 s");
   WalkingDiagramParams params;
   params.controller.force_band_halfwidth = 1.5;
-  expect_message([&] { BuildWalkingDiagram(model, WalkingPlan{}, params); }, "WalkingDiagramParams", "controller.force_band_halfwidth", "1.5");
+  expect_message([&] { BuildWalkingDiagram(model, WalkingPlan{}, params); }, "WalkingDiagramParams",
+                 "controller.force_band_halfwidth", "1.5");
   WalkingRunParams run;
   run.foothold_tolerance_m = -0.01;
   EXPECT_THROW(run.Validate(), std::invalid_argument);
@@ -718,9 +775,11 @@ TEST(WalkingRun, ASaturatedSubDiagramControllerKeepsTheTorqueInItsLimitsAndWalks
     }
     ++samples;
   });
-  std::printf("  %s: %d of %d steps, COM RMS (%.4f %.4f %.4f) m; %ld actuator samples clipped of %ld samples, largest |u| - limit %.3g N m\n",
-              r.status.ToString().c_str(), r.steps_completed, r.steps_planned, r.com_rms_error_m.x(), r.com_rms_error_m.y(), r.com_rms_error_m.z(), clipped,
-              samples, worst_excess);
+  std::printf(
+      "  %s: %d of %d steps, COM RMS (%.4f %.4f %.4f) m; %ld actuator samples clipped of %ld samples, largest |u| - "
+      "limit %.3g N m\n",
+      r.status.ToString().c_str(), r.steps_completed, r.steps_planned, r.com_rms_error_m.x(), r.com_rms_error_m.y(),
+      r.com_rms_error_m.z(), clipped, samples, worst_excess);
   EXPECT_GT(samples, 1000);
   EXPECT_GT(clipped, 0) << "the saturation never acted: the test does not exercise it";
   EXPECT_LE(worst_excess, 0.0);
@@ -728,15 +787,15 @@ TEST(WalkingRun, ASaturatedSubDiagramControllerKeepsTheTorqueInItsLimitsAndWalks
   EXPECT_EQ(r.steps_completed, r.steps_planned);
 }
 
-
 // The controller seam's `desired` layout as walking_diagram.h documents it (task names, rows per third, 18 rows), and
 // on the diagram's own outputs block against the plan: at the end of the first single support, rows 0-2 of y_d and
 // ẏ_d are the plan's COM position and velocity, and the swing ankle's x, y rows are the plan's foothold for that foot.
 TEST(WalkingRun, TheDesiredLayoutIsTheDocumentedOneAndCarriesThePlan) {
   auto model = test::LoadRobot("exoskeleton");
   const std::vector<WalkingTaskRows> layout = WalkingDesiredLayout(WalkingControllerTasks(*model));
-  const std::vector<WalkingTaskRows> documented = {{"com", 0, 3},         {"pelvis_roll", 3, 1}, {"pelvis_pitch", 4, 1},           {"pelvis_yaw", 5, 1},
-                                                   {"left_ankle", 6, 3},  {"left_foot_orientation", 9, 3}, {"right_ankle", 12, 3}, {"right_foot_orientation", 15, 3}};
+  const std::vector<WalkingTaskRows> documented = {
+      {"com", 0, 3},        {"pelvis_roll", 3, 1},           {"pelvis_pitch", 4, 1}, {"pelvis_yaw", 5, 1},
+      {"left_ankle", 6, 3}, {"left_foot_orientation", 9, 3}, {"right_ankle", 12, 3}, {"right_foot_orientation", 15, 3}};
   ASSERT_EQ(layout.size(), documented.size());
   for (size_t i = 0; i < layout.size(); ++i) {
     EXPECT_EQ(layout[i].name, documented[i].name);
@@ -754,7 +813,8 @@ TEST(WalkingRun, TheDesiredLayoutIsTheDocumentedOneAndCarriesThePlan) {
   const double t = ssp->start_time + ssp->duration - 1e-9;
   std::unique_ptr<Context> context = d.diagram->CreateDefaultContext();
   context->SetTime(t);
-  const Eigen::VectorXd& desired = d.outputs->EvalOutput(d.diagram->GetSubsystemContext(*d.outputs, *context), "desired");
+  const Eigen::VectorXd& desired =
+      d.outputs->EvalOutput(d.diagram->GetSubsystemContext(*d.outputs, *context), "desired");
   ASSERT_EQ(desired.size(), 3 * 18);
   const WalkingReference r = d.plan.Sample(t);
   EXPECT_LT((desired.segment<3>(0) - r.com_position).norm(), 1e-9);

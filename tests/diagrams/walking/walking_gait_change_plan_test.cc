@@ -31,7 +31,8 @@ StandToWalkParams Stand(const MultibodyModel& model) {
 size_t LastTransitionSsp(const WalkingPlan& plan) {
   size_t last = plan.segments().size();
   for (size_t i = 0; i < plan.segments().size(); ++i)
-    if (plan.segments()[i].domain != WalkingDomain::kDoubleSupport && plan.segments()[i].lateral_nodes.cols() > 0) last = i;
+    if (plan.segments()[i].domain != WalkingDomain::kDoubleSupport && plan.segments()[i].lateral_nodes.cols() > 0)
+      last = i;
   return last;
 }
 
@@ -77,8 +78,8 @@ TEST(WalkingGaitChangePlan, AChangeOfStepWidthEndsOnGaitBsPeriodTwoOrbit) {
     // The transition's end: B's P2 pre-impact state about the stance foot.
     const double t_end = ssp.start_time + ssp.duration;
     const Eigen::Vector2d pre = LateralAbout(plan, t_end - 1e-9, stance_y, left);
-    std::printf("  W %.2f -> %.2f m: pre-impact (%.5f m, %.5f m/s), closed form (%.5f m, %.5f m/s), z0 %.4f m\n", a.step_width_m, w_b, pre(0),
-                pre(1), p, v, z0);
+    std::printf("  W %.2f -> %.2f m: pre-impact (%.5f m, %.5f m/s), closed form (%.5f m, %.5f m/s), z0 %.4f m\n",
+                a.step_width_m, w_b, pre(0), pre(1), p, v, z0);
     EXPECT_NEAR(pre(0), p, 1e-3);
     EXPECT_NEAR(pre(1), v, 5e-3);
     // One step of the test's own H-LIP from there: DSP (ẏ constant), then SSP about the landed foot.
@@ -87,17 +88,20 @@ TEST(WalkingGaitChangePlan, AChangeOfStepWidthEndsOnGaitBsPeriodTwoOrbit) {
     const double ch = std::cosh(lambda * next_ssp.duration), sh = std::sinh(lambda * next_ssp.duration);
     const double rel = y - landing_y;
     const double y_next = landing_y + rel * ch + yd / lambda * sh, yd_next = rel * lambda * sh + yd * ch;
-    const Eigen::Vector2d flowed = Eigen::Vector2d((left ? -1.0 : 1.0) * (y_next - landing_y), (left ? -1.0 : 1.0) * yd_next);
+    const Eigen::Vector2d flowed =
+        Eigen::Vector2d((left ? -1.0 : 1.0) * (y_next - landing_y), (left ? -1.0 : 1.0) * yd_next);
     // P2: the next pre-impact state about the new stance foot is the mirrored one.
     EXPECT_NEAR(flowed(0), p, 2e-3);
     EXPECT_NEAR(flowed(1), v, 1e-2);
     // And the plan's own next pre-impact state agrees with that flow.
-    const Eigen::Vector2d planned_next = LateralAbout(plan, next_ssp.start_time + next_ssp.duration - 1e-9, landing_y, !left);
+    const Eigen::Vector2d planned_next =
+        LateralAbout(plan, next_ssp.start_time + next_ssp.duration - 1e-9, landing_y, !left);
     EXPECT_NEAR(planned_next(0), flowed(0), 2e-3);
     EXPECT_NEAR(planned_next(1), flowed(1), 1e-2);
     // Every later segment keeps the feet W_B apart.
     for (size_t k = i; k < plan.segments().size(); ++k)
-      EXPECT_NEAR(std::abs(plan.segments()[k].left_foothold.y() - plan.segments()[k].right_foothold.y()), w_b, 1e-12) << "segment " << k;
+      EXPECT_NEAR(std::abs(plan.segments()[k].left_foothold.y() - plan.segments()[k].right_foothold.y()), w_b, 1e-12)
+          << "segment " << k;
   }
 }
 
@@ -106,7 +110,8 @@ TEST(WalkingGaitChangePlan, AChangeWithNoDirectPlanChainsThroughIntermediateGait
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   const StandToWalkParams stand = Stand(*model);
-  const WalkingGait pairs[2][2] = {{{0.25, 0.38, 0.09, 0.27}, {0.42, 0.42, 0.11, 0.27}}, {{0.22, 0.48, 0.14, 0.21}, {0.38, 0.40, 0.10, 0.21}}};
+  const WalkingGait pairs[2][2] = {{{0.25, 0.38, 0.09, 0.27}, {0.42, 0.42, 0.11, 0.27}},
+                                   {{0.22, 0.48, 0.14, 0.21}, {0.38, 0.40, 0.10, 0.21}}};
   for (const auto& pair : pairs) {
     const WalkingGait &a = pair[0], &b = pair[1];
     WalkingPlanReport report;
@@ -115,9 +120,10 @@ TEST(WalkingGaitChangePlan, AChangeWithNoDirectPlanChainsThroughIntermediateGait
     EXPECT_THROW(BuildGaitChangePlan(a, b, 6, 1, &cache, nullptr, direct_only, 4), std::runtime_error);
     const WalkingPlan plan = BuildGaitChangePlan(a, b, 6, 1, &cache, &report, stand, 4);
     ASSERT_GT(report.chain.size(), 2u);
-    std::printf("  chain of %zu gaits, %d transitions tried, %d failed, %.2f s:", report.chain.size(), report.chain_transitions_tried,
-                report.chain_transitions_failed, report.chain_planning_s);
-    for (const WalkingGait& g : report.chain) std::printf(" (%g, %g, %g, %g)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
+    std::printf("  chain of %zu gaits, %d transitions tried, %d failed, %.2f s:", report.chain.size(),
+                report.chain_transitions_tried, report.chain_transitions_failed, report.chain_planning_s);
+    for (const WalkingGait& g : report.chain)
+      std::printf(" (%g, %g, %g, %g)", g.step_length_m, g.ssp_duration_s, g.dsp_duration_s, g.step_width_m);
     std::printf("\n");
     EXPECT_GT(report.chain_planning_s, 0.0);
     EXPECT_DOUBLE_EQ(report.chain.front().step_length_m, a.step_length_m);
@@ -134,7 +140,8 @@ TEST(WalkingGaitChangePlan, AChangeWithNoDirectPlanChainsThroughIntermediateGait
     // that gait's T_SSP and advance its step length; B walks last.
     std::vector<size_t> transitions;
     for (size_t i = 0; i < plan.segments().size(); ++i)
-      if (plan.segments()[i].domain != WalkingDomain::kDoubleSupport && plan.segments()[i].lateral_nodes.cols() > 0) transitions.push_back(i);
+      if (plan.segments()[i].domain != WalkingDomain::kDoubleSupport && plan.segments()[i].lateral_nodes.cols() > 0)
+        transitions.push_back(i);
     ASSERT_GE(transitions.size(), report.chain.size() - 1);
     const size_t first = transitions.size() - (report.chain.size() - 1);
     for (size_t k = 1; k < report.chain.size(); ++k) {
@@ -143,7 +150,8 @@ TEST(WalkingGaitChangePlan, AChangeWithNoDirectPlanChainsThroughIntermediateGait
       EXPECT_NEAR(ssp.duration, report.chain[k].ssp_duration_s, 1e-9) << "chain gait " << k;
       const double stride = std::abs(ssp.left_foothold.x() - ssp.right_foothold.x());
       EXPECT_NEAR(stride, report.chain[k].step_length_m, 1e-9) << "chain gait " << k;
-      EXPECT_NEAR(std::abs(ssp.left_foothold.y() - ssp.right_foothold.y()), report.chain[k].step_width_m, 1e-12) << "chain gait " << k;
+      EXPECT_NEAR(std::abs(ssp.left_foothold.y() - ssp.right_foothold.y()), report.chain[k].step_width_m, 1e-12)
+          << "chain gait " << k;
     }
   }
 }
@@ -157,7 +165,8 @@ TEST(WalkingGaitChangePlan, NoTransitionUnloadsTheLiftingFootAndLoadsItAgain) {
   const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
   const StandToWalkParams stand = Stand(*model);
   WalkingPlanReport report;
-  const WalkingPlan plan = BuildGaitChangePlan({0.22, 0.48, 0.14, 0.21}, {0.38, 0.40, 0.10, 0.28}, 6, 1, &cache, &report, stand, 4);
+  const WalkingPlan plan =
+      BuildGaitChangePlan({0.22, 0.48, 0.14, 0.21}, {0.38, 0.40, 0.10, 0.28}, 6, 1, &cache, &report, stand, 4);
   const double floor = stand.reload_floor_fraction * model->total_mass() * kGravity;
   int transitions = 0;
   for (size_t i = 0; i + 1 < plan.segments().size(); ++i) {

@@ -24,7 +24,8 @@ int main() {
 
   SteppingStonesDiagramParams params;
   params.supervisor.max_steps = 3;
-  SteppingStonesDiagram d = BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 6), params, ClfQpControllerFactory(params));
+  SteppingStonesDiagram d =
+      BuildSteppingStonesDiagram(PeriodicSteppingStones(0.4, 0.0, 6), params, ClfQpControllerFactory(params));
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());
   const SimulatorStatus status = sim.AdvanceTo(10.0);
@@ -32,10 +33,13 @@ int main() {
   ok &= status.kind() == SimulatorStatus::Kind::kSuccess;
 
   // rome_riccati: the scalar CARE's closed form P = r (a + √(a² + b² q / r)) / b² with a = 0, b = q = r = 1: P = 1.
-  ok &= std::abs(SolveContinuousAlgebraicRiccatiEquation(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                                                         Eigen::MatrixXd::Ones(1, 1))(0, 0) - 1.0) < 1e-9;
+  ok &=
+      std::abs(SolveContinuousAlgebraicRiccatiEquation(Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                                                       Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1))(0, 0) -
+               1.0) < 1e-9;
   // rome_collocation: the first-order hold through (0, 1) and (1, 3) is 1 + 2t: 1.5 at t = 0.25.
-  const PiecewisePolynomial line = PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0), Eigen::RowVector2d(1.0, 3.0));
+  const PiecewisePolynomial line =
+      PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0), Eigen::RowVector2d(1.0, 3.0));
   ok &= std::abs(line.Value(0.25)[0] - 1.5) < 1e-12;
   // rome_classic: a ball dropped from 1 m lands at √(2/g).
   BouncingBallParams ball_params;
@@ -44,7 +48,8 @@ int main() {
   BouncingBall ball("ball", ball_params);
   Simulator ball_sim(ball);
   ball_sim.AdvanceTo(0.5);
-  ok &= ball_sim.statistics().guard_events == 1 && std::abs(ball_sim.statistics().events.at(0).time - std::sqrt(2.0 / ball_params.gravity)) < 1e-6;
+  ok &= ball_sim.statistics().guard_events == 1 &&
+        std::abs(ball_sim.statistics().events.at(0).time - std::sqrt(2.0 / ball_params.gravity)) < 1e-6;
   // rome_trajectory_optimization: collocation dynamics from a leaf system (the ball in flight: ẋ = (v, −g)).
   auto ball_context = ball.CreateDefaultContext();
   ok &= static_cast<bool>(CollocationDynamicsFromSystem(ball, static_cast<const LeafContext&>(*ball_context), ""));
@@ -53,7 +58,8 @@ int main() {
   ok &= WalkingSimulatorConfig().relative_tolerance > 0 && HoppingSimulatorConfig().relative_tolerance > 0;
   // rome_visualization: a PNG through gnuplot (skipped without gnuplot, which is not a ROME dependency of the app).
   std::string error;
-  const bool plotted = visualization::WritePlot({"line", "t", "y", {{"1 + 2t", {0.0, 1.0}, {1.0, 3.0}}}}, "line.png", &error);
+  const bool plotted =
+      visualization::WritePlot({"line", "t", "y", {{"1 + 2t", {0.0, 1.0}, {1.0, 3.0}}}}, "line.png", &error);
   std::cout << "plot: " << (plotted ? "line.png" : error) << "\n";
   std::cout << (ok ? "ok" : "FAIL") << "\n";
   return ok ? 0 : 1;

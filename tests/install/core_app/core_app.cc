@@ -17,7 +17,9 @@ namespace {
 // ẍ = −ω² x, x(0) = 1, ẋ(0) = 0: x(t) = cos ω t.
 class Oscillator final : public rome::LeafSystem {
  public:
-  explicit Oscillator(double omega) : LeafSystem("oscillator"), omega_(omega) { DeclareContinuousState(Eigen::Vector2d(1.0, 0.0)); }
+  explicit Oscillator(double omega) : LeafSystem("oscillator"), omega_(omega) {
+    DeclareContinuousState(Eigen::Vector2d(1.0, 0.0));
+  }
 
  private:
   void DoCalcTimeDerivatives(const rome::LeafContext& context, Eigen::VectorXd* xdot) const override {
@@ -43,7 +45,8 @@ int main() {
   rome::Simulator sim(oscillator);
   const rome::SimulatorStatus status = sim.AdvanceTo(t);
   ok &= status.ok();
-  ok &= Check("oscillator x(1.3)", static_cast<const rome::LeafContext&>(sim.get_context()).continuous_state()[0], std::cos(omega * t), 1e-6);
+  ok &= Check("oscillator x(1.3)", static_cast<const rome::LeafContext&>(sim.get_context()).continuous_state()[0],
+              std::cos(omega * t), 1e-6);
 
   // min ½(x₀² + x₁²) s.t. x₀ + x₁ = 1, x₀ ≥ 0.8: x = (0.8, 0.2).
   rome::DenseQpSolver qp(2, 1, 0);
@@ -56,8 +59,9 @@ int main() {
 
   // Scalar CARE 2aP − P²b²/r + q = 0: P = r (a + √(a² + b² q / r)) / b².
   const double a = 1.0, b = 2.0, q = 3.0, r = 0.5;
-  const Eigen::MatrixXd P = rome::SolveContinuousAlgebraicRiccatiEquation(Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b),
-                                                                          Eigen::MatrixXd::Constant(1, 1, q), Eigen::MatrixXd::Constant(1, 1, r));
+  const Eigen::MatrixXd P = rome::SolveContinuousAlgebraicRiccatiEquation(
+      Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b), Eigen::MatrixXd::Constant(1, 1, q),
+      Eigen::MatrixXd::Constant(1, 1, r));
   ok &= Check("CARE P", P(0, 0), r * (a + std::sqrt(a * a + b * b * q / r)) / (b * b), 1e-10);
   // Linearize: A = [0 1; −ω² 0] exactly for this linear system (central differences are exact on it up to round-off).
   auto context = oscillator.CreateDefaultContext();
@@ -68,7 +72,8 @@ int main() {
   Eigen::Matrix2d A_di;
   A_di << 0.0, 1.0, 0.0, 0.0;
   const Eigen::MatrixXd K = rome::LinearQuadraticRegulator(A_di, Eigen::Vector2d(0.0, 1.0), Eigen::Matrix2d::Identity(),
-                                                           Eigen::MatrixXd::Identity(1, 1)).K;
+                                                           Eigen::MatrixXd::Identity(1, 1))
+                                .K;
   ok &= Check("LQR K0", K(0, 0), 1.0, 1e-9) && Check("LQR K1", K(0, 1), std::sqrt(3.0), 1e-9);
   std::cout << "data folder: " << rome::InstalledDataFolder() << "\n";
   return ok ? 0 : 1;

@@ -13,7 +13,8 @@ namespace {
 
 struct DoubleIntegratorDynamics {
   template <class T>
-  void operator()(const Eigen::Matrix<T, -1, 1>& x, const Eigen::Matrix<T, -1, 1>& u, Eigen::Matrix<T, -1, 1>& xdot) const {
+  void operator()(const Eigen::Matrix<T, -1, 1>& x, const Eigen::Matrix<T, -1, 1>& u,
+                  Eigen::Matrix<T, -1, 1>& xdot) const {
     xdot.resize(2);
     xdot << x(1), u(0);
   }
@@ -25,7 +26,8 @@ class DoubleIntegratorPlant final : public LeafSystem {
   DoubleIntegratorPlant() : LeafSystem("plant") {
     DeclareInputPort("u", 1);
     DeclareContinuousState(2);
-    DeclareOutputPort("state", 2, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+    DeclareOutputPort(
+        "state", 2, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   }
   void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
     (*xdot)[0] = c.continuous_state()[1];

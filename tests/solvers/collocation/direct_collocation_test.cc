@@ -57,8 +57,7 @@ struct Pendulum {
 
 // RK4 re-integration of ẋ = f(x, u(t)) with the collocated input trajectory.
 template <class F>
-Eigen::VectorXd Rk4(const F& f, Eigen::VectorXd x, const PiecewisePolynomial& u, double t0,
-                    double t1, int steps) {
+Eigen::VectorXd Rk4(const F& f, Eigen::VectorXd x, const PiecewisePolynomial& u, double t0, double t1, int steps) {
   auto eval = [&](const Eigen::VectorXd& xs, double t) {
     const NodeVector xa = InitializeAutoDiff<NodeScalar>(xs, 0, 0);
     const NodeVector ua = InitializeAutoDiff<NodeScalar>(u.Value(t), 0, 0);
@@ -88,10 +87,8 @@ double RecomputedMaxDefect(const CollocationPhaseSolution& s, const StateInputFu
   }
   for (int k = 0; k + 1 < N; ++k) {
     const double h = s.times(k + 1) - s.times(k);
-    worst = std::max(worst, (s.states.col(k + 1) - s.states.col(k) -
-                             0.5 * h * (fx.col(k) + fx.col(k + 1)))
-                                .cwiseAbs()
-                                .maxCoeff());
+    worst = std::max(
+        worst, (s.states.col(k + 1) - s.states.col(k) - 0.5 * h * (fx.col(k) + fx.col(k + 1))).cwiseAbs().maxCoeff());
   }
   return worst;
 }
@@ -123,11 +120,9 @@ TEST(DirectCollocation, MinimumEnergyDoubleIntegratorMatchesClosedForm) {
     double state_error = 0.0, input_error = 0.0, endpoint_input_error = 0.0;
     for (int k = 0; k < N; ++k) {
       const double t = s.times(k);
-      state_error = std::max(state_error,
-                             (s.states.col(k) - Eigen::Vector2d(3 * t * t - 2 * t * t * t,
-                                                                 6 * t - 6 * t * t))
-                                 .cwiseAbs()
-                                 .maxCoeff());
+      state_error = std::max(
+          state_error,
+          (s.states.col(k) - Eigen::Vector2d(3 * t * t - 2 * t * t * t, 6 * t - 6 * t * t)).cwiseAbs().maxCoeff());
       const double du = std::abs(s.inputs(0, k) - (6.0 - 12.0 * t));
       if (k == 0 || k == N - 1) {
         endpoint_input_error = std::max(endpoint_input_error, du);
@@ -147,14 +142,13 @@ TEST(DirectCollocation, MinimumEnergyDoubleIntegratorMatchesClosedForm) {
     EXPECT_NEAR(r.nlp.cost, 12.0, 60.0 * h * h) << "N = " << N;
     EXPECT_LT(r.max_defect, 1e-8);
     EXPECT_LT(RecomputedMaxDefect(s, DoubleIntegrator()), 1e-8);
-    if (previous_error > 0.0) {
-      EXPECT_GT(previous_error / state_error, 3.5) << "second-order convergence, N = " << N;
-    }
+    if (previous_error > 0.0) { EXPECT_GT(previous_error / state_error, 3.5) << "second-order convergence, N = " << N; }
     previous_error = state_error;
-    std::printf("N = %2d: %d iterations, %.1f ms, |x − x*|∞ = %.2e, interior |u − u*|∞ = %.2e, "
-                "endpoint |u − u*| = %.2e, cost = %.6f, max defect = %.1e\n",
-                N, r.nlp.iterations, 1e3 * r.nlp.wall_time, state_error, input_error,
-                endpoint_input_error, r.nlp.cost, r.max_defect);
+    std::printf(
+        "N = %2d: %d iterations, %.1f ms, |x − x*|∞ = %.2e, interior |u − u*|∞ = %.2e, "
+        "endpoint |u − u*| = %.2e, cost = %.6f, max defect = %.1e\n",
+        N, r.nlp.iterations, 1e3 * r.nlp.wall_time, state_error, input_error, endpoint_input_error, r.nlp.cost,
+        r.max_defect);
   }
 }
 
@@ -179,8 +173,7 @@ TEST(DirectCollocation, ReintegratedDoubleIntegratorStaysNearCollocatedTrajector
   EXPECT_LT(worst, 5e-3);
   // The Hermite trajectory's derivative equals f at the nodes (consistency with collocation).
   for (int k = 0; k < 21; ++k) {
-    EXPECT_LT((s.state_trajectory.Derivative(s.times(k)) - s.state_derivatives.col(k)).norm(),
-              1e-9);
+    EXPECT_LT((s.state_trajectory.Derivative(s.times(k)) - s.state_derivatives.col(k)).norm(), 1e-9);
   }
   std::printf("double integrator re-integration: max |x_rk4 − x_col| = %.2e\n", worst);
 }
@@ -198,9 +191,7 @@ TEST(DirectCollocation, NonlinearPendulumReintegrationConverges) {
     phase.min_duration = phase.max_duration = 2.0;
     phase.input_lower = Eigen::VectorXd::Constant(1, -20.0);
     phase.input_upper = Eigen::VectorXd::Constant(1, 20.0);
-    phase.running_cost = [](const NodeVector&, const NodeVector& u) -> NodeScalar {
-      return u(0) * u(0);
-    };
+    phase.running_cost = [](const NodeVector&, const NodeVector& u) -> NodeScalar { return u(0) * u(0); };
     DirectCollocation dc("pendulum_swing", {phase});
     dc.SetNodeStateBounds(0, 0, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
     dc.SetNodeStateBounds(0, -1, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(1.0, 0.0));
@@ -214,12 +205,10 @@ TEST(DirectCollocation, NonlinearPendulumReintegrationConverges) {
     // stated bound 10 h², and second-order decay.
     const double h = 2.0 / (N - 1);
     EXPECT_LT(error, 10.0 * h * h) << "N = " << N;
-    if (previous > 0.0) {
-      EXPECT_GT(previous / error, 3.0) << "N = " << N;
-    }
+    if (previous > 0.0) { EXPECT_GT(previous / error, 3.0) << "N = " << N; }
     previous = error;
-    std::printf("pendulum N = %d: %d iterations, %.1f ms, final-state replay error %.2e\n", N,
-                r.nlp.iterations, 1e3 * r.nlp.wall_time, error);
+    std::printf("pendulum N = %d: %d iterations, %.1f ms, final-state replay error %.2e\n", N, r.nlp.iterations,
+                1e3 * r.nlp.wall_time, error);
   }
 }
 
@@ -300,8 +289,7 @@ TEST(DirectCollocation, BouncingBallMatchesAnalyticApexes) {
   EXPECT_NEAR(rebound.duration, e * T1, 1e-7);
   EXPECT_NEAR(rebound.states(0, 10), e * e * h1, 1e-7);
   // The interpolated trajectory hits the apex height mid-flight as well (exact parabola).
-  EXPECT_NEAR(rise.state_trajectory.Value(0.5 * T1)(1), vz0 * 0.5 * T1 - 0.5 * kGravity * 0.25 * T1 * T1,
-              1e-7);
+  EXPECT_NEAR(rise.state_trajectory.Value(0.5 * T1)(1), vz0 * 0.5 * T1 - 0.5 * kGravity * 0.25 * T1 * T1, 1e-7);
   EXPECT_LT(r.max_defect, 1e-8);
   EXPECT_LT(RecomputedMaxDefect(rise, PlanarBallistic()), 1e-8);
   EXPECT_LT(RecomputedMaxDefect(rebound, VerticalBallistic()), 1e-8);
@@ -312,9 +300,8 @@ TEST(DirectCollocation, BouncingBallMatchesAnalyticApexes) {
   } catch (const std::invalid_argument& err) {
     EXPECT_NE(std::string(err.what()).find("rebound"), std::string::npos) << err.what();
   }
-  std::printf("bouncing ball: %d iterations, %.1f ms, apex error %.1e m, apex time error %.1e s\n",
-              r.nlp.iterations, 1e3 * r.nlp.wall_time, std::abs(rise.states(1, 10) - h1),
-              std::abs(rise.duration - T1));
+  std::printf("bouncing ball: %d iterations, %.1f ms, apex error %.1e m, apex time error %.1e s\n", r.nlp.iterations,
+              1e3 * r.nlp.wall_time, std::abs(rise.states(1, 10) - h1), std::abs(rise.duration - T1));
 }
 
 TEST(DirectCollocation, ConstraintJacobianMatchesFiniteDifferences) {
@@ -344,13 +331,15 @@ TEST(DirectCollocation, ConstraintJacobianMatchesFiniteDifferences) {
     return u(0) * u(0) + x(0) * x(1) * x(1);
   };
   DirectCollocation pendulum("pendulum", {phase});
-  pendulum.AddPathConstraint(0, 1, [](const NodeVector& x, const NodeVector& u, NodeVector& y) {
-    y.resize(1);
-    y(0) = x(1) * u(0);  // mechanical power limit
-  }, Eigen::VectorXd::Constant(1, -5.0), Eigen::VectorXd::Constant(1, 5.0), "power");
-  pendulum.SetTerminalCost([](const NodeVector& x, const NodeVector&) -> NodeScalar {
-    return 10.0 * (x(0) - 1.0) * (x(0) - 1.0);
-  });
+  pendulum.AddPathConstraint(
+      0, 1,
+      [](const NodeVector& x, const NodeVector& u, NodeVector& y) {
+        y.resize(1);
+        y(0) = x(1) * u(0);  // mechanical power limit
+      },
+      Eigen::VectorXd::Constant(1, -5.0), Eigen::VectorXd::Constant(1, 5.0), "power");
+  pendulum.SetTerminalCost(
+      [](const NodeVector& x, const NodeVector&) -> NodeScalar { return 10.0 * (x(0) - 1.0) * (x(0) - 1.0); });
   auto nlp2 = pendulum.BuildNlp();
   Eigen::VectorXd z2 = Eigen::VectorXd::Random(nlp2->num_variables());
   z2(z2.size() - 1) = 1.7;  // duration
@@ -370,9 +359,8 @@ TEST(DirectCollocation, ConstraintJacobianMatchesFiniteDifferences) {
   auto nlp4 = ball.BuildNlp();
   check = CheckDerivatives(*nlp4, z);
   EXPECT_LT(check.max_hessian_error, 1e-5);
-  std::printf("pendulum NLP: %d variables, %d constraints, %d Jacobian nonzeros\n",
-              nlp2->num_variables(), nlp2->num_constraints(),
-              nlp2->constraint_jacobian_sparsity().nnz());
+  std::printf("pendulum NLP: %d variables, %d constraints, %d Jacobian nonzeros\n", nlp2->num_variables(),
+              nlp2->num_constraints(), nlp2->constraint_jacobian_sparsity().nnz());
 }
 
 TEST(DirectCollocation, PeriodicTransitionClosesTheCycle) {
@@ -446,8 +434,7 @@ TEST(DirectCollocation, RejectsBadDefinitions) {
   other.num_states = 3;
   DirectCollocation dc("dc", {phase, other});
   EXPECT_THROW(dc.BuildNlp(), std::invalid_argument);  // sizes differ, no transition map
-  EXPECT_THROW(dc.SetNodeStateBounds(0, 5, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()),
-               std::out_of_range);
+  EXPECT_THROW(dc.SetNodeStateBounds(0, 5, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()), std::out_of_range);
   EXPECT_THROW(dc.SetTransition(1, nullptr), std::out_of_range);
   // More node variables than the node scalar holds: named, with the count.
   CollocationPhase wide = phase;
@@ -458,7 +445,8 @@ TEST(DirectCollocation, RejectsBadDefinitions) {
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("'wide'"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("got " + std::to_string(kMaxNodeVariables + 1)), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("got " + std::to_string(kMaxNodeVariables + 1)), std::string::npos)
+        << e.what();
   }
   // Dynamics returning the wrong size are reported by name.
   CollocationPhase wrong = phase;
@@ -478,8 +466,8 @@ TEST(DirectCollocation, RejectsBadDefinitions) {
 // duration the sparse Jacobian of the Hermite–Simpson defects matches finite differences.
 TEST(DirectCollocation, HermiteSimpsonIsFourthOrderAndItsJacobianIsExact) {
   const StateInputFunction pendulum = Pendulum();
-  const PiecewisePolynomial u = PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 2.0),
-                                                                    Eigen::RowVector2d(1.0, -2.0));
+  const PiecewisePolynomial u =
+      PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 2.0), Eigen::RowVector2d(1.0, -2.0));
   const Eigen::Vector2d x0(0.3, 0.0);
   const Eigen::VectorXd reference = Rk4(Pendulum(), x0, u, 0.0, 2.0, 200000);
   double previous[2] = {0.0, 0.0};
@@ -497,10 +485,14 @@ TEST(DirectCollocation, HermiteSimpsonIsFourthOrderAndItsJacobianIsExact) {
       dc.SetNodeStateBounds(0, 0, x0, x0);
       Eigen::MatrixXd inputs(1, N);
       for (int k = 0; k < N; ++k) inputs(0, k) = u.Value(2.0 * k / (N - 1))(0);
-      for (int k = 0; k < N; ++k) dc.AddNodeConstraint(0, k, 1, [](const NodeVector&, const NodeVector& v, NodeVector& y) {
-          y.resize(1);
-          y(0) = v(0);
-        }, inputs.col(k), inputs.col(k), "input");
+      for (int k = 0; k < N; ++k)
+        dc.AddNodeConstraint(
+            0, k, 1,
+            [](const NodeVector&, const NodeVector& v, NodeVector& y) {
+              y.resize(1);
+              y(0) = v(0);
+            },
+            inputs.col(k), inputs.col(k), "input");
       const CollocationResult r = dc.Solve();
       ASSERT_TRUE(r.success()) << r.nlp.message;
       EXPECT_LT(r.max_defect, 1e-8);

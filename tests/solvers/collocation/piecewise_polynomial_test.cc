@@ -46,9 +46,7 @@ TEST(PiecewisePolynomial, HermiteInterpolationErrorIsFourthOrder) {
     const auto pp = PiecewisePolynomial::CubicHermite(t, v, d);
     double err = 0.0;
     for (double s = 0.0; s <= M_PI; s += 1e-3) err = std::max(err, std::abs(pp.Value(s)(0) - std::sin(s)));
-    if (previous > 0.0) {
-      EXPECT_NEAR(previous / err, 16.0, 1.5) << "n = " << n;
-    }
+    if (previous > 0.0) { EXPECT_NEAR(previous / err, 16.0, 1.5) << "n = " << n; }
     previous = err;
   }
 }
@@ -80,26 +78,22 @@ TEST(PiecewisePolynomial, AppendWithOffsetIsRightContinuousAtTheJump) {
   EXPECT_DOUBLE_EQ(joined.Value(1.0)(0), -1.0);
   EXPECT_DOUBLE_EQ(joined.Value(2.0)(0), 2.0);
   // Gaps and row mismatches are rejected.
-  EXPECT_THROW(joined.Append(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0), a)),
-               std::invalid_argument);
-  EXPECT_THROW(joined.Append(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(3.0, 4.0),
-                                                                 Eigen::MatrixXd::Zero(2, 2))),
-               std::invalid_argument);
+  EXPECT_THROW(joined.Append(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0), a)), std::invalid_argument);
+  EXPECT_THROW(
+      joined.Append(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(3.0, 4.0), Eigen::MatrixXd::Zero(2, 2))),
+      std::invalid_argument);
   joined.ShiftTime(-1.0);
   EXPECT_DOUBLE_EQ(joined.start_time(), -1.0);
   EXPECT_DOUBLE_EQ(joined.Value(0.0)(0), -1.0);
 }
 
 TEST(PiecewisePolynomial, RejectsBadInput) {
-  EXPECT_THROW(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(1.0, 1.0),
-                                                   Eigen::MatrixXd::Zero(1, 2)),
+  EXPECT_THROW(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(1.0, 1.0), Eigen::MatrixXd::Zero(1, 2)),
                std::invalid_argument);
-  EXPECT_THROW(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0),
-                                                   Eigen::MatrixXd::Zero(1, 3)),
+  EXPECT_THROW(PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0), Eigen::MatrixXd::Zero(1, 3)),
                std::invalid_argument);
   EXPECT_THROW(PiecewisePolynomial().Value(0.0), std::logic_error);
-  const auto pp = PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0),
-                                                      Eigen::MatrixXd::Zero(2, 2));
+  const auto pp = PiecewisePolynomial::FirstOrderHold(Eigen::Vector2d(0.0, 1.0), Eigen::MatrixXd::Zero(2, 2));
   Eigen::VectorXd wrong(3);
   EXPECT_THROW(pp.ValueInto(0.5, wrong), std::invalid_argument);
 }

@@ -33,8 +33,7 @@ std::unique_ptr<AutoDiffNlpProblem> MakeAutoDiffHs071() {
 TEST(AutoDiffNlpProblem, JacobianMatchesFiniteDifferencesAndAnalytic) {
   auto problem = MakeAutoDiffHs071();
   test::Hs071 analytic;
-  for (const Eigen::Vector4d& x : {Eigen::Vector4d(1.0, 5.0, 5.0, 1.0),
-                                  Eigen::Vector4d(1.3, 2.2, 4.1, 3.7)}) {
+  for (const Eigen::Vector4d& x : {Eigen::Vector4d(1.0, 5.0, 5.0, 1.0), Eigen::Vector4d(1.3, 2.2, 4.1, 3.7)}) {
     const DerivativeCheckResult check = CheckDerivatives(*problem, x);
     EXPECT_LT(check.max_gradient_error, 1e-8);
     EXPECT_LT(check.max_jacobian_error, 1e-8);
@@ -59,8 +58,7 @@ TEST(AutoDiffNlpProblem, SolvesHs071WithLimitedMemoryHessian) {
   ASSERT_TRUE(r.success()) << r.message;
   EXPECT_LT((r.x - test::Hs071Solution()).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_NEAR(r.cost, test::kHs071OptimalCost, 1e-6);
-  std::printf("hs071 AutoDiff + L-BFGS: %d iterations, %.3f ms\n", r.iterations,
-              1e3 * r.wall_time);
+  std::printf("hs071 AutoDiff + L-BFGS: %d iterations, %.3f ms\n", r.iterations, 1e3 * r.wall_time);
 }
 
 TEST(AutoDiffNlpProblem, WrongConstraintSizeIsReported) {
@@ -71,9 +69,7 @@ TEST(AutoDiffNlpProblem, WrongConstraintSizeIsReported) {
   try {
     problem.EvalConstraints(Eigen::Vector2d(1.0, 2.0), g);
     FAIL();
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("bad_size"), std::string::npos);
-  }
+  } catch (const std::runtime_error& e) { EXPECT_NE(std::string(e.what()).find("bad_size"), std::string::npos); }
 }
 
 }  // namespace

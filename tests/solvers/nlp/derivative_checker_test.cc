@@ -17,16 +17,13 @@ class BuggyHs071 final : public NlpProblem {
     SetConstraintJacobianSparsity(J);
   }
   double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& x) override { return inner_.EvalCost(x); }
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
-                        Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override {
     inner_.EvalCostGradient(x, g);
   }
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x,
-                       Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override {
     inner_.EvalConstraints(x, g);
   }
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x,
-                              Eigen::Ref<Eigen::VectorXd> v) override {
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> v) override {
     Eigen::VectorXd full(8);
     inner_.EvalConstraintJacobian(x, full);
     v = full.head(7);

@@ -26,18 +26,14 @@ class Rosenbrock final : public NlpProblem {
   double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& x) override {
     return std::pow(1.0 - x(0), 2) + 100.0 * std::pow(x(1) - x(0) * x(0), 2);
   }
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
-                        Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override {
     g(0) = -2.0 * (1.0 - x(0)) - 400.0 * x(0) * (x(1) - x(0) * x(0));
     g(1) = 200.0 * (x(1) - x(0) * x(0));
   }
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>&,
-                       Eigen::Ref<Eigen::VectorXd>) override {}
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>&,
-                              Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
   void EvalLagrangianHessian(const Eigen::Ref<const Eigen::VectorXd>& x, double s,
-                             const Eigen::Ref<const Eigen::VectorXd>&,
-                             Eigen::Ref<Eigen::VectorXd> v) override {
+                             const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd> v) override {
     v(0) = s * (2.0 - 400.0 * x(1) + 1200.0 * x(0) * x(0));
     v(1) = s * (-400.0 * x(0));
     v(2) = s * 200.0;
@@ -58,17 +54,14 @@ class InfeasibleDisc final : public NlpProblem {
     SetConstraintJacobianSparsity(J);
   }
   double EvalCost(const Eigen::Ref<const Eigen::VectorXd>& x) override { return x.squaredNorm(); }
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
-                        Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override {
     g = 2.0 * x;
   }
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x,
-                       Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override {
     g(0) = x.squaredNorm();
     g(1) = x(0) + x(1);
   }
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x,
-                              Eigen::Ref<Eigen::VectorXd> v) override {
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> v) override {
     v << 2.0 * x(0), 2.0 * x(1), 1.0, 1.0;
   }
 };
@@ -81,14 +74,11 @@ class ThrowingProblem final : public NlpProblem {
     if (++calls_ > 3) throw std::runtime_error("model 'throwing' evaluated out of its domain");
     return x(0) * x(0);
   }
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x,
-                        Eigen::Ref<Eigen::VectorXd> g) override {
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> g) override {
     g(0) = 2.0 * x(0);
   }
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>&,
-                       Eigen::Ref<Eigen::VectorXd>) override {}
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>&,
-                              Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
 
  private:
   int calls_ = 0;
@@ -123,8 +113,8 @@ TEST(IpoptSolver, Hs071ExactHessianMatchesKnownSolution) {
   EXPECT_NEAR(r.constraints(1), 40.0, 1e-8);
   EXPECT_LT(StationarityError(problem, r), 1e-7);
   EXPECT_NE(r.message.find("hs071"), std::string::npos);
-  std::printf("hs071 exact Hessian: %d iterations, %.3f ms, |x − x*|∞ = %.2e\n", r.iterations,
-              1e3 * r.wall_time, (r.x - test::Hs071Solution()).cwiseAbs().maxCoeff());
+  std::printf("hs071 exact Hessian: %d iterations, %.3f ms, |x − x*|∞ = %.2e\n", r.iterations, 1e3 * r.wall_time,
+              (r.x - test::Hs071Solution()).cwiseAbs().maxCoeff());
 
   // Warm start from the solution with its multipliers converges in fewer iterations.
   const NlpResult warm = solver.Solve(problem, r.x, &r.multipliers);

@@ -15,12 +15,9 @@ class PatternProblem final : public NlpProblem {
     SetLagrangianHessianSparsity(std::move(H));
   }
   double EvalCost(const Eigen::Ref<const Eigen::VectorXd>&) override { return 0.0; }
-  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>&,
-                        Eigen::Ref<Eigen::VectorXd>) override {}
-  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>&,
-                       Eigen::Ref<Eigen::VectorXd>) override {}
-  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>&,
-                              Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalCostGradient(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalConstraints(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
+  void EvalConstraintJacobian(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) override {}
 };
 
 TEST(NlpProblem, ValidatePatternsAndBounds) {
@@ -41,13 +38,9 @@ TEST(NlpProblem, ValidatePatternsAndBounds) {
   try {
     PatternProblem(J, H_upper).Validate();
     FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'pattern'"), std::string::npos);
-  }
-  EXPECT_THROW(ok.SetVariableBounds(Eigen::Vector3d::Ones(), Eigen::Vector3d::Zero()),
-               std::invalid_argument);
-  EXPECT_THROW(ok.SetConstraintBounds(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()),
-               std::invalid_argument);
+  } catch (const std::invalid_argument& e) { EXPECT_NE(std::string(e.what()).find("'pattern'"), std::string::npos); }
+  EXPECT_THROW(ok.SetVariableBounds(Eigen::Vector3d::Ones(), Eigen::Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW(ok.SetConstraintBounds(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()), std::invalid_argument);
 }
 
 }  // namespace

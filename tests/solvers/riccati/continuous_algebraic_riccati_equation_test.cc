@@ -17,8 +17,8 @@ TEST(ContinuousAlgebraicRiccatiEquation, DoubleIntegratorClosedForm) {
   Eigen::Matrix2d A;
   A << 0.0, 1.0, 0.0, 0.0;
   const Eigen::Vector2d B(0.0, 1.0);
-  const auto solution = SolveContinuousAlgebraicRiccatiEquationWithDetails(
-      A, B, Eigen::Matrix2d::Identity(), Eigen::Matrix<double, 1, 1>::Identity());
+  const auto solution = SolveContinuousAlgebraicRiccatiEquationWithDetails(A, B, Eigen::Matrix2d::Identity(),
+                                                                           Eigen::Matrix<double, 1, 1>::Identity());
   const double s3 = std::sqrt(3.0);
   Eigen::Matrix2d expected;
   expected << s3, 1.0, 1.0, s3;
@@ -26,16 +26,16 @@ TEST(ContinuousAlgebraicRiccatiEquation, DoubleIntegratorClosedForm) {
   EXPECT_NEAR(solution.K(0, 0), 1.0, 1e-13);
   EXPECT_NEAR(solution.K(0, 1), s3, 1e-13);
   EXPECT_LT(solution.relative_residual, 1e-14);
-  std::printf("double integrator: sign iterations %d, Newton polish %d, residual %.2e\n",
-              solution.sign_iterations, solution.newton_refinements, solution.relative_residual);
+  std::printf("double integrator: sign iterations %d, Newton polish %d, residual %.2e\n", solution.sign_iterations,
+              solution.newton_refinements, solution.relative_residual);
 }
 
 TEST(ContinuousAlgebraicRiccatiEquation, ScalarClosedForm) {
   // a p·2 − p² b²/r + q = 0 ⇒ p = r (a + √(a² + b² q / r)) / b², for an unstable a.
   const double a = 2.0, b = 0.5, q = 3.0, r = 0.7;
-  const Eigen::MatrixXd P = SolveContinuousAlgebraicRiccatiEquation(
-      Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b),
-      Eigen::MatrixXd::Constant(1, 1, q), Eigen::MatrixXd::Constant(1, 1, r));
+  const Eigen::MatrixXd P =
+      SolveContinuousAlgebraicRiccatiEquation(Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b),
+                                              Eigen::MatrixXd::Constant(1, 1, q), Eigen::MatrixXd::Constant(1, 1, r));
   EXPECT_NEAR(P(0, 0), r * (a + std::sqrt(a * a + b * b * q / r)) / (b * b), 1e-12);
 }
 
@@ -53,8 +53,7 @@ TEST(ContinuousAlgebraicRiccatiEquation, TripleIntegratorChainIsStabilizingAndMi
   EXPECT_LT(sol.relative_residual, 1e-10);
   const Eigen::MatrixXd Acl = A - B * sol.K;
   EXPECT_LT(Acl.eigenvalues().real().maxCoeff(), 0.0);
-  const Eigen::MatrixXd P_cost =
-      SolveContinuousLyapunovEquation(Acl, Q + sol.K.transpose() * R * sol.K);
+  const Eigen::MatrixXd P_cost = SolveContinuousLyapunovEquation(Acl, Q + sol.K.transpose() * R * sol.K);
   EXPECT_LT((P_cost - sol.P).norm(), 1e-10 * sol.P.norm());
 }
 
@@ -74,8 +73,8 @@ TEST(ContinuousAlgebraicRiccatiEquation, RandomSystemsResidual) {
     EXPECT_LT(sol.relative_residual, 1e-10) << "n = " << n;
     EXPECT_LT((A - B * sol.K).eigenvalues().real().maxCoeff(), 0.0) << "n = " << n;
     EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(sol.P).eigenvalues().minCoeff(), 0.0);
-    std::printf("n = %d: sign iterations %d, Newton polish %d, residual %.2e\n", n,
-                sol.sign_iterations, sol.newton_refinements, sol.relative_residual);
+    std::printf("n = %d: sign iterations %d, Newton polish %d, residual %.2e\n", n, sol.sign_iterations,
+                sol.newton_refinements, sol.relative_residual);
   }
 }
 
@@ -85,8 +84,7 @@ TEST(ContinuousAlgebraicRiccatiEquation, RejectsNonStabilizable) {
   A << -1.0, 0.0, 0.0, 1.0;
   const Eigen::Vector2d B(1.0, 0.0);
   try {
-    SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix2d::Identity(),
-                                            Eigen::MatrixXd::Identity(1, 1));
+    SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix2d::Identity(), Eigen::MatrixXd::Identity(1, 1));
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("not stabilizable"), std::string::npos) << e.what();
@@ -123,8 +121,7 @@ TEST(ContinuousAlgebraicRiccatiEquation, RejectsUndetectableImaginaryAxisMode) {
   A << 0.0, 1.0, -1.0, 0.0;
   const Eigen::Vector2d B(0.0, 1.0);
   try {
-    SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix2d::Zero(),
-                                            Eigen::MatrixXd::Identity(1, 1));
+    SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix2d::Zero(), Eigen::MatrixXd::Identity(1, 1));
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("imaginary axis"), std::string::npos) << e.what();
@@ -135,15 +132,15 @@ TEST(ContinuousAlgebraicRiccatiEquation, RejectsBadWeights) {
   Eigen::Matrix2d A;
   A << 0.0, 1.0, 0.0, 0.0;
   const Eigen::Vector2d B(0.0, 1.0);
-  EXPECT_THROW(SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix2d::Identity(),
-                                                       -Eigen::MatrixXd::Identity(1, 1)),
-               std::invalid_argument);
-  EXPECT_THROW(SolveContinuousAlgebraicRiccatiEquation(A, B, -Eigen::Matrix2d::Identity(),
-                                                       Eigen::MatrixXd::Identity(1, 1)),
-               std::invalid_argument);
-  EXPECT_THROW(SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix3d::Identity(),
-                                                       Eigen::MatrixXd::Identity(1, 1)),
-               std::invalid_argument);
+  EXPECT_THROW(
+      SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix2d::Identity(), -Eigen::MatrixXd::Identity(1, 1)),
+      std::invalid_argument);
+  EXPECT_THROW(
+      SolveContinuousAlgebraicRiccatiEquation(A, B, -Eigen::Matrix2d::Identity(), Eigen::MatrixXd::Identity(1, 1)),
+      std::invalid_argument);
+  EXPECT_THROW(
+      SolveContinuousAlgebraicRiccatiEquation(A, B, Eigen::Matrix3d::Identity(), Eigen::MatrixXd::Identity(1, 1)),
+      std::invalid_argument);
 }
 
 }  // namespace

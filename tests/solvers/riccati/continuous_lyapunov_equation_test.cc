@@ -18,9 +18,7 @@ TEST(ContinuousLyapunovEquation, DiagonalClosedForm) {
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(P(i, i), q(i) / (-2.0 * a(i)), 1e-14);
     for (int j = 0; j < 3; ++j) {
-      if (i != j) {
-        EXPECT_NEAR(P(i, j), 0.0, 1e-14);
-      }
+      if (i != j) { EXPECT_NEAR(P(i, j), 0.0, 1e-14); }
     }
   }
 }
@@ -91,8 +89,7 @@ TEST(ContinuousLyapunovEquation, MatchesCostToGoIntegral) {
   Eigen::Vector3d s(x(0), x(1), 0.0);
   const double h = 2.5e-3;
   for (int k = 0; k < 16000; ++k) {
-    const Eigen::Vector3d k1 = f(s), k2 = f(s + 0.5 * h * k1), k3 = f(s + 0.5 * h * k2),
-                          k4 = f(s + h * k3);
+    const Eigen::Vector3d k1 = f(s), k2 = f(s + 0.5 * h * k1), k3 = f(s + 0.5 * h * k2), k4 = f(s + h * k3);
     s += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
   }
   const double J = s(2);
@@ -108,13 +105,11 @@ TEST(ContinuousLyapunovEquation, RejectsNonHurwitzAndBadSizes) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("not Hurwitz"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(SolveContinuousLyapunovEquation(-Eigen::Matrix2d::Identity(),
-                                               Eigen::Matrix3d::Identity()),
+  EXPECT_THROW(SolveContinuousLyapunovEquation(-Eigen::Matrix2d::Identity(), Eigen::Matrix3d::Identity()),
                std::invalid_argument);
   Eigen::Matrix2d Q_asym;
   Q_asym << 1.0, 2.0, 0.0, 1.0;
-  EXPECT_THROW(SolveContinuousLyapunovEquation(-Eigen::Matrix2d::Identity(), Q_asym),
-               std::invalid_argument);
+  EXPECT_THROW(SolveContinuousLyapunovEquation(-Eigen::Matrix2d::Identity(), Q_asym), std::invalid_argument);
 }
 
 }  // namespace

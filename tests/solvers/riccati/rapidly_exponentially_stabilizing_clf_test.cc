@@ -37,9 +37,7 @@ TEST(RapidlyExponentiallyStabilizingClf, DecreaseConditionOfEq30Holds) {
     params.num_relative_degree_two_outputs = o2;
     params.epsilon = eps;
     const auto clf = ComputeRapidlyExponentiallyStabilizingClf(F, G, Q, params);
-    EXPECT_LT(ContinuousAlgebraicRiccatiRelativeResidual(F, G, Q, Eigen::MatrixXd::Identity(4, 4),
-                                                         clf.P),
-              1e-10);
+    EXPECT_LT(ContinuousAlgebraicRiccatiRelativeResidual(F, G, Q, Eigen::MatrixXd::Identity(4, 4), clf.P), 1e-10);
     EXPECT_LT((clf.P_epsilon - clf.I_epsilon * clf.P * clf.I_epsilon).norm(), 1e-12);
     EXPECT_DOUBLE_EQ(clf.I_epsilon(o1, o1), 1.0 / eps);
     EXPECT_DOUBLE_EQ(clf.I_epsilon(o1 + o2, o1 + o2), 1.0);
@@ -49,18 +47,18 @@ TEST(RapidlyExponentiallyStabilizingClf, DecreaseConditionOfEq30Holds) {
     for (int trial = 0; trial < 200; ++trial) {
       Eigen::VectorXd eta(n);
       for (int i = 0; i < n; ++i) eta(i) = normal(rng);
-      const double V = eta.dot(clf.P_epsilon * eta);                                 // Eq. (29)
+      const double V = eta.dot(clf.P_epsilon * eta);                                          // Eq. (29)
       const double LfV = eta.dot((F.transpose() * clf.P_epsilon + clf.P_epsilon * F) * eta);  // (32)
-      const Eigen::RowVectorXd LgV = 2.0 * eta.transpose() * clf.P_epsilon * G;       // Eq. (33)
+      const Eigen::RowVectorXd LgV = 2.0 * eta.transpose() * clf.P_epsilon * G;               // Eq. (33)
       const Eigen::VectorXd mu = -(1.0 / eps) * G.transpose() * clf.P * clf.I_epsilon * eta;
-      const double Vdot = LfV + LgV.dot(mu);                                          // Eq. (31)
+      const double Vdot = LfV + LgV.dot(mu);  // Eq. (31)
       const double ratio = Vdot / (-(clf.gamma / eps) * V);
       worst_ratio = std::min(worst_ratio, ratio);
       tightest = std::max(tightest, ratio);
     }
     EXPECT_GE(worst_ratio, 1.0 - 1e-12) << "ε = " << eps;
-    std::printf("ε = %.2f: γ = %.4f, rate γ/ε = %.3f 1/s, min V̇/(−γV/ε) = %.3f\n", eps, clf.gamma,
-                clf.convergence_rate, worst_ratio);
+    std::printf("ε = %.2f: γ = %.4f, rate γ/ε = %.3f 1/s, min V̇/(−γV/ε) = %.3f\n", eps, clf.gamma, clf.convergence_rate,
+                worst_ratio);
   }
 }
 
@@ -77,8 +75,7 @@ TEST(RapidlyExponentiallyStabilizingClf, LyapunovVariantNeedsHurwitzF) {
   // Closed-loop matrix of Eq. (28) with ε = 1 is Hurwitz: CTLE works.
   Eigen::Matrix3d F_cl;
   F_cl << -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, -2.0;
-  const auto clf =
-      ComputeRapidlyExponentiallyStabilizingClf(F_cl, G, Eigen::Matrix3d::Identity(), params);
+  const auto clf = ComputeRapidlyExponentiallyStabilizingClf(F_cl, G, Eigen::Matrix3d::Identity(), params);
   EXPECT_LT((F_cl.transpose() * clf.P + clf.P * F_cl + Eigen::Matrix3d::Identity()).norm(), 1e-12);
 }
 

@@ -23,12 +23,15 @@ inline std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot)
 /// AMBER standing on its left foot at (0, 0) with the COM straight above it, the torso upright and the right
 /// foot at (swing_x, swing_z): SolvePose (minimum-norm Newton steps) from the nominal pose. Joint limits are not
 /// imposed: at the default swing point the stance knee is at -0.333 rad (straightened past 0).
-inline Eigen::VectorXd AmberSingleSupportPose(const MultibodyModel& model, double swing_x = 0.12, double swing_z = 0.08) {
+inline Eigen::VectorXd AmberSingleSupportPose(const MultibodyModel& model, double swing_x = 0.12,
+                                              double swing_z = 0.08) {
   MultibodyWorkspace ws(model);
   return SolvePose(model, ws, model.q_nominal(),
-                   {PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0), PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
-                    PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0),  // q[2] = torso pitch
-                    PoseConstraint::ContactPoint(model, "right_foot", 0, swing_x), PoseConstraint::ContactPoint(model, "right_foot", 2, swing_z)},
+                   {PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0),
+                    PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0), PoseConstraint::Com(0, 0.0),
+                    PoseConstraint::Coordinate(2, 0.0),  // q[2] = torso pitch
+                    PoseConstraint::ContactPoint(model, "right_foot", 0, swing_x),
+                    PoseConstraint::ContactPoint(model, "right_foot", 2, swing_z)},
                    {.max_iterations = 50, .tolerance = 1e-13});
 }
 
@@ -37,21 +40,27 @@ inline Eigen::VectorXd AmberSingleSupportPose(const MultibodyModel& model, doubl
 inline Eigen::VectorXd AmberDoubleSupportPose(const MultibodyModel& model, double stance_width = 0.3) {
   MultibodyWorkspace ws(model);
   return SolvePose(model, ws, model.q_nominal(),
-                   {PoseConstraint::ContactPoint(model, "left_foot", 0, -stance_width / 2), PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
-                    PoseConstraint::ContactPoint(model, "right_foot", 0, stance_width / 2), PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0),
-                    PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0)},
+                   {PoseConstraint::ContactPoint(model, "left_foot", 0, -stance_width / 2),
+                    PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
+                    PoseConstraint::ContactPoint(model, "right_foot", 0, stance_width / 2),
+                    PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0), PoseConstraint::Com(0, 0.0),
+                    PoseConstraint::Coordinate(2, 0.0)},
                    {.max_iterations = 50, .tolerance = 1e-13});
 }
 
 /// The paper's outputs (Eq. (19)): torso pitch, COM height, swing-foot (right foot) x and z; ny = 4.
-inline std::vector<std::shared_ptr<const TaskSpaceTask>> AmberWalkingTasks(const MultibodyModel& model, TaskGains gains = {}) {
-  return {std::make_shared<BodyPitchTask>("torso_pitch", model, "torso", gains), std::make_shared<ComPositionTask>("com_z", std::vector<Axis>{Axis::kZ}, gains),
+inline std::vector<std::shared_ptr<const TaskSpaceTask>> AmberWalkingTasks(const MultibodyModel& model,
+                                                                           TaskGains gains = {}) {
+  return {std::make_shared<BodyPitchTask>("torso_pitch", model, "torso", gains),
+          std::make_shared<ComPositionTask>("com_z", std::vector<Axis>{Axis::kZ}, gains),
           PointPositionTask::ForContact("swing_foot", model, "right_foot", {Axis::kX, Axis::kZ}, gains)};
 }
 
 /// Stacked current values of the tasks at q (v only enters J̇q̇).
-inline Eigen::VectorXd TaskValues(const MultibodyModel& model, const std::vector<std::shared_ptr<const TaskSpaceTask>>& tasks, const Eigen::VectorXd& q,
-                                  const Eigen::VectorXd& v, Eigen::MatrixXd* J_out = nullptr, Eigen::VectorXd* Jdq_out = nullptr) {
+inline Eigen::VectorXd TaskValues(const MultibodyModel& model,
+                                  const std::vector<std::shared_ptr<const TaskSpaceTask>>& tasks,
+                                  const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::MatrixXd* J_out = nullptr,
+                                  Eigen::VectorXd* Jdq_out = nullptr) {
   MultibodyWorkspace ws(model);
   int ny = 0;
   for (const auto& t : tasks) ny += t->size();

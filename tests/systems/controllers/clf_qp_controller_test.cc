@@ -3,7 +3,8 @@
 // fallback on a problem built to need it, and the flat-foot CoP rows on the exoskeleton under a lateral push.
 //
 // Independent references:
-//  * for one relative-degree-2 output with Q = I the CARE has the closed form P = [[√3, 1], [1, √3]] (hopping spec A4.2),
+//  * for one relative-degree-2 output with Q = I the CARE has the closed form P = [[√3, 1], [1, √3]] (hopping spec
+//  A4.2),
 //    so γ = 1/λ_max(P) = 1/(√3 + 1) and P_ε = diag(1/ε, 1) P diag(1/ε, 1);
 //  * q̈ from Bullet's articulated-body forward dynamics (CalcForwardDynamics), not the controller's M⁻¹ path;
 //  * contact forces from the plant's constrained dynamics (CalcConstrainedForwardDynamics).
@@ -41,7 +42,8 @@ struct Solved {
   double failures = 0;
 };
 
-Solved RunUpdate(const ClfQpController& controller, LeafContext& context, const Eigen::VectorXd& x, int mode, const Eigen::VectorXd& desired) {
+Solved RunUpdate(const ClfQpController& controller, LeafContext& context, const Eigen::VectorXd& x, int mode,
+                 const Eigen::VectorXd& desired) {
   context.FixInputPort(0, x);
   context.FixAbstractInputPort(1, std::any(mode));
   context.FixInputPort(2, desired);
@@ -73,7 +75,9 @@ TEST(ClfQpController, DoubleIntegratorMeetsTheClfConditionWheneverDeltaIsZero) {
   auto model = LoadTestModel("slider");
   ClfQpParams params;
   params.epsilon = 0.2;
-  ClfQpController controller("clf", model, {0}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"))}, params);
+  ClfQpController controller("clf", model, {0},
+                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"))},
+                             params);
   const double gamma = 1.0 / (std::sqrt(3.0) + 1.0), rate = gamma / params.epsilon;
   EXPECT_NEAR(controller.convergence_rate(0), rate, 1e-9);
   EXPECT_LT((controller.P_epsilon(0) - ClosedFormPEpsilon(1, params.epsilon)).cwiseAbs().maxCoeff(), 1e-8);
@@ -97,7 +101,8 @@ TEST(ClfQpController, DoubleIntegratorMeetsTheClfConditionWheneverDeltaIsZero) {
         EXPECT_LE(Vdot, -rate * V + 1e-4 * (1.0 + V)) << "q = " << q << ", v = " << v << ", u = " << s.u[0];
       } else {
         ++relaxed;
-        EXPECT_NEAR(std::abs(s.u[0]), 20.0, 1e-9) << "a large δ only where the 20 N limit binds; q = " << q << ", v = " << v;
+        EXPECT_NEAR(std::abs(s.u[0]), 20.0, 1e-9)
+            << "a large δ only where the 20 N limit binds; q = " << q << ", v = " << v;
       }
     }
   EXPECT_GE(unrelaxed, 3);
@@ -111,7 +116,9 @@ TEST(ClfQpController, ClfActivityCountsTheUpdatesWhereTheClfRowBinds) {
   auto model = LoadTestModel("slider");
   ClfQpParams params;
   params.epsilon = 0.2;
-  ClfQpController controller("clf", model, {0}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"))}, params);
+  ClfQpController controller("clf", model, {0},
+                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("x", *model, "slide"))},
+                             params);
   const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
   const Eigen::MatrixXd P = ClosedFormPEpsilon(1, params.epsilon);
   auto context = controller.CreateDefaultLeafContext();
@@ -125,13 +132,15 @@ TEST(ClfQpController, ClfActivityCountsTheUpdatesWhereTheClfRowBinds) {
       ASSERT_EQ(s.status, QpStatus::kOptimal);
       const ClfQpDiagnostics after = controller.EvalTypedOutput<ClfQpDiagnostics>(*context, "diagnostics");
       const Eigen::Vector2d counted(after.clf_active - before.clf_active, after.solved - before.solved);
-      EXPECT_EQ(counted, controller.EvalOutput(*context, "clf_activity") - Eigen::Vector2d(before.clf_active, before.solved));
+      EXPECT_EQ(counted,
+                controller.EvalOutput(*context, "clf_activity") - Eigen::Vector2d(before.clf_active, before.solved));
       EXPECT_EQ(counted[1], 1.0);  // one solved update
       if (V == 0.0) {
         EXPECT_EQ(counted[0], 0.0) << "η = 0: the row 0 ≤ δ is not counted";
       } else if (Vdot0 + rate * V > 1e-6 * (1.0 + V)) {
         ++active;
-        EXPECT_EQ(counted[0], 1.0) << "q = " << q << ", v = " << v << ": u = 0 breaks the CLF condition, the row must bind";
+        EXPECT_EQ(counted[0], 1.0) << "q = " << q << ", v = " << v
+                                   << ": u = 0 breaks the CLF condition, the row must bind";
         EXPECT_GT(std::abs(s.u[0]), 1e-6);
       } else if (Vdot0 + rate * V < -1e-6 * (1.0 + V)) {
         ++slack;
@@ -150,10 +159,11 @@ TEST(ClfQpController, TwoLinkArmMeetsTheClfConditionAgainstIndependentDynamics) 
   auto model = LoadTestModel("arm");
   ClfQpParams params;
   params.epsilon = 0.1;
-  ClfQpController controller("clf", model, {0},
-                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
-                              ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))},
-                             params);
+  ClfQpController controller(
+      "clf", model, {0},
+      {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
+       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))},
+      params);
   auto context = controller.CreateDefaultLeafContext();
   MultibodyWorkspace ws(*model);
   const Eigen::MatrixXd P = ClosedFormPEpsilon(2, params.epsilon);
@@ -196,10 +206,11 @@ TEST(ClfQpController, CostOnlyOutputTracksItsPdTargetOutsideTheClf) {
   params.cost_only_outputs = {"elbow"};
   params.u_regularization = 0.0;  // the QP's optimum is then exactly the PD target
   const TaskGains elbow_gains{1.0, 144.0, 24.0};
-  ClfQpController controller("clf", model, {0},
-                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
-                              ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow", elbow_gains))},
-                             params);
+  ClfQpController controller(
+      "clf", model, {0},
+      {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
+       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow", elbow_gains))},
+      params);
   EXPECT_LT((controller.P_epsilon(0) - ClosedFormPEpsilon(1, params.epsilon)).cwiseAbs().maxCoeff(), 1e-8);
   auto context = controller.CreateDefaultLeafContext();
   MultibodyWorkspace ws(*model);
@@ -234,10 +245,12 @@ TEST(ClfQpController, CostOnlyOutputTracksItsPdTargetOutsideTheClf) {
   try {
     ClfQpParams bad;
     bad.cost_only_outputs = {"wrist"};
-    ClfQpController("clf", model, {0}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))}, bad);
+    ClfQpController("clf", model, {0},
+                    {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))}, bad);
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "system 'clf': params.cost_only_outputs names 'wrist', which is not an output of this controller");
+    EXPECT_EQ(std::string(e.what()),
+              "system 'clf': params.cost_only_outputs names 'wrist', which is not an output of this controller");
   }
 }
 
@@ -251,10 +264,11 @@ TEST(ClfQpController, CostPdFeedbackTracksThePdTargetsWhereTheClfRowIsSlack) {
   params.cost_pd_feedback = true;
   params.u_regularization = 0.0;
   const TaskGains gains{1.0, 100.0, 20.0};
-  ClfQpController controller("clf", model, {0},
-                             {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder", gains)),
-                              ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow", gains))},
-                             params);
+  ClfQpController controller(
+      "clf", model, {0},
+      {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder", gains)),
+       ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow", gains))},
+      params);
   auto context = controller.CreateDefaultLeafContext();
   MultibodyWorkspace ws(*model);
   const Eigen::MatrixXd P = ClosedFormPEpsilon(2, params.epsilon);
@@ -338,8 +352,8 @@ TEST(ClfQpController, HoldDriftRowsKeepThePredictedForceInsideThePyramid) {
   // Planar point contact: rows (F_x, F_z).
   ASSERT_EQ(rows, 2);
   std::printf("  hold drift d = (%.3f, %.3f) N, planned (%.3f, %.3f) N, predicted |F_x| %.3f <= %.3f\n", d[0], d[1],
-              controller.last_constraint_forces(*context)[0], controller.last_constraint_forces(*context)[1], std::abs(predicted[0]),
-              mu * (predicted[1] - 1.5));
+              controller.last_constraint_forces(*context)[0], controller.last_constraint_forces(*context)[1],
+              std::abs(predicted[0]), mu * (predicted[1] - 1.5));
   EXPECT_GT(d.norm(), 1e-3) << "the state moved over the hold, so the plant's force drifts";
   EXPECT_GE(predicted[1], 2.0 - 1e-6);
   EXPECT_LE(std::abs(predicted[0]), mu * (predicted[1] - 1.5) + 1e-6);
@@ -376,8 +390,10 @@ TEST(ClfQpController, FormulationsAgreeAndMatchThePlantsForces) {
     // The plant, given these torques, applies the planned forces.
     Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
     CalcConstrainedForwardDynamics(*model, ws, q, v, s.u, left, ConstrainedDynamicsParameters{}, qdd, F);
-    EXPECT_LT((F.head(rows) - controller.last_constraint_forces(*context)).cwiseAbs().maxCoeff(), 1e-6) << "formulation " << f;
-    std::printf("  formulation %d: u = [%.6f %.6f %.6f %.6f], delta %.3g, V %.4g\n", f, s.u[0], s.u[1], s.u[2], s.u[3], s.delta, s.V);
+    EXPECT_LT((F.head(rows) - controller.last_constraint_forces(*context)).cwiseAbs().maxCoeff(), 1e-6)
+        << "formulation " << f;
+    std::printf("  formulation %d: u = [%.6f %.6f %.6f %.6f], delta %.3g, V %.4g\n", f, s.u[0], s.u[1], s.u[2], s.u[3],
+                s.delta, s.V);
   }
   EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-8 * (1.0 + u[0].cwiseAbs().maxCoeff()));
 }
@@ -394,8 +410,9 @@ struct AmberBandSetup {
       ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}))};
   Eigen::VectorXd Desired() const {
     Eigen::VectorXd desired = Eigen::VectorXd::Zero(9);
-    desired.head(3) = test::TaskValues(*model, {std::make_shared<BodyPitchTask>("p", *model, "torso"),
-                                                std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
+    desired.head(3) = test::TaskValues(*model,
+                                       {std::make_shared<BodyPitchTask>("p", *model, "torso"),
+                                        std::make_shared<ComPositionTask>("c", std::vector<Axis>{Axis::kX, Axis::kZ})},
                                        q, v);
     return desired;
   }
@@ -433,8 +450,9 @@ TEST(ClfQpController, ForceBandHoldsAtZeroReference) {
 
 // force_band_loading_floor_N (20 N): the left foot's reference is 0 N in double support. At the first update (the
 // contact was not in the mode before: loading) the plant's own constrained dynamics at the QP's torques give the left
-// foot at least 20 N, also while the zero reference wobbles by solver noise; after an update at 50 N the reference falls to 0 (unloading) and the band (1 ± c) · 0 holds it at
-// 0 N, as without a floor. Both on the plant's forces, not the QP's.
+// foot at least 20 N, also while the zero reference wobbles by solver noise; after an update at 50 N the reference
+// falls to 0 (unloading) and the band (1 ± c) · 0 holds it at 0 N, as without a floor. Both on the plant's forces, not
+// the QP's.
 TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
   const AmberBandSetup a;
   const ContactSet both = ContactBit(a.l) | ContactBit(a.r);
@@ -467,8 +485,8 @@ TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
   const Solved unloading = update(4e-3, 0.0);
   ASSERT_EQ(unloading.status, QpStatus::kOptimal);
   const double f_unloading = plant_left_fz(unloading.u);
-  std::printf("  plant F_z left: loading %.4g N (floor %.0f N), noisy zero reference %.4g N, unloading %.3g N\n", f_loading,
-              floor, f_noisy, f_unloading);
+  std::printf("  plant F_z left: loading %.4g N (floor %.0f N), noisy zero reference %.4g N, unloading %.3g N\n",
+              f_loading, floor, f_noisy, f_unloading);
   EXPECT_GE(f_loading, floor - 1e-6);
   EXPECT_GE(f_noisy, floor - 1e-6);
   EXPECT_LE(f_loading, floor + 1e-6);  // the band's upper edge is raised to the floor, no further
@@ -477,7 +495,8 @@ TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
 }
 
 // force_band_carry_inactive: in left stance, the right foot's planned 0.7 m g moves to the left foot, so the band is
-// (1 ± c) · m g there; checked on the plant's own constrained dynamics at the QP's torques (off: the band holds 0.3 m g).
+// (1 ± c) · m g there; checked on the plant's own constrained dynamics at the QP's torques (off: the band holds 0.3 m
+// g).
 TEST(ClfQpController, ForceBandCarriesTheInactiveContactsLoad) {
   const AmberBandSetup a;
   const ContactSet left = ContactBit(a.l);
@@ -555,15 +574,20 @@ TEST(ClfQpController, CopFallbackFiresWhenOnlyTheCopRowsConflict) {
   // The independent check that the problem is built right: the plant's passive forces put the CoP off the sole.
   MultibodyWorkspace ws(*model);
   Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
-  CalcConstrainedForwardDynamics(*model, ws, q, v, Eigen::VectorXd::Zero(1), on, ConstrainedDynamicsParameters{}, qdd, F);
-  const ContactForceCheck check = CheckContactForce(*model, ws, q, sole, ExtractContactWrench(*model, ws, q, on, F, sole));
-  std::printf("  passive footed pendulum: F_z %.2f N, CoP (%.3f, %.3f) m, CoP on the sole %d\n", check.normal_force_N, check.cop.x(), check.cop.y(), check.cop_ok);
+  CalcConstrainedForwardDynamics(*model, ws, q, v, Eigen::VectorXd::Zero(1), on, ConstrainedDynamicsParameters{}, qdd,
+                                 F);
+  const ContactForceCheck check =
+      CheckContactForce(*model, ws, q, sole, ExtractContactWrench(*model, ws, q, on, F, sole));
+  std::printf("  passive footed pendulum: F_z %.2f N, CoP (%.3f, %.3f) m, CoP on the sole %d\n", check.normal_force_N,
+              check.cop.x(), check.cop.y(), check.cop_ok);
   ASSERT_TRUE(check.unilateral_ok);
   ASSERT_FALSE(check.cop_ok);
   ClfQpParams params;
   params.torque_limits = Eigen::VectorXd::Zero(1);
   params.contact.friction_coefficient = 100.0;
-  ClfQpController controller("clf", model, {on}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pivot", *model, "pivot"))}, params);
+  ClfQpController controller(
+      "clf", model, {on}, {ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pivot", *model, "pivot"))},
+      params);
   auto context = controller.CreateDefaultLeafContext();
   const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, Eigen::VectorXd::Zero(3));
   EXPECT_EQ(s.status, QpStatus::kOptimal);
@@ -581,8 +605,9 @@ TEST(ClfQpController, CopFallbackFiresWhenOnlyTheCopRowsConflict) {
 TEST(ClfQpController, PerActuatorTorquePenaltyMeetsItsKktConditions) {
   auto model = LoadTestModel("arm");
   auto outputs = [&] {
-    return std::vector<ClfOutput>{ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
-                                  ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))};
+    return std::vector<ClfOutput>{
+        ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("shoulder", *model, "shoulder")),
+        ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("elbow", *model, "elbow"))};
   };
   ClfQpParams params;
   params.epsilon = 0.1;
@@ -613,7 +638,8 @@ TEST(ClfQpController, PerActuatorTorquePenaltyMeetsItsKktConditions) {
     ASSERT_EQ(s.status, QpStatus::kOptimal);
     ASSERT_EQ(su.status, QpStatus::kOptimal);
     max_difference = std::max(max_difference, (s.u - su.u).norm());
-    if (std::abs(s.u[0]) > 59.0 || std::abs(s.u[1]) > 39.0) continue;  // a torque limit binds: stationarity has its term
+    if (std::abs(s.u[0]) > 59.0 || std::abs(s.u[1]) > 39.0)
+      continue;  // a torque limit binds: stationarity has its term
     Eigen::VectorXd qdd0(2), qdd(2);
     CalcForwardDynamics(*model, ws, q, v, Eigen::Vector2d::Zero(), Eigen::VectorXd(0), qdd0);
     Eigen::Matrix2d Q;
@@ -627,15 +653,18 @@ TEST(ClfQpController, PerActuatorTorquePenaltyMeetsItsKktConditions) {
     const Eigen::Vector4d Peta = P * eta;
     const Eigen::Vector2d LGV = 2.0 * Peta.tail(2);
     Eigen::Vector2d penalty;
-    for (int j = 0; j < 2; ++j) penalty[j] = params.u_regularization * params.u_regularization_weights[j] / (M(j, j) * M(j, j));
-    const Eigen::Vector2d grad = Q.transpose() * (qdd0 + Q * s.u) + penalty.cwiseProduct(s.u) + p * s.delta * Q.transpose() * LGV;
+    for (int j = 0; j < 2; ++j)
+      penalty[j] = params.u_regularization * params.u_regularization_weights[j] / (M(j, j) * M(j, j));
+    const Eigen::Vector2d grad =
+        Q.transpose() * (qdd0 + Q * s.u) + penalty.cwiseProduct(s.u) + p * s.delta * Q.transpose() * LGV;
     const double size = (Q.transpose() * (qdd0 + Q * s.u)).norm() + penalty.cwiseProduct(s.u).norm() + 1.0;
     EXPECT_LT(grad.norm(), 1e-6 * size) << "sample " << k << ", delta " << s.delta << ", u " << s.u.transpose();
     // Primal feasibility of the CLF row: V̇ ≤ −(γ/ε) V + δ.
     const double rate = 1.0 / (std::sqrt(3.0) + 1.0) / params.epsilon;
     Eigen::Vector4d eta_dot;
     eta_dot << v, qdd0 + Q * s.u;
-    EXPECT_LE(2.0 * eta.dot(P * eta_dot), -rate * eta.dot(Peta) + s.delta + 1e-6 * (1.0 + eta.dot(Peta))) << "sample " << k;
+    EXPECT_LE(2.0 * eta.dot(P * eta_dot), -rate * eta.dot(Peta) + s.delta + 1e-6 * (1.0 + eta.dot(Peta)))
+        << "sample " << k;
     ++checked;
     if (s.delta > 0.0) ++clf_bound;
   }
@@ -662,7 +691,8 @@ TEST(ClfQpController, BadParametersAndInputsAreNamed) {
         try {
           ClfQpController("clf", model, {0}, {out}, bad_weights);
         } catch (const std::runtime_error& e) {
-          EXPECT_EQ(std::string(e.what()), "system 'clf': params.u_regularization_weights has 2 entries, expected 1 (one per actuator)");
+          EXPECT_EQ(std::string(e.what()),
+                    "system 'clf': params.u_regularization_weights has 2 entries, expected 1 (one per actuator)");
           throw;
         }
       },

@@ -19,7 +19,8 @@ namespace rome {
 namespace {
 
 std::vector<ClfOutput> StandingOutputs(const MultibodyModel& model) {
-  return {ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kY, Axis::kZ})),
+  return {ClfOutput::RelativeDegreeTwo(
+              std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kY, Axis::kZ})),
           ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("roll", model, "base_roll")),
           ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pitch", model, "base_pitch")),
           ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("yaw", model, "base_yaw"))};
@@ -61,7 +62,8 @@ TEST_P(ExoskeletonStanding, LateralPushKeepsThePlantsCopInsideEachSole) {
   params.contact.friction_margin = 0.95;
   params.contact_stabilization = plant->params().dynamics;
   const auto outputs = StandingOutputs(*model);
-  auto* controller = b.AddSystem(std::make_unique<ClfQpController>("clf", model, ActiveContactsPerMode(*plant), outputs, params));
+  auto* controller =
+      b.AddSystem(std::make_unique<ClfQpController>("clf", model, ActiveContactsPerMode(*plant), outputs, params));
   Eigen::VectorXd desired = Eigen::VectorXd::Zero(18);
   desired.head(3) = CalcComPosition(*model, ws, model->q_nominal());  // hold the COM; roll, pitch, yaw at 0
   b.FixInput("clf", "desired", desired);
@@ -86,10 +88,12 @@ TEST_P(ExoskeletonStanding, LateralPushKeepsThePlantsCopInsideEachSole) {
     (void)f;
     // The plant's wrench on each foot, from its own constrained dynamics at this state and input.
     Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
-    CalcConstrainedForwardDynamics(*model, ws, q, ctx.continuous_state().tail(model->nv()), controller->EvalOutput(diagram->GetSubsystemContext(*controller, c), "u"),
-                                   both, plant->params().dynamics, qdd, F);
+    CalcConstrainedForwardDynamics(*model, ws, q, ctx.continuous_state().tail(model->nv()),
+                                   controller->EvalOutput(diagram->GetSubsystemContext(*controller, c), "u"), both,
+                                   plant->params().dynamics, qdd, F);
     for (int cidx : {l, r}) {
-      const ContactForceCheck check = CheckContactForce(*model, ws, q, cidx, ExtractContactWrench(*model, ws, q, both, F, cidx));
+      const ContactForceCheck check =
+          CheckContactForce(*model, ws, q, cidx, ExtractContactWrench(*model, ws, q, both, F, cidx));
       cop_outside += check.cop_ok ? 0 : 1;
       unilateral_bad += check.unilateral_ok ? 0 : 1;
       friction_bad += check.friction_ok ? 0 : 1;
@@ -112,8 +116,9 @@ TEST_P(ExoskeletonStanding, LateralPushKeepsThePlantsCopInsideEachSole) {
   // The push is absorbed: the pelvis has stopped moving sideways and the COM is back near its target.
   const Eigen::VectorXd& x = pc.continuous_state();
   const Eigen::Vector3d com = CalcComPosition(*model, ws, x.head(model->nv()));
-  std::printf("  after 0.6 s: COM error %.2e m, lateral COM speed %.2e m/s, min F_z %.1f N, %ld steps\n", (com - desired.head(3)).norm(),
-              CalcComVelocity(*model, ws, x.head(model->nv()), x.tail(model->nv())).y(), min_fz, steps);
+  std::printf("  after 0.6 s: COM error %.2e m, lateral COM speed %.2e m/s, min F_z %.1f N, %ld steps\n",
+              (com - desired.head(3)).norm(), CalcComVelocity(*model, ws, x.head(model->nv()), x.tail(model->nv())).y(),
+              min_fz, steps);
   EXPECT_LT((com - desired.head(3)).norm(), 0.02);
   (void)worst_cop_margin;
 }
@@ -152,7 +157,8 @@ TEST_P(ExoskeletonStanding, UpdateAllocatesNothingOnceRunning) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formulations, ExoskeletonStanding,
-                         ::testing::Values(ClfQpFormulation::kEliminateContactForces, ClfQpFormulation::kAugmentedInput));
+                         ::testing::Values(ClfQpFormulation::kEliminateContactForces,
+                                           ClfQpFormulation::kAugmentedInput));
 
 }  // namespace
 }  // namespace rome

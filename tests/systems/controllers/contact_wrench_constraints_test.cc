@@ -21,7 +21,7 @@ namespace {
 struct Sole {
   std::shared_ptr<const MultibodyModel> model;
   int contact = -1;
-  Eigen::Matrix3d R;                    // foot frame in the world
+  Eigen::Matrix3d R;                     // foot frame in the world
   std::vector<Eigen::Vector3d> corners;  // foot frame, relative to the contact frame origin
 };
 
@@ -54,7 +54,9 @@ double Slack(const Sole& s, const ContactWrenchConstraints& c, const Eigen::Matr
   const Eigen::VectorXd g = G * F;
   double slack = std::numeric_limits<double>::infinity();
   for (int r = 0; r < c.num_rows(); ++r) {
-    if (c.kind(r) != ContactWrenchConstraints::RowKind::kYawMoment && c.kind(r) != ContactWrenchConstraints::RowKind::kCenterOfPressure) continue;
+    if (c.kind(r) != ContactWrenchConstraints::RowKind::kYawMoment &&
+        c.kind(r) != ContactWrenchConstraints::RowKind::kCenterOfPressure)
+      continue;
     slack = std::min({slack, g[r] - l[r], u[r] - g[r]});
   }
   return slack;
@@ -80,7 +82,9 @@ TEST(ContactWrenchConstraints, CornerWrenchConeHoldsEveryWrenchOfCornerForcesInT
     std::vector<Eigen::Vector3d> forces;
     for (size_t i = 0; i < s.corners.size(); ++i) {
       const double fz = unit(rng) < 0.25 ? 0.0 : 100.0 * unit(rng);
-      auto tangential = [&] { return mu * fz * (unit(rng) < 0.5 ? (unit(rng) < 0.5 ? 1.0 : -1.0) : sym(rng)); };  // often on the pyramid's edge
+      auto tangential = [&] {
+        return mu * fz * (unit(rng) < 0.5 ? (unit(rng) < 0.5 ? 1.0 : -1.0) : sym(rng));
+      };  // often on the pyramid's edge
       forces.emplace_back(tangential(), tangential(), fz);
     }
     worst = std::min(worst, Slack(s, c, WrenchOf(s, forces)) / 100.0);

@@ -18,8 +18,8 @@ namespace {
 
 // Cost matrix P of u = −K x for the cost xᵀQx + uᵀRu + 2xᵀNu: (A−BK)ᵀP + P(A−BK) + Q − NK − KᵀNᵀ + KᵀRK = 0, by
 // vec(P) = −(I ⊗ Aclᵀ + Aclᵀ ⊗ I)⁻¹ vec(Q_K).
-Eigen::MatrixXd CostOfGain(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
-                           const Eigen::MatrixXd& N, const Eigen::MatrixXd& K) {
+Eigen::MatrixXd CostOfGain(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                           const Eigen::MatrixXd& R, const Eigen::MatrixXd& N, const Eigen::MatrixXd& K) {
   const Eigen::Index n = A.rows();
   const Eigen::MatrixXd Acl_t = (A - B * K).transpose();
   const Eigen::MatrixXd Q_K = Q - N * K - K.transpose() * N.transpose() + K.transpose() * R * K;
@@ -95,18 +95,30 @@ TEST(LinearQuadraticRegulator, ErrorsAreOneLineAndNameTheMatrix) {
   Eigen::Matrix2d A;
   A << 0, 1, 0, 0;
   const Eigen::MatrixXd B = Eigen::Vector2d(0, 1), Q = Eigen::Matrix2d::Identity(), R = Eigen::MatrixXd::Identity(1, 1);
-  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, B, Eigen::Matrix3d::Identity(), R); }), "LinearQuadraticRegulator: Q must be 2x2, got 3x3");
-  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, Eigen::MatrixXd::Ones(3, 1), Q, R); }), "LinearQuadraticRegulator: B must be 2x1, got 3x1");
+  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, B, Eigen::Matrix3d::Identity(), R); }),
+            "LinearQuadraticRegulator: Q must be 2x2, got 3x3");
+  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, Eigen::MatrixXd::Ones(3, 1), Q, R); }),
+            "LinearQuadraticRegulator: B must be 2x1, got 3x1");
   Eigen::Matrix2d Q_asym;
   Q_asym << 1, 0.5, 0, 1;
-  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, B, Q_asym, R); }).rfind("LinearQuadraticRegulator: Q must be symmetric", 0), 0u);
-  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, B, Q, -R); }), "LinearQuadraticRegulator: R must be positive definite, its smallest eigenvalue is -1");
-  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, B, Q, R, Eigen::Vector2d(3, 0)); }).rfind("LinearQuadraticRegulator: Q − N R⁻¹ Nᵀ must be positive semidefinite", 0), 0u);
+  EXPECT_EQ(ErrorOf([&] {
+              LinearQuadraticRegulator(A, B, Q_asym, R);
+            }).rfind("LinearQuadraticRegulator: Q must be symmetric", 0),
+            0u);
+  EXPECT_EQ(ErrorOf([&] { LinearQuadraticRegulator(A, B, Q, -R); }),
+            "LinearQuadraticRegulator: R must be positive definite, its smallest eigenvalue is -1");
+  EXPECT_EQ(ErrorOf([&] {
+              LinearQuadraticRegulator(A, B, Q, R, Eigen::Vector2d(3, 0));
+            }).rfind("LinearQuadraticRegulator: Q − N R⁻¹ Nᵀ must be positive semidefinite", 0),
+            0u);
   // ẋ1 = x1 (unstable) is not reached by u.
   Eigen::Matrix2d A_unreachable;
   A_unreachable << 1, 0, 0, 0;
   const std::string unstabilisable = ErrorOf([&] { LinearQuadraticRegulator(A_unreachable, B, Q, R); });
-  EXPECT_EQ(unstabilisable.rfind("LinearQuadraticRegulator: SolveContinuousAlgebraicRiccatiEquation: (A, B) is not stabilizable", 0), 0u) << unstabilisable;
+  EXPECT_EQ(unstabilisable.rfind(
+                "LinearQuadraticRegulator: SolveContinuousAlgebraicRiccatiEquation: (A, B) is not stabilizable", 0),
+            0u)
+      << unstabilisable;
   for (const std::string& e : {unstabilisable}) EXPECT_EQ(e.find('\n'), std::string::npos);
 }
 

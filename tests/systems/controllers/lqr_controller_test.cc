@@ -28,7 +28,8 @@ class CartPole final : public LeafSystem {
   CartPole() : LeafSystem("cart_pole") {
     DeclareContinuousState(4);
     DeclareInputPort("f", 1);
-    DeclareOutputPort("x", 4, [](const LeafContext& c, Eigen::VectorXd* x) { *x = c.continuous_state(); }, Feedthrough::None());
+    DeclareOutputPort(
+        "x", 4, [](const LeafContext& c, Eigen::VectorXd* x) { *x = c.continuous_state(); }, Feedthrough::None());
   }
   // Jacobians at the upright with f = 0 (first-order terms of the equations above).
   static Eigen::Matrix4d UprightA() {
@@ -46,7 +47,8 @@ class CartPole final : public LeafSystem {
     const double f = EvalInput(c, 0)[0], s = std::sin(x[1]), co = std::cos(x[1]), w = x[3];
     const double D = m_c + m_p * s * s;
     xdot->resize(4);
-    *xdot << x[2], w, (f + m_p * s * (l * w * w - g * co)) / D, ((m_c + m_p) * g * s - f * co - m_p * l * w * w * s * co) / (l * D);
+    *xdot << x[2], w, (f + m_p * s * (l * w * w - g * co)) / D,
+        ((m_c + m_p) * g * s - f * co - m_p * l * w * w * s * co) / (l * D);
   }
 };
 
@@ -85,16 +87,23 @@ TEST(LqrController, ConvenienceGainMatchesHamiltonianReference) {
   const LqrController exact("lqr", A, B, Weights(), R, Eigen::Vector4d::Zero(), Eigen::VectorXd::Zero(1));
   EXPECT_LT((exact.S() - S_ref).norm() / S_ref.norm(), 1e-10);
   EXPECT_LT((exact.K() - K_ref).norm() / K_ref.norm(), 1e-10);
-  std::printf("cart-pole K = [%s], |K - K_ref|/|K_ref| = %.1e (linearised), %.1e (exact A, B)\n",
-              [&] { std::string s; for (int i = 0; i < 4; ++i) s += (i ? ", " : "") + std::to_string(from_system.K(0, i)); return s; }().c_str(),
-              (from_system.K - K_ref).norm() / K_ref.norm(), (exact.K() - K_ref).norm() / K_ref.norm());
+  std::printf(
+      "cart-pole K = [%s], |K - K_ref|/|K_ref| = %.1e (linearised), %.1e (exact A, B)\n",
+      [&] {
+        std::string s;
+        for (int i = 0; i < 4; ++i) s += (i ? ", " : "") + std::to_string(from_system.K(0, i));
+        return s;
+      }()
+          .c_str(),
+      (from_system.K - K_ref).norm() / K_ref.norm(), (exact.K() - K_ref).norm() / K_ref.norm());
 }
 
 // u = u0 − K (x − x0) at an arbitrary x.
 TEST(LqrController, OutputIsAffineFeedbackAboutTheOperatingPoint) {
   const Eigen::Vector4d x0(0.5, 0, 0, 0);
   const Eigen::VectorXd u0 = Eigen::VectorXd::Constant(1, 0.25);
-  const LqrController lqr("lqr", CartPole::UprightA(), CartPole::UprightB(), Weights(), Eigen::MatrixXd::Identity(1, 1), x0, u0);
+  const LqrController lqr("lqr", CartPole::UprightA(), CartPole::UprightB(), Weights(), Eigen::MatrixXd::Identity(1, 1),
+                          x0, u0);
   auto context = lqr.CreateDefaultLeafContext();
   const Eigen::Vector4d x(0.1, -0.2, 0.3, 0.05);
   lqr.FixInputPort(*context, 0, x);
@@ -122,7 +131,8 @@ TEST(LqrController, BalancesCartPoleFromATilt) {
   const double slowest = (CartPole::UprightA() - CartPole::UprightB() * lqr->K()).eigenvalues().real().maxCoeff();
   ASSERT_LT(slowest, 0.0);
   const double t_final = 8.0;
-  EXPECT_LT(std::exp(slowest * t_final) * 0.15 * 10, 1e-3) << "slowest pole " << slowest;  // 10: transient growth allowance
+  EXPECT_LT(std::exp(slowest * t_final) * 0.15 * 10, 1e-3)
+      << "slowest pole " << slowest;  // 10: transient growth allowance
 
   Simulator simulator(*diagram);
   LeafContext& x = diagram->GetMutableSubsystemContext(*plant, simulator.get_mutable_context());
@@ -137,24 +147,26 @@ TEST(LqrController, BalancesCartPoleFromATilt) {
   const Eigen::VectorXd& x_final = diagram->GetSubsystemContext(*plant, simulator.get_context()).continuous_state();
   EXPECT_LT(x_final.cwiseAbs().maxCoeff(), 1e-3) << x_final.transpose();
   EXPECT_LT(max_tilt, 0.3);  // never near falling
-  std::printf("slowest closed-loop pole %.3f 1/s; after %.0f s |x|_inf = %.1e; max tilt %.3f rad; %ld steps\n", slowest, t_final,
-              x_final.cwiseAbs().maxCoeff(), max_tilt, simulator.statistics().steps);
+  std::printf("slowest closed-loop pole %.3f 1/s; after %.0f s |x|_inf = %.1e; max tilt %.3f rad; %ld steps\n", slowest,
+              t_final, x_final.cwiseAbs().maxCoeff(), max_tilt, simulator.statistics().steps);
 }
 
 TEST(LqrController, ErrorsNameTheSystem) {
   try {
-    LqrController("balance_lqr", CartPole::UprightA(), CartPole::UprightB(), Weights(), Eigen::MatrixXd::Identity(1, 1), Eigen::Vector3d::Zero(),
-                  Eigen::VectorXd::Zero(1));
+    LqrController("balance_lqr", CartPole::UprightA(), CartPole::UprightB(), Weights(), Eigen::MatrixXd::Identity(1, 1),
+                  Eigen::Vector3d::Zero(), Eigen::VectorXd::Zero(1));
     FAIL() << "a wrong x0 was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "system 'balance_lqr': x0 must have size 4, got 3");
   }
   try {
-    LqrController("balance_lqr", CartPole::UprightA(), CartPole::UprightB(), Weights(), Eigen::MatrixXd::Zero(1, 1), Eigen::Vector4d::Zero(),
-                  Eigen::VectorXd::Zero(1));
+    LqrController("balance_lqr", CartPole::UprightA(), CartPole::UprightB(), Weights(), Eigen::MatrixXd::Zero(1, 1),
+                  Eigen::Vector4d::Zero(), Eigen::VectorXd::Zero(1));
     FAIL() << "R = 0 was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "system 'balance_lqr': LinearQuadraticRegulator: R must be positive definite, its smallest eigenvalue is 0");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "system 'balance_lqr': LinearQuadraticRegulator: R must be positive definite, its smallest eigenvalue is 0");
   }
 }
 

@@ -9,8 +9,8 @@ namespace rome {
 
 // Stabilising CARE solution from the stable invariant subspace of H = [A −BR⁻¹Bᵀ; −Q −Aᵀ]: with the eigenvectors
 // [U1; U2] of the n eigenvalues of H with negative real part, S = U2 U1⁻¹ (real up to round-off).
-inline Eigen::MatrixXd HamiltonianStableSubspaceSolution(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                                                         const Eigen::MatrixXd& R) {
+inline Eigen::MatrixXd HamiltonianStableSubspaceSolution(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
+                                                         const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R) {
   const Eigen::Index n = A.rows();
   Eigen::MatrixXd H(2 * n, 2 * n);
   H << A, -B * R.inverse() * B.transpose(), -Q, -A.transpose();
@@ -27,8 +27,8 @@ inline Eigen::MatrixXd HamiltonianStableSubspaceSolution(const Eigen::MatrixXd& 
 }
 
 // ‖AᵀS + SA − SBR⁻¹BᵀS + Q‖_F / ‖Q‖_F, written out here.
-inline double RelativeCareResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
-                                   const Eigen::MatrixXd& S) {
+inline double RelativeCareResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                                   const Eigen::MatrixXd& R, const Eigen::MatrixXd& S) {
   return (A.transpose() * S + S * A - S * B * R.inverse() * B.transpose() * S + Q).norm() / Q.norm();
 }
 

@@ -17,8 +17,8 @@ namespace {
 
 // Fixes the controller's inputs (state, mode 0, desired outputs) and runs one update, which sizes everything lazily
 // built. Returns the next discrete state to reuse.
-Eigen::VectorXd FixInputsAndPrime(const TaskSpaceQpController& controller, LeafContext& context, const Eigen::VectorXd& x,
-                                  const Eigen::VectorXd& desired) {
+Eigen::VectorXd FixInputsAndPrime(const TaskSpaceQpController& controller, LeafContext& context,
+                                  const Eigen::VectorXd& x, const Eigen::VectorXd& desired) {
   context.FixInputPort(0, x);
   context.FixAbstractInputPort(1, std::any(0));
   context.FixInputPort(2, desired);
@@ -64,7 +64,8 @@ TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
     g_counting = false;
     allocations += g_allocations;
     ASSERT_TRUE(status.ok()) << status.message;
-    ASSERT_EQ(controller.last_qp(*context).status(), QpStatus::kOptimal) << controller.last_qp(*context).status_message();
+    ASSERT_EQ(controller.last_qp(*context).status(), QpStatus::kOptimal)
+        << controller.last_qp(*context).status_message();
   }
   EXPECT_EQ(allocations, 0);
 }

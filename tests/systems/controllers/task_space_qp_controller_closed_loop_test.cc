@@ -38,14 +38,18 @@ struct ClosedLoopResult {
   SimulatorStatus status;
 };
 
-ClosedLoopResult RunClosedLoop(std::shared_ptr<const MultibodyModel> model, const ContactModeGraph& graph, const Eigen::VectorXd& q0, const Tasks& tasks,
-                               const Eigen::VectorXd& y_desired, double duration_s) {
+ClosedLoopResult RunClosedLoop(std::shared_ptr<const MultibodyModel> model, const ContactModeGraph& graph,
+                               const Eigen::VectorXd& q0, const Tasks& tasks, const Eigen::VectorXd& y_desired,
+                               double duration_s) {
   DiagramBuilder builder;
   HybridContactPlantParams plant_params;
-  auto* plant = builder.AddSystem(std::make_unique<HybridContactPlant>("amber", model, graph, Terrain::Flat(), plant_params));
-  auto* controller = builder.AddSystem(std::make_unique<TaskSpaceQpController>("tsc", model, ActiveContactsPerMode(*plant), tasks));
+  auto* plant =
+      builder.AddSystem(std::make_unique<HybridContactPlant>("amber", model, graph, Terrain::Flat(), plant_params));
+  auto* controller =
+      builder.AddSystem(std::make_unique<TaskSpaceQpController>("tsc", model, ActiveContactsPerMode(*plant), tasks));
   const int ny = controller->num_task_outputs();
-  builder.AddSystem(std::make_unique<ConstantVectorSource>("desired", Stack(y_desired, Eigen::VectorXd::Zero(ny), Eigen::VectorXd::Zero(ny))));
+  builder.AddSystem(std::make_unique<ConstantVectorSource>(
+      "desired", Stack(y_desired, Eigen::VectorXd::Zero(ny), Eigen::VectorXd::Zero(ny))));
   builder.Connect("amber", "state", "tsc", "state");
   builder.Connect("amber", "mode", "tsc", "mode");
   builder.Connect("desired", "y", "tsc", "desired");
@@ -72,9 +76,10 @@ ClosedLoopResult RunClosedLoop(std::shared_ptr<const MultibodyModel> model, cons
   const Eigen::VectorXd x = pc.continuous_state();
   r.final_error = TaskValues(*model, tasks, x.head(model->nv()), x.tail(model->nv())) - y_desired;
   r.qp_failures = controller->EvalOutput(cc, "qp_failures")[0];
-  std::printf("  closed loop %.1f s: %s, final |error| %.2e, min F_z %.1f N, max |F_x|/F_z %.3f, %ld steps, %ld samples\n", duration_s,
-              r.status.ToString().c_str(), r.final_error.cwiseAbs().maxCoeff(), r.min_normal_force, r.worst_friction_ratio, sim.statistics().steps,
-              sim.statistics().discrete_samples);
+  std::printf(
+      "  closed loop %.1f s: %s, final |error| %.2e, min F_z %.1f N, max |F_x|/F_z %.3f, %ld steps, %ld samples\n",
+      duration_s, r.status.ToString().c_str(), r.final_error.cwiseAbs().maxCoeff(), r.min_normal_force,
+      r.worst_friction_ratio, sim.statistics().steps, sim.statistics().discrete_samples);
   return r;
 }
 
@@ -87,7 +92,8 @@ TEST(TaskSpaceQpController, AmberHoldsADoubleSupportPostureInClosedLoop) {
                        std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")};
   const Eigen::VectorXd q0 = AmberDoubleSupportPose(*model);
   // Start 2 cm above the desired COM height, 1 cm behind, torso 0.1 rad off.
-  const Eigen::VectorXd y_desired = TaskValues(*model, tasks, q0, Eigen::VectorXd::Zero(7)) + Eigen::Vector3d(0.01, -0.02, 0.1);
+  const Eigen::VectorXd y_desired =
+      TaskValues(*model, tasks, q0, Eigen::VectorXd::Zero(7)) + Eigen::Vector3d(0.01, -0.02, 0.1);
   const ClosedLoopResult r = RunClosedLoop(model, graph, q0, tasks, y_desired, 2.0);
   ASSERT_TRUE(r.status.ok()) << r.status.ToString();
   EXPECT_LT(r.final_error.cwiseAbs().maxCoeff(), 1e-3);

@@ -24,7 +24,8 @@ using test::TaskValues;
 using Tasks = std::vector<std::shared_ptr<const TaskSpaceTask>>;
 
 // A velocity that the stance contacts allow (J_c v = 0), so the plant's Baumgarte term vanishes.
-Eigen::VectorXd ContactConsistentVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, ContactSet active, unsigned seed, double scale) {
+Eigen::VectorXd ContactConsistentVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, ContactSet active,
+                                          unsigned seed, double scale) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   Eigen::VectorXd v(model.nv());
@@ -47,8 +48,8 @@ struct QpAnswer {
 
 // Solves once at (q, v) with the desired outputs; checks the KKT conditions and the equations of motion with the
 // QP's own (q̈, u, F), recomputed from the multibody layer.
-QpAnswer SolveAndCheck(const TaskSpaceQpController& controller, LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v, int mode,
-                       ContactSet active, const Eigen::VectorXd& desired) {
+QpAnswer SolveAndCheck(const TaskSpaceQpController& controller, LeafContext& context, const Eigen::VectorXd& q,
+                       const Eigen::VectorXd& v, int mode, ContactSet active, const Eigen::VectorXd& desired) {
   const MultibodyModel& model = controller.model();
   const int nv = model.nv(), nu = model.nu();
   Eigen::VectorXd x(2 * nv);
@@ -60,8 +61,9 @@ QpAnswer SolveAndCheck(const TaskSpaceQpController& controller, LeafContext& con
   const DenseQpSolver& qp = controller.last_qp(context);
   EXPECT_EQ(status, QpStatus::kOptimal) << qp.status_message();
   const QpKktResiduals kkt = ComputeQpKktResiduals(qp);
-  std::printf("  QP KKT: stationarity %.2e, primal %.2e, dual %.2e, complementarity %.2e (%d iterations, %d active)\n", kkt.stationarity,
-              kkt.primal_feasibility, kkt.dual_feasibility, kkt.complementarity, qp.iterations(), qp.active_set_size());
+  std::printf("  QP KKT: stationarity %.2e, primal %.2e, dual %.2e, complementarity %.2e (%d iterations, %d active)\n",
+              kkt.stationarity, kkt.primal_feasibility, kkt.dual_feasibility, kkt.complementarity, qp.iterations(),
+              qp.active_set_size());
   EXPECT_LT(kkt.stationarity, 1e-8);
   EXPECT_LT(kkt.primal_feasibility, 1e-8);
   EXPECT_LT(kkt.dual_feasibility, 1e-12);
@@ -72,7 +74,8 @@ QpAnswer SolveAndCheck(const TaskSpaceQpController& controller, LeafContext& con
   EXPECT_EQ(CalcConstraintJacobian(model, ws, q, v, active), rows);
   const Eigen::MatrixXd Jc = ws.J.topRows(rows);
   const Eigen::VectorXd Jdq = ws.Jdot_qdot.head(rows);
-  const Eigen::VectorXd eom = CalcMassMatrix(model, ws, q) * r.qdd + CalcBiasForces(model, ws, q, v) - model.B() * r.u - Jc.transpose() * r.F;
+  const Eigen::VectorXd eom =
+      CalcMassMatrix(model, ws, q) * r.qdd + CalcBiasForces(model, ws, q, v) - model.B() * r.u - Jc.transpose() * r.F;
   EXPECT_LT(eom.cwiseAbs().maxCoeff(), 1e-7) << eom.transpose();
   EXPECT_LT((Jc * r.qdd + Jdq).cwiseAbs().maxCoeff(), 1e-9);
   // Torque limits, unilateral contact and the friction pyramid (planar point feet: F = [F_x, F_z] per foot).
@@ -86,28 +89,32 @@ QpAnswer SolveAndCheck(const TaskSpaceQpController& controller, LeafContext& con
 }
 
 // The plant's constrained dynamics with the QP's torques reproduce the QP's q̈ and F.
-void ExpectPlantAgrees(const MultibodyModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v, ContactSet active, const QpAnswer& a,
-                       const Tasks& tasks, const Eigen::VectorXd& ydd_star, double task_tolerance) {
+void ExpectPlantAgrees(const MultibodyModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                       ContactSet active, const QpAnswer& a, const Tasks& tasks, const Eigen::VectorXd& ydd_star,
+                       double task_tolerance) {
   MultibodyWorkspace ws(model);
   Eigen::VectorXd qdd(model.nv()), F(model.max_constraint_rows());
-  const int rows = CalcConstrainedForwardDynamics(model, ws, q, v, a.u, active, ConstrainedDynamicsParameters{}, qdd, F);
+  const int rows =
+      CalcConstrainedForwardDynamics(model, ws, q, v, a.u, active, ConstrainedDynamicsParameters{}, qdd, F);
   const double qdd_error = (qdd - a.qdd).cwiseAbs().maxCoeff();
   const double F_error = (F.head(rows) - a.F).cwiseAbs().maxCoeff();
   Eigen::MatrixXd J;
   Eigen::VectorXd Jdq;
   TaskValues(model, tasks, q, v, &J, &Jdq);
   const Eigen::VectorXd ydd_plant = J * qdd + Jdq, ydd_qp = J * a.qdd + Jdq;
-  std::printf("  plant vs QP: |q̈ error| %.2e, |F error| %.2e N, |ÿ_plant − ÿ_QP| %.2e, |ÿ_plant − ÿ*| %.2e\n", qdd_error, F_error,
-              (ydd_plant - ydd_qp).cwiseAbs().maxCoeff(), (ydd_plant - ydd_star).cwiseAbs().maxCoeff());
+  std::printf("  plant vs QP: |q̈ error| %.2e, |F error| %.2e N, |ÿ_plant − ÿ_QP| %.2e, |ÿ_plant − ÿ*| %.2e\n",
+              qdd_error, F_error, (ydd_plant - ydd_qp).cwiseAbs().maxCoeff(),
+              (ydd_plant - ydd_star).cwiseAbs().maxCoeff());
   EXPECT_LT(qdd_error, 1e-6);
   EXPECT_LT(F_error, 1e-6 * model.total_mass() * 9.81);
   EXPECT_LT((ydd_plant - ydd_qp).cwiseAbs().maxCoeff(), 1e-6);
-  EXPECT_LT((ydd_plant - ydd_star).cwiseAbs().maxCoeff(), task_tolerance) << "ÿ_plant " << ydd_plant.transpose() << "\nÿ*      " << ydd_star.transpose();
+  EXPECT_LT((ydd_plant - ydd_star).cwiseAbs().maxCoeff(), task_tolerance)
+      << "ÿ_plant " << ydd_plant.transpose() << "\nÿ*      " << ydd_star.transpose();
 }
 
 // ÿ* = ÿ_d + Kp (y_d − y) + Kd (ẏ_d − J v) for tasks that share one TaskGains.
-Eigen::VectorXd PdTarget(const MultibodyModel& model, const Tasks& tasks, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& desired,
-                         const TaskGains& g) {
+Eigen::VectorXd PdTarget(const MultibodyModel& model, const Tasks& tasks, const Eigen::VectorXd& q,
+                         const Eigen::VectorXd& v, const Eigen::VectorXd& desired, const TaskGains& g) {
   Eigen::MatrixXd J;
   const Eigen::VectorXd y = TaskValues(model, tasks, q, v, &J);
   const int ny = static_cast<int>(y.size());
@@ -157,7 +164,8 @@ TEST(TaskSpaceQpController, DoubleSupportAnswerSatisfiesKktAndTheConstrainedDyna
   const Eigen::VectorXd q = AmberDoubleSupportPose(*model);
   const Eigen::VectorXd v = ContactConsistentVelocity(*model, q, both, 5, 0.3);
   const Eigen::VectorXd y = TaskValues(*model, tasks, q, v);
-  const Eigen::VectorXd desired = Stack(y + Eigen::Vector3d(0.01, -0.02, 0.05), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  const Eigen::VectorXd desired =
+      Stack(y + Eigen::Vector3d(0.01, -0.02, 0.05), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
   const QpAnswer a = SolveAndCheck(controller, *context, q, v, 0, both, desired);
   // 3 outputs, q̈ has 7 − 4 = 3 free directions: met up to the regularisation.
   ExpectPlantAgrees(*model, q, v, both, a, tasks, PdTarget(*model, tasks, q, v, desired, gains), 5e-4);
@@ -175,7 +183,8 @@ TEST(TaskSpaceQpController, FrictionConeBindsWhenTheTaskAsksForTooMuchShear) {
   const Eigen::VectorXd q = AmberDoubleSupportPose(*model), v = Eigen::VectorXd::Zero(7);
   const Eigen::VectorXd y = TaskValues(*model, tasks, q, v);
   // ẍ_com = 3 m/s² needs F_x = 3 m, far beyond μ m g ≈ 0.98 m.
-  const QpAnswer a = SolveAndCheck(controller, *context, q, v, 0, both, Stack(y, Eigen::Vector3d::Zero(), Eigen::Vector3d(3.0, 0.0, 0.0)));
+  const QpAnswer a = SolveAndCheck(controller, *context, q, v, 0, both,
+                                   Stack(y, Eigen::Vector3d::Zero(), Eigen::Vector3d(3.0, 0.0, 0.0)));
   const double Fx = a.F[0] + a.F[2], Fz = a.F[1] + a.F[3];
   EXPECT_NEAR(std::abs(Fx), 0.1 * Fz, 1e-6 * Fz);  // total shear at the cone's edge
   const DenseQpSolver& qp = controller.last_qp(*context);
@@ -193,8 +202,8 @@ TEST(TaskSpaceQpController, InfeasibleQpHoldsThePreviousTorqueAndCountsTheFailur
   const ContactSet left = ContactBit(model->ContactIndex("left_foot"));
   for (QpFailurePolicy policy : {QpFailurePolicy::kHoldPrevious, QpFailurePolicy::kZeroTorque}) {
     TaskSpaceQpParams params;
-    params.torque_limits = Eigen::VectorXd::Zero(4);                     // no torque at all …
-    params.min_normal_force_N = 3.0 * model->total_mass() * 9.81;        // … yet the foot must push with 3 m g
+    params.torque_limits = Eigen::VectorXd::Zero(4);               // no torque at all …
+    params.min_normal_force_N = 3.0 * model->total_mass() * 9.81;  // … yet the foot must push with 3 m g
     params.failure_policy = policy;
     const Tasks tasks = AmberWalkingTasks(*model);
     TaskSpaceQpController controller("tsc", model, {left}, tasks, params);
@@ -204,7 +213,8 @@ TEST(TaskSpaceQpController, InfeasibleQpHoldsThePreviousTorqueAndCountsTheFailur
     x << q, v;
     context->FixInputPort(controller.GetInputPortIndex("state"), x);
     context->FixAbstractInputPort(controller.GetInputPortIndex("mode"), std::any(0));
-    context->FixInputPort(controller.GetInputPortIndex("desired"), Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero()));
+    context->FixInputPort(controller.GetInputPortIndex("desired"),
+                          Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero()));
     const Eigen::Vector4d u_previous(1.0, -2.0, 3.0, -4.0);
     context->get_mutable_discrete_state().head(4) = u_previous;
     context->get_mutable_discrete_state()[controller.failures_offset()] = 2.0;
@@ -243,7 +253,8 @@ TEST(TaskSpaceQpController, InfeasibleGrfRowsAreRelaxedKeepingDynamicsAndTorqueL
   v[0] = 0.3;  // a forward base velocity: the answer is not trivially static
   Eigen::VectorXd x(14);
   x << q, v;
-  const Eigen::VectorXd desired = Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero());
+  const Eigen::VectorXd desired =
+      Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero());
   Eigen::VectorXd u[2];
   int k = 0;
   for (const TaskSpaceQpController* controller : {&relaxing, &reference}) {
@@ -272,7 +283,8 @@ TEST(TaskSpaceQpController, InfeasibleGrfRowsAreRelaxedKeepingDynamicsAndTorqueL
     }
     ++k;
   }
-  std::printf("  relaxed u = [%g %g %g %g], reference u = [%g %g %g %g]\n", u[0][0], u[0][1], u[0][2], u[0][3], u[1][0], u[1][1], u[1][2], u[1][3]);
+  std::printf("  relaxed u = [%g %g %g %g], reference u = [%g %g %g %g]\n", u[0][0], u[0][1], u[0][2], u[0][3], u[1][0],
+              u[1][1], u[1][2], u[1][3]);
   EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-6 * (1.0 + u[1].cwiseAbs().maxCoeff()));
 }
 
@@ -303,7 +315,8 @@ TEST(TaskSpaceQpController, BadInputsAndParametersAreNamed) {
     EXPECT_NE(std::string(e.what()).find("'left_ankle'"), std::string::npos) << e.what();
   }
   // A task active in a mode that does not exist.
-  Tasks bad = {std::make_shared<ComPositionTask>("com_z", std::vector<Axis>{Axis::kZ}, TaskGains{}, std::vector<int>{4})};
+  Tasks bad = {
+      std::make_shared<ComPositionTask>("com_z", std::vector<Axis>{Axis::kZ}, TaskGains{}, std::vector<int>{4})};
   EXPECT_THROW(TaskSpaceQpController("tsc", model, {left}, bad), std::runtime_error);
 }
 
@@ -316,7 +329,8 @@ TEST(TaskSpaceQpController, ZeroTorqueJointOptionPinsTheActuatorInContact) {
   TaskSpaceQpController controller("tsc", model, {left, ContactSet{0}}, tasks, params);
   auto context = controller.CreateDefaultLeafContext();
   const Eigen::VectorXd q = AmberSingleSupportPose(*model), v = Eigen::VectorXd::Zero(7);
-  const Eigen::VectorXd desired = Stack(TaskValues(*model, tasks, q, v) + Eigen::Vector4d(0.05, 0.0, 0.0, 0.0), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero());
+  const Eigen::VectorXd desired = Stack(TaskValues(*model, tasks, q, v) + Eigen::Vector4d(0.05, 0.0, 0.0, 0.0),
+                                        Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero());
   const QpAnswer a = SolveAndCheck(controller, *context, q, v, 0, left, desired);
   EXPECT_NEAR(a.u[model->VelocityIndex("left_knee") - 3], 0.0, 1e-12);
   // In flight (mode 1, no contact) the knee is free again.

@@ -11,10 +11,12 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
-void CheckAgainstFiniteDifferences(const MultibodyModel& model, const TaskSpaceTask& task, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+void CheckAgainstFiniteDifferences(const MultibodyModel& model, const TaskSpaceTask& task, const Eigen::VectorXd& q,
+                                   const Eigen::VectorXd& v) {
   MultibodyWorkspace ws(model);
   const int n = task.size(), nv = model.nv();
   Eigen::VectorXd y(n), yp(n), ym(n), Jdq(n), dummy(n);
@@ -35,7 +37,8 @@ void CheckAgainstFiniteDifferences(const MultibodyModel& model, const TaskSpaceT
   task.Calc(model, ws, q + h * v, v, yp, Jp, dummy);
   task.Calc(model, ws, q - h * v, v, ym, Jm, dummy);
   const Eigen::VectorXd Jdq_fd = (Jp * v - Jm * v) / (2 * h);
-  EXPECT_LT((Jdq - Jdq_fd).cwiseAbs().maxCoeff(), 1e-6) << task.name() << ": " << Jdq.transpose() << " vs " << Jdq_fd.transpose();
+  EXPECT_LT((Jdq - Jdq_fd).cwiseAbs().maxCoeff(), 1e-6)
+      << task.name() << ": " << Jdq.transpose() << " vs " << Jdq_fd.transpose();
 }
 
 TEST(TaskSpaceTasks, JacobiansAndBiasMatchFiniteDifferencesOnAmber) {
@@ -50,7 +53,8 @@ TEST(TaskSpaceTasks, JacobiansAndBiasMatchFiniteDifferencesOnAmber) {
   CheckAgainstFiniteDifferences(*model, ComPositionTask("com", {Axis::kX, Axis::kZ}), q, v);
   CheckAgainstFiniteDifferences(*model, BodyPitchTask("torso_pitch", *model, "torso"), q, v);
   CheckAgainstFiniteDifferences(*model, BodyPitchTask("shin_pitch", *model, "right_shin"), q, v);
-  CheckAgainstFiniteDifferences(*model, *PointPositionTask::ForContact("swing", *model, "right_foot", {Axis::kX, Axis::kZ}), q, v);
+  CheckAgainstFiniteDifferences(
+      *model, *PointPositionTask::ForContact("swing", *model, "right_foot", {Axis::kX, Axis::kZ}), q, v);
   CheckAgainstFiniteDifferences(*model, JointPositionTask("knee", *model, "left_knee"), q, v);
 }
 

@@ -44,7 +44,10 @@ TEST_P(ContactDynamicsTest, KktResidualsAndMomentumBalance) {
   for (int trial = 0; trial < 4; ++trial) {
     Eigen::VectorXd q, v;
     test::RandomState(model, rng, q, v);
-    if (trial == 0) { q = model.q_nominal(); v.setZero(); }
+    if (trial == 0) {
+      q = model.q_nominal();
+      v.setZero();
+    }
     const Eigen::VectorXd u = Eigen::VectorXd::Random(model.nu()) * 10.0;
     const ContactSet active = AllIndependentContacts(model);
     Eigen::VectorXd qdd(n), F(model.max_constraint_rows());
@@ -122,8 +125,10 @@ TEST_P(ContactDynamicsTest, ImpactMapStopsContactsAndDissipates) {
         return Eigen::Vector3d(hG.head<3>() + (com - P).cross(hG.tail<3>()));
       };
       const Eigen::Vector3d dL = L_P(v_plus) - L_P(v);
-      if (model.is_planar()) EXPECT_NEAR(dL.y(), 0.0, 1e-9 * std::max(1.0, L_P(v).norm()));
-      else EXPECT_LT(dL.norm(), 1e-9 * std::max(1.0, L_P(v).norm()));
+      if (model.is_planar())
+        EXPECT_NEAR(dL.y(), 0.0, 1e-9 * std::max(1.0, L_P(v).norm()));
+      else
+        EXPECT_LT(dL.norm(), 1e-9 * std::max(1.0, L_P(v).norm()));
     }
   }
 }
@@ -174,8 +179,8 @@ TEST(ContactDynamicsUnitTest, RedundantRowsDoNotBreakTheSolve) {
   Eigen::VectorXd v(n), impulse0(model.max_constraint_rows());
   CalcImpactMap(model, ws, q, v_rand, active, params, v, impulse0);
   Eigen::VectorXd qdd(n), F(model.max_constraint_rows());
-  const int k = CalcConstrainedForwardDynamics(model, ws, q, v, Eigen::VectorXd::Zero(model.nu()),
-                                               active, params, qdd, F);
+  const int k =
+      CalcConstrainedForwardDynamics(model, ws, q, v, Eigen::VectorXd::Zero(model.nu()), active, params, qdd, F);
   EXPECT_EQ(k, 6 + 5 + 3 + 1);
   ASSERT_TRUE(qdd.allFinite());
   ASSERT_TRUE(F.head(k).allFinite());
@@ -187,8 +192,8 @@ TEST(ContactDynamicsUnitTest, RedundantRowsDoNotBreakTheSolve) {
   EXPECT_LT(F.head(k).norm(), 1e5);  // bounded despite the singular J M^-1 J^T
   // Same accelerations as without the redundant toe rows.
   Eigen::VectorXd qdd2(n), F2(model.max_constraint_rows());
-  CalcConstrainedForwardDynamics(model, ws, q, v, Eigen::VectorXd::Zero(model.nu()),
-                                 ContactBit(0) | ContactBit(1), params, qdd2, F2);
+  CalcConstrainedForwardDynamics(model, ws, q, v, Eigen::VectorXd::Zero(model.nu()), ContactBit(0) | ContactBit(1),
+                                 params, qdd2, F2);
   EXPECT_LT((qdd - qdd2).norm(), 1e-6 * std::max(1.0, qdd.norm()));
   // Impact with redundant rows also works.
   Eigen::VectorXd v_plus(n), impulse(model.max_constraint_rows());
@@ -205,8 +210,7 @@ TEST(ContactDynamicsUnitTest, NoContactsEqualsForwardDynamics) {
   EXPECT_EQ(CalcConstrainedForwardDynamics(model, ws, q, v, u, 0, {}, qdd, F), 0);
   CalcForwardDynamics(model, ws, q, v, u, Eigen::VectorXd(), qdd_ref);
   EXPECT_LT((qdd - qdd_ref).norm(), 1e-10 * qdd_ref.norm());
-  EXPECT_THROW(CalcConstrainedForwardDynamics(model, ws, q, v, u, ContactBit(5), {}, qdd, F),
-               std::invalid_argument);
+  EXPECT_THROW(CalcConstrainedForwardDynamics(model, ws, q, v, u, ContactBit(5), {}, qdd, F), std::invalid_argument);
 }
 
 TEST(ContactDynamicsUnitTest, StandingWalkerForcesAndFrictionCheck) {

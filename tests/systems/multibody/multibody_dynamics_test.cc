@@ -26,8 +26,8 @@ Eigen::Vector3d RotationLog(const Eigen::Matrix3d& R) {
 // Kinetic energy from finite differences of the link poses (workspace forward kinematics, checked
 // against Bullet in multibody_workspace_test):
 // T = sum 1/2 m |cdot|^2 + 1/2 w^T I_world w + 1/2 sum I_r v^2. Independent of CRBA.
-double KineticEnergyFromPoses(const MultibodyModel& model, MultibodyWorkspace& ws,
-                              const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+double KineticEnergyFromPoses(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q,
+                              const Eigen::VectorXd& v) {
   const double eps = 1e-6;
   const Eigen::VectorXd qp = q + eps * v, qm = q - eps * v;
   double T = 0.0;
@@ -101,10 +101,10 @@ TEST(MultibodyDynamicsTest, MassMatrixIsSymmetricPositiveDefiniteAndEqualsKineti
       double max_err = 0.0;
       for (int i = 0; i < n; ++i) {
         for (int j = i; j < n; ++j) {
-          const double Mij = i == j ? 2.0 * Tii[i]
-                                    : KineticEnergyFromPoses(model, ws, q, Eigen::VectorXd::Unit(n, i) +
-                                                                               Eigen::VectorXd::Unit(n, j)) -
-                                          Tii[i] - Tii[j];
+          const double Mij =
+              i == j ? 2.0 * Tii[i]
+                     : KineticEnergyFromPoses(model, ws, q, Eigen::VectorXd::Unit(n, i) + Eigen::VectorXd::Unit(n, j)) -
+                           Tii[i] - Tii[j];
           max_err = std::max(max_err, std::abs(Mij - M(i, j)));
         }
       }
@@ -139,14 +139,13 @@ TEST(MultibodyDynamicsTest, BiasForcesMatchLagrangianFiniteDifferences) {
         auto Vg = [&](const Eigen::VectorXd& qq) {
           ws.SetPositions(model, qq);
           double V = 0;
-          for (int b = 0; b < model.num_bodies(); ++b)
-            V -= model.body(b).mass * model.gravity().dot(ws.com_world(b));
+          for (int b = 0; b < model.num_bodies(); ++b) V -= model.body(b).mass * model.gravity().dot(ws.com_world(b));
           return V;
         };
         ref[i] += -(Tp - Tm) / (2 * eps) + (Vg(q + e) - Vg(q - e)) / (2 * eps);
       }
-      EXPECT_LT((h - ref).norm(), 1e-5 * std::max(1.0, h.norm())) << "h = " << h.transpose()
-                                                                   << "\nref = " << ref.transpose();
+      EXPECT_LT((h - ref).norm(), 1e-5 * std::max(1.0, h.norm()))
+          << "h = " << h.transpose() << "\nref = " << ref.transpose();
     }
   }
 }
@@ -252,12 +251,12 @@ TEST(MultibodyDynamicsTest, SpringDeflectsByStaticLoadOverStiffness) {
 
 // RK4 on x = [q; v; E_dissipated] with Bullet forward dynamics, u = 0. The third component
 // integrates the spring-damper dissipation d v^2 so that E + E_dissipated is conserved.
-void Rk4Step(const MultibodyModel& model, MultibodyWorkspace& ws, Eigen::VectorXd& q,
-             Eigen::VectorXd& v, double& E_diss, double dt) {
+void Rk4Step(const MultibodyModel& model, MultibodyWorkspace& ws, Eigen::VectorXd& q, Eigen::VectorXd& v,
+             double& E_diss, double dt) {
   const int n = model.nv();
   Eigen::VectorXd u = Eigen::VectorXd::Zero(model.nu()), none(0);
-  auto f = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv, Eigen::VectorXd& dq,
-               Eigen::VectorXd& dv, double& dE) {
+  auto f = [&](const Eigen::VectorXd& qq, const Eigen::VectorXd& vv, Eigen::VectorXd& dq, Eigen::VectorXd& dv,
+               double& dE) {
     dq = vv;
     dv.resize(n);
     CalcForwardDynamics(model, ws, qq, vv, u, none, dv);
@@ -305,8 +304,8 @@ TEST(MultibodyDynamicsTest, PassiveRobotInFlightConservesEnergyAndMomentum) {
       EXPECT_LT(dP.norm(), 1e-8 * m) << dP.transpose();
       EXPECT_LT(dL.norm(), 1e-8 * std::max(1.0, hG0.head<3>().norm())) << dL.transpose();
     }
-    std::printf("%s: energy error %.3e J, |dP - m g T| %.3e N s, |dL_G| %.3e N m s\n", file.c_str(),
-                E1 + E_diss - E0, model.is_planar() ? std::abs(dP.x()) + std::abs(dP.z()) : dP.norm(),
+    std::printf("%s: energy error %.3e J, |dP - m g T| %.3e N s, |dL_G| %.3e N m s\n", file.c_str(), E1 + E_diss - E0,
+                model.is_planar() ? std::abs(dP.x()) + std::abs(dP.z()) : dP.norm(),
                 model.is_planar() ? std::abs(dL.y()) : dL.norm());
   }
 }

@@ -82,16 +82,14 @@ TEST_P(KinematicsTest, JacobiansMatchFiniteDifferences) {
       ws.SetPositions(model, q);
       const Eigen::Matrix3d R = ws.R_world_link(b);
       const Eigen::Vector3d w = RotationLog(Rp2 * Rm2.transpose()) / (2 * eps);
-      k_ref += (ws.com_world(b) - com).cross(body.mass * (cp - cm) / (2 * eps)) +
-               R * body.inertia * R.transpose() * w;
+      k_ref += (ws.com_world(b) - com).cross(body.mass * (cp - cm) / (2 * eps)) + R * body.inertia * R.transpose() * w;
     }
     EXPECT_LT((AG.topRows(3) * v - k_ref).norm(), 1e-6 * std::max(1.0, k_ref.norm()));
     EXPECT_LT((CalcCentroidalMomentum(model, ws, q, v) - AG * v).norm(), 1e-10);
     CalcCentroidalMomentumMatrix(model, ws, qp, AGp);
     CalcCentroidalMomentumMatrix(model, ws, qm, AGm);
     const Vector6d bias_fd = (AGp - AGm) / (2 * eps) * v;
-    EXPECT_LT((CalcCentroidalMomentumBias(model, ws, q, v) - bias_fd).norm(),
-              1e-6 * std::max(1.0, bias_fd.norm()));
+    EXPECT_LT((CalcCentroidalMomentumBias(model, ws, q, v) - bias_fd).norm(), 1e-6 * std::max(1.0, bias_fd.norm()));
   }
 }
 
@@ -107,10 +105,10 @@ TEST(MultibodyKinematicsTest, SpatialBaseCoordinatesAreZyxEuler) {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nq());
   q.head<6>() << 0.1, -0.2, 0.9, 0.3, -0.4, 0.5;
   const Eigen::Isometry3d X = CalcLinkPose(model, ws, q, model.BodyIndex("pelvis"));
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R =
+      (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   EXPECT_LT((X.linear() - R).norm(), 1e-14);
   EXPECT_LT((X.translation() - Eigen::Vector3d(0.1, -0.2, 0.9)).norm(), 1e-14);
   // Child joint origin: left hip yaw at (0, 0.1, -0.05) in the pelvis frame.

@@ -72,8 +72,9 @@ class BadInput : public ::testing::Test {
            "\"><inertial><mass value=\"1\"/><origin xyz=\"0 0 -0.05\"/>"
            "<inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial></link>\n";
       if (i > 0)
-        s += "<joint name=\"j" + std::to_string(i) + "\" type=\"" + type + "\"><parent link=\"l" + std::to_string(i - 1) +
-             "\"/><child link=\"l" + std::to_string(i) + "\"/><origin xyz=\"0 0 -0.1\"/><axis xyz=\"0 1 0\"/></joint>\n";
+        s += "<joint name=\"j" + std::to_string(i) + "\" type=\"" + type + "\"><parent link=\"l" +
+             std::to_string(i - 1) + "\"/><child link=\"l" + std::to_string(i) +
+             "\"/><origin xyz=\"0 0 -0.1\"/><axis xyz=\"0 1 0\"/></joint>\n";
     }
     return s + "</robot>\n";
   }
@@ -84,8 +85,7 @@ class BadInput : public ::testing::Test {
 // ---- crashes ----
 
 TEST_F(BadInput, ZeroDofModelsLoadAndComputeDynamics) {
-  const std::string one_link = WriteUrdfOnly(
-      "one.urdf", R"(<robot name="one"><link name="a"><inertial><mass value="1"/>
+  const std::string one_link = WriteUrdfOnly("one.urdf", R"(<robot name="one"><link name="a"><inertial><mass value="1"/>
       <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>)");
   for (const std::string& path : {one_link, DataPath("zero_dof.urdf")}) {
     const MultibodyModel model = MultibodyModel::Load(path);
@@ -158,14 +158,16 @@ TEST_F(BadInput, JointLimits) {
   const int k = model.VelocityIndex("left_hip");
   EXPECT_EQ(model.position_lower_limits()[k], -std::numeric_limits<double>::infinity());
   bool warned = false;
-  for (const auto& w : model.warnings()) warned |= w.find("joint 'left_hip': <limit> lower == upper (0)") != std::string::npos;
+  for (const auto& w : model.warnings())
+    warned |= w.find("joint 'left_hip': <limit> lower == upper (0)") != std::string::npos;
   EXPECT_TRUE(warned);
 }
 
 TEST_F(BadInput, TorqueLimits) {
   // No torque_limit_Nm in the sidecar: the URDF effort (80) is used ...
   const std::string no_sidecar_limit = Replace(sidecar_, R"(, "torque_limit_Nm": 80.0},
-    {"joint": "right_hip")", R"(},
+    {"joint": "right_hip")",
+                                               R"(},
     {"joint": "right_hip")");
   const MultibodyModel model = MultibodyModel::Load(Write(urdf_, no_sidecar_limit));
   EXPECT_EQ(model.torque_limits()[0], 80.0);
@@ -175,7 +177,8 @@ TEST_F(BadInput, TorqueLimits) {
   ExpectError(Write(Replace(urdf_, R"(effort="80")", R"(effort="0")"), no_sidecar_limit),
               {"actuators[0] (joint 'left_hip')", "no torque limit"});
   ExpectError(Write(urdf_, Replace(sidecar_, R"("torque_limit_Nm": 80.0},
-    {"joint": "right_hip")", R"("torque_limit_Nm": -3},
+    {"joint": "right_hip")",
+                                   R"("torque_limit_Nm": -3},
     {"joint": "right_hip")")),
               {"actuators[0] (joint 'left_hip')", "torque_limit_Nm must be positive, got -3"});
 }
@@ -184,7 +187,8 @@ TEST_F(BadInput, UnknownSidecarKeysSuggestTheNearestKey) {
   ExpectError(Write(urdf_, Replace(sidecar_, R"("contacts")", R"("contactz")")),
               {"walker2d.rome.json", "top level", "unknown key 'contactz'", "did you mean 'contacts'"});
   ExpectError(Write(urdf_, Replace(sidecar_, R"("torque_limit_Nm": 80.0},
-    {"joint": "right_hip")", R"("torque_limit_nm": 80.0},
+    {"joint": "right_hip")",
+                                   R"("torque_limit_nm": 80.0},
     {"joint": "right_hip")")),
               {"actuators[0]", "unknown key 'torque_limit_nm'", "did you mean 'torque_limit_Nm'"});
   ExpectError(Write(urdf_, Replace(sidecar_, R"("friction_coefficient": 0.8},)", R"("friction": 0.8},)")),
@@ -209,7 +213,8 @@ TEST_F(BadInput, AbsurdMagnitudesAreRejected) {
                                    "[[0.0, 0.0, -1e400]], \"friction_coefficient\": 0.8},")),
               {"walker2d.rome.json", "number overflow parsing '-1e400'"});
   // COM at 1e308 in the URDF.
-  ExpectError(Write(Replace(urdf_, R"(<origin xyz="0 0 0.05"/><mass value="2.0"/>)", R"(<origin xyz="0 0 1e308"/><mass value="2.0"/>)"),
+  ExpectError(Write(Replace(urdf_, R"(<origin xyz="0 0 0.05"/><mass value="2.0"/>)",
+                            R"(<origin xyz="0 0 1e308"/><mass value="2.0"/>)"),
                     sidecar_),
               {"walker2d.urdf", "link 'hip'", "<inertial> <origin xyz> 0 0 1e+308 m exceeds 1000 m"});
   // A joint origin, too.
@@ -221,7 +226,8 @@ TEST_F(BadInput, AbsurdMagnitudesAreRejected) {
 
 TEST_F(BadInput, NonUtf8NamesGiveAClearError) {
   std::string urdf = urdf_;
-  for (size_t i = 0; (i = urdf.find("\"left_leg\"", i)) != std::string::npos;) urdf.replace(i, 10, "\"left_\xff\xfeleg\"");
+  for (size_t i = 0; (i = urdf.find("\"left_leg\"", i)) != std::string::npos;)
+    urdf.replace(i, 10, "\"left_\xff\xfeleg\"");
   ExpectError(Write(urdf, Replace(sidecar_, R"("link": "left_leg")", R"("link": "right_leg")")),
               {"walker2d.urdf", "line 10: byte 0xFF at offset", "is not valid UTF-8"});
   // Invalid UTF-8 in the sidecar: the JSON parser's error, escaped.
@@ -231,8 +237,9 @@ TEST_F(BadInput, NonUtf8NamesGiveAClearError) {
 
 TEST_F(BadInput, HugeOrBinaryValuesAreTruncatedAndEscaped) {
   const std::string huge(10u << 20, 'q');
-  const std::string what = ExpectError(Write(urdf_, Replace(sidecar_, R"({"joint": "right_hip")", "{\"joint\": \"" + huge + "\"")),
-                                       {"walker2d.rome.json", "actuators[1]", "does not exist", "(10485760 bytes)"});
+  const std::string what =
+      ExpectError(Write(urdf_, Replace(sidecar_, R"({"joint": "right_hip")", "{\"joint\": \"" + huge + "\"")),
+                  {"walker2d.rome.json", "actuators[1]", "does not exist", "(10485760 bytes)"});
   EXPECT_LT(what.size(), 700u);
   ExpectError(Write(urdf_, Replace(sidecar_, R"({"joint": "right_hip")", R"({"joint": "ri\u0001\u001bght")")),
               {"actuators[1]", "joint 'ri\\x01\\x1Bght'"});

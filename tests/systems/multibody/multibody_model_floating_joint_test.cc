@@ -62,8 +62,9 @@ std::string Robot(const std::string& head) { return "<robot name=\"walker\">" + 
 // The same robot with every joint in the x-z plane (hip and shoulder about y), as a planar base requires.
 std::string PlanarRobot(const std::string& head) {
   std::string urdf = Robot(head);
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{R"(<axis xyz="0.2 1 0.1"/>)", R"(<axis xyz="0 1 0"/>)"},
-                                 {R"(rpy="0.5 0 0"/><axis xyz="1 0 0"/>)", R"(rpy="0 0 0"/><axis xyz="0 1 0"/>)"}})
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{R"(<axis xyz="0.2 1 0.1"/>)", R"(<axis xyz="0 1 0"/>)"},
+        {R"(rpy="0.5 0 0"/><axis xyz="1 0 0"/>)", R"(rpy="0 0 0"/><axis xyz="0 1 0"/>)"}})
     urdf.replace(urdf.find(from), from.size(), to);
   return urdf;
 }
@@ -76,9 +77,7 @@ std::string WorldJoint(const std::string& type, const std::string& origin, const
 std::string LoadError(const std::string& urdf, const std::string& sidecar = "") {
   try {
     MultibodyModel::LoadFromText(urdf, sidecar, "walker.urdf", "walker.rome.json");
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
+  } catch (const std::runtime_error& e) { return e.what(); }
   return "";
 }
 
@@ -97,7 +96,10 @@ void ExpectSameMassMatrix(const MultibodyModel& a, const MultibodyModel& b, doub
     EXPECT_LT((Ma - Mb).cwiseAbs().maxCoeff(), 1e-12) << "seed " << seed;
     // Closed form: base translations along world axes see the total mass, uncoupled.
     EXPECT_LT((Ma.topLeftCorner(translations, translations) -
-               total_mass * Eigen::MatrixXd::Identity(translations, translations)).cwiseAbs().maxCoeff(), 1e-12)
+               total_mass * Eigen::MatrixXd::Identity(translations, translations))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-12)
         << "seed " << seed;
   }
 }
@@ -132,9 +134,10 @@ TEST(MultibodyModelFloatingJointTest, FloatingJointOriginIsTheNominalBasePose) {
   // At the nominal pose the torso sits where the URDF's <origin> puts it.
   MultibodyWorkspace ws(model);
   const Eigen::Isometry3d X = CalcLinkPose(model, ws, q, model.BodyIndex("torso"));
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Matrix3d R =
+      (Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
   EXPECT_LT((X.translation() - Eigen::Vector3d(0.1, -0.2, 0.9)).norm(), 1e-14);
   EXPECT_LT((X.linear() - R).norm(), 1e-14);
   // A sidecar nominal base overrides it.
@@ -149,8 +152,8 @@ TEST(MultibodyModelFloatingJointTest, PlanarJointFromWorldIsThePlanarBase) {
   const MultibodyModel with_world = MultibodyModel::LoadFromText(
       PlanarRobot(WorldJoint("planar", R"(<origin xyz="0.3 0 1.1" rpy="0 0.2 0"/>)", R"(<axis xyz="0 1 0"/>)")), "",
       "walker_world.urdf");
-  const MultibodyModel without_world =
-      MultibodyModel::LoadFromText(PlanarRobot(""), R"({"floating_base": "planar"})", "walker.urdf", "walker.rome.json");
+  const MultibodyModel without_world = MultibodyModel::LoadFromText(PlanarRobot(""), R"({"floating_base": "planar"})",
+                                                                    "walker.urdf", "walker.rome.json");
   EXPECT_EQ(with_world.floating_base(), FloatingBaseType::kPlanar);
   EXPECT_LT((with_world.q_nominal().head(3) - Eigen::Vector3d(0.3, 1.1, 0.2)).cwiseAbs().maxCoeff(), 1e-14);
   ExpectSameMassMatrix(with_world, without_world, 7.75, 2);
@@ -164,7 +167,8 @@ TEST(MultibodyModelFloatingJointTest, APlanarRobotsJointsMustStayInThePlane) {
   char expected[64];
   std::snprintf(expected, sizeof(expected), "%.6g %.6g %.6g", oblique.x(), oblique.y(), oblique.z());
   EXPECT_NE(e.find(expected), std::string::npos) << e;
-  EXPECT_NO_THROW(MultibodyModel::LoadFromText(PlanarRobot(""), R"({"floating_base": "planar"})", "walker.urdf", "walker.rome.json"));
+  EXPECT_NO_THROW(MultibodyModel::LoadFromText(PlanarRobot(""), R"({"floating_base": "planar"})", "walker.urdf",
+                                               "walker.rome.json"));
 }
 
 TEST(MultibodyModelFloatingJointTest, UnsupportedPlacementsAreRejectedNamingTheJoint) {
@@ -174,22 +178,27 @@ TEST(MultibodyModelFloatingJointTest, UnsupportedPlacementsAreRejectedNamingTheJ
       <joint name="loose" type="floating"><parent link="a"/><child link="b"/></joint>
       <link name="b"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
       </robot>)");
-  EXPECT_NE(e.find("URDF walker.urdf: floating joint 'loose': its parent, root link 'a', has mass 1 kg"), std::string::npos) << e;
+  EXPECT_NE(e.find("URDF walker.urdf: floating joint 'loose': its parent, root link 'a', has mass 1 kg"),
+            std::string::npos)
+      << e;
   // A second floating joint inside a robot with a world root: that joint is named.
   std::string urdf = Robot(WorldJoint("floating", ""));
   urdf.replace(urdf.find("type=\"continuous\""), 17, "type=\"floating\"");
   e = LoadError(urdf);
-  EXPECT_NE(e.find("floating joint 'shoulder' between links 'torso' and 'arm' is not supported"), std::string::npos) << e;
+  EXPECT_NE(e.find("floating joint 'shoulder' between links 'torso' and 'arm' is not supported"), std::string::npos)
+      << e;
   // A planar joint whose plane is not the world x-z plane.
   e = LoadError(Robot(WorldJoint("planar", "", R"(<axis xyz="1 0 0"/>)")));
   EXPECT_NE(e.find("planar joint 'root_joint': <axis> 1 0 0 is not supported"), std::string::npos) << e;
   // A world root with a second joint.
-  e = LoadError(Robot(WorldJoint("floating", "") +
-                      R"(<joint name="cam" type="fixed"><parent link="world"/><child link="camera"/></joint><link name="camera"/>)"));
+  e = LoadError(Robot(
+      WorldJoint("floating", "") +
+      R"(<joint name="cam" type="fixed"><parent link="world"/><child link="camera"/></joint><link name="camera"/>)"));
   EXPECT_NE(e.find("floating joint 'root_joint': root link 'world' has 2 joints"), std::string::npos) << e;
   // A sidecar that says otherwise.
   e = LoadError(Robot(WorldJoint("floating", "")), R"({"floating_base": "fixed"})");
-  EXPECT_NE(e.find("sidecar walker.rome.json: floating_base: 'fixed' contradicts URDF walker.urdf"), std::string::npos) << e;
+  EXPECT_NE(e.find("sidecar walker.rome.json: floating_base: 'fixed' contradicts URDF walker.urdf"), std::string::npos)
+      << e;
   // One line each.
   EXPECT_EQ(e.find('\n'), std::string::npos);
 }

@@ -29,9 +29,7 @@ bool HasWarning(const MultibodyModel& model, const std::string& fragment) {
 std::string LoadError(const std::string& urdf, const LoadOptions& options = {}) {
   try {
     MultibodyModel::Load(urdf, "", options);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
+  } catch (const std::runtime_error& e) { return e.what(); }
   return "";
 }
 
@@ -123,7 +121,8 @@ TEST(MultibodyModelMergingTest, ZeroMassFootContactFrame) {
   EXPECT_LT((loop.point_b - pb).norm(), 1e-15);
   // A task on the merged link uses the same point.
   const MultibodyFrame& f = model.Frame("foot_contact");
-  EXPECT_LT((CalcLinkPose(model, ws, q, f.body) * f.X_body_frame * Eigen::Vector3d(0, 0, -0.02) - expected).norm(), 1e-14);
+  EXPECT_LT((CalcLinkPose(model, ws, q, f.body) * f.X_body_frame * Eigen::Vector3d(0, 0, -0.02) - expected).norm(),
+            1e-14);
 }
 
 TEST(MultibodyModelMergingTest, MovingJointCarryingOnlyMasslessLinksIsRejected) {
@@ -190,14 +189,17 @@ TEST(MultibodyModelMergingTest, DummyInertiaWeldedIntoAPhysicalBodyIsAccepted) {
 TEST(MultibodyModelMergingTest, NonPhysicalInertiaWeldedIntoANonPhysicalBodyIsRejected) {
   const std::string what = LoadError(DataPath("welded_nonphysical_inertia.urdf"));
   EXPECT_NE(what.find("welded_nonphysical_inertia.urdf: link 'plate': <inertia> violates the triangle inequality"),
-            std::string::npos) << what;
+            std::string::npos)
+      << what;
   EXPECT_NE(what.find("principal moments 1 1 3"), std::string::npos) << what;
-  EXPECT_NE(what.find("and so does rigid body 'chassis' (its links merged over fixed joints)"), std::string::npos) << what;
+  EXPECT_NE(what.find("and so does rigid body 'chassis' (its links merged over fixed joints)"), std::string::npos)
+      << what;
   const MultibodyModel model =
       MultibodyModel::Load(DataPath("welded_nonphysical_inertia.urdf"), "", {.repair_inertia = true});
   EXPECT_TRUE(HasWarning(model, "link 'plate': <inertia> violates the triangle inequality"));
   // chassis (0.001 I) + plate repaired to (4/3, 4/3, 8/3), both at the body origin.
-  const Eigen::Matrix3d expected = Eigen::Vector3d(0.001 + 4.0 / 3.0, 0.001 + 4.0 / 3.0, 0.001 + 8.0 / 3.0).asDiagonal();
+  const Eigen::Matrix3d expected =
+      Eigen::Vector3d(0.001 + 4.0 / 3.0, 0.001 + 4.0 / 3.0, 0.001 + 8.0 / 3.0).asDiagonal();
   EXPECT_LT((model.body(model.BodyIndex("plate")).inertia - expected).norm(), 1e-12);
 }
 
@@ -250,8 +252,9 @@ TEST(MultibodyModelMergingTest, TwoWeldedBoxesMatchTheClosedForm) {
   EXPECT_NEAR(body.mass, m, 1e-12);
   EXPECT_LT((body.com - c).norm(), 1e-12);
   EXPECT_LT((body.inertia - I).norm(), 1e-12);
-  EXPECT_LT((body.R_link_principal * body.principal_moments.asDiagonal() * body.R_link_principal.transpose() - I).norm(),
-            1e-12);
+  EXPECT_LT(
+      (body.R_link_principal * body.principal_moments.asDiagonal() * body.R_link_principal.transpose() - I).norm(),
+      1e-12);
 }
 
 TEST(MultibodyModelMergingTest, MergedMassMatrixEqualsHingedModelHeldAtZero) {
@@ -278,14 +281,16 @@ TEST(MultibodyModelMergingTest, MergedMassMatrixEqualsHingedModelHeldAtZero) {
     for (const char* a : {"hinge", "tip_joint"}) {
       EXPECT_NEAR(hw_bias[welded.VelocityIndex(a)], hh_bias[hinged.VelocityIndex(a)], 1e-12);
       for (const char* b : {"hinge", "tip_joint"})
-        EXPECT_NEAR(Mw(welded.VelocityIndex(a), welded.VelocityIndex(b)), Mh(hinged.VelocityIndex(a), hinged.VelocityIndex(b)),
-                    1e-12)
+        EXPECT_NEAR(Mw(welded.VelocityIndex(a), welded.VelocityIndex(b)),
+                    Mh(hinged.VelocityIndex(a), hinged.VelocityIndex(b)), 1e-12)
             << a << " " << b;
     }
     EXPECT_GT(Mh(hw, hw), 0.0);
     // The tip link's pose agrees too (its body's parent chain runs through the merged frame).
     EXPECT_LT((CalcLinkPose(welded, ws_w, qw, welded.BodyIndex("tip")).matrix() -
-               CalcLinkPose(hinged, ws_h, qh, hinged.BodyIndex("tip")).matrix()).norm(), 1e-13);
+               CalcLinkPose(hinged, ws_h, qh, hinged.BodyIndex("tip")).matrix())
+                  .norm(),
+              1e-13);
   }
 }
 
@@ -356,7 +361,8 @@ TEST(MultibodyModelMergingTest, MasslessFloatingRobotIsRejected) {
     MultibodyModel::Load(urdf, sidecar);
     ADD_FAILURE();
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("joint 'base_x' moves no mass (the whole robot is massless)"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("joint 'base_x' moves no mass (the whole robot is massless)"),
+              std::string::npos)
         << e.what();
   }
 }

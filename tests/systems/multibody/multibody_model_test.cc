@@ -149,9 +149,10 @@ TEST_F(ModelFiles, MissingInertia) {
 }
 
 TEST_F(ModelFiles, NonPositiveDefiniteInertia) {
-  ExpectError(Write(Replace(urdf_, R"(ixx="0.4" ixy="0" ixz="0" iyy="0.4")", R"(ixx="0.4" ixy="0.9" ixz="0" iyy="0.4")"),
-                    sidecar_),
-              {"walker2d.urdf", "link 'left_leg'", "not positive semi-definite"});
+  ExpectError(
+      Write(Replace(urdf_, R"(ixx="0.4" ixy="0" ixz="0" iyy="0.4")", R"(ixx="0.4" ixy="0.9" ixz="0" iyy="0.4")"),
+            sidecar_),
+      {"walker2d.urdf", "link 'left_leg'", "not positive semi-definite"});
 }
 
 TEST_F(ModelFiles, NonPositiveMass) {
@@ -175,9 +176,10 @@ TEST_F(ModelFiles, SidecarNamesUnknownLink) {
 }
 
 TEST_F(ModelFiles, BadContactType) {
-  ExpectError(Write(urdf_, Replace(sidecar_, R"("type": "point", "points": [[0.0, 0.0, -1.0]], "friction_coefficient": 0.8},)",
-                                   R"("type": "sphere", "points": [[0.0, 0.0, -1.0]], "friction_coefficient": 0.8},)")),
-              {"walker2d.rome.json", "contacts[0] ('left_foot')", "unknown contact type 'sphere'"});
+  ExpectError(
+      Write(urdf_, Replace(sidecar_, R"("type": "point", "points": [[0.0, 0.0, -1.0]], "friction_coefficient": 0.8},)",
+                           R"("type": "sphere", "points": [[0.0, 0.0, -1.0]], "friction_coefficient": 0.8},)")),
+      {"walker2d.rome.json", "contacts[0] ('left_foot')", "unknown contact type 'sphere'"});
 }
 
 TEST_F(ModelFiles, LoopClosureNamesUnknownLink) {
@@ -197,7 +199,8 @@ TEST_F(ModelFiles, BadFloatingBaseAndNominalPose) {
 
 TEST_F(ModelFiles, WrongValueType) {
   ExpectError(Write(urdf_, Replace(sidecar_, R"("torque_limit_Nm": 80.0}
-  ],)", R"("torque_limit_Nm": "lots"}
+  ],)",
+                                   R"("torque_limit_Nm": "lots"}
   ],)")),
               {"actuators[1]", "'torque_limit_Nm' must be a number"});
 }
@@ -232,16 +235,15 @@ TEST(LoadFromText, ErrorsNameTheGivenNamesAndTheSizeCapHolds) {
   auto error_of = [](const std::string& urdf, const std::string& sidecar) {
     try {
       MultibodyModel::LoadFromText(urdf, sidecar, "given.urdf", "given.rome.json");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
+    } catch (const std::runtime_error& e) { return std::string(e.what()); }
     return std::string("no error");
   };
   const std::string amber_urdf = ReadText(rome::test::SourcePath("robots/amber/amber.urdf"));
   EXPECT_NE(error_of("<robot", "").find("URDF given.urdf: malformed"), std::string::npos) << error_of("<robot", "");
   EXPECT_NE(error_of(amber_urdf, "{").find("sidecar given.rome.json: malformed JSON"), std::string::npos);
   const std::string big(kMaxUrdfBytes + 1, ' ');
-  EXPECT_NE(error_of(big, "").find("URDF given.urdf: text is " + std::to_string(kMaxUrdfBytes + 1) + " bytes"), std::string::npos);
+  EXPECT_NE(error_of(big, "").find("URDF given.urdf: text is " + std::to_string(kMaxUrdfBytes + 1) + " bytes"),
+            std::string::npos);
   EXPECT_NE(error_of(amber_urdf, big).find("sidecar given.rome.json: text is"), std::string::npos);
 }
 
@@ -252,14 +254,14 @@ TEST(LoadFromText, UrdfThatIsNotUtf8TextIsRefusedBeforeParsing) {
   auto error_of = [](const std::string& urdf) {
     try {
       MultibodyModel::LoadFromText(urdf, "", "given.urdf", "");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
+    } catch (const std::runtime_error& e) { return std::string(e.what()); }
     return std::string("no error");
   };
-  const std::string head = "<robot name=\"r\">\n<link name=\"base\"/>\n<joint name=\"j\" type=\"revolute\"><limit lower=\"ca";
+  const std::string head =
+      "<robot name=\"r\">\n<link name=\"base\"/>\n<joint name=\"j\" type=\"revolute\"><limit lower=\"ca";
   const std::string truncated = head + std::string("\xF3\0u", 3);
-  EXPECT_NE(error_of(truncated).find("URDF given.urdf: line 3: byte 0xF3 at offset"), std::string::npos) << error_of(truncated);
+  EXPECT_NE(error_of(truncated).find("URDF given.urdf: line 3: byte 0xF3 at offset"), std::string::npos)
+      << error_of(truncated);
   const std::string nul = head + std::string("\0\"/></joint></robot>", 14);
   EXPECT_NE(error_of(nul).find("is a NUL byte"), std::string::npos) << error_of(nul);
   const std::string latin1 = "<robot name=\"r\xE9\"><link name=\"base\"/></robot>";

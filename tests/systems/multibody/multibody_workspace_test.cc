@@ -105,12 +105,9 @@ TEST_P(WorkspaceAllocationTest, EigenKinematicsMatchBulletForwardKinematics) {
     ws.CalcBulletLinkPoses(X_bullet);
     ASSERT_EQ(static_cast<int>(X_bullet.size()), model.num_bodies());
     for (int b = 0; b < model.num_bodies(); ++b) {
-      EXPECT_LT((ws.R_world_link(b) - X_bullet[b].linear()).cwiseAbs().maxCoeff(), 1e-12)
-          << model.body(b).name;
-      EXPECT_LT((ws.p_world_link(b) - X_bullet[b].translation()).cwiseAbs().maxCoeff(), 1e-12)
-          << model.body(b).name;
-      EXPECT_LT((ws.com_world(b) - X_bullet[b] * model.body(b).com).cwiseAbs().maxCoeff(), 1e-12)
-          << model.body(b).name;
+      EXPECT_LT((ws.R_world_link(b) - X_bullet[b].linear()).cwiseAbs().maxCoeff(), 1e-12) << model.body(b).name;
+      EXPECT_LT((ws.p_world_link(b) - X_bullet[b].translation()).cwiseAbs().maxCoeff(), 1e-12) << model.body(b).name;
+      EXPECT_LT((ws.com_world(b) - X_bullet[b] * model.body(b).com).cwiseAbs().maxCoeff(), 1e-12) << model.body(b).name;
     }
   }
 }

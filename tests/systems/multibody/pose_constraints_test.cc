@@ -21,7 +21,8 @@ MultibodyModel LoadRobot(const std::string& name) {
   return MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + name + "/" + name + ".rome.json"));
 }
 
-Eigen::Vector3d ContactOrigin(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q, const std::string& contact) {
+Eigen::Vector3d ContactOrigin(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q,
+                              const std::string& contact) {
   const ContactInfo& info = model.contacts()[model.ContactIndex(contact)];
   return CalcPointPosition(model, ws, q, info.body, info.frame_origin);
 }
@@ -33,14 +34,18 @@ void ExpectThrowWith(F what, const std::vector<std::string>& parts) {
     what();
     ADD_FAILURE() << "no exception";
   } catch (const E& e) {
-    for (const auto& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << "'" << p << "' not in: " << e.what();
+    for (const auto& p : parts)
+      EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << "'" << p << "' not in: " << e.what();
   }
 }
 
 std::vector<PoseConstraint> AmberSingleSupport(const MultibodyModel& model, double swing_x, double swing_z) {
-  return {PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0),      PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
-          PoseConstraint::Com(0, 0.0),                                   PoseConstraint::Coordinate(2, 0.0),
-          PoseConstraint::ContactPoint(model, "right_foot", 0, swing_x), PoseConstraint::ContactPoint(model, "right_foot", 2, swing_z)};
+  return {PoseConstraint::ContactPoint(model, "left_foot", 0, 0.0),
+          PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
+          PoseConstraint::Com(0, 0.0),
+          PoseConstraint::Coordinate(2, 0.0),
+          PoseConstraint::ContactPoint(model, "right_foot", 0, swing_x),
+          PoseConstraint::ContactPoint(model, "right_foot", 2, swing_z)};
 }
 
 TEST(PoseConstraintsTest, AmberSingleSupportSatisfiesEveryConstraint) {
@@ -49,7 +54,8 @@ TEST(PoseConstraintsTest, AmberSingleSupportSatisfiesEveryConstraint) {
   for (const auto& [sx, sz] : std::vector<std::pair<double, double>>{{0.12, 0.08}, {-0.2, 0.05}, {0.3, 0.0}}) {
     const Eigen::VectorXd q = SolvePose(model, ws, model.q_nominal(), AmberSingleSupport(model, sx, sz));
     MultibodyWorkspace fresh(model);  // independent evaluation, no cached state
-    const Eigen::Vector3d pl = ContactOrigin(model, fresh, q, "left_foot"), pr = ContactOrigin(model, fresh, q, "right_foot");
+    const Eigen::Vector3d pl = ContactOrigin(model, fresh, q, "left_foot"),
+                          pr = ContactOrigin(model, fresh, q, "right_foot");
     const Eigen::Vector3d com = CalcComPosition(model, fresh, q);
     EXPECT_NEAR(pl.x(), 0.0, 1e-10);
     EXPECT_NEAR(pl.z(), 0.0, 1e-10);
@@ -58,7 +64,8 @@ TEST(PoseConstraintsTest, AmberSingleSupportSatisfiesEveryConstraint) {
     EXPECT_NEAR(pr.x(), sx, 1e-10);
     EXPECT_NEAR(pr.z(), sz, 1e-10);
     // The shin end is the foot: (0, 0, -0.4667) in the shin frame, from the sidecar.
-    const Eigen::Vector3d shin_end = CalcPointPosition(model, fresh, q, model.BodyIndex("left_shin"), Eigen::Vector3d(0, 0, -0.4667));
+    const Eigen::Vector3d shin_end =
+        CalcPointPosition(model, fresh, q, model.BodyIndex("left_shin"), Eigen::Vector3d(0, 0, -0.4667));
     EXPECT_NEAR((shin_end - pl).norm(), 0.0, 1e-12);
   }
 }
@@ -97,13 +104,17 @@ TEST(PoseConstraintsTest, AmberDoubleSupportOnARaisedStone) {
   Eigen::VectorXd q0 = model.q_nominal();
   q0[0] += x0;
   q0[1] += z0;
-  const std::vector<PoseConstraint> pose = {
-      PoseConstraint::ContactPoint(model, "left_foot", 0, x0), PoseConstraint::ContactPoint(model, "left_foot", 2, z0),
-      PoseConstraint::ContactPoint(model, "right_foot", 0, x0), PoseConstraint::ContactPoint(model, "right_foot", 2, z0),
-      PoseConstraint::Com(0, x0 - 0.02), PoseConstraint::Com(2, z0 + com_height), PoseConstraint::Coordinate(2, 0.0)};
+  const std::vector<PoseConstraint> pose = {PoseConstraint::ContactPoint(model, "left_foot", 0, x0),
+                                            PoseConstraint::ContactPoint(model, "left_foot", 2, z0),
+                                            PoseConstraint::ContactPoint(model, "right_foot", 0, x0),
+                                            PoseConstraint::ContactPoint(model, "right_foot", 2, z0),
+                                            PoseConstraint::Com(0, x0 - 0.02),
+                                            PoseConstraint::Com(2, z0 + com_height),
+                                            PoseConstraint::Coordinate(2, 0.0)};
   const Eigen::VectorXd q = SolvePose(model, ws, q0, pose);
   MultibodyWorkspace fresh(model);
-  const Eigen::Vector3d pl = ContactOrigin(model, fresh, q, "left_foot"), pr = ContactOrigin(model, fresh, q, "right_foot");
+  const Eigen::Vector3d pl = ContactOrigin(model, fresh, q, "left_foot"),
+                        pr = ContactOrigin(model, fresh, q, "right_foot");
   const Eigen::Vector3d com = CalcComPosition(model, fresh, q);
   EXPECT_NEAR(pl.x(), x0, 1e-10);
   EXPECT_NEAR(pl.z(), z0, 1e-10);
@@ -144,13 +155,16 @@ TEST(PoseConstraintsTest, ExoskeletonAndPlanarCassieStancePoses) {
   {
     const MultibodyModel model = LoadRobot("cassie_planar");
     MultibodyWorkspace ws(model);
-    const std::vector<PoseConstraint> pose = {
-        PoseConstraint::ContactPoint(model, "left_foot", 0, 0.1), PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
-        PoseConstraint::ContactPoint(model, "right_foot", 0, -0.1), PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0),
-        PoseConstraint::Com(0, 0.0), PoseConstraint::Coordinate(2, 0.0)};
+    const std::vector<PoseConstraint> pose = {PoseConstraint::ContactPoint(model, "left_foot", 0, 0.1),
+                                              PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
+                                              PoseConstraint::ContactPoint(model, "right_foot", 0, -0.1),
+                                              PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0),
+                                              PoseConstraint::Com(0, 0.0),
+                                              PoseConstraint::Coordinate(2, 0.0)};
     const Eigen::VectorXd q = SolvePose(model, ws, model.q_nominal(), pose);
     MultibodyWorkspace fresh(model);
-    const Eigen::Vector3d pl = ContactOrigin(model, fresh, q, "left_foot"), pr = ContactOrigin(model, fresh, q, "right_foot");
+    const Eigen::Vector3d pl = ContactOrigin(model, fresh, q, "left_foot"),
+                          pr = ContactOrigin(model, fresh, q, "right_foot");
     EXPECT_NEAR(pl.x(), 0.1, 1e-10);
     EXPECT_NEAR(pl.z(), 0.0, 1e-10);
     EXPECT_NEAR(pr.x(), -0.1, 1e-10);
@@ -167,7 +181,8 @@ TEST(PoseConstraintsTest, PlanarCassieFlatSolesAndClosedRods) {
   for (const char* foot : {"left_foot", "right_foot"}) {
     const ContactInfo& info = model.contacts()[model.ContactIndex(foot)];
     pose.push_back(PoseConstraint::ContactPoint(model, foot, 0, 0.05));
-    for (const Eigen::Vector3d& p : info.points) pose.push_back(PoseConstraint::Point(model, info.link, p, 2, 0.1));  // sole flat at z = 0.1
+    for (const Eigen::Vector3d& p : info.points)
+      pose.push_back(PoseConstraint::Point(model, info.link, p, 2, 0.1));  // sole flat at z = 0.1
   }
   pose.push_back(PoseConstraint::Com(0, 0.0));
   pose.push_back(PoseConstraint::Com(2, 0.9));
@@ -179,11 +194,14 @@ TEST(PoseConstraintsTest, PlanarCassieFlatSolesAndClosedRods) {
   const Eigen::VectorXd q = SolvePose(model, ws, model.q_nominal(), pose);
   MultibodyWorkspace fresh(model);
   for (const LoopClosureInfo& lc : model.loop_closures())
-    EXPECT_NEAR((CalcPointPosition(model, fresh, q, lc.body_a, lc.point_a) - CalcPointPosition(model, fresh, q, lc.body_b, lc.point_b)).norm(),
+    EXPECT_NEAR((CalcPointPosition(model, fresh, q, lc.body_a, lc.point_a) -
+                 CalcPointPosition(model, fresh, q, lc.body_b, lc.point_b))
+                    .norm(),
                 lc.distance_m, 1e-10)
         << lc.name;
   for (int c = 0; c < 2; ++c)
-    for (const Eigen::Vector3d& p : model.contacts()[c].points) EXPECT_NEAR(CalcPointPosition(model, fresh, q, model.contacts()[c].body, p).z(), 0.1, 1e-10);
+    for (const Eigen::Vector3d& p : model.contacts()[c].points)
+      EXPECT_NEAR(CalcPointPosition(model, fresh, q, model.contacts()[c].body, p).z(), 0.1, 1e-10);
   // The loop-closure rows' Jacobian matches finite differences.
   Eigen::VectorXd qq = q;
   for (int i = 0; i < model.nv(); ++i) qq[i] += 0.03 * std::cos(2.0 + i);
@@ -204,9 +222,10 @@ TEST(PoseConstraintsTest, PlanarCassieFlatSolesAndClosedRods) {
 TEST(PoseConstraintsTest, JacobianMatchesFiniteDifferences) {
   const MultibodyModel model = LoadRobot("exoskeleton");
   MultibodyWorkspace ws(model);
-  std::vector<PoseConstraint> pose = {PoseConstraint::ContactPoint(model, "left_foot", 1, 0.0), PoseConstraint::Com(2, 0.9),
-                                      PoseConstraint::Point(model, "right_shank", Eigen::Vector3d(0.01, 0.02, -0.2), 0, 0.0),
-                                      PoseConstraint::Coordinate(8, 0.3), PoseConstraint::Com(0, 0.1)};
+  std::vector<PoseConstraint> pose = {
+      PoseConstraint::ContactPoint(model, "left_foot", 1, 0.0), PoseConstraint::Com(2, 0.9),
+      PoseConstraint::Point(model, "right_shank", Eigen::Vector3d(0.01, 0.02, -0.2), 0, 0.0),
+      PoseConstraint::Coordinate(8, 0.3), PoseConstraint::Com(0, 0.1)};
   const int m = static_cast<int>(pose.size()), nv = model.nv();
   Eigen::VectorXd q = model.q_nominal();
   for (int i = 0; i < nv; ++i) q[i] += 0.05 * std::sin(1.0 + i);
@@ -231,16 +250,22 @@ TEST(PoseConstraintsTest, BadRequestsGetClearErrors) {
   MultibodyWorkspace ws(model);
   const Eigen::VectorXd q0 = model.q_nominal();
   ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {}); }, {"amber", "no constraints"});
-  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, Eigen::VectorXd::Zero(3), {PoseConstraint::Com(0, 0)}); },
-                                         {"q0 has size 3", "nq = 7"});
-  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Com(1, 0.0)}); }, {"COM y", "planar"});
-  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::ContactPoint(model, "left_foot", 3, 0.0)}); },
-                                         {"left_foot", "axis 3"});
-  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Coordinate(7, 0.0)}); }, {"coordinate 7", "nq = 7"});
-  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Com(2, std::nan(""))}); }, {"COM z", "non-finite"});
+  ExpectThrowWith<std::invalid_argument>(
+      [&] { SolvePose(model, ws, Eigen::VectorXd::Zero(3), {PoseConstraint::Com(0, 0)}); },
+      {"q0 has size 3", "nq = 7"});
+  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Com(1, 0.0)}); },
+                                         {"COM y", "planar"});
+  ExpectThrowWith<std::invalid_argument>(
+      [&] { SolvePose(model, ws, q0, {PoseConstraint::ContactPoint(model, "left_foot", 3, 0.0)}); },
+      {"left_foot", "axis 3"});
+  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Coordinate(7, 0.0)}); },
+                                         {"coordinate 7", "nq = 7"});
+  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Com(2, std::nan(""))}); },
+                                         {"COM z", "non-finite"});
   ExpectThrowWith<std::invalid_argument>([&] { PoseConstraint::ContactPoint(model, "nose", 0, 0.0); }, {"nose"});
-  ExpectThrowWith<std::invalid_argument>([&] { SolvePose(model, ws, q0, {PoseConstraint::Com(0, 0)}, {.max_iterations = 10, .tolerance = 0}); },
-                                         {"tolerance > 0"});
+  ExpectThrowWith<std::invalid_argument>(
+      [&] { SolvePose(model, ws, q0, {PoseConstraint::Com(0, 0)}, {.max_iterations = 10, .tolerance = 0}); },
+      {"tolerance > 0"});
   // Out of reach: the right foot 2 m from the left foot with legs 0.87 m long. Names the robot and a foot.
   ExpectThrowWith<std::runtime_error>([&] { SolvePose(model, ws, q0, AmberSingleSupport(model, 2.0, 0.0)); },
                                       {"amber", "did not converge", "of contact"});
@@ -248,8 +273,9 @@ TEST(PoseConstraintsTest, BadRequestsGetClearErrors) {
   ExpectThrowWith<std::runtime_error>(
       [&] {
         SolvePose(model, ws, q0,
-                  {PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0), PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0),
-                   PoseConstraint::Com(2, 2.0), PoseConstraint::Coordinate(2, 0.0)});
+                  {PoseConstraint::ContactPoint(model, "left_foot", 2, 0.0),
+                   PoseConstraint::ContactPoint(model, "right_foot", 2, 0.0), PoseConstraint::Com(2, 2.0),
+                   PoseConstraint::Coordinate(2, 0.0)});
       },
       {"did not converge"});
 }

@@ -48,7 +48,8 @@ std::string Replace(std::string s, const std::string& from, const std::string& t
 // The refusal must be one printable line holding every fragment.
 void ExpectRefusal(const std::string& outcome, std::initializer_list<std::string> fragments) {
   ASSERT_EQ(outcome.rfind("error: ", 0), 0u) << outcome;
-  for (const std::string& f : fragments) EXPECT_NE(outcome.find(f), std::string::npos) << "'" << f << "' not in: " << outcome;
+  for (const std::string& f : fragments)
+    EXPECT_NE(outcome.find(f), std::string::npos) << "'" << f << "' not in: " << outcome;
   for (char c : outcome) EXPECT_GE(static_cast<unsigned char>(c), 0x20u) << outcome;
   EXPECT_LT(outcome.size(), 1000u) << outcome;
 }
@@ -64,7 +65,8 @@ class RobotPackage : public ::testing::Test {
     sidecar_ = ReadText(DataPath("walker2d.rome.json"));
     ASSERT_FALSE(urdf_.empty());
     WriteText(root_.File("outside.urdf"), urdf_);
-    WriteText(root_.File("outside.rome.json"), Replace(sidecar_, R"("urdf": "walker2d.urdf")", R"("urdf": "outside.urdf")"));
+    WriteText(root_.File("outside.rome.json"),
+              Replace(sidecar_, R"("urdf": "walker2d.urdf")", R"("urdf": "outside.urdf")"));
     WriteText(Package("walker2d.urdf"), urdf_);
   }
 
@@ -90,9 +92,7 @@ class RobotPackage : public ::testing::Test {
       try {
         load();
         return "loaded";
-      } catch (const std::exception& e) {
-        return std::string("error: ") + e.what();
-      }
+      } catch (const std::exception& e) { return std::string("error: ") + e.what(); }
     });
     if (outcome.wait_for(std::chrono::seconds(10)) != std::future_status::ready) {
       ADD_FAILURE() << "the load did not return within 10 s";
@@ -126,13 +126,16 @@ TEST_F(RobotPackage, RelativeEntriesInsideThePackageLoad) {
 TEST_F(RobotPackage, AbsoluteEntriesAreRefused) {
   const std::string sidecar = Package("robot.rome.json");
   for (const std::string& entry : {std::string("/dev/zero"), std::string("/etc/passwd"), root_.File("outside.urdf")})
-    ExpectRefusal(FromSidecar(Sidecar(entry)), {sidecar, "\"urdf\"", entry, "is an absolute path", "allow_files_outside_package"});
+    ExpectRefusal(FromSidecar(Sidecar(entry)),
+                  {sidecar, "\"urdf\"", entry, "is an absolute path", "allow_files_outside_package"});
 }
 
 TEST_F(RobotPackage, EntriesThatClimbOutAreRefused) {
   const std::string sidecar = Package("robot.rome.json");
-  ExpectRefusal(FromSidecar(Sidecar("../../outside.urdf")), {sidecar, "\"urdf\" ../../outside.urdf", "leaves its package folder"});
-  ExpectRefusal(FromSidecar(Sidecar("../../../../../../../../../../etc/hostname")), {sidecar, "\"urdf\"", "leaves its package folder"});
+  ExpectRefusal(FromSidecar(Sidecar("../../outside.urdf")),
+                {sidecar, "\"urdf\" ../../outside.urdf", "leaves its package folder"});
+  ExpectRefusal(FromSidecar(Sidecar("../../../../../../../../../../etc/hostname")),
+                {sidecar, "\"urdf\"", "leaves its package folder"});
 }
 
 TEST_F(RobotPackage, SymlinksPointingOutAreRefused) {
@@ -140,7 +143,8 @@ TEST_F(RobotPackage, SymlinksPointingOutAreRefused) {
   fs::create_directory_symlink(root_.path(), Package("up"));
   const std::string sidecar = Package("robot.rome.json");
   ExpectRefusal(FromSidecar(Sidecar("link.urdf")), {sidecar, "\"urdf\" link.urdf", "leaves its package folder"});
-  ExpectRefusal(FromSidecar(Sidecar("up/outside.urdf")), {sidecar, "\"urdf\" up/outside.urdf", "leaves its package folder"});
+  ExpectRefusal(FromSidecar(Sidecar("up/outside.urdf")),
+                {sidecar, "\"urdf\" up/outside.urdf", "leaves its package folder"});
   // A link that stays inside is fine.
   fs::create_symlink("walker2d.urdf", Package("inside_link.urdf"));
   EXPECT_EQ(FromSidecar(Sidecar("inside_link.urdf")), "loaded");
@@ -161,14 +165,16 @@ TEST_F(RobotPackage, FifosAreRefusedAtOnce) {
 TEST_F(RobotPackage, DevicesAreRefusedEvenWhenOutsideFilesAreAllowed) {
   // Before: "/dev/zero" was read whole, grew past 1 GB and ended in std::bad_alloc.
   const std::string sidecar = Sidecar("/dev/zero");
-  ExpectRefusal(FromSidecar(sidecar, /*allow_outside=*/true), {sidecar, "\"urdf\" /dev/zero", "is a device, not a regular file"});
+  ExpectRefusal(FromSidecar(sidecar, /*allow_outside=*/true),
+                {sidecar, "\"urdf\" /dev/zero", "is a device, not a regular file"});
   ExpectRefusal(FromSidecar(Sidecar("../../../../../../../../../../dev/null"), true), {"dev/null", "is a device"});
   ExpectRefusal(FromSidecar(Sidecar("."), true), {"is a directory"});
 }
 
 TEST_F(RobotPackage, AllowFilesOutsidePackageLoadsThem) {
   fs::create_symlink(root_.File("outside.urdf"), Package("link.urdf"));
-  for (const std::string& entry : {std::string("../../outside.urdf"), root_.File("outside.urdf"), std::string("link.urdf")}) {
+  for (const std::string& entry :
+       {std::string("../../outside.urdf"), root_.File("outside.urdf"), std::string("link.urdf")}) {
     EXPECT_EQ(FromSidecar(Sidecar(entry), /*allow_outside=*/true), "loaded") << entry;
     EXPECT_NE(FromSidecar(Sidecar(entry)), "loaded") << entry;
   }
@@ -183,7 +189,8 @@ TEST_F(RobotPackage, TheSidecarBesideAUrdfStaysInside) {
   WriteText(Package("w.urdf"), urdf_);
   fs::create_symlink(root_.File("outside.rome.json"), Package("w.rome.json"));
   const std::string urdf = Package("w.urdf");
-  ExpectRefusal(Within10s([urdf] { return MultibodyModel::Load(urdf); }), {urdf, "its sidecar w.rome.json", "leaves its package folder"});
+  ExpectRefusal(Within10s([urdf] { return MultibodyModel::Load(urdf); }),
+                {urdf, "its sidecar w.rome.json", "leaves its package folder"});
   LoadOptions allow;
   allow.allow_files_outside_package = true;
   EXPECT_TRUE(MultibodyModel::Load(urdf, "", allow).is_planar());
@@ -201,7 +208,8 @@ class RobotFileLookup : public ::testing::Test {
   void SetUp() override {
     WriteText(root_.File("robots/amber/amber.urdf"), ReadText(test::SourcePath("robots/amber/amber.urdf")));
     const std::string real = ReadText(test::SourcePath("robots/amber/amber.rome.json"));
-    WriteText(root_.File("robots/amber/amber.rome.json"), Replace(real, R"("robot": "amber")", R"("robot": "planted")"));
+    WriteText(root_.File("robots/amber/amber.rome.json"),
+              Replace(real, R"("robot": "amber")", R"("robot": "planted")"));
     WriteText(root_.File("robots/only_here/only_here.rome.json"), real);
     WriteText(root_.File("robots/only_here/amber.urdf"), ReadText(test::SourcePath("robots/amber/amber.urdf")));
     fs::create_directories(root_.File("sub"));
@@ -225,7 +233,8 @@ TEST_F(RobotFileLookup, PlainRelativePathsComeFromTheDataFolders) {
 }
 
 TEST_F(RobotFileLookup, DotSlashReadsTheCurrentFolder) {
-  EXPECT_TRUE(fs::equivalent(FindRobotFile("./robots/amber/amber.rome.json"), root_.File("robots/amber/amber.rome.json")));
+  EXPECT_TRUE(
+      fs::equivalent(FindRobotFile("./robots/amber/amber.rome.json"), root_.File("robots/amber/amber.rome.json")));
   EXPECT_EQ(MultibodyModel::LoadFromSidecar("./robots/amber/amber.rome.json").name(), "planted");
   fs::current_path(root_.File("sub"));
   EXPECT_EQ(MultibodyModel::LoadFromSidecar("../robots/amber/amber.rome.json").name(), "planted");
@@ -239,8 +248,12 @@ TEST_F(RobotFileLookup, AFileOnlyInTheCurrentFolderIsNotFoundAndTheErrorSaysHow)
     ADD_FAILURE() << "a file of the current folder was found without ./";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("robot file robots/only_here/only_here.rome.json: file does not exist in the data folders"), std::string::npos) << what;
-    EXPECT_NE(what.find("write ./robots/only_here/only_here.rome.json to read it from the current folder"), std::string::npos) << what;
+    EXPECT_NE(what.find("robot file robots/only_here/only_here.rome.json: file does not exist in the data folders"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("write ./robots/only_here/only_here.rome.json to read it from the current folder"),
+              std::string::npos)
+        << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;
   }
   EXPECT_EQ(MultibodyModel::LoadFromSidecar("./robots/only_here/only_here.rome.json").name(), "amber");

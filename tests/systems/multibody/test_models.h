@@ -18,8 +18,8 @@ inline std::string DataPath(const std::string& file) {
 
 // Test models plus any robots/* models present (robots/<name>/<name>.urdf + sidecar).
 inline std::vector<std::string> AllModelUrdfs() {
-  std::vector<std::string> out = {DataPath("double_pendulum.urdf"), DataPath("walker2d.urdf"),
-                                  DataPath("biped3d.urdf"), DataPath("spring_arm.urdf")};
+  std::vector<std::string> out = {DataPath("double_pendulum.urdf"), DataPath("walker2d.urdf"), DataPath("biped3d.urdf"),
+                                  DataPath("spring_arm.urdf")};
   for (const std::string name : {"amber", "exoskeleton", "cassie", "cassie_planar"}) {
     const std::string p = rome::test::SourcePath("robots/" + name + "/" + name + ".urdf");
     const std::string s = rome::test::SourcePath("robots/" + name + "/" + name + ".rome.json");
@@ -30,8 +30,7 @@ inline std::vector<std::string> AllModelUrdfs() {
 
 // Random state near the nominal pose: joints +-0.5 rad, base orientation +-0.4 rad,
 // velocities +-1.
-inline void RandomState(const MultibodyModel& model, std::mt19937& rng, Eigen::VectorXd& q,
-                        Eigen::VectorXd& v) {
+inline void RandomState(const MultibodyModel& model, std::mt19937& rng, Eigen::VectorXd& q, Eigen::VectorXd& v) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   q = model.q_nominal();
   v.resize(model.nv());

@@ -22,7 +22,8 @@ using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1>;
 
 // Largest state deviation of an RK4 re-integration (fine steps, first-order-hold input as in the collocation) from
 // the plan's nodes, over both domains; SSP→DSP is the identity in Cartesian form.
-double ReintegrationError(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait, Eigen::Vector4d* worst_per_state) {
+double ReintegrationError(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait,
+                          Eigen::Vector4d* worst_per_state) {
   const AslipParams& p = planner.params().aslip;
   Vec x = gait.collocation.phases[0].states.col(0);
   double worst = 0.0;
@@ -120,8 +121,10 @@ TEST(AslipPeriodicGaitPlanner, ConvergesFromRandomGuessesAndMeetsEveryConstraint
       EXPECT_LT(per_state.tail<2>().maxCoeff(), 5e-2) << "seed " << seed;
     }
     EXPECT_GE(converged, seeds == 10 ? 9 : seeds) << "l = " << l;
-    RecordProperty("worst_reintegration_l" + std::to_string(static_cast<int>(l * 100)), std::to_string(worst_reintegration));
-    std::printf("l = %.2f: %d/%d converged, worst re-integration error %.3g\n", l, converged, seeds, worst_reintegration);
+    RecordProperty("worst_reintegration_l" + std::to_string(static_cast<int>(l * 100)),
+                   std::to_string(worst_reintegration));
+    std::printf("l = %.2f: %d/%d converged, worst re-integration error %.3g\n", l, converged, seeds,
+                worst_reintegration);
   }
 }
 
@@ -201,9 +204,7 @@ TEST(AslipPeriodicGaitPlanner, RejectsBadParameters) {
   try {
     AslipPeriodicGaitPlanner planner(params);
     FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("step_length"), std::string::npos);
-  }
+  } catch (const std::invalid_argument& e) { EXPECT_NE(std::string(e.what()).find("step_length"), std::string::npos); }
   params = {};
   params.leg_length_min = 0.2;
   EXPECT_THROW(AslipPeriodicGaitPlanner{params}, std::invalid_argument);

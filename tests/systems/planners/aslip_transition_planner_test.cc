@@ -2,8 +2,8 @@
 // 1e-6, free durations inside their bounds, the boundary states, Eq. (10) as a centre of pressure under the foot
 // (x_cop − x_ankle = u/G_z ∈ [−L_h, L_t], from the ground reaction recomputed here), the lift-off guard, and forward
 // re-integration (RK4) of the footed aSLIP under the planned inputs; and the static force balance behind the standing
-// state (AslipRestLengthForForce). The lateral option (a step stance into gait A): the lateral ZMP rows of Eq. (14) as a
-// lateral centre of pressure, the point-foot SSP, the DSP stance force floor, and re-integration of the 3D point mass
+// state (AslipRestLengthForForce). The lateral option (a step stance into gait A): the lateral ZMP rows of Eq. (14) as
+// a lateral centre of pressure, the point-foot SSP, the DSP stance force floor, and re-integration of the 3D point mass
 // with its lateral force from the CoP geometry (G_y = G_z (y − y_cop)/z).
 #include "systems/planners/aslip_transition_planner.h"
 
@@ -60,7 +60,9 @@ void CheckTransition(const AslipTransitionPlanner& planner, const AslipTransitio
   EXPECT_GE(Ts, q.min_ssp_duration - 1e-9);
   EXPECT_LE(Ts, q.max_ssp_duration + 1e-9);
   EXPECT_LT((t.collocation.phases[0].states.col(0) - Vec(d.initial_state)).cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_LT((t.collocation.phases[1].states.col(q.bounds.nodes_per_domain - 1) - Vec(d.final_state)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT(
+      (t.collocation.phases[1].states.col(q.bounds.nodes_per_domain - 1) - Vec(d.final_state)).cwiseAbs().maxCoeff(),
+      1e-9);
   const double mg = p.mass * p.gravity;
   for (int ph = 0; ph < 2; ++ph) {
     const Eigen::MatrixXd G = t.GroundReactions(p, d, ph);
@@ -83,9 +85,7 @@ void CheckTransition(const AslipTransitionPlanner& planner, const AslipTransitio
         }
       }
     }
-    if (ph == 0) {
-      EXPECT_NEAR(G(2 * d.lifting_leg + 1, G.cols() - 1), 0.0, 1e-6 * mg);
-    }
+    if (ph == 0) { EXPECT_NEAR(G(2 * d.lifting_leg + 1, G.cols() - 1), 0.0, 1e-6 * mg); }
   }
   const double e = Reintegrate(p, d, t);
   // Stated bound: x, z within 3 cm over the whole open-loop transition (up to 1.6 s with h up to 50 ms; the SSP's
@@ -121,7 +121,8 @@ TEST(AslipTransitionPlanner, StandingToGaitA) {
   std::filesystem::remove_all(dir);
 }
 
-// Gait A's post-impact DSP state to gait B's pre-impact state, with the source gait's DSP and the target's SSP as guess.
+// Gait A's post-impact DSP state to gait B's pre-impact state, with the source gait's DSP and the target's SSP as
+// guess.
 AslipTransitionData GaitAToBData(const AslipPeriodicGaitParams& gait_a, const AslipPeriodicGaitParams& gait_b) {
   const AslipPeriodicGait a = AslipPeriodicGaitPlanner(gait_a).Solve(1);
   const AslipPeriodicGait b = AslipPeriodicGaitPlanner(gait_b).Solve(1);
@@ -167,7 +168,8 @@ TEST(AslipTransitionPlanner, GaitAToGaitB) {
   CheckTransition(planner, d, t);
 
   // max_vertical_force_fraction (ours): with the bound 5 % below the unbounded plan's peak, every leg's vertical GRF
-  // (recomputed here from the states and inputs) stays at or below it on every node, and the rest of Eq. (9)-(10) holds.
+  // (recomputed here from the states and inputs) stays at or below it on every node, and the rest of Eq. (9)-(10)
+  // holds.
   const double peak = PeakForceFraction(params.bounds.aslip, d, t);
   ASSERT_GT(peak, 1.1);
   AslipTransitionParams bounded = params;
@@ -176,7 +178,8 @@ TEST(AslipTransitionPlanner, GaitAToGaitB) {
   const AslipTransition tb = bounded_planner.Solve(d);
   CheckTransition(bounded_planner, d, tb);
   const double bounded_peak = PeakForceFraction(params.bounds.aslip, d, tb);
-  std::printf("peak vertical GRF: %.3f m g unbounded, %.3f m g with the bound %.3f\n", peak, bounded_peak, bounded.max_vertical_force_fraction);
+  std::printf("peak vertical GRF: %.3f m g unbounded, %.3f m g with the bound %.3f\n", peak, bounded_peak,
+              bounded.max_vertical_force_fraction);
   EXPECT_LE(bounded_peak, bounded.max_vertical_force_fraction + 1e-6);
   EXPECT_NE(bounded_planner.CacheKey(d).text(), planner.CacheKey(d).text());
   bounded.max_vertical_force_fraction = 0.5;
@@ -192,7 +195,8 @@ TEST(AslipTransitionPlanner, RestLengthBalancesTheStaticLoad) {
   }
   // Standing: the two vertical legs hold the mass in equilibrium (zero acceleration).
   const Eigen::Matrix<double, 8, 1> x = AslipTransitionPlanner::StandingState(p, 0.9);
-  const Eigen::Matrix<double, 8, 1> xdot = AslipDynamics<double>(p, AslipContact{true, true, 0, 0}, Vec(x), Vec::Zero(4));
+  const Eigen::Matrix<double, 8, 1> xdot =
+      AslipDynamics<double>(p, AslipContact{true, true, 0, 0}, Vec(x), Vec::Zero(4));
   EXPECT_LT(xdot.segment<2>(2).norm(), 1e-9);
   EXPECT_THROW(AslipRestLengthForForce(p, -1.0, 100.0), std::invalid_argument);
 }
@@ -223,7 +227,8 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
   const double W = 0.25;
   d.left_foot_y = W / 2;
   d.right_foot_y = -W / 2;
-  const HybridLinearInvertedPendulum hlip({.z0 = a.mean_height, .ssp_duration = gait_a.ssp_duration, .dsp_duration = gait_a.dsp_duration});
+  const HybridLinearInvertedPendulum hlip(
+      {.z0 = a.mean_height, .ssp_duration = gait_a.ssp_duration, .dsp_duration = gait_a.dsp_duration});
   const Eigen::Vector2d pre = hlip.P2PreImpactState(W);
   d.final_lateral_state = Eigen::Vector2d(W / 2 + pre(0), pre(1));
   const AslipTransition t = planner.Solve(d);
@@ -249,9 +254,7 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
           EXPECT_EQ(ux, 0.0);
           continue;
         }
-        if (ph == 1) {
-          EXPECT_NEAR(s.inputs(2 + leg, k), 0.0, 1e-9) << "point-foot SSP, node " << k;
-        }
+        if (ph == 1) { EXPECT_NEAR(s.inputs(2 + leg, k), 0.0, 1e-9) << "point-foot SSP, node " << k; }
         if (ph == 0 && leg != d.lifting_leg) {
           EXPECT_GE(Gz, 0.1 * mg - 1e-6 * mg) << "DSP stance force floor, node " << k;
         }
@@ -293,7 +296,8 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
       };
       for (int j = 0; j < sub; ++j) {
         const double tt = j * dt;
-        const Vec k1 = f(x, tt), k2 = f(x + 0.5 * dt * k1, tt + 0.5 * dt), k3 = f(x + 0.5 * dt * k2, tt + 0.5 * dt), k4 = f(x + dt * k3, tt + dt);
+        const Vec k1 = f(x, tt), k2 = f(x + 0.5 * dt * k1, tt + 0.5 * dt), k3 = f(x + 0.5 * dt * k2, tt + 0.5 * dt),
+                  k4 = f(x + dt * k3, tt + dt);
         x += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
       }
       worst_y = std::max(worst_y, std::abs(x(8) - s.states(8, k + 1)));
@@ -301,8 +305,8 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
   }
   // Stated bound: y within 2 cm over the open-loop 1.4 s (trapezoid defects, amplified by the SSP's divergence).
   EXPECT_LT(worst_y, 2e-2);
-  std::printf("T_DSP %.3f s, T_SSP %.3f s, %d iterations, %.0f ms, lateral re-integration %.2g m\n", dsp.duration, ssp.duration,
-              t.collocation.nlp.iterations, 1e3 * t.collocation.nlp.wall_time, worst_y);
+  std::printf("T_DSP %.3f s, T_SSP %.3f s, %d iterations, %.0f ms, lateral re-integration %.2g m\n", dsp.duration,
+              ssp.duration, t.collocation.nlp.iterations, 1e3 * t.collocation.nlp.wall_time, worst_y);
 }
 
 TEST(AslipTransitionPlanner, StepStanceStandingStateIsInStaticEquilibrium) {

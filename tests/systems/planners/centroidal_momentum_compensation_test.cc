@@ -46,7 +46,8 @@ TEST(CentroidalMomentumCompensation, DrivenInvertedPendulumMatchesItsClosedForm)
     }
     previous_error = error;
   }
-  EXPECT_THROW(SolveDrivenInvertedPendulum(Eigen::VectorXd::Ones(3), Eigen::VectorXd::Ones(4), 0.01), std::invalid_argument);
+  EXPECT_THROW(SolveDrivenInvertedPendulum(Eigen::VectorXd::Ones(3), Eigen::VectorXd::Ones(4), 0.01),
+               std::invalid_argument);
 }
 
 // The largest |robot CoP − ROM CoP| in single support: the robot's by inverse dynamics of `plan`'s kinematic replay,
@@ -59,25 +60,32 @@ struct CopOffsets {
   double plan_acceleration = 0, x_from_positions = 0, y_from_positions = 0;
   double z_acceleration_mismatch = 0;  ///< [m/s²] largest |plan z̈ − second difference of the plan's z|
 };
-CopOffsets LargestCopOffsetByInverseDynamics(const MultibodyModel& model, const WalkingPlan& plan, const WalkingPlan& rom,
-                                             const SwingFootTrajectoryParams& swing) {
+CopOffsets LargestCopOffsetByInverseDynamics(const MultibodyModel& model, const WalkingPlan& plan,
+                                             const WalkingPlan& rom, const SwingFootTrajectoryParams& swing) {
   MultibodyWorkspace ws(model);
   CopOffsets worst;
   const double h = 2e-3;
-  ForEachSingleSupportInverseDynamics(model, plan, swing, {.sample_period_s = h}, [&](const WalkingPlanInverseDynamicsSample& s) {
-    const Eigen::Vector3d M = s.wrench.head<3>(), F = s.wrench.tail<3>();
-    EXPECT_GT(F.z(), 0.0);
-    const Eigen::Vector2d robot_cop = CalcLinkPose(model, ws, s.q, s.stance_body).translation().head<2>() + Eigen::Vector2d(-M.y() / F.z(), M.x() / F.z());
-    const WalkingReference p = rom.Sample(s.time_s);
-    auto cop = [&](const Eigen::Vector3d& acc) { return Eigen::Vector2d(p.com_position.head<2>() - p.com_position.z() * acc.head<2>() / (acc.z() + 9.81)); };
-    const Eigen::Vector3d from_positions =
-        (rom.Sample(s.time_s + h).com_position - 2.0 * p.com_position + rom.Sample(s.time_s - h).com_position) / (h * h);
-    worst.plan_acceleration = std::max(worst.plan_acceleration, (robot_cop - cop(p.com_acceleration)).cwiseAbs().maxCoeff());
-    worst.z_acceleration_mismatch = std::max(worst.z_acceleration_mismatch, std::abs(p.com_acceleration.z() - from_positions.z()));
-    const Eigen::Vector2d off = (robot_cop - cop(from_positions)).cwiseAbs();
-    worst.x_from_positions = std::max(worst.x_from_positions, off.x());
-    worst.y_from_positions = std::max(worst.y_from_positions, off.y());
-  });
+  ForEachSingleSupportInverseDynamics(
+      model, plan, swing, {.sample_period_s = h}, [&](const WalkingPlanInverseDynamicsSample& s) {
+        const Eigen::Vector3d M = s.wrench.head<3>(), F = s.wrench.tail<3>();
+        EXPECT_GT(F.z(), 0.0);
+        const Eigen::Vector2d robot_cop = CalcLinkPose(model, ws, s.q, s.stance_body).translation().head<2>() +
+                                          Eigen::Vector2d(-M.y() / F.z(), M.x() / F.z());
+        const WalkingReference p = rom.Sample(s.time_s);
+        auto cop = [&](const Eigen::Vector3d& acc) {
+          return Eigen::Vector2d(p.com_position.head<2>() - p.com_position.z() * acc.head<2>() / (acc.z() + 9.81));
+        };
+        const Eigen::Vector3d from_positions =
+            (rom.Sample(s.time_s + h).com_position - 2.0 * p.com_position + rom.Sample(s.time_s - h).com_position) /
+            (h * h);
+        worst.plan_acceleration =
+            std::max(worst.plan_acceleration, (robot_cop - cop(p.com_acceleration)).cwiseAbs().maxCoeff());
+        worst.z_acceleration_mismatch =
+            std::max(worst.z_acceleration_mismatch, std::abs(p.com_acceleration.z() - from_positions.z()));
+        const Eigen::Vector2d off = (robot_cop - cop(from_positions)).cwiseAbs();
+        worst.x_from_positions = std::max(worst.x_from_positions, off.x());
+        worst.y_from_positions = std::max(worst.y_from_positions, off.y());
+      });
   return worst;
 }
 
@@ -89,11 +97,15 @@ TEST(CentroidalMomentumCompensation, KeepsTheRobotsCopOnTheRomPivotByInverseDyna
   WalkingPlan corrected = plan;
   const CentroidalMomentumCompensationReport report = CompensateCentroidalMomentum(*model, corrected, swing);
   const CopOffsets after = LargestCopOffsetByInverseDynamics(*model, corrected, plan, swing);
-  std::printf("  CoP off the pivot by inverse dynamics: %.4f m uncorrected, %.4f m corrected; report %.4f -> %.4f m; |delta| <= %.4f m\n",
-              before.plan_acceleration, after.plan_acceleration, report.max_cop_shift_uncorrected_m, report.max_cop_shift_corrected_m,
-              report.max_correction_m);
-  std::printf("  corrected, with the plan positions' own second differences: x %.4f m, y %.5f m (plan z acceleration off its positions' by up to %.2f m/s^2)\n",
-              after.x_from_positions, after.y_from_positions, after.z_acceleration_mismatch);
+  std::printf(
+      "  CoP off the pivot by inverse dynamics: %.4f m uncorrected, %.4f m corrected; report %.4f -> %.4f m; |delta| "
+      "<= %.4f m\n",
+      before.plan_acceleration, after.plan_acceleration, report.max_cop_shift_uncorrected_m,
+      report.max_cop_shift_corrected_m, report.max_correction_m);
+  std::printf(
+      "  corrected, with the plan positions' own second differences: x %.4f m, y %.5f m (plan z acceleration off its "
+      "positions' by up to %.2f m/s^2)\n",
+      after.x_from_positions, after.y_from_positions, after.z_acceleration_mismatch);
   EXPECT_GT(before.plan_acceleration, 0.10);
   EXPECT_LT(after.plan_acceleration, 0.025);  // measured 0.0216 m, in y: see below
   // The report's estimate (0.0070 m) and the inverse dynamics' 2.1 cm differ by the plan's interpolation, not the

@@ -66,7 +66,8 @@ Eigen::Vector2d Rk4(const F& f, Eigen::Vector2d q, double T, int sub) {
 // Largest gap between a plan's node k + 1 and an RK4 integration (200 sub-steps) from node k of the point mass on
 // its two loaded feet, m z ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R, with the interval's mean forces and held
 // torques; z = the mean of the interval's two node heights, or z0 without heights.
-double PointMassRk4Error(const FootedHlipTransitionData& d, const FootedHlipTransitionPlan& plan, double mass, bool use_heights) {
+double PointMassRk4Error(const FootedHlipTransitionData& d, const FootedHlipTransitionPlan& plan, double mass,
+                         bool use_heights) {
   double worst = 0.0;
   for (int k = 0; k + 1 < static_cast<int>(d.node_times.size()); ++k) {
     const double FL = 0.5 * (d.left_normal_force(k) + d.left_normal_force(k + 1));
@@ -105,7 +106,8 @@ TEST(FootedHlipTransitionPlanner, HitsTheTerminalStateWithinTheZmpBounds) {
   // The ZMP bounds bind somewhere (otherwise the test would not exercise Eq. (14)).
   int active = 0;
   for (int k = 0; k < N; ++k) {
-    if (std::abs(std::abs(plan.left_torque(k)) - 0.06 * d.left_normal_force(k)) < 1e-6 && d.left_normal_force(k) > 0) ++active;
+    if (std::abs(std::abs(plan.left_torque(k)) - 0.06 * d.left_normal_force(k)) < 1e-6 && d.left_normal_force(k) > 0)
+      ++active;
   }
   EXPECT_GT(active, 0);
 
@@ -167,7 +169,8 @@ TEST(FootedHlipTransitionPlanner, NormalForcePivotsFollowThePointMassOnItsLoaded
   const double mz = p.mass * d.z0;
   for (int k = 0; k + 1 < N; ++k) {
     for (int foot = 0; foot < 2; ++foot) {  // Eq. (14)
-      const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k), u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
+      const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k),
+                   u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
       EXPECT_GE(u, -p.foot_width_left_of_ankle * F - 1e-9);
       EXPECT_LE(u, p.foot_width_right_of_ankle * F + 1e-9);
     }
@@ -187,7 +190,8 @@ TEST(FootedHlipTransitionPlanner, NodeHeightsMoveEachIntervalOnItsOwnHeight) {
   FootedHlipTransitionData d = StandingStart(0.8, 20, 0.4, 20);
   const int N = static_cast<int>(d.node_times.size());
   d.node_heights.resize(N);
-  for (int k = 0; k < N; ++k) d.node_heights(k) = 0.86 + 0.03 * std::sin(2 * M_PI * d.node_times(k) / 1.2);  // 0.83-0.89 m
+  for (int k = 0; k < N; ++k)
+    d.node_heights(k) = 0.86 + 0.03 * std::sin(2 * M_PI * d.node_times(k) / 1.2);  // 0.83-0.89 m
   const FootedHlipTransitionPlan plan = FootedHlipTransitionPlanner(p).Solve(d);
   ASSERT_TRUE(plan.success()) << plan.message;
   EXPECT_LT((plan.states.col(N - 1) - d.final_state).cwiseAbs().maxCoeff(), 1e-9);
@@ -195,7 +199,8 @@ TEST(FootedHlipTransitionPlanner, NodeHeightsMoveEachIntervalOnItsOwnHeight) {
   for (int k = 0; k + 1 < N; ++k) {
     EXPECT_NEAR(plan.interval_height(k), 0.5 * (d.node_heights(k) + d.node_heights(k + 1)), 1e-15);
     for (int foot = 0; foot < 2; ++foot) {  // Eq. (14)
-      const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k), u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
+      const double F = foot == 0 ? d.left_normal_force(k) : d.right_normal_force(k),
+                   u = foot == 0 ? plan.left_torque(k) : plan.right_torque(k);
       EXPECT_GE(u, -p.foot_width_left_of_ankle * F - 1e-9);
       EXPECT_LE(u, p.foot_width_right_of_ankle * F + 1e-9);
     }
@@ -207,7 +212,8 @@ TEST(FootedHlipTransitionPlanner, NodeHeightsMoveEachIntervalOnItsOwnHeight) {
   const FootedHlipTransitionPlan z0_plan = FootedHlipTransitionPlanner(p).Solve(flat);
   ASSERT_TRUE(z0_plan.success()) << z0_plan.message;
   const double without = PointMassRk4Error(d, z0_plan, p.mass, /*use_heights=*/true);
-  std::printf("  node states against RK4 on the node heights: %.2e with them, %.2e with z0 = %.2f m everywhere\n", with_heights, without, d.z0);
+  std::printf("  node states against RK4 on the node heights: %.2e with them, %.2e with z0 = %.2f m everywhere\n",
+              with_heights, without, d.z0);
   EXPECT_GT(without, 1e-4);
   // Bad heights are named.
   FootedHlipTransitionData bad = d;

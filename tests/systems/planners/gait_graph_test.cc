@@ -30,7 +30,8 @@ TEST(GaitGraph, CornerToCornerTakesTheFewestTransitionsTheReachAllows) {
   EXPECT_EQ(FewestTransitions(a, b, p.reach), 3);
   EXPECT_EQ(static_cast<int>(path.size()) - 1, 3);
   for (size_t k = 0; k + 1 < path.size(); ++k)
-    for (int i = 0; i < 4; ++i) EXPECT_LE(std::abs(graph.node(path[k + 1])[i] - graph.node(path[k])[i]), p.reach[i] + 1e-9);
+    for (int i = 0; i < 4; ++i)
+      EXPECT_LE(std::abs(graph.node(path[k + 1])[i] - graph.node(path[k])[i]), p.reach[i] + 1e-9);
 }
 
 TEST(GaitGraph, LazySearchReturnsOnlyAcceptedTransitionsAndKeepsThePrefixContract) {
@@ -57,7 +58,8 @@ TEST(GaitGraph, LazySearchReturnsOnlyAcceptedTransitionsAndKeepsThePrefixContrac
   EXPECT_EQ(prefix, chain.gaits);
   // 0.17 m of L in steps of at most 0.05 m (grid 0.25, 0.3, 0.35, 0.4, 0.42): 4 transitions.
   EXPECT_EQ(static_cast<int>(chain.gaits.size()) - 1, 4);
-  for (size_t k = 0; k + 1 < chain.gaits.size(); ++k) EXPECT_LE(std::abs(chain.gaits[k + 1][0] - chain.gaits[k][0]), 0.05 + 1e-9);
+  for (size_t k = 0; k + 1 < chain.gaits.size(); ++k)
+    EXPECT_LE(std::abs(chain.gaits[k + 1][0] - chain.gaits[k][0]), 0.05 + 1e-9);
   // within_box: every gait of the chain lies between A and B on every axis (W stays at the shared 0.27 m).
   for (const GaitVector& g : chain.gaits)
     for (int i = 0; i < 4; ++i) {

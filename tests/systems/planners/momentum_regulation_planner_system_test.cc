@@ -36,7 +36,8 @@ TEST(MomentumRegulationPlannerSystem, ClosedLoopLipWalkerRepeatsItsOrbit) {
     auto* planner = builder.AddSystem(std::make_unique<MomentumRegulationPlannerSystem>("planner", planner_params));
     builder.AddSystem(std::make_unique<ConstantVectorSource>("step", Eigen::Vector2d(step.l, step.h)));
     builder.AddSystem(std::make_unique<ConstantVectorSource>(
-        "pre_impact_height", Eigen::VectorXd::Constant(1, LinearInvertedPendulum::ComHeightOnSlope(eps * step.l, z0, step.l, step.h))));
+        "pre_impact_height",
+        Eigen::VectorXd::Constant(1, LinearInvertedPendulum::ComHeightOnSlope(eps * step.l, z0, step.l, step.h))));
     builder.AddSystem(std::make_unique<Demultiplexer>("split", std::vector<int>{1, 1}));
     builder.Connect("step", "y", "lip", "step");
     builder.Connect("step", "y", "planner", "step");
@@ -53,7 +54,8 @@ TEST(MomentumRegulationPlannerSystem, ClosedLoopLipWalkerRepeatsItsOrbit) {
 
     const LeafContext& lip_context = diagram->GetSubsystemContext(*lip, sim.get_context());
     const LeafContext& planner_context = diagram->GetSubsystemContext(*planner, sim.get_context());
-    const double L_des = planner->planner().DesiredPostImpactMomentum(step.l, step.h, LinearInvertedPendulum::ComHeightOnSlope(eps * step.l, z0, step.l, step.h));
+    const double L_des = planner->planner().DesiredPostImpactMomentum(
+        step.l, step.h, LinearInvertedPendulum::ComHeightOnSlope(eps * step.l, z0, step.l, step.h));
     EXPECT_NEAR(planner->EvalOutput(planner_context, "L_des")[0], L_des, 1e-14);
     EXPECT_GT(std::abs(lip->lip().OrbitalEnergy(Eigen::Vector2d(-0.25, 0.9)) - E_star), 0.05);
 
@@ -74,9 +76,7 @@ TEST(MomentumRegulationPlannerSystem, ClosedLoopLipWalkerRepeatsItsOrbit) {
       EXPECT_NEAR(post[0], (eps - 1) * step.l, 1e-9);
       EXPECT_NEAR(post[1], L_des, 1e-8) << "step " << steps;
       EXPECT_NEAR(lip->EvalOutput(lip_context, "orbital_energy")[0], E_star, 1e-8);
-      if (!std::isnan(previous_post_impact_L)) {
-        EXPECT_NEAR(post[1], previous_post_impact_L, 1e-9);
-      }
+      if (!std::isnan(previous_post_impact_L)) { EXPECT_NEAR(post[1], previous_post_impact_L, 1e-9); }
       previous_post_impact_L = post[1];
       EXPECT_EQ(planner->EvalOutput(planner_context, "status")[0], 0.0);
     }

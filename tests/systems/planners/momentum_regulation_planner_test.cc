@@ -13,7 +13,8 @@ namespace {
 TEST(MomentumRegulationPlanner, ImpactMapOfThePlannedInputGivesLdes) {
   const MomentumRegulationPlanner planner({.target_orbital_energy = 0.4, .impact_fraction = 0.6});
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> length(0.2, 0.8), height(-0.2, 0.25), px(-0.2, 0.0), energy(0.05, 0.8), zdes(0.7, 0.9);
+  std::uniform_real_distribution<double> length(0.2, 0.8), height(-0.2, 0.25), px(-0.2, 0.0), energy(0.05, 0.8),
+      zdes(0.7, 0.9);
   const LinearInvertedPendulum lip({.z0 = 0.8});
   for (int trial = 0; trial < 200; ++trial) {
     MomentumRegulationInput in;
@@ -25,10 +26,11 @@ TEST(MomentumRegulationPlanner, ImpactMapOfThePlannedInputGivesLdes) {
     in.pdot_com_x = in.L_y / 0.8 + 0.05;
     in.pre_impact_com_height = zdes(rng) + in.step_height * 0.6;
     const MomentumRegulationPlan plan = planner.Plan(in);
-    ASSERT_EQ(plan.status & ~static_cast<std::uint32_t>(MomentumRegulationPlan::kTimeToImpactClamped), 0u) << plan.status;
+    ASSERT_EQ(plan.status & ~static_cast<std::uint32_t>(MomentumRegulationPlan::kTimeToImpactClamped), 0u)
+        << plan.status;
     // Eq. (17) with the predicted pre-impact state (x⁻ = ε l, L⁻ = L̂⁻, ṗ^{x−} = current ṗ^x) and u = u_des.
-    const Eigen::Vector2d post = MomentumRegulationPlanner::ImpactMap(plan.pre_impact_position, plan.L_pre_impact, in.pdot_com_x, plan.u_des,
-                                                                      in.step_length, in.step_height);
+    const Eigen::Vector2d post = MomentumRegulationPlanner::ImpactMap(
+        plan.pre_impact_position, plan.L_pre_impact, in.pdot_com_x, plan.u_des, in.step_length, in.step_height);
     EXPECT_NEAR(post[1], plan.L_des, 1e-13);
     EXPECT_NEAR(post[0], (0.6 - 1.0) * in.step_length, 1e-15);
     // The post-impact orbital energy with the post-impact LIP height z0⁺ is E*.
@@ -73,8 +75,8 @@ TEST(MomentumRegulationPlanner, ReproducesTheMomentumOfAKnownLipOrbit) {
 
 // One step of the LIP walker: flow from the post-impact state to x = ε l, then Eq. (17) with u decided by
 // the planner at phase `decision_fraction` of the step (0 = right after impact, 1 = at impact).
-Eigen::Vector2d StepMap(const LinearInvertedPendulum& lip, const MomentumRegulationPlanner& planner, const Eigen::Vector2d& post, double l, double h,
-                        double decision_fraction) {
+Eigen::Vector2d StepMap(const LinearInvertedPendulum& lip, const MomentumRegulationPlanner& planner,
+                        const Eigen::Vector2d& post, double l, double h, double decision_fraction) {
   const double eps = planner.params().impact_fraction;
   const TimeToImpact T = lip.TimeToReach(eps * l, post);
   EXPECT_TRUE(T.ok());
@@ -102,9 +104,7 @@ TEST(MomentumRegulationPlanner, FlatGroundGaitIsAFixedPointOfTheStepToStepMap) {
     Eigen::Vector2d post(-0.25, 0.8);
     for (int k = 0; k < 12; ++k) {
       const Eigen::Vector2d next = StepMap(lip, planner, post, l, 0.0, phase);
-      if (k >= 1) {
-        EXPECT_NEAR(next[1], post[1], 1e-9) << "step " << k << " does not repeat";
-      }
+      if (k >= 1) { EXPECT_NEAR(next[1], post[1], 1e-9) << "step " << k << " does not repeat"; }
       post = next;
     }
     EXPECT_NEAR(post[1], L_star, 1e-12);
@@ -119,7 +119,8 @@ TEST(MomentumRegulationPlanner, StairGaitConvergesToAFixedPointWhenDecidedEarly)
   const LinearInvertedPendulum lip({.z0 = 0.8});
   const MomentumRegulationPlanner planner({.target_orbital_energy = 0.4, .impact_fraction = 0.6});
   const double l = 0.5, h = 0.2;
-  const double L_des = planner.DesiredPostImpactMomentum(l, h, LinearInvertedPendulum::ComHeightOnSlope(0.6 * l, 0.8, l, h));
+  const double L_des =
+      planner.DesiredPostImpactMomentum(l, h, LinearInvertedPendulum::ComHeightOnSlope(0.6 * l, 0.8, l, h));
   // Fixed point of the scalar map by bisection: L = L_des + (h/z0)(L − sqrt(z0 g ((εl)² − ((ε−1)l)²) + L²)).
   const double c = 0.8 * 9.81 * ((0.6 * l) * (0.6 * l) - (0.4 * l) * (0.4 * l));
   auto residual = [&](double L) { return L_des + h / 0.8 * (L - std::sqrt(c + L * L)) - L; };
@@ -145,7 +146,9 @@ TEST(MomentumRegulationPlanner, StairGaitConvergesToAFixedPointWhenDecidedEarly)
 }
 
 TEST(MomentumRegulationPlanner, ReportsPredictionFailures) {
-  const MomentumRegulationPlanner planner({.target_orbital_energy = 0.4, .impact_fraction = 0.6, .min_time_to_impact_s = 0.02,
+  const MomentumRegulationPlanner planner({.target_orbital_energy = 0.4,
+                                           .impact_fraction = 0.6,
+                                           .min_time_to_impact_s = 0.02,
                                            .max_time_to_impact_s = 1.5});
   MomentumRegulationInput in;
   in.step_length = 0.5;

@@ -114,14 +114,12 @@ TEST(OutputTrajectories, LiftOffAtRestStartsWithZeroVerticalVelocityAndKeepsTheA
     const SwingFootBezier paper(params, -0.3, -0.1, 0.35, 0.15);
     params.lift_off_at_rest = true;
     const SwingFootBezier rest(params, -0.3, -0.1, 0.35, 0.15);
-    EXPECT_GT(paper.Z(0).first, 0.1);              // the paper's curve starts rising at once
-    EXPECT_NEAR(rest.Z(0).first, 0.0, 1e-12);      // ours starts at rest
+    EXPECT_GT(paper.Z(0).first, 0.1);          // the paper's curve starts rising at once
+    EXPECT_NEAR(rest.Z(0).first, 0.0, 1e-12);  // ours starts at rest
     EXPECT_DOUBLE_EQ(rest.Z(0).value, -0.1);
     EXPECT_NEAR(rest.Z(1).value, 0.15, 1e-9);  // kAtPhaseEnd: the foothold height at τ = 1
-    EXPECT_GE(rest.MaxHeight(), 0.25 - 1e-9);      // the apex is still reached
-    if (shape == SwingApexShape::kExactPeak) {
-      EXPECT_NEAR(rest.MaxHeight(), 0.25, 1e-9);
-    }
+    EXPECT_GE(rest.MaxHeight(), 0.25 - 1e-9);  // the apex is still reached
+    if (shape == SwingApexShape::kExactPeak) { EXPECT_NEAR(rest.MaxHeight(), 0.25, 1e-9); }
     // kClearStanceStone: at least stance_stone_clearance above the stance stone wherever the foot passes over it.
     for (int k = 0; k <= 1000; ++k) {
       const double tau = k / 1000.0, x = rest.X(tau).value;
@@ -182,8 +180,8 @@ TEST(OutputTrajectories, TouchdownAtPhaseEndRetimesTheSwingCurve) {
 }
 
 TEST(OutputTrajectories, HorizontalArrivalPhaseReachesTheFootholdEarlyAndSmoothly) {
-  // Eq. (23) on τ / τ_a: x = l_des with zero velocity and acceleration from τ_a on; before, the paper's curve at τ / τ_a
-  // (value equal, derivatives scaled by 1/τ_a and 1/τ_a²), checked against central differences.
+  // Eq. (23) on τ / τ_a: x = l_des with zero velocity and acceleration from τ_a on; before, the paper's curve at τ /
+  // τ_a (value equal, derivatives scaled by 1/τ_a and 1/τ_a²), checked against central differences.
   SwingFootBezierParams paper, early;
   early.horizontal_arrival_phase = 0.8;
   const SwingFootBezier a(paper, -0.3, 0.0, 0.4, -0.1), b(early, -0.3, 0.0, 0.4, -0.1);
@@ -224,8 +222,8 @@ TEST(OutputTrajectories, ClearStanceStoneRaisesTheCurveWhereTheFootPassesOverThe
     }
     return lowest;
   };
-  std::printf("  lowest height over the stance stone: exact peak %.4f m, clear stance stone %.4f m (required %.2f m)\n", height_over_stone(e),
-              height_over_stone(c), clear.stance_stone_clearance);
+  std::printf("  lowest height over the stance stone: exact peak %.4f m, clear stance stone %.4f m (required %.2f m)\n",
+              height_over_stone(e), height_over_stone(c), clear.stance_stone_clearance);
   EXPECT_LT(height_over_stone(e), 0.01);  // the failure this shape fixes: the foot grazes the stance stone
   EXPECT_NEAR(height_over_stone(c), clear.stance_stone_clearance, 1e-3);  // raised just enough (sampled at 1e-4 in τ)
   EXPECT_GE(height_over_stone(c), clear.stance_stone_clearance - 1e-6);

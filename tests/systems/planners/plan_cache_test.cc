@@ -43,7 +43,6 @@ Eigen::VectorXd Value() {
   return value;
 }
 
-
 bool IsRegularFile(const std::string& path) {
   struct stat st {};
   return ::lstat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
@@ -58,8 +57,7 @@ Outcome LoadInChild(const PlanCache& cache, const PlanCacheKey& key, double seco
     int code = 2;
     try {
       code = cache.Load(key).has_value() ? 1 : 0;
-    } catch (...) {
-    }
+    } catch (...) {}
     _exit(code);
   }
   if (pid < 0) return Outcome::kCrashed;
@@ -106,7 +104,8 @@ TEST(PlanCache, RoundTripsEveryBitAndMissesOtherKeys) {
   const auto loaded = cache.Load(Key(0.3));
   ASSERT_TRUE(loaded.has_value());
   ASSERT_EQ(loaded->size(), value.size());
-  for (Eigen::Index i = 0; i < value.size(); ++i) EXPECT_EQ(std::memcmp(&(*loaded)(i), &value(i), sizeof(double)), 0) << "value " << i;
+  for (Eigen::Index i = 0; i < value.size(); ++i)
+    EXPECT_EQ(std::memcmp(&(*loaded)(i), &value(i), sizeof(double)), 0) << "value " << i;
   EXPECT_FALSE(cache.Load(Key(0.31)).has_value());
   // Nothing but the plan's file is left in the directory, and it is a regular file.
   int files = 0;
@@ -141,9 +140,7 @@ TEST(PlanCache, ProcessesStoringTheSameKeyAtOnceAllSucceed) {
       try {
         const PlanCache cache(dir);
         for (int k = 0; k < kStores; ++k) cache.Store(Key(0.3), value);
-      } catch (const std::exception&) {
-        failures = 1;
-      }
+      } catch (const std::exception&) { failures = 1; }
       _exit(failures);
     }
   }
@@ -280,12 +277,15 @@ TEST(PlanCache, EnsureDirectoryCreatesAFolderAndNamesAPathThatCannotBeOne) {
   EXPECT_TRUE(std::filesystem::is_empty(nested.directory())) << "the write probe was left behind";
   test::WriteText(tmp.File("a_file"), "not a folder\n");
   const std::string file_error = PlanCache(tmp.File("a_file")).EnsureDirectory();
-  EXPECT_NE(file_error.find("plan cache folder '" + tmp.File("a_file") + "': is a file, not a folder"), std::string::npos) << file_error;
+  EXPECT_NE(file_error.find("plan cache folder '" + tmp.File("a_file") + "': is a file, not a folder"),
+            std::string::npos)
+      << file_error;
   const std::string under_file = PlanCache(tmp.File("a_file/plans")).EnsureDirectory();
   EXPECT_NE(under_file.find(tmp.File("a_file/plans") + "': cannot be created"), std::string::npos) << under_file;
   const std::string proc = PlanCache("/proc/rome_plan_cache_test").EnsureDirectory();
   EXPECT_NE(proc.find("'/proc/rome_plan_cache_test'"), std::string::npos) << proc;
-  for (const std::string& message : {file_error, under_file, proc}) EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  for (const std::string& message : {file_error, under_file, proc})
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
   EXPECT_THROW(PlanCache(""), std::invalid_argument);
 }
 

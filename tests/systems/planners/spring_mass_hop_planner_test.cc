@@ -1,6 +1,6 @@
 // SpringMassJumpPlanner / SpringMassLandingPlanner (hopping paper Eq. (14)-(16)): every constraint recomputed from
-// the returned nodes (Hermite–Simpson defects with SpringMassModel, bounds, lift-off force, Eq. (14), rest conditions) to
-// 1e-6; a forward RK4 re-integration of the ROM under the planned L̈(t) reproduces x_N and ẋ_N to 1e-3; the landing
+// the returned nodes (Hermite–Simpson defects with SpringMassModel, bounds, lift-off force, Eq. (14), rest conditions)
+// to 1e-6; a forward RK4 re-integration of the ROM under the planned L̈(t) reproduces x_N and ẋ_N to 1e-3; the landing
 // ends at rest with F = m g and stays there; the warm-started re-solve converges; the apex rise H for the paper's
 // 0.423 s air time against the ballistic closed form.
 #include "systems/planners/spring_mass_hop_planner.h"
@@ -21,8 +21,7 @@ constexpr double kStandingLegLength = 0.85;  // [m] ≈ L(q_knee = −1.2 rad), 
 SpringMassParams Rom(LegStiffnessVariant variant) {
   SpringMassParams p;
   if (variant == LegStiffnessVariant::kIdentified) {
-    static const MultibodyModel model =
-        MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
+    static const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
     static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
     p = identified;
   }
@@ -95,11 +94,11 @@ TEST_P(SpringMassHop, JumpSatisfiesConstraintsAndReintegrates) {
   const Eigen::Vector4d z_rk4 = Rk4(rom, plan, plan.duration, 200 * jp.num_intervals);
   EXPECT_NEAR(z_rk4(0), zN(0), 1e-3);
   EXPECT_NEAR(z_rk4(1), zN(1), 1e-3);
-  std::printf("[%s] jump: T = %.4f s, x0 = %.4f m, x_N = %.4f m, xdot_N = %.4f m/s, L_N = %.4f m, %d iterations, "
-              "%.1f ms, violation %.2e, defect %.2e; RK4 error x %.2e m, xdot %.2e m/s\n",
-              ToString(GetParam()).c_str(), plan.duration, z0(0), zN(0), zN(1), zN(2), plan.iterations,
-              1e3 * plan.solve_time_s, plan.max_violation, MaxDefect(rom, plan), std::abs(z_rk4(0) - zN(0)),
-              std::abs(z_rk4(1) - zN(1)));
+  std::printf(
+      "[%s] jump: T = %.4f s, x0 = %.4f m, x_N = %.4f m, xdot_N = %.4f m/s, L_N = %.4f m, %d iterations, "
+      "%.1f ms, violation %.2e, defect %.2e; RK4 error x %.2e m, xdot %.2e m/s\n",
+      ToString(GetParam()).c_str(), plan.duration, z0(0), zN(0), zN(1), zN(2), plan.iterations, 1e3 * plan.solve_time_s,
+      plan.max_violation, MaxDefect(rom, plan), std::abs(z_rk4(0) - zN(0)), std::abs(z_rk4(1) - zN(1)));
 }
 
 TEST_P(SpringMassHop, LandingEndsAtRestAndResolvesWarm) {
@@ -135,10 +134,11 @@ TEST_P(SpringMassHop, LandingEndsAtRestAndResolvesWarm) {
   const Eigen::Vector4d z_later = Rk4(rom, plan, plan.duration + 0.5, 200 * lp.num_intervals + 5000);
   EXPECT_NEAR(z_later(0), lp.rest_height, 2e-3);
   EXPECT_NEAR(z_later(1), 0.0, 2e-2);
-  std::printf("[%s] landing: touchdown xdot = %.4f m/s, T = %.4f s, L_N = %.4f m, %d iterations, %.1f ms, violation "
-              "%.2e; RK4 error x %.2e m, xdot %.2e m/s\n",
-              ToString(GetParam()).c_str(), flight.touchdown_state(1), plan.duration, zN(2), plan.iterations,
-              1e3 * plan.solve_time_s, plan.max_violation, std::abs(z_rk4(0) - zN(0)), std::abs(z_rk4(1) - zN(1)));
+  std::printf(
+      "[%s] landing: touchdown xdot = %.4f m/s, T = %.4f s, L_N = %.4f m, %d iterations, %.1f ms, violation "
+      "%.2e; RK4 error x %.2e m, xdot %.2e m/s\n",
+      ToString(GetParam()).c_str(), flight.touchdown_state(1), plan.duration, zN(2), plan.iterations,
+      1e3 * plan.solve_time_s, plan.max_violation, std::abs(z_rk4(0) - zN(0)), std::abs(z_rk4(1) - zN(1)));
   // Re-solve at "touchdown" from a measured post-impact state that differs from the prediction.
   Eigen::Vector4d measured = flight.touchdown_state;
   measured(1) *= 0.9;
@@ -180,10 +180,11 @@ TEST_P(SpringMassHop, ApexRiseForPaperAirTime) {
     t += dt;
   }
   EXPECT_NEAR(t, 0.423, 1e-4);
-  std::printf("[%s] apex rise for 0.423 s air time: H = %.5f m (ballistic g t^2/8 = %.5f m), lift-off x_N = %.4f m, "
-              "L_N = %.4f m, xdot_N = %.4f m/s, apex %.4f m\n",
-              ToString(GetParam()).c_str(), H, 9.81 * 0.423 * 0.423 / 8.0, plan.FinalState()(0), L,
-              plan.FinalState()(1), flight.apex_height);
+  std::printf(
+      "[%s] apex rise for 0.423 s air time: H = %.5f m (ballistic g t^2/8 = %.5f m), lift-off x_N = %.4f m, "
+      "L_N = %.4f m, xdot_N = %.4f m/s, apex %.4f m\n",
+      ToString(GetParam()).c_str(), H, 9.81 * 0.423 * 0.423 / 8.0, plan.FinalState()(0), L, plan.FinalState()(1),
+      flight.apex_height);
 }
 
 TEST(SpringMassHopPlanner, DefaultApexRiseGivesPaperAirTimeWithIdentifiedLegs) {

@@ -18,21 +18,27 @@ namespace {
 using rome::test::CountAllocations;
 
 TEST(VerticalComMpcAllocation, CounterSeesAllocations) {
-  const long n = CountAllocations([] { Eigen::VectorXd v(1000); v.setZero(); std::vector<int> w(10); (void)w; });
+  const long n = CountAllocations([] {
+    Eigen::VectorXd v(1000);
+    v.setZero();
+    std::vector<int> w(10);
+    (void)w;
+  });
   EXPECT_GE(n, 1);
 }
 
 TEST(VerticalComMpcAllocation, SolveDoesNotAllocate) {
-  for (auto terminal : {VerticalComMpcParams::TerminalCondition::kEquality, VerticalComMpcParams::TerminalCondition::kWeightedCost}) {
+  for (auto terminal :
+       {VerticalComMpcParams::TerminalCondition::kEquality, VerticalComMpcParams::TerminalCondition::kWeightedCost}) {
     VerticalComMpcParams params;
     params.terminal_condition = terminal;
     VerticalComMpc mpc(params);
     QpStatus s1, s2, s3, s4;
     const long n = CountAllocations([&] {
-      s1 = mpc.Solve(0.82, -0.05, 0.80, 0.25, 0.35);   // cold, unconstrained
-      s2 = mpc.Solve(0.80, 0.5, 0.735, -1.5, 0.3);     // contact constraint active
-      s3 = mpc.Solve(0.80, 0.5, 0.735, -1.5, 0.299);   // warm
-      s4 = mpc.Solve(0.8, 2.0, 0.8, -3.0, 0.3);        // infeasible for the equality version: relaxed
+      s1 = mpc.Solve(0.82, -0.05, 0.80, 0.25, 0.35);  // cold, unconstrained
+      s2 = mpc.Solve(0.80, 0.5, 0.735, -1.5, 0.3);    // contact constraint active
+      s3 = mpc.Solve(0.80, 0.5, 0.735, -1.5, 0.299);  // warm
+      s4 = mpc.Solve(0.8, 2.0, 0.8, -3.0, 0.3);       // infeasible for the equality version: relaxed
     });
     EXPECT_EQ(n, 0);
     EXPECT_EQ(s1, QpStatus::kOptimal);

@@ -19,7 +19,8 @@ class DoubleIntegrator final : public LeafSystem {
   DoubleIntegrator(double p0, double v0) : LeafSystem("plant") {
     DeclareInputPort("command", 3);
     DeclareContinuousState(Eigen::Vector2d(p0, v0));
-    DeclareOutputPort("state", 2, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
+    DeclareOutputPort(
+        "state", 2, [](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state(); }, Feedthrough::None());
   }
   void DoCalcTimeDerivatives(const LeafContext& c, Eigen::VectorXd* xdot) const override {
     (*xdot)[0] = c.continuous_state()[1];
@@ -34,7 +35,8 @@ struct ClosedLoopResult {
   double relaxations;
 };
 
-ClosedLoopResult Simulate(double p0, double v0, double pf, double vf, double T_impact, VerticalComMpcSystemParams params) {
+ClosedLoopResult Simulate(double p0, double v0, double pf, double vf, double T_impact,
+                          VerticalComMpcSystemParams params) {
   DiagramBuilder builder;
   builder.AddSystem(std::make_unique<DoubleIntegrator>(p0, v0));
   auto* mpc = builder.AddSystem(std::make_unique<VerticalComMpcSystem>("mpc", params));
@@ -75,10 +77,13 @@ TEST(VerticalComMpcSystem, ClosedLoopReachesTheTerminalStateAtThePredictedImpact
     double p0, v0, pf, vf, T, p_tolerance, v_tolerance;
     bool expect_relaxations;
   };
-  for (const Case& c : {Case{0.82, -0.05, 0.80, 0.25, 0.35, 1e-8, 1e-8, false}, Case{0.80, 0.5, 0.735, -1.5, 0.3, 1e-6, 1e-3, true}}) {
+  for (const Case& c :
+       {Case{0.82, -0.05, 0.80, 0.25, 0.35, 1e-8, 1e-8, false}, Case{0.80, 0.5, 0.735, -1.5, 0.3, 1e-6, 1e-3, true}}) {
     const ClosedLoopResult run = Simulate(c.p0, c.v0, c.pf, c.vf, c.T, params);
-    std::printf("closed loop to T = %.3f s: terminal error p %.3e m, v %.3e m/s, failures %g, terminal relaxations %g, min accel %.4f\n", c.T,
-                run.final_state[0] - c.pf, run.final_state[1] - c.vf, run.failures, run.relaxations, run.min_acceleration);
+    std::printf(
+        "closed loop to T = %.3f s: terminal error p %.3e m, v %.3e m/s, failures %g, terminal relaxations %g, min "
+        "accel %.4f\n",
+        c.T, run.final_state[0] - c.pf, run.final_state[1] - c.vf, run.failures, run.relaxations, run.min_acceleration);
     EXPECT_NEAR(run.final_state[0], c.pf, c.p_tolerance);
     EXPECT_NEAR(run.final_state[1], c.vf, c.v_tolerance);
     EXPECT_EQ(run.relaxations > 0, c.expect_relaxations);
@@ -111,7 +116,8 @@ TEST(VerticalComMpcSystem, QpFailureKeepsThePreviousPlanAndCounts) {
   EXPECT_EQ(system.EvalOutput(*context, "qp_failures")[0], 1.0);
   EXPECT_EQ(system.EvalOutput(*context, "qp_status")[0], static_cast<double>(QpStatus::kInfeasible));
   EXPECT_EQ(next.tail(system.horizon_steps()), good.tail(system.horizon_steps()));
-  EXPECT_EQ(Eigen::Vector3d(system.EvalOutput(*context, "com_height_desired")), before);  // the old plan, continued in time
+  EXPECT_EQ(Eigen::Vector3d(system.EvalOutput(*context, "com_height_desired")),
+            before);  // the old plan, continued in time
 }
 
 TEST(VerticalComMpcSystem, HoldsThePlanWhenTheImpactIsNear) {
@@ -138,10 +144,12 @@ TEST(VerticalComMpcSystem, HoldsThePlanWhenTheImpactIsNear) {
   EXPECT_EQ(next, plan);
   context->get_mutable_discrete_state() = next;
   const Eigen::Vector3d held = system.EvalOutput(*context, "com_height_desired");
-  const Eigen::Vector3d expected = VerticalComMpc::EvaluatePlan(0.80, 0.1, plan.tail(system.horizon_steps()), plan[VerticalComMpcSystem::kPlanDt], 0.26);
+  const Eigen::Vector3d expected = VerticalComMpc::EvaluatePlan(0.80, 0.1, plan.tail(system.horizon_steps()),
+                                                                plan[VerticalComMpcSystem::kPlanDt], 0.26);
   EXPECT_NEAR((held - expected).norm(), 0.0, 1e-15);
   // The held plan ends at the planned terminal state (0.80 m, −0.4 m/s) at its horizon 0.3 s (equality QP).
-  const Eigen::Vector3d end = VerticalComMpc::EvaluatePlan(0.80, 0.1, plan.tail(system.horizon_steps()), plan[VerticalComMpcSystem::kPlanDt], 0.3);
+  const Eigen::Vector3d end = VerticalComMpc::EvaluatePlan(0.80, 0.1, plan.tail(system.horizon_steps()),
+                                                           plan[VerticalComMpcSystem::kPlanDt], 0.3);
   EXPECT_NEAR(end[0], 0.80, 1e-9);
   EXPECT_NEAR(end[1], -0.4, 1e-9);
   VerticalComMpcSystemParams bad;

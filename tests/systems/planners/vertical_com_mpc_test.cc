@@ -54,7 +54,8 @@ TEST(VerticalComMpc, SatisfiesDynamicsAndBoundaryConditions) {
   const Eigen::VectorXd u_min_norm = M.transpose() * (M * M.transpose()).ldlt().solve(r);
   EXPECT_NEAR((mpc.inputs() - u_min_norm).lpNorm<Eigen::Infinity>(), 0.0, 1e-9);
   // The continuous-time minimum-energy input is affine in time: so is the discrete one (second differences 0).
-  for (int k = 1; k + 1 < 20; ++k) EXPECT_NEAR(mpc.inputs()[k + 1] - 2 * mpc.inputs()[k] + mpc.inputs()[k - 1], 0.0, 1e-9);
+  for (int k = 1; k + 1 < 20; ++k)
+    EXPECT_NEAR(mpc.inputs()[k + 1] - 2 * mpc.inputs()[k] + mpc.inputs()[k - 1], 0.0, 1e-9);
 }
 
 TEST(VerticalComMpc, ContactConstraintIsActiveWhereTheUnconstrainedPlanWouldPull) {
@@ -84,18 +85,17 @@ TEST(VerticalComMpc, ContactConstraintIsActiveWhereTheUnconstrainedPlanWouldPull
   EXPECT_NEAR(end[1], vf, 1e-12);
   // KKT: 2u + M̃ᵀ y_eq + y_bounds = 0, y_bounds <= 0 only on active bounds (solver's sign convention).
   const QpKktResiduals kkt = ComputeQpKktResiduals(mpc.qp());
-  EXPECT_LT(kkt.Max(), 1e-8) << kkt.stationarity << " " << kkt.primal_feasibility << " " << kkt.dual_feasibility << " " << kkt.complementarity;
+  EXPECT_LT(kkt.Max(), 1e-8) << kkt.stationarity << " " << kkt.primal_feasibility << " " << kkt.dual_feasibility << " "
+                             << kkt.complementarity;
   for (int k = 0; k < N; ++k) {
     const double y = mpc.qp().y_bounds()[k];
     EXPECT_LE(y, 1e-12);
-    if (std::abs(u[k] + g) > 1e-7) {
-      EXPECT_NEAR(y, 0.0, 1e-12);
-    }
+    if (std::abs(u[k] + g) > 1e-7) { EXPECT_NEAR(y, 0.0, 1e-12); }
   }
   // The constrained optimum costs more than the (infeasible) minimum-norm plan.
   EXPECT_GT(u.squaredNorm(), u_min_norm.squaredNorm());
-  std::printf("contact-constrained plan: %d of %d inputs at u = -g, cost %.4f vs unconstrained %.4f (m^2/s^4)\n", active, N, u.squaredNorm(),
-              u_min_norm.squaredNorm());
+  std::printf("contact-constrained plan: %d of %d inputs at u = -g, cost %.4f vs unconstrained %.4f (m^2/s^4)\n",
+              active, N, u.squaredNorm(), u_min_norm.squaredNorm());
 }
 
 TEST(VerticalComMpc, ReportsInfeasibilityAndKeepsThePreviousPlan) {

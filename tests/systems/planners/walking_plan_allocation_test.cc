@@ -22,7 +22,8 @@ TEST(WalkingPlanAllocation, SampleAndTheSourceOutputsAllocateNothing) {
   // A smooth correction over the plan (values do not matter here, only that the correction is evaluated).
   Eigen::VectorXd breaks = Eigen::VectorXd::LinSpaced(21, 0.0, plan.end_time());
   Eigen::MatrixXd delta(2, breaks.size()), accel(2, breaks.size());
-  for (Eigen::Index k = 0; k < breaks.size(); ++k) delta.col(k) << 0.01 * std::sin(breaks[k]), 0.005 * std::cos(breaks[k]), accel.col(k) << 0.0, 0.0;
+  for (Eigen::Index k = 0; k < breaks.size(); ++k)
+    delta.col(k) << 0.01 * std::sin(breaks[k]), 0.005 * std::cos(breaks[k]), accel.col(k) << 0.0, 0.0;
   plan.SetComCorrection(PiecewisePolynomial::CubicHermite(breaks, delta, Eigen::MatrixXd::Zero(2, breaks.size())),
                         PiecewisePolynomial::FirstOrderHold(breaks, accel));
   ASSERT_TRUE(plan.has_com_correction());
@@ -44,7 +45,8 @@ TEST(WalkingPlanAllocation, SampleAndTheSourceOutputsAllocateNothing) {
       const WalkingReference r = plan.Sample(t);
       sum += r.com_position.sum() + r.normal_force.sum();
       context->SetTime(t);
-      sum += source.EvalOutput(*context, com)[0] + source.EvalOutput(*context, footholds)[0] + source.EvalOutput(*context, force)[0];
+      sum += source.EvalOutput(*context, com)[0] + source.EvalOutput(*context, footholds)[0] +
+             source.EvalOutput(*context, force)[0];
       sum += static_cast<double>(source.EvalTypedOutput<WalkingDomain>(*context, domain));
     }
   });

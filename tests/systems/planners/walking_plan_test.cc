@@ -36,7 +36,9 @@ TEST(WalkingPlan, AWalkingLineOffsetMovesTheLateralMotionAndFootholdsRigidly) {
     EXPECT_NEAR(b.left_foothold.y() - a.left_foothold.y(), d, 1e-12);
     EXPECT_NEAR(b.right_foothold.y() - a.right_foothold.y(), d, 1e-12);
   }
-  EXPECT_THROW(moved.AppendPeriodicSteps(planner, gait, 1, WalkingDomain::kLeftStance, 0.0, W, false, false, std::nan("")), std::invalid_argument);
+  EXPECT_THROW(
+      moved.AppendPeriodicSteps(planner, gait, 1, WalkingDomain::kLeftStance, 0.0, W, false, false, std::nan("")),
+      std::invalid_argument);
 }
 
 TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) {
@@ -80,14 +82,16 @@ TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) 
     // Vertical Newton at the nodes: m (z̈ + g) = F_L + F_R.
     for (int k = 0; k < 21; ++k) {
       const WalkingReference r = plan.Sample(s.start_time + s.duration * k / 20.0 + (k == 20 ? -1e-9 : 0.0));
-      EXPECT_NEAR(m * (r.com_acceleration(2) + g), r.normal_force.sum(), 1e-6 * m * g) << "segment " << i << " node " << k;
+      EXPECT_NEAR(m * (r.com_acceleration(2) + g), r.normal_force.sum(), 1e-6 * m * g)
+          << "segment " << i << " node " << k;
     }
   }
   // x advances one step length per step at the gait's mean speed.
   EXPECT_NEAR(plan.Sample(1.0).com_position(0) - plan.Sample(0.0).com_position(0), 2 * l, 1e-9);
   // Lateral sway about the walking line is the P2 orbit's: symmetric, about ±0.03 m.
   double y_max = 0.0;
-  for (double t = 0.0; t <= plan.end_time(); t += 0.001) y_max = std::max(y_max, std::abs(plan.Sample(t).com_position(1)));
+  for (double t = 0.0; t <= plan.end_time(); t += 0.001)
+    y_max = std::max(y_max, std::abs(plan.Sample(t).com_position(1)));
   EXPECT_GT(y_max, 0.02);
   EXPECT_LT(y_max, 0.05);
 
@@ -161,10 +165,12 @@ TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
   const FootedHlipTransitionPlan lateral_pivots = FootedHlipTransitionPlanner(pivots).Solve(lat);
   ASSERT_TRUE(lateral_pivots.success()) << lateral_pivots.message;
   WalkingPlan plan_pivots;
-  plan_pivots.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral_pivots, m, gait_params.step_length);
+  plan_pivots.AppendTransition(transition_planner, transition, data, 0.0, lat, lateral_pivots, m,
+                               gait_params.step_length);
   double worst = 0.0, worst_mid = 0.0;
   for (int j = 0; j < 2 * N - 1; ++j)
-    worst = std::max(worst, std::abs(plan_pivots.Sample(lat.node_times(j)).com_position(1) - lateral_pivots.states(0, j)));
+    worst =
+        std::max(worst, std::abs(plan_pivots.Sample(lat.node_times(j)).com_position(1) - lateral_pivots.states(0, j)));
   EXPECT_LT(worst, 1e-9);
   // Between the nodes: RK4 (200 sub-steps) of m z_k ÿ = F_L (y − y_L) + F_R (y − y_R) + u_L + u_R from node k to the
   // interval's midpoint, z_k and the forces the interval means, against the sampled reference there.
@@ -223,7 +229,8 @@ TEST(WalkingPlan, RejectsBadArguments) {
   const AslipPeriodicGaitPlanner planner;
   AslipPeriodicGait unsolved;
   WalkingPlan plan;
-  EXPECT_THROW(plan.AppendPeriodicSteps(planner, unsolved, 2, WalkingDomain::kLeftStance, 0.0, 0.25), std::invalid_argument);
+  EXPECT_THROW(plan.AppendPeriodicSteps(planner, unsolved, 2, WalkingDomain::kLeftStance, 0.0, 0.25),
+               std::invalid_argument);
   EXPECT_THROW(plan.Sample(0.0), std::logic_error);
   EXPECT_THROW(WalkingTrajectorySource("empty", WalkingPlan()), std::exception);
 }

@@ -1,7 +1,8 @@
 // BulletWorldPlant: the periodic update (push the state, B sat(u) and spring torques, Bullet's stepSimulation with
 // collision detection, contact, armature-gear, joint-limit and rod constraints, the manifold forces) allocates no heap
 // memory once the world is warm. Global operator new and, outside sanitizer builds, glibc's malloc family (Bullet
-// allocates through btAlignedAlloc -> malloc) are replaced in this binary and count allocations. Kept in its own binary.
+// allocates through btAlignedAlloc -> malloc) are replaced in this binary and count allocations. Kept in its own
+// binary.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -29,7 +30,8 @@ TEST(BulletWorldPlantAllocation, CountingWorks) {
 // Runs `steps` periodic updates of `plant` from q_nominal at rest (both feet on the ground, no torque) after `warm`
 // updates, twice on the same context (the second run starts again from q_nominal: same world, same scratch); returns
 // the allocations counted in the `steps` of each run. The state advances (each update's result is the next).
-std::pair<long, long> CountStepAllocations(const BulletWorldPlant& plant, const std::string& mode, int warm, int steps) {
+std::pair<long, long> CountStepAllocations(const BulletWorldPlant& plant, const std::string& mode, int warm,
+                                           int steps) {
   const MultibodyModel& model = plant.model();
   auto context = plant.CreateDefaultLeafContext();
   context->FixInputPort(0, Eigen::VectorXd::Zero(model.nu()));
@@ -57,7 +59,8 @@ std::pair<long, long> CountStepAllocations(const BulletWorldPlant& plant, const 
 // AMBER (planar, point feet, four armature gears, joint limits) standing on flat ground: after 20 warm steps, 500 more
 // allocate nothing.
 TEST(BulletWorldPlantAllocation, AmberStepDoesNotAllocateOnceWarm) {
-  BulletWorldPlant amber("amber", Load("robots/amber/amber.rome.json"), ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat());
+  BulletWorldPlant amber("amber", Load("robots/amber/amber.rome.json"),
+                         ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat());
   const auto [first, second] = CountStepAllocations(amber, "stance", 20, 500);
   std::printf("AMBER: %ld allocations in 500 steps, %ld in the repeat\n", first, second);
   EXPECT_EQ(first, 0);
@@ -66,10 +69,11 @@ TEST(BulletWorldPlantAllocation, AmberStepDoesNotAllocateOnceWarm) {
 
 // 3D Cassie (line feet, ten gears, two achilles rods) collapsing under no torque for 0.5 s: Bullet allocates while its
 // work arrays (solver rows, manifold points) reach a new high-water mark the first time more contacts or joint limits
-// engage (measured: 30 allocations in 3 steps of the first run), and never again: the same 0.5 s repeated on the same world allocates
-// nothing.
+// engage (measured: 30 allocations in 3 steps of the first run), and never again: the same 0.5 s repeated on the same
+// world allocates nothing.
 TEST(BulletWorldPlantAllocation, CassieStepAllocatesOnlyAtNewHighWaterMarks) {
-  BulletWorldPlant cassie("cassie", Load("robots/cassie/cassie.rome.json"), ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat());
+  BulletWorldPlant cassie("cassie", Load("robots/cassie/cassie.rome.json"),
+                          ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat());
   const auto [first, second] = CountStepAllocations(cassie, "stance", 20, 500);
   std::printf("Cassie: %ld allocations in 500 steps, %ld in the repeat\n", first, second);
   EXPECT_LE(first, 100);

@@ -37,13 +37,14 @@ ContactModeGraph NoContacts() {
   return g;
 }
 
-// Runs a plant alone (input fixed) from (q, v) in `mode` to t_final; returns the simulator (its context holds the state).
+// Runs a plant alone (input fixed) from (q, v) in `mode` to t_final; returns the simulator (its context holds the
+// state).
 struct PlantRun {
   std::unique_ptr<Simulator> sim;
   const LeafContext* context = nullptr;
 };
-PlantRun Start(const ContactPlant& plant, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode, const Eigen::VectorXd& u,
-          SimulatorConfig config = {}) {
+PlantRun Start(const ContactPlant& plant, const Eigen::VectorXd& q, const Eigen::VectorXd& v, const std::string& mode,
+               const Eigen::VectorXd& u, SimulatorConfig config = {}) {
   auto context = plant.CreateDefaultLeafContext();
   plant.SetState(*context, q, v, mode);
   context->FixInputPort(0, u);
@@ -57,7 +58,8 @@ PlantRun Start(const ContactPlant& plant, const Eigen::VectorXd& q, const Eigen:
 ContactModeGraph BoxGraph(const std::string& initial_mode) {
   ContactModeGraph graph;
   graph.modes = {{"flight", {}}, {"resting", {"bottom"}}};
-  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"}, {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
+  graph.transitions = {{"flight", "resting", ContactModeGraph::Kind::kTouchdown, "bottom"},
+                       {"resting", "flight", ContactModeGraph::Kind::kLiftoff, "bottom"}};
   graph.initial_mode = initial_mode;
   return graph;
 }
@@ -68,7 +70,8 @@ ContactModeGraph BoxGraph(const std::string& initial_mode) {
 // over 10 s at 1 kHz |E(t) - E(0)| stays below 2.5 % of the potential-energy swing m g Δz ~ 22.6 J (bound ours;
 // measured 1.3 %, growing steadily), and 10 substeps (0.1 ms) cut it at least fivefold (first order).
 TEST(BulletWorldPlant, FreePendulumEnergyDriftIsBoundedOver10sAt1kHz) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::Load(Source("tests/systems/multibody/data/double_pendulum.urdf")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::Load(Source("tests/systems/multibody/data/double_pendulum.urdf")));
   MultibodyWorkspace ws(*model);
   auto energy = [&](const Eigen::VectorXd& x) {
     return CalcKineticEnergy(*model, ws, x.head(2), x.tail(2)) + CalcPotentialEnergy(*model, ws, x.head(2));
@@ -201,9 +204,10 @@ TEST(BulletWorldPlant, ReportsASlideLongerThanTheSlipDistanceAtItsClosedFormTime
     });
     ASSERT_TRUE(run.sim->AdvanceTo(0.2).ok());
     const double stop = v0 * v0 / (2 * mu * g);
-    std::printf("  v0 = %.1f m/s: stopped at x = %.4f m (Coulomb %.4f m), first slip at %.4f s\n", v0, run.context->discrete_state()[0], stop, first_slip);
+    std::printf("  v0 = %.1f m/s: stopped at x = %.4f m (Coulomb %.4f m), first slip at %.4f s\n", v0,
+                run.context->discrete_state()[0], stop, first_slip);
     EXPECT_NEAR(run.context->discrete_state()[0], stop, 0.05 * stop);  // where Coulomb friction stops it
-    EXPECT_LE(max_ratio, mu * (1 + 1e-6));                          // the force never leaves the cone
+    EXPECT_LE(max_ratio, mu * (1 + 1e-6));                             // the force never leaves the cone
     if (stop > params.slip_distance_m) {
       const double t_slip = (v0 - std::sqrt(v0 * v0 - 2 * mu * g * params.slip_distance_m)) / (mu * g);
       EXPECT_NEAR(first_slip, t_slip, 2e-3) << "closed form " << t_slip << " s";
@@ -254,7 +258,8 @@ TEST(BulletWorldPlant, BallOnAStoneEdgeFallsIntoTheGapAndHitsTheSide) {
   }
   const Eigen::VectorXd x = run.context->discrete_state();
   EXPECT_LT(x[1], -0.5) << "fell deep into the gap";
-  // The side face is at x = 0.1: the ball's left side (x - 0.05) stays outside it (1 mm between its points, 1 mm slack).
+  // The side face is at x = 0.1: the ball's left side (x - 0.05) stays outside it (1 mm between its points, 1 mm
+  // slack).
   EXPECT_GT(min_x_after_push - 0.05, 0.1 - 2e-3);
   EXPECT_LT(min_x_after_push - 0.05, 0.1 + 2e-3) << "it reached the side face";
   EXPECT_GT(max_side_fx, 1.0) << "the side face pushed the ball along +x";
@@ -337,9 +342,11 @@ TEST(BulletWorldPlant, AgreesWithHybridPlantInStanceUntilTheFirstImpact) {
       break;
     }
     ASSERT_TRUE(b.sim->AdvanceTo(t - 0.5e-3).ok());  // Bullet's state at t
-    const Eigen::VectorXd dq = b.context->discrete_state().head(model->nv()) - h.context->continuous_state().head(model->nv());
+    const Eigen::VectorXd dq =
+        b.context->discrete_state().head(model->nv()) - h.context->continuous_state().head(model->nv());
     worst = std::max(worst, dq.cwiseAbs().maxCoeff());
-    const Eigen::Vector3d foot = CalcContactPointPosition(*model, ws, b.context->discrete_state().head(model->nv()), 0, 0);
+    const Eigen::Vector3d foot =
+        CalcContactPointPosition(*model, ws, b.context->discrete_state().head(model->nv()), 0, 0);
     ASSERT_LT(std::abs(foot.x()), 1e-3) << "Bullet's stance foot slipped at t = " << t;
     ASSERT_LT(std::abs(foot.z()), 1e-3) << "Bullet's stance foot left the ground at t = " << t;
   }
@@ -363,11 +370,13 @@ struct PdStance {
   const BulletWorldPlant* plant = nullptr;
   const LeafContext* context = nullptr;
 };
-PdStance StandUnderPd(std::shared_ptr<const MultibodyModel> model, const Eigen::VectorXd& kp, const Eigen::VectorXd& kd, const Eigen::VectorXd& u_ff) {
+PdStance StandUnderPd(std::shared_ptr<const MultibodyModel> model, const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
+                      const Eigen::VectorXd& u_ff) {
   PdStance s;
   DiagramBuilder builder;
   s.plant = builder.AddSystem(std::make_unique<BulletWorldPlant>("robot", model, DoubleSupportOnly(), Terrain::Flat()));
-  builder.AddSystem(std::make_unique<JointPdController>("pd", model->B(), JointPdGains{kp, kd, model->B().transpose() * model->q_nominal(), u_ff}));
+  builder.AddSystem(std::make_unique<JointPdController>(
+      "pd", model->B(), JointPdGains{kp, kd, model->B().transpose() * model->q_nominal(), u_ff}));
   builder.Connect("robot", "state", "pd", "state");
   builder.Connect("pd", "u", "robot", "u");
   s.diagram = builder.Build("standing");
@@ -382,7 +391,9 @@ PdStance StandUnderPd(std::shared_ptr<const MultibodyModel> model, const Eigen::
 double RodLengthError(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q) {
   double worst = 0;
   for (const LoopClosureInfo& l : model.loop_closures())
-    worst = std::max(worst, std::abs((CalcPointPosition(model, ws, q, l.body_a, l.point_a) - CalcPointPosition(model, ws, q, l.body_b, l.point_b)).norm() -
+    worst = std::max(worst, std::abs((CalcPointPosition(model, ws, q, l.body_a, l.point_a) -
+                                      CalcPointPosition(model, ws, q, l.body_b, l.point_b))
+                                         .norm() -
                                      l.distance_m));
   return worst;
 }
@@ -394,10 +405,11 @@ double RodLengthError(const MultibodyModel& model, MultibodyWorkspace& ws, const
 // 45 N m s/rad made the feet chatter and slip (measured), 15 does not. For the first second (Cassie settles 4 cm into
 // its springs) the rod lengths, measured with our kinematics, stay within 1e-6 m of 0.5012 m (bound ours; measured
 // 2.6e-7 m, during the first 0.1 s of settling, ~1e-8 m after: the row is held at velocity level with ERP position
-// correction each step), the toes do not slip (1 mm; measured 0.25 mm) and the friction cones hold. Finding (not asserted): after ~1 s Cassie tips forward over its toes on Bullet
-// (heel up 2.5 cm at 1 s, fallen at ~1.7 s), with or without gravity compensation and with stiffer gains, although the
-// same PD stands on the hybrid plant; the knees and springs sag (knee −0.054 rad, tarsus +0.13 rad at 0.5 s) and the
-// pelvis pitches forward, and Bullet's contact is unilateral.
+// correction each step), the toes do not slip (1 mm; measured 0.25 mm) and the friction cones hold. Finding (not
+// asserted): after ~1 s Cassie tips forward over its toes on Bullet (heel up 2.5 cm at 1 s, fallen at ~1.7 s), with or
+// without gravity compensation and with stiffer gains, although the same PD stands on the hybrid plant; the knees and
+// springs sag (knee −0.054 rad, tarsus +0.13 rad at 0.5 s) and the pelvis pitches forward, and Bullet's contact is
+// unilateral.
 TEST(BulletWorldPlant, CassieStandingUnderPdKeepsAchillesRodLength) {
   auto model = LoadSidecar("robots/cassie/cassie.rome.json");
   ASSERT_EQ(model->num_loop_closures(), 2);
@@ -419,7 +431,9 @@ TEST(BulletWorldPlant, CassieStandingUnderPdKeepsAchillesRodLength) {
     for (int c = 0; c < 2; ++c)
       for (int k = 0; k < 2; ++k) {
         const Eigen::Vector3d p = CalcContactPointPosition(*model, ws, q, c, k);
-        if (k == 0) worst_slip = std::max(worst_slip, (p - start[2 * c + k]).head<2>().norm());  // toe (the heel moves as it lifts)
+        if (k == 0)
+          worst_slip =
+              std::max(worst_slip, (p - start[2 * c + k]).head<2>().norm());  // toe (the heel moves as it lifts)
         worst_lift = std::max(worst_lift, p.z());
       }
     violations += static_cast<int>(s.plant->EvalOutput(*s.context, "contact_violation").sum() > 0);
@@ -428,8 +442,10 @@ TEST(BulletWorldPlant, CassieStandingUnderPdKeepsAchillesRodLength) {
   const SimulatorStatus status = s.sim->AdvanceTo(1.0);
   ASSERT_TRUE(status.ok()) << status.ToString();
   RecordProperty("rod_length_error_m", std::to_string(worst));
-  std::printf("Cassie on Bullet, 1 s standing: largest rod length error %.3g m, foot slip %.3g m, lift %.3g m, pelvis height %.4f m (nominal %.4f m)\n",
-              worst, worst_slip, worst_lift, s.context->discrete_state()[2], model->q_nominal()[2]);
+  std::printf(
+      "Cassie on Bullet, 1 s standing: largest rod length error %.3g m, foot slip %.3g m, lift %.3g m, pelvis height "
+      "%.4f m (nominal %.4f m)\n",
+      worst, worst_slip, worst_lift, s.context->discrete_state()[2], model->q_nominal()[2]);
   EXPECT_LT(worst, 1e-6);
   EXPECT_LT(worst_slip, 1e-3);
   EXPECT_EQ(violations, 0);
@@ -438,9 +454,9 @@ TEST(BulletWorldPlant, CassieStandingUnderPdKeepsAchillesRodLength) {
 
 // The exoskeleton (flat feet, 4 sole corners each) stands 5 s in double support on the Bullet plant under a joint PD
 // around its nominal pose plus static gravity compensation. After 0.2 s of settling, every step: the feet's normal
-// forces sum to m g (Newton: the robot is at rest; within 1e-6 m g, measured 1e-10), each foot's centre of pressure (from Bullet's
-// manifold points) is inside its sole (CheckContactForce), no contact leaves the friction cone; over the 5 s the
-// pelvis moves less than 0.01 and turns less than 0.01 (bounds ours).
+// forces sum to m g (Newton: the robot is at rest; within 1e-6 m g, measured 1e-10), each foot's centre of pressure
+// (from Bullet's manifold points) is inside its sole (CheckContactForce), no contact leaves the friction cone; over the
+// 5 s the pelvis moves less than 0.01 and turns less than 0.01 (bounds ours).
 TEST(BulletWorldPlant, ExoskeletonStandsFiveSecondsInDoubleSupport) {
   auto model = LoadSidecar("robots/exoskeleton/exoskeleton.rome.json");
   const int nu = model->nu(), nv = model->nv();
@@ -464,9 +480,11 @@ TEST(BulletWorldPlant, ExoskeletonStandsFiveSecondsInDoubleSupport) {
     worst_force = std::max(worst_force, std::abs(f[2] + f[5] - mg) / mg);
     violations += static_cast<int>(s.plant->EvalOutput(*s.context, "contact_violation").sum() > 0);
     for (int foot = 0; foot < 2; ++foot) {
-      const ContactForceCheck check = CheckContactForce(*model, ws, q, foot, s.plant->LastStepContactWrench(*s.context, foot));
+      const ContactForceCheck check =
+          CheckContactForce(*model, ws, q, foot, s.plant->LastStepContactWrench(*s.context, foot));
       cop_outside += static_cast<int>(!check.cop_ok);
-      // Distance of the CoP to the nearest sole edge (the soles stay level and aligned with x; corners from our kinematics).
+      // Distance of the CoP to the nearest sole edge (the soles stay level and aligned with x; corners from our
+      // kinematics).
       Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
       for (int k = 0; k < 4; ++k) {
         const Eigen::Vector2d p = CalcContactPointPosition(*model, ws, q, foot, k).head<2>();
@@ -478,9 +496,11 @@ TEST(BulletWorldPlant, ExoskeletonStandsFiveSecondsInDoubleSupport) {
   });
   const SimulatorStatus status = s.sim->AdvanceTo(5.0);
   ASSERT_TRUE(status.ok()) << status.ToString();
-  std::printf("exoskeleton on Bullet, 5 s: %d steps checked; |sum F_z - m g| / m g <= %.3g; CoP at least %.4f m inside the soles; "
-              "pelvis drift %.3g m, %.3g rad; friction-cone violations %d\n",
-              samples, worst_force, worst_cop_margin, worst_drift, worst_turn, violations);
+  std::printf(
+      "exoskeleton on Bullet, 5 s: %d steps checked; |sum F_z - m g| / m g <= %.3g; CoP at least %.4f m inside the "
+      "soles; "
+      "pelvis drift %.3g m, %.3g rad; friction-cone violations %d\n",
+      samples, worst_force, worst_cop_margin, worst_drift, worst_turn, violations);
   RecordProperty("force_error", std::to_string(worst_force));
   RecordProperty("drift_m", std::to_string(worst_drift));
   EXPECT_GT(samples, 4500);
@@ -503,7 +523,8 @@ TEST(BulletWorldPlant, SolverStopsAtItsConvergenceThreshold) {
     BulletWorldPlantParams params;
     params.solver_iterations = iterations;
     params.solver_residual_threshold = threshold;
-    BulletWorldPlant plant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), params);
+    BulletWorldPlant plant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(),
+                           params);
     auto context = plant.CreateDefaultLeafContext();
     plant.SetState(*context, model->q_nominal(), Eigen::VectorXd::Zero(model->nv()), "stance");
     context->FixInputPort(0, Eigen::VectorXd::Constant(model->nu(), 5.0));
@@ -521,14 +542,19 @@ TEST(BulletWorldPlant, SolverStopsAtItsConvergenceThreshold) {
   const Eigen::VectorXd f_full = step(100, 0.0, &used_full);
   const Eigen::VectorXd f_reference = step(1000, 0.0, &used_reference);
   const double weight = model->total_mass() * 9.81;
-  std::printf("iterations used: %d (default threshold), %d (none); force error against 1000 iterations: %.3g N, %.3g N (weight %.1f N)\n",
-              used_default, used_full, (f_default - f_reference).cwiseAbs().maxCoeff(), (f_full - f_reference).cwiseAbs().maxCoeff(), weight);
+  std::printf(
+      "iterations used: %d (default threshold), %d (none); force error against 1000 iterations: %.3g N, %.3g N (weight "
+      "%.1f N)\n",
+      used_default, used_full, (f_default - f_reference).cwiseAbs().maxCoeff(),
+      (f_full - f_reference).cwiseAbs().maxCoeff(), weight);
   EXPECT_LT(used_default, 100);
   EXPECT_EQ(used_full, 100);
   EXPECT_LT((f_default - f_reference).cwiseAbs().maxCoeff(), 0.005 * weight);
   BulletWorldPlantParams negative;
   negative.solver_residual_threshold = -1.0;
-  EXPECT_THROW(BulletWorldPlant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), negative), std::exception);
+  EXPECT_THROW(
+      BulletWorldPlant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), negative),
+      std::exception);
 }
 
 TEST(BulletWorldPlant, BadInputGetsOneLineErrors) {
@@ -545,22 +571,28 @@ TEST(BulletWorldPlant, BadInputGetsOneLineErrors) {
   };
   BulletWorldPlantParams zero_step;
   zero_step.step_s = 0.0;
-  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), zero_step); }, "step_s must be positive, got 0");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), zero_step); },
+               "step_s must be positive, got 0");
   BulletWorldPlantParams negative_step;
   negative_step.step_s = -1e-3;
-  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), negative_step); }, "step_s must be positive, got -0.001");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), negative_step); },
+               "step_s must be positive, got -0.001");
   BulletWorldPlantParams no_substeps;
   no_substeps.substeps = 0;
-  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), no_substeps); }, "substeps must be at least 1");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), no_substeps); },
+               "substeps must be at least 1");
   BulletWorldPlantParams negative_min_time;
   negative_min_time.min_time_in_mode_s = -0.01;
-  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), negative_min_time); }, "min_time_in_mode_s must be >= 0, got -0.01");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), negative_min_time); },
+               "min_time_in_mode_s must be >= 0, got -0.01");
   BulletWorldPlantParams no_slip_distance;
   no_slip_distance.slip_distance_m = 0.0;
-  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), no_slip_distance); }, "slip_distance_m must be positive (infinity: off), got 0");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), no_slip_distance); },
+               "slip_distance_m must be positive (infinity: off), got 0");
   BulletWorldPlantParams nan_slip_speed;
   nan_slip_speed.slip_speed_mps = std::nan("");
-  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), nan_slip_speed); }, "slip_speed_mps must be finite and >= 0");
+  expect_error([&] { BulletWorldPlant("ball", model, NoContacts(), Terrain::Flat(), nan_slip_speed); },
+               "slip_speed_mps must be finite and >= 0");
   // A stone of zero size: the terrain rejects it, naming the stone.
   expect_error([&] { Terrain::Stones({{0.0, 0.0, 0.2}, {1.0, 0.0, 0.0}}); }, "stone");
   // A sidecar contact with no points has no collision geometry: the sidecar loader rejects it, naming the contact.

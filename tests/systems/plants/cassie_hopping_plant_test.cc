@@ -27,7 +27,8 @@ namespace {
 constexpr double kGravity = 9.81;
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
 }
 
 SimulatorConfig Tight() {
@@ -49,8 +50,8 @@ double RodLengthError(const MultibodyModel& model, MultibodyWorkspace& ws, const
 }
 
 // Random joint velocities (seeded), projected so that the active constraints (rods; feet if given) hold: J v = 0.
-Eigen::VectorXd ConsistentVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, ContactSet active, unsigned seed, double joint_speed,
-                                   const Eigen::VectorXd& base_velocity) {
+Eigen::VectorXd ConsistentVelocity(const MultibodyModel& model, const Eigen::VectorXd& q, ContactSet active,
+                                   unsigned seed, double joint_speed, const Eigen::VectorXd& base_velocity) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   Eigen::VectorXd v = Eigen::VectorXd::Zero(model.nv());
@@ -65,7 +66,8 @@ Eigen::VectorXd ConsistentVelocity(const MultibodyModel& model, const Eigen::Vec
 
 TEST(CassieHoppingPlant, GraphHasThePapersThreeDomains) {
   auto model = LoadCassie();
-  HybridContactPlant plant("cassie", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat());
+  HybridContactPlant plant("cassie", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
+                           Terrain::Flat());
   EXPECT_EQ(plant.GetModeIndex("jump"), 0);
   EXPECT_EQ(plant.GetModeIndex("flight"), 1);
   EXPECT_EQ(plant.GetModeIndex("landing"), 2);
@@ -81,7 +83,8 @@ TEST(CassieHoppingPlant, GraphHasThePapersThreeDomains) {
 // conserved and the linear momentum follows p(t) = p(0) - m g t e_z.
 TEST(CassieHoppingPlant, FlightConservesCentroidalAngularMomentumAndFallsByMgt) {
   auto model = LoadCassie();
-  HybridContactPlant plant("cassie", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat());
+  HybridContactPlant plant("cassie", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
+                           Terrain::Flat());
   auto context = plant.CreateDefaultLeafContext();
   Eigen::VectorXd q = model->q_nominal();
   q[model->VelocityIndex("base_z")] += 1.5;  // high enough that the 0.3 s flight never touches down
@@ -118,8 +121,10 @@ TEST(CassieHoppingPlant, FlightConservesCentroidalAngularMomentumAndFallsByMgt) 
   const SimulatorStatus status = sim.AdvanceTo(0.3);
   ASSERT_TRUE(status.ok()) << status.ToString();
   EXPECT_EQ(ctx->mode(), 1);
-  std::printf("  flight 0.3 s, %ld steps: |dH_angular| %.2e N m s, linear momentum vs m g t %.2e N s, rod %.2e m, shin spring up to %.3f rad\n",
-              steps, worst_angular, worst_linear, worst_rod, max_spring);
+  std::printf(
+      "  flight 0.3 s, %ld steps: |dH_angular| %.2e N m s, linear momentum vs m g t %.2e N s, rod %.2e m, shin spring "
+      "up to %.3f rad\n",
+      steps, worst_angular, worst_linear, worst_rod, max_spring);
   EXPECT_GT(steps, 50);
   EXPECT_GT(max_spring, 5e-4);  // the springs did move: the check is not on a frozen leg
   EXPECT_GT(h0.head<3>().norm(), 0.1);
@@ -167,7 +172,8 @@ TEST(CassieHoppingPlant, TouchdownImpactStopsBothFeetKeepsQAndAddsNoEnergy) {
   ASSERT_EQ(events.size(), 1u);
   MultibodyWorkspace ws(*model);
   double lowest = 1e9;
-  for (int c = 0; c < model->num_contacts(); ++c) lowest = std::min(lowest, CalcContactHeight(*model, ws, x_minus.head(nv), c));
+  for (int c = 0; c < model->num_contacts(); ++c)
+    lowest = std::min(lowest, CalcContactHeight(*model, ws, x_minus.head(nv), c));
   EXPECT_NEAR(lowest, 0.0, 1e-7);
   // q continuous (2 ns of motion at a few m/s is < 1e-8).
   EXPECT_LT((x_plus.head(nv) - x_minus.head(nv)).norm(), 1e-7);
@@ -175,13 +181,15 @@ TEST(CassieHoppingPlant, TouchdownImpactStopsBothFeetKeepsQAndAddsNoEnergy) {
   double worst_sole_speed = 0.0, sole_speed_before = 0.0;
   for (int c = 0; c < model->num_contacts(); ++c)
     for (int p = 0; p < 2; ++p) {
-      worst_sole_speed = std::max(worst_sole_speed, CalcContactPointVelocity(*model, ws, x_plus.head(nv), x_plus.tail(nv), c, p).norm());
-      sole_speed_before = std::max(sole_speed_before, CalcContactPointVelocity(*model, ws, x_minus.head(nv), x_minus.tail(nv), c, p).norm());
+      worst_sole_speed = std::max(worst_sole_speed,
+                                  CalcContactPointVelocity(*model, ws, x_plus.head(nv), x_plus.tail(nv), c, p).norm());
+      sole_speed_before = std::max(
+          sole_speed_before, CalcContactPointVelocity(*model, ws, x_minus.head(nv), x_minus.tail(nv), c, p).norm());
     }
   const double ke_minus = CalcKineticEnergy(*model, ws, x_minus.head(nv), x_minus.tail(nv));
   const double ke_plus = CalcKineticEnergy(*model, ws, x_plus.head(nv), x_plus.tail(nv));
-  std::printf("  impact at t = %.6f s: sole speed %.3f -> %.2e m/s, kinetic energy %.3f -> %.3f J\n", t_event, sole_speed_before, worst_sole_speed,
-              ke_minus, ke_plus);
+  std::printf("  impact at t = %.6f s: sole speed %.3f -> %.2e m/s, kinetic energy %.3f -> %.3f J\n", t_event,
+              sole_speed_before, worst_sole_speed, ke_minus, ke_plus);
   EXPECT_GT(sole_speed_before, 0.3);
   EXPECT_LT(worst_sole_speed, 1e-6);
   EXPECT_LE(ke_plus, ke_minus);
@@ -199,8 +207,8 @@ TEST(CassieHoppingPlant, LiftoffIsNotAnImpactAndRodsHold) {
   HybridContactPlantParams params;
   params.min_base_height_m = 0.5;
   DiagramBuilder b;
-  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>("cassie", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
-                                                                 Terrain::Flat(), params));
+  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>(
+      "cassie", model, ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"), Terrain::Flat(), params));
   Eigen::VectorXd fold = Eigen::VectorXd::Zero(nu);
   for (int i = 0; i < nu; ++i) {
     const std::string& joint = model->actuators()[i].joint;
@@ -236,7 +244,8 @@ TEST(CassieHoppingPlant, LiftoffIsNotAnImpactAndRodsHold) {
   });
   const SimulatorStatus status = sim.AdvanceTo(0.045);  // before the touchdown guards arm (50 ms)
   const auto& events = sim.statistics().events;
-  for (const EventRecord& e : events) std::printf("  event %s at %.4f s: %d -> %d\n", e.guard.c_str(), e.time, e.mode_before, e.mode_after);
+  for (const EventRecord& e : events)
+    std::printf("  event %s at %.4f s: %d -> %d\n", e.guard.c_str(), e.time, e.mode_before, e.mode_after);
   std::printf("  run: %s; worst rod length error %.2e m\n", status.ToString().c_str(), worst_rod);
   ASSERT_TRUE(status.ok()) << status.ToString();
   ASSERT_EQ(events.size(), 1u);

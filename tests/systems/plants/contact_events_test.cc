@@ -48,7 +48,8 @@ RampDiagram BuildRamp(std::shared_ptr<const MultibodyModel> model, ContactModeGr
   DiagramBuilder b;
   RampDiagram d;
   d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, std::move(graph), Terrain::Flat()));
-  b.AddSystem(std::make_unique<TrajectorySource>("ramp", 1, [rate](double t, Eigen::Ref<Eigen::VectorXd> out) { out[0] = rate * t; }));
+  b.AddSystem(std::make_unique<TrajectorySource>(
+      "ramp", 1, [rate](double t, Eigen::Ref<Eigen::VectorXd> out) { out[0] = rate * t; }));
   b.Connect("ramp", "y", "plant", "u");
   d.diagram = b.Build("ramp_diagram");
   return d;
@@ -61,7 +62,8 @@ TEST(ContactEvents, BallLiftsOffAPulledDownTableAtGOverJ) {
   const double m = 2.0, j = 30.0, t_star = kG / j;
   RampDiagram d = BuildRamp(model, StanceFlight("ball", false), m * j);
   SimulatorConfig config = Tight();
-  config.max_step_s = 0.01;  // the stance is a linear problem: without a cap there are only a couple of steps to monitor
+  config.max_step_s =
+      0.01;  // the stance is a linear problem: without a cap there are only a couple of steps to monitor
   Simulator sim(*d.diagram, config);
   const LeafContext& ctx = d.diagram->GetSubsystemContext(*d.plant, sim.get_context());
   const int stance = d.plant->GetModeIndex("stance"), flight = d.plant->GetModeIndex("flight");
@@ -113,23 +115,26 @@ TEST(ContactEvents, PushedBlockSlipsWhenThePushReachesMuTimesTheWeight) {
   EXPECT_EQ(status.system, "plant");
   EXPECT_NEAR(status.time, t_slip, 1e-9);
   std::printf("slip at t = %.15f s, mu m g / k = %.15f s, error %.3e s\n", status.time, t_slip, status.time - t_slip);
-  EXPECT_EQ(status.message, "'block_bottom' slipped at t = 2.4525 s: |F_t|/F_n = 0.5 reached the friction coefficient mu = 0.5 (|F_t| = 9.81 N, "
-                            "F_n = 19.62 N)");
+  EXPECT_EQ(status.message,
+            "'block_bottom' slipped at t = 2.4525 s: |F_t|/F_n = 0.5 reached the friction coefficient mu = 0.5 (|F_t| "
+            "= 9.81 N, "
+            "F_n = 19.62 N)");
   ASSERT_EQ(sim.statistics().events.size(), 1u);
   EXPECT_EQ(sim.statistics().events[0].guard, "slip");
   EXPECT_EQ(sim.statistics().events[0].component, 0);
   EXPECT_LT(worst, 1e-9 * m * kG);
 }
 
-// The same block lifted with u_z = m g t / T while a tiny constant push c holds sideways: |F_t| = c, F_n = m g (1 - t/T),
-// so |F_t| reaches mu F_n at t = T (1 - c / (mu m g)), an instant before F_n reaches 0. The run ends as a slip, and the
-// message says the contact was unloading (the ratio of two near-zero forces alone reads like a violent slip).
+// The same block lifted with u_z = m g t / T while a tiny constant push c holds sideways: |F_t| = c, F_n = m g (1 -
+// t/T), so |F_t| reaches mu F_n at t = T (1 - c / (mu m g)), an instant before F_n reaches 0. The run ends as a slip,
+// and the message says the contact was unloading (the ratio of two near-zero forces alone reads like a violent slip).
 TEST(ContactEvents, AContactUnloadingWithATangentialForceLeftSlipsAtTheConesApexAndSaysSo) {
   auto model = LoadTestModel("lifted_block");
   const double m = 2.0, mu = 0.5, c = 1e-9, T = 1.0, t_slip = T * (1 - c / (mu * m * kG));
   ASSERT_EQ(model->actuators().size(), 2u);
   DiagramBuilder b;
-  b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("block_bottom", false), Terrain::Flat()));
+  b.AddSystem(
+      std::make_unique<HybridContactPlant>("plant", model, StanceFlight("block_bottom", false), Terrain::Flat()));
   b.AddSystem(std::make_unique<TrajectorySource>("ramp", 2, [&](double t, Eigen::Ref<Eigen::VectorXd> out) {
     out[0] = c;
     out[1] = m * kG * t / T;
@@ -158,7 +163,9 @@ TEST(ContactEvents, LiftOffWithNoModeToLiftOffIntoFails) {
   EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed) << status.ToString();
   EXPECT_EQ(status.system, "plant");
   EXPECT_NEAR(status.time, kG / j, 1e-9);
-  EXPECT_EQ(status.message, "'ball' lifted off at t = 0.327 s (normal force 0 N in mode 'stance'), but the contact-mode graph has no mode to lift off into");
+  EXPECT_EQ(status.message,
+            "'ball' lifted off at t = 0.327 s (normal force 0 N in mode 'stance'), but the contact-mode graph has no "
+            "mode to lift off into");
 }
 
 // Ball released h above the ground in flight (u = 0): touchdown at sqrt(2 h / g), plastic impact, then at rest.
@@ -191,11 +198,13 @@ struct HeldStepDiagram {
   std::unique_ptr<Diagram> diagram;
   const HybridContactPlant* plant = nullptr;
 };
-HeldStepDiagram BuildHeldStep(std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, double t_jump, double u_jump) {
+HeldStepDiagram BuildHeldStep(std::shared_ptr<const MultibodyModel> model, ContactModeGraph graph, double t_jump,
+                              double u_jump) {
   DiagramBuilder b;
   HeldStepDiagram d;
   d.plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, std::move(graph), Terrain::Flat()));
-  b.AddSystem(std::make_unique<TrajectorySource>("step", 1, [=](double t, Eigen::Ref<Eigen::VectorXd> out) { out[0] = t < 0.5 * t_jump ? 0.0 : u_jump; }));
+  b.AddSystem(std::make_unique<TrajectorySource>(
+      "step", 1, [=](double t, Eigen::Ref<Eigen::VectorXd> out) { out[0] = t < 0.5 * t_jump ? 0.0 : u_jump; }));
   b.AddSystem(std::make_unique<ZeroOrderHold>("hold", t_jump, 1));
   b.Connect("step", "y", "hold", "u");
   b.Connect("hold", "y", "plant", "u");
@@ -231,8 +240,10 @@ TEST(ContactEvents, PushJumpingOutOfTheFrictionConeAtADiscreteUpdateFails) {
   const SimulatorStatus status = sim.AdvanceTo(1.0);
   EXPECT_EQ(status.reason, SimulatorStatus::Reason::kFailed) << status.ToString();
   EXPECT_NEAR(status.time, t_jump + d.plant->params().immediate_event_delay_s, 1e-12);
-  EXPECT_EQ(status.message, "'block_bottom' slipped at t = 0.25 s: |F_t|/F_n = 0.75 exceeded the friction coefficient mu = 0.5 (|F_t| = 14.715 N, "
-                            "F_n = 19.62 N; already outside the cone right after an event)");
+  EXPECT_EQ(status.message,
+            "'block_bottom' slipped at t = 0.25 s: |F_t|/F_n = 0.75 exceeded the friction coefficient mu = 0.5 (|F_t| "
+            "= 14.715 N, "
+            "F_n = 19.62 N; already outside the cone right after an event)");
 }
 
 // AlternatingSingleSupport("a", "b") on two independent balls. Ball a stands, pulled up by u_a = m j t: it lifts off
@@ -242,10 +253,12 @@ TEST(ContactEvents, AlternatingSingleSupportLiftsOffIntoFlightAndLandsTheOtherFo
   auto model = LoadTestModel("two_balls");
   const double m = 2.0, t1 = 0.2, j = kG / t1, t2 = 0.22, h_b = 0.5 * kG * t2 * t2;
   DiagramBuilder b;
-  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, ContactModeGraph::AlternatingSingleSupport("a", "b"), Terrain::Flat()));
+  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>(
+      "plant", model, ContactModeGraph::AlternatingSingleSupport("a", "b"), Terrain::Flat()));
   ASSERT_LT(t2 - t1, plant->params().min_time_in_mode_s);
   ASSERT_GT(t1, plant->params().min_time_in_mode_s);  // SetState holds both touchdown guards that long
-  b.AddSystem(std::make_unique<TrajectorySource>("lift", 2, [=](double t, Eigen::Ref<Eigen::VectorXd> out) { out << m * j * t, 0.0; }));
+  b.AddSystem(std::make_unique<TrajectorySource>(
+      "lift", 2, [=](double t, Eigen::Ref<Eigen::VectorXd> out) { out << m * j * t, 0.0; }));
   b.Connect("lift", "y", "plant", "u");
   auto diagram = b.Build("two_balls");
   Simulator sim(*diagram, Tight());
@@ -262,7 +275,8 @@ TEST(ContactEvents, AlternatingSingleSupportLiftsOffIntoFlightAndLandsTheOtherFo
   EXPECT_EQ(events[1].guard, "touchdown_b");
   EXPECT_EQ(events[1].mode_after, 1);
   EXPECT_NEAR(events[1].time, t2, 1e-9);
-  std::printf("lift-off of a at %.3e s from g/j, touchdown of b at %.3e s from sqrt(2 h / g)\n", events[0].time - t1, events[1].time - t2);
+  std::printf("lift-off of a at %.3e s from g/j, touchdown of b at %.3e s from sqrt(2 h / g)\n", events[0].time - t1,
+              events[1].time - t2);
   // Discrete state: mode began at t2; a left the ground at t1.
   EXPECT_EQ(ctx.discrete_state()[0], events[1].time);
   EXPECT_EQ(ctx.discrete_state()[1], events[0].time);
@@ -322,7 +336,8 @@ class TouchdownCounter final : public LeafSystem {
 TEST(ContactEvents, AnEventUpdateSeesExactlyThePlantsTouchdowns) {
   auto model = LoadTestModel("ball_on_table");
   DiagramBuilder b;
-  auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("ball", true), Terrain::Flat()));
+  auto* plant =
+      b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("ball", true), Terrain::Flat()));
   // u = 0 until 0.5 s, then 3 m g upwards for 0.05 s (lift-off at 0.5 s), then 0: the ball flies and lands again.
   const double m = 2.0;
   b.AddSystem(std::make_unique<TrajectorySource>("push", 1, [m](double t, Eigen::Ref<Eigen::VectorXd> out) {
@@ -337,8 +352,8 @@ TEST(ContactEvents, AnEventUpdateSeesExactlyThePlantsTouchdowns) {
   (void)hold;
   Simulator sim(*diagram, Tight());
   const double h = 0.3, t_td = std::sqrt(2 * h / kG);
-  plant->SetState(diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context()), Eigen::VectorXd::Constant(1, 0.1 + h),
-                  Eigen::VectorXd::Zero(1), "flight");
+  plant->SetState(diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context()),
+                  Eigen::VectorXd::Constant(1, 0.1 + h), Eigen::VectorXd::Zero(1), "flight");
   const SimulatorStatus status = sim.AdvanceTo(1.5);
   ASSERT_TRUE(status.ok()) << status.ToString();
   std::vector<EventRecord> touchdowns;
@@ -351,7 +366,8 @@ TEST(ContactEvents, AnEventUpdateSeesExactlyThePlantsTouchdowns) {
   EXPECT_EQ(liftoffs, 1);
   EXPECT_NEAR(touchdowns[0].time, t_td, 1e-9);
   // Held push of 3 m g for 0.05 s from rest: net acceleration 2 g up, then free flight; lands when
-  // z = g t1² (up, after t1 = 0.05 s with speed 2 g t1) returns: t_land = t1 + (2 g t1 + sqrt((2 g t1)² + 2 g · g t1²)) / g.
+  // z = g t1² (up, after t1 = 0.05 s with speed 2 g t1) returns: t_land = t1 + (2 g t1 + sqrt((2 g t1)² + 2 g · g t1²))
+  // / g.
   const double t1 = 0.05, v1 = 2 * kG * t1, z1 = kG * t1 * t1;
   const double t_land = 0.5 + t1 + (v1 + std::sqrt(v1 * v1 + 2 * kG * z1)) / kG;
   EXPECT_NEAR(touchdowns[1].time, t_land, 1e-8);
@@ -362,7 +378,8 @@ TEST(ContactEvents, AnEventUpdateSeesExactlyThePlantsTouchdowns) {
     EXPECT_EQ(counter->seen[k].mode, plant->GetModeIndex("stance"));
   }
   EXPECT_EQ(diagram->GetSubsystemContext(*counter, sim.get_context()).discrete_state()[0], 2.0);
-  std::printf("touchdowns at %.12f s (sqrt(2h/g) %.12f) and %.12f s (closed form %.12f)\n", touchdowns[0].time, t_td, touchdowns[1].time, t_land);
+  std::printf("touchdowns at %.12f s (sqrt(2h/g) %.12f) and %.12f s (closed form %.12f)\n", touchdowns[0].time, t_td,
+              touchdowns[1].time, t_land);
 }
 
 TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
@@ -373,7 +390,8 @@ TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
     HybridContactPlant("plant", model, g, Terrain::Flat());
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "system 'plant': mode 'stance' names contact 'bal', which robot 'ball_on_table' does not have");
+    EXPECT_EQ(std::string(e.what()),
+              "system 'plant': mode 'stance' names contact 'bal', which robot 'ball_on_table' does not have");
   }
   DiagramBuilder b;
   b.AddSystem(std::make_unique<HybridContactPlant>("plant", model, StanceFlight("ball", true), Terrain::Flat()));
@@ -381,9 +399,8 @@ TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
   class Listener final : public LeafSystem {
    public:
     Listener() : LeafSystem("listener") {
-      DeclareEventUpdate("on_touchdown", EventTrigger::Guards({{"plant", "touchdown_bal"}}), [](const LeafContext&, const EventRecord&, State*) {
-        return EventStatus::Succeeded();
-      });
+      DeclareEventUpdate("on_touchdown", EventTrigger::Guards({{"plant", "touchdown_bal"}}),
+                         [](const LeafContext&, const EventRecord&, State*) { return EventStatus::Succeeded(); });
     }
   };
   b.AddSystem(std::make_unique<Listener>());
@@ -394,7 +411,8 @@ TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
     EXPECT_EQ(what.substr(0, what.find(" (it has")),
-              "system 'listener': event update 'on_touchdown' names guard 'touchdown_bal' of system 'plant', which has no such guard");
+              "system 'listener': event update 'on_touchdown' names guard 'touchdown_bal' of system 'plant', which has "
+              "no such guard");
     EXPECT_NE(what.find("'touchdown_ball'"), std::string::npos) << what;
   }
 }
@@ -402,17 +420,18 @@ TEST(ContactEvents, BadGuardAndContactNamesAreOneLineErrors) {
 }  // namespace
 }  // namespace rome
 
-// The contact check's rule, against numbers worked by hand: round-off at a clamped cone (Bullet's sliding foot, measured
-// |F_t|/F_n = 0.8 (1 + 7.8e-9) at F_n = 181.209 N) is not a violation; a 1e-4 excess, a pull of 1e-3 N or NaN is.
+// The contact check's rule, against numbers worked by hand: round-off at a clamped cone (Bullet's sliding foot,
+// measured |F_t|/F_n = 0.8 (1 + 7.8e-9) at F_n = 181.209 N) is not a violation; a 1e-4 excess, a pull of 1e-3 N or NaN
+// is.
 TEST(ContactForceStatistics, ViolationRuleSeparatesRoundOffFromSliding) {
   const rome::ContactForceStatistics stats;
   const double fn = 181.209, mu = 0.8;
   EXPECT_FALSE(stats.Violates(fn, mu * fn * (1 + 7.8e-9), mu));  // excess 1.1e-6 N: above the absolute 1e-6 N alone
   EXPECT_FALSE(stats.Violates(fn, mu * fn, mu));
-  EXPECT_TRUE(stats.Violates(fn, mu * fn * (1 + 1e-4), mu));       // 0.0145 N beyond the cone
+  EXPECT_TRUE(stats.Violates(fn, mu * fn * (1 + 1e-4), mu));  // 0.0145 N beyond the cone
   EXPECT_TRUE(stats.Violates(-1e-3, 0.0, mu));
   EXPECT_FALSE(stats.Violates(-5e-7, 0.0, mu));
   EXPECT_TRUE(stats.Violates(std::nan(""), 0.0, mu));
   EXPECT_TRUE(stats.Violates(fn, std::nan(""), mu));
-  EXPECT_TRUE(stats.Violates(0.0, 1e-5, mu));                      // no normal force, a tangential one
+  EXPECT_TRUE(stats.Violates(0.0, 1e-5, mu));  // no normal force, a tangential one
 }

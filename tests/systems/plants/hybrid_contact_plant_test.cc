@@ -19,7 +19,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
 SimulatorConfig Tight() {
@@ -58,7 +59,8 @@ TEST(HybridContactPlant, TouchdownTimeMatchesFreeFallAndImpactStopsTheFeet) {
   EXPECT_EQ(ev.mode_after, plant.GetModeIndex("stance"));
   // Right after the impact both feet are at rest (plastic impact with both feet).
   const Eigen::VectorXd qq = ctx->continuous_state().head(model->nv()), vv = ctx->continuous_state().tail(model->nv());
-  for (int c = 0; c < 2; ++c) EXPECT_LT(CalcContactPointVelocity(*model, ws, qq, vv, c, 0).norm(), 1e-3) << "contact " << c;
+  for (int c = 0; c < 2; ++c)
+    EXPECT_LT(CalcContactPointVelocity(*model, ws, qq, vv, c, 0).norm(), 1e-3) << "contact " << c;
   // Kinetic energy does not increase across the impact (it was ~ m g drop before).
   EXPECT_LT(CalcKineticEnergy(*model, ws, qq, vv), ke_before_est);
   EXPECT_NEAR(ke_before_est, model->total_mass() * 9.81 * drop, 0.02 * model->total_mass() * 9.81 * drop);
@@ -68,7 +70,8 @@ TEST(HybridContactPlant, PassiveRobotCollapsesAndTheRunEndsAsAFall) {
   auto model = Load("amber");
   HybridContactPlantParams params;
   params.min_base_height_m = 0.8;
-  HybridContactPlant plant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), params);
+  HybridContactPlant plant("amber", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(),
+                           params);
   auto context = plant.CreateDefaultLeafContext();
   context->FixInputPort(0, Eigen::VectorXd::Zero(model->nu()));
   Simulator sim(plant, std::move(context));
@@ -113,7 +116,8 @@ TEST(HybridContactPlant, NegativeOrNanPlannedLiftoffForceIsNamed) {
     HybridContactPlantParams params;
     params.planned_liftoff_force_N = bad;
     try {
-      HybridContactPlant plant("amber", model, ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot"), Terrain::Flat(), params);
+      HybridContactPlant plant("amber", model, ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot"),
+                               Terrain::Flat(), params);
       FAIL() << bad;
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("planned_liftoff_force_N"), std::string::npos) << e.what();
@@ -131,7 +135,8 @@ TEST(HybridContactPlant, FlatFootedStanceUnderGravityCompensationStaysStill) {
   DiagramBuilder builder;
   auto* plant = builder.AddSystem(std::make_unique<HybridContactPlant>("exo", model, graph, Terrain::Flat()));
   const int nu = model->nu();
-  JointPdGains gains{Eigen::VectorXd::Constant(nu, 500.0), Eigen::VectorXd::Constant(nu, 50.0), model->B().transpose() * model->q_nominal(),
+  JointPdGains gains{Eigen::VectorXd::Constant(nu, 500.0), Eigen::VectorXd::Constant(nu, 50.0),
+                     model->B().transpose() * model->q_nominal(),
                      CalcStanceGravityCompensation(*model, plant->active_contacts(0), model->q_nominal())};
   builder.AddSystem(std::make_unique<JointPdController>("pd", model->B(), gains));
   builder.Connect("exo", "state", "pd", "state");
@@ -154,7 +159,8 @@ TEST(HybridContactPlant, FlatFootedStanceUnderGravityCompensationStaysStill) {
 
 double RodLength(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q, int loop) {
   const auto& l = model.loop_closures()[loop];
-  return (CalcPointPosition(model, ws, q, l.body_a, l.point_a) - CalcPointPosition(model, ws, q, l.body_b, l.point_b)).norm();
+  return (CalcPointPosition(model, ws, q, l.body_a, l.point_a) - CalcPointPosition(model, ws, q, l.body_b, l.point_b))
+      .norm();
 }
 
 TEST(HybridContactPlant, CassieStandingUnderPdKeepsAchillesRodLength) {

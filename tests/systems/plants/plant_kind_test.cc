@@ -35,19 +35,19 @@ TEST(PlantKind, ParsesBothKindsAndRejectsOthersNamingTheSourceAndValue) {
 }
 
 TEST(PlantKind, EitherPlantLetsAFlyingRobotFallFreely) {
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
   const ContactModeGraph graph = ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot");
   HybridContactPlantParams hybrid;
   BulletWorldPlantParams bullet;
   bullet.step_s = 5e-4;  // recognisably the Bullet parameters
   for (const PlantKind kind : {PlantKind::kHybrid, PlantKind::kBullet}) {
     SCOPED_TRACE(ToString(kind));
-    std::unique_ptr<ContactPlant> plant = MakeContactPlant(kind, "plant", model, graph, Terrain::Flat(), hybrid, bullet);
+    std::unique_ptr<ContactPlant> plant =
+        MakeContactPlant(kind, "plant", model, graph, Terrain::Flat(), hybrid, bullet);
     const auto* as_bullet = dynamic_cast<const BulletWorldPlant*>(plant.get());
     ASSERT_EQ(as_bullet != nullptr, kind == PlantKind::kBullet);
-    if (as_bullet) {
-      EXPECT_EQ(as_bullet->params().step_s, 5e-4);
-    }
+    if (as_bullet) { EXPECT_EQ(as_bullet->params().step_s, 5e-4); }
     ASSERT_NE(dynamic_cast<const HybridContactPlant*>(plant.get()) != nullptr, kind == PlantKind::kBullet);
 
     Eigen::VectorXd q = model->q_nominal();

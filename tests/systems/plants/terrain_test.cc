@@ -74,31 +74,45 @@ std::string WriteTemp(const std::string& name, const std::string& text) {
 std::string ErrorOf(const std::string& path) {
   try {
     Terrain::FromCsv(path, 0.1);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
+  } catch (const std::exception& e) { return e.what(); }
   return "";
 }
 
 TEST(TerrainCsv, BomCarriageReturnsAndHeaders) {
-  EXPECT_EQ(Terrain::FromCsv(WriteTemp("bom.csv", "\xEF\xBB\xBF" "0,0\n0.4,0.1\n"), 0.1).stones().size(), 2u);  // the BOM line is a stone
+  EXPECT_EQ(Terrain::FromCsv(WriteTemp("bom.csv",
+                                       "\xEF\xBB\xBF"
+                                       "0,0\n0.4,0.1\n"),
+                             0.1)
+                .stones()
+                .size(),
+            2u);  // the BOM line is a stone
   EXPECT_EQ(Terrain::FromCsv(WriteTemp("cr.csv", "0,0\r0.4,0.1\r0.8,0\r"), 0.1).stones().size(), 3u);
   EXPECT_EQ(Terrain::FromCsv(WriteTemp("crlf.csv", "x,z\r\n0,0\r\n0.4,0.1\r\n"), 0.1).stones().size(), 2u);
-  EXPECT_EQ(Terrain::FromCsv(WriteTemp("header.csv", "# stones\nx,z,length\n0,0\n0.4,0.1,0.2\n"), 0.1).stones()[1].length_m, 0.2);
+  EXPECT_EQ(
+      Terrain::FromCsv(WriteTemp("header.csv", "# stones\nx,z,length\n0,0\n0.4,0.1,0.2\n"), 0.1).stones()[1].length_m,
+      0.2);
 }
 
 TEST(TerrainCsv, EveryErrorNamesTheLineAndTheField) {
-  EXPECT_EQ(ErrorOf(WriteTemp("typo.csv", "O,0\n0.4,0\n")), "terrain file '" + rome::test::ScratchDir() + "/typo.csv' line 1: expected 'x,z[,length]' numbers, got 'O,0'");
+  EXPECT_EQ(
+      ErrorOf(WriteTemp("typo.csv", "O,0\n0.4,0\n")),
+      "terrain file '" + rome::test::ScratchDir() + "/typo.csv' line 1: expected 'x,z[,length]' numbers, got 'O,0'");
   EXPECT_NE(ErrorOf(WriteTemp("nan.csv", "0,0\n0.4,nan\n")).find("line 2: z must be finite"), std::string::npos);
-  EXPECT_NE(ErrorOf(WriteTemp("inf.csv", "0,0,inf\n")).find("line 1: length must be finite and at least 1e-06 m"), std::string::npos);
-  EXPECT_NE(ErrorOf(WriteTemp("overlap.csv", "0,0\n# gap\n0.4,0.1\n0.45,0.1\n")).find("the stones of lines 3 and 4 overlap"), std::string::npos);
+  EXPECT_NE(ErrorOf(WriteTemp("inf.csv", "0,0,inf\n")).find("line 1: length must be finite and at least 1e-06 m"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf(WriteTemp("overlap.csv", "0,0\n# gap\n0.4,0.1\n0.45,0.1\n")).find("the stones of lines 3 and 4 overlap"),
+      std::string::npos);
   EXPECT_NE(ErrorOf(rome::test::ScratchDir()).find("is a directory"), std::string::npos);
   EXPECT_NE(ErrorOf(WriteTemp("empty.csv", "# nothing\n")).find("has no stones"), std::string::npos);
-  const std::string binary = ErrorOf(WriteTemp("binary.csv", std::string("0,0\n\x01\x02,\xff") + std::string(10000, 'x') + "\n"));
+  const std::string binary =
+      ErrorOf(WriteTemp("binary.csv", std::string("0,0\n\x01\x02,\xff") + std::string(10000, 'x') + "\n"));
   EXPECT_NE(binary.find("\\x01\\x02"), std::string::npos) << binary;
   EXPECT_LT(binary.size(), 250u);
   // The file's path is untrusted text too: a newline and a control byte in it are escaped, a 10,000-character path cut.
-  const std::string odd_path = ErrorOf(rome::test::ScratchDir() + "/no\nsuch\x07" "file.csv");
+  const std::string odd_path = ErrorOf(rome::test::ScratchDir() +
+                                       "/no\nsuch\x07"
+                                       "file.csv");
   EXPECT_EQ(odd_path.find('\n'), std::string::npos) << odd_path;
   EXPECT_NE(odd_path.find("no\\x0Asuch\\x07file.csv: file does not exist"), std::string::npos) << odd_path;
   const std::string long_path = ErrorOf(std::string(10000, 'p') + ".csv");
@@ -115,14 +129,16 @@ TEST(TerrainLookup, MillionStonesMatchALinearScan) {
     int scan = -1;
     double best = 1e300;
     for (size_t i = 0; i < t.stones().size(); ++i)
-      if (std::abs(x - t.stones()[i].x_center_m) < best) best = std::abs(x - t.stones()[i].x_center_m), scan = static_cast<int>(i);
+      if (std::abs(x - t.stones()[i].x_center_m) < best)
+        best = std::abs(x - t.stones()[i].x_center_m), scan = static_cast<int>(i);
     EXPECT_EQ(t.NearestStone(x), scan) << x;
     const bool on = std::abs(x - t.stones()[scan].x_center_m) <= 0.05;
     EXPECT_EQ(t.StoneAt(x), on ? scan : -1) << x;
   }
 }
 
-// FromCsvText (the fuzz harness's entry) parses the text exactly as FromCsv parses the file, and names the text as given.
+// FromCsvText (the fuzz harness's entry) parses the text exactly as FromCsv parses the file, and names the text as
+// given.
 TEST(TerrainCsv, TextParsesAsTheFile) {
   const std::string text = "x,z,length\r\n1.2,0.1,0.3\r\n0,0\r\n0.6,-0.05\r\n";
   const Terrain from_file = Terrain::FromCsv(WriteTemp("text.csv", text), 0.2);
@@ -151,18 +167,19 @@ TEST(Terrain, StonesMustBeResolvedAtTheirCoordinates) {
   auto error_of = [](const std::string& text) {
     try {
       Terrain::FromCsvText(text, 0.1, "fuzz.csv");
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
+    } catch (const std::runtime_error& e) { return std::string(e.what()); }
     return std::string("accepted");
   };
-  EXPECT_EQ(error_of("1e200,0\n1e200,0\n"), "terrain file 'fuzz.csv' line 1: x must be finite and within +-1e+06 m, got '1e200,0'");
+  EXPECT_EQ(error_of("1e200,0\n1e200,0\n"),
+            "terrain file 'fuzz.csv' line 1: x must be finite and within +-1e+06 m, got '1e200,0'");
   EXPECT_NE(error_of("0,1e7\n").find("line 1: z must be finite and within +-1e+06 m"), std::string::npos);
   EXPECT_NE(error_of("0,0,1e-7\n").find("line 1: length must be finite and at least 1e-06 m"), std::string::npos);
   EXPECT_THROW(Terrain::Stones({{1e7, 0.0, 0.1}}), std::invalid_argument);
   EXPECT_THROW(Terrain::Stones({{0.0, 0.0, 1e-9}}), std::invalid_argument);
   // At the limits, two stones on one x overlap, and so do two stones overlapping by a tenth of their length.
-  EXPECT_NE(error_of("1e6,0,1e-6\n1e6,0.1,1e-6\n").find("the stones of lines 1 and 2 overlap (x = 1e+06 m and 1e+06 m)"), std::string::npos)
+  EXPECT_NE(
+      error_of("1e6,0,1e-6\n1e6,0.1,1e-6\n").find("the stones of lines 1 and 2 overlap (x = 1e+06 m and 1e+06 m)"),
+      std::string::npos)
       << error_of("1e6,0,1e-6\n1e6,0.1,1e-6\n");
   EXPECT_THROW(Terrain::Stones({{-1e6, 0.0, 1e-6}, {-1e6 + 0.9e-6, 0.0, 1e-6}}), std::invalid_argument);
   // Touching stones (0.1 + 0.2 is not exactly 0.3 in binary: the edges meet only up to rounding) are accepted, and

@@ -16,7 +16,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
 }
 
 Eigen::Vector3d FootPosition(const MultibodyModel& model, const Eigen::VectorXd& q, const std::string& contact) {
@@ -25,7 +26,8 @@ Eigen::Vector3d FootPosition(const MultibodyModel& model, const Eigen::VectorXd&
   return CalcPointPosition(model, ws, q, c.body, c.frame_origin);
 }
 
-void ExpectFeasible(const MultibodyModel& model, const PreImpactPostureParams& params, const PreImpactPostureRequest& r, const PreImpactPosture& p) {
+void ExpectFeasible(const MultibodyModel& model, const PreImpactPostureParams& params, const PreImpactPostureRequest& r,
+                    const PreImpactPosture& p) {
   ASSERT_TRUE(p.success) << p.message;
   ASSERT_EQ(p.q.size(), model.nv());
   const Eigen::Vector3d st = FootPosition(model, p.q, r.stance_contact), sw = FootPosition(model, p.q, r.swing_contact);
@@ -47,7 +49,8 @@ void ExpectFeasible(const MultibodyModel& model, const PreImpactPostureParams& p
 
 // Strict local minimum on the constraint manifold: the reduced gradient Zᵀ∇f vanishes, and moving along the
 // manifold (a null-space step followed by a Newton projection back onto the active constraints) raises the cost.
-void ExpectLocalMinimum(const MultibodyModel& model, const PreImpactPostureParams& params, const PreImpactPostureRequest& r, const PreImpactPosture& p) {
+void ExpectLocalMinimum(const MultibodyModel& model, const PreImpactPostureParams& params,
+                        const PreImpactPostureRequest& r, const PreImpactPosture& p) {
   PreImpactPostureProblem problem(model, params, r);
   const Eigen::VectorXd x = problem.FromConfiguration(p.q);
   const int n = problem.num_variables(), m = problem.num_constraints();
@@ -59,13 +62,15 @@ void ExpectLocalMinimum(const MultibodyModel& model, const PreImpactPostureParam
   // Active rows: equalities, plus the COM-height row if it is at its bound.
   std::vector<int> active;
   for (int i = 0; i < m; ++i)
-    if (problem.constraint_lower_bounds()[i] == problem.constraint_upper_bounds()[i] || std::abs(g[i] - problem.constraint_lower_bounds()[i]) < 1e-7)
+    if (problem.constraint_lower_bounds()[i] == problem.constraint_upper_bounds()[i] ||
+        std::abs(g[i] - problem.constraint_lower_bounds()[i]) < 1e-7)
       active.push_back(i);
   Eigen::MatrixXd A(active.size(), n);
   for (size_t k = 0; k < active.size(); ++k)
     for (int j = 0; j < n; ++j) A(k, j) = values[active[k] * n + j];
   for (int j = 0; j < n; ++j)
-    ASSERT_TRUE(x[j] > problem.variable_lower_bounds()[j] + 1e-6 && x[j] < problem.variable_upper_bounds()[j] - 1e-6) << "joint limit active; test assumes interior";
+    ASSERT_TRUE(x[j] > problem.variable_lower_bounds()[j] + 1e-6 && x[j] < problem.variable_upper_bounds()[j] - 1e-6)
+        << "joint limit active; test assumes interior";
   Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
   const Eigen::MatrixXd Z = lu.kernel();
   const double reduced_gradient = (Z.transpose() * grad).cwiseAbs().maxCoeff();
@@ -89,8 +94,10 @@ void ExpectLocalMinimum(const MultibodyModel& model, const PreImpactPostureParam
     }
     worst_decrease = std::max(worst_decrease, f0 - problem.EvalCost(y));
   }
-  std::printf("  local minimum: %zu active constraints, %d free directions, |Zᵀ∇f| = %.2e, worst cost decrease under 1 mrad moves %.2e (f* = %.3e)\n",
-              active.size(), static_cast<int>(Z.cols()), reduced_gradient, worst_decrease, f0);
+  std::printf(
+      "  local minimum: %zu active constraints, %d free directions, |Zᵀ∇f| = %.2e, worst cost decrease under 1 mrad "
+      "moves %.2e (f* = %.3e)\n",
+      active.size(), static_cast<int>(Z.cols()), reduced_gradient, worst_decrease, f0);
   EXPECT_LT(reduced_gradient, 1e-6);
   EXPECT_LE(worst_decrease, 1e-12);
 }
@@ -108,8 +115,11 @@ TEST(PreImpactPostureOptimizer, AmberPosturesMeetTheStoneAndAreLocalMinima) {
     r.step_height_m = s.h;
     r.stance_foot_position = Eigen::Vector2d(1.5, 0.25);
     const PreImpactPosture p = optimizer.Solve(r);
-    std::printf("step l = %.2f h = %+.2f: %s\n  φ_f = %+.5f rad, p_com,f^z = %.4f m, p_com^x = %.4f m (εl = %.4f), solve %.2f ms, %d iterations\n", s.l, s.h,
-                p.message.c_str(), p.torso_pitch_rad, p.com_height_m, p.com_x_m, params.com_x_fraction * s.l, p.solve_time_s * 1e3, p.iterations);
+    std::printf(
+        "step l = %.2f h = %+.2f: %s\n  φ_f = %+.5f rad, p_com,f^z = %.4f m, p_com^x = %.4f m (εl = %.4f), solve %.2f "
+        "ms, %d iterations\n",
+        s.l, s.h, p.message.c_str(), p.torso_pitch_rad, p.com_height_m, p.com_x_m, params.com_x_fraction * s.l,
+        p.solve_time_s * 1e3, p.iterations);
     ExpectFeasible(*model, params, r, p);
     EXPECT_EQ(p.status, NlpStatus::kSolved);
     EXPECT_EQ(p.fallback, PreImpactPosture::Fallback::kNone);
@@ -141,7 +151,8 @@ TEST(PreImpactPostureOptimizer, MinimumComHeightBindsAndIsMet) {
   params.min_com_height_m = bound_above_stance - std::min(r.step_height_m, 0.0);  // the bound is above the lower foot
   PreImpactPostureOptimizer optimizer(model, params);
   const PreImpactPosture p = optimizer.Solve(r);
-  std::printf("  free COM height %.4f m, with p_com^{z,min} = %.4f m: %.4f m (%s)\n", free.com_height_m, params.min_com_height_m, p.com_height_m, p.message.c_str());
+  std::printf("  free COM height %.4f m, with p_com^{z,min} = %.4f m: %.4f m (%s)\n", free.com_height_m,
+              params.min_com_height_m, p.com_height_m, p.message.c_str());
   ExpectFeasible(*model, params, r, p);
   EXPECT_NEAR(p.com_height_m, bound_above_stance, 1e-6);
   EXPECT_GE(p.cost, free.cost - 1e-12);  // a tighter feasible set cannot lower the optimum
@@ -157,8 +168,8 @@ TEST(PreImpactPostureOptimizer, LongStepDownKeepsTheMinimumHeightAboveTheLanding
   r.step_length_m = 0.5;
   r.step_height_m = -0.25;
   const PreImpactPosture p = PreImpactPostureOptimizer(model, params).Solve(r);
-  std::printf("  l = 0.5 m, h = -0.25 m: COM %.4f m above the stance foot, %.4f m above the landing foot (%s)\n", p.com_height_m,
-              p.com_height_m - r.step_height_m, p.message.c_str());
+  std::printf("  l = 0.5 m, h = -0.25 m: COM %.4f m above the stance foot, %.4f m above the landing foot (%s)\n",
+              p.com_height_m, p.com_height_m - r.step_height_m, p.message.c_str());
   ExpectFeasible(*model, params, r, p);
   EXPECT_GE(p.com_height_m - r.step_height_m, params.min_com_height_m - 1e-6);
   EXPECT_LT(p.com_height_m - r.step_height_m, 0.87 + 0.05);  // geometry: legs of 0.87 m, COM about 4 cm above the hip

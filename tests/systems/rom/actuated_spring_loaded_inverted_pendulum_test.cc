@@ -90,12 +90,12 @@ TEST(ActuatedSpringLoadedInvertedPendulum, CartesianFormEqualsPolarAppendix) {
     // DSP: both polar charts must give the Cartesian acceleration.
     {
       const double dq = P1.q - P2.q;
-      const double rdd1 = (F1 + F2 * std::cos(dq)) / m - g * std::cos(P1.q) + P1.r * P1.qd * P1.qd +
-                          u2 * std::sin(dq) / (m * P2.r);
+      const double rdd1 =
+          (F1 + F2 * std::cos(dq)) / m - g * std::cos(P1.q) + P1.r * P1.qd * P1.qd + u2 * std::sin(dq) / (m * P2.r);
       const double qdd1 = (-2 * P1.qd * P1.rd + g * std::sin(P1.q) - F2 * std::sin(dq) / m) / P1.r +
                           std::cos(dq) * u2 / (m * P1.r * P2.r) + u1 / (m * P1.r * P1.r);
-      const double rdd2 = (F2 + F1 * std::cos(dq)) / m - g * std::cos(P2.q) + P2.r * P2.qd * P2.qd -
-                          u1 * std::sin(dq) / (m * P1.r);
+      const double rdd2 =
+          (F2 + F1 * std::cos(dq)) / m - g * std::cos(P2.q) + P2.r * P2.qd * P2.qd - u1 * std::sin(dq) / (m * P1.r);
       const double qdd2 = (-2 * P2.qd * P2.rd + g * std::sin(P2.q) + F1 * std::sin(dq) / m) / P2.r +
                           std::cos(dq) * u1 / (m * P1.r * P2.r) + u2 / (m * P2.r * P2.r);
       AslipContact c{true, true, f1, f2};

@@ -39,9 +39,7 @@ TEST(CassieVirtualLeg, LengthTableAndThirteenDegreeRule) {
       const double h = 1e-6;
       EXPECT_NEAR(leg.LengthJacobian(q), (leg.Length(q + h) - leg.Length(q - h)) / (2 * h), 1e-7);
       // (−37° is 1.8e-7 rad beyond the URDF's knee limit −0.645772 rad, so KneeAngle clamps there.)
-      if (i > 0) {
-        EXPECT_NEAR(leg.KneeAngle(leg.Length(q)), q, 1e-9);
-      }
+      if (i > 0) { EXPECT_NEAR(leg.KneeAngle(leg.Length(q)), q, 1e-9); }
     }
   }
 }

@@ -112,9 +112,7 @@ TEST(HybridLinearInvertedPendulum, RejectsBadParameters) {
   EXPECT_THROW(HybridLinearInvertedPendulum().P2PreImpactState(0.0), std::invalid_argument);
   try {
     HybridLinearInvertedPendulum({.z0 = -2});
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("z0"), std::string::npos);
-  }
+  } catch (const std::invalid_argument& e) { EXPECT_NE(std::string(e.what()).find("z0"), std::string::npos); }
 }
 
 TEST(FootedLinearInvertedPendulum, ZeroOrderHoldMatchesSpecAndMatrixExponential) {

@@ -34,7 +34,8 @@ TEST(LinearInvertedPendulumSystem, SimulatedFlowMatchesClosedForm) {
   }
   EXPECT_LT(worst_state, 1e-9);
   EXPECT_LT(worst_energy, 1e-9);
-  std::printf("LIP flow vs CVODE over 1 s: max relative state error %.3e, max energy drift %.3e m^2/s^2\n", worst_state, worst_energy);
+  std::printf("LIP flow vs CVODE over 1 s: max relative state error %.3e, max energy drift %.3e m^2/s^2\n", worst_state,
+              worst_energy);
 }
 
 }  // namespace

@@ -39,7 +39,8 @@ TEST(LinearInvertedPendulum, TransitionMatrixIsTheFlowOfEq12) {
 
 TEST(LinearInvertedPendulum, OrbitalEnergyIsConservedAlongTheFlow) {
   const LinearInvertedPendulum lip({.z0 = 0.8});
-  for (const Eigen::Vector2d& x0 : {Eigen::Vector2d(-0.15, 0.5), Eigen::Vector2d(0.2, -0.1), Eigen::Vector2d(-0.3, 0.1)}) {
+  for (const Eigen::Vector2d& x0 :
+       {Eigen::Vector2d(-0.15, 0.5), Eigen::Vector2d(0.2, -0.1), Eigen::Vector2d(-0.3, 0.1)}) {
     const double E0 = lip.OrbitalEnergy(x0);
     for (double t = 0; t <= 1.0; t += 0.05) {
       const Eigen::Vector2d x = lip.Flow(x0, t);
@@ -58,7 +59,9 @@ TEST(LinearInvertedPendulum, TimeToImpactMatchesEq14AndTheFlow) {
   // Forward walking: x0 < 0 < x_des, E > 0. Eq. (14) literally.
   const Eigen::Vector2d x0(-0.16, 0.55);
   const double x_des = 0.24;
-  const double eq14 = std::log((x_des + std::sqrt(x_des * x_des - x0[0] * x0[0] + x0[1] * x0[1] / (lz * lz))) / (x0[0] + x0[1] / lz)) / lip.lambda();
+  const double eq14 =
+      std::log((x_des + std::sqrt(x_des * x_des - x0[0] * x0[0] + x0[1] * x0[1] / (lz * lz))) / (x0[0] + x0[1] / lz)) /
+      lip.lambda();
   const TimeToImpact t = lip.TimeToReach(x_des, x0);
   ASSERT_TRUE(t.ok()) << ToString(t.status);
   EXPECT_NEAR(t.time_s, eq14, 1e-14);

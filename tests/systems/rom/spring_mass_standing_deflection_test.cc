@@ -1,9 +1,9 @@
 // Which K(L) our Cassie plant matches: Cassie stands on the hybrid plant (robots/cassie, both feet in line contact,
 // achilles rods closed, shin and heel springs live) with its 10 motors held by a stiff joint PD at the nominal pose,
-// released with the springs undeflected; after 10 s it is at rest (|v| < 1e-3). Then the leg compression s = L(q_knee) − L_r(q) (virtual
-// minus real leg length, Eq. (13)) and the COM drop are compared with the spring-mass ROM's static deflection
-// m g / (n_legs K(L)) for the `published` and the `identified` K(L). The expected values come from the ROM; the
-// measured ones from the plant's constrained dynamics (an independent computation).
+// released with the springs undeflected; after 10 s it is at rest (|v| < 1e-3). Then the leg compression s = L(q_knee)
+// − L_r(q) (virtual minus real leg length, Eq. (13)) and the COM drop are compared with the spring-mass ROM's static
+// deflection m g / (n_legs K(L)) for the `published` and the `identified` K(L). The expected values come from the ROM;
+// the measured ones from the plant's constrained dynamics (an independent computation).
 #include <cmath>
 #include <cstdio>
 
@@ -20,8 +20,8 @@ namespace rome {
 namespace {
 
 TEST(SpringMassStandingDeflection, PlantMatchesIdentifiedStiffness) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf")));
+  auto model =
+      std::make_shared<const MultibodyModel>(MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf")));
   const int nu = model->nu(), nv = model->nv();
   JointPdGains gains;
   gains.kp.resize(nu);
@@ -53,8 +53,8 @@ TEST(SpringMassStandingDeflection, PlantMatchesIdentifiedStiffness) {
   const Eigen::VectorXd q = plant->EvalOutput(ctx, "q"), v = plant->EvalOutput(ctx, "v");
   Eigen::Index worst_v = 0;
   v.cwiseAbs().maxCoeff(&worst_v);
-  EXPECT_LT(v.cwiseAbs().maxCoeff(), 1e-3) << "not settled: v of " << model->JointName(static_cast<int>(worst_v))
-                                           << " = " << v(worst_v);
+  EXPECT_LT(v.cwiseAbs().maxCoeff(), 1e-3)
+      << "not settled: v of " << model->JointName(static_cast<int>(worst_v)) << " = " << v(worst_v);
   const double com_drop = com0 - plant->EvalOutput(ctx, "com")(2);
   const CassieVirtualLeg left(*model, "left"), right(*model, "right");
   const double L_left = left.Length(q(left.knee_index())), L_right = right.Length(q(right.knee_index()));
@@ -66,9 +66,10 @@ TEST(SpringMassStandingDeflection, PlantMatchesIdentifiedStiffness) {
   const double K_pub = PublishedLegStiffness().stiffness.Evaluate(L);
   const double K_id = IdentifyCassieLegStiffness(left).leg.stiffness.Evaluate(L);
   const double s_pub = W / (2.0 * K_pub), s_id = W / (2.0 * K_id);
-  std::printf("standing on the plant: m = %.2f kg, L = %.4f m, measured s = L - L_r = %.2f mm (left %.2f, right %.2f),"
-              " COM drop %.2f mm, pelvis pitch %.4f rad\n",
-              model->total_mass(), L, 1e3 * s, 1e3 * s_left, 1e3 * s_right, 1e3 * com_drop, q(4));
+  std::printf(
+      "standing on the plant: m = %.2f kg, L = %.4f m, measured s = L - L_r = %.2f mm (left %.2f, right %.2f),"
+      " COM drop %.2f mm, pelvis pitch %.4f rad\n",
+      model->total_mass(), L, 1e3 * s, 1e3 * s_left, 1e3 * s_right, 1e3 * com_drop, q(4));
   std::printf("  ROM m g/(2 K(L)): published K = %.0f N/m -> %.2f mm; identified K = %.0f N/m -> %.2f mm\n", K_pub,
               1e3 * s_pub, K_id, 1e3 * s_id);
   // The plant's legs are the identified springs (same chain, same spring constants), not the published quartic.

@@ -72,8 +72,11 @@ TEST(CollocationDynamicsFromSystem, MinimumEffortTransferMatchesClosedForm) {
   double state_error = 0.0, interior_input_error = 0.0;
   for (int k = 0; k < N; ++k) {
     const double t = s.times(k);
-    state_error = std::max(state_error, (s.states.col(k) - Eigen::Vector2d(3 * t * t - 2 * t * t * t, 6 * t - 6 * t * t)).cwiseAbs().maxCoeff());
-    if (k > 0 && k < N - 1) interior_input_error = std::max(interior_input_error, std::abs(s.inputs(0, k) - (6.0 - 12.0 * t)));
+    state_error = std::max(
+        state_error,
+        (s.states.col(k) - Eigen::Vector2d(3 * t * t - 2 * t * t * t, 6 * t - 6 * t * t)).cwiseAbs().maxCoeff());
+    if (k > 0 && k < N - 1)
+      interior_input_error = std::max(interior_input_error, std::abs(s.inputs(0, k) - (6.0 - 12.0 * t)));
   }
   // Trapezoid rule: O(h²) with h = 1/20; the same bounds as the AutoDiff-dynamics test of DirectCollocation
   // (tests/solvers/collocation/direct_collocation_test.cc): state 4 h², interior input 30 h², cost 60 h².
@@ -82,15 +85,16 @@ TEST(CollocationDynamicsFromSystem, MinimumEffortTransferMatchesClosedForm) {
   EXPECT_LT(interior_input_error, 30.0 * h * h);
   EXPECT_NEAR(r.nlp.cost, 12.0, 60.0 * h * h);
   EXPECT_LT(r.max_defect, 1e-8);
-  std::printf("N = %d: |x − x*|∞ = %.2e, interior |u − u*|∞ = %.2e, cost − 12 = %.2e, %d iterations\n", N, state_error, interior_input_error,
-              r.nlp.cost - 12.0, r.nlp.iterations);
+  std::printf("N = %d: |x − x*|∞ = %.2e, interior |u − u*|∞ = %.2e, cost − 12 = %.2e, %d iterations\n", N, state_error,
+              interior_input_error, r.nlp.cost - 12.0, r.nlp.iterations);
 
   // The same problem with the dynamics written as an AutoDiff function (exact Jacobians) has the same discrete
   // optimum: the finite-difference Jacobians (error ~1e-10) move it by far less than Ipopt's tolerance (1e-8).
-  const CollocationResult exact = SolveMinimumEffortTransfer(N, [](const NodeVector& x, const NodeVector& u, NodeVector& xdot) {
-    xdot.resize(2);
-    xdot << x(1), u(0);
-  });
+  const CollocationResult exact =
+      SolveMinimumEffortTransfer(N, [](const NodeVector& x, const NodeVector& u, NodeVector& xdot) {
+        xdot.resize(2);
+        xdot << x(1), u(0);
+      });
   ASSERT_TRUE(exact.success()) << exact.nlp.message;
   EXPECT_LT((exact.phases[0].states - s.states).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_LT((exact.phases[0].inputs - s.inputs).cwiseAbs().maxCoeff(), 1e-6);
@@ -128,10 +132,14 @@ using test::ErrorOf;
 TEST(CollocationDynamicsFromSystem, ErrorsNameTheSystem) {
   Pendulum plant;
   auto context = plant.CreateDefaultLeafContext();
-  EXPECT_EQ(ErrorOf([&] { CollocationDynamicsFromSystem(plant, *context, "torque"); }), "system 'pendulum' has no input port 'torque' (it has 'tau')");
+  EXPECT_EQ(ErrorOf([&] { CollocationDynamicsFromSystem(plant, *context, "torque"); }),
+            "system 'pendulum' has no input port 'torque' (it has 'tau')");
   const StateInputFunction f = CollocationDynamicsFromSystem(plant, *context, "tau");
   NodeVector y;
-  EXPECT_EQ(ErrorOf([&] { f(InitializeAutoDiff<NodeScalar>(Eigen::Vector3d::Zero()), InitializeAutoDiff<NodeScalar>(Eigen::VectorXd::Zero(1)), y); }),
+  EXPECT_EQ(ErrorOf([&] {
+              f(InitializeAutoDiff<NodeScalar>(Eigen::Vector3d::Zero()),
+                InitializeAutoDiff<NodeScalar>(Eigen::VectorXd::Zero(1)), y);
+            }),
             "CollocationDynamicsFromSystem: system 'pendulum': x has size 3, the system has 2 continuous states");
   DoubleIntegrator other;
   EXPECT_EQ(ErrorOf([&] { CollocationDynamicsFromSystem(other, *context, "u"); }),
