@@ -7,6 +7,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include "diagrams/stepping_stones/stepping_stones_feasibility.h"
 #include "diagrams/stepping_stones/stepping_stones_run.h"
 #include "python/bindings.h"
 #include "python/params.h"
@@ -128,6 +129,8 @@ py::dict RunSteppingStonesFromPython(const Terrain& terrain, const SteppingStone
     factory = ClfQpControllerFactory(params);
   else if (controller != "tsc-qp")
     throw py::value_error("run_stepping_stones: controller must be 'tsc-qp' or 'clf-qp', got '" + controller + "'");
+  // What the diagram cannot walk is bad input (ValueError) before the simulation, as in examples/stepping_stones.
+  CheckSteppingStonesFeasible(MultibodyModel::LoadFromSidecar(params.robot_sidecar), terrain, params);
   SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, factory);
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());

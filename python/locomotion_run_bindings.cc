@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "diagrams/hopping/hopping_run.h"
+#include "diagrams/walking/walking_robot_check.h"
 #include "diagrams/walking/walking_run.h"
 #include "python/bindings.h"
 #include "python/params.h"
@@ -30,6 +31,7 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
   }
   run.Validate();
   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(robot));
+  CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input (ValueError), as in examples/walking
   const WalkingDiagramParams diagram_params;
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");

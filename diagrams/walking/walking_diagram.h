@@ -34,17 +34,18 @@
 //   right_ankle (12-14) and right_foot_orientation (15-17), active in left stance.
 // It should re-solve at guard events so that the new contact mode's torque acts from the event instant on.
 //
+// The example below is walking_diagram_test's snippet, line for line (the test checks it), so it keeps its layout.
+// clang-format off
 // A run from C++ (build → run → result; RunWalking and WalkingRunResult in walking_run.h judge it as the example does):
-//   auto model = std::make_shared<const
-//   rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
+//   auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
 //   rome::StandToWalkParams stand;
 //   stand.sole = rome::SoleOf(*model, "left_foot");
 //   const rome::WalkingPlan plan = rome::BuildStandToWalkPlan(rome::WalkingGait{}, 8, 1, nullptr, nullptr, stand);
 //   rome::WalkingDiagram walking = rome::BuildWalkingDiagram(model, plan);
 //   const rome::WalkingRunResult result = rome::RunWalking(walking);
-//   std::printf("%s: %d of %d steps, COM RMS error %.4f m\n", result.success ? "walked" : "failed",
-//   result.steps_completed,
+//   std::printf("%s: %d of %d steps, COM RMS error %.4f m\n", result.success ? "walked" : "failed", result.steps_completed,
 //               result.steps_planned, result.com_rms_error_m.maxCoeff());
+// clang-format on
 #include <cstdint>
 #include <functional>
 #include <memory>

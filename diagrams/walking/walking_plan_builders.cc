@@ -384,6 +384,12 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
                             WalkingTransitionNodes* nodes, WalkingPlanReport* report,
                             std::vector<WalkingGait>* walked) {
   const auto t0 = Clock::now();
+  // A gait outside the graph's range (a start gait may be slower) has no chain: the direct change's failure stands.
+  for (const WalkingGait* g : {&a, &b})
+    for (int i = 0; i < 4; ++i)
+      if (AsVector(*g)[i] < sp.gait_graph.min[i] - 1e-12 || AsVector(*g)[i] > sp.gait_graph.max[i] + 1e-12)
+        throw std::runtime_error(direct_error + "; no chain through the gait graph: gait " + GaitText(*g) +
+                                 " is outside its range");
   GaitGraph graph(sp.gait_graph, AsVector(a), AsVector(b));
   graph.MarkInfeasible(graph.start(), graph.goal());
   const GaitVector goal = graph.node(graph.goal());

@@ -83,3 +83,17 @@ def test_python_leaf_wrong_derivative_size_names_the_system():
     system = WrongSize()
     with pytest.raises(ValueError, match="system 'wrong_size': do_calc_time_derivatives returned 1 elements, expected 2"):
         system.calc_time_derivatives(system.create_default_context())
+
+
+def test_run_refuses_a_course_beyond_the_legs_reach():
+    # AMBER's legs reach thigh + shin = 0.4064 + 0.4667 m each (robots.md): stones 50 m apart are bad input, refused
+    # before the simulation as the stepping_stones program refuses them, not a failed run.
+    terrain = rome.periodic_stepping_stones(50.0, 0.0, 4, 0.1)
+    with pytest.raises(ValueError, match="terrain"):
+        rome.run_stepping_stones(terrain, rome.SteppingStonesDiagramParams())
+
+
+def test_run_walking_refuses_a_robot_the_diagram_cannot_use():
+    # AMBER is planar: the walking diagram needs a spatial base and flat feet.
+    with pytest.raises(ValueError, match="walking diagram: robot .*spatial"):
+        rome.run_walking("robots/amber/amber.rome.json", rome.WalkingGait(), steps=2)
