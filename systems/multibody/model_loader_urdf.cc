@@ -264,6 +264,9 @@ model_loading::LinkMass MultibodyModelLoader::ReadLinkMass(LoadState& s, const u
   if (in.mass < 0.0) throw std::runtime_error(where + ": <mass> must be >= 0, got " + Num(in.mass) + " kg");
   if (in.mass > kMaxMass_kg)
     throw std::runtime_error(where + ": <mass> " + Num(in.mass) + " kg exceeds " + Num(kMaxMass_kg) + " kg");
+  if (in.mass > 0.0 && in.mass < kMinNonzeroMass_kg)
+    throw std::runtime_error(where + ": <mass> " + Num(in.mass) + " kg is below " + Num(kMinNonzeroMass_kg) +
+                             " kg; give 0 for a massless frame");
   for (const auto& [what, x] : values)
     if (std::string(what).rfind("<inertia", 0) == 0 && std::abs(x) > kMaxInertia_kgm2)
       throw std::runtime_error(where + ": " + what + " " + Num(x) + " kg m^2 exceeds " + Num(kMaxInertia_kgm2) +

@@ -50,7 +50,7 @@
 //  * Input caps (one-line errors): URDF file <= kMaxUrdfBytes and XML nesting depth
 //    <= kMaxXmlDepth (checked before the XML parser runs), at most kMaxDofs degrees of freedom,
 //    lengths (joint origins, COMs, contact and loop-closure points) within +-kMaxLength_m,
-//    masses <= kMaxMass_kg, and the magnitude caps below (inertia, torque limit, gear ratio, spring, friction),
+//    masses 0 or in [kMinNonzeroMass_kg, kMaxMass_kg], and the magnitude caps below (inertia, torque limit, gear ratio, spring, friction),
 //    each named with its cap. Names must be valid UTF-8. A sidecar is nested at most kMaxJsonDepth deep and names
 //    no key twice in one object (robot_file_text.h).
 //  * Structure (systems/multibody/model_checks.h): the URDF is a tree (no link with two parent joints), holds one
@@ -140,6 +140,9 @@ inline constexpr int kMaxXmlDepth = 64;
 inline constexpr int kMaxDofs = 1000;
 inline constexpr double kMaxLength_m = 1e3;
 inline constexpr double kMaxMass_kg = 1e6;
+/// Smallest nonzero link mass (ours: a microgram; below it a link is a massless frame written with rounding, or a
+/// typo such as 1e-300, which would make the mass matrix singular to working precision).
+inline constexpr double kMinNonzeroMass_kg = 1e-9;
 // Magnitude caps of a robot description (ours: each a few orders beyond any legged robot's value, so that a typo or an
 // overflow such as 1e308 or 1e-300 is refused, with the cap in the message, instead of ending as a physics failure).
 inline constexpr double kMaxInertia_kgm2 = 1e6;  ///< |entries| of <inertia>, reflected_inertia_kgm2
