@@ -51,15 +51,13 @@ struct AslipPeriodicGaitParams {
   int limited_memory_history = 6;      ///< Ipopt limited_memory_max_history when !exact_hessian (ours)
   bool exact_hessian = true;           ///< collocation Hessian (true) or Ipopt's L-BFGS (false) (ours)
   std::string mu_strategy =
-      "adaptive";  ///< Ipopt mu_strategy (ours: ~10 % fewer iterations than monotone on seeds 1001-1010)
+      "adaptive";  ///< Ipopt mu_strategy (ours: fewer iterations; docs/design-notes.md#walking-ipopt-options)
   /// Ipopt bound_mult_init_method and mu_init (ours). Bound multipliers start at mu_init / slack instead of 1, with a
-  /// small initial barrier: on seeds 1001-1010 the periodic NLP takes a median 12.5 / 14 iterations (gaits A / B)
-  /// instead of 55 / 58 with Ipopt's defaults ("constant", 0.1), every seed converging; the optimum is the same.
+  /// small initial barrier: about 4x fewer iterations, same optimum (docs/design-notes.md#walking-ipopt-options).
   std::string bound_mult_init_method = "mu-based";
   double mu_init = 0.01;  ///< [-] Ipopt mu_init (ours; see bound_mult_init_method)
-  /// MUMPS ordering (Ipopt mumps_pivot_order; ours): 6, QAMD, handles the free durations' dense columns. On the
-  /// standing transitions of four gaits that no test runs (seeds 1001-1002) it takes the same iterations as MUMPS's
-  /// automatic choice (7) in 18 % less time (e.g. 0.23 m steps: 221 → 167 ms).
+  /// MUMPS ordering (Ipopt mumps_pivot_order; ours): 6, QAMD, handles the free durations' dense columns (faster than
+  /// MUMPS's automatic choice; docs/design-notes.md#walking-ipopt-options).
   int mumps_pivot_order = 6;
 };
 

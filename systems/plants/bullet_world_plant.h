@@ -61,10 +61,8 @@
 //  * Joint limits (the URDF's, where finite): btMultiBodyJointLimitConstraint (enable_joint_limits).
 //  * Loop closures (Cassie's achilles rods): one BulletRodConstraint each (bullet_rod_constraint.h), a
 //    btMultiBodyConstraint with one bilateral row along the rod (|p_a − p_b| = L; Bullet's btMultiBodyPoint2Point would
-//    hold a point, not a length), solved with the joints' ERP (joint_erp). Measured on Cassie standing under a joint PD
-//    (bullet_world_plant_test): |rod length − 0.5012 m| ≤ 2.6e-7 m while it settles into its springs, ~1e-8 m after;
-//    planar Cassie walking 30 steps (stepping_stones --plant bullet, 1 ms log): ≤ 9e-7 m on flat ground (task-space
-//    QP), ≤ 3.4e-6 m on random seed 3 (CLF-QP).
+//    hold a point, not a length), solved with the joints' ERP (joint_erp); the length error is micrometres
+//    (docs/design-notes.md#bullet-rod-constraint-error).
 // Errors (one line, naming the system and the value): step_s <= 0, substeps < 1, a contact with no points (no
 //   collision geometry), a stone of zero or negative length (Terrain::Stones), non-positive point_radius_m.
 // The Bullet world lives in the context's scratch; Context::Clone builds a fresh world for the copy (its solver warm
