@@ -27,7 +27,7 @@
 namespace rome {
 
 struct AslipPeriodicGaitParams {
-  AslipParams aslip{};
+  ActuatedSpringLoadedInvertedPendulumParams aslip{};
   double step_length = 0.30;                ///< [m] l (gait A, spec §3.1 [R])
   double ssp_duration = 0.40;               ///< [s] T_SSP (gait A)
   double dsp_duration = 0.10;               ///< [s] T_DSP (gait A)
@@ -68,7 +68,8 @@ struct AslipPeriodicGait {
   double mean_height = 0.0;  ///< [m] time average of z over the step (trapezoid rule), the H-LIP z0 (spec §2.2)
   bool success() const { return collocation.success(); }
   /// Ground reaction [G_0x, G_0z, G_1x, G_1z] (N) at every node of phase p (4 × N); zero for a leg in the air.
-  Eigen::MatrixXd GroundReactions(const AslipParams& params, double step_length, int phase) const;
+  Eigen::MatrixXd GroundReactions(const ActuatedSpringLoadedInvertedPendulumParams& params, double step_length,
+                                  int phase) const;
 };
 
 class AslipPeriodicGaitPlanner {
@@ -92,7 +93,7 @@ class AslipPeriodicGaitPlanner {
   /// Every parameter and the seed.
   PlanCacheKey CacheKey(std::uint32_t seed) const;
   /// The contact of phase p (0 = SSP, 1 = DSP) in plan coordinates.
-  AslipContact PhaseContact(int phase) const;
+  ActuatedSpringLoadedInvertedPendulumContact PhaseContact(int phase) const;
 
  private:
   AslipPeriodicGait Summarize(CollocationResult result, const DirectCollocation& problem) const;

@@ -116,7 +116,8 @@ class WalkingPlan {
 /// 0), the single-support flags, left stance, feet at ±step_width_m / 2, z0 = the transition's mean height, the node
 /// heights (used by the normal-force-pivot model) and a zero initial lateral state. The caller sets the final state and
 /// any other option.
-FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
+FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition,
+                                                      const ActuatedSpringLoadedInvertedPendulumParams& aslip,
                                                       const AslipTransitionData& data, int nodes_per_domain,
                                                       double step_width_m);
 
