@@ -91,10 +91,8 @@ struct BulletWorldPlantParams {
   /// [-] warm start of the solver (ours; 0: every row starts from zero, Bullet's multibody default): each constraint
   /// row (armature gears, joint limits, rods, contact normals, and contact friction as a world vector projected on the
   /// new directions) starts from this fraction of its impulse of the previous substep. The stopping rule still decides
-  /// when to stop (AMBER standing, benchmark: 63 iterations cold, 22 at 0.98). At 1 (and 0.999) the solver stops after
-  /// a sweep or two on the old impulses and keeps their error: measured, the exoskeleton's Σ F_z missed m g by 8e-4 m g
-  /// (1e-9 at 0.98) and the dropped box's rest force failed its 1e-3 bound; 0.98 leaves a margin below 0.99, the
-  /// largest value that passed.
+  /// when to stop. At 1 the solver stops after a sweep or two on the old impulses and keeps their error
+  /// (docs/design-notes.md#bullet-warm-start).
   double warm_start_factor = 0.98;
   double contact_erp = 0.2;  ///< [-] contact penetration correction per substep (Bullet's m_erp2, default 0.2)
   double joint_erp = 0.2;    ///< [-] joint-limit error correction per substep (Bullet's m_erp, default 0.2)
