@@ -119,38 +119,28 @@ SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::str
   const Eigen::VectorXd& q = model.q_nominal();
   const double sole_z = CalcPointPosition(model, ws, q, model.contacts()[0].body, model.contacts()[0].frame_origin).z();
   p.supervisor.walking_com_height_m = CalcComPosition(model, ws, q).z() - sole_z;
-  // Swing foot Kp 900 1/s², Kd 60 1/s (critically damped, 30 rad/s; AMBER: 400, 40). With AMBER's gains, after a
-  // short steep step up (l ≈ 0.2 m, h ≈ +0.22 m) the rear foot lagged in z behind its lift and its sole touched its
-  // own stone again 4-7 cm ahead (random seeds 1003, 1015, 1016, 1018 of 1000-1019); with 900/60 seeds 1000-1029
-  // walk 30 steps with every touchdown within 1 cm. Cassie's legs are light, so the torques stay small.
+  // Swing foot Kp 900 1/s², Kd 60 1/s (critically damped, 30 rad/s; AMBER: 400, 40): with AMBER's gains the rear foot
+  // lags its lift on a steep step up. Cassie's legs are light, so the torques stay small
+  // (docs/design-notes.md#stepping-stones-cassie-swing, as the choices below).
   p.swing_foot_gains = TaskGains{5.0, 900.0, 60.0};
   // The swing foot's desired vertical velocity starts at 0 (lift_off_at_rest): with the paper's curve the foot, at
   // rest on its stone, starts with a velocity error of about 0.7 m/s that the CLF-QP below corrects at the torque
-  // limits in the first samples of every step (random seeds 1000-1019: 11 of 20 clean 30-step walks with the paper's
-  // curve, 17 with this one); the task-space QP walks seeds 1000-1029 either way.
+  // limits in the first samples of every step.
   p.outputs.swing_foot.lift_off_at_rest = true;
-  // CLF-QP (tuned on random seeds 1000-1019): ε = 0.02 (output bandwidth about 1/ε = 50 rad/s, as fast as the swing
-  // foot's 30 rad/s PD above needs; with AMBER's ε = 0.1 the swing foot dragged and touched its own stone again within
-  // 0.1 s), γ = 1 (V decays at γ/ε = 50 1/s instead of the CARE bound λ_min(Q)/λ_max(P)/ε ≈ 18 1/s), and the friction
-  // pyramid's apex 5 N up (a stance foot that unloads keeps |F_t|/F_n well inside μ over a held sample). Known
-  // limits: the RES-CLF with this ε chatters at the 1 kHz hold (period-2 torque oscillation of up to ±15 N m), and the
-  // gait is faster than the planner asks (L+ 15-30 % above L_des; see tests/.../stepping_stones_cassie_planar_test.cc).
+  // CLF-QP: ε = 0.02 (output bandwidth about 1/ε = 50 rad/s, as fast as the swing foot's 30 rad/s PD above needs),
+  // γ = 1 (V decays at γ/ε = 50 1/s instead of the CARE bound λ_min(Q)/λ_max(P)/ε ≈ 18 1/s), and the friction
+  // pyramid's apex 5 N up (a stance foot that unloads keeps |F_t|/F_n well inside μ over a held sample).
   p.clf_controller.epsilon = 0.02;
   p.clf_controller.gamma = 1.0;
   p.clf_controller.contact.friction_cone_offset_N = 5.0;
   // The torso pitch is tracked in the cost only (cost_only_outputs, with its PD gains), and the cost of the other
-  // outputs is their feedforward ÿ_d (cost_pd_feedback off; AMBER's PD cost walked 40-42 of 50 here): the RES-CLF held
-  // the torso within a few mrad and spent the stance force on it, at the friction pyramid's edge (slips). Random seeds
-  // 1000-1049: 40 of 50 walked before; torso in the cost only 44, and with the hold-drift rows (AMBER's) 46.
+  // outputs is their feedforward ÿ_d (cost_pd_feedback off): as a CLF output the torso took the stance force, at the
+  // friction pyramid's edge (slips).
   p.clf_controller.cost_pd_feedback = false;
   p.clf_controller.cost_only_outputs = {"torso_pitch"};
-  // The COM height's cost weight 20 in the CLF-QP (ours; the task-space QP keeps 1). With weight 1 the CLF-QP followed
-  // the vertical-COM MPC's plan to the millimetre, and the gait ran 15-30 % above the planner's momentum (L+ vs
-  // L_des): the LIP's predicted time to impact T̂_s then shrank through the step, the MPC compressed its rise into it
-  // (on a step up, planned COM accelerations of 150-340 m/s² late in the step, pre-impact ṗ^z 1.5 m/s against u_des
-  // 0.33 m/s), and the next, lower stone began with the COM rising at 1.1-1.5 m/s, out of the swing leg's reach.
-  // Random seeds 1000-1049: 46 of 50 walked with weight 1, 47 with 3, 48 with 5, 49 with 10, 50 with 20 and 40;
-  // 1050-1099: 49 of 50 with 20 and with 40 (1059 slips). Median speed over 1000-1049: 1.19 m/s -> 1.03 m/s.
+  // The COM height's cost weight 20 in the CLF-QP (ours; the task-space QP keeps 1): with 1 the gait ran faster than
+  // the planner's momentum and the COM rose out of the swing leg's reach
+  // (docs/design-notes.md#stepping-stones-cassie-com-weight).
   p.clf_com_height_weight = 20.0;
   return p;
 }

@@ -71,27 +71,15 @@ SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared
   // Outputs read the committed step (discrete state); the COM outputs also read the plant state.
   const Feedthrough plant_state = Feedthrough::From({0});
   DeclareOutputPort(
-      "com_state", {"x", "z", "vx", "vz"},
-      [this](const LeafContext& c, Eigen::VectorXd* y) {
-        Eigen::Vector4d com;
-        double L;
-        ComRelative(c, Committed(c), EvalInput(c, 0), &com, &L);
-        *y = com;
-      },
+      "com_state", {"x", "z", "vx", "vz"}, [this](const LeafContext& c, Eigen::VectorXd* y) { *y = ComState(c); },
       plant_state);
   DeclareOutputPort(
-      "angular_momentum", {"L"},
-      [this](const LeafContext& c, Eigen::VectorXd* y) {
-        Eigen::Vector4d com;
-        ComRelative(c, Committed(c), EvalInput(c, 0), &com, &(*y)[0]);
-      },
+      "angular_momentum", {"L"}, [this](const LeafContext& c, Eigen::VectorXd* y) { ComState(c, &(*y)[0]); },
       plant_state);
   DeclareOutputPort(
       "com_vertical_state", {"z", "vz"},
       [this](const LeafContext& c, Eigen::VectorXd* y) {
-        Eigen::Vector4d com;
-        double L;
-        ComRelative(c, Committed(c), EvalInput(c, 0), &com, &L);
+        const Eigen::Vector4d com = ComState(c);
         *y << com[1], com[3];
       },
       plant_state);
@@ -182,6 +170,14 @@ void SteppingStonesSupervisor::ComRelative(const LeafContext& context, const Eig
           ? Eigen::Vector3d(xd[kStanceX], 0.0, xd[kStanceZ])
           : CalcPointPosition(*model_, ws, q, model_->contacts()[contact_[stance]].body, pivot_point_[stance]);
   *L = (p.z() - a.z()) * pd.x() - (p.x() - a.x()) * pd.z() + h[1] / model_->total_mass();
+}
+
+Eigen::Vector4d SteppingStonesSupervisor::ComState(const LeafContext& context, double* L) const {
+  Eigen::Vector4d com;
+  double momentum;
+  ComRelative(context, Committed(context), EvalInput(context, 0), &com, &momentum);
+  if (L) *L = momentum;
+  return com;
 }
 
 Eigen::Vector3d SteppingStonesSupervisor::FootPosition(MultibodyWorkspace& ws,

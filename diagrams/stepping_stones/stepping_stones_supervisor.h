@@ -119,6 +119,8 @@ class SteppingStonesSupervisor final : public LeafSystem {
   void PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode, Eigen::VectorXd* xd, double time) const;
   void ComRelative(const LeafContext& context, const Eigen::VectorXd& xd, const Eigen::VectorXd& x,
                    Eigen::Vector4d* com, double* L) const;
+  /// ComRelative at the context's committed step and plant state: [x, z, ẋ, ż], and L if `L` is given.
+  Eigen::Vector4d ComState(const LeafContext& context, double* L = nullptr) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   Terrain terrain_;

@@ -29,28 +29,19 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.min_normal_force_N = 0.0;
   p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
   p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
-  // Ours (spec [R]: 0.02 m). Measured on gait A: the swing leg's yaw momentum and the horizontal force of the
-  // momentum compensation ask the stance sole for |M_z| up to ~0.08 F_z (41 N m at F_z = 514 N just after lift-off);
-  // with 0.02, 0.04 or 0.05 m the pelvis yaws and the run fails within 3 steps, 0.057 m fails at step 9, 0.07-0.1 m
-  // walk. A rigid 0.25 x 0.10 m sole under uniform pressure transmits at most mu * 0.068 m = 0.054 m F_z (mu = 0.8):
-  // the hybrid plant's rigid flat foot has no torsional slip, so this exceeds what a real sole could hold.
+  // Ours (spec [R]: 0.02 m): the swing leg's yaw momentum needs more than a real sole holds; the hybrid plant's rigid
+  // flat foot has no torsional slip (docs/design-notes.md#walking-controller-defaults).
   p.contact.yaw_moment_coefficient_m = 0.1;
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on
                                   // the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;
   // Ours (default 1e-6): the torque penalty is relative to the largest output curvature, the swing foot's rotation
   // (a 1.3 kg foot); DenseQpSolver needs pivots above 1e-8 of H's largest diagonal, so 1e-8 is the least it accepts
-  // (below: kNonConvex, held torques). Measured on the stand-to-walk run: 1e-8-1e-7 walk, 1e-6 pulls the stance knee
-  // torque down so far that the COM sinks 6 cm in the first step and the run fails.
+  // (below: kNonConvex, held torques); 1e-6 starves the stance knee (docs/design-notes.md#walking-controller-defaults).
   p.u_regularization = 3e-8;
-  // Ours (spec §5.5 [C22]: the cost's target is μ = 0, the minimum-norm input). With that cost the CLF row is the only
-  // feedback, so it binds at every update and the torque is the pointwise min-norm CLF controller: where the active
-  // CoP/yaw/friction rows leave the row's L_G V almost no direction to act in, δ reaches 1.8 (median 4e-5) and
-  // torques swing by up to 190 N m from one tick to the next. Measured on (0.23 m, 0.38 s, 0.12 s, 0.26 m) from
-  // standing, NLP seed 1: a touchdown 7.3 cm off its foothold. With the cost's target at the PD law
-  // ÿ_d − Kp e − Kd ė (TaskGains: 100 /s², 20 /s, critically damped at 1/ε = 10 rad/s) the feedback is in the cost
-  // and the row only bounds V̇: there δ stays ≤ 0.019 and that gait walks (COM RMS x 2.7 mm), gait A's COM RMS x goes
-  // from 5.2 to 3.2 mm, and every gait of the README's sweeps that has a plan walks.
+  // Ours (spec §5.5 [C22]: the cost's target is μ = 0, the minimum-norm input, which leaves the CLF row as the only
+  // feedback). The cost's target is the PD law ÿ_d − Kp e − Kd ė, so the row only bounds V̇
+  // (docs/design-notes.md#walking-controller-defaults).
   p.cost_pd_feedback = true;
   p.force_band_loading_floor_N = -1.0;  // set by the builder: 2 x the plant's planned lift-off force (2 % of m g, ours)
   return p;

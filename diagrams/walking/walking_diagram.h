@@ -84,16 +84,14 @@ struct WalkingDiagramParams {
   bool compensate_centroidal_momentum = true;
   CentroidalMomentumCompensationParams compensation;
   double swing_foot_weight = 5.0;  ///< [-] cost weight of the swing ankle's position (ours: land on the foothold)
-  /// [-] cost weight of the swing foot's orientation (ours). The foot is light, so its rows set the largest curvature
-  /// of the QP's cost and, with it, the torque penalty's scale (ClfQpParams::u_regularization); measured: with 5 the
-  /// walk needs u_regularization within [1e-8, 2e-8], with 0.1 it walks over [1e-8, 5e-8] with the touchdown within 1
-  /// cm.
+  /// [-] cost weight of the swing foot's orientation (ours). The light foot's rows set the QP cost's largest curvature
+  /// and so the scale of ClfQpParams::u_regularization (docs/design-notes.md#walking-swing-foot-orientation-weight).
   double swing_foot_orientation_weight = 0.1;
 
   /// Spec §5 [R]: ε = 0.1, p = 1e5, 1 kHz, force band c = 0.1 (Eq. (25)), μ = 0.6 pyramid, yaw moment |τ_z| ≤ 0.02 f_z,
   /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event. Ours,
   /// differing: yaw |τ_z| ≤ 0.1 m f_z, the torque penalty 3e-8, and the cost's target is the outputs' PD law
-  /// (cost_pd_feedback), not the spec's minimum-norm μ = 0 (the measurements are in the .cc).
+  /// (cost_pd_feedback), not the spec's minimum-norm μ = 0 (docs/design-notes.md#walking-controller-defaults).
   static ClfQpParams DefaultWalkingControllerParams();
 
   /// Throws std::invalid_argument "WalkingDiagramParams: FIELD = VALUE is outside RANGE" for the first field out of
@@ -151,8 +149,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
                                    const WalkingControllerFactory& controller = {});
 
 /// The simulator settings of the walking runs (example, tests, benchmark): ExplicitRestartingSimulatorConfig at rtol
-/// 1e-5, atol 1e-7, as hopping (ours; measured on gait A: 2-3x faster than Dormand-Prince 5(4) at rtol 1e-6 / atol 1e-8
-/// without the restart option, with the same summary to the digits shown).
+/// 1e-5, atol 1e-7, as hopping (ours; docs/design-notes.md#walking-simulator-config).
 SimulatorConfig WalkingSimulatorConfig();
 
 /// One gait of the issue's --gait flags: step length l, T_SSP, T_DSP, step width W.
@@ -178,35 +175,29 @@ SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact);
 /// Choices of the stand-to-walk plan beyond the gait.
 struct StandToWalkParams {
   /// [m] COM (ROM mass) height standing, and the aSLIP height range of the periodic and transition NLPs (ours;
-  /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m). Measured: with 0.92 m in 0.85-0.95 m the trailing knee of
-  /// the 0.4 m step stance is straight at lift-off; with 0.84 m in 0.80-0.88 m the aSLIP's mid-stance force (1.58 m g)
-  /// meets a knee bent 1.3 rad and the stance knee saturates at 300 N m. 0.86 m in 0.84-0.90 m walks (peak stance
-  /// knee torque in the plan's inverse dynamics, CheckWalkingPlanTorques: 291 N m in the standing transition, 269 N m
-  /// on gait A's orbit).
+  /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m): lower keeps the stance knee under its torque limit, higher
+  /// straightens the trailing knee (docs/design-notes.md#walking-standing-height).
   double standing_height_m = 0.86;
   double height_min_m = 0.84, height_max_m = 0.90;
   /// [m] the lifting (right) foot starts this far behind the stance (left) foot (spec [R]: 0, feet side by side, the
   /// default). Side by side, the standing transition's single step must reach the next gait's pre-impact state over one
   /// sole: a LIP from rest with its CoP on the heel (L_h behind the ankle) reaches at most ω (x_f + L_h) at x_f, so
-  /// gait A's state (COM 0.113 m ahead of the stance ankle at 0.66 m/s) is out of reach (NLP locally infeasible) and
-  /// the plan goes through the start gait (start_gait_steps). StepStance() is the earlier start from a 0.4 m step
+  /// gait A's state is out of reach and the plan goes through the start gait (start_gait_steps;
+  /// docs/design-notes.md#walking-start-gait). StepStance() is the earlier start from a 0.4 m step
   /// stance, whose double support pushes off the rear heel straight into the gait.
   double stance_stagger_m = 0.0;
   /// [m] the footed ROMs' ZMP bounds are the sole's, this much inside (ours): sagittal (Eq. (10) L_h, L_t) and
   /// lateral (Eq. (14) W1, W2). The whole-body controller keeps its own CoP margin (ClfQpParams
-  /// contact.cop_margin_m, 10 mm) and needs room for the legs' angular momentum, which the point-mass ROM does not see.
-  /// Measured (0.4 m step stance): in the push-off the robot's CoP must lie 3-4.5 cm behind the point mass's ZMP
-  /// (the legs' angular momentum as the knees extend at ~5 rad/s); with 0.02 m the COM falls 9 mm behind by 0.9 s,
-  /// with 0.05 m it tracks to 0.5 mm up to lift-off.
+  /// contact.cop_margin_m, 10 mm) and needs room for the legs' angular momentum, which the point-mass ROM does not see
+  /// (docs/design-notes.md#walking-sagittal-cop-margin).
   double sagittal_cop_margin_m = 0.05;
   double lateral_cop_margin_m = 0.02;
   SoleGeometry sole;  ///< the robot's sole (set it with SoleOf(model, "left_foot"))
   /// With it (StepStance(); off by default) the standing transition's SSP is point-foot (u = 0, CoP at the ankle, as in
   /// the periodic gait); it always lasts at least the T_SSP of the gait it goes into (ours; the spec's [R] lets T_SSP
-  /// go down to 0.3 s with ankle torque). Measured from the step stance with the ankle free: the NLP keeps the stance
-  /// CoP on the heel bound through the SSP; on the robot the swing leg (15 kg, 0.6 m in 0.36 s) needs the CoP
-  /// 0.15-0.2 m ahead of the ROM's, the stance ankle pitch saturates at 150 N m and the swing foot lags 9 cm. Side by
-  /// side the first swing is 0.2 m, and the transition into the start gait needs the ankle (point-foot: infeasible).
+  /// go down to 0.3 s with ankle torque). Off: the robot's swing leg needs the stance CoP ahead of the ROM's, and side
+  /// by side the transition into the start gait needs the ankle
+  /// (docs/design-notes.md#walking-point-foot-transition-ssp).
   bool point_foot_transition_ssp = false;
   /// [-] the transition's stance leg carries at least this fraction of m g through the DSP (ours; without it the plan
   /// unloads the front foot mid-DSP and the plant's lift-off guard fires there).
@@ -216,36 +207,26 @@ struct StandToWalkParams {
   /// and so the swing leg's reaction on the stance foot.
   double transition_min_ssp_duration_s = 0.0;
   /// The lateral transition QP moves the mass on the feet's normal forces (FootedHlipTransitionParams::
-  /// normal_force_pivots, ours) rather than the paper's ÿ = u/(m z0) in DSP. Measured with the paper's model and a
-  /// 0.3 m step stance: the rear foot carries ~85 % of the weight in the push-off, the robot's CoP sits on the sole's
-  /// lateral edge on both feet from 0.3 s and the COM drifts 0.12 m sideways before lift-off.
+  /// normal_force_pivots, ours) rather than the paper's ÿ = u/(m z0) in DSP, whose lateral CoP the uneven push-off
+  /// cannot realise (docs/design-notes.md#walking-lateral-normal-force-pivots).
   bool lateral_normal_force_pivots = true;
   /// The footed-aSLIP transition NLP carries the lateral motion too (AslipTransitionParams::lateral, ours), so that its
   /// vertical force split is one the lateral motion can realise; the footed H-LIP QP then plans y on those forces
   /// (without it, that QP with normal_force_pivots is infeasible for the 0.3 and 0.4 m step stances).
   bool lateral_in_transition_nlp = true;
   /// [-] the gait-change (A → B) transition keeps each leg's vertical GRF ≤ this fraction of m g
-  /// (AslipTransitionParams::max_vertical_force_fraction, ours; 0: no bound). Measured, gaits A → B, NLP seed 1:
-  /// unbounded, the transition's SSP asks 1.91 m g, the stance knee meets its 300 N m limit, the COM falls 2 cm behind
-  /// in that step and gait B never recovers (a slip at 8.8 s); with 1.55, 1.6, 1.65, 1.7 and 1.8 m g the run walks
-  /// 22 steps (COM RMS 5.6-6.9 mm), with 1.9 it falls, and 1.45 and 1.5 m g are infeasible. Seeds 1001-1003 walk
-  /// with 1.6.
+  /// (AslipTransitionParams::max_vertical_force_fraction, ours; 0: no bound): unbounded, the stance knee saturates
+  /// (docs/design-notes.md#walking-gait-change-force-bound).
   double gait_change_max_force_fraction = 1.6;
   /// [-] a periodic gait whose aSLIP plan asks more than this fraction of m g on one leg is planned again with that
-  /// bound (AslipPeriodicGaitParams::max_vertical_force_fraction, ours; 0: never). Measured on their own orbits
-  /// (--scenario periodic): gaits A and B peak at 1.40 m g with the stance knee at 271 / 290 N m of its 300 N m;
-  /// (0.30 m, 0.35 s, 0.08 s, 0.20 m) peaks at 1.60 m g, the knee saturates and the COM falls behind (RMS x 1.5 cm),
-  /// and from standing a foot slips after 17 steps.
+  /// bound (AslipPeriodicGaitParams::max_vertical_force_fraction, ours; 0: never): above it the stance knee saturates
+  /// (docs/design-notes.md#walking-periodic-force-bound).
   double periodic_max_force_fraction = 1.5;
   /// Lead-in (ours): BuildStandToWalkPlan starts with lead_in_steps steps of the lead-in gait (lead_in_step_length_m,
   /// lead_in_ssp_duration_s, lead_in_dsp_duration_s, the requested W; the spec's gait A timing) and changes gait as
   /// BuildGaitChangePlan does when the requested gait is faster (its T_SSP or T_DSP is shorter than the lead-in's), or
-  /// when the standing transition into it has no plan (0 steps: no lead-in, the error is thrown).
-  /// Measured (NLP seed 1): gait B (0.40 m) and (0.45 m, 0.50 s, 0.15 s, 0.30 m) have no standing transition from the
-  /// 0.4 m step stance, nor has (0.33 m, 0.40 s, 0.12 s, 0.26 m) (no leg pose for its plan); faster gaits plan, but
-  /// their first swing (0.7 m from the step stance) lags: directly, (0.30 m, 0.38 s, 0.09 s, 0.28 m) lands its first
-  /// step at once (0.69 m off), and a lead-in at the gait's own 0.38 s / 0.09 s lands (0.35 m, 0.38 s, 0.09 s, 0.28 m)
-  /// 7.3 cm short. Through the lead-in at 0.40 s / 0.10 s all five walk from standing.
+  /// when the standing transition into it has no plan (0 steps: no lead-in, the error is thrown;
+  /// docs/design-notes.md#walking-lead-in).
   int lead_in_steps = 6;
   double lead_in_step_length_m = 0.30;
   double lead_in_ssp_duration_s = 0.40;  ///< [s]
@@ -267,9 +248,8 @@ struct StandToWalkParams {
   double standing_sagittal_cop_margin_m = 0.02;
   /// Called with the direct standing plan before BuildStandToWalkPlan returns it; a std::runtime_error from it sends
   /// the plan through the lead-in, as a failed NLP does (empty: no check). The plan builder does not know the robot:
-  /// WalkingPoseCheck(model, params) replays the plan's poses as BuildWalkingDiagram's compensation will. Measured:
-  /// the direct plan of (0.33 m, 0.40 s, 0.12 s, 0.26 m) puts the COM 0.90 m high over the 0.4 m step stance, which
-  /// the legs cannot reach (SolveWalkingPose residual 0.6 mm); through the lead-in it walks.
+  /// WalkingPoseCheck(model, params) replays the plan's poses as BuildWalkingDiagram's compensation will
+  /// (docs/design-notes.md#walking-plan-check).
   std::function<void(const WalkingPlan&)> plan_check;
   /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph
   /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
@@ -277,8 +257,7 @@ struct StandToWalkParams {
   int chain_steps = 4;
   /// [-] A gait-change transition whose plan unloads the lifting foot below this fraction of m g and loads it again
   /// within the double support (AslipTransition::LiftingLegReloadTime) has no plan (ours; 0: off; 2 %: twice the
-  /// plant's 1 % release force). Measured: (0.35, 0.45, 0.12, 0.25) → (0.38, 0.40, 0.10, 0.28) planned such a dip;
-  /// the plant lifted the foot 38 ms into the DSP and it landed again (an extra touchdown, COM error 3.7 cm).
+  /// plant's 1 % release force; docs/design-notes.md#walking-reload-floor).
   double reload_floor_fraction = 0.02;
   GaitGraphParams gait_graph;
 

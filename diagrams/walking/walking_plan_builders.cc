@@ -128,7 +128,7 @@ void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& pla
     *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
   if (!transition.success())
     throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
-  const AslipParams& aslip = planner.params().bounds.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& aslip = planner.params().bounds.aslip;
   if (const double t = transition.LiftingLegReloadTime(aslip, data, reload_floor_N);
       reload_floor_N > 0 && !std::isnan(t))
     throw std::runtime_error(who + ": the transition's plan unloads the lifting foot and loads it again " +

@@ -258,6 +258,23 @@ ROME_QP_HOT void DenseQpSolver::ComputeActiveSetSolution(const Eigen::VectorXd& 
   }
 }
 
+int DenseQpSolver::DropNegativeMultipliers(const Eigen::VectorXd& g_eff) {
+  ComputeActiveSetSolution(g_eff);
+  for (int dropped = 0;; ++dropped) {
+    int worst = -1;
+    double worst_u = 0.0;
+    for (int j = q_eq_; j < q_; ++j) {
+      if (u_active_[j] < worst_u) {
+        worst_u = u_active_[j];
+        worst = j;
+      }
+    }
+    if (worst < 0) return dropped;
+    DropConstraint(worst);
+    ComputeActiveSetSolution(g_eff);
+  }
+}
+
 void DenseQpSolver::RefineActiveSetSolution(const Eigen::VectorXd& g_eff, double shift) {
   // One step of iterative refinement of the active-set KKT system (H + shift I) x + g = N u, N^T x = b_A with
   // the current factors: residuals r_d = (H + shift I) x + g - N u, r_p = b_A - N^T x; the correction solves the
@@ -460,20 +477,7 @@ ROME_QP_HOT QpStatus DenseQpSolver::SolveFromFactor(const Eigen::VectorXd& g_eff
       if (DIsDependent()) continue;
       AddConstraint(id, 0.0);
     }
-    ComputeActiveSetSolution(g_eff);
-    while (true) {
-      int worst = -1;
-      double worst_u = 0.0;
-      for (int j = q_eq_; j < q_; ++j) {
-        if (u_active_[j] < worst_u) {
-          worst_u = u_active_[j];
-          worst = j;
-        }
-      }
-      if (worst < 0) break;
-      DropConstraint(worst);
-      ComputeActiveSetSolution(g_eff);
-    }
+    DropNegativeMultipliers(g_eff);
     x_current = true;
   }
 
@@ -705,21 +709,7 @@ ROME_QP_HOT QpStatus DenseQpSolver::HotSolve(bool verify) {
   }
   // Solution on the kept working set for the new g and right-hand sides. Sides with negative multipliers leave,
   // the most negative first, until none is left: the start of the dual method must be dual feasible.
-  ComputeActiveSetSolution(g);
-  while (true) {
-    int worst = -1;
-    double worst_u = 0.0;
-    for (int j = q_eq_; j < q_; ++j) {
-      if (u_active_[j] < worst_u) {
-        worst_u = u_active_[j];
-        worst = j;
-      }
-    }
-    if (worst < 0) break;
-    DropConstraint(worst);
-    ++hot_updates_;
-    ComputeActiveSetSolution(g);
-  }
+  hot_updates_ += DropNegativeMultipliers(g);
   // Unchanged working set with a feasible step: Iterate() finds no violated constraint and returns at once.
   const QpStatus status = Iterate(g, /*x_current=*/true);
   hot_updates_ += iterations_;

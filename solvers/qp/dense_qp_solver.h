@@ -224,6 +224,9 @@ class DenseQpSolver {
   void AddConstraint(int id, double multiplier);
   void DropConstraint(int position);
   void ComputeActiveSetSolution(const Eigen::VectorXd& g_eff);  // x_, u_active_ from J, R
+  // Drops the working set's inequality sides with negative multipliers, the most negative first, re-solving after each,
+  // until none is left (the dual method must start dual feasible); returns how many it dropped.
+  int DropNegativeMultipliers(const Eigen::VectorXd& g_eff);
   void RefineActiveSetSolution(const Eigen::VectorXd& g_eff, double shift);
   void ComputeNormal(int id, double* out) const;
   int FindMostViolated(double* slack);

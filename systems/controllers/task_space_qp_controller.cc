@@ -51,11 +51,10 @@ struct TaskSpaceQpController::Scratch {
   explicit Scratch(const MultibodyModel& model) : ws(model) {}
   MultibodyWorkspace ws;
   std::vector<ModeQp> modes;
-  Eigen::VectorXd y, ydot, Jdot_qdot, ydd_star, w_rows;
+  Eigen::VectorXd y, ydot, Jdot_qdot, ydd_star, w_rows, residual;
   Eigen::MatrixXd Jy, WJy;
   Eigen::VectorXd saved_l, saved_u;  // GRF row bounds while the relaxed QP runs
   int last_mode = 0;
-  long relaxed_solves = 0;
 };
 
 TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<const MultibodyModel> model,
@@ -112,8 +111,8 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
 
-  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(solve_time_offset() + 1);
-  xd0[status_offset()] = -1;  // no QP solved yet
+  Eigen::VectorXd xd0 = Eigen::VectorXd::Zero(slot(kNumSlots));
+  xd0[slot(kStatus)] = -1;  // no QP solved yet
   DeclareDiscreteState(xd0);
   DeclareOutputPort(
       "u", nu,
@@ -129,7 +128,10 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
         *y = c.discrete_state().segment(forces_offset(), 3 * nc);
       },
       Feedthrough::None());
-  DeclareQpPortsAndUpdates(failures_offset(), status_offset(), solve_time_offset(), params_.update_period_s,
+  DeclareTypedOutputPort<TaskSpaceQpDiagnostics>(
+      "diagnostics", [this](const LeafContext& c, TaskSpaceQpDiagnostics* d) { *d = diagnostics(c); },
+      Feedthrough::None());
+  DeclareQpPortsAndUpdates(slot(kFailures), slot(kStatus), slot(kSolveTime), params_.update_period_s,
                            params_.resolve_at_events, params_.resolve_at,
                            [this](const LeafContext& c, Eigen::VectorXd* next) { return Update(c, next); });
 }
@@ -142,6 +144,7 @@ std::any TaskSpaceQpController::AllocateScratch() const {
   s.ydot.setZero(ny_);
   s.Jdot_qdot.setZero(ny_);
   s.ydd_star.setZero(ny_);
+  s.residual.setZero(ny_);
   s.w_rows.setZero(ny_);
   s.Jy.setZero(ny_, nv);
   s.WJy.setZero(ny_, nv);
@@ -313,8 +316,26 @@ QpStatus TaskSpaceQpController::SolveRelaxedQp(const LeafContext& context) const
   return status;
 }
 
-long TaskSpaceQpController::relaxed_solves(const LeafContext& context) const {
-  return context.scratch<Scratch>().relaxed_solves;
+TaskSpaceQpDiagnostics TaskSpaceQpController::diagnostics(const LeafContext& context) const {
+  const Eigen::VectorXd& xd = context.discrete_state();
+  auto count = [&](DiagnosticsSlot k) { return static_cast<int>(xd[slot(k)]); };  // whole numbers, stored as doubles
+  TaskSpaceQpDiagnostics d;
+  d.qp_failures = count(kFailures);
+  if (xd[slot(kStatus)] >= 0.0) d.qp_status = static_cast<QpStatus>(count(kStatus));
+  d.solved = count(kSolved);
+  d.relaxed = count(kRelaxed);
+  d.held = count(kHeld);
+  d.task_cost = xd[slot(kTaskCost)];
+  d.solve_time_s = xd[slot(kSolveTime)];
+  return d;
+}
+
+double TaskSpaceQpController::TaskCost(Scratch& s, const Eigen::Ref<const Eigen::VectorXd>& qdd) const {
+  if (ny_ == 0) return 0.0;
+  // After SolveQp, s.ydd_star holds J̇_y q̇ − ÿ* (see the cost).
+  s.residual.noalias() = s.Jy.lazyProduct(qdd);
+  s.residual += s.ydd_star;
+  return 0.5 * s.residual.cwiseAbs2().dot(s.w_rows);
 }
 
 EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::VectorXd* next) const {
@@ -325,17 +346,19 @@ EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::Vec
   } catch (const std::exception& e) { return EventStatus::Failed(e.what()); }
   Scratch& s = context.scratch<Scratch>();
   const Scratch::ModeQp& mq = s.modes[s.last_mode];
-  (*next)[status_offset()] = static_cast<double>(status);
+  (*next)[slot(kStatus)] = static_cast<double>(status);
   bool use_solution = status == QpStatus::kOptimal;
+  if (use_solution) (*next)[slot(kSolved)] += 1.0;
   if (!use_solution && status != QpStatus::kInvalidInput &&
       params_.failure_policy == QpFailurePolicy::kRelaxContactForces) {
-    (*next)[failures_offset()] += 1.0;
+    (*next)[slot(kFailures)] += 1.0;
     const QpStatus relaxed = SolveRelaxedQp(context);
     if (relaxed == QpStatus::kOptimal) {
       use_solution = true;
-      ++s.relaxed_solves;
+      (*next)[slot(kRelaxed)] += 1.0;
     } else {
-      (*next)[status_offset()] = static_cast<double>(relaxed);
+      (*next)[slot(kStatus)] = static_cast<double>(relaxed);
+      (*next)[slot(kHeld)] += 1.0;
       return EventStatus::Succeeded();  // hold the previous u
     }
   }
@@ -345,12 +368,14 @@ EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::Vec
     next->segment(qdd_offset(), nv) = x.head(nv);
     auto forces = next->segment(forces_offset(), 3 * nc);
     forces.setZero();
+    (*next)[slot(kTaskCost)] = TaskCost(s, x.head(nv));
     const auto q = EvalInput(context, state_port_).head(nv);
     for (const ContactBlock& b : mq.contacts)
       forces.segment<3>(3 * b.contact) =
           ExtractContactWrench(*model_, s.ws, q, mq.active, x.tail(mq.rows), b.contact).force;
   } else {
-    (*next)[failures_offset()] += 1.0;
+    (*next)[slot(kFailures)] += 1.0;
+    (*next)[slot(kHeld)] += 1.0;
     if (params_.failure_policy == QpFailurePolicy::kZeroTorque) next->segment(u_offset(), nu).setZero();
     // kHoldPrevious: next starts as a copy of the current discrete state.
   }

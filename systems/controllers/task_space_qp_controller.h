@@ -13,7 +13,9 @@
 //          qp_failures (1)           number of updates whose QP failed so far [-]
 //          qp_status (1)             QpStatus of the last update as an integer (0 = kOptimal; dense_qp_solver.h)
 //          solve_time_s (1)          wall time of the last update [s] (QP assembly and solve; steady_clock)
-// discrete state: [u (nu); qdd (nv); contact_forces (3 nc); qp_failures; qp_status; solve_time_s], updated periodically
+//          diagnostics (TaskSpaceQpDiagnostics, typed)  the three above, the fallback counts and the task cost, by name
+// discrete state: [u (nu); qdd (nv); contact_forces (3 nc); the diagnostics] (read them with diagnostics(), not by
+// offset), updated periodically
 // (params.update_period_s, 1 kHz as in the paper) and, by an event update, at every guard event that
 // params.resolve_at selects (default: every guard event of the diagram), so that at a touchdown or lift-off the
 // torque of the new contact mode acts from the event instant on (no torque computed for the previous mode is held
@@ -49,6 +51,7 @@
 // kHoldPrevious skips the relaxed solve; kZeroTorque outputs u = 0. The caller decides whether failures end the
 // run (e.g. a monitor on qp_failures). Bad data (a NaN in the state, a wrong mode) ends the run with an error.
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -100,6 +103,22 @@ struct TaskSpaceQpParams {
   QpSettings qp;  ///< DenseQpSolver tolerances (warm start on by default).
 };
 
+/// What a TaskSpaceQpController reports about its updates (output port "diagnostics",
+/// TaskSpaceQpController::diagnostics). The counts run over the updates since the context was created; each update is
+/// counted in exactly one of solved, relaxed and held.
+struct TaskSpaceQpDiagnostics {
+  int qp_failures = 0;  ///< updates whose first QP failed (relaxed + held)
+  /// The last update's first solve, or the relaxed solve's when that failed too; empty before the first update.
+  std::optional<QpStatus> qp_status;
+  int solved = 0;   ///< updates whose first QP solved (kOptimal)
+  int relaxed = 0;  ///< updates that used the relaxed QP's answer (QpFailurePolicy::kRelaxContactForces)
+  int held = 0;     ///< updates that used no QP answer (held the previous u, or zero torque under kZeroTorque)
+  /// [w (m/s²)², w (rad/s²)²] ½ Σ_i w_i ||J_i q̈ + J̇_i q̇ − ÿ*_i||² at the last used answer (Eq. (30)'s task terms, no
+  /// regularisation; ≥ 0, 0 when every active task is met exactly).
+  double task_cost = 0.0;
+  double solve_time_s = 0.0;  ///< wall time of the last update [s]
+};
+
 class TaskSpaceQpController final : public QpControllerSystem {
  public:
   /// `mode_contacts[m]`: the contacts active in the plant's mode m (see ActiveContactsPerMode). Tasks are
@@ -123,25 +142,26 @@ class TaskSpaceQpController final : public QpControllerSystem {
   /// Re-solves the QP last built by SolveQp without its GRF inequality rows and normal-force bounds (dynamics,
   /// contact accelerations and torque limits kept), then restores those rows for the next update.
   QpStatus SolveRelaxedQp(const LeafContext& context) const;
-  /// Number of updates, so far in `context`, that used the relaxed QP's answer.
-  long relaxed_solves(const LeafContext& context) const;
+  /// The diagnostics after the last update in `context` (the "diagnostics" output's value).
+  TaskSpaceQpDiagnostics diagnostics(const LeafContext& context) const;
   /// The QP solved last in `context` (data, solution, multipliers) and its layout: x = [q̈; u; F].
   const DenseQpSolver& last_qp(const LeafContext& context) const;
   int last_mode(const LeafContext& context) const;
   /// Number of constraint force rows F in the last QP (active contacts of its mode + loop closures).
   int last_num_force_rows(const LeafContext& context) const;
 
-  // Discrete-state layout.
-  int u_offset() const { return 0; }
-  int qdd_offset() const { return model_->nu(); }
-  int forces_offset() const { return model_->nu() + model_->nv(); }
-  int failures_offset() const { return forces_offset() + 3 * model_->num_contacts(); }
-  int status_offset() const { return failures_offset() + 1; }
-  int solve_time_offset() const { return status_offset() + 1; }
-
   struct Scratch;
 
  private:
+  // Discrete state: [u (nu); qdd (nv); contact_forces (3 nc); one slot per DiagnosticsSlot, in this order].
+  enum DiagnosticsSlot { kFailures, kStatus, kSolveTime, kSolved, kRelaxed, kHeld, kTaskCost, kNumSlots };
+  int u_offset() const { return 0; }
+  int qdd_offset() const { return model_->nu(); }
+  int forces_offset() const { return model_->nu() + model_->nv(); }
+  int slot(DiagnosticsSlot k) const { return forces_offset() + 3 * model_->num_contacts() + k; }
+  /// ½ Σ w ||J q̈ + J̇ q̇ − ÿ*||² of the last SolveQp's tasks at `qdd`.
+  double TaskCost(Scratch& s, const Eigen::Ref<const Eigen::VectorXd>& qdd) const;
+
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;

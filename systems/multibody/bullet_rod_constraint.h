@@ -5,7 +5,7 @@
 //   c = |d| − L,  d = p_a − p_b,  u = d / |d|,  ċ = u · (ṗ_a − ṗ_b) = (u^T J_a − u^T J_b) v
 // (the same row as the hybrid plant's loop closure, contact_dynamics.cc). Bullet's sequential-impulse solver drives ċ
 // to −erp c / h (btContactSolverInfo::m_erp, the joint ERP; h the substep), so the length is held at velocity level
-// with a Baumgarte-like position correction; the error measured on Cassie is in bullet_world_plant.h.
+// with a Baumgarte-like position correction; its length error is in docs/design-notes.md#bullet-rod-constraint-error.
 // The points are given in the Bullet link frames (BodyPointInBulletLink). A link of −1 is the multibody's base.
 #include <BulletDynamics/Featherstone/btMultiBodyConstraint.h>
 

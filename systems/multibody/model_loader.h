@@ -140,6 +140,10 @@ class MultibodyModelLoader {
 
   // Sidecar data (model_loader_sidecar_data.cc).
   static int MovableJoint(const LoadState& s, const std::string& joint, const std::string& context);
+  /// Entry i of the sidecar array `array` that names a joint: checks its keys against `known`, reads its "joint" into
+  /// *joint, sets *ctx to "ARRAY[i] (joint 'JOINT')" for the errors that follow and returns the joint's velocity index.
+  static int ReadJointEntry(const LoadState& s, const model_loading::json& entry, const char* array, size_t i,
+                            std::initializer_list<const char*> known, std::string* joint, std::string* ctx);
   static const MultibodyFrame& ExistingFrame(const LoadState& s, const std::string& link, const std::string& context);
   static void ReadActuators(LoadState& s);
   static void ReadSprings(LoadState& s);

@@ -44,6 +44,16 @@ const MultibodyFrame& MultibodyModelLoader::ExistingFrame(const LoadState& s, co
   return model.frames_[model.frame_index_.at(link)];
 }
 
+int MultibodyModelLoader::ReadJointEntry(const LoadState& s, const json& entry, const char* array, size_t i,
+                                         std::initializer_list<const char*> known, std::string* joint,
+                                         std::string* ctx) {
+  *ctx = std::string(array) + "[" + std::to_string(i) + "]";
+  s.sc.CheckKeys(entry, known, *ctx);
+  *joint = s.sc.String(entry, "joint", *ctx);
+  *ctx += " (joint '" + Excerpt(*joint) + "')";
+  return MovableJoint(s, *joint, *ctx);
+}
+
 void MultibodyModelLoader::ReadActuators(LoadState& s) {
   MultibodyModel& model = s.model;
   const SidecarReader& sc = s.sc;
@@ -52,12 +62,10 @@ void MultibodyModelLoader::ReadActuators(LoadState& s) {
   model.reflected_inertia_.setZero(nv);
   const json& acts = sc.Array(sidecar, "actuators", "actuators");
   for (size_t i = 0; i < acts.size(); ++i) {
-    std::string ctx = "actuators[" + std::to_string(i) + "]";
-    sc.CheckKeys(acts[i], {"joint", "gear_ratio", "reflected_inertia_kgm2", "torque_limit_Nm"}, ctx);
+    std::string ctx;
     ActuatorInfo a;
-    a.joint = sc.String(acts[i], "joint", ctx);
-    ctx += " (joint '" + Excerpt(a.joint) + "')";
-    a.v_index = MovableJoint(s, a.joint, ctx);
+    a.v_index = ReadJointEntry(s, acts[i], "actuators", i,
+                               {"joint", "gear_ratio", "reflected_inertia_kgm2", "torque_limit_Nm"}, &a.joint, &ctx);
     a.gear_ratio = sc.NumberOr(acts[i], "gear_ratio", 1.0, ctx);
     a.reflected_inertia_kgm2 = sc.NumberOr(acts[i], "reflected_inertia_kgm2", 0.0, ctx);
     if (acts[i].contains("torque_limit_Nm")) {
@@ -102,12 +110,11 @@ void MultibodyModelLoader::ReadSprings(LoadState& state) {
   model.spring_rest_.setZero(nv);
   const json& springs = sc.Array(sidecar, "springs", "springs");
   for (size_t i = 0; i < springs.size(); ++i) {
-    std::string ctx = "springs[" + std::to_string(i) + "]";
-    sc.CheckKeys(springs[i], {"joint", "stiffness_Nm_per_rad", "damping_Nms_per_rad", "rest_angle_rad"}, ctx);
+    std::string ctx;
     SpringInfo s;
-    s.joint = sc.String(springs[i], "joint", ctx);
-    ctx += " (joint '" + Excerpt(s.joint) + "')";
-    s.v_index = MovableJoint(state, s.joint, ctx);
+    s.v_index =
+        ReadJointEntry(state, springs[i], "springs", i,
+                       {"joint", "stiffness_Nm_per_rad", "damping_Nms_per_rad", "rest_angle_rad"}, &s.joint, &ctx);
     s.stiffness_Nm_per_rad = sc.Number(springs[i], "stiffness_Nm_per_rad", ctx);
     s.damping_Nms_per_rad = sc.NumberOr(springs[i], "damping_Nms_per_rad", 0.0, ctx);
     s.rest_angle_rad = sc.NumberOr(springs[i], "rest_angle_rad", 0.0, ctx);

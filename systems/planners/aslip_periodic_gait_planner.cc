@@ -21,8 +21,10 @@ void Require(bool ok, const std::string& what, double value) {
 }
 
 // Path rows of one leg on the ground: F/(m g) ≥ 0, (μ G_z ∓ G_x)/(m g) ≥ 0, s ∈ [s_min, s_max].
-void LegRows(const AslipParams& p, double mu, const NodeVector& x, int leg, double foot_x, NodeVector& y, int row) {
-  const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, leg, foot_x, NodeScalar(0.0));
+void LegRows(const ActuatedSpringLoadedInvertedPendulumParams& p, double mu, const NodeVector& x, int leg,
+             double foot_x, NodeVector& y, int row) {
+  const ActuatedSpringLoadedInvertedPendulumLeg<NodeScalar> g =
+      AslipLegState<NodeScalar>(p, x, leg, foot_x, NodeScalar(0.0));
   const double weight = p.mass * p.gravity;
   y(row) = g.force / weight;
   y(row + 1) = (mu * g.grf_z - g.grf_x) / weight;
@@ -49,8 +51,8 @@ AslipPeriodicGaitPlanner::AslipPeriodicGaitPlanner(AslipPeriodicGaitParams param
           "max_vertical_force_fraction must be 0 (no bound) or > 1", q.max_vertical_force_fraction);
 }
 
-AslipContact AslipPeriodicGaitPlanner::PhaseContact(int phase) const {
-  AslipContact c;
+ActuatedSpringLoadedInvertedPendulumContact AslipPeriodicGaitPlanner::PhaseContact(int phase) const {
+  ActuatedSpringLoadedInvertedPendulumContact c;
   c.left = true;         // leg 0 stands in both domains
   c.right = phase == 1;  // leg 1 only in DSP
   c.left_foot_x = 0.0;
@@ -60,7 +62,7 @@ AslipContact AslipPeriodicGaitPlanner::PhaseContact(int phase) const {
 
 DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   const auto& q = params_;
-  const AslipParams p = q.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams p = q.aslip;
   const double v = q.max_speed;
   Eigen::VectorXd xl(kNx), xu(kNx);
   xl << -2.0 * q.step_length - 1.0, q.height_min, -v, -v, q.leg_length_min, q.leg_length_min, -v, -v;
@@ -77,7 +79,7 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
     c.num_inputs = kNu;
     c.num_nodes = q.nodes_per_domain;
     c.min_duration = c.max_duration = durations[ph];
-    const AslipContact contact = PhaseContact(ph);
+    const ActuatedSpringLoadedInvertedPendulumContact contact = PhaseContact(ph);
     c.dynamics = [p, contact](const NodeVector& x, const NodeVector& u, NodeVector& y) {
       y = AslipDynamics<NodeScalar>(p, contact, x, u);
     };
@@ -135,7 +137,8 @@ DirectCollocation AslipPeriodicGaitPlanner::BuildProblem() const {
   problem.AddNodeConstraint(
       0, -1, td_rows,
       [p, l, td_rows](const NodeVector& x, const NodeVector&, NodeVector& y) {
-        const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, 1, l, NodeScalar(0.0));
+        const ActuatedSpringLoadedInvertedPendulumLeg<NodeScalar> g =
+            AslipLegState<NodeScalar>(p, x, 1, l, NodeScalar(0.0));
         y.resize(td_rows);
         y(0) = g.spring;
         if (td_rows == 2) y(1) = g.spring_rate;
@@ -211,7 +214,7 @@ PlanCacheKey AslipPeriodicGaitPlanner::CacheKey(std::uint32_t seed) const {
 }
 
 void AddToCacheKey(const AslipPeriodicGaitParams& q, PlanCacheKey* key) {
-  const AslipParams& a = q.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& a = q.aslip;
   key->Add("mass", a.mass).Add("gravity", a.gravity).Add("c", a.spring_scale).Add("k4", a.k4).Add("k2", a.k2);
   key->Add("k1", a.k1).Add("k0", a.k0).Add("d4", a.d4).Add("d2", a.d2).Add("d1", a.d1).Add("d0", a.d0);
   key->Add("L_h", a.heel_length).Add("L_t", a.toe_length);
@@ -275,14 +278,16 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Solve(const DirectCollocation& probl
   return Summarize(problem.Solve(options), problem);
 }
 
-Eigen::MatrixXd AslipPeriodicGait::GroundReactions(const AslipParams& params, double step_length, int phase) const {
+Eigen::MatrixXd AslipPeriodicGait::GroundReactions(const ActuatedSpringLoadedInvertedPendulumParams& params,
+                                                   double step_length, int phase) const {
   const CollocationPhaseSolution& s = collocation.phases.at(phase);
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(4, s.states.cols());
   for (Eigen::Index k = 0; k < s.states.cols(); ++k) {
     const Eigen::VectorXd x = s.states.col(k);
     for (int leg = 0; leg < 2; ++leg) {
       if (leg == 1 && phase == 0) continue;  // leg 1 swings in SSP
-      const AslipLeg<double> g = AslipLegState<double>(params, x, leg, leg == 0 ? 0.0 : step_length, 0.0);
+      const ActuatedSpringLoadedInvertedPendulumLeg<double> g =
+          AslipLegState<double>(params, x, leg, leg == 0 ? 0.0 : step_length, 0.0);
       G(2 * leg, k) = g.grf_x;
       G(2 * leg + 1, k) = g.grf_z;
     }

@@ -27,7 +27,7 @@
 namespace rome {
 
 struct AslipPeriodicGaitParams {
-  AslipParams aslip{};
+  ActuatedSpringLoadedInvertedPendulumParams aslip{};
   double step_length = 0.30;                ///< [m] l (gait A, spec §3.1 [R])
   double ssp_duration = 0.40;               ///< [s] T_SSP (gait A)
   double dsp_duration = 0.10;               ///< [s] T_DSP (gait A)
@@ -51,15 +51,13 @@ struct AslipPeriodicGaitParams {
   int limited_memory_history = 6;      ///< Ipopt limited_memory_max_history when !exact_hessian (ours)
   bool exact_hessian = true;           ///< collocation Hessian (true) or Ipopt's L-BFGS (false) (ours)
   std::string mu_strategy =
-      "adaptive";  ///< Ipopt mu_strategy (ours: ~10 % fewer iterations than monotone on seeds 1001-1010)
+      "adaptive";  ///< Ipopt mu_strategy (ours: fewer iterations; docs/design-notes.md#walking-ipopt-options)
   /// Ipopt bound_mult_init_method and mu_init (ours). Bound multipliers start at mu_init / slack instead of 1, with a
-  /// small initial barrier: on seeds 1001-1010 the periodic NLP takes a median 12.5 / 14 iterations (gaits A / B)
-  /// instead of 55 / 58 with Ipopt's defaults ("constant", 0.1), every seed converging; the optimum is the same.
+  /// small initial barrier: about 4x fewer iterations, same optimum (docs/design-notes.md#walking-ipopt-options).
   std::string bound_mult_init_method = "mu-based";
   double mu_init = 0.01;  ///< [-] Ipopt mu_init (ours; see bound_mult_init_method)
-  /// MUMPS ordering (Ipopt mumps_pivot_order; ours): 6, QAMD, handles the free durations' dense columns. On the
-  /// standing transitions of four gaits that no test runs (seeds 1001-1002) it takes the same iterations as MUMPS's
-  /// automatic choice (7) in 18 % less time (e.g. 0.23 m steps: 221 → 167 ms).
+  /// MUMPS ordering (Ipopt mumps_pivot_order; ours): 6, QAMD, handles the free durations' dense columns (faster than
+  /// MUMPS's automatic choice; docs/design-notes.md#walking-ipopt-options).
   int mumps_pivot_order = 6;
 };
 
@@ -70,7 +68,8 @@ struct AslipPeriodicGait {
   double mean_height = 0.0;  ///< [m] time average of z over the step (trapezoid rule), the H-LIP z0 (spec §2.2)
   bool success() const { return collocation.success(); }
   /// Ground reaction [G_0x, G_0z, G_1x, G_1z] (N) at every node of phase p (4 × N); zero for a leg in the air.
-  Eigen::MatrixXd GroundReactions(const AslipParams& params, double step_length, int phase) const;
+  Eigen::MatrixXd GroundReactions(const ActuatedSpringLoadedInvertedPendulumParams& params, double step_length,
+                                  int phase) const;
 };
 
 class AslipPeriodicGaitPlanner {
@@ -94,7 +93,7 @@ class AslipPeriodicGaitPlanner {
   /// Every parameter and the seed.
   PlanCacheKey CacheKey(std::uint32_t seed) const;
   /// The contact of phase p (0 = SSP, 1 = DSP) in plan coordinates.
-  AslipContact PhaseContact(int phase) const;
+  ActuatedSpringLoadedInvertedPendulumContact PhaseContact(int phase) const;
 
  private:
   AslipPeriodicGait Summarize(CollocationResult result, const DirectCollocation& problem) const;

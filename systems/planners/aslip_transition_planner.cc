@@ -16,9 +16,10 @@ constexpr int kNx8 = 8, kNu4 = 4;
 
 // Rows of one leg on the ground: F/(m g) ≥ 0, (μ G_z ∓ G_x)/(m g) ≥ 0, s ∈ [s_min, s_max], Eq. (10)
 // (L_t G_z − u)/(m g L_t) ≥ 0 and (u + L_h G_z)/(m g L_h) ≥ 0.
-void LegRows(const AslipParams& p, double mu, const NodeVector& x, const NodeVector& u, int leg, double foot_x,
-             NodeVector& y, int row) {
-  const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, leg, foot_x, u(2 + leg));
+void LegRows(const ActuatedSpringLoadedInvertedPendulumParams& p, double mu, const NodeVector& x, const NodeVector& u,
+             int leg, double foot_x, NodeVector& y, int row) {
+  const ActuatedSpringLoadedInvertedPendulumLeg<NodeScalar> g =
+      AslipLegState<NodeScalar>(p, x, leg, foot_x, u(2 + leg));
   const double weight = p.mass * p.gravity;
   y(row) = g.force / weight;
   y(row + 1) = (mu * g.grf_z - g.grf_x) / weight;
@@ -50,8 +51,9 @@ AslipTransitionPlanner::AslipTransitionPlanner(AslipTransitionParams params) : p
   require(params_.torque_cost_scale > 0, "torque_cost_scale must be > 0 N m", params_.torque_cost_scale);
 }
 
-AslipContact AslipTransitionPlanner::PhaseContact(const AslipTransitionData& data, int phase) {
-  AslipContact c;
+ActuatedSpringLoadedInvertedPendulumContact AslipTransitionPlanner::PhaseContact(const AslipTransitionData& data,
+                                                                                 int phase) {
+  ActuatedSpringLoadedInvertedPendulumContact c;
   c.left_foot_x = data.left_foot_x;
   c.right_foot_x = data.right_foot_x;
   c.left = phase == 0 || data.lifting_leg != 0;
@@ -59,12 +61,13 @@ AslipContact AslipTransitionPlanner::PhaseContact(const AslipTransitionData& dat
   return c;
 }
 
-Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipParams& params, double z) {
+Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(
+    const ActuatedSpringLoadedInvertedPendulumParams& params, double z) {
   return StandingState(params, z, 0.0, 0.0);
 }
 
-Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(const AslipParams& params, double z,
-                                                                  double left_foot_x, double right_foot_x) {
+Eigen::Matrix<double, 8, 1> AslipTransitionPlanner::StandingState(
+    const ActuatedSpringLoadedInvertedPendulumParams& params, double z, double left_foot_x, double right_foot_x) {
   const double half = 0.5 * std::abs(left_foot_x - right_foot_x), r = std::hypot(half, z);
   // Leg force F along the leg with vertical component F z / r = m g / 2.
   const double L = AslipRestLengthForForce(params, r, 0.5 * params.mass * params.gravity * r / z);
@@ -79,7 +82,7 @@ namespace {
 // aSLIP dynamics (and the lateral footed H-LIP rows on the aSLIP's forces), input bounds and the torque cost.
 std::vector<CollocationPhase> TransitionPhases(const AslipTransitionParams& params, const AslipTransitionData& data) {
   const AslipPeriodicGaitParams& q = params.bounds;
-  const AslipParams p = q.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams p = q.aslip;
   const double v = q.max_speed, umax = params.max_ankle_torque, us = params.torque_cost_scale;
   const bool lat = params.lateral;
   const int kNx = lat ? 10 : kNx8, kNu = lat ? 6 : kNu4;
@@ -102,7 +105,7 @@ std::vector<CollocationPhase> TransitionPhases(const AslipTransitionParams& para
     c.num_nodes = q.nodes_per_domain;
     c.min_duration = ph == 0 ? params.min_dsp_duration : params.min_ssp_duration;
     c.max_duration = ph == 0 ? params.max_dsp_duration : params.max_ssp_duration;
-    const AslipContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
+    const ActuatedSpringLoadedInvertedPendulumContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
     c.dynamics = [p, contact, lat, foot_y](const NodeVector& x, const NodeVector& u, NodeVector& y) {
       if (!lat) {
         y = AslipDynamics<NodeScalar>(p, contact, x, u);
@@ -113,7 +116,8 @@ std::vector<CollocationPhase> TransitionPhases(const AslipTransitionParams& para
       NodeScalar fy = 0.0 * x(8);
       for (int leg = 0; leg < 2; ++leg) {
         if (!contact.in_contact(leg)) continue;
-        const AslipLeg<NodeScalar> g = AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg));
+        const ActuatedSpringLoadedInvertedPendulumLeg<NodeScalar> g =
+            AslipLegState<NodeScalar>(p, x, leg, contact.foot_x(leg), u(2 + leg));
         fy += g.grf_z * (x(8) - foot_y[leg]) + u(4 + leg);
       }
       y(8) = x(9);
@@ -153,12 +157,12 @@ std::vector<CollocationPhase> TransitionPhases(const AslipTransitionParams& para
 void AddContactConstraints(DirectCollocation& problem, const AslipTransitionParams& params,
                            const AslipTransitionData& data) {
   const AslipPeriodicGaitParams& q = params.bounds;
-  const AslipParams p = q.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams p = q.aslip;
   const double mu = q.friction_coefficient, inf = std::numeric_limits<double>::infinity();
   Eigen::VectorXd lo1(6), hi1(6);
   lo1 << 0, 0, 0, q.spring_min, 0, 0;
   hi1 << inf, inf, inf, q.spring_max, inf, inf;
-  const AslipContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
+  const ActuatedSpringLoadedInvertedPendulumContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
   Eigen::VectorXd lo2(12), hi2(12);
   lo2 << lo1, lo1;
   hi2 << hi1, hi1;
@@ -184,7 +188,7 @@ void AddContactConstraints(DirectCollocation& problem, const AslipTransitionPara
   }
   if (params.max_vertical_force_fraction > 0) {
     for (int ph = 0; ph < 2; ++ph) {
-      const AslipContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
+      const ActuatedSpringLoadedInvertedPendulumContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
       problem.AddPathConstraint(
           ph, 2,
           [p, contact](const NodeVector& x, const NodeVector& u, NodeVector& y) {
@@ -209,7 +213,7 @@ void AddContactConstraints(DirectCollocation& problem, const AslipTransitionPara
   if (params.lateral) {  // Eq. (14): −W1 G_z ≤ u_x ≤ W2 G_z per leg on the ground, rows scaled by m g
     const double W1 = params.foot_width_left_of_ankle, W2 = params.foot_width_right_of_ankle;
     for (int ph = 0; ph < 2; ++ph) {
-      const AslipContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
+      const ActuatedSpringLoadedInvertedPendulumContact contact = AslipTransitionPlanner::PhaseContact(data, ph);
       problem.AddPathConstraint(
           ph, 4,
           [p, contact, W1, W2](const NodeVector& x, const NodeVector& u, NodeVector& y) {
@@ -245,8 +249,8 @@ std::pair<Eigen::VectorXd, Eigen::VectorXd> BoundaryStates(const AslipTransition
 // states (initial and final, lateral rows included).
 void AddEventConstraints(DirectCollocation& problem, const AslipTransitionParams& params,
                          const AslipTransitionData& data) {
-  const AslipParams p = params.bounds.aslip;
-  const AslipContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
+  const ActuatedSpringLoadedInvertedPendulumParams p = params.bounds.aslip;
+  const ActuatedSpringLoadedInvertedPendulumContact dsp = AslipTransitionPlanner::PhaseContact(data, 0);
   const int stance = 1 - data.lifting_leg;
   const int lift = data.lifting_leg;
   const double lift_x = dsp.foot_x(lift);
@@ -379,8 +383,8 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   return out;
 }
 
-double AslipTransition::LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data,
-                                             double floor_N) const {
+double AslipTransition::LiftingLegReloadTime(const ActuatedSpringLoadedInvertedPendulumParams& params,
+                                             const AslipTransitionData& data, double floor_N) const {
   const Eigen::MatrixXd G = GroundReactions(params, data, 0);
   const CollocationPhaseSolution& dsp = collocation.phases.at(0);
   bool unloaded = false;
@@ -392,16 +396,17 @@ double AslipTransition::LiftingLegReloadTime(const AslipParams& params, const As
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-Eigen::MatrixXd AslipTransition::GroundReactions(const AslipParams& params, const AslipTransitionData& data,
-                                                 int phase) const {
+Eigen::MatrixXd AslipTransition::GroundReactions(const ActuatedSpringLoadedInvertedPendulumParams& params,
+                                                 const AslipTransitionData& data, int phase) const {
   const CollocationPhaseSolution& s = collocation.phases.at(phase);
-  const AslipContact c = AslipTransitionPlanner::PhaseContact(data, phase);
+  const ActuatedSpringLoadedInvertedPendulumContact c = AslipTransitionPlanner::PhaseContact(data, phase);
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(4, s.states.cols());
   for (Eigen::Index k = 0; k < s.states.cols(); ++k) {
     const Eigen::VectorXd x = s.states.col(k);
     for (int leg = 0; leg < 2; ++leg) {
       if (!c.in_contact(leg)) continue;
-      const AslipLeg<double> g = AslipLegState<double>(params, x, leg, c.foot_x(leg), s.inputs(2 + leg, k));
+      const ActuatedSpringLoadedInvertedPendulumLeg<double> g =
+          AslipLegState<double>(params, x, leg, c.foot_x(leg), s.inputs(2 + leg, k));
       G(2 * leg, k) = g.grf_x;
       G(2 * leg + 1, k) = g.grf_z;
     }

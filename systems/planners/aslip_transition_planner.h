@@ -77,11 +77,13 @@ struct AslipTransition {
   bool success() const { return collocation.success(); }
   /// With the lateral option the phases' states have 10 rows ([y, ẏ] last) and the inputs 6 ([u_Lx, u_Rx] last).
   /// [G_Lx, G_Lz, G_Rx, G_Rz] (N) at every node of phase p (4 × N), with the ankle torques.
-  Eigen::MatrixXd GroundReactions(const AslipParams& params, const AslipTransitionData& data, int phase) const;
+  Eigen::MatrixXd GroundReactions(const ActuatedSpringLoadedInvertedPendulumParams& params,
+                                  const AslipTransitionData& data, int phase) const;
   /// [s, from the DSP's start] The first DSP node where the lifting leg's vertical force, after falling below floor_N
   /// at an earlier node, is above floor_N again (a plant that releases the foot at that force would lift it and land it
   /// again in the double support); NaN when it never does.
-  double LiftingLegReloadTime(const AslipParams& params, const AslipTransitionData& data, double floor_N) const;
+  double LiftingLegReloadTime(const ActuatedSpringLoadedInvertedPendulumParams& params, const AslipTransitionData& data,
+                              double floor_N) const;
 };
 
 class AslipTransitionPlanner {
@@ -89,7 +91,7 @@ class AslipTransitionPlanner {
   explicit AslipTransitionPlanner(AslipTransitionParams params = {});
   const AslipTransitionParams& params() const { return params_; }
   /// Contact of phase p (0 = DSP, 1 = SSP).
-  static AslipContact PhaseContact(const AslipTransitionData& data, int phase);
+  static ActuatedSpringLoadedInvertedPendulumContact PhaseContact(const AslipTransitionData& data, int phase);
   DirectCollocation BuildProblem(const AslipTransitionData& data) const;
   /// Initial guess: data's guess if given, else states linear from the initial to the final state, durations at
   /// mid-range; zero inputs.
@@ -101,12 +103,12 @@ class AslipTransitionPlanner {
 
   /// Standing at rest in DSP with both pivots at x = 0 and the mass at height z, each leg carrying m g / 2
   /// (rest lengths by AslipRestLengthForForce).
-  static Eigen::Matrix<double, 8, 1> StandingState(const AslipParams& params, double z);
+  static Eigen::Matrix<double, 8, 1> StandingState(const ActuatedSpringLoadedInvertedPendulumParams& params, double z);
   /// Standing at rest in DSP with the pivots at left_foot_x and right_foot_x (a step stance when they differ): the
   /// mass midway between them at height z, both legs equally long and each carrying a vertical m g / 2 (their
   /// horizontal components cancel), rest lengths by AslipRestLengthForForce.
-  static Eigen::Matrix<double, 8, 1> StandingState(const AslipParams& params, double z, double left_foot_x,
-                                                   double right_foot_x);
+  static Eigen::Matrix<double, 8, 1> StandingState(const ActuatedSpringLoadedInvertedPendulumParams& params, double z,
+                                                   double left_foot_x, double right_foot_x);
 
  private:
   AslipTransitionParams params_;

@@ -28,8 +28,7 @@ struct GaitGraphParams {
   GaitVector min = {0.2, 0.35, 0.08, 0.2};  ///< the walking issue's gait range (m, s, s, m)
   GaitVector max = {0.45, 0.5, 0.15, 0.3};
   GaitVector spacing = {0.05, 0.05, 0.02, 0.05};  ///< grid spacing per axis (ours)
-  /// Largest change per axis along one edge (ours; measured, NLP seed 1: gait A 0.30 m → 0.40 m plans and walks,
-  /// 0.25 m → 0.42 m with T_SSP 0.38 → 0.42 s is locally infeasible).
+  /// Largest change per axis along one edge (ours; docs/design-notes.md#walking-gait-graph-reach).
   GaitVector reach = {0.10, 0.05, 0.03, 0.05};
   double step_cost_weight = 0.5;  ///< [-] weight of the edge's size in its cost (ours)
   /// Intermediate gaits lie between the two end gaits on every axis (ours: a chain that moves each coordinate one way;

@@ -189,7 +189,7 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
         << lateral_data.node_times.size() << " nodes";
   }
   if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendTransition: " + msg.str());
-  const AslipParams& p = planner.params().bounds.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& p = planner.params().bounds.aslip;
   const double z0 = lateral_data.z0, lambda = std::sqrt(p.gravity / z0);
   double t0 = end_time();
   const int stance = 1 - data.lifting_leg;
@@ -239,7 +239,8 @@ void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const 
   }
 }
 
-FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
+FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition,
+                                                      const ActuatedSpringLoadedInvertedPendulumParams& aslip,
                                                       const AslipTransitionData& data, int nodes_per_domain,
                                                       double step_width_m) {
   const int N = nodes_per_domain;

@@ -70,9 +70,7 @@ class WalkingPlan {
   WalkingReference Sample(double t) const;
   /// [s] A time this close below a segment's start belongs to that segment (ours). Control ticks fall at k Δt and
   /// segment starts are sums of durations, so a tick meant to sit on a boundary lands ~1e-15 s on either side of it.
-  /// Measured before this tolerance (gait (0.31, 0.41, 0.12, 0.25) m/s/s/m, 1 kHz): the 5th periodic lift-off's tick
-  /// fell before its boundary, the swing started one tick late, and that swing and every later one touched down 2 ms
-  /// early instead of 2 ms late (pre-impact COM state change 1.24e-2 once).
+  /// Without it a swing could start one tick late (docs/design-notes.md#walking-segment-boundary).
   static constexpr double kSegmentBoundaryTolerance_s = 1e-10;
   /// Index of the segment that holds global time t: the last one whose start is at most t + kSegmentBoundaryTolerance_s
   /// (0 before the first). Throws std::logic_error on an empty plan.
@@ -118,7 +116,8 @@ class WalkingPlan {
 /// 0), the single-support flags, left stance, feet at ±step_width_m / 2, z0 = the transition's mean height, the node
 /// heights (used by the normal-force-pivot model) and a zero initial lateral state. The caller sets the final state and
 /// any other option.
-FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition, const AslipParams& aslip,
+FootedHlipTransitionData LateralDataOnTransitionNodes(const AslipTransition& transition,
+                                                      const ActuatedSpringLoadedInvertedPendulumParams& aslip,
                                                       const AslipTransitionData& data, int nodes_per_domain,
                                                       double step_width_m);
 

@@ -61,10 +61,8 @@
 //  * Joint limits (the URDF's, where finite): btMultiBodyJointLimitConstraint (enable_joint_limits).
 //  * Loop closures (Cassie's achilles rods): one BulletRodConstraint each (bullet_rod_constraint.h), a
 //    btMultiBodyConstraint with one bilateral row along the rod (|p_a − p_b| = L; Bullet's btMultiBodyPoint2Point would
-//    hold a point, not a length), solved with the joints' ERP (joint_erp). Measured on Cassie standing under a joint PD
-//    (bullet_world_plant_test): |rod length − 0.5012 m| ≤ 2.6e-7 m while it settles into its springs, ~1e-8 m after;
-//    planar Cassie walking 30 steps (stepping_stones --plant bullet, 1 ms log): ≤ 9e-7 m on flat ground (task-space
-//    QP), ≤ 3.4e-6 m on random seed 3 (CLF-QP).
+//    hold a point, not a length), solved with the joints' ERP (joint_erp); the length error is micrometres
+//    (docs/design-notes.md#bullet-rod-constraint-error).
 // Errors (one line, naming the system and the value): step_s <= 0, substeps < 1, a contact with no points (no
 //   collision geometry), a stone of zero or negative length (Terrain::Stones), non-positive point_radius_m.
 // The Bullet world lives in the context's scratch; Context::Clone builds a fresh world for the copy (its solver warm
@@ -93,10 +91,8 @@ struct BulletWorldPlantParams {
   /// [-] warm start of the solver (ours; 0: every row starts from zero, Bullet's multibody default): each constraint
   /// row (armature gears, joint limits, rods, contact normals, and contact friction as a world vector projected on the
   /// new directions) starts from this fraction of its impulse of the previous substep. The stopping rule still decides
-  /// when to stop (AMBER standing, benchmark: 63 iterations cold, 22 at 0.98). At 1 (and 0.999) the solver stops after
-  /// a sweep or two on the old impulses and keeps their error: measured, the exoskeleton's Σ F_z missed m g by 8e-4 m g
-  /// (1e-9 at 0.98) and the dropped box's rest force failed its 1e-3 bound; 0.98 leaves a margin below 0.99, the
-  /// largest value that passed.
+  /// when to stop. At 1 the solver stops after a sweep or two on the old impulses and keeps their error
+  /// (docs/design-notes.md#bullet-warm-start).
   double warm_start_factor = 0.98;
   double contact_erp = 0.2;  ///< [-] contact penetration correction per substep (Bullet's m_erp2, default 0.2)
   double joint_erp = 0.2;    ///< [-] joint-limit error correction per substep (Bullet's m_erp, default 0.2)

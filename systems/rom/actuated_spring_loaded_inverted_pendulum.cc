@@ -7,7 +7,7 @@
 
 namespace rome {
 
-double AslipRestLengthForForce(const AslipParams& params, double r, double F) {
+double AslipRestLengthForForce(const ActuatedSpringLoadedInvertedPendulumParams& params, double r, double F) {
   auto fail = [&](const char* why) {
     std::ostringstream msg;
     msg << "AslipRestLengthForForce: " << why << " (r = " << r << " m, F = " << F << " N)";

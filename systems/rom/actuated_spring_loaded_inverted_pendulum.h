@@ -25,7 +25,7 @@
 namespace rome {
 
 /// Parameters of the aSLIP. Defaults: the 76 kg exoskeleton of robots.md (spec §1.1, §2.1).
-struct AslipParams {
+struct ActuatedSpringLoadedInvertedPendulumParams {
   double mass = 76.0;     ///< [kg] m = 2.28 × 33.3 kg (Cassie), so that c stays consistent (robots.md, spec §1.1).
   double gravity = 9.81;  ///< [m/s²]
   double spring_scale = 2.28;  ///< [-] c, the exo-to-Cassie mass ratio multiplying K(L) and D(L) (paper, Appendix 3).
@@ -38,7 +38,7 @@ struct AslipParams {
 };
 
 /// Which legs are on the ground and where their pivots are (ground height 0).
-struct AslipContact {
+struct ActuatedSpringLoadedInvertedPendulumContact {
   bool left = true, right = true;  ///< DSP: both; SSP: one.
   double left_foot_x = 0.0;        ///< [m] pivot of the left leg
   double right_foot_x = 0.0;       ///< [m] pivot of the right leg
@@ -48,21 +48,21 @@ struct AslipContact {
 
 /// K(L) [N/m] (Appendix 3, times c).
 template <class T>
-T AslipStiffness(const AslipParams& p, const T& L) {
+T AslipStiffness(const ActuatedSpringLoadedInvertedPendulumParams& p, const T& L) {
   const T L2 = L * L;
   return p.spring_scale * (p.k4 * L2 * L2 + p.k2 * L2 + p.k1 * L + p.k0);
 }
 
 /// D(L) [N s/m] (Appendix 3, times c).
 template <class T>
-T AslipDamping(const AslipParams& p, const T& L) {
+T AslipDamping(const ActuatedSpringLoadedInvertedPendulumParams& p, const T& L) {
   const T L2 = L * L;
   return p.spring_scale * (p.d4 * L2 * L2 + p.d2 * L2 + p.d1 * L + p.d0);
 }
 
 /// Kinematics and forces of one leg at a state.
 template <class T>
-struct AslipLeg {
+struct ActuatedSpringLoadedInvertedPendulumLeg {
   T r;             ///< [m] actual leg length |p − f|
   T r_dot;         ///< [m/s] ṙ = e · ṗ
   T ex, ez;        ///< unit vector from the pivot to the mass
@@ -74,9 +74,10 @@ struct AslipLeg {
 
 /// Leg `leg` (0 = left, 1 = right) with pivot x = foot_x and ankle torque `torque` [N m].
 template <class T, class Vec>
-AslipLeg<T> AslipLegState(const AslipParams& p, const Vec& state, int leg, double foot_x, const T& torque) {
+ActuatedSpringLoadedInvertedPendulumLeg<T> AslipLegState(const ActuatedSpringLoadedInvertedPendulumParams& p,
+                                                         const Vec& state, int leg, double foot_x, const T& torque) {
   using std::sqrt;
-  AslipLeg<T> out;
+  ActuatedSpringLoadedInvertedPendulumLeg<T> out;
   const T dx = state(0) - foot_x;
   const T dz = state(1);
   out.r = sqrt(dx * dx + dz * dz);
@@ -95,7 +96,8 @@ AslipLeg<T> AslipLegState(const AslipParams& p, const Vec& state, int leg, doubl
 
 /// ẋ = f(x, u) of the aSLIP in the domain given by `contact`. `input` has 2 (point foot) or 4 (footed) entries.
 template <class T>
-Eigen::Matrix<T, 8, 1> AslipDynamics(const AslipParams& p, const AslipContact& contact,
+Eigen::Matrix<T, 8, 1> AslipDynamics(const ActuatedSpringLoadedInvertedPendulumParams& p,
+                                     const ActuatedSpringLoadedInvertedPendulumContact& contact,
                                      const Eigen::Matrix<T, Eigen::Dynamic, 1>& state,
                                      const Eigen::Matrix<T, Eigen::Dynamic, 1>& input) {
   Eigen::Matrix<T, 8, 1> xdot;
@@ -103,7 +105,7 @@ Eigen::Matrix<T, 8, 1> AslipDynamics(const AslipParams& p, const AslipContact& c
   for (int leg = 0; leg < 2; ++leg) {
     if (!contact.in_contact(leg)) continue;
     const T torque = input.size() >= 4 ? input(2 + leg) : T(0.0);
-    const AslipLeg<T> g = AslipLegState<T>(p, state, leg, contact.foot_x(leg), torque);
+    const ActuatedSpringLoadedInvertedPendulumLeg<T> g = AslipLegState<T>(p, state, leg, contact.foot_x(leg), torque);
     ax += g.grf_x / p.mass;
     az += g.grf_z / p.mass;
   }
@@ -121,7 +123,7 @@ Eigen::Matrix<T, 8, 1> AslipDynamics(const AslipParams& p, const AslipContact& c
 /// Rest length L with K(L)(L − r) = F for a leg of actual length r carrying the static leg force F ≥ 0 (spec §3.2:
 /// "L is recovered by force balance ... needs Newton's method, since K depends on L"). Newton from L = r + F/K(r);
 /// throws std::invalid_argument if it does not converge to 1e-12 m in 50 steps or leaves L > 0.2807 m (K > 0).
-double AslipRestLengthForForce(const AslipParams& params, double r, double F);
+double AslipRestLengthForForce(const ActuatedSpringLoadedInvertedPendulumParams& params, double r, double F);
 
 /// Appendix 2, the SSP→DSP touchdown in polar coordinates (leg 1 = stance, leg 2 = landing):
 ///   ṙ2⁺ = ṙ1 cos Δq − q̇1 r1 sin Δq,  q̇2⁺ = (q̇1 r1 cos Δq + ṙ1 sin Δq) / r2   (spec [P-fix]: q̇1 r1, not q̇1 ṙ1),

@@ -9,7 +9,7 @@ namespace rome {
 ActuatedSpringLoadedInvertedPendulumSystem::ActuatedSpringLoadedInvertedPendulumSystem(
     std::string name, ActuatedSpringLoadedInvertedPendulumSystemParams params)
     : LeafSystem(std::move(name)), params_(std::move(params)) {
-  const AslipParams& p = params_.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& p = params_.aslip;
   if (!(p.mass > 0) || !(p.gravity > 0) || !(p.spring_scale > 0)) {
     std::ostringstream msg;
     msg << "parameters mass, gravity and spring_scale must be > 0, got " << p.mass << ", " << p.gravity << ", "
@@ -41,13 +41,13 @@ ActuatedSpringLoadedInvertedPendulumSystem::ActuatedSpringLoadedInvertedPendulum
   DeclareOutputPort(
       "grf", {"left_x", "left_z", "right_x", "right_z"},
       [this](const LeafContext& c, Eigen::VectorXd* y) {
-        const AslipContact contact = Contact(c);
+        const ActuatedSpringLoadedInvertedPendulumContact contact = Contact(c);
         const Eigen::VectorXd u = Input(c);
         y->setZero();
         for (int leg = 0; leg < 2; ++leg) {
           if (!contact.in_contact(leg)) continue;
           const double torque = params_.footed ? u(2 + leg) : 0.0;
-          const AslipLeg<double> g =
+          const ActuatedSpringLoadedInvertedPendulumLeg<double> g =
               AslipLegState<double>(params_.aslip, c.continuous_state(), leg, contact.foot_x(leg), torque);
           (*y)(2 * leg) = g.grf_x;
           (*y)(2 * leg + 1) = g.grf_z;
@@ -95,8 +95,9 @@ ActuatedSpringLoadedInvertedPendulumSystem::ActuatedSpringLoadedInvertedPendulum
       });
 }
 
-AslipContact ActuatedSpringLoadedInvertedPendulumSystem::Contact(const LeafContext& context) const {
-  AslipContact contact;
+ActuatedSpringLoadedInvertedPendulumContact ActuatedSpringLoadedInvertedPendulumSystem::Contact(
+    const LeafContext& context) const {
+  ActuatedSpringLoadedInvertedPendulumContact contact;
   contact.left = context.mode() != right_stance_mode();
   contact.right = context.mode() != left_stance_mode();
   contact.left_foot_x = context.discrete_state()(0);

@@ -26,7 +26,7 @@
 namespace rome {
 
 struct ActuatedSpringLoadedInvertedPendulumSystemParams {
-  AslipParams aslip{};
+  ActuatedSpringLoadedInvertedPendulumParams aslip{};
   bool footed = false;  ///< declares the ankle_torque input (footed aSLIP, Sec. IV-A)
   Eigen::Matrix<double, 8, 1> initial_state =
       (Eigen::Matrix<double, 8, 1>() << 0, 0.9, 0, 0, 0.97, 0.97, 0, 0).finished();
@@ -44,7 +44,7 @@ class ActuatedSpringLoadedInvertedPendulumSystem final : public LeafSystem {
   int left_stance_mode() const { return 1; }
   int right_stance_mode() const { return 2; }
   /// Contact flags and pivots of the context's mode.
-  AslipContact Contact(const LeafContext& context) const;
+  ActuatedSpringLoadedInvertedPendulumContact Contact(const LeafContext& context) const;
 
  private:
   void DoCalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd* xdot) const override;

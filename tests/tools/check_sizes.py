@@ -2,8 +2,8 @@
 """Size limits of ROME's product sources (issue 38): no file over 800 lines, no function over 150 lines.
 
 Usage: check_sizes.py [--root DIR] [--self-test]
-  Measures every .cc and .h file under framework/ solvers/ systems/ robots/ diagrams/ examples/ of DIR (default: the
-  repository holding this script). Prints each offender as `file:line: name: N lines (limit L)` and exits 1 when any
+  Measures every .cc and .h file under framework/ solvers/ systems/ robots/ diagrams/ examples/ python/ of DIR
+  (default: the repository holding this script). Prints each offender as `file:line: name: N lines (limit L)` and exits 1 when any
   limit is exceeded, 0 otherwise. --self-test runs the measurer on built-in snippets with known answers.
 
 How it measures:
@@ -26,7 +26,7 @@ import os
 import re
 import sys
 
-SOURCE_DIRS = ("framework", "solvers", "systems", "robots", "diagrams", "examples")
+SOURCE_DIRS = ("framework", "solvers", "systems", "robots", "diagrams", "examples", "python")
 EXTENSIONS = (".cc", ".h")
 MAX_FILE_LINES = 800
 MAX_FUNCTION_LINES = 150

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "systems/multibody/multibody_dynamics.h"
 #include "tests/systems/controllers/amber_test_setup.h"
@@ -217,19 +218,95 @@ TEST(TaskSpaceQpController, InfeasibleQpHoldsThePreviousTorqueAndCountsTheFailur
                           Stack(TaskValues(*model, tasks, q, v), Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero()));
     const Eigen::Vector4d u_previous(1.0, -2.0, 3.0, -4.0);
     context->get_mutable_discrete_state().head(4) = u_previous;
-    context->get_mutable_discrete_state()[controller.failures_offset()] = 2.0;
     Eigen::VectorXd next = context->discrete_state();
-    ASSERT_TRUE(controller.periodic_events().at(0).update(*context, &next).ok());
+    for (int update = 0; update < 3; ++update)  // three failed updates, each holding the torque of the one before
+      ASSERT_TRUE(controller.periodic_events().at(0).update(*context, &next).ok());
     EXPECT_EQ(controller.last_qp(*context).status(), QpStatus::kInfeasible);
     std::printf("  infeasible QP reported as: %s\n", controller.last_qp(*context).status_message().c_str());
     context->get_mutable_discrete_state() = next;
     EXPECT_EQ(controller.EvalOutput(*context, "qp_failures")[0], 3.0);
     EXPECT_EQ(controller.EvalOutput(*context, "qp_status")[0], static_cast<double>(QpStatus::kInfeasible));
+    const TaskSpaceQpDiagnostics d = controller.diagnostics(*context);
+    EXPECT_EQ(d.qp_failures, 3);
+    EXPECT_EQ(d.held, 3);  // no answer was used: every update held (or zeroed) the torque
+    EXPECT_EQ(d.solved + d.relaxed, 0);
     const Eigen::VectorXd u = controller.EvalOutput(*context, "u");
     if (policy == QpFailurePolicy::kHoldPrevious)
       EXPECT_EQ((u - u_previous).norm(), 0.0);
     else
       EXPECT_EQ(u.norm(), 0.0);
+  }
+}
+
+// The typed diagnostics against what the updates physically did. A reachable posture: the first QP solves, and the
+// task cost equals ½ Σ w ||J q̈ + J̇ q̇ − ÿ*||² recomputed here from the "qdd" output with the tasks' own Jacobians and
+// the PD law of Eq. (30). An unattainable normal-force bound (F_z ≥ 3 m g): the first QP fails, the relaxed answer is
+// used, and its planned normal force is indeed below the bound it dropped (so the fallback was needed).
+TEST(TaskSpaceQpController, TypedDiagnosticsReportWhatTheUpdatesDid) {
+  auto model = LoadRobot("amber");
+  const ContactSet left = ContactBit(model->ContactIndex("left_foot"));
+  const Tasks tasks = AmberWalkingTasks(*model);
+  const Eigen::VectorXd q = AmberSingleSupportPose(*model);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(7);
+  v[0] = 0.3;
+  Eigen::VectorXd x(14);
+  x << q, v;
+  // Desired outputs 1 cm / 0.01 rad away from the current ones, at rest: the PD law asks for a real acceleration.
+  Eigen::MatrixXd J;
+  Eigen::VectorXd Jdq;
+  const Eigen::VectorXd y = TaskValues(*model, tasks, q, v, &J, &Jdq);
+  const Eigen::VectorXd y_d = y + Eigen::VectorXd::Constant(y.size(), 0.01);
+  const Eigen::VectorXd desired = Stack(y_d, Eigen::Vector4d::Zero(), Eigen::Vector4d::Zero());
+  const double m_g = model->total_mass() * 9.81;
+  for (const double min_normal_force : {0.0, 3.0 * m_g}) {
+    TaskSpaceQpParams params;
+    params.min_normal_force_N = min_normal_force;
+    TaskSpaceQpController controller("tsc", model, {left}, tasks, params);
+    auto context = controller.CreateDefaultLeafContext();
+    EXPECT_FALSE(controller.diagnostics(*context).qp_status.has_value());  // before the first update
+    context->FixInputPort(controller.GetInputPortIndex("state"), x);
+    context->FixAbstractInputPort(controller.GetInputPortIndex("mode"), std::any(0));
+    context->FixInputPort(controller.GetInputPortIndex("desired"), desired);
+    Eigen::VectorXd next = context->discrete_state();
+    ASSERT_TRUE(controller.periodic_events().at(0).update(*context, &next).ok());
+    context->get_mutable_discrete_state() = next;
+    const TaskSpaceQpDiagnostics d = controller.EvalTypedOutput<TaskSpaceQpDiagnostics>(*context, "diagnostics");
+    ASSERT_TRUE(d.qp_status.has_value());
+    // The task cost from the answer, independently of the controller's own cost assembly.
+    const Eigen::VectorXd qdd = controller.EvalOutput(*context, "qdd");
+    double cost = 0.0;
+    for (size_t i = 0, off = 0; i < tasks.size(); off += tasks[i]->size(), ++i) {
+      const TaskGains& g = tasks[i]->gains();
+      if (!tasks[i]->IsActiveIn(0)) continue;
+      const int n = tasks[i]->size();
+      const Eigen::VectorXd ydd_star =
+          g.kp * (y_d.segment(off, n) - y.segment(off, n)) - g.kd * (J.middleRows(off, n) * v);
+      cost += 0.5 * g.weight * (J.middleRows(off, n) * qdd + Jdq.segment(off, n) - ydd_star).squaredNorm();
+    }
+    const Eigen::VectorXd F = controller.EvalOutput(*context, "contact_forces");
+    const double Fz = F[3 * model->ContactIndex("left_foot") + 2];
+    std::printf(
+        "  F_min %.0f N: status %s, failures %d, solved %d, relaxed %d, held %d, task cost %.6g (recomputed "
+        "%.6g), planned F_z %.1f N\n",
+        min_normal_force, std::string(to_string(*d.qp_status)).c_str(), d.qp_failures, d.solved, d.relaxed, d.held,
+        d.task_cost, cost, Fz);
+    EXPECT_GE(d.task_cost, 0.0);
+    EXPECT_NEAR(d.task_cost, cost, 1e-9 * (1.0 + cost));
+    EXPECT_GT(d.solve_time_s, 0.0);
+    EXPECT_EQ(d.held, 0);
+    if (min_normal_force == 0.0) {
+      EXPECT_EQ(*d.qp_status, QpStatus::kOptimal);
+      EXPECT_EQ(d.qp_failures, 0);
+      EXPECT_EQ(d.solved, 1);
+      EXPECT_EQ(d.relaxed, 0);
+      EXPECT_GE(Fz, 0.0);  // unilateral contact held
+    } else {
+      EXPECT_EQ(*d.qp_status, QpStatus::kInfeasible);  // the first solve's status, so a relaxed answer is never silent
+      EXPECT_EQ(d.qp_failures, 1);
+      EXPECT_EQ(d.solved, 0);
+      EXPECT_EQ(d.relaxed, 1);
+      EXPECT_LT(Fz, min_normal_force);  // the relaxed answer breaks the dropped bound: it was unattainable
+    }
   }
 }
 
@@ -271,7 +348,7 @@ TEST(TaskSpaceQpController, InfeasibleGrfRowsAreRelaxedKeepingDynamicsAndTorqueL
     if (controller == &relaxing) {
       EXPECT_EQ(failures, 1.0);  // the relaxed answer is used, and still counted and reported
       EXPECT_EQ(status, static_cast<double>(QpStatus::kInfeasible));
-      EXPECT_EQ(controller->relaxed_solves(*context), 1);
+      EXPECT_EQ(controller->diagnostics(*context).relaxed, 1);
       // The relaxed QP kept the dynamics and torque limits: KKT of the QP it solved.
       const DenseQpSolver& qp = controller->last_qp(*context);
       EXPECT_LT((qp.A_eq * qp.x() - qp.b_eq).cwiseAbs().maxCoeff(), 1e-8);

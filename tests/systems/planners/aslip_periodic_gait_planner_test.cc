@@ -24,13 +24,13 @@ using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1>;
 // the plan's nodes, over both domains; SSP→DSP is the identity in Cartesian form.
 double ReintegrationError(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait,
                           Eigen::Vector4d* worst_per_state) {
-  const AslipParams& p = planner.params().aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& p = planner.params().aslip;
   Vec x = gait.collocation.phases[0].states.col(0);
   double worst = 0.0;
   worst_per_state->setZero();
   for (int ph = 0; ph < 2; ++ph) {
     const CollocationPhaseSolution& s = gait.collocation.phases[ph];
-    const AslipContact contact = planner.PhaseContact(ph);
+    const ActuatedSpringLoadedInvertedPendulumContact contact = planner.PhaseContact(ph);
     const int N = static_cast<int>(s.times.size());
     const double h = s.duration / (N - 1);
     const int sub = 200;

@@ -23,12 +23,13 @@ namespace {
 
 using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1>;
 
-double Reintegrate(const AslipParams& p, const AslipTransitionData& d, const AslipTransition& t) {
+double Reintegrate(const ActuatedSpringLoadedInvertedPendulumParams& p, const AslipTransitionData& d,
+                   const AslipTransition& t) {
   Vec x = t.collocation.phases[0].states.col(0);
   double worst = 0.0;
   for (int ph = 0; ph < 2; ++ph) {
     const CollocationPhaseSolution& s = t.collocation.phases[ph];
-    const AslipContact c = AslipTransitionPlanner::PhaseContact(d, ph);
+    const ActuatedSpringLoadedInvertedPendulumContact c = AslipTransitionPlanner::PhaseContact(d, ph);
     const int N = static_cast<int>(s.times.size());
     const double h = s.duration / (N - 1);
     for (int k = 0; k + 1 < N; ++k) {
@@ -50,7 +51,7 @@ double Reintegrate(const AslipParams& p, const AslipTransitionData& d, const Asl
 
 void CheckTransition(const AslipTransitionPlanner& planner, const AslipTransitionData& d, const AslipTransition& t) {
   const AslipTransitionParams& q = planner.params();
-  const AslipParams& p = q.bounds.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& p = q.bounds.aslip;
   ASSERT_TRUE(t.success()) << t.collocation.nlp.message;
   EXPECT_LE(t.max_constraint_violation, 1e-6);
   EXPECT_LE(t.collocation.max_defect, 1e-6);
@@ -67,7 +68,7 @@ void CheckTransition(const AslipTransitionPlanner& planner, const AslipTransitio
   for (int ph = 0; ph < 2; ++ph) {
     const Eigen::MatrixXd G = t.GroundReactions(p, d, ph);
     const CollocationPhaseSolution& s = t.collocation.phases[ph];
-    const AslipContact c = AslipTransitionPlanner::PhaseContact(d, ph);
+    const ActuatedSpringLoadedInvertedPendulumContact c = AslipTransitionPlanner::PhaseContact(d, ph);
     for (Eigen::Index k = 0; k < G.cols(); ++k) {
       for (int leg = 0; leg < 2; ++leg) {
         const double Gz = G(2 * leg + 1, k), u = s.inputs(2 + leg, k);
@@ -148,7 +149,8 @@ AslipTransitionData GaitAToBData(const AslipPeriodicGaitParams& gait_a, const As
 }
 
 // The largest vertical GRF of any leg on any node, in m g.
-double PeakForceFraction(const AslipParams& p, const AslipTransitionData& d, const AslipTransition& t) {
+double PeakForceFraction(const ActuatedSpringLoadedInvertedPendulumParams& p, const AslipTransitionData& d,
+                         const AslipTransition& t) {
   double peak = 0.0;
   for (int ph = 0; ph < 2; ++ph) {
     const Eigen::MatrixXd G = t.GroundReactions(p, d, ph);
@@ -187,7 +189,7 @@ TEST(AslipTransitionPlanner, GaitAToGaitB) {
 }
 
 TEST(AslipTransitionPlanner, RestLengthBalancesTheStaticLoad) {
-  const AslipParams p;
+  const ActuatedSpringLoadedInvertedPendulumParams p;
   for (const double r : {0.85, 0.9, 0.93}) {
     const double F = 0.5 * p.mass * p.gravity;
     const double L = AslipRestLengthForForce(p, r, F);
@@ -196,7 +198,7 @@ TEST(AslipTransitionPlanner, RestLengthBalancesTheStaticLoad) {
   // Standing: the two vertical legs hold the mass in equilibrium (zero acceleration).
   const Eigen::Matrix<double, 8, 1> x = AslipTransitionPlanner::StandingState(p, 0.9);
   const Eigen::Matrix<double, 8, 1> xdot =
-      AslipDynamics<double>(p, AslipContact{true, true, 0, 0}, Vec(x), Vec::Zero(4));
+      AslipDynamics<double>(p, ActuatedSpringLoadedInvertedPendulumContact{true, true, 0, 0}, Vec(x), Vec::Zero(4));
   EXPECT_LT(xdot.segment<2>(2).norm(), 1e-9);
   EXPECT_THROW(AslipRestLengthForForce(p, -1.0, 100.0), std::invalid_argument);
 }
@@ -217,7 +219,7 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
   params.lateral = true;
   params.foot_width_left_of_ankle = params.foot_width_right_of_ankle = 0.03;
   const AslipTransitionPlanner planner(params);
-  const AslipParams& p = params.bounds.aslip;
+  const ActuatedSpringLoadedInvertedPendulumParams& p = params.bounds.aslip;
   AslipTransitionData d;
   d.left_foot_x = 0.0;
   d.right_foot_x = -0.4;
@@ -246,7 +248,7 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
   for (int ph = 0; ph < 2; ++ph) {
     const CollocationPhaseSolution& s = t.collocation.phases[ph];
     const Eigen::MatrixXd G = t.GroundReactions(p, d, ph);
-    const AslipContact c = AslipTransitionPlanner::PhaseContact(d, ph);
+    const ActuatedSpringLoadedInvertedPendulumContact c = AslipTransitionPlanner::PhaseContact(d, ph);
     for (Eigen::Index k = 0; k < G.cols(); ++k) {
       for (int leg = 0; leg < 2; ++leg) {
         const double Gz = G(2 * leg + 1, k), ux = s.inputs(4 + leg, k);
@@ -272,7 +274,7 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
   double worst_y = 0.0;
   for (int ph = 0; ph < 2; ++ph) {
     const CollocationPhaseSolution& s = t.collocation.phases[ph];
-    const AslipContact c = AslipTransitionPlanner::PhaseContact(d, ph);
+    const ActuatedSpringLoadedInvertedPendulumContact c = AslipTransitionPlanner::PhaseContact(d, ph);
     const int N = static_cast<int>(s.times.size());
     const double h = s.duration / (N - 1);
     for (int k = 0; k + 1 < N; ++k) {
@@ -286,7 +288,8 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
         double fy = 0.0;
         for (int leg = 0; leg < 2; ++leg) {
           if (!c.in_contact(leg)) continue;
-          const AslipLeg<double> g = AslipLegState<double>(p, y, leg, c.foot_x(leg), ui(2 + leg));
+          const ActuatedSpringLoadedInvertedPendulumLeg<double> g =
+              AslipLegState<double>(p, y, leg, c.foot_x(leg), ui(2 + leg));
           const double y_cop = g.grf_z != 0.0 ? -ui(4 + leg) / g.grf_z : 0.0;
           fy += g.grf_z * (y(8) - foot_y[leg] - y_cop) / y(1);
         }
@@ -310,13 +313,14 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
 }
 
 TEST(AslipTransitionPlanner, StepStanceStandingStateIsInStaticEquilibrium) {
-  const AslipParams p;
+  const ActuatedSpringLoadedInvertedPendulumParams p;
   const Eigen::Matrix<double, 8, 1> x = AslipTransitionPlanner::StandingState(p, 0.84, 0.0, -0.4);
   EXPECT_NEAR(x(0), -0.2, 1e-12);
   // Sum of the two legs' ground reactions = (0, m g): zero acceleration of the mass.
   double gx = 0.0, gz = 0.0;
   for (int leg = 0; leg < 2; ++leg) {
-    const AslipLeg<double> g = AslipLegState<double>(p, Vec(x), leg, leg == 0 ? 0.0 : -0.4, 0.0);
+    const ActuatedSpringLoadedInvertedPendulumLeg<double> g =
+        AslipLegState<double>(p, Vec(x), leg, leg == 0 ? 0.0 : -0.4, 0.0);
     gx += g.grf_x;
     gz += g.grf_z;
     EXPECT_NEAR(g.grf_z, 0.5 * p.mass * p.gravity, 1e-6);

@@ -21,7 +21,7 @@ using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1>;
 
 TEST(ActuatedSpringLoadedInvertedPendulum, StiffnessAndDampingMatchSpecTable) {
   // Spec §2.1 reference values (c = 2.28), rounded there to 1 N/m and 0.1 N s/m.
-  const AslipParams p;
+  const ActuatedSpringLoadedInvertedPendulumParams p;
   const double L[] = {0.6, 0.7, 0.8, 0.85, 0.9, 0.92, 0.95, 1.0};
   const double K[] = {6569, 7165, 8378, 9510, 11165, 12005, 13483, 16610};
   const double D[] = {98.2, 107.1, 125.4, 142.3, 167.1, 179.6, 201.8, 248.5};
@@ -30,7 +30,7 @@ TEST(ActuatedSpringLoadedInvertedPendulum, StiffnessAndDampingMatchSpecTable) {
     EXPECT_NEAR(AslipDamping(p, L[i]), D[i], 0.05) << "L = " << L[i];
   }
   // c = 1 row of the spec.
-  AslipParams cassie;
+  ActuatedSpringLoadedInvertedPendulumParams cassie;
   cassie.spring_scale = 1.0;
   EXPECT_NEAR(AslipStiffness(cassie, 0.9), 4897, 0.5);
   EXPECT_NEAR(AslipDamping(cassie, 1.0), 109.0, 0.05);
@@ -60,7 +60,7 @@ Eigen::Vector2d PolarToCartesian(const Polar& P, double rdd, double qdd) {
 }
 
 TEST(ActuatedSpringLoadedInvertedPendulum, CartesianFormEqualsPolarAppendix) {
-  const AslipParams p;
+  const ActuatedSpringLoadedInvertedPendulumParams p;
   const double m = p.mass, g = p.gravity;
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> U(-1, 1);
@@ -81,7 +81,7 @@ TEST(ActuatedSpringLoadedInvertedPendulum, CartesianFormEqualsPolarAppendix) {
       const double rdd1 = F1 / m - g * std::cos(P1.q) + P1.r * P1.qd * P1.qd;
       const double qdd1 = (-2 * P1.qd * P1.rd + g * std::sin(P1.q) + u1 / (m * P1.r)) / P1.r;
       const Eigen::Vector2d expected = PolarToCartesian(P1, rdd1, qdd1);
-      AslipContact c{true, false, f1, f2};
+      ActuatedSpringLoadedInvertedPendulumContact c{true, false, f1, f2};
       const Eigen::Matrix<double, 8, 1> xdot = AslipDynamics<double>(p, c, x, u);
       EXPECT_NEAR((xdot.segment<2>(2) - expected).norm(), 0.0, 1e-12) << "SSP trial " << trial;
       EXPECT_EQ(xdot(6), u(0));
@@ -98,7 +98,7 @@ TEST(ActuatedSpringLoadedInvertedPendulum, CartesianFormEqualsPolarAppendix) {
           (F2 + F1 * std::cos(dq)) / m - g * std::cos(P2.q) + P2.r * P2.qd * P2.qd - u1 * std::sin(dq) / (m * P1.r);
       const double qdd2 = (-2 * P2.qd * P2.rd + g * std::sin(P2.q) + F1 * std::sin(dq) / m) / P2.r +
                           std::cos(dq) * u1 / (m * P1.r * P2.r) + u2 / (m * P2.r * P2.r);
-      AslipContact c{true, true, f1, f2};
+      ActuatedSpringLoadedInvertedPendulumContact c{true, true, f1, f2};
       const Eigen::Matrix<double, 8, 1> xdot = AslipDynamics<double>(p, c, x, u);
       EXPECT_NEAR((xdot.segment<2>(2) - PolarToCartesian(P1, rdd1, qdd1)).norm(), 0.0, 1e-12) << "DSP leg 1 " << trial;
       EXPECT_NEAR((xdot.segment<2>(2) - PolarToCartesian(P2, rdd2, qdd2)).norm(), 0.0, 1e-12) << "DSP leg 2 " << trial;
@@ -130,17 +130,17 @@ Vec Rk4(const F& f, const Vec& x, double h) {
 }
 
 TEST(ActuatedSpringLoadedInvertedPendulum, EnergyConservedWithoutDampingAtFixedRestLength) {
-  AslipParams p;
+  ActuatedSpringLoadedInvertedPendulumParams p;
   p.d4 = p.d2 = p.d1 = p.d0 = 0.0;  // D = 0
   for (const bool dsp : {false, true}) {
-    AslipContact c{true, dsp, -0.05, 0.3};
+    ActuatedSpringLoadedInvertedPendulumContact c{true, dsp, -0.05, 0.3};
     Vec x(8), u = Vec::Zero(4);
     x << 0.02, 0.9, 0.5, -0.1, 0.97, 0.98, 0.0, 0.0;  // L̇ = 0 and L̈ = 0: L fixed
     auto energy = [&](const Vec& s) {
       double E = p.mass * p.gravity * s(1) + 0.5 * p.mass * s.segment<2>(2).squaredNorm();
       for (int leg = 0; leg < 2; ++leg) {
         if (!c.in_contact(leg)) continue;
-        const AslipLeg<double> g = AslipLegState<double>(p, s, leg, c.foot_x(leg), 0.0);
+        const ActuatedSpringLoadedInvertedPendulumLeg<double> g = AslipLegState<double>(p, s, leg, c.foot_x(leg), 0.0);
         E += 0.5 * AslipStiffness(p, s(4 + leg)) * g.spring * g.spring;  // ∫ K ds with K constant
       }
       return E;
@@ -158,17 +158,18 @@ TEST(ActuatedSpringLoadedInvertedPendulum, EnergyConservedWithoutDampingAtFixedR
 }
 
 TEST(ActuatedSpringLoadedInvertedPendulum, PositiveAnkleTorqueOnAVerticalLegPushesTheMassBack) {
-  const AslipParams p;
+  const ActuatedSpringLoadedInvertedPendulumParams p;
   Vec x(8), u(4);
   x << 0.0, 0.9, 0, 0, 0.9, 0.9, 0, 0;
   u << 0, 0, 50, 0;
-  const Eigen::Matrix<double, 8, 1> xdot = AslipDynamics<double>(p, AslipContact{true, false, 0, 0}, x, u);
+  const Eigen::Matrix<double, 8, 1> xdot =
+      AslipDynamics<double>(p, ActuatedSpringLoadedInvertedPendulumContact{true, false, 0, 0}, x, u);
   EXPECT_NEAR(xdot(2), -50 / (0.9 * p.mass), 1e-12);
   // COP: x_cop − x_pivot = u / G_z (moment of G about the pivot is u).
   x(0) = 0.1;
   x(1) = 0.85;
   x(4) = 0.95;
-  const AslipLeg<double> g = AslipLegState<double>(p, x, 0, 0.0, 50.0);
+  const ActuatedSpringLoadedInvertedPendulumLeg<double> g = AslipLegState<double>(p, x, 0, 0.0, 50.0);
   EXPECT_NEAR(x(0) * g.grf_z - x(1) * g.grf_x, 50.0, 1e-10);
 }
 
