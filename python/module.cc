@@ -56,6 +56,10 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindSimulator(m);
   rome::python::BindSolvers(m);
   rome::python::BindBlocks(m);
+  rome::python::BindMultibody(m);
+  rome::python::BindReducedOrderModels(m);
+  rome::python::BindPlanners(m);
+  rome::python::BindCollocation(m);
   rome::python::BindSteppingStones(m);
   rome::python::BindLocomotionRuns(m);
 }
