@@ -93,36 +93,44 @@ def test_spring_mass_jump_lifts_off_with_the_apex_rise_speed():
     assert abs(lift_off_force) < 0.02 * rom.mass * G
 
 
+def lateral_step(y, ydot, dt, a, pivot=None):
+    """One zero-order-hold interval of the lateral dynamics: SSP y'' = lam^2 (y - pivot) + a, DSP y'' = a."""
+    if pivot is None:
+        return y + ydot * dt + a * dt**2 / 2, ydot + a * dt
+    lam = math.sqrt(G / 0.9)
+    c = pivot - a / lam**2
+    return (c + (y - c) * math.cosh(lam * dt) + ydot / lam * math.sinh(lam * dt),
+            (y - c) * lam * math.sinh(lam * dt) + ydot * math.cosh(lam * dt))
+
+
 def test_footed_hlip_transition_states_follow_the_lateral_dynamics():
     params = rome.FootedHlipTransitionParams()
-    m, z0 = params.mass, 0.9
-    lam = math.sqrt(G / z0)
-    times = np.linspace(0.0, 0.5, 11)  # DSP 0.1 s (2 intervals), SSP on the left foot 0.4 s (8 intervals)
+    m, z0, left_y = params.mass, 0.9, 0.1
+    times = np.linspace(0.0, 0.5, 11)  # DSP 0.1 s (2 intervals), then SSP on the left foot 0.4 s (8 intervals)
     ssp = [False] * 2 + [True] * 8
     weight = m * G
-    left = np.full(11, weight)
+    left = np.concatenate([np.full(3, weight / 2), np.full(8, weight)])
     right = np.concatenate([np.full(3, weight / 2), np.zeros(8)])
-    left[:3] = weight / 2
+    # A feasible motion: ankle torques inside the ZMP bounds (|u| <= W F), integrated here; its end is the target.
+    feasible_left = np.array([5.0, 5.0] + [10.0] * 8 + [0.0])
+    feasible_right = np.array([5.0, 5.0] + [0.0] * 9)
+    y, ydot = 0.02, 0.0
+    for k in range(10):
+        a = (feasible_left[k] + feasible_right[k]) / (m * z0)
+        y, ydot = lateral_step(y, ydot, times[k + 1] - times[k], a, left_y if ssp[k] else None)
     data = rome.FootedHlipTransitionData(node_times=times, single_support=ssp, stance_left=True,
-                                         left_normal_force=left, right_normal_force=right, left_foot_y=0.1,
-                                         right_foot_y=-0.1, z0=z0, initial_state=[0.0, 0.0],
-                                         final_state=[0.05, 0.1])
+                                         left_normal_force=left, right_normal_force=right, left_foot_y=left_y,
+                                         right_foot_y=-0.1, z0=z0, initial_state=[0.02, 0.0], final_state=[y, ydot])
     plan = rome.FootedHlipTransitionPlanner(params).solve(data)
     assert plan["success"], plan["message"]
     Y = plan["states"]
     u_total = plan["left_torque"] + plan["right_torque"]
-    assert Y[:, 0] == pytest.approx([0.0, 0.0], abs=1e-9) and Y[:, -1] == pytest.approx([0.05, 0.1], abs=1e-9)
+    assert list(Y[:, -1]) == pytest.approx([y, ydot], abs=1e-9)
     for k in range(10):
-        dt = times[k + 1] - times[k]
-        y, ydot = Y[:, k]
         a = u_total[k] / (m * z0)
-        if ssp[k]:  # y'' = lam^2 (y - c) with c = y_stance - a / lam^2
-            c = 0.1 - a / lam**2
-            y1 = c + (y - c) * math.cosh(lam * dt) + ydot / lam * math.sinh(lam * dt)
-            v1 = (y - c) * lam * math.sinh(lam * dt) + ydot * math.cosh(lam * dt)
-        else:
-            y1, v1 = y + ydot * dt + a * dt**2 / 2, ydot + a * dt
-        assert [y1, v1] == pytest.approx(list(Y[:, k + 1]), abs=1e-9)
-    # The ZMP bounds Eq. (14): the COP stays on the soles.
+        expected = lateral_step(*Y[:, k], times[k + 1] - times[k], a, left_y if ssp[k] else None)
+        assert list(expected) == pytest.approx(list(Y[:, k + 1]), abs=1e-9)
+    # Eq. (14): the COP stays on the soles; Eq. (15): no more effort than the feasible motion's.
     assert np.all(np.abs(plan["left_torque"]) <= params.foot_width_left_of_ankle * left + 1e-9)
     assert np.all(np.abs(plan["right_torque"]) <= params.foot_width_right_of_ankle * right + 1e-9)
+    assert plan["cost"] <= np.sum(feasible_left**2 + feasible_right**2) + 1e-9
