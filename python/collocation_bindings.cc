@@ -133,12 +133,17 @@ void BindCollocation(py::module_& m) {
         CollocationProblem p;
         p.input_port = input_port;
         p.num_nodes = num_nodes;
-        if (py::isinstance<py::tuple>(duration) || py::isinstance<py::list>(duration)) {
-          const auto range = duration.cast<std::pair<double, double>>();
-          p.min_duration = range.first;
-          p.max_duration = range.second;
-        } else {
-          p.min_duration = p.max_duration = duration.cast<double>();
+        try {
+          if (py::isinstance<py::tuple>(duration) || py::isinstance<py::list>(duration)) {
+            const auto range = duration.cast<std::pair<double, double>>();
+            p.min_duration = range.first;
+            p.max_duration = range.second;
+          } else {
+            p.min_duration = p.max_duration = duration.cast<double>();
+          }
+        } catch (const py::cast_error&) {
+          throw py::value_error("solve_collocation: duration must be a number of seconds or a (min, max) pair, got " +
+                                std::string(py::str(py::repr(duration))));
         }
         p.method = method;
         p.initial_state = initial_state;

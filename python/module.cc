@@ -58,6 +58,7 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindBlocks(m);
   rome::python::BindMultibody(m);
   rome::python::BindReducedOrderModels(m);
+  rome::python::BindActuatedSpringLoadedInvertedPendulum(m);
   rome::python::BindPlanners(m);
   rome::python::BindCollocation(m);
   rome::python::BindSteppingStones(m);

@@ -1,6 +1,7 @@
 // Python bindings of the multibody robot model (systems/multibody): MultibodyModel loaded from a robot file, with its
 // facts (nq, nv, joint names, limits, mass) and its dynamics on numpy arrays. Each Python MultibodyModel owns one
 // MultibodyWorkspace (Pinocchio's model/data pair in one object), so its calls are not for several threads at once.
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -26,6 +27,10 @@ struct PyMultibodyModel {
     if (x.size() != size)
       throw py::value_error("MultibodyModel '" + model.name() + "': " + what + " has " + std::to_string(x.size()) +
                             " entries, expected " + std::to_string(size));
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      if (!std::isfinite(x[i]))
+        throw py::value_error("MultibodyModel '" + model.name() + "': " + what + "[" + std::to_string(i) +
+                              "] = " + std::to_string(x[i]) + " is not finite");
   }
   Eigen::MatrixXd MassMatrix(const Eigen::VectorXd& q) {
     Check(q, model.nq(), "q");

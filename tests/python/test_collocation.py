@@ -68,5 +68,7 @@ def test_a_cpp_block_without_input_follows_its_closed_form():
 def test_bad_input_names_the_argument():
     with pytest.raises(ValueError, match="final_state has 3 entries, expected 2"):
         rome.solve_collocation(DoubleIntegrator(), input_port="u", final_state=[1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"duration must be a number of seconds or a \(min, max\) pair, got \(1, 2, 3\)"):
+        rome.solve_collocation(DoubleIntegrator(), input_port="u", duration=(1, 2, 3))
     with pytest.raises(ValueError, match="method must be"):
         rome.solve_collocation(DoubleIntegrator(), input_port="u", method="euler")

@@ -103,6 +103,8 @@ def test_bad_input_names_the_model_and_the_size():
     model = rome.MultibodyModel.load(ROBOTS[0])
     with pytest.raises(ValueError, match=r"MultibodyModel 'amber.*': q has 3 entries, expected"):
         model.mass_matrix(np.zeros(3))
+    with pytest.raises(ValueError, match=r"v\[0\] = nan is not finite"):
+        model.bias_forces(model.q_nominal, np.full(model.nv, np.nan))
     with pytest.raises(ValueError, match="u has"):
         model.forward_dynamics(model.q_nominal, np.zeros(model.nv), np.zeros(model.nu + 1))
     with pytest.raises(RuntimeError, match="no_such_robot"):

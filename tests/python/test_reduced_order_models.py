@@ -123,3 +123,33 @@ def test_params_have_keyword_constructors_and_a_readable_repr():
     assert repr(p).startswith("HybridLinearInvertedPendulumParams(z0=1.0, ssp_duration=")
     with pytest.raises(TypeError, match="no field 'height'"):
         rome.LinearInvertedPendulumParams(height=1.0)
+
+
+def test_aslip_without_damping_conserves_energy_and_its_grf_is_the_leg_force():
+    """Both legs on the ground at fixed rest lengths, no damping: the mass bounces on two linear springs of stiffness
+    c K(L); 1/2 m |pdot|^2 + m g z + sum 1/2 c K(L) s^2 is constant, and the ground reaction of each leg is
+    F e with F = c K(L) s along the leg (walking paper, Appendix 3)."""
+    aslip = rome.ActuatedSpringLoadedInvertedPendulumParams(d4=0.0, d2=0.0, d1=0.0, d0=0.0)
+    L0, feet = 0.97, (-0.05, 0.05)
+    state = [0.01, 0.935, 0.0, 0.0, L0, L0, 0.0, 0.0]
+    params = rome.ActuatedSpringLoadedInvertedPendulumSystemParams(aslip=aslip, initial_state=state,
+                                                                   initial_left_foot_x=feet[0],
+                                                                   initial_right_foot_x=feet[1])
+    system = rome.ActuatedSpringLoadedInvertedPendulumSystem("aslip", params)
+    log, sim = simulate(system, {"leg_length_acceleration": [0.0, 0.0], "next_foothold": [0.3]}, 1.0,
+                        ["state", "grf"])
+    assert not [e for e in sim.statistics.events if e.system == "aslip"]  # stays in double support
+    c, m = aslip.spring_scale, aslip.mass
+    K = c * (aslip.k4 * L0**4 + aslip.k2 * L0**2 + aslip.k1 * L0 + aslip.k0)
+    x, z = log["aslip.state[0]"], log["aslip.state[1]"]
+    xdot, zdot = log["aslip.state[2]"], log["aslip.state[3]"]
+    energy = 0.5 * m * (xdot**2 + zdot**2) + m * G * z
+    for i, foot in enumerate(feet):
+        r = np.hypot(x - foot, z)
+        s = L0 - r
+        energy += 0.5 * K * s**2
+        F = K * s
+        assert np.allclose(log[f"aslip.grf[{2 * i}]"], F * (x - foot) / r, atol=1e-6)
+        assert np.allclose(log[f"aslip.grf[{2 * i + 1}]"], F * z / r, atol=1e-6)
+    assert np.ptp(z) > 0.005  # it moves
+    assert np.ptp(energy) < 1e-7 * energy[0]
