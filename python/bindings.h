@@ -36,7 +36,6 @@ void BindSolvers(pybind11::module_& m);
 void BindBlocks(pybind11::module_& m);
 void BindMultibody(pybind11::module_& m);
 void BindReducedOrderModels(pybind11::module_& m);
-void BindActuatedSpringLoadedInvertedPendulum(pybind11::module_& m);
 void BindPlanners(pybind11::module_& m);
 void BindCollocation(pybind11::module_& m);
 void BindSteppingStones(pybind11::module_& m);

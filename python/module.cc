@@ -10,6 +10,9 @@
 namespace py = pybind11;
 
 namespace rome::python {
+
+void BindActuatedSpringLoadedInvertedPendulum(py::module_& m);  // aslip_bindings.cc
+
 namespace {
 
 std::mutex adopted_mutex;
