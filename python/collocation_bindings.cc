@@ -40,14 +40,14 @@ void CheckSize(const Eigen::VectorXd& v, int n, const char* what) {
 
 struct CollocationProblem {
   std::string input_port;
-  int num_nodes = 21;
+  int num_nodes = CollocationPhase{}.num_nodes;
   double min_duration = 1.0, max_duration = 1.0;
   std::string method = "trapezoidal";
   Eigen::VectorXd initial_state, final_state;
   Eigen::VectorXd state_lower, state_upper, input_lower, input_upper;
   Eigen::MatrixXd Q, R;
   double duration_cost = 0.0;
-  double tolerance = 1e-8;
+  double tolerance = IpoptSolverOptions{}.tolerance;  // Ipopt `tol`
 };
 
 py::dict SolveCollocation(const LeafSystem& system, const CollocationProblem& p) {
@@ -158,12 +158,13 @@ void BindCollocation(py::module_& m) {
         p.tolerance = tolerance;
         return SolveCollocation(system, p);
       },
-      py::arg("system"), py::arg("input_port") = "", py::arg("num_nodes") = 21, py::arg("duration") = py::float_(1.0),
-      py::arg("method") = "trapezoidal", py::arg("initial_state") = Eigen::VectorXd(),
-      py::arg("final_state") = Eigen::VectorXd(), py::arg("state_lower") = Eigen::VectorXd(),
-      py::arg("state_upper") = Eigen::VectorXd(), py::arg("input_lower") = Eigen::VectorXd(),
-      py::arg("input_upper") = Eigen::VectorXd(), py::arg("Q") = Eigen::MatrixXd(), py::arg("R") = Eigen::MatrixXd(),
-      py::arg("duration_cost") = 0.0, py::arg("tolerance") = 1e-8,
+      py::arg("system"), py::arg("input_port") = "", py::arg("num_nodes") = CollocationPhase{}.num_nodes,
+      py::arg("duration") = py::float_(1.0), py::arg("method") = "trapezoidal",
+      py::arg("initial_state") = Eigen::VectorXd(), py::arg("final_state") = Eigen::VectorXd(),
+      py::arg("state_lower") = Eigen::VectorXd(), py::arg("state_upper") = Eigen::VectorXd(),
+      py::arg("input_lower") = Eigen::VectorXd(), py::arg("input_upper") = Eigen::VectorXd(),
+      py::arg("Q") = Eigen::MatrixXd(), py::arg("R") = Eigen::MatrixXd(), py::arg("duration_cost") = 0.0,
+      py::arg("tolerance") = IpoptSolverOptions{}.tolerance,
       "Direct collocation (one phase) of a leaf system's dynamics xdot = f(x, u), u on `input_port`:\n"
       "  min  integral of x^T Q x + u^T R u dt + duration_cost T\n"
       "  s.t. x(0) = initial_state, x(T) = final_state (each optional), bounds at every node,\n"
