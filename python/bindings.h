@@ -34,6 +34,10 @@ void BindSimulator(pybind11::module_& m);
 void BindLeafSystem(pybind11::module_& m);
 void BindSolvers(pybind11::module_& m);
 void BindBlocks(pybind11::module_& m);
+void BindMultibody(pybind11::module_& m);
+void BindReducedOrderModels(pybind11::module_& m);
+void BindPlanners(pybind11::module_& m);
+void BindCollocation(pybind11::module_& m);
 void BindSteppingStones(pybind11::module_& m);
 void BindLocomotionRuns(pybind11::module_& m);
 

@@ -1,16 +1,73 @@
-// Python bindings of a few C++ blocks (systems/): the LIP flow and the LQR state-feedback controller.
+// Python bindings of C++ blocks (systems/): the LIP flow, the controllers (LQR state feedback, joint PD) and the
+// parameter structs of the CLF-QP and task-space QP controllers (the controllers themselves are built by the
+// diagrams, whose parameters hold these structs).
 #include <string>
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "python/bindings.h"
+#include "python/params.h"
+#include "systems/controllers/clf_qp_controller.h"
+#include "systems/controllers/joint_pd_controller.h"
 #include "systems/controllers/lqr_controller.h"
+#include "systems/controllers/task_space_qp_controller.h"
 #include "systems/rom/linear_inverted_pendulum_system.h"
 
 namespace py = pybind11;
 
 namespace rome::python {
+namespace {
+
+void BindControllerParams(py::module_& m) {
+  py::enum_<ClfQpFormulation>(m, "ClfQpFormulation")
+      .value("eliminate_contact_forces", ClfQpFormulation::kEliminateContactForces)
+      .value("augmented_input", ClfQpFormulation::kAugmentedInput);
+  ParamsClass<ClfQpParams>(m, "ClfQpParams", "CLF-QP controller (systems/controllers/clf_qp_controller.h).")
+      .Field("update_period_s", &ClfQpParams::update_period_s, "[s]")
+      .Field("formulation", &ClfQpParams::formulation)
+      .Field("epsilon", &ClfQpParams::epsilon, "[-] RES-CLF epsilon")
+      .Field("gamma", &ClfQpParams::gamma, "[-] <= 0: lambda_min(Q)/lambda_max(P)")
+      .Field("relaxation_weight", &ClfQpParams::relaxation_weight, "[-] p on delta^2 / 2")
+      .Field("u_regularization", &ClfQpParams::u_regularization, "[-]")
+      .Field("force_band", &ClfQpParams::force_band)
+      .Field("force_band_halfwidth", &ClfQpParams::force_band_halfwidth, "[-] c of Eq. (25)")
+      .Field("torque_limits", &ClfQpParams::torque_limits, "[N m]; empty: the model's")
+      .Field("resolve_at_events", &ClfQpParams::resolve_at_events);
+  py::enum_<QpFailurePolicy>(m, "QpFailurePolicy")
+      .value("relax_contact_forces", QpFailurePolicy::kRelaxContactForces)
+      .value("hold_previous", QpFailurePolicy::kHoldPrevious)
+      .value("zero_torque", QpFailurePolicy::kZeroTorque);
+  ParamsClass<TaskSpaceQpParams>(m, "TaskSpaceQpParams",
+                                 "Task-space QP controller (systems/controllers/task_space_qp_controller.h).")
+      .Field("update_period_s", &TaskSpaceQpParams::update_period_s, "[s]")
+      .Field("qdd_regularization", &TaskSpaceQpParams::qdd_regularization)
+      .Field("u_regularization", &TaskSpaceQpParams::u_regularization)
+      .Field("force_regularization", &TaskSpaceQpParams::force_regularization)
+      .Field("min_normal_force_N", &TaskSpaceQpParams::min_normal_force_N, "[N]")
+      .Field("friction_coefficient", &TaskSpaceQpParams::friction_coefficient, "[-] < 0: the model's")
+      .Field("friction_margin", &TaskSpaceQpParams::friction_margin, "[-]")
+      .Field("torque_limits", &TaskSpaceQpParams::torque_limits, "[N m]; empty: the model's")
+      .Field("resolve_at_events", &TaskSpaceQpParams::resolve_at_events)
+      .Field("failure_policy", &TaskSpaceQpParams::failure_policy);
+}
+
+void BindJointPd(py::module_& m) {
+  ParamsClass<JointPdGains>(m, "JointPdGains", "Per-actuator gains of JointPdController.")
+      .Field("kp", &JointPdGains::kp, "[N m/rad]")
+      .Field("kd", &JointPdGains::kd, "[N m s/rad]")
+      .Field("q_des", &JointPdGains::q_des, "[rad]")
+      .Field("u_ff", &JointPdGains::u_ff, "[N m]");
+  py::class_<JointPdController, LeafSystem, Holder<JointPdController>>(
+      m, "JointPdController",
+      "u = u_ff + Kp (q_des - B^T q) - Kd B^T v on the actuated joints. Input state [q; v] (2 nv), output u (nu).")
+      .def(py::init([](std::string name, const Eigen::MatrixXd& B, const JointPdGains& gains) {
+             return new JointPdController(std::move(name), B, gains);
+           }),
+           py::arg("name"), py::arg("B"), py::arg("gains"));
+}
+
+}  // namespace
 
 void BindBlocks(py::module_& m) {
   py::class_<LinearInvertedPendulumSystem, LeafSystem, Holder<LinearInvertedPendulumSystem>>(
@@ -40,6 +97,8 @@ void BindBlocks(py::module_& m) {
            py::arg("name"), py::arg("linearization"), py::arg("Q"), py::arg("R"))
       .def_property_readonly("K", &LqrController::K)
       .def_property_readonly("S", &LqrController::S);
+  BindJointPd(m);
+  BindControllerParams(m);
 }
 
 }  // namespace rome::python

@@ -1,8 +1,11 @@
 // Python bindings of the walking and hopping runs (diagrams/walking/walking_run.h, diagrams/hopping/hopping_run.h):
 // plan → build → run, as the walking and hopping programs do, with the results as dicts (the programs' JSON metrics).
+#include <algorithm>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include "diagrams/hopping/hopping_run.h"
@@ -18,11 +21,49 @@ namespace {
 
 py::object JsonToPython(const std::string& json_text) { return py::module_::import("json").attr("loads")(json_text); }
 
-/// Plan → build → RunWalking as examples/walking does for its stand-to-walk and periodic scenarios.
+/// Per control tick of a walking run: the COM and its plan, the plant's and the plan's normal forces (N x 3, N x 3,
+/// N x 2, N x 2), the plant's mode and the steps so far.
+struct WalkingSeries {
+  std::vector<double> t, mode, steps;
+  std::vector<double> com, com_reference, force, force_reference;
+
+  void Record(const WalkingRunSample& s) {
+    if (!s.tick) return;
+    t.push_back(s.t);
+    mode.push_back(s.mode);
+    steps.push_back(s.steps);
+    for (int i = 0; i < 3; ++i) com.push_back(s.com[i]), com_reference.push_back(s.reference.com_position[i]);
+    const Eigen::VectorXd& f = *s.contact_forces;  // [F_left; F_right], world, N
+    const int half = static_cast<int>(f.size()) / 2;
+    force.push_back(f[half - 1]), force.push_back(f[f.size() - 1]);  // the normal (z) rows of the left and right foot
+    force_reference.push_back(s.reference.normal_force[0]), force_reference.push_back(s.reference.normal_force[1]);
+  }
+  static py::array_t<double> Array(const std::vector<double>& v, py::ssize_t columns) {
+    const auto rows = static_cast<py::ssize_t>(v.size()) / columns;
+    py::array_t<double> a = columns > 1 ? py::array_t<double>({rows, columns}) : py::array_t<double>(rows);
+    std::copy(v.begin(), v.end(), a.mutable_data());
+    return a;
+  }
+  py::dict ToDict() const {
+    py::dict d;
+    d["time"] = Array(t, 1);
+    d["mode"] = Array(mode, 1);
+    d["steps"] = Array(steps, 1);
+    d["com"] = Array(com, 3);
+    d["com_reference"] = Array(com_reference, 3);
+    d["normal_force"] = Array(force, 2);
+    d["normal_force_reference"] = Array(force_reference, 2);
+    return d;
+  }
+};
+
+/// Plan → build → RunWalking as examples/walking does for its stand-to-walk, gait-change and periodic scenarios.
 py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gait, int steps,
-                                const std::string& scenario, unsigned seed, WalkingRunParams run) {
-  if (scenario != "stand-to-walk" && scenario != "periodic")
-    throw py::value_error("run_walking: scenario must be 'stand-to-walk' or 'periodic', got '" + scenario + "'");
+                                const std::string& scenario, unsigned seed, WalkingRunParams run,
+                                const WalkingGait& gait_b, bool record) {
+  if (scenario != "stand-to-walk" && scenario != "periodic" && scenario != "gait-change")
+    throw py::value_error("run_walking: scenario must be 'stand-to-walk', 'gait-change' or 'periodic', got '" +
+                          scenario + "'");
   if (steps < 1 || steps > 1000)
     throw py::value_error("run_walking: steps = " + std::to_string(steps) + " is outside [1, 1000]");
   if (scenario == "periodic") {
@@ -30,6 +71,8 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
     run.start_at_rest = false;
   }
   run.Validate();
+  gait.Validate("run_walking: gait");
+  if (scenario == "gait-change") gait_b.Validate("run_walking: gait_b");
   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(robot));
   CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input (ValueError), as in examples/walking
   const WalkingDiagramParams diagram_params;
@@ -37,13 +80,22 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
   stand.sole = SoleOf(*model, "left_foot");
   stand.plan_check = WalkingPoseCheck(model, diagram_params);
   const int planned = steps + run.trailing_steps;
-  const WalkingPlan plan = scenario == "periodic" ? BuildPeriodicWalkingPlan(gait, planned, seed, nullptr, stand)
-                                                  : BuildStandToWalkPlan(gait, planned, seed, nullptr, nullptr, stand);
+  WalkingPlan plan;
+  if (scenario == "periodic")
+    plan = BuildPeriodicWalkingPlan(gait, planned, seed, nullptr, stand);
+  else if (scenario == "gait-change")
+    plan = BuildGaitChangePlan(gait, gait_b, steps, seed, nullptr, nullptr, stand, planned);
+  else
+    plan = BuildStandToWalkPlan(gait, planned, seed, nullptr, nullptr, stand);
   const WalkingDiagram d = BuildWalkingDiagram(model, plan, diagram_params);
-  const WalkingRunResult r = RunWalking(d, run);
+  WalkingSeries series;
+  WalkingRunObserver observer;
+  if (record) observer = [&series](const Context&, const WalkingRunSample& s) { series.Record(s); };
+  const WalkingRunResult r = RunWalking(d, run, observer);
   py::dict result(JsonToPython(r.ToJson()));
   result["wall_s"] = r.wall_s;
   result["simulated_s"] = r.simulated_s;
+  if (record) result["series"] = series.ToDict();
   return result;
 }
 
@@ -101,8 +153,13 @@ void BindLocomotionRuns(py::module_& m) {
   m.def("run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json",
         py::arg("gait") = WalkingGait{}, py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk",
         py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
-        "Plans (stand-to-walk or periodic), builds the walking diagram and runs it (RunWalking). Returns the walking "
-        "program's summary metrics as a dict (success, steps_completed, ...), plus wall_s and simulated_s.");
+        py::arg("gait_b") =
+            WalkingGait{.step_length_m = 0.40, .ssp_duration_s = 0.40, .dsp_duration_s = 0.10, .step_width_m = 0.25},
+        py::arg("record") = false,
+        "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram and runs "
+        "it (RunWalking). Returns the walking program's summary metrics as a dict (success, steps_completed, ...), "
+        "plus wall_s and simulated_s; with record=True also 'series': per control tick time, mode, steps, com and "
+        "com_reference (N x 3, m), normal_force and normal_force_reference (N x 2, N; left, right).");
   m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1,
         py::arg("apex_rise_m") = SpringMassJumpParams{}.apex_rise, py::arg("leg_stiffness") = "identified",
         py::arg("run") = HoppingRunParams{},

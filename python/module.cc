@@ -10,6 +10,9 @@
 namespace py = pybind11;
 
 namespace rome::python {
+
+void BindActuatedSpringLoadedInvertedPendulum(py::module_& m);  // aslip_bindings.cc
+
 namespace {
 
 std::mutex adopted_mutex;
@@ -56,6 +59,11 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindSimulator(m);
   rome::python::BindSolvers(m);
   rome::python::BindBlocks(m);
+  rome::python::BindMultibody(m);
+  rome::python::BindReducedOrderModels(m);
+  rome::python::BindActuatedSpringLoadedInvertedPendulum(m);
+  rome::python::BindPlanners(m);
+  rome::python::BindCollocation(m);
   rome::python::BindSteppingStones(m);
   rome::python::BindLocomotionRuns(m);
 }
