@@ -175,6 +175,7 @@ struct SoleGeometry {
 /// naming the robot and contact if the contact is not flat or the ankle is not over the sole.
 SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact);
 
+struct WalkingNlpReport;
 /// Choices of the stand-to-walk plan beyond the gait.
 struct StandToWalkParams {
   /// [m] COM (ROM mass) height standing, and the aSLIP height range of the periodic and transition NLPs (ours;
@@ -271,6 +272,9 @@ struct StandToWalkParams {
   /// the direct plan of (0.33 m, 0.40 s, 0.12 s, 0.26 m) puts the COM 0.90 m high over the 0.4 m step stance, which
   /// the legs cannot reach (SolveWalkingPose residual 0.6 mm); through the lead-in it walks.
   std::function<void(const WalkingPlan&)> plan_check;
+  /// Called after every transition NLP the plan builders solve or load (standing, changes, chain links; failures
+  /// too) with its wall time, iterations and largest constraint violation (empty: none), e.g. to time them.
+  std::function<void(const WalkingNlpReport&)> on_transition_nlp;
   /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph
   /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
   bool chain_gait_changes = true;
