@@ -35,15 +35,6 @@ Eigen::Vector3d Eval(const Eigen::Matrix<double, 6, 1>& c, double tau) {
   for (int k = 5; k >= 2; --k) r(2) = r(2) * tau + k * (k - 1) * c(k);
   return r;
 }
-// The front foot's share of the load along a phase, s ∈ [0, 1] → [0, 1]. kLinear where a foot's force starts or ends
-// at 0 (the plant releases a foot at 1 % of m g: a ramp flat at 0 would release it early, 10 % of the phase for a
-// minimum-jerk one); kEaseOut (slope 2 at 0, flat at 1) where the landed foot loads up to its half.
-enum class Ramp { kLinear, kEaseOut };
-double RampAt(Ramp r, double s) {
-  s = std::clamp(s, 0.0, 1.0);
-  return r == Ramp::kLinear ? s : 1.0 - (1.0 - s) * (1.0 - s);
-}
-
 // One phase of the stop on its nodes: times from the phase start, sagittal [x, z, ẋ, ż, ẍ, z̈] (x world) and the
 // normal forces [F_L, F_R].
 struct StopPhase {
@@ -52,17 +43,24 @@ struct StopPhase {
   Eigen::MatrixXd sagittal, forces;
 };
 
+// The phase's COM quintics in x, z and a lateral design y; the load split puts the lateral centre of pressure of the
+// point mass, y − z ÿ / (g + z̈), between the feet where the design needs it (front share (p_y − y_other) / (y_front −
+// y_other), clipped to [0, 1]; the footed H-LIP QP then plans y on these forces with the soles' roll torques). Moving
+// the COM sideways needs the centre of pressure on its far side first: a split that followed the COM would push it
+// back.
 StopPhase MakePhase(WalkingDomain domain, double T, int n, const Eigen::Matrix<double, 6, 1>& cx,
-                    const Eigen::Matrix<double, 6, 1>& cz, double mass, double g, int front, double share_from,
-                    double share_to, Ramp ramp = Ramp::kLinear) {
+                    const Eigen::Matrix<double, 6, 1>& cz, const Eigen::Matrix<double, 6, 1>& cy, double mass, double g,
+                    int front, double y_front, double y_other) {
   StopPhase p;
   p.domain = domain;
   p.t = Eigen::VectorXd::LinSpaced(n, 0.0, T);
   p.sagittal.resize(6, n), p.forces.resize(2, n);
   for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3d x = Eval(cx, p.t(k)), z = Eval(cz, p.t(k));
+    const Eigen::Vector3d x = Eval(cx, p.t(k)), z = Eval(cz, p.t(k)), y = Eval(cy, p.t(k));
     p.sagittal.col(k) << x(0), z(0), x(1), z(1), x(2), z(2);
-    const double total = mass * (g + z(2)), share = share_from + (share_to - share_from) * RampAt(ramp, p.t(k) / T);
+    const double total = mass * (g + z(2)), cop_y = y(0) - z(0) * y(2) / (g + z(2));
+    const double share =
+        domain == WalkingDomain::kDoubleSupport ? std::clamp((cop_y - y_other) / (y_front - y_other), 0.0, 1.0) : 1.0;
     p.forces(front, k) = share * total;
     p.forces(1 - front, k) = (1.0 - share) * total;
   }
@@ -82,7 +80,9 @@ void CheckSagittalCop(const StopPhase& p, double x_front, double x_rear, int fro
     if (cop < ankles - heel - 1e-9 || cop > ankles + toe + 1e-9) {
       std::ostringstream m;
       m << who << ": the stop's centre of pressure leaves the feet: " << cop - ankles << " m from the loaded ankles at "
-        << p.t(k) << " s of the settle (sole [-" << heel << ", " << toe << "] m); lengthen settle_duration_s";
+        << p.t(k) << " s of the settle (sole [-" << heel << ", " << toe << "] m; the COM lands "
+        << p.sagittal(0, 0) - x_rear << " m ahead of the rear ankle at " << p.sagittal(2, 0)
+        << " m/s); change settle_duration_s";
       throw std::runtime_error(m.str());
     }
   }
@@ -174,22 +174,26 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
   const int n = stop.nodes_per_phase;
   const Eigen::Vector3d rest_x(front_foot.x(), 0.0, 0.0), rest_z(h, 0.0, 0.0);
   const Eigen::Matrix<double, 6, 1> hold_x = Quintic(1.0, rest_x, rest_x), hold_z = Quintic(1.0, rest_z, rest_z);
-  const double Ts = stop.settle_duration_s;
+  // The rear foot lands beside the front one, at the same step width (its y does not change).
+  const Eigen::Vector2d landed(front_foot.x(), rear_foot.y());
+  const Eigen::Vector2d mid = 0.5 * (front_foot + landed);
+  const double yf = front_foot.y(), yo = rear_foot.y();
+  const Eigen::Vector3d rest_y(yf, 0.0, 0.0), mid_y(mid.y(), 0.0, 0.0);
+  const double Ts = stop.settle_duration_s, Tf = stop.shift_duration_s;
   const StopPhase settle =
       MakePhase(WalkingDomain::kDoubleSupport, Ts, n,
                 Quintic(Ts, Eigen::Vector3d(td.com_position.x(), td.com_velocity.x(), td.com_acceleration.x()), rest_x),
                 Quintic(Ts, Eigen::Vector3d(td.com_position.z(), td.com_velocity.z(), td.com_acceleration.z()), rest_z),
-                m, g, front, 0.0, 1.0);
+                Quintic(Ts, Eigen::Vector3d(td.com_position.y(), td.com_velocity.y(), td.com_acceleration.y()), rest_y),
+                m, g, front, yf, yo);
   CheckSagittalCop(settle, front_foot.x(), rear_foot.x(), front, sp, g, who);
   const WalkingDomain stance = front == 0 ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance;
-  const StopPhase step = MakePhase(stance, stop.step_duration_s, n, hold_x, hold_z, m, g, front, 1.0, 1.0);
-  const StopPhase shift = MakePhase(WalkingDomain::kDoubleSupport, stop.shift_duration_s, n, hold_x, hold_z, m, g,
-                                    front, 1.0, 0.5, Ramp::kEaseOut);
-  const StopPhase hold =
-      MakePhase(WalkingDomain::kDoubleSupport, stop.hold_duration_s, 2, hold_x, hold_z, m, g, front, 0.5, 0.5);
-  // The rear foot lands beside the front one, at the same step width (its y does not change).
-  const Eigen::Vector2d landed(front_foot.x(), rear_foot.y());
-  const Eigen::Vector2d mid = 0.5 * (front_foot + landed);
+  const StopPhase step =
+      MakePhase(stance, stop.step_duration_s, n, hold_x, hold_z, Quintic(1.0, rest_y, rest_y), m, g, front, yf, yo);
+  const StopPhase shift =
+      MakePhase(WalkingDomain::kDoubleSupport, Tf, n, hold_x, hold_z, Quintic(Tf, rest_y, mid_y), m, g, front, yf, yo);
+  const StopPhase hold = MakePhase(WalkingDomain::kDoubleSupport, stop.hold_duration_s, 2, hold_x, hold_z,
+                                   Quintic(1.0, mid_y, mid_y), m, g, front, yf, yo);
   // One footed H-LIP QP over settle, step and shift (shared nodes once).
   FootedHlipTransitionData lat;
   const StopPhase* phases[3] = {&settle, &step, &shift};
