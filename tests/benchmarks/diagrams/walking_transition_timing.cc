@@ -99,10 +99,12 @@ int main(int argc, char** argv) {
     rome::StandToWalkParams stand;
     stand.sole = rome::SoleOf(model, "left_foot");
     std::vector<double> ms;
+    std::string each;  // every NLP: time [ms] / iterations
     int failed = 0;
     stand.on_transition_nlp = [&](const rome::WalkingNlpReport& r) {
       ms.push_back(1e3 * r.solve_s);
       failed += r.violation > 1e-6 ? 1 : 0;
+      each += " " + std::to_string(static_cast<int>(1e3 * r.solve_s)) + "/" + std::to_string(r.iterations);
     };
     rome::WalkingPlanReport report;
     const auto t0 = std::chrono::steady_clock::now();
@@ -118,6 +120,7 @@ int main(int argc, char** argv) {
         p.b.ssp_duration_s, p.b.dsp_duration_s, p.b.step_width_m, ms.size(), Quantile(ms, 0.5), Quantile(ms, 1.0),
         report.chain_planning_s, report.chain_transitions_tried, report.chain_transitions_failed, total,
         outcome.c_str());
+    std::printf("  NLPs (ms/iterations):%s\n", each.c_str());
     std::fflush(stdout);
     all_ms.insert(all_ms.end(), ms.begin(), ms.end());
     chain_s.push_back(report.chain_planning_s);

@@ -17,6 +17,7 @@
 #include "diagrams/walking/walking_run.h"
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/contact_force_statistics.h"
+#include "tests/common/sanitizer_scale.h"
 #include "tests/common/source_path.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 
@@ -95,6 +96,12 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
 
 // Gait A, 6 steps, then the stop (NLP seed 1; the stop's durations were chosen on seeds >= 1000).
 TEST(WalkToStand, GaitAEndsStandingAtRestWithPhysicalContactForces) { WalkToStand(WalkingGait{}, 6, 1); }
+
+// Gait B (0.40 m steps at 0.8 m/s), whose change into the stop gait halves the step length.
+TEST(WalkToStand, GaitBEndsStandingAtRestWithPhysicalContactForces) {
+  if (test::kSanitizerBuild) GTEST_SKIP() << "a second full walking run: the Release suite runs it";
+  WalkToStand(WalkingGait{.step_length_m = 0.40}, 6, 1);
+}
 
 // Bad stop parameters fail at once, naming the field and the value.
 TEST(WalkToStand, OutOfRangeStopParametersFailNamingTheField) {
