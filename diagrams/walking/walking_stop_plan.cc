@@ -154,7 +154,7 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
   const WalkingGait slow{sp.start_gait_step_length_m, sp.start_gait_ssp_duration_s, sp.start_gait_dsp_duration_s,
                          gait.step_width_m};
-  slow.Validate(who + ": the stop gait (the start gait's L, T_SSP, T_DSP: --start-gait, start_gait_*)");
+  slow.Validate(who + ": the stop gait (the start gait's L, T_SSP, T_DSP: StandToWalkParams::start_gait_*)");
   const bool same = std::abs(slow.step_length_m - gait.step_length_m) < 1e-9 &&
                     std::abs(slow.ssp_duration_s - gait.ssp_duration_s) < 1e-9 &&
                     std::abs(slow.dsp_duration_s - gait.dsp_duration_s) < 1e-9;
