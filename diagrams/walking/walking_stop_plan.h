@@ -2,19 +2,20 @@
 // The walk-to-stand plan (walking issue 39, §2): the reverse of the stand-to-walk start. Standing → gait (as
 // BuildGaitChangePlan), the change into the stop gait (the start gait's timing at the gait's W: short, slow steps, as
 // the start walks them), stop_gait_steps steps of it, then the stop, replacing the stop gait's last double support:
-//   settle (double support, after the last touchdown): the COM comes to rest over the front ankle (x, a quintic from
-//     the touchdown's position, velocity and acceleration) at the standing height, and the weight moves onto the
-//     front foot (its share of m (g + z̈) a linear ramp 0 → 1, so that the rear foot reaches 0 at lift-off as a spring
-//     leg does);
-//   step (single support on the front foot): the rear foot steps beside it, at the same W (no step width change),
-//     the COM at rest over the front ankle;
-//   shift (double support): the weight back onto both feet (an ease-out ramp, 2 s − s², to m g / 2 each), the COM to
-//   the
-//     midpoint between the ankles, at rest;
-//   hold (double support): standing still, m g / 2 on each foot.
-// Sagittally the stop is a COM plan; laterally it is one footed H-LIP QP (Eq. (11)-(15), FootedHlipTransitionPlanner
-// with the stand-to-walk settings: normal-force pivots, node heights) over settle, step and shift from the touchdown's
-// lateral state to the midpoint at rest, on the force split above; the hold keeps the COM there.
+//   settle (double support, after the last touchdown, 1 s): the COM comes to rest over the front ankle at the standing
+//     height (quintics in x, z and y from the touchdown's position, velocity and acceleration) and the weight moves
+//     onto the front foot; the rear foot is unloaded at the end, where it lifts;
+//   step (single support on the front foot, 0.6 s): the rear foot steps beside it at the same W (no step width
+//     change), the COM at rest over the front ankle;
+//   shift (double support, 2 s): the COM to the midpoint between the ankles (a rest-to-rest quintic in y), the weight
+//     back onto both feet;
+//   hold (double support, 1.5 s): standing still, m g / 2 on each foot.
+// The split of m (g + z̈) between the feet puts the point mass's lateral centre of pressure, y − z ÿ / (g + z̈), where
+// the lateral quintics need it (clipped to the feet; reasons in docs/design-notes.md#walking-walk-to-stand).
+// Sagittally the stop is this COM plan (the builder checks that its centre of pressure stays on the loaded soles);
+// laterally it is one footed H-LIP QP (Eq. (11)-(15), FootedHlipTransitionPlanner with normal-force pivots and node
+// heights, as the stand-to-walk transitions) over settle, step and shift on that split, from the touchdown's lateral
+// state to the midpoint at rest; the hold keeps the COM there.
 #include <cstdint>
 #include <string>
 
