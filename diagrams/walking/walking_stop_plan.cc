@@ -141,6 +141,10 @@ void WalkToStandParams::Validate(const std::string& who) const {
     m << "hold_duration_s = " << hold_duration_s << " s is outside [0.1, 60] s";
   else if (!(nodes_per_phase >= 5 && nodes_per_phase <= 200))
     m << "nodes_per_phase = " << nodes_per_phase << " is outside [5, 200]";
+  else if (!(at_rest_offset_m > 0 && at_rest_offset_m <= 0.1))
+    m << "at_rest_offset_m = " << at_rest_offset_m << " m is outside (0, 0.1] m";
+  else if (!(at_rest_speed_mps > 0 && at_rest_speed_mps <= 0.1))
+    m << "at_rest_speed_mps = " << at_rest_speed_mps << " m/s is outside (0, 0.1] m/s";
   if (!m.str().empty()) throw std::invalid_argument(who + ": " + m.str());
 }
 
