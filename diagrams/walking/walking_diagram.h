@@ -172,6 +172,7 @@ struct SoleGeometry {
 /// naming the robot and contact if the contact is not flat or the ankle is not over the sole.
 SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact);
 
+struct WalkingNlpReport;
 /// Choices of the stand-to-walk plan beyond the gait.
 struct StandToWalkParams {
   /// [m] COM (ROM mass) height standing, and the aSLIP height range of the periodic and transition NLPs (ours;
@@ -251,6 +252,9 @@ struct StandToWalkParams {
   /// WalkingPoseCheck(model, params) replays the plan's poses as BuildWalkingDiagram's compensation will
   /// (docs/design-notes.md#walking-plan-check).
   std::function<void(const WalkingPlan&)> plan_check;
+  /// Called after every transition NLP the plan builders solve or load (standing, changes, chain links; failures
+  /// too) with its wall time, iterations and largest constraint violation (empty: none), e.g. to time them.
+  std::function<void(const WalkingNlpReport&)> on_transition_nlp;
   /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph
   /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
   bool chain_gait_changes = true;

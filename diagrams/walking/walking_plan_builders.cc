@@ -124,8 +124,10 @@ void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& pla
                             double reload_floor_N = 0.0) {
   const auto t0 = Clock::now();
   const AslipTransition transition = planner.Solve(data, cache);
-  if (report != nullptr)
-    *report = {SecondsSince(t0), transition.collocation.nlp.iterations, transition.max_constraint_violation};
+  const WalkingNlpReport solved{SecondsSince(t0), transition.collocation.nlp.iterations,
+                                transition.max_constraint_violation};
+  if (report != nullptr) *report = solved;
+  if (sp.on_transition_nlp) sp.on_transition_nlp(solved);
   if (!transition.success())
     throw std::runtime_error(who + ": the transition footed-aSLIP NLP failed: " + transition.collocation.nlp.message);
   const ActuatedSpringLoadedInvertedPendulumParams& aslip = planner.params().bounds.aslip;

@@ -17,6 +17,7 @@
 #include "diagrams/walking/walking_diagram.h"
 #include "diagrams/walking/walking_robot_check.h"
 #include "diagrams/walking/walking_run.h"
+#include "diagrams/walking/walking_stop_plan.h"
 #include "examples/common/cli.h"
 #include "examples/walking/walking_options.h"
 #include "examples/walking/walking_outputs.h"
@@ -72,6 +73,8 @@ int main(int argc, char** argv) {
       plan = BuildPeriodicWalkingPlan(o.gait_a, planned, o.seed, plan_cache, o.stand);
     else if (o.scenario == "gait-change")
       plan = BuildGaitChangePlan(o.gait_a, o.gait_b, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
+    else if (o.scenario == "walk-to-stand")
+      plan = BuildWalkToStandPlan(o.gait_a, o.steps, o.seed, plan_cache, &nlp, o.stand);
     else if (o.scenario == "gait-sequence")
       plan = BuildGaitSequencePlan(o.gaits, o.steps, o.seed, plan_cache, &nlp, o.stand, planned);
     else
@@ -99,14 +102,21 @@ int main(int argc, char** argv) {
       "m (%.2f s)\n",
       d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m,
       d.compensation.max_correction_m, compensation_s);
+  // walk-to-stand: the run ends with the plan, standing (no trailing steps).
+  if (o.scenario == "walk-to-stand") o.run.end_time_s = d.plan.end_time();
   const double t_stop = WalkingRunEndTime(d.plan, o.run);
   const nlohmann::json plan_torques = examples::PlanTorqueReport(d, o.diagram, t_stop);
   examples::WalkingRecorder recorder(d, !cli.Get("log").empty(), !cli.Get("plots").empty(),
                                      !cli.Get("animation").empty());
   std::cout << "simulating " << t_stop << " s on the " << ToString(o.plant) << " plant ...\n";
   WalkingRunResult run;
+  Eigen::VectorXd end_q(model->nq()), end_v(model->nv());  // the plant's last [q; v] (walk-to-stand's end)
   try {
-    run = RunWalking(d, o.run, recorder.Observer());
+    const WalkingRunObserver record = recorder.Observer();
+    run = RunWalking(d, o.run, [&](const Context& c, const WalkingRunSample& sample) {
+      record(c, sample);
+      end_q = *sample.q, end_v = *sample.v;
+    });
   } catch (const std::exception& e) {
     std::cerr << "walking: " << e.what() << "\n";
     return 3;
@@ -114,8 +124,21 @@ int main(int argc, char** argv) {
   nlohmann::json scenario = nlohmann::json::parse(cli.ScenarioJson());
   if (o.scenario != "periodic")
     scenario["start-gait-steps"] = o.stand.start_gait_steps;  // "auto" resolved (periodic: no start gait)
-  const nlohmann::json s =
+  nlohmann::json s =
       examples::WalkingSummary(run, d, nlp, o.scenario, o.stand, compensation_s, plan_torques, o.plant, scenario);
+  bool standing_ok = true;
+  if (o.scenario == "walk-to-stand") {
+    const StandingMeasure end = MeasureStanding(*model, end_q, end_v);
+    const WalkToStandParams stop;
+    standing_ok = end.com_to_feet_midpoint_m <= stop.at_rest_offset_m && end.com_speed_mps <= stop.at_rest_speed_mps;
+    s["standing_end"] = {{"com_to_feet_midpoint_m", end.com_to_feet_midpoint_m},
+                         {"com_speed_mps", end.com_speed_mps},
+                         {"feet_gap_x_m", end.feet_gap_x_m},
+                         {"at_rest", standing_ok}};
+    std::printf("end: COM %.4f m from the midpoint between the ankles, %.4f m/s, ankles %.4f m apart in x: %s\n",
+                end.com_to_feet_midpoint_m, end.com_speed_mps, end.feet_gap_x_m,
+                standing_ok ? "standing at rest" : "NOT at rest");
+  }
   if (!cli.Get("summary").empty() &&
       !examples::WriteOutputFile("walking", cli.Get("summary"), s.dump(2) + "\n", "summary"))
     return 1;
@@ -133,5 +156,5 @@ int main(int argc, char** argv) {
     std::cout << "result: interrupted (" << run.status.ToString() << "); outputs written up to there\n";
     return 128 + InterruptSignal();
   }
-  return run.success ? 0 : 3;
+  return run.success && standing_ok ? 0 : 3;
 }

@@ -38,7 +38,10 @@ void DeclareWalkingOptions(CommandLine& cli) {
              "walks --lead-in-steps of the lead-in first) | gait-change (standing -> gait A as stand-to-walk, but "
              "never through the lead-in -> transition -> gait B) | periodic (started on gait A's orbit, no transition; "
              "the start and lead-in flags do not apply) | gait-sequence (standing -> the first of --gaits as "
-             "gait-change's gait A -> a change into each next gait). A change with no direct transition plan goes "
+             "gait-change's gait A -> a change into each next gait) | walk-to-stand (stand-to-walk's start, --steps of "
+             "gait "
+             "A, a change into short slow steps at the --start-gait timing, then a stop that ends standing with the "
+             "feet side by side, at rest). A change with no direct transition plan goes "
              "through intermediate gaits of a gait graph over the range")
       .Option("gait-a", "0.30,0.40,0.10,0.25", "gait A: step length L [m], T_SSP [s], T_DSP [s], step width W [m]")
       .Option("gait-b", "0.40,0.40,0.10,0.25", "gait B (gait-change scenario)")
@@ -157,11 +160,11 @@ std::string OneOf(const CommandLine& cli, const std::string& flag, std::initiali
 WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingOptions o;
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
-  o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence"});
+  o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence", "walk-to-stand"});
   // A flag the chosen scenario or plant ignores is an error (the periodic scenario starts on gait A's orbit).
   for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps",
                                "transition-ssp", "gait-change-max-force"})
-    cli.RequireModeFor(standing, "scenario", {"stand-to-walk", "gait-change", "gait-sequence"});
+    cli.RequireModeFor(standing, "scenario", {"stand-to-walk", "gait-change", "gait-sequence", "walk-to-stand"});
   cli.RequireModeFor("gait-b", "scenario", {"gait-change"});
   cli.RequireModeFor("gaits", "scenario", {"gait-sequence"});
   cli.RequireModeFor("joint-limits", "plant", {"bullet"});

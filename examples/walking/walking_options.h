@@ -13,7 +13,7 @@
 namespace rome::examples {
 
 struct WalkingOptions {
-  std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic | gait-sequence
+  std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic | gait-sequence | walk-to-stand
   WalkingGait gait_a, gait_b;
   std::vector<WalkingGait> gaits;  ///< gait-sequence: --gaits
   int steps = 10;                  ///< periodic single supports per gait after each transition

@@ -87,17 +87,20 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
                               const std::string& scenario_name, const StandToWalkParams& stand, double compensation_s,
                               const nlohmann::json& plan_torques, PlantKind plant, const nlohmann::json& scenario) {
   nlohmann::json s = nlohmann::json::parse(run.ToJson());
+  // walk-to-stand plans as gait-change with the stop gait as gait B.
+  const bool changes =
+      scenario_name == "gait-change" || scenario_name == "gait-sequence" || scenario_name == "walk-to-stand";
   auto nlp_json = [](const WalkingNlpReport& r) {
     return nlohmann::json{{"solve_s", r.solve_s}, {"iterations", r.iterations}, {"constraint_violation", r.violation}};
   };
   s["nlp"] = {{"periodic_aslip_a", nlp_json(nlp.periodic)}, {"transition_aslip", nlp_json(nlp.transition)}};
-  if (scenario_name == "gait-change" || scenario_name == "gait-sequence")
+  if (changes)
     s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b),
     s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
   // gait-change / gait-sequence: the gaits walked from gait A on (A and B alone: the direct transition), with any
   // chain's intermediate gaits, and the chain searches' time.
   s["gait_chain"] = nullptr;
-  if (scenario_name == "gait-change" || scenario_name == "gait-sequence") {
+  if (changes) {
     const auto list = [](const std::vector<WalkingGait>& chain) {
       nlohmann::json gaits = nlohmann::json::array();
       for (const WalkingGait& g : chain)

@@ -12,6 +12,13 @@
 namespace rome {
 namespace {
 
+// A failure the same problem, guess and options give again (Ipopt is deterministic): not a time limit or an error.
+bool RepeatableFailure(int status) {
+  const NlpStatus s = static_cast<NlpStatus>(status);
+  return s == NlpStatus::kInfeasible || s == NlpStatus::kMaxIterations || s == NlpStatus::kDivergingIterates ||
+         s == NlpStatus::kRestorationFailed || s == NlpStatus::kSearchDirectionTooSmall;
+}
+
 constexpr int kNx8 = 8, kNu4 = 4;
 
 // Rows of one leg on the ground: F/(m g) ≥ 0, (μ G_z ∓ G_x)/(m g) ≥ 0, s ∈ [s_min, s_max], Eq. (10)
@@ -366,6 +373,24 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   options.mumps_pivot_order = q.mumps_pivot_order;
   AslipTransition out;
   const PlanCacheKey key = CacheKey(data);
+  // A failure is cached too (under the key plus "failed"), so that a chain search does not solve a known failure
+  // again: [status, iterations, largest constraint violation]. Only failures that the same data and options repeat.
+  PlanCacheKey failed_key = CacheKey(data);
+  failed_key.Add("failed", 1.0);
+  if (cache != nullptr) {
+    const std::optional<Eigen::VectorXd> f = cache->Load(failed_key);
+    if (f && f->size() == 3 && RepeatableFailure(static_cast<int>((*f)(0)))) {
+      const NlpStatus status = static_cast<NlpStatus>(static_cast<int>((*f)(0)));
+      out.collocation.nlp.status = status;
+      out.collocation.nlp.iterations = static_cast<int>((*f)(1));
+      out.max_constraint_violation = (*f)(2);
+      out.collocation.nlp.message = std::string("transition NLP: ") + ToString(status) + " after " +
+                                    std::to_string(out.collocation.nlp.iterations) +
+                                    " iterations when solved before (plan cache " + cache->FileFor(failed_key) +
+                                    "), not solved again";
+      return out;
+    }
+  }
   std::optional<CollocationResult> hit;
   if (cache != nullptr) hit = LoadCachedCollocation(problem, *cache, key);
   out.collocation = hit ? std::move(*hit) : problem.Solve(options);
@@ -380,6 +405,11 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
     total += s.duration;
   }
   out.mean_height = integral / total;
+  if (cache != nullptr && !hit && RepeatableFailure(static_cast<int>(out.collocation.nlp.status))) {
+    Eigen::VectorXd f(3);
+    f << static_cast<double>(out.collocation.nlp.status), out.collocation.nlp.iterations, out.max_constraint_violation;
+    WarnIfNotCached(cache->Store(failed_key, f));
+  }
   return out;
 }
 

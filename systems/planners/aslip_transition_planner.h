@@ -96,7 +96,9 @@ class AslipTransitionPlanner {
   /// Initial guess: data's guess if given, else states linear from the initial to the final state, durations at
   /// mid-range; zero inputs.
   /// With a cache: a stored plan for the same parameters and data is loaded instead (re-checked to 1e-6), and a new
-  /// successful plan is stored.
+  /// successful plan is stored. A failure that the same problem repeats (local infeasibility, the iteration limit, a
+  /// failed restoration or line search; not a time limit) is stored too, and a later Solve of the same problem returns
+  /// it without solving (status, iterations and violation as stored, a message naming the cache entry, no phases).
   AslipTransition Solve(const AslipTransitionData& data, const PlanCache* cache = nullptr) const;
   /// Every parameter and every number of the data.
   PlanCacheKey CacheKey(const AslipTransitionData& data) const;

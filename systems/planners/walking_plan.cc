@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rome {
 
@@ -164,6 +165,21 @@ void WalkingPlan::AppendPeriodicSteps(const AslipPeriodicGaitPlanner& planner, c
     x0 += q.step_length;
     left = !left;
   }
+}
+
+void WalkingPlan::AppendSegment(WalkingPlanSegment segment) {
+  std::ostringstream msg;
+  if (!(std::abs(segment.start_time - end_time()) <= kSegmentBoundaryTolerance_s))
+    msg << "start_time = " << segment.start_time << " s, expected the plan's end " << end_time() << " s";
+  else if (!(segment.duration > 0) || !std::isfinite(segment.duration))
+    msg << "duration = " << segment.duration << " s, expected > 0";
+  else if (segment.sagittal.rows() != 4 || segment.sagittal_acceleration.rows() != 2 ||
+           segment.normal_forces.rows() != 2)
+    msg << "sagittal, sagittal_acceleration, normal_forces have " << segment.sagittal.rows() << ", "
+        << segment.sagittal_acceleration.rows() << ", " << segment.normal_forces.rows() << " rows, expected 4, 2, 2";
+  if (!msg.str().empty()) throw std::invalid_argument("WalkingPlan::AppendSegment: " + msg.str());
+  segment.start_time = end_time();
+  segments_.push_back(std::move(segment));
 }
 
 void WalkingPlan::AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,

@@ -101,6 +101,15 @@ class WalkingPlan {
   /// The correction [δx, δy] at global time t (0 without one).
   Eigen::Vector2d ComCorrection(double t) const;
 
+  /// Appends a segment built elsewhere (e.g. the walk-to-stand stop, walking_stop_plan.h). Throws
+  /// std::invalid_argument naming the field unless it starts at end_time() (within kSegmentBoundaryTolerance_s), lasts
+  /// > 0 s and has 4-row sagittal, 2-row sagittal_acceleration and 2-row normal_forces polynomials.
+  void AppendSegment(WalkingPlanSegment segment);
+  /// Removes the last segment (none: nothing happens), e.g. a gait's last double support that a stop replaces.
+  void RemoveLastSegment() {
+    if (!segments_.empty()) segments_.pop_back();
+  }
+
   void AppendTransition(const AslipTransitionPlanner& planner, const AslipTransition& transition,
                         const AslipTransitionData& data, double x_offset, const FootedHlipTransitionData& lateral_data,
                         const FootedHlipTransitionPlan& lateral, double mass, double landing_x,

@@ -122,6 +122,41 @@ TEST(AslipTransitionPlanner, StandingToGaitA) {
   std::filesystem::remove_all(dir);
 }
 
+// A failure the same problem repeats (here the iteration limit, 5 iterations) is stored in the cache: the second Solve
+// returns it without solving (no phases, the stored status and iterations), as a solve without the cache fails; the
+// limit is part of the key, so the default limit is another problem, which plans.
+TEST(AslipTransitionPlanner, ARepeatableFailureIsCachedAndNotSolvedAgain) {
+  AslipPeriodicGaitParams gait_a;
+  const AslipPeriodicGait a = AslipPeriodicGaitPlanner(gait_a).Solve(1);
+  ASSERT_TRUE(a.success());
+  AslipTransitionParams params;
+  params.bounds = gait_a;
+  params.bounds.max_iterations = 5;
+  const AslipTransitionPlanner planner(params);
+  AslipTransitionData d;
+  d.initial_state = AslipTransitionPlanner::StandingState(gait_a.aslip, 0.9);
+  d.final_state = a.collocation.phases[0].states.col(gait_a.nodes_per_domain - 1);
+  d.lifting_leg = 1;
+  const std::string dir = rome::test::ScratchDir() + "/aslip_transition_failure_cache_test";
+  std::filesystem::remove_all(dir);
+  const PlanCache cache(dir);
+  const AslipTransition t = planner.Solve(d, &cache);
+  ASSERT_FALSE(t.success());
+  ASSERT_EQ(t.collocation.nlp.status, NlpStatus::kMaxIterations) << t.collocation.nlp.message;
+  const AslipTransition again = planner.Solve(d, &cache);
+  EXPECT_FALSE(again.success());
+  EXPECT_EQ(again.collocation.nlp.status, t.collocation.nlp.status);
+  EXPECT_EQ(again.collocation.nlp.iterations, t.collocation.nlp.iterations);
+  EXPECT_TRUE(again.collocation.phases.empty());  // not solved
+  EXPECT_NE(again.collocation.nlp.message.find("not solved again"), std::string::npos) << again.collocation.nlp.message;
+  EXPECT_EQ(planner.Solve(d).collocation.nlp.status, t.collocation.nlp.status);  // the failure repeats without a cache
+  AslipTransitionParams full = params;
+  full.bounds.max_iterations = gait_a.max_iterations;
+  const AslipTransition planned = AslipTransitionPlanner(full).Solve(d, &cache);
+  EXPECT_TRUE(planned.success()) << planned.collocation.nlp.message;
+  std::filesystem::remove_all(dir);
+}
+
 // Gait A's post-impact DSP state to gait B's pre-impact state, with the source gait's DSP and the target's SSP as
 // guess.
 AslipTransitionData GaitAToBData(const AslipPeriodicGaitParams& gait_a, const AslipPeriodicGaitParams& gait_b) {

@@ -1,0 +1,120 @@
+// The walk-to-stand scenario (issue 39, §2): from standing, gait A, the change into the stop gait, its steps, and the
+// stop (walking_stop_plan.h). Judged from the PLANT, not from the controller: at every integrator step each active
+// foot's wrench from the plant's own constrained dynamics has F_z >= 0 and lies in the friction cone of the model's μ
+// with its centre of pressure on the sole (CheckContactForce), and the plant reports no contact violation; at the end
+// the plant's COM (from its q) is within 1 cm of the midpoint between its ankles (horizontal), its speed (from q, v)
+// at most 1 cm/s, the ankles side by side (their x within 1 cm) and both feet on the ground. The COM follows the plan
+// to 1 cm RMS per axis after the first step, every planned step lands on its foothold and no QP update fails.
+#include "diagrams/walking/walking_stop_plan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "diagrams/walking/walking_run.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "systems/plants/contact_force_statistics.h"
+#include "tests/common/sanitizer_scale.h"
+#include "tests/common/source_path.h"
+#include "tests/systems/controllers/amber_test_setup.h"
+
+namespace rome {
+namespace {
+
+void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  stand.plan_check = WalkingPoseCheck(model, WalkingDiagramParams{});
+  WalkingPlanReport report;
+  const WalkingPlan rom_plan = BuildWalkToStandPlan(gait, steps, seed, &cache, &report, stand);
+  const WalkingDiagramParams params;
+  WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
+  WalkingRunParams run;
+  run.end_time_s = d.plan.end_time();  // the whole plan: it ends standing
+
+  MultibodyWorkspace ws(*model);
+  long unilateral_bad = 0, friction_bad = 0, cop_bad = 0;
+  Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
+  Eigen::VectorXd end_q(model->nq()), end_v(model->nv());
+  int end_mode = -1;
+  ContactForceCheckParameters cop_check;
+  cop_check.cop_margin_m =
+      -5e-4;  // rounding-level CoP motion past the sole's edge between samples (as the walking test)
+  const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
+    const ContactSet active = d.plant->active_contacts(s.mode);
+    CalcConstrainedForwardDynamics(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, qdd, F);
+    for (int ci = 0; ci < model->num_contacts(); ++ci) {
+      if (!(active & ContactBit(ci))) continue;
+      const ContactForceCheck check =
+          CheckContactForce(*model, ws, *s.q, ci, ExtractContactWrench(*model, ws, *s.q, active, F, ci), cop_check);
+      unilateral_bad += check.normal_force_N >= -1e-6 ? 0 : 1;
+      if (check.normal_force_N > 1.0) {
+        friction_bad += check.friction_ok ? 0 : 1;
+        cop_bad += check.cop_ok ? 0 : 1;
+      }
+    }
+    end_q = *s.q, end_v = *s.v, end_mode = s.mode;
+  });
+  // The end, from the plant's state.
+  const Eigen::Vector3d com = CalcComPosition(*model, ws, end_q), vcom = CalcComVelocity(*model, ws, end_q, end_v);
+  const Eigen::Vector3d left =
+      CalcLinkPose(*model, ws, end_q, model->contacts()[model->ContactIndex("left_foot")].body).translation();
+  const Eigen::Vector3d right =
+      CalcLinkPose(*model, ws, end_q, model->contacts()[model->ContactIndex("right_foot")].body).translation();
+  const double offset = (com.head<2>() - 0.5 * (left + right).head<2>()).norm();
+  std::printf(
+      "  %s: %d of %d steps, COM RMS (%.4f %.4f %.4f) m, band %.3f (strictly %.3f), qp infeasible %.0f; end: COM "
+      "%.4f m from the ankles' midpoint, %.4f m/s, ankles %.4f m apart in x, %.4f m in y\n",
+      r.status.ToString().c_str(), r.steps_completed, r.steps_planned, r.com_rms_error_m.x(), r.com_rms_error_m.y(),
+      r.com_rms_error_m.z(), r.force_in_band_fraction, r.force_in_band_fraction_strict, r.qp_infeasible_ticks, offset,
+      vcom.norm(), std::abs(left.x() - right.x()), std::abs(left.y() - right.y()));
+  EXPECT_TRUE(r.success) << r.status.ToString();
+  EXPECT_EQ(r.steps_completed, r.steps_planned);
+  EXPECT_EQ(r.touchdowns_off_target, 0);
+  EXPECT_EQ(unilateral_bad, 0);
+  EXPECT_EQ(friction_bad, 0);
+  EXPECT_EQ(cop_bad, 0);
+  EXPECT_EQ(r.contact.violations, 0) << r.contact.first_violation;
+  EXPECT_EQ(r.contact_violation_port_samples, 0);
+  EXPECT_EQ(r.qp_infeasible_ticks, 0.0);
+  EXPECT_GE(r.force_in_band_fraction, 0.95);
+  for (int a = 0; a < 3; ++a) EXPECT_LE(r.com_rms_error_m[a], 0.01) << "axis " << a;
+  EXPECT_EQ(end_mode, kWalkingDoubleSupport);
+  EXPECT_LE(offset, 0.01);
+  EXPECT_LE(vcom.norm(), 0.01);
+  EXPECT_LE(std::abs(left.x() - right.x()), 0.01);  // side by side
+  // The library's measure of the same state agrees.
+  const StandingMeasure m = MeasureStanding(*model, end_q, end_v);
+  EXPECT_NEAR(m.com_to_feet_midpoint_m, offset, 1e-12);
+  EXPECT_NEAR(m.com_speed_mps, vcom.norm(), 1e-12);
+}
+
+// Gait A, 6 steps, then the stop (NLP seed 1; the stop's durations were chosen on seeds >= 1000).
+TEST(WalkToStand, GaitAEndsStandingAtRestWithPhysicalContactForces) { WalkToStand(WalkingGait{}, 6, 1); }
+
+// Gait B (0.40 m steps at 0.8 m/s), whose change into the stop gait halves the step length.
+TEST(WalkToStand, GaitBEndsStandingAtRestWithPhysicalContactForces) {
+  if (test::kSanitizerBuild) GTEST_SKIP() << "a second full walking run: the Release suite runs it";
+  WalkToStand(WalkingGait{.step_length_m = 0.40}, 6, 1);
+}
+
+// Bad stop parameters fail at once, naming the field and the value.
+TEST(WalkToStand, OutOfRangeStopParametersFailNamingTheField) {
+  WalkToStandParams p;
+  p.settle_duration_s = 0.1;
+  try {
+    p.Validate("WalkToStand");
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("settle_duration_s = 0.1"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(BuildWalkToStandPlan(WalkingGait{}, 0, 1, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rome
