@@ -58,12 +58,13 @@ SimulatorConfig Tight() {
   return c;
 }
 
-struct Run {
+struct Outcome {
   SimulatorStatus status;
   JointLimitStatistics limits;
+  double final_q = 0;  // the context's q where the run ended
 };
 
-Run Release(double q0, bool stops, double t_final) {
+Outcome Release(double q0, bool stops, double t_final) {
   const auto model = Pendulum();
   HybridContactPlantParams params;
   params.joint_stops = stops;
@@ -71,7 +72,7 @@ Run Release(double q0, bool stops, double t_final) {
   auto context = plant.CreateDefaultLeafContext();
   plant.SetState(*context, Eigen::VectorXd::Constant(1, q0), Eigen::VectorXd::Zero(1), "swing");
   context->FixInputPort(0, Eigen::VectorXd::Zero(model->nu()));
-  Run run;
+  Outcome run;
   const LeafContext* ctx = context.get();
   Simulator sim(plant, std::move(context), Tight());
   sim.add_monitor([&](const Context&) {
@@ -79,27 +80,30 @@ Run Release(double q0, bool stops, double t_final) {
     return EventStatus::Succeeded();
   });
   run.status = sim.AdvanceTo(t_final);
+  run.final_q = ctx->continuous_state()[0];
   return run;
 }
 
 TEST(JointStops, ReachingTheUpperLimitEndsTheRunAtTheClosedFormTime) {
   const double theta0 = 1.0;  // released at -1 rad: it would swing up to +1 rad, past the 0.5 rad stop
-  const Run run = Release(-theta0, true, 3.0);
+  const Outcome run = Release(-theta0, true, 3.0);
   ASSERT_EQ(run.status.reason, SimulatorStatus::Reason::kFailed) << run.status.ToString();
   EXPECT_NEAR(run.status.time, ClosedFormTime(theta0, kUpper), 1e-8);
   for (const std::string part : {"joint 'hinge' reached its upper limit 0.5", "joint stop"})
     EXPECT_NE(run.status.message.find(part), std::string::npos) << run.status.message;
   EXPECT_EQ(run.status.system, "pendulum");
-  // Every integrator step stayed inside the limits (the stop's event lands on the limit).
+  // The run ends on the limit; every integrator step before the stop's event stayed inside it (the monitor does not
+  // run after the failed event).
+  EXPECT_NEAR(run.final_q, kUpper, 1e-8);
   EXPECT_EQ(run.limits.violations, 0) << run.limits.first_violation;
-  EXPECT_NEAR(run.limits.min_upper_margin[0], 0.0, 1e-8);
+  EXPECT_GT(run.limits.min_upper_margin[0], 0.0);
   EXPECT_NEAR(run.limits.min_lower_margin[0], -theta0 - kLower, 1e-12);
 }
 
 TEST(JointStops, WithoutStopsThePendulumSwingsPastTheLimitAndTheMonitorSeesIt) {
   const double theta0 = 1.0;
   // Half a period: the turning point +theta0 (energy), 0.5 rad beyond the upper limit.
-  const Run run = Release(-theta0, false, 2 * ClosedFormTime(theta0, 0.0));
+  const Outcome run = Release(-theta0, false, 2 * ClosedFormTime(theta0, 0.0));
   EXPECT_TRUE(run.status.ok()) << run.status.ToString();
   EXPECT_GT(run.limits.violations, 0);
   EXPECT_NE(run.limits.first_violation.find("joint 'hinge'"), std::string::npos) << run.limits.first_violation;
@@ -112,7 +116,7 @@ TEST(JointStops, WithoutStopsThePendulumSwingsPastTheLimitAndTheMonitorSeesIt) {
 }
 
 TEST(JointStops, AStartBeyondALimitEndsTheRunAtOnceNamingTheJoint) {
-  const Run run = Release(kUpper + 0.1, true, 1.0);
+  const Outcome run = Release(kUpper + 0.1, true, 1.0);
   ASSERT_EQ(run.status.reason, SimulatorStatus::Reason::kFailed) << run.status.ToString();
   EXPECT_NEAR(run.status.time, 0.0, 1e-12);
   for (const std::string part : {"joint 'hinge' is beyond its upper limit 0.5", "q = 0.6", "outside the limits"})
