@@ -106,7 +106,8 @@ std::string WalkingRunResult::ToJson() const {
   s["first_contact_violation"] = contact.first_violation;
   s["joint_limit_violations"] = joint_limits.violations;
   s["first_joint_limit_violation"] = joint_limits.first_violation;
-  s["joint_limit_min_margin_rad"] = std::isfinite(joint_limit_min_margin) ? joint_limit_min_margin : 0.0;
+  s["joint_limit_min_margin_rad"] =
+      std::isfinite(joint_limit_min_margin) ? nlohmann::json(joint_limit_min_margin) : nlohmann::json();  // null: none
   s["joint_limit_min_margin_at"] = joint_limit_min_margin_at;
   s["min_stance_normal_force_N"] = contact.samples > 0 ? contact.min_normal_force_N : 0.0;
   s["max_friction_ratio"] = contact.max_friction_ratio;
@@ -175,6 +176,8 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
                  params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
                                       : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
                  "double_support");
+  // The start pose too: a plant with joint stops may end the run there, before any monitor sample.
+  r.joint_limits.Record(model, params.start_time_s, q_init);
 
   const double mg = model.total_mass() * 9.81;
   const double band =

@@ -16,7 +16,7 @@
 //     footed H-LIP nodes) its step-to-step change (2-norm) from the 5th periodic touchdown on (walking issue);
 //   lift-off force: the plant's normal force on the foot just before it leaves (the largest over the run);
 //   contact: ContactForceStatistics of the plant's own forces; the plant's contact_violation port;
-//   joint limits: JointLimitStatistics of the plant's q against the URDF's position limits.
+//   joint limits: JointLimitStatistics of the plant's q against the URDF's position limits (and of the start pose).
 // Once per control tick (tick_period_s, the controller's 1 kHz):
 //   COM position error against the plan's COM after the first step (from the plan's third segment), RMS and max per
 //   axis; pelvis roll, pitch, yaw (largest |angle|); the Eq. (25) band on the plant's normal forces: each foot's F_z

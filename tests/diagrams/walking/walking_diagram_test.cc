@@ -172,7 +172,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
   std::printf(
       "  joint limits: smallest margin %.3f rad (%s), of the joints other than the ankle pitches %.3f rad (%s)\n",
       r.joint_limit_min_margin, r.joint_limit_min_margin_at.c_str(), margin_others, worst_other.c_str());
-  EXPECT_EQ(r.joint_limits.samples, r.samples);
+  EXPECT_EQ(r.joint_limits.samples, r.samples + 1);  // every monitor sample and the start pose
   EXPECT_NEAR(r.joint_limit_min_margin, margin_all, 1e-12);
   EXPECT_GE(margin_others, 0.0) << worst_other << " went beyond its URDF limit";
   EXPECT_EQ(r.qp_infeasible_ticks, 0.0);
