@@ -176,8 +176,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
                  params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
                                       : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
                  "double_support");
-  // The start pose too: a plant with joint stops may end the run there, before any monitor sample.
-  r.joint_limits.Record(model, params.start_time_s, q_init);
+  r.joint_limits.Record(model, params.start_time_s, q_init);  // joint stops may end the run here, before a sample
 
   const double mg = model.total_mass() * 9.81;
   const double band =
@@ -289,7 +288,6 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.simulated_s = sim.get_context().time();
   r.interrupted = r.status.kind() == SimulatorStatus::Kind::kInterrupted;
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
-
   r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
   r.success =
       !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
