@@ -104,6 +104,11 @@ std::string WalkingRunResult::ToJson() const {
   s["liftoff_normal_force_max_N"] = liftoff_normal_force_max_N;
   s["contact_violations"] = contact.violations;
   s["first_contact_violation"] = contact.first_violation;
+  s["joint_limit_violations"] = joint_limits.violations;
+  s["first_joint_limit_violation"] = joint_limits.first_violation;
+  s["joint_limit_min_margin_rad"] =
+      std::isfinite(joint_limit_min_margin) ? nlohmann::json(joint_limit_min_margin) : nlohmann::json();  // null: none
+  s["joint_limit_min_margin_at"] = joint_limit_min_margin_at;
   s["min_stance_normal_force_N"] = contact.samples > 0 ? contact.min_normal_force_N : 0.0;
   s["max_friction_ratio"] = contact.max_friction_ratio;
   s["qp_infeasible_ticks"] = qp_infeasible_ticks;
@@ -171,6 +176,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
                  params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
                                       : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
                  "double_support");
+  r.joint_limits.Record(model, params.start_time_s, q_init);  // joint stops may end the run here, before a sample
 
   const double mg = model.total_mass() * 9.81;
   const double band =
@@ -202,6 +208,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
     const Eigen::VectorXd& q = plant.EvalOutput(ctx, "q");
     const Eigen::VectorXd& v = plant.EvalOutput(ctx, "v");
     r.contact_violation_port_samples += plant.EvalOutput(ctx, "contact_violation").cwiseAbs().sum() > 0 ? 1 : 0;
+    r.joint_limits.Record(model, t, q);
     const bool in_double = mode == kWalkingDoubleSupport, was_double = last_mode == kWalkingDoubleSupport;
     if ((in_double && !was_double) || (!in_double && !was_double && mode != last_mode)) {  // a touchdown
       const bool right_landed = last_mode == kWalkingLeftStance;
@@ -281,10 +288,10 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.simulated_s = sim.get_context().time();
   r.interrupted = r.status.kind() == SimulatorStatus::Kind::kInterrupted;
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
-
   r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
   r.success =
       !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
+  r.joint_limit_min_margin = r.joint_limits.SmallestMargin(model, &r.joint_limit_min_margin_at);
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;
   r.force_in_band_fraction_strict = band_ticks ? static_cast<double>(band_in_strict) / band_ticks : 0.0;

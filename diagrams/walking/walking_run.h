@@ -15,7 +15,8 @@
 //     support and extrapolated to each touchdown (PreImpactSampler); after each transition (a single support with
 //     footed H-LIP nodes) its step-to-step change (2-norm) from the 5th periodic touchdown on (walking issue);
 //   lift-off force: the plant's normal force on the foot just before it leaves (the largest over the run);
-//   contact: ContactForceStatistics of the plant's own forces; the plant's contact_violation port.
+//   contact: ContactForceStatistics of the plant's own forces; the plant's contact_violation port;
+//   joint limits: JointLimitStatistics of the plant's q against the URDF's position limits (and of the start pose).
 // Once per control tick (tick_period_s, the controller's 1 kHz):
 //   COM position error against the plan's COM after the first step (from the plan's third segment), RMS and max per
 //   axis; pelvis roll, pitch, yaw (largest |angle|); the Eq. (25) band on the plant's normal forces: each foot's F_z
@@ -24,7 +25,8 @@
 //   F_ref: the plan's aSLIP force), scored outside band_settle_s after each touchdown, and strictly (s = 0: Eq. (25)
 //   as written); the CLF-QP's δ and solve time.
 // Success: the simulator reached the end time (no failure, no interrupt), every single support of the plan that ends
-// before the end time ended in a step on its foothold, none landed off target, and no contact violation.
+// before the end time ended in a step on its foothold, none landed off target, and no contact violation. (Joint limits
+// are reported, not judged: the walking plans bend the ankles beyond the URDF's, docs/design-notes.md#joint-limits.)
 //
 // The monitor allocates only at touchdowns (the pre-impact list); the per-tick solve-time list is reserved up front.
 #include <functional>
@@ -38,6 +40,7 @@
 #include "diagrams/walking/walking_diagram.h"
 #include "framework/simulator.h"
 #include "systems/plants/contact_force_statistics.h"
+#include "systems/plants/joint_limit_statistics.h"
 
 namespace rome {
 
@@ -105,6 +108,10 @@ struct WalkingRunResult {
   long band_samples = 0;
   ContactForceStatistics contact;
   long contact_violation_port_samples = 0;  ///< samples where the plant's contact_violation port was not zero
+  JointLimitStatistics joint_limits;        ///< the plant's q against the URDF's position limits, every sample
+  /// [rad] the smallest margin to a joint limit over the run (negative: beyond it), and "<joint> lower|upper"
+  double joint_limit_min_margin = std::numeric_limits<double>::infinity();
+  std::string joint_limit_min_margin_at;
   long samples = 0, ticks = 0;
   /// The ClfQpController's diagnostics (WalkingDiagram::clf_qp; zeros when the controller has none).
   double qp_infeasible_ticks = 0, qp_fallbacks = 0, clf_row_active_fraction = 0, clf_relaxation_max = 0;

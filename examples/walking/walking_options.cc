@@ -93,7 +93,10 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, "
               "BulletWorldPlant)")
       .Option("joint-limits", "on",
-              "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
+              "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant: --joint-stops)")
+      .Option("joint-stops", "off",
+              "on | off: the hybrid plant ends the run when a joint reaches its URDF limit, and the CLF-QP brakes each "
+              "joint before its limit (ours; off by default: the walking plans bend the ankles beyond the URDF's)")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json",
               "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
@@ -168,6 +171,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   cli.RequireModeFor("gait-b", "scenario", {"gait-change"});
   cli.RequireModeFor("gaits", "scenario", {"gait-sequence"});
   cli.RequireModeFor("joint-limits", "plant", {"bullet"});
+  cli.RequireModeFor("joint-stops", "plant", {"hybrid"});
   o.gait_a = Gait(cli, "gait-a");
   o.gait_b = Gait(cli, "gait-b");
   if (o.scenario == "gait-sequence") o.gaits = GaitList(cli.Get("gaits"));
@@ -198,6 +202,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   p.controller.cost_pd_feedback = OneOf(cli, "clf-cost-target", {"pd", "min-norm"}) == "pd";
   p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"coefficient", "corner-cone"}) == "corner-cone";
   p.bullet_plant.enable_joint_limits = OneOf(cli, "joint-limits", {"on", "off"}) == "on";
+  p.plant.joint_stops = p.controller.joint_limit_brake.enabled = OneOf(cli, "joint-stops", {"on", "off"}) == "on";
   o.run.foothold_tolerance_m = cli.GetDouble("foothold-tolerance");
   // The periodic scenario starts inside the first double support, where both feet carry load (at its first instant
   // the landed foot's planned force is 0), on the plan's orbit.

@@ -157,7 +157,9 @@ void PrintRunResult(const WalkingRunResult& r, PlantKind plant) {
             << nlohmann::json(r.realtime_factor()) << "\n  plant " << ToString(plant) << ": contact violations "
             << r.contact.violations << " (" << r.contact.samples << " samples)"
             << (r.contact.violations ? ", first: " + r.contact.first_violation : "") << ", max |F_t|/F_n "
-            << r.contact.max_friction_ratio << "\n";
+            << r.contact.max_friction_ratio << "\n  joint limits: smallest margin " << r.joint_limit_min_margin << " ("
+            << r.joint_limit_min_margin_at << "), samples beyond a limit " << r.joint_limits.violations
+            << (r.joint_limits.violations ? ", first: " + r.joint_limits.first_violation : "") << "\n";
 }
 
 }  // namespace rome::examples

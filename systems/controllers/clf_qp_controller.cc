@@ -61,6 +61,7 @@ struct ClfQpController::Scratch {
     std::vector<int> force_offset, ineq_offset;
     int band_offset = -1;
     int drift_offset = -1;   // first hold-drift row (params.predict_hold_drift), the wrench rows again
+    int brake_offset = -1;   // first joint-limit brake row (params.joint_limit_brake)
     Eigen::VectorXd F_prev;  // planned constraint forces of the last solve in this mode, and its time
     double t_prev = -kInf;
     bool prev_valid = false;
@@ -160,6 +161,7 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
     ThrowError("params.clf_active_tolerance = " + std::to_string(params_.clf_active_tolerance) +
                " must be finite and >= 0");
   u_max_ = ResolveTorqueLimits(*model_, params_.torque_limits, this->name());
+  brake_ = JointLimitBrake(*model_, params_.joint_limit_brake, "system '" + this->name() + "'");
   zero_torque_ = ZeroTorqueActuatorsPerMode(*model_, mode_contacts_, params_.zero_torque_in_contact, this->name());
   // RES-CLF of every mode (Eq. (26)-(30)), Q = I.
   for (size_t m = 0; m < mode_contacts_.size(); ++m) {
@@ -275,6 +277,8 @@ std::any ClfQpController::AllocateScratch() const {
       drift_offset = ineq;
       for (const ContactWrenchConstraints& cw : wrench) ineq += cw.num_rows();
     }
+    const int brake_offset = brake_.num_rows() > 0 ? ineq : -1;
+    ineq += brake_.num_rows();
     const int nx = nu + (augmented ? rows : 0) + 1;
     Scratch::ModeQp mq(nx, augmented ? rows : 0, ineq, params_.qp);
     mq.active = active;
@@ -284,6 +288,7 @@ std::any ClfQpController::AllocateScratch() const {
     mq.ineq_offset = std::move(ineq_offset);
     mq.band_offset = band_offset;
     mq.drift_offset = drift_offset;
+    mq.brake_offset = brake_offset;
     mq.F_prev.setZero(std::max(rows, 1));
     mq.drift.setZero(std::max(rows, 1));
     mq.nx = nx;
@@ -357,6 +362,12 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   if (!FillCost(q, reg_scale, rows, s, mode)) return QpStatus::kInvalidInput;
   FillClfRow(s, mode);
   FillWrenchRows(context, q, s, mode);
+  Scratch::ModeQp& mq = s.modes[mode];
+  if (mq.brake_offset >= 0) {  // q̈ = q̈0 + Q_u u (+ M⁻¹ Jᵀ F when augmented)
+    const bool augmented = params_.formulation == ClfQpFormulation::kAugmentedInput;
+    brake_.Fill(q, v, s.qdd0, augmented ? s.MinvB : mq.Q, mq.MinvJT.leftCols(augmented ? rows : 0), mq.brake_offset,
+                mq.qp);
+  }
   const QpStatus status = s.modes[mode].qp.Solve();
   if (status == QpStatus::kOptimal) StorePlannedForces(rows, s, mode);
   return status;
@@ -675,6 +686,7 @@ void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool
     for (int i = mq.drift_offset;
          i < mq.drift_offset + mq.ineq_offset.back() + mq.wrench.back().num_rows() - mq.ineq_offset[0]; ++i)
       qp.l[i] = -kInf, qp.u[i] = kInf;
+  if (!band && mq.brake_offset >= 0) brake_.Disable(mq.brake_offset, qp);
   if (!cop)
     for (size_t k = 0; k < mq.wrench.size(); ++k)
       for (int i = 0; i < mq.wrench[k].num_rows(); ++i)
@@ -692,9 +704,9 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   Scratch::ModeQp& mq = s.modes[s.last_mode];
   if (status != QpStatus::kOptimal && status != QpStatus::kInvalidInput) {
     (*next)[slot(kFailures)] += 1.0;
-    // Fallback 1: drop the force band and the hold-drift rows; 2: also drop the CoP rows (each counted); else hold the
-    // previous u.
-    if (mq.band_offset >= 0 || mq.drift_offset >= 0) {
+    // Fallback 1: drop the force band, the hold-drift and the brake rows; 2: also drop the CoP rows (each counted);
+    // else hold the previous u.
+    if (mq.band_offset >= 0 || mq.drift_offset >= 0 || mq.brake_offset >= 0) {
       SetRowsEnabled(context, false, true);
       status = mq.qp.Solve();
       (*next)[slot(kBandDropped)] += 1.0;

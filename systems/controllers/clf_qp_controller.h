@@ -48,7 +48,8 @@
 // α, β come from params.contact_stabilization: pass the plant's (HybridContactPlantParams::dynamics).
 //
 // Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
-//   1. drop the force band and the hold-drift rows (params.predict_hold_drift) and re-solve; 2. also drop the
+//   1. drop the force band, the hold-drift rows (params.predict_hold_drift) and the joint-limit brake rows
+//   (params.joint_limit_brake) and re-solve; 2. also drop the
 //   centre-of-pressure rows and re-solve; 3. hold the previous u.
 // One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
 
@@ -62,6 +63,7 @@
 #include "systems/controllers/controller_setup.h"
 #include "solvers/qp/dense_qp_solver.h"
 #include "systems/controllers/contact_wrench_constraints.h"
+#include "systems/controllers/joint_limit_brake.h"
 #include "systems/controllers/task_space_tasks.h"
 #include "systems/multibody/contact_dynamics.h"
 
@@ -185,6 +187,9 @@ struct ClfQpParams {
   /// [-] the CLF row counts as active on the clf_activity port when δ > 0 or its slack u₀ − a₀ᵀx, in the row's
   /// normalisation (see the header), is at most this (ours; DenseQpSolver's feasibility tolerance is 1e-9)
   double clf_active_tolerance = 1e-7;
+  /// Ours (off by default): rows that brake each joint before its URDF position limit (joint_limit_brake.h); dropped
+  /// with the force band in fallback 1.
+  JointLimitBrakeParams joint_limit_brake;
 };
 
 /// What a ClfQpController reports about its updates (output port "diagnostics", ClfQpController::diagnostics). The
@@ -284,6 +289,7 @@ class ClfQpController final : public QpControllerSystem {
   int ny_ = 0;
   Eigen::VectorXd u_max_;
   std::vector<std::vector<int>> zero_torque_;
+  JointLimitBrake brake_;
   struct ModeClf {
     Eigen::MatrixXd P_epsilon, F, G;
     double convergence_rate = 0;

@@ -180,6 +180,31 @@ void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
   }
 }
 
+namespace {
+
+// One Newton step of SolvePose inside the joint limits: the minimum-norm step with every coordinate that sits on a
+// limit and would move beyond it frozen (its column of C zeroed), then clamped to the limits.
+void BoundedNewtonStep(const MultibodyModel& model, const Eigen::MatrixXd& C, const Eigen::VectorXd& c,
+                       Eigen::VectorXd& q) {
+  const Eigen::VectorXd &lo = model.position_lower_limits(), &hi = model.position_upper_limits();
+  q = q.cwiseMax(lo).cwiseMin(hi);
+  Eigen::MatrixXd Cf = C;
+  Eigen::VectorXd dq = -Cf.completeOrthogonalDecomposition().solve(c);
+  for (Eigen::Index pass = 0; pass < q.size(); ++pass) {
+    bool frozen = false;
+    for (Eigen::Index i = 0; i < q.size(); ++i)
+      if (Cf.col(i).squaredNorm() > 0 && ((q[i] >= hi[i] && dq[i] > 0) || (q[i] <= lo[i] && dq[i] < 0))) {
+        Cf.col(i).setZero();
+        frozen = true;
+      }
+    if (!frozen) break;
+    dq = -Cf.completeOrthogonalDecomposition().solve(c);
+  }
+  q = (q + dq).cwiseMax(lo).cwiseMin(hi);
+}
+
+}  // namespace
+
 Eigen::VectorXd SolvePose(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q0,
                           const std::vector<PoseConstraint>& constraints, const PoseSolverOptions& options) {
   const std::string who = "SolvePose (robot '" + model.name() + "'): ";
@@ -198,7 +223,10 @@ Eigen::VectorXd SolvePose(const MultibodyModel& model, MultibodyWorkspace& ws, c
     CalcPoseConstraints(model, ws, q, constraints, c, C);
     if (c.norm() < options.tolerance) return q;
     if (it == options.max_iterations || !c.allFinite()) break;
-    q -= C.completeOrthogonalDecomposition().solve(c);
+    if (options.respect_joint_limits)
+      BoundedNewtonStep(model, C, c, q);
+    else
+      q -= C.completeOrthogonalDecomposition().solve(c);
   }
   Eigen::Index worst = 0;
   if (c.allFinite()) c.cwiseAbs().maxCoeff(&worst);
@@ -206,8 +234,8 @@ Eigen::VectorXd SolvePose(const MultibodyModel& model, MultibodyWorkspace& ws, c
   s << who << "Newton did not converge in " << options.max_iterations << " steps: residual norm " << c.norm()
     << " (tolerance " << options.tolerance << "), largest residual " << c[worst] << " in constraint " << worst << " ("
     << DescribePoseConstraint(model, constraints[static_cast<std::size_t>(worst)]) << ", target "
-    << constraints[static_cast<std::size_t>(worst)].target
-    << "); the pose is probably out of reach or the constraints contradict each other";
+    << constraints[static_cast<std::size_t>(worst)].target << "); the pose is probably out of reach"
+    << (options.respect_joint_limits ? " within the joint limits" : "") << " or the constraints contradict each other";
   throw std::runtime_error(s.str());
 }
 

@@ -67,6 +67,10 @@ struct PoseConstraint {
 struct PoseSolverOptions {
   int max_iterations = 100;  ///< Newton steps before giving up
   double tolerance = 1e-12;  ///< on the Euclidean norm of the residual g(q) - target
+  /// Keep every coordinate inside its URDF position limits (ours; off by default, the plain Newton above): each step
+  /// is the minimum-norm step with the coordinates that sit on a limit and would move beyond it held there, then
+  /// clamped to the limits; the free directions of a redundant request carry the rest.
+  bool respect_joint_limits = false;
 };
 
 /// Human-readable description of `c` ("x of contact left_foot", "COM z", "q[2] (base_pitch)").
@@ -84,8 +88,8 @@ void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
                          Eigen::Ref<Eigen::VectorXd> residual, Eigen::Ref<Eigen::MatrixXd> jacobian);
 
 /// Solves g(q) = target by Newton iterations with minimum-norm steps from q0 (see the file comment) and returns q
-/// with |g(q) - target| < options.tolerance.
-/// Throws std::invalid_argument for a bad request (q0 of the wrong size or not finite, bad options, or any
+/// with |g(q) - target| < options.tolerance (and, with options.respect_joint_limits, every coordinate within its
+/// limits). Throws std::invalid_argument for a bad request (q0 of the wrong size or not finite, bad options, or any
 /// ValidatePoseConstraints error), and std::runtime_error if the iteration does not converge within
 /// options.max_iterations (e.g. a foot out of reach); that message names the robot, the residual norm and the
 /// constraint with the largest residual.

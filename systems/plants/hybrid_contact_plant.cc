@@ -71,6 +71,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   DeclareLiftoffAndSlipGuards();
   DeclarePostEventCheck();
   DeclareTouchdownAndFallGuards();
+  if (params_.joint_stops) DeclareJointStops();
 }
 
 void HybridContactPlant::DeclarePlantOutputs() {
@@ -277,6 +278,55 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
           return EventStatus::Failed(os.str());
         });
   }
+}
+
+void HybridContactPlant::DeclareJointStops() {
+  if (!(params_.joint_stop_tolerance >= 0.0) || !std::isfinite(params_.joint_stop_tolerance))
+    ThrowError("params.joint_stop_tolerance = " + std::to_string(params_.joint_stop_tolerance) +
+               " must be >= 0 and finite");
+  // Components 2k and 2k + 1: the lower and upper stop of the k-th limited coordinate (finite URDF limits only).
+  std::vector<int> limited;
+  const Eigen::VectorXd &lo = model_->position_lower_limits(), &hi = model_->position_upper_limits();
+  for (int i = 0; i < model_->nv(); ++i)
+    if (std::isfinite(lo[i]) || std::isfinite(hi[i])) limited.push_back(i);
+  if (limited.empty()) return;
+  const auto margin = [lo, hi](double q, int i, bool lower) {
+    if (lower) return std::isfinite(lo[i]) ? q - lo[i] : 1.0;
+    return std::isfinite(hi[i]) ? hi[i] - q : 1.0;
+  };
+  const auto message = [this, lo, hi](int i, bool lower, double q, double t, bool beyond) {
+    std::ostringstream os;
+    os << "joint '" << model_->JointName(i) << "' " << (beyond ? "is beyond" : "reached") << " its "
+       << (lower ? "lower" : "upper") << " limit " << (lower ? lo[i] : hi[i]) << " at t = " << t << " s (q = " << q
+       << "; joint stop";
+    if (beyond) os << ", right after an event: a start pose or reset outside the limits";
+    os << ")";
+    return os.str();
+  };
+  const int n = static_cast<int>(limited.size());
+  DeclareGuard(
+      "joint_stop", kAllModes, 2 * n,
+      [limited, margin, n](const LeafContext& ctx, Eigen::Ref<Eigen::VectorXd> w) {
+        const auto q = ctx.continuous_state();
+        for (int k = 0; k < n; ++k) {
+          w[2 * k] = margin(q[limited[k]], limited[k], true);
+          w[2 * k + 1] = margin(q[limited[k]], limited[k], false);
+        }
+      },
+      CrossingDirection::kFalling,
+      [limited, message](const LeafContext& ctx, int component, State*) {
+        const int i = limited[component / 2];
+        return EventStatus::Failed(message(i, component % 2 == 0, ctx.continuous_state()[i], ctx.time(), false));
+      });
+  // A joint already beyond a stop right after an event has a witness that cannot cross: end the run there.
+  DeclareEventPublish([this, limited, margin, message](const LeafContext& ctx) {
+    const auto q = ctx.continuous_state();
+    for (const int i : limited)
+      for (const bool lower : {true, false})
+        if (margin(q[i], i, lower) < -params_.joint_stop_tolerance)
+          return EventStatus::Failed(message(i, lower, q[i], ctx.time(), true));
+    return EventStatus::Succeeded();
+  });
 }
 
 std::any HybridContactPlant::AllocateScratch() const { return Scratch(*model_); }

@@ -38,6 +38,10 @@
 //     Lift-off guards of a mode are declared before its slip guard: a contact that unloads with F_t = 0 (the cone's
 //     apex, both witnesses reach 0 at once) lifts off, and the old mode's slip guard is then inactive.
 //   fall  (all modes; floating bases only): base height below min_base_height_m: Failed("robot fell: ...").
+//   joint_stop  (all modes, with params.joint_stops; one component per finite URDF position limit: q_i − q_lower,i and
+//     q_upper,i − q_i): a joint reaches its limit. Ends the run: Failed("joint '<j>' reached its lower limit -0.35 at
+//     t = ... s (joint stop)"). A joint already more than joint_stop_tolerance beyond a limit right after an event
+//     (e.g. a start pose outside the limits) ends the run there (the event publish), since its witness cannot cross.
 // Violations no witness can see: after every event (initialisation, a guard reset, another system's discrete update
 // such as a zero-order-held u) the plant's event publish checks every active contact. Its witnesses restart from the
 // post-event values, so a normal force (friction margin) that jumped below 0 at the event would never cross: such
@@ -80,6 +84,14 @@ struct HybridContactPlantParams {
   /// the ratio |F_t|/F_n of a force held over a control sample is ill-conditioned and would end the run as a slip just
   /// before the lift-off; the controller unloads the foot to ~0 and the plant then releases it. 0: exactly at F_n = 0.
   double planned_liftoff_force_N = 0.0;
+  /// Joint stops (ours): reaching a URDF position limit ends the run as a failure (the joint_stop guard above). A rigid
+  /// stop's impact is not modelled: a controller must keep every joint inside its limits. Off by default for now: the
+  /// walking plans bend the exoskeleton's ankles to -0.83 rad (URDF limit -0.35 rad; docs/design-notes.md#joint-limits)
+  /// and the other robots' runs are not measured against their limits yet.
+  bool joint_stops = false;
+  /// [rad, or m for a prismatic joint] right after an event a joint this far beyond a limit is rounding on the limit,
+  /// not a violation (ours; the stop guard's crossing itself is exact to the rootfinder's tolerance).
+  double joint_stop_tolerance = 1e-9;
 };
 
 class HybridContactPlant final : public ContactPlant {
@@ -112,6 +124,8 @@ class HybridContactPlant final : public ContactPlant {
   void DeclareLiftoffAndSlipGuards();
   void DeclarePostEventCheck();
   void DeclareTouchdownAndFallGuards();
+  /// The joint_stop guard and its post-event check (params.joint_stops).
+  void DeclareJointStops();
   /// mu F_n - |F_t| of a contact [N].
   double FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const;
   /// Witness of a violation found right after an event: > 0 at the event, crossing 0 immediate_event_delay_s later.

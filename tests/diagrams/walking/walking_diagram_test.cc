@@ -105,7 +105,19 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
   // CoP may move by rounding-level amounts past it: 0.5 mm of tolerance.
   ContactForceCheckParameters cop_check;
   cop_check.cop_margin_m = -5e-4;
+  // Joint limits (issue 39), recounted here from the URDF's limits: the smallest margin of every limited joint, and of
+  // the joints other than the ankle pitches, which the plans bend beyond -0.35 rad (docs/design-notes.md#joint-limits).
+  double margin_all = std::numeric_limits<double>::infinity(), margin_others = margin_all;
+  std::string worst_other;
+  const Eigen::VectorXd &q_lo = model->position_lower_limits(), &q_hi = model->position_upper_limits();
   const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
+    for (int i = 0; i < model->nv(); ++i) {
+      if (!std::isfinite(q_lo[i]) && !std::isfinite(q_hi[i])) continue;
+      const double m = std::min((*s.q)[i] - q_lo[i], q_hi[i] - (*s.q)[i]);
+      margin_all = std::min(margin_all, m);
+      if (model->JointName(i).find("ankle_pitch") == std::string::npos && m < margin_others)
+        margin_others = m, worst_other = model->JointName(i);
+    }
     if (s.mode != mode_seen) {
       if (s.mode == kWalkingDoubleSupport || mode_seen != kWalkingDoubleSupport) touchdown_seen = s.t;
       mode_seen = s.mode;
@@ -157,6 +169,12 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
   EXPECT_EQ(cop_bad, 0);
   EXPECT_EQ(r.contact.violations, 0) << r.contact.first_violation;
   EXPECT_EQ(r.contact_violation_port_samples, 0);
+  std::printf(
+      "  joint limits: smallest margin %.3f rad (%s), of the joints other than the ankle pitches %.3f rad (%s)\n",
+      r.joint_limit_min_margin, r.joint_limit_min_margin_at.c_str(), margin_others, worst_other.c_str());
+  EXPECT_EQ(r.joint_limits.samples, r.samples + 1);  // every monitor sample and the start pose
+  EXPECT_NEAR(r.joint_limit_min_margin, margin_all, 1e-12);
+  EXPECT_GE(margin_others, 0.0) << worst_other << " went beyond its URDF limit";
   EXPECT_EQ(r.qp_infeasible_ticks, 0.0);
   ASSERT_GE(r.liftoffs, 1);
   EXPECT_NEAR(r.first_liftoff_time_s, t_liftoff_planned, 0.05);

@@ -245,6 +245,34 @@ TEST(PoseConstraintsTest, JacobianMatchesFiniteDifferences) {
   EXPECT_NEAR(c[1], CalcComPosition(model, ws, q).z() - 0.9, 1e-15);
 }
 
+// A redundant request (only the tip's x on the double pendulum) whose plain minimum-norm Newton bends the elbow past
+// its 2.5 rad limit: with respect_joint_limits the elbow stays within [-2.5, 2.5] and the shoulder carries the rest;
+// the tip is checked with the kinematics directly.
+TEST(PoseConstraintsTest, RespectJointLimitsKeepsTheElbowInsideItsLimitAndStillReachesTheTarget) {
+  const MultibodyModel model =
+      MultibodyModel::Load(rome::test::SourcePath("tests/systems/multibody/data/double_pendulum.urdf"));
+  MultibodyWorkspace ws(model);
+  const int lower = model.BodyIndex("lower");
+  const Eigen::Vector3d tip(0, 0, -0.5);
+  const Eigen::VectorXd q0 = Eigen::Vector2d(0.0, 2.3);
+  const auto tip_x = [&](const Eigen::VectorXd& q) { return CalcPointPosition(model, ws, q, lower, tip).x(); };
+  // Move the target the way that opens the elbow (finite-difference sign of d x / d q_elbow).
+  const double h = 1e-6, dx_delbow = (tip_x(q0 + Eigen::Vector2d(0, h)) - tip_x(q0 - Eigen::Vector2d(0, h))) / (2 * h);
+  const double target = tip_x(q0) + (dx_delbow > 0 ? 0.3 : -0.3);
+  const std::vector<PoseConstraint> pose = {PoseConstraint::Point(model, "lower", tip, 0, target)};
+  const Eigen::VectorXd q_free = SolvePose(model, ws, q0, pose);
+  ASSERT_GT(q_free[1], 2.5) << "the unbounded solve must leave the limit for this test to mean anything";
+  PoseSolverOptions bounded;
+  bounded.respect_joint_limits = true;
+  const Eigen::VectorXd q = SolvePose(model, ws, q0, pose, bounded);
+  EXPECT_LE(q[1], 2.5);
+  EXPECT_GE(q[1], -2.5);
+  EXPECT_NEAR(tip_x(q), target, 1e-10);
+  // A target beyond the reach inside the limits is an error that says so.
+  const std::vector<PoseConstraint> far = {PoseConstraint::Point(model, "lower", tip, 0, 1.3)};
+  ExpectThrowWith<std::runtime_error>([&] { SolvePose(model, ws, q0, far, bounded); }, {"within the joint limits"});
+}
+
 TEST(PoseConstraintsTest, BadRequestsGetClearErrors) {
   const MultibodyModel model = LoadRobot("amber");
   MultibodyWorkspace ws(model);
