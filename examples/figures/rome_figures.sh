@@ -5,7 +5,7 @@
 #   BIN_DIR  the folder of stepping_stones, walking, hopping and rome_sweep (build/bin)
 #   OUT_DIR  written afresh: OUT_DIR/{stepping-stones,walking,hopping}/figN_<what>.png, each PNG with a caption strip
 #            naming the paper's figure and the command that drew it; OUT_DIR/<paper>/captions.txt lists the captions;
-#            the runs' outputs, logs and summaries in OUT_DIR/runs/
+#            the runs' outputs, logs and summaries in OUT_DIR/runs/; the headline numbers in OUT_DIR/numbers.md
 #   --quick  the same figures from short runs (few steps, a 2-point sweep): what tests/examples/figures_test.py checks
 # Needs gnuplot (the examples' plotter; it also draws the caption strips), python3 and, for the sweeps, mpirun.
 # Exit codes: 0 every figure written, 3 a program failed or a figure is missing, 1 bad arguments.
@@ -128,7 +128,9 @@ done
 # point over MPI (2 ranks).
 if [ $QUICK -eq 1 ]; then LGRID=0.3:0.6:2 EGRID=0.2:0.5:2; else LGRID=0.1:0.8:8 EGRID=0.1:0.7:7; fi
 sweep=(mpirun -np 2 "$BIN/rome_sweep" stepping-stones)
+# AMBER's stones are 0.1 m long by default (point feet): 5 cm stones let the sweep start at the paper's l = 0.1 m.
 run ss_fig6a "${sweep[@]}" --grid step-length=$LGRID --set energy=0.3 --set terrain=flat --set steps=$SWEEP_STEPS \
+  --set stone-length=0.05 \
   --out "$RUNS/ss_fig6a" &&
   figure "$RUNS/ss_fig6a" stepping-stones sweep_speed.png fig6a_speed_over_step_length.png \
     "$SS Fig. 6a: AMBER's mean forward speed over the step length l (flat, E* = 0.3, epsilon = 0.6)" &&
@@ -177,6 +179,12 @@ if run hopping "$BIN/hopping" --plots "$RUNS/hopping" --summary "$RUNS/hopping.j
   figure "$h" hopping hop_tiles.png fig7e_hop_tiles.png "$HP Fig. 7e: hop snapshots (simulation), sagittal projection"
 fi
 
+# The headline numbers beside the papers' (docs/figures.md quotes them).
+if python3 "$(dirname "$0")/figures_numbers.py" "$OUT" > "$OUT/numbers.md"; then
+  WRITTEN+=("$OUT/numbers.md")
+else
+  echo "[figures] FAILED: the headline numbers (figures_numbers.py)" >&2; STATUS=3
+fi
 echo "[figures] ${#WRITTEN[@]} files written:"
 printf '  %s\n' "${WRITTEN[@]}"
 [ "$STATUS" -eq 0 ] || echo "[figures] some programs or figures failed (see above)" >&2

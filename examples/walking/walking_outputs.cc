@@ -48,7 +48,7 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
     const std::string side = foot == 0 ? "left" : "right";
     return visualization::PlotSpec{side + " ankle " + axis + " torque and its ZMP bounds, " + eq,
                                    "t [s]",
-                                   "N m",
+                                   "torque [N m]",
                                    {Line("-" + lname + " F (lower bound)", t, lo, "lines lw 2 lc rgb '#d0b000'"),
                                     Line(uname + " F (upper bound)", t, hi, "lines lw 2 lc rgb 'black'"),
                                     Line("u_" + axis, t, uu, "linespoints pt 7 ps 0.5 lc rgb '#3060c0'")},
@@ -57,24 +57,24 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
                                    300};
   };
   std::string error;
-  visualization::PlotSpec xz{
-      "footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x and z on the NLP's nodes",
-      "t [s]",
-      "m",
-      {},
-      false,
-      900,
-      350};
-  for (auto& series : split(n.x, "x")) xz.series.push_back(series);
-  for (auto& series : split(n.z, "z")) xz.series.push_back(series);
+  visualization::PlotSpec x{"footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x on the NLP's nodes",
+                            "t [s]",
+                            "x [m]",
+                            {},
+                            false,
+                            900,
+                            300};
+  visualization::PlotSpec z{"COM height z on the NLP's nodes", "t [s]", "z [m]", {}, false, 900, 300};
+  for (auto& series : split(n.x, "x")) x.series.push_back(series);
+  for (auto& series : split(n.z, "z")) z.series.push_back(series);
   const std::vector<visualization::PlotSpec> sagittal = {
-      xz, torque_panel(0, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t"),
+      x, z, torque_panel(0, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t"),
       torque_panel(1, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t")};
   if (!visualization::WritePanels(sagittal, dir + "/" + name + "_sagittal.png", &error))
     std::cerr << "plot: " << error << "\n";
   visualization::PlotSpec y{"footed H-LIP transition " + what + ", lateral (Fig. 3 L2): COM y on the QP's nodes",
                             "t [s]",
-                            "m",
+                            "y [m]",
                             {},
                             false,
                             900,

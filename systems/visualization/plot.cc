@@ -38,18 +38,20 @@ std::string GnuplotScript(const std::vector<PlotSpec>& panels) {
   g << "set terminal pngcairo size " << width << "," << height << " noenhanced\n";
   // Stacked panels share their left and right margins, so that their time axes line up; the right margin leaves room
   // for the longest key entry (the line sample and its text), so that no legend is cut at the image's edge.
-  if (panels.size() > 1) {
-    const double key_px = kCharPx * static_cast<double>(longest_key) + kKeySamplePx;
-    g << "set multiplot layout " << panels.size() << ",1\nset lmargin at screen 0.09\nset rmargin at screen "
-      << std::clamp(1.0 - key_px / width, 0.5, 0.8) << "\n";
-  }
+  const double key_px = kCharPx * static_cast<double>(longest_key) + kKeySamplePx;
+  const double right = std::clamp(1.0 - key_px / width, 0.5, 0.8);  // [fraction of the width] the plot area's right
+  if (panels.size() > 1)
+    g << "set multiplot layout " << panels.size() << ",1\nset lmargin at screen 0.09\nset rmargin at screen " << right
+      << "\n";
+  // gnuplot centres a title over the plot area: it fits if it spans at most twice the distance from that centre to
+  // the nearer image edge; a longer one is drawn in a smaller font instead of being cut.
+  const double centre = 0.5 * (0.09 + right) * width, title_room = 2.0 * std::min(centre, width - centre) - 10.0;
   index = 0;
   for (const PlotSpec& spec : panels) {
-    // A title wider than the image is drawn in a smaller font instead of being cut at both edges.
     const double title_px = kCharPx * static_cast<double>(spec.title.size());
     g << "set title " << GnuplotString(spec.title);
-    if (title_px > 0.95 * width)
-      g << " font \"," << std::max(7, static_cast<int>(kFontPt * 0.95 * width / title_px)) << "\"";
+    if (title_px > title_room)
+      g << " font \"," << std::max(7, static_cast<int>(kFontPt * title_room / title_px)) << "\"";
     else
       g << " font \"\"";  // the terminal's font (a title font set for an earlier panel stays otherwise)
     g << "\nset xlabel " << GnuplotString(spec.xlabel) << "\nset ylabel " << GnuplotString(spec.ylabel) << "\n";
