@@ -271,9 +271,11 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
               s.pitch_d = yd[layout.pitch];
             }
             RecordEnergies(model, ws, x, com_z - com_z_ref, planners, &s);
-            if (std::isfinite(rom_grf))
-              RecordRomEnergies(planners->rom, records->back().plan,
-                                domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now, rom_x_ref, &s);
+            if (std::isfinite(rom_grf)) {
+              const double plan_t = domain == HoppingDomain::kJump ? t - jump_start_now : t - touchdown_now;
+              RecordRomEnergies(planners->rom, records->back().plan, plan_t, rom_x_ref, &s);
+              s.leg_length_plan = records->back().plan.State(plan_t)[2];
+            }
             s.q = q;
           }
           r.samples.push_back(std::move(s));

@@ -67,6 +67,7 @@ struct HoppingSample {
   // relative to the current hop's jump start (robot: ½ vᵀ M v, m g Δz_com, ½ k (q − q_rest)²; ROM: ½ m ẋ², m g Δx,
   // ½ n K(L) s²; NaN without a plan); q for stick figures.
   double leg_length = NAN, leg_length_d = NAN, com_x = NAN, com_x_d = NAN, pitch_d = NAN;
+  double leg_length_plan = NAN;  ///< [m] the spring-mass ROM plan's leg length L(t) before feedback (NaN: no plan)
   double kinetic = NAN, potential = NAN, spring_energy = NAN, rom_kinetic = NAN, rom_potential = NAN, rom_spring = NAN;
   Eigen::VectorXd q;
 };

@@ -70,13 +70,15 @@ void WriteHoppingPlots(const MultibodyModel& model, const HoppingRunResult& run,
   const double t_from = run.jump_start_s > 0 ? run.jump_start_s - 0.1 : 0.0,
                t_to = run.touchdown_s > 0 ? run.touchdown_s + 1.0 : 1e9;
   auto dashed = [](const std::string& title) { return Series{title, {}, {}, "lines dt 2 lw 2"}; };
-  Series L_act{"L actual (mean of legs)", {}, {}}, L_des = dashed("L desired"), cx_act{"COM x actual", {}, {}},
-                                                   cx_des = dashed("COM x desired"), th_act{"pitch actual", {}, {}},
-                                                   th_des = dashed("pitch desired");
+  Series L_act{"L actual (mean of legs)", {}, {}},
+      L_des = dashed("L target (plan + feedback)"), L_plan{"L ROM plan", {}, {}, "lines dt 3 lw 2 lc rgb '#e07000'"},
+      cx_act{"COM x actual", {}, {}}, cx_des = dashed("COM x desired"), th_act{"pitch actual", {}, {}},
+      th_des = dashed("pitch desired");
   Series ke{"robot kinetic", {}, {}}, pe{"robot potential", {}, {}}, se{"robot springs", {}, {}},
       rke = dashed("ROM kinetic"), rpe = dashed("ROM potential"), rse = dashed("ROM spring");
   for (const HoppingSample& s : run.samples) {
     if (s.t < t_from || s.t > t_to) continue;
+    push(L_plan, s.t, s.leg_length_plan);
     push(L_act, s.t, s.leg_length), push(L_des, s.t, s.leg_length_d), push(cx_act, s.t, s.com_x),
         push(cx_des, s.t, s.com_x_d);
     push(th_act, s.t, s.pitch), push(th_des, s.t, s.pitch_d);
@@ -84,7 +86,7 @@ void WriteHoppingPlots(const MultibodyModel& model, const HoppingRunResult& run,
     push(rke, s.t, s.rom_kinetic), push(rpe, s.t, s.rom_potential), push(rse, s.t, s.rom_spring);
   }
   PlotSpec out_L{
-      "Output: virtual leg length L(q_knee), Jump and Landing (gap: Flight)", "t [s]", "L [m]", {L_act, L_des}};
+      "Output: virtual leg length L(q_knee), Jump and Landing (gap: Flight)", "t [s]", "L [m]", {L_act, L_des, L_plan}};
   PlotSpec out_x{"Output: COM x, Jump and Landing", "t [s]", "x [m]", {cx_act, cx_des}};
   PlotSpec out_th{"Output: pelvis pitch, Jump and Landing", "t [s]", "pitch [rad]", {th_act, th_des}};
   PlotSpec energy{

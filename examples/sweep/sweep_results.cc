@@ -156,6 +156,28 @@ void WritePlotInto(const rome::visualization::PlotSpec& spec, const std::string&
   if (!rome::visualization::WritePlot(spec, destination, &err)) std::cerr << "warning: " << err << "\n";
 }
 
+// The axis label of a swept flag: its name and unit, for the flags of the examples that carry one (the flag's name
+// alone otherwise).
+std::string AxisLabel(const std::string& flag) {
+  static const std::map<std::string, std::string> kUnits = {{"step-length", "step length l [m]"},
+                                                            {"step-height", "step height h [m]"},
+                                                            {"energy", "orbital energy E* [m^2/s^2]"},
+                                                            {"epsilon", "epsilon [-]"},
+                                                            {"min-gap", "min gap [m]"},
+                                                            {"max-gap", "max gap [m]"},
+                                                            {"max-rise", "max rise [m]"},
+                                                            {"swing-clearance", "swing clearance [m]"},
+                                                            {"initial-com-x", "initial COM x [m]"},
+                                                            {"force-band", "force band c [-]"},
+                                                            {"touchdown-speed", "touchdown speed [m/s]"},
+                                                            {"duration", "duration [s]"},
+                                                            {"height", "initial height [m]"},
+                                                            {"hops", "hops [-]"},
+                                                            {"steps", "steps [-]"}};
+  const auto it = kUnits.find(flag);
+  return it == kUnits.end() ? flag : it->second;
+}
+
 void WritePlots(const Sweep& s, const Results& r) {
   if (s.swept[0].name != "seed" && r.numeric.count("mean_forward_speed_mps")) {
     std::vector<rome::visualization::Series> series;
@@ -174,7 +196,7 @@ void WritePlots(const Sweep& s, const Results& r) {
       }
       series.push_back(ser);
     }
-    WritePlotInto({"Mean forward speed (successful runs)", x.name, "speed [m/s]", series},
+    WritePlotInto({"Mean forward speed (successful runs)", AxisLabel(x.name), "mean forward speed [m/s]", series},
                   (fs::path(s.out) / "sweep_speed.png").string());
   } else {
     rome::visualization::Series ser{"success rate so far", {}, {}, "lines"};
@@ -184,7 +206,7 @@ void WritePlots(const Sweep& s, const Results& r) {
       ser.x.push_back(static_cast<double>(i + 1));
       ser.y.push_back(static_cast<double>(ok) / static_cast<double>(i + 1));
     }
-    WritePlotInto({"Success rate over runs", "runs", "success rate", {ser}},
+    WritePlotInto({"Success rate over runs", "runs completed [-]", "success rate [-]", {ser}},
                   (fs::path(s.out) / "sweep_success.png").string());
   }
 }

@@ -48,7 +48,7 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
     const std::string side = foot == 0 ? "left" : "right";
     return visualization::PlotSpec{side + " ankle " + axis + " torque and its ZMP bounds, " + eq,
                                    "t [s]",
-                                   "N m",
+                                   "torque [N m]",
                                    {Line("-" + lname + " F (lower bound)", t, lo, "lines lw 2 lc rgb '#d0b000'"),
                                     Line(uname + " F (upper bound)", t, hi, "lines lw 2 lc rgb 'black'"),
                                     Line("u_" + axis, t, uu, "linespoints pt 7 ps 0.5 lc rgb '#3060c0'")},
@@ -57,24 +57,24 @@ void WriteTransitionPlots(const WalkingTransitionNodes& n, const std::string& di
                                    300};
   };
   std::string error;
-  visualization::PlotSpec xz{
-      "footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x and z on the NLP's nodes",
-      "t [s]",
-      "m",
-      {},
-      false,
-      900,
-      350};
-  for (auto& series : split(n.x, "x")) xz.series.push_back(series);
-  for (auto& series : split(n.z, "z")) xz.series.push_back(series);
+  visualization::PlotSpec x{"footed aSLIP transition " + what + ", sagittal (Fig. 3 S2): COM x on the NLP's nodes",
+                            "t [s]",
+                            "x [m]",
+                            {},
+                            false,
+                            900,
+                            300};
+  visualization::PlotSpec z{"COM height z on the NLP's nodes", "t [s]", "z [m]", {}, false, 900, 300};
+  for (auto& series : split(n.x, "x")) x.series.push_back(series);
+  for (auto& series : split(n.z, "z")) z.series.push_back(series);
   const std::vector<visualization::PlotSpec> sagittal = {
-      xz, torque_panel(0, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t"),
+      x, z, torque_panel(0, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t"),
       torque_panel(1, n.pitch_torque, n.heel_m, n.toe_m, "y (pitch)", "Eq. (10)", "L_h", "L_t")};
   if (!visualization::WritePanels(sagittal, dir + "/" + name + "_sagittal.png", &error))
     std::cerr << "plot: " << error << "\n";
   visualization::PlotSpec y{"footed H-LIP transition " + what + ", lateral (Fig. 3 L2): COM y on the QP's nodes",
                             "t [s]",
-                            "m",
+                            "y [m]",
                             {},
                             false,
                             900,
@@ -130,6 +130,35 @@ void WriteGaitTiles(const std::string& dir, const MultibodyModel& model,
   WritePlot({front}, dir + "/gait_tiles_frontal.png");
 }
 
+// Fig. 5a/b: one panel per axis (x, y, z: actual solid, desired dashed), then the error desired − actual of all three
+// in milli-units, one colour per axis. columns = {x, x_d, y, y_d, z, z_d}.
+std::vector<visualization::PlotSpec> TrackingPanels(const std::vector<double>& t, const Columns& columns,
+                                                    const std::string& what, const std::string& figure,
+                                                    const std::string& unit, const std::string& milli_unit) {
+  const char* axes[3] = {"x", "y", "z"};
+  const char* colours[3] = {"#1f60c0", "#d03020", "#209040"};
+  std::vector<visualization::PlotSpec> panels;
+  visualization::PlotSpec error{
+      what + " error, desired - actual", "t [s]", "error [" + milli_unit + "]", {}, false, 900, 300};
+  for (int a = 0; a < 3; ++a) {
+    const std::string colour = std::string(" lc rgb '") + colours[a] + "'";
+    const std::vector<double>&actual = columns[2 * a], &desired = columns[2 * a + 1];
+    std::vector<double> e(actual.size());
+    for (size_t i = 0; i < e.size(); ++i) e[i] = 1e3 * (desired[i] - actual[i]);
+    panels.push_back({what + " " + axes[a] + ", desired vs actual (" + figure + ")",
+                      "t [s]",
+                      std::string(axes[a]) + " [" + unit + "]",
+                      {Line(std::string(axes[a]) + " actual", t, actual, "lines lw 2" + colour),
+                       Line(std::string(axes[a]) + " desired", t, desired, "lines dt 2 lw 2 lc rgb 'black'")},
+                      false,
+                      900,
+                      260});
+    error.series.push_back(Line(std::string(axes[a]) + "_d - " + axes[a], t, e, "lines lw 1.5" + colour));
+  }
+  panels.push_back(error);
+  return panels;
+}
+
 // The paper's figures from this run: Fig. 2 S2 (periodic aSLIP: z, F_z per leg, ẋ over one step) and L2 (H-LIP P2
 // phase portrait with its σ₂ lines), Fig. 3 S2 / L2 (the transitions), Fig. 5a/b (COM position and velocity, desired
 // vs actual), 5d (plant normal forces in their Eq. (25) band) and gait tiles (Fig. 5c) in sagittal and frontal views.
@@ -140,18 +169,8 @@ void WriteAllPlots(const std::string& dir, const MultibodyModel& model, const Wa
   auto write = [&](const std::vector<visualization::PlotSpec>& panels, const std::string& file) {
     WritePlot(panels, dir + "/" + file);
   };
-  write({{"COM desired vs actual (Fig. 5a)",
-          "t [s]",
-          "m",
-          {Line("x", t, com[0]), Line("x desired", t, com[1]), Line("y", t, com[2]), Line("y desired", t, com[3]),
-           Line("z", t, com[4]), Line("z desired", t, com[5])}}},
-        "com.png");
-  write({{"COM velocity desired vs actual (Fig. 5b)",
-          "t [s]",
-          "m/s",
-          {Line("xdot", t, vel[0]), Line("xdot desired", t, vel[1]), Line("ydot", t, vel[2]),
-           Line("ydot desired", t, vel[3]), Line("zdot", t, vel[4]), Line("zdot desired", t, vel[5])}}},
-        "com_velocity.png");
+  write(TrackingPanels(t, com, "COM position", "Fig. 5a", "m", "mm"), "com.png");
+  write(TrackingPanels(t, vel, "COM velocity", "Fig. 5b", "m/s", "mm/s"), "com_velocity.png");
   {  // Fig. 5d: each foot's plant normal force inside its band [(1 - c) F, (1 + c) F] +- 2 % m g (the summary's
      // measure)
     std::vector<visualization::PlotSpec> panels;
@@ -229,17 +248,16 @@ void WriteAllPlots(const std::string& dir, const MultibodyModel& model, const Wa
     }
     const double lambda = segs[last].lambda, sigma2 = lambda * std::tanh(lambda * segs[last].duration / 2);
     const double e = 1.2 * ymax;
-    write(
-        {{"H-LIP P2 orbit about the stance foot (Fig. 2 L2), sigma_2 = " + std::to_string(sigma2).substr(0, 5) + " 1/s",
-          "y - y_stance [m]",
-          "ydot [m/s]",
-          {Line("ydot = sigma_2 y (pre-impact)", {-e, e}, {-sigma2 * e, sigma2 * e}, "lines dt 2 lc rgb 'black'"),
-           Line("ydot = -sigma_2 y (start of SSP)", {-e, e}, {sigma2 * e, -sigma2 * e}, "lines dt 3 lc rgb '#808080'"),
-           orbit, pre},
-          false,
-          800,
-          600}},
-        "hlip_p2_portrait.png");
+    write({{"H-LIP P2 orbit (Fig. 2 L2), sigma_2 = " + std::to_string(sigma2).substr(0, 5) + " 1/s",
+            "y - y_stance (COM about the stance foot) [m]",
+            "ydot [m/s]",
+            {Line("sigma_2 line (pre-impact)", {-e, e}, {-sigma2 * e, sigma2 * e}, "lines dt 2 lc rgb 'black'"),
+             Line("-sigma_2 line (SSP start)", {-e, e}, {sigma2 * e, -sigma2 * e}, "lines dt 3 lc rgb '#808080'"),
+             orbit, pre},
+            false,
+            800,
+            600}},
+          "hlip_p2_portrait.png");
   }
   WriteTransitionPlots(nlp.transition_nodes, dir, "transition",
                        nlp.start_gait_used ? "standing -> start"
