@@ -3,6 +3,7 @@
 // Its ports are ContactPlant's (contact_plant.h); BulletWorldPlant has the same ones.
 //
 // inputs:  u (nu)                      actuator torques [N m], joint side, in MultibodyModel::actuators() order
+//          tau_external (nv)           only with params.external_force_input: generalized external force
 // outputs: q (nv)                      generalized positions (see multibody_model.h for the coordinates)
 //          v (nv)                      generalized velocities
 //          state (2 nv)                [q; v]
@@ -80,6 +81,10 @@ struct HybridContactPlantParams {
   /// the ratio |F_t|/F_n of a force held over a control sample is ill-conditioned and would end the run as a slip just
   /// before the lift-off; the controller unloads the foot to ~0 and the plant then releases it. 0: exactly at F_n = 0.
   double planned_liftoff_force_N = 0.0;
+  /// true: the plant also has the input tau_external (nv), a generalized force [N or N m per coordinate] added to the
+  /// flow's right-hand side (M q̈ + h = B sat(u) + τ_spring + τ_ext + Jᵀ F), e.g. an ExternalPush
+  /// (systems/perturbations/external_push.h). false: no such input (nothing to connect).
+  bool external_force_input = false;
 };
 
 class HybridContactPlant final : public ContactPlant {
