@@ -143,7 +143,13 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
                                                         {"clf_controller.update_period_s", "clf-rate"},
                                                         {"controller.friction_margin", "friction-margin"},
                                                         {"controller.min_normal_force_N", "min-normal-force"},
-                                                        {"supervisor.walking_com_height_m", "walking-height"}};
+                                                        {"supervisor.walking_com_height_m", "walking-height"},
+                                                        {"mass_scale", "mass-scale"},
+                                                        {"friction_scale", "friction-scale"},
+                                                        {"stone_height_sigma_m", "stone-height-error"},
+                                                        {"position_noise_sigma", "sensor-noise"},
+                                                        {"velocity_noise_sigma", "sensor-noise"},
+                                                        {"torque_noise_sigma_Nm", "torque-noise"}};
   for (const auto& [gains, option] :
        std::vector<std::pair<std::string, std::string>>{{"torso_gains", "torso-gains"},
                                                         {"com_height_gains", "com-gains"},
