@@ -11,7 +11,7 @@ include(CMakePackageConfigHelpers)
 
 set(ROME_CORE_LIBRARIES rome_framework rome_location rome_qp rome_riccati rome_lqr)
 set(ROME_NLP_LIBRARIES rome_nlp rome_collocation rome_trajectory_optimization)
-set(ROME_ALL_LIBRARIES rome_multibody rome_rom rome_plants rome_planners rome_controllers rome_posture rome_classic
+set(ROME_ALL_LIBRARIES rome_multibody rome_rom rome_plants rome_perturbations rome_planners rome_controllers rome_posture rome_classic
     rome_visualization rome_stepping_stones_diagram rome_walking_diagram rome_hopping_diagram)
 set(ROME_LIBRARIES ${ROME_CORE_LIBRARIES} ${ROME_NLP_LIBRARIES} ${ROME_ALL_LIBRARIES})
 if(TARGET rome_python)

@@ -10,6 +10,7 @@
 
 #include "framework/primitives.h"
 #include "systems/controllers/task_space_tasks.h"
+#include "systems/multibody/model_scaling.h"
 #include "systems/multibody/pose_constraints.h"
 
 namespace rome {
@@ -264,7 +265,21 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   plant_params.min_base_height_m += lowest_stone;
   BulletWorldPlantParams bullet_params = params.bullet_plant;
   bullet_params.min_base_height_m += lowest_stone;
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", d.model, graph, terrain, plant_params, bullet_params));
+  // Perturbations of the simulated world (the supervisor and the controller keep the nominal model and terrain).
+  const PerturbationParams& perturb = params.perturbations;
+  perturb.Validate();
+  if (perturb.push && plant != PlantKind::kHybrid)
+    throw std::invalid_argument("BuildSteppingStonesDiagram: perturbations.push needs the hybrid plant (the " +
+                                std::string(ToString(plant)) + " plant has no tau_external input)");
+  plant_params.external_force_input = perturb.push.has_value();
+  const std::shared_ptr<const MultibodyModel> plant_model =
+      perturb.model_mismatch() ? std::make_shared<const MultibodyModel>(
+                                     ScaleMassAndFriction(model, perturb.mass_scale, perturb.friction_scale))
+                               : d.model;
+  const Terrain plant_terrain =
+      WithStoneHeightErrors(terrain, perturb.stone_height_sigma_m, PerturbationStreamSeed(perturb.seed, 3));
+  d.plant =
+      b.AddSystem(MakeContactPlant(plant, "plant", plant_model, graph, plant_terrain, plant_params, bullet_params));
 
   SteppingStonesSupervisorParams sp = params.supervisor;
   sp.impact_fraction = params.impact_fraction;
@@ -336,10 +351,10 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
   b.Connect("outputs", "yddot_desired", "output_adapter", "yddot_desired");
   b.Connect("supervisor", "stance_foot", "output_adapter", "stance_foot");
   b.Connect("plant", "mode", "output_adapter", "mode");
-  b.Connect("plant", "state", "controller", "state");
   b.Connect("plant", "mode", "controller", "mode");
   b.Connect("output_adapter", "desired", "controller", "desired");
-  b.Connect("controller", "u", "plant", "u");
+  // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, d.model, "plant", "controller");
   d.logger = AddVectorLogger(b, "logger",
                              {{"plant", "state"},
                               {"plant", "mode"},
@@ -476,6 +491,9 @@ void SetSteppingStonesInitialState(const SteppingStonesDiagram& d, const Steppin
   d.plant->SetState(d.diagram->GetMutableSubsystemContext(*d.plant, context), x.head(nv), x.tail(nv),
                     "left_foot_stance");
   d.supervisor->Initialize(d.diagram->GetMutableSubsystemContext(*d.supervisor, context), x, 0);
+  // A sensor with latency has been reading the initial state.
+  if (const DelayLine* delay = d.perturbation_blocks.sensor_latency)
+    delay->SetHistory(d.diagram->GetMutableSubsystemContext(*delay, context), x);
 }
 
 }  // namespace rome

@@ -61,6 +61,7 @@
 #include "systems/planners/momentum_regulation_planner_system.h"
 #include "diagrams/stepping_stones/stepping_stones_output_adapter.h"
 #include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
+#include "systems/perturbations/perturbation_params.h"
 #include "systems/planners/vertical_com_mpc_system.h"
 #include "systems/plants/bullet_world_plant.h"
 #include "systems/plants/hybrid_contact_plant.h"
@@ -146,6 +147,11 @@ struct SteppingStonesDiagramParams {
   /// foot stands (zero_torque_in_contact of either controller), so the stance ankle is passive as for a point foot
   /// (stepping-stones paper, Sec. IV-A). No effect on point feet.
   bool passive_stance_ankle = true;
+  /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
+  /// (hybrid plant only), link masses/inertias and friction scaled in the plant only, stone heights off the map the
+  /// supervisor plans on, sensor noise and latency on the state the controller sees (the supervisor reads the plant's
+  /// state), torque noise between controller and plant. Default: none.
+  PerturbationParams perturbations;
 
   /// The defaults above (tuned on AMBER, point feet) adapted to the robot of `sidecar` (sets robot_sidecar). Point
   /// feet: the defaults unchanged. Line/flat feet (planar Cassie), see the .cc for each value and its reason:
@@ -210,7 +216,8 @@ struct SteppingStonesDiagram {
   const SteppingStonesOutputAdapter* output_adapter = nullptr;
   const System* controller = nullptr;  ///< whatever the factory built, a leaf or a diagram (read it through its ports)
   const VectorLogger* logger = nullptr;
-  std::shared_ptr<const MultibodyModel> model;
+  PerturbationBlocks perturbation_blocks;       ///< the perturbation blocks that are on (params.perturbations)
+  std::shared_ptr<const MultibodyModel> model;  ///< the controller's and supervisor's model (the plant's may differ)
   /// Output `port` of the controller (e.g. "qp_failures") in the diagram's `context`, whether the controller is a leaf
   /// or a diagram.
   const Eigen::VectorXd& EvalControllerOutput(const Context& context, const std::string& port) const {

@@ -1,6 +1,7 @@
 #include "examples/stepping_stones/stepping_stones_options.h"
 
 #include "diagrams/stepping_stones/stepping_stones_feasibility.h"
+#include "examples/common/perturbation_options.h"
 #include "framework/text.h"
 
 #include <sstream>
@@ -66,7 +67,7 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("min-gap", "0.2", "[m] random terrain: smallest distance between stones")
       .Option("max-gap", "0.7", "[m] random terrain: largest distance between stones")
       .Option("max-rise", "0.25", "[m] random terrain: largest height change from one stone to the next")
-      .Option("seed", "1", "random seed of the random terrain")
+      .Option("seed", "1", "random seed of the random terrain and of the perturbations (noise, stone-height errors)")
       .Option("steps", "30", "number of steps to walk")
       .Option("energy", "0.5", "E* [m^2/s^2], desired orbital energy (paper: 0.5)")
       .Option("epsilon", "0.6", "epsilon [-], desired pre-impact COM position as a fraction of the step (paper: 0.6)")
@@ -127,6 +128,7 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("plots", "", "directory for PNG plots (empty: none)")
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)")
       .ScenarioFile({"log", "summary", "plots", "animation"});
+  DeclarePerturbationOptions(cli);
 }
 
 const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterOptions = [] {
@@ -141,7 +143,13 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
                                                         {"clf_controller.update_period_s", "clf-rate"},
                                                         {"controller.friction_margin", "friction-margin"},
                                                         {"controller.min_normal_force_N", "min-normal-force"},
-                                                        {"supervisor.walking_com_height_m", "walking-height"}};
+                                                        {"supervisor.walking_com_height_m", "walking-height"},
+                                                        {"mass_scale", "mass-scale"},
+                                                        {"friction_scale", "friction-scale"},
+                                                        {"stone_height_sigma_m", "stone-height-error"},
+                                                        {"position_noise_sigma", "sensor-noise"},
+                                                        {"velocity_noise_sigma", "sensor-noise"},
+                                                        {"torque_noise_sigma_Nm", "torque-noise"}};
   for (const auto& [gains, option] :
        std::vector<std::pair<std::string, std::string>>{{"torso_gains", "torso-gains"},
                                                         {"com_height_gains", "com-gains"},
@@ -258,6 +266,14 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("stepping_stones: --robot " + Excerpt(cli.Get("robot"), 200) + ": " + e.what());
   }
+  if (cli.GetInt("seed") < 0)
+    throw std::invalid_argument("stepping_stones: --seed must be a whole number in [0, 2147483647], got " +
+                                cli.Get("seed"));
+  params.perturbations = PerturbationsFromCommandLine(
+      cli, model, static_cast<std::uint64_t>(cli.GetInt("seed")),
+      cli.Get("controller") == "clf-qp" ? params.clf_controller.update_period_s : params.controller.update_period_s);
+  if (params.perturbations.push) cli.RequireModeFor("push-force", "plant", {"hybrid"});
+  if (params.perturbations.push) cli.RequireModeFor("push-impulse", "plant", {"hybrid"});
   const Terrain terrain = MakeTerrain(cli, steps, SteppingStoneLengthFor(model));
   try {
     CheckSteppingStonesFeasible(model, terrain, params);

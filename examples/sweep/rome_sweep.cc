@@ -56,13 +56,13 @@ void PrintHelp() {
          "Exit codes: 0 the sweep completed (its success rate is in sweep.json), 1 bad input or unwritable results.\n";
 }
 
-// The flags the example accepts, read from its --help (run without a shell: the build folder may hold any character).
-std::set<std::string> ExampleFlags(const std::string& binary) {
+// The example's --help text (run without a shell: the build folder may hold any character).
+std::string ExampleHelp(const std::string& binary) {
   const rome::ProcessResult help = rome::RunProgram({binary, "--help"}, kMaxHelpBytes);
   if (!help.started || help.exit_code != 0)
     throw std::runtime_error("rome_sweep: '" + Excerpt(binary, 200) + " --help' failed (" +
                              (help.started ? "exit code " + std::to_string(help.exit_code) : help.error) + ")");
-  return rome::sweep::FlagsInHelp(help.out);
+  return help.out;
 }
 
 void CheckExampleHasFlags(const Sweep& s, const std::set<std::string>& flags) {
@@ -117,7 +117,9 @@ Sweep Parse(int argc, char** argv) {
   if (!fs::exists(s.binary))
     throw std::invalid_argument("rome_sweep: the example program '" + Excerpt(s.binary, 200) +
                                 "' does not exist (build it first)");
-  CheckExampleHasFlags(s, ExampleFlags(s.binary));
+  const std::string help = ExampleHelp(s.binary);
+  CheckExampleHasFlags(s, rome::sweep::FlagsInHelp(help));
+  s.units = rome::sweep::FlagUnitsInHelp(help);
   return s;
 }
 

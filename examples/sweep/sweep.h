@@ -41,6 +41,7 @@ struct Sweep {
   std::vector<Parameter> swept;                            // grid axes and seeds, in command-line order
   std::vector<std::pair<std::string, std::string>> fixed;  // --set name=value
   long total = 0;                                          // runs
+  std::map<std::string, std::string> units;                // flag -> unit, from the example's --help (plot axes)
 };
 
 /// Creates DIR/runs and checks that files can be created in it, before any run starts (sweep_runs.cc).

@@ -169,6 +169,26 @@ std::set<std::string> FlagsInHelp(const std::string& help) {
   return flags;
 }
 
+std::map<std::string, std::string> FlagUnitsInHelp(const std::string& help) {
+  std::map<std::string, std::string> units;
+  std::istringstream lines(help);
+  std::string flag;
+  for (std::string line; std::getline(lines, line);) {
+    const size_t first = line.find_first_not_of(' ');
+    if (first == std::string::npos) continue;
+    if (line.compare(first, 2, "--") == 0) {
+      flag = line.substr(first + 2, line.find(' ', first) == std::string::npos ? std::string::npos
+                                                                               : line.find(' ', first) - first - 2);
+    } else if (!flag.empty() && line[first] == '[' && line.find(']', first) != std::string::npos) {
+      units[flag] = line.substr(first + 1, line.find(']', first) - first - 1);
+      flag.clear();
+    } else {
+      flag.clear();
+    }
+  }
+  return units;
+}
+
 std::string RunRecordText(const RunRecord& record) {
   // ParseSet admits only valid UTF-8, so `replace` never changes a flag; it keeps dump() from throwing.
   return std::to_string(record.exit_code) + "\n" +

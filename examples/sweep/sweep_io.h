@@ -6,6 +6,7 @@
 // Every error is a std::invalid_argument of one line, "rome_sweep: ...", naming the flag and the value.
 
 #include <optional>
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
@@ -55,6 +56,9 @@ void CheckFlagsGivenOnce(const std::vector<Parameter>& swept,
 
 /// The flag names a program's --help text shows ("--name").
 std::set<std::string> FlagsInHelp(const std::string& help);
+/// The unit of each flag whose help line starts with one in brackets ("  --push-impulse VALUE\n      [N s] ..."):
+/// {"push-impulse", "N s"}. For plot axes.
+std::map<std::string, std::string> FlagUnitsInHelp(const std::string& help);
 
 /// What rome_sweep records of a finished run in run_N.exit (written last, atomically): how the run ended, and the
 /// flags it ran with, its parameters' fingerprint, so that a resume with other parameters is refused.

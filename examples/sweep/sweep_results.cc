@@ -156,9 +156,9 @@ void WritePlotInto(const rome::visualization::PlotSpec& spec, const std::string&
   if (!rome::visualization::WritePlot(spec, destination, &err)) std::cerr << "warning: " << err << "\n";
 }
 
-// The axis label of a swept flag: its name and unit, for the flags of the examples that carry one (the flag's name
-// alone otherwise).
-std::string AxisLabel(const std::string& flag) {
+// The axis label of a swept flag: a name with its symbol and unit for the flags listed here, else "name [unit]" when
+// the example's help gives the flag's unit, else the flag's name.
+std::string AxisLabel(const Sweep& s, const std::string& flag) {
   static const std::map<std::string, std::string> kUnits = {{"step-length", "step length l [m]"},
                                                             {"step-height", "step height h [m]"},
                                                             {"energy", "orbital energy E* [m^2/s^2]"},
@@ -174,11 +174,41 @@ std::string AxisLabel(const std::string& flag) {
                                                             {"height", "initial height [m]"},
                                                             {"hops", "hops [-]"},
                                                             {"steps", "steps [-]"}};
-  const auto it = kUnits.find(flag);
-  return it == kUnits.end() ? flag : it->second;
+  if (const auto it = kUnits.find(flag); it != kUnits.end()) return it->second;
+  const auto it = s.units.find(flag);
+  return it == s.units.end() ? flag : flag + " [" + it->second + "]";
+}
+
+// Success rate over the first grid parameter (over every run with that value: seeds and other grids pooled), one line
+// per value of the second parameter unless that is the seed.
+void WriteSuccessOverParameter(const Sweep& s, const Results& r) {
+  const Parameter& x = s.swept[0];
+  const bool lines_by_second = s.swept.size() > 1 && s.swept[1].name != "seed";
+  const size_t lines = lines_by_second ? s.swept[1].values.size() : 1;
+  std::vector<rome::visualization::Series> series;
+  for (size_t l = 0; l < lines; ++l) {
+    rome::visualization::Series ser{
+        lines_by_second ? s.swept[1].name + " = " + s.swept[1].values[l] : "success rate", {}, {}, "linespoints"};
+    for (const std::string& value : x.values) {
+      long runs = 0, ok = 0;
+      for (long i = 0; i < s.total; ++i) {
+        const auto v = RunValues(s, i);
+        if (v[0] != value || (lines_by_second && v[1] != s.swept[1].values[l])) continue;
+        ++runs;
+        ok += r.records[i] && r.records[i]->exit_code == 0 ? 1 : 0;
+      }
+      if (runs == 0) continue;
+      ser.x.push_back(std::strtod(value.c_str(), nullptr));
+      ser.y.push_back(static_cast<double>(ok) / static_cast<double>(runs));
+    }
+    series.push_back(ser);
+  }
+  WritePlotInto({"Success rate over " + x.name, AxisLabel(s, x.name), "success rate [-]", series},
+                (fs::path(s.out) / "sweep_success_vs_parameter.png").string());
 }
 
 void WritePlots(const Sweep& s, const Results& r) {
+  if (s.swept[0].name != "seed") WriteSuccessOverParameter(s, r);
   if (s.swept[0].name != "seed" && r.numeric.count("mean_forward_speed_mps")) {
     std::vector<rome::visualization::Series> series;
     const Parameter& x = s.swept[0];
@@ -196,7 +226,7 @@ void WritePlots(const Sweep& s, const Results& r) {
       }
       series.push_back(ser);
     }
-    WritePlotInto({"Mean forward speed (successful runs)", AxisLabel(x.name), "mean forward speed [m/s]", series},
+    WritePlotInto({"Mean forward speed (successful runs)", AxisLabel(s, x.name), "mean forward speed [m/s]", series},
                   (fs::path(s.out) / "sweep_speed.png").string());
   } else {
     rome::visualization::Series ser{"success rate so far", {}, {}, "lines"};

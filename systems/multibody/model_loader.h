@@ -98,6 +98,8 @@ class MultibodyModelLoader {
   static MultibodyModel Load(const std::string& urdf_path, std::string sidecar_path, bool sidecar_required,
                              const LoadOptions& options, const std::string* urdf_text = nullptr,
                              const std::string* sidecar_text = nullptr);
+  /// ScaleMassAndFriction (model_scaling.h): a friend of MultibodyModel, so that scaling needs no public setter.
+  static MultibodyModel Scale(const MultibodyModel& model, double mass_scale, double friction_scale);
 
  private:
   // What one Load builds, stage by stage.

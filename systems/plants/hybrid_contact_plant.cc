@@ -23,6 +23,7 @@ struct HybridContactPlant::Scratch {
         forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
         x_key(Eigen::VectorXd::Zero(2 * model.nv())),
         u_key(Eigen::VectorXd::Zero(model.nu())),
+        tau_key(Eigen::VectorXd::Zero(model.nv())),
         event_forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
   MultibodyWorkspace ws;
   Eigen::VectorXd u, qdd, F, impulse, v_plus;
@@ -31,7 +32,7 @@ struct HybridContactPlant::Scratch {
   std::uint64_t version = 0;
   // The inputs of the last computation: a root-function evaluation at the state and input of the step's last stage
   // (or of the next step's first stage) reuses it although the context's version changed.
-  Eigen::VectorXd x_key, u_key;
+  Eigen::VectorXd x_key, u_key, tau_key;  // tau_key: tau_external (zero without that input)
   int mode_key = -1;
   std::uint64_t dynamics_id = 0;  // bumps when qdd and F are recomputed
   std::uint64_t forces_version = 0;
@@ -66,6 +67,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   // touchdown guard arms min_time_in_mode_s after t = 0.
   DeclareDiscreteState(Eigen::VectorXd::Zero(1 + nc));
   DeclareInputPort("u", nu);
+  if (params_.external_force_input) DeclareInputPort("tau_external", model_->joint_names());
 
   DeclarePlantOutputs();
   DeclareLiftoffAndSlipGuards();
@@ -350,20 +352,26 @@ const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafCo
   const auto q = context.continuous_state().head(nv);
   const auto v = context.continuous_state().tail(nv);
   const Eigen::VectorXd& u = EvalInput(context, 0);
-  if (s.mode_key == context.mode() && s.x_key == context.continuous_state() && s.u_key == u) {
+  const bool external = params_.external_force_input;
+  if (s.mode_key == context.mode() && s.x_key == context.continuous_state() && s.u_key == u &&
+      (!external || s.tau_key == EvalInput(context, 1))) {
     s.version = context.version();
     return s;
   }
   s.mode_key = context.mode();
   s.x_key = context.continuous_state();
   s.u_key = u;
+  if (external) s.tau_key = EvalInput(context, 1);
   ++s.dynamics_id;
   if (params_.saturate_torques)
     s.u = u.cwiseMax(-model_->torque_limits()).cwiseMin(model_->torque_limits());
   else
     s.u = u;
   s.active = mode_contacts_[context.mode()];
-  CalcConstrainedForwardDynamics(*model_, s.ws, q, v, s.u, s.active, params_.dynamics, s.qdd, s.F);
+  if (external)
+    CalcConstrainedForwardDynamics(*model_, s.ws, q, v, s.u, s.tau_key, s.active, params_.dynamics, s.qdd, s.F);
+  else
+    CalcConstrainedForwardDynamics(*model_, s.ws, q, v, s.u, s.active, params_.dynamics, s.qdd, s.F);
   s.version = context.version();
   return s;
 }

@@ -3,6 +3,7 @@
 // Its ports are ContactPlant's (contact_plant.h); BulletWorldPlant has the same ones.
 //
 // inputs:  u (nu)                      actuator torques [N m], joint side, in MultibodyModel::actuators() order
+//          tau_external (nv)           only with params.external_force_input: generalized external force
 // outputs: q (nv)                      generalized positions (see multibody_model.h for the coordinates)
 //          v (nv)                      generalized velocities
 //          state (2 nv)                [q; v]
@@ -92,6 +93,10 @@ struct HybridContactPlantParams {
   /// [rad, or m for a prismatic joint] right after an event a joint this far beyond a limit is rounding on the limit,
   /// not a violation (ours; the stop guard's crossing itself is exact to the rootfinder's tolerance).
   double joint_stop_tolerance = 1e-9;
+  /// true: the plant also has the input tau_external (nv), a generalized force [N or N m per coordinate] added to the
+  /// flow's right-hand side (M q̈ + h = B sat(u) + τ_spring + τ_ext + Jᵀ F), e.g. an ExternalPush
+  /// (systems/perturbations/external_push.h). false: no such input (nothing to connect).
+  bool external_force_input = false;
 };
 
 class HybridContactPlant final : public ContactPlant {

@@ -152,6 +152,13 @@ TEST(SweepFlags, AreReadFromTheHelp) {
   EXPECT_EQ(flags, (std::set<std::string>{"steps", "step-length", "help"}));
 }
 
+TEST(SweepFlags, UnitsAreTheBracketsThatOpenAFlagsHelp) {
+  const auto units = FlagUnitsInHelp(
+      "Usage: x [options]\n  --push-impulse VALUE\n      [N s] forward impulse (default: 0)\n  --steps VALUE\n      "
+      "number of steps [1, 100] (default: 3)\n  --mass-scale VALUE\n      [-] ratio (default: 1)\n  --flag\n");
+  EXPECT_EQ(units, (std::map<std::string, std::string>{{"push-impulse", "N s"}, {"mass-scale", "-"}}));
+}
+
 TEST(SweepRunRecord, RoundTrips) {
   for (const RunRecord& r :
        {RunRecord{0, {"--seed", "1", "--steps", "4"}}, RunRecord{-9, {}}, RunRecord{255, {"--terrain", "a\nb\"c,\\"}},
