@@ -173,7 +173,7 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
   const Eigen::Vector2d front_foot = front == 0 ? last.left_foothold : last.right_foothold;
   const Eigen::Vector2d rear_foot = front == 0 ? last.right_foothold : last.left_foothold;
   const WalkingReference td = plan.Sample(plan.end_time());
-  const AslipParams rom;  // the ROM plans' mass and gravity
+  const ActuatedSpringLoadedInvertedPendulumParams rom;  // the ROM plans' mass and gravity
   const double m = rom.mass, g = rom.gravity, h = sp.standing_height_m;
   const int n = stop.nodes_per_phase;
   const Eigen::Vector3d rest_x(front_foot.x(), 0.0, 0.0), rest_z(h, 0.0, 0.0);
