@@ -100,6 +100,27 @@ int main(int argc, char** argv) {
       d.compensation.max_cop_shift_uncorrected_m, d.compensation.max_cop_shift_corrected_m,
       d.compensation.max_correction_m, compensation_s);
   const double t_stop = WalkingRunEndTime(d.plan, o.run);
+  if (o.feasibility != "off") {
+    WalkingFeasibilityParams fp;
+    fp.enforce_sole_wrench = fp.enforce_joint_limits = o.feasibility == "strict";
+    WalkingFeasibilityReport f;
+    try {
+      f = CheckWalkingPlanFeasibility(*model, d.plan, o.diagram, t_stop, fp);
+    } catch (const std::exception& e) {
+      std::cerr << "walking: feasibility check: " << e.what() << "\n";
+      return 3;
+    }
+    std::printf("feasibility check (%s): %d plan samples every %.0f ms (%d in single support), %s (%.2f s)\n",
+                o.feasibility.c_str(), f.samples, fp.sample_period_s * 1e3, f.single_support_samples,
+                f.problem.empty() ? "within what it enforces" : "refused", f.solve_s);
+    for (const std::string* p : {&f.sole_problem, &f.joint_limit_problem})
+      if (!p->empty() && o.feasibility != "strict") std::printf("feasibility warning: %s\n", p->c_str());
+    if (!f.problem.empty()) {
+      std::cerr << "walking: " << f.problem << "\n";
+      return 1;
+    }
+  }
+  if (o.check_only) return 0;
   const nlohmann::json plan_torques = examples::PlanTorqueReport(d, o.diagram, t_stop);
   examples::WalkingRecorder recorder(d, !cli.Get("log").empty(), !cli.Get("plots").empty(),
                                      !cli.Get("animation").empty());

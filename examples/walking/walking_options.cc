@@ -91,6 +91,11 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "BulletWorldPlant)")
       .Option("joint-limits", "on",
               "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant and the CLF-QP have none)")
+      .Option("feasibility", "torque",
+              "before simulating, the plan's inverse dynamics (CheckWalkingPlanFeasibility) is checked against the "
+              "torque limits, a rigid sole's four-corner wrench cone and the joint limits: torque = refuse (exit 1) a "
+              "plan over a torque limit, report the rest | strict = refuse any of them | off")
+      .Option("check-only", "off", "on: plan and check the plan's feasibility, then exit without simulating")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json",
               "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
@@ -158,6 +163,8 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingOptions o;
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
   o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence"});
+  o.feasibility = OneOf(cli, "feasibility", {"torque", "strict", "off"});
+  o.check_only = OneOf(cli, "check-only", {"on", "off"}) == "on";
   // A flag the chosen scenario or plant ignores is an error (the periodic scenario starts on gait A's orbit).
   for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps",
                                "transition-ssp", "gait-change-max-force"})
