@@ -40,6 +40,11 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
   const WalkingPlan plan = scenario == "periodic" ? BuildPeriodicWalkingPlan(gait, planned, seed, nullptr, stand)
                                                   : BuildStandToWalkPlan(gait, planned, seed, nullptr, nullptr, stand);
   const WalkingDiagram d = BuildWalkingDiagram(model, plan, diagram_params);
+  WalkingFeasibilityParams feasibility;  // as examples/walking's default --feasibility torque
+  feasibility.enforce_sole_wrench = feasibility.enforce_joint_limits = false;
+  const WalkingFeasibilityReport f =
+      CheckWalkingPlanFeasibility(*model, d.plan, diagram_params, WalkingRunEndTime(d.plan, run), feasibility);
+  if (!f.problem.empty()) throw py::value_error("run_walking: " + f.problem);  // the program's exit 1
   const WalkingRunResult r = RunWalking(d, run);
   py::dict result(JsonToPython(r.ToJson()));
   result["wall_s"] = r.wall_s;
@@ -98,11 +103,13 @@ void BindLocomotionRuns(py::module_& m) {
       .Field("landing_grf_skip_s", &HoppingRunParams::landing_grf_skip_s)
       .cls()
       .def("validate", &HoppingRunParams::Validate);
-  m.def("run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json",
-        py::arg("gait") = WalkingGait{}, py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk",
-        py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
-        "Plans (stand-to-walk or periodic), builds the walking diagram and runs it (RunWalking). Returns the walking "
-        "program's summary metrics as a dict (success, steps_completed, ...), plus wall_s and simulated_s.");
+  m.def(
+      "run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json",
+      py::arg("gait") = WalkingGait{}, py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk",
+      py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
+      "Plans (stand-to-walk or periodic), builds the walking diagram, refuses (ValueError) a plan over a torque limit "
+      "as the walking program does (CheckWalkingPlanFeasibility), and runs it (RunWalking). Returns the walking "
+      "program's summary metrics as a dict (success, steps_completed, ...), plus wall_s and simulated_s.");
   m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1,
         py::arg("apex_rise_m") = SpringMassJumpParams{}.apex_rise, py::arg("leg_stiffness") = "identified",
         py::arg("run") = HoppingRunParams{},
