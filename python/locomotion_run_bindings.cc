@@ -88,6 +88,11 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
   else
     plan = BuildStandToWalkPlan(gait, planned, seed, nullptr, nullptr, stand);
   const WalkingDiagram d = BuildWalkingDiagram(model, plan, diagram_params);
+  WalkingFeasibilityParams feasibility;  // as examples/walking's default --feasibility torque
+  feasibility.enforce_sole_wrench = feasibility.enforce_joint_limits = false;
+  const WalkingFeasibilityReport f =
+      CheckWalkingPlanFeasibility(*model, d.plan, diagram_params, WalkingRunEndTime(d.plan, run), feasibility);
+  if (!f.problem.empty()) throw py::value_error("run_walking: " + f.problem);  // the program's exit 1
   WalkingSeries series;
   WalkingRunObserver observer;
   if (record) observer = [&series](const Context&, const WalkingRunSample& s) { series.Record(s); };
@@ -156,8 +161,9 @@ void BindLocomotionRuns(py::module_& m) {
         py::arg("gait_b") =
             WalkingGait{.step_length_m = 0.40, .ssp_duration_s = 0.40, .dsp_duration_s = 0.10, .step_width_m = 0.25},
         py::arg("record") = false,
-        "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram and runs "
-        "it (RunWalking). Returns the walking program's summary metrics as a dict (success, steps_completed, ...), "
+        "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram, refuses "
+        "(ValueError) a plan over a torque limit as the walking program does (CheckWalkingPlanFeasibility), and runs it "
+        "(RunWalking). Returns the walking program's summary metrics as a dict (success, steps_completed, ...), "
         "plus wall_s and simulated_s; with record=True also 'series': per control tick time, mode, steps, com and "
         "com_reference (N x 3, m), normal_force and normal_force_reference (N x 2, N; left, right).");
   m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1,

@@ -97,6 +97,11 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("joint-stops", "off",
               "on | off: the hybrid plant ends the run when a joint reaches its URDF limit, and the CLF-QP brakes each "
               "joint before its limit (ours; off by default: the walking plans bend the ankles beyond the URDF's)")
+      .Option("feasibility", "torque",
+              "before simulating, the plan's inverse dynamics (CheckWalkingPlanFeasibility) is checked against the "
+              "torque limits, a rigid sole's four-corner wrench cone and the joint limits: torque = refuse (exit 1) a "
+              "plan over a torque limit, report the rest | strict = refuse any of them | off")
+      .Option("check-only", "off", "on: plan and check the plan's feasibility, then exit without simulating")
       .Option("seed", "1", "seed of the NLP initial guesses")
       .Option("robot", "robots/exoskeleton/exoskeleton.rome.json",
               "robot sidecar (a relative path is looked up in ROME's data folders; ./PATH reads the current folder)")
@@ -164,6 +169,8 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingOptions o;
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
   o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence", "walk-to-stand"});
+  o.feasibility = OneOf(cli, "feasibility", {"torque", "strict", "off"});
+  o.check_only = OneOf(cli, "check-only", {"on", "off"}) == "on";
   // A flag the chosen scenario or plant ignores is an error (the periodic scenario starts on gait A's orbit).
   for (const char* standing : {"stance-stagger", "start-gait", "start-gait-steps", "lead-in", "lead-in-steps",
                                "transition-ssp", "gait-change-max-force"})

@@ -19,7 +19,9 @@ struct WalkingOptions {
   int steps = 10;                  ///< periodic single supports per gait after each transition
   std::uint32_t seed = 1;          ///< seed of the NLP initial guesses
   PlantKind plant = PlantKind::kHybrid;
-  StandToWalkParams stand;  ///< its sole is set from the robot (SoleOf) before planning
+  std::string feasibility = "torque";  ///< torque | strict | off: what the plan's feasibility check refuses
+  bool check_only = false;             ///< plan and check, no simulation
+  StandToWalkParams stand;             ///< its sole is set from the robot (SoleOf) before planning
   WalkingDiagramParams diagram;
   WalkingRunParams run;  ///< start time and velocity set for the periodic scenario
 };

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -42,14 +43,23 @@ void ForEachSingleSupportInverseDynamics(const MultibodyModel& model, const Walk
   Eigen::VectorXd tau(nv);
   for (Eigen::Index k = 1; k < N && times[k] <= params.end_time_s; ++k) {
     const WalkingDomain domain = plan.Sample(times[k]).domain;
-    if (domain == WalkingDomain::kDoubleSupport) continue;
-    if (plan.Sample(times[k - 1]).domain != domain || plan.Sample(times[k + 1]).domain != domain)
-      continue;  // a difference across a switch
+    const bool double_support = domain == WalkingDomain::kDoubleSupport;
+    if (double_support && !params.visit_double_support) continue;
     s.time_s = times[k];
-    s.stance_body = feet[domain == WalkingDomain::kLeftStance ? 0 : 1];
     s.q = q.col(k);
     s.v = (q.col(k + 1) - q.col(k - 1)) / (2.0 * h);
     s.qdd = (q.col(k + 1) - 2.0 * q.col(k) + q.col(k - 1)) / (h * h);
+    s.double_support = double_support;
+    if (double_support) {
+      s.stance_body = -1;
+      s.u.setConstant(nu, std::numeric_limits<double>::quiet_NaN());
+      s.wrench.setConstant(std::numeric_limits<double>::quiet_NaN());
+      visit(s);
+      continue;
+    }
+    if (plan.Sample(times[k - 1]).domain != domain || plan.Sample(times[k + 1]).domain != domain)
+      continue;  // a difference across a switch
+    s.stance_body = feet[domain == WalkingDomain::kLeftStance ? 0 : 1];
     CalcInverseDynamics(model, ws, s.q, s.v, s.qdd, tau);
     CalcFrameJacobian(model, ws, s.q, s.stance_body, Eigen::Vector3d(0, 0, -swing.ankle_height_m),
                       J);  // the sole point below the ankle
@@ -73,6 +83,7 @@ WalkingPlanTorqueReport CalcWalkingPlanTorques(const MultibodyModel& model, cons
   r.peak_torque_Nm = Eigen::VectorXd::Zero(model.nu());
   r.peak_time_s = Eigen::VectorXd::Zero(model.nu());
   ForEachSingleSupportInverseDynamics(model, plan, swing, params, [&](const WalkingPlanInverseDynamicsSample& s) {
+    if (s.double_support) return;
     for (int j = 0; j < model.nu(); ++j) {
       if (std::abs(s.u[j]) > r.peak_torque_Nm[j]) r.peak_torque_Nm[j] = std::abs(s.u[j]), r.peak_time_s[j] = s.time_s;
     }

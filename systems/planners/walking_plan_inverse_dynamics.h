@@ -32,12 +32,15 @@ struct WalkingPlanInverseDynamicsParams {
   /// [s] samples after this time are skipped (the replay still covers the whole plan): the end of the run, when the
   /// plan goes on past it (infinity: the whole plan)
   double end_time_s = std::numeric_limits<double>::infinity();
+  /// also visit the double-support samples (their q, v, q̈ only: u and wrench are NaN; e.g. for joint limits)
+  bool visit_double_support = false;
 };
 
 /// One single-support sample of the plan's inverse dynamics.
 struct WalkingPlanInverseDynamicsSample {
   double time_s = 0;
-  int stance_body = -1;                ///< body index of the stance foot
+  bool double_support = false;         ///< a double-support sample (visit_double_support): u and wrench are NaN
+  int stance_body = -1;                ///< body index of the stance foot (-1 in double support)
   Eigen::VectorXd q, v, qdd;           ///< the replay's pose and its central differences
   Eigen::VectorXd u;                   ///< [N m] actuator torques (actuator order)
   Eigen::Matrix<double, 6, 1> wrench;  ///< [N m; N] the stance sole's wrench at the point below the ankle, world axes

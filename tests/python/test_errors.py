@@ -97,3 +97,13 @@ def test_run_walking_refuses_a_robot_the_diagram_cannot_use():
     # AMBER is planar: the walking diagram needs a spatial base and flat feet.
     with pytest.raises(ValueError, match="walking diagram: robot .*spatial"):
         rome.run_walking("robots/amber/amber.rome.json", rome.WalkingGait(), steps=2)
+
+
+def test_run_walking_refuses_a_gait_over_the_knee_limit_before_simulating():
+    # (0.45 m, 0.35 s, 0.08 s, 0.20 m): its plan asks the knee for more than the URDF's 300 N m (the walking program's
+    # exit 1); the error names the gait, the knee, its need and the limit.
+    gait = rome.WalkingGait()
+    gait.step_length_m, gait.ssp_duration_s, gait.dsp_duration_s, gait.step_width_m = 0.45, 0.35, 0.08, 0.20
+    with pytest.raises(ValueError, match=r"gait 0\.45,0\.35,0\.08,0\.20: the (left|right) knee needs 3[0-9][0-9] N m "
+                                         r"\(limit 300 N m\)"):
+        rome.run_walking(gait=gait, steps=2, scenario="periodic")
