@@ -8,7 +8,7 @@ per-tick COM, its plan, and the plant's and the plan's normal forces returned as
 Exit status: 0 walked (the run's success rule), 3 failed, 1 bad input.
 
 usage: PYTHONPATH=build/python /usr/bin/python3 examples/python/walking_gait_change.py \
-           [--gait-a 0.30,0.40,0.10,0.25] [--gait-b 0.40,0.40,0.10,0.25] [--steps 10] [--seed 1] [--plot change.png]
+           [--gait-a 0.30,0.40,0.10,0.25] [--gait-b 0.35,0.40,0.10,0.25] [--steps 10] [--seed 1] [--plot change.png]
 """
 import argparse
 import sys
@@ -66,7 +66,7 @@ def plot(series, path, title):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--gait-a", default="0.30,0.40,0.10,0.25", help="gait A: length,ssp,dsp,width (m, s, s, m)")
-    parser.add_argument("--gait-b", default="0.40,0.40,0.10,0.25", help="gait B: length,ssp,dsp,width (m, s, s, m)")
+    parser.add_argument("--gait-b", default="0.35,0.40,0.10,0.25", help="gait B: length,ssp,dsp,width (m, s, s, m)")
     parser.add_argument("--steps", type=int, default=10, help="steps of each gait [1, 100]")
     parser.add_argument("--seed", type=int, default=1, help="seed of the NLPs' initial guesses")
     parser.add_argument("--plot", default="", help="PNG file of the COM tracking and the normal forces")

@@ -25,7 +25,7 @@ def load_example():
 def run():
     example = load_example()
     gait_a = rome.WalkingGait()
-    gait_b = rome.WalkingGait(step_length_m=0.40)
+    gait_b = rome.WalkingGait(step_length_m=0.35)  # 0.40 m asks 313 N m of the 300 N m knee: refused
     return example, example.run(gait_a, gait_b, steps=3, seed=1)
 
 
@@ -38,7 +38,7 @@ def test_the_gait_change_walks_and_the_com_follows_its_plan(run):
     assert np.all(rms < 0.02), rms  # m
     assert np.all(largest < 0.05), largest
     # The COM moved forward by the planned distance: 3 steps of A and 3 of B after the start gait's steps.
-    assert series["com"][-1, 0] - series["com"][0, 0] > 3 * 0.30 + 3 * 0.40 - 0.2
+    assert series["com"][-1, 0] - series["com"][0, 0] > 3 * 0.30 + 3 * 0.35 - 0.2
 
 
 def test_the_feet_carry_the_weight_on_average(run):
