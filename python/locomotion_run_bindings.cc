@@ -155,17 +155,18 @@ void BindLocomotionRuns(py::module_& m) {
       .Field("landing_grf_skip_s", &HoppingRunParams::landing_grf_skip_s)
       .cls()
       .def("validate", &HoppingRunParams::Validate);
-  m.def("run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json",
-        py::arg("gait") = WalkingGait{}, py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk",
-        py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
-        py::arg("gait_b") =
-            WalkingGait{.step_length_m = 0.40, .ssp_duration_s = 0.40, .dsp_duration_s = 0.10, .step_width_m = 0.25},
-        py::arg("record") = false,
-        "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram, refuses "
-        "(ValueError) a plan over a torque limit as the walking program does (CheckWalkingPlanFeasibility), and runs it "
-        "(RunWalking). Returns the walking program's summary metrics as a dict (success, steps_completed, ...), "
-        "plus wall_s and simulated_s; with record=True also 'series': per control tick time, mode, steps, com and "
-        "com_reference (N x 3, m), normal_force and normal_force_reference (N x 2, N; left, right).");
+  m.def(
+      "run_walking", &RunWalkingFromPython, py::arg("robot") = "robots/exoskeleton/exoskeleton.rome.json",
+      py::arg("gait") = WalkingGait{}, py::arg("steps") = 10, py::arg("scenario") = "stand-to-walk",
+      py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
+      py::arg("gait_b") =
+          WalkingGait{.step_length_m = 0.40, .ssp_duration_s = 0.40, .dsp_duration_s = 0.10, .step_width_m = 0.25},
+      py::arg("record") = false,
+      "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram, refuses "
+      "(ValueError) a plan over a torque limit as the walking program does (CheckWalkingPlanFeasibility), and runs it "
+      "(RunWalking). Returns the walking program's summary metrics as a dict (success, steps_completed, ...), "
+      "plus wall_s and simulated_s; with record=True also 'series': per control tick time, mode, steps, com and "
+      "com_reference (N x 3, m), normal_force and normal_force_reference (N x 2, N; left, right).");
   m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1,
         py::arg("apex_rise_m") = SpringMassJumpParams{}.apex_rise, py::arg("leg_stiffness") = "identified",
         py::arg("run") = HoppingRunParams{},

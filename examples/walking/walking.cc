@@ -27,6 +27,35 @@
 
 using namespace rome;
 
+namespace {
+
+// The plan's feasibility check before simulating (--feasibility): -1 to go on, else the program's exit code.
+int CheckFeasibility(const MultibodyModel& model, const WalkingDiagram& d, const examples::WalkingOptions& o,
+                     double t_stop) {
+  if (o.feasibility == "off") return -1;
+  WalkingFeasibilityParams fp;
+  fp.enforce_sole_wrench = fp.enforce_joint_limits = o.feasibility == "strict";
+  WalkingFeasibilityReport f;
+  try {
+    f = CheckWalkingPlanFeasibility(model, d.plan, o.diagram, t_stop, fp);
+  } catch (const std::exception& e) {
+    std::cerr << "walking: feasibility check: " << e.what() << "\n";
+    return 3;
+  }
+  std::printf("feasibility check (%s): %d plan samples every %.0f ms (%d in single support), %s (%.2f s)\n",
+              o.feasibility.c_str(), f.samples, fp.sample_period_s * 1e3, f.single_support_samples,
+              f.problem.empty() ? "within what it enforces" : "refused", f.solve_s);
+  for (const std::string* p : {&f.sole_problem, &f.joint_limit_problem})
+    if (!p->empty() && o.feasibility != "strict") std::printf("feasibility warning: %s\n", p->c_str());
+  if (!f.problem.empty()) {
+    std::cerr << "walking: " << f.problem << "\n";
+    return 1;
+  }
+  return -1;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   examples::CommandLine cli(
       "walking",
@@ -109,26 +138,7 @@ int main(int argc, char** argv) {
   // walk-to-stand: the run ends with the plan, standing (no trailing steps).
   if (o.scenario == "walk-to-stand") o.run.end_time_s = d.plan.end_time();
   const double t_stop = WalkingRunEndTime(d.plan, o.run);
-  if (o.feasibility != "off") {
-    WalkingFeasibilityParams fp;
-    fp.enforce_sole_wrench = fp.enforce_joint_limits = o.feasibility == "strict";
-    WalkingFeasibilityReport f;
-    try {
-      f = CheckWalkingPlanFeasibility(*model, d.plan, o.diagram, t_stop, fp);
-    } catch (const std::exception& e) {
-      std::cerr << "walking: feasibility check: " << e.what() << "\n";
-      return 3;
-    }
-    std::printf("feasibility check (%s): %d plan samples every %.0f ms (%d in single support), %s (%.2f s)\n",
-                o.feasibility.c_str(), f.samples, fp.sample_period_s * 1e3, f.single_support_samples,
-                f.problem.empty() ? "within what it enforces" : "refused", f.solve_s);
-    for (const std::string* p : {&f.sole_problem, &f.joint_limit_problem})
-      if (!p->empty() && o.feasibility != "strict") std::printf("feasibility warning: %s\n", p->c_str());
-    if (!f.problem.empty()) {
-      std::cerr << "walking: " << f.problem << "\n";
-      return 1;
-    }
-  }
+  if (const int code = CheckFeasibility(*model, d, o, t_stop); code >= 0) return code;
   if (o.check_only) return 0;
   const nlohmann::json plan_torques = examples::PlanTorqueReport(d, o.diagram, t_stop);
   examples::WalkingRecorder recorder(d, !cli.Get("log").empty(), !cli.Get("plots").empty(),

@@ -50,9 +50,9 @@
 //  * Input caps (one-line errors): URDF file <= kMaxUrdfBytes and XML nesting depth
 //    <= kMaxXmlDepth (checked before the XML parser runs), at most kMaxDofs degrees of freedom,
 //    lengths (joint origins, COMs, contact and loop-closure points) within +-kMaxLength_m,
-//    masses 0 or in [kMinNonzeroMass_kg, kMaxMass_kg], and the magnitude caps below (inertia, torque limit, gear ratio, spring, friction),
-//    each named with its cap. Names must be valid UTF-8. A sidecar is nested at most kMaxJsonDepth deep and names
-//    no key twice in one object (robot_file_text.h).
+//    masses 0 or in [kMinNonzeroMass_kg, kMaxMass_kg], and the magnitude caps below (inertia, torque limit, gear ratio,
+//    spring, friction), each named with its cap. Names must be valid UTF-8. A sidecar is nested at most kMaxJsonDepth
+//    deep and names no key twice in one object (robot_file_text.h).
 //  * Structure (systems/multibody/model_checks.h): the URDF is a tree (no link with two parent joints), holds one
 //    <robot>, no xacro and no <mimic> (not modelled: refused, never dropped); a joint axis is nonzero and finite; a
 //    planar robot's joints turn about y and slide in the x-z plane; a line contact's points are distinct and a flat
