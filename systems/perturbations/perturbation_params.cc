@@ -61,14 +61,15 @@ PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationPa
         "sensor_noise", sigma,
         AdditiveGaussianNoiseParams{params.sample_period_s, PerturbationStreamSeed(params.seed, 1)}));
     b.Connect(from_system, from_port, "sensor_noise", "u");
-    from_system = "sensor_noise", from_port = "y";
+    // Move-assigned: GCC 12 warns falsely (-Wstringop-overflow) on assigning a literal here with the PCH.
+    from_system = std::string("sensor_noise"), from_port = std::string("y");
   }
   if (params.latency_samples > 0) {
     out.sensor_latency =
         b.AddSystem(std::make_unique<DelayLine>("sensor_latency", Eigen::VectorXd::Zero(2 * nv),
                                                 DelayLineParams{params.sample_period_s, params.latency_samples}));
     b.Connect(from_system, from_port, "sensor_latency", "u");
-    from_system = "sensor_latency", from_port = "y";
+    from_system = std::string("sensor_latency"), from_port = std::string("y");
   }
   b.Connect(from_system, from_port, controller, "state");
   // Actuator path: controller.u → noise → plant.u.
