@@ -104,7 +104,11 @@ int main(int argc, char** argv) {
     stand.on_transition_nlp = [&](const rome::WalkingNlpReport& r) {
       ms.push_back(1e3 * r.solve_s);
       failed += r.violation > 1e-6 ? 1 : 0;
-      each += " " + std::to_string(static_cast<int>(1e3 * r.solve_s)) + "/" + std::to_string(r.iterations);
+      // Appended piece by piece: GCC 12 warns falsely (-Wstringop-overflow) on " " + string with the PCH.
+      each += ' ';
+      each += std::to_string(static_cast<int>(1e3 * r.solve_s));
+      each += '/';
+      each += std::to_string(r.iterations);
     };
     rome::WalkingPlanReport report;
     const auto t0 = std::chrono::steady_clock::now();
