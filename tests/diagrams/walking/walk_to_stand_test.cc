@@ -19,6 +19,7 @@
 #include "systems/plants/contact_force_statistics.h"
 #include "tests/common/sanitizer_scale.h"
 #include "tests/common/source_path.h"
+#include "tests/diagrams/walking/plant_contact_counts.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 
 namespace rome {
@@ -38,7 +39,7 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   run.end_time_s = d.plan.end_time();  // the whole plan: it ends standing
 
   MultibodyWorkspace ws(*model);
-  long unilateral_bad = 0, friction_bad = 0, cop_bad = 0;
+  test::PlantContactCounts counts;
   Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
   Eigen::VectorXd end_q(model->nq()), end_v(model->nv());
   int end_mode = -1;
@@ -47,17 +48,7 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
       -5e-4;  // rounding-level CoP motion past the sole's edge between samples (as the walking test)
   const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
     const ContactSet active = d.plant->active_contacts(s.mode);
-    CalcConstrainedForwardDynamics(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, qdd, F);
-    for (int ci = 0; ci < model->num_contacts(); ++ci) {
-      if (!(active & ContactBit(ci))) continue;
-      const ContactForceCheck check =
-          CheckContactForce(*model, ws, *s.q, ci, ExtractContactWrench(*model, ws, *s.q, active, F, ci), cop_check);
-      unilateral_bad += check.normal_force_N >= -1e-6 ? 0 : 1;
-      if (check.normal_force_N > 1.0) {
-        friction_bad += check.friction_ok ? 0 : 1;
-        cop_bad += check.cop_ok ? 0 : 1;
-      }
-    }
+    counts.Record(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, cop_check, qdd, F);
     end_q = *s.q, end_v = *s.v, end_mode = s.mode;
   });
   // The end, from the plant's state.
@@ -76,9 +67,9 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   EXPECT_TRUE(r.success) << r.status.ToString();
   EXPECT_EQ(r.steps_completed, r.steps_planned);
   EXPECT_EQ(r.touchdowns_off_target, 0);
-  EXPECT_EQ(unilateral_bad, 0);
-  EXPECT_EQ(friction_bad, 0);
-  EXPECT_EQ(cop_bad, 0);
+  EXPECT_EQ(counts.unilateral_bad, 0);
+  EXPECT_EQ(counts.friction_bad, 0);
+  EXPECT_EQ(counts.cop_bad, 0);
   EXPECT_EQ(r.contact.violations, 0) << r.contact.first_violation;
   EXPECT_EQ(r.contact_violation_port_samples, 0);
   EXPECT_EQ(r.qp_infeasible_ticks, 0.0);

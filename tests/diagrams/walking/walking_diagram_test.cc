@@ -38,6 +38,7 @@
 #include "tests/common/sanitizer_scale.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 #include "tests/common/source_path.h"
+#include "tests/diagrams/walking/plant_contact_counts.h"
 #include "tests/common/text_files.h"
 
 namespace rome {
@@ -93,7 +94,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
   if (!full_run) run.end_time_s = t_liftoff_planned + 0.05;
 
   MultibodyWorkspace ws(*model);
-  long unilateral_bad = 0, friction_bad = 0, cop_bad = 0;
+  test::PlantContactCounts counts;
   // The strict Eq. (25) band recounted here from the plant's forces and the plan (no slack), outside band_settle_s
   // after each touchdown (a mode change into double support, or from one stance into the other).
   long strict_in = 0, strict_ticks = 0;
@@ -130,18 +131,7 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
       }
     }
     const ContactSet active = d.plant->active_contacts(s.mode);
-    CalcConstrainedForwardDynamics(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, qdd, F);
-    for (int ci = 0; ci < model->num_contacts(); ++ci) {
-      if (!(active & ContactBit(ci))) continue;
-      const ContactForceCheck check =
-          CheckContactForce(*model, ws, *s.q, ci, ExtractContactWrench(*model, ws, *s.q, active, F, ci), cop_check);
-      // A foot at the instant of lift-off carries ~0 N: judge its cone and CoP only with a load on it.
-      unilateral_bad += check.normal_force_N >= -1e-6 ? 0 : 1;
-      if (check.normal_force_N > 1.0) {
-        friction_bad += check.friction_ok ? 0 : 1;
-        cop_bad += check.cop_ok ? 0 : 1;
-      }
-    }
+    counts.Record(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, cop_check, qdd, F);
   });
   const double mg = model->total_mass() * 9.81;
   std::printf(
@@ -164,9 +154,9 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
       r.pelvis_max_orientation_error_rad * 180 / M_PI, r.qp_infeasible_ticks, r.samples);
   EXPECT_EQ(r.status.kind(), SimulatorStatus::Kind::kLimit) << r.status.ToString();
   EXPECT_GT(r.samples, 100);
-  EXPECT_EQ(unilateral_bad, 0);
-  EXPECT_EQ(friction_bad, 0);
-  EXPECT_EQ(cop_bad, 0);
+  EXPECT_EQ(counts.unilateral_bad, 0);
+  EXPECT_EQ(counts.friction_bad, 0);
+  EXPECT_EQ(counts.cop_bad, 0);
   EXPECT_EQ(r.contact.violations, 0) << r.contact.first_violation;
   EXPECT_EQ(r.contact_violation_port_samples, 0);
   std::printf(
