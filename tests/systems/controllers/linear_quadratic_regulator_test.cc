@@ -66,7 +66,7 @@ TEST(LinearQuadraticRegulator, MatchesHamiltonianStableSubspace) {
   EXPECT_LT(RelativeCareResidual(A, B, Q, R, lqr.S), 1e-12);
   EXPECT_LT(RelativeCareResidual(A, B, Q, R, S_ref), 1e-9);
   EXPECT_LT((lqr.K - R.inverse() * B.transpose() * S_ref).norm() / lqr.K.norm(), 1e-10);
-  EXPECT_LT((A - B * lqr.K).eigenvalues().real().maxCoeff(), 0.0);
+  EXPECT_LT(MaxRealEigenvalue(A - B * lqr.K), 0.0);
 }
 
 // With a cross weight N the gain is optimal among all stabilising gains: its cost matrix (a Lyapunov equation in the

@@ -8,8 +8,6 @@
 #include <cstdio>
 #include <string>
 
-#include <Eigen/Eigenvalues>
-
 #include "framework/diagram.h"
 #include "framework/linearize.h"
 #include "framework/simulator.h"
@@ -128,7 +126,7 @@ TEST(LqrController, BalancesCartPoleFromATilt) {
   builder.Connect("lqr", "u", "cart_pole", "f");
   auto diagram = builder.Build("balance");
 
-  const double slowest = (CartPole::UprightA() - CartPole::UprightB() * lqr->K()).eigenvalues().real().maxCoeff();
+  const double slowest = MaxRealEigenvalue(CartPole::UprightA() - CartPole::UprightB() * lqr->K());
   ASSERT_LT(slowest, 0.0);
   const double t_final = 8.0;
   EXPECT_LT(std::exp(slowest * t_final) * 0.15 * 10, 1e-3)
