@@ -1,22 +1,141 @@
+// CalcPeriodicPlanFrictionNeed and its refusal in CheckSteppingStonesFeasible, against closed forms on flat steps:
+// the LIP orbit of energy E (E = ṗx² − λ² px², λ² = g / z0) is px(t) = (√E/λ) sinh(λ t + asinh(λ px⁺/√E)), the
+// momentum map gives u_des = z0 (√(E + λ²((1−ε) l)²) − √(E + λ²(ε l)²)) / l, and the smallest Σ u_k² that brings ṗz
+// from 0 to u_des and pz back to its start over N equal intervals is linear in the interval midpoints t_k (the
+// minimum-norm solution lies in the span of the two constraint rows), u_k = α + β t_k, whose coefficients follow from
+// the midpoint moments Σ dt = T, Σ dt t_k = T²/2, Σ dt t_k² = T³/3 − T dt²/12. The force on the robot in single stance
+// is m (p̈ + g e_z), so |F_t|/F_n = λ² |px| / (g + u_k).
 #include "diagrams/stepping_stones/stepping_stones_friction_need.h"
 
+#include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
+
+#include "diagrams/stepping_stones/stepping_stones_feasibility.h"
 
 namespace rome {
 namespace {
 
-TEST(PlanFrictionNeed, Print) {
-  for (double eps : {0.5, 0.55, 0.6})
-    for (double e : {0.3, 0.5, 0.8, 1.0, 1.2, 1.5, 2.0}) {
-      MomentumRegulationPlannerParams p;
-      p.target_orbital_energy = e;
-      p.impact_fraction = eps;
-      const PlanFrictionNeed n = CalcPeriodicPlanFrictionNeed(0.8, 0.0, 0.8, p, {});
-      std::printf("eps %.2f E %.1f: ratio %.3f at %.3f of T %.3f, Fn %.3f, udes %.3f, v %.3f\n", eps, e, n.max_ratio,
-                  n.time_of_max_s, n.step_duration_s, n.min_normal_force_fraction, n.u_des_mps, n.mean_speed_mps);
-    }
+constexpr double kG = 9.81, kZ0 = 0.8, kL = 0.8;  // AMBER's walking height, the 0.8 m steps
+
+struct ClosedForm {
+  double T, u_des, ratio_at_last_sample;
+};
+
+// The closed form above for flat steps of length kL, sampled like CalcPeriodicPlanFrictionNeed (n samples, N = 20).
+ClosedForm Flat(double energy, double eps, int n = 400, int N = 20) {
+  const double lam = std::sqrt(kG / kZ0), se = std::sqrt(energy);
+  const double x_plus = (eps - 1.0) * kL, x_minus = eps * kL;
+  ClosedForm c;
+  c.T = (std::asinh(lam * x_minus / se) - std::asinh(lam * x_plus / se)) / lam;
+  c.u_des =
+      kZ0 * (std::sqrt(energy + lam * lam * x_plus * x_plus) - std::sqrt(energy + lam * lam * x_minus * x_minus)) / kL;
+  const double T = c.T, dt = T / N, s2 = T * T * T / 3.0 - T * dt * dt / 12.0;
+  // α T + β T²/2 = u_des;  α T²/2 + β (T³/2 − s2) = 0  (Σ dt (T − t_k) u_k = p_N − p_0 − T ṗ_0 = 0)
+  const double det = T * (T * T * T / 2.0 - s2) - T * T / 2.0 * T * T / 2.0;
+  const double alpha = c.u_des * (T * T * T / 2.0 - s2) / det, beta = -c.u_des * (T * T / 2.0) / det;
+  const double t = T * (n - 0.5) / n, u_last = alpha + beta * (T - dt / 2.0);
+  const double x = se / lam * std::sinh(lam * t + std::asinh(lam * x_plus / se));
+  c.ratio_at_last_sample = lam * lam * std::abs(x) / (kG + u_last);
+  return c;
+}
+
+PlanFrictionNeed Need(double energy, double eps) {
+  MomentumRegulationPlannerParams p;
+  p.target_orbital_energy = energy;
+  p.impact_fraction = eps;
+  return CalcPeriodicPlanFrictionNeed(kL, 0.0, kZ0, p, {});
+}
+
+TEST(PlanFrictionNeed, HalfStepImpactNeedsNoVerticalMotionAndTheLegsSlope) {
+  // ε = 0.5 on flat steps: the orbit is symmetric, u_des = 0, the COM stays level (F_n = m g), and the largest
+  // |F_t|/F_n = λ² |px| / g = px / z0 is at the step's ends, l / (2 z0) = 0.5.
+  for (const double energy : {0.3, 1.0, 2.0}) {
+    const PlanFrictionNeed n = Need(energy, 0.5);
+    const ClosedForm c = Flat(energy, 0.5);
+    EXPECT_NEAR(n.u_des_mps, 0.0, 1e-12) << energy;
+    EXPECT_NEAR(n.min_normal_force_fraction, 1.0, 1e-9) << energy;
+    EXPECT_NEAR(n.step_duration_s, c.T, 1e-6) << energy;
+    EXPECT_NEAR(n.mean_speed_mps, kL / c.T, 1e-5) << energy;
+    EXPECT_NEAR(n.max_ratio, c.ratio_at_last_sample, 1e-6) << energy;
+    // The last sample is half a sample period (T / 800) inside the step's end, where px moves at most at the end speed.
+    const double end_speed = std::sqrt(energy + kG / kZ0 * kL * kL / 4);
+    EXPECT_LE(n.max_ratio, kL / (2 * kZ0)) << energy;
+    EXPECT_GE(n.max_ratio, (kL / 2 - end_speed * c.T / 800) / kZ0) << energy;
+  }
+}
+
+TEST(PlanFrictionNeed, PaperImpactFractionMatchesTheClosedForm) {
+  // ε = 0.6 (paper): u_des < 0, the vertical plan pushes up, then accelerates down hardest at the impact, where px is
+  // largest: the need peaks in the last sample. The −g bound is not active for these E*.
+  for (const double energy : {0.3, 0.5, 0.8, 1.0, 1.5}) {
+    const PlanFrictionNeed n = Need(energy, 0.6);
+    const ClosedForm c = Flat(energy, 0.6);
+    EXPECT_NEAR(n.step_duration_s, c.T, 1e-6) << energy;
+    EXPECT_NEAR(n.u_des_mps, c.u_des, 1e-9) << energy;
+    EXPECT_NEAR(n.max_ratio, c.ratio_at_last_sample, 1e-6) << energy;
+    EXPECT_NEAR(n.time_of_max_s, c.T * (399.5 / 400), 1e-6) << energy;
+  }
+}
+
+// The message of the std::invalid_argument that `f` throws ("" if none).
+template <typename F>
+std::string Refusal(F f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) { return e.what(); }
+  return "";
+}
+
+TEST(PlanFrictionNeed, AmberIsRefusedJustAboveTheClosedFormsLargestEnergy) {
+  const MultibodyModel amber = MultibodyModel::LoadFromSidecar("robots/amber/amber.rome.json");
+  ASSERT_NEAR(amber.contacts().at(amber.ContactIndex("left_foot")).friction_coefficient, 0.8, 0);
+  // The largest E* whose closed-form need stays at μ = 0.8 (the need grows with E*), by bisection.
+  double lo = 0.1, hi = 2.0;
+  ASSERT_LT(Flat(lo, 0.6).ratio_at_last_sample, 0.8);
+  ASSERT_GT(Flat(hi, 0.6).ratio_at_last_sample, 0.8);
+  for (int i = 0; i < 60; ++i) (Flat(0.5 * (lo + hi), 0.6).ratio_at_last_sample <= 0.8 ? lo : hi) = 0.5 * (lo + hi);
+  SteppingStonesDiagramParams params;
+  params.supervisor.max_steps = 10;
+  const Terrain flat = PeriodicSteppingStones(kL, 0.0, 12);
+  params.target_orbital_energy = lo * 0.999;
+  EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, flat, params); }), "");
+  params.target_orbital_energy = lo * 1.001;
+  EXPECT_NE(Refusal([&] { CheckSteppingStonesFeasible(amber, flat, params); }), "");
+  // The gait: E* = 1.0 asks 0.83 at the impact; the message names the robot, the gait, the need, μ, the time
+  // in the step and the largest E* inside.
+  params.target_orbital_energy = 1.0;
+  const std::string m = Refusal([&] { CheckSteppingStonesFeasible(amber, flat, params); });
+  const ClosedForm c = Flat(1.0, 0.6);
+  char need[64], at[64];
+  std::snprintf(need, sizeof need, "%.3g", c.ratio_at_last_sample);
+  std::snprintf(at, sizeof at, "%.3g s of the %.3g s step", c.T * 399.5 / 400, c.T);
+  EXPECT_NE(m.find("robot 'amber' at E* 1 m^2/s^2, epsilon 0.6 on 0.8 m steps"), std::string::npos) << m;
+  EXPECT_NE(m.find(std::string("the plan needs |F_t|/F_n ") + need), std::string::npos) << m << " / " << need;
+  EXPECT_NE(m.find(at), std::string::npos) << m << " / " << at;
+  EXPECT_NE(m.find("the feet have mu 0.8"), std::string::npos) << m;
+  char largest[64];
+  std::snprintf(largest, sizeof largest, "E* up to %.3g m^2/s^2", lo);
+  EXPECT_NE(m.find(largest), std::string::npos) << m << " / " << largest;
+  // ε = 0.5 asks l / (2 z0) = 0.5 at any E*: the same speed range is accepted.
+  params.impact_fraction = 0.5;
+  params.target_orbital_energy = 2.0;
+  EXPECT_EQ(Refusal([&] { CheckSteppingStonesFeasible(amber, flat, params); }), "");
+  // A random (non-periodic) course is not checked this way.
+  params.impact_fraction = 0.6;
+  params.target_orbital_energy = 1.0;
+  EXPECT_EQ(Refusal([&] {
+              CheckSteppingStonesFeasible(amber, Terrain::Stones({{0, 0, 0.1}, {0.8, 0, 0.1}, {1.5, 0, 0.1}}), params);
+            }),
+            "");
+}
+
+TEST(PlanFrictionNeed, BadInputIsRefused) {
+  EXPECT_THROW(CalcPeriodicPlanFrictionNeed(0.0, 0.0, kZ0, {}, {}), std::invalid_argument);
+  EXPECT_THROW(CalcPeriodicPlanFrictionNeed(kL, 0.0, kZ0, {}, {}, 0), std::invalid_argument);
 }
 
 }  // namespace
