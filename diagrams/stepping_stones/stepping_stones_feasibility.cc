@@ -20,46 +20,6 @@ bool IsBase(const MultibodyModel& model, int body) {
 
 [[noreturn]] void Refuse(const std::ostringstream& out) { throw std::invalid_argument(out.str()); }
 
-// The plan's friction need on the periodic course of steps (l, h) (see CheckSteppingStonesFeasible).
-void CheckPlanFriction(const MultibodyModel& model, double l, double h, const SteppingStonesDiagramParams& params,
-                       double fraction) {
-  double mu = std::numeric_limits<double>::infinity();
-  for (const char* foot : {"left_foot", "right_foot"})
-    mu = std::min(mu, model.contacts().at(model.ContactIndex(foot)).friction_coefficient);
-  // The posture NLP aims the pre-impact COM at the walking height above the lower of the two stones.
-  const double pre_impact_height = params.supervisor.walking_com_height_m + std::min(h, 0.0);
-  MomentumRegulationPlannerParams planner = params.planner;
-  planner.target_orbital_energy = params.target_orbital_energy;
-  planner.impact_fraction = params.impact_fraction;
-  const PlanFrictionNeed need = CalcPeriodicPlanFrictionNeed(l, h, pre_impact_height, planner, params.mpc.mpc);
-  if (need.max_ratio <= fraction * mu) return;
-  // The need grows with E* (a shorter step with a larger u_des): bisect for the largest E* that stays inside.
-  double lo = 0.0, hi = params.target_orbital_energy;
-  PlanFrictionNeed inside{};
-  for (int i = 0; i < 30; ++i) {
-    planner.target_orbital_energy = 0.5 * (lo + hi);
-    const PlanFrictionNeed n = CalcPeriodicPlanFrictionNeed(l, h, pre_impact_height, planner, params.mpc.mpc);
-    if (n.max_ratio <= fraction * mu) {
-      lo = planner.target_orbital_energy;
-      inside = n;
-    } else {
-      hi = planner.target_orbital_energy;
-    }
-  }
-  std::ostringstream out;
-  out.precision(3);
-  out << "robot '" << model.name() << "' at E* " << params.target_orbital_energy << " m^2/s^2, epsilon "
-      << params.impact_fraction << " on " << l << " m steps (rise " << h << " m): the plan needs |F_t|/F_n "
-      << need.max_ratio << " at " << need.time_of_max_s << " s of the " << need.step_duration_s << " s step (F_n "
-      << need.min_normal_force_fraction << " m g at least, u_des " << need.u_des_mps << " m/s); the feet have mu " << mu
-      << (fraction != 1.0 ? " (times plan_friction_fraction)" : "") << "; ";
-  if (lo > 0.0)
-    out << "E* up to " << lo << " m^2/s^2 stays inside (" << inside.mean_speed_mps << " m/s)";
-  else
-    out << "no E* > 0 stays inside at this epsilon";
-  Refuse(out);
-}
-
 }  // namespace
 
 LegReach CalcLegReach(const MultibodyModel& model, int contact) {
@@ -109,13 +69,10 @@ void CheckSteppingStonesFeasible(const MultibodyModel& model, const Terrain& ter
                                  const SteppingStonesFeasibilityParams& margins) {
   CheckSteppingStonesRobot(model);
   if (!(margins.leg_reach_fraction > 0.0) || !(margins.sole_margin_m >= 0.0) ||
-      !(margins.plan_friction_fraction > 0.0) ||
-      !std::isfinite(margins.leg_reach_fraction + margins.sole_margin_m + margins.plan_friction_fraction))
+      !std::isfinite(margins.leg_reach_fraction + margins.sole_margin_m))
     throw std::invalid_argument(
-        "SteppingStonesFeasibilityParams: leg_reach_fraction and plan_friction_fraction must be positive and "
-        "sole_margin_m >= 0, got " +
-        std::to_string(margins.leg_reach_fraction) + ", " + std::to_string(margins.plan_friction_fraction) + " and " +
-        std::to_string(margins.sole_margin_m) + " m");
+        "SteppingStonesFeasibilityParams: leg_reach_fraction must be positive and sole_margin_m >= 0, got " +
+        std::to_string(margins.leg_reach_fraction) + " and " + std::to_string(margins.sole_margin_m) + " m");
   const std::string robot = "robot '" + model.name() + "'";
   std::ostringstream out;
   const double walking = params.supervisor.walking_com_height_m, fall = params.supervisor.min_com_height_m;
@@ -175,13 +132,6 @@ void CheckSteppingStonesFeasible(const MultibodyModel& model, const Terrain& ter
       Refuse(out);
     }
   }
-  // A periodic course: every walked step has the first step's length and rise.
-  const double l = stones[1].x_center_m - stones[0].x_center_m, h = stones[1].top_height_m - stones[0].top_height_m;
-  bool periodic = l > 0.0;
-  for (size_t k = 2; k <= last && periodic; ++k)
-    periodic = std::abs(stones[k].x_center_m - stones[k - 1].x_center_m - l) <= 1e-9 &&
-               std::abs(stones[k].top_height_m - stones[k - 1].top_height_m - h) <= 1e-9;
-  if (periodic) CheckPlanFriction(model, l, h, params, margins.plan_friction_fraction);
 }
 
 }  // namespace rome

@@ -6,7 +6,6 @@
 // Every check is a necessary condition only: a course that passes may still fail in the simulation.
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
-#include "diagrams/stepping_stones/stepping_stones_friction_need.h"
 
 namespace rome {
 
@@ -18,10 +17,6 @@ struct SteppingStonesFeasibilityParams {
   /// [m] Length a stone must have beyond the sole at each end (line/flat feet; the diagram aims the sole's midpoint at
   /// the stone's centre). 0: the whole sole just fits.
   double sole_margin_m = 0.0;
-  /// [-] On a periodic course (every walked step the same length and rise), the largest |F_t|/F_n that the plan may
-  /// ask of the stance foot (CalcPeriodicPlanFrictionNeed), as a fraction of the foot's friction coefficient μ.
-  /// 1: the friction cone itself (a plan beyond it cannot be followed without slipping).
-  double plan_friction_fraction = 1.0;
 };
 
 /// The kinematic reach of the leg that carries contact `contact` of `model`: the longest distance its contact points
@@ -49,10 +44,7 @@ void CheckSteppingStonesRobot(const MultibodyModel& model);
 ///  * a walking height at or below the fall height (the run would end as a fall at once);
 ///  * a stone shorter than the robot's sole plus 2 sole_margin_m (line/flat feet);
 ///  * a smallest stance normal force (controller.min_normal_force_N, clf_controller.contact.min_normal_force_N) at or
-///    above the robot's weight: one stance foot cannot push that hard for a whole step;
-///  * on a periodic course (all walked steps equal), a plan that asks more of friction than plan_friction_fraction μ
-///    (CalcPeriodicPlanFrictionNeed; the message names the largest E* whose plan stays inside, and that ε = 0.5
-///    needs no u_des on flat steps). Random courses are not checked this way (their steps start off the orbit).
+///    above the robot's weight: one stance foot cannot push that hard for a whole step.
 /// Calls CheckSteppingStonesRobot first.
 void CheckSteppingStonesFeasible(const MultibodyModel& model, const Terrain& terrain,
                                  const SteppingStonesDiagramParams& params,
