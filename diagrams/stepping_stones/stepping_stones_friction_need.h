@@ -8,8 +8,10 @@
 // gravity, so the multibody model's inverse dynamics of any posture that moves the COM this way gives the contact
 // force F = m (p̈_com + g e_z) (Newton's law for the whole body), and
 //   |F_t| / F_n = |p̈^x| / (g + p̈^z),
-// independent of the posture. The plan is feasible for a foot with friction coefficient μ only if this stays below μ
-// over the whole step (F_n <= 0 asks for infinity: the foot would have to pull).
+// independent of the posture (F_n <= 0 asks for infinity: the foot would have to pull). This is a measurement of the
+// plan, not a feasibility limit of the closed loop: nothing in the controller tracks the LIP's horizontal acceleration,
+// and the plant walks periodic gaits whose plan asks more than μ here (docs/design-notes.md, "Stepping stones: what
+// limits AMBER's speed").
 
 #include "systems/planners/momentum_regulation_planner.h"
 #include "systems/planners/vertical_com_mpc.h"
