@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The stepping-stones paper's speed range on its periodic terrains (issue 44 §3), as a user sees it: 30 steps at
+# >= 1.5 m/s with every sample of the plant's contact forces unilateral and inside the friction cone (the example
+# counts the samples that are not: "violations 0 of N samples"; a slip ends the run with exit 3):
+#  * AMBER on stairs down, 0.8 m apart and 0.2 m lower (the paper's longest step and deepest drop), E* = 0.5;
+#  * planar Cassie on flat 0.8 m steps, E* = 1.5.
+# usage: stepping_stones_speed_test.sh STEPPING_STONES_BIN WORK_DIR
+set -uo pipefail
+bin="$1"; work="$2"
+rm -rf "$work"; mkdir -p "$work"; cd "$work" || exit 2
+fail=0
+summary=""
+
+walk() {  # walk NAME ARGS...: 30 steps at >= 1.5 m/s, no contact violation
+  local name="$1"; shift
+  "$bin" "$@" --steps 30 --log "$name.csv" --summary "$name.json" > "$name.out" 2> "$name.err"
+  local rc=$?
+  [ "$rc" = 0 ] || { echo "FAIL: $name exited $rc:"; tail -n 3 "$name.out"; cat "$name.err"; fail=1; }
+  grep -q '^30 of 30 steps' "$name.out" || { echo "FAIL: $name did not walk 30 steps"; fail=1; }
+  local speed
+  speed="$(sed -n 's/^mean forward speed \([0-9.]*\) m\/s.*/\1/p' "$name.out")"
+  awk -v v="${speed:-0}" 'BEGIN { exit !(v >= 1.5) }' || { echo "FAIL: $name walked at '$speed' m/s, below 1.5"; fail=1; }
+  grep -q 'violations 0 of [1-9][0-9]* samples' "$name.out" ||
+    { echo "FAIL: $name: a plant contact force pulled or left the friction cone:"; grep 'plant contact forces' "$name.out"; fail=1; }
+  summary="$summary $name $speed m/s;"
+}
+
+walk amber_stairs_down --terrain stairs-down --step-length 0.8 --step-height -0.2 --energy 0.5
+walk cassie_flat --robot robots/cassie_planar/cassie_planar.rome.json --terrain flat --step-length 0.8 --energy 1.5
+
+[ "$fail" = 0 ] && echo "stepping-stones speed:$summary"
+exit "$fail"
