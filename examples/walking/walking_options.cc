@@ -81,7 +81,7 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "transition and the start gait's change keep 0.02 m: StandToWalkParams::standing_sagittal_cop_margin_m)")
       .Option("touchdown-speed", "0.1",
               "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
-      .Option("swing-pitch", "0.4",
+      .Option("swing-pitch", "0.25",
               "the swing foot's toe-down pitch at the apex [rad], in proportion to the ankle's height above standing "
               "(ours; 0: the flat swing foot of spec [R]; 0 to 0.44, the toe's clearance): keeps the swing ankle "
               "further from its dorsiflexion limit")

@@ -30,8 +30,9 @@ struct SwingFootTrajectoryParams {
   double ankle_height_m = 0.08;         ///< [m] ankle above the sole (the exoskeleton's model; set from the robot)
   /// [rad] the swing foot's toe-down pitch at the apex, in [0, 1) (ours; docs/design-notes.md, "swing foot pitch"):
   /// the toe sinks about toe length · pitch_max below the level sole there, so pitch_max must stay below
-  /// apex_height_m / toe length (0.44 rad on the exoskeleton: 0.08 m over 0.18 m)
-  double pitch_max_rad = 0.4;
+  /// apex_height_m / toe length (0.44 rad on the exoskeleton: 0.08 m over 0.18 m); 0.25 keeps 3.8 cm there, room for
+  /// the tracking error of the first swing from standing
+  double pitch_max_rad = 0.25;
 };
 
 class WalkingOutputReference final : public LeafSystem {
