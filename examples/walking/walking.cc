@@ -61,9 +61,9 @@ int main(int argc, char** argv) {
       "walking",
       "The exoskeleton walks from standing: aSLIP + H-LIP plan, CLF-QP with force matching (walking paper).\n"
       "Measured range (periodic plans on a grid of L 0.2-0.45 m, T_SSP 0.35-0.5 s, T_DSP 0.08-0.15 s, W 0.2-0.3 m): "
-      "within the torque limits but for T_SSP 0.35 s with L >= 0.375 m (knee 302-326 of 300 N m, refused);\n"
-      "no gait of the grid fits a rigid sole and the URDF joint limits (--feasibility strict: the swing ankle's "
-      "dorsiflexion, the sole's CoP and torsion), see docs/walking.md.");
+      "within the torque limits but for T_SSP 0.35 s with L >= 0.375 m (knee 302-325 of 300 N m, refused);\n"
+      "no gait of the grid fits a rigid sole and the URDF joint limits (--feasibility strict: the ankles' "
+      "dorsiflexion in late stance and early swing, the sole's CoP and torsion), see docs/walking.md.");
   examples::DeclareWalkingOptions(cli);
   examples::WalkingOptions o;
   std::optional<PlanCache> cache;

@@ -29,6 +29,7 @@ const std::vector<std::pair<std::string, std::string>> kWalkingParameterOptions 
     {"periodic_max_force_fraction", "periodic-max-force"},
     {"sagittal_cop_margin_m", "rom-cop-margin"},
     {"swing.touchdown_velocity_mps", "touchdown-speed"},
+    {"pitch_max_rad", "swing-pitch"},
     {"foothold_tolerance_m", "foothold-tolerance"}};
 
 void DeclareWalkingOptions(CommandLine& cli) {
@@ -80,6 +81,10 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "transition and the start gait's change keep 0.02 m: StandToWalkParams::standing_sagittal_cop_margin_m)")
       .Option("touchdown-speed", "0.1",
               "the swing sole's downward speed at the planned touchdown [m/s] (spec [R] 0.1; range 0.05 to 0.5, ours)")
+      .Option("swing-pitch", "0.25",
+              "the swing foot's toe-down pitch at the apex [rad], in proportion to the ankle's height above standing "
+              "(ours; 0: the flat swing foot of spec [R]; 0 to 0.44, the toe's clearance): keeps the swing ankle "
+              "further from its dorsiflexion limit")
       .Option("clf-cost-target", "pd",
               "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec "
               "§5.5 [C22]: minimum-norm μ = 0)")
@@ -206,6 +211,9 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingDiagramParams& p = o.diagram;
   p.controller.force_band_halfwidth = cli.GetDouble("force-band");
   p.swing.touchdown_velocity_mps = cli.GetDouble("touchdown-speed");
+  p.swing.pitch_max_rad = cli.GetDouble("swing-pitch");
+  if (!(p.swing.pitch_max_rad >= 0.0 && p.swing.pitch_max_rad <= 0.44))
+    throw std::invalid_argument("walking: --swing-pitch must be in [0, 0.44] rad, got " + cli.Get("swing-pitch"));
   p.controller.cost_pd_feedback = OneOf(cli, "clf-cost-target", {"pd", "min-norm"}) == "pd";
   p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"coefficient", "corner-cone"}) == "corner-cone";
   p.bullet_plant.enable_joint_limits = OneOf(cli, "joint-limits", {"on", "off"}) == "on";

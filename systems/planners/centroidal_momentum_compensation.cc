@@ -54,7 +54,7 @@ Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const
 
 Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com,
                                  const Eigen::Vector3d& left_ankle, const Eigen::Vector3d& right_ankle,
-                                 const Eigen::VectorXd& q_guess) {
+                                 const Eigen::VectorXd& q_guess, double left_pitch, double right_pitch) {
   const int nv = model.nv();
   const std::vector<int> free = FreeCoordinates(model);
   const int n = static_cast<int>(free.size());
@@ -63,6 +63,9 @@ Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vecto
                                 "' must have 18 velocities (a spatial base and 12 joints), got " + std::to_string(nv));
   const int feet[2] = {model.BodyIndex("left_foot"), model.BodyIndex("right_foot")};
   const Eigen::Vector3d target[2] = {left_ankle, right_ankle};
+  const Eigen::Matrix3d R_target_T[2] = {
+      Eigen::AngleAxisd(left_pitch, Eigen::Vector3d::UnitY()).toRotationMatrix().transpose(),
+      Eigen::AngleAxisd(right_pitch, Eigen::Vector3d::UnitY()).toRotationMatrix().transpose()};
   MultibodyWorkspace ws(model);
   Eigen::VectorXd q = q_guess, res(n), dq(n);
   Eigen::MatrixXd J(n, nv), Jc(3, nv), Jf(6, nv), Jr(n, n);
@@ -72,12 +75,13 @@ Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vecto
     J.topRows(3) = Jc;
     for (int f = 0; f < 2; ++f) {
       const Eigen::Isometry3d X = CalcLinkPose(model, ws, q, feet[f]);
-      const Eigen::AngleAxisd aa(X.linear());
+      // Orientation error log(R_targetᵀ R), whose rate near 0 is R_targetᵀ ω (ω world).
+      const Eigen::AngleAxisd aa(R_target_T[f] * X.linear());
       res.segment<3>(3 + 6 * f) = X.translation() - target[f];
       res.segment<3>(6 + 6 * f) = aa.angle() * aa.axis();
       CalcFrameJacobian(model, ws, q, feet[f], Eigen::Vector3d::Zero(), Jf);
       J.middleRows(3 + 6 * f, 3) = Jf.bottomRows(3);
-      J.middleRows(6 + 6 * f, 3) = Jf.topRows(3);
+      J.middleRows(6 + 6 * f, 3) = R_target_T[f] * Jf.topRows(3);
     }
     if (res.norm() < 1e-10) return q;
     for (int k = 0; k < n; ++k) Jr.col(k) = J.col(free[k]);
@@ -108,12 +112,14 @@ Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan
     WalkingReference r = plan.Sample(t);
     if (com_shift.size() != 0) r.com_position.head<2>() += com_shift.col(k);
     Eigen::Vector3d p[2], v, a;
+    double pitch[2], rate, acceleration;
     for (int f = 0; f < 2; ++f) {
       feet.SwingFoot(f, t, p[f], v, a);
+      feet.SwingFootPitch(f, t, &pitch[f], &rate, &acceleration);
       p[f].z() =
           std::max(p[f].z(), swing.ankle_height_m);  // on its foothold after T_SSP (SwingFoot's late-touchdown descent)
     }
-    q.col(k) = SolveWalkingPose(model, r.com_position, p[0], p[1], guess);
+    q.col(k) = SolveWalkingPose(model, r.com_position, p[0], p[1], guess, pitch[0], pitch[1]);
     guess = q.col(k);
   }
   return q;

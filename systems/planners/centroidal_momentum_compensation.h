@@ -15,8 +15,8 @@
 // and the bounded end δ + δ̇/ω = 0 (the unstable mode of (C1) at rest: the plan may end while walking, and δ = 0 there
 // bent the last steps measurably). Ḣ(t) is predicted by a kinematic replay of the plan on the robot: at each sample,
 // Newton's method puts the COM on the (corrected) reference, the pelvis level with zero yaw, and each ankle on its
-// foothold or its swing trajectory with the foot flat; v and Ḣ follow by central differences. H depends weakly on δ, so
-// replay and solve alternate `iterations` times.
+// foothold or its swing trajectory with the foot at its swing pitch; v and Ḣ follow by central differences. H depends
+// weakly on δ, so replay and solve alternate `iterations` times.
 //
 // Units: m, s, N m. The model must have a spatial floating base with joints base_yaw, base_pitch, base_roll and flat
 // contacts on links left_foot and right_foot.
@@ -46,17 +46,19 @@ struct CentroidalMomentumCompensationReport {
 /// Throws std::invalid_argument if the sizes differ or h ≤ 0.
 Eigen::VectorXd SolveDrivenInvertedPendulum(const Eigen::VectorXd& omega2, const Eigen::VectorXd& a, double h);
 
-/// A whole-body pose with the COM at `com`, the pelvis level with zero yaw and each foot flat with its ankle (the foot
-/// frame's origin) at `left_ankle` / `right_ankle`; Newton from `q_guess` on the 15 coordinates other than the base
-/// angles. Throws std::runtime_error naming the robot if it does not converge to 1e-10.
+/// A whole-body pose with the COM at `com`, the pelvis level with zero yaw and each foot with zero roll and yaw,
+/// pitched toe down by `left_pitch` / `right_pitch` [rad] about the world y axis (0: flat), its ankle (the foot frame's
+/// origin) at `left_ankle` / `right_ankle`; Newton from `q_guess` on the 15 coordinates other than the base angles.
+/// Throws std::runtime_error naming the robot if it does not converge to 1e-10.
 Eigen::VectorXd SolveWalkingPose(const MultibodyModel& model, const Eigen::Vector3d& com,
                                  const Eigen::Vector3d& left_ankle, const Eigen::Vector3d& right_ankle,
-                                 const Eigen::VectorXd& q_guess);
+                                 const Eigen::VectorXd& q_guess, double left_pitch = 0.0, double right_pitch = 0.0);
 
 /// The kinematic replay of `plan` described above, at t_k = k h, k = 0 … N (N = ⌊end_time / h⌋): column k is the
 /// SolveWalkingPose pose with the COM at the plan's plus column k of `com_shift` (2 × (N + 1), x and y; empty: none),
-/// each ankle on its foothold or swing trajectory (never below swing.ankle_height_m). Throws std::invalid_argument for
-/// h outside (0, 0.02] s, an empty plan or a mis-sized com_shift; std::runtime_error if a pose does not converge.
+/// each ankle on its foothold or swing trajectory (never below swing.ankle_height_m) at its swing pitch. Throws
+/// std::invalid_argument for h outside (0, 0.02] s, an empty plan or a mis-sized com_shift; std::runtime_error if a
+/// pose does not converge.
 Eigen::MatrixXd ReplayWalkingPlan(const MultibodyModel& model, const WalkingPlan& plan,
                                   const SwingFootTrajectoryParams& swing, double h,
                                   const Eigen::MatrixXd& com_shift = {});

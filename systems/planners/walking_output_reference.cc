@@ -39,6 +39,8 @@ WalkingOutputReference::WalkingOutputReference(std::string name, WalkingPlan pla
   // > 0: after T_SSP a late foot keeps descending at this speed; at 0 it would hover on the ground and never land.
   if (!(params_.touchdown_velocity_mps > 0.0))
     ThrowError("parameter touchdown_velocity_mps must be > 0, got " + std::to_string(params_.touchdown_velocity_mps));
+  if (!(params_.pitch_max_rad >= 0.0 && params_.pitch_max_rad < 1.0))
+    ThrowError("parameter pitch_max_rad must be in [0, 1) rad, got " + std::to_string(params_.pitch_max_rad));
   const int com = DeclareInputPort("com", 9);
   DeclareOutputPort(
       "desired", 3 * kNumOutputs,
@@ -58,6 +60,11 @@ WalkingOutputReference::WalkingOutputReference(std::string name, WalkingPlan pla
           y->segment<3>(o) = p;
           y->segment<3>(n + o) = v;
           y->segment<3>(2 * n + o) = a;
+          double th = 0, thd = 0, thdd = 0;
+          SwingFootPitch(foot, c.time(), &th, &thd, &thdd);
+          (*y)[o + 4] = th;  // rotation vector (0, θ, 0): a pure pitch, whose rate is the world ω_y
+          (*y)[n + o + 4] = thd;
+          (*y)[2 * n + o + 4] = thdd;
         }
       },
       Feedthrough::All());
@@ -112,6 +119,18 @@ void WalkingOutputReference::SwingFoot(int foot, double t, Eigen::Ref<Eigen::Vec
   p.z() = ankle + h;
   v.z() = hd;
   a.z() = hdd;
+}
+
+void WalkingOutputReference::SwingFootPitch(int foot, double t, double* pitch, double* rate,
+                                            double* acceleration) const {
+  Eigen::Vector3d p, v, a;
+  SwingFoot(foot, t, p, v, a);
+  const double k = params_.pitch_max_rad / params_.apex_height_m;
+  // Flat on its foothold and during a late touchdown's descent below the standing height.
+  const bool lifted = p.z() > params_.ankle_height_m;
+  *pitch = lifted ? k * (p.z() - params_.ankle_height_m) : 0.0;
+  *rate = lifted ? k * v.z() : 0.0;
+  *acceleration = lifted ? k * a.z() : 0.0;
 }
 
 }  // namespace rome

@@ -8,6 +8,9 @@
 //    stance sole's wrench; walking_plan_inverse_dynamics_test checks it against forward dynamics) gives the CoP the
 //    robot needs; with the correction it stays within 2.5 cm of the point-mass ROM's own CoP in single support, without
 //    it it leaves the sole (more than 10 cm off). The correction itself stays below 3 cm.
+//  * SolveWalkingPose with a toe-down foot pitch: by forward kinematics the pitched foot's rotation is the pure pitch
+//    R_y(θ) (R(0,2) = sin θ, R(0,0) = cos θ, no roll or yaw), its ankle and the COM on their targets, the other foot
+//    flat; and the pitched foot's ankle joint bends toward plantarflexion (the purpose of the swing pitch).
 #include "systems/planners/centroidal_momentum_compensation.h"
 
 #include <gtest/gtest.h>
@@ -87,6 +90,26 @@ CopOffsets LargestCopOffsetByInverseDynamics(const MultibodyModel& model, const 
         worst.y_from_positions = std::max(worst.y_from_positions, off.y());
       });
   return worst;
+}
+
+TEST(CentroidalMomentumCompensation, WalkingPoseTakesAFootPitchAboutTheWorldYAxis) {
+  auto model = test::LoadRobot("exoskeleton");
+  const Eigen::Vector3d com(0.05, 0.0, 0.86), left(0.0, 0.125, 0.08), right(0.2, -0.125, 0.14);
+  const Eigen::VectorXd flat = SolveWalkingPose(*model, com, left, right, model->q_nominal());
+  const double pitch = 0.3;
+  const Eigen::VectorXd q = SolveWalkingPose(*model, com, left, right, flat, 0.0, pitch);
+  MultibodyWorkspace ws(*model);
+  const Eigen::Isometry3d X = CalcLinkPose(*model, ws, q, model->BodyIndex("right_foot"));
+  EXPECT_NEAR(X.linear()(0, 0), std::cos(pitch), 1e-9);
+  EXPECT_NEAR(X.linear()(0, 2), std::sin(pitch), 1e-9);  // toe (x) down: R_y(θ) x = (cos θ, 0, −sin θ)
+  EXPECT_NEAR(X.linear()(2, 0), -std::sin(pitch), 1e-9);
+  EXPECT_NEAR(X.linear()(1, 1), 1.0, 1e-9);
+  EXPECT_LT((X.translation() - right).norm(), 1e-9);
+  EXPECT_LT((CalcComPosition(*model, ws, q) - com).norm(), 1e-9);
+  const Eigen::Isometry3d L = CalcLinkPose(*model, ws, q, model->BodyIndex("left_foot"));
+  EXPECT_LT((L.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  const int ankle = model->VelocityIndex("right_ankle_pitch");
+  EXPECT_GT(q[ankle] - flat[ankle], 0.2);  // most of the pitch is taken by the ankle (the COM moves the rest)
 }
 
 TEST(CentroidalMomentumCompensation, KeepsTheRobotsCopOnTheRomPivotByInverseDynamics) {
