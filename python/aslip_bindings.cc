@@ -46,7 +46,7 @@ void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
       "The aSLIP as a hybrid block. Inputs leg_length_acceleration (2, m/s^2), ankle_torque (2, N m, footed only), "
       "next_foothold (1, m); outputs state (8), com (4), grf (4, N), foot_x (2, m).")
       .def(py::init([](std::string name, const S& p) {
-             return new ActuatedSpringLoadedInvertedPendulumSystem(std::move(name), p);
+             return FromArguments([&] { return new ActuatedSpringLoadedInvertedPendulumSystem(std::move(name), p); });
            }),
            py::arg("name") = "aslip", py::arg("params") = S{});
 }

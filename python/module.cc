@@ -1,5 +1,6 @@
 // The rome Python module: PYBIND11_MODULE and the ownership rule of bindings.h.
 #include <mutex>
+#include <sstream>
 #include <unordered_set>
 
 #include <pybind11/eigen.h>
@@ -34,6 +35,12 @@ void SystemDeleter::operator()(System* system) const {
 void MarkAdopted(const System* system) {
   std::lock_guard<std::mutex> lock(adopted_mutex);
   Adopted().insert(system);
+}
+
+std::string Number(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
 }
 
 Eigen::VectorXd ToVector(const py::handle& value, const char* what) {

@@ -118,8 +118,10 @@ void BindMultibody(py::module_& m) {
             LoadOptions options;
             options.repair_inertia = repair_inertia;
             const bool sidecar = path.size() > 10 && path.substr(path.size() - 10) == ".rome.json";
-            return std::make_unique<PyMultibodyModel>(sidecar ? MultibodyModel::LoadFromSidecar(path, options)
-                                                              : MultibodyModel::Load(path, "", options));
+            return FromArguments([&] {
+              return std::make_unique<PyMultibodyModel>(sidecar ? MultibodyModel::LoadFromSidecar(path, options)
+                                                                : MultibodyModel::Load(path, "", options));
+            });
           },
           py::arg("path"), py::arg("repair_inertia") = false,
           "Loads a robot from its sidecar (robots/NAME/NAME.rome.json) or its URDF (the sidecar beside it, if any).")
