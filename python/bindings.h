@@ -17,6 +17,7 @@
 #include <pybind11/pybind11.h>
 
 #include "framework/system.h"
+#include "systems/multibody/multibody_model.h"
 
 namespace rome::python {
 
@@ -43,6 +44,8 @@ void BindPlanners(pybind11::module_& m);
 void BindCollocation(pybind11::module_& m);
 void BindSteppingStones(pybind11::module_& m);
 void BindLocomotionRuns(pybind11::module_& m);
+/// After BindSteppingStones (Terrain) and BindBlocks (the controllers' parameters).
+void BindContactBlocks(pybind11::module_& m);
 
 /// Errors (docs/python.md, "Errors"): a C++ object made from the caller's arguments (a block, a planner, a robot
 /// model from its file) reports bad arguments as ValueError, whatever C++ exception type carries them: the blocks
@@ -66,6 +69,10 @@ template <class T, class... Args>
 auto InitFromArguments() {
   return pybind11::init([](Args... args) { return FromArguments([&] { return new T(std::forward<Args>(args)...); }); });
 }
+
+/// The C++ model of a Python rome.MultibodyModel, shared with the blocks made from it (a copy of the Python object's
+/// model, made on first use; later changes to the Python object cannot reach it: a MultibodyModel is immutable).
+std::shared_ptr<const MultibodyModel> SharedModel(const pybind11::handle& model);
 
 /// A number for an error message: up to 6 significant digits, as std::ostream prints it (nan, inf, -0.25, 1e+06).
 std::string Number(double value);

@@ -73,4 +73,5 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindCollocation(m);
   rome::python::BindSteppingStones(m);
   rome::python::BindLocomotionRuns(m);
+  rome::python::BindContactBlocks(m);
 }
