@@ -13,6 +13,7 @@
 #include "python/params.h"
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
+#include "systems/plants/bullet_world_plant.h"
 #include "systems/plants/hybrid_contact_plant.h"
 
 namespace py = pybind11;
@@ -108,6 +109,33 @@ void BindHybridContactPlant(py::module_& m) {
                  return FromArguments([&] {
                    return new HybridContactPlant(std::move(name), SharedModel(model), std::move(graph),
                                                  std::move(terrain), params);
+                 });
+               }),
+           py::arg("name"), py::arg("model"), py::arg("graph"), py::arg("terrain") = Terrain::Flat(),
+           py::arg("params") = P{});
+}
+
+void BindBulletWorldPlant(py::module_& m) {
+  using P = BulletWorldPlantParams;
+  ParamsClass<P>(m, "BulletWorldPlantParams", "BulletWorldPlant (systems/plants/bullet_world_plant.h).")
+      .Field("step_s", &P::step_s, "[s]")
+      .Field("substeps", &P::substeps)
+      .Field("solver_iterations", &P::solver_iterations)
+      .Field("contact_erp", &P::contact_erp)
+      .Field("contact_stiffness_N_per_m", &P::contact_stiffness_N_per_m, "[N/m] 0: rigid")
+      .Field("contact_damping_Ns_per_m", &P::contact_damping_Ns_per_m, "[N s/m]")
+      .Field("restitution", &P::restitution)
+      .Field("min_base_height_m", &P::min_base_height_m, "[m]")
+      .Field("saturate_torques", &P::saturate_torques)
+      .Field("enable_joint_limits", &P::enable_joint_limits);
+  py::class_<BulletWorldPlant, ContactPlant, Holder<BulletWorldPlant>>(
+      m, "BulletWorldPlant",
+      "A robot in Bullet's discrete-time physics world (one world step per step_s), with HybridContactPlant's ports.")
+      .def(py::init(
+               [](std::string name, const py::object& model, ContactModeGraph graph, Terrain terrain, const P& params) {
+                 return FromArguments([&] {
+                   return new BulletWorldPlant(std::move(name), SharedModel(model), std::move(graph),
+                                               std::move(terrain), params);
                  });
                }),
            py::arg("name"), py::arg("model"), py::arg("graph"), py::arg("terrain") = Terrain::Flat(),
@@ -267,6 +295,7 @@ void BindQpControllers(py::module_& m) {
 void BindContactBlocks(py::module_& m) {
   BindContactModeGraph(m);
   BindHybridContactPlant(m);
+  BindBulletWorldPlant(m);
   BindTasks(m);
   BindQpControllers(m);
 }

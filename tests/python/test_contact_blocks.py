@@ -39,12 +39,16 @@ def standing_pose(model, left_hip=-0.5, knee=0.4):
     return q
 
 
-def run_standing(model, controller_for, seconds=2.0, com_offset=(0.01, -0.01)):
+def hybrid_plant(model):
+    return rome.HybridContactPlant("plant", model, rome.ContactModeGraph.with_double_support("left_foot", "right_foot"))
+
+
+def run_standing(model, controller_for, seconds=2.0, com_offset=(0.01, -0.01), plant_for=hybrid_plant):
     """Plant + controller + constant desired outputs [COM x, COM z, base pitch] offset from the start by com_offset [m];
     returns (log data, the start COM, the desired outputs, the controller's diagnostics)."""
     q0 = standing_pose(model)
     com0 = model.com_position(q0)
-    plant = rome.HybridContactPlant("plant", model, rome.ContactModeGraph.with_double_support("left_foot", "right_foot"))
+    plant = plant_for(model)
     tasks = [rome.ComPositionTask("com", [rome.Axis.x, rome.Axis.z]), rome.JointPositionTask("pitch", model, "base_pitch")]
     controller = controller_for(plant, tasks)
     builder = rome.DiagramBuilder()
@@ -146,3 +150,24 @@ def test_contact_blocks_refuse_bad_arguments(model):
     context = plant.create_default_context()
     with pytest.raises(ValueError, match="plant"):
         plant.set_state(context, np.zeros(3), np.zeros(model.nv), "double_support")
+
+
+def test_task_space_qp_block_on_the_bullet_plant(model):
+    # Bullet's world (rigid contacts, Coulomb friction at the model's mu = 0.8, 1 ms steps) under the same controller:
+    # its ground forces are its solver's impulses over a step, so only Newton at rest and the cone are checked.
+    def bullet_plant(m):
+        graph = rome.ContactModeGraph.with_double_support("left_foot", "right_foot")
+        return rome.BulletWorldPlant("plant", m, graph, rome.Terrain.flat(), rome.BulletWorldPlantParams())
+
+    data, com0, y_d, diagnostics = run_standing(
+        model, lambda plant, tasks: rome.TaskSpaceQpController("ctrl", plant, tasks), seconds=2.0, plant_for=bullet_plant)
+    assert diagnostics["qp_failures"] == 0
+    mu = model.contact_friction_coefficients[0]
+    for c in model.contact_names:
+        fx, fz = data[f"plant.contact_forces.{c}_fx"][1:], data[f"plant.contact_forces.{c}_fz"][1:]
+        assert (fz > 0.0).all()
+        assert (np.abs(fx) <= mu * fz * (1 + 1e-6)).all()
+    end = forces(data, "plant", model, -1)
+    assert end[2] + end[5] == pytest.approx(model.total_mass * G, rel=1e-3)  # the COM at rest: the weight
+    assert data["plant.com.x"][-1] == pytest.approx(y_d[0], abs=1e-3)
+    assert data["plant.com.z"][-1] == pytest.approx(y_d[1], abs=1e-3)
