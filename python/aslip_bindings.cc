@@ -1,5 +1,6 @@
 // Python bindings of the aSLIP of the walking paper (systems/rom/actuated_spring_loaded_inverted_pendulum*.h): its
 // parameters and its hybrid block (double support, left and right stance).
+#include <cstdint>
 #include <string>
 
 #include <pybind11/eigen.h>
@@ -7,11 +8,76 @@
 
 #include "python/bindings.h"
 #include "python/params.h"
+#include "systems/planners/aslip_periodic_gait_planner.h"
 #include "systems/rom/actuated_spring_loaded_inverted_pendulum_system.h"
 
 namespace py = pybind11;
 
 namespace rome::python {
+namespace {
+
+py::dict GaitToDict(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait) {
+  py::dict d;
+  d["success"] = gait.success();
+  d["status"] = std::string(ToString(gait.collocation.nlp.status));
+  d["message"] = gait.collocation.nlp.message;
+  d["iterations"] = gait.collocation.nlp.iterations;
+  d["cost"] = gait.collocation.nlp.cost;
+  d["max_constraint_violation"] = gait.max_constraint_violation;
+  d["mean_height"] = gait.mean_height;
+  py::list phases;
+  for (int p = 0; p < static_cast<int>(gait.collocation.phases.size()); ++p) {
+    const CollocationPhaseSolution& s = gait.collocation.phases[p];
+    py::dict phase;
+    phase["name"] = s.name;
+    phase["start_time"] = s.start_time;
+    phase["duration"] = s.duration;
+    phase["times"] = s.times;
+    phase["states"] = s.states;
+    phase["inputs"] = s.inputs;
+    phase["ground_reactions"] =
+        gait.GroundReactions(planner.params().aslip, planner.params().step_length, p);  // 4 x N [N]
+    phases.append(phase);
+  }
+  d["phases"] = phases;
+  return d;
+}
+
+void BindPeriodicGaitPlanner(py::module_& m) {
+  using P = AslipPeriodicGaitParams;
+  ParamsClass<P>(
+      m, "AslipPeriodicGaitParams",
+      "Periodic aSLIP walking gait, walking paper Eq. (4)-(5) (systems/planners/aslip_periodic_gait_planner.h).")
+      .Field("aslip", &P::aslip)
+      .Field("step_length", &P::step_length, "[m] l")
+      .Field("ssp_duration", &P::ssp_duration, "[s]")
+      .Field("dsp_duration", &P::dsp_duration, "[s]")
+      .Field("nodes_per_domain", &P::nodes_per_domain)
+      .Field("friction_coefficient", &P::friction_coefficient, "[-] mu")
+      .Field("height_min", &P::height_min, "[m]")
+      .Field("height_max", &P::height_max, "[m]")
+      .Field("max_leg_length_acceleration", &P::max_leg_length_acceleration, "[m/s^2]")
+      .Field("smooth_touchdown", &P::smooth_touchdown)
+      .Field("max_iterations", &P::max_iterations);
+  py::class_<AslipPeriodicGaitPlanner>(
+      m, "AslipPeriodicGaitPlanner",
+      "One step (SSP then DSP) of the point-foot aSLIP by trapezoidal collocation on Ipopt. State [x, z, xdot, zdot, "
+      "L_0, L_1, Ldot_0, Ldot_1], input [Lddot_0, Lddot_1]; leg 0 stands at x = 0 in SSP, leg 1 lands at x = l.")
+      .def((InitFromArguments<AslipPeriodicGaitPlanner, P>()), py::arg("params") = P{})
+      .def_property_readonly("params", &AslipPeriodicGaitPlanner::params)
+      .def(
+          "solve",
+          [](const AslipPeriodicGaitPlanner& planner, std::uint32_t seed) {
+            // The GIL stays held: it serialises the Ipopt solves (Ipopt 3.11 is not thread-safe).
+            return GaitToDict(planner, planner.Solve(seed));
+          },
+          py::arg("seed") = 1,
+          "Solves from the random initial guess of `seed` -> dict (success, status, message, iterations, cost, "
+          "max_constraint_violation, mean_height, phases: [{name, start_time, duration, times, states (8 x N), "
+          "inputs (2 x N), ground_reactions (4 x N: [G_0x, G_0z, G_1x, G_1z] N)}]).");
+}
+
+}  // namespace
 
 void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
   using P = ActuatedSpringLoadedInvertedPendulumParams;
@@ -49,6 +115,7 @@ void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
              return FromArguments([&] { return new ActuatedSpringLoadedInvertedPendulumSystem(std::move(name), p); });
            }),
            py::arg("name") = "aslip", py::arg("params") = S{});
+  BindPeriodicGaitPlanner(m);
 }
 
 }  // namespace rome::python
