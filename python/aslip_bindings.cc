@@ -4,11 +4,13 @@
 #include <string>
 
 #include <pybind11/eigen.h>
+#include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
 #include "python/bindings.h"
 #include "python/params.h"
 #include "systems/planners/aslip_periodic_gait_planner.h"
+#include "systems/planners/gait_graph.h"
 #include "systems/rom/actuated_spring_loaded_inverted_pendulum_system.h"
 
 namespace py = pybind11;
@@ -77,6 +79,51 @@ void BindPeriodicGaitPlanner(py::module_& m) {
           "inputs (2 x N), ground_reactions (4 x N: [G_0x, G_0z, G_1x, G_1z] N)}]).");
 }
 
+void BindGaitGraph(py::module_& m) {
+  using P = GaitGraphParams;
+  ParamsClass<P>(
+      m, "GaitGraphParams",
+      "A grid of gaits (L m, T_SSP s, T_DSP s, W m) for chains of transitions (systems/planners/gait_graph.h).")
+      .Field("min", &P::min, "(m, s, s, m)")
+      .Field("max", &P::max, "(m, s, s, m)")
+      .Field("spacing", &P::spacing, "(m, s, s, m)")
+      .Field("reach", &P::reach, "(m, s, s, m) largest change per axis along one edge")
+      .Field("step_cost_weight", &P::step_cost_weight, "[-]")
+      .Field("within_box", &P::within_box)
+      .Field("max_failed_transitions", &P::max_failed_transitions)
+      .cls()
+      .def("validate", [](const P& p) { p.Validate(); });
+  py::class_<GaitGraph>(m, "GaitGraph",
+                        "Edges join gaits that differ by at most `reach` per axis; cost 1 + step_cost_weight "
+                        "sum |dg_i| / reach_i.")
+      .def((InitFromArguments<GaitGraph, const P&, const GaitVector&, const GaitVector&>()), py::arg("params"),
+           py::arg("start"), py::arg("goal"))
+      .def_property_readonly("num_nodes", &GaitGraph::num_nodes)
+      .def(
+          "node", [](const GaitGraph& g, int i) { return FromArguments([&] { return g.node(i); }); }, py::arg("i"))
+      .def_property_readonly("start", &GaitGraph::start)
+      .def_property_readonly("goal", &GaitGraph::goal)
+      .def("neighbours", &GaitGraph::Neighbours, py::arg("i"), py::arg("j"))
+      .def("edge_cost", &GaitGraph::EdgeCost, py::arg("i"), py::arg("j"))
+      .def("mark_infeasible", &GaitGraph::MarkInfeasible, py::arg("i"), py::arg("j"))
+      .def("shortest_path", &GaitGraph::ShortestPath, "node indices start -> goal; empty when none")
+      .def(
+          "shortest_feasible_chain",
+          [](GaitGraph& g, const std::function<bool(int, const GaitVector&, const GaitVector&)>& try_transition) {
+            const GaitChain chain = g.ShortestFeasibleChain(try_transition);
+            py::dict d;
+            d["found"] = chain.found;
+            d["gaits"] = chain.gaits;
+            d["transitions_tried"] = chain.transitions_tried;
+            d["transitions_failed"] = chain.transitions_failed;
+            d["message"] = chain.message;
+            return d;
+          },
+          py::arg("try_transition"),
+          "The lazy search: try_transition(depth, from_gait, to_gait) -> bool plans one transition (e.g. an NLP). "
+          "-> dict (found, gaits, transitions_tried, transitions_failed, message).");
+}
+
 }  // namespace
 
 void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
@@ -116,6 +163,7 @@ void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
            }),
            py::arg("name") = "aslip", py::arg("params") = S{});
   BindPeriodicGaitPlanner(m);
+  BindGaitGraph(m);
 }
 
 }  // namespace rome::python

@@ -64,3 +64,57 @@ def test_periodic_gait_obeys_the_aslip_physics(step_length, ssp, dsp):
 def test_periodic_gait_planner_refuses_a_negative_step_length():
     with pytest.raises(ValueError, match=r"step_length.*-0\.3"):
         rome.AslipPeriodicGaitPlanner(rome.AslipPeriodicGaitParams(step_length=-0.3))
+
+
+def dijkstra(graph, params, allowed):
+    """Cheapest start -> goal cost over the documented edges (every |dg_i| <= reach_i, cost 1 + w sum |dg_i|/reach_i)
+    that `allowed(from, to)` keeps, computed here from the nodes alone."""
+    nodes = [np.array(graph.node(i)) for i in range(graph.num_nodes)]
+    reach = np.array(params.reach)
+    cost = [np.inf] * len(nodes)
+    cost[graph.start] = 0.0
+    done = set()
+    while len(done) < len(nodes):
+        i = min((k for k in range(len(nodes)) if k not in done), key=lambda k: cost[k])
+        if cost[i] == np.inf:
+            break
+        done.add(i)
+        for j in range(len(nodes)):
+            d = np.abs(nodes[j] - nodes[i])
+            if j != i and (d <= reach + 1e-12).all() and allowed(nodes[i], nodes[j]):
+                cost[j] = min(cost[j], cost[i] + 1 + params.step_cost_weight * (d / reach).sum())
+    return cost[graph.goal]
+
+
+def chain_cost(gaits, params):
+    reach = np.array(params.reach)
+    return sum(1 + params.step_cost_weight * (np.abs(np.subtract(b, a)) / reach).sum() for a, b in zip(gaits, gaits[1:]))
+
+
+def test_gait_graph_chains_are_the_cheapest_over_the_feasible_edges():
+    params = rome.GaitGraphParams(max_failed_transitions=1000)  # every failure below is a cheap Python call
+    start, goal = (0.20, 0.40, 0.10, 0.20), (0.45, 0.35, 0.14, 0.30)
+    graph = rome.GaitGraph(params, start, goal)
+    path = graph.shortest_path()
+    assert path[0] == graph.start and path[-1] == graph.goal
+    gaits = [graph.node(i) for i in path]
+    assert chain_cost(gaits, params) == pytest.approx(dijkstra(graph, params, lambda a, b: True))
+
+    # A planner that can change the step length by at most 5 cm a transition (a larger change from the same gait
+    # fails too, as the lazy search assumes): the chain found is the cheapest one over those edges.
+    def short_steps(a, b):
+        return abs(b[0] - a[0]) <= 0.05 + 1e-9
+
+    tried = []
+    chain = rome.GaitGraph(params, start, goal).shortest_feasible_chain(
+        lambda depth, a, b: tried.append((a, b)) or short_steps(a, b))
+    assert chain["found"], chain["message"]
+    assert chain["transitions_tried"] == len(tried) and chain["transitions_failed"] > 0
+    assert tuple(chain["gaits"][0]) == pytest.approx(start) and tuple(chain["gaits"][-1]) == pytest.approx(goal)
+    assert all(short_steps(a, b) for a, b in zip(chain["gaits"], chain["gaits"][1:]))
+    assert chain_cost(chain["gaits"], params) == pytest.approx(dijkstra(graph, params, short_steps))
+
+
+def test_gait_graph_refuses_a_gait_outside_its_range():
+    with pytest.raises(ValueError, match="0.9"):
+        rome.GaitGraph(rome.GaitGraphParams(), (0.9, 0.40, 0.10, 0.20), (0.30, 0.40, 0.10, 0.20))
