@@ -1,17 +1,130 @@
 // Python bindings of the aSLIP of the walking paper (systems/rom/actuated_spring_loaded_inverted_pendulum*.h): its
 // parameters and its hybrid block (double support, left and right stance).
+#include <cstdint>
 #include <string>
 
 #include <pybind11/eigen.h>
+#include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
 #include "python/bindings.h"
 #include "python/params.h"
+#include "systems/planners/aslip_periodic_gait_planner.h"
+#include "systems/planners/gait_graph.h"
 #include "systems/rom/actuated_spring_loaded_inverted_pendulum_system.h"
 
 namespace py = pybind11;
 
 namespace rome::python {
+namespace {
+
+py::dict GaitToDict(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait) {
+  py::dict d;
+  d["success"] = gait.success();
+  d["status"] = std::string(ToString(gait.collocation.nlp.status));
+  d["message"] = gait.collocation.nlp.message;
+  d["iterations"] = gait.collocation.nlp.iterations;
+  d["cost"] = gait.collocation.nlp.cost;
+  d["max_constraint_violation"] = gait.max_constraint_violation;
+  d["mean_height"] = gait.mean_height;
+  py::list phases;
+  for (int p = 0; p < static_cast<int>(gait.collocation.phases.size()); ++p) {
+    const CollocationPhaseSolution& s = gait.collocation.phases[p];
+    py::dict phase;
+    phase["name"] = s.name;
+    phase["start_time"] = s.start_time;
+    phase["duration"] = s.duration;
+    phase["times"] = s.times;
+    phase["states"] = s.states;
+    phase["inputs"] = s.inputs;
+    phase["ground_reactions"] =
+        gait.GroundReactions(planner.params().aslip, planner.params().step_length, p);  // 4 x N [N]
+    phases.append(phase);
+  }
+  d["phases"] = phases;
+  return d;
+}
+
+void BindPeriodicGaitPlanner(py::module_& m) {
+  using P = AslipPeriodicGaitParams;
+  ParamsClass<P>(
+      m, "AslipPeriodicGaitParams",
+      "Periodic aSLIP walking gait, walking paper Eq. (4)-(5) (systems/planners/aslip_periodic_gait_planner.h).")
+      .Field("aslip", &P::aslip)
+      .Field("step_length", &P::step_length, "[m] l")
+      .Field("ssp_duration", &P::ssp_duration, "[s]")
+      .Field("dsp_duration", &P::dsp_duration, "[s]")
+      .Field("nodes_per_domain", &P::nodes_per_domain)
+      .Field("friction_coefficient", &P::friction_coefficient, "[-] mu")
+      .Field("height_min", &P::height_min, "[m]")
+      .Field("height_max", &P::height_max, "[m]")
+      .Field("max_leg_length_acceleration", &P::max_leg_length_acceleration, "[m/s^2]")
+      .Field("smooth_touchdown", &P::smooth_touchdown)
+      .Field("max_iterations", &P::max_iterations);
+  py::class_<AslipPeriodicGaitPlanner>(
+      m, "AslipPeriodicGaitPlanner",
+      "One step (SSP then DSP) of the point-foot aSLIP by trapezoidal collocation on Ipopt. State [x, z, xdot, zdot, "
+      "L_0, L_1, Ldot_0, Ldot_1], input [Lddot_0, Lddot_1]; leg 0 stands at x = 0 in SSP, leg 1 lands at x = l.")
+      .def((InitFromArguments<AslipPeriodicGaitPlanner, P>()), py::arg("params") = P{})
+      .def_property_readonly("params", &AslipPeriodicGaitPlanner::params)
+      .def(
+          "solve",
+          [](const AslipPeriodicGaitPlanner& planner, std::uint32_t seed) {
+            // The GIL stays held: it serialises the Ipopt solves (Ipopt 3.11 is not thread-safe).
+            return GaitToDict(planner, planner.Solve(seed));
+          },
+          py::arg("seed") = 1,
+          "Solves from the random initial guess of `seed` -> dict (success, status, message, iterations, cost, "
+          "max_constraint_violation, mean_height, phases: [{name, start_time, duration, times, states (8 x N), "
+          "inputs (2 x N), ground_reactions (4 x N: [G_0x, G_0z, G_1x, G_1z] N)}]).");
+}
+
+void BindGaitGraph(py::module_& m) {
+  using P = GaitGraphParams;
+  ParamsClass<P>(
+      m, "GaitGraphParams",
+      "A grid of gaits (L m, T_SSP s, T_DSP s, W m) for chains of transitions (systems/planners/gait_graph.h).")
+      .Field("min", &P::min, "(m, s, s, m)")
+      .Field("max", &P::max, "(m, s, s, m)")
+      .Field("spacing", &P::spacing, "(m, s, s, m)")
+      .Field("reach", &P::reach, "(m, s, s, m) largest change per axis along one edge")
+      .Field("step_cost_weight", &P::step_cost_weight, "[-]")
+      .Field("within_box", &P::within_box)
+      .Field("max_failed_transitions", &P::max_failed_transitions)
+      .cls()
+      .def("validate", [](const P& p) { p.Validate(); });
+  py::class_<GaitGraph>(m, "GaitGraph",
+                        "Edges join gaits that differ by at most `reach` per axis; cost 1 + step_cost_weight "
+                        "sum |dg_i| / reach_i.")
+      .def((InitFromArguments<GaitGraph, const P&, const GaitVector&, const GaitVector&>()), py::arg("params"),
+           py::arg("start"), py::arg("goal"))
+      .def_property_readonly("num_nodes", &GaitGraph::num_nodes)
+      .def(
+          "node", [](const GaitGraph& g, int i) { return FromArguments([&] { return g.node(i); }); }, py::arg("i"))
+      .def_property_readonly("start", &GaitGraph::start)
+      .def_property_readonly("goal", &GaitGraph::goal)
+      .def("neighbours", &GaitGraph::Neighbours, py::arg("i"), py::arg("j"))
+      .def("edge_cost", &GaitGraph::EdgeCost, py::arg("i"), py::arg("j"))
+      .def("mark_infeasible", &GaitGraph::MarkInfeasible, py::arg("i"), py::arg("j"))
+      .def("shortest_path", &GaitGraph::ShortestPath, "node indices start -> goal; empty when none")
+      .def(
+          "shortest_feasible_chain",
+          [](GaitGraph& g, const std::function<bool(int, const GaitVector&, const GaitVector&)>& try_transition) {
+            const GaitChain chain = g.ShortestFeasibleChain(try_transition);
+            py::dict d;
+            d["found"] = chain.found;
+            d["gaits"] = chain.gaits;
+            d["transitions_tried"] = chain.transitions_tried;
+            d["transitions_failed"] = chain.transitions_failed;
+            d["message"] = chain.message;
+            return d;
+          },
+          py::arg("try_transition"),
+          "The lazy search: try_transition(depth, from_gait, to_gait) -> bool plans one transition (e.g. an NLP). "
+          "-> dict (found, gaits, transitions_tried, transitions_failed, message).");
+}
+
+}  // namespace
 
 void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
   using P = ActuatedSpringLoadedInvertedPendulumParams;
@@ -46,9 +159,11 @@ void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
       "The aSLIP as a hybrid block. Inputs leg_length_acceleration (2, m/s^2), ankle_torque (2, N m, footed only), "
       "next_foothold (1, m); outputs state (8), com (4), grf (4, N), foot_x (2, m).")
       .def(py::init([](std::string name, const S& p) {
-             return new ActuatedSpringLoadedInvertedPendulumSystem(std::move(name), p);
+             return FromArguments([&] { return new ActuatedSpringLoadedInvertedPendulumSystem(std::move(name), p); });
            }),
            py::arg("name") = "aslip", py::arg("params") = S{});
+  BindPeriodicGaitPlanner(m);
+  BindGaitGraph(m);
 }
 
 }  // namespace rome::python

@@ -9,11 +9,15 @@
 // diagram runs), and each system's Python object keeps its diagram alive (so a block is never used after its diagram
 // is gone). These references are ordinary attributes, so Python's garbage collector frees the cycle.
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
 
 #include <Eigen/Core>
 #include <pybind11/pybind11.h>
 
 #include "framework/system.h"
+#include "systems/multibody/multibody_model.h"
 
 namespace rome::python {
 
@@ -40,6 +44,38 @@ void BindPlanners(pybind11::module_& m);
 void BindCollocation(pybind11::module_& m);
 void BindSteppingStones(pybind11::module_& m);
 void BindLocomotionRuns(pybind11::module_& m);
+/// After BindSteppingStones (Terrain) and BindBlocks (the controllers' parameters).
+void BindContactBlocks(pybind11::module_& m);
+
+/// Errors (docs/python.md, "Errors"): a C++ object made from the caller's arguments (a block, a planner, a robot
+/// model from its file) reports bad arguments as ValueError, whatever C++ exception type carries them: the blocks
+/// report bad parameters through LeafSystem::ThrowError and the robot files through FileError, both
+/// std::runtime_error, which pybind11 alone would raise as RuntimeError. Runs `make` and rethrows a std::runtime_error
+/// as ValueError with the same message; std::invalid_argument (and the other std::logic_error kinds) keep pybind11's
+/// mapping (ValueError; IndexError for std::out_of_range).
+template <class F>
+auto FromArguments(F&& make) -> decltype(make()) {
+  try {
+    return make();
+  } catch (const pybind11::error_already_set&) { throw; } catch (const pybind11::builtin_exception&) {
+    throw;  // already a Python exception type (pybind11::value_error, type_error, ...)
+  } catch (const std::overflow_error&) {
+    throw;  // OverflowError
+  } catch (const std::runtime_error& e) { throw pybind11::value_error(e.what()); }
+}
+
+/// pybind11::init for T(Args...) through FromArguments.
+template <class T, class... Args>
+auto InitFromArguments() {
+  return pybind11::init([](Args... args) { return FromArguments([&] { return new T(std::forward<Args>(args)...); }); });
+}
+
+/// The C++ model of a Python rome.MultibodyModel, shared with the blocks made from it (a copy of the Python object's
+/// model, made on first use; later changes to the Python object cannot reach it: a MultibodyModel is immutable).
+std::shared_ptr<const MultibodyModel> SharedModel(const pybind11::handle& model);
+
+/// A number for an error message: up to 6 significant digits, as std::ostream prints it (nan, inf, -0.25, 1e+06).
+std::string Number(double value);
 
 /// A column vector of doubles from any Python sequence or numpy array; `what` names the value in the error.
 Eigen::VectorXd ToVector(const pybind11::handle& value, const char* what);

@@ -62,7 +62,7 @@ void BindJointPd(py::module_& m) {
       m, "JointPdController",
       "u = u_ff + Kp (q_des - B^T q) - Kd B^T v on the actuated joints. Input state [q; v] (2 nv), output u (nu).")
       .def(py::init([](std::string name, const Eigen::MatrixXd& B, const JointPdGains& gains) {
-             return new JointPdController(std::move(name), B, gains);
+             return FromArguments([&] { return new JointPdController(std::move(name), B, gains); });
            }),
            py::arg("name"), py::arg("B"), py::arg("gains"));
 }
@@ -79,7 +79,7 @@ void BindBlocks(py::module_& m) {
              p.initial_L = initial_L;
              p.lip.z0 = z0;
              p.lip.gravity = gravity;
-             return new LinearInvertedPendulumSystem(std::move(name), p);
+             return FromArguments([&] { return new LinearInvertedPendulumSystem(std::move(name), p); });
            }),
            py::arg("name") = "lip", py::arg("initial_x") = LinearInvertedPendulumSystemParams{}.initial_x,
            py::arg("initial_L") = LinearInvertedPendulumSystemParams{}.initial_L,
@@ -89,11 +89,14 @@ void BindBlocks(py::module_& m) {
       m, "LqrController",
       "u = u0 - K (x - x0) with the LQR gain of (A, B, Q, R) (systems/controllers/lqr_controller.h).")
       .def(py::init([](std::string name, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                       const Eigen::MatrixXd& R, const Eigen::VectorXd& x0,
-                       const Eigen::VectorXd& u0) { return new LqrController(std::move(name), A, B, Q, R, x0, u0); }),
+                       const Eigen::MatrixXd& R, const Eigen::VectorXd& x0, const Eigen::VectorXd& u0) {
+             return FromArguments([&] { return new LqrController(std::move(name), A, B, Q, R, x0, u0); });
+           }),
            py::arg("name"), py::arg("A"), py::arg("B"), py::arg("Q"), py::arg("R"), py::arg("x0"), py::arg("u0"))
       .def(py::init([](std::string name, const LinearSystemMatrices& linearization, const Eigen::MatrixXd& Q,
-                       const Eigen::MatrixXd& R) { return new LqrController(std::move(name), linearization, Q, R); }),
+                       const Eigen::MatrixXd& R) {
+             return FromArguments([&] { return new LqrController(std::move(name), linearization, Q, R); });
+           }),
            py::arg("name"), py::arg("linearization"), py::arg("Q"), py::arg("R"))
       .def_property_readonly("K", &LqrController::K)
       .def_property_readonly("S", &LqrController::S);

@@ -250,21 +250,25 @@ void BindDiagram(py::module_& m) {
 void BindPrimitives(py::module_& m) {
   py::class_<ConstantVectorSource, LeafSystem, Holder<ConstantVectorSource>>(m, "ConstantVectorSource")
       .def(py::init([](std::string name, const py::handle& value) {
-             return new ConstantVectorSource(std::move(name), ToVector(value, "ConstantVectorSource value"));
+             return FromArguments([&] {
+               return new ConstantVectorSource(std::move(name), ToVector(value, "ConstantVectorSource value"));
+             });
            }),
            py::arg("name"), py::arg("value"));
   py::class_<Gain, LeafSystem, Holder<Gain>>(m, "Gain")
-      .def(py::init<std::string, double, int>(), py::arg("name"), py::arg("k"), py::arg("size"))
-      .def(py::init<std::string, const Eigen::MatrixXd&>(), py::arg("name"), py::arg("K"));
+      .def((InitFromArguments<Gain, std::string, double, int>()), py::arg("name"), py::arg("k"), py::arg("size"))
+      .def((InitFromArguments<Gain, std::string, const Eigen::MatrixXd&>()), py::arg("name"), py::arg("K"));
   py::class_<Adder, LeafSystem, Holder<Adder>>(m, "Adder")
-      .def(py::init<std::string, int, int>(), py::arg("name"), py::arg("num_inputs"), py::arg("size"));
+      .def((InitFromArguments<Adder, std::string, int, int>()), py::arg("name"), py::arg("num_inputs"),
+           py::arg("size"));
   py::class_<Saturation, LeafSystem, Holder<Saturation>>(m, "Saturation")
-      .def(py::init<std::string, const Eigen::VectorXd&, const Eigen::VectorXd&>(), py::arg("name"), py::arg("lower"),
-           py::arg("upper"))
-      .def(py::init<std::string, double, int>(), py::arg("name"), py::arg("limit"), py::arg("size"));
+      .def((InitFromArguments<Saturation, std::string, const Eigen::VectorXd&, const Eigen::VectorXd&>()),
+           py::arg("name"), py::arg("lower"), py::arg("upper"))
+      .def((InitFromArguments<Saturation, std::string, double, int>()), py::arg("name"), py::arg("limit"),
+           py::arg("size"));
   py::class_<ZeroOrderHold, LeafSystem, Holder<ZeroOrderHold>>(m, "ZeroOrderHold")
-      .def(py::init<std::string, double, int, double>(), py::arg("name"), py::arg("period_s"), py::arg("size"),
-           py::arg("offset_s") = 0.0);
+      .def((InitFromArguments<ZeroOrderHold, std::string, double, int, double>()), py::arg("name"), py::arg("period_s"),
+           py::arg("size"), py::arg("offset_s") = 0.0);
 }
 
 /// The log as {column name: numpy array}, "time" first.

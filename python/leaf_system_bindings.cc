@@ -156,14 +156,17 @@ void BindState(py::module_& m) {
 void BindDeclarations(py::class_<LeafSystem, PyLeafSystem, System, Holder<LeafSystem>>& c) {
   c.def(
        "declare_input_port",
-       [](LeafSystem& s, std::string port, const py::object& size) { return Self(s).InputPort(std::move(port), size); },
+       [](LeafSystem& s, std::string port, const py::object& size) {
+         return FromArguments([&] { return Self(s).InputPort(std::move(port), size); });
+       },
        py::arg("name"), py::arg("size"),
        "A vector input of `size` elements (or a list of element names). Returns its index.")
       .def(
           "declare_output_port",
           [](LeafSystem& s, std::string port, const py::object& size, py::function calc,
              const py::object& feedthrough) {
-            return Self(s).OutputPort(std::move(port), size, std::move(calc), feedthrough);
+            return FromArguments(
+                [&] { return Self(s).OutputPort(std::move(port), size, std::move(calc), feedthrough); });
           },
           py::arg("name"), py::arg("size"), py::arg("calc"), py::arg("feedthrough") = py::none(),
           "calc(context) returns the value. feedthrough: None/True (reads every input), False (none), or a list of "
@@ -171,28 +174,32 @@ void BindDeclarations(py::class_<LeafSystem, PyLeafSystem, System, Holder<LeafSy
       .def(
           "declare_continuous_state",
           [](LeafSystem& s, const py::object& size_or_value) {
-            if (py::isinstance<py::int_>(size_or_value))
-              return Self(s).DeclareContinuousState(size_or_value.cast<int>());
-            Self(s).DeclareContinuousState(ToVector(size_or_value, "declare_continuous_state"));
+            FromArguments([&] {
+              if (py::isinstance<py::int_>(size_or_value))
+                return Self(s).DeclareContinuousState(size_or_value.cast<int>());
+              Self(s).DeclareContinuousState(ToVector(size_or_value, "declare_continuous_state"));
+            });
           },
           py::arg("size_or_default"))
       .def(
           "declare_discrete_state",
           [](LeafSystem& s, const py::handle& value) {
-            Self(s).DeclareDiscreteState(ToVector(value, "declare_discrete_state"));
+            FromArguments([&] { Self(s).DeclareDiscreteState(ToVector(value, "declare_discrete_state")); });
           },
           py::arg("default"))
       .def(
           "declare_modes",
           [](LeafSystem& s, std::vector<std::string> names, int default_mode) {
-            Self(s).DeclareModes(std::move(names), default_mode);
+            FromArguments([&] { Self(s).DeclareModes(std::move(names), default_mode); });
           },
           py::arg("names"), py::arg("default_mode") = 0)
       .def(
           "declare_guard",
           [](LeafSystem& s, std::string name, py::function witness, CrossingDirection direction, py::function reset,
              int mode) {
-            return Self(s).ScalarGuard(std::move(name), mode, std::move(witness), direction, std::move(reset));
+            return FromArguments([&] {
+              return Self(s).ScalarGuard(std::move(name), mode, std::move(witness), direction, std::move(reset));
+            });
           },
           py::arg("name"), py::arg("witness"), py::arg("direction"), py::arg("reset"),
           py::arg("mode") = LeafSystem::kAllModes,
@@ -201,7 +208,7 @@ void BindDeclarations(py::class_<LeafSystem, PyLeafSystem, System, Holder<LeafSy
       .def(
           "declare_periodic_discrete_update",
           [](LeafSystem& s, double period, double offset, py::function update) {
-            Self(s).PeriodicUpdate(period, offset, std::move(update));
+            FromArguments([&] { Self(s).PeriodicUpdate(period, offset, std::move(update)); });
           },
           py::arg("period_s"), py::arg("offset_s"), py::arg("update"),
           "update(context) returns the next discrete state (or None: unchanged, or an EventStatus to end the run).");

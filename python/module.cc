@@ -1,5 +1,6 @@
 // The rome Python module: PYBIND11_MODULE and the ownership rule of bindings.h.
 #include <mutex>
+#include <sstream>
 #include <unordered_set>
 
 #include <pybind11/eigen.h>
@@ -36,6 +37,12 @@ void MarkAdopted(const System* system) {
   Adopted().insert(system);
 }
 
+std::string Number(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
 Eigen::VectorXd ToVector(const py::handle& value, const char* what) {
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
@@ -66,4 +73,5 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindCollocation(m);
   rome::python::BindSteppingStones(m);
   rome::python::BindLocomotionRuns(m);
+  rome::python::BindContactBlocks(m);
 }

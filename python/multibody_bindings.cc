@@ -22,6 +22,7 @@ struct PyMultibodyModel {
   explicit PyMultibodyModel(MultibodyModel m) : model(std::move(m)), ws(model) {}
   MultibodyModel model;
   MultibodyWorkspace ws;
+  std::shared_ptr<const MultibodyModel> shared;  ///< a copy for blocks (plants, controllers), made once, on demand
 
   void Check(const Eigen::VectorXd& x, int size, const char* what) const {
     if (x.size() != size)
@@ -85,6 +86,24 @@ struct PyMultibodyModel {
     CalcPointJacobian(model, ws, q, frame.body, frame.X_body_frame * p_link, J);
     return J;
   }
+  int ContactIndex(const std::string& contact) const {
+    for (int i = 0; i < model.num_contacts(); ++i)
+      if (model.contacts()[i].name == contact) return i;
+    throw py::value_error("MultibodyModel '" + model.name() + "': no contact named '" + contact + "'");
+  }
+  /// World position and 3 x nv Jacobian of a contact's frame origin.
+  Eigen::Vector3d ContactPosition(const Eigen::VectorXd& q, const std::string& contact) {
+    Check(q, model.nq(), "q");
+    const ContactInfo& c = model.contacts()[ContactIndex(contact)];
+    return CalcPointPosition(model, ws, q, c.body, c.frame_origin);
+  }
+  Eigen::MatrixXd ContactJacobian(const Eigen::VectorXd& q, const std::string& contact) {
+    Check(q, model.nq(), "q");
+    const ContactInfo& c = model.contacts()[ContactIndex(contact)];
+    Eigen::MatrixXd J(3, model.nv());
+    CalcPointJacobian(model, ws, q, c.body, c.frame_origin, J);
+    return J;
+  }
   Eigen::VectorXd CentroidalMomentum(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
     Check(q, model.nq(), "q");
     Check(v, model.nv(), "v");
@@ -106,6 +125,17 @@ std::vector<std::string> ContactNames(const MultibodyModel& model) {
 
 }  // namespace
 
+std::shared_ptr<const MultibodyModel> SharedModel(const py::handle& model) {
+  PyMultibodyModel* p = nullptr;
+  try {
+    p = model.cast<PyMultibodyModel*>();
+  } catch (const py::cast_error&) {}
+  if (p == nullptr)
+    throw py::type_error("expected a rome.MultibodyModel, got " + std::string(py::str(py::repr(model))));
+  if (!p->shared) p->shared = std::make_shared<const MultibodyModel>(p->model);
+  return p->shared;
+}
+
 void BindMultibody(py::module_& m) {
   py::class_<PyMultibodyModel>(
       m, "MultibodyModel",
@@ -118,8 +148,10 @@ void BindMultibody(py::module_& m) {
             LoadOptions options;
             options.repair_inertia = repair_inertia;
             const bool sidecar = path.size() > 10 && path.substr(path.size() - 10) == ".rome.json";
-            return std::make_unique<PyMultibodyModel>(sidecar ? MultibodyModel::LoadFromSidecar(path, options)
-                                                              : MultibodyModel::Load(path, "", options));
+            return FromArguments([&] {
+              return std::make_unique<PyMultibodyModel>(sidecar ? MultibodyModel::LoadFromSidecar(path, options)
+                                                                : MultibodyModel::Load(path, "", options));
+            });
           },
           py::arg("path"), py::arg("repair_inertia") = false,
           "Loads a robot from its sidecar (robots/NAME/NAME.rome.json) or its URDF (the sidecar beside it, if any).")
@@ -168,6 +200,16 @@ void BindMultibody(py::module_& m) {
            py::arg("p_link") = Eigen::Vector3d::Zero(), "world position of a point given in a URDF link's frame")
       .def("point_jacobian", &PyMultibodyModel::PointJacobian, py::arg("q"), py::arg("link"),
            py::arg("p_link") = Eigen::Vector3d::Zero(), "3 x nv")
+      .def("contact_position", &PyMultibodyModel::ContactPosition, py::arg("q"), py::arg("contact"),
+           "world position of a contact's frame origin [m]")
+      .def("contact_jacobian", &PyMultibodyModel::ContactJacobian, py::arg("q"), py::arg("contact"),
+           "3 x nv Jacobian of a contact's frame origin (world axes)")
+      .def_property_readonly("contact_friction_coefficients",
+                             [](const PyMultibodyModel& p) {
+                               std::vector<double> mu;
+                               for (const ContactInfo& c : p.model.contacts()) mu.push_back(c.friction_coefficient);
+                               return mu;
+                             })
       .def("centroidal_momentum", &PyMultibodyModel::CentroidalMomentum, py::arg("q"), py::arg("v"),
            "[angular about the COM; linear]")
       .def("__repr__", [](const PyMultibodyModel& p) {

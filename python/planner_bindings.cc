@@ -1,7 +1,9 @@
 // Python bindings of the planners (systems/planners): the momentum-regulation planner and the vertical-COM MPC of the
 // stepping-stones paper, the spring-mass jump and landing planners of the hopping paper and the footed H-LIP
 // transition QP of the walking paper. Their results come back as dicts of numbers and numpy arrays.
+#include <cmath>
 #include <string>
+#include <utility>
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -36,7 +38,8 @@ void BindMomentumRegulation(py::module_& m) {
       .Field("step_height", &MomentumRegulationInput::step_height, "[m]")
       .Field("pre_impact_com_height", &MomentumRegulationInput::pre_impact_com_height, "[m]");
   py::class_<MomentumRegulationPlanner>(m, "MomentumRegulationPlanner", "Eq. (23)-(27) of the stepping-stones paper.")
-      .def(py::init<MomentumRegulationPlannerParams>(), py::arg("params") = MomentumRegulationPlannerParams{})
+      .def((InitFromArguments<MomentumRegulationPlanner, MomentumRegulationPlannerParams>()),
+           py::arg("params") = MomentumRegulationPlannerParams{})
       .def_property_readonly("params", &MomentumRegulationPlanner::params)
       .def(
           "plan",
@@ -73,6 +76,21 @@ void BindMomentumRegulation(py::module_& m) {
                   "Eq. (17): [x+, L+]");
 }
 
+/// VerticalComMpc.solve's arguments: every one finite, the horizon >= 0 (the C++ Solve raises a horizon below
+/// min_horizon_s to it, which is right for a stance that ends late, but from Python a negative horizon is a mistake).
+void CheckMpcArguments(const VerticalComMpc& mpc, double p_z, double pdot_z, double p_final, double v_final,
+                       double horizon_s) {
+  const std::pair<const char*, double> args[] = {
+      {"p_z", p_z}, {"pdot_z", pdot_z}, {"p_final", p_final}, {"v_final", v_final}, {"horizon_s", horizon_s}};
+  for (const auto& [name, value] : args)
+    if (!std::isfinite(value))
+      throw py::value_error(std::string("VerticalComMpc.solve: ") + name + " = " + Number(value) + " is not finite");
+  if (horizon_s < 0.0)
+    throw py::value_error("VerticalComMpc.solve: horizon_s = " + Number(horizon_s) +
+                          " s must be >= 0 (a horizon below " +
+                          "min_horizon_s = " + Number(mpc.params().min_horizon_s) + " s is raised to it)");
+}
+
 void BindVerticalComMpc(py::module_& m) {
   py::enum_<VerticalComMpcParams::TerminalCondition>(m, "VerticalComMpcTerminalCondition")
       .value("equality", VerticalComMpcParams::TerminalCondition::kEquality)
@@ -88,10 +106,11 @@ void BindVerticalComMpc(py::module_& m) {
       .Field("relax_terminal_on_infeasible", &VerticalComMpcParams::relax_terminal_on_infeasible);
   py::class_<VerticalComMpc>(m, "VerticalComMpc",
                              "min sum u_k^2 over the double integrator, u_k >= -g, z_0 and z_N fixed (Eq. (28)).")
-      .def(py::init<VerticalComMpcParams>(), py::arg("params") = VerticalComMpcParams{})
+      .def((InitFromArguments<VerticalComMpc, VerticalComMpcParams>()), py::arg("params") = VerticalComMpcParams{})
       .def(
           "solve",
           [](VerticalComMpc& mpc, double p_z, double pdot_z, double p_final, double v_final, double horizon_s) {
+            CheckMpcArguments(mpc, p_z, pdot_z, p_final, v_final, horizon_s);
             const QpStatus status = mpc.Solve(p_z, pdot_z, p_final, v_final, horizon_s);
             py::dict d;
             d["status"] = std::string(to_string(status));
@@ -142,15 +161,15 @@ void BindSpringMassPlanners(py::module_& m) {
       .Field("spring_rate_weight", &SpringMassLandingParams::spring_rate_weight, "[1/s^2]");
   py::class_<SpringMassJumpPlanner>(m, "SpringMassJumpPlanner",
                                     "Stance from rest to lift-off with apex rise H (Eq. (14)-(15)); Ipopt.")
-      .def(py::init<SpringMassParams, SpringMassJumpParams>(), py::arg("rom") = SpringMassParams{},
-           py::arg("params") = SpringMassJumpParams{})
+      .def((InitFromArguments<SpringMassJumpPlanner, SpringMassParams, SpringMassJumpParams>()),
+           py::arg("rom") = SpringMassParams{}, py::arg("params") = SpringMassJumpParams{})
       .def(
           "solve", [](const SpringMassJumpPlanner& p, const Eigen::Vector4d& z0) { return PlanToDict(p.Solve(z0)); },
           py::arg("z0"), "dict: success, status, duration, times, states (4 x N+1), inputs, leg_force");
   py::class_<SpringMassLandingPlanner>(m, "SpringMassLandingPlanner",
                                        "Landing from a post-impact state to rest (Eq. (16)); Ipopt.")
-      .def(py::init<SpringMassParams, SpringMassLandingParams>(), py::arg("rom") = SpringMassParams{},
-           py::arg("params") = SpringMassLandingParams{})
+      .def((InitFromArguments<SpringMassLandingPlanner, SpringMassParams, SpringMassLandingParams>()),
+           py::arg("rom") = SpringMassParams{}, py::arg("params") = SpringMassLandingParams{})
       .def(
           "solve", [](SpringMassLandingPlanner& p, const Eigen::Vector4d& z0) { return PlanToDict(p.Solve(z0)); },
           py::arg("z0"));
@@ -179,7 +198,8 @@ void BindFootedHlip(py::module_& m) {
       .Field("initial_state", &Data::initial_state, "[y (m), ydot (m/s)]")
       .Field("final_state", &Data::final_state, "[y (m), ydot (m/s)]");
   py::class_<FootedHlipTransitionPlanner>(m, "FootedHlipTransitionPlanner", "min sum u_L^2 + u_R^2, Eq. (15).")
-      .def(py::init<FootedHlipTransitionParams>(), py::arg("params") = FootedHlipTransitionParams{})
+      .def((InitFromArguments<FootedHlipTransitionPlanner, FootedHlipTransitionParams>()),
+           py::arg("params") = FootedHlipTransitionParams{})
       .def(
           "solve",
           [](const FootedHlipTransitionPlanner& planner, const Data& data) {

@@ -25,7 +25,8 @@ void BindLinearInvertedPendulum(py::module_& m) {
   py::class_<LinearInvertedPendulum>(
       m, "LinearInvertedPendulum",
       "The LIP of the stepping-stones paper, Eq. (12)-(16): state [x (m), L (m^2/s)] about the stance foot.")
-      .def(py::init<LinearInvertedPendulumParams>(), py::arg("params") = LinearInvertedPendulumParams{})
+      .def((InitFromArguments<LinearInvertedPendulum, LinearInvertedPendulumParams>()),
+           py::arg("params") = LinearInvertedPendulumParams{})
       .def_property_readonly("params", &LinearInvertedPendulum::params)
       .def_property_readonly("lambda_", &LinearInvertedPendulum::lambda, "[1/s] sqrt(g / z0)")
       .def("derivative", &LinearInvertedPendulum::Derivative, py::arg("state"))
@@ -53,7 +54,7 @@ void BindLinearInvertedPendulum(py::module_& m) {
       "LIP flow Eq. (12) and impact map Eq. (17) of the stepping-stones paper. Inputs: step [l, h] (m), "
       "impact_vertical_velocity (m/s). Outputs: state, com_state, stance_foot, orbital_energy.")
       .def(py::init([](std::string name, const SteppingLinearInvertedPendulumParams& p) {
-             return new SteppingLinearInvertedPendulum(std::move(name), p);
+             return FromArguments([&] { return new SteppingLinearInvertedPendulum(std::move(name), p); });
            }),
            py::arg("name") = "stepping_lip", py::arg("params") = SteppingLinearInvertedPendulumParams{})
       .def_property_readonly("lip", &SteppingLinearInvertedPendulum::lip);
@@ -68,7 +69,8 @@ void BindHybridLinearInvertedPendulum(py::module_& m) {
       .Field("gravity", &HybridLinearInvertedPendulumParams::gravity, "[m/s^2]");
   py::class_<HybridLinearInvertedPendulum>(m, "HybridLinearInvertedPendulum",
                                            "The H-LIP of the walking paper (Sec. III): step-to-step dynamics.")
-      .def(py::init<HybridLinearInvertedPendulumParams>(), py::arg("params") = HybridLinearInvertedPendulumParams{})
+      .def((InitFromArguments<HybridLinearInvertedPendulum, HybridLinearInvertedPendulumParams>()),
+           py::arg("params") = HybridLinearInvertedPendulumParams{})
       .def_property_readonly("params", &HybridLinearInvertedPendulum::params)
       .def_property_readonly("lambda_", &HybridLinearInvertedPendulum::lambda, "[1/s]")
       .def_property_readonly("sigma1", &HybridLinearInvertedPendulum::sigma1, "[1/s] slope of P1 orbits")
@@ -94,7 +96,7 @@ void BindHybridLinearInvertedPendulum(py::module_& m) {
   py::class_<HybridLinearInvertedPendulumSystem, LeafSystem, Holder<HybridLinearInvertedPendulumSystem>>(
       m, "HybridLinearInvertedPendulumSystem", "The (footed) H-LIP as a hybrid block (SSP and DSP modes).")
       .def(py::init([](std::string name, const HlipSystemParams& p) {
-             return new HybridLinearInvertedPendulumSystem(std::move(name), p);
+             return FromArguments([&] { return new HybridLinearInvertedPendulumSystem(std::move(name), p); });
            }),
            py::arg("name") = "hlip", py::arg("params") = HlipSystemParams{})
       .def_property_readonly("hlip", &HybridLinearInvertedPendulumSystem::hlip);
@@ -117,7 +119,7 @@ void BindSpringMass(py::module_& m) {
       .Field("leg", &SpringMassParams::leg);
   py::class_<SpringMassModel>(m, "SpringMassModel",
                               "z = [x (m), xdot (m/s), L (m), Ldot (m/s)], input v = Lddot (spring_mass_model.h).")
-      .def(py::init<SpringMassParams>(), py::arg("params") = SpringMassParams{})
+      .def((InitFromArguments<SpringMassModel, SpringMassParams>()), py::arg("params") = SpringMassParams{})
       .def_property_readonly("params", &SpringMassModel::params)
       .def("stiffness", &SpringMassModel::Stiffness, py::arg("L"))
       .def("damping", &SpringMassModel::Damping, py::arg("L"))
@@ -145,7 +147,7 @@ void BindSpringMass(py::module_& m) {
       "The spring-mass ROM as a block. Input leg_length_acceleration (m/s^2); outputs state, leg_force (N), energy "
       "(J).")
       .def(py::init([](std::string name, const SpringMassSystemParams& p) {
-             return new SpringMassSystem(std::move(name), p);
+             return FromArguments([&] { return new SpringMassSystem(std::move(name), p); });
            }),
            py::arg("name") = "spring_mass", py::arg("params") = SpringMassSystemParams{})
       .def_property_readonly("model", &SpringMassSystem::model);

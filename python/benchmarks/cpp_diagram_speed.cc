@@ -1,8 +1,8 @@
 // The C++ half of python/benchmarks/cpp_diagram_speed.py: builds the same diagram of C++ blocks the Python script
 // builds (a stepping LIP walking a periodic orbit, a spring-mass model settling on its leg, a 1 kHz zero-order hold
 // of the spring-mass state and a 100 Hz logger) and prints the wall and process CPU times of Simulator::AdvanceTo over
-// `seconds` simulated seconds, each the smallest of `repeats` runs, and the final state (so that the two halves can be
-// compared).
+// `seconds` simulated seconds (the smallest of `repeats` runs, and every run's wall and user CPU time), and the final
+// state (so that the two halves can be compared).
 //
 // usage: cpp_diagram_speed [seconds=50] [repeats=7]      exit 0, or 1 on bad arguments
 #include <algorithm>
@@ -12,6 +12,9 @@
 #include <cstdlib>
 #include <limits>
 #include <memory>
+#include <string>
+
+#include <sys/resource.h>
 
 #include "framework/diagram.h"
 #include "framework/primitives.h"
@@ -21,6 +24,13 @@
 #include "systems/rom/stepping_linear_inverted_pendulum.h"
 
 namespace {
+
+/// User CPU time of this process so far [s] (getrusage; the Python half reads the same counter).
+double UserCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec) + 1e-6 * static_cast<double>(usage.ru_utime.tv_usec);
+}
 
 struct BenchmarkDiagram {
   std::unique_ptr<rome::Diagram> diagram;
@@ -58,15 +68,20 @@ int main(int argc, char** argv) {
     return 1;
   }
   double best = std::numeric_limits<double>::infinity(), best_cpu = best;
+  std::string wall_runs, user_runs;  // every run's wall and user CPU time [s], for medians
   Eigen::VectorXd lip_state, spring_mass_state;
   for (int r = 0; r < repeats; ++r) {
     const BenchmarkDiagram d = BuildBenchmarkDiagram();
     rome::Simulator simulator(*d.diagram);
     const auto start = std::chrono::steady_clock::now();
     const std::clock_t cpu_start = std::clock();
+    const double user_start = UserCpuSeconds();
     const rome::SimulatorStatus status = simulator.AdvanceTo(seconds);
+    user_runs += " " + std::to_string(UserCpuSeconds() - user_start);
     best_cpu = std::min(best_cpu, static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
-    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    best = std::min(best, wall);
+    wall_runs += " " + std::to_string(wall);
     if (!status.ok()) {
       std::fprintf(stderr, "cpp_diagram_speed: %s\n", status.ToString().c_str());
       return 3;
@@ -76,6 +91,8 @@ int main(int argc, char** argv) {
   }
   std::printf("wall_s %.6f\n", best);
   std::printf("cpu_s %.6f\n", best_cpu);
+  std::printf("wall_runs_s%s\n", wall_runs.c_str());
+  std::printf("user_runs_s%s\n", user_runs.c_str());
   std::printf("stepping_lip %.12g %.12g\n", lip_state[0], lip_state[1]);
   std::printf("spring_mass %.12g %.12g %.12g %.12g\n", spring_mass_state[0], spring_mass_state[1], spring_mass_state[2],
               spring_mass_state[3]);

@@ -3,13 +3,17 @@
 
 The diagram (python/benchmarks/cpp_diagram_speed.cc builds the same one in C++): a stepping LIP walking a periodic orbit
 (an event per step), a spring-mass model settling on its leg, a 1 kHz zero-order hold of the spring-mass state and a
-100 Hz logger. Each side times Simulator.advance_to (wall clock and process CPU time) over the same simulated time and
-keeps the smallest of `repeats` runs (the machine is shared; the minimum is the run least disturbed). Runs alternate between the two sides. The final
-states must agree to every printed digit.
+100 Hz logger. Each side times Simulator.advance_to (wall clock and the process's user CPU time, getrusage) over the
+same simulated time, `repeats` runs a round, rounds alternating between the two sides, and the script prints the medians
+(and minima) over all runs. On a shared machine the user CPU time is the steadier figure. The final states must agree
+to every printed digit (exit 3 otherwise).
 
 usage: PYTHONPATH=build/python /usr/bin/python3 python/benchmarks/cpp_diagram_speed.py build/python/cpp_diagram_speed \
            [seconds=50] [repeats=7] [rounds=3]
 """
+import os
+import resource
+import statistics
 import subprocess
 import sys
 import time
@@ -34,25 +38,32 @@ def build():
     return builder.build("benchmark"), lip, spring_mass
 
 
+def user_cpu_s():
+    """User CPU time of this process so far [s] (getrusage, as the C++ half reads it)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_utime
+
+
 def python_run(seconds, repeats):
-    best, best_cpu, final = float("inf"), float("inf"), None
+    walls, users, final = [], [], None
     for _ in range(repeats):
         diagram, lip, spring_mass = build()
         simulator = rome.Simulator(diagram)
-        start, cpu_start = time.perf_counter(), time.process_time()
+        start, user_start = time.perf_counter(), user_cpu_s()
         status = simulator.advance_to(seconds)
-        best_cpu = min(best_cpu, time.process_time() - cpu_start)
-        best = min(best, time.perf_counter() - start)
+        users.append(user_cpu_s() - user_start)
+        walls.append(time.perf_counter() - start)
         assert status.ok(), status
         final = (diagram.eval_subsystem_output(lip, "state", simulator.context),
                  diagram.eval_subsystem_output(spring_mass, "state", simulator.context))
-    return best, best_cpu, final
+    return walls, users, final
 
 
 def cpp_run(exe, seconds, repeats):
     out = subprocess.run([exe, str(seconds), str(repeats)], check=True, capture_output=True, text=True).stdout
     lines = dict(line.split(" ", 1) for line in out.strip().splitlines())
-    return float(lines["wall_s"]), float(lines["cpu_s"]), lines
+    walls = [float(x) for x in lines["wall_runs_s"].split()]
+    users = [float(x) for x in lines["user_runs_s"].split()]
+    return walls, users, lines
 
 
 def main():
@@ -63,23 +74,31 @@ def main():
     seconds = float(sys.argv[2]) if len(sys.argv) > 2 else 50.0
     repeats = int(sys.argv[3]) if len(sys.argv) > 3 else 7
     rounds = int(sys.argv[4]) if len(sys.argv) > 4 else 3
-    best = {"cpp": float("inf"), "py": float("inf"), "cpp_cpu": float("inf"), "py_cpu": float("inf")}
+    runs = {"cpp_wall": [], "cpp_user": [], "py_wall": [], "py_user": []}
     for _ in range(rounds):
-        wall_cpp, cpu_cpp, lines = cpp_run(exe, seconds, repeats)
-        wall_py, cpu_py, (lip, spring_mass) = python_run(seconds, repeats)
-        for key, value in (("cpp", wall_cpp), ("py", wall_py), ("cpp_cpu", cpu_cpp), ("py_cpu", cpu_py)):
-            best[key] = min(best[key], value)
+        wall_cpp, user_cpp, lines = cpp_run(exe, seconds, repeats)
+        wall_py, user_py, (lip, spring_mass) = python_run(seconds, repeats)
+        runs["cpp_wall"] += wall_cpp
+        runs["cpp_user"] += user_cpp
+        runs["py_wall"] += wall_py
+        runs["py_user"] += user_py
         same_lip = lines["stepping_lip"] == " ".join(f"{v:.12g}" for v in lip)
         same_sm = lines["spring_mass"] == " ".join(f"{v:.12g}" for v in spring_mass)
-        print(f"round: C++ {wall_cpp * 1e3:.1f} ms (CPU {cpu_cpp * 1e3:.1f} ms), Python {wall_py * 1e3:.1f} ms "
-              f"(CPU {cpu_py * 1e3:.1f} ms), same final state: {same_lip and same_sm}")
+        print(f"round: median user CPU C++ {statistics.median(user_cpp) * 1e3:.1f} ms, Python "
+              f"{statistics.median(user_py) * 1e3:.1f} ms; median wall C++ {statistics.median(wall_cpp) * 1e3:.1f} ms, "
+              f"Python {statistics.median(wall_py) * 1e3:.1f} ms; same final state: {same_lip and same_sm}")
         if not (same_lip and same_sm):
             print(f"  C++ {lines}\n  Python {lip} {spring_mass}")
             return 3
-    print(f"{seconds:g} s simulated, min of {rounds} x {repeats} runs: wall C++ {best['cpp'] * 1e3:.1f} ms, Python "
-          f"{best['py'] * 1e3:.1f} ms ({100 * (best['py'] / best['cpp'] - 1):+.1f} %); process CPU C++ "
-          f"{best['cpp_cpu'] * 1e3:.1f} ms, Python {best['py_cpu'] * 1e3:.1f} ms "
-          f"({100 * (best['py_cpu'] / best['cpp_cpu'] - 1):+.1f} %)")
+    med = {k: statistics.median(v) for k, v in runs.items()}
+    low = {k: min(v) for k, v in runs.items()}
+    print(f"{seconds:g} s simulated, {rounds} x {repeats} runs a side (rounds alternating), load average "
+          f"{os.getloadavg()[0]:.1f}:")
+    for what in ("user", "wall"):
+        print(f"  {what:4s} median C++ {med['cpp_' + what] * 1e3:.1f} ms, Python {med['py_' + what] * 1e3:.1f} ms "
+              f"({100 * (med['py_' + what] / med['cpp_' + what] - 1):+.1f} %); min C++ "
+              f"{low['cpp_' + what] * 1e3:.1f} ms, Python {low['py_' + what] * 1e3:.1f} ms "
+              f"({100 * (low['py_' + what] / low['cpp_' + what] - 1):+.1f} %)")
     return 0
 
 

@@ -1,11 +1,21 @@
 #include "systems/rom/spring_mass_system.h"
 
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 
 namespace rome {
 
 SpringMassSystem::SpringMassSystem(std::string name, SpringMassSystemParams params)
     : LeafSystem(std::move(name)), model_(params.model) {
+  static constexpr const char* kElements[4] = {"x [m]", "xdot [m/s]", "L [m]", "Ldot [m/s]"};
+  for (int i = 0; i < 4; ++i) {
+    if (std::isfinite(params.initial_state[i]) && (i != 2 || params.initial_state[i] > 0.0)) continue;
+    std::ostringstream msg;
+    msg << "params.initial_state[" << i << "] (" << kElements[i] << ") = " << params.initial_state[i] << " must be "
+        << (i == 2 ? "finite and > 0" : "finite");
+    ThrowError(msg.str());
+  }
   DeclareContinuousState(Eigen::VectorXd(params.initial_state));
   input_port_ = DeclareInputPort("leg_length_acceleration", 1);
   DeclareOutputPort(

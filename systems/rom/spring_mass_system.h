@@ -8,6 +8,8 @@
 //                           max(0, n_legs (K(L) s + D(L) ṡ)): the feet cannot pull, so F = 0 in flight
 //          energy (3)     = [kinetic ½ m ẋ², potential m g x, spring ½ n_legs K(L) s² (0 when s < 0)] (J)
 // flow:    ẍ = F/m − g, L̈ = v (Sec. III-B). No allocation in the flow or the outputs.
+// A non-finite initial_state, or a leg length L <= 0 in it, is refused by the constructor (an error naming the
+// system, the element and its value).
 
 #include <string>
 

@@ -127,5 +127,5 @@ def test_controller_params_have_keyword_constructors():
     assert p.min_normal_force_N == 5.0 and "min_normal_force_N=5.0" in repr(p)
     c = rome.ClfQpParams(epsilon=0.05)
     assert c.epsilon == 0.05 and repr(c).startswith("ClfQpParams(update_period_s=0.001")
-    with pytest.raises(RuntimeError, match="gain .kd. has size 2, expected nu = 1"):
+    with pytest.raises(ValueError, match="gain .kd. has size 2, expected nu = 1"):
         rome.JointPdController("pd", np.eye(1), rome.JointPdGains(kp=[1.0], kd=[1.0, 2.0], q_des=[0.0], u_ff=[0.0]))

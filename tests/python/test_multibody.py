@@ -107,5 +107,5 @@ def test_bad_input_names_the_model_and_the_size():
         model.bias_forces(model.q_nominal, np.full(model.nv, np.nan))
     with pytest.raises(ValueError, match="u has"):
         model.forward_dynamics(model.q_nominal, np.zeros(model.nv), np.zeros(model.nu + 1))
-    with pytest.raises(RuntimeError, match="no_such_robot"):
+    with pytest.raises(ValueError, match="no_such_robot"):
         rome.MultibodyModel.load("robots/no_such_robot/no_such_robot.rome.json")

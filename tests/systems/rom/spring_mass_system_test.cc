@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -143,6 +145,22 @@ TEST(SpringMassSystem, FlowAndOutputsAllocateNothing) {
     });
   }
   EXPECT_EQ(allocations, 0);
+}
+
+TEST(SpringMassSystem, RefusesANonFiniteInitialStateOrANonPositiveLegLength) {
+  const auto message = [](const Eigen::Vector4d& z) {
+    SpringMassSystemParams params;
+    params.initial_state = z;
+    try {
+      SpringMassSystem system("hopper", params);
+    } catch (const std::runtime_error& e) { return std::string(e.what()); }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message({0.78, NAN, 0.8, 0.0}),
+            "system 'hopper': params.initial_state[1] (xdot [m/s]) = nan must be finite");
+  EXPECT_EQ(message({0.78, 0.0, 0.0, 0.0}),
+            "system 'hopper': params.initial_state[2] (L [m]) = 0 must be finite and > 0");
+  EXPECT_EQ(message({0.78, 0.0, 0.8, 0.0}), "accepted");
 }
 
 }  // namespace
