@@ -319,6 +319,7 @@ struct WalkingNlpReport {
   double solve_s = 0;
   int iterations = 0;
   double violation = 0;
+  double cpu_s = 0;  ///< [s] the solving thread's CPU time (transition NLPs; 0 otherwise)
 };
 /// A solved transition on its node grid (DSP nodes, then the SSP's; the shared node once), for plots (Fig. 3 S2, L2):
 /// the footed aSLIP's sagittal plan and ankle pitch torques with their Eq. (10) ZMP bounds, and the footed H-LIP's

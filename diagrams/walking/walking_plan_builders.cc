@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 #include <map>
 #include <memory>
@@ -42,6 +43,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// The calling thread's CPU time (POSIX CLOCK_THREAD_CPUTIME_ID; the machine may be shared, so wall time overstates).
+double ThreadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 AslipPeriodicGaitParams GaitParams(const WalkingGait& g, const StandToWalkParams& sp) {
   AslipPeriodicGaitParams gp;
@@ -123,9 +130,10 @@ void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& pla
                             WalkingTransitionNodes* nodes, double landing_y = std::numeric_limits<double>::quiet_NaN(),
                             double reload_floor_N = 0.0) {
   const auto t0 = Clock::now();
+  const double cpu0 = ThreadCpuSeconds();
   const AslipTransition transition = planner.Solve(data, cache);
   const WalkingNlpReport solved{SecondsSince(t0), transition.collocation.nlp.iterations,
-                                transition.max_constraint_violation};
+                                transition.max_constraint_violation, ThreadCpuSeconds() - cpu0};
   if (report != nullptr) *report = solved;
   if (sp.on_transition_nlp) sp.on_transition_nlp(solved);
   if (!transition.success())
