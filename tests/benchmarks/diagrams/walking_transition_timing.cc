@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc) {
       max_pairs = static_cast<size_t>(std::atoi(argv[++i]));
     } else {
-      std::fprintf(stderr, "walking_transition_timing: unknown argument '%s' (expected --cache DIR, --pairs N, --check)\n",
+      std::fprintf(stderr,
+                   "walking_transition_timing: unknown argument '%s' (expected --cache DIR, --pairs N, --check)\n",
                    argv[i]);
       return 1;
     }
