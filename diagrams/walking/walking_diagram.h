@@ -262,7 +262,8 @@ struct StandToWalkParams {
   /// plan and the transition's start and end (its double and single support); a std::runtime_error from it refuses
   /// the transition as beyond the robot (its what(): the reason): the change is planned again with
   /// gait_change_retry_max_force_fraction, then (chain_gait_changes) through the gait graph, as when its NLP has no
-  /// plan (empty: no check). The plan builder does not know the robot: WalkingChangeFeasibilityCheck
+  /// plan; when neither plans, the refused direct change is kept, for the check before simulating to refuse (empty: no
+  /// check). The plan builder does not know the robot: WalkingChangeFeasibilityCheck
   /// (walking_robot_check.h) checks the torques as the walking example's feasibility check does.
   std::function<void(const WalkingPlan&, double from_s, double to_s)> change_check;
   /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph

@@ -324,11 +324,12 @@ double AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGa
 // AppendGaitChange, then sp.change_check on the transition. A transition the check refuses is planned again with the
 // tighter bound sp.gait_change_retry_max_force_fraction (when set and tighter); if that has no plan or is refused too,
 // std::runtime_error names every refusal (the caller then chains through the gait graph). Refusals are appended to
-// *refused. `plan` is unchanged unless the change succeeds.
+// *refused, and the first refused plan to *refused_plan (if given). `plan` is unchanged unless the change succeeds.
 void AppendCheckedGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
                              const WalkingGait& b, int steps_b, bool end_in_single_support, const PlanCache* cache,
                              const StandToWalkParams& sp, const std::string& who, WalkingNlpReport* transition_report,
-                             WalkingTransitionNodes* nodes, std::vector<WalkingChangeRefusal>* refused) {
+                             WalkingTransitionNodes* nodes, std::vector<WalkingChangeRefusal>* refused,
+                             WalkingPlan* refused_plan = nullptr) {
   const double first = sp.gait_change_max_force_fraction, retry = sp.gait_change_retry_max_force_fraction;
   std::vector<double> bounds{first};
   if (sp.change_check && retry > 0 && (first == 0 || retry < first)) bounds.push_back(retry);
@@ -356,6 +357,7 @@ void AppendCheckedGaitChange(WalkingPlan& plan, const SolvedGait& ga, const Walk
       return;
     } catch (const std::runtime_error& e) {
       if (refused != nullptr) refused->push_back({a, b, bound, e.what()});
+      if (refused_plan != nullptr && refusals.empty()) *refused_plan = std::move(next);
       refusals += (refusals.empty() ? who + ": the transition is beyond the robot with the force bound "
                                     : "; with the force bound ") +
                   std::to_string(bound) + " m g: " + e.what();
@@ -391,16 +393,22 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     const StandToWalkParams from_start = WithStandingMargin(sp);  // the start gait's change keeps the standing margin
     WalkingTransitionNodes* nodes = report != nullptr ? &report->start_change_nodes : nullptr;
     if (report != nullptr) report->start_chain = {start, g};
+    WalkingPlan refused;  // the direct change the check refused (empty: none)
     try {
       AppendCheckedGaitChange(plan, s, start, a, g, steps, end_in_single_support, cache, from_start,
                               who + " (start gait -> gait)", &change, nodes,
-                              report != nullptr ? &report->refused_changes : nullptr);
+                              report != nullptr ? &report->refused_changes : nullptr, &refused);
     } catch (const std::runtime_error& direct) {
-      if (!chain) throw;
-      std::vector<WalkingGait> walked{start};
-      plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start,
-                             who, direct.what(), &change, nodes, report, &walked);
-      if (report != nullptr) report->start_chain = walked;
+      try {
+        if (!chain) throw;
+        std::vector<WalkingGait> walked{start};
+        plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start,
+                               who, direct.what(), &change, nodes, report, &walked);
+        if (report != nullptr) report->start_chain = walked;
+      } catch (const std::runtime_error&) {
+        if (refused.segments().empty()) throw;
+        plan = std::move(refused);  // beyond the robot: the check before simulating refuses it, naming the joint
+      }
     }
     if (report != nullptr) {
       report->start_gait_used = true;
@@ -507,14 +515,24 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
     const int steps_b = last ? steps_last : steps;
     WalkingNlpReport transition_report;
     WalkingTransitionNodes* nodes = last && report != nullptr ? &report->transition_b_nodes : nullptr;
+    WalkingPlan refused;  // the direct change the check refused (empty: none)
     try {
       AppendCheckedGaitChange(plan, prev, a, gb, b, steps_b, /*end_in_single_support=*/!last, cache, sp, who + change,
-                              &transition_report, nodes, report != nullptr ? &report->refused_changes : nullptr);
+                              &transition_report, nodes, report != nullptr ? &report->refused_changes : nullptr,
+                              &refused);
       if (report != nullptr) report->chain.push_back(b);
     } catch (const std::runtime_error& direct) {
-      if (!chain) throw;
-      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
-                             &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr);
+      try {
+        if (!chain) throw;
+        plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
+                               &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr);
+      } catch (const std::runtime_error&) {
+        if (refused.segments().empty()) throw;
+        // Beyond the robot every way tried: keep the direct change, which the check before simulating refuses
+        // (naming the joint, its need and its limit), rather than fail as a planner.
+        plan = std::move(refused);
+        if (report != nullptr) report->chain.push_back(b);
+      }
     }
     if (report != nullptr && last) {
       report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};
