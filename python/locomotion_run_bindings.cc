@@ -79,6 +79,7 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   stand.plan_check = WalkingPoseCheck(model, diagram_params);
+  stand.change_check = WalkingChangeFeasibilityCheck(model, diagram_params);  // as examples/walking
   const int planned = steps + run.trailing_steps;
   WalkingPlan plan;
   if (scenario == "periodic")

@@ -113,6 +113,10 @@ void StandToWalkParams::Validate(const std::string& who) const {
   Require(gait_change_max_force_fraction == 0 ||
               (gait_change_max_force_fraction > 1 && gait_change_max_force_fraction <= 3),
           who, "gait_change_max_force_fraction", gait_change_max_force_fraction, "m g", "0 (no bound) or (1, 3] m g");
+  Require(gait_change_retry_max_force_fraction == 0 ||
+              (gait_change_retry_max_force_fraction > 1 && gait_change_retry_max_force_fraction <= 3),
+          who, "gait_change_retry_max_force_fraction", gait_change_retry_max_force_fraction, "m g",
+          "0 (no retry) or (1, 3] m g");
   Require(periodic_max_force_fraction == 0 || (periodic_max_force_fraction > 1 && periodic_max_force_fraction <= 3),
           who, "periodic_max_force_fraction", periodic_max_force_fraction, "m g", "0 (never) or (1, 3] m g");
   Require(chain_steps >= 1 && chain_steps <= 20, who, "chain_steps", chain_steps, "", "[1, 20]");

@@ -219,6 +219,9 @@ struct StandToWalkParams {
   /// (AslipTransitionParams::max_vertical_force_fraction, ours; 0: no bound): unbounded, the stance knee saturates
   /// (docs/design-notes.md#walking-gait-change-force-bound).
   double gait_change_max_force_fraction = 1.6;
+  /// [-] a gait-change transition that change_check refuses is planned again with this tighter bound before the
+  /// change goes through the gait graph (ours; 0: no retry; docs/design-notes.md#walking-change-check).
+  double gait_change_retry_max_force_fraction = 1.5;
   /// [-] a periodic gait whose aSLIP plan asks more than this fraction of m g on one leg is planned again with that
   /// bound (AslipPeriodicGaitParams::max_vertical_force_fraction, ours; 0: never): above it the stance knee saturates
   /// (docs/design-notes.md#walking-periodic-force-bound).
@@ -255,6 +258,14 @@ struct StandToWalkParams {
   /// Called after every transition NLP the plan builders solve or load (standing, changes, chain links; failures
   /// too) with its wall time, iterations and largest constraint violation (empty: none), e.g. to time them.
   std::function<void(const WalkingNlpReport&)> on_transition_nlp;
+  /// Called after every gait-change transition (A → B, a chain link, the start gait's change) is appended, with the
+  /// plan and the transition's start and end (its double and single support); a std::runtime_error from it refuses
+  /// the transition as beyond the robot (its what(): the reason): the change is planned again with
+  /// gait_change_retry_max_force_fraction, then (chain_gait_changes) through the gait graph, as when its NLP has no
+  /// plan; when neither plans, the refused direct change is kept, for the check before simulating to refuse (empty: no
+  /// check). The plan builder does not know the robot: WalkingChangeFeasibilityCheck
+  /// (walking_robot_check.h) checks the torques as the walking example's feasibility check does.
+  std::function<void(const WalkingPlan&, double from_s, double to_s)> change_check;
   /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph
   /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
   bool chain_gait_changes = true;
@@ -309,6 +320,7 @@ struct WalkingNlpReport {
   double solve_s = 0;
   int iterations = 0;
   double violation = 0;
+  double cpu_s = 0;  ///< [s] the solving thread's CPU time (transition NLPs; 0 otherwise)
 };
 /// A solved transition on its node grid (DSP nodes, then the SSP's; the shared node once), for plots (Fig. 3 S2, L2):
 /// the footed aSLIP's sagittal plan and ankle pitch torques with their Eq. (10) ZMP bounds, and the footed H-LIP's
@@ -323,6 +335,12 @@ struct WalkingTransitionNodes {
   Eigen::VectorXd y, ydot;           ///< [m], [m/s] world lateral COM (footed H-LIP QP)
   Eigen::MatrixXd roll_torque;       ///< [N m] 2 × N: ankle roll torque u_x of the left, right foot (Eq. (15))
   double left_m = 0, right_m = 0;    ///< Eq. (14): −W1 F ≤ u_x ≤ W2 F
+};
+/// A gait-change transition planned and then refused by StandToWalkParams::change_check.
+struct WalkingChangeRefusal {
+  WalkingGait from, to;
+  double max_force_fraction = 0;  ///< [-] the transition NLP's vertical force bound (m g per leg; 0: none)
+  std::string problem;            ///< the check's reason
 };
 struct WalkingPlanReport {
   WalkingNlpReport periodic, transition;      ///< gait A's periodic aSLIP, the standing transition
@@ -351,6 +369,8 @@ struct WalkingPlanReport {
   std::vector<WalkingGait> start_chain;
   double chain_planning_s = 0;
   int chain_transitions_tried = 0, chain_transitions_failed = 0;
+  /// Every transition StandToWalkParams::change_check refused, in the order planned (empty: none).
+  std::vector<WalkingChangeRefusal> refused_changes;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 #include <map>
 #include <memory>
@@ -42,6 +43,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// The calling thread's CPU time (POSIX CLOCK_THREAD_CPUTIME_ID; the machine may be shared, so wall time overstates).
+double ThreadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 AslipPeriodicGaitParams GaitParams(const WalkingGait& g, const StandToWalkParams& sp) {
   AslipPeriodicGaitParams gp;
@@ -123,9 +130,10 @@ void AppendSolvedTransition(WalkingPlan& plan, const AslipTransitionPlanner& pla
                             WalkingTransitionNodes* nodes, double landing_y = std::numeric_limits<double>::quiet_NaN(),
                             double reload_floor_N = 0.0) {
   const auto t0 = Clock::now();
+  const double cpu0 = ThreadCpuSeconds();
   const AslipTransition transition = planner.Solve(data, cache);
   const WalkingNlpReport solved{SecondsSince(t0), transition.collocation.nlp.iterations,
-                                transition.max_constraint_violation};
+                                transition.max_constraint_violation, ThreadCpuSeconds() - cpu0};
   if (report != nullptr) *report = solved;
   if (sp.on_transition_nlp) sp.on_transition_nlp(solved);
   if (!transition.success())
@@ -230,10 +238,11 @@ WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, c
 
 // `plan` ends at a touchdown of the solved gait `ga` (timing `a`): the transition footed-aSLIP NLP from its post-impact
 // state to `gb`'s pre-impact state (the foot behind lifts) with its footed H-LIP QP, then `steps_b` steps of b.
-void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
-                      const WalkingGait& b, int steps_b, bool end_in_single_support, const PlanCache* cache,
-                      const StandToWalkParams& sp, const std::string& who, WalkingNlpReport* transition_report,
-                      WalkingTransitionNodes* nodes) {
+// Returns the transition's end (the end of its single support).
+double AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
+                        const WalkingGait& b, int steps_b, bool end_in_single_support, const PlanCache* cache,
+                        const StandToWalkParams& sp, const std::string& who, WalkingNlpReport* transition_report,
+                        WalkingTransitionNodes* nodes) {
   const AslipPeriodicGaitParams& pa = ga.planner.params();
   const AslipPeriodicGaitParams& pb = gb.planner.params();
   // The plan ends at a touchdown of gait A: the foot that just landed is the transition's stance foot, the one behind
@@ -302,12 +311,59 @@ void AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait
   AppendSolvedTransition(plan, transition_planner, data, x_offset, b.step_width_m, x_offset + pb.step_length, sp, cache,
                          who, transition_report, nodes, landing_y,
                          sp.reload_floor_fraction * pb.aslip.mass * pb.aslip.gravity);
+  const double transition_end = plan.end_time();
   // As after the standing transition: B's first step is the transition's single support (on the foot A landed last,
   // at x_offset), so it contributes its DSP only.
   plan.AppendPeriodicSteps(gb.planner, gb.gait, steps_b + 1,
                            old_stance_left ? WalkingDomain::kRightStance : WalkingDomain::kLeftStance, x_offset,
                            b.step_width_m, /*begin_with_double_support=*/true, end_in_single_support,
                            0.5 * (landed.y() + landing_y));
+  return transition_end;
+}
+
+// AppendGaitChange, then sp.change_check on the transition. A transition the check refuses is planned again with the
+// tighter bound sp.gait_change_retry_max_force_fraction (when set and tighter); if that has no plan or is refused too,
+// std::runtime_error names every refusal (the caller then chains through the gait graph). Refusals are appended to
+// *refused, and the first refused plan to *refused_plan (if given). `plan` is unchanged unless the change succeeds.
+void AppendCheckedGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
+                             const WalkingGait& b, int steps_b, bool end_in_single_support, const PlanCache* cache,
+                             const StandToWalkParams& sp, const std::string& who, WalkingNlpReport* transition_report,
+                             WalkingTransitionNodes* nodes, std::vector<WalkingChangeRefusal>* refused,
+                             WalkingPlan* refused_plan = nullptr) {
+  const double first = sp.gait_change_max_force_fraction, retry = sp.gait_change_retry_max_force_fraction;
+  std::vector<double> bounds{first};
+  if (sp.change_check && retry > 0 && (first == 0 || retry < first)) bounds.push_back(retry);
+  std::string refusals;
+  for (const double bound : bounds) {
+    StandToWalkParams bounded = sp;
+    bounded.gait_change_max_force_fraction = bound;
+    WalkingPlan next = plan;
+    const double from = plan.end_time();
+    double to = from;
+    try {
+      to = AppendGaitChange(next, ga, a, gb, b, steps_b, end_in_single_support, cache, bounded, who, transition_report,
+                            nodes);
+    } catch (const std::runtime_error& e) {
+      if (refusals.empty()) throw;
+      throw std::runtime_error(refusals + "; with the force bound " + std::to_string(bound) + " m g: " + e.what());
+    }
+    if (!sp.change_check) {
+      plan = std::move(next);
+      return;
+    }
+    try {
+      sp.change_check(next, from, to);
+      plan = std::move(next);
+      return;
+    } catch (const std::runtime_error& e) {
+      if (refused != nullptr) refused->push_back({a, b, bound, e.what()});
+      if (refused_plan != nullptr && refusals.empty()) *refused_plan = std::move(next);
+      refusals += (refusals.empty() ? who + ": the transition is beyond the robot with the force bound "
+                                    : "; with the force bound ") +
+                  std::to_string(bound) + " m g: " + e.what();
+    }
+  }
+  throw std::runtime_error(refusals);
 }
 
 // Stand → gait `g` (the right foot lifts first) and `steps` periodic steps of g; with end_in_single_support the last
@@ -337,17 +393,22 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
     const StandToWalkParams from_start = WithStandingMargin(sp);  // the start gait's change keeps the standing margin
     WalkingTransitionNodes* nodes = report != nullptr ? &report->start_change_nodes : nullptr;
     if (report != nullptr) report->start_chain = {start, g};
+    WalkingPlan refused;  // the direct change the check refused (empty: none)
     try {
-      WalkingPlan direct = plan;
-      AppendGaitChange(direct, s, start, a, g, steps, end_in_single_support, cache, from_start,
-                       who + " (start gait -> gait)", &change, nodes);
-      plan = std::move(direct);
+      AppendCheckedGaitChange(plan, s, start, a, g, steps, end_in_single_support, cache, from_start,
+                              who + " (start gait -> gait)", &change, nodes,
+                              report != nullptr ? &report->refused_changes : nullptr, &refused);
     } catch (const std::runtime_error& direct) {
-      if (!chain) throw;
-      std::vector<WalkingGait> walked{start};
-      plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start,
-                             who, direct.what(), &change, nodes, report, &walked);
-      if (report != nullptr) report->start_chain = walked;
+      try {
+        if (!chain) throw;
+        std::vector<WalkingGait> walked{start};
+        plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start,
+                               who, direct.what(), &change, nodes, report, &walked);
+        if (report != nullptr) report->start_chain = walked;
+      } catch (const std::runtime_error&) {
+        if (refused.segments().empty()) throw;
+        plan = std::move(refused);  // beyond the robot: the check before simulating refuses it, naming the joint
+      }
     }
     if (report != nullptr) {
       report->start_gait_used = true;
@@ -412,10 +473,10 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
       const std::shared_ptr<const SolvedGait> s = last ? std::make_shared<const SolvedGait>(gb) : periodic[to];
       if (s == nullptr) return false;
       WalkingPlan next = plans[depth];
-      AppendGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps,
-                       last ? end_in_single_support : true, cache, sp,
-                       who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition,
-                       last ? nodes : nullptr);
+      AppendCheckedGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps,
+                              last ? end_in_single_support : true, cache, sp,
+                              who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition,
+                              last ? nodes : nullptr, report != nullptr ? &report->refused_changes : nullptr);
       plans.push_back(std::move(next)), solved.push_back(s), gaits.push_back(g);
       return true;
     } catch (const std::runtime_error&) { return false; }
@@ -439,7 +500,8 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
   if (steps_last < 0) steps_last = steps;
   SolvedGait prev{AslipPeriodicGaitPlanner(GaitParams(gaits.front(), sp)), {}, 0.0};
   if (report != nullptr)
-    report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0;
+    report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0,
+    report->refused_changes.clear();
   WalkingPlan plan =
       StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev, chain);
   if (report != nullptr) report->chain = {gaits.front()};
@@ -453,16 +515,24 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
     const int steps_b = last ? steps_last : steps;
     WalkingNlpReport transition_report;
     WalkingTransitionNodes* nodes = last && report != nullptr ? &report->transition_b_nodes : nullptr;
+    WalkingPlan refused;  // the direct change the check refused (empty: none)
     try {
-      WalkingPlan direct = plan;
-      AppendGaitChange(direct, prev, a, gb, b, steps_b, /*end_in_single_support=*/!last, cache, sp, who + change,
-                       &transition_report, nodes);
-      plan = std::move(direct);
+      AppendCheckedGaitChange(plan, prev, a, gb, b, steps_b, /*end_in_single_support=*/!last, cache, sp, who + change,
+                              &transition_report, nodes, report != nullptr ? &report->refused_changes : nullptr,
+                              &refused);
       if (report != nullptr) report->chain.push_back(b);
     } catch (const std::runtime_error& direct) {
-      if (!chain) throw;
-      plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
-                             &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr);
+      try {
+        if (!chain) throw;
+        plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
+                               &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr);
+      } catch (const std::runtime_error&) {
+        if (refused.segments().empty()) throw;
+        // Beyond the robot every way tried: keep the direct change, which the check before simulating refuses
+        // (naming the joint, its need and its limit), rather than fail as a planner.
+        plan = std::move(refused);
+        if (report != nullptr) report->chain.push_back(b);
+      }
     }
     if (report != nullptr && last) {
       report->periodic_b = {gb.solve_s, gb.gait.collocation.nlp.iterations, gb.gait.max_constraint_violation};

@@ -110,6 +110,7 @@ void WalkingFeasibilityParams::Validate() const {
   Require(min_normal_force_N >= 0 && min_normal_force_N <= 1e4, "min_normal_force_N", min_normal_force_N, "[0, 1e4] N");
   Require(joint_limit_margin_rad >= 0 && joint_limit_margin_rad <= 0.1, "joint_limit_margin_rad",
           joint_limit_margin_rad, "[0, 0.1] rad");
+  Require(start_time_s >= 0 && std::isfinite(start_time_s), "start_time_s", start_time_s, ">= 0 s, finite");
 }
 
 SoleRectangle SoleRectangleOf(const MultibodyModel& model, const std::string& contact) {
@@ -192,6 +193,7 @@ WalkingFeasibilityReport CheckWalkingPlanFeasibility(const MultibodyModel& model
   const Eigen::VectorXd &lower = model.position_lower_limits(), &upper = model.position_upper_limits();
   const double m = params.joint_limit_margin_rad;
   auto visit = [&](const WalkingPlanInverseDynamicsSample& s) {
+    if (s.time_s < params.start_time_s) return;
     ++r.samples;
     for (int i = 6; i < model.nv(); ++i) {
       const double below = lower[i] + m - s.q[i], above = s.q[i] - (upper[i] - m);
@@ -243,6 +245,19 @@ WalkingFeasibilityReport CheckWalkingPlanFeasibility(const MultibodyModel& model
     if (p != nullptr && !p->empty()) r.problem += (r.problem.empty() ? "" : "; also ") + *p;
   r.solve_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+std::function<void(const WalkingPlan&, double, double)> WalkingChangeFeasibilityCheck(
+    std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& diagram, WalkingFeasibilityParams params) {
+  if (model == nullptr) throw std::invalid_argument("WalkingChangeFeasibilityCheck: the model is null");
+  params.Validate();
+  return [model, diagram, params](const WalkingPlan& plan, double from_s, double to_s) {
+    WalkingFeasibilityParams window = params;
+    window.start_time_s = std::max(0.0, from_s);
+    const WalkingDiagram d = BuildWalkingDiagram(model, plan, diagram);
+    const WalkingFeasibilityReport r = CheckWalkingPlanFeasibility(*model, d.plan, diagram, to_s, window);
+    if (!r.problem.empty()) throw std::runtime_error(r.problem);
+  };
 }
 
 }  // namespace rome

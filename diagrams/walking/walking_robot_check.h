@@ -16,7 +16,9 @@
 // Double support is checked for joint limits only (its force split between the feet is the controller's choice).
 // Units: s, m, N, N m, rad.
 
+#include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include <Eigen/Core>
@@ -47,6 +49,7 @@ struct WalkingFeasibilityParams {
   /// their URDF limits, docs/design-notes.md, so the walking example refuses on the torques by default).
   bool enforce_sole_wrench = true;
   bool enforce_joint_limits = true;
+  double start_time_s = 0.0;  ///< [s] samples before this time are not checked (≥ 0)
   /// Throws std::invalid_argument "WalkingFeasibilityParams: FIELD = VALUE is outside RANGE" for the first bad field.
   void Validate() const;
 };
@@ -89,6 +92,14 @@ WalkingFeasibilityReport CheckWalkingPlanFeasibility(const MultibodyModel& model
                                                      const WalkingDiagramParams& diagram,
                                                      double end_time_s = std::numeric_limits<double>::infinity(),
                                                      const WalkingFeasibilityParams& params = {});
+
+/// A StandToWalkParams::change_check for `model`: the plan's COM corrected as BuildWalkingDiagram(model, plan,
+/// diagram) corrects it, then CheckWalkingPlanFeasibility from the transition's start to its end with `params` (by
+/// default the torques only, as the walking example's --feasibility torque); throws std::runtime_error with the
+/// report's problem when it refuses the transition. Throws std::invalid_argument for a null model or bad params.
+std::function<void(const WalkingPlan&, double, double)> WalkingChangeFeasibilityCheck(
+    std::shared_ptr<const MultibodyModel> model, const WalkingDiagramParams& diagram,
+    WalkingFeasibilityParams params = {.enforce_sole_wrench = false, .enforce_joint_limits = false});
 
 /// "gait L,T_SSP,T_DSP,W" of the plan's segment at time t (a periodic step), "the transition into gait ..." (a footed
 /// H-LIP transition), or "standing" (the first double support); read off the plan's footholds and durations.

@@ -61,6 +61,22 @@ void WalkingRunParams::Validate() const {
   Require(band_slack_mg >= 0 && band_slack_mg <= 1, "band_slack_mg", band_slack_mg, "[0, 1]");
   Require(convergence_from_step >= 1 && convergence_from_step <= 1000, "convergence_from_step", convergence_from_step,
           "[1, 1000]");
+  Require(at_rest_offset_m > 0 && at_rest_offset_m <= 0.1, "at_rest_offset_m", at_rest_offset_m, "(0, 0.1] m");
+  Require(at_rest_speed_mps > 0 && at_rest_speed_mps <= 0.1, "at_rest_speed_mps", at_rest_speed_mps, "(0, 0.1] m/s");
+}
+
+StandingMeasure MeasureStanding(const MultibodyModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  MultibodyWorkspace ws(model);
+  const Eigen::Vector3d com = CalcComPosition(model, ws, q), vcom = CalcComVelocity(model, ws, q, v);
+  const int left = model.contacts()[model.ContactIndex("left_foot")].body;
+  const int right = model.contacts()[model.ContactIndex("right_foot")].body;
+  const Eigen::Vector3d pl = CalcLinkPose(model, ws, q, left).translation();
+  const Eigen::Vector3d pr = CalcLinkPose(model, ws, q, right).translation();
+  StandingMeasure r;
+  r.com_to_feet_midpoint_m = (com.head<2>() - 0.5 * (pl + pr).head<2>()).norm();
+  r.com_speed_mps = vcom.norm();
+  r.feet_gap_x_m = std::abs(pl.x() - pr.x());
+  return r;
 }
 
 double WalkingRunEndTime(const WalkingPlan& plan, const WalkingRunParams& params) {
@@ -119,6 +135,13 @@ std::string WalkingRunResult::ToJson() const {
   s["qp_solve_us_p99"] = qp_solve_us_p99;
   s["realtime_factor"] = realtime_factor();
   s["simulated_s"] = simulated_s;
+  // Walk-to-stand (judge_standing_end): the plant's end state against the at-rest rule; null otherwise.
+  s["standing_end"] = nullptr;
+  if (standing_end_judged)
+    s["standing_end"] = {{"com_to_feet_midpoint_m", standing_end.com_to_feet_midpoint_m},
+                         {"com_speed_mps", standing_end.com_speed_mps},
+                         {"feet_gap_x_m", standing_end.feet_gap_x_m},
+                         {"at_rest", at_rest}};
   return s.dump();
 }
 
@@ -145,6 +168,18 @@ void ReadClfQpTotals(const Diagram& diagram, const ClfQpController* clf, const C
   }
   r.qp_solve_us_median = Percentile(solve_us, 0.5);
   r.qp_solve_us_p99 = Percentile(solve_us, 0.99);
+}
+
+// The success rule (walking_run.h) on the counts in r, with the plant's end state (standing_end, at_rest).
+void JudgeRun(const Diagram& diagram, const ContactPlant& plant, const Context& root, const WalkingRunParams& params,
+              WalkingRunResult& r) {
+  const LeafContext& end = diagram.GetSubsystemContext(plant, root);
+  r.standing_end = MeasureStanding(plant.model(), plant.EvalOutput(end, "q"), plant.EvalOutput(end, "v"));
+  r.at_rest = r.standing_end.com_to_feet_midpoint_m <= params.at_rest_offset_m &&
+              r.standing_end.com_speed_mps <= params.at_rest_speed_mps;
+  r.standing_end_judged = params.judge_standing_end;
+  r.success = !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 &&
+              r.contact.violations == 0 && (r.at_rest || !params.judge_standing_end);
 }
 
 }  // namespace
@@ -289,8 +324,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.interrupted = r.status.kind() == SimulatorStatus::Kind::kInterrupted;
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
   r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
-  r.success =
-      !r.fell && r.steps_completed == r.steps_planned && r.touchdowns_off_target == 0 && r.contact.violations == 0;
+  JudgeRun(diagram, plant, sim.get_context(), params, r);
   r.joint_limit_min_margin = r.joint_limits.SmallestMargin(model, &r.joint_limit_min_margin_at);
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;

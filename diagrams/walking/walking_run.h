@@ -25,7 +25,8 @@
 //   F_ref: the plan's aSLIP force), scored outside band_settle_s after each touchdown, and strictly (s = 0: Eq. (25)
 //   as written); the CLF-QP's δ and solve time.
 // Success: the simulator reached the end time (no failure, no interrupt), every single support of the plan that ends
-// before the end time ended in a step on its foothold, none landed off target, and no contact violation. (Joint limits
+// before the end time ended in a step on its foothold, none landed off target, no contact violation, and (with
+// judge_standing_end, walk-to-stand) the plant ends standing at rest. (Joint limits
 // are reported, not judged: the walking plans bend the ankles beyond the URDF's, docs/design-notes.md#joint-limits.)
 //
 // The monitor allocates only at touchdowns (the pre-impact list); the per-tick solve-time list is reserved up front.
@@ -44,6 +45,15 @@
 
 namespace rome {
 
+/// The standing state of a run's end, measured on the robot from the plant's [q; v]: the horizontal distance from the
+/// COM to the midpoint between the ankles (the "left_foot" and "right_foot" contacts' links) and the COM speed.
+struct StandingMeasure {
+  double com_to_feet_midpoint_m = 0;  ///< [m] horizontal
+  double com_speed_mps = 0;           ///< [m/s] 3D
+  double feet_gap_x_m = 0;            ///< [m] |x_left − x_right| of the ankles (side by side: ~0)
+};
+StandingMeasure MeasureStanding(const MultibodyModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+
 struct WalkingRunParams {
   /// [s] end of the run; NaN: the plan's end less trailing_steps steps of its last gait.
   double end_time_s = std::numeric_limits<double>::quiet_NaN();
@@ -55,6 +65,12 @@ struct WalkingRunParams {
   double band_settle_s = 0.02;         ///< [s] the force band is not scored this long after each touchdown (ours)
   double band_slack_mg = 0.02;         ///< [-] the band's slack, a fraction of m g (ours)
   int convergence_from_step = 5;  ///< the pre-impact change is judged from this periodic touchdown after a transition
+  /// Walk-to-stand: the run succeeds only if it ends standing at rest, the plant's COM within at_rest_offset_m of the
+  /// midpoint between the ankles (horizontal) and at most at_rest_speed_mps fast (issue 39's acceptance;
+  /// MeasureStanding). Off: the end is measured and reported, not judged.
+  bool judge_standing_end = false;
+  double at_rest_offset_m = 0.01;   ///< [m] in (0, 0.1]
+  double at_rest_speed_mps = 0.01;  ///< [m/s] in (0, 0.1]
   SimulatorConfig simulator = WalkingSimulatorConfig();
 
   /// Throws std::invalid_argument "WalkingRunParams: FIELD = VALUE is outside RANGE" for the first bad field.
@@ -113,6 +129,11 @@ struct WalkingRunResult {
   double joint_limit_min_margin = std::numeric_limits<double>::infinity();
   std::string joint_limit_min_margin_at;
   long samples = 0, ticks = 0;
+  /// The plant's state at the run's end (MeasureStanding), and whether it is at rest by the params' bounds (judged
+  /// for success only with judge_standing_end).
+  StandingMeasure standing_end;
+  bool at_rest = false;
+  bool standing_end_judged = false;
   /// The ClfQpController's diagnostics (WalkingDiagram::clf_qp; zeros when the controller has none).
   double qp_infeasible_ticks = 0, qp_fallbacks = 0, clf_row_active_fraction = 0, clf_relaxation_max = 0;
   double qp_solve_us_median = 0, qp_solve_us_p99 = 0;

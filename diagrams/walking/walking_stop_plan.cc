@@ -141,10 +141,6 @@ void WalkToStandParams::Validate(const std::string& who) const {
     m << "hold_duration_s = " << hold_duration_s << " s is outside [0.1, 60] s";
   else if (!(nodes_per_phase >= 5 && nodes_per_phase <= 200))
     m << "nodes_per_phase = " << nodes_per_phase << " is outside [5, 200]";
-  else if (!(at_rest_offset_m > 0 && at_rest_offset_m <= 0.1))
-    m << "at_rest_offset_m = " << at_rest_offset_m << " m is outside (0, 0.1] m";
-  else if (!(at_rest_speed_mps > 0 && at_rest_speed_mps <= 0.1))
-    m << "at_rest_speed_mps = " << at_rest_speed_mps << " m/s is outside (0, 0.1] m/s";
   if (!m.str().empty()) throw std::invalid_argument(who + ": " + m.str());
 }
 
@@ -257,20 +253,6 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
   s.right_foothold = right_after;
   plan.AppendSegment(std::move(s));
   return plan;
-}
-
-StandingMeasure MeasureStanding(const MultibodyModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  MultibodyWorkspace ws(model);
-  const Eigen::Vector3d com = CalcComPosition(model, ws, q), vcom = CalcComVelocity(model, ws, q, v);
-  const int left = model.contacts()[model.ContactIndex("left_foot")].body;
-  const int right = model.contacts()[model.ContactIndex("right_foot")].body;
-  const Eigen::Vector3d pl = CalcLinkPose(model, ws, q, left).translation();
-  const Eigen::Vector3d pr = CalcLinkPose(model, ws, q, right).translation();
-  StandingMeasure r;
-  r.com_to_feet_midpoint_m = (com.head<2>() - 0.5 * (pl + pr).head<2>()).norm();
-  r.com_speed_mps = vcom.norm();
-  r.feet_gap_x_m = std::abs(pl.x() - pr.x());
-  return r;
 }
 
 }  // namespace rome

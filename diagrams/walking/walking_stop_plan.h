@@ -33,10 +33,6 @@ struct WalkToStandParams {
   double shift_duration_s = 1.0;  ///< [s] the weight back onto both feet
   double hold_duration_s = 1.5;   ///< [s] standing still at the plan's end
   int nodes_per_phase = 21;       ///< [-] nodes of the lateral QP and of the sagittal polynomials per phase
-  /// The run's end is standing at rest when the COM is this close to the midpoint between the ankles (horizontal) and
-  /// this slow (issue 39's acceptance; MeasureStanding).
-  double at_rest_offset_m = 0.01;   ///< [m]
-  double at_rest_speed_mps = 0.01;  ///< [m/s]
   /// Throws std::invalid_argument "WHO: FIELD = VALUE is outside RANGE" for the first field out of its range.
   void Validate(const std::string& who = "WalkToStandParams") const;
 };
@@ -49,14 +45,5 @@ struct WalkToStandParams {
 WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& sp = {},
                                  const WalkToStandParams& stop = {});
-
-/// The standing state of a run's end, measured on the robot from the plant's [q; v]: the horizontal distance from the
-/// COM to the midpoint between the ankles (the "left_foot" and "right_foot" contacts' links) and the COM speed.
-struct StandingMeasure {
-  double com_to_feet_midpoint_m = 0;  ///< [m] horizontal
-  double com_speed_mps = 0;           ///< [m/s] 3D
-  double feet_gap_x_m = 0;            ///< [m] |x_left − x_right| of the ankles (side by side: ~0)
-};
-StandingMeasure MeasureStanding(const MultibodyModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 
 }  // namespace rome

@@ -28,6 +28,8 @@ void PrintPlanReport(const WalkingPlanReport& nlp, const StandToWalkParams& stan
                 << g.step_width_m << ")";
     std::cout << "\n";
   }
+  for (const WalkingChangeRefusal& r : nlp.refused_changes)
+    std::cout << "refused before simulating (force bound " << r.max_force_fraction << " m g): " << r.problem << "\n";
   if (nlp.chain.size() > 2) {
     std::cout << "no direct A -> B transition: through the gait graph (" << nlp.chain_transitions_tried
               << " transitions tried, " << nlp.chain_transitions_failed << " without a plan, " << nlp.chain_planning_s
@@ -113,6 +115,15 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
                        {"planning_s", nlp.chain_planning_s},
                        {"transitions_tried", nlp.chain_transitions_tried},
                        {"transitions_failed", nlp.chain_transitions_failed}};
+    // Transitions planned and refused by the feasibility check before simulating (StandToWalkParams::change_check):
+    // then planned again with a tighter force bound or chained.
+    nlohmann::json refused = nlohmann::json::array();
+    for (const WalkingChangeRefusal& r : nlp.refused_changes)
+      refused.push_back({{"from", list({r.from})[0]},
+                         {"to", list({r.to})[0]},
+                         {"max_force_fraction", r.max_force_fraction},
+                         {"problem", r.problem}});
+    s["gait_chain"]["refused_transitions"] = refused;
   }
   // stand-to-walk with a lead-in: periodic_aslip_a / transition_aslip are the lead-in gait's, then its change to gait
   // A.

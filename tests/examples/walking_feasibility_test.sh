@@ -2,7 +2,8 @@
 # walking's feasibility check before simulating (issue 39 §4), as a user sees it:
 #  * (0.45 m, 0.35 s, 0.08 s, 0.20 m) asks the knee for more than its URDF effort (300 N m): exit 1 before any
 #    simulation step, one line on stderr naming the gait, the knee, its need above 300 N m and the limit, no CSV log;
-#  * gait A's plan passes the check (--check-only: exit 0, nothing simulated).
+#  * gait A's plan passes the check (--check-only: exit 0, nothing simulated);
+#  * the default gait change's direct transition is refused (the knee) and the plan kept passes the check (exit 0).
 # usage: walking_feasibility_test.sh WALKING_BIN WORK_DIR
 set -uo pipefail
 walking="$1"; work="$2"
@@ -33,5 +34,15 @@ rc=$?
 grep -q 'feasibility check (torque).*within what it enforces' passed.out || { echo "FAIL: gait A's check did not pass:"; cat passed.out; fail=1; }
 grep -q '^simulating' passed.out && { echo "FAIL: --check-only simulated"; fail=1; }
 
-[ "$fail" = 0 ] && echo "walking feasibility: refused '$line'; gait A passes"
+# The default gait change: its direct transition asks more of the knee than it has; the planner refuses that
+# transition, plans another way, and the plan it keeps passes the check (exit 0).
+"$walking" --robot "$robot" --scenario gait-change --cache plans --check-only on > change.out 2> change.err
+rc=$?
+[ "$rc" = 0 ] || { echo "FAIL: the default gait change's check exited $rc, expected 0:"; cat change.err; fail=1; }
+grep -q '^refused before simulating (force bound 1.6 m g): .* knee needs [0-9]* N m (limit 300 N m)' change.out ||
+  { echo "FAIL: the direct transition's refusal is not reported:"; cat change.out; fail=1; }
+grep -q 'feasibility check (torque).*within what it enforces' change.out ||
+  { echo "FAIL: the kept gait-change plan did not pass the check:"; cat change.out; fail=1; }
+
+[ "$fail" = 0 ] && echo "walking feasibility: refused '$line'; gait A passes; the default gait change is planned within the torque limits"
 exit "$fail"

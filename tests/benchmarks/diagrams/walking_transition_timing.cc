@@ -6,22 +6,32 @@
 // failed ones too). Without --cache no plan cache is used (every NLP solved); with --cache DIR the plans use it (a
 // second run shows what a cache, failures included, saves). Prints one line per pair and the distribution (median,
 // 90th percentile, max) of all transition NLPs and of the changes' chain planning.
-//   ./walking_transition_timing [--cache DIR] [--pairs N]
+// With --check the plans refuse transitions beyond the torque limits as the walking example does
+// (StandToWalkParams::change_check). Wall and CPU times (the solving thread's) are both printed.
+//   ./walking_transition_timing [--cache DIR] [--pairs N] [--check]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "diagrams/walking/walking_diagram.h"
+#include "diagrams/walking/walking_robot_check.h"
 #include "tests/common/source_path.h"
 
 namespace {
 
 using rome::WalkingGait;
+
+double ThreadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 double Quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
@@ -77,32 +87,39 @@ const std::vector<Pair>& Pairs() {
 int main(int argc, char** argv) {
   std::string cache_dir;
   size_t max_pairs = Pairs().size();
+  bool check = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--cache") == 0 && i + 1 < argc) {
       cache_dir = argv[++i];
+    } else if (std::strcmp(argv[i], "--check") == 0) {
+      check = true;
     } else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc) {
       max_pairs = static_cast<size_t>(std::atoi(argv[++i]));
     } else {
-      std::fprintf(stderr, "walking_transition_timing: unknown argument '%s' (expected --cache DIR, --pairs N)\n",
+      std::fprintf(stderr,
+                   "walking_transition_timing: unknown argument '%s' (expected --cache DIR, --pairs N, --check)\n",
                    argv[i]);
       return 1;
     }
   }
-  const rome::MultibodyModel model =
-      rome::MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"));
+  const auto shared_model = std::make_shared<const rome::MultibodyModel>(
+      rome::MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json")));
+  const rome::MultibodyModel& model = *shared_model;
   std::unique_ptr<rome::PlanCache> cache;
   if (!cache_dir.empty()) cache = std::make_unique<rome::PlanCache>(cache_dir);
-  std::vector<double> all_ms, chain_s, plan_s;
+  std::vector<double> all_ms, all_cpu_ms, chain_s, plan_s, plan_cpu_s;
   int failed_nlps = 0;
   for (size_t i = 0; i < std::min(max_pairs, Pairs().size()); ++i) {
     const Pair& p = Pairs()[i];
     rome::StandToWalkParams stand;
     stand.sole = rome::SoleOf(model, "left_foot");
+    if (check) stand.change_check = rome::WalkingChangeFeasibilityCheck(shared_model, rome::WalkingDiagramParams{});
     std::vector<double> ms;
     std::string each;  // every NLP: time [ms] / iterations
     int failed = 0;
     stand.on_transition_nlp = [&](const rome::WalkingNlpReport& r) {
       ms.push_back(1e3 * r.solve_s);
+      all_cpu_ms.push_back(1e3 * r.cpu_s);
       failed += r.violation > 1e-6 ? 1 : 0;
       // Appended piece by piece: GCC 12 warns falsely (-Wstringop-overflow) on " " + string with the PCH.
       each += ' ';
@@ -112,23 +129,26 @@ int main(int argc, char** argv) {
     };
     rome::WalkingPlanReport report;
     const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = ThreadCpuSeconds();
     std::string outcome = "planned";
     try {
       rome::BuildGaitChangePlan(p.a, p.b, 2, 1, cache.get(), &report, stand, 2);
     } catch (const std::exception& e) { outcome = std::string("no plan: ") + std::string(e.what()).substr(0, 120); }
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double cpu = ThreadCpuSeconds() - cpu0;
     std::printf(
         "(%g %g %g %g) -> (%g %g %g %g): %zu transition NLPs, median %.0f ms, max %.0f ms; chain %.2f s (%d "
-        "tried, %d failed); plan %.2f s; %s\n",
+        "tried, %d failed, %zu refused by the check); plan %.2f s (CPU %.2f s); %s\n",
         p.a.step_length_m, p.a.ssp_duration_s, p.a.dsp_duration_s, p.a.step_width_m, p.b.step_length_m,
         p.b.ssp_duration_s, p.b.dsp_duration_s, p.b.step_width_m, ms.size(), Quantile(ms, 0.5), Quantile(ms, 1.0),
-        report.chain_planning_s, report.chain_transitions_tried, report.chain_transitions_failed, total,
-        outcome.c_str());
+        report.chain_planning_s, report.chain_transitions_tried, report.chain_transitions_failed,
+        report.refused_changes.size(), total, cpu, outcome.c_str());
     std::printf("  NLPs (ms/iterations):%s\n", each.c_str());
     std::fflush(stdout);
     all_ms.insert(all_ms.end(), ms.begin(), ms.end());
     chain_s.push_back(report.chain_planning_s);
     plan_s.push_back(total);
+    plan_cpu_s.push_back(cpu);
     failed_nlps += failed;
   }
   std::printf(
@@ -136,5 +156,10 @@ int main(int argc, char** argv) {
       "%.0f ms\nchain planning per pair: median %.2f s, max %.2f s; whole plan per pair: median %.2f s, max %.2f s\n",
       all_ms.size(), failed_nlps, Quantile(all_ms, 0.5), Quantile(all_ms, 0.9), Quantile(all_ms, 1.0),
       Quantile(chain_s, 0.5), Quantile(chain_s, 1.0), Quantile(plan_s, 0.5), Quantile(plan_s, 1.0));
+  std::printf(
+      "CPU time (this thread): transition NLPs median %.0f ms, 90th percentile %.0f ms, max %.0f ms; whole plan per "
+      "pair median %.2f s, max %.2f s\n",
+      Quantile(all_cpu_ms, 0.5), Quantile(all_cpu_ms, 0.9), Quantile(all_cpu_ms, 1.0), Quantile(plan_cpu_s, 0.5),
+      Quantile(plan_cpu_s, 1.0));
   return 0;
 }

@@ -4,7 +4,8 @@
 // with its centre of pressure on the sole (CheckContactForce), and the plant reports no contact violation; at the end
 // the plant's COM (from its q) is within 1 cm of the midpoint between its ankles (horizontal), its speed (from q, v)
 // at most 1 cm/s, the ankles side by side (their x within 1 cm) and both feet on the ground. The COM follows the plan
-// to 1 cm RMS per axis after the first step, every planned step lands on its foothold and no QP update fails.
+// to 1 cm RMS per axis after the first step, every planned step lands on its foothold and no QP update fails. The
+// library's at-rest rule (WalkingRunParams::judge_standing_end, shared with the walking example) agrees with that end.
 #include "diagrams/walking/walking_stop_plan.h"
 
 #include <gtest/gtest.h>
@@ -37,6 +38,7 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, params);
   WalkingRunParams run;
   run.end_time_s = d.plan.end_time();  // the whole plan: it ends standing
+  run.judge_standing_end = true;       // the library's at-rest rule, as the walking example judges it
 
   MultibodyWorkspace ws(*model);
   test::PlantContactCounts counts;
@@ -79,10 +81,42 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   EXPECT_LE(offset, 0.01);
   EXPECT_LE(vcom.norm(), 0.01);
   EXPECT_LE(std::abs(left.x() - right.x()), 0.01);  // side by side
-  // The library's measure of the same state agrees.
+  // The library's measure of the same state agrees, and its at-rest rule (RunWalking's judge_standing_end) with it.
   const StandingMeasure m = MeasureStanding(*model, end_q, end_v);
   EXPECT_NEAR(m.com_to_feet_midpoint_m, offset, 1e-12);
   EXPECT_NEAR(m.com_speed_mps, vcom.norm(), 1e-12);
+  EXPECT_TRUE(r.standing_end_judged);
+  EXPECT_NEAR(r.standing_end.com_to_feet_midpoint_m, offset, 1e-12);
+  EXPECT_NEAR(r.standing_end.com_speed_mps, vcom.norm(), 1e-12);
+  EXPECT_EQ(r.at_rest, offset <= 0.01 && vcom.norm() <= 0.01);
+}
+
+// The at-rest rule judges the run: a run judged standing whose end is not at rest (the plan's end cut off mid-stride:
+// the COM is moving) fails, and the same run unjudged does not fail on it. The end state is checked here from the
+// plant's q, v (the COM velocity by the model's kinematics, independent of the rule).
+TEST(WalkToStand, ARunJudgedStandingThatEndsMovingFails) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  stand.plan_check = WalkingPoseCheck(model, WalkingDiagramParams{});
+  const WalkingPlan rom_plan = BuildStandToWalkPlan(WalkingGait{}, 2, 1, &cache, nullptr, stand);
+  const WalkingDiagram d = BuildWalkingDiagram(model, rom_plan, WalkingDiagramParams{});
+  WalkingRunParams run;
+  run.end_time_s = 2.0;  // inside the start gait's steps, the COM at about 0.3 m/s
+  Eigen::VectorXd end_q(model->nq()), end_v(model->nv());
+  const auto record = [&](const Context&, const WalkingRunSample& s) { end_q = *s.q, end_v = *s.v; };
+  const WalkingRunResult unjudged = RunWalking(d, run, record);
+  MultibodyWorkspace ws(*model);
+  const double speed = CalcComVelocity(*model, ws, end_q, end_v).norm();
+  ASSERT_GT(speed, 0.05);
+  EXPECT_FALSE(unjudged.at_rest);
+  EXPECT_FALSE(unjudged.standing_end_judged);
+  run.judge_standing_end = true;
+  const WalkingRunResult judged = RunWalking(d, run, record);
+  EXPECT_FALSE(judged.success);
+  EXPECT_EQ(unjudged.success, judged.steps_completed == judged.steps_planned && !judged.fell &&
+                                  judged.touchdowns_off_target == 0 && judged.contact.violations == 0);
 }
 
 // Gait A, 6 steps, then the stop (NLP seed 1; the stop's durations were chosen on seeds >= 1000).
@@ -96,6 +130,14 @@ TEST(WalkToStand, GaitBEndsStandingAtRestWithPhysicalContactForces) {
 
 // Bad stop parameters fail at once, naming the field and the value.
 TEST(WalkToStand, OutOfRangeStopParametersFailNamingTheField) {
+  WalkingRunParams run;
+  run.at_rest_offset_m = 0.0;
+  try {
+    run.Validate();
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("at_rest_offset_m"), std::string::npos) << e.what();
+  }
   WalkToStandParams p;
   p.settle_duration_s = 0.1;
   try {
