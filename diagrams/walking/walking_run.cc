@@ -176,6 +176,10 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
                  params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
                                       : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
                  "double_support");
+  // A sensor with latency has been reading the initial state.
+  if (const DelayLine* delay = walking.perturbation_blocks.sensor_latency)
+    delay->SetHistory(diagram.GetMutableSubsystemContext(*delay, sim.get_mutable_context()),
+                      plant.EvalOutput(pc, "state"));
   r.joint_limits.Record(model, params.start_time_s, q_init);  // joint stops may end the run here, before a sample
 
   const double mg = model.total_mass() * 9.81;
