@@ -158,18 +158,16 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   // Perturbations of the simulated world: the plant may be pushed and built from a scaled model; the reference, its
   // planners and the controller keep `model`.
   const PerturbationParams& perturb = params.perturbations;
-  if (perturb.push && plant != PlantKind::kHybrid)
-    throw std::invalid_argument("BuildHoppingDiagram: perturbations.push needs the hybrid plant (the " +
-                                std::string(ToString(plant)) + " plant has no tau_external input)");
   HybridContactPlantParams plant_params = params.plant;
-  plant_params.external_force_input = perturb.push.has_value();
+  BulletWorldPlantParams bullet_params = params.bullet_plant;
+  plant_params.external_force_input = bullet_params.external_force_input = perturb.push.has_value();
   const std::shared_ptr<const MultibodyModel> plant_model =
       perturb.model_mismatch() ? std::make_shared<const MultibodyModel>(
                                      ScaleMassAndFriction(*model, perturb.mass_scale, perturb.friction_scale))
                                : model;
   d.plant = b.AddSystem(MakeContactPlant(plant, "plant", plant_model,
                                          ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
-                                         Terrain::Flat(), plant_params, params.bullet_plant));
+                                         Terrain::Flat(), plant_params, bullet_params));
   d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner),
                                                                std::move(landing_planner), d.layout, params.reference));
   HoppingControllerSpec spec;

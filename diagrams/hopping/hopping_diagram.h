@@ -87,7 +87,7 @@ struct HoppingDiagramParams {
   /// pyramid's edge and a foot slipped (apex rises 0.23 and 0.28 m). With 10 all six tuning apex rises land.
   double landing_u_regularization_scale = 10.0;
   /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
-  /// (hybrid plant only), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
+  /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
   /// state the controller sees (the reference and its planners read the plant's true state), torque noise. Default:
   /// none.
   PerturbationParams perturbations;

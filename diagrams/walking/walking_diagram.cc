@@ -237,10 +237,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   // Perturbations of the simulated world: the plant may be pushed and built from a scaled model; the plan and the
   // controller keep `model`.
   const PerturbationParams& perturb = params.perturbations;
-  if (perturb.push && plant != PlantKind::kHybrid)
-    throw std::invalid_argument("BuildWalkingDiagram: perturbations.push needs the hybrid plant (the " +
-                                std::string(ToString(plant)) + " plant has no tau_external input)");
-  plant_params.external_force_input = perturb.push.has_value();
+  plant_params.external_force_input = bullet_params.external_force_input = perturb.push.has_value();
   const std::shared_ptr<const MultibodyModel> plant_model =
       perturb.model_mismatch()
           ? std::make_shared<const MultibodyModel>(ScaleMassAndFriction(m, perturb.mass_scale, perturb.friction_scale))

@@ -89,7 +89,7 @@ struct WalkingDiagramParams {
   /// and so the scale of ClfQpParams::u_regularization (docs/design-notes.md#walking-swing-foot-orientation-weight).
   double swing_foot_orientation_weight = 0.1;
   /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
-  /// (hybrid plant only), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
+  /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
   /// state the controller sees, torque noise. The plan and the controller keep the nominal model. Default: none.
   PerturbationParams perturbations;
 

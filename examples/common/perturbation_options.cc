@@ -90,10 +90,6 @@ PerturbationParams FlatGroundPerturbationsFromCommandLine(const CommandLine& cli
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(cli.NameTheOption(e.what(), kPerturbationParameterOptions));
   }
-  if (p.push && cli.Get("plant") != "hybrid")
-    throw std::invalid_argument(program + ": --push-" + (cli.IsSet("push-force") ? "force" : "impulse") +
-                                " needs --plant hybrid (the " + cli.Get("plant") +
-                                " plant has no external-force input), got --plant " + cli.Get("plant"));
   return p;
 }
 

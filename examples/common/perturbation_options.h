@@ -21,9 +21,8 @@ void DeclarePerturbationOptions(CommandLine& cli);
 PerturbationParams PerturbationsFromCommandLine(const CommandLine& cli, const MultibodyModel& model, std::uint64_t seed,
                                                 double period_s);
 
-/// The perturbations of an example on flat ground with one plant flag (walking, hopping): PerturbationsFromCommandLine,
-/// and a one-line error "PROGRAM: --OPTION ..." for a stone-height error (there are no stones) or a push on a plant
-/// other than --plant hybrid (the only one with a tau_external input).
+/// The perturbations of an example on flat ground (walking, hopping): PerturbationsFromCommandLine, with its errors in
+/// the command line's terms, and a one-line error "PROGRAM: --stone-height-error ..." (there are no stones).
 PerturbationParams FlatGroundPerturbationsFromCommandLine(const CommandLine& cli, const std::string& program,
                                                           const MultibodyModel& model, std::uint64_t seed,
                                                           double period_s);
