@@ -6,6 +6,7 @@
 #include <string>
 
 #include "framework/simulator_presets.h"
+#include "systems/multibody/model_scaling.h"
 
 namespace rome {
 
@@ -102,6 +103,7 @@ void HoppingDiagramParams::Validate() const {
   CheckRange("landing_u_regularization_scale", landing_u_regularization_scale, 1e-3, 1e3);
   CheckRange("bullet_plant.substeps", bullet_plant.substeps, 1, 100);
   CheckRange("log_period_s", log_period_s, 1e-5, 10.0, " s");
+  perturbations.Validate();
   if (landing_u_regularization_scale != 1.0 &&
       (controller.u_regularization_weights.size() != 0 || !controller.u_regularization_modes.empty())) {
     std::ostringstream msg;
@@ -153,9 +155,19 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   d.layout = MakeHoppingOutputLayout(params.outputs);
   d.plant_kind = plant;
   DiagramBuilder b;
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model,
+  // Perturbations of the simulated world: the plant may be pushed and built from a scaled model; the reference, its
+  // planners and the controller keep `model`.
+  const PerturbationParams& perturb = params.perturbations;
+  HybridContactPlantParams plant_params = params.plant;
+  BulletWorldPlantParams bullet_params = params.bullet_plant;
+  plant_params.external_force_input = bullet_params.external_force_input = perturb.push.has_value();
+  const std::shared_ptr<const MultibodyModel> plant_model =
+      perturb.model_mismatch() ? std::make_shared<const MultibodyModel>(
+                                     ScaleMassAndFriction(*model, perturb.mass_scale, perturb.friction_scale))
+                               : model;
+  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", plant_model,
                                          ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
-                                         Terrain::Flat(), params.plant, params.bullet_plant));
+                                         Terrain::Flat(), plant_params, bullet_params));
   d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner),
                                                                std::move(landing_planner), d.layout, params.reference));
   HoppingControllerSpec spec;
@@ -181,8 +193,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   b.Connect("plant", "contact_forces", "reference", "contact_forces");
   b.Connect("reference", "desired", spec.name, "desired");
   b.Connect("reference", "domain", spec.name, "mode");
-  b.Connect("plant", "state", spec.name, "state");
-  b.Connect(spec.name, "u", "plant", "u");
+  // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name);
   b.ExportOutput(spec.name, "u", "u");
   if (d.controller->HasOutputPort("qp_failures")) b.ExportOutput(spec.name, "qp_failures", "qp_failures");
   std::vector<std::pair<std::string, std::string>> logged = {{"plant", "state"},      {"plant", "mode"},
@@ -200,6 +212,9 @@ void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eig
   d.plant->SetState(pc, q, Eigen::VectorXd::Zero(q.size()), "jump");
   LeafContext& rc = d.diagram->GetMutableSubsystemContext(*d.reference, context);
   d.reference->Initialize(rc, q);
+  if (const DelayLine* delay = d.perturbation_blocks.sensor_latency)
+    delay->SetHistory(d.diagram->GetMutableSubsystemContext(*delay, context),
+                      (Eigen::VectorXd(2 * q.size()) << q, Eigen::VectorXd::Zero(q.size())).finished());
 }
 
 SimulatorConfig HoppingSimulatorConfig() {

@@ -65,6 +65,7 @@
 #include "systems/controllers/clf_qp_controller.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "diagrams/hopping/hopping_reference.h"
+#include "systems/perturbations/perturbation_params.h"
 #include "systems/plants/plant_kind.h"
 
 namespace rome {
@@ -85,6 +86,11 @@ struct HoppingDiagramParams {
   /// directions the 6 landing outputs leave free are set by ρ_u alone. Each jump put the feet's forces on the friction
   /// pyramid's edge and a foot slipped (apex rises 0.23 and 0.28 m). With 10 all six tuning apex rises land.
   double landing_u_regularization_scale = 10.0;
+  /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
+  /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
+  /// state the controller sees (the reference and its planners read the plant's true state), torque noise. Default:
+  /// none.
+  PerturbationParams perturbations;
   static HybridContactPlantParams DefaultPlantParams();
   /// The Bullet plant steps at the controller's 2 kHz (0.5 ms, ours: a 1 ms step would apply only every other torque)
   /// in 5 substeps (ours; docs/design-notes.md#hopping-bullet-substeps), with the hybrid plant's fall height (0.5 m),
@@ -149,6 +155,7 @@ struct HoppingDiagram {
   std::vector<HoppingTask> tasks;                  ///< the controller's desired rows
   HoppingOutputLayout layout;
   PlantKind plant_kind = PlantKind::kHybrid;
+  PerturbationBlocks perturbation_blocks;  ///< the perturbation blocks that are on (params.perturbations)
 };
 
 /// The diagram also exports the controller's u (as "u") and, when the controller has it, qp_failures (as
@@ -160,7 +167,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
                                    const HoppingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid,
                                    const HoppingControllerFactory& controller = MakeDefaultHoppingController);
 
-/// Puts the robot at q (at rest, plant mode "jump": both feet down) and the reference into its settle phase.
+/// Puts the robot at q (at rest, plant mode "jump": both feet down), the reference into its settle phase and a sensor
+/// latency's history at that state.
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);
 
 /// Integrator of the hopping loop: explicit Bogacki-Shampine 3(2), rtol 1e-5, atol 1e-7 (ours;

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "framework/simulator_presets.h"
+#include "systems/multibody/model_scaling.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/multibody/multibody_kinematics.h"
 
@@ -76,6 +77,7 @@ void WalkingDiagramParams::Validate() const {
           "(0, inf)");
   Require(swing_foot_orientation_weight > 0 && std::isfinite(swing_foot_orientation_weight), who,
           "swing_foot_orientation_weight", swing_foot_orientation_weight, "", "(0, inf)");
+  perturbations.Validate();
 }
 
 void WalkingGait::Validate(const std::string& who) const {
@@ -236,7 +238,16 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
       modes.ModeIndex("double_support", "plant") != kWalkingDoubleSupport ||
       modes.ModeIndex("right_foot_stance", "plant") != kWalkingRightStance)
     throw std::logic_error("BuildWalkingDiagram: the plant's mode numbers differ from WalkingPlantMode");
-  d.plant = b.AddSystem(MakeContactPlant(plant, "plant", model, modes, Terrain::Flat(), plant_params, bullet_params));
+  // Perturbations of the simulated world: the plant may be pushed and built from a scaled model; the plan and the
+  // controller keep `model`.
+  const PerturbationParams& perturb = params.perturbations;
+  plant_params.external_force_input = bullet_params.external_force_input = perturb.push.has_value();
+  const std::shared_ptr<const MultibodyModel> plant_model =
+      perturb.model_mismatch()
+          ? std::make_shared<const MultibodyModel>(ScaleMassAndFriction(m, perturb.mass_scale, perturb.friction_scale))
+          : model;
+  d.plant =
+      b.AddSystem(MakeContactPlant(plant, "plant", plant_model, modes, Terrain::Flat(), plant_params, bullet_params));
   WalkingControllerSpec spec;
   spec.model = model;
   spec.mode_contacts = ActiveContactsPerMode(*d.plant);
@@ -262,9 +273,9 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   b.Connect("walking_reference", "com", "outputs", "com");
   b.Connect("outputs", "desired", spec.name, "desired");
   if (force_reference) b.Connect("walking_reference", "normal_force_reference", spec.name, "normal_force_reference");
-  b.Connect("plant", "state", spec.name, "state");
   b.Connect("plant", "mode", spec.name, "mode");
-  b.Connect(spec.name, "u", "plant", "u");
+  // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name);
   d.diagram = b.Build("walking");
   for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i)
     d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));

@@ -62,6 +62,7 @@
 #include "systems/planners/walking_plan.h"
 #include "systems/planners/walking_plan_inverse_dynamics.h"
 #include "systems/planners/walking_trajectory_source.h"
+#include "systems/perturbations/perturbation_params.h"
 #include "systems/plants/plant_kind.h"
 
 namespace rome {
@@ -87,6 +88,10 @@ struct WalkingDiagramParams {
   /// [-] cost weight of the swing foot's orientation (ours). The light foot's rows set the QP cost's largest curvature
   /// and so the scale of ClfQpParams::u_regularization (docs/design-notes.md#walking-swing-foot-orientation-weight).
   double swing_foot_orientation_weight = 0.1;
+  /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
+  /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
+  /// state the controller sees, torque noise. The plan and the controller keep the nominal model. Default: none.
+  PerturbationParams perturbations;
 
   /// Spec §5 [R]: ε = 0.1, p = 1e5, 1 kHz, force band c = 0.1 (Eq. (25)), μ = 0.6 pyramid, yaw moment |τ_z| ≤ 0.02 f_z,
   /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event. Ours,
@@ -139,6 +144,7 @@ struct WalkingDiagram {
   const ClfQpController* clf_qp = nullptr;
   CentroidalMomentumCompensationReport compensation;  ///< zeros when params.compensate_centroidal_momentum is off
   WalkingPlan plan;                                   ///< the plan the diagram runs (with the compensation, if on)
+  PerturbationBlocks perturbation_blocks;             ///< the perturbation blocks that are on (params.perturbations)
 };
 
 /// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant) with the controller `controller`

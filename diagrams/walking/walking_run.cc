@@ -182,6 +182,22 @@ void JudgeRun(const Diagram& diagram, const ContactPlant& plant, const Context& 
               r.contact.violations == 0 && (r.at_rest || !params.judge_standing_end);
 }
 
+// Puts the plant at the run's start (WalkingStandingPose in double support, at rest or on the plan's orbit) and a
+// sensor latency's history at that state (it has been reading it); returns the pose.
+Eigen::VectorXd SetWalkingStart(const WalkingDiagram& walking, const WalkingRunParams& params, Context& root) {
+  const ContactPlant& plant = *walking.plant;
+  const MultibodyModel& model = plant.model();
+  LeafContext& pc = walking.diagram->GetMutableSubsystemContext(plant, root);
+  const Eigen::VectorXd q = WalkingStandingPose(model, walking.plan, params.start_time_s);
+  plant.SetState(pc, q,
+                 params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
+                                      : WalkingInitialVelocity(model, q, walking.plan, params.start_time_s),
+                 "double_support");
+  if (const DelayLine* delay = walking.perturbation_blocks.sensor_latency)
+    delay->SetHistory(walking.diagram->GetMutableSubsystemContext(*delay, root), plant.EvalOutput(pc, "state"));
+  return q;
+}
+
 }  // namespace
 
 WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParams& params,
@@ -205,12 +221,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
 
   Simulator sim(diagram, params.simulator);
   sim.get_mutable_context().SetTime(params.start_time_s);
-  LeafContext& pc = diagram.GetMutableSubsystemContext(plant, sim.get_mutable_context());
-  const Eigen::VectorXd q_init = WalkingStandingPose(model, plan, params.start_time_s);
-  plant.SetState(pc, q_init,
-                 params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
-                                      : WalkingInitialVelocity(model, q_init, plan, params.start_time_s),
-                 "double_support");
+  const Eigen::VectorXd q_init = SetWalkingStart(walking, params, sim.get_mutable_context());
   r.joint_limits.Record(model, params.start_time_s, q_init);  // joint stops may end the run here, before a sample
 
   const double mg = model.total_mass() * 9.81;

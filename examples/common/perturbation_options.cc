@@ -67,4 +67,30 @@ PerturbationParams PerturbationsFromCommandLine(const CommandLine& cli, const Mu
   return p;
 }
 
+const std::vector<std::pair<std::string, std::string>> kPerturbationParameterOptions = {
+    {"mass_scale", "mass-scale"},
+    {"friction_scale", "friction-scale"},
+    {"stone_height_sigma_m", "stone-height-error"},
+    {"position_noise_sigma", "sensor-noise"},
+    {"velocity_noise_sigma", "sensor-noise"},
+    {"torque_noise_sigma_Nm", "torque-noise"},
+    {"start_time_s", "push-time"},
+    {"duration_s", "push-duration"},
+    {"force_N", "push-force"}};
+
+PerturbationParams FlatGroundPerturbationsFromCommandLine(const CommandLine& cli, const std::string& program,
+                                                          const MultibodyModel& model, std::uint64_t seed,
+                                                          double period_s) {
+  if (cli.GetDouble("stone-height-error") != 0.0)
+    throw std::invalid_argument(program + ": --stone-height-error " + cli.Get("stone-height-error") +
+                                ": this example runs on flat ground (no stones); leave it 0");
+  PerturbationParams p;
+  try {
+    p = PerturbationsFromCommandLine(cli, model, seed, period_s);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(cli.NameTheOption(e.what(), kPerturbationParameterOptions));
+  }
+  return p;
+}
+
 }  // namespace rome::examples

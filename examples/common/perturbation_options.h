@@ -3,6 +3,8 @@
 // PerturbationParams they describe. Each error names the option and the value.
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "examples/common/cli.h"
 #include "systems/multibody/multibody_model.h"
@@ -18,5 +20,14 @@ void DeclarePerturbationOptions(CommandLine& cli);
 /// period (noise and latency are sampled at it; --latency must be a whole number of periods).
 PerturbationParams PerturbationsFromCommandLine(const CommandLine& cli, const MultibodyModel& model, std::uint64_t seed,
                                                 double period_s);
+
+/// The perturbations of an example on flat ground (walking, hopping): PerturbationsFromCommandLine, with its errors in
+/// the command line's terms, and a one-line error "PROGRAM: --stone-height-error ..." (there are no stones).
+PerturbationParams FlatGroundPerturbationsFromCommandLine(const CommandLine& cli, const std::string& program,
+                                                          const MultibodyModel& model, std::uint64_t seed,
+                                                          double period_s);
+
+/// PerturbationParams' fields and the options that set them ({parameter, option}, CommandLine::NameTheOption).
+extern const std::vector<std::pair<std::string, std::string>> kPerturbationParameterOptions;
 
 }  // namespace rome::examples

@@ -5,6 +5,8 @@
 //
 // Writes a CSV log (--log), a JSON summary (--summary, with the effective "scenario": --scenario-file with it
 // reproduces the run), PNG plots (--plots DIR, hopping_plots.h) and an HTML animation (--animation).
+// Perturbations (--push-*, --mass-scale, --sensor-noise, --latency, --torque-noise; docs/robustness.md) change the
+// simulated world, not the ROM's plans or the controller's model.
 // Exit 0: hopped (the COM rose at least H/2) and came to rest; 3: the run failed (fell, slipped, a planner gave up:
 // Ipopt's status in the message); 1: bad input (the library's Validate() names the parameter and the value).
 #include <iostream>
@@ -14,6 +16,7 @@
 #include "diagrams/hopping/hopping_plans.h"
 #include "diagrams/hopping/hopping_run.h"
 #include "examples/common/cli.h"
+#include "examples/common/perturbation_options.h"
 #include "examples/hopping/hopping_plots.h"
 #include "framework/interrupt.h"
 #include "systems/visualization/animation.h"
@@ -67,7 +70,9 @@ void DeclareOptions(examples::CommandLine& cli) {
       .Option("summary", "", "JSON summary path (empty: none)")
       .Option("plots", "", "directory for PNG plots (empty: none)")
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)")
+      .Option("seed", "1", "seed of the perturbations' random draws (--sensor-noise, --torque-noise)")
       .ScenarioFile({"log", "summary", "plots", "animation"});
+  examples::DeclarePerturbationOptions(cli);
 }
 
 // The parameters of a run, from the parsed options (ranges are checked by the library's Validate()).
@@ -139,6 +144,10 @@ int main(int argc, char** argv) {
     s.run.Validate();
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
     model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
+    if (cli.GetInt("seed") < 0)
+      throw std::invalid_argument("hopping: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
+    s.diagram.perturbations = examples::FlatGroundPerturbationsFromCommandLine(
+        cli, "hopping", *model, static_cast<std::uint64_t>(cli.GetInt("seed")), s.diagram.controller.update_period_s);
     planners = std::make_unique<SpringMassHopPlanners>(*model, s.leg_stiffness, s.jump, s.landing);
     d = BuildHoppingDiagram(model, planners->leg_length, planners->jump, planners->landing, s.diagram, s.plant);
   } catch (const std::exception& e) {

@@ -15,9 +15,10 @@
 // the number of ranks) and DIR/sweep.json (success rate, failures by reason, mean and percentiles of the numeric
 // fields), and draws DIR/sweep_speed.png (mean forward speed over the first grid parameter, one line per value of
 // the second: Fig. 6 of the stepping-stones paper for an energy × step-length grid) or DIR/sweep_success.png (success
-// rate over seeds). Files in DIR are written atomically (framework/files.h); none is written through a symlink.
-// Exit codes: 0 the sweep completed (whatever its runs' outcomes: see sweep.json), 1 bad input or results that could
-// not be written (one line naming it).
+// rate over seeds), and with a grid DIR/sweep_success_vs_parameter.png (success rate over the first grid parameter)
+// and, with --metric NAME, DIR/sweep_metric_vs_parameter.png (the summary field NAME's mean over it). Files in DIR are
+// written atomically (framework/files.h); none is written through a symlink. Exit codes: 0 the sweep completed
+// (whatever its runs' outcomes: see sweep.json), 1 bad input or results that could not be written (one line naming it).
 
 #include <mpi.h>
 
@@ -40,7 +41,8 @@ using namespace rome::sweep;
 
 void PrintHelp() {
   std::cout
-      << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... --out DIR\n"
+      << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... [--metric NAME] --out "
+         "DIR\n"
          "  EXAMPLE        "
       << ExampleNames(" | ")
       << " (the program next to rome_sweep)\n"
@@ -48,6 +50,8 @@ void PrintHelp() {
          "                 (whole numbers only for the flags that take them: seed, steps, hops, ...)\n"
          "  --seeds A:B    --seed A, A+1, ..., B (a Monte Carlo; multiplies with the grids)\n"
          "  --set          a fixed flag --NAME VALUE for every run (not a swept flag)\n"
+         "  --metric NAME  also plot the mean of the summary's numeric field NAME over the first grid parameter\n"
+         "                 (sweep_metric_vs_parameter.png; every run that reports it, failed or not)\n"
          "  --out DIR      results: runs/, sweep.csv, sweep.json, PNG plots; a rerun with the same DIR and the same\n"
          "                 parameters resumes (other parameters are refused)\n"
          "At most "
@@ -104,6 +108,11 @@ Sweep Parse(int argc, char** argv) {
       s.swept.push_back(rome::sweep::ParseSeeds(value()));
     } else if (a == "--set") {
       s.fixed.push_back(rome::sweep::ParseSet(value()));
+    } else if (a == "--metric") {
+      s.metric = value();
+      if (s.metric.empty() || s.metric.size() > 200)
+        throw std::invalid_argument("rome_sweep: --metric '" + Excerpt(s.metric) +
+                                    "': name a numeric field of the example's summary (1 to 200 characters)");
     } else if (a == "--out") {
       s.out = value();
     } else {

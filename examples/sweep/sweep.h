@@ -22,8 +22,8 @@ struct Example {
 inline const std::map<std::string, Example> kExamples = {
     {"stepping-stones", {"stepping_stones", {"seed", "steps"}}},
     {"bouncing-ball", {"bouncing_ball", {}}},
-    {"walking", {"walking", {"seed", "steps", "lead-in-steps", "start-gait-steps"}}},
-    {"hopping", {"hopping", {"hops", "bullet-substeps"}}}};
+    {"walking", {"walking", {"seed", "perturbation-seed", "steps", "lead-in-steps", "start-gait-steps"}}},
+    {"hopping", {"hopping", {"seed", "hops", "bullet-substeps"}}}};
 // "a | b | c" or "a, b, c": the example names, for help and errors.
 inline std::string ExampleNames(const char* separator) {
   std::string names;
@@ -38,6 +38,7 @@ inline constexpr size_t kMaxHelpBytes = 1u << 20;
 
 struct Sweep {
   std::string example, binary, out;
+  std::string metric;  // --metric: a numeric summary field plotted over the first grid parameter (empty: none)
   std::vector<Parameter> swept;                            // grid axes and seeds, in command-line order
   std::vector<std::pair<std::string, std::string>> fixed;  // --set name=value
   long total = 0;                                          // runs

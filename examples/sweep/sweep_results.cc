@@ -179,36 +179,65 @@ std::string AxisLabel(const Sweep& s, const std::string& flag) {
   return it == s.units.end() ? flag : flag + " [" + it->second + "]";
 }
 
-// Success rate over the first grid parameter (over every run with that value: seeds and other grids pooled), one line
-// per value of the second parameter unless that is the seed.
-void WriteSuccessOverParameter(const Sweep& s, const Results& r) {
+// The mean of `value(i)` over the runs i with each value of the first grid parameter (seeds and other grids pooled;
+// runs where `value` gives NaN are left out), one line per value of the second parameter unless that is the seed.
+template <typename Value>
+std::vector<rome::visualization::Series> MeanOverParameter(const Sweep& s, const std::string& single_line,
+                                                           const Value& value) {
   const Parameter& x = s.swept[0];
   const bool lines_by_second = s.swept.size() > 1 && s.swept[1].name != "seed";
   const size_t lines = lines_by_second ? s.swept[1].values.size() : 1;
   std::vector<rome::visualization::Series> series;
   for (size_t l = 0; l < lines; ++l) {
     rome::visualization::Series ser{
-        lines_by_second ? s.swept[1].name + " = " + s.swept[1].values[l] : "success rate", {}, {}, "linespoints"};
-    for (const std::string& value : x.values) {
-      long runs = 0, ok = 0;
+        lines_by_second ? s.swept[1].name + " = " + s.swept[1].values[l] : single_line, {}, {}, "linespoints"};
+    for (const std::string& xv : x.values) {
+      long runs = 0;
+      double sum = 0;
       for (long i = 0; i < s.total; ++i) {
         const auto v = RunValues(s, i);
-        if (v[0] != value || (lines_by_second && v[1] != s.swept[1].values[l])) continue;
+        if (v[0] != xv || (lines_by_second && v[1] != s.swept[1].values[l])) continue;
+        const double y = value(i);
+        if (std::isnan(y)) continue;
         ++runs;
-        ok += r.records[i] && r.records[i]->exit_code == 0 ? 1 : 0;
+        sum += y;
       }
       if (runs == 0) continue;
-      ser.x.push_back(std::strtod(value.c_str(), nullptr));
-      ser.y.push_back(static_cast<double>(ok) / static_cast<double>(runs));
+      ser.x.push_back(std::strtod(xv.c_str(), nullptr));
+      ser.y.push_back(sum / static_cast<double>(runs));
     }
     series.push_back(ser);
   }
-  WritePlotInto({"Success rate over " + x.name, AxisLabel(s, x.name), "success rate [-]", series},
+  return series;
+}
+
+// Success rate over the first grid parameter.
+void WriteSuccessOverParameter(const Sweep& s, const Results& r) {
+  const auto series = MeanOverParameter(
+      s, "success rate", [&](long i) { return r.records[i] && r.records[i]->exit_code == 0 ? 1.0 : 0.0; });
+  WritePlotInto({"Success rate over " + s.swept[0].name, AxisLabel(s, s.swept[0].name), "success rate [-]", series},
                 (fs::path(s.out) / "sweep_success_vs_parameter.png").string());
+}
+
+// The mean of the summary field s.metric (every run that reports it, failed or not) over the first grid parameter.
+void WriteMetricOverParameter(const Sweep& s, const Results& r) {
+  if (!r.numeric.count(s.metric)) {
+    std::cerr << "warning: rome_sweep: --metric " << Excerpt(s.metric) << ": no run's summary has this numeric field; "
+              << "sweep_metric_vs_parameter.png not drawn\n";
+    return;
+  }
+  const auto series = MeanOverParameter(s, "mean over runs", [&](long i) {
+    const auto it = r.numbers[i].find(s.metric);
+    return it == r.numbers[i].end() ? std::nan("") : it->second;
+  });
+  WritePlotInto({"Mean " + s.metric + " over " + s.swept[0].name + " (every run reporting it)",
+                 AxisLabel(s, s.swept[0].name), s.metric, series},
+                (fs::path(s.out) / "sweep_metric_vs_parameter.png").string());
 }
 
 void WritePlots(const Sweep& s, const Results& r) {
   if (s.swept[0].name != "seed") WriteSuccessOverParameter(s, r);
+  if (s.swept[0].name != "seed" && !s.metric.empty()) WriteMetricOverParameter(s, r);
   if (s.swept[0].name != "seed" && r.numeric.count("mean_forward_speed_mps")) {
     std::vector<rome::visualization::Series> series;
     const Parameter& x = s.swept[0];

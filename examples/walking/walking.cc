@@ -19,6 +19,7 @@
 #include "diagrams/walking/walking_run.h"
 #include "diagrams/walking/walking_stop_plan.h"
 #include "examples/common/cli.h"
+#include "examples/common/perturbation_options.h"
 #include "examples/walking/walking_options.h"
 #include "examples/walking/walking_outputs.h"
 #include "examples/walking/walking_report.h"
@@ -94,6 +95,8 @@ int main(int argc, char** argv) {
   WalkingPlan plan;
   try {
     o.stand.sole = SoleOf(*model, "left_foot");
+    o.diagram.perturbations = examples::FlatGroundPerturbationsFromCommandLine(
+        cli, "walking", *model, o.perturbation_seed, o.diagram.controller.update_period_s);
     examples::ValidateWalkingOptions(o);  // the library's ranges, before any NLP
     o.stand.plan_check =
         WalkingPoseCheck(model, o.diagram);  // a direct plan the legs cannot follow goes through the lead-in

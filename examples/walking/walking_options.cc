@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "examples/common/perturbation_options.h"
 #include "framework/text.h"
 
 namespace rome::examples {
@@ -120,7 +121,11 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "directory for PNG plots (empty: none): the paper's Fig. 2 S2/L2, 3 S2/L2 and 5a/b/d from this run, and "
               "gait tiles")
       .Option("animation", "", "FILE.html: a self-contained 3D animation of the run (three.js inlined; empty: none)")
+      .Option("perturbation-seed", "1",
+              "seed of the perturbations' random draws (--sensor-noise, --torque-noise; apart from --seed, so that the "
+              "cached plans stay)")
       .ScenarioFile({"log", "summary", "plots", "animation", "cache"});
+  DeclarePerturbationOptions(cli);
 }
 
 namespace {
@@ -191,6 +196,10 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   if (cli.GetInt("seed") < 0)
     throw std::invalid_argument("walking: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
   o.seed = static_cast<std::uint32_t>(cli.GetInt("seed"));
+  if (cli.GetInt("perturbation-seed") < 0)
+    throw std::invalid_argument("walking: --perturbation-seed must be a whole number in [0, 2147483647], got " +
+                                cli.Get("perturbation-seed"));
+  o.perturbation_seed = static_cast<std::uint32_t>(cli.GetInt("perturbation-seed"));
   // Side by side (stagger 0, the default) goes through the start gait; a step stance does not (StepStance).
   const double stagger = cli.GetDouble("stance-stagger");
   StandToWalkParams& s = o.stand;

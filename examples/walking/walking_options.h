@@ -15,9 +15,10 @@ namespace rome::examples {
 struct WalkingOptions {
   std::string scenario = "stand-to-walk";  ///< stand-to-walk | gait-change | periodic | gait-sequence | walk-to-stand
   WalkingGait gait_a, gait_b;
-  std::vector<WalkingGait> gaits;  ///< gait-sequence: --gaits
-  int steps = 10;                  ///< periodic single supports per gait after each transition
-  std::uint32_t seed = 1;          ///< seed of the NLP initial guesses
+  std::vector<WalkingGait> gaits;       ///< gait-sequence: --gaits
+  int steps = 10;                       ///< periodic single supports per gait after each transition
+  std::uint32_t seed = 1;               ///< seed of the NLP initial guesses
+  std::uint32_t perturbation_seed = 1;  ///< seed of the perturbations' random draws (--perturbation-seed)
   PlantKind plant = PlantKind::kHybrid;
   std::string feasibility = "torque";  ///< torque | strict | off: what the plan's feasibility check refuses
   bool check_only = false;             ///< plan and check, no simulation

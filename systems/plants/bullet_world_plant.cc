@@ -419,6 +419,7 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
   xd.head(nv) = model_->q_nominal();
   DeclareDiscreteState(xd);
   DeclareInputPort("u", nu);
+  if (params_.external_force_input) DeclareInputPort("tau_external", model_->joint_names());
   DeclarePeriodicDiscreteUpdate(params_.step_s, params_.update_offset_s,
                                 [this](const LeafContext& c, Eigen::VectorXd* next) { return Step(c, next); });
 
@@ -633,6 +634,7 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     w.u = u_in.cwiseMax(-model.torque_limits()).cwiseMin(model.torque_limits());
   else
     w.u = u_in;
+  const Eigen::VectorXd* tau_external = params_.external_force_input ? &EvalInput(context, 1) : nullptr;
   const double h = params_.step_s / params_.substeps;
   w.impulse.setZero();
   w.angular_impulse.setZero();
@@ -642,6 +644,7 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     w.tau.noalias() = model.B() * w.u;
     w.tau.array() -= model.spring_stiffness().array() * (w.q - model.spring_rest()).array() +
                      model.spring_damping().array() * w.v.array();
+    if (tau_external != nullptr) w.tau += *tau_external;
     for (int i = 0; i < nb; ++i) {
       const int k = model.body(i).v_index;
       if (k >= 0 && w.tau[k] != 0.0) w.mb->addJointTorque(i, w.tau[k]);

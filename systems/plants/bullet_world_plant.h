@@ -6,6 +6,8 @@
 //
 // inputs/outputs: exactly ContactPlant's (contact_plant.h): u; q, v, state, mode (int), contact_forces,
 //   contact_violation, com. Every output is a function of the discrete state alone (no feedthrough).
+//   Optional input (params.external_force_input, as HybridContactPlant's): tau_external (nv), a generalized external
+//   force [N or N m per coordinate] added to the joint torques of each substep (e.g. an ExternalPush's J_pᵀ F).
 // discrete state: [q (nv); v (nv); contact forces (3 nc); touching (nc, 0/1); touchdown time (nc) [s];
 //   lift-off time (nc) [s]; time the current mode began [s]; distance slid (nc) [m]: per contact, since it last held
 //   (see slip_speed_mps)]
@@ -101,7 +103,8 @@ struct BulletWorldPlantParams {
   /// rigid contact with contact_erp and cfm.
   double contact_stiffness_N_per_m = 0.0;
   double contact_damping_Ns_per_m = 0.0;
-  double restitution = 0.0;  ///< [-] coefficient of restitution (0: plastic impacts, as HybridContactPlant)
+  double restitution = 0.0;           ///< [-] coefficient of restitution (0: plastic impacts, as HybridContactPlant)
+  bool external_force_input = false;  ///< declare the tau_external input (see the top of this file)
   /// [-] Bullet multiplies the two objects' friction coefficients: the terrain gets 1 and each foot its contact's
   /// friction_coefficient (the sidecar's μ), so μ is the model's.
   double point_radius_m = 1e-3;  ///< [m] radius of the sphere at each contact point (ours)

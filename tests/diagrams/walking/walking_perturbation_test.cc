@@ -1,0 +1,123 @@
+// Perturbations on the walking diagram, checked against Newton's second law for the whole robot: over a window inside
+// one single support (no impact, so no impulsive ground force), the linear momentum changes by the integral of the
+// plant's ground forces, plus the push's impulse J = F T_push, less m g Δt:
+//   m (v_com(t1) − v_com(t0)) = ∫ Σ F_contact dt + J − m g (t1 − t0) ẑ.
+// The plant is built with its link masses scaled by s (ScaleMassAndFriction) and m = s m_model: the vertical balance
+// only closes with the plant's mass (the model's would leave (s − 1) m g Δt, about 11 N s here). Uniform scaling
+// leaves the COM where it is, so v_com is computed on the controller's (unscaled) model. The ground-force integral is
+// the trapezoid rule over the run's monitor samples (every integrator step and event), hence the tolerance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "diagrams/walking/walking_diagram.h"
+#include "diagrams/walking/walking_run.h"
+#include "systems/multibody/multibody_kinematics.h"
+#include "tests/common/source_path.h"
+#include "tests/systems/controllers/amber_test_setup.h"
+
+namespace rome {
+namespace {
+
+constexpr double kGravity = 9.81;  // [m/s^2] the plant's gravity (MultibodyModel default)
+
+struct MomentumBalance {
+  double t0 = -1, t1 = -1;
+  Eigen::Vector3d v0 = Eigen::Vector3d::Zero(), v1 = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_integral = Eigen::Vector3d::Zero();  // [N s] ∫ Σ F_contact dt over [t0, t1]
+  int mode = -1;
+  bool one_mode = true;  // no mode change inside the window
+};
+
+// Runs gait A's periodic plan with `perturbations` and balances the momentum over [t_a, t_b] (inside its second
+// single support, 0.6-1.0 s).
+MomentumBalance Balance(const PerturbationParams& perturbations, double t_a, double t_b,
+                        std::shared_ptr<const MultibodyModel>* model_out) {
+  auto model = test::LoadRobot("exoskeleton");
+  *model_out = model;
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingGait gait;
+  WalkingDiagramParams params;
+  params.perturbations = perturbations;
+  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 4, 1, &cache, stand), params);
+  WalkingRunParams run;
+  run.start_time_s = 0.5 * gait.dsp_duration_s;  // inside the first double support, on the plan's orbit
+  run.start_at_rest = false;
+  run.end_time_s = t_b + 0.05;
+  MultibodyWorkspace ws(*model);
+  MomentumBalance b;
+  double t_prev = -1;
+  Eigen::Vector3d f_prev = Eigen::Vector3d::Zero();
+  const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& s) {
+    if (s.t < t_a || s.t > t_b) return;
+    const Eigen::VectorXd& F = *s.contact_forces;
+    const Eigen::Vector3d f = F.segment<3>(0) + F.segment<3>(3);
+    if (b.t0 < 0) {
+      b.t0 = s.t, b.mode = s.mode;
+      b.v0 = CalcComVelocity(*model, ws, *s.q, *s.v);
+    } else {
+      b.force_integral += 0.5 * (s.t - t_prev) * (f + f_prev);
+    }
+    b.one_mode = b.one_mode && s.mode == b.mode;
+    b.t1 = s.t;
+    b.v1 = CalcComVelocity(*model, ws, *s.q, *s.v);
+    t_prev = s.t, f_prev = f;
+  });
+  EXPECT_FALSE(r.fell) << r.status.ToString();
+  return b;
+}
+
+// m (v1 − v0) − (∫ Σ F dt + J − m g Δt ẑ) for gait A on the plant scaled by `scale`, pushed by `push` (if any).
+Eigen::Vector3d Residual(double scale, const std::optional<ExternalPushParams>& push) {
+  const double t_a = 0.65, t_b = 0.95;
+  PerturbationParams p;
+  p.mass_scale = scale;
+  p.push = push;
+  std::shared_ptr<const MultibodyModel> model;
+  const MomentumBalance b = Balance(p, t_a, t_b, &model);
+  EXPECT_GE(b.t0, t_a);
+  EXPECT_LT(b.t0, t_a + 2e-3);
+  EXPECT_GT(b.t1, t_b - 2e-3);
+  EXPECT_TRUE(b.one_mode) << "a touchdown or lift-off inside the window";
+  EXPECT_NE(b.mode, kWalkingDoubleSupport);
+  const double m = scale * model->total_mass();
+  const Eigen::Vector3d J = push ? Eigen::Vector3d(push->force_N * push->duration_s) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d residual =
+      m * (b.v1 - b.v0) - (b.force_integral + J - m * kGravity * (b.t1 - b.t0) * Eigen::Vector3d::UnitZ());
+  std::printf("scale %g, J = (%g, %g, %g) N s: ground (%.3f, %.3f, %.3f) N s, residual (%.4f, %.4f, %.4f) N s\n", scale,
+              J.x(), J.y(), J.z(), b.force_integral.x(), b.force_integral.y(), b.force_integral.z(), residual.x(),
+              residual.y(), residual.z());
+  return residual;
+}
+
+// The trapezoid rule over the monitor's samples leaves about 0.17 N s in x, the same with and without the push (the
+// quadrature's, not the push's: the ground force steps at each 1 ms torque update). The tolerances are small against
+// J = (8, 4, 0) N s and against the (s − 1) m g Δt = 11 N s the unscaled mass would leave.
+constexpr double kTolHorizontalNs = 0.3, kTolVerticalNs = 0.5;
+
+TEST(WalkingPerturbations, TheScaledPlantClosesTheMomentumBalanceWithItsOwnMass) {
+  const Eigen::Vector3d r = Residual(1.05, std::nullopt);
+  EXPECT_LT(std::abs(r.x()), kTolHorizontalNs);
+  EXPECT_LT(std::abs(r.y()), kTolHorizontalNs);
+  EXPECT_LT(std::abs(r.z()), kTolVerticalNs);
+}
+
+TEST(WalkingPerturbations, APushInSingleSupportAddsItsImpulseToTheMomentum) {
+  ExternalPushParams push;
+  push.body = "pelvis";
+  push.start_time_s = 0.7;
+  push.duration_s = 0.1;
+  push.force_N = Eigen::Vector3d(80.0, 40.0, 0.0);
+  const Eigen::Vector3d r = Residual(1.05, push);
+  EXPECT_LT(std::abs(r.x()), kTolHorizontalNs);
+  EXPECT_LT(std::abs(r.y()), kTolHorizontalNs);
+  EXPECT_LT(std::abs(r.z()), kTolVerticalNs);
+}
+
+}  // namespace
+}  // namespace rome
