@@ -120,10 +120,8 @@ SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::str
   const Eigen::VectorXd& q = model.q_nominal();
   const double sole_z = CalcPointPosition(model, ws, q, model.contacts()[0].body, model.contacts()[0].frame_origin).z();
   p.supervisor.walking_com_height_m = CalcComPosition(model, ws, q).z() - sole_z;
-  // Swing foot Kp 900 1/s², Kd 60 1/s (critically damped, 30 rad/s; AMBER: 400, 40): with AMBER's gains the rear foot
-  // lags its lift on a steep step up. Cassie's legs are light, so the torques stay small
-  // (docs/design-notes.md#stepping-stones-cassie-swing, as the choices below).
-  p.swing_foot_gains = TaskGains{5.0, 900.0, 60.0};
+  // The swing foot's gains are the default's (Kp 900 1/s², Kd 60 1/s), chosen first for Cassie, whose rear foot lagged
+  // its lift on a steep step up (docs/design-notes.md#stepping-stones-cassie-swing, as the choices below).
   // The swing foot's desired vertical velocity starts at 0 (lift_off_at_rest): with the paper's curve the foot, at
   // rest on its stone, starts with a velocity error of about 0.7 m/s that the CLF-QP below corrects at the torque
   // limits in the first samples of every step.
@@ -242,6 +240,7 @@ void SteppingStonesDiagramParams::Validate() const {
   RequireIn("clf_controller.update_period_s", clf_controller.update_period_s, 1e-5, 1.0, false, "s");
   RequireIn("controller.friction_margin", controller.friction_margin, 0.0, 1.0, true, "");
   RequireIn("controller.min_normal_force_N", controller.min_normal_force_N, 0.0, 1e4, false, "N");
+  RequireIn("controller.friction_cone_offset_N", controller.friction_cone_offset_N, 0.0, 1e4, false, "N");
   RequireGains("torso_gains", torso_gains);
   RequireGains("com_height_gains", com_height_gains);
   RequireGains("swing_foot_gains", swing_foot_gains);

@@ -138,8 +138,12 @@ struct SteppingStonesDiagramParams {
   /// weight, as the task-space QP). Ours; ForRobot sets it for line feet (planar Cassie), see the .cc.
   double clf_com_height_weight = std::numeric_limits<double>::quiet_NaN();
   /// Weight 5 (ours): when the torque limits bind (short steep steps), the QP gives the swing foot priority over the
-  /// COM height and torso pitch, so that it clears the stones and lands on the planned one.
-  TaskGains swing_foot_gains{5.0, 400.0, 40.0};
+  /// COM height and torso pitch, so that it clears the stones and lands on the planned one. Kp 900 1/s², Kd 60 1/s
+  /// (ours; critically damped, 30 rad/s): after a short step up onto a stone whose successor is lower, the rear foot
+  /// must rise about 0.3 m before it passes the stance stone's rear edge some 0.12 s after lift-off; at 400, 40 it
+  /// lagged 0.1-0.16 m below its curve and stubbed that edge
+  /// (docs/design-notes.md#stepping-stones-random-course-failures).
+  TaskGains swing_foot_gains{5.0, 900.0, 60.0};
   /// Line/flat feet only (planar Cassie): the fifth output, the swing foot's pitch, held at its flat pitch so that
   /// the sole lands parallel to the stone (hopping spec C.12). Not used for point feet.
   TaskGains swing_foot_pitch_gains{1.0, 400.0, 40.0};
@@ -171,6 +175,10 @@ struct SteppingStonesDiagramParams {
     // from the QP's (docs/design-notes.md#stepping-stones-friction-margin).
     p.friction_margin = 0.95;
     p.min_normal_force_N = 2.0;
+    // Ours: the pyramid's apex raised to 1.5 N, as the CLF-QP's: a stance foot that unloads near the end of its stance
+    // (a few newtons) otherwise sits at 0.95 μ, which the held sample's drift carries past μ (unloading slips,
+    // docs/design-notes.md#stepping-stones-random-course-failures).
+    p.friction_cone_offset_N = 1.5;
     return p;
   }
   static ClfQpParams DefaultClfParams() {
