@@ -196,10 +196,11 @@ TEST(SteppingStonesDiagram, TaskSpaceQpAndClfQpWalkTheSameTerrain) {
 
 // The missed stone of the random courses (issue 42): a long step down, a short step up by about 0.25 m, then a short
 // step to a lower stone. The rear foot must rise about 0.3 m before it passes the stance stone's rear edge some 0.12 s
-// after lift-off; with swing gains 400, 40 it lagged 0.1-0.16 m below its curve and the plant, which finds touchdowns
-// on the stones' geometry, put it down on its own stance stone. Two such courses inside the paper's terrain (gaps
-// >= 0.2 m, rises <= 0.25 m), shaped like the failures, not taken from any seed: each controller walks them with one
-// touchdown per step, each on its planned stone, and the plant's contact forces physical throughout.
+// after lift-off. With the paper's swing curve, which starts several m/s faster than the foot at rest, the controller
+// spent the first 35 ms at the torque limits, the foot fell 0.1-0.16 m below its curve and the plant, which finds
+// touchdowns on the stones' geometry, put it down on its own stance stone. Two such courses inside the paper's terrain
+// (gaps >= 0.2 m, rises <= 0.25 m), shaped like the failures, not taken from any seed: each controller walks them with
+// one touchdown per step, each on its planned stone, and the plant's contact forces physical throughout.
 TEST(SteppingStonesDiagram, RearFootClearsTheStanceStoneAfterAShortSteepStepUp) {
   const int steps = 8;
   const std::vector<std::vector<std::pair<double, double>>> courses = {{{0, 0},
