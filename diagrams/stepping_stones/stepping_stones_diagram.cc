@@ -124,9 +124,10 @@ SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::str
   // lags its lift on a steep step up. Cassie's legs are light, so the torques stay small
   // (docs/design-notes.md#stepping-stones-cassie-swing, as the choices below).
   p.swing_foot_gains = TaskGains{5.0, 900.0, 60.0};
-  // The swing foot's desired vertical velocity starts at 0 (lift_off_at_rest, now the default for every robot): with
-  // the paper's curve the foot, at rest on its stone, starts with a velocity error of about 0.7 m/s that the CLF-QP
-  // below corrects at the torque limits in the first samples of every step.
+  // The swing foot's desired vertical velocity starts at 0 (lift_off_at_rest): with the paper's curve the foot, at
+  // rest on its stone, starts with a velocity error of about 0.7 m/s that the CLF-QP below corrects at the torque
+  // limits in the first samples of every step.
+  p.outputs.swing_foot.lift_off_at_rest = true;
   // CLF-QP: ε = 0.02 (output bandwidth about 1/ε = 50 rad/s, as fast as the swing foot's 30 rad/s PD above needs),
   // γ = 1 (V decays at γ/ε = 50 1/s instead of the CARE bound λ_min(Q)/λ_max(P)/ε ≈ 18 1/s), and the friction
   // pyramid's apex 5 N up (a stance foot that unloads keeps |F_t|/F_n well inside μ over a held sample).

@@ -206,11 +206,6 @@ struct SteppingStonesDiagramParams {
     p.swing_foot.apex_shape = SwingApexShape::kClearStanceStone;
     // NaN: BuildSteppingStonesDiagram uses half the longest stone of the terrain.
     p.swing_foot.stance_stone_half_length = std::numeric_limits<double>::quiet_NaN();
-    // The foot's desired vertical velocity starts at 0 (lift_off_at_rest, ours): with the paper's curve the foot, at
-    // rest, starts several m/s behind it; after a short step up onto a stone whose successor is lower the controller
-    // then spent the first 35 ms at the torque limits, the foot fell 0.1-0.16 m below its curve and stubbed the stance
-    // stone's rear edge (docs/design-notes.md#stepping-stones-random-course-failures).
-    p.swing_foot.lift_off_at_rest = true;
     return p;
   }
 };
