@@ -242,6 +242,7 @@ void SteppingStonesDiagramParams::Validate() const {
   RequireIn("clf_controller.update_period_s", clf_controller.update_period_s, 1e-5, 1.0, false, "s");
   RequireIn("controller.friction_margin", controller.friction_margin, 0.0, 1.0, true, "");
   RequireIn("controller.min_normal_force_N", controller.min_normal_force_N, 0.0, 1e4, false, "N");
+  RequireIn("controller.friction_cone_offset_N", controller.friction_cone_offset_N, 0.0, 1e4, false, "N");
   RequireGains("torso_gains", torso_gains);
   RequireGains("com_height_gains", com_height_gains);
   RequireGains("swing_foot_gains", swing_foot_gains);

@@ -171,6 +171,10 @@ struct SteppingStonesDiagramParams {
     // from the QP's (docs/design-notes.md#stepping-stones-friction-margin).
     p.friction_margin = 0.95;
     p.min_normal_force_N = 2.0;
+    // Ours: the pyramid's apex raised to 1.5 N, as the CLF-QP's: a stance foot that unloads near the end of its stance
+    // (a few newtons) otherwise sits at 0.95 μ, which the held sample's drift carries past μ (unloading slips,
+    // docs/design-notes.md#stepping-stones-random-course-failures).
+    p.friction_cone_offset_N = 1.5;
     return p;
   }
   static ClfQpParams DefaultClfParams() {

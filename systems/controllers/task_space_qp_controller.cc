@@ -79,6 +79,7 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
   check_nonneg(params_.u_regularization, "u_regularization");
   check_nonneg(params_.force_regularization, "force_regularization");
   check_nonneg(params_.min_normal_force_N, "min_normal_force_N");
+  check_nonneg(params_.friction_cone_offset_N, "friction_cone_offset_N");
   if (!(params_.friction_margin > 0.0 && params_.friction_margin <= 1.0))
     ThrowError("params.friction_margin = " + std::to_string(params_.friction_margin) + " must be in (0, 1]");
   check_nonneg(params_.contact_stabilization.baumgarte_alpha_per_s, "contact_stabilization.baumgarte_alpha_per_s");
@@ -192,21 +193,22 @@ std::any TaskSpaceQpController::AllocateScratch() const {
       const int r = b.ineq_offset;
       if (model.is_planar()) {
         const int fx = b.normal - 1;
-        // F_x − μ F_z ≤ 0 and F_x + μ F_z ≥ 0.
-        qp.A(r, fx) = 1.0, qp.A(r, b.normal) = -b.mu, qp.l[r] = -kInf, qp.u[r] = 0.0;
-        qp.A(r + 1, fx) = 1.0, qp.A(r + 1, b.normal) = b.mu, qp.l[r + 1] = 0.0, qp.u[r + 1] = kInf;
+        // F_x − μ F_z ≤ −μ F_0 and F_x + μ F_z ≥ μ F_0 (F_0: the apex offset).
+        const double apex = b.mu * params_.friction_cone_offset_N;
+        qp.A(r, fx) = 1.0, qp.A(r, b.normal) = -b.mu, qp.l[r] = -kInf, qp.u[r] = -apex;
+        qp.A(r + 1, fx) = 1.0, qp.A(r + 1, b.normal) = b.mu, qp.l[r + 1] = apex, qp.u[r + 1] = kInf;
         if (b.cop) {
           // x_min F_z ≤ −τ_y ≤ x_max F_z; the F_z coefficients depend on the foot pose (set in SolveQp).
           qp.A(r + 2, b.x_offset) = -1.0, qp.l[r + 2] = 0.0, qp.u[r + 2] = kInf;
           qp.A(r + 3, b.x_offset) = -1.0, qp.l[r + 3] = -kInf, qp.u[r + 3] = 0.0;
         }
       } else {
-        // ±F_x − μ F_z ≤ 0, ±F_y − μ F_z ≤ 0.
+        // ±F_x − μ F_z ≤ −μ F_0, ±F_y − μ F_z ≤ −μ F_0.
         for (int k = 0; k < 4; ++k) {
           qp.A(r + k, b.x_offset + k / 2) = (k % 2 == 0) ? 1.0 : -1.0;
           qp.A(r + k, b.normal) = -b.mu;
           qp.l[r + k] = -kInf;
-          qp.u[r + k] = 0.0;
+          qp.u[r + k] = -b.mu * params_.friction_cone_offset_N;
         }
       }
     }

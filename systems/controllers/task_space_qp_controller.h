@@ -86,6 +86,10 @@ struct TaskSpaceQpParams {
   /// [-] the pyramid uses friction_margin · μ (1 = the paper's cone; < 1 keeps the plant's forces, which drift over a
   /// zero-order-held sample, inside the true cone).
   double friction_margin = 1.0;
+  /// [N] the pyramid's apex is shifted up to F_z = this: |F_t| ≤ μ' (F_z − offset) (ContactWrenchParams' row of the
+  /// CLF-QP). A foot about to lift off then keeps |F_t|/F_z well inside μ while the plant's forces drift over a held
+  /// sample, where a pyramid through the origin allows μ' at any load. 0: the paper's cone.
+  double friction_cone_offset_N = 0.0;
   Eigen::VectorXd torque_limits;  ///< [N m] per actuator; empty = the model's torque limits.
   /// α [1/s] on contact and loop-closure velocities, β [1/s] on loop-closure position errors φ: the same struct the
   /// plant integrates with (HybridContactPlantParams::dynamics), so the planned forces are the forces the plant

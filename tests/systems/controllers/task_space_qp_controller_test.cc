@@ -198,6 +198,35 @@ TEST(TaskSpaceQpController, FrictionConeBindsWhenTheTaskAsksForTooMuchShear) {
   EXPECT_NEAR(xdd, Fx / model->total_mass(), 1e-6);
 }
 
+// The pyramid's apex raised to F_0 (friction_cone_offset_N): the same shear-hungry task now meets |F_t| ≤ μ (F_z − F_0)
+// at each foot, so the total shear is μ (F_z − 2 F_0) and the COM's forward acceleration drops by 2 μ F_0 / m.
+TEST(TaskSpaceQpController, FrictionConeOffsetKeepsEachFootInsideTheShiftedPyramid) {
+  auto model = LoadRobot("amber");
+  const ContactSet both = ContactBit(0) | ContactBit(1);
+  TaskSpaceQpParams params;
+  params.friction_coefficient = 0.1;
+  params.friction_cone_offset_N = 20.0;
+  const Tasks tasks = {std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}),
+                       std::make_shared<BodyPitchTask>("torso_pitch", *model, "torso")};
+  TaskSpaceQpController controller("tsc", model, {both}, tasks, params);
+  auto context = controller.CreateDefaultLeafContext();
+  const Eigen::VectorXd q = AmberDoubleSupportPose(*model), v = Eigen::VectorXd::Zero(7);
+  const Eigen::VectorXd y = TaskValues(*model, tasks, q, v);
+  const QpAnswer a = SolveAndCheck(controller, *context, q, v, 0, both,
+                                   Stack(y, Eigen::Vector3d::Zero(), Eigen::Vector3d(3.0, 0.0, 0.0)));
+  for (int foot = 0; foot < 2; ++foot)
+    EXPECT_LE(std::abs(a.F[2 * foot]), 0.1 * (a.F[2 * foot + 1] - 20.0) + 1e-9) << "foot " << foot;
+  const double Fx = a.F[0] + a.F[2], Fz = a.F[1] + a.F[3];
+  EXPECT_NEAR(std::abs(Fx), 0.1 * (Fz - 40.0), 1e-6 * Fz);  // both feet at the shifted edge
+  MultibodyWorkspace ws(*model);
+  Eigen::Matrix3Xd Jcom(3, 7);
+  CalcComJacobian(*model, ws, q, Jcom);
+  const double xdd = Jcom.row(0) * a.qdd + CalcComJdotQdot(*model, ws, q, v).x();
+  EXPECT_NEAR(xdd, Fx / model->total_mass(), 1e-6);  // Newton: m ẍ = F_x
+  params.friction_cone_offset_N = -1.0;
+  EXPECT_THROW(TaskSpaceQpController("tsc", model, {both}, tasks, params), std::exception);
+}
+
 TEST(TaskSpaceQpController, InfeasibleQpHoldsThePreviousTorqueAndCountsTheFailure) {
   auto model = LoadRobot("amber");
   const ContactSet left = ContactBit(model->ContactIndex("left_foot"));
