@@ -10,6 +10,7 @@
 #include "python/bindings.h"
 #include "python/params.h"
 #include "systems/planners/aslip_periodic_gait_planner.h"
+#include "systems/planners/aslip_transition_planner.h"
 #include "systems/planners/gait_graph.h"
 #include "systems/rom/actuated_spring_loaded_inverted_pendulum_system.h"
 
@@ -77,6 +78,83 @@ void BindPeriodicGaitPlanner(py::module_& m) {
           "Solves from the random initial guess of `seed` -> dict (success, status, message, iterations, cost, "
           "max_constraint_violation, mean_height, phases: [{name, start_time, duration, times, states (8 x N), "
           "inputs (2 x N), ground_reactions (4 x N: [G_0x, G_0z, G_1x, G_1z] N)}]).");
+}
+
+py::dict TransitionToDict(const AslipTransitionPlanner& planner, const AslipTransitionData& data,
+                          const AslipTransition& transition) {
+  py::dict d;
+  d["success"] = transition.success();
+  d["status"] = std::string(ToString(transition.collocation.nlp.status));
+  d["message"] = transition.collocation.nlp.message;
+  d["iterations"] = transition.collocation.nlp.iterations;
+  d["cost"] = transition.collocation.nlp.cost;
+  d["max_constraint_violation"] = transition.max_constraint_violation;
+  d["mean_height"] = transition.mean_height;
+  py::list phases;
+  for (int p = 0; p < static_cast<int>(transition.collocation.phases.size()); ++p) {
+    const CollocationPhaseSolution& s = transition.collocation.phases[p];
+    py::dict phase;
+    phase["name"] = s.name;
+    phase["start_time"] = s.start_time;
+    phase["duration"] = s.duration;
+    phase["times"] = s.times;
+    phase["states"] = s.states;
+    phase["inputs"] = s.inputs;
+    phase["ground_reactions"] = transition.GroundReactions(planner.params().bounds.aslip, data, p);  // 4 x N [N]
+    phases.append(phase);
+  }
+  d["phases"] = phases;
+  return d;
+}
+
+void BindTransitionPlanner(py::module_& m) {
+  using P = AslipTransitionParams;
+  ParamsClass<P>(m, "AslipTransitionParams",
+                 "Transitional footed aSLIP (DSP then SSP), walking paper Eq. (9)-(10) "
+                 "(systems/planners/aslip_transition_planner.h).")
+      .Field("bounds", &P::bounds, "model, bounds, N, mu and tolerances shared with the periodic NLP")
+      .Field("min_dsp_duration", &P::min_dsp_duration, "[s]")
+      .Field("max_dsp_duration", &P::max_dsp_duration, "[s]")
+      .Field("min_ssp_duration", &P::min_ssp_duration, "[s]")
+      .Field("max_ssp_duration", &P::max_ssp_duration, "[s]")
+      .Field("max_ankle_torque", &P::max_ankle_torque, "[N m] u_y,max")
+      .Field("torque_cost_scale", &P::torque_cost_scale, "[N m] u_s of Eq. (9)")
+      .Field("zero_final_ankle_torque", &P::zero_final_ankle_torque)
+      .Field("max_ssp_ankle_torque", &P::max_ssp_ankle_torque, "[N m] (< 0: max_ankle_torque)")
+      .Field("min_dsp_stance_force_fraction", &P::min_dsp_stance_force_fraction, "[-] of m g")
+      .Field("max_vertical_force_fraction", &P::max_vertical_force_fraction, "[-] of m g (0: no bound)");
+  using D = AslipTransitionData;
+  ParamsClass<D>(m, "AslipTransitionData", "Boundary states and foot positions of one aSLIP transition.")
+      .Field("initial_state", &D::initial_state, "[x, z, xdot, zdot, L_L, L_R, Ldot_L, Ldot_R] at the DSP's start")
+      .Field("final_state", &D::final_state, "the same at the SSP's end (pre-impact)")
+      .Field("left_foot_x", &D::left_foot_x, "[m]")
+      .Field("right_foot_x", &D::right_foot_x, "[m]")
+      .Field("lifting_leg", &D::lifting_leg, "0 = left, 1 = right");
+  py::class_<AslipTransitionPlanner>(
+      m, "AslipTransitionPlanner",
+      "The transition NLP by trapezoidal collocation on Ipopt: a DSP on both feet, the lifting leg's vertical force 0 "
+      "at its end, then an SSP on the other foot, from data.initial_state to data.final_state.")
+      .def((InitFromArguments<AslipTransitionPlanner, P>()), py::arg("params") = P{})
+      .def_property_readonly("params", &AslipTransitionPlanner::params)
+      .def_static(
+          "standing_state",
+          [](const ActuatedSpringLoadedInvertedPendulumParams& aslip, double z, double left_foot_x,
+             double right_foot_x) {
+            return FromArguments(
+                [&] { return AslipTransitionPlanner::StandingState(aslip, z, left_foot_x, right_foot_x); });
+          },
+          py::arg("aslip"), py::arg("z"), py::arg("left_foot_x") = 0.0, py::arg("right_foot_x") = 0.0,
+          "Standing at rest in DSP at COM height z [m], each leg carrying m g / 2 -> state (8).")
+      .def(
+          "solve",
+          [](const AslipTransitionPlanner& planner, const D& data) {
+            // The GIL stays held: it serialises the Ipopt solves (Ipopt 3.11 is not thread-safe).
+            return TransitionToDict(planner, data, FromArguments([&] { return planner.Solve(data); }));
+          },
+          py::arg("data"),
+          "-> dict (success, status, message, iterations, cost, max_constraint_violation, mean_height, phases: "
+          "[{name ('dsp', 'ssp'), start_time, duration, times, states (8 x N), inputs (4 x N: [Lddot_L, Lddot_R, u_L, "
+          "u_R]), ground_reactions (4 x N: [G_Lx, G_Lz, G_Rx, G_Rz] N)}]).");
 }
 
 void BindGaitGraph(py::module_& m) {
@@ -163,6 +241,7 @@ void BindActuatedSpringLoadedInvertedPendulum(py::module_& m) {
            }),
            py::arg("name") = "aslip", py::arg("params") = S{});
   BindPeriodicGaitPlanner(m);
+  BindTransitionPlanner(m);
   BindGaitGraph(m);
 }
 
