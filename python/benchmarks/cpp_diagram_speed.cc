@@ -77,11 +77,13 @@ int main(int argc, char** argv) {
     const std::clock_t cpu_start = std::clock();
     const double user_start = UserCpuSeconds();
     const rome::SimulatorStatus status = simulator.AdvanceTo(seconds);
-    user_runs += " " + std::to_string(UserCpuSeconds() - user_start);
+    user_runs += ' ';
+    user_runs += std::to_string(UserCpuSeconds() - user_start);
     best_cpu = std::min(best_cpu, static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     best = std::min(best, wall);
-    wall_runs += " " + std::to_string(wall);
+    wall_runs += ' ';
+    wall_runs += std::to_string(wall);
     if (!status.ok()) {
       std::fprintf(stderr, "cpp_diagram_speed: %s\n", status.ToString().c_str());
       return 3;
