@@ -23,6 +23,22 @@ void BindControllerParams(py::module_& m) {
   py::enum_<ClfQpFormulation>(m, "ClfQpFormulation")
       .value("eliminate_contact_forces", ClfQpFormulation::kEliminateContactForces)
       .value("augmented_input", ClfQpFormulation::kAugmentedInput);
+  ParamsClass<ContactWrenchParams>(
+      m, "ContactWrenchParams", "Contact wrench rows of the CLF-QP (systems/controllers/contact_wrench_constraints.h).")
+      .Field("min_normal_force_N", &ContactWrenchParams::min_normal_force_N, "[N]")
+      .Field("friction_coefficient", &ContactWrenchParams::friction_coefficient, "[-] < 0: the model's")
+      .Field("friction_margin", &ContactWrenchParams::friction_margin, "[-]")
+      .Field("friction_cone_offset_N", &ContactWrenchParams::friction_cone_offset_N, "[N] the pyramid's apex")
+      .Field("inscribe_pyramid", &ContactWrenchParams::inscribe_pyramid)
+      .Field("cop_margin_m", &ContactWrenchParams::cop_margin_m, "[m]")
+      .Field("yaw_moment_coefficient_m", &ContactWrenchParams::yaw_moment_coefficient_m, "[m] < 0: no bound")
+      .Field("corner_wrench_cone", &ContactWrenchParams::corner_wrench_cone);
+  ParamsClass<JointLimitBrakeParams>(m, "JointLimitBrakeParams",
+                                     "q-double-dot bounds that brake each joint before its URDF limit "
+                                     "(systems/controllers/joint_limit_brake.h).")
+      .Field("enabled", &JointLimitBrakeParams::enabled)
+      .Field("margin_rad", &JointLimitBrakeParams::margin_rad, "[rad]")
+      .Field("horizon_s", &JointLimitBrakeParams::horizon_s, "[s]");
   ParamsClass<ClfQpParams>(m, "ClfQpParams", "CLF-QP controller (systems/controllers/clf_qp_controller.h).")
       .Field("update_period_s", &ClfQpParams::update_period_s, "[s]")
       .Field("formulation", &ClfQpParams::formulation)
@@ -31,7 +47,11 @@ void BindControllerParams(py::module_& m) {
       .Field("relaxation_weight", &ClfQpParams::relaxation_weight, "[-] p on delta^2 / 2")
       .Field("u_regularization", &ClfQpParams::u_regularization, "[-]")
       .Field("force_band", &ClfQpParams::force_band)
+      .Field("contact", &ClfQpParams::contact)
       .Field("force_band_halfwidth", &ClfQpParams::force_band_halfwidth, "[-] c of Eq. (25)")
+      .Field("force_band_loading_floor_N", &ClfQpParams::force_band_loading_floor_N, "[N]")
+      .Field("force_band_carry_inactive", &ClfQpParams::force_band_carry_inactive)
+      .Field("joint_limit_brake", &ClfQpParams::joint_limit_brake)
       .Field("torque_limits", &ClfQpParams::torque_limits, "[N m]; empty: the model's")
       .Field("resolve_at_events", &ClfQpParams::resolve_at_events);
   py::enum_<QpFailurePolicy>(m, "QpFailurePolicy")
@@ -47,6 +67,7 @@ void BindControllerParams(py::module_& m) {
       .Field("min_normal_force_N", &TaskSpaceQpParams::min_normal_force_N, "[N]")
       .Field("friction_coefficient", &TaskSpaceQpParams::friction_coefficient, "[-] < 0: the model's")
       .Field("friction_margin", &TaskSpaceQpParams::friction_margin, "[-]")
+      .Field("friction_cone_offset_N", &TaskSpaceQpParams::friction_cone_offset_N, "[N] the pyramid's apex")
       .Field("torque_limits", &TaskSpaceQpParams::torque_limits, "[N m]; empty: the model's")
       .Field("resolve_at_events", &TaskSpaceQpParams::resolve_at_events)
       .Field("failure_policy", &TaskSpaceQpParams::failure_policy);

@@ -139,6 +139,17 @@ def test_clf_qp_block_on_the_hybrid_plant(model):
     assert data["plant.com.z"][-1] == pytest.approx(y_d[1], abs=1e-4)
 
 
+def test_clf_qp_contact_rows_from_python_bind_on_the_plant(model):
+    # The CLF-QP's contact wrench parameters set from Python reach its QP: with a friction pyramid of mu = 0.1, far
+    # inside the model's 0.8, the plant's forces sit on that pyramid (as with the task-space QP above).
+    mu = 0.1
+    params = rome.ClfQpParams(contact=rome.ContactWrenchParams(friction_coefficient=mu))
+    data, com0, y_d, diagnostics = run_standing(
+        model, lambda plant, tasks: rome.ClfQpController("ctrl", plant, tasks, params), seconds=4.0)
+    assert diagnostics["qp_failures"] == 0
+    assert check_ground_forces(model, data, mu) > 0.99 * mu
+
+
 def test_contact_blocks_refuse_bad_arguments(model):
     graph = rome.ContactModeGraph.with_double_support("left_foot", "right_foot")
     graph.initial_mode = "no_such_mode"
