@@ -1,6 +1,7 @@
 // Python bindings of the aSLIP of the walking paper (systems/rom/actuated_spring_loaded_inverted_pendulum*.h): its
 // parameters and its hybrid block (double support, left and right stance).
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <pybind11/eigen.h>
@@ -19,18 +20,20 @@ namespace py = pybind11;
 namespace rome::python {
 namespace {
 
-py::dict GaitToDict(const AslipPeriodicGaitPlanner& planner, const AslipPeriodicGait& gait) {
+// An aSLIP plan (periodic gait or transition) as a dict; ground_reactions(p) gives phase p's 4 x N forces [N].
+py::dict AslipPlanToDict(const CollocationResult& collocation, double max_constraint_violation, double mean_height,
+                         const std::function<Eigen::MatrixXd(int)>& ground_reactions) {
   py::dict d;
-  d["success"] = gait.success();
-  d["status"] = std::string(ToString(gait.collocation.nlp.status));
-  d["message"] = gait.collocation.nlp.message;
-  d["iterations"] = gait.collocation.nlp.iterations;
-  d["cost"] = gait.collocation.nlp.cost;
-  d["max_constraint_violation"] = gait.max_constraint_violation;
-  d["mean_height"] = gait.mean_height;
+  d["success"] = collocation.success();
+  d["status"] = std::string(ToString(collocation.nlp.status));
+  d["message"] = collocation.nlp.message;
+  d["iterations"] = collocation.nlp.iterations;
+  d["cost"] = collocation.nlp.cost;
+  d["max_constraint_violation"] = max_constraint_violation;
+  d["mean_height"] = mean_height;
   py::list phases;
-  for (int p = 0; p < static_cast<int>(gait.collocation.phases.size()); ++p) {
-    const CollocationPhaseSolution& s = gait.collocation.phases[p];
+  for (int p = 0; p < static_cast<int>(collocation.phases.size()); ++p) {
+    const CollocationPhaseSolution& s = collocation.phases[p];
     py::dict phase;
     phase["name"] = s.name;
     phase["start_time"] = s.start_time;
@@ -38,8 +41,7 @@ py::dict GaitToDict(const AslipPeriodicGaitPlanner& planner, const AslipPeriodic
     phase["times"] = s.times;
     phase["states"] = s.states;
     phase["inputs"] = s.inputs;
-    phase["ground_reactions"] =
-        gait.GroundReactions(planner.params().aslip, planner.params().step_length, p);  // 4 x N [N]
+    phase["ground_reactions"] = ground_reactions(p);
     phases.append(phase);
   }
   d["phases"] = phases;
@@ -72,39 +74,15 @@ void BindPeriodicGaitPlanner(py::module_& m) {
           "solve",
           [](const AslipPeriodicGaitPlanner& planner, std::uint32_t seed) {
             // The GIL stays held: it serialises the Ipopt solves (Ipopt 3.11 is not thread-safe).
-            return GaitToDict(planner, planner.Solve(seed));
+            const AslipPeriodicGait gait = planner.Solve(seed);
+            return AslipPlanToDict(gait.collocation, gait.max_constraint_violation, gait.mean_height, [&](int p) {
+              return gait.GroundReactions(planner.params().aslip, planner.params().step_length, p);
+            });
           },
           py::arg("seed") = 1,
           "Solves from the random initial guess of `seed` -> dict (success, status, message, iterations, cost, "
           "max_constraint_violation, mean_height, phases: [{name, start_time, duration, times, states (8 x N), "
           "inputs (2 x N), ground_reactions (4 x N: [G_0x, G_0z, G_1x, G_1z] N)}]).");
-}
-
-py::dict TransitionToDict(const AslipTransitionPlanner& planner, const AslipTransitionData& data,
-                          const AslipTransition& transition) {
-  py::dict d;
-  d["success"] = transition.success();
-  d["status"] = std::string(ToString(transition.collocation.nlp.status));
-  d["message"] = transition.collocation.nlp.message;
-  d["iterations"] = transition.collocation.nlp.iterations;
-  d["cost"] = transition.collocation.nlp.cost;
-  d["max_constraint_violation"] = transition.max_constraint_violation;
-  d["mean_height"] = transition.mean_height;
-  py::list phases;
-  for (int p = 0; p < static_cast<int>(transition.collocation.phases.size()); ++p) {
-    const CollocationPhaseSolution& s = transition.collocation.phases[p];
-    py::dict phase;
-    phase["name"] = s.name;
-    phase["start_time"] = s.start_time;
-    phase["duration"] = s.duration;
-    phase["times"] = s.times;
-    phase["states"] = s.states;
-    phase["inputs"] = s.inputs;
-    phase["ground_reactions"] = transition.GroundReactions(planner.params().bounds.aslip, data, p);  // 4 x N [N]
-    phases.append(phase);
-  }
-  d["phases"] = phases;
-  return d;
 }
 
 void BindTransitionPlanner(py::module_& m) {
@@ -149,7 +127,10 @@ void BindTransitionPlanner(py::module_& m) {
           "solve",
           [](const AslipTransitionPlanner& planner, const D& data) {
             // The GIL stays held: it serialises the Ipopt solves (Ipopt 3.11 is not thread-safe).
-            return TransitionToDict(planner, data, FromArguments([&] { return planner.Solve(data); }));
+            const AslipTransition transition = FromArguments([&] { return planner.Solve(data); });
+            return AslipPlanToDict(
+                transition.collocation, transition.max_constraint_violation, transition.mean_height,
+                [&](int p) { return transition.GroundReactions(planner.params().bounds.aslip, data, p); });
           },
           py::arg("data"),
           "-> dict (success, status, message, iterations, cost, max_constraint_violation, mean_height, phases: "
