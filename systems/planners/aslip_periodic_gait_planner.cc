@@ -254,14 +254,7 @@ AslipPeriodicGait AslipPeriodicGaitPlanner::Summarize(CollocationResult result,
   gait.collocation = std::move(result);
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();
   gait.max_constraint_violation = MaxConstraintViolation(*nlp, gait.collocation.nlp.x);
-  double integral = 0.0, total = 0.0;
-  for (const auto& s : gait.collocation.phases) {
-    const int N = static_cast<int>(s.times.size());
-    const double h = s.duration / (N - 1);
-    for (int k = 0; k + 1 < N; ++k) integral += 0.5 * h * (s.states(1, k) + s.states(1, k + 1));
-    total += s.duration;
-  }
-  gait.mean_height = integral / total;
+  gait.mean_height = MeanPlanHeight(gait.collocation);
   return gait;
 }
 
@@ -293,6 +286,17 @@ Eigen::MatrixXd AslipPeriodicGait::GroundReactions(const ActuatedSpringLoadedInv
     }
   }
   return G;
+}
+
+double MeanPlanHeight(const CollocationResult& plan) {
+  double integral = 0.0, total = 0.0;
+  for (const auto& s : plan.phases) {
+    const int n = static_cast<int>(s.times.size());
+    const double h = s.duration / (n - 1);
+    for (int k = 0; k + 1 < n; ++k) integral += 0.5 * h * (s.states(1, k) + s.states(1, k + 1));
+    total += s.duration;
+  }
+  return integral / total;
 }
 
 double MaxConstraintViolation(NlpProblem& nlp, const Eigen::VectorXd& z) {

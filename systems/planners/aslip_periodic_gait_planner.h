@@ -103,6 +103,10 @@ class AslipPeriodicGaitPlanner {
 /// ‖violation‖_∞ of g_lo ≤ g(z) ≤ g_hi and z_lo ≤ z ≤ z_hi.
 double MaxConstraintViolation(NlpProblem& nlp, const Eigen::VectorXd& z);
 
+/// [m] Time average of the COM height (state row 1) over all phases of a plan, by the trapezoid rule on each
+/// phase's uniform grid: the H-LIP z0 of the periodic gait and of the transition (spec §2.2, §2.3).
+double MeanPlanHeight(const CollocationResult& plan);
+
 /// The model and bounds of the shared aSLIP NLP parameters, appended to a cache key.
 void AddToCacheKey(const AslipPeriodicGaitParams& params, PlanCacheKey* key);
 

@@ -397,14 +397,7 @@ AslipTransition AslipTransitionPlanner::Solve(const AslipTransitionData& data, c
   if (cache != nullptr && !hit && out.success()) WarnIfNotCached(cache->Store(key, out.collocation.nlp.x));
   std::unique_ptr<NlpProblem> nlp = problem.BuildNlp();
   out.max_constraint_violation = MaxConstraintViolation(*nlp, out.collocation.nlp.x);
-  double integral = 0.0, total = 0.0;
-  for (const auto& s : out.collocation.phases) {
-    const int n = static_cast<int>(s.times.size());
-    const double h = s.duration / (n - 1);
-    for (int k = 0; k + 1 < n; ++k) integral += 0.5 * h * (s.states(1, k) + s.states(1, k + 1));
-    total += s.duration;
-  }
-  out.mean_height = integral / total;
+  out.mean_height = MeanPlanHeight(out.collocation);
   if (cache != nullptr && !hit && RepeatableFailure(static_cast<int>(out.collocation.nlp.status))) {
     Eigen::VectorXd f(3);
     f << static_cast<double>(out.collocation.nlp.status), out.collocation.nlp.iterations, out.max_constraint_violation;

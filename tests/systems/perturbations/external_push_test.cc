@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "framework/diagram.h"
 #include "framework/primitives.h"
@@ -24,6 +25,24 @@ std::shared_ptr<const MultibodyModel> Amber() {
       MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
 }
 
+// Adds the push and a zero-torque source next to `plant` (named "plant") and connects them.
+void AddPushAndZeroTorque(DiagramBuilder& b, const std::shared_ptr<const MultibodyModel>& model,
+                          const ExternalPushParams& push) {
+  b.AddSystem(std::make_unique<ExternalPush>("push", model, push));
+  b.AddSystem(std::make_unique<ConstantVectorSource>("zero_torque", Eigen::VectorXd::Zero(model->nu())));
+  b.Connect("plant", "state", "push", "state");
+  b.Connect("push", "tau_external", "plant", "tau_external");
+  b.Connect("zero_torque", "y", "plant", "u");
+}
+
+// The nominal pose 10 m up, tumbling so that the pushed point moves.
+std::pair<Eigen::VectorXd, Eigen::VectorXd> TumblingInFlight(const MultibodyModel& model) {
+  Eigen::VectorXd q = model.q_nominal(), v = Eigen::VectorXd::Zero(model.nv());
+  q[1] += 10.0;
+  v[0] = 0.3, v[1] = 0.5, v[2] = -0.4, v[4] = 1.0;
+  return {q, v};
+}
+
 // AMBER in flight 10 m up, passive (u = 0), with a push on its left shin 5 cm below the link origin. Returns the
 // change of the linear momentum m (v_com(T) - v_com(0)) over [0, T].
 Eigen::Vector3d MomentumChange(const std::shared_ptr<const MultibodyModel>& model, const ExternalPushParams& push,
@@ -33,19 +52,13 @@ Eigen::Vector3d MomentumChange(const std::shared_ptr<const MultibodyModel>& mode
   DiagramBuilder b;
   const auto* plant = b.AddSystem(std::make_unique<HybridContactPlant>(
       "plant", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), pp));
-  b.AddSystem(std::make_unique<ExternalPush>("push", model, push));
-  b.AddSystem(std::make_unique<ConstantVectorSource>("zero_torque", Eigen::VectorXd::Zero(model->nu())));
-  b.Connect("plant", "state", "push", "state");
-  b.Connect("push", "tau_external", "plant", "tau_external");
-  b.Connect("zero_torque", "y", "plant", "u");
+  AddPushAndZeroTorque(b, model, push);
   auto diagram = b.Build("push_in_flight");
   SimulatorConfig config;
   config.relative_tolerance = 1e-11;
   config.absolute_tolerance = 1e-11;
   Simulator sim(*diagram, config);
-  Eigen::VectorXd q = model->q_nominal(), v = Eigen::VectorXd::Zero(model->nv());
-  q[1] += 10.0;
-  v[0] = 0.3, v[1] = 0.5, v[2] = -0.4, v[4] = 1.0;  // tumbling, so the pushed point moves
+  const auto [q, v] = TumblingInFlight(*model);
   plant->SetState(diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context()), q, v, "flight");
   MultibodyWorkspace ws(*model);
   const Eigen::Vector3d v0 = CalcComVelocity(*model, ws, q, v);
@@ -57,14 +70,20 @@ Eigen::Vector3d MomentumChange(const std::shared_ptr<const MultibodyModel>& mode
   return model->total_mass() * (v1 - v0);
 }
 
-TEST(ExternalPush, ImpulseChangesTheLinearMomentumOfAFlyingRobotByExactlyJ) {
-  auto model = Amber();
+// 60 N forward and 25 N up for 50 ms on the left shin, 5 cm below its origin, from t = 0.1 s.
+ExternalPushParams ShinPush() {
   ExternalPushParams push;
   push.body = "left_shin";
   push.point_in_body_m = Eigen::Vector3d(0.0, 0.0, -0.05);
   push.start_time_s = 0.1;
   push.duration_s = 0.05;
   push.force_N = Eigen::Vector3d(60.0, 0.0, 25.0);
+  return push;
+}
+
+TEST(ExternalPush, ImpulseChangesTheLinearMomentumOfAFlyingRobotByExactlyJ) {
+  auto model = Amber();
+  ExternalPushParams push = ShinPush();
   const double T = 0.3, m = model->total_mass();
   // Closed form: Δp = m g T + F duration (the push ends before T). Planar model: y stays 0.
   const Eigen::Vector3d expected = m * model->gravity() * T + push.force_N * push.duration_s;
@@ -92,16 +111,10 @@ Eigen::Vector3d BulletMomentumChange(const std::shared_ptr<const MultibodyModel>
   DiagramBuilder b;
   const auto* plant = b.AddSystem(std::make_unique<BulletWorldPlant>(
       "plant", model, ContactModeGraph::Hopping("left_foot", "right_foot"), Terrain::Flat(), pp));
-  b.AddSystem(std::make_unique<ExternalPush>("push", model, push));
-  b.AddSystem(std::make_unique<ConstantVectorSource>("zero_torque", Eigen::VectorXd::Zero(model->nu())));
-  b.Connect("plant", "state", "push", "state");
-  b.Connect("push", "tau_external", "plant", "tau_external");
-  b.Connect("zero_torque", "y", "plant", "u");
+  AddPushAndZeroTorque(b, model, push);
   auto diagram = b.Build("bullet_push_in_flight");
   Simulator sim(*diagram, SimulatorConfig{});
-  Eigen::VectorXd q = model->q_nominal(), v = Eigen::VectorXd::Zero(model->nv());
-  q[1] += 10.0;
-  v[0] = 0.3, v[1] = 0.5, v[2] = -0.4, v[4] = 1.0;
+  const auto [q, v] = TumblingInFlight(*model);
   plant->SetState(diagram->GetMutableSubsystemContext(*plant, sim.get_mutable_context()), q, v, "flight");
   MultibodyWorkspace ws(*model);
   const Eigen::Vector3d v0 = CalcComVelocity(*model, ws, q, v);
@@ -114,12 +127,7 @@ Eigen::Vector3d BulletMomentumChange(const std::shared_ptr<const MultibodyModel>
 
 TEST(ExternalPush, OnTheBulletPlantTheImpulseChangesTheLinearMomentumByJ) {
   auto model = Amber();
-  ExternalPushParams push;
-  push.body = "left_shin";
-  push.point_in_body_m = Eigen::Vector3d(0.0, 0.0, -0.05);
-  push.start_time_s = 0.1;
-  push.duration_s = 0.05;
-  push.force_N = Eigen::Vector3d(60.0, 0.0, 25.0);
+  ExternalPushParams push = ShinPush();
   const double m = model->total_mass();
   const Eigen::Vector3d J = push.force_N * push.duration_s;
   // Compared with the same flight unpushed, so that gravity's impulse (m g per step, whatever the plant's step
