@@ -23,9 +23,10 @@ namespace {
 
 using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1>;
 
-double Reintegrate(const ActuatedSpringLoadedInvertedPendulumParams& p, const AslipTransitionData& d,
-                   const AslipTransition& t) {
-  Vec x = t.collocation.phases[0].states.col(0);
+// Open-loop RK4 re-integration of both phases of `t` from x0 (100 substeps per interval, inputs linear between nodes):
+// f(contact, y, u) is ẏ; returns the largest |error(x, node state)| at the nodes.
+template <class Dynamics, class Error>
+double ReintegrateRk4(const AslipTransitionData& d, const AslipTransition& t, Vec x, Dynamics f, Error error) {
   double worst = 0.0;
   for (int ph = 0; ph < 2; ++ph) {
     const CollocationPhaseSolution& s = t.collocation.phases[ph];
@@ -35,18 +36,29 @@ double Reintegrate(const ActuatedSpringLoadedInvertedPendulumParams& p, const As
     for (int k = 0; k + 1 < N; ++k) {
       const int sub = 100;
       const double dt = h / sub;
+      auto u = [&](double tau) { return Vec(s.inputs.col(k) + (s.inputs.col(k + 1) - s.inputs.col(k)) * tau / h); };
+      auto g = [&](const Vec& y, double tau) { return Vec(f(c, y, u(tau))); };
       for (int j = 0; j < sub; ++j) {
-        auto u = [&](double tau) { return Vec(s.inputs.col(k) + (s.inputs.col(k + 1) - s.inputs.col(k)) * tau / h); };
-        auto f = [&](const Vec& y, double tau) { return Vec(AslipDynamics<double>(p, c, y, u(tau))); };
         const double tt = j * dt;
-        const Vec k1 = f(x, tt), k2 = f(x + 0.5 * dt * k1, tt + 0.5 * dt), k3 = f(x + 0.5 * dt * k2, tt + 0.5 * dt),
-                  k4 = f(x + dt * k3, tt + dt);
+        const Vec k1 = g(x, tt), k2 = g(x + 0.5 * dt * k1, tt + 0.5 * dt), k3 = g(x + 0.5 * dt * k2, tt + 0.5 * dt),
+                  k4 = g(x + dt * k3, tt + dt);
         x += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
       }
-      worst = std::max(worst, (x - s.states.col(k + 1)).head(2).cwiseAbs().maxCoeff());
+      worst = std::max(worst, error(x, Vec(s.states.col(k + 1))));
     }
   }
   return worst;
+}
+
+// The sagittal aSLIP re-integrated: the worst node error in x and z.
+double Reintegrate(const ActuatedSpringLoadedInvertedPendulumParams& p, const AslipTransitionData& d,
+                   const AslipTransition& t) {
+  return ReintegrateRk4(
+      d, t, t.collocation.phases[0].states.col(0),
+      [&](const ActuatedSpringLoadedInvertedPendulumContact& c, const Vec& y, const Vec& u) {
+        return Vec(AslipDynamics<double>(p, c, y, u));
+      },
+      [](const Vec& x, const Vec& node) { return (x - node).head(2).cwiseAbs().maxCoeff(); });
 }
 
 void CheckTransition(const AslipTransitionPlanner& planner, const AslipTransitionData& d, const AslipTransition& t) {
@@ -305,19 +317,9 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
   }
   // Re-integration (RK4, inputs linear between nodes) of the 3D point mass: sagittal aSLIP, and laterally each leg's
   // GRF points from its CoP (y_i + y_cop,i) to the mass, G_y = G_z (y − y_i − y_cop,i)/z with y_cop,i = −u_x,i/G_z.
-  Vec x = dsp.states.col(0);
-  double worst_y = 0.0;
-  for (int ph = 0; ph < 2; ++ph) {
-    const CollocationPhaseSolution& s = t.collocation.phases[ph];
-    const ActuatedSpringLoadedInvertedPendulumContact c = AslipTransitionPlanner::PhaseContact(d, ph);
-    const int N = static_cast<int>(s.times.size());
-    const double h = s.duration / (N - 1);
-    for (int k = 0; k + 1 < N; ++k) {
-      const int sub = 100;
-      const double dt = h / sub;
-      auto u = [&](double tau) { return Vec(s.inputs.col(k) + (s.inputs.col(k + 1) - s.inputs.col(k)) * tau / h); };
-      auto f = [&](const Vec& y, double tau) {
-        const Vec ui = u(tau);
+  const double worst_y = ReintegrateRk4(
+      d, t, dsp.states.col(0),
+      [&](const ActuatedSpringLoadedInvertedPendulumContact& c, const Vec& y, const Vec& ui) {
         Vec out(10);
         out.head(8) = AslipDynamics<double>(p, c, Vec(y.head(8)), Vec(ui.head(4)));
         double fy = 0.0;
@@ -331,16 +333,8 @@ TEST(AslipTransitionPlanner, StepStanceToGaitAWithTheLateralMotion) {
         out(8) = y(9);
         out(9) = fy / p.mass;
         return out;
-      };
-      for (int j = 0; j < sub; ++j) {
-        const double tt = j * dt;
-        const Vec k1 = f(x, tt), k2 = f(x + 0.5 * dt * k1, tt + 0.5 * dt), k3 = f(x + 0.5 * dt * k2, tt + 0.5 * dt),
-                  k4 = f(x + dt * k3, tt + dt);
-        x += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-      }
-      worst_y = std::max(worst_y, std::abs(x(8) - s.states(8, k + 1)));
-    }
-  }
+      },
+      [](const Vec& x, const Vec& node) { return std::abs(x(8) - node(8)); });
   // Stated bound: y within 2 cm over the open-loop 1.4 s (trapezoid defects, amplified by the SSP's divergence).
   EXPECT_LT(worst_y, 2e-2);
   std::printf("T_DSP %.3f s, T_SSP %.3f s, %d iterations, %.0f ms, lateral re-integration %.2g m\n", dsp.duration,
