@@ -69,8 +69,10 @@ void ReportPlanTorqueNeed(const CommandLine& cli, const MultibodyModel& model, c
                                 "'");
   if (mode == "off") return;
   if (kind != "flat" && kind != "stairs-up" && kind != "stairs-down")
-    throw std::invalid_argument("stepping_stones: --plan-check report needs --terrain flat, stairs-up or stairs-down "
-                                "(a periodic course), got '" + Excerpt(kind, 40) + "'");
+    throw std::invalid_argument(
+        "stepping_stones: --plan-check report needs --terrain flat, stairs-up or stairs-down "
+        "(a periodic course), got '" +
+        Excerpt(kind, 40) + "'");
   for (const ContactInfo& c : model.contacts())
     if (c.type != ContactType::kPoint)
       throw std::invalid_argument("stepping_stones: --plan-check report needs point feet; robot '" + model.name() +
@@ -88,10 +90,11 @@ void ReportPlanTorqueNeed(const CommandLine& cli, const MultibodyModel& model, c
             << (need.on_stance_leg ? "stance " : "swing ") << model.actuators()[need.actuator].joint << " (limit "
             << need.limit_Nm << " N m) at " << need.time_of_max_s << " s of " << need.step_duration_s
             << " s; |tau|/limit at most " << need.max_stance_torque_ratio << " (stance leg), "
-            << need.max_swing_torque_ratio << " (swing leg); torque beyond the limits " << need.stance_excess_impulse_Nms
-            << " N m s (stance), " << need.swing_excess_impulse_Nms << " N m s (swing); a stance joint over its limit "
-            << need.stance_over_limit_fraction << " of the step; |F_x|/F_z at most " << need.max_friction_ratio
-            << ", F_z at least " << need.min_normal_force_N << " N; planned speed " << need.mean_speed_mps << " m/s\n";
+            << need.max_swing_torque_ratio << " (swing leg); torque beyond the limits "
+            << need.stance_excess_impulse_Nms << " N m s (stance), " << need.swing_excess_impulse_Nms
+            << " N m s (swing); a stance joint over its limit " << need.stance_over_limit_fraction
+            << " of the step; |F_x|/F_z at most " << need.max_friction_ratio << ", F_z at least "
+            << need.min_normal_force_N << " N; planned speed " << need.mean_speed_mps << " m/s\n";
 }
 
 }  // namespace
