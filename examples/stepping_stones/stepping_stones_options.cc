@@ -114,7 +114,8 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
           "energy", "0.5",
           "E* [m^2/s^2], desired orbital energy (paper: 0.5). Measured on flat 0.8 m steps: AMBER walks at 0.62 "
           "(1.06 m/s) and slips at 0.8 and 1.0 (with --epsilon 0.55 it walks at 1.0, 1.17 m/s); planar Cassie walks "
-          "at 1.5 (1.60 m/s). AMBER walks 1.54 m/s on stairs down (0.8, -0.2) m at 0.5 (docs/stepping-stones.md)")
+          "at 1.5 (1.60 m/s). AMBER walks 1.54 m/s on stairs down (0.8, -0.2) m at 0.5 and 1.66 m/s on flat 0.65 m "
+          "steps at 2.5 (docs/stepping-stones.md)")
       .Option("plan-check", "off",
               "off | report: before a periodic run (flat, stairs-up, stairs-down; point feet) print the joint "
               "torques and the contact force the plan's inverse dynamics needs (a measurement; nothing is refused)")
