@@ -112,7 +112,7 @@ struct Tasks {
 
 class PlanKinematics {
  public:
-  PlanKinematics(const MultibodyModel& model) : model_(model), ws_(model), J3_(3, model.nv()) {
+  explicit PlanKinematics(const MultibodyModel& model) : model_(model), ws_(model), J3_(3, model.nv()) {
     for (int side = 0; side < 2; ++side) {
       const ContactInfo& c = model.contacts()[model.ContactIndex(side == 0 ? "right_foot" : "left_foot")];
       if (c.type != ContactType::kPoint)
