@@ -1,9 +1,11 @@
 #include "examples/stepping_stones/stepping_stones_options.h"
 
 #include "diagrams/stepping_stones/stepping_stones_feasibility.h"
+#include "diagrams/stepping_stones/stepping_stones_torque_need.h"
 #include "examples/common/perturbation_options.h"
 #include "framework/text.h"
 
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
@@ -56,6 +58,45 @@ Terrain MakeTerrain(const CommandLine& cli, int steps, double default_stone_leng
   return Terrain::FromCsv(kind, stone_length);
 }
 
+// --plan-check report: what the periodic plan asks of the actuators and of friction (stepping_stones_torque_need.h)
+// on flat and stairs terrains with point feet, printed before the run. A measurement only: no threshold on it separates
+// the gaits that walk from those that fail (docs/design-notes.md), so nothing is refused on it.
+void ReportPlanTorqueNeed(const CommandLine& cli, const MultibodyModel& model, const Terrain& terrain,
+                          const SteppingStonesDiagramParams& params) {
+  const std::string mode = cli.Get("plan-check"), kind = cli.Get("terrain");
+  if (mode != "off" && mode != "report")
+    throw std::invalid_argument("stepping_stones: --plan-check must be 'off' or 'report', got '" + Excerpt(mode, 40) +
+                                "'");
+  if (mode == "off") return;
+  if (kind != "flat" && kind != "stairs-up" && kind != "stairs-down")
+    throw std::invalid_argument(
+        "stepping_stones: --plan-check report needs --terrain flat, stairs-up or stairs-down "
+        "(a periodic course), got '" +
+        Excerpt(kind, 40) + "'");
+  for (const ContactInfo& c : model.contacts())
+    if (c.type != ContactType::kPoint)
+      throw std::invalid_argument("stepping_stones: --plan-check report needs point feet; robot '" + model.name() +
+                                  "' has a " + ToString(c.type) + " contact '" + c.name + "'");
+  const auto& stones = terrain.stones();
+  const double l = stones[1].x_center_m - stones[0].x_center_m, h = stones[1].top_height_m - stones[0].top_height_m;
+  PlanTorqueNeed need;
+  try {
+    need = CalcPeriodicPlanTorqueNeed(model, l, h, stones[0].length_m, params);
+  } catch (const std::invalid_argument& e) {  // the plan itself has no posture or solution: reported, not refused
+    std::cout << "plan check: " << e.what() << "\n";
+    return;
+  }
+  std::cout << "plan check: the plan needs " << need.torque_Nm << " N m at the "
+            << (need.on_stance_leg ? "stance " : "swing ") << model.actuators()[need.actuator].joint << " (limit "
+            << need.limit_Nm << " N m) at " << need.time_of_max_s << " s of " << need.step_duration_s
+            << " s; |tau|/limit at most " << need.max_stance_torque_ratio << " (stance leg), "
+            << need.max_swing_torque_ratio << " (swing leg); torque beyond the limits "
+            << need.stance_excess_impulse_Nms << " N m s (stance), " << need.swing_excess_impulse_Nms
+            << " N m s (swing); a stance joint over its limit " << need.stance_over_limit_fraction
+            << " of the step; |F_x|/F_z at most " << need.max_friction_ratio << ", F_z at least "
+            << need.min_normal_force_N << " N; planned speed " << need.mean_speed_mps << " m/s\n";
+}
+
 }  // namespace
 
 void DeclareSteppingStonesOptions(CommandLine& cli) {
@@ -73,7 +114,11 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
           "energy", "0.5",
           "E* [m^2/s^2], desired orbital energy (paper: 0.5). Measured on flat 0.8 m steps: AMBER walks at 0.62 "
           "(1.06 m/s) and slips at 0.8 and 1.0 (with --epsilon 0.55 it walks at 1.0, 1.17 m/s); planar Cassie walks "
-          "at 1.5 (1.60 m/s). AMBER walks 1.54 m/s on stairs down (0.8, -0.2) m at 0.5 (docs/stepping-stones.md)")
+          "at 1.5 (1.60 m/s). AMBER walks 1.54 m/s on stairs down (0.8, -0.2) m at 0.5 and 1.66 m/s on flat 0.65 m "
+          "steps at 2.5 (docs/stepping-stones.md)")
+      .Option("plan-check", "off",
+              "off | report: before a periodic run (flat, stairs-up, stairs-down; point feet) print the joint "
+              "torques and the contact force the plan's inverse dynamics needs (a measurement; nothing is refused)")
       .Option("epsilon", "0.6", "epsilon [-], desired pre-impact COM position as a fraction of the step (paper: 0.6)")
       .Option("swing-clearance", "0.1", "[m] z_sw^max above the highest of the start, stance and next stones")
       .Option("swing-apex", "clear",
@@ -289,6 +334,7 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
         (cli.Get("stone-length") == "default" ? "" : " --stone-length " + Excerpt(cli.Get("stone-length"), 40)) + ": " +
         what.substr(9));
   }
+  ReportPlanTorqueNeed(cli, model, terrain, params);
   return {params, terrain, controller, ParsePlantKind(cli.Get("plant"), "stepping_stones: --plant"), steps};
 }
 

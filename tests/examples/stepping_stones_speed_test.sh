@@ -3,7 +3,10 @@
 # >= 1.5 m/s with every sample of the plant's contact forces unilateral and inside the friction cone (the example
 # counts the samples that are not: "violations 0 of N samples"; a slip ends the run with exit 3):
 #  * AMBER on stairs down, 0.8 m apart and 0.2 m lower (the paper's longest step and deepest drop), E* = 0.5;
+#  * AMBER on flat ground, 0.65 m steps, E* = 2.5 (1.66 m/s measured);
 #  * planar Cassie on flat 0.8 m steps, E* = 1.5.
+# And --plan-check (the plan's inverse dynamics, printed before the run): a bad value or a non-periodic course is bad
+# input (exit 1, one line naming the option and the value).
 # usage: stepping_stones_speed_test.sh STEPPING_STONES_BIN WORK_DIR
 set -uo pipefail
 bin="$1"; work="$2"
@@ -26,6 +29,22 @@ walk() {  # walk NAME ARGS...: 30 steps at >= 1.5 m/s, no contact violation
 }
 
 walk amber_stairs_down --terrain stairs-down --step-length 0.8 --step-height -0.2 --energy 0.5
+walk amber_flat --terrain flat --step-length 0.65 --energy 2.5 --plan-check report
+grep -q '^plan check: the plan needs [0-9.]* N m at the \(stance\|swing\) [a-z_]* (limit 100 N m)' amber_flat.out ||
+  { echo "FAIL: amber_flat printed no plan check line:"; grep 'plan check' amber_flat.out; fail=1; }
+
+refused() {  # refused NAME PATTERN ARGS...: exit 1 with one error line matching PATTERN
+  local name="$1" pattern="$2"; shift 2
+  "$bin" "$@" --steps 2 > "$name.out" 2> "$name.err"
+  local rc=$?
+  [ "$rc" = 1 ] || { echo "FAIL: $name exited $rc, expected 1"; fail=1; }
+  [ "$(wc -l < "$name.err")" = 1 ] && grep -q "$pattern" "$name.err" ||
+    { echo "FAIL: $name: expected one line matching '$pattern':"; cat "$name.err"; fail=1; }
+}
+refused plan_check_value "plan-check must be 'off' or 'report', got 'on'" --terrain flat --plan-check on
+refused plan_check_random "plan-check report needs --terrain flat, stairs-up or stairs-down.*got 'random'" \
+  --terrain random --plan-check report
+
 walk cassie_flat --robot robots/cassie_planar/cassie_planar.rome.json --terrain flat --step-length 0.8 --energy 1.5
 
 [ "$fail" = 0 ] && echo "stepping-stones speed:$summary"
