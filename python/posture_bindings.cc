@@ -91,9 +91,8 @@ void BindPreImpactPosture(py::module_& m) {
       .def_property_readonly("params", &PreImpactPostureOptimizer::params)
       .def(
           "solve",
-          [](PreImpactPostureOptimizer& o, const R& request) {
-            return PostureToDict(FromArguments([&] { return o.Solve(request); }));
-          },
+          // A malformed request is std::invalid_argument (ValueError); an unreachable stone is success = False.
+          [](PreImpactPostureOptimizer& o, const R& request) { return PostureToDict(o.Solve(request)); },
           py::arg("request"))
       .def("reset", &PreImpactPostureOptimizer::Reset, "Forgets the previous solutions (warm starts, fallbacks).");
 }
