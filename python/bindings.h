@@ -100,6 +100,8 @@ void RegisterTypedValue(ToPython to_python, std::function<T(const pybind11::hand
 /// The converter of typed port `port` of `system`; a ValueError naming them if its type has none (or, with
 /// `for_fixing`, none from Python).
 const TypedValueConverter& TypedConverterFor(const System& system, const PortInfo& port, bool for_fixing);
+/// `value` as the C++ value of typed input `port` of `system`; a ValueError naming both if it is of another kind.
+std::any TypedValueFromPython(const System& system, const PortInfo& port, const pybind11::handle& value);
 
 /// A number for an error message: up to 6 significant digits, as std::ostream prints it (nan, inf, -0.25, 1e+06).
 std::string Number(double value);

@@ -51,25 +51,25 @@ void FixInputValue(const System& system, Context& context, int index, const py::
   if (leaf == nullptr)
     throw py::value_error("fix_input_port: typed input port '" + port.name + "' of diagram '" + system.name() +
                           "': fix it on the leaf (Diagram.get_subsystem_context) or with DiagramBuilder.fix_input");
-  leaf->FixAbstractInputPort(context, index, TypedConverterFor(system, port, true).from_python(value));
+  leaf->FixAbstractInputPort(context, index, TypedValueFromPython(system, port, value));
 }
 
 /// Typed values bound here: the int and double scalars (a plant's contact mode, a mode index).
 void RegisterScalarTypedValues() {
-  RegisterTypedValue<int>(
-      [](int v) { return py::int_(v); }, std::function<int(const py::handle&)>([](const py::handle& h) {
-        if (!py::isinstance<py::int_>(h))
-          throw py::value_error("typed int port: expected an int, got " + std::string(py::str(py::repr(h))));
-        return h.cast<int>();
-      }));
-  RegisterTypedValue<double>(
-      [](double v) { return py::float_(v); }, std::function<double(const py::handle&)>([](const py::handle& h) {
-        try {
-          return h.cast<double>();
-        } catch (const py::cast_error&) {
-          throw py::value_error("typed double port: expected a number, got " + std::string(py::str(py::repr(h))));
-        }
-      }));
+  RegisterTypedValue<int>([](int v) { return py::int_(v); },
+                          std::function<int(const py::handle&)>([](const py::handle& h) {
+                            if (!PyIndex_Check(h.ptr()))  // a Python or numpy integer, not a float or a string
+                              throw py::value_error("expected an int, got " + std::string(py::str(py::repr(h))));
+                            return py::int_(py::reinterpret_borrow<py::object>(h)).cast<int>();
+                          }));
+  RegisterTypedValue<double>([](double v) { return py::float_(v); },
+                             std::function<double(const py::handle&)>([](const py::handle& h) {
+                               try {
+                                 return h.cast<double>();
+                               } catch (const py::cast_error&) {
+                                 throw py::value_error("expected a number, got " + std::string(py::str(py::repr(h))));
+                               }
+                             }));
 }
 
 std::vector<std::string> PortNames(const System& system, bool input) {
@@ -223,7 +223,7 @@ void BindBuilder(py::module_& m) {
             if (target != nullptr && target->HasInputPort(port)) {
               const PortInfo& info = target->input_port(target->GetInputPortIndex(port));
               if (!info.is_vector()) {
-                b.FixAbstractInput(system, port, TypedConverterFor(*target, info, true).from_python(value));
+                b.FixAbstractInput(system, port, TypedValueFromPython(*target, info, value));
                 return;
               }
             }

@@ -45,6 +45,15 @@ const TypedValueConverter& TypedConverterFor(const System& system, const PortInf
   return found->second;
 }
 
+std::any TypedValueFromPython(const System& system, const PortInfo& port, const py::handle& value) {
+  const TypedValueConverter& converter = TypedConverterFor(system, port, true);
+  try {
+    return converter.from_python(value);
+  } catch (const py::value_error& e) {
+    throw py::value_error("input port '" + port.name + "' of system '" + system.name() + "': " + e.what());
+  }
+}
+
 void SystemDeleter::operator()(System* system) const {
   {
     std::lock_guard<std::mutex> lock(adopted_mutex);

@@ -118,7 +118,7 @@ void BindStepOutputParameters(py::module_& m) {
                             return h.cast<S>();
                           } catch (const py::cast_error&) {
                             throw py::value_error(
-                                "typed StepOutputParameters port: expected a "
+                                "expected a "
                                 "rome.StepOutputParameters, got " +
                                 std::string(py::str(py::repr(h))));
                           }

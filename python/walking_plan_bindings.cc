@@ -63,7 +63,7 @@ void BindWalkingPlan(py::module_& m) {
                                         return h.cast<WalkingDomain>();
                                       } catch (const py::cast_error&) {
                                         throw py::value_error(
-                                            "typed WalkingDomain port: expected a "
+                                            "expected a "
                                             "rome.WalkingDomain, got " +
                                             std::string(py::str(py::repr(h))));
                                       }
