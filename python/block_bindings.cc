@@ -39,6 +39,46 @@ void BindControllerParams(py::module_& m) {
       .Field("enabled", &JointLimitBrakeParams::enabled)
       .Field("margin_rad", &JointLimitBrakeParams::margin_rad, "[rad]")
       .Field("horizon_s", &JointLimitBrakeParams::horizon_s, "[s]");
+  py::enum_<TorqueRegularization>(m, "TorqueRegularization")
+      .value("uniform", TorqueRegularization::kUniform)
+      .value("inverse_joint_inertia", TorqueRegularization::kInverseJointInertia);
+  ParamsClass<ConstrainedDynamicsParameters>(
+      m, "ConstrainedDynamicsParameters", "Contact/loop-closure stabilisation (systems/multibody/contact_dynamics.h).")
+      .Field("baumgarte_alpha_per_s", &ConstrainedDynamicsParameters::baumgarte_alpha_per_s, "[1/s]")
+      .Field("baumgarte_beta_per_s", &ConstrainedDynamicsParameters::baumgarte_beta_per_s, "[1/s]")
+      .Field("regularization", &ConstrainedDynamicsParameters::regularization, "[-] relative Tikhonov term");
+  ParamsClass<QpSettings>(m, "QpSettings", "DenseQpSolver tolerances (solvers/qp/dense_qp_solver.h).")
+      .Field("max_iterations", &QpSettings::max_iterations)
+      .Field("feasibility_tolerance", &QpSettings::feasibility_tolerance, "[unit of each row]")
+      .Field("linear_dependence_tolerance", &QpSettings::linear_dependence_tolerance, "[-]")
+      .Field("regularization", &QpSettings::regularization, "[unit of H]")
+      .Field("proximal_tolerance", &QpSettings::proximal_tolerance, "[unit of g]")
+      .Field("max_proximal_iterations", &QpSettings::max_proximal_iterations)
+      .Field("infinity", &QpSettings::infinity)
+      .Field("warm_start", &QpSettings::warm_start)
+      .Field("hot_start", &QpSettings::hot_start);
+  py::class_<EventTrigger>(m, "EventTrigger",
+                           "Which guard events run an event update: every guard (no names) or the named (system, "
+                           "guard) pairs; a guard ending in '*' matches a prefix (framework/system.h).")
+      .def(py::init([](const std::vector<std::pair<std::string, std::string>>& guards) {
+             EventTrigger t;
+             for (const auto& [system, guard] : guards) t.guards.push_back({system, guard});
+             return t;
+           }),
+           py::arg("guards") = std::vector<std::pair<std::string, std::string>>{})
+      .def_property_readonly("guards",
+                             [](const EventTrigger& t) {
+                               std::vector<std::pair<std::string, std::string>> g;
+                               for (const auto& name : t.guards) g.emplace_back(name.system, name.guard);
+                               return g;
+                             })
+      .def("__repr__", [](const EventTrigger& t) {
+        if (t.any()) return std::string("EventTrigger(any guard)");
+        std::string text = "EventTrigger([";
+        for (size_t i = 0; i < t.guards.size(); ++i)
+          text += (i ? ", " : "") + ("('" + t.guards[i].system + "', '" + t.guards[i].guard + "')");
+        return text + "])";
+      });
   ParamsClass<ClfQpParams>(m, "ClfQpParams", "CLF-QP controller (systems/controllers/clf_qp_controller.h).")
       .Field("update_period_s", &ClfQpParams::update_period_s, "[s]")
       .Field("formulation", &ClfQpParams::formulation)
@@ -53,7 +93,19 @@ void BindControllerParams(py::module_& m) {
       .Field("force_band_carry_inactive", &ClfQpParams::force_band_carry_inactive)
       .Field("joint_limit_brake", &ClfQpParams::joint_limit_brake)
       .Field("torque_limits", &ClfQpParams::torque_limits, "[N m]; empty: the model's")
-      .Field("resolve_at_events", &ClfQpParams::resolve_at_events);
+      .Field("resolve_at_events", &ClfQpParams::resolve_at_events)
+      .Field("u_regularization_kind", &ClfQpParams::u_regularization_kind)
+      .Field("u_regularization_weights", &ClfQpParams::u_regularization_weights, "[-] per actuator, > 0; empty: 1")
+      .Field("u_regularization_modes", &ClfQpParams::u_regularization_modes, "empty: every mode")
+      .Field("force_band_loading_fall_tolerance_N", &ClfQpParams::force_band_loading_fall_tolerance_N, "[N]")
+      .Field("zero_torque_in_contact", &ClfQpParams::zero_torque_in_contact, "[(contact, joint)]: u = 0 in contact")
+      .Field("contact_stabilization", &ClfQpParams::contact_stabilization)
+      .Field("resolve_at", &ClfQpParams::resolve_at)
+      .Field("qp", &ClfQpParams::qp)
+      .Field("cost_only_outputs", &ClfQpParams::cost_only_outputs, "names of outputs kept out of the RES-CLF")
+      .Field("predict_hold_drift", &ClfQpParams::predict_hold_drift)
+      .Field("cost_pd_feedback", &ClfQpParams::cost_pd_feedback)
+      .Field("clf_active_tolerance", &ClfQpParams::clf_active_tolerance, "[-]");
   py::enum_<QpFailurePolicy>(m, "QpFailurePolicy")
       .value("relax_contact_forces", QpFailurePolicy::kRelaxContactForces)
       .value("hold_previous", QpFailurePolicy::kHoldPrevious)

@@ -127,7 +127,25 @@ void BindBulletWorldPlant(py::module_& m) {
       .Field("restitution", &P::restitution)
       .Field("min_base_height_m", &P::min_base_height_m, "[m]")
       .Field("saturate_torques", &P::saturate_torques)
-      .Field("enable_joint_limits", &P::enable_joint_limits);
+      .Field("enable_joint_limits", &P::enable_joint_limits)
+      .Field("update_offset_s", &P::update_offset_s, "[s] after each multiple of step_s")
+      .Field("solver_residual_threshold", &P::solver_residual_threshold, "[(m/s)^2] 0: always solver_iterations")
+      .Field("warm_start_factor", &P::warm_start_factor, "[-] of the previous substep's impulses")
+      .Field("joint_erp", &P::joint_erp, "[-]")
+      .Field("cfm", &P::cfm, "[-] 0: rigid")
+      .Field("external_force_input", &P::external_force_input, "declare the tau_external input")
+      .Field("point_radius_m", &P::point_radius_m, "[m] sphere at each contact point")
+      .Field("stone_depth_m", &P::stone_depth_m, "[m]")
+      .Field("touchdown_force_N", &P::touchdown_force_N, "[N]")
+      .Field("liftoff_height_m", &P::liftoff_height_m, "[m]")
+      .Field("planned_liftoff_force_N", &P::planned_liftoff_force_N, "[N] < 0: off")
+      .Field("min_time_in_mode_s", &P::min_time_in_mode_s, "[s]")
+      .Field("mode_change_delay_s", &P::mode_change_delay_s, "[s]")
+      .Field("stone_tolerance_m", &P::stone_tolerance_m, "[m]")
+      .Field("max_impulse_Ns", &P::max_impulse_Ns, "[N s]")
+      .Field("slip_speed_mps", &P::slip_speed_mps, "[m/s]")
+      .Field("slip_distance_m", &P::slip_distance_m, "[m] inf: off")
+      .Field("slip_min_point_force_N", &P::slip_min_point_force_N, "[N]");
   py::class_<BulletWorldPlant, ContactPlant, Holder<BulletWorldPlant>>(
       m, "BulletWorldPlant",
       "A robot in Bullet's discrete-time physics world (one world step per step_s), with HybridContactPlant's ports.")
@@ -142,6 +160,44 @@ void BindBulletWorldPlant(py::module_& m) {
            py::arg("params") = P{});
 }
 
+/// TaskSpaceTask.calc: y, J and Jdot_qdot at (q, v) on a fresh workspace (sizes checked here: ValueError). The
+/// task resolved its names against the model it was made with; `model` must have the same structure.
+py::tuple CalcTask(const TaskSpaceTask& task, const py::object& model_object, const py::handle& q_in,
+                   const py::handle& v_in) {
+  const std::shared_ptr<const MultibodyModel> model = SharedModel(model_object);
+  const Eigen::VectorXd q = ToVector(q_in, "TaskSpaceTask.calc q"), v = ToVector(v_in, "TaskSpaceTask.calc v");
+  if (q.size() != model->nq() || v.size() != model->nv())
+    throw py::value_error("TaskSpaceTask '" + task.name() + "'.calc: q has " + std::to_string(q.size()) + " and v " +
+                          std::to_string(v.size()) + " elements; the model has nq = " + std::to_string(model->nq()) +
+                          ", nv = " + std::to_string(model->nv()));
+  MultibodyWorkspace ws(*model);
+  Eigen::VectorXd y(task.size()), Jdot_qdot(task.size());
+  Eigen::MatrixXd J(task.size(), model->nv());
+  task.Calc(*model, ws, q, v, y, J, Jdot_qdot);  // a failing JointFunctionTask function: RuntimeError
+  return py::make_tuple(y, J, Jdot_qdot);
+}
+
+/// f(q) for JointFunctionTask from a Python callable returning (f, f'). The GIL is taken for the call (a diagram may
+/// run its controllers on another thread); a Python error or a result that is not two numbers is a RuntimeError.
+JointFunctionTask::Function PythonJointFunction(py::function function) {
+  auto shared = std::shared_ptr<py::function>(new py::function(std::move(function)), [](py::function* f) {
+    py::gil_scoped_acquire gil;
+    delete f;
+  });
+  return [shared](double q, double* value, double* derivative) {
+    py::gil_scoped_acquire gil;
+    const py::object result = (*shared)(q);
+    try {
+      const auto pair = result.cast<std::pair<double, double>>();
+      *value = pair.first;
+      *derivative = pair.second;
+    } catch (const py::cast_error&) {
+      throw std::runtime_error("JointFunctionTask: the function must return (f(q), f'(q)), got " +
+                               std::string(py::str(py::repr(result))));
+    }
+  };
+}
+
 void BindTasks(py::module_& m) {
   ParamsClass<TaskGains>(m, "TaskGains", "PD gains and cost weight of one task.")
       .Field("weight", &TaskGains::weight, "[-]")
@@ -152,7 +208,11 @@ void BindTasks(py::module_& m) {
       m, "TaskSpaceTask", "An output y(q) of relative degree two (systems/controllers/task_space_tasks.h).")
       .def_property_readonly("name", &TaskSpaceTask::name)
       .def_property_readonly("size", &TaskSpaceTask::size)
-      .def_property_readonly("active_modes", &TaskSpaceTask::active_modes);
+      .def_property_readonly("gains", &TaskSpaceTask::gains)
+      .def_property_readonly("active_modes", &TaskSpaceTask::active_modes)
+      .def("calc", &CalcTask, py::arg("model"), py::arg("q"), py::arg("v"),
+           "(y, J, Jdot_qdot) at (q, v): y (size), J = dy/dq (size x nv), Jdot_qdot (size), as the controllers see "
+           "them. `model` must be the one the task was made for.");
   py::class_<ComPositionTask, TaskSpaceTask, std::shared_ptr<ComPositionTask>>(m, "ComPositionTask",
                                                                                "p_com along `axes` [m].")
       .def(py::init([](std::string name, std::vector<Axis> axes, const TaskGains& gains, std::vector<int> modes) {
@@ -197,14 +257,41 @@ void BindTasks(py::module_& m) {
            }),
            py::arg("name"), py::arg("model"), py::arg("joint"), py::arg("gains") = TaskGains{},
            py::arg("active_modes") = std::vector<int>{});
+  py::class_<JointFunctionTask, TaskSpaceTask, std::shared_ptr<JointFunctionTask>>(
+      m, "JointFunctionTask",
+      "y = f(q_i) of one coordinate, e.g. Cassie's virtual leg length (hopping Eq. (13)). `function(q)` returns "
+      "(f(q), f'(q)); it is called from the control loop, so a Python function costs a Python call per use "
+      "(for prototyping, as a Python LeafSystem).")
+      .def(py::init([](std::string name, const py::object& model, const std::string& joint, py::function function,
+                       const TaskGains& gains, std::vector<int> modes, double step) {
+             return FromArguments([&] {
+               return std::make_shared<JointFunctionTask>(std::move(name), *SharedModel(model), joint,
+                                                          PythonJointFunction(std::move(function)), gains,
+                                                          std::move(modes), step);
+             });
+           }),
+           py::arg("name"), py::arg("model"), py::arg("joint"), py::arg("function"), py::arg("gains") = TaskGains{},
+           py::arg("active_modes") = std::vector<int>{}, py::arg("second_derivative_step") = 1e-5);
+  py::class_<BodyOrientationTask, TaskSpaceTask, std::shared_ptr<BodyOrientationTask>>(
+      m, "BodyOrientationTask",
+      "Orientation of a link as the rotation vector log(R_world_body) [rad], J the world angular-velocity Jacobian "
+      "(3D models; walking Eq. (17)).")
+      .def(py::init([](std::string name, const py::object& model, const std::string& body, const TaskGains& gains,
+                       std::vector<int> modes) {
+             return FromArguments([&] {
+               return std::make_shared<BodyOrientationTask>(std::move(name), *SharedModel(model), body, gains,
+                                                            std::move(modes));
+             });
+           }),
+           py::arg("name"), py::arg("model"), py::arg("body"), py::arg("gains") = TaskGains{},
+           py::arg("active_modes") = std::vector<int>{});
 }
 
 std::vector<std::shared_ptr<const TaskSpaceTask>> ConstTasks(const std::vector<std::shared_ptr<TaskSpaceTask>>& tasks) {
   return {tasks.begin(), tasks.end()};
 }
 
-py::dict TaskSpaceDiagnostics(const TaskSpaceQpController& c, const LeafContext& context) {
-  const TaskSpaceQpDiagnostics d = c.diagnostics(context);
+py::dict TaskSpaceDiagnosticsDict(const TaskSpaceQpDiagnostics& d) {
   py::dict r;
   r["qp_failures"] = d.qp_failures;
   r["qp_status"] = d.qp_status ? py::cast(std::string(to_string(*d.qp_status))) : py::none();
@@ -216,8 +303,7 @@ py::dict TaskSpaceDiagnostics(const TaskSpaceQpController& c, const LeafContext&
   return r;
 }
 
-py::dict ClfDiagnostics(const ClfQpController& c, const LeafContext& context) {
-  const ClfQpDiagnostics d = c.diagnostics(context);
+py::dict ClfDiagnosticsDict(const ClfQpDiagnostics& d) {
   py::dict r;
   r["V"] = d.V;
   r["delta"] = d.delta;
@@ -250,7 +336,12 @@ void BindQpControllers(py::module_& m) {
       .def_property_readonly("num_task_outputs", &TaskSpaceQpController::num_task_outputs)
       .def("task_offset",
            [](const TaskSpaceQpController& c, int i) { return FromArguments([&] { return c.task_offset(i); }); })
-      .def("diagnostics", &TaskSpaceDiagnostics, py::arg("context"));
+      .def(
+          "diagnostics",
+          [](const TaskSpaceQpController& c, const LeafContext& context) {
+            return TaskSpaceDiagnosticsDict(c.diagnostics(context));
+          },
+          py::arg("context"), "The 'diagnostics' typed output as a dict.");
   py::class_<RelativeDegreeOneOutput, std::shared_ptr<RelativeDegreeOneOutput>>(m, "RelativeDegreeOneOutput")
       .def_property_readonly("name", &RelativeDegreeOneOutput::name)
       .def_property_readonly("size", &RelativeDegreeOneOutput::size);
@@ -287,12 +378,20 @@ void BindQpControllers(py::module_& m) {
       .def_property_readonly("num_outputs", &ClfQpController::num_outputs)
       .def("P_epsilon",
            [](const ClfQpController& c, int mode) { return FromArguments([&] { return c.P_epsilon(mode); }); })
-      .def("diagnostics", &ClfDiagnostics, py::arg("context"));
+      .def(
+          "diagnostics",
+          [](const ClfQpController& c, const LeafContext& context) {
+            return ClfDiagnosticsDict(c.diagnostics(context));
+          },
+          py::arg("context"), "The 'diagnostics' typed output as a dict.");
 }
 
 }  // namespace
 
 void BindContactBlocks(py::module_& m) {
+  RegisterTypedValue<TaskSpaceQpDiagnostics>(
+      [](const TaskSpaceQpDiagnostics& d) { return TaskSpaceDiagnosticsDict(d); });
+  RegisterTypedValue<ClfQpDiagnostics>([](const ClfQpDiagnostics& d) { return ClfDiagnosticsDict(d); });
   BindContactModeGraph(m);
   BindHybridContactPlant(m);
   BindBulletWorldPlant(m);

@@ -31,6 +31,47 @@ int PortIndex(const System& system, const py::handle& port, bool input) {
   return index;
 }
 
+/// Output `index` of `system` at `context`: a numpy copy for a vector port, the registered Python value for a typed
+/// one.
+py::object EvalOutputValue(const System& system, const Context& context, int index) {
+  const PortInfo& port = system.output_port(index);
+  if (port.is_vector()) return py::cast(Eigen::VectorXd(system.EvalOutput(context, index)));
+  const TypedValueConverter& converter = TypedConverterFor(system, port, false);
+  return converter.to_python(system.EvalAbstractOutput(context, index));
+}
+
+/// Fixes input `index` of `system` in `context`: a vector for a vector port, a registered value for a typed one.
+void FixInputValue(const System& system, Context& context, int index, const py::handle& value) {
+  const PortInfo& port = system.input_port(index);
+  if (port.is_vector()) {
+    system.FixInputPort(context, index, ToVector(value, "fix_input_port value"));
+    return;
+  }
+  const auto* leaf = dynamic_cast<const LeafSystem*>(&system);
+  if (leaf == nullptr)
+    throw py::value_error("fix_input_port: typed input port '" + port.name + "' of diagram '" + system.name() +
+                          "': fix it on the leaf (Diagram.get_subsystem_context) or with DiagramBuilder.fix_input");
+  leaf->FixAbstractInputPort(context, index, TypedValueFromPython(system, port, value));
+}
+
+/// Typed values bound here: the int and double scalars (a plant's contact mode, a mode index).
+void RegisterScalarTypedValues() {
+  RegisterTypedValue<int>([](int v) { return py::int_(v); },
+                          std::function<int(const py::handle&)>([](const py::handle& h) {
+                            if (!PyIndex_Check(h.ptr()))  // a Python or numpy integer, not a float or a string
+                              throw py::value_error("expected an int, got " + std::string(py::str(py::repr(h))));
+                            return py::int_(py::reinterpret_borrow<py::object>(h)).cast<int>();
+                          }));
+  RegisterTypedValue<double>([](double v) { return py::float_(v); },
+                             std::function<double(const py::handle&)>([](const py::handle& h) {
+                               try {
+                                 return h.cast<double>();
+                               } catch (const py::cast_error&) {
+                                 throw py::value_error("expected a number, got " + std::string(py::str(py::repr(h))));
+                               }
+                             }));
+}
+
 std::vector<std::string> PortNames(const System& system, bool input) {
   std::vector<std::string> names;
   const int n = input ? system.num_input_ports() : system.num_output_ports();
@@ -96,17 +137,28 @@ void BindSystem(py::module_& m) {
       .def("output_port_names", [](const System& s) { return PortNames(s, false); })
       .def("create_default_context", &System::CreateDefaultContext, py::keep_alive<0, 1>())
       .def(
+          "input_port_type",
+          [](const System& s, const py::handle& port) { return s.input_port(PortIndex(s, port, true)).TypeString(); },
+          py::arg("port"), "'a vector of size n' or the C++ type a typed port carries, e.g. 'int'.")
+      .def(
+          "output_port_type",
+          [](const System& s, const py::handle& port) { return s.output_port(PortIndex(s, port, false)).TypeString(); },
+          py::arg("port"))
+      .def(
           "eval_output",
           [](const System& s, const Context& c, const py::handle& port) {
-            return Eigen::VectorXd(s.EvalOutput(c, PortIndex(s, port, false)));
+            return EvalOutputValue(s, c, PortIndex(s, port, false));
           },
-          py::arg("context"), py::arg("port"), "Value of a vector output port (by name or index), as a numpy copy.")
+          py::arg("context"), py::arg("port"),
+          "Value of an output port (by name or index): a numpy copy for a vector port; for a typed port its Python "
+          "value (int, float, an enum, a dict of a struct; docs/python.md).")
       .def(
           "fix_input_port",
           [](const System& s, Context& c, const py::handle& port, const py::handle& value) {
-            s.FixInputPort(c, PortIndex(s, port, true), ToVector(value, "fix_input_port value"));
+            FixInputValue(s, c, PortIndex(s, port, true), value);
           },
-          py::arg("context"), py::arg("port"), py::arg("value"))
+          py::arg("context"), py::arg("port"), py::arg("value"),
+          "A vector, or for a typed port of a settable type (int, float, the bound enums) its Python value.")
       .def("__repr__", [](const System& s) {
         return "<rome." + std::string(s.is_diagram() ? "Diagram" : "System") + " '" + s.name() + "'>";
       });
@@ -162,7 +214,19 @@ void BindBuilder(py::module_& m) {
            py::arg("from_system"), py::arg("output_port"), py::arg("to_system"), py::arg("input_port"))
       .def(
           "fix_input",
-          [](DiagramBuilder& b, const std::string& system, const std::string& port, const py::handle& value) {
+          [](py::object builder, const std::string& system, const std::string& port, const py::handle& value) {
+            DiagramBuilder& b = builder.cast<DiagramBuilder&>();
+            const System* target = nullptr;
+            if (py::hasattr(builder, "_rome_systems"))
+              for (py::handle s : py::list(builder.attr("_rome_systems")))
+                if (s.cast<const System&>().name() == system) target = s.cast<const System*>();
+            if (target != nullptr && target->HasInputPort(port)) {
+              const PortInfo& info = target->input_port(target->GetInputPortIndex(port));
+              if (!info.is_vector()) {
+                b.FixAbstractInput(system, port, TypedValueFromPython(*target, info, value));
+                return;
+              }
+            }
             b.FixInput(system, port, ToVector(value, "fix_input value"));
           },
           py::arg("system"), py::arg("input_port"), py::arg("value"))
@@ -226,10 +290,14 @@ void BindDiagram(py::module_& m) {
           "The leaf's own context inside the diagram's `context` (a view: changes act on the diagram's context).")
       .def(
           "eval_subsystem_output",
-          [](const Diagram& d, const System& s, const std::string& port, const Context& c) {
-            return Eigen::VectorXd(d.EvalSubsystemOutput(s, port, c));
+          [](const Diagram& d, const System& s, const std::string& port, const Context& c) -> py::object {
+            const auto* leaf = dynamic_cast<const LeafSystem*>(&s);
+            if (leaf != nullptr && s.HasOutputPort(port) && !s.output_port(s.GetOutputPortIndex(port)).is_vector())
+              return EvalOutputValue(s, d.GetSubsystemContext(*leaf, c), s.GetOutputPortIndex(port));
+            return py::cast(Eigen::VectorXd(d.EvalSubsystemOutput(s, port, c)));
           },
-          py::arg("system"), py::arg("port"), py::arg("context"))
+          py::arg("system"), py::arg("port"), py::arg("context"),
+          "A leaf's output inside the diagram's context (typed ports as System.eval_output).")
       .def(
           "get_continuous_state",
           [](const Diagram& d, const Context& c) { return StackedContinuousState(d, c, false); }, py::arg("context"),
@@ -343,6 +411,7 @@ void BindSystemBase(py::module_& m) {
   BindEventStatus(m);
   BindContexts(m);
   BindSystem(m);
+  RegisterScalarTypedValues();
 }
 
 void BindFramework(py::module_& m) {

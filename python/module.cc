@@ -1,6 +1,8 @@
 // The rome Python module: PYBIND11_MODULE and the ownership rule of bindings.h.
+#include <map>
 #include <mutex>
 #include <sstream>
+#include <typeindex>
 #include <unordered_set>
 
 #include <pybind11/eigen.h>
@@ -22,7 +24,35 @@ std::unordered_set<const System*>& Adopted() {
   return adopted;
 }
 
+std::map<std::type_index, TypedValueConverter>& TypedConverters() {
+  static std::map<std::type_index, TypedValueConverter> converters;
+  return converters;
+}
+
 }  // namespace
+
+void RegisterTypedValue(const std::type_info& type, TypedValueConverter converter) {
+  TypedConverters()[std::type_index(type)] = std::move(converter);
+}
+
+const TypedValueConverter& TypedConverterFor(const System& system, const PortInfo& port, bool for_fixing) {
+  if (port.is_vector())
+    throw py::value_error("port '" + port.name + "' of system '" + system.name() + "' is a vector port, not typed");
+  const auto found = TypedConverters().find(std::type_index(*port.value_type));
+  if (found == TypedConverters().end() || (for_fixing && !found->second.from_python))
+    throw py::value_error("port '" + port.name + "' of system '" + system.name() + "' carries " + port.TypeString() +
+                          ", which Python cannot " + (for_fixing ? "set" : "read") + " (docs/python.md, typed ports)");
+  return found->second;
+}
+
+std::any TypedValueFromPython(const System& system, const PortInfo& port, const py::handle& value) {
+  const TypedValueConverter& converter = TypedConverterFor(system, port, true);
+  try {
+    return converter.from_python(value);
+  } catch (const py::value_error& e) {
+    throw py::value_error("input port '" + port.name + "' of system '" + system.name() + "': " + e.what());
+  }
+}
 
 void SystemDeleter::operator()(System* system) const {
   {
@@ -74,4 +104,6 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindSteppingStones(m);
   rome::python::BindLocomotionRuns(m);
   rome::python::BindContactBlocks(m);
+  rome::python::BindPosture(m);
+  rome::python::BindWalkingPlan(m);
 }

@@ -12,13 +12,30 @@
 #include "python/params.h"
 #include "systems/planners/footed_hlip_transition_planner.h"
 #include "systems/planners/momentum_regulation_planner.h"
+#include "systems/planners/momentum_regulation_planner_system.h"
 #include "systems/planners/spring_mass_hop_planner.h"
 #include "systems/planners/vertical_com_mpc.h"
+#include "systems/planners/vertical_com_mpc_system.h"
 
 namespace py = pybind11;
 
 namespace rome::python {
 namespace {
+
+py::dict MomentumPlanToDict(const MomentumRegulationPlan& p) {
+  py::dict d;
+  d["ok"] = p.ok();
+  d["status"] = p.status;
+  d["L_des"] = p.L_des;
+  d["L_pre_impact"] = p.L_pre_impact;
+  d["u_des"] = p.u_des;
+  d["time_to_impact"] = p.time_to_impact;
+  d["time_to_impact_raw"] = p.time_to_impact_raw;
+  d["slope_adjusted_height"] = p.slope_adjusted_height;
+  d["post_impact_height"] = p.post_impact_height;
+  d["pre_impact_position"] = p.pre_impact_position;
+  return d;
+}
 
 void BindMomentumRegulation(py::module_& m) {
   ParamsClass<MomentumRegulationPlannerParams>(m, "MomentumRegulationPlannerParams",
@@ -44,19 +61,7 @@ void BindMomentumRegulation(py::module_& m) {
       .def(
           "plan",
           [](const MomentumRegulationPlanner& planner, const MomentumRegulationInput& in) {
-            const MomentumRegulationPlan p = planner.Plan(in);
-            py::dict d;
-            d["ok"] = p.ok();
-            d["status"] = p.status;
-            d["L_des"] = p.L_des;
-            d["L_pre_impact"] = p.L_pre_impact;
-            d["u_des"] = p.u_des;
-            d["time_to_impact"] = p.time_to_impact;
-            d["time_to_impact_raw"] = p.time_to_impact_raw;
-            d["slope_adjusted_height"] = p.slope_adjusted_height;
-            d["post_impact_height"] = p.post_impact_height;
-            d["pre_impact_position"] = p.pre_impact_position;
-            return d;
+            return MomentumPlanToDict(planner.Plan(in));
           },
           py::arg("input"))
       .def("desired_post_impact_momentum", &MomentumRegulationPlanner::DesiredPostImpactMomentum,
@@ -74,6 +79,23 @@ void BindMomentumRegulation(py::module_& m) {
       .def_static("impact_map", &MomentumRegulationPlanner::ImpactMap, py::arg("p_com_x_pre"), py::arg("L_pre"),
                   py::arg("pdot_com_x_pre"), py::arg("pdot_com_z_pre"), py::arg("step_length"), py::arg("step_height"),
                   "Eq. (17): [x+, L+]");
+  py::class_<MomentumRegulationPlannerSystem, LeafSystem, Holder<MomentumRegulationPlannerSystem>>(
+      m, "MomentumRegulationPlannerSystem",
+      "MomentumRegulationPlanner as a block (systems/planners/momentum_regulation_planner_system.h). Inputs "
+      "com_state [p^x, p^z (m), pdot^x, pdot^z (m/s)], angular_momentum [L_y (m^2/s)], step [l, h] (m), "
+      "pre_impact_com_height (m); outputs u_des, L_des, predicted_pre_impact_momentum, time_to_impact, "
+      "slope_adjusted_height, vertical_com_target [z (m), u_des (m/s), T_s (s)], status.")
+      .def(py::init([](std::string name, const MomentumRegulationPlannerParams& params) {
+             return FromArguments([&] { return new MomentumRegulationPlannerSystem(std::move(name), params); });
+           }),
+           py::arg("name") = "momentum_planner", py::arg("params") = MomentumRegulationPlannerParams{})
+      .def_property_readonly("params", [](const MomentumRegulationPlannerSystem& s) { return s.planner().params(); })
+      .def(
+          "calc_plan",
+          [](const MomentumRegulationPlannerSystem& s, const LeafContext& context) {
+            return MomentumPlanToDict(s.CalcPlan(context));
+          },
+          py::arg("context"), "The plan for the inputs in the block's context, as MomentumRegulationPlanner.plan.");
 }
 
 /// VerticalComMpc.solve's arguments: every one finite, the horizon >= 0 (the C++ Solve raises a horizon below
@@ -122,6 +144,24 @@ void BindVerticalComMpc(py::module_& m) {
             return d;
           },
           py::arg("p_z"), py::arg("pdot_z"), py::arg("p_final"), py::arg("v_final"), py::arg("horizon_s"));
+  ParamsClass<VerticalComMpcSystemParams>(m, "VerticalComMpcSystemParams",
+                                          "VerticalComMpcSystem (systems/planners/vertical_com_mpc_system.h).")
+      .Field("mpc", &VerticalComMpcSystemParams::mpc)
+      .Field("control_period_s", &VerticalComMpcSystemParams::control_period_s, "[s] re-solve period")
+      .Field("hold_plan_below_horizon_s", &VerticalComMpcSystemParams::hold_plan_below_horizon_s, "[s] 0: off")
+      .Field("resolve_at_events", &VerticalComMpcSystemParams::resolve_at_events);
+  py::class_<VerticalComMpcSystem, LeafSystem, Holder<VerticalComMpcSystem>>(
+      m, "VerticalComMpcSystem",
+      "VerticalComMpc re-solved periodically (Eq. (28)). Inputs com_vertical_state [p^z (m), pdot^z (m/s)], target "
+      "[p_f (m), v_f (m/s), T_s (s)]; outputs com_height_desired [p, pdot, pddot] (the plan at the current time), "
+      "planned_inputs (N, m/s^2), qp_failures, qp_status, terminal_relaxations. Discrete state: [t_plan, p_plan, "
+      "v_plan, dt, last status, failures, solves, relaxations, u_0..u_N-1].")
+      .def(py::init([](std::string name, const VerticalComMpcSystemParams& params) {
+             return FromArguments([&] { return new VerticalComMpcSystem(std::move(name), params); });
+           }),
+           py::arg("name") = "vertical_com_mpc", py::arg("params") = VerticalComMpcSystemParams{})
+      .def_property_readonly("params", &VerticalComMpcSystem::params)
+      .def_property_readonly("horizon_steps", &VerticalComMpcSystem::horizon_steps);
 }
 
 py::dict PlanToDict(const SpringMassPlan& p) {

@@ -43,9 +43,10 @@ def hybrid_plant(model):
     return rome.HybridContactPlant("plant", model, rome.ContactModeGraph.with_double_support("left_foot", "right_foot"))
 
 
-def run_standing(model, controller_for, seconds=2.0, com_offset=(0.01, -0.01), plant_for=hybrid_plant):
-    """Plant + controller + constant desired outputs [COM x, COM z, base pitch] offset from the start by com_offset [m];
-    returns (log data, the start COM, the desired outputs, the controller's diagnostics)."""
+def run_standing(model, controller_for, seconds=2.0, com_offset=(0.01, -0.01), plant_for=hybrid_plant, extend=None):
+    """Plant + controller + constant desired outputs [COM x, COM z, base pitch] offset from the start by com_offset [m]
+    (and whatever extend(builder) adds); returns (log data, the start COM, the desired outputs, the controller's
+    diagnostics)."""
     q0 = standing_pose(model)
     com0 = model.com_position(q0)
     plant = plant_for(model)
@@ -65,6 +66,8 @@ def run_standing(model, controller_for, seconds=2.0, com_offset=(0.01, -0.01), p
         ports.append(("ctrl", "qdd"))
     else:
         ports.append(("ctrl", "V"))
+    if extend is not None:
+        extend(builder)
     logger = rome.add_vector_logger(builder, "log", ports, 0.01)
     diagram = builder.build()
     simulator = rome.Simulator(diagram)
