@@ -122,6 +122,11 @@ void BindControllerParams(py::module_& m) {
       .Field("friction_cone_offset_N", &TaskSpaceQpParams::friction_cone_offset_N, "[N] the pyramid's apex")
       .Field("torque_limits", &TaskSpaceQpParams::torque_limits, "[N m]; empty: the model's")
       .Field("resolve_at_events", &TaskSpaceQpParams::resolve_at_events)
+      .Field("resolve_at", &TaskSpaceQpParams::resolve_at)
+      .Field("zero_torque_in_contact", &TaskSpaceQpParams::zero_torque_in_contact,
+             "[(contact, joint)]: u = 0 in contact")
+      .Field("contact_stabilization", &TaskSpaceQpParams::contact_stabilization)
+      .Field("qp", &TaskSpaceQpParams::qp)
       .Field("failure_policy", &TaskSpaceQpParams::failure_policy);
 }
 

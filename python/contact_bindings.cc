@@ -73,6 +73,10 @@ void BindHybridContactPlant(py::module_& m) {
       .Field("unilateral_contact", &P::unilateral_contact)
       .Field("planned_liftoff_force_N", &P::planned_liftoff_force_N, "[N]")
       .Field("joint_stops", &P::joint_stops)
+      .Field("joint_stop_tolerance", &P::joint_stop_tolerance, "[rad or m]")
+      .Field("immediate_event_delay_s", &P::immediate_event_delay_s, "[s]")
+      .Field("event_tolerance_N", &P::event_tolerance_N, "[N]")
+      .Field("dynamics", &P::dynamics)
       .Field("external_force_input", &P::external_force_input);
   py::class_<ContactPlant, LeafSystem, Holder<ContactPlant>>(
       m, "ContactPlant",

@@ -1,7 +1,7 @@
-"""The CLF-QP's and the Bullet plant's parameters set from Python reach the C++ blocks and act as documented.
+"""The QP controllers' and the plants' parameters set from Python reach the C++ blocks and act as documented.
 
 Physics checks on AMBER standing (as in test_contact_blocks.py): with the left knee declared passive while the left
-foot is in contact (ClfQpParams.zero_torque_in_contact), the robot still stands on the plant's ground forces, which
+foot is in contact (zero_torque_in_contact of ClfQpParams and of TaskSpaceQpParams), the robot still stands on the plant's ground forces, which
 obey Newton and the friction cone, and that knee's torque stays zero; on BulletWorldPlant with its external-force
 input declared (BulletWorldPlantParams.external_force_input), a constant horizontal push on the base is carried at
 rest by the feet's friction (Newton: the ground's horizontal force is minus the push, its vertical force the weight).
@@ -39,10 +39,22 @@ def test_clf_qp_params_have_keyword_constructors_and_a_repr_of_every_field():
         rome.ClfQpParams(cost_only=["pitch"])
 
 
-def test_a_passive_knee_in_contact_gets_no_torque_and_the_robot_still_stands(model):
+def clf_qp_with_passive_left_knee(plant, tasks):
     params = rome.ClfQpParams(zero_torque_in_contact=[("left_foot", "left_knee")])
-    data, com0, y_d, diagnostics = run_standing(
-        model, lambda plant, tasks: rome.ClfQpController("ctrl", plant, tasks, params), seconds=2.0)
+    return rome.ClfQpController("ctrl", plant, tasks, params)
+
+
+def task_space_qp_with_passive_left_knee(plant, tasks):
+    params = rome.TaskSpaceQpParams(zero_torque_in_contact=[("left_foot", "left_knee")],
+                                    qp=rome.QpSettings(max_iterations=200),
+                                    contact_stabilization=rome.ConstrainedDynamicsParameters(baumgarte_alpha_per_s=10.0))
+    assert "zero_torque_in_contact=[('left_foot', 'left_knee')]" in repr(params)
+    return rome.TaskSpaceQpController("ctrl", plant, tasks, params)
+
+
+@pytest.mark.parametrize("controller", [clf_qp_with_passive_left_knee, task_space_qp_with_passive_left_knee])
+def test_a_passive_knee_in_contact_gets_no_torque_and_the_robot_still_stands(model, controller):
+    data, com0, y_d, diagnostics = run_standing(model, controller, seconds=2.0)
     assert diagnostics["qp_failures"] == 0
     knee = model.actuated_joints.index("left_knee")
     assert np.abs(data[f"ctrl.u[{knee}]"]).max() < 1e-9
@@ -75,3 +87,26 @@ def test_bullet_external_force_input_is_carried_by_the_ground(model, push_N):
     mg = model.total_mass * G
     assert end[0] + end[3] == pytest.approx(-push_N, abs=2e-3 * mg)
     assert end[2] + end[5] == pytest.approx(mg, rel=1e-3)
+
+
+def test_hybrid_plant_params_from_python_reach_the_plant(model):
+    # The hybrid plant with its joint stops armed and stiffer contact stabilisation, all set from Python: AMBER
+    # standing stays inside its joint limits (a stop would end the run) on ground forces that obey Newton and the
+    # friction cone.
+    params = rome.HybridContactPlantParams(
+        joint_stops=True, joint_stop_tolerance=1e-9, immediate_event_delay_s=1e-9, event_tolerance_N=1e-6,
+        dynamics=rome.ConstrainedDynamicsParameters(baumgarte_alpha_per_s=20.0, baumgarte_beta_per_s=20.0))
+    for field in ["joint_stops=True", "joint_stop_tolerance=1e-09", "baumgarte_alpha_per_s=20.0"]:
+        assert field in repr(params), field
+    with pytest.raises(TypeError, match="no field 'joint_stop'"):
+        rome.HybridContactPlantParams(joint_stop=True)
+
+    def stiff_hybrid_plant(m):
+        graph = rome.ContactModeGraph.with_double_support("left_foot", "right_foot")
+        return rome.HybridContactPlant("plant", m, graph, rome.Terrain.flat(), params)
+
+    data, _, y_d, diagnostics = run_standing(
+        model, lambda plant, tasks: rome.TaskSpaceQpController("ctrl", plant, tasks), plant_for=stiff_hybrid_plant)
+    assert diagnostics["qp_failures"] == 0
+    check_ground_forces(model, data, model.contact_friction_coefficients[0])
+    assert data["plant.com.x"][-1] == pytest.approx(y_d[0], abs=1e-3)
