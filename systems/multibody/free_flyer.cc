@@ -104,7 +104,7 @@ Vector7d MapFreeFlyerVelocityToQDot(const Vector7d& q_base, const FreeFlyerTwist
   w_pure.vec() = v_base.tail<3>();
   const Eigen::Quaterniond dquat = quat * w_pure;
   Vector7d out;
-  out.head<3>() = quat.toRotationMatrix() * v_base.head<3>();
+  out.head<3>() = quat.normalized().toRotationMatrix() * v_base.head<3>();
   out[3] = 0.5 * dquat.w();
   out.segment<3>(4) = 0.5 * dquat.vec();
   return out;

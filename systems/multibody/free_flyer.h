@@ -31,7 +31,8 @@ bool FreeFlyerRotation(const Vector7d& q_base, Eigen::Quaterniond* R);
 Vector7d FreeFlyerIntegrate(const Vector7d& q_base, const FreeFlyerTwist& xi);
 /// Log((R0, p0)^-1 (R1, p1)): the body twist that FreeFlyerIntegrate turns q0 into q1 with.
 FreeFlyerTwist FreeFlyerDifference(const Vector7d& q0, const Vector7d& q1);
-/// dq_base/dt = G(q) v_base (7 numbers) for a unit quaternion: [R v_B; 1/2 quat (x) (0, w_B)].
+/// dq_base/dt = G(q) v_base (7 numbers): [R v_B; 1/2 quat (x) (0, w_B)], R of the normalised quaternion; the quaternion
+/// part is linear in quat, so an integrator needs no unit quaternion at its stages (the exact flow keeps |quat|).
 Vector7d MapFreeFlyerVelocityToQDot(const Vector7d& q_base, const FreeFlyerTwist& v_base);
 /// The free-flyer configuration of a ZYX-Euler base pose [x, y, z, yaw, pitch, roll] (R = Rz Ry Rx), with w >= 0.
 Vector7d FreeFlyerFromEuler(const Eigen::Matrix<double, 6, 1>& q_euler);
