@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "systems/multibody/multibody_kinematics.h"
+#include "systems/multibody/pose_constraints.h"
 #include "tests/systems/multibody/test_models.h"
 
 namespace rome {
@@ -187,6 +188,8 @@ TEST(FreeFlyerTest, RefusalsNameTheRobotAndTheValue) {
     EXPECT_EQ(what.find('\n'), std::string::npos);
   }
   EXPECT_NO_THROW(LoadBiped(false).RequireNqEqualsNv("system 'plant'"));
+  // The pose solver (Newton steps q += dq) refuses it too.
+  EXPECT_THROW(SolvePose(model, ws, model.q_nominal(), {PoseConstraint::Com(2, 0.9)}), std::invalid_argument);
 }
 
 }  // namespace
