@@ -194,6 +194,7 @@ void MultibodyModelLoader::IndexDegreesOfFreedom(LoadState& s) {
     model.total_mass_ += b.mass;
   }
   model.nv_ = nv;
+  model.nq_ = nv;  // UseQuaternionBase adds the quaternion's fourth number
   model.q_lower_.setConstant(nv, -kInf);
   model.q_upper_.setConstant(nv, kInf);
   for (int i = 0; i < static_cast<int>(bodies->size()); ++i) {

@@ -198,8 +198,11 @@ void MultibodyModelLoader::ReadFloatingBaseEntry(LoadState& s) {
       model.floating_base_ = FloatingBaseType::kPlanar;
     else if (fb == "spatial")
       model.floating_base_ = FloatingBaseType::kSpatial;
-    else
-      sc.Fail("floating_base", "unknown type '" + Excerpt(fb) + "' (expected fixed, planar or spatial)");
+    else if (fb == "quaternion") {
+      model.floating_base_ = FloatingBaseType::kSpatial;
+      s.quaternion = true;
+    } else
+      sc.Fail("floating_base", "unknown type '" + Excerpt(fb) + "' (expected fixed, planar, spatial or quaternion)");
   }
 }
 

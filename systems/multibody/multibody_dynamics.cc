@@ -138,8 +138,12 @@ const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyW
                                          const VectorRef& v) {
   CheckSize(model, q.size(), model.nq(), "q");
   CheckSize(model, v.size(), model.nv(), "v");
-  ws.tau_spring.array() = -model.spring_stiffness().array() * (q - model.spring_rest()).array() -
-                          model.spring_damping().array() * v.array();
+  // The joint coordinates are q's last n entries (after a quaternion base's extra one, v's last n too).
+  const int nv = model.nv(), n = model.has_quaternion_base() ? nv - 6 : nv;
+  ws.tau_spring.head(nv - n).setZero();
+  ws.tau_spring.tail(n).array() =
+      -model.spring_stiffness().tail(n).array() * (q.tail(n) - model.spring_rest().tail(n)).array() -
+      model.spring_damping().tail(n).array() * v.tail(n).array();
   return ws.tau_spring;
 }
 
@@ -154,10 +158,50 @@ void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, co
   tau += h - ts;
 }
 
+void CalcRnea(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau) {
+  CheckSize(model, qdd.size(), model.nv(), "qdd");
+  CheckSize(model, tau.size(), model.nv(), "tau");
+  ws.SetState(model, q, v);
+  // Forward: a_b = a_parent + S_b qdd_b (+ A_bias_b, the velocity product, already accumulated); gravity enters as the
+  // fictitious base acceleration a_0 = [0; -g]. Backward: f_b = I_b a_b + V_b x* (I_b V_b), tau_k = S_k^T f_b.
+  Vector6d a0 = Vector6d::Zero();
+  a0.tail<3>() = -model.gravity();
+  const int nb = model.num_bodies();
+  for (int b = 0; b < nb; ++b) {
+    const int p = model.body(b).parent, k = model.body(b).v_index;
+    Vector6d& a = ws.a_[b];
+    a = p >= 0 ? ws.a_[p] : Vector6d::Zero();
+    if (k >= 0) a += ws.S(b) * qdd[k];
+    const SpatialInertia& I = ws.inertia(b);
+    if (I.m == 0.0) {
+      ws.f_[b].setZero();
+      continue;
+    }
+    const Vector6d& V = ws.V(b);
+    const Vector6d IV = I * V;
+    Vector6d f = I * (a + ws.A_bias(b) + a0);
+    f.head<3>() += V.head<3>().cross(IV.head<3>()) + V.tail<3>().cross(IV.tail<3>());
+    f.tail<3>() += V.head<3>().cross(IV.tail<3>());
+    ws.f_[b] = f;
+  }
+  for (int b = nb - 1; b >= 0; --b) {
+    const int k = model.body(b).v_index;
+    if (k >= 0) tau[k] = ws.S(b).dot(ws.f_[b]) + model.reflected_inertia()[k] * qdd[k];
+    const int p = model.body(b).parent;
+    if (p >= 0) ws.f_[p] += ws.f_[b];
+  }
+}
+
 void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& f,
                             Eigen::Ref<Eigen::VectorXd> out) {
   CheckSize(model, f.size(), model.nv(), "f");
   CheckSize(model, out.size(), model.nv(), "M^-1 f output");
+  if (model.has_quaternion_base()) {  // no Bullet: the tree factor of the CRBA's M
+    out = f;
+    SolveMassMatrix(model, ws, q, out);
+    return;
+  }
   ws.SetPositions(model, q);
   EnsureBulletMinv(model, ws);
   EnsureArmature(model, ws);
@@ -314,6 +358,11 @@ void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, co
   ws.tau_total = ts;
   ws.tau_total.noalias() += model.B() * u;
   if (tau_ext.size() != 0) ws.tau_total += tau_ext;
+  if (model.has_quaternion_base()) {  // no Bullet: qdd = M^-1 (tau - h) through the CRBA and the tree factor
+    qdd = ws.tau_total - CalcBiasForces(model, ws, q, v);
+    SolveMassMatrix(model, ws, q, qdd);
+    return;
+  }
 
   ws.EnsureBulletPositions();
   btMultiBody& mb = ws.bullet();

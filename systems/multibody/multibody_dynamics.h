@@ -27,7 +27,13 @@ const Eigen::VectorXd& CalcSpringTorques(const MultibodyModel& model, MultibodyW
 void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
                          const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau);
 
-// out = M(q)^-1 f, via Bullet's calcAccelerationDeltasMultiDof (+ armature correction).
+// Inverse dynamics of the rigid tree by the recursive Newton-Euler algorithm (Featherstone 2008, Table 5.1), O(n):
+// tau = M(q) qdd + h(q, v), reflected rotor inertia included, springs not (CalcInverseDynamics subtracts them).
+void CalcRnea(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau);
+
+// out = M(q)^-1 f, via Bullet's calcAccelerationDeltasMultiDof (+ armature correction); on a quaternion base, through
+// SolveMassMatrix (Bullet does not model it).
 void ApplyInverseMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& f,
                             Eigen::Ref<Eigen::VectorXd> out);
 // Same product through the tree-sparse L^T D L factor of the CRBA mass matrix (Featherstone's
@@ -45,7 +51,8 @@ void SolveMassMatrixTransposeFactor(const MultibodyWorkspace& ws, Eigen::Ref<Eig
 // axpy over the rows (requires FactorMassMatrix and ws.use_tree_factor).
 void SolveMassMatrixFactorRows(const MultibodyWorkspace& ws, Eigen::Ref<Eigen::MatrixXd> rows);
 
-// Forward dynamics with Bullet's ABA: qdd = M^-1 (B u + tau_spring + tau_ext - h).
+// Forward dynamics with Bullet's ABA: qdd = M^-1 (B u + tau_spring + tau_ext - h); on a quaternion base, the CRBA's M
+// and its tree factor (SolveMassMatrix).
 // tau_ext may be empty (size 0) for none.
 void CalcForwardDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
                          const VectorRef& u, const VectorRef& tau_ext, Eigen::Ref<Eigen::VectorXd> qdd);

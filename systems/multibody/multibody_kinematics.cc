@@ -212,7 +212,9 @@ double CalcPotentialEnergy(const MultibodyModel& model, MultibodyWorkspace& ws, 
   ws.SetPositions(model, q);
   double U = 0.0;
   for (int b = 0; b < model.num_bodies(); ++b) U -= model.body(b).mass * model.gravity().dot(ws.com_world(b));
-  U += 0.5 * (model.spring_stiffness().array() * (q - model.spring_rest()).array().square()).sum();
+  const int n = model.has_quaternion_base() ? model.nv() - 6 : model.nv();  // joint coordinates: q's last n
+  U += 0.5 *
+       (model.spring_stiffness().tail(n).array() * (q.tail(n) - model.spring_rest().tail(n)).array().square()).sum();
   return U;
 }
 

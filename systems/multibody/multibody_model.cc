@@ -3,10 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "framework/files.h"
 #include "framework/text.h"
+#include "systems/multibody/free_flyer.h"
 #include "systems/multibody/model_checks.h"
 #include "systems/multibody/model_loader.h"
 #include "systems/multibody/robot_file_text.h"
@@ -39,6 +41,79 @@ int MultibodyModel::num_base_dofs() const {
     case FloatingBaseType::kSpatial: return 6;
   }
   return 0;
+}
+
+const char* MultibodyModel::base_kind() const { return quaternion_base_ ? "quaternion" : ToString(floating_base_); }
+
+namespace {
+
+void CheckVectorSize(const MultibodyModel& model, Eigen::Index got, int expected, const char* what) {
+  if (got != expected)
+    throw std::invalid_argument("robot '" + model.name() + "': " + what + " has size " + std::to_string(got) +
+                                ", expected " + std::to_string(expected));
+}
+
+Vector7d BaseOf(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& q, const char* what) {
+  const Vector7d base = q.head<7>();
+  Eigen::Quaterniond R;
+  if (!FreeFlyerRotation(base, &R))
+    throw std::invalid_argument("robot '" + model.name() + "': " + what + " has the base quaternion (" +
+                                model_loading::Num(base[3]) + ", " + model_loading::Num(base[4]) + ", " +
+                                model_loading::Num(base[5]) + ", " + model_loading::Num(base[6]) +
+                                "); expected a finite, nonzero (unit) quaternion");
+  return base;
+}
+
+}  // namespace
+
+void MultibodyModel::Integrate(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v,
+                               double dt, Eigen::Ref<Eigen::VectorXd> q_out) const {
+  CheckVectorSize(*this, q.size(), nq_, "q");
+  CheckVectorSize(*this, v.size(), nv_, "v");
+  CheckVectorSize(*this, q_out.size(), nq_, "Integrate's output");
+  if (!quaternion_base_) {
+    q_out = q + dt * v;
+    return;
+  }
+  const FreeFlyerTwist xi = dt * v.head<6>();
+  q_out.head<7>() = FreeFlyerIntegrate(BaseOf(*this, q, "q"), xi);
+  q_out.tail(nv_ - 6) = q.tail(nv_ - 6) + dt * v.tail(nv_ - 6);
+}
+
+void MultibodyModel::Difference(const Eigen::Ref<const Eigen::VectorXd>& q0,
+                                const Eigen::Ref<const Eigen::VectorXd>& q1, Eigen::Ref<Eigen::VectorXd> v) const {
+  CheckVectorSize(*this, q0.size(), nq_, "q0");
+  CheckVectorSize(*this, q1.size(), nq_, "q1");
+  CheckVectorSize(*this, v.size(), nv_, "Difference's output");
+  if (!quaternion_base_) {
+    v = q1 - q0;
+    return;
+  }
+  v.head<6>() = FreeFlyerDifference(BaseOf(*this, q0, "q0"), BaseOf(*this, q1, "q1"));
+  v.tail(nv_ - 6) = q1.tail(nv_ - 6) - q0.tail(nv_ - 6);
+}
+
+void MultibodyModel::MapVelocityToQDot(const Eigen::Ref<const Eigen::VectorXd>& q,
+                                       const Eigen::Ref<const Eigen::VectorXd>& v,
+                                       Eigen::Ref<Eigen::VectorXd> qdot) const {
+  CheckVectorSize(*this, q.size(), nq_, "q");
+  CheckVectorSize(*this, v.size(), nv_, "v");
+  CheckVectorSize(*this, qdot.size(), nq_, "MapVelocityToQDot's output");
+  if (!quaternion_base_) {
+    qdot = v;
+    return;
+  }
+  const FreeFlyerTwist v_base = v.head<6>();
+  qdot.head<7>() = MapFreeFlyerVelocityToQDot(q.head<7>(), v_base);
+  qdot.tail(nv_ - 6) = v.tail(nv_ - 6);
+}
+
+void MultibodyModel::RequireNqEqualsNv(const std::string& user) const {
+  if (nq_ != nv_)
+    throw std::invalid_argument(user + ": robot '" + name_ + "' has a " + base_kind() +
+                                " floating base (nq = " + std::to_string(nq_) + ", nv = " + std::to_string(nv_) +
+                                "), which it does not support yet; load the robot with the default spatial (Euler) "
+                                "base");
 }
 
 int MultibodyModel::BodyIndex(const std::string& link_name) const {
@@ -152,7 +227,48 @@ MultibodyModel MultibodyModelLoader::Load(const std::string& urdf_path, std::str
   const std::vector<bool> given = ReadNominalPose(s);
   CheckNominalPose(model, model.sidecar_path_.empty() ? s.ufile : "sidecar " + Excerpt(model.sidecar_path_, 200), given,
                    &model.warnings_);
+  UseQuaternionBase(s);
   return model;
+}
+
+void MultibodyModelLoader::UseQuaternionBase(LoadState& s) {
+  MultibodyModel& model = s.model;
+  if (!s.quaternion && !s.options.quaternion_floating_base) return;
+  if (model.floating_base_ != FloatingBaseType::kSpatial)
+    throw std::runtime_error(
+        s.ufile + ": LoadOptions::quaternion_floating_base asks for a quaternion free-flyer, but " +
+        "the robot's floating base is " + ToString(model.floating_base_) + " (only a spatial base has one)");
+  // The six virtual joints become the base twist's coordinates: prismatic along, then revolute about, the base's own
+  // x, y, z (the workspace poses all six bodies at the base, free_flyer.h).
+  auto bodies = std::make_shared<std::vector<MultibodyBody>>(*model.bodies_);
+  static const char* const kNames[6] = {"base_vx", "base_vy", "base_vz", "base_wx", "base_wy", "base_wz"};
+  for (int k = 0; k < 6; ++k) {
+    MultibodyBody& b = (*bodies)[model.body_of_v_[k]];
+    model.joint_index_.erase(b.joint_name);
+    b.joint_name = kNames[k];
+    model.joint_index_[b.joint_name] = k;
+    model.joint_names_[k] = b.joint_name;
+    if (b.is_virtual) {
+      model.body_index_.erase(b.name);
+      b.name = std::string("floating_") + kNames[k];
+      model.body_index_[b.name] = model.body_of_v_[k];
+    }
+    b.joint_type = k < 3 ? MultibodyJointType::kPrismatic : MultibodyJointType::kRevolute;
+    b.axis = Eigen::Vector3d::Unit(k % 3);
+  }
+  model.bodies_ = bodies;
+  const int nv = model.nv_, nj = nv - 6;
+  model.nq_ = nv + 1;
+  auto widen = [&](Eigen::VectorXd& x, const Vector7d& base) {
+    Eigen::VectorXd out(model.nq_);
+    out << base, x.tail(nj);
+    x = out;
+  };
+  const Eigen::Matrix<double, 6, 1> euler = model.q_nominal_.head<6>();
+  widen(model.q_nominal_, FreeFlyerFromEuler(euler));
+  widen(model.q_lower_, Vector7d::Constant(-std::numeric_limits<double>::infinity()));
+  widen(model.q_upper_, Vector7d::Constant(std::numeric_limits<double>::infinity()));
+  model.quaternion_base_ = true;
 }
 
 MultibodyModel MultibodyModel::Load(const std::string& urdf_path, const std::string& sidecar_path,

@@ -7,7 +7,7 @@
 // MultibodyWorkspace (multibody_workspace.h); every computation takes
 // (const MultibodyModel&, MultibodyWorkspace&, ...).
 //
-// Generalized coordinates (nq == nv, v = dq/dt everywhere):
+// Generalized coordinates (nq == nv and v = dq/dt, except on the quaternion base):
 //   floating_base "fixed"  : q = [joints]
 //   floating_base "planar" : q = [x, z, pitch, joints]          (motion in the world x-z plane,
 //                                                                pitch about +y)
@@ -15,9 +15,20 @@
 //                            R_world_base = Rz(yaw) Ry(pitch) Rx(roll) (ZYX Euler).
 //                            SINGULAR at pitch = +-90 deg (yaw and roll axes align); walking
 //                            postures stay far from it.
+//   floating_base "quaternion" (opt-in: the sidecar's "floating_base": "quaternion", or
+//                            LoadOptions::quaternion_floating_base on a spatial base):
+//                            q = [x, y, z, qw, qx, qy, qz, joints] (nq = nv + 1),
+//                            v = [v_B, w_B, joint rates]: the base twist in base coordinates; the
+//                            convention, Integrate and Difference are in free_flyer.h. No singularity.
+//                            Joint coordinate k of v is entry k + 1 of q (PositionIndex).
+//                            The plants refuse it for now (RequireNqEqualsNv); Bullet is not used
+//                            (forward dynamics and M^-1 go through the CRBA and the tree factor).
 // The floating base is modelled as a chain of massless virtual joints (prismatic x, [y], z,
 // revolute [yaw about z], pitch about y, [roll about x]) ending in the URDF root link, so the
-// whole robot is a fixed-base kinematic tree and dq/dt is the velocity.
+// whole robot is a fixed-base kinematic tree and dq/dt is the velocity. The quaternion base keeps the
+// same chain of six massless bodies (prismatic along the base's x, y, z, then revolute about them,
+// joints "base_vx", "base_vy", "base_vz", "base_wx", "base_wy", "base_wz") with every one posed
+// at the base itself, so that their motion subspace columns are the base-frame twist's basis.
 // Joint coordinates follow a depth-first walk of the URDF tree (children in urdfdom's order);
 // use VelocityIndex("joint_name") rather than hard-coded indices.
 //
@@ -129,6 +140,9 @@ struct LoadOptions {
   // path, a "../" that climbs out, or a link that points out is refused with one line. Set this only for a package
   // you trust (its files then may lie anywhere; devices, FIFOs and directories are still refused).
   bool allow_files_outside_package = false;
+  // Loads a spatial floating base as the quaternion free-flyer (as the sidecar's "floating_base": "quaternion"
+  // does). A fixed or planar robot with this option is refused, naming the file.
+  bool quaternion_floating_base = false;
 };
 
 inline constexpr double kInertiaRelativeTolerance = 1e-6;
@@ -225,11 +239,33 @@ class MultibodyModel {
   const std::string& urdf_path() const { return urdf_path_; }
   const std::string& sidecar_path() const { return sidecar_path_; }
   FloatingBaseType floating_base() const { return floating_base_; }
-  int num_base_dofs() const;  // 0, 3 or 6
+  int num_base_dofs() const;  // velocity dofs of the base: 0, 3 or 6
   bool is_planar() const { return floating_base_ == FloatingBaseType::kPlanar; }
+  // A spatial base in free-flyer coordinates (free_flyer.h); floating_base() is then kSpatial.
+  bool has_quaternion_base() const { return quaternion_base_; }
+  // "fixed", "planar", "spatial" (ZYX Euler) or "quaternion".
+  const char* base_kind() const;
 
-  int nq() const { return nv_; }
+  int nq() const { return nq_; }
   int nv() const { return nv_; }
+
+  // q_out = q (+) v dt: the free-flyer base by the SE(3) exponential (free_flyer.h), every other coordinate
+  // q + v dt. Difference is its inverse: Integrate(q0, Difference(q0, q1), 1) = q1 (the shortest base rotation).
+  // Throw std::invalid_argument naming the robot on a size mismatch or a zero or non-finite base quaternion.
+  void Integrate(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v, double dt,
+                 Eigen::Ref<Eigen::VectorXd> q_out) const;
+  void Difference(const Eigen::Ref<const Eigen::VectorXd>& q0, const Eigen::Ref<const Eigen::VectorXd>& q1,
+                  Eigen::Ref<Eigen::VectorXd> v) const;
+  // qdot = G(q) v (nq): v itself, except the quaternion base (MapFreeFlyerVelocityToQDot).
+  void MapVelocityToQDot(const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& v,
+                         Eigen::Ref<Eigen::VectorXd> qdot) const;
+  // Index in q of joint coordinate v_index (v_index + 1 after a quaternion base; -1 for its twist entries).
+  int PositionIndexOfVelocity(int v_index) const {
+    return !quaternion_base_ ? v_index : (v_index < 6 ? -1 : v_index + 1);
+  }
+  // Throws std::invalid_argument("<user>: robot '<name>' has a quaternion floating base (nq = .., nv = ..) ...") for
+  // a user (a plant, a controller) that takes q as the integral of v.
+  void RequireNqEqualsNv(const std::string& user) const;
   int nu() const { return static_cast<int>(actuators_.size()); }
   int num_bodies() const { return static_cast<int>(bodies_->size()); }
   const std::vector<MultibodyBody>& bodies() const { return *bodies_; }
@@ -246,7 +282,7 @@ class MultibodyModel {
   bool HasFrame(const std::string& link_name) const { return frame_index_.count(link_name) > 0; }
   // One line per merged link, massless frame, repaired inertia, unlimited joint, ...
   const std::vector<std::string>& warnings() const { return warnings_; }
-  int VelocityIndex(const std::string& joint_name) const;  // == position index
+  int VelocityIndex(const std::string& joint_name) const;  // == position index unless has_quaternion_base()
   int ContactIndex(const std::string& contact_name) const;
   bool HasBody(const std::string& link_name) const { return body_index_.count(link_name) > 0; }
   bool HasJoint(const std::string& joint_name) const { return joint_index_.count(joint_name) > 0; }
@@ -264,15 +300,15 @@ class MultibodyModel {
   const std::vector<SpringInfo>& springs() const { return springs_; }
   const Eigen::VectorXd& spring_stiffness() const { return spring_stiffness_; }  // nv
   const Eigen::VectorXd& spring_damping() const { return spring_damping_; }      // nv
-  const Eigen::VectorXd& spring_rest() const { return spring_rest_; }            // nv
+  const Eigen::VectorXd& spring_rest() const { return spring_rest_; }            // nv, at q[PositionIndexOfVelocity(k)]
   const std::vector<ContactInfo>& contacts() const { return contacts_; }
   const std::vector<LoopClosureInfo>& loop_closures() const { return loop_closures_; }
   int num_contacts() const { return static_cast<int>(contacts_.size()); }
   int num_loop_closures() const { return static_cast<int>(loop_closures_.size()); }
   int max_constraint_rows() const { return max_constraint_rows_; }           // all contacts + loops
-  const Eigen::VectorXd& position_lower_limits() const { return q_lower_; }  // -inf if none
+  const Eigen::VectorXd& position_lower_limits() const { return q_lower_; }  // nq; -inf if none
   const Eigen::VectorXd& position_upper_limits() const { return q_upper_; }
-  const Eigen::VectorXd& q_nominal() const { return q_nominal_; }
+  const Eigen::VectorXd& q_nominal() const { return q_nominal_; }  // nq
 
  private:
   MultibodyModel() = default;
@@ -280,7 +316,8 @@ class MultibodyModel {
 
   std::string name_, urdf_path_, sidecar_path_;
   FloatingBaseType floating_base_ = FloatingBaseType::kFixed;
-  int nv_ = 0;
+  bool quaternion_base_ = false;
+  int nq_ = 0, nv_ = 0;
   std::shared_ptr<const std::vector<MultibodyBody>> bodies_;
   std::map<std::string, int> body_index_, joint_index_, contact_index_, frame_index_;
   std::vector<MultibodyFrame> frames_;

@@ -11,6 +11,7 @@
 
 #include "systems/multibody/bullet_multibody.h"
 #include "systems/multibody/bullet_scratch.h"
+#include "systems/multibody/free_flyer.h"
 
 namespace rome {
 
@@ -37,6 +38,7 @@ MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
       tmp2_nv(other.tmp2_nv),
       tau_total(other.tau_total),
       f_(other.f_),
+      a_(other.a_),
       bullet_in(other.bullet_in),
       bullet_out(other.bullet_out),
       armature_dofs(other.armature_dofs),
@@ -61,6 +63,9 @@ MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
       v_(other.v_),
       has_q_(false),
       has_v_(false),
+      quaternion_base_(other.quaternion_base_),
+      robot_name_(other.robot_name_),
+      position_index_(other.position_index_),
       axis_index_(other.axis_index_),
       axis_sign_(other.axis_sign_),
       joint_rotation_identity_(other.joint_rotation_identity_),
@@ -87,8 +92,12 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   const int nv = model.nv();
   const int nb = model.num_bodies();
   const int rows = model.max_constraint_rows();
-  q_.setZero(nv);
+  q_.setZero(model.nq());
   v_.setZero(nv);
+  quaternion_base_ = model.has_quaternion_base();
+  robot_name_ = model.name();
+  position_index_.assign(nb, -1);
+  for (int i = 0; i < nb; ++i) position_index_[i] = model.PositionIndexOfVelocity((*bodies_)[i].v_index);
   R_wl_.assign(nb, Eigen::Matrix3d::Identity());
   p_wl_.assign(nb, Eigen::Vector3d::Zero());
   c_w_.assign(nb, Eigen::Vector3d::Zero());
@@ -96,6 +105,7 @@ void MultibodyWorkspace::Build(const MultibodyModel& model) {
   V_.assign(nb, Vector6d::Zero());
   A_bias_.assign(nb, Vector6d::Zero());
   f_.assign(nb, Vector6d::Zero());
+  a_.assign(nb, Vector6d::Zero());
   I_.assign(nb, SpatialInertia());
   Ic_.assign(nb, SpatialInertia());
   M.setZero(nv, nv);
@@ -181,6 +191,10 @@ MultibodyWorkspace::BulletScratch& MultibodyWorkspace::bullet_scratch() {
 }
 
 void MultibodyWorkspace::BuildBullet() {
+  if (quaternion_base_)
+    throw std::logic_error("robot '" + robot_name_ +
+                           "': Bullet (its articulated-body algorithm, M^-1 operator and poses) does not support the "
+                           "quaternion floating base; the CRBA, RNEA and SolveMassMatrix do");
   scratch_ = std::make_unique<BulletScratch>();
   bullet_ = BuildBulletMultiBody(*bodies_);
   bullet_->finalizeMultiDof();
@@ -210,12 +224,14 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model, const Eigen::
 
   const std::vector<MultibodyBody>& bodies = *bodies_;
   const int nb = static_cast<int>(bodies.size());
+  int first_body = 0;
+  if (quaternion_base_) first_body = SetFreeFlyerPose(model);
   // Forward kinematics with fixed-size Eigen math (the URDF joint chain), root to leaves:
   //   R_wl = R_wp R_pj R_axis(q),  p_wl = p_wp + R_wp (t_pj + R_pj axis q) (prismatic).
   // Bullet's joint positions are only pushed (lazily, EnsureBulletPositions) when a Bullet
   // algorithm (ABA, M^-1) is called; the test suite checks these poses against Bullet's
   // forwardKinematics to 1e-12.
-  for (int i = 0; i < nb; ++i) {
+  for (int i = first_body; i < nb; ++i) {
     const MultibodyBody& b = bodies[i];
     const int p = b.parent;
     const auto R_pj = b.X_parent_joint.linear();
@@ -233,7 +249,7 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model, const Eigen::
       R_wj = R_pj;
       p_wj = t_pj;
     }
-    const double qi = b.v_index >= 0 ? q_[b.v_index] : 0.0;
+    const double qi = position_index_[i] >= 0 ? q_[position_index_[i]] : 0.0;
     switch (b.joint_type) {
       case MultibodyJointType::kRevolute: {
         if (axis_index_[i] >= 0) {
@@ -308,6 +324,25 @@ void MultibodyWorkspace::SetPositions(const MultibodyModel& model, const Eigen::
     if (bodies[i].parent >= 0) Ic_[bodies[i].parent] += Ic_[i];
 }
 
+int MultibodyWorkspace::SetFreeFlyerPose(const MultibodyModel& model) {
+  const Vector7d base = q_.head<7>();
+  Eigen::Quaterniond quat;
+  if (!FreeFlyerRotation(base, &quat)) {
+    has_q_ = false;
+    throw std::invalid_argument("robot '" + model.name() +
+                                "': q's base quaternion (w x y z) = " + std::to_string(base[3]) + " " +
+                                std::to_string(base[4]) + " " + std::to_string(base[5]) + " " +
+                                std::to_string(base[6]) + " is not a finite nonzero quaternion");
+  }
+  const Eigen::Matrix3d R = quat.toRotationMatrix();
+  for (int i = 0; i < 6; ++i) {
+    R_wl_[i] = R;
+    p_wl_[i] = base.head<3>();
+    c_w_[i] = p_wl_[i] + R * (*bodies_)[i].com;
+  }
+  return 6;
+}
+
 void MultibodyWorkspace::EnsureBulletPositions() {
   if (!bullet_) BuildBullet();
   if (valid.bullet_q) return;
@@ -363,6 +398,7 @@ void MultibodyWorkspace::SetVelocities(const MultibodyModel& model, const Eigen:
     if (k >= 0) {
       const Vector6d vj = S_[i] * v_[k];
       V_[i] += vj;
+      if (quaternion_base_ && i < 6) continue;  // d/dt (S v_base) = V x V = 0: S is fixed in the base
       // Featherstone: c_i = v_i x (S_i qd_i) (spatial motion cross product).
       const Eigen::Vector3d w = V_[i].head<3>();
       const Eigen::Vector3d vo = V_[i].tail<3>();

@@ -21,6 +21,7 @@
 // changed, and derived quantities (M, h, ...) are computed lazily once per state.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -64,7 +65,8 @@ class MultibodyWorkspace {
   MultibodyWorkspace(MultibodyWorkspace&&) noexcept;
   MultibodyWorkspace& operator=(MultibodyWorkspace&&) noexcept;
 
-  // Sets q (nq) and v (nv); throw std::invalid_argument on a size mismatch.
+  // Sets q (nq) and v (nv); throw std::invalid_argument on a size mismatch (and on a zero or non-finite base
+  // quaternion; the quaternion is normalised, so q need not be exactly unit).
   void SetPositions(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& q);
   void SetVelocities(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& v);
   void SetState(const MultibodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -91,7 +93,7 @@ class MultibodyWorkspace {
   const SpatialInertia& inertia(int body) const { return I_[body]; }
   const SpatialInertia& composite_inertia(int body) const { return Ic_[body]; }
 
-  btMultiBody& bullet();  // builds the tree on first use
+  btMultiBody& bullet();  // builds the tree on first use; throws std::logic_error on a quaternion base
   // Pushes the current q into Bullet's joint positions (lazily, once per q). The workspace's own
   // link poses come from an Eigen forward-kinematics pass; Bullet needs q only for its ABA and
   // M^-1 operator. Called by the Bullet-based functions in multibody_dynamics.cc.
@@ -129,6 +131,7 @@ class MultibodyWorkspace {
   Eigen::VectorXd tau_spring;  // nv
   Eigen::VectorXd tmp_nv, tmp2_nv, tau_total;
   std::vector<Vector6d> f_;  // per-body spatial forces (RNEA)
+  std::vector<Vector6d> a_;  // per-body spatial acceleration from qdd alone (CalcRnea)
 
   // Bullet scratch (sized 6 + nv) and M^-1 armature correction.
   Eigen::VectorXd bullet_in, bullet_out;
@@ -152,6 +155,8 @@ class MultibodyWorkspace {
 
  private:
   void Build(const MultibodyModel& model);
+  // Poses the quaternion base's six bodies from q_; returns the first body the joint-chain pass handles.
+  int SetFreeFlyerPose(const MultibodyModel& model);
   void BuildBullet();
 
   std::shared_ptr<const std::vector<MultibodyBody>> bodies_;
@@ -161,6 +166,11 @@ class MultibodyWorkspace {
 
   Eigen::VectorXd q_, v_;
   bool has_q_ = false, has_v_ = false;
+  // Quaternion free-flyer base (free_flyer.h): its six virtual bodies (0..5) are posed at the base from q[0..7), and
+  // their bias acceleration is zero (their motion subspace is fixed in the base). Bullet is refused.
+  bool quaternion_base_ = false;
+  std::string robot_name_;           // for the refusal's message
+  std::vector<int> position_index_;  // per body: index in q of its joint coordinate (-1: none or free-flyer)
   // Per body, for the forward kinematics: the joint axis as ±(unit axis axis_index_) when it is one (else −1), and
   // whether the joint frame's rotation in the parent is the identity.
   std::vector<int> axis_index_;

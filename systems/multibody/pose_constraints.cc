@@ -98,6 +98,7 @@ std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstr
 }
 
 void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<PoseConstraint>& constraints) {
+  model.RequireNqEqualsNv("pose constraints");  // Newton steps q += dq and q-coordinate rows index q by v
   const std::string who = "pose constraints for robot '" + model.name() + "': ";
   if (constraints.empty()) throw std::invalid_argument(who + "no constraints given");
   for (std::size_t i = 0; i < constraints.size(); ++i) {

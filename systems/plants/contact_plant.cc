@@ -60,6 +60,8 @@ ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyMode
                            Terrain terrain)
     : LeafSystem(std::move(name)), model_(std::move(model)), graph_(std::move(graph)), terrain_(std::move(terrain)) {
   if (!model_) ThrowError("null MultibodyModel");
+  // The state is [q; v] with dq/dt = v (and the Bullet world steps the Euler chain): nq == nv.
+  model_->RequireNqEqualsNv("system '" + this->name() + "'");
   if (graph_.modes.empty()) ThrowError("the contact-mode graph has no modes");
   std::vector<std::string> names;
   for (const auto& m : graph_.modes) {

@@ -16,18 +16,27 @@
 namespace rome {
 namespace {
 
+LoadOptions BaseOptions(bool quaternion) {
+  LoadOptions options;
+  options.quaternion_floating_base = quaternion;
+  return options;
+}
+
 struct Fixture {
-  explicit Fixture(const std::string& urdf) : model(MultibodyModel::Load(urdf)), ws(model) {
+  explicit Fixture(const std::string& urdf, bool quaternion = false)
+      : model(MultibodyModel::Load(urdf, "", BaseOptions(quaternion))), ws(model) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     const int n = model.nv();
+    Eigen::VectorXd dq(n);
     for (int s = 0; s < 2; ++s) {
-      q[s] = model.q_nominal();
+      q[s].resize(model.nq());
       v[s].resize(n);
       for (int i = 0; i < n; ++i) {
-        q[s][i] += 0.05 * u(rng);
+        dq[i] = 0.05 * u(rng);
         v[s][i] = u(rng);
       }
+      model.Integrate(model.q_nominal(), dq, 1.0, q[s]);  // q_nominal + dq on the Euler base
     }
     uin = Eigen::VectorXd::Ones(model.nu());
     f = Eigen::VectorXd::Ones(n);
@@ -61,6 +70,40 @@ void Register(const std::string& robot, const std::shared_ptr<Fixture>& fx, cons
       s ^= 1;
     }
   })->Unit(benchmark::kMicrosecond);
+}
+
+// Issue 43: the kernels on the ZYX-Euler base and on the quaternion free-flyer, per spatial robot, at the same
+// (randomised) states: BaseCompare/<robot>/<euler|quaternion>/<kernel>.
+void RegisterBaseComparison() {
+  std::vector<std::pair<std::string, std::string>> robots;
+  for (const std::string name : {"cassie", "exoskeleton"}) {
+    const std::string p = rome::test::SourcePath("robots/" + name + "/" + name + ".urdf");
+    if (std::filesystem::exists(p)) robots.emplace_back(name, p);
+  }
+  robots.emplace_back("biped3d_test", rome::test::SourcePath("tests/systems/multibody/data/biped3d.urdf"));
+  for (const auto& [name, path] : robots) {
+    for (const bool quaternion : {false, true}) {
+      auto fx = std::make_shared<Fixture>(path, quaternion);
+      const std::string prefix = "BaseCompare/" + name + (quaternion ? "/quaternion" : "/euler");
+      Register(prefix, fx, "CRBA",
+               [](Fixture& x, int s) { benchmark::DoNotOptimize(CalcMassMatrix(x.model, x.ws, x.q[s]).data()); });
+      Register(prefix, fx, "RNEA_h", [](Fixture& x, int s) {
+        benchmark::DoNotOptimize(CalcBiasForces(x.model, x.ws, x.q[s], x.v[s]).data());
+      });
+      Register(prefix, fx, "RNEA_tau(q,v,a)", [](Fixture& x, int s) {
+        CalcRnea(x.model, x.ws, x.q[s], x.v[s], x.f, x.out);
+        benchmark::DoNotOptimize(x.out.data());
+      });
+      Register(prefix, fx, "InverseDynamics_M_a_plus_h", [](Fixture& x, int s) {
+        CalcInverseDynamics(x.model, x.ws, x.q[s], x.v[s], x.f, x.out);
+        benchmark::DoNotOptimize(x.out.data());
+      });
+      Register(prefix, fx, "ForwardDynamics_CRBA_LTDL", [](Fixture& x, int s) {
+        CalcConstrainedForwardDynamics(x.model, x.ws, x.q[s], x.v[s], x.uin, 0, x.params, x.qdd, x.F);
+        benchmark::DoNotOptimize(x.qdd.data());
+      });
+    }
+  }
 }
 
 void RegisterAll() {
@@ -135,6 +178,7 @@ void RegisterAll() {
       benchmark::DoNotOptimize(x.AG.data());
     });
   }
+  RegisterBaseComparison();
 }
 
 }  // namespace

@@ -34,6 +34,30 @@ TEST(PlantKind, ParsesBothKindsAndRejectsOthersNamingTheSourceAndValue) {
   }
 }
 
+// Issue 43's first step: the plants take q as the integral of v (nq == nv), so each refuses a quaternion free-flyer
+// model with one line naming the system, the robot and the base kind, instead of misreading its state.
+TEST(PlantKind, EitherPlantRefusesAQuaternionBaseNamingTheSystemAndTheBase) {
+  LoadOptions options;
+  options.quaternion_floating_base = true;
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"), options));
+  ASSERT_EQ(model->nq(), model->nv() + 1);
+  const ContactModeGraph graph = ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot");
+  for (const PlantKind kind : {PlantKind::kHybrid, PlantKind::kBullet}) {
+    try {
+      MakeContactPlant(kind, "exo_plant", model, graph, Terrain::Flat(), {}, {});
+      ADD_FAILURE() << ToString(kind) << " plant accepted a quaternion base";
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("system 'exo_plant': robot 'exoskeleton' has a quaternion floating base (nq = " +
+                          std::to_string(model->nq()) + ", nv = " + std::to_string(model->nv()) + ")"),
+                std::string::npos)
+          << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+  }
+}
+
 TEST(PlantKind, EitherPlantLetsAFlyingRobotFallFreely) {
   auto model = std::make_shared<const MultibodyModel>(
       MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
