@@ -176,7 +176,7 @@ struct SteppingStonesDiagramParams {
     // docs/design-notes.md#stepping-stones-random-course-failures).
     p.friction_cone_offset_N = 1.5;
     // Ours: the GRF rows also hold at the end of the held sample, as the CLF-QP's (planar Cassie's stance force moves
-    // by up to 4 N per 1 ms sample at 30 N of load; docs/design-notes.md#stepping-stones-random-course-failures).
+    // by 4 N per 1 ms sample at 30 N of load; docs/design-notes.md#stepping-stones-cassie-slips).
     p.predict_hold_drift = true;
     return p;
   }
