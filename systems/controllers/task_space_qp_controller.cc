@@ -323,7 +323,7 @@ void TaskSpaceQpController::SetContactRowBounds(Scratch& s, int mode) const {
   const int nv = model_->nv(), nu = model_->nu();
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
-  // Each row a x ≥ l (or ≤ u) on F also holds on F + d when l is raised by max(0, a d) (u lowered by max(0, −a d)).
+  // A row a F ≥ l (or ≤ u) also holds on F + d when l is raised by max(0, −a d) (u lowered by max(0, a d)).
   for (const ContactBlock& b : mq.contacts) {
     const int r = b.ineq_offset, f0 = b.x_offset - nv - nu, fz = b.normal - nv - nu;
     const double apex = b.mu * params_.friction_cone_offset_N, dz = mq.drift[fz];
