@@ -175,6 +175,9 @@ struct SteppingStonesDiagramParams {
     // (a few newtons) otherwise sits at 0.95 μ, which the held sample's drift carries past μ (unloading slips,
     // docs/design-notes.md#stepping-stones-random-course-failures).
     p.friction_cone_offset_N = 1.5;
+    // Ours: the GRF rows also hold at the end of the held sample, as the CLF-QP's (planar Cassie's stance force moves
+    // by 4 N per 1 ms sample at 30 N of load; docs/design-notes.md#stepping-stones-cassie-slips).
+    p.predict_hold_drift = true;
     return p;
   }
   static ClfQpParams DefaultClfParams() {

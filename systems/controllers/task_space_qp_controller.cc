@@ -47,6 +47,10 @@ struct TaskSpaceQpController::Scratch {
     std::vector<ContactBlock> contacts;
     std::vector<int> zero_u;
     DenseQpSolver qp;
+    // params.predict_hold_drift: the last used answer's F and time, and the predicted drift d (rows).
+    Eigen::VectorXd F_prev, drift;
+    double t_prev = 0.0;
+    bool prev_valid = false;
   };
   explicit Scratch(const MultibodyModel& model) : ws(model) {}
   MultibodyWorkspace ws;
@@ -54,6 +58,7 @@ struct TaskSpaceQpController::Scratch {
   Eigen::VectorXd y, ydot, Jdot_qdot, ydd_star, w_rows, residual;
   Eigen::MatrixXd Jy, WJy;
   Eigen::VectorXd saved_l, saved_u;  // GRF row bounds while the relaxed QP runs
+  Eigen::VectorXd qdd_hold, F_hold;  // forward dynamics at the held u (params.predict_hold_drift)
   int last_mode = 0;
 };
 
@@ -149,11 +154,12 @@ std::any TaskSpaceQpController::AllocateScratch() const {
   s.w_rows.setZero(ny_);
   s.Jy.setZero(ny_, nv);
   s.WJy.setZero(ny_, nv);
-  int max_ineq = 0;
+  int max_ineq = 0, max_rows = 0;
   s.modes.reserve(mode_contacts_.size());
   for (size_t m = 0; m < mode_contacts_.size(); ++m) {
     const ContactSet active = mode_contacts_[m];
     const int rows = CountConstraintRows(model, active);
+    max_rows = std::max(max_rows, rows);
     std::vector<ContactBlock> blocks;
     int f_row = 0, ineq = 0;
     for (int c = 0; c < model.num_contacts(); ++c) {
@@ -180,6 +186,8 @@ std::any TaskSpaceQpController::AllocateScratch() const {
     mq.rows = rows;
     mq.contacts = blocks;
     mq.zero_u = zero_torque_[m];
+    mq.F_prev.setZero(rows);
+    mq.drift.setZero(rows);
     DenseQpSolver& qp = mq.qp;
     // Constant data: −B in the dynamics rows, friction rows, bounds.
     qp.A_eq.block(0, nv, nv, nu) = -model.B();
@@ -189,31 +197,27 @@ std::any TaskSpaceQpController::AllocateScratch() const {
     }
     for (int j : mq.zero_u) qp.lb[nv + j] = qp.ub[nv + j] = 0.0;
     for (const ContactBlock& b : blocks) {
-      qp.lb[b.normal] = params_.min_normal_force_N;
       const int r = b.ineq_offset;
       if (model.is_planar()) {
         const int fx = b.normal - 1;
-        // F_x − μ F_z ≤ −μ F_0 and F_x + μ F_z ≥ μ F_0 (F_0: the apex offset).
-        const double apex = b.mu * params_.friction_cone_offset_N;
-        qp.A(r, fx) = 1.0, qp.A(r, b.normal) = -b.mu, qp.l[r] = -kInf, qp.u[r] = -apex;
-        qp.A(r + 1, fx) = 1.0, qp.A(r + 1, b.normal) = b.mu, qp.l[r + 1] = apex, qp.u[r + 1] = kInf;
-        if (b.cop) {
-          // x_min F_z ≤ −τ_y ≤ x_max F_z; the F_z coefficients depend on the foot pose (set in SolveQp).
-          qp.A(r + 2, b.x_offset) = -1.0, qp.l[r + 2] = 0.0, qp.u[r + 2] = kInf;
-          qp.A(r + 3, b.x_offset) = -1.0, qp.l[r + 3] = -kInf, qp.u[r + 3] = 0.0;
-        }
+        // F_x − μ F_z ≤ −μ F_0 and F_x + μ F_z ≥ μ F_0 (F_0: the apex offset; bounds in SetContactRowBounds).
+        qp.A(r, fx) = 1.0, qp.A(r, b.normal) = -b.mu;
+        qp.A(r + 1, fx) = 1.0, qp.A(r + 1, b.normal) = b.mu;
+        // x_min F_z ≤ −τ_y ≤ x_max F_z; the F_z coefficients depend on the foot pose (set in SolveQp).
+        if (b.cop) qp.A(r + 2, b.x_offset) = -1.0, qp.A(r + 3, b.x_offset) = -1.0;
       } else {
         // ±F_x − μ F_z ≤ −μ F_0, ±F_y − μ F_z ≤ −μ F_0.
         for (int k = 0; k < 4; ++k) {
           qp.A(r + k, b.x_offset + k / 2) = (k % 2 == 0) ? 1.0 : -1.0;
           qp.A(r + k, b.normal) = -b.mu;
-          qp.l[r + k] = -kInf;
-          qp.u[r + k] = -b.mu * params_.friction_cone_offset_N;
         }
       }
     }
     s.modes.push_back(std::move(mq));
+    SetContactRowBounds(s, static_cast<int>(m));
   }
+  s.qdd_hold.setZero(nv);
+  s.F_hold.setZero(std::max(1, max_rows));
   s.saved_l.setZero(max_ineq);
   s.saved_u.setZero(max_ineq);
   return s;
@@ -230,13 +234,14 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
   Scratch& s = context.scratch<Scratch>();
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
-  s.last_mode = mode;
   MultibodyWorkspace& ws = s.ws;
 
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
   const auto q = x.head(nv);
   const auto v = x.tail(nv);
+  CalcHoldDrift(context, mode, q, v);  // before the rows below: it overwrites ws' Jacobians
+  s.last_mode = mode;
 
   // Tasks: y, J_y, J̇_y q̇ and the PD output dynamics ÿ* (Eq. (29), (30)).
   for (size_t i = 0; i < tasks_.size(); ++i) {
@@ -295,7 +300,52 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
     qp.A(b.ineq_offset + 2, b.normal) = -x_min;
     qp.A(b.ineq_offset + 3, b.normal) = -x_max;
   }
+  SetContactRowBounds(s, mode);
   return qp.Solve();
+}
+
+void TaskSpaceQpController::CalcHoldDrift(const LeafContext& context, int mode, const VectorRef& q,
+                                          const VectorRef& v) const {
+  Scratch& s = context.scratch<Scratch>();
+  Scratch::ModeQp& mq = s.modes[mode];
+  mq.drift.setZero();
+  if (!params_.predict_hold_drift || !mq.prev_valid || s.last_mode != mode || mq.rows == 0) return;
+  const double dt = context.time() - mq.t_prev;
+  if (!(dt > 0.25 * params_.update_period_s && dt < 1.5 * params_.update_period_s)) return;
+  // F(x_k, u_{k−1}): the plant's force now under the torque it has held since the last answer.
+  const auto u_held = context.discrete_state().segment(u_offset(), model_->nu());
+  CalcConstrainedForwardDynamics(*model_, s.ws, q, v, u_held, mq.active, params_.contact_stabilization, s.qdd_hold,
+                                 s.F_hold);
+  mq.drift = (s.F_hold.head(mq.rows) - mq.F_prev) * (params_.update_period_s / dt);
+}
+
+void TaskSpaceQpController::SetContactRowBounds(Scratch& s, int mode) const {
+  const int nv = model_->nv(), nu = model_->nu();
+  Scratch::ModeQp& mq = s.modes[mode];
+  DenseQpSolver& qp = mq.qp;
+  // A row a F ≥ l (or ≤ u) also holds on F + d when l is raised by max(0, −a d) (u lowered by max(0, a d)).
+  for (const ContactBlock& b : mq.contacts) {
+    const int r = b.ineq_offset, f0 = b.x_offset - nv - nu, fz = b.normal - nv - nu;
+    const double apex = b.mu * params_.friction_cone_offset_N, dz = mq.drift[fz];
+    qp.lb[b.normal] = params_.min_normal_force_N + std::max(0.0, -dz);
+    if (model_->is_planar()) {
+      const double dx = mq.drift[fz - 1];
+      qp.l[r] = -kInf, qp.u[r] = -apex - std::max(0.0, dx - b.mu * dz);
+      qp.l[r + 1] = apex + std::max(0.0, -(dx + b.mu * dz)), qp.u[r + 1] = kInf;
+      if (b.cop) {
+        // −τ_y − x_min F_z ≥ 0 and −τ_y − x_max F_z ≤ 0 (A holds −x_min, −x_max once SolveQp has set them).
+        const double d_min = -mq.drift[f0] + qp.A(r + 2, b.normal) * dz;
+        const double d_max = -mq.drift[f0] + qp.A(r + 3, b.normal) * dz;
+        qp.l[r + 2] = std::max(0.0, -d_min), qp.u[r + 2] = kInf;
+        qp.l[r + 3] = -kInf, qp.u[r + 3] = std::min(0.0, -d_max);
+      }
+    } else {
+      for (int k = 0; k < 4; ++k) {
+        const double dtan = ((k % 2 == 0) ? 1.0 : -1.0) * mq.drift[f0 + k / 2];
+        qp.l[r + k] = -kInf, qp.u[r + k] = -apex - std::max(0.0, dtan - b.mu * dz);
+      }
+    }
+  }
 }
 
 QpStatus TaskSpaceQpController::SolveRelaxedQp(const LeafContext& context) const {
@@ -364,8 +414,12 @@ EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::Vec
       return EventStatus::Succeeded();  // hold the previous u
     }
   }
+  Scratch::ModeQp& used = s.modes[s.last_mode];
+  used.prev_valid = use_solution;
   if (use_solution) {
     const Eigen::VectorXd& x = mq.qp.x();
+    used.F_prev = x.tail(mq.rows);
+    used.t_prev = context.time();
     next->segment(u_offset(), nu) = x.segment(nv, nu);
     next->segment(qdd_offset(), nv) = x.head(nv);
     auto forces = next->segment(forces_offset(), 3 * nc);

@@ -90,6 +90,12 @@ struct TaskSpaceQpParams {
   /// CLF-QP). A foot about to lift off then keeps |F_t|/F_z well inside μ while the plant's forces drift over a held
   /// sample, where a pyramid through the origin allows μ' at any load. 0: the paper's cone.
   double friction_cone_offset_N = 0.0;
+  /// Ours (default off): the GRF rows (normal-force floor, friction pyramid, CoP) of every active contact also hold for
+  /// the force predicted at the end of the zero-order hold, F + d, where d is how far the plant's force moved with the
+  /// state over the last held sample at constant u (F(x_k, u_{k−1}) − F(x_{k−1}, u_{k−1}), from the constrained forward
+  /// dynamics, scaled to one update period; 0 after a mode change or a held update), as ClfQpParams::
+  /// predict_hold_drift. The rows are tightened, never loosened: each bound is the stricter of the two.
+  bool predict_hold_drift = false;
   Eigen::VectorXd torque_limits;  ///< [N m] per actuator; empty = the model's torque limits.
   /// α [1/s] on contact and loop-closure velocities, β [1/s] on loop-closure position errors φ: the same struct the
   /// plant integrates with (HybridContactPlantParams::dynamics), so the planned forces are the forces the plant
@@ -169,6 +175,10 @@ class TaskSpaceQpController final : public QpControllerSystem {
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
+  /// d of params.predict_hold_drift for `mode` at (q, v) (zero when unavailable); uses the scratch workspace.
+  void CalcHoldDrift(const LeafContext& context, int mode, const VectorRef& q, const VectorRef& v) const;
+  /// The GRF rows' bounds of `mode` (apex offset, normal-force floor, CoP), tightened by the hold drift.
+  void SetContactRowBounds(Scratch& s, int mode) const;
 
   std::shared_ptr<const MultibodyModel> model_;
   std::vector<ContactSet> mode_contacts_;

@@ -195,9 +195,17 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
           const double ft = f.col(c).head<2>().norm(), fn = f(2, c);
           std::ostringstream os;
           os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time())
-             << " s: |F_t|/F_n = " << ft / fn << (pending ? " exceeded" : " reached")
-             << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient << " (|F_t| = " << ft
-             << " N, F_n = " << fn << " N" << (pending ? "; already outside the cone right after an event" : "") << ")";
+             << " s: ";
+          // F_n < 0 (within event_tolerance_N, else the contact lifts off): the contact pulls on the ground, and the
+          // ratio |F_t|/F_n would read as a negative friction coefficient.
+          const char* after_event = pending ? "; already outside the cone right after an event" : "";
+          if (fn < 0)
+            os << "pulling contact (F_n = " << fn << " N < 0) with a tangential force |F_t| = " << ft
+               << " N left (mu = " << model_->contacts()[c].friction_coefficient << after_event << ")";
+          else
+            os << "|F_t|/F_n = " << ft / fn << (pending ? " exceeded" : " reached")
+               << " the friction coefficient mu = " << model_->contacts()[c].friction_coefficient << " (|F_t| = " << ft
+               << " N, F_n = " << fn << " N" << after_event << ")";
           // A contact that unloads with a tangential force left (even round-off) meets the cone's apex just before its
           // normal force reaches 0: say so, since the ratio of two near-zero forces alone reads like a violent slip.
           if (std::abs(fn) <= params_.event_tolerance_N)

@@ -33,12 +33,18 @@ TEST(TaskSpaceQpControllerAllocation, CountingWorks) {
   delete[] sink;
 }
 
-TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
+// With and without predict_hold_drift (its forward dynamics at the held u run from the second tick of each mode on:
+// the time advances by one period per tick and each answer is held).
+class TaskSpaceQpControllerAllocationDrift : public ::testing::TestWithParam<bool> {};
+
+TEST_P(TaskSpaceQpControllerAllocationDrift, PeriodicUpdateDoesNotAllocate) {
   auto model = test::LoadRobot("amber");
   // Two modes (left stance, double support): the update switches between their QPs.
   const ContactSet left = ContactBit(0), both = ContactBit(0) | ContactBit(1);
   const auto tasks = test::AmberWalkingTasks(*model);
-  TaskSpaceQpController controller("tsc", model, {left, both}, tasks);
+  TaskSpaceQpParams params;
+  params.predict_hold_drift = GetParam();
+  TaskSpaceQpController controller("tsc", model, {left, both}, tasks, params);
   auto context = controller.CreateDefaultLeafContext();
   const Eigen::VectorXd q_ss = test::AmberSingleSupportPose(*model), q_ds = test::AmberDoubleSupportPose(*model);
   Eigen::VectorXd x_ss(14), x_ds(14), v = Eigen::VectorXd::Zero(7);
@@ -57,6 +63,8 @@ TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
     fixed[7 + 3] = 0.1 * std::sin(0.1 * tick);  // hip velocity, so J̇q̇ and the PD terms change
     auto& mode = const_cast<int&>(controller.EvalTypedInput<int>(*context, 1));
     mode = ds ? 1 : 0;
+    context->SetTime(params.update_period_s * (tick + 1));
+    context->get_mutable_discrete_state() = next;  // the answer is held, as the simulator does
     context->InvalidateCache();
     g_allocations = 0;
     g_counting = true;
@@ -69,6 +77,7 @@ TEST(TaskSpaceQpControllerAllocation, PeriodicUpdateDoesNotAllocate) {
   }
   EXPECT_EQ(allocations, 0);
 }
+INSTANTIATE_TEST_SUITE_P(HoldDrift, TaskSpaceQpControllerAllocationDrift, ::testing::Bool());
 
 TEST(TaskSpaceQpControllerAllocation, RelaxedFallbackDoesNotAllocate) {
   // An unattainable normal-force bound makes every QP infeasible; the fallback re-solves without the GRF rows.

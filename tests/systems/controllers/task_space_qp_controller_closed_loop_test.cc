@@ -35,18 +35,19 @@ struct ClosedLoopResult {
   double worst_friction_ratio = 0;
   double min_normal_force = 1e9;
   double qp_failures = 0;
+  double worst_pyramid_excess = -1e9;  // [N] max of |F_x| − μ' F_z over the stance contacts (μ' of the controller)
   SimulatorStatus status;
 };
 
 ClosedLoopResult RunClosedLoop(std::shared_ptr<const MultibodyModel> model, const ContactModeGraph& graph,
                                const Eigen::VectorXd& q0, const Tasks& tasks, const Eigen::VectorXd& y_desired,
-                               double duration_s) {
+                               double duration_s, const TaskSpaceQpParams& params = {}) {
   DiagramBuilder builder;
   HybridContactPlantParams plant_params;
   auto* plant =
       builder.AddSystem(std::make_unique<HybridContactPlant>("amber", model, graph, Terrain::Flat(), plant_params));
-  auto* controller =
-      builder.AddSystem(std::make_unique<TaskSpaceQpController>("tsc", model, ActiveContactsPerMode(*plant), tasks));
+  auto* controller = builder.AddSystem(
+      std::make_unique<TaskSpaceQpController>("tsc", model, ActiveContactsPerMode(*plant), tasks, params));
   const int ny = controller->num_task_outputs();
   builder.AddSystem(std::make_unique<ConstantVectorSource>(
       "desired", Stack(y_desired, Eigen::VectorXd::Zero(ny), Eigen::VectorXd::Zero(ny))));
@@ -69,6 +70,10 @@ ClosedLoopResult RunClosedLoop(std::shared_ptr<const MultibodyModel> model, cons
       if (!(plant->active_contacts(pc.mode()) & ContactBit(c))) continue;
       r.min_normal_force = std::min(r.min_normal_force, f[3 * c + 2]);
       r.worst_friction_ratio = std::max(r.worst_friction_ratio, std::abs(f[3 * c]) / f[3 * c + 2]);
+      const double mu =
+          params.friction_coefficient >= 0 ? params.friction_coefficient : model->contacts()[c].friction_coefficient;
+      r.worst_pyramid_excess =
+          std::max(r.worst_pyramid_excess, std::abs(f[3 * c]) - params.friction_margin * mu * f[3 * c + 2]);
     }
     return EventStatus::Succeeded();
   });
@@ -124,6 +129,39 @@ TEST(TaskSpaceQpController, AmberHoldsASingleSupportPostureWithTheSwingFootInThe
   EXPECT_GT(r.min_normal_force, 0.0);
   EXPECT_LE(r.worst_friction_ratio, 0.8 + 1e-6);
   EXPECT_EQ(r.qp_failures, 0.0);
+}
+
+// A single stance, the COM sent 2 cm forward, with a low friction pyramid in the controller (μ' = 0.1; the plant keeps
+// the model's μ, so nothing slips) and a swing foot sent 5 cm forward and up: the stance force sits on the pyramid's
+// edge while the legs move fast, so over each 1 ms zero-order-held sample the plant's force (judged at every integrator
+// step, independently of the QP) drifts past the edge the QP planned on. With predict_hold_drift the QP also holds the
+// edge for the force extrapolated to the end of the sample; the excess left is the extrapolation's second-order error.
+TEST(TaskSpaceQpController, PredictedHoldDriftKeepsThePlantsStanceForceInsideThePyramidOverEachHeldSample) {
+  auto model = LoadRobot("amber");
+  ContactModeGraph graph;
+  graph.modes = {{"left_stance", {"left_foot"}}};
+  graph.initial_mode = "left_stance";
+  const Tasks tasks = {std::make_shared<ComPositionTask>("com", std::vector<Axis>{Axis::kX, Axis::kZ}),
+                       PointPositionTask::ForContact("swing_foot", *model, "right_foot", {Axis::kX, Axis::kZ})};
+  const Eigen::VectorXd q0 = AmberSingleSupportPose(*model, 0.12, 0.08);
+  Eigen::VectorXd y_desired = TaskValues(*model, tasks, q0, Eigen::VectorXd::Zero(7));
+  y_desired[0] += 0.02;  // COM 2 cm forward: the stance force leans on the pyramid's edge
+  y_desired[2] += 0.05;
+  y_desired[3] += 0.05;
+  TaskSpaceQpParams params;
+  params.friction_coefficient = 0.1;
+  params.friction_margin = 1.0;
+  const ClosedLoopResult off = RunClosedLoop(model, graph, q0, tasks, y_desired, 0.3, params);
+  params.predict_hold_drift = true;
+  const ClosedLoopResult on = RunClosedLoop(model, graph, q0, tasks, y_desired, 0.3, params);
+  std::printf("  |F_x| - mu' F_z at worst: %.4f N without, %.4f N with the predicted drift\n", off.worst_pyramid_excess,
+              on.worst_pyramid_excess);
+  ASSERT_TRUE(off.status.ok()) << off.status.ToString();
+  ASSERT_TRUE(on.status.ok()) << on.status.ToString();
+  EXPECT_GT(off.worst_pyramid_excess, 0.05);  // the scenario drifts out of the planned pyramid without the prediction
+  EXPECT_LT(on.worst_pyramid_excess, 0.1 * off.worst_pyramid_excess);
+  EXPECT_GT(on.min_normal_force, 0.0);
+  EXPECT_EQ(on.qp_failures, 0.0);
 }
 
 }  // namespace

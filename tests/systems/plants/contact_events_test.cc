@@ -246,6 +246,38 @@ TEST(ContactEvents, PushJumpingOutOfTheFrictionConeAtADiscreteUpdateFails) {
             "F_n = 19.62 N; already outside the cone right after an event)");
 }
 
+// The lifted block held at u = (c, m g + d) from t = 0.25 s, with 0 < d < event_tolerance_N: F_n = -d jumps just
+// below 0 (within the tolerance, so no lift-off) while |F_t| = c stays, outside the cone at once. The message says the
+// contact pulls (F_n < 0) instead of printing a negative |F_t|/F_n.
+TEST(ContactEvents, APullingContactWithATangentialForceSaysSoInsteadOfANegativeRatio) {
+  auto model = LoadTestModel("lifted_block");
+  const double m = 2.0, t_jump = 0.25, c = 1.0;
+  DiagramBuilder b;
+  auto* plant = b.AddSystem(
+      std::make_unique<HybridContactPlant>("plant", model, StanceFlight("block_bottom", false), Terrain::Flat()));
+  const double d = 0.5 * plant->params().event_tolerance_N;
+  b.AddSystem(std::make_unique<TrajectorySource>("step", 2, [=](double t, Eigen::Ref<Eigen::VectorXd> out) {
+    out[0] = t < 0.5 * t_jump ? 0.0 : c;
+    out[1] = t < 0.5 * t_jump ? 0.0 : m * kG + d;
+  }));
+  b.AddSystem(std::make_unique<ZeroOrderHold>("hold", t_jump, 2));
+  b.Connect("step", "y", "hold", "u");
+  b.Connect("hold", "y", "plant", "u");
+  auto diagram = b.Build("held_pull");
+  Simulator sim(*diagram, Tight());
+  const SimulatorStatus status = sim.AdvanceTo(1.0);
+  ASSERT_EQ(status.reason, SimulatorStatus::Reason::kFailed) << status.ToString();
+  EXPECT_NEAR(status.time, t_jump + plant->params().immediate_event_delay_s, 1e-12);
+  EXPECT_EQ(sim.statistics().events.back().guard, "slip");
+  EXPECT_NE(status.message.find("'block_bottom' slipped at t = 0.25 s: pulling contact (F_n = -5e-07 N < 0) with a "
+                                "tangential force |F_t| = 1 N left (mu = 0.5; already outside the cone right after "
+                                "an event)"),
+            std::string::npos)
+      << status.message;
+  EXPECT_EQ(status.message.find("|F_t|/F_n"), std::string::npos) << status.message;
+  std::printf("%s\n", status.message.c_str());
+}
+
 // AlternatingSingleSupport("a", "b") on two independent balls. Ball a stands, pulled up by u_a = m j t: it lifts off
 // at t1 = g / j into flight. Ball b falls freely from h_b and lands at t2 = sqrt(2 h_b / g), only 20 ms after t1 (less
 // than min_time_in_mode_s): b was not in contact before flight, so its touchdown is armed at once and is found at t2.
