@@ -88,6 +88,11 @@ struct WalkingDiagramParams {
   /// [-] cost weight of the swing foot's orientation (ours). The light foot's rows set the QP cost's largest curvature
   /// and so the scale of ClfQpParams::u_regularization (docs/design-notes.md#walking-swing-foot-orientation-weight).
   double swing_foot_orientation_weight = 0.1;
+  /// [controller update periods] the force band's reference F^z_aSLIP (Eq. (25)) is the plan's at t + this many
+  /// controller.update_period_s (ours; 0: the paper's F_ref(t)). The torque solved at t is held until t + T, so the
+  /// plant's force at the end of the hold, where the next update and RunWalking sample it, is the one the band at
+  /// t + T should hold; 0.5 centres the band on the hold instead. In [0, 2].
+  double force_band_lead_periods = 1.0;
   /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
   /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
   /// state the controller sees, torque noise. The plan and the controller keep the nominal model. Default: none.
