@@ -45,6 +45,8 @@ namespace rome {
 namespace {
 
 enum class RunUntil { kLiftoff, kPlanEnd };
+
+constexpr double kStrictBandFloor = 0.98;  // [-] see the check in RunStandToWalk
 enum class Start { kStanding, kOnTheOrbit, kGaitChange, kSequence };
 
 // Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`; kSequence: `steps` of each
@@ -144,6 +146,12 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
   ASSERT_GT(strict_ticks, 0);
   EXPECT_EQ(strict_ticks, r.band_samples);
   EXPECT_NEAR(r.force_in_band_fraction_strict, static_cast<double>(strict_in) / strict_ticks, 1e-12);
+  // Eq. (25) as written, from the plant's forces: the issue asks >= 95 %. The full runs here measured 99.3-99.6 %
+  // (docs/design-notes.md#walking-strict-band); the floor is 1 % below, about 1.5 times the ~0.7 % the band lost
+  // between the gaits measured (the periodic 0.30 and 0.42 m gaits: 99.56 and 99.58 %; a change: 99.2 %).
+  if (full_run) {
+    EXPECT_GE(static_cast<double>(strict_in) / strict_ticks, kStrictBandFloor);
+  }
   std::printf(
       "  t = %.3f s of %.3f: %s; %d lift-offs, %d steps (planned %d, %d off target), largest touchdown error %.4f m, "
       "COM error RMS (%.4f %.4f %.4f) "
