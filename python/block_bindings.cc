@@ -91,6 +91,8 @@ void BindControllerParams(py::module_& m) {
       .Field("force_band_halfwidth", &ClfQpParams::force_band_halfwidth, "[-] c of Eq. (25)")
       .Field("force_band_loading_floor_N", &ClfQpParams::force_band_loading_floor_N, "[N]")
       .Field("force_band_carry_inactive", &ClfQpParams::force_band_carry_inactive)
+      .Field("force_band_at_hold_end", &ClfQpParams::force_band_at_hold_end)
+      .Field("force_band_margin_N", &ClfQpParams::force_band_margin_N, "[N]")
       .Field("joint_limit_brake", &ClfQpParams::joint_limit_brake)
       .Field("torque_limits", &ClfQpParams::torque_limits, "[N m]; empty: the model's")
       .Field("resolve_at_events", &ClfQpParams::resolve_at_events)

@@ -29,6 +29,8 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.friction_coefficient = 0.6;
   p.contact.min_normal_force_N = 0.0;
   p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
+  p.force_band_at_hold_end = true;     // the band on the force at the end of the held sample (ours)
+  p.force_band_margin_N = 0.5;         // ours: the plant misses an edge the QP holds by < 0.05 N (design notes)
   p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
   // Ours (spec [R]: 0.02 m): the swing leg's yaw momentum needs more than a real sole holds; the hybrid plant's rigid
   // flat foot has no torsional slip (docs/design-notes.md#walking-controller-defaults).
@@ -77,6 +79,8 @@ void WalkingDiagramParams::Validate() const {
           "(0, inf)");
   Require(swing_foot_orientation_weight > 0 && std::isfinite(swing_foot_orientation_weight), who,
           "swing_foot_orientation_weight", swing_foot_orientation_weight, "", "(0, inf)");
+  Require(In(force_band_lead_periods, 0.0, 2.0), who, "force_band_lead_periods", force_band_lead_periods,
+          "update periods", Interval(0, 2, "update periods"));
   perturbations.Validate();
 }
 
@@ -258,7 +262,8 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   if (spec.params.force_band_loading_floor_N < 0.0)
     spec.params.force_band_loading_floor_N =
         2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force
-  d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>("walking_reference", d.plan));
+  d.reference = b.AddSystem(std::make_unique<WalkingTrajectorySource>(
+      "walking_reference", d.plan, params.force_band_lead_periods * spec.params.update_period_s));
   d.outputs = b.AddSystem(std::make_unique<WalkingOutputReference>("outputs", d.plan, swing));
   std::unique_ptr<System> block = controller ? controller(spec) : MakeWalkingClfQpController(spec);
   if (block == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the controller factory returned no system");

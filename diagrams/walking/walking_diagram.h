@@ -14,7 +14,9 @@
 // Choices beyond the paper (each a named parameter): the trailing foot is released at 1 % of m g (spec §7.5 [R],
 // HybridContactPlantParams::planned_liftoff_force_N; at F_n → 0 the held force's |F_t|/F_n is ill-conditioned and
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
-// spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample.
+// spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample. For the same hold, the
+// force band bounds the force predicted at the hold's end against the plan's F^z one update ahead
+// (force_band_lead_periods, ClfQpParams::force_band_at_hold_end), 0.5 N inside its edges (force_band_margin_N).
 // The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
 // (compensate_centroidal_momentum), which the point-mass ROMs do not model. What the diagram achieves, measured, is in
 // docs/walking.md (figures) and docs/design-notes.md#walking-status.
@@ -88,6 +90,11 @@ struct WalkingDiagramParams {
   /// [-] cost weight of the swing foot's orientation (ours). The light foot's rows set the QP cost's largest curvature
   /// and so the scale of ClfQpParams::u_regularization (docs/design-notes.md#walking-swing-foot-orientation-weight).
   double swing_foot_orientation_weight = 0.1;
+  /// [controller update periods] the force band's reference F^z_aSLIP (Eq. (25)) is the plan's at t + this many
+  /// controller.update_period_s (ours; 0: the paper's F_ref(t)). The torque solved at t is held until t + T, so the
+  /// plant's force at the end of the hold, where the next update and RunWalking sample it, is the one the band at
+  /// t + T should hold; 0.5 centres the band on the hold instead. In [0, 2].
+  double force_band_lead_periods = 1.0;
   /// What the simulated world does differently from the controller's model (systems/perturbations/): a push on a body
   /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
   /// state the controller sees, torque noise. The plan and the controller keep the nominal model. Default: none.

@@ -224,7 +224,9 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   const Eigen::VectorXd q_init = SetWalkingStart(walking, params, sim.get_mutable_context());
   r.joint_limits.Record(model, params.start_time_s, q_init);  // joint stops may end the run here, before a sample
 
-  const double mg = model.total_mass() * 9.81;
+  // The band is the controller's reference (the plan of the nominal model), so its slack is of the nominal m g, not
+  // of the plant's, which a mass-scale perturbation changes.
+  const double mg = (walking.model != nullptr ? *walking.model : model).total_mass() * 9.81;
   const double band =
       clf != nullptr ? clf->params().force_band_halfwidth : WalkingDiagramParams{}.controller.force_band_halfwidth;
   const double ticks_per_s = 1.0 / params.tick_period_s;

@@ -21,9 +21,10 @@
 //   COM position error against the plan's COM after the first step (from the plan's third segment), RMS and max per
 //   axis; pelvis roll, pitch, yaw (largest |angle|); the Eq. (25) band on the plant's normal forces: each foot's F_z
 //   within
-//   [(1 − c) F_ref − s m g, (1 + c) F_ref + s m g] (c: the controller's force_band_halfwidth, s: band_slack_mg,
-//   F_ref: the plan's aSLIP force), scored outside band_settle_s after each touchdown, and strictly (s = 0: Eq. (25)
-//   as written); the CLF-QP's δ and solve time.
+//   [(1 − c) F_ref − s m g, (1 + c) F_ref + s m g] (c: the controller's force_band_halfwidth, s: band_slack_mg, m:
+//   the controller's (nominal) model's mass, not the plant's, which a mass-scale perturbation changes; F_ref: the
+//   plan's aSLIP force at t), scored outside band_settle_s after each touchdown, and strictly (s = 0: Eq. (25) as
+//   written); the CLF-QP's δ and solve time.
 // Success: the simulator reached the end time (no failure, no interrupt), every single support of the plan that ends
 // before the end time ended in a step on its foothold, none landed off target, no contact violation, and (with
 // judge_standing_end, walk-to-stand) the plant ends standing at rest. (Joint limits

@@ -13,6 +13,7 @@ namespace rome::examples {
 
 const std::vector<std::pair<std::string, std::string>> kWalkingParameterOptions = {
     {"controller.force_band_halfwidth", "force-band"},
+    {"force_band_lead_periods", "force-band-lead"},
     {"stance_stagger_m", "stance-stagger"},
     {"standing_height_m", "com-heights"},
     {"height_min_m", "com-heights"},
@@ -52,6 +53,12 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "\"0.3,0.4,0.1,0.25;0.4,0.4,0.1,0.25\"), --steps each")
       .Option("steps", "10", "periodic single supports per gait after each transition (1 to 1000)")
       .Option("force-band", "0.1", "c of the force band, Eq. (25)")
+      .Option("force-band-lead", "1",
+              "the force band's reference is the plan's this many control periods ahead, where the held torque's "
+              "force is next sampled (ours; 0: the paper's F_ref(t); 0 to 2)")
+      .Option("force-band-at", "hold-end",
+              "hold-end | solve: the force band bounds the force predicted at the end of the held control period "
+              "(ours, default) or at the QP's solve instant (the paper)")
       .Option("stance-stagger", "0",
               "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the "
               "right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
@@ -219,6 +226,8 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   s.standing_height_m = heights[0], s.height_min_m = heights[1], s.height_max_m = heights[2];
   WalkingDiagramParams& p = o.diagram;
   p.controller.force_band_halfwidth = cli.GetDouble("force-band");
+  p.force_band_lead_periods = cli.GetDouble("force-band-lead");
+  p.controller.force_band_at_hold_end = OneOf(cli, "force-band-at", {"hold-end", "solve"}) == "hold-end";
   p.swing.touchdown_velocity_mps = cli.GetDouble("touchdown-speed");
   p.swing.pitch_max_rad = cli.GetDouble("swing-pitch");
   if (!(p.swing.pitch_max_rad >= 0.0 && p.swing.pitch_max_rad <= 0.44))

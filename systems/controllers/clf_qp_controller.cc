@@ -106,17 +106,18 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   positive(params_.relaxation_weight, "relaxation_weight");
   if (!(params_.u_regularization >= 0.0))
     ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
-  if (!(params_.force_band_loading_floor_N >= 0.0) || !std::isfinite(params_.force_band_loading_floor_N))
-    ThrowError("params.force_band_loading_floor_N = " + std::to_string(params_.force_band_loading_floor_N) +
-               " must be >= 0 N and finite");
-  if (!(params_.force_band_loading_fall_tolerance_N >= 0.0) ||
-      !std::isfinite(params_.force_band_loading_fall_tolerance_N))
-    ThrowError("params.force_band_loading_fall_tolerance_N = " +
-               std::to_string(params_.force_band_loading_fall_tolerance_N) + " must be >= 0 N and finite");
+  auto non_negative_N = [&](double value, const char* what) {
+    if (!(value >= 0.0) || !std::isfinite(value))
+      ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be >= 0 N and finite");
+  };
+  non_negative_N(params_.force_band_loading_floor_N, "force_band_loading_floor_N");
+  non_negative_N(params_.force_band_loading_fall_tolerance_N, "force_band_loading_fall_tolerance_N");
+  non_negative_N(params_.force_band_margin_N, "force_band_margin_N");
   if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
     ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
-  if (params_.predict_hold_drift && params_.formulation != ClfQpFormulation::kEliminateContactForces)
-    ThrowError("params.predict_hold_drift needs formulation kEliminateContactForces");
+  if ((params_.predict_hold_drift || params_.force_band_at_hold_end) &&
+      params_.formulation != ClfQpFormulation::kEliminateContactForces)
+    ThrowError("params.predict_hold_drift and params.force_band_at_hold_end need formulation kEliminateContactForces");
   if (!(params_.contact.friction_margin > 0.0 && params_.contact.friction_margin <= 1.0))
     ThrowError("params.contact.friction_margin = " + std::to_string(params_.contact.friction_margin) +
                " must be in (0, 1]");
@@ -422,8 +423,8 @@ int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const V
   // Hold drift: F(x_k, u_{k-1}) − F(x_{k-1}, u_{k-1}), per update period (0 without a previous solve in this mode).
   mq.drift.head(rows).setZero();
   const double dt = context.time() - mq.t_prev;
-  if (params_.predict_hold_drift && mq.prev_valid && same_mode && dt > 0.25 * params_.update_period_s &&
-      dt < 1.5 * params_.update_period_s) {
+  if ((params_.predict_hold_drift || params_.force_band_at_hold_end) && mq.prev_valid && same_mode &&
+      dt > 0.25 * params_.update_period_s && dt < 1.5 * params_.update_period_s) {
     mq.drift.head(rows) = mq.bv - mq.F_prev.head(rows);
     mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
     mq.drift.head(rows) *= params_.update_period_s / dt;
@@ -649,9 +650,11 @@ void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, 
     qp.A(br, nu + fz) = 1.0;
   } else {
     qp.A.row(br).head(nu) = mq.Av.row(fz);
-    shift = mq.bv[fz];
+    shift = mq.bv[fz] + (params_.force_band_at_hold_end ? mq.drift[fz] : 0.0);  // F_z(u) (+ d_z: the hold's end)
   }
   double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
+  const double margin = std::min(params_.force_band_margin_N, 0.25 * (upper - lower));
+  lower += margin, upper -= margin;
   const int ci = cw.contact();
   s.band_ref_cur[ci] = f_ref;
   const bool loading = !(s.band_active_prev & ContactBit(ci)) ||

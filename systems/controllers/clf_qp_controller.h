@@ -161,6 +161,15 @@ struct ClfQpParams {
   /// contacts, in proportion to their references (evenly if those are 0), so the band keeps the total (ours; off:
   /// each active contact keeps its own reference).
   bool force_band_carry_inactive = false;
+  /// Ours (default off; kEliminateContactForces only): the band bounds F_z(u) + d_z, the normal force predicted at the
+  /// end of the zero-order hold (d: the hold drift of predict_hold_drift), instead of F_z(u) at the solve instant. With
+  /// a reference read one update period ahead (walking: WalkingDiagramParams::force_band_lead_periods) the band then
+  /// holds the force the plant has when the next update samples it. Dropped with the band in fallback 1.
+  bool force_band_at_hold_end = false;
+  /// [N] Ours (default 0): the QP's band is this much inside Eq. (25)'s edges on each side (at most a quarter of the
+  /// band's width), room for the error of the predicted force: where the QP holds a force on an edge, the plant's
+  /// force there falls on either side of it by a few 10 mN. Applied before the loading floor. >= 0.
+  double force_band_margin_N = 0.0;
   Eigen::VectorXd torque_limits;  ///< [N m]; empty: the model's
   /// {contact, joint}: the actuator of `joint` gets u = 0 while `contact` is active (e.g. a passive stance ankle).
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;

@@ -76,6 +76,10 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   EXPECT_EQ(r.contact_violation_port_samples, 0);
   EXPECT_EQ(r.qp_infeasible_ticks, 0.0);
   EXPECT_GE(r.force_in_band_fraction, 0.95);
+  // Strictly (RunWalking's count of the plant's forces, which walking_diagram_test recounts): this run measured
+  // 98.3 %, the example's (10 steps of A) 98.4 %, most out-of-band ticks where the stop's last loading foot is held at
+  // the controller's loading floor (2 % m g) above a smaller planned force; the floor is about 1 % below.
+  EXPECT_GE(r.force_in_band_fraction_strict, 0.974);
   for (int a = 0; a < 3; ++a) EXPECT_LE(r.com_rms_error_m[a], 0.01) << "axis " << a;
   EXPECT_EQ(end_mode, kWalkingDoubleSupport);
   EXPECT_LE(offset, 0.01);

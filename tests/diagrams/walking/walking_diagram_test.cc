@@ -45,6 +45,8 @@ namespace rome {
 namespace {
 
 enum class RunUntil { kLiftoff, kPlanEnd };
+
+constexpr double kStrictBandFloor = 0.98;  // [-] see the check in RunStandToWalk
 enum class Start { kStanding, kOnTheOrbit, kGaitChange, kSequence };
 
 // Plans `steps` steps of `gait` (kGaitChange: of gait A = `gait`, then `steps` of `gait_b`; kSequence: `steps` of each
@@ -144,6 +146,11 @@ void RunStandToWalk(RunUntil until, const WalkingGait& gait = {},
   ASSERT_GT(strict_ticks, 0);
   EXPECT_EQ(strict_ticks, r.band_samples);
   EXPECT_NEAR(r.force_in_band_fraction_strict, static_cast<double>(strict_in) / strict_ticks, 1e-12);
+  // Eq. (25) as written, from the plant's forces: the issue asks >= 95 %. The full runs here measured 99.3-99.7 %,
+  // the example's periodic gaits and changes off these tests 99.4-99.6 % (docs/design-notes.md#walking-strict-band);
+  // the floor is 1.3 % below the lowest, three times the spread of those runs (0.4 %), and the one-tick lag it guards
+  // against cost 6-7 %.
+  if (full_run) { EXPECT_GE(static_cast<double>(strict_in) / strict_ticks, kStrictBandFloor); }
   std::printf(
       "  t = %.3f s of %.3f: %s; %d lift-offs, %d steps (planned %d, %d off target), largest touchdown error %.4f m, "
       "COM error RMS (%.4f %.4f %.4f) "
@@ -739,6 +746,10 @@ TEST(WalkingRun, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
   params.controller.force_band_halfwidth = 1.5;
   expect_message([&] { BuildWalkingDiagram(model, WalkingPlan{}, params); }, "WalkingDiagramParams",
                  "controller.force_band_halfwidth", "1.5");
+  params = WalkingDiagramParams{};
+  params.force_band_lead_periods = 3.0;
+  expect_message([&] { BuildWalkingDiagram(model, WalkingPlan{}, params); }, "WalkingDiagramParams",
+                 "force_band_lead_periods", "3 update periods");
   WalkingRunParams run;
   run.foothold_tolerance_m = -0.01;
   EXPECT_THROW(run.Validate(), std::invalid_argument);

@@ -119,5 +119,50 @@ TEST(WalkingPerturbations, APushInSingleSupportAddsItsImpulseToTheMomentum) {
   EXPECT_LT(std::abs(r.z()), kTolVerticalNs);
 }
 
+// The force band is the controller's reference, so RunWalking's ± s m g slack is of the controller's (nominal) mass,
+// not of the plant's: on a plant 20 % heavier (its forces run up to 20 % above the plan's) the tolerant band,
+// recounted here from the plant's forces and the plan with the nominal m g, is RunWalking's figure, and the plant's
+// m g would count other ticks (the check that this test tells the two apart; at 5 % both count the same ticks). The
+// heavier plant slips at about 0.44 s (10 % slips at 0.39 s, with or without the force-band lead); the band is scored
+// over the ~0.4 s before.
+TEST(WalkingPerturbations, TheForceBandSlackIsOfTheControllersMass) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingGait gait;
+  WalkingDiagramParams params;
+  params.perturbations.mass_scale = 1.2;
+  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 4, 1, &cache, stand), params);
+  WalkingRunParams run;
+  run.start_time_s = 0.5 * gait.dsp_duration_s;
+  run.start_at_rest = false;
+  run.end_time_s = 1.5;
+  const double c = params.controller.force_band_halfwidth, s = run.band_slack_mg;
+  const double mg_nominal = model->total_mass() * kGravity, mg_plant = 1.2 * mg_nominal;
+  long ticks = 0, in_nominal = 0, in_plant = 0;
+  int mode_seen = kWalkingDoubleSupport;
+  double touchdown = -1.0;
+  const WalkingRunResult r = RunWalking(d, run, [&](const Context&, const WalkingRunSample& x) {
+    if (x.mode != mode_seen) {
+      if (x.mode == kWalkingDoubleSupport || mode_seen != kWalkingDoubleSupport) touchdown = x.t;
+      mode_seen = x.mode;
+    }
+    if (!x.tick || (touchdown >= 0 && x.t <= touchdown + run.band_settle_s)) return;
+    for (int foot = 0; foot < 2; ++foot) {
+      const double fz = (*x.contact_forces)[3 * foot + 2], fref = x.reference.normal_force[foot];
+      in_nominal += fz >= (1 - c) * fref - s * mg_nominal && fz <= (1 + c) * fref + s * mg_nominal ? 1 : 0;
+      in_plant += fz >= (1 - c) * fref - s * mg_plant && fz <= (1 + c) * fref + s * mg_plant ? 1 : 0;
+      ++ticks;
+    }
+  });
+  std::printf("mass x 1.2: %ld ticks, in the band with the nominal m g %ld, with the plant's %ld; RunWalking %.4f\n",
+              ticks, in_nominal, in_plant, r.force_in_band_fraction);
+  ASSERT_GT(ticks, 500);
+  ASSERT_EQ(ticks, r.band_samples);
+  ASSERT_NE(in_nominal, in_plant);
+  EXPECT_NEAR(r.force_in_band_fraction, static_cast<double>(in_nominal) / ticks, 1e-12);
+}
+
 }  // namespace
 }  // namespace rome

@@ -523,6 +523,64 @@ TEST(ClfQpController, ForceBandCarriesTheInactiveContactsLoad) {
   }
 }
 
+// force_band_at_hold_end: AMBER in double support, moving, with a reference split (0.2 m g left, 0.8 m g right) the
+// outputs do not ask for, so the band binds. Updates at t = 0 and T, each torque held over one period of the plant
+// (its own constrained dynamics, semi-implicit Euler in 10 substeps). The plant's F_z at the end of the second hold,
+// where the next update (and the walking runs' scoring) samples it, is inside Eq. (25)'s band with no slack when the
+// QP bounds the force predicted at the hold's end (0.5 N inside the edges); bounding the force at the solve instant
+// instead, the same plant force leaves the band by the drift over the hold.
+TEST(ClfQpController, ForceBandAtHoldEndKeepsThePlantsForceInTheBandAtTheEndOfTheHold) {
+  const AmberBandSetup a;
+  const ContactSet both = ContactBit(a.l) | ContactBit(a.r);
+  MultibodyWorkspace ws(*a.model);
+  Eigen::VectorXd v0 = Eigen::VectorXd::Zero(a.model->nv());
+  v0[0] = 0.6, v0[1] = -0.4, v0[3] = 1.5, v0[5] = -2.0;
+  const int rows = CalcConstraintJacobian(*a.model, ws, a.q, v0, both);
+  const Eigen::MatrixXd J = ws.J.topRows(rows);
+  v0 -= J.completeOrthogonalDecomposition().solve(J * v0);  // consistent with both feet on the ground
+  Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+  f_ref[a.l] = 0.2 * a.mg, f_ref[a.r] = 0.8 * a.mg;
+  const double c = 0.1;
+  double outside[2] = {0, 0};  // [N] how far the plant's end-of-hold F_z is outside the band (the larger foot)
+  for (int at_end = 0; at_end < 2; ++at_end) {
+    ClfQpParams params;
+    params.force_band = true;
+    params.force_band_halfwidth = c;
+    params.force_band_at_hold_end = at_end == 1;
+    params.force_band_margin_N = at_end == 1 ? 0.5 : 0.0;
+    ClfQpController controller("clf", a.model, {both}, a.outputs, params);
+    auto context = controller.CreateDefaultLeafContext();
+    context->FixInputPort(3, f_ref);
+    const double T = params.update_period_s;
+    Eigen::VectorXd q = a.q, v = v0, qdd(a.model->nv()), F(a.model->max_constraint_rows());
+    auto hold = [&](const Eigen::VectorXd& u) {
+      for (int i = 0; i < 10; ++i) {
+        CalcConstrainedForwardDynamics(*a.model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
+        v += 0.1 * T * qdd;
+        q += 0.1 * T * v;
+      }
+    };
+    const Solved s0 = RunUpdate(controller, *context, Stack(q, v), 0, a.Desired());
+    ASSERT_EQ(s0.status, QpStatus::kOptimal);
+    hold(s0.u);
+    context->SetTime(T);
+    const Solved s1 = RunUpdate(controller, *context, Stack(q, v), 0, a.Desired());
+    ASSERT_EQ(s1.status, QpStatus::kOptimal);
+    EXPECT_EQ(s0.fallbacks.sum() + s1.fallbacks.sum(), 0.0);
+    hold(s1.u);
+    CalcConstrainedForwardDynamics(*a.model, ws, q, v, s1.u, both, ConstrainedDynamicsParameters{}, qdd, F);
+    for (int foot : {a.l, a.r}) {
+      const double fz = ExtractContactWrench(*a.model, ws, q, both, F, foot).force.z();
+      const double miss = std::max((1 - c) * f_ref[foot] - fz, fz - (1 + c) * f_ref[foot]);
+      std::printf("  band at the %s: foot %d plant F_z at the hold's end %.3f N, band [%.3f, %.3f] N\n",
+                  at_end ? "hold's end" : "solve instant", foot, fz, (1 - c) * f_ref[foot], (1 + c) * f_ref[foot]);
+      outside[at_end] = std::max(outside[at_end], miss);
+    }
+  }
+  EXPECT_LE(outside[1], 0.0);
+  EXPECT_GT(outside[0], 0.0) << "the drift over the hold takes the force the QP held on an edge out of the band";
+}
+
 TEST(ClfQpController, EachFallbackFiresOnAProblemBuiltToNeedIt) {
   auto model = test::LoadRobot("amber");
   const Eigen::VectorXd q = test::AmberSingleSupportPose(*model);

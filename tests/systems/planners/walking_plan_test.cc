@@ -105,6 +105,14 @@ TEST(WalkingPlan, ComposesAslipAndHlipIntoAContinuousThreeDimensionalReference) 
   EXPECT_EQ(com.tail<3>(), r.com_acceleration);
   EXPECT_EQ(source.EvalOutput(*context, "normal_force_reference"), Eigen::VectorXd(r.normal_force));
   EXPECT_EQ(source.EvalOutput(*context, "footholds").head<2>(), r.left_foothold);
+  // With a lead, only the force reference reads the plan ahead (the force band's look-ahead).
+  WalkingTrajectorySource ahead("walking_reference", plan, 2e-3);
+  auto ahead_context = ahead.CreateDefaultLeafContext();
+  ahead_context->SetTime(0.73);
+  EXPECT_EQ(ahead.EvalOutput(*ahead_context, "normal_force_reference"),
+            Eigen::VectorXd(plan.Sample(0.732).normal_force));
+  EXPECT_EQ(ahead.EvalOutput(*ahead_context, "com").head<3>(), r.com_position);
+  EXPECT_THROW(WalkingTrajectorySource("walking_reference", plan, -1e-3), std::runtime_error);
 }
 
 TEST(WalkingPlan, StandingStartTransitionJoinsThePeriodicGait) {
