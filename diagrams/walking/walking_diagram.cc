@@ -30,12 +30,13 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.min_normal_force_N = 0.0;
   p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
   p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
-  // Ours (spec [R]: |τ_z| ≤ 0.02 m f_z): the yaw rows of a rigid sole's four-corner wrench cone, with the sole's own
-  // μ (the sidecar's; BuildWalkingDiagram sets it when < 0), so that the CLF-QP asks no more torsion than the corners
-  // hold by friction on either plant (docs/design-notes.md#walking-sole-torsion).
-  p.contact.corner_wrench_cone = true;
+  // Ours (spec [R]: 0.02 m): the swing leg's yaw momentum needs more than a real sole holds; the hybrid plant's rigid
+  // flat foot has no torsional slip (docs/design-notes.md#walking-controller-defaults). corner_wrench_cone (off): a
+  // rigid sole's four-corner cone instead, with the sole's own μ (BuildWalkingDiagram sets it when < 0): the Bullet
+  // plant's feet then hold, but gait B and the gait changes ask more torsion than it allows
+  // (docs/design-notes.md#walking-sole-torsion).
+  p.contact.yaw_moment_coefficient_m = 0.1;
   p.contact.corner_cone_friction_coefficient = -1.0;
-  p.contact.yaw_moment_coefficient_m = 0.1;  // ours, used only with corner_wrench_cone off (the earlier default)
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on
                                   // the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;

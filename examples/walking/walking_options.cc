@@ -89,11 +89,12 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("clf-cost-target", "pd",
               "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec "
               "§5.5 [C22]: minimum-norm μ = 0)")
-      .Option("sole-torsion", "corner-cone",
-              "corner-cone | coefficient: the CLF-QP bounds each sole's wrench by the contact wrench cone of its four "
-              "corners (a rigid sole: less torsion where the CoP nears an edge or the foot carries a tangential force; "
-              "default) or its yaw moment by |tau_z| <= 0.1 m f_z wherever the CoP is (ours, the earlier default; more "
-              "than a rigid sole holds near an edge: the Bullet plant's feet slide)")
+      .Option("sole-torsion", "coefficient",
+              "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z wherever "
+              "the CoP is (ours, default; more than a rigid sole holds near an edge: on the Bullet plant the feet "
+              "slide) or each sole's wrench by the contact wrench cone of its four corners (a rigid sole: less torsion "
+              "where the CoP nears an edge or the foot carries a tangential force; Bullet's feet hold, but gait B and "
+              "the gait changes ask more than it allows)")
       .Option("sole-torsion-friction", "-1",
               "corner-cone: the friction coefficient of the corners' pyramids in the yaw rows (inscribed in the "
               "cone); < 0: the sole's own (the robot file's, 0.8 for the exoskeleton)")
@@ -228,7 +229,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   if (!(p.swing.pitch_max_rad >= 0.0 && p.swing.pitch_max_rad <= 0.44))
     throw std::invalid_argument("walking: --swing-pitch must be in [0, 0.44] rad, got " + cli.Get("swing-pitch"));
   p.controller.cost_pd_feedback = OneOf(cli, "clf-cost-target", {"pd", "min-norm"}) == "pd";
-  p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"corner-cone", "coefficient"}) == "corner-cone";
+  p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"coefficient", "corner-cone"}) == "corner-cone";
   p.controller.contact.corner_cone_friction_coefficient = cli.GetDouble("sole-torsion-friction");
   if (!(p.controller.contact.corner_cone_friction_coefficient <= 2.0))
     throw std::invalid_argument("walking: --sole-torsion-friction must be < 0 (the sole's own) or in [0, 2], got " +
