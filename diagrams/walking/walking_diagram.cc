@@ -33,8 +33,12 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.force_band_margin_N = 0.5;         // ours: the plant misses an edge the QP holds by < 0.05 N (design notes)
   p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
   // Ours (spec [R]: 0.02 m): the swing leg's yaw momentum needs more than a real sole holds; the hybrid plant's rigid
-  // flat foot has no torsional slip (docs/design-notes.md#walking-controller-defaults).
+  // flat foot has no torsional slip (docs/design-notes.md#walking-controller-defaults). corner_wrench_cone (off): a
+  // rigid sole's four-corner cone instead, with the sole's own μ (BuildWalkingDiagram sets it when < 0): the Bullet
+  // plant's feet then hold, but gait B and the gait changes ask more torsion than it allows
+  // (docs/design-notes.md#walking-sole-torsion).
   p.contact.yaw_moment_coefficient_m = 0.1;
+  p.contact.corner_cone_friction_coefficient = -1.0;
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on
                                   // the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;
@@ -259,6 +263,10 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   spec.layout = WalkingDesiredLayout(spec.tasks);
   spec.params = params.controller;
   spec.params.contact_stabilization = plant_params.dynamics;
+  if (spec.params.contact.corner_wrench_cone && spec.params.contact.corner_cone_friction_coefficient < 0.0)
+    spec.params.contact.corner_cone_friction_coefficient =
+        std::min(m.contacts()[m.ContactIndex("left_foot")].friction_coefficient,
+                 m.contacts()[m.ContactIndex("right_foot")].friction_coefficient);
   if (spec.params.force_band_loading_floor_N < 0.0)
     spec.params.force_band_loading_floor_N =
         2.0 * plant_params.planned_liftoff_force_N;  // above the plant's release force

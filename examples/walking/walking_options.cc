@@ -97,9 +97,14 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec "
               "§5.5 [C22]: minimum-norm μ = 0)")
       .Option("sole-torsion", "coefficient",
-              "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z (ours, "
-              "default) or by the contact wrench cone of its four corners (less where the CoP nears an edge or the "
-              "foot carries a tangential force)")
+              "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z wherever "
+              "the CoP is (ours, default; more than a rigid sole holds near an edge: on the Bullet plant the feet "
+              "slide) or each sole's wrench by the contact wrench cone of its four corners (a rigid sole: less torsion "
+              "where the CoP nears an edge or the foot carries a tangential force; Bullet's feet hold, but gait B and "
+              "the gait changes ask more than it allows)")
+      .Option("sole-torsion-friction", "-1",
+              "corner-cone: the friction coefficient of the corners' pyramids in the yaw rows (inscribed in the "
+              "cone); < 0: the sole's own (the robot file's, 0.8 for the exoskeleton)")
       .Option("foothold-tolerance", "0.05",
               "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid",
@@ -234,6 +239,10 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
     throw std::invalid_argument("walking: --swing-pitch must be in [0, 0.44] rad, got " + cli.Get("swing-pitch"));
   p.controller.cost_pd_feedback = OneOf(cli, "clf-cost-target", {"pd", "min-norm"}) == "pd";
   p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"coefficient", "corner-cone"}) == "corner-cone";
+  p.controller.contact.corner_cone_friction_coefficient = cli.GetDouble("sole-torsion-friction");
+  if (!(p.controller.contact.corner_cone_friction_coefficient <= 2.0))
+    throw std::invalid_argument("walking: --sole-torsion-friction must be < 0 (the sole's own) or in [0, 2], got " +
+                                cli.Get("sole-torsion-friction"));
   p.bullet_plant.enable_joint_limits = OneOf(cli, "joint-limits", {"on", "off"}) == "on";
   p.plant.joint_stops = p.controller.joint_limit_brake.enabled = OneOf(cli, "joint-stops", {"on", "off"}) == "on";
   o.run.foothold_tolerance_m = cli.GetDouble("foothold-tolerance");

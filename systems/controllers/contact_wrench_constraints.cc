@@ -28,6 +28,11 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
   if (!(mu_ >= 0.0) || !std::isfinite(mu_))
     throw std::invalid_argument("system '" + system + "': contact '" + info.name + "' has friction coefficient " +
                                 std::to_string(mu_));
+  mu_corner_ = params.corner_cone_friction_coefficient >= 0.0 ? params.corner_cone_friction_coefficient : mu_;
+  if (!std::isfinite(mu_corner_))
+    throw std::invalid_argument("system '" + system + "': contact '" + info.name +
+                                "': corner_cone_friction_coefficient = " + std::to_string(mu_corner_) +
+                                " is outside [0, inf)");
   // Sole extent relative to the frame origin, in the link (foot) frame.
   x_min_ = y_min_ = kInf;
   x_max_ = y_max_ = -kInf;
@@ -52,7 +57,7 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
   } else if (info.type == ContactType::kFlat) {
     flat3d_ = cop_ = true;
     normal_ = 5;
-    if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0);
+    if (params.inscribe_pyramid) mu_ /= std::sqrt(2.0), mu_corner_ /= std::sqrt(2.0);
     kinds_ = {RowKind::kNormal,           RowKind::kFriction,         RowKind::kFriction,
               RowKind::kFriction,         RowKind::kFriction,         RowKind::kCenterOfPressure,
               RowKind::kCenterOfPressure, RowKind::kCenterOfPressure, RowKind::kCenterOfPressure};
@@ -142,7 +147,7 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
     // Half-sizes of the sole (after the CoP margin) about the frame origin, its centre (checked at construction).
     // Foot-frame rows over F = [τ; f]: τ' = Rᵀ τ, f' = Rᵀ f, with f'_z taken as f_z (the sole is flat on level
     // ground, as the CoP rows assume).
-    const double X = x_max_, Y = y_max_;
+    const double X = x_max_, Y = y_max_, mu = mu_corner_;
     Eigen::Matrix<double, 1, 6> tx = Eigen::Matrix<double, 1, 6>::Zero(), ty = tx, tz = tx, fx = tx, fy = tx, fz = tx;
     tx.head<3>() = ex;
     ty.head<3>() = ey;
@@ -153,11 +158,11 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
     for (const double s1 : {1.0, -1.0})
       for (const double s2 : {1.0, -1.0}) {
         // τ_z + μ(X+Y) f_z − s1 (Y f_x − μ τ_x) − s2 (X f_y − μ τ_y) ≥ 0
-        G.row(r) = tz + mu_ * (X + Y) * fz - s1 * (Y * fx - mu_ * tx) - s2 * (X * fy - mu_ * ty), l[r] = 0.0,
-        u[r] = kInf, ++r;
+        G.row(r) = tz + mu * (X + Y) * fz - s1 * (Y * fx - mu * tx) - s2 * (X * fy - mu * ty), l[r] = 0.0, u[r] = kInf,
+        ++r;
         // −τ_z + μ(X+Y) f_z − s1 (Y f_x + μ τ_x) − s2 (X f_y + μ τ_y) ≥ 0
-        G.row(r) = -tz + mu_ * (X + Y) * fz - s1 * (Y * fx + mu_ * tx) - s2 * (X * fy + mu_ * ty), l[r] = 0.0,
-        u[r] = kInf, ++r;
+        G.row(r) = -tz + mu * (X + Y) * fz - s1 * (Y * fx + mu * tx) - s2 * (X * fy + mu * ty), l[r] = 0.0, u[r] = kInf,
+        ++r;
       }
   } else if (yaw_ >= 0.0) {
     const Eigen::RowVector3d ez = R.col(2).transpose();

@@ -53,6 +53,10 @@ struct ContactWrenchParams {
   /// (8 rows): the torsion a sole can hold shrinks as its CoP nears an edge or corner and as it carries a tangential
   /// force, as on BulletWorldPlant's four corner contacts.
   bool corner_wrench_cone = false;
+  /// [-] corner_wrench_cone: μ of the corners' pyramids (before inscribe_pyramid; friction_margin does not apply);
+  /// < 0: the friction rows' μ'. The torsion a sole holds is the plant's (its sole's μ), while the friction rows' μ'
+  /// may be kept low for the force's drift over a held sample (ours).
+  double corner_cone_friction_coefficient = -1.0;
 };
 
 class ContactWrenchConstraints {
@@ -78,6 +82,7 @@ class ContactWrenchConstraints {
   int normal_ = 0;
   bool planar_ = false, flat3d_ = false, line3d_ = false, cop_ = false;
   double mu_ = 1.0;
+  double mu_corner_ = 1.0;  // the corner cone's μ (inscribed when inscribe_pyramid)
   double min_normal_ = 0.0;
   double offset_ = 0.0;
   double yaw_ = -1.0;

@@ -120,3 +120,55 @@ TEST(ContactWrenchConstraints, CornerWrenchConeIsTightAtTheSolesTorsionAndCorner
 
 }  // namespace
 }  // namespace rome
+
+namespace rome {
+namespace {
+
+// corner_cone_friction_coefficient: the yaw rows use the sole's own μ_c while the friction rows keep their reduced μ'.
+// Closed form for a rectangle of half-sizes X, Y (after the CoP margin) with equal corner loads and each corner's
+// pyramid inscribed in its cone: |τ_z| ≤ (μ_c/√2)(X + Y) F_z (the walking default: μ_c = 0.8, X = 0.115 m,
+// Y = 0.04 m, 0.0877 m F_z). The friction rows are unchanged: |F_x| ≤ (μ' friction_margin/√2) F_z.
+TEST(ContactWrenchConstraints, CornerConeFrictionCoefficientSetsTheTorsionBoundOnly) {
+  const Sole s = LeftSole();
+  const double mu_rows = 0.6, margin = 0.5, mu_c = 0.8, cop_margin = 0.01, Fz = 500.0;
+  ContactWrenchParams p;
+  p.friction_coefficient = mu_rows;
+  p.friction_margin = margin;
+  p.cop_margin_m = cop_margin;
+  p.corner_wrench_cone = true;
+  p.corner_cone_friction_coefficient = mu_c;
+  const ContactWrenchConstraints c(*s.model, s.contact, p, "test");
+  double X = 0, Y = 0;
+  for (const Eigen::Vector3d& d : s.corners) X = std::max(X, std::abs(d.x())), Y = std::max(Y, std::abs(d.y()));
+  X -= cop_margin, Y -= cop_margin;
+  const double bound = mu_c / std::sqrt(2.0) * (X + Y) * Fz;
+  EXPECT_NEAR(bound / Fz, 0.8 / std::sqrt(2.0) * (0.125 + 0.05 - 0.02), 1e-12);  // the exoskeleton's sole, by hand
+  const Eigen::Vector3d ez_world = s.R.col(2);
+  for (const double sign : {1.0, -1.0}) {
+    Eigen::Matrix<double, 6, 1> F = Eigen::Matrix<double, 6, 1>::Zero();
+    F.tail<3>() = s.R * Eigen::Vector3d(0, 0, Fz);
+    F.head<3>() = sign * bound * ez_world;
+    EXPECT_NEAR(Slack(s, c, F), 0.0, 1e-9 * Fz);
+    F.head<3>() *= 1.0 + 1e-6;
+    EXPECT_LT(Slack(s, c, F), 0.0);
+  }
+  // Friction rows: the reduced μ', inscribed.
+  Eigen::MatrixXd G(c.num_rows(), c.num_force_rows());
+  Eigen::VectorXd l(c.num_rows()), u(c.num_rows());
+  MultibodyWorkspace ws(*s.model);
+  c.Fill(*s.model, ws, s.model->q_nominal(), G, l, u);
+  const double fx_max = mu_rows * margin / std::sqrt(2.0) * Fz;
+  for (const double scale : {1.0 - 1e-6, 1.0 + 1e-6}) {
+    Eigen::Matrix<double, 6, 1> F = Eigen::Matrix<double, 6, 1>::Zero();
+    F[3] = scale * fx_max, F[5] = Fz;
+    const Eigen::VectorXd g = G * F;
+    double slack = std::numeric_limits<double>::infinity();
+    for (int r = 0; r < c.num_rows(); ++r)
+      if (c.kind(r) == ContactWrenchConstraints::RowKind::kFriction)
+        slack = std::min({slack, g[r] - l[r], u[r] - g[r]});
+    EXPECT_EQ(slack >= 0.0, scale < 1.0) << "scale " << scale;
+  }
+}
+
+}  // namespace
+}  // namespace rome
