@@ -32,7 +32,9 @@ void BindControllerParams(py::module_& m) {
       .Field("inscribe_pyramid", &ContactWrenchParams::inscribe_pyramid)
       .Field("cop_margin_m", &ContactWrenchParams::cop_margin_m, "[m]")
       .Field("yaw_moment_coefficient_m", &ContactWrenchParams::yaw_moment_coefficient_m, "[m] < 0: no bound")
-      .Field("corner_wrench_cone", &ContactWrenchParams::corner_wrench_cone);
+      .Field("corner_wrench_cone", &ContactWrenchParams::corner_wrench_cone)
+      .Field("corner_cone_friction_coefficient", &ContactWrenchParams::corner_cone_friction_coefficient,
+             "[-] the corner cone's mu; < 0: the friction rows' (margin-scaled) mu");
   ParamsClass<JointLimitBrakeParams>(m, "JointLimitBrakeParams",
                                      "q-double-dot bounds that brake each joint before its URDF limit "
                                      "(systems/controllers/joint_limit_brake.h).")
@@ -124,6 +126,7 @@ void BindControllerParams(py::module_& m) {
       .Field("friction_cone_offset_N", &TaskSpaceQpParams::friction_cone_offset_N, "[N] the pyramid's apex")
       .Field("torque_limits", &TaskSpaceQpParams::torque_limits, "[N m]; empty: the model's")
       .Field("resolve_at_events", &TaskSpaceQpParams::resolve_at_events)
+      .Field("predict_hold_drift", &TaskSpaceQpParams::predict_hold_drift)
       .Field("resolve_at", &TaskSpaceQpParams::resolve_at)
       .Field("zero_torque_in_contact", &TaskSpaceQpParams::zero_torque_in_contact,
              "[(contact, joint)]: u = 0 in contact")

@@ -1,10 +1,12 @@
 """The QP controllers' and the plants' parameters set from Python reach the C++ blocks and act as documented.
 
 Physics checks on AMBER standing (as in test_contact_blocks.py): with the left knee declared passive while the left
-foot is in contact (zero_torque_in_contact of ClfQpParams and of TaskSpaceQpParams), the robot still stands on the plant's ground forces, which
-obey Newton and the friction cone, and that knee's torque stays zero; on BulletWorldPlant with its external-force
-input declared (BulletWorldPlantParams.external_force_input), a constant horizontal push on the base is carried at
-rest by the feet's friction (Newton: the ground's horizontal force is minus the push, its vertical force the weight).
+foot is in contact (zero_torque_in_contact of ClfQpParams and of TaskSpaceQpParams), the robot still stands on the
+plant's ground forces, which obey Newton and the friction cone, and that knee's torque stays zero; the hybrid plant
+with its joint stops and stiffer stabilisation set from Python holds AMBER standing on physical forces; on
+BulletWorldPlant with its external-force input declared (BulletWorldPlantParams.external_force_input), a constant
+horizontal push on the base is carried at rest by the feet's friction (Newton: the ground's horizontal force is minus
+the push, its vertical force the weight).
 """
 import math
 
@@ -45,9 +47,9 @@ def clf_qp_with_passive_left_knee(plant, tasks):
 
 
 def task_space_qp_with_passive_left_knee(plant, tasks):
-    params = rome.TaskSpaceQpParams(zero_torque_in_contact=[("left_foot", "left_knee")],
-                                    qp=rome.QpSettings(max_iterations=200),
-                                    contact_stabilization=rome.ConstrainedDynamicsParameters(baumgarte_alpha_per_s=10.0))
+    stabilization = rome.ConstrainedDynamicsParameters(baumgarte_alpha_per_s=10.0)
+    params = rome.TaskSpaceQpParams(zero_torque_in_contact=[("left_foot", "left_knee")], predict_hold_drift=True,
+                                    qp=rome.QpSettings(max_iterations=200), contact_stabilization=stabilization)
     assert "zero_torque_in_contact=[('left_foot', 'left_knee')]" in repr(params)
     return rome.TaskSpaceQpController("ctrl", plant, tasks, params)
 
