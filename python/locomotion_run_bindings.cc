@@ -9,6 +9,7 @@
 #include <pybind11/stl.h>
 
 #include "diagrams/hopping/hopping_run.h"
+#include "systems/plants/plant_kind.h"
 #include "diagrams/walking/walking_robot_check.h"
 #include "diagrams/walking/walking_run.h"
 #include "python/bindings.h"
@@ -60,7 +61,8 @@ struct WalkingSeries {
 /// Plan → build → RunWalking as examples/walking does for its stand-to-walk, gait-change and periodic scenarios.
 py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gait, int steps,
                                 const std::string& scenario, unsigned seed, WalkingRunParams run,
-                                const WalkingGait& gait_b, bool record) {
+                                const WalkingGait& gait_b, bool record, const WalkingDiagramParams& diagram_params,
+                                const std::string& plant) {
   if (scenario != "stand-to-walk" && scenario != "periodic" && scenario != "gait-change")
     throw py::value_error("run_walking: scenario must be 'stand-to-walk', 'gait-change' or 'periodic', got '" +
                           scenario + "'");
@@ -70,12 +72,13 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
     run.start_time_s = 0.5 * gait.dsp_duration_s;
     run.start_at_rest = false;
   }
+  const PlantKind plant_kind = ParsePlantKind(plant, "run_walking: plant");
   run.Validate();
+  diagram_params.Validate();
   gait.Validate("run_walking: gait");
   if (scenario == "gait-change") gait_b.Validate("run_walking: gait_b");
   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(robot));
   CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input (ValueError), as in examples/walking
-  const WalkingDiagramParams diagram_params;
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
   stand.plan_check = WalkingPoseCheck(model, diagram_params);
@@ -88,7 +91,7 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
     plan = BuildGaitChangePlan(gait, gait_b, steps, seed, nullptr, nullptr, stand, planned);
   else
     plan = BuildStandToWalkPlan(gait, planned, seed, nullptr, nullptr, stand);
-  const WalkingDiagram d = BuildWalkingDiagram(model, plan, diagram_params);
+  const WalkingDiagram d = BuildWalkingDiagram(model, plan, diagram_params, plant_kind);
   WalkingFeasibilityParams feasibility;  // as examples/walking's default --feasibility torque
   feasibility.enforce_sole_wrench = feasibility.enforce_joint_limits = false;
   const WalkingFeasibilityReport f =
@@ -107,18 +110,20 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
 
 /// Planners → build → RunHopping as examples/hopping does (Cassie, the hybrid plant).
 py::object RunHoppingFromPython(int hops, double apex_rise_m, const std::string& leg_stiffness,
-                                const HoppingRunParams& run) {
+                                const HoppingRunParams& run, HoppingDiagramParams diagram_params,
+                                const std::string& plant) {
+  const PlantKind plant_kind = ParsePlantKind(plant, "run_hopping: plant");
+  diagram_params.reference.hops = hops;
+  diagram_params.Validate();
   run.Validate();
   auto model =
       std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
   SpringMassJumpParams jump;
   jump.apex_rise = apex_rise_m;
-  HoppingDiagramParams diagram_params;
-  diagram_params.reference.hops = hops;
   auto planners = std::make_unique<SpringMassHopPlanners>(*model, ParseLegStiffnessVariant(leg_stiffness), jump,
                                                           SpringMassLandingParams{});
   HoppingDiagram d =
-      BuildHoppingDiagram(model, planners->leg_length, planners->jump, planners->landing, diagram_params);
+      BuildHoppingDiagram(model, planners->leg_length, planners->jump, planners->landing, diagram_params, plant_kind);
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   const HoppingRunResult r = RunHopping(d, sim, run, planners.get());
@@ -127,7 +132,81 @@ py::object RunHoppingFromPython(int hops, double apex_rise_m, const std::string&
 
 }  // namespace
 
+void BindWalkingDiagramParams(py::module_& m) {
+  ParamsClass<SwingFootTrajectoryParams>(m, "SwingFootTrajectoryParams",
+                                         "The walking swing foot's path (systems/planners/walking_output_reference.h).")
+      .Field("apex_height_m", &SwingFootTrajectoryParams::apex_height_m, "[m]")
+      .Field("touchdown_velocity_mps", &SwingFootTrajectoryParams::touchdown_velocity_mps, "[m/s]")
+      .Field("ankle_height_m", &SwingFootTrajectoryParams::ankle_height_m, "[m] set from the robot's sole")
+      .Field("pitch_max_rad", &SwingFootTrajectoryParams::pitch_max_rad, "[rad]");
+  using C = CentroidalMomentumCompensationParams;
+  ParamsClass<C>(m, "CentroidalMomentumCompensationParams",
+                 "The walking plan's COM shift for the legs' angular momentum (centroidal_momentum_compensation.h).")
+      .Field("sample_period_s", &C::sample_period_s, "[s]")
+      .Field("iterations", &C::iterations);
+  using W = WalkingDiagramParams;
+  ParamsClass<W>(m, "WalkingDiagramParams",
+                 "The walking diagram's blocks (diagrams/walking/walking_diagram.h); perturbations keep their C++ "
+                 "default (none).")
+      .Field("plant", &W::plant, "HybridContactPlantParams")
+      .Field("bullet_plant", &W::bullet_plant, "BulletWorldPlantParams")
+      .Field("controller", &W::controller, "ClfQpParams")
+      .Field("swing", &W::swing)
+      .Field("compensate_centroidal_momentum", &W::compensate_centroidal_momentum)
+      .Field("compensation", &W::compensation)
+      .Field("swing_foot_weight", &W::swing_foot_weight, "[-]")
+      .Field("swing_foot_orientation_weight", &W::swing_foot_orientation_weight, "[-]")
+      .Field("force_band_lead_periods", &W::force_band_lead_periods, "[controller update periods]")
+      .cls()
+      .def("validate", &W::Validate);
+}
+
+void BindHoppingDiagramParams(py::module_& m) {
+  using O = HoppingOutputParams;
+  ParamsClass<O>(m, "HoppingOutputParams", "The hopping CLF-QP's output weights and flight gains (hopping_outputs.h).")
+      .Field("momentum_weight", &O::momentum_weight, "[-]")
+      .Field("leg_length_weight", &O::leg_length_weight, "[-]")
+      .Field("com_weight", &O::com_weight, "[-]")
+      .Field("pelvis_weight", &O::pelvis_weight, "[-]")
+      .Field("motor_weight", &O::motor_weight, "[-]")
+      .Field("motor_kp", &O::motor_kp)
+      .Field("motor_kd", &O::motor_kd)
+      .Field("jump_tracks_momentum", &O::jump_tracks_momentum);
+  using R = HoppingReferenceParams;
+  ParamsClass<R>(m, "HoppingReferenceParams", "The hopping reference's timing and feedback (hopping_reference.h).")
+      .Field("update_period_s", &R::update_period_s, "[s]")
+      .Field("settle_time_s", &R::settle_time_s, "[s]")
+      .Field("rest_time_s", &R::rest_time_s, "[s]")
+      .Field("rest_max_speed", &R::rest_max_speed, "[m/s]")
+      .Field("max_rest_time_s", &R::max_rest_time_s, "[s]")
+      .Field("hops", &R::hops, "run_hopping's hops argument sets it")
+      .Field("landing_blend_s", &R::landing_blend_s, "[s]")
+      .Field("landing_fallback_s", &R::landing_fallback_s, "[s]")
+      .Field("max_plan_nodes", &R::max_plan_nodes)
+      .Field("jump_momentum_gain", &R::jump_momentum_gain)
+      .Field("flight_hip_pitch_follow", &R::flight_hip_pitch_follow)
+      .Field("landing_deflection_feedback", &R::landing_deflection_feedback)
+      .Field("jump_force_feedback", &R::jump_force_feedback, "[-]")
+      .Field("jump_force_integral_per_s", &R::jump_force_integral_per_s, "[1/s]")
+      .Field("jump_force_correction_max_m", &R::jump_force_correction_max_m, "[m]");
+  using H = HoppingDiagramParams;
+  ParamsClass<H>(m, "HoppingDiagramParams",
+                 "The hopping diagram's blocks (diagrams/hopping/hopping_diagram.h); perturbations and the robot's "
+                 "joint and link names keep their C++ defaults.")
+      .Field("plant", &H::plant, "HybridContactPlantParams")
+      .Field("bullet_plant", &H::bullet_plant, "BulletWorldPlantParams")
+      .Field("controller", &H::controller, "ClfQpParams")
+      .Field("outputs", &H::outputs)
+      .Field("reference", &H::reference)
+      .Field("log_period_s", &H::log_period_s, "[s]")
+      .Field("landing_u_regularization_scale", &H::landing_u_regularization_scale, "[-]")
+      .cls()
+      .def("validate", &H::Validate);
+}
+
 void BindLocomotionRuns(py::module_& m) {
+  BindWalkingDiagramParams(m);
+  BindHoppingDiagramParams(m);
   ParamsClass<WalkingGait>(m, "WalkingGait",
                            "A periodic walking gait (diagrams/walking/walking_diagram.h), gait A by default.")
       .Field("step_length_m", &WalkingGait::step_length_m)
@@ -162,17 +241,18 @@ void BindLocomotionRuns(py::module_& m) {
       py::arg("seed") = 1u, py::arg("run") = WalkingRunParams{},
       py::arg("gait_b") =
           WalkingGait{.step_length_m = 0.40, .ssp_duration_s = 0.40, .dsp_duration_s = 0.10, .step_width_m = 0.25},
-      py::arg("record") = false,
-      "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram, refuses "
+      py::arg("record") = false, py::arg("diagram") = WalkingDiagramParams{}, py::arg("plant") = "hybrid",
+      "Plans (stand-to-walk, gait-change from `gait` to `gait_b`, or periodic), builds the walking diagram with "
+      "`diagram` on the `plant` ('hybrid' or 'bullet'), refuses "
       "(ValueError) a plan over a torque limit as the walking program does (CheckWalkingPlanFeasibility), and runs it "
       "(RunWalking). Returns the walking program's summary metrics as a dict (success, steps_completed, ...), "
       "plus wall_s and simulated_s; with record=True also 'series': per control tick time, mode, steps, com and "
       "com_reference (N x 3, m), normal_force and normal_force_reference (N x 2, N; left, right).");
   m.def("run_hopping", &RunHoppingFromPython, py::arg("hops") = 1,
         py::arg("apex_rise_m") = SpringMassJumpParams{}.apex_rise, py::arg("leg_stiffness") = "identified",
-        py::arg("run") = HoppingRunParams{},
-        "Builds Cassie's hopping diagram with the spring-mass planners and runs it (RunHopping). Returns the hopping "
-        "program's "
+        py::arg("run") = HoppingRunParams{}, py::arg("diagram") = HoppingDiagramParams{}, py::arg("plant") = "hybrid",
+        "Builds Cassie's hopping diagram with the spring-mass planners, `diagram` (its reference's hops set from "
+        "`hops`) and the `plant` ('hybrid' or 'bullet'), and runs it (RunHopping). Returns the hopping program's "
         "summary as a dict (success, hopped, air_time_s, ...).");
 }
 

@@ -102,8 +102,8 @@ PYBIND11_MODULE(_rome, m) {
   rome::python::BindPlanners(m);
   rome::python::BindCollocation(m);
   rome::python::BindSteppingStones(m);
-  rome::python::BindLocomotionRuns(m);
   rome::python::BindContactBlocks(m);
+  rome::python::BindLocomotionRuns(m);  // after the plant and controller parameters its defaults hold
   rome::python::BindPosture(m);
   rome::python::BindWalkingPlan(m);
 }
