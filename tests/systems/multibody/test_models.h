@@ -34,9 +34,10 @@ inline void RandomState(const MultibodyModel& model, std::mt19937& rng, Eigen::V
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   q = model.q_nominal();
   v.resize(model.nv());
-  for (int i = 0; i < model.nq(); ++i) {
+  for (int i = 0; i < model.nq(); ++i) {  // nq = nv + 1 on a quaternion base: v has one entry fewer
     q[i] += 0.5 * u(rng);
-    v[i] = u(rng);
+    const double w = u(rng);  // drawn for every i, so that the sequence does not depend on the base
+    if (i < model.nv()) v[i] = w;
   }
 }
 
