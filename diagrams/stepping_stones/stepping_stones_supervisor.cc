@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "diagrams/stepping_stones/stepping_stones_outputs_system.h"
 #include "systems/multibody/contact_dynamics.h"
@@ -44,6 +46,9 @@ SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared
     ThrowError("parameter update_period_s must be positive, got " + std::to_string(params_.update_period_s) + " s");
   if (params_.max_steps < 1)
     ThrowError("parameter max_steps must be at least 1, got " + std::to_string(params_.max_steps));
+  if (!(params_.max_com_foot_distance_m > 0))
+    ThrowError("parameter max_com_foot_distance_m must be positive (infinity: no cap), got " +
+               std::to_string(params_.max_com_foot_distance_m) + " m");
   if (!(params_.walking_com_height_m > 0))
     ThrowError("parameter walking_com_height_m must be positive, got " + std::to_string(params_.walking_com_height_m) +
                " m");
@@ -211,6 +216,23 @@ void SteppingStonesSupervisor::Initialize(LeafContext& context, const Eigen::Vec
   PlanStep(context, x, mode, &xd, context.time());
 }
 
+double PreImpactComHeightRequest(const SteppingStonesSupervisorParams& params, double l, double h) {
+  // The COM sits ε l ahead of the stance foot and (1 − ε) l behind the landing foot, z above the stance foot and
+  // z − h above the landing foot: z is capped so that both distances stay within the reach R.
+  const double reach = params.max_com_foot_distance_m;
+  const double to_stance = params.impact_fraction * std::abs(l),
+               to_landing = (1.0 - params.impact_fraction) * std::abs(l);
+  if (!(reach > std::max(to_stance, to_landing)))
+    throw std::invalid_argument("SteppingStonesSupervisorParams: max_com_foot_distance_m = " + std::to_string(reach) +
+                                " m leaves no COM height for a " + std::to_string(l) +
+                                " m step (the pre-impact COM is " + std::to_string(std::max(to_stance, to_landing)) +
+                                " m ahead of or behind a foot; expected a distance above that)");
+  const double nominal = params.walking_com_height_m + std::min(h, 0.0);
+  const double stance_cap = std::sqrt(reach * reach - to_stance * to_stance);
+  const double landing_cap = h + std::sqrt(reach * reach - to_landing * to_landing);
+  return std::min({nominal, stance_cap, landing_cap});
+}
+
 void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen::VectorXd& x, int mode,
                                         Eigen::VectorXd* xd, double time) const {
   Scratch& s = context.scratch<Scratch>();
@@ -224,8 +246,7 @@ void SteppingStonesSupervisor::PlanStep(const LeafContext& context, const Eigen:
   request.swing_contact = model_->contacts()[contact_[swing]].name;
   request.step_length_m = l;
   request.step_height_m = h;
-  // Walking height above the lower of the two feet: stepping down, the landing leg must not arrive straight.
-  request.com_height_m = params_.walking_com_height_m + std::min(h, 0.0);
+  request.com_height_m = PreImpactComHeightRequest(params_, l, h);
   const PreImpactPosture posture = s.optimizer->Solve(request);
   if (!posture.success) (*xd)[kPostureFailures] += 1;
   (*xd)[kPhiF] = posture.torso_pitch_rad;

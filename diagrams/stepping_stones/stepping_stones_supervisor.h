@@ -62,6 +62,13 @@ struct SteppingStonesSupervisorParams {
   /// (COM 0.90 m, 7 mm of leg extension left), so the COM cannot rise after an impact without the stance knee reaching
   /// its singular straight position. 0.80 m keeps the knees bent 0.6-0.9 rad over a 0.4 m step.
   double walking_com_height_m = 0.80;
+  /// [m] largest distance from either foot to the pre-impact COM (ours): on a long step the request's height drops
+  /// below walking_com_height_m (+ min(h, 0)) until the COM, ε l ahead of the stance foot and (1 − ε) l behind the
+  /// landing foot, is within this distance of both, so the legs do not arrive nearly straight. 0.904 m ≥
+  /// sqrt(0.80² + (0.6 · 0.7)²) = 0.9035 m: on level ground the cap binds only on steps longer than the paper's
+  /// random courses' 0.7 m (flat 0.8 m: 0.766 m). At 0.80 m AMBER slips on flat 0.8 m steps above 1.05 m/s; capped
+  /// it walks them at 1.26-1.83 m/s (docs/design-notes.md#stepping-stones-long-step-height). Infinity: no cap.
+  double max_com_foot_distance_m = 0.904;
   PreImpactPostureParams posture = DefaultPostureParams();  ///< Eq. (21)
   static PreImpactPostureParams DefaultPostureParams() {
     PreImpactPostureParams p;
@@ -71,6 +78,12 @@ struct SteppingStonesSupervisorParams {
     return p;
   }
 };
+
+/// The pre-impact COM height above the stance foot that the posture NLP aims for on a step (l, h) (the supervisor's
+/// request): walking_com_height_m + min(h, 0) (stepping down, the landing leg must not arrive straight), lowered on
+/// long steps until the COM is within max_com_foot_distance_m of both feet. Throws std::invalid_argument naming the
+/// parameter when the cap leaves no height for the step.
+double PreImpactComHeightRequest(const SteppingStonesSupervisorParams& params, double l, double h);
 
 /// One completed step, for summaries.
 struct StepRecord {

@@ -50,7 +50,9 @@ StepPlan PlanPeriodicStep(const MultibodyModel& model, double l, double h, doubl
   request.swing_contact = "right_foot";
   request.step_length_m = l;
   request.step_height_m = h;
-  request.com_height_m = params.supervisor.walking_com_height_m + std::min(h, 0.0);
+  SteppingStonesSupervisorParams supervisor = params.supervisor;
+  supervisor.impact_fraction = params.impact_fraction;
+  request.com_height_m = PreImpactComHeightRequest(supervisor, l, h);
   const PreImpactPosture posture = optimizer.Solve(request);
   if (!posture.success)
     throw std::invalid_argument("the pre-impact posture NLP finds no posture for the step " + Step(l, h) + ": " +

@@ -112,10 +112,9 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("steps", "30", "number of steps to walk")
       .Option(
           "energy", "0.5",
-          "E* [m^2/s^2], desired orbital energy (paper: 0.5). Measured on flat 0.8 m steps: AMBER walks at 0.62 "
-          "(1.06 m/s) and slips at 0.8 and 1.0 (with --epsilon 0.55 it walks at 1.0, 1.17 m/s); planar Cassie walks "
-          "at 1.5 (1.60 m/s). AMBER walks 1.54 m/s on stairs down (0.8, -0.2) m at 0.5 and 1.66 m/s on flat 0.65 m "
-          "steps at 2.5 (docs/stepping-stones.md)")
+          "E* [m^2/s^2], desired orbital energy (paper: 0.5). Measured on flat 0.8 m steps: AMBER walks at 1.0 / "
+          "1.5 / 2.0 / 2.5 (1.26 / 1.43 / 1.59 / 1.72 m/s), planar Cassie at 1.5 (1.60 m/s); AMBER walks 1.54 m/s on "
+          "stairs down (0.8, -0.2) m at 0.5 and 1.66 m/s on flat 0.65 m steps at 2.5 (docs/stepping-stones.md)")
       .Option("plan-check", "off",
               "off | report: before a periodic run (flat, stairs-up, stairs-down; point feet) print the joint "
               "torques and the contact force the plan's inverse dynamics needs (a measurement; nothing is refused)")
@@ -135,6 +134,9 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("swing-gains", "default", "weight,kp,kd of the swing-foot position output")
       .Option("foot-pitch-gains", "default", "weight,kp,kd of the swing-foot pitch output (line feet only)")
       .Option("walking-height", "default", "[m] supervisor.walking_com_height_m (default: the robot's)")
+      .Option("max-com-foot-distance", "default",
+              "[m] supervisor.max_com_foot_distance_m: long steps lower the pre-impact COM so it stays this close to "
+              "both feet (e.g. 100: no cap; default: the robot's, AMBER 0.904)")
       .Option("log", "stepping_stones.csv", "CSV log")
       .Option("summary", "stepping_stones.json", "JSON summary")
       .Option("log-period", "0.005", "[s] sample period of the CSV log")
@@ -193,6 +195,7 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
                                                         {"controller.friction_margin", "friction-margin"},
                                                         {"controller.min_normal_force_N", "min-normal-force"},
                                                         {"supervisor.walking_com_height_m", "walking-height"},
+                                                        {"supervisor.max_com_foot_distance_m", "max-com-foot-distance"},
                                                         {"mass_scale", "mass-scale"},
                                                         {"friction_scale", "friction-scale"},
                                                         {"stone_height_sigma_m", "stone-height-error"},
@@ -240,6 +243,8 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   gains("swing-gains", &params.swing_foot_gains);
   gains("foot-pitch-gains", &params.swing_foot_pitch_gains);
   if (cli.Get("walking-height") != "default") params.supervisor.walking_com_height_m = cli.GetDouble("walking-height");
+  if (cli.Get("max-com-foot-distance") != "default")
+    params.supervisor.max_com_foot_distance_m = cli.GetDouble("max-com-foot-distance");
   params.target_orbital_energy = cli.GetDouble("energy");
   params.impact_fraction = cli.GetDouble("epsilon");
   params.supervisor.max_steps = steps;

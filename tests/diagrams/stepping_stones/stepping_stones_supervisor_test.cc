@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "diagrams/stepping_stones/stepping_stones_diagram.h"
@@ -234,6 +235,51 @@ TEST_F(SupervisorTest, FallAndBadInput) {
     EXPECT_NE(std::string(e.what()).find("not on any stone"), std::string::npos) << e.what();
   }
   EXPECT_THROW(SteppingStonesSupervisor("s", model_, Terrain::Flat(), params_), std::exception);
+}
+
+// The long-step cap on the pre-impact COM height: the posture NLP, given the supervisor's request, puts the COM within
+// max_com_foot_distance_m of both feet (measured by forward kinematics of its solution, the height being a soft target:
+// 1 cm), where the uncapped walking height would put it sqrt(0.80² + 0.48²) = 0.933 m from the rear foot on a flat
+// 0.8 m step. Steps up to the paper's random-course 0.7 m keep the walking height; stepping down still subtracts h.
+TEST_F(SupervisorTest, LongStepComHeightStaysWithinReach) {
+  SteppingStonesSupervisorParams p;  // AMBER's defaults, ε = 0.6
+  const double reach = p.max_com_foot_distance_m;
+  EXPECT_DOUBLE_EQ(PreImpactComHeightRequest(p, 0.4, 0.0), p.walking_com_height_m);
+  EXPECT_DOUBLE_EQ(PreImpactComHeightRequest(p, 0.7, 0.0), p.walking_com_height_m);
+  EXPECT_DOUBLE_EQ(PreImpactComHeightRequest(p, 0.4, -0.1), p.walking_com_height_m - 0.1);
+  EXPECT_GT(std::hypot(p.walking_com_height_m, 0.6 * 0.8), reach + 0.02);  // the cap binds on 0.8 m
+
+  PreImpactPostureParams posture_params = p.posture;
+  posture_params.com_x_fraction = p.impact_fraction;
+  PreImpactPostureOptimizer optimizer(model_, posture_params);
+  for (const double h : {0.0, -0.1}) {
+    PreImpactPostureRequest request;
+    request.stance_contact = "left_foot";
+    request.swing_contact = "right_foot";
+    request.step_length_m = 0.8;
+    request.step_height_m = h;
+    request.com_height_m = PreImpactComHeightRequest(p, 0.8, h);
+    const PreImpactPosture posture = optimizer.Solve(request);
+    ASSERT_TRUE(posture.success) << posture.message;
+    const Eigen::Vector3d com = CalcComPosition(*model_, ws_, posture.q);
+    const Eigen::Vector3d stance = CalcContactPointPosition(*model_, ws_, posture.q, left_, 0);
+    const Eigen::Vector3d swing = CalcContactPointPosition(*model_, ws_, posture.q, right_, 0);
+    EXPECT_NEAR(swing.x() - stance.x(), 0.8, 1e-6);
+    // Level ground: both feet; stepping down: the stance foot (the landing foot is h lower, the COM height above it).
+    EXPECT_LT((com - stance).norm(), reach + 0.01) << "h = " << h;
+    if (h == 0.0) { EXPECT_LT((com - swing).norm(), reach + 0.01); }
+  }
+
+  // A cap too small for the step is bad input, named; so is a non-positive cap.
+  p.max_com_foot_distance_m = 0.3;
+  try {
+    PreImpactComHeightRequest(p, 0.8, 0.0);
+    FAIL() << "expected an exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_com_foot_distance_m = 0.3"), std::string::npos) << e.what();
+  }
+  p.max_com_foot_distance_m = 0.0;
+  EXPECT_THROW(SteppingStonesSupervisor("s", model_, terrain_, p), std::exception);
 }
 
 }  // namespace
