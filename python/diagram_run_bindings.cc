@@ -54,7 +54,9 @@ void BindParams(py::module_& m) {
       .Field("min_com_height_m", &SteppingStonesSupervisorParams::min_com_height_m,
              "[m] fall threshold above the stance foot")
       .Field("nominal_step_duration_s", &SteppingStonesSupervisorParams::nominal_step_duration_s, "[s]")
-      .Field("walking_com_height_m", &SteppingStonesSupervisorParams::walking_com_height_m, "[m]");
+      .Field("walking_com_height_m", &SteppingStonesSupervisorParams::walking_com_height_m, "[m]")
+      .Field("max_com_foot_distance_m", &SteppingStonesSupervisorParams::max_com_foot_distance_m,
+             "[m] long steps lower the pre-impact COM to stay this close to both feet (inf: no cap)");
   ParamsClass<SteppingStonesDiagramParams> p(
       m, "SteppingStonesDiagramParams",
       "The stepping-stones diagram's parameters (stepping_stones_diagram.h); keyword constructor.");

@@ -47,7 +47,7 @@ SteppingStonesSupervisor::SteppingStonesSupervisor(std::string name, std::shared
   if (params_.max_steps < 1)
     ThrowError("parameter max_steps must be at least 1, got " + std::to_string(params_.max_steps));
   if (!(params_.max_com_foot_distance_m > 0))
-    ThrowError("parameter max_com_foot_distance_m must be positive (infinity: no cap), got " +
+    ThrowError("parameter supervisor.max_com_foot_distance_m must be positive (infinity: no cap), got " +
                std::to_string(params_.max_com_foot_distance_m) + " m");
   if (!(params_.walking_com_height_m > 0))
     ThrowError("parameter walking_com_height_m must be positive, got " + std::to_string(params_.walking_com_height_m) +
@@ -223,8 +223,8 @@ double PreImpactComHeightRequest(const SteppingStonesSupervisorParams& params, d
   const double to_stance = params.impact_fraction * std::abs(l),
                to_landing = (1.0 - params.impact_fraction) * std::abs(l);
   if (!(reach > std::max(to_stance, to_landing)))
-    throw std::invalid_argument("SteppingStonesSupervisorParams: max_com_foot_distance_m = " + std::to_string(reach) +
-                                " m leaves no COM height for a " + std::to_string(l) +
+    throw std::invalid_argument("SteppingStonesSupervisorParams: supervisor.max_com_foot_distance_m = " +
+                                std::to_string(reach) + " m leaves no COM height for a " + std::to_string(l) +
                                 " m step (the pre-impact COM is " + std::to_string(std::max(to_stance, to_landing)) +
                                 " m ahead of or behind a foot; expected a distance above that)");
   const double nominal = params.walking_com_height_m + std::min(h, 0.0);
