@@ -71,7 +71,7 @@ check_log() {  # check_log NAME: every logged sample of NAME.csv inside the cone
     END { if (n < 1000 || t1 <= t0) { print "FAIL too few samples " n; exit }
           v = (x1 - x0) / (t1 - t0)
           if (bad != "") print "FAIL" substr(bad, 1, 400); else if (v < 1.5) print "FAIL COM speed " v " m/s"; else print "ok " n " samples, COM speed " v " m/s" }' "$1.csv")"
-  case "$report" in ok*) summary="$summary $1 log: ${report#ok };" ;; *) echo "$1: $report"; fail=1 ;; esac
+  case "$report" in ok*) summary="$summary $1 log: ${report#ok };" ;; *) echo "FAIL: $1: ${report:-no log $1.csv}"; fail=1 ;; esac
 }
 for controller in tsc-qp clf-qp; do
   walk "amber_flat08_$controller" --terrain flat --step-length 0.8 --energy 2.0 --controller "$controller" --log-period 0.001
