@@ -66,8 +66,8 @@ struct SteppingStonesSupervisorParams {
   /// below walking_com_height_m (+ min(h, 0)) until the COM, ε l ahead of the stance foot and (1 − ε) l behind the
   /// landing foot, is within this distance of both, so the legs do not arrive nearly straight. 0.904 m ≥
   /// sqrt(0.80² + (0.6 · 0.7)²) = 0.9035 m: on level ground the cap binds only on steps longer than the paper's
-  /// random courses' 0.7 m (flat 0.8 m: 0.766 m). At 0.80 m AMBER slips on flat 0.8 m steps above 1.05 m/s; capped
-  /// it walks them at 1.26-1.83 m/s (docs/design-notes.md#stepping-stones-long-step-height). Infinity: no cap.
+  /// random courses' 0.7 m (flat 0.8 m: 0.766 m). At 0.80 m AMBER slips on flat 0.8 m steps from E* = 0.8 (1.1 m/s);
+  /// capped it walks them at 1.26-1.83 m/s (docs/design-notes.md#stepping-stones-long-step-height). Infinity: no cap.
   double max_com_foot_distance_m = 0.904;
   PreImpactPostureParams posture = DefaultPostureParams();  ///< Eq. (21)
   static PreImpactPostureParams DefaultPostureParams() {
