@@ -326,8 +326,9 @@ WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, con
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
 /// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given. If the gait
-/// is faster than the lead-in gait of StandToWalkParams, or its standing transition has no plan, the plan starts with
-/// that lead-in (reported in `report`).
+/// is faster than the lead-in gait of StandToWalkParams, or its standing transition has no plan (directly or, with
+/// chain_gait_changes, through the gait graph: report->start_chain), the plan starts with that lead-in (reported in
+/// `report`).
 /// Throws std::runtime_error naming the problem that failed, std::invalid_argument for a bad parameter.
 /// One ROM problem's solve: wall time, Ipopt iterations, largest constraint violation (0 when not solved here).
 struct WalkingNlpReport {
