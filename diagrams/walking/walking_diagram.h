@@ -279,8 +279,9 @@ struct StandToWalkParams {
   /// check). The plan builder does not know the robot: WalkingChangeFeasibilityCheck
   /// (walking_robot_check.h) checks the torques as the walking example's feasibility check does.
   std::function<void(const WalkingPlan&, double from_s, double to_s)> change_check;
-  /// A → B with no direct transition plan (BuildGaitChangePlan): chain through intermediate gaits of the gait graph
-  /// (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
+  /// A → B with no direct transition plan (BuildGaitChangePlan; and every start from standing: the start gait's or the
+  /// lead-in's change into the gait, BuildStandToWalkPlan included): chain through intermediate gaits of the gait
+  /// graph (GaitGraph, ours; false: the direct failure is thrown). Each intermediate gait walks chain_steps steps.
   bool chain_gait_changes = true;
   int chain_steps = 4;
   /// [-] A gait-change transition whose plan unloads the lifting foot below this fraction of m g and loads it again
@@ -325,8 +326,9 @@ WalkingPlanTorqueReport CheckWalkingPlanTorques(const MultibodyModel& model, con
 /// The ROM plan of the stand-to-walk scenario (spec §0): the periodic aSLIP gait (Eq. (4)-(5), seed `seed`), the
 /// standing → gait transition (footed aSLIP Eq. (9)-(10), the right foot lifts; footed H-LIP QP Eq. (11)-(15) onto the
 /// H-LIP P2 orbit), then `steps` periodic steps, composed into a WalkingPlan. NLPs use `cache` if given. If the gait
-/// is faster than the lead-in gait of StandToWalkParams, or its standing transition has no plan, the plan starts with
-/// that lead-in (reported in `report`).
+/// is faster than the lead-in gait of StandToWalkParams, or its standing transition has no plan (directly or, with
+/// chain_gait_changes, through the gait graph: report->start_chain), the plan starts with that lead-in (reported in
+/// `report`).
 /// Throws std::runtime_error naming the problem that failed, std::invalid_argument for a bad parameter.
 /// One ROM problem's solve: wall time, Ipopt iterations, largest constraint violation (0 when not solved here).
 struct WalkingNlpReport {
@@ -374,11 +376,13 @@ struct WalkingPlanReport {
   WalkingNlpReport periodic_start, transition_start;
   WalkingTransitionNodes start_change_nodes;
   /// BuildGaitChangePlan / BuildGaitSequencePlan: the gaits walked from gait A on, in order, with any chain's
-  /// intermediate gaits (A, B alone: the direct transition), and the chain searches' wall time and transitions tried /
-  /// failed (0 when every direct transition planned).
+  /// intermediate gaits (A, B alone: the direct transition; BuildStandToWalkPlan: the gait alone, or the lead-in, any
+  /// chain and the gait), and the chain searches' wall time and transitions tried / failed (0 when every direct
+  /// transition planned).
   std::vector<WalkingGait> chain;
-  /// With the start gait and chaining on (BuildGaitChangePlan, BuildGaitSequencePlan): the gaits from the start gait
-  /// to gait A (2 entries: the direct change; more: its chain through the gait graph, counted in the figures below).
+  /// With the start gait and chaining on (BuildStandToWalkPlan, BuildGaitChangePlan, BuildGaitSequencePlan): the gaits
+  /// from the start gait to gait A (2 entries: the direct change; more: its chain through the gait graph, counted in
+  /// the figures below).
   std::vector<WalkingGait> start_chain;
   double chain_planning_s = 0;
   int chain_transitions_tried = 0, chain_transitions_failed = 0;

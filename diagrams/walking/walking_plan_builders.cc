@@ -373,7 +373,8 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
                             const WalkingGait& b, int steps_b, bool end_in_single_support, std::uint32_t seed,
                             const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
                             const std::string& direct_error, WalkingNlpReport* last_transition,
-                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked);
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked,
+                            const StandToWalkParams* first_link = nullptr);
 
 // With `chain`, a start gait → g change with no direct plan goes through the gait graph (report->start_chain).
 WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
@@ -402,8 +403,10 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
       try {
         if (!chain) throw;
         std::vector<WalkingGait> walked{start};
-        plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, from_start,
-                               who, direct.what(), &change, nodes, report, &walked);
+        // Only the chain's first link leaves the start gait: it keeps the standing margin, the later links are
+        // changes between walking gaits (docs/design-notes.md#walking-start-chain).
+        plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, sp, who,
+                               direct.what(), &change, nodes, report, &walked, &from_start);
         if (report != nullptr) report->start_chain = walked;
       } catch (const std::runtime_error&) {
         if (refused.segments().empty()) throw;
@@ -439,13 +442,14 @@ std::string GaitText(const WalkingGait& g) {
 // `plan` ends at a touchdown of the solved gait `ga`, whose direct change into `gb` has no plan (`direct_error`): the
 // lazy gait-graph search (GaitGraph) appends changes through intermediate gaits, chain_steps steps each, then the
 // change into b and steps_b steps of it. A transition or an intermediate gait that has no plan removes that edge.
-// Appends the gaits after a to *walked and adds the search's time and counts to the report.
+// Appends the gaits after a to *walked and adds the search's time and counts to the report. first_link (if given):
+// the parameters of the links that leave a (the start gait's change keeps the standing margin); sp: the others'.
 WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
                             const WalkingGait& b, int steps_b, bool end_in_single_support, std::uint32_t seed,
                             const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
                             const std::string& direct_error, WalkingNlpReport* last_transition,
-                            WalkingTransitionNodes* nodes, WalkingPlanReport* report,
-                            std::vector<WalkingGait>* walked) {
+                            WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked,
+                            const StandToWalkParams* first_link) {
   const auto t0 = Clock::now();
   // A gait outside the graph's range (a start gait may be slower) has no chain: the direct change's failure stands.
   for (const WalkingGait* g : {&a, &b})
@@ -474,7 +478,8 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
       if (s == nullptr) return false;
       WalkingPlan next = plans[depth];
       AppendCheckedGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps,
-                              last ? end_in_single_support : true, cache, sp,
+                              last ? end_in_single_support : true, cache,
+                              depth == 0 && first_link != nullptr ? *first_link : sp,
                               who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition,
                               last ? nodes : nullptr, report != nullptr ? &report->refused_changes : nullptr);
       plans.push_back(std::move(next)), solved.push_back(s), gaits.push_back(g);
@@ -551,6 +556,19 @@ WalkingPlan GaitChangePlan(const WalkingGait& a, const WalkingGait& b, int steps
   return SequencePlan({a, b}, steps, seed, cache, report, sp, steps_b, chain, "BuildGaitChangePlan");
 }
 
+// Standing → g without the lead-in: the start gait's change into g directly or (StandToWalkParams::chain_gait_changes)
+// through the gait graph, as BuildGaitChangePlan's changes; report->chain is {g}, its figures this start's.
+WalkingPlan StandToWalkChained(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
+                               WalkingPlanReport* report, const StandToWalkParams& sp) {
+  if (report != nullptr)
+    report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0,
+    report->refused_changes.clear();
+  WalkingPlan plan =
+      StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr, sp.chain_gait_changes);
+  if (report != nullptr) report->chain = {g};
+  return plan;
+}
+
 }  // namespace
 
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
@@ -566,7 +584,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   const bool faster = g.ssp_duration_s < lead.ssp_duration_s - 1e-9 || g.dsp_duration_s < lead.dsp_duration_s - 1e-9;
   const auto with_lead_in = [&](const std::string& reason) {
     WalkingPlanReport r;
-    WalkingPlan plan = GaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps);
+    WalkingPlan plan = GaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps, sp.chain_gait_changes);
     r.lead_in = true;
     r.lead_in_gait = lead;
     r.lead_in_reason = reason;
@@ -595,7 +613,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
       if (sp.start_gait_steps == 0) throw std::runtime_error(through);
       // From the start gait (a short, slow first swing) the direct change may still plan.
       try {
-        WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+        WalkingPlan plan = StandToWalkChained(g, steps, seed, cache, report, sp);
         if (sp.plan_check) sp.plan_check(plan);
         if (report != nullptr)
           report->lead_in = false,
@@ -607,7 +625,7 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
     }
   }
   try {
-    WalkingPlan plan = StandToWalk(g, steps, seed, cache, report, sp, "BuildStandToWalkPlan", false, nullptr);
+    WalkingPlan plan = StandToWalkChained(g, steps, seed, cache, report, sp);
     if (sp.plan_check) sp.plan_check(plan);
     return plan;
   } catch (const std::runtime_error& direct) {

@@ -12,7 +12,9 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <optional>
+#include <vector>
 
 #include "diagrams/walking/walking_diagram.h"
 #include "diagrams/walking/walking_robot_check.h"
@@ -51,6 +53,30 @@ int CheckFeasibility(const MultibodyModel& model, const WalkingDiagram& d, const
   if (!f.problem.empty()) {
     std::cerr << "walking: " << f.problem << "\n";
     return 1;
+  }
+  return -1;
+}
+
+// Before any transition is planned (every scenario but periodic): each gait on its own orbit (the plan and check of
+// --scenario periodic with --steps 3) against what --feasibility enforces. A gait the robot cannot walk even there is
+// refused at once (one line, exit 1), not after the transition and gait-graph searches. -1 to go on, else the exit
+// code.
+int CheckOrbits(const std::shared_ptr<const MultibodyModel>& model, const examples::WalkingOptions& o,
+                const PlanCache* cache) {
+  if (o.feasibility == "off" || o.scenario == "periodic") return -1;
+  std::vector<WalkingGait> gaits = o.scenario == "gait-sequence" ? o.gaits : std::vector<WalkingGait>{o.gait_a};
+  if (o.scenario == "gait-change") gaits.push_back(o.gait_b);
+  WalkingFeasibilityParams fp;
+  fp.enforce_sole_wrench = fp.enforce_joint_limits = o.feasibility == "strict";
+  for (const WalkingGait& g : gaits) {
+    const WalkingPlan plan = BuildPeriodicWalkingPlan(g, 3 + o.run.trailing_steps, o.seed, cache, o.stand);
+    const WalkingDiagram d = BuildWalkingDiagram(model, plan, o.diagram);
+    const WalkingFeasibilityReport f =
+        CheckWalkingPlanFeasibility(*model, d.plan, o.diagram, WalkingRunEndTime(d.plan, o.run), fp);
+    if (!f.problem.empty()) {
+      std::cerr << "walking: " << f.problem << " on the gait's own orbit\n";
+      return 1;
+    }
   }
   return -1;
 }
@@ -103,6 +129,7 @@ int main(int argc, char** argv) {
     // A gait-change transition beyond the torque limits is planned again (a tighter force bound, the gait graph).
     if (o.feasibility != "off") o.stand.change_check = WalkingChangeFeasibilityCheck(model, o.diagram);
     std::cout << "planning: periodic aSLIP, standing transition, footed H-LIP ...\n";
+    if (const int code = CheckOrbits(model, o, cache ? &*cache : nullptr); code >= 0) return code;
     // The plan runs trailing_steps steps past the simulated ones, so that the last simulated steps are not the plan's
     // (and the momentum correction's) end.
     const PlanCache* plan_cache = cache ? &*cache : nullptr;

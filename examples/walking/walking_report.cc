@@ -99,10 +99,11 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
   if (changes)
     s["nlp"]["periodic_aslip_b"] = nlp_json(nlp.periodic_b),
     s["nlp"]["transition_aslip_a_to_b"] = nlp_json(nlp.transition_b);
-  // gait-change / gait-sequence: the gaits walked from gait A on (A and B alone: the direct transition), with any
-  // chain's intermediate gaits, and the chain searches' time.
+  // gait-change / gait-sequence / walk-to-stand: the gaits walked from gait A on (A and B alone: the direct
+  // transition), with any chain's intermediate gaits, and the chain searches' time. stand-to-walk: gait A alone, or
+  // the lead-in and gait A (with any chain between them); its start gait's change (and chain) is start_gait_chain.
   s["gait_chain"] = nullptr;
-  if (changes) {
+  if (changes || scenario_name == "stand-to-walk") {
     const auto list = [](const std::vector<WalkingGait>& chain) {
       nlohmann::json gaits = nlohmann::json::array();
       for (const WalkingGait& g : chain)
