@@ -121,6 +121,7 @@ void BindVerticalComMpc(py::module_& m) {
                                     "Vertical-COM MPC, Eq. (28) of the stepping-stones paper.")
       .Field("horizon_steps", &VerticalComMpcParams::horizon_steps)
       .Field("gravity", &VerticalComMpcParams::gravity, "[m/s^2]")
+      .Field("max_acceleration", &VerticalComMpcParams::max_acceleration, "[m/s^2] u_k <= a_max (inf: none)")
       .Field("terminal_condition", &VerticalComMpcParams::terminal_condition)
       .Field("terminal_position_weight", &VerticalComMpcParams::terminal_position_weight)
       .Field("terminal_velocity_weight", &VerticalComMpcParams::terminal_velocity_weight)

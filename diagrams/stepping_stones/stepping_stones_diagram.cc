@@ -146,6 +146,12 @@ SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::str
   // the planner's momentum and the COM rose out of the swing leg's reach
   // (docs/design-notes.md#stepping-stones-cassie-com-weight).
   p.clf_com_height_weight = 20.0;
+  // Vertical-COM MPC: upward COM acceleration at most 12 m/s² (the stance leg gives about 6 crouched after a step up)
+  // and, when the pre-impact state is out of reach, the terminal velocity before the height (ρ_p = 1e3 against
+  // ρ_v = 1e6): an unreachable rise otherwise ends in an impact rising at 1 m/s, a COM out of the next swing leg's
+  // reach and a whip of that leg (docs/design-notes.md#stepping-stones-cassie-whip).
+  p.mpc.mpc.max_acceleration = 12.0;
+  p.mpc.mpc.terminal_position_weight = 1e3;
   return p;
 }
 

@@ -164,6 +164,12 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("mpc-hold", "default",
               "[s] vertical-COM MPC: below this predicted time to impact the plan is held, not re-solved (default: the "
               "diagram's)")
+      .Option("mpc-max-accel", "default",
+              "[m/s^2] vertical-COM MPC: largest upward COM acceleration the plan may ask for, > -9.81 (inf: none; "
+              "default: the diagram's)")
+      .Option("mpc-position-weight", "default",
+              "[-] vertical-COM MPC: weight of the terminal height error when the terminal state is out of reach, > 0 "
+              "(default: the diagram's)")
       .Option("clf-com-weight", "default",
               "[-] CLF-QP: cost weight of the COM-height output, in (0, 1000] (default: the diagram's: 20 for line "
               "feet, else the --com-gains weight, 1)")
@@ -190,6 +196,8 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
                                                         {"supervisor.max_steps", "steps"},
                                                         {"outputs.swing_foot.clearance", "swing-clearance"},
                                                         {"mpc.hold_plan_below_horizon_s", "mpc-hold"},
+                                                        {"max_acceleration", "mpc-max-accel"},
+                                                        {"terminal_position_weight", "mpc-position-weight"},
                                                         {"clf_com_height_weight", "clf-com-weight"},
                                                         {"clf_controller.update_period_s", "clf-rate"},
                                                         {"controller.friction_margin", "friction-margin"},
@@ -265,6 +273,9 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   params.clf_controller.contact.friction_margin = params.controller.friction_margin;
   params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
   if (cli.Get("mpc-hold") != "default") params.mpc.hold_plan_below_horizon_s = cli.GetDouble("mpc-hold");
+  if (cli.Get("mpc-max-accel") != "default") params.mpc.mpc.max_acceleration = cli.GetDouble("mpc-max-accel");
+  if (cli.Get("mpc-position-weight") != "default")
+    params.mpc.mpc.terminal_position_weight = cli.GetDouble("mpc-position-weight");
   if (cli.Get("clf-com-weight") != "default") params.clf_com_height_weight = cli.GetDouble("clf-com-weight");
   if (cli.Get("clf-epsilon") != "default") params.clf_controller.epsilon = cli.GetDouble("clf-epsilon");
   if (cli.Get("clf-relaxation-weight") != "default")

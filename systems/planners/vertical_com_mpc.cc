@@ -17,6 +17,9 @@ VerticalComMpc::VerticalComMpc(VerticalComMpcParams params) : params_(params) {
   if (!(params_.min_horizon_s > 0 && std::isfinite(params_.min_horizon_s)))
     throw std::invalid_argument("VerticalComMpc: parameter min_horizon_s must be positive (s), got " +
                                 std::to_string(params_.min_horizon_s));
+  if (!(params_.max_acceleration > -params_.gravity))
+    throw std::invalid_argument("VerticalComMpc: parameter max_acceleration must exceed -gravity (m/s²), got " +
+                                std::to_string(params_.max_acceleration));
   if (!(params_.terminal_position_weight > 0) || !(params_.terminal_velocity_weight > 0))
     throw std::invalid_argument(
         "VerticalComMpc: parameters terminal_position_weight / terminal_velocity_weight must be > 0, got " +
@@ -39,7 +42,8 @@ void VerticalComMpc::BuildQp(DenseQpSolver* qp, bool with_slacks) const {
   qp->H.setZero();
   qp->H.topLeftCorner(N, N).diagonal().setConstant(2.0);
   qp->g.setZero();
-  qp->lb.head(N).setConstant(-params_.gravity);  // contact constraint u_k >= −g; slacks are free
+  qp->lb.head(N).setConstant(-params_.gravity);          // contact constraint u_k >= −g; slacks are free
+  qp->ub.head(N).setConstant(params_.max_acceleration);  // the leg's push, u_k <= a_max (+inf: none)
   // Scaled terminal rows: Σ (N − k − ½) u_k [− s_p] = (p^f − p_0 − T ṗ_0)/dt², Σ u_k [− s_v] = (ṗ^f − ṗ_0)/dt.
   qp->A_eq.setZero();
   for (int k = 0; k < N; ++k) {

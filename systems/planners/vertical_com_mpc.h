@@ -4,6 +4,7 @@
 //   min_{u_0..u_{N−1}}  Σ_k (u_k)²                                       (u = p̈_com^z, m/s²)
 //   s.t.  z_{k+1} = A z_k + B u_k,  A = [1 dt; 0 1], B = [dt²/2; dt]     (double integrator, exact ZOH)
 //         u_k >= −g                                                       (contact: the leg can only push)
+//         u_k <= a_max                                                    (ours, off by default: how hard it can)
 //         z_0 = [p^z(t), ṗ^z(t)],  z_N = z⁻ = [p_comf^{z,d}, u_des]      (boundary conditions)
 //   with dt = T̂_s / N and T̂_s the predicted time to impact, Eq. (27).
 // The paper writes z_1 = z_0, z_N = z⁻ and dt = T̂_s/N; we use N intervals z_0 → z_N so that the horizon is
@@ -24,6 +25,7 @@
 // after construction, so the QP is hot-started (rome::DenseQpSolver keeps the factorization of its working set;
 // Solve(QpDataChange::kVectorsOnly), verified by the solver) when params.qp.warm_start and hot_start are set.
 
+#include <limits>
 #include <memory>
 
 #include <Eigen/Core>
@@ -36,7 +38,13 @@ struct VerticalComMpcParams {
   enum class TerminalCondition { kEquality, kWeightedCost };
   /// [-] N, number of intervals. The paper leaves N to the user (Algorithm 1); ours: 20.
   int horizon_steps = 20;
-  double gravity = 9.81;                                                ///< [m/s²] the contact constraint u_k >= −g
+  double gravity = 9.81;  ///< [m/s²] the contact constraint u_k >= −g
+  /// [m/s²] a_max, the largest upward COM acceleration the plan may ask for (u_k <= a_max). Ours; +inf = the
+  /// paper (no bound). The stance leg's push is limited by its motors: a plan that needs more than they give (a
+  /// COM far below its pre-impact height late in the step) is followed at the limit by the robot, which then
+  /// reaches the impact rising fast instead of at u_des. With the bound such a target is infeasible and the
+  /// relaxed QP below trades the terminal errors (terminal_position_weight, terminal_velocity_weight) instead.
+  double max_acceleration = std::numeric_limits<double>::infinity();
   TerminalCondition terminal_condition = TerminalCondition::kEquality;  ///< Paper: equality (Eq. (28))
   double terminal_position_weight = 1e6;  ///< [-] ρ_p > 0, for kWeightedCost and the relaxation (ours)
   double terminal_velocity_weight = 1e6;  ///< [-] ρ_v > 0, for kWeightedCost and the relaxation (ours)

@@ -144,5 +144,37 @@ TEST(VerticalComMpc, WarmStartAndShortHorizonClamp) {
   EXPECT_THROW(VerticalComMpc({.horizon_steps = 0}), std::invalid_argument);
 }
 
+// The push bound u_k <= a_max (ours). Closed form of the reach: from rest to rest in T with −g <= p̈ <= a_max, the
+// highest rise accelerates at a_max for t_1 = g T / (a_max + g) and then falls freely, Δp_max = ½ a_max t_1 T (the
+// area under the triangular velocity); the piecewise-constant plan reaches at most that.
+TEST(VerticalComMpc, PushBoundKeepsThePlanInsideTheReachOfTheLeg) {
+  const double g = 9.81, a_max = 6.0, T = 0.3, p0 = 0.63;
+  const double rise_max = 0.5 * a_max * (g * T / (a_max + g)) * T;  // 0.1676 m
+  VerticalComMpcParams params{.horizon_steps = 40, .max_acceleration = a_max};
+  params.terminal_position_weight = 1e3;  // the planar-Cassie diagram's: the terminal velocity comes first
+  VerticalComMpc mpc(params);
+  // Inside the reach: the terminal state is met exactly, under the bound.
+  ASSERT_EQ(mpc.Solve(p0, 0.0, p0 + 0.9 * rise_max, 0.0, T), QpStatus::kOptimal);
+  EXPECT_FALSE(mpc.terminal_relaxed());
+  EXPECT_LE(mpc.inputs().maxCoeff(), a_max + 1e-9);
+  EXPECT_NEAR(mpc.positions()[40], p0 + 0.9 * rise_max, 1e-9);
+  EXPECT_NEAR(mpc.velocities()[40], 0.0, 1e-9);
+  // The paper's plan (no bound) asks for more than a_max there: the minimum-energy input peaks at 6 Δp / T².
+  VerticalComMpc paper({.horizon_steps = 40});
+  ASSERT_EQ(paper.Solve(p0, 0.0, p0 + 0.9 * rise_max, 0.0, T), QpStatus::kOptimal);
+  EXPECT_NEAR(paper.inputs().maxCoeff(), 6 * 0.9 * rise_max / (T * T), 0.05 * 6 * 0.9 * rise_max / (T * T));
+  EXPECT_GT(paper.inputs().maxCoeff(), a_max);
+  // Out of reach: the relaxed plan stays under the bound, arrives nearly at rest and at most at the reach.
+  ASSERT_EQ(mpc.Solve(p0, 0.0, p0 + 1.3 * rise_max, 0.0, T), QpStatus::kOptimal);
+  EXPECT_TRUE(mpc.terminal_relaxed());
+  EXPECT_LE(mpc.inputs().maxCoeff(), a_max + 1e-9);
+  EXPECT_GE(mpc.inputs().minCoeff(), -g - 1e-9);
+  const Eigen::Vector2d end = Propagate(p0, 0.0, mpc.inputs(), mpc.dt());
+  EXPECT_LT(std::abs(end[1]), 0.1);
+  EXPECT_LT(end[0] - p0, rise_max + T * std::abs(end[1]));
+  EXPECT_GT(end[0] - p0, 0.9 * rise_max);
+  EXPECT_THROW(VerticalComMpc({.horizon_steps = 20, .max_acceleration = -10.0}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace rome
