@@ -43,7 +43,8 @@ void CalcFreeFlyerMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws
   M.topLeftCorner<3, 3>() = Ic.m * Eigen::Matrix3d::Identity();
   M.block<3, 3>(0, 3) = -H;
   M.block<3, 3>(3, 0) = H;
-  M.block<3, 3>(3, 3).noalias() = R.transpose() * Ic.I * R;
+  const Eigen::Matrix3d I_B = R.transpose() * Ic.I * R;
+  M.block<3, 3>(3, 3) = 0.5 * (I_B + I_B.transpose());  // exactly symmetric, as M is
   M.diagonal().head<6>() += armature.head<6>();
 }
 
