@@ -141,23 +141,31 @@ void BindMultibody(py::module_& m) {
       m, "MultibodyModel",
       "A robot loaded from its robot files (systems/multibody/multibody_model.h), with a workspace for its dynamics:\n"
       "  M(q) qdd + h(q, v) = B u + tau_spring(q, v) + tau_ext   (SI units, gravity 9.81 m/s^2 along -z).\n"
-      "q = [base coordinates, joints] with nq == nv; joint_names lists every coordinate in order.")
+      "q = [base coordinates, joints] with nq == nv (nq == nv + 1 on the quaternion base); joint_names lists every\n"
+      "velocity coordinate in order.")
       .def_static(
           "load",
-          [](const std::string& path, bool repair_inertia) {
+          [](const std::string& path, bool repair_inertia, bool quaternion_floating_base) {
             LoadOptions options;
             options.repair_inertia = repair_inertia;
+            options.quaternion_floating_base = quaternion_floating_base;
             const bool sidecar = path.size() > 10 && path.substr(path.size() - 10) == ".rome.json";
             return FromArguments([&] {
               return std::make_unique<PyMultibodyModel>(sidecar ? MultibodyModel::LoadFromSidecar(path, options)
                                                                 : MultibodyModel::Load(path, "", options));
             });
           },
-          py::arg("path"), py::arg("repair_inertia") = false,
-          "Loads a robot from its sidecar (robots/NAME/NAME.rome.json) or its URDF (the sidecar beside it, if any).")
+          py::arg("path"), py::arg("repair_inertia") = false, py::arg("quaternion_floating_base") = false,
+          "Loads a robot from its sidecar (robots/NAME/NAME.rome.json) or its URDF (the sidecar beside it, if any).\n"
+          "quaternion_floating_base: a spatial base as the quaternion free-flyer (systems/multibody/free_flyer.h):\n"
+          "q = [x, y, z, qw, qx, qy, qz, joints] (nq = nv + 1), v = [base twist in base axes (linear, angular),\n"
+          "joint rates]; a fixed or planar robot is refused.")
       .def_property_readonly("name", [](const PyMultibodyModel& p) { return p.model.name(); })
       .def_property_readonly("floating_base",
                              [](const PyMultibodyModel& p) { return ToString(p.model.floating_base()); })
+      .def_property_readonly(
+          "base_kind", [](const PyMultibodyModel& p) { return p.model.base_kind(); },
+          "'fixed', 'planar', 'spatial' (ZYX Euler) or 'quaternion'")
       .def_property_readonly("nq", [](const PyMultibodyModel& p) { return p.model.nq(); })
       .def_property_readonly("nv", [](const PyMultibodyModel& p) { return p.model.nv(); })
       .def_property_readonly("nu", [](const PyMultibodyModel& p) { return p.model.nu(); })
@@ -193,7 +201,8 @@ void BindMultibody(py::module_& m) {
       .def("inverse_dynamics", &PyMultibodyModel::InverseDynamics, py::arg("q"), py::arg("v"), py::arg("qdd"),
            "tau = M qdd + h - tau_spring")
       .def("forward_dynamics", &PyMultibodyModel::ForwardDynamics, py::arg("q"), py::arg("v"), py::arg("u"),
-           py::arg("tau_ext") = Eigen::VectorXd(), "qdd = M^-1 (B u + tau_spring + tau_ext - h) (Bullet's ABA)")
+           py::arg("tau_ext") = Eigen::VectorXd(),
+           "qdd = M^-1 (B u + tau_spring + tau_ext - h) (Bullet's ABA; CRBA + tree factor on the quaternion base)")
       .def("com_position", &PyMultibodyModel::ComPosition, py::arg("q"))
       .def("com_velocity", &PyMultibodyModel::ComVelocity, py::arg("q"), py::arg("v"))
       .def("point_position", &PyMultibodyModel::PointPosition, py::arg("q"), py::arg("link"),

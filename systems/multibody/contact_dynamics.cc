@@ -1,5 +1,7 @@
 #include "systems/multibody/contact_dynamics.h"
 
+#include "systems/multibody/free_flyer_kernels.h"
+
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
@@ -38,8 +40,13 @@ template <int R>
 void AddWeightedPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, int body,
                               const Eigen::Vector3d& p_world, const Eigen::Matrix<double, R, 3>& W, int row0) {
   const Eigen::Vector3d r = p_world - ws.reference_point();
+  const bool one_joint = ws.free_flyer_as_one_joint();
   for (int m = ws.support_begin[body]; m < ws.support_begin[body + 1]; ++m) {
     const int b = ws.support_body[m];
+    if (one_joint && b <= kFreeFlyerRootBody) {  // the base joint's six columns
+      ws.J.block<R, 6>(row0, 0).noalias() += W * FreeFlyerPointJacobianColumns(ws, r);
+      break;
+    }
     const Vector6d& S = ws.S(b);
     const Eigen::Vector3d column = S.tail<3>() + S.head<3>().cross(r);
     ws.J.block<R, 1>(row0, model.body(b).v_index) += W * column;

@@ -6,6 +6,7 @@
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 
 #include "systems/multibody/bullet_scratch.h"
+#include "systems/multibody/free_flyer_kernels.h"
 
 // The loops over rows of a few entries (SolveMassMatrixFactorRows, SolveRowsDiagonalAndTransposeFactor) are compiled
 // twice with GCC on x86-64: for x86-64-v3 (AVX2/FMA) and the baseline, and the loader picks one (as solvers/qp's
@@ -82,6 +83,11 @@ void ApplyArmatureCorrection(MultibodyWorkspace& ws, Eigen::Ref<Eigen::VectorXd>
 const Eigen::MatrixXd& CalcMassMatrix(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q) {
   ws.SetPositions(model, q);
   if (ws.valid.M) return ws.M;
+  if (ws.free_flyer_as_one_joint()) {
+    CalcFreeFlyerMassMatrix(model, ws);
+    ws.valid.M = true;
+    return ws.M;
+  }
   // CRBA in world axes at O: M_kj = S_j^T (Ic_i S_i) for j an ancestor of (or equal to) i.
   for (int i = 0; i < model.num_bodies(); ++i) {
     const int k = model.body(i).v_index;
@@ -105,6 +111,11 @@ const Eigen::VectorXd& CalcBiasForces(const MultibodyModel& model, MultibodyWork
                                       const VectorRef& v) {
   ws.SetState(model, q, v);
   if (ws.valid.h) return ws.h;
+  if (ws.free_flyer_as_one_joint()) {
+    CalcFreeFlyerRnea(model, ws, nullptr, ws.h.data());
+    ws.valid.h = true;
+    return ws.h;
+  }
   // RNEA with qdd = 0; gravity enters as a fictitious base acceleration a_0 = [0; -g].
   Vector6d a0 = Vector6d::Zero();
   a0.tail<3>() = -model.gravity();
@@ -151,6 +162,12 @@ void CalcInverseDynamics(const MultibodyModel& model, MultibodyWorkspace& ws, co
                          const VectorRef& qdd, Eigen::Ref<Eigen::VectorXd> tau) {
   CheckSize(model, qdd.size(), model.nv(), "qdd");
   CheckSize(model, tau.size(), model.nv(), "tau");
+  if (ws.free_flyer_as_one_joint()) {  // one O(n) pass: tau = RNEA(q, v, qdd) - tau_spring
+    const Eigen::VectorXd& ts = CalcSpringTorques(model, ws, q, v);
+    CalcRnea(model, ws, q, v, qdd, tau);
+    tau -= ts;
+    return;
+  }
   const Eigen::MatrixXd& M = CalcMassMatrix(model, ws, q);
   const Eigen::VectorXd& h = CalcBiasForces(model, ws, q, v);
   const Eigen::VectorXd& ts = CalcSpringTorques(model, ws, q, v);
@@ -163,6 +180,10 @@ void CalcRnea(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorR
   CheckSize(model, qdd.size(), model.nv(), "qdd");
   CheckSize(model, tau.size(), model.nv(), "tau");
   ws.SetState(model, q, v);
+  if (ws.free_flyer_as_one_joint()) {
+    CalcFreeFlyerRnea(model, ws, qdd.data(), tau.data());
+    return;
+  }
   // Forward: a_b = a_parent + S_b qdd_b (+ A_bias_b, the velocity product, already accumulated); gravity enters as the
   // fictitious base acceleration a_0 = [0; -g]. Backward: f_b = I_b a_b + V_b x* (I_b V_b), tau_k = S_k^T f_b.
   Vector6d a0 = Vector6d::Zero();

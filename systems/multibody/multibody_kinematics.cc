@@ -1,5 +1,7 @@
 #include "systems/multibody/multibody_kinematics.h"
 
+#include "systems/multibody/free_flyer_kernels.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -62,7 +64,13 @@ void CalcFrameJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, cons
   ws.SetPositions(model, q);
   J.setZero();
   const Eigen::Vector3d r = ws.p_world_link(body) + ws.R_world_link(body) * p_link - ws.reference_point();
+  const bool one_joint = ws.free_flyer_as_one_joint();
   for (int b = body; b >= 0; b = model.body(b).parent) {
+    if (one_joint && b <= kFreeFlyerRootBody) {  // the base joint's six columns: angular [0, R], linear
+      J.block<3, 3>(0, 3) = ws.R_world_link(kFreeFlyerRootBody);
+      J.bottomLeftCorner<3, 6>() = FreeFlyerPointJacobianColumns(ws, r);
+      break;
+    }
     const int k = model.body(b).v_index;
     if (k < 0) continue;
     const Vector6d& S = ws.S(b);
@@ -78,8 +86,13 @@ void CalcPointJacobian(const MultibodyModel& model, MultibodyWorkspace& ws, cons
   ws.SetPositions(model, q);
   J.setZero();
   const Eigen::Vector3d r = ws.p_world_link(body) + ws.R_world_link(body) * p_link - ws.reference_point();
+  const bool one_joint = ws.free_flyer_as_one_joint();
   for (int m = ws.support_begin[body]; m < ws.support_begin[body + 1]; ++m) {
     const int b = ws.support_body[m];
+    if (one_joint && b <= kFreeFlyerRootBody) {  // the base joint's six columns
+      J.leftCols<6>() = FreeFlyerPointJacobianColumns(ws, r);
+      break;
+    }
     const Vector6d& S = ws.S(b);
     J.col(model.body(b).v_index) = S.tail<3>() + S.head<3>().cross(r);
   }

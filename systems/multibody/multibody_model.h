@@ -28,7 +28,8 @@
 // whole robot is a fixed-base kinematic tree and dq/dt is the velocity. The quaternion base keeps the
 // same chain of six massless bodies (prismatic along the base's x, y, z, then revolute about them,
 // joints "base_vx", "base_vy", "base_vz", "base_wx", "base_wy", "base_wz") with every one posed
-// at the base itself, so that their motion subspace columns are the base-frame twist's basis.
+// at the base itself, so that their motion subspace columns are the base-frame twist's basis; the kernels treat them
+// as one 6-DOF joint (free_flyer_kernels.h).
 // Joint coordinates follow a depth-first walk of the URDF tree (children in urdfdom's order);
 // use VelocityIndex("joint_name") rather than hard-coded indices.
 //

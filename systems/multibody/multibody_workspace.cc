@@ -64,6 +64,7 @@ MultibodyWorkspace::MultibodyWorkspace(const MultibodyWorkspace& other)
       has_q_(false),
       has_v_(false),
       quaternion_base_(other.quaternion_base_),
+      free_flyer_one_joint_(other.free_flyer_one_joint_),
       robot_name_(other.robot_name_),
       position_index_(other.position_index_),
       axis_index_(other.axis_index_),
@@ -343,6 +344,12 @@ int MultibodyWorkspace::SetFreeFlyerPose(const MultibodyModel& model) {
   return 6;
 }
 
+void MultibodyWorkspace::SetFreeFlyerAsOneJoint(bool one_joint) {
+  free_flyer_one_joint_ = one_joint;
+  has_q_ = has_v_ = false;
+  valid = Flags();
+}
+
 void MultibodyWorkspace::EnsureBulletPositions() {
   if (!bullet_) BuildBullet();
   if (valid.bullet_q) return;
@@ -385,7 +392,19 @@ void MultibodyWorkspace::SetVelocities(const MultibodyModel& model, const Eigen:
   valid.bullet_v = false;
   const std::vector<MultibodyBody>& bodies = *bodies_;
   const int nb = static_cast<int>(bodies.size());
-  for (int i = 0; i < nb; ++i) {
+  int first_body = 0;
+  if (free_flyer_as_one_joint()) {
+    // The base joint's velocity S_base v_base = [R w_B; R v_B]; its bias is zero (S_base is fixed in the base).
+    Vector6d V_base;
+    V_base.head<3>().noalias() = R_wl_[0] * v_.segment<3>(3);
+    V_base.tail<3>().noalias() = R_wl_[0] * v_.head<3>();
+    for (int i = 0; i < 6; ++i) {
+      V_[i] = V_base;
+      A_bias_[i].setZero();
+    }
+    first_body = 6;
+  }
+  for (int i = first_body; i < nb; ++i) {
     const int p = bodies[i].parent;
     const int k = bodies[i].v_index;
     if (p >= 0) {

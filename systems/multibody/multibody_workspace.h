@@ -79,6 +79,13 @@ class MultibodyWorkspace {
   bool has_positions() const { return has_q_; }
   bool has_velocities() const { return has_v_; }
 
+  // Quaternion base only: true (the default) runs the kernels (CRBA, RNEA, Jacobians, velocity kinematics) with the
+  // base as ONE 6-DOF joint of motion subspace [[0, R]; [R, 0]] (world axes at O = the base origin, v = [v_B; w_B]);
+  // false runs the generic path over the six 1-DOF virtual joints, kept to compare against (the results agree to
+  // rounding; the virtual bodies' V differ: one joint gives all six the base's twist). Invalidates the cached state.
+  void SetFreeFlyerAsOneJoint(bool one_joint);
+  bool free_flyer_as_one_joint() const { return quaternion_base_ && free_flyer_one_joint_; }
+
   // ---- per-body kinematics at the current q (world frame) ----
   const Eigen::Matrix3d& R_world_link(int body) const { return R_wl_[body]; }
   const Eigen::Vector3d& p_world_link(int body) const { return p_wl_[body]; }
@@ -169,6 +176,7 @@ class MultibodyWorkspace {
   // Quaternion free-flyer base (free_flyer.h): its six virtual bodies (0..5) are posed at the base from q[0..7), and
   // their bias acceleration is zero (their motion subspace is fixed in the base). Bullet is refused.
   bool quaternion_base_ = false;
+  bool free_flyer_one_joint_ = true;
   std::string robot_name_;           // for the refusal's message
   std::vector<int> position_index_;  // per body: index in q of its joint coordinate (-1: none or free-flyer)
   // Per body, for the forward kinematics: the joint axis as ±(unit axis axis_index_) when it is one (else −1), and
