@@ -23,12 +23,13 @@ namespace {
 
 constexpr double kG = 9.81;
 
-std::shared_ptr<const MultibodyModel> LoadExo(bool quaternion) {
+std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot, bool quaternion) {
   LoadOptions options;
   options.quaternion_floating_base = quaternion;
   return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"), options));
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"), options));
 }
+std::shared_ptr<const MultibodyModel> LoadExo(bool quaternion) { return LoadRobot("exoskeleton", quaternion); }
 
 SimulatorConfig Tight() {
   SimulatorConfig c;
@@ -65,8 +66,8 @@ void EulerToQuaternionState(const Eigen::VectorXd& q_e, const Eigen::VectorXd& v
   *v << R.transpose() * v_e.head<3>(), w_B, v_e.tail(n);
 }
 
-// The exoskeleton thrown with a twist (base and joints moving) at 10 m: no contact, no torque.
-void ThrownExoState(const MultibodyModel& euler, Eigen::VectorXd* q_e, Eigen::VectorXd* v_e) {
+// A robot thrown with a twist (base and joints moving) at 10 m: no contact, no torque.
+void ThrownState(const MultibodyModel& euler, Eigen::VectorXd* q_e, Eigen::VectorXd* v_e) {
   *q_e = euler.q_nominal();
   (*q_e)[2] += 10.0;
   (*q_e)[3] = 0.3, (*q_e)[4] = 0.4, (*q_e)[5] = -0.2;
@@ -80,7 +81,7 @@ TEST(HybridContactPlantQuaternion, FreeFlightConservesEnergyAndSpatialMomentumAn
   auto model = LoadExo(true);
   ASSERT_EQ(model->nq(), model->nv() + 1);
   Eigen::VectorXd q_e, v_e, q0, v0;
-  ThrownExoState(*euler, &q_e, &v_e);
+  ThrownState(*euler, &q_e, &v_e);
   EulerToQuaternionState(q_e, v_e, &q0, &v0);
   HybridContactPlant plant("exo", model, FlightOnly(), Terrain::Flat());
   auto context = plant.CreateDefaultLeafContext();
@@ -116,14 +117,17 @@ TEST(HybridContactPlantQuaternion, FreeFlightConservesEnergyAndSpatialMomentumAn
   EXPECT_LT(worst_norm, 1e-10);  // the documented bound (docs/design-notes.md#quaternion-norm)
 }
 
-TEST(HybridContactPlantQuaternion, FreeFlightMatchesTheEulerBasePlantThroughTheFootKinematics) {
-  auto euler = LoadExo(false);
-  auto model = LoadExo(true);
+// Cassie adds its achilles loop closures (Baumgarte-stabilised in both plants) and its damped leaf springs.
+class QuaternionVsEuler : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(QuaternionVsEuler, FreeFlightMatchesTheEulerBasePlantThroughTheFootKinematics) {
+  auto euler = LoadRobot(GetParam(), false);
+  auto model = LoadRobot(GetParam(), true);
   Eigen::VectorXd q_e, v_e, q0, v0;
-  ThrownExoState(*euler, &q_e, &v_e);
+  ThrownState(*euler, &q_e, &v_e);
   EulerToQuaternionState(q_e, v_e, &q0, &v0);
-  HybridContactPlant plant_e("exo_euler", euler, FlightOnly(), Terrain::Flat());
-  HybridContactPlant plant_q("exo_quat", model, FlightOnly(), Terrain::Flat());
+  HybridContactPlant plant_e("euler", euler, FlightOnly(), Terrain::Flat());
+  HybridContactPlant plant_q("quaternion", model, FlightOnly(), Terrain::Flat());
   auto ctx_e = plant_e.CreateDefaultLeafContext();
   auto ctx_q = plant_q.CreateDefaultLeafContext();
   plant_e.SetState(*ctx_e, q_e, v_e, "flight");
@@ -142,15 +146,17 @@ TEST(HybridContactPlantQuaternion, FreeFlightMatchesTheEulerBasePlantThroughTheF
     const Eigen::VectorXd qe = ce->continuous_state().head(euler->nq());
     const Eigen::VectorXd qq = cq->continuous_state().head(model->nq());
     ASSERT_LT(std::abs(qe[4]), 1.4) << "the Euler run must stay away from +-90 deg pitch";
-    for (int c = 0; c < 2; ++c)
-      for (int p = 0; p < 4; ++p)
+    for (int c = 0; c < model->num_contacts(); ++c)
+      for (int p = 0; p < static_cast<int>(model->contacts()[c].points.size()); ++p)
         worst = std::max(
             worst, (CalcContactPointPosition(*euler, ws_e, qe, c, p) - CalcContactPointPosition(*model, ws_q, qq, c, p))
                        .norm());
   }
-  std::printf("exo free flight, quaternion vs Euler plant: worst sole-corner distance %.3g m over 1 s\n", worst);
+  std::printf("%s free flight, quaternion vs Euler plant: worst contact-point distance %.3g m over 1 s\n",
+              GetParam().c_str(), worst);
   EXPECT_LT(worst, 1e-6);
 }
+INSTANTIATE_TEST_SUITE_P(Robots, QuaternionVsEuler, ::testing::Values("exoskeleton", "cassie"));
 
 TEST(HybridContactPlantQuaternion, TouchdownTimeIsFreeFallAndTheImpactChangesMomentumByTheContactImpulse) {
   auto model = LoadExo(true);
@@ -211,6 +217,10 @@ TEST(HybridContactPlantQuaternion, TouchdownTimeIsFreeFallAndTheImpactChangesMom
   const Vector6d dh =
       CalcCentroidalMomentum(*model, ws, q_plus, v_plus) - CalcCentroidalMomentum(*model, ws, q_plus, v_minus);
   const double scale = model->total_mass() * kG * ev.time;  // |momentum before|
+  std::printf(
+      "exo touchdown: event time - sqrt(2h/g) = %.3g s; |dl - sum lambda| %.3g, |dk - sum r x lambda| %.3g "
+      "(|l-| = %.4g kg m/s)\n",
+      ev.time - t_expected, (dh.tail<3>() - sum_f).norm(), (dh.head<3>() - sum_tau).norm(), scale);
   EXPECT_GT(sum_f.z(), 0.0);
   EXPECT_LT((dh.tail<3>() - sum_f).norm(), 1e-7 * scale);
   EXPECT_LT((dh.head<3>() - sum_tau).norm(), 1e-7 * scale);
