@@ -21,7 +21,8 @@
 //                            v = [v_B, w_B, joint rates]: the base twist in base coordinates; the
 //                            convention, Integrate and Difference are in free_flyer.h. No singularity.
 //                            Joint coordinate k of v is entry k + 1 of q (PositionIndex).
-//                            The plants refuse it for now (RequireNqEqualsNv); Bullet is not used
+//                            HybridContactPlant runs it; BulletWorldPlant and the pose solver refuse it
+//                            (RequireNqEqualsNv). Bullet is not used
 //                            (forward dynamics and M^-1 go through the CRBA and the tree factor).
 // The floating base is modelled as a chain of massless virtual joints (prismatic x, [y], z,
 // revolute [yaw about z], pitch about y, [roll about x]) ending in the URDF root link, so the

@@ -371,6 +371,8 @@ void BulletWorldPlant::World::AddTerrain() {
 BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const MultibodyModel> model,
                                    ContactModeGraph graph, Terrain terrain, BulletWorldPlantParams params)
     : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
+  // Bullet's multibody steps the Euler chain and the state is [q; v] with dq/dt = v: nq == nv.
+  model_->RequireNqEqualsNv("system '" + this->name() + "'");
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (!(params_.step_s > 0) || !std::isfinite(params_.step_s))
     ThrowError("parameter step_s must be positive, got " + Num(params_.step_s) + " s");

@@ -60,8 +60,6 @@ ContactPlant::ContactPlant(std::string name, std::shared_ptr<const MultibodyMode
                            Terrain terrain)
     : LeafSystem(std::move(name)), model_(std::move(model)), graph_(std::move(graph)), terrain_(std::move(terrain)) {
   if (!model_) ThrowError("null MultibodyModel");
-  // The state is [q; v] with dq/dt = v (and the Bullet world steps the Euler chain): nq == nv.
-  model_->RequireNqEqualsNv("system '" + this->name() + "'");
   if (graph_.modes.empty()) ThrowError("the contact-mode graph has no modes");
   std::vector<std::string> names;
   for (const auto& m : graph_.modes) {
@@ -122,6 +120,15 @@ int ContactPlant::base_height_index() const {
     case FloatingBaseType::kFixed: return -1;
   }
   return -1;
+}
+
+std::vector<std::string> StateElementNames(const MultibodyModel& model) {
+  std::vector<std::string> names;
+  if (model.has_quaternion_base())
+    for (const char* e : {"x", "y", "z", "qw", "qx", "qy", "qz"}) names.push_back(std::string("q_base_") + e);
+  for (int i = model.has_quaternion_base() ? 6 : 0; i < model.nv(); ++i) names.push_back("q_" + model.JointName(i));
+  for (const std::string& j : model.joint_names()) names.push_back("v_" + j);
+  return names;
 }
 
 std::vector<ContactSet> ActiveContactsPerMode(const ContactPlant& plant) {

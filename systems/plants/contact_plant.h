@@ -4,9 +4,10 @@
 // Both plants (HybridContactPlant: event-accurate, rigid; BulletWorldPlant: Bullet's discrete-time physics world)
 // declare the same ports, with the same names, sizes, element names and types:
 // inputs:  u (nu)                      actuator torques [N m], joint side, in MultibodyModel::actuators() order
-// outputs: q (nv)                      generalized positions (see multibody_model.h for the coordinates)
+// outputs: q (nq)                      generalized positions (see multibody_model.h for the coordinates)
 //          v (nv)                      generalized velocities
-//          state (2 nv)                [q; v]; elements q_<joint>..., v_<joint>...
+//          state (nq + nv)             [q; v]; elements q_<joint>..., v_<joint>... (StateElementNames)
+// nq == nv except on the quaternion free-flyer base (nq = nv + 1), which only HybridContactPlant accepts so far.
 //          mode (int, typed)           index of the active contact mode (ContactModeGraph::modes order)
 //          contact_forces (3 nc)       ground force on each contact [N], world axes; elements <contact>_fx, _fy, _fz
 //          contact_violation (nc)      per contact: 0 ok, +1 negative normal force, +2 outside the friction cone (or,
@@ -117,6 +118,11 @@ class ContactPlant : public LeafSystem {
   std::vector<ResolvedTransition> transitions_;  ///< graph_.transitions, checked (errors name the transition)
   std::vector<std::vector<int>> graph_liftoff_;  ///< [mode][contact]: the first lift-off transition's target, or -1
 };
+
+/// Element names of a plant's state port [q; v]: q_<joint>... then v_<joint>...; on the quaternion base q's first seven
+/// are q_base_x, q_base_y, q_base_z, q_base_qw, q_base_qx, q_base_qy, q_base_qz and v's first six v_base_vx ..
+/// v_base_wz.
+std::vector<std::string> StateElementNames(const MultibodyModel& model);
 
 /// The active contact set of every mode of `plant`, in mode order (what a controller needs to know of the plant).
 std::vector<ContactSet> ActiveContactsPerMode(const ContactPlant& plant);

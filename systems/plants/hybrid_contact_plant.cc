@@ -1,6 +1,7 @@
 #include "systems/plants/hybrid_contact_plant.h"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "systems/multibody/multibody_dynamics.h"
@@ -8,6 +9,14 @@
 #include "systems/multibody/multibody_workspace.h"
 
 namespace rome {
+
+namespace {
+std::string Num(double x) {
+  std::ostringstream os;
+  os << std::setprecision(12) << x;
+  return os.str();
+}
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------------------
 // Plant
@@ -21,7 +30,7 @@ struct HybridContactPlant::Scratch {
         impulse(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
         v_plus(Eigen::VectorXd::Zero(model.nv())),
         forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
-        x_key(Eigen::VectorXd::Zero(2 * model.nv())),
+        x_key(Eigen::VectorXd::Zero(model.nq() + model.nv())),
         u_key(Eigen::VectorXd::Zero(model.nu())),
         tau_key(Eigen::VectorXd::Zero(model.nv())),
         event_forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
@@ -55,12 +64,18 @@ void HybridContactPlant::EnterMode(double t, int from, int to, State* next) cons
 HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const MultibodyModel> model,
                                        ContactModeGraph graph, Terrain terrain, HybridContactPlantParams params)
     : ContactPlant(std::move(name), std::move(model), std::move(graph), std::move(terrain)), params_(params) {
-  const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
+  const int nq = model_->nq(), nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (!(params_.planned_liftoff_force_N >= 0.0) || !std::isfinite(params_.planned_liftoff_force_N))
     ThrowError("params.planned_liftoff_force_N = " + std::to_string(params_.planned_liftoff_force_N) +
                " N must be >= 0 and finite");
 
-  Eigen::VectorXd x0(2 * nv);
+  if (!(params_.quaternion_norm_gain_per_s >= 0.0) || !std::isfinite(params_.quaternion_norm_gain_per_s))
+    ThrowError("params.quaternion_norm_gain_per_s = " + std::to_string(params_.quaternion_norm_gain_per_s) +
+               " 1/s must be >= 0 and finite");
+  if (!(params_.max_quaternion_norm_error > 0.0) || !std::isfinite(params_.max_quaternion_norm_error))
+    ThrowError("params.max_quaternion_norm_error = " + std::to_string(params_.max_quaternion_norm_error) +
+               " must be > 0 and finite");
+  Eigen::VectorXd x0(nq + nv);
   x0 << model_->q_nominal(), Eigen::VectorXd::Zero(nv);
   DeclareContinuousState(x0);
   // [time the current mode began; per contact: time it last left the ground] (see the header). Zeros: every
@@ -77,16 +92,15 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
 }
 
 void HybridContactPlant::DeclarePlantOutputs() {
-  const int nv = model_->nv(), nc = model_->num_contacts();
+  const int nq = model_->nq(), nv = model_->nv(), nc = model_->num_contacts();
   DeclareOutputPort(
-      "q", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nv); },
+      "q", nq, [nq](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().head(nq); },
       Feedthrough::None());
   DeclareOutputPort(
       "v", nv, [nv](const LeafContext& c, Eigen::VectorXd* y) { *y = c.continuous_state().tail(nv); },
       Feedthrough::None());
-  std::vector<std::string> state_names, force_names;
-  for (const std::string& j : model_->joint_names()) state_names.push_back("q_" + j);
-  for (const std::string& j : model_->joint_names()) state_names.push_back("v_" + j);
+  const std::vector<std::string> state_names = StateElementNames(*model_);
+  std::vector<std::string> force_names;
   for (const ContactInfo& contact : model_->contacts())
     for (const char* axis : {"fx", "fy", "fz"}) force_names.push_back(contact.name + "_" + axis);
   DeclareOutputPort(
@@ -98,11 +112,11 @@ void HybridContactPlant::DeclarePlantOutputs() {
     const Eigen::Matrix3Xd& f = EvalContactForces(c);
     for (int i = 0; i < nc; ++i) y->segment<3>(3 * i) = f.col(i);
   });
-  DeclareOutputPort("contact_violation", nc, [this, nc, nv](const LeafContext& c, Eigen::VectorXd* y) {
+  DeclareOutputPort("contact_violation", nc, [this, nc, nq](const LeafContext& c, Eigen::VectorXd* y) {
     const Scratch& s = EvalDynamics(c);
     y->setZero();
     auto& ws = const_cast<Scratch&>(s).ws;
-    const auto q = c.continuous_state().head(nv);
+    const auto q = c.continuous_state().head(nq);
     for (int i = 0; i < nc; ++i)
       if (s.active & ContactBit(i)) {
         const ContactWrench w = ExtractContactWrench(*model_, ws, q, s.active, s.F, i);
@@ -112,9 +126,9 @@ void HybridContactPlant::DeclarePlantOutputs() {
   });
   DeclareOutputPort(
       "com", {"x", "y", "z", "vx", "vy", "vz"},
-      [this, nv](const LeafContext& c, Eigen::VectorXd* y) {
+      [this, nq, nv](const LeafContext& c, Eigen::VectorXd* y) {
         auto& ws = c.scratch<Scratch>().ws;
-        const auto q = c.continuous_state().head(nv);
+        const auto q = c.continuous_state().head(nq);
         const auto v = c.continuous_state().tail(nv);
         y->head<3>() = CalcComPosition(*model_, ws, q);
         y->tail<3>() = CalcComVelocity(*model_, ws, q, v);
@@ -245,7 +259,7 @@ void HybridContactPlant::DeclarePostEventCheck() {
 }
 
 void HybridContactPlant::DeclareTouchdownAndFallGuards() {
-  const int nv = model_->nv();
+  const int nq = model_->nq(), nv = model_->nv();
   // Touchdowns from the graph.
   for (const ResolvedTransition& td : transitions_) {
     if (td.kind != ContactModeGraph::Kind::kTouchdown) continue;
@@ -254,9 +268,9 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
     DeclareGuard(
         "touchdown_" + contact_name, from,
         [this, contact](const LeafContext& c) { return TouchdownWitness(c, contact); }, CrossingDirection::kFalling,
-        [this, contact, contact_name, from, to, nv](const LeafContext& c, int, State* next) {
+        [this, contact, contact_name, from, to, nq, nv](const LeafContext& c, int, State* next) {
           auto& s = c.scratch<Scratch>();
-          const auto q = c.continuous_state().head(nv);
+          const auto q = c.continuous_state().head(nq);
           if (!terrain_.is_flat()) {
             const Eigen::Vector3d p = CalcContactPointPosition(*model_, s.ws, q, contact, 0);
             if (terrain_.StoneAt(p.x(), params_.stone_tolerance_m) < 0) {
@@ -272,6 +286,7 @@ void HybridContactPlant::DeclareTouchdownAndFallGuards() {
           CalcImpactMap(*model_, s.ws, q, c.continuous_state().tail(nv), mode_contacts_[to], params_.dynamics, s.v_plus,
                         s.impulse);
           next->continuous.tail(nv) = s.v_plus;
+          NormalizeBaseQuaternion(next->continuous);
           EnterMode(c.time(), from, to, next);
           return EventStatus::Succeeded();
         });
@@ -294,10 +309,11 @@ void HybridContactPlant::DeclareJointStops() {
   if (!(params_.joint_stop_tolerance >= 0.0) || !std::isfinite(params_.joint_stop_tolerance))
     ThrowError("params.joint_stop_tolerance = " + std::to_string(params_.joint_stop_tolerance) +
                " must be >= 0 and finite");
-  // Components 2k and 2k + 1: the lower and upper stop of the k-th limited coordinate (finite URDF limits only).
+  // Components 2k and 2k + 1: the lower and upper stop of the k-th limited coordinate (finite URDF limits only; an
+  // index into q: a joint's velocity index plus one after a quaternion base, whose own seven entries have no limits).
   std::vector<int> limited;
   const Eigen::VectorXd &lo = model_->position_lower_limits(), &hi = model_->position_upper_limits();
-  for (int i = 0; i < model_->nv(); ++i)
+  for (int i = 0; i < model_->nq(); ++i)
     if (std::isfinite(lo[i]) || std::isfinite(hi[i])) limited.push_back(i);
   if (limited.empty()) return;
   const auto margin = [lo, hi](double q, int i, bool lower) {
@@ -306,9 +322,9 @@ void HybridContactPlant::DeclareJointStops() {
   };
   const auto message = [this, lo, hi](int i, bool lower, double q, double t, bool beyond) {
     std::ostringstream os;
-    os << "joint '" << model_->JointName(i) << "' " << (beyond ? "is beyond" : "reached") << " its "
-       << (lower ? "lower" : "upper") << " limit " << (lower ? lo[i] : hi[i]) << " at t = " << t << " s (q = " << q
-       << "; joint stop";
+    os << "joint '" << model_->JointName(model_->has_quaternion_base() ? i - 1 : i) << "' "
+       << (beyond ? "is beyond" : "reached") << " its " << (lower ? "lower" : "upper") << " limit "
+       << (lower ? lo[i] : hi[i]) << " at t = " << t << " s (q = " << q << "; joint stop";
     if (beyond) os << ", right after an event: a start pose or reset outside the limits";
     os << ")";
     return os.str();
@@ -343,12 +359,20 @@ std::any HybridContactPlant::AllocateScratch() const { return Scratch(*model_); 
 
 void HybridContactPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                   const std::string& mode) const {
-  const int nv = model_->nv();
-  if (q.size() != nv || v.size() != nv)
+  const int nq = model_->nq(), nv = model_->nv();
+  if (q.size() != nq || v.size() != nv)
     ThrowError("SetState: q has size " + std::to_string(q.size()) + " and v size " + std::to_string(v.size()) +
-               "; robot '" + model_->name() + "' has nv = " + std::to_string(nv));
+               "; robot '" + model_->name() + "' has nq = " + std::to_string(nq) + ", nv = " + std::to_string(nv));
+  if (model_->has_quaternion_base()) {
+    const double norm = q.segment<4>(3).norm();
+    if (!(std::abs(norm - 1.0) <= params_.max_quaternion_norm_error))
+      ThrowError("SetState: q's base quaternion (w x y z) = " + Num(q[3]) + " " + Num(q[4]) + " " + Num(q[5]) + " " +
+                 Num(q[6]) + " has norm " + Num(norm) +
+                 "; expected 1 within max_quaternion_norm_error = " + Num(params_.max_quaternion_norm_error));
+  }
   State& s = context.get_mutable_state();
   s.continuous << q, v;
+  NormalizeBaseQuaternion(s.continuous);
   s.mode = graph_.ModeIndex(mode, name());
   s.discrete.setConstant(context.time());  // the mode clock starts now; inactive contacts count as just lifted off
 }
@@ -356,8 +380,8 @@ void HybridContactPlant::SetState(LeafContext& context, const Eigen::VectorXd& q
 const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafContext& context) const {
   Scratch& s = context.scratch<Scratch>();
   if (s.version == context.version()) return s;
-  const int nv = model_->nv();
-  const auto q = context.continuous_state().head(nv);
+  const int nq = model_->nq(), nv = model_->nv();
+  const auto q = context.continuous_state().head(nq);
   const auto v = context.continuous_state().tail(nv);
   const Eigen::VectorXd& u = EvalInput(context, 0);
   const bool external = params_.external_force_input;
@@ -387,12 +411,16 @@ const HybridContactPlant::Scratch& HybridContactPlant::EvalDynamics(const LeafCo
 const Eigen::Matrix3Xd& HybridContactPlant::EvalContactForces(const LeafContext& context) const {
   Scratch& s = const_cast<Scratch&>(EvalDynamics(context));
   if (s.forces_version == s.dynamics_id) return s.forces;
-  const auto q = context.continuous_state().head(model_->nv());
+  const auto q = context.continuous_state().head(model_->nq());
   for (int i = 0; i < model_->num_contacts(); ++i)
     s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force
                                                  : Eigen::Vector3d::Zero();
   s.forces_version = s.dynamics_id;
   return s.forces;
+}
+
+void HybridContactPlant::NormalizeBaseQuaternion(Eigen::VectorXd& x) const {
+  if (model_->has_quaternion_base()) x.segment<4>(3).normalize();
 }
 
 double HybridContactPlant::FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const {
@@ -405,9 +433,18 @@ double HybridContactPlant::PendingWitness(const LeafContext& context) const {
 }
 
 void HybridContactPlant::DoCalcTimeDerivatives(const LeafContext& context, Eigen::VectorXd* xdot) const {
-  const int nv = model_->nv();
+  const int nq = model_->nq(), nv = model_->nv();
   const Scratch& s = EvalDynamics(context);
-  xdot->head(nv) = context.continuous_state().tail(nv);
+  // dq/dt = G(q) v: v itself, except the quaternion base, whose quaternion rate is linear in the stored quaternion
+  // (its exact flow keeps the norm; the integrator's drift is renormalised at every reset, see the header).
+  const auto x = context.continuous_state();
+  model_->MapVelocityToQDot(x.head(nq), x.tail(nv), xdot->head(nq));
+  if (model_->has_quaternion_base()) {
+    // Norm stabilisation (zero on the unit sphere, so the exact flow is unchanged): |quat|^2 - 1 decays at
+    // 2 quaternion_norm_gain_per_s instead of integrating the integrator's error.
+    const auto quat = x.segment<4>(3);
+    xdot->segment<4>(3) -= params_.quaternion_norm_gain_per_s * (quat.squaredNorm() - 1.0) * quat;
+  }
   xdot->tail(nv) = s.qdd;
 }
 
@@ -415,7 +452,7 @@ double HybridContactPlant::TouchdownWitness(const LeafContext& context, int cont
   // Only a contact that left the ground less than min_time_in_mode_s ago is held unarmed (it starts at height ~0).
   if (context.time() - context.discrete_state()[1 + contact] < params_.min_time_in_mode_s) return 1.0;
   auto& ws = context.scratch<Scratch>().ws;
-  const auto q = context.continuous_state().head(model_->nv());
+  const auto q = context.continuous_state().head(model_->nq());
   double lowest = std::numeric_limits<double>::infinity();
   const int np = static_cast<int>(model_->contacts()[contact].points.size());
   for (int p = 0; p < np; ++p) {

@@ -4,14 +4,19 @@
 //
 // inputs:  u (nu)                      actuator torques [N m], joint side, in MultibodyModel::actuators() order
 //          tau_external (nv)           only with params.external_force_input: generalized external force
-// outputs: q (nv)                      generalized positions (see multibody_model.h for the coordinates)
+// outputs: q (nq)                      generalized positions (see multibody_model.h for the coordinates)
 //          v (nv)                      generalized velocities
-//          state (2 nv)                [q; v]
+//          state (nq + nv)             [q; v]
 //          mode (int, typed)           index of the active contact mode (ContactModeGraph::modes order)
 //          contact_forces (3 nc)       ground force on each contact [N], world axes; zero when not in contact
 //          contact_violation (nc)      per contact: 0 ok, +1 negative normal force, +2 outside the friction cone
 //          com (6)                     [p_com (m); v_com (m/s)], world; elements x, y, z, vx, vy, vz
-// continuous state: [q; v]
+// continuous state: [q; v], dq/dt = G(q) v (MultibodyModel::MapVelocityToQDot): v itself, except on the quaternion
+//   free-flyer base (nq = nv + 1, free_flyer.h), whose quaternion rate 1/2 quat (x) (0, w_B) is linear in the stored
+//   quaternion, minus params.quaternion_norm_gain_per_s (|quat|^2 - 1) quat. The exact flow keeps |quat| = 1; the
+//   integrator's error moves the norm, which the dynamics never see (every kinematic and dynamic call normalises the
+//   quaternion); the gain makes that error decay, and SetState and every touchdown reset project the quaternion back
+//   onto the unit sphere. Measured drift: docs/design-notes.md#quaternion-norm.
 // discrete state (1 + nc): [0]     time the current mode began [s]
 //                          [1 + i] time contact i last left the ground (lift-off, or the old stance of an impact) [s];
 //                                  SetState sets every entry to the context time, the default context to 0
@@ -97,6 +102,13 @@ struct HybridContactPlantParams {
   /// flow's right-hand side (M q̈ + h = B sat(u) + τ_spring + τ_ext + Jᵀ F), e.g. an ExternalPush
   /// (systems/perturbations/external_push.h). false: no such input (nothing to connect).
   bool external_force_input = false;
+  /// [-] Quaternion base only: SetState refuses a base quaternion whose norm is farther than this from 1 (and projects
+  /// one within it onto the unit sphere). Ours; the integrator's own drift is far smaller (docs/design-notes.md).
+  double max_quaternion_norm_error = 1e-6;
+  /// [1/s] Quaternion base only: the quaternion rate gets -gain (|quat|^2 - 1) quat, zero on the unit sphere, so the
+  /// norm error the integrator makes decays instead of accumulating between resets (ours; 0 = off; measured in
+  /// docs/design-notes.md#quaternion-norm).
+  double quaternion_norm_gain_per_s = 10.0;
 };
 
 class HybridContactPlant final : public ContactPlant {
@@ -121,6 +133,8 @@ class HybridContactPlant final : public ContactPlant {
   /// Ground force on each contact [N], world axes, 3 x nc (zero columns for inactive contacts), cached per version.
   const Eigen::Matrix3Xd& EvalContactForces(const LeafContext& context) const;
   double TouchdownWitness(const LeafContext& context, int contact) const;
+  /// Projects the quaternion base's quaternion (x's entries 3..6) onto the unit sphere; no-op on other bases.
+  void NormalizeBaseQuaternion(Eigen::VectorXd& x) const;
   /// Mode change at time t: discrete[0] = t, contacts active in `from` but not in `to` left the ground at t.
   void EnterMode(double t, int from, int to, State* next) const;
   // The constructor's declarations, in this order: the outputs; per mode, each active contact's lift-off guard, then
