@@ -242,6 +242,9 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   if (bullet_params.planned_liftoff_force_N < 0)
     bullet_params.planned_liftoff_force_N = plant_params.planned_liftoff_force_N;
   if (bullet_params.min_time_in_mode_s <= 0) bullet_params.min_time_in_mode_s = plant_params.min_time_in_mode_s;
+  // A foot that lands early is not released by that force before the controller loads it (no touchdown bounce).
+  if (bullet_params.planned_liftoff_min_contact_s <= 0)
+    bullet_params.planned_liftoff_min_contact_s = plant_params.min_time_in_mode_s;
   const ContactModeGraph modes = ContactModeGraph::WithDoubleSupport("left_foot", "right_foot");
   if (modes.ModeIndex("left_foot_stance", "plant") != kWalkingLeftStance ||
       modes.ModeIndex("double_support", "plant") != kWalkingDoubleSupport ||
