@@ -96,14 +96,18 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("clf-cost-target", "pd",
               "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec "
               "§5.5 [C22]: minimum-norm μ = 0)")
-      .Option("sole-torsion", "corner-cone",
-              "corner-cone | coefficient: the CLF-QP bounds each sole's wrench by the contact wrench cone of its four "
-              "corners (default: a rigid sole, less torsion where the CoP nears an edge or the foot carries a "
-              "tangential force; yaw rows on the whole sole less 2 mm) or its yaw moment by |tau_z| <= 0.1 m f_z "
-              "wherever the CoP is (more than a rigid sole holds near an edge: Bullet's feet slide)")
-      .Option("sole-torsion-margin", "0.002",
-              "corner-cone: the yaw rows' half-sizes are the whole sole's less this margin [m] (ours; < 0: the CoP "
-              "rows' sole, 1 cm inside its edges)")
+      .Option("sole-torsion", "coefficient",
+              "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z wherever "
+              "the CoP is (ours, default; more than a rigid sole holds near an edge: on the Bullet plant the feet "
+              "slide) or each sole's wrench by the contact wrench cone of its four corners (a rigid sole: less torsion "
+              "where the CoP nears an edge or the foot carries a tangential force; Bullet's feet hold, but gait B and "
+              "the gait changes ask more than it allows)")
+      .Option("sole-torsion-margin", "-1",
+              "corner-cone: the yaw rows' half-sizes are the whole sole's less this margin [m] (ours; < 0, default: "
+              "the CoP rows' sole, 1 cm inside its edges)")
+      .Option("plant-sole-torsion", "off",
+              "on | off: the hybrid plant's four-corner soles also slip torsionally outside their corners' wrench cone "
+              "(HybridContactPlantParams::sole_torsion; off, the default: only the friction cone)")
       .Option("sole-torsion-friction", "-1",
               "corner-cone: the friction coefficient of the corners' pyramids in the yaw rows (inscribed in the "
               "cone); < 0: the sole's own (the robot file's, 0.8 for the exoskeleton)")
@@ -243,6 +247,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"coefficient", "corner-cone"}) == "corner-cone";
   p.controller.contact.corner_cone_friction_coefficient = cli.GetDouble("sole-torsion-friction");
   p.controller.contact.corner_cone_yaw_margin_m = cli.GetDouble("sole-torsion-margin");
+  p.plant.sole_torsion = OneOf(cli, "plant-sole-torsion", {"on", "off"}) == "on";
   if (!(p.controller.contact.corner_cone_yaw_margin_m <= 0.05))
     throw std::invalid_argument(
         "walking: --sole-torsion-margin must be < 0 (the CoP rows' sole) or in [0, 0.05] m, got " +

@@ -1,14 +1,15 @@
 // The walking closed loop with the CLF-QP's four-corner sole cone (ContactWrenchParams::corner_wrench_cone with the
-// sole's μ, yaw rows on the whole sole less 2 mm, `walking --sole-torsion corner-cone`, the default) against a rigid sole's four-corner wrench cone,
-// checked from the PLANT (issue 39, "the two plants disagree"): at every monitor sample of a short walking run, on
-// the hybrid plant (the wrench of its constrained dynamics at its state and the torque it applies) and on the Bullet
-// plant (the mean ground wrench of its last step, from Bullet's manifold points), each loaded sole's wrench must be
-// the sum of four corner forces that each lie inside a friction pyramid inscribed in the corner's Coulomb cone (the
-// sidecar's μ = 0.8). Independent of the controller's closed-form rows: here the corner forces are found by a small
-// QP over the twelve forces (DenseQpSolver) that must reproduce the wrench exactly; where none does, the least
-// reduction of |τ_z| that makes one exist is the torsion excess over what four corners hold by friction. Also from
-// the plant: no foot slides (Bullet's slip check, ContactForceStatistics), every planned step lands on its foothold.
-// (With the default |τ_z| ≤ 0.1 m f_z, measured: 574 hybrid and 1453 Bullet samples outside, Bullet's feet slide.)
+// sole's μ, `walking --sole-torsion corner-cone`; not the default) against a rigid
+// sole's four-corner wrench cone, checked from the PLANT (issue 39, "the two plants disagree"): at every monitor sample
+// of a short walking run, on the hybrid plant (the wrench of its constrained dynamics at its state and the torque it
+// applies) and on the Bullet plant (the mean ground wrench of its last step, from Bullet's manifold points), each
+// loaded sole's wrench must be the sum of four corner forces that each lie inside a friction pyramid inscribed in the
+// corner's Coulomb cone (the sidecar's μ = 0.8). Independent of the controller's closed-form rows: here the corner
+// forces are found by a small QP over the twelve forces (DenseQpSolver) that must reproduce the wrench exactly; where
+// none does, the least reduction of |τ_z| that makes one exist is the torsion excess over what four corners hold by
+// friction. Also from the plant: no foot slides (Bullet's slip check, ContactForceStatistics), every planned step lands
+// on its foothold. (With the default |τ_z| ≤ 0.1 m f_z, measured: 574 hybrid and 1453 Bullet samples outside, Bullet's
+// feet slide.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
