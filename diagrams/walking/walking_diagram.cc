@@ -34,8 +34,8 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
   // Ours (spec [R]: |τ_z| ≤ 0.02 m f_z): |τ_z| ≤ 0.1 m f_z wherever the CoP is. corner_wrench_cone (off): a rigid
   // sole's four-corner cone with the sole's own μ (BuildWalkingDiagram sets it when < 0), its yaw rows on the CoP
-  // rows' sole (corner_cone_yaw_margin_m < 0); not the default: 7-9 closed-loop tests then fail
-  // (docs/design-notes.md#walking-sole-torsion).
+  // rows' sole (corner_cone_yaw_margin_m < 0); not the default: 2 (yaw rows on the whole sole less 2 mm) to 7
+  // closed-loop tests then fail (docs/design-notes.md#walking-sole-torsion).
   p.contact.corner_wrench_cone = false;
   p.contact.corner_cone_yaw_margin_m = -1.0;
   p.contact.yaw_moment_coefficient_m = 0.1;

@@ -107,7 +107,7 @@ struct HybridContactPlantParams {
   /// (systems/perturbations/external_push.h). false: no such input (nothing to connect).
   bool external_force_input = false;
   /// true: 3D four-corner flat contacts slip torsionally outside their corners' wrench cone (the slip guard, see the
-  /// header): the plant's sole is as strict as a rigid sole's four corners (ours). false (default for now: 9 walking
+  /// header): the plant's sole is as strict as a rigid sole's four corners (ours). false (default for now: 8 walking
   /// closed-loop tests then slip torsionally, docs/design-notes.md#walking-sole-torsion): only the linear cone.
   bool sole_torsion = false;
 };
