@@ -77,8 +77,9 @@ struct WalkingDiagramParams {
   HybridContactPlantParams
       plant;  ///< PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
   /// PlantKind::kBullet (defaults: 1 ms step, the controller's 1 kHz; rigid contact, μ from the sidecar). Its
-  /// planned_liftoff_force_N and min_time_in_mode_s, when left at their "off" defaults, are taken from `plant` (the
-  /// trailing foot is released at 1 % of m g on either plant).
+  /// planned_liftoff_force_N, min_time_in_mode_s and planned_liftoff_min_contact_s, when left at their "off" defaults,
+  /// are taken from `plant` (the trailing foot is released at 1 % of m g on either plant; a foot is released by that
+  /// force only after min_time_in_mode_s of contact).
   BulletWorldPlantParams bullet_plant;
   ClfQpParams controller = DefaultWalkingControllerParams();
   SwingFootTrajectoryParams swing;  ///< ankle_height_m is set from the model's sole by the builder

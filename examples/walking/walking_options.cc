@@ -102,6 +102,12 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "slide) or each sole's wrench by the contact wrench cone of its four corners (a rigid sole: less torsion "
               "where the CoP nears an edge or the foot carries a tangential force; Bullet's feet hold, but gait B and "
               "the gait changes ask more than it allows)")
+      .Option("sole-torsion-margin", "-1",
+              "corner-cone: the yaw rows' half-sizes are the whole sole's less this margin [m] (ours; < 0, default: "
+              "the CoP rows' sole, 1 cm inside its edges)")
+      .Option("plant-sole-torsion", "off",
+              "on | off: the hybrid plant's four-corner soles also slip torsionally outside their corners' wrench cone "
+              "(HybridContactPlantParams::sole_torsion; off, the default: only the friction cone)")
       .Option("sole-torsion-friction", "-1",
               "corner-cone: the friction coefficient of the corners' pyramids in the yaw rows (inscribed in the "
               "cone); < 0: the sole's own (the robot file's, 0.8 for the exoskeleton)")
@@ -240,6 +246,12 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   p.controller.cost_pd_feedback = OneOf(cli, "clf-cost-target", {"pd", "min-norm"}) == "pd";
   p.controller.contact.corner_wrench_cone = OneOf(cli, "sole-torsion", {"coefficient", "corner-cone"}) == "corner-cone";
   p.controller.contact.corner_cone_friction_coefficient = cli.GetDouble("sole-torsion-friction");
+  p.controller.contact.corner_cone_yaw_margin_m = cli.GetDouble("sole-torsion-margin");
+  p.plant.sole_torsion = OneOf(cli, "plant-sole-torsion", {"on", "off"}) == "on";
+  if (!(p.controller.contact.corner_cone_yaw_margin_m <= 0.05))
+    throw std::invalid_argument(
+        "walking: --sole-torsion-margin must be < 0 (the CoP rows' sole) or in [0, 0.05] m, got " +
+        cli.Get("sole-torsion-margin"));
   if (!(p.controller.contact.corner_cone_friction_coefficient <= 2.0))
     throw std::invalid_argument("walking: --sole-torsion-friction must be < 0 (the sole's own) or in [0, 2], got " +
                                 cli.Get("sole-torsion-friction"));

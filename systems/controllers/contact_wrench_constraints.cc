@@ -41,10 +41,20 @@ ContactWrenchConstraints::ContactWrenchConstraints(const MultibodyModel& model, 
     x_min_ = std::min(x_min_, d.x()), x_max_ = std::max(x_max_, d.x());
     y_min_ = std::min(y_min_, d.y()), y_max_ = std::max(y_max_, d.y());
   }
+  // The yaw rows' half-sizes: the whole sole's less corner_cone_yaw_margin_m, else the CoP rows' (below).
+  const double yaw_margin = params.corner_cone_yaw_margin_m;
+  if (!std::isfinite(yaw_margin))
+    throw std::invalid_argument("system '" + system + "': contact '" + info.name +
+                                "': corner_cone_yaw_margin_m = " + std::to_string(yaw_margin) + " is not finite");
+  if (yaw_margin >= 0.0) {
+    yaw_x_ = std::max(0.0, 0.5 * (x_max_ - x_min_) - yaw_margin);
+    yaw_y_ = std::max(0.0, 0.5 * (y_max_ - y_min_) - yaw_margin);
+  }
   // The CoP rows keep the centre of pressure cop_margin_m inside the sole's edges (never past its middle).
   const double mx = std::clamp(params.cop_margin_m, 0.0, 0.5 * (x_max_ - x_min_)),
                my = std::clamp(params.cop_margin_m, 0.0, 0.5 * (y_max_ - y_min_));
   if (info.type != ContactType::kPoint) x_min_ += mx, x_max_ -= mx, y_min_ += my, y_max_ -= my;
+  if (yaw_margin < 0.0) yaw_x_ = x_max_, yaw_y_ = y_max_;
   if (planar_) {
     normal_ = num_force_rows_ - 1;
     cop_ = info.type != ContactType::kPoint;
@@ -144,10 +154,10 @@ void ContactWrenchConstraints::Fill(const MultibodyModel& model, MultibodyWorksp
   G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_max_, l[r] = -kInf, u[r] = 0.0, ++r;   // τ'_x − y_max f_z ≤ 0
   G.block<1, 3>(r, 0) = ex, G(r, normal_) = -y_min_, l[r] = 0.0, u[r] = kInf, ++r;    // τ'_x − y_min f_z ≥ 0
   if (cwc_) {
-    // Half-sizes of the sole (after the CoP margin) about the frame origin, its centre (checked at construction).
+    // Half-sizes of the sole (after the yaw margin) about the frame origin, its centre (checked at construction).
     // Foot-frame rows over F = [τ; f]: τ' = Rᵀ τ, f' = Rᵀ f, with f'_z taken as f_z (the sole is flat on level
     // ground, as the CoP rows assume).
-    const double X = x_max_, Y = y_max_, mu = mu_corner_;
+    const double X = yaw_x_, Y = yaw_y_, mu = mu_corner_;
     Eigen::Matrix<double, 1, 6> tx = Eigen::Matrix<double, 1, 6>::Zero(), ty = tx, tz = tx, fx = tx, fy = tx, fz = tx;
     tx.head<3>() = ex;
     ty.head<3>() = ey;

@@ -57,6 +57,10 @@ struct ContactWrenchParams {
   /// < 0: the friction rows' μ'. The torsion a sole holds is the plant's (its sole's μ), while the friction rows' μ'
   /// may be kept low for the force's drift over a held sample (ours).
   double corner_cone_friction_coefficient = -1.0;
+  /// [m] corner_wrench_cone: the yaw rows' half-sizes X, Y are the whole sole's less this margin (ours); < 0: the CoP
+  /// rows' sole (after cop_margin_m). The corners' torsion is the plant's whole sole's, while the CoP rows keep their
+  /// own margin for the CoP's drift; a small margin keeps the plant's torsion inside over a held sample.
+  double corner_cone_yaw_margin_m = -1.0;
 };
 
 class ContactWrenchConstraints {
@@ -88,6 +92,7 @@ class ContactWrenchConstraints {
   double yaw_ = -1.0;
   bool cwc_ = false;
   double x_min_ = 0, x_max_ = 0, y_min_ = 0, y_max_ = 0;  // sole, foot frame, relative to the frame origin
+  double yaw_x_ = 0, yaw_y_ = 0;                          // corner_wrench_cone: the yaw rows' half-sizes X, Y
   std::vector<RowKind> kinds_;
 };
 

@@ -387,6 +387,9 @@ BulletWorldPlant::BulletWorldPlant(std::string name, std::shared_ptr<const Multi
                " (m/s)^2");
   if (!(params_.min_time_in_mode_s >= 0) || !std::isfinite(params_.min_time_in_mode_s))
     ThrowError("parameter min_time_in_mode_s must be >= 0, got " + Num(params_.min_time_in_mode_s) + " s");
+  if (!(params_.planned_liftoff_min_contact_s >= 0) || !std::isfinite(params_.planned_liftoff_min_contact_s))
+    ThrowError("parameter planned_liftoff_min_contact_s must be >= 0 and finite, got " +
+               Num(params_.planned_liftoff_min_contact_s) + " s");
   if (std::isnan(params_.planned_liftoff_force_N))
     ThrowError("parameter planned_liftoff_force_N is NaN (negative: off)");
   if (!(params_.slip_speed_mps >= 0) || !std::isfinite(params_.slip_speed_mps))
@@ -715,7 +718,8 @@ EventStatus BulletWorldPlant::Step(const LeafContext& context, Eigen::VectorXd* 
     } else if (was &&
                ((f.z() <= params_.touchdown_force_N && ContactHeight(context, w.q, c) > params_.liftoff_height_m) ||
                 (params_.planned_liftoff_force_N >= 0 && IsGraphLiftoff(context.mode(), c) &&
-                 f.z() <= params_.planned_liftoff_force_N))) {
+                 f.z() <= params_.planned_liftoff_force_N &&
+                 t - xd[td_time_offset_ + c] >= params_.planned_liftoff_min_contact_s))) {
       x[touching_offset() + c] = 0.0;
       x[lo_time_offset_ + c] = t;
     }

@@ -121,6 +121,11 @@ struct BulletWorldPlantParams {
   /// mm up (hopping: measured 10 ms, in which the pelvis pitch rate swung from +3.3 to −6.5 rad/s). Negative (default):
   /// off.
   double planned_liftoff_force_N = -1.0;
+  /// [s] planned_liftoff_force_N releases only a contact that has touched for at least this long (ours; 0: any). A
+  /// swing foot that lands a few ms before its planned touchdown carries almost nothing until the controller loads it
+  /// in the double support, and would otherwise be released at once and land again (walking on Bullet: a bounce per
+  /// step). A contact that rises liftoff_height_m stops touching whenever it does.
+  double planned_liftoff_min_contact_s = 0.0;
   /// [s] A contact's touchdown is announced no earlier than this long after it last stopped touching
   /// (HybridContactPlantParams::min_time_in_mode_s): a foot released by planned_liftoff_force_N still rests on the
   /// ground and touches again in the next step; if it is still touching then, the touchdown is announced. 0: at once.

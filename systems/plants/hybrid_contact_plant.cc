@@ -30,13 +30,15 @@ struct HybridContactPlant::Scratch {
         impulse(Eigen::VectorXd::Zero(std::max(model.max_constraint_rows(), 1))),
         v_plus(Eigen::VectorXd::Zero(model.nv())),
         forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
+        torques(Eigen::Matrix3Xd::Zero(3, model.num_contacts())),
         x_key(Eigen::VectorXd::Zero(model.nq() + model.nv())),
         u_key(Eigen::VectorXd::Zero(model.nu())),
         tau_key(Eigen::VectorXd::Zero(model.nv())),
         event_forces(Eigen::Matrix3Xd::Zero(3, model.num_contacts())) {}
   MultibodyWorkspace ws;
   Eigen::VectorXd u, qdd, F, impulse, v_plus;
-  Eigen::Matrix3Xd forces;  ///< ground force on each contact [N], world axes (zero when inactive)
+  Eigen::Matrix3Xd forces;   ///< ground force on each contact [N], world axes (zero when inactive)
+  Eigen::Matrix3Xd torques;  ///< its torque about the contact frame origin [N m], world axes
   ContactSet active = 0;
   std::uint64_t version = 0;
   // The inputs of the last computation: a root-function evaluation at the state and input of the step's last stage
@@ -84,6 +86,7 @@ HybridContactPlant::HybridContactPlant(std::string name, std::shared_ptr<const M
   DeclareInputPort("u", nu);
   if (params_.external_force_input) DeclareInputPort("tau_external", model_->joint_names());
 
+  FindFourCornerSoles();
   DeclarePlantOutputs();
   DeclareLiftoffAndSlipGuards();
   DeclarePostEventCheck();
@@ -183,11 +186,10 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
           });
     }
     if (mode_contacts_[m] == 0 || !params_.unilateral_contact) continue;
-    // Friction: one component per contact, mu F_n - |F_t| (inactive contacts: +1, never crossing).
+    // Friction: one component per contact, SlipMargin (inactive contacts: +1, never crossing).
     DeclareGuard(
         "slip", m, nc,
         [this, nc](const LeafContext& ctx, Eigen::Ref<Eigen::VectorXd> w) {
-          const Eigen::Matrix3Xd& f = EvalContactForces(ctx);
           const ContactSet active = mode_contacts_[ctx.mode()];
           const Scratch& s = ctx.scratch<Scratch>();
           const bool valid = s.pending_mode == ctx.mode();
@@ -198,8 +200,8 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
           for (int c = 0; c < nc; ++c)
             w[c] = !(active & ContactBit(c)) || (releasing & ContactBit(c)) ? 1.0
                    : (pending & ContactBit(c))                              ? PendingWitness(ctx)
-                   : (grace & ContactBit(c)) ? FrictionMargin(f, c) + params_.event_tolerance_N
-                                             : FrictionMargin(f, c);
+                   : (grace & ContactBit(c)) ? SlipMargin(ctx, c) + params_.event_tolerance_N
+                                             : SlipMargin(ctx, c);
         },
         CrossingDirection::kFalling,
         [this](const LeafContext& ctx, int c, State*) {
@@ -208,6 +210,9 @@ void HybridContactPlant::DeclareLiftoffAndSlipGuards() {
           const Eigen::Matrix3Xd& f = pending ? s.event_forces : EvalContactForces(ctx);
           const double ft = f.col(c).head<2>().norm(), fn = f(2, c);
           std::ostringstream os;
+          if (sole_[c].x() >= 0.0 && fn > 0.0 &&
+              TorsionMargin(ctx, c) / (sole_[c].x() + sole_[c].y()) < FrictionMargin(EvalContactForces(ctx), c))
+            return EventStatus::Failed(TorsionMessage(ctx, c, pending ? s.pending_time : ctx.time()));
           os << "'" << model_->contacts()[c].name << "' slipped at t = " << (pending ? s.pending_time : ctx.time())
              << " s: ";
           // F_n < 0 (within event_tolerance_N, else the contact lifts off): the contact pulls on the ground, and the
@@ -246,7 +251,7 @@ void HybridContactPlant::DeclarePostEventCheck() {
       const double tol = params_.event_tolerance_N;
       for (int c = 0; c < nc; ++c) {
         if (!(s.active & ContactBit(c))) continue;
-        const double fn = f(2, c) - liftoff_threshold_[ctx.mode()][c], margin = FrictionMargin(f, c);
+        const double fn = f(2, c) - liftoff_threshold_[ctx.mode()][c], margin = SlipMargin(ctx, c);
         if (fn < -tol)
           s.pending_liftoff |= ContactBit(c);
         else if (margin < -tol)
@@ -412,9 +417,12 @@ const Eigen::Matrix3Xd& HybridContactPlant::EvalContactForces(const LeafContext&
   Scratch& s = const_cast<Scratch&>(EvalDynamics(context));
   if (s.forces_version == s.dynamics_id) return s.forces;
   const auto q = context.continuous_state().head(model_->nq());
-  for (int i = 0; i < model_->num_contacts(); ++i)
-    s.forces.col(i) = (s.active & ContactBit(i)) ? ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i).force
-                                                 : Eigen::Vector3d::Zero();
+  for (int i = 0; i < model_->num_contacts(); ++i) {
+    s.forces.col(i).setZero(), s.torques.col(i).setZero();
+    if (!(s.active & ContactBit(i))) continue;
+    const ContactWrench w = ExtractContactWrench(*model_, s.ws, q, s.active, s.F, i);
+    s.forces.col(i) = w.force, s.torques.col(i) = w.torque;
+  }
   s.forces_version = s.dynamics_id;
   return s.forces;
 }
@@ -425,6 +433,67 @@ void HybridContactPlant::NormalizeBaseQuaternion(Eigen::VectorXd& x) const {
 
 double HybridContactPlant::FrictionMargin(const Eigen::Matrix3Xd& forces, int contact) const {
   return model_->contacts()[contact].friction_coefficient * forces(2, contact) - forces.col(contact).head<2>().norm();
+}
+
+void HybridContactPlant::FindFourCornerSoles() {
+  const int nc = model_->num_contacts();
+  sole_.assign(nc, Eigen::Vector3d(-1.0, -1.0, 0.0));
+  sole_centre_.assign(nc, Eigen::Vector3d::Zero());
+  if (!params_.sole_torsion || model_->is_planar()) return;
+  for (int c = 0; c < nc; ++c) {
+    const ContactInfo& info = model_->contacts()[c];
+    if (info.type != ContactType::kFlat || info.points.size() != 4) continue;
+    Eigen::Vector3d lo = info.points[0], hi = info.points[0];
+    for (const Eigen::Vector3d& p : info.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    // The four points must be the corners of their bounding rectangle (in the body's x-y plane, at one height).
+    bool rectangle = hi.z() - lo.z() < 1e-9;
+    for (const Eigen::Vector3d& p : info.points)
+      rectangle = rectangle && std::min(p.x() - lo.x(), hi.x() - p.x()) < 1e-9 &&
+                  std::min(p.y() - lo.y(), hi.y() - p.y()) < 1e-9;
+    if (!rectangle)
+      ThrowError("params.sole_torsion: flat contact '" + info.name +
+                 "' is not four corners of a rectangle in its body's x-y plane (set sole_torsion = false)");
+    sole_[c] = Eigen::Vector3d(0.5 * (hi.x() - lo.x()), 0.5 * (hi.y() - lo.y()), 0.0);
+    sole_centre_[c] = 0.5 * (lo + hi);
+  }
+}
+
+double HybridContactPlant::TorsionMargin(const LeafContext& context, int contact) const {
+  const Eigen::Matrix3Xd& f = EvalContactForces(context);
+  const Scratch& s = context.scratch<Scratch>();
+  auto& ws = const_cast<Scratch&>(s).ws;
+  const auto q = context.continuous_state().head(model_->nq());
+  const ContactInfo& info = model_->contacts()[contact];
+  const Eigen::Matrix3d R = CalcLinkPose(*model_, ws, q, info.body).linear();
+  // Torque about the sole's centre, then foot axes.
+  const Eigen::Vector3d arm = R * (sole_centre_[contact] - info.frame_origin);
+  const Eigen::Vector3d force = R.transpose() * f.col(contact);
+  const Eigen::Vector3d tau = R.transpose() * (s.torques.col(contact) - arm.cross(f.col(contact)));
+  const double mu = model_->contacts()[contact].friction_coefficient / std::sqrt(2.0);
+  const double X = sole_[contact].x(), Y = sole_[contact].y(), hold = mu * (X + Y) * force.z();
+  const double upper = hold - tau.z() - std::abs(Y * force.x() + mu * tau.x()) - std::abs(X * force.y() + mu * tau.y());
+  const double lower = hold + tau.z() - std::abs(Y * force.x() - mu * tau.x()) - std::abs(X * force.y() - mu * tau.y());
+  return std::min(upper, lower);
+}
+
+double HybridContactPlant::SlipMargin(const LeafContext& context, int contact) const {
+  const double linear = FrictionMargin(EvalContactForces(context), contact);
+  if (sole_[contact].x() < 0.0) return linear;
+  return std::min(linear, TorsionMargin(context, contact) / (sole_[contact].x() + sole_[contact].y()));
+}
+
+std::string HybridContactPlant::TorsionMessage(const LeafContext& context, int contact, double t) const {
+  const Eigen::Matrix3Xd& f = EvalContactForces(context);
+  const double X = sole_[contact].x(), Y = sole_[contact].y();
+  const double mu = model_->contacts()[contact].friction_coefficient;
+  const double margin = TorsionMargin(context, contact);
+  std::ostringstream os;
+  os << "'" << model_->contacts()[contact].name << "' slipped torsionally at t = " << t
+     << " s: its wrench left the four-corner sole's wrench cone (sole " << 2 * X << " x " << 2 * Y
+     << " m, corner pyramids mu/sqrt(2), mu = " << mu << "; F_n = " << f(2, contact)
+     << " N, |F_t| = " << f.col(contact).head<2>().norm() << " N, torsion margin " << margin
+     << " N m: the yaw moment exceeds what four corners hold at this CoP and tangential force)";
+  return os.str();
 }
 
 double HybridContactPlant::PendingWitness(const LeafContext& context) const {

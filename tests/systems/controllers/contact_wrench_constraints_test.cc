@@ -172,3 +172,34 @@ TEST(ContactWrenchConstraints, CornerConeFrictionCoefficientSetsTheTorsionBoundO
 
 }  // namespace
 }  // namespace rome
+
+namespace rome {
+namespace {
+
+// corner_cone_yaw_margin_m: the yaw rows' half-sizes are the whole sole's less that margin, whatever the CoP rows'
+// margin: a pure twist about the centre is held up to (μ_c/√2)(X_sole + Y_sole − 2 m) F_z (the exoskeleton's
+// 0.25 × 0.10 m sole, by hand: X_sole = 0.125 m, Y_sole = 0.05 m; the corner forces' bound as in the test above).
+TEST(ContactWrenchConstraints, CornerConeYawMarginSizesTheYawRowsOnTheWholeSole) {
+  const Sole s = LeftSole();
+  const double mu_c = 0.8, yaw_margin = 0.002, Fz = 500.0;
+  ContactWrenchParams p;
+  p.cop_margin_m = 0.01;
+  p.corner_wrench_cone = true;
+  p.corner_cone_friction_coefficient = mu_c;
+  p.corner_cone_yaw_margin_m = yaw_margin;
+  const ContactWrenchConstraints c(*s.model, s.contact, p, "test");
+  const double bound = mu_c / std::sqrt(2.0) * (0.125 + 0.05 - 2 * yaw_margin) * Fz;
+  for (const double sign : {1.0, -1.0}) {
+    Eigen::Matrix<double, 6, 1> F = Eigen::Matrix<double, 6, 1>::Zero();
+    F.tail<3>() = s.R * Eigen::Vector3d(0, 0, Fz);
+    F.head<3>() = sign * bound * s.R.col(2);
+    EXPECT_NEAR(Slack(s, c, F), 0.0, 1e-9 * Fz);
+    F.head<3>() *= 1.0 + 1e-6;
+    EXPECT_LT(Slack(s, c, F), 0.0);
+  }
+  p.corner_cone_yaw_margin_m = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(ContactWrenchConstraints(*s.model, s.contact, p, "test"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rome
