@@ -34,7 +34,9 @@ void BindControllerParams(py::module_& m) {
       .Field("yaw_moment_coefficient_m", &ContactWrenchParams::yaw_moment_coefficient_m, "[m] < 0: no bound")
       .Field("corner_wrench_cone", &ContactWrenchParams::corner_wrench_cone)
       .Field("corner_cone_friction_coefficient", &ContactWrenchParams::corner_cone_friction_coefficient,
-             "[-] the corner cone's mu; < 0: the friction rows' (margin-scaled) mu");
+             "[-] the corner cone's mu; < 0: the friction rows' (margin-scaled) mu")
+      .Field("corner_cone_yaw_margin_m", &ContactWrenchParams::corner_cone_yaw_margin_m,
+             "[m] the corner cone's yaw rows on the whole sole less this; < 0: the CoP rows' sole");
   ParamsClass<JointLimitBrakeParams>(m, "JointLimitBrakeParams",
                                      "q-double-dot bounds that brake each joint before its URDF limit "
                                      "(systems/controllers/joint_limit_brake.h).")

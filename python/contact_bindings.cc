@@ -77,7 +77,8 @@ void BindHybridContactPlant(py::module_& m) {
       .Field("immediate_event_delay_s", &P::immediate_event_delay_s, "[s]")
       .Field("event_tolerance_N", &P::event_tolerance_N, "[N]")
       .Field("dynamics", &P::dynamics)
-      .Field("external_force_input", &P::external_force_input);
+      .Field("external_force_input", &P::external_force_input)
+      .Field("sole_torsion", &P::sole_torsion, "four-corner soles slip torsionally outside their corners' cone");
   py::class_<ContactPlant, LeafSystem, Holder<ContactPlant>>(
       m, "ContactPlant",
       "What both contact plants share. Input u (nu, N m); outputs q, v (nv), state (2 nv), mode (int, typed), "
@@ -143,6 +144,8 @@ void BindBulletWorldPlant(py::module_& m) {
       .Field("touchdown_force_N", &P::touchdown_force_N, "[N]")
       .Field("liftoff_height_m", &P::liftoff_height_m, "[m]")
       .Field("planned_liftoff_force_N", &P::planned_liftoff_force_N, "[N] < 0: off")
+      .Field("planned_liftoff_min_contact_s", &P::planned_liftoff_min_contact_s,
+             "[s] a planned lift-off releases only a contact touching this long")
       .Field("min_time_in_mode_s", &P::min_time_in_mode_s, "[s]")
       .Field("mode_change_delay_s", &P::mode_change_delay_s, "[s]")
       .Field("stone_tolerance_m", &P::stone_tolerance_m, "[m]")
