@@ -157,8 +157,9 @@ struct HoppingDiagram {
   HoppingReference* reference = nullptr;
   const System* controller = nullptr;  ///< whatever the factory built (read it through the diagram's exported ports)
   VectorLogger* logger = nullptr;
-  std::shared_ptr<const MultibodyModel> model;        ///< the controller's (Euler base)
-  std::shared_ptr<const MultibodyModel> plant_model;  ///< the plant's (the quaternion twin with plant_base = kQuaternion)
+  std::shared_ptr<const MultibodyModel> model;  ///< the controller's (Euler base)
+  std::shared_ptr<const MultibodyModel>
+      plant_model;  ///< the plant's (the quaternion twin with plant_base = kQuaternion)
   /// The map from the plant's quaternion state to the Euler state (null on the Euler base).
   const QuaternionToEulerState* euler_state = nullptr;
   HoppingReference::LegLengthFunction leg_length;  ///< L(q_knee), Eq. (13)

@@ -257,8 +257,8 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   std::shared_ptr<const MultibodyModel> base_model = model;
   if (params.plant_base == PlantBase::kQuaternion) {
     if (plant != PlantKind::kHybrid)
-      throw std::invalid_argument(std::string("BuildWalkingDiagram: plant_base = quaternion needs the hybrid plant, not ") +
-                                  ToString(plant));
+      throw std::invalid_argument(
+          std::string("BuildWalkingDiagram: plant_base = quaternion needs the hybrid plant, not ") + ToString(plant));
     if (perturb.push.has_value())
       throw std::invalid_argument(
           "BuildWalkingDiagram: plant_base = quaternion does not take perturbations.push (its generalized force is in "

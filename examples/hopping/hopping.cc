@@ -148,10 +148,12 @@ int main(int argc, char** argv) {
     s = ScenarioFromOptions(cli);
     s.run.Validate();
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
-    // The controller's model, on the Euler base (--base quaternion: BuildHoppingDiagram loads the plant's quaternion twin).
+    // The controller's model, on the Euler base (--base quaternion: BuildHoppingDiagram loads the plant's quaternion
+    // twin).
     LoadOptions euler;
     euler.quaternion_floating_base = false;
-    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", euler));
+    model = std::make_shared<const MultibodyModel>(
+        MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", euler));
     if (cli.GetInt("seed") < 0)
       throw std::invalid_argument("hopping: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
     s.diagram.perturbations = examples::FlatGroundPerturbationsFromCommandLine(
@@ -175,8 +177,8 @@ int main(int argc, char** argv) {
                         d.plant->EvalOutput(pc, "contact_forces"));
     };
   }
-  std::cout << "hopping: simulating " << HoppingRunDuration(d, s.run) << " s on the " << ToString(s.plant)
-            << " plant (" << ToString(s.diagram.plant_base) << " base) ...\n"
+  std::cout << "hopping: simulating " << HoppingRunDuration(d, s.run) << " s on the " << ToString(s.plant) << " plant ("
+            << ToString(s.diagram.plant_base) << " base) ...\n"
             << std::flush;
   HoppingRunResult r;
   try {

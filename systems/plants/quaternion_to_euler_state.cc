@@ -52,8 +52,9 @@ void QuaternionStateToEuler(const Eigen::Ref<const Eigen::VectorXd>& x_q, const 
   const double pitch = std::atan2(-R(2, 0), std::hypot(R(0, 0), R(1, 0)));
   if (!(std::abs(pitch) <= 0.5 * M_PI - params.singularity_margin_rad)) {
     std::ostringstream msg;
-    msg << "QuaternionStateToEuler: pitch = " << pitch << " rad is within singularity_margin_rad = "
-        << params.singularity_margin_rad << " rad of +-pi/2, where the ZYX-Euler base is singular";
+    msg << "QuaternionStateToEuler: pitch = " << pitch
+        << " rad is within singularity_margin_rad = " << params.singularity_margin_rad
+        << " rad of +-pi/2, where the ZYX-Euler base is singular";
     throw std::invalid_argument(msg.str());
   }
   const double yaw = std::atan2(R(1, 0), R(0, 0)), roll = std::atan2(R(2, 1), R(2, 2));
@@ -79,7 +80,7 @@ void EulerStateToQuaternion(const Eigen::Ref<const Eigen::VectorXd>& x_e, Eigen:
   FreeFlyerRotation(base, &quat);
   x_q.head<7>() = base;
   x_q.segment(7, nj) = x_e.segment(6, nj);
-  x_q.segment<3>(nq) = quat.conjugate() * x_e.segment<3>(nv);
+  x_q.segment<3>(nq) = quat.conjugate() * Eigen::Vector3d(x_e.segment<3>(nv));
   // w_B = Rx(roll)^T Ry(pitch)^T (dyaw e_z) + Rx(roll)^T (dpitch e_y) + droll e_x.
   const double sp = std::sin(pitch), cp = std::cos(pitch), sr = std::sin(roll), cr = std::cos(roll);
   x_q.segment<3>(nq + 3) << rates[2] - sp * rates[0], cr * rates[1] + sr * cp * rates[0],
@@ -102,8 +103,8 @@ void CheckEulerQuaternionTwins(const MultibodyModel& euler, const MultibodyModel
     fail("robot '" + quaternion.name() + "' (the plant's model) has base '" + quaternion.base_kind() +
          "', not 'quaternion'");
   if (euler.nv() != quaternion.nv())
-    fail("the Euler model has nv = " + std::to_string(euler.nv()) + ", the quaternion model nv = " +
-         std::to_string(quaternion.nv()));
+    fail("the Euler model has nv = " + std::to_string(euler.nv()) +
+         ", the quaternion model nv = " + std::to_string(quaternion.nv()));
   for (int i = 6; i < euler.nv(); ++i)
     if (euler.JointName(i) != quaternion.JointName(i))
       fail("velocity " + std::to_string(i) + " is joint '" + euler.JointName(i) + "' on the Euler model, '" +
@@ -139,7 +140,9 @@ QuaternionToEulerState::QuaternionToEulerState(std::string name, std::shared_ptr
   DeclareOutputPort("state", StateElementNames(*euler), [this](const LeafContext& c, Eigen::VectorXd* y) {
     try {
       QuaternionStateToEuler(EvalInput(c, 0), params_, *y);
-    } catch (const std::invalid_argument& e) { ThrowError(std::string(e.what()) + " at t = " + std::to_string(c.time())); }
+    } catch (const std::invalid_argument& e) {
+      ThrowError(std::string(e.what()) + " at t = " + std::to_string(c.time()));
+    }
   });
 }
 

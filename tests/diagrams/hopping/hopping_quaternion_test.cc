@@ -116,9 +116,9 @@ TEST(HoppingQuaternion, RefusesTheBulletPlantAndAPush) {
                                  SpringMassLandingParams{});
   HoppingDiagramParams params;
   params.plant_base = PlantBase::kQuaternion;
-  EXPECT_THROW(BuildHoppingDiagram(model, planners.leg_length, planners.jump, planners.landing, params,
-                                   PlantKind::kBullet),
-               std::invalid_argument);
+  EXPECT_THROW(
+      BuildHoppingDiagram(model, planners.leg_length, planners.jump, planners.landing, params, PlantKind::kBullet),
+      std::invalid_argument);
   params.perturbations.push = ExternalPushParams{};
   params.perturbations.push->body = "pelvis";
   params.perturbations.push->force_N = Eigen::Vector3d(10, 0, 0);

@@ -131,7 +131,7 @@ TEST(QuaternionToEulerState, KineticEnergyFromEachModelsOwnMassMatrixAgrees) {
 
 TEST(QuaternionToEulerState, RefusesPitchNearNinetyDegreesNamingIt) {
   Eigen::VectorXd x_e = Eigen::VectorXd::Zero(12), x_q(13), out(12);
-  x_e[4] = 0.5 * M_PI - 0.005;  // within the default 0.01 rad
+  x_e[4] = 0.5 * M_PI - 0.005;       // within the default 0.01 rad
   EulerStateToQuaternion(x_e, x_q);  // the inverse is defined everywhere
   try {
     QuaternionStateToEuler(x_q, {}, out);
