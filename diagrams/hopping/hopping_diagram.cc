@@ -161,13 +161,33 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   HybridContactPlantParams plant_params = params.plant;
   BulletWorldPlantParams bullet_params = params.bullet_plant;
   plant_params.external_force_input = bullet_params.external_force_input = perturb.push.has_value();
+  std::shared_ptr<const MultibodyModel> base_model = model;
+  if (params.plant_base == PlantBase::kQuaternion) {
+    if (plant != PlantKind::kHybrid)
+      throw std::invalid_argument(
+          std::string("BuildHoppingDiagram: plant_base = quaternion needs the hybrid plant, not ") + ToString(plant));
+    if (perturb.push.has_value())
+      throw std::invalid_argument(
+          "BuildHoppingDiagram: plant_base = quaternion does not take perturbations.push (its generalized force is in "
+          "the Euler model's coordinates)");
+    base_model = LoadQuaternionTwin(*model);
+  }
   const std::shared_ptr<const MultibodyModel> plant_model =
       perturb.model_mismatch() ? std::make_shared<const MultibodyModel>(
-                                     ScaleMassAndFriction(*model, perturb.mass_scale, perturb.friction_scale))
-                               : model;
+                                     ScaleMassAndFriction(*base_model, perturb.mass_scale, perturb.friction_scale))
+                               : base_model;
+  d.plant_model = plant_model;
   d.plant = b.AddSystem(MakeContactPlant(plant, "plant", plant_model,
                                          ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
                                          Terrain::Flat(), plant_params, bullet_params));
+  // The Euler state the reference, the controller and the logger read: the plant's, or its map on the quaternion base.
+  std::string state_source = "plant";
+  if (params.plant_base == PlantBase::kQuaternion) {
+    d.euler_state =
+        b.AddSystem(std::make_unique<QuaternionToEulerState>("euler_state", model, plant_model, params.euler_state));
+    b.Connect("plant", "state", "euler_state", "quaternion_state");
+    state_source = "euler_state";
+  }
   d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner),
                                                                std::move(landing_planner), d.layout, params.reference));
   HoppingControllerSpec spec;
@@ -188,18 +208,19 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   if (!controller) throw std::invalid_argument("BuildHoppingDiagram: the controller factory returned no system");
   d.controller = controller.get();
   b.AddSystem(std::move(controller), spec.name);
-  b.Connect("plant", "state", "reference", "state");
+  b.Connect(state_source, "state", "reference", "state");
   b.Connect("plant", "mode", "reference", "mode");
   b.Connect("plant", "contact_forces", "reference", "contact_forces");
   b.Connect("reference", "desired", spec.name, "desired");
   b.Connect("reference", "domain", spec.name, "mode");
   // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
-  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name);
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name, state_source);
   b.ExportOutput(spec.name, "u", "u");
   if (d.controller->HasOutputPort("qp_failures")) b.ExportOutput(spec.name, "qp_failures", "qp_failures");
   std::vector<std::pair<std::string, std::string>> logged = {{"plant", "state"},      {"plant", "mode"},
                                                              {"plant", "com"},        {"plant", "contact_forces"},
                                                              {"reference", "domain"}, {"reference", "desired"}};
+  if (d.euler_state) logged.push_back({"euler_state", "state"});
   for (const char* port : {"u", "V", "delta", "contact_forces", "qp_status", "solve_time_s"})
     if (d.controller->HasOutputPort(port)) logged.push_back({spec.name, port});
   d.logger = AddVectorLogger(b, "logger", logged, params.log_period_s);
@@ -207,9 +228,15 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   return d;
 }
 
+const Eigen::VectorXd& HoppingEulerState(const HoppingDiagram& d, const Context& context) {
+  if (d.euler_state) return d.euler_state->EvalOutput(d.diagram->GetSubsystemContext(*d.euler_state, context), "state");
+  return d.plant->EvalOutput(d.diagram->GetSubsystemContext(*d.plant, context), "state");
+}
+
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q) {
   LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, context);
-  d.plant->SetState(pc, q, Eigen::VectorXd::Zero(q.size()), "jump");
+  const Eigen::VectorXd q_plant = d.euler_state ? EulerConfigurationToQuaternion(q) : q;
+  d.plant->SetState(pc, q_plant, Eigen::VectorXd::Zero(q.size()), "jump");
   LeafContext& rc = d.diagram->GetMutableSubsystemContext(*d.reference, context);
   d.reference->Initialize(rc, q);
   if (const DelayLine* delay = d.perturbation_blocks.sensor_latency)

@@ -67,6 +67,7 @@
 #include "diagrams/hopping/hopping_reference.h"
 #include "systems/perturbations/perturbation_params.h"
 #include "systems/plants/plant_kind.h"
+#include "systems/plants/quaternion_to_euler_state.h"
 
 namespace rome {
 
@@ -91,6 +92,13 @@ struct HoppingDiagramParams {
   /// state the controller sees (the reference and its planners read the plant's true state), torque noise. Default:
   /// none.
   PerturbationParams perturbations;
+  /// The plant's base (issue 43; ours, default Euler for now). kQuaternion: the hybrid plant runs on the quaternion
+  /// twin of the builder's model (LoadQuaternionTwin: the same URDF and sidecar), and a QuaternionToEulerState block
+  /// ("euler_state") maps its state to the Euler state that the reference, the controller and the logger read; the
+  /// builder's model stays the controller's. Needs PlantKind::kHybrid and no perturbations.push (its generalized
+  /// force is the Euler model's).
+  PlantBase plant_base = PlantBase::kEuler;
+  EulerStateParams euler_state;  ///< the map's refusal near pitch +-90 deg (plant_base = kQuaternion)
   static HybridContactPlantParams DefaultPlantParams();
   /// The Bullet plant steps at the controller's 2 kHz (0.5 ms, ours: a 1 ms step would apply only every other torque)
   /// in 5 substeps (ours; docs/design-notes.md#hopping-bullet-substeps), with the hybrid plant's fall height (0.5 m),
@@ -149,7 +157,11 @@ struct HoppingDiagram {
   HoppingReference* reference = nullptr;
   const System* controller = nullptr;  ///< whatever the factory built (read it through the diagram's exported ports)
   VectorLogger* logger = nullptr;
-  std::shared_ptr<const MultibodyModel> model;
+  std::shared_ptr<const MultibodyModel> model;  ///< the controller's (Euler base)
+  std::shared_ptr<const MultibodyModel>
+      plant_model;  ///< the plant's (the quaternion twin with plant_base = kQuaternion)
+  /// The map from the plant's quaternion state to the Euler state (null on the Euler base).
+  const QuaternionToEulerState* euler_state = nullptr;
   HoppingReference::LegLengthFunction leg_length;  ///< L(q_knee), Eq. (13)
   HoppingDiagramParams params;                     ///< as built (validated)
   std::vector<HoppingTask> tasks;                  ///< the controller's desired rows
@@ -167,8 +179,12 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
                                    const HoppingDiagramParams& params = {}, PlantKind plant = PlantKind::kHybrid,
                                    const HoppingControllerFactory& controller = MakeDefaultHoppingController);
 
-/// Puts the robot at q (at rest, plant mode "jump": both feet down), the reference into its settle phase and a sensor
-/// latency's history at that state.
+/// The robot's state [q; v] in the controller's (Euler) coordinates: the plant's state, or the euler_state block's map
+/// of it on the quaternion base.
+const Eigen::VectorXd& HoppingEulerState(const HoppingDiagram& d, const Context& context);
+
+/// Puts the robot at q (the controller's Euler coordinates; at rest, plant mode "jump": both feet down), the reference
+/// into its settle phase and a sensor latency's history at that state.
 void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eigen::VectorXd& q);
 
 /// Integrator of the hopping loop: explicit Bogacki-Shampine 3(2), rtol 1e-5, atol 1e-7 (ours;

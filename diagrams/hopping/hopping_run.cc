@@ -68,7 +68,7 @@ void FinishHoppingMetrics(const HoppingDiagram& d, const Simulator& sim, const H
   r.spring_torque_grf_correlation = Correlation(st, sg);
   const Context& context = sim.get_context();
   const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, context);
-  const Eigen::VectorXd v_end = d.plant->EvalOutput(pc, "v");
+  const Eigen::VectorXd v_end = HoppingEulerState(d, context).tail(d.model->nv());
   r.settled = std::isfinite(r.rest_speed) && r.rest_speed < params.rest_max_speed &&
               v_end.cwiseAbs().maxCoeff() < params.rest_max_speed;
   if (d.controller->HasOutputPort("solve_time_s")) {
@@ -198,7 +198,7 @@ HoppingRunResult RunHopping(const HoppingDiagram& d, Simulator& sim, const Hoppi
         const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
         const LeafContext& rc = d.diagram->GetSubsystemContext(*d.reference, c);
         r.contact.Record(*d.plant, pc);
-        const Eigen::VectorXd& x = d.plant->EvalOutput(pc, "state");
+        const Eigen::VectorXd& x = HoppingEulerState(d, c);  // the controller's (Euler) coordinates
         const Eigen::VectorXd q = x.head(nv);
         const int domain = d.reference->EvalTypedOutput<int>(rc, "domain");
         const int last_domain = state.domain;
@@ -348,6 +348,7 @@ std::string HoppingSummaryJson(const HoppingDiagram& d, const HoppingRunResult& 
   s["jump_force_integral_per_s"] = ref.jump_force_integral_per_s;
   s["landing_torque_regularization"] = d.params.landing_u_regularization_scale;
   s["plant"] = ToString(d.plant_kind);
+  s["plant_base"] = ToString(d.params.plant_base);
   s["bullet_substeps"] = d.params.bullet_plant.substeps;
   if (planners) {
     s["leg_stiffness"] = planners->variant == LegStiffnessVariant::kPublished ? "published" : "identified";

@@ -87,7 +87,7 @@ struct HoppingRunResult {
   double liftoff_foot_com_offset_x_m = NAN, touchdown_foot_com_offset_x_m = NAN,
          min_pelvis_height_after_touchdown_m = NAN;
   double liftoff_pitch_momentum_Nms = NAN;  ///< H_pitch about the COM at the first lift-off
-  Eigen::VectorXd liftoff_state;            ///< plant [q; v] at the first lift-off (empty: none)
+  Eigen::VectorXd liftoff_state;            ///< [q; v] at the first lift-off, Euler coordinates (empty: none)
   double qp_failures = NAN;                 ///< the controller's qp_failures at the end (NaN: it has no such output)
   double qp_failures_at_first_touchdown = NAN;         ///< ... through the last monitor call before the first touchdown
   double qp_solve_us_median = 0, qp_solve_us_p99 = 0;  ///< from the logged solve_time_s (0: not logged)

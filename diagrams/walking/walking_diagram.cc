@@ -254,12 +254,33 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   // controller keep `model`.
   const PerturbationParams& perturb = params.perturbations;
   plant_params.external_force_input = bullet_params.external_force_input = perturb.push.has_value();
-  const std::shared_ptr<const MultibodyModel> plant_model =
-      perturb.model_mismatch()
-          ? std::make_shared<const MultibodyModel>(ScaleMassAndFriction(m, perturb.mass_scale, perturb.friction_scale))
-          : model;
+  std::shared_ptr<const MultibodyModel> base_model = model;
+  if (params.plant_base == PlantBase::kQuaternion) {
+    if (plant != PlantKind::kHybrid)
+      throw std::invalid_argument(
+          std::string("BuildWalkingDiagram: plant_base = quaternion needs the hybrid plant, not ") + ToString(plant));
+    if (perturb.push.has_value())
+      throw std::invalid_argument(
+          "BuildWalkingDiagram: plant_base = quaternion does not take perturbations.push (its generalized force is in "
+          "the Euler model's coordinates)");
+    base_model = LoadQuaternionTwin(m);
+  }
+  auto scaled = [&](const std::shared_ptr<const MultibodyModel>& x) {
+    return perturb.model_mismatch() ? std::make_shared<const MultibodyModel>(
+                                          ScaleMassAndFriction(*x, perturb.mass_scale, perturb.friction_scale))
+                                    : x;
+  };
+  const std::shared_ptr<const MultibodyModel> plant_model = scaled(base_model);
+  d.plant_euler_model = base_model == model ? plant_model : scaled(model);
   d.plant =
       b.AddSystem(MakeContactPlant(plant, "plant", plant_model, modes, Terrain::Flat(), plant_params, bullet_params));
+  std::string state_source = "plant";
+  if (params.plant_base == PlantBase::kQuaternion) {
+    d.euler_state =
+        b.AddSystem(std::make_unique<QuaternionToEulerState>("euler_state", model, plant_model, params.euler_state));
+    b.Connect("plant", "state", "euler_state", "quaternion_state");
+    state_source = "euler_state";
+  }
   WalkingControllerSpec spec;
   spec.model = model;
   spec.mode_contacts = ActiveContactsPerMode(*d.plant);
@@ -292,11 +313,26 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   if (force_reference) b.Connect("walking_reference", "normal_force_reference", spec.name, "normal_force_reference");
   b.Connect("plant", "mode", spec.name, "mode");
   // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
-  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name);
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name, state_source);
   d.diagram = b.Build("walking");
   for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i)
     d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));
   return d;
+}
+
+const Eigen::VectorXd& WalkingPlantEulerState(const WalkingDiagram& d, const Context& context) {
+  if (d.euler_state) return d.euler_state->EvalOutput(d.diagram->GetSubsystemContext(*d.euler_state, context), "state");
+  return d.plant->EvalOutput(d.diagram->GetSubsystemContext(*d.plant, context), "state");
+}
+
+void SetWalkingPlantState(const WalkingDiagram& d, Context& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                          const std::string& mode) {
+  LeafContext& pc = d.diagram->GetMutableSubsystemContext(*d.plant, context);
+  if (!d.euler_state) return d.plant->SetState(pc, q, v, mode);
+  const int nv = static_cast<int>(v.size());
+  Eigen::VectorXd x_q(2 * nv + 1);
+  EulerStateToQuaternion((Eigen::VectorXd(2 * nv) << q, v).finished(), x_q);
+  d.plant->SetState(pc, x_q.head(nv + 1), x_q.tail(nv), mode);
 }
 
 SimulatorConfig WalkingSimulatorConfig() { return ExplicitRestartingSimulatorConfig(1e-5, 1e-7); }

@@ -66,6 +66,7 @@
 #include "systems/planners/walking_trajectory_source.h"
 #include "systems/perturbations/perturbation_params.h"
 #include "systems/plants/plant_kind.h"
+#include "systems/plants/quaternion_to_euler_state.h"
 
 namespace rome {
 
@@ -100,6 +101,12 @@ struct WalkingDiagramParams {
   /// (either plant), link masses/inertias and friction scaled in the plant only, sensor noise and latency on the
   /// state the controller sees, torque noise. The plan and the controller keep the nominal model. Default: none.
   PerturbationParams perturbations;
+  /// The plant's base (issue 43; ours, default Euler for now). kQuaternion: the hybrid plant runs on the quaternion
+  /// twin of the builder's model (LoadQuaternionTwin: the same URDF and sidecar; a spatial Euler base only), and a
+  /// QuaternionToEulerState block ("euler_state") maps its state to the Euler state that the controller and the run
+  /// read; the plan and the controller keep the builder's model. Needs PlantKind::kHybrid and no perturbations.push.
+  PlantBase plant_base = PlantBase::kEuler;
+  EulerStateParams euler_state;  ///< the map's refusal near pitch +-90 deg (plant_base = kQuaternion)
 
   /// Spec §5 [R]: ε = 0.1, p = 1e5, 1 kHz, force band c = 0.1 (Eq. (25)), μ = 0.6 pyramid, yaw moment |τ_z| ≤ 0.02 f_z,
   /// unilateral F_z ≥ 0 (the band must be able to reach 0 at lift-off), re-solved at every guard event. Ours,
@@ -153,7 +160,18 @@ struct WalkingDiagram {
   CentroidalMomentumCompensationReport compensation;  ///< zeros when params.compensate_centroidal_momentum is off
   WalkingPlan plan;                                   ///< the plan the diagram runs (with the compensation, if on)
   PerturbationBlocks perturbation_blocks;             ///< the perturbation blocks that are on (params.perturbations)
+  /// The plant's physics in Euler coordinates (the plant's model on the Euler base; on the quaternion base the Euler
+  /// model with the plant's mass and friction scaling): what RunWalking measures the plant's state with.
+  std::shared_ptr<const MultibodyModel> plant_euler_model;
+  /// The map from the plant's quaternion state to the Euler state (null on the Euler base).
+  const QuaternionToEulerState* euler_state = nullptr;
 };
+
+/// The plant's state [q; v] in Euler coordinates: the plant's own, or the euler_state block's map of it.
+const Eigen::VectorXd& WalkingPlantEulerState(const WalkingDiagram& d, const Context& context);
+/// Sets the plant's state from an Euler state [q; v] (mapped by EulerStateToQuaternion on the quaternion base).
+void SetWalkingPlantState(const WalkingDiagram& d, Context& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                          const std::string& mode);
 
 /// Builds the diagram above on the plant `plant` (params.plant or params.bullet_plant) with the controller `controller`
 /// makes (empty: MakeWalkingClfQpController). The model must have flat contacts "left_foot" and "right_foot" on links

@@ -171,10 +171,11 @@ void ReadClfQpTotals(const Diagram& diagram, const ClfQpController* clf, const C
 }
 
 // The success rule (walking_run.h) on the counts in r, with the plant's end state (standing_end, at_rest).
-void JudgeRun(const Diagram& diagram, const ContactPlant& plant, const Context& root, const WalkingRunParams& params,
-              WalkingRunResult& r) {
-  const LeafContext& end = diagram.GetSubsystemContext(plant, root);
-  r.standing_end = MeasureStanding(plant.model(), plant.EvalOutput(end, "q"), plant.EvalOutput(end, "v"));
+void JudgeRun(const WalkingDiagram& walking, const MultibodyModel& model, const Context& root,
+              const WalkingRunParams& params, WalkingRunResult& r) {
+  const Eigen::VectorXd& x = WalkingPlantEulerState(walking, root);
+  const int nv = model.nv();
+  r.standing_end = MeasureStanding(model, x.head(nv), x.tail(nv));
   r.at_rest = r.standing_end.com_to_feet_midpoint_m <= params.at_rest_offset_m &&
               r.standing_end.com_speed_mps <= params.at_rest_speed_mps;
   r.standing_end_judged = params.judge_standing_end;
@@ -185,16 +186,14 @@ void JudgeRun(const Diagram& diagram, const ContactPlant& plant, const Context& 
 // Puts the plant at the run's start (WalkingStandingPose in double support, at rest or on the plan's orbit) and a
 // sensor latency's history at that state (it has been reading it); returns the pose.
 Eigen::VectorXd SetWalkingStart(const WalkingDiagram& walking, const WalkingRunParams& params, Context& root) {
-  const ContactPlant& plant = *walking.plant;
-  const MultibodyModel& model = plant.model();
-  LeafContext& pc = walking.diagram->GetMutableSubsystemContext(plant, root);
+  const MultibodyModel& model = walking.plant_euler_model ? *walking.plant_euler_model : walking.plant->model();
   const Eigen::VectorXd q = WalkingStandingPose(model, walking.plan, params.start_time_s);
-  plant.SetState(pc, q,
-                 params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
-                                      : WalkingInitialVelocity(model, q, walking.plan, params.start_time_s),
-                 "double_support");
+  SetWalkingPlantState(walking, root, q,
+                       params.start_at_rest ? Eigen::VectorXd::Zero(model.nv())
+                                            : WalkingInitialVelocity(model, q, walking.plan, params.start_time_s),
+                       "double_support");
   if (const DelayLine* delay = walking.perturbation_blocks.sensor_latency)
-    delay->SetHistory(walking.diagram->GetMutableSubsystemContext(*delay, root), plant.EvalOutput(pc, "state"));
+    delay->SetHistory(walking.diagram->GetMutableSubsystemContext(*delay, root), WalkingPlantEulerState(walking, root));
   return q;
 }
 
@@ -207,7 +206,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
     throw std::invalid_argument("RunWalking: the WalkingDiagram is not built");
   const Diagram& diagram = *walking.diagram;
   const ContactPlant& plant = *walking.plant;
-  const MultibodyModel& model = plant.model();
+  const MultibodyModel& model = walking.plant_euler_model ? *walking.plant_euler_model : plant.model();  // Euler
   const WalkingPlan& plan = walking.plan;
   const ClfQpController* clf = walking.clf_qp;
   WalkingRunResult r;
@@ -245,6 +244,8 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   std::vector<double> solve_us;
   solve_us.reserve(static_cast<size_t>(std::max(0.0, (r.end_time_s - r.start_time_s) * ticks_per_s)) + 2);
   WalkingRunSample sample;
+  const int nv = model.nv();
+  Eigen::VectorXd q_euler(nv), v_euler(nv);
 
   sim.set_monitor([&](const Context& c) {
     const double t = c.time();
@@ -253,8 +254,9 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
     ++r.samples;
     const int mode = plant.EvalTypedOutput<int>(ctx, "mode");
     const Eigen::VectorXd& f = plant.EvalOutput(ctx, "contact_forces");
-    const Eigen::VectorXd& q = plant.EvalOutput(ctx, "q");
-    const Eigen::VectorXd& v = plant.EvalOutput(ctx, "v");
+    const Eigen::VectorXd& x = WalkingPlantEulerState(walking, c);
+    q_euler = x.head(nv), v_euler = x.tail(nv);  // sized before the run: no allocation
+    const Eigen::VectorXd &q = q_euler, &v = v_euler;
     r.contact_violation_port_samples += plant.EvalOutput(ctx, "contact_violation").cwiseAbs().sum() > 0 ? 1 : 0;
     r.joint_limits.Record(model, t, q);
     const bool in_double = mode == kWalkingDoubleSupport, was_double = last_mode == kWalkingDoubleSupport;
@@ -337,7 +339,7 @@ WalkingRunResult RunWalking(const WalkingDiagram& walking, const WalkingRunParam
   r.interrupted = r.status.kind() == SimulatorStatus::Kind::kInterrupted;
   r.fell = r.status.kind() != SimulatorStatus::Kind::kLimit && !r.interrupted;
   r.pre_impact_state_change_from_step5 = PreImpactChanges(r, params.convergence_from_step);
-  JudgeRun(diagram, plant, sim.get_context(), params, r);
+  JudgeRun(walking, model, sim.get_context(), params, r);
   r.joint_limit_min_margin = r.joint_limits.SmallestMargin(model, &r.joint_limit_min_margin_at);
   if (n_err > 0) r.com_rms_error_m = (sum_sq / static_cast<double>(n_err)).cwiseSqrt();
   r.force_in_band_fraction = band_ticks ? static_cast<double>(band_in) / band_ticks : 0.0;

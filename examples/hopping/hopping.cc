@@ -39,6 +39,10 @@ void DeclareOptions(examples::CommandLine& cli) {
       .Option("plant", "hybrid",
               "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 2 kHz, "
               "BulletWorldPlant)")
+      .Option("base", "euler",
+              "the plant's floating base: euler (ZYX Euler angles) | quaternion (the quaternion free-flyer twin of the "
+              "same files; the controller, the reference and the logs keep the Euler state through a "
+              "QuaternionToEulerState block; hybrid plant only)")
       .Option(
           "bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
           "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")
@@ -89,6 +93,7 @@ Scenario ScenarioFromOptions(const examples::CommandLine& cli) {
   Scenario s;
   s.plant = ParsePlantKind(cli.Get("plant"), "--plant");
   cli.RequireModeFor("bullet-substeps", "plant", {"bullet"});  // a flag the chosen plant ignores is an error
+  s.diagram.plant_base = ParsePlantBase(cli.Get("base"), "--base");
   try {
     s.leg_stiffness = ParseLegStiffnessVariant(cli.Get("leg-stiffness"));
   } catch (const std::exception&) {
@@ -143,7 +148,12 @@ int main(int argc, char** argv) {
     s = ScenarioFromOptions(cli);
     s.run.Validate();
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
-    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
+    // The controller's model, on the Euler base (--base quaternion: BuildHoppingDiagram loads the plant's quaternion
+    // twin).
+    LoadOptions euler;
+    euler.quaternion_floating_base = false;
+    model = std::make_shared<const MultibodyModel>(
+        MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", euler));
     if (cli.GetInt("seed") < 0)
       throw std::invalid_argument("hopping: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
     s.diagram.perturbations = examples::FlatGroundPerturbationsFromCommandLine(
@@ -162,13 +172,13 @@ int main(int argc, char** argv) {
     animation = std::make_unique<visualization::AnimationRecorder>(*model);
     s.run.observer = [&](const Context& c, const HoppingRunState&) {
       const LeafContext& pc = d.diagram->GetSubsystemContext(*d.plant, c);
-      animation->Record(pc.time(), d.plant->EvalOutput(pc, "q"),
+      animation->Record(pc.time(), HoppingEulerState(d, c).head(model->nv()),
                         d.plant->mode_name(d.plant->EvalTypedOutput<int>(pc, "mode")),
                         d.plant->EvalOutput(pc, "contact_forces"));
     };
   }
-  std::cout << "hopping: simulating " << HoppingRunDuration(d, s.run) << " s on the " << ToString(s.plant)
-            << " plant ...\n"
+  std::cout << "hopping: simulating " << HoppingRunDuration(d, s.run) << " s on the " << ToString(s.plant) << " plant ("
+            << ToString(s.diagram.plant_base) << " base) ...\n"
             << std::flush;
   HoppingRunResult r;
   try {

@@ -116,6 +116,10 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("plant", "hybrid",
               "hybrid (event-accurate rigid contact, HybridContactPlant) | bullet (Bullet's physics world at 1 kHz, "
               "BulletWorldPlant)")
+      .Option("base", "euler",
+              "the plant's floating base: euler (ZYX Euler angles) | quaternion (the quaternion free-flyer twin of the "
+              "robot's files; the plan, the controller and the logs keep the Euler state through a "
+              "QuaternionToEulerState block; hybrid plant, spatial robots only)")
       .Option("joint-limits", "on",
               "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant: --joint-stops)")
       .Option("joint-stops", "off",
@@ -196,6 +200,7 @@ std::string OneOf(const CommandLine& cli, const std::string& flag, std::initiali
 WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   WalkingOptions o;
   o.plant = ParsePlantKind(cli.Get("plant"), "walking: --plant");
+  o.diagram.plant_base = ParsePlantBase(cli.Get("base"), "walking: --base");
   o.scenario = OneOf(cli, "scenario", {"stand-to-walk", "gait-change", "periodic", "gait-sequence", "walk-to-stand"});
   o.feasibility = OneOf(cli, "feasibility", {"torque", "strict", "off"});
   o.check_only = OneOf(cli, "check-only", {"on", "off"}) == "on";

@@ -157,6 +157,7 @@ nlohmann::json WalkingSummary(const WalkingRunResult& run, const WalkingDiagram&
                                         {"solve_s", compensation_s}};
   s["plan_inverse_dynamics"] = plan_torques;
   s["plant"] = ToString(plant);
+  s["plant_base"] = ToString(d.euler_state ? PlantBase::kQuaternion : PlantBase::kEuler);
   return s;
 }
 

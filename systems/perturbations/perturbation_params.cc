@@ -47,12 +47,13 @@ Terrain WithStoneHeightErrors(const Terrain& terrain, double sigma_m, std::uint6
 
 PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationParams& params,
                                          std::shared_ptr<const MultibodyModel> model, const std::string& plant,
-                                         const std::string& controller) {
+                                         const std::string& controller, const std::string& state_source) {
   params.Validate();
   PerturbationBlocks out;
   const int nv = model->nv(), nu = model->nu();
   // Sensor path: plant.state → noise → delay → controller.state.
-  std::string from_system = plant, from_port = "state";
+  const std::string state_system = state_source.empty() ? plant : state_source;
+  std::string from_system = state_system, from_port = "state";
   if (params.sensor_noise()) {
     Eigen::VectorXd sigma(2 * nv);
     sigma << Eigen::VectorXd::Constant(nv, params.position_noise_sigma),
@@ -84,7 +85,7 @@ PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationPa
   }
   if (params.push) {
     out.push = b.AddSystem(std::make_unique<ExternalPush>("push", model, *params.push));
-    b.Connect(plant, "state", "push", "state");
+    b.Connect(state_system, "state", "push", "state");
     b.Connect("push", "tau_external", plant, "tau_external");
   }
   return out;

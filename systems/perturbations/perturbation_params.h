@@ -61,9 +61,11 @@ struct PerturbationBlocks {
 /// Adds the blocks of `params` to `b` and makes every connection between `plant` and `controller` that the diagram
 /// would otherwise make itself: plant.state → controller.state and controller.u → plant.u, through the blocks that
 /// are on. The plant needs a tau_external input when params.push is set (HybridContactPlantParams::
-/// external_force_input). `model` is the controller's (sizes, the pushed body).
+/// external_force_input). `model` is the controller's (sizes, the pushed body). `state_source`: the system whose
+/// output "state" feeds the sensor path ("" = `plant`; e.g. a QuaternionToEulerState after a quaternion-base plant);
+/// the push reads it too.
 PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationParams& params,
                                          std::shared_ptr<const MultibodyModel> model, const std::string& plant,
-                                         const std::string& controller);
+                                         const std::string& controller, const std::string& state_source = "");
 
 }  // namespace rome
