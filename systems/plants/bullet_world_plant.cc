@@ -573,7 +573,11 @@ void BulletWorldPlant::SetState(LeafContext& context, const Eigen::VectorXd& q, 
   s.discrete.segment(nv, nv) = v;
   for (int c = 0; c < nc; ++c) {
     s.discrete[touching_offset() + c] = touching[c];
-    s.discrete[td_time_offset_ + c] = t;
+    // A contact touching at the start stands there: it has touched for planned_liftoff_min_contact_s already, so a
+    // planned lift-off may release it at once (with the start's time, a run started on a gait's orbit less than that
+    // before the trailing foot's planned lift-off kept the foot until the controller loaded it again: measured on
+    // gait (0.40, 0.40, 0.10, 0.25) started mid double support, docs/design-notes.md#walking-bullet-orbit-start).
+    s.discrete[td_time_offset_ + c] = t - params_.planned_liftoff_min_contact_s;
     s.discrete[lo_time_offset_ + c] = t;
   }
   s.discrete[mode_start_offset_] = t;

@@ -155,7 +155,8 @@ class BulletWorldPlant final : public ContactPlant {
   const BulletWorldPlantParams& params() const { return params_; }
   /// Sets q, v (sizes checked) and the mode; the mode clock starts at the context time; a contact counts as touching
   /// when its lowest point is within liftoff_height_m of the terrain (so a foot standing there must first lift off
-  /// before its touchdown is announced).
+  /// before its touchdown is announced) and as having touched for planned_liftoff_min_contact_s already (it stands,
+  /// it is not landing: a planned lift-off may release it at once).
   void SetState(LeafContext& context, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                 const std::string& mode) const override;
   /// Number of rotor links (actuated joints with reflected inertia) added to the Bullet tree.

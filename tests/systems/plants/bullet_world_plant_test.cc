@@ -140,6 +140,9 @@ TEST(BulletWorldPlant, DroppedBoxRestsOnThePlaneAtItsHalfHeight) {
 // (F_n = m g <= 2 m g: liftoff_bottom within 2 ms), it rests on and touches again in the next step, and that
 // touchdown is announced only min_time_in_mode_s = 50 ms after the release (touchdown_bottom 50-51 ms later). In
 // neither case does the mode change move the box (Bullet's physics does not see the mode): it stays at 0.05 m.
+// planned_liftoff_min_contact_s = 50 ms: the box resting at the start stands, it is not landing, so its first release
+// does not wait (it waited 50 ms when the start counted as its touchdown); having touched again after that release,
+// it is released again only 50 ms after (liftoff_bottom at least 50 ms after the first).
 TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
   auto model = LoadSidecar("tests/systems/plants/data/planar_box.rome.json");
   const ContactModeGraph graph = BoxGraph("resting");
@@ -150,6 +153,7 @@ TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
     params.min_base_height_m = -1.0;
     params.planned_liftoff_force_N = threshold;
     params.min_time_in_mode_s = 0.05;
+    params.planned_liftoff_min_contact_s = 0.05;
     BulletWorldPlant plant("box", model, graph, Terrain::Flat(), params);
     Eigen::VectorXd q(3);
     q << 0.0, 0.05, 0.0;
@@ -168,6 +172,10 @@ TEST(BulletWorldPlant, PlannedLiftoffReleasesAContactBelowItsForceThreshold) {
       EXPECT_EQ(events[1].guard, "touchdown_bottom");
       EXPECT_GE(events[1].time - events[0].time, params.min_time_in_mode_s - 1e-9);
       EXPECT_LT(events[1].time - events[0].time, params.min_time_in_mode_s + 1e-3);
+      ASSERT_GE(events.size(), 3u);
+      EXPECT_EQ(events[2].guard, "liftoff_bottom");
+      EXPECT_GE(events[2].time - events[0].time, params.planned_liftoff_min_contact_s - 1e-9);
+      EXPECT_LT(events[2].time - events[0].time, params.planned_liftoff_min_contact_s + 4e-3);
     }
   }
 }
