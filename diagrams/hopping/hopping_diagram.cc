@@ -148,6 +148,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
                                    PlantKind plant, const HoppingControllerFactory& controller_factory) {
   params.Validate();
   if (!controller_factory) throw std::invalid_argument("BuildHoppingDiagram: the controller factory is empty");
+  if (!model) throw std::invalid_argument("BuildHoppingDiagram: the model is null");
+  model->RequireNqEqualsNv("BuildHoppingDiagram");  // its reference, pose solver and controller take the Euler base
   HoppingDiagram d;
   d.model = model;
   d.leg_length = leg_length;

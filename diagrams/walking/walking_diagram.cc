@@ -220,6 +220,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   params.Validate();
   if (model == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the model is null");
   const MultibodyModel& m = *model;
+  m.RequireNqEqualsNv("BuildWalkingDiagram");  // the controllers, the plans and the pose solver use the Euler base
   for (const char* foot : {"left_foot", "right_foot"}) {
     const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
     if (c.type != ContactType::kFlat)

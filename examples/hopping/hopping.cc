@@ -143,7 +143,8 @@ int main(int argc, char** argv) {
     s = ScenarioFromOptions(cli);
     s.run.Validate();
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
-    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
+    model = std::make_shared<const MultibodyModel>(
+        MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", {.euler_floating_base = true}));
     if (cli.GetInt("seed") < 0)
       throw std::invalid_argument("hopping: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
     s.diagram.perturbations = examples::FlatGroundPerturbationsFromCommandLine(

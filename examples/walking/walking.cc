@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   try {
-    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(cli.Get("robot")));
+    model = std::make_shared<const MultibodyModel>(
+        MultibodyModel::LoadFromSidecar(cli.Get("robot"), {.euler_floating_base = true}));
     CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input, before any plan
   } catch (const std::exception& e) {
     std::cerr << "walking: --robot " << Excerpt(cli.Get("robot"), 200) << ": " << examples::OneLine(e.what()) << "\n";
