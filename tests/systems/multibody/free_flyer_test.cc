@@ -177,7 +177,7 @@ TEST(FreeFlyerTest, QuaternionIsTheDefaultSpatialBaseAndEulerIsAskedFor) {
     EXPECT_EQ(m.nq(), m.nv() + (m.has_quaternion_base() ? 1 : 0));
     return std::string(m.base_kind());
   };
-  const LoadOptions none, euler{.euler_floating_base = true}, quaternion{.quaternion_floating_base = true};
+  const LoadOptions none{}, euler{.euler_floating_base = true}, quaternion{.quaternion_floating_base = true};
   EXPECT_EQ(kind(world, "", none), "quaternion");
   EXPECT_EQ(kind(box, R"({"floating_base": "spatial"})", none), "quaternion");
   EXPECT_EQ(kind(box, R"({"floating_base": "quaternion"})", none), "quaternion");

@@ -3,6 +3,7 @@
 // world link and given its floating base by the sidecar (a path of the loader that does not look at
 // floating joints), from the closed form of M's translational block (total mass times identity),
 // and from the joint's <origin> (the nominal base pose).
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <stdexcept>
