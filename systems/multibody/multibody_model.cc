@@ -251,8 +251,7 @@ void MultibodyModelLoader::UseQuaternionBase(LoadState& s) {
     return;
   }
   // A spatial base is the free-flyer unless asked for as Euler; LoadOptions override the sidecar.
-  const bool euler = o.euler_floating_base || (s.sidecar_euler && !o.quaternion_floating_base);
-  if (euler) return;
+  if (o.euler_floating_base || (s.sidecar_euler && !o.quaternion_floating_base)) return;
   // The six virtual joints become the base twist's coordinates: prismatic along, then revolute about, the base's own
   // x, y, z (the workspace poses all six bodies at the base, free_flyer.h).
   auto bodies = std::make_shared<std::vector<MultibodyBody>>(*model.bodies_);
