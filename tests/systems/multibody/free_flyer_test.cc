@@ -227,7 +227,7 @@ TEST(FreeFlyerTest, RefusalsNameTheRobotAndTheValue) {
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("system 'plant': robot 'biped3d' has a quaternion floating base"), std::string::npos) << what;
-    EXPECT_NE(what.find("biped3d.urdf' with LoadOptions::euler_floating_base"), std::string::npos) << what;
+    EXPECT_NE(what.find("biped3d.rome.json' with LoadOptions::euler_floating_base"), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos);
   }
   EXPECT_NO_THROW(LoadBiped(false).RequireNqEqualsNv("system 'plant'"));

@@ -36,8 +36,11 @@ std::string ReadText(const std::string& path) {
   return s.str();
 }
 
-double SumOfMasses(const std::string& urdf) {
+// The <mass> values outside XML comments (atlas_v3_no_head.urdf keeps the head's link in a comment).
+double SumOfMasses(const std::string& urdf_with_comments) {
+  static const std::regex comment(R"re(<!--[\s\S]*?-->)re");
   static const std::regex mass(R"re(<mass\s+value\s*=\s*"([^"]+)")re");
+  const std::string urdf = std::regex_replace(urdf_with_comments, comment, "");
   double sum = 0.0;
   for (auto it = std::sregex_iterator(urdf.begin(), urdf.end(), mass); it != std::sregex_iterator(); ++it)
     sum += std::stod((*it)[1].str());
