@@ -132,7 +132,8 @@ py::dict RunSteppingStonesFromPython(const Terrain& terrain, const SteppingStone
   else if (controller != "tsc-qp")
     throw py::value_error("run_stepping_stones: controller must be 'tsc-qp' or 'clf-qp', got '" + controller + "'");
   // What the diagram cannot walk is bad input (ValueError) before the simulation, as in examples/stepping_stones.
-  CheckSteppingStonesFeasible(MultibodyModel::LoadFromSidecar(params.robot_sidecar), terrain, params);
+  CheckSteppingStonesFeasible(MultibodyModel::LoadFromSidecar(params.robot_sidecar, {.euler_floating_base = true}),
+                              terrain, params);
   SteppingStonesDiagram d = BuildSteppingStonesDiagram(terrain, params, factory);
   Simulator sim(*d.diagram, SteppingStonesSimulatorConfig());
   SetSteppingStonesInitialState(d, params, sim.get_mutable_context());

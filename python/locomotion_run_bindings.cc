@@ -77,7 +77,8 @@ py::object RunWalkingFromPython(const std::string& robot, const WalkingGait& gai
   diagram_params.Validate();
   gait.Validate("run_walking: gait");
   if (scenario == "gait-change") gait_b.Validate("run_walking: gait_b");
-  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(robot));
+  auto model =
+      std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(robot, {.euler_floating_base = true}));
   CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input (ValueError), as in examples/walking
   StandToWalkParams stand;
   stand.sole = SoleOf(*model, "left_foot");
@@ -116,8 +117,8 @@ py::object RunHoppingFromPython(int hops, double apex_rise_m, const std::string&
   diagram_params.reference.hops = hops;
   diagram_params.Validate();
   run.Validate();
-  auto model =
-      std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json"));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", {.euler_floating_base = true}));
   SpringMassJumpParams jump;
   jump.apex_rise = apex_rise_m;
   auto planners = std::make_unique<SpringMassHopPlanners>(*model, ParseLegStiffnessVariant(leg_stiffness), jump,

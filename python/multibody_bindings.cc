@@ -145,10 +145,11 @@ void BindMultibody(py::module_& m) {
       "velocity coordinate in order.")
       .def_static(
           "load",
-          [](const std::string& path, bool repair_inertia, bool quaternion_floating_base) {
+          [](const std::string& path, bool repair_inertia, bool quaternion_floating_base, bool euler_floating_base) {
             LoadOptions options;
             options.repair_inertia = repair_inertia;
             options.quaternion_floating_base = quaternion_floating_base;
+            options.euler_floating_base = euler_floating_base;
             const bool sidecar = path.size() > 10 && path.substr(path.size() - 10) == ".rome.json";
             return FromArguments([&] {
               return std::make_unique<PyMultibodyModel>(sidecar ? MultibodyModel::LoadFromSidecar(path, options)
@@ -156,16 +157,20 @@ void BindMultibody(py::module_& m) {
             });
           },
           py::arg("path"), py::arg("repair_inertia") = false, py::arg("quaternion_floating_base") = false,
+          py::arg("euler_floating_base") = false,
           "Loads a robot from its sidecar (robots/NAME/NAME.rome.json) or its URDF (the sidecar beside it, if any).\n"
-          "quaternion_floating_base: a spatial base as the quaternion free-flyer (systems/multibody/free_flyer.h):\n"
+          "A spatial base is the quaternion free-flyer by default (systems/multibody/free_flyer.h):\n"
           "q = [x, y, z, qw, qx, qy, qz, joints] (nq = nv + 1), v = [base twist in base axes (linear, angular),\n"
-          "joint rates]; a fixed or planar robot is refused.")
+          "joint rates]. euler_floating_base: the ZYX-Euler base instead (q = [x, y, z, yaw, pitch, roll, joints],\n"
+          "nq = nv), as the sidecar's \"floating_base\": \"spatial_euler\"; no effect on a fixed or planar robot.\n"
+          "quaternion_floating_base: the free-flyer even if the sidecar says \"spatial_euler\"; a fixed or planar\n"
+          "robot is refused. Both set is refused.")
       .def_property_readonly("name", [](const PyMultibodyModel& p) { return p.model.name(); })
       .def_property_readonly("floating_base",
                              [](const PyMultibodyModel& p) { return ToString(p.model.floating_base()); })
       .def_property_readonly(
           "base_kind", [](const PyMultibodyModel& p) { return p.model.base_kind(); },
-          "'fixed', 'planar', 'spatial' (ZYX Euler) or 'quaternion'")
+          "'fixed', 'planar', 'quaternion' or 'spatial_euler' (ZYX Euler)")
       .def_property_readonly("nq", [](const PyMultibodyModel& p) { return p.model.nq(); })
       .def_property_readonly("nv", [](const PyMultibodyModel& p) { return p.model.nv(); })
       .def_property_readonly("nu", [](const PyMultibodyModel& p) { return p.model.nu(); })

@@ -148,6 +148,9 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
                                    PlantKind plant, const HoppingControllerFactory& controller_factory) {
   params.Validate();
   if (!controller_factory) throw std::invalid_argument("BuildHoppingDiagram: the controller factory is empty");
+  if (!model) throw std::invalid_argument("BuildHoppingDiagram: the model is null");
+  // `model` is the reference's, the pose solver's and the controller's: the Euler base (plant_base picks the plant's).
+  model->RequireNqEqualsNv("BuildHoppingDiagram");
   HoppingDiagram d;
   d.model = model;
   d.leg_length = leg_length;

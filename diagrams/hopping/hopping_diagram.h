@@ -39,8 +39,8 @@
 //
 // Build → run → result from C++ (diagrams/hopping/hopping_run.h; tests/diagrams/hopping/hopping_diagram_test.cc
 // compiles exactly this):
-//   auto model = std::make_shared<const
-//   MultibodyModel>(MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+//   auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+//       FindRobotFile("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
 //   SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{},
 //   SpringMassLandingParams{}); HoppingDiagramParams params; params.reference.hops = 1; HoppingDiagram d =
 //   BuildHoppingDiagram(model, rom.leg_length, rom.jump, rom.landing, params); Simulator sim(*d.diagram,

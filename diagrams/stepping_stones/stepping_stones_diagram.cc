@@ -114,7 +114,7 @@ double SteppingStoneLengthFor(const MultibodyModel& model) {
 SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::string& sidecar) {
   SteppingStonesDiagramParams p;
   p.robot_sidecar = sidecar;
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(sidecar);
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(sidecar, {.euler_floating_base = true});
   if (!HasFootPitchOutput(model)) return p;
   // Line/flat feet (planar Cassie). z0 (hopping spec C.12): the nominal standing pose's COM height above its soles.
   MultibodyWorkspace ws(model);
@@ -262,7 +262,8 @@ SteppingStonesDiagram BuildSteppingStonesDiagram(const Terrain& terrain, const S
                                                  const SteppingStonesControllerFactory& controller, PlantKind plant) {
   params.Validate();
   SteppingStonesDiagram d;
-  d.model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(params.robot_sidecar));
+  d.model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(params.robot_sidecar, {.euler_floating_base = true}));
   const auto& model = *d.model;
   DiagramBuilder b;
   auto graph = ContactModeGraph::AlternatingSingleSupport("left_foot", "right_foot", true);

@@ -220,6 +220,8 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   params.Validate();
   if (model == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the model is null");
   const MultibodyModel& m = *model;
+  // `model` is the plan's, the pose solver's and the controller's: the Euler base (plant_base picks the plant's).
+  m.RequireNqEqualsNv("BuildWalkingDiagram");
   for (const char* foot : {"left_foot", "right_foot"}) {
     const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
     if (c.type != ContactType::kFlat)

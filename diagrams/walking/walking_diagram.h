@@ -39,7 +39,7 @@
 // The example below is walking_diagram_test's snippet, line for line (the test checks it), so it keeps its layout.
 // clang-format off
 // A run from C++ (build → run → result; RunWalking and WalkingRunResult in walking_run.h judge it as the example does):
-//   auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
+//   auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json", {.euler_floating_base = true}));
 //   rome::StandToWalkParams stand;
 //   stand.sole = rome::SoleOf(*model, "left_foot");
 //   const rome::WalkingPlan plan = rome::BuildStandToWalkPlan(rome::WalkingGait{}, 8, 1, nullptr, nullptr, stand);

@@ -19,6 +19,7 @@ void CheckWalkingRobot(const MultibodyModel& model) {
     throw std::invalid_argument(
         robot + " has a " + std::string(ToString(model.floating_base())) +
         " floating base; the walking diagram needs a spatial one (a 3D biped such as robots/exoskeleton)");
+  model.RequireNqEqualsNv("walking diagram");  // its plans, pose solver and controllers take the Euler base
   for (const char* foot : {"left_foot", "right_foot"}) {
     const auto& contacts = model.contacts();
     const auto it =

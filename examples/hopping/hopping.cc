@@ -150,10 +150,8 @@ int main(int argc, char** argv) {
     cli.CheckOutputs({"log", "summary", "animation"}, {"plots"});
     // The controller's model, on the Euler base (--base quaternion: BuildHoppingDiagram loads the plant's quaternion
     // twin).
-    LoadOptions euler;
-    euler.quaternion_floating_base = false;
     model = std::make_shared<const MultibodyModel>(
-        MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", euler));
+        MultibodyModel::LoadFromSidecar("robots/cassie/cassie.rome.json", {.euler_floating_base = true}));
     if (cli.GetInt("seed") < 0)
       throw std::invalid_argument("hopping: --seed must be a whole number in [0, 2147483647], got " + cli.Get("seed"));
     s.diagram.perturbations = examples::FlatGroundPerturbationsFromCommandLine(

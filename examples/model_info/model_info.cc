@@ -1,5 +1,6 @@
 // model_info: load a ROME robot (URDF + sidecar) and print a JSON summary.
-//   model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia] [--allow-files-outside-package] [--quaternion-base]
+//   model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia] [--allow-files-outside-package]
+//              [--euler-base | --quaternion-base]
 //   model_info ROBOT.rome.json [...]   (a sidecar alone: its "urdf" entry names the URDF, as for --robot)
 // Default sidecar: ROBOT.rome.json next to the URDF. Exits 1 with a one-line error naming the
 // file, the element and the problem for any bad input; never crashes.
@@ -21,13 +22,14 @@ namespace {
 
 void PrintHelp() {
   std::cout << "usage: model_info ROBOT.urdf [--sidecar FILE] [--repair-inertia] [--allow-files-outside-package]\n"
-               "                  [--quaternion-base]\n"
+               "                  [--euler-base | --quaternion-base]\n"
                "       model_info ROBOT.rome.json [--repair-inertia] [--allow-files-outside-package]\n"
-               "                  [--quaternion-base]\n"
+               "                  [--euler-base | --quaternion-base]\n"
                "Loads a ROME robot description (URDF + JSON sidecar; default sidecar is\n"
                "ROBOT.rome.json next to the URDF; a sidecar given alone names its URDF in its\n"
-               "\"urdf\" entry) and prints JSON with dof, nq, nv, floating_base (fixed, planar,\n"
-               "spatial = ZYX Euler, or quaternion),\n"
+               "\"urdf\" entry) and prints JSON with dof (= nv), nq, nv, floating_base (fixed,\n"
+               "planar, quaternion: the default for a spatial base, nq = nv + 1; or\n"
+               "spatial_euler: ZYX Euler, nq = nv),\n"
                "total_mass_kg, warnings (one line per merged link, massless frame, repaired\n"
                "inertia, ...), bodies (after merging fixed joints), frames (every URDF link),\n"
                "actuated_joints (with torque limits), spring_joints, contacts, loop_closures,\n"
@@ -37,8 +39,10 @@ void PrintHelp() {
                "                    one (with a warning) instead of rejecting the file\n"
                "  --allow-files-outside-package  for a package you trust: its sidecar may name\n"
                "                    files outside its own folder (an absolute path, ../, a link)\n"
+               "  --euler-base      load a spatial floating base as the ZYX-Euler chain (nq = nv),\n"
+               "                    as the sidecar's \"floating_base\": \"spatial_euler\"\n"
                "  --quaternion-base  load a spatial floating base as the quaternion free-flyer\n"
-               "                    (nq = nv + 1), as the sidecar's \"floating_base\": \"quaternion\"\n"
+               "                    even if the sidecar says \"spatial_euler\"\n"
                "A relative path is looked up in ROME's data folders; write ./PATH for a file in\n"
                "the current folder.\n";
 }
@@ -60,6 +64,8 @@ int Run(int argc, char** argv) {
       options.allow_files_outside_package = true;
     } else if (arg == "--quaternion-base") {
       options.quaternion_floating_base = true;
+    } else if (arg == "--euler-base") {
+      options.euler_floating_base = true;
     } else if (!arg.empty() && arg[0] == '-') {
       throw std::invalid_argument("unknown option '" + arg + "' (see --help)");
     } else if (urdf.empty()) {

@@ -325,7 +325,7 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
                                 std::to_string(static_cast<long>(log_rows)) +
                                 " rows (limit 5e6); raise --log-period or lower --steps");
   // What the diagram cannot walk is bad input, refused here before the simulation (stepping_stones_feasibility.h).
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar);
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar, {.euler_floating_base = true});
   try {
     CheckSteppingStonesRobot(model);
   } catch (const std::invalid_argument& e) {

@@ -113,9 +113,8 @@ int main(int argc, char** argv) {
   try {
     // The plan's and the controller's model, on the Euler base (--base quaternion: BuildWalkingDiagram loads the
     // plant's quaternion twin from the same files).
-    LoadOptions euler;
-    euler.quaternion_floating_base = false;
-    model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(cli.Get("robot"), euler));
+    model = std::make_shared<const MultibodyModel>(
+        MultibodyModel::LoadFromSidecar(cli.Get("robot"), {.euler_floating_base = true}));
     CheckWalkingRobot(*model);  // a robot the diagram cannot use is bad input, before any plan
   } catch (const std::exception& e) {
     std::cerr << "walking: --robot " << Excerpt(cli.Get("robot"), 200) << ": " << examples::OneLine(e.what()) << "\n";

@@ -4,8 +4,9 @@
 //
 // Load runs the stages below in order on one LoadState; each reads one thing:
 //   sidecar file: the file (next to the URDF, given, or in memory), its top-level keys, "urdf", "floating_base"
-//                 (model_loader_sidecar.cc, parsed first: it decides the floating base; "quaternion" loads a spatial
-//                 base, converted to the free-flyer by the last stage, UseQuaternionBase);
+//                 (model_loader_sidecar.cc, parsed first: it decides the floating base; "spatial", "quaternion" and
+//                 "spatial_euler" load a spatial Euler base, which the last stage, UseQuaternionBase, converts to the
+//                 free-flyer unless "spatial_euler" or LoadOptions::euler_floating_base asks for Euler);
 //   URDF:         the XML, names, tree shape, a floating or planar joint out of a massless world root, the links'
 //                 <inertial> and the joint tree walked into bodies (model_loader_urdf.cc);
 //   merging:      links welded over fixed joints into one rigid body each, inertia validity judged per body (and
@@ -118,7 +119,7 @@ class MultibodyModelLoader {
     std::shared_ptr<std::vector<MultibodyBody>> bodies = std::make_shared<std::vector<MultibodyBody>>();
     std::vector<std::vector<model_loading::BodyPart>> parts;  // per body
     std::vector<std::pair<double, double>> limits;            // per body: the joint's position limits
-    bool quaternion = false;  // the sidecar's "floating_base": "quaternion" (UseQuaternionBase)
+    bool sidecar_euler = false;  // the sidecar's "floating_base": "spatial_euler" (UseQuaternionBase)
   };
   static void Warn(LoadState& s, const std::string& warning) { s.model.warnings_.push_back(warning); }
 
@@ -156,7 +157,7 @@ class MultibodyModelLoader {
   static std::vector<bool> ReadNominalPose(LoadState& s);
 
   // Last stage (multibody_model.cc): a spatial Euler base, loaded and checked, turned into the quaternion free-flyer
-  // when the sidecar or LoadOptions::quaternion_floating_base asks for it.
+  // (the default) unless the sidecar's "spatial_euler" or LoadOptions::euler_floating_base asks for Euler.
   static void UseQuaternionBase(LoadState& s);
 };
 

@@ -196,13 +196,14 @@ void MultibodyModelLoader::ReadFloatingBaseEntry(LoadState& s) {
       model.floating_base_ = FloatingBaseType::kFixed;
     else if (fb == "planar")
       model.floating_base_ = FloatingBaseType::kPlanar;
-    else if (fb == "spatial")
+    else if (fb == "spatial" || fb == "quaternion")  // the quaternion free-flyer (UseQuaternionBase)
       model.floating_base_ = FloatingBaseType::kSpatial;
-    else if (fb == "quaternion") {
+    else if (fb == "spatial_euler") {
       model.floating_base_ = FloatingBaseType::kSpatial;
-      s.quaternion = true;
+      s.sidecar_euler = true;
     } else
-      sc.Fail("floating_base", "unknown type '" + Excerpt(fb) + "' (expected fixed, planar, spatial or quaternion)");
+      sc.Fail("floating_base",
+              "unknown type '" + Excerpt(fb) + "' (expected fixed, planar, spatial, quaternion or spatial_euler)");
   }
 }
 

@@ -43,7 +43,10 @@ int MultibodyModel::num_base_dofs() const {
   return 0;
 }
 
-const char* MultibodyModel::base_kind() const { return quaternion_base_ ? "quaternion" : ToString(floating_base_); }
+const char* MultibodyModel::base_kind() const {
+  if (quaternion_base_) return "quaternion";
+  return floating_base_ == FloatingBaseType::kSpatial ? "spatial_euler" : ToString(floating_base_);
+}
 
 namespace {
 
@@ -109,11 +112,13 @@ void MultibodyModel::MapVelocityToQDot(const Eigen::Ref<const Eigen::VectorXd>& 
 }
 
 void MultibodyModel::RequireNqEqualsNv(const std::string& user) const {
-  if (nq_ != nv_)
-    throw std::invalid_argument(user + ": robot '" + name_ + "' has a " + base_kind() +
-                                " floating base (nq = " + std::to_string(nq_) + ", nv = " + std::to_string(nv_) +
-                                "), which it does not support yet; load the robot with the default spatial (Euler) "
-                                "base");
+  if (nq_ == nv_) return;
+  const std::string& file = sidecar_path_.empty() ? urdf_path_ : sidecar_path_;
+  throw std::invalid_argument(user + ": robot '" + name_ + "' has a " + base_kind() +
+                              " floating base (nq = " + std::to_string(nq_) + ", nv = " + std::to_string(nv_) +
+                              "), which it does not support yet; load '" + (file.empty() ? name_ : file) +
+                              "' with LoadOptions::euler_floating_base (or the sidecar's \"floating_base\": "
+                              "\"spatial_euler\")");
 }
 
 int MultibodyModel::BodyIndex(const std::string& link_name) const {
@@ -233,11 +238,20 @@ MultibodyModel MultibodyModelLoader::Load(const std::string& urdf_path, std::str
 
 void MultibodyModelLoader::UseQuaternionBase(LoadState& s) {
   MultibodyModel& model = s.model;
-  if (!s.quaternion && !s.options.quaternion_floating_base) return;
-  if (model.floating_base_ != FloatingBaseType::kSpatial)
-    throw std::runtime_error(
-        s.ufile + ": LoadOptions::quaternion_floating_base asks for a quaternion free-flyer, but " +
-        "the robot's floating base is " + ToString(model.floating_base_) + " (only a spatial base has one)");
+  const LoadOptions& o = s.options;
+  if (o.quaternion_floating_base && o.euler_floating_base)
+    throw std::runtime_error(s.ufile +
+                             ": LoadOptions::quaternion_floating_base and LoadOptions::euler_floating_base are both "
+                             "set (choose one)");
+  if (model.floating_base_ != FloatingBaseType::kSpatial) {
+    if (o.quaternion_floating_base)
+      throw std::runtime_error(
+          s.ufile + ": LoadOptions::quaternion_floating_base asks for a quaternion free-flyer, but " +
+          "the robot's floating base is " + ToString(model.floating_base_) + " (only a spatial base has one)");
+    return;
+  }
+  // A spatial base is the free-flyer unless asked for as Euler; LoadOptions override the sidecar.
+  if (o.euler_floating_base || (s.sidecar_euler && !o.quaternion_floating_base)) return;
   // The six virtual joints become the base twist's coordinates: prismatic along, then revolute about, the base's own
   // x, y, z (the workspace poses all six bodies at the base, free_flyer.h).
   auto bodies = std::make_shared<std::vector<MultibodyBody>>(*model.bodies_);

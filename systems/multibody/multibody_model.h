@@ -7,23 +7,25 @@
 // MultibodyWorkspace (multibody_workspace.h); every computation takes
 // (const MultibodyModel&, MultibodyWorkspace&, ...).
 //
-// Generalized coordinates (nq == nv and v = dq/dt, except on the quaternion base):
-//   floating_base "fixed"  : q = [joints]
-//   floating_base "planar" : q = [x, z, pitch, joints]          (motion in the world x-z plane,
-//                                                                pitch about +y)
-//   floating_base "spatial": q = [x, y, z, yaw, pitch, roll, joints]
-//                            R_world_base = Rz(yaw) Ry(pitch) Rx(roll) (ZYX Euler).
-//                            SINGULAR at pitch = +-90 deg (yaw and roll axes align); walking
-//                            postures stay far from it.
-//   floating_base "quaternion" (opt-in: the sidecar's "floating_base": "quaternion", or
-//                            LoadOptions::quaternion_floating_base on a spatial base):
-//                            q = [x, y, z, qw, qx, qy, qz, joints] (nq = nv + 1),
-//                            v = [v_B, w_B, joint rates]: the base twist in base coordinates; the
-//                            convention, Integrate and Difference are in free_flyer.h. No singularity.
-//                            Joint coordinate k of v is entry k + 1 of q (PositionIndex).
-//                            HybridContactPlant runs it; BulletWorldPlant and the pose solver refuse it
-//                            (RequireNqEqualsNv). Bullet is not used
-//                            (forward dynamics and M^-1 go through the CRBA and the tree factor).
+// Generalized coordinates (nq == nv and v = dq/dt, except on the quaternion base). A spatial floating base (the
+// sidecar's "floating_base": "spatial" or "quaternion", or a URDF "floating" joint out of a massless world link) is
+// the quaternion free-flyer BY DEFAULT; the ZYX-Euler base is asked for explicitly with the sidecar's
+// "floating_base": "spatial_euler" or LoadOptions::euler_floating_base (LoadOptions override the sidecar). base_kind()
+// names the result:
+//   "fixed"        : q = [joints]
+//   "planar"       : q = [x, z, pitch, joints]          (motion in the world x-z plane, pitch about +y)
+//   "quaternion"   : q = [x, y, z, qw, qx, qy, qz, joints] (nq = nv + 1),
+//                    v = [v_B, w_B, joint rates]: the base twist in base coordinates; the
+//                    convention, Integrate and Difference are in free_flyer.h. No singularity.
+//                    Joint coordinate k of v is entry k + 1 of q (PositionIndex).
+//                    HybridContactPlant runs it; BulletWorldPlant, the pose solver and the walking and hopping
+//                    diagrams refuse it (RequireNqEqualsNv, one line naming the file and the option). Bullet is not
+//                    used (forward dynamics and M^-1 go through the CRBA and the tree factor).
+//   "spatial_euler": q = [x, y, z, yaw, pitch, roll, joints] (opt-in; floating_base() is kSpatial for both)
+//                    R_world_base = Rz(yaw) Ry(pitch) Rx(roll) (ZYX Euler).
+//                    SINGULAR at pitch = +-90 deg (yaw and roll axes align); walking
+//                    postures stay far from it. The controllers, the diagrams and Bullet need it.
+// The sidecar's nominal_pose "base" is written [x, y, z, yaw, pitch, roll] for either spatial base.
 // The floating base is modelled as a chain of massless virtual joints (prismatic x, [y], z,
 // revolute [yaw about z], pitch about y, [roll about x]) ending in the URDF root link, so the
 // whole robot is a fixed-base kinematic tree and dq/dt is the velocity. The quaternion base keeps the
@@ -142,8 +144,13 @@ struct LoadOptions {
   // path, a "../" that climbs out, or a link that points out is refused with one line. Set this only for a package
   // you trust (its files then may lie anywhere; devices, FIFOs and directories are still refused).
   bool allow_files_outside_package = false;
-  // Loads a spatial floating base as the quaternion free-flyer (as the sidecar's "floating_base": "quaternion"
-  // does). A fixed or planar robot with this option is refused, naming the file.
+  // The two floating-base options override the sidecar's "floating_base" spelling; setting both is refused.
+  // Loads a spatial floating base as the ZYX-Euler chain (nq == nv, v = dq/dt), as the sidecar's
+  // "floating_base": "spatial_euler" does, instead of the default quaternion free-flyer: for BulletWorldPlant, the pose
+  // solver, the controllers and the diagrams. No effect on a fixed or planar robot.
+  bool euler_floating_base = false;
+  // Loads a spatial floating base as the quaternion free-flyer even if the sidecar says "spatial_euler" (the default
+  // otherwise). A fixed or planar robot with this option is refused, naming the file.
   bool quaternion_floating_base = false;
 };
 
@@ -245,7 +252,7 @@ class MultibodyModel {
   bool is_planar() const { return floating_base_ == FloatingBaseType::kPlanar; }
   // A spatial base in free-flyer coordinates (free_flyer.h); floating_base() is then kSpatial.
   bool has_quaternion_base() const { return quaternion_base_; }
-  // "fixed", "planar", "spatial" (ZYX Euler) or "quaternion".
+  // "fixed", "planar", "quaternion" or "spatial_euler" (the sidecar's spellings that ask for each).
   const char* base_kind() const;
 
   int nq() const { return nq_; }
@@ -265,8 +272,9 @@ class MultibodyModel {
   int PositionIndexOfVelocity(int v_index) const {
     return !quaternion_base_ ? v_index : (v_index < 6 ? -1 : v_index + 1);
   }
-  // Throws std::invalid_argument("<user>: robot '<name>' has a quaternion floating base (nq = .., nv = ..) ...") for
-  // a user (a plant, a controller) that takes q as the integral of v.
+  // Throws std::invalid_argument("<user>: robot '<name>' has a quaternion floating base (nq = .., nv = ..) ...; load
+  // '<file>' with LoadOptions::euler_floating_base ...") for a user (a plant, a diagram) that takes q as the integral
+  // of v.
   void RequireNqEqualsNv(const std::string& user) const;
   int nu() const { return static_cast<int>(actuators_.size()); }
   int num_bodies() const { return static_cast<int>(bodies_->size()); }

@@ -98,7 +98,7 @@ Eigen::VectorXd EulerConfigurationToQuaternion(const Eigen::VectorXd& q_e) {
 void CheckEulerQuaternionTwins(const MultibodyModel& euler, const MultibodyModel& quaternion, const std::string& user) {
   auto fail = [&](const std::string& what) { throw std::invalid_argument(user + ": " + what); };
   if (euler.floating_base() != FloatingBaseType::kSpatial || euler.has_quaternion_base())
-    fail("robot '" + euler.name() + "' (the Euler model) has base '" + euler.base_kind() + "', not 'spatial'");
+    fail("robot '" + euler.name() + "' (the Euler model) has base '" + euler.base_kind() + "', not 'spatial_euler'");
   if (!quaternion.has_quaternion_base())
     fail("robot '" + quaternion.name() + "' (the plant's model) has base '" + quaternion.base_kind() +
          "', not 'quaternion'");

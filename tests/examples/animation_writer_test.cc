@@ -12,7 +12,8 @@ namespace rome::visualization {
 namespace {
 
 TEST(AnimationRecorder, VisualsAndDecimation) {
-  const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("tests/examples/data_visual_slider.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("tests/examples/data_visual_slider.urdf"),
+                                                    "", {.euler_floating_base = true});
   AnimationRecorder rec(model, 60.0);
   for (int k = 0; k <= 1000; ++k)
     rec.Record(k * 1e-3, Eigen::VectorXd::Constant(1, 0.001 * k), "free", Eigen::VectorXd::Zero(0));

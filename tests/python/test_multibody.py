@@ -27,7 +27,7 @@ def random_state(model, seed):
 
 @pytest.mark.parametrize("path", ROBOTS)
 def test_model_facts_match_the_urdf(path):
-    model = rome.MultibodyModel.load(path)
+    model = rome.MultibodyModel.load(path, euler_floating_base=True)
     root = ET.parse(urdf_of(path)).getroot()
     urdf_mass = sum(float(m.get("value")) for m in root.iter("mass"))
     assert model.total_mass == pytest.approx(urdf_mass, rel=1e-12)
@@ -53,7 +53,7 @@ def test_model_facts_match_the_urdf(path):
 
 @pytest.mark.parametrize("path", ROBOTS)
 def test_inverse_dynamics_is_m_qdd_plus_h_and_inverts_bullets_forward_dynamics(path):
-    model = rome.MultibodyModel.load(path)
+    model = rome.MultibodyModel.load(path, euler_floating_base=True)
     for seed in range(1, 4):
         rng, q, v = random_state(model, seed)
         M = model.mass_matrix(q)
@@ -72,7 +72,7 @@ def test_inverse_dynamics_is_m_qdd_plus_h_and_inverts_bullets_forward_dynamics(p
 
 @pytest.mark.parametrize("path", ROBOTS)
 def test_gravity_term_is_the_gradient_of_the_potential(path):
-    model = rome.MultibodyModel.load(path)
+    model = rome.MultibodyModel.load(path, euler_floating_base=True)
     _, q, _ = random_state(model, 4)
     g = -model.gravity[2]
     step = 1e-6
@@ -88,7 +88,7 @@ def test_gravity_term_is_the_gradient_of_the_potential(path):
 
 def test_kinetic_energy_equals_the_centroidal_and_point_quantities():
     """½ vᵀ M v ≥ ½ m |v_com|² (König), with the COM velocity = J_com v from finite differences of the COM."""
-    model = rome.MultibodyModel.load(ROBOTS[0])
+    model = rome.MultibodyModel.load(ROBOTS[0], euler_floating_base=True)
     _, q, v = random_state(model, 5)
     step = 1e-7
     com_rate = (model.com_position(q + step * v) - model.com_position(q - step * v)) / (2 * step)
@@ -100,7 +100,7 @@ def test_kinetic_energy_equals_the_centroidal_and_point_quantities():
 
 
 def test_bad_input_names_the_model_and_the_size():
-    model = rome.MultibodyModel.load(ROBOTS[0])
+    model = rome.MultibodyModel.load(ROBOTS[0], euler_floating_base=True)
     with pytest.raises(ValueError, match=r"MultibodyModel 'amber.*': q has 3 entries, expected"):
         model.mass_matrix(np.zeros(3))
     with pytest.raises(ValueError, match=r"v\[0\] = nan is not finite"):

@@ -51,12 +51,20 @@ def euler_to_quaternion_state(q_e, nv):
 
 @pytest.fixture(scope="module")
 def models():
-    return rome.MultibodyModel.load(CASSIE), rome.MultibodyModel.load(CASSIE, quaternion_floating_base=True)
+    return rome.MultibodyModel.load(CASSIE, euler_floating_base=True), rome.MultibodyModel.load(CASSIE)
+
+
+def test_quaternion_is_the_default_and_euler_is_asked_for():
+    assert rome.MultibodyModel.load(CASSIE, quaternion_floating_base=True).nq == 23
+    assert rome.MultibodyModel.load("robots/exoskeleton/exoskeleton.rome.json").base_kind == "quaternion"
+    assert rome.MultibodyModel.load("robots/amber/amber.rome.json", euler_floating_base=True).base_kind == "planar"
+    with pytest.raises(Exception, match="both set"):
+        rome.MultibodyModel.load(CASSIE, quaternion_floating_base=True, euler_floating_base=True)
 
 
 def test_quaternion_cassie_has_one_more_position_than_velocity(models):
     euler, quat = models
-    assert quat.base_kind == "quaternion" and euler.base_kind == "spatial"
+    assert quat.base_kind == "quaternion" and euler.base_kind == "spatial_euler"
     assert quat.nq == quat.nv + 1
     assert quat.nv == euler.nv and euler.nq == euler.nv
     assert len(quat.q_nominal) == quat.nq

@@ -46,7 +46,7 @@ def block(tmp_path_factory):
     folder = tmp_path_factory.mktemp("block")
     (folder / "twisted_block.urdf").write_text(URDF)
     (folder / "twisted_block.rome.json").write_text(SIDECAR)
-    return rome.MultibodyModel.load(str(folder / "twisted_block.rome.json"))
+    return rome.MultibodyModel.load(str(folder / "twisted_block.rome.json"), euler_floating_base=True)
 
 
 def four_corner_torsion_limit(cop_offset_m):

@@ -19,7 +19,7 @@ AMBER = "robots/amber/amber.rome.json"
 
 @pytest.fixture(scope="module")
 def cassie():
-    return rome.MultibodyModel.load(CASSIE)
+    return rome.MultibodyModel.load(CASSIE, euler_floating_base=True)
 
 
 def rotation(model, q, link):

@@ -25,8 +25,8 @@ namespace {
 constexpr double kDuration = 2.2;  // [s] simulated
 
 void HoppingClosedLoop(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   const LegLengthTable leg_length(*model);
   SimulatorConfig config = HoppingSimulatorConfig();

@@ -25,8 +25,8 @@ double Median(std::vector<double> v) {
 }
 
 void WalkingPlanNlps(benchmark::State& state) {
-  const MultibodyModel model =
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"));
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"), {.euler_floating_base = true});
   StandToWalkParams stand;
   stand.sole = SoleOf(model, "left_foot");
   const WalkingGait a{}, b{.step_length_m = 0.40};

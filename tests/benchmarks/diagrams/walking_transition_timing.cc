@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  const auto shared_model = std::make_shared<const rome::MultibodyModel>(
-      rome::MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json")));
+  const auto shared_model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"), {.euler_floating_base = true}));
   const rome::MultibodyModel& model = *shared_model;
   std::unique_ptr<rome::PlanCache> cache;
   if (!cache_dir.empty()) cache = std::make_unique<rome::PlanCache>(cache_dir);

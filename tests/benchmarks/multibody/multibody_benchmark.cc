@@ -19,6 +19,7 @@ namespace {
 LoadOptions BaseOptions(bool quaternion) {
   LoadOptions options;
   options.quaternion_floating_base = quaternion;
+  options.euler_floating_base = !quaternion;
   return options;
 }
 

@@ -68,8 +68,8 @@ BENCHMARK(BM_OutputTrajectoriesEvaluate)->Unit(benchmark::kMicrosecond);
 // One random-stone-like sequence of steps, solved one after the other (warm start from the previous solution for the
 // same stance, as in the closed loop).
 void BM_PreImpactPostureSolve(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/amber/amber.rome.json"), {.euler_floating_base = true}));
   PreImpactPostureOptimizer optimizer(model);
   const double steps[][2] = {{0.4, 0.0}, {0.35, -0.1}, {0.5, 0.15}, {0.3, -0.2}, {0.6, 0.05}, {0.25, 0.2}};
   int k = 0;

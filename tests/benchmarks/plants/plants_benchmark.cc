@@ -26,8 +26,8 @@ namespace {
 constexpr long kRunSteps = 200;
 
 void BulletWorldStep(benchmark::State& state) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/amber/amber.rome.json"), {.euler_floating_base = true}));
   BulletWorldPlantParams params;
   params.substeps = static_cast<int>(state.range(0));
   params.solver_iterations = static_cast<int>(state.range(1));

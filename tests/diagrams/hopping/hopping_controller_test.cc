@@ -29,8 +29,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
 }
 
 ClfQpParams HoppingQpParams(const HybridContactPlant& plant) {

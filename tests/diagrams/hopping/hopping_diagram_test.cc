@@ -39,8 +39,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
 }
 
 // Quintic rest-to-rest from a to b over [t0, t0 + T], sampled into plan nodes.
@@ -337,7 +337,7 @@ TEST(HoppingDiagram, SettlesOnTheBulletPlantWithPhysicalContactForces) {
 // lift-off, v_z² / (2 g) (closed form; the flight has only gravity acting on the COM).
 TEST(HoppingRun, HeaderSnippetHopsAndTheComRiseIsBallistic) {
   auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+      MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
   SpringMassHopPlanners rom(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{},
                             SpringMassLandingParams{});
   HoppingDiagramParams params;
@@ -404,6 +404,15 @@ TEST(HoppingDiagram, OutOfRangeParametersFailAtOnceNamingTheFieldAndTheValue) {
     }
   };
   HoppingDiagramParams params;
+  // Cassie on its default base, the quaternion free-flyer, is refused naming the file and the option.
+  expect_error(
+      [&] {
+        BuildHoppingDiagram(std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+                                rome::test::SourcePath("robots/cassie/cassie.rome.json"))),
+                            test::SpecLegLength, jump_planner, nullptr, params);
+      },
+      "BuildHoppingDiagram: robot 'cassie' has a quaternion floating base",
+      "cassie.rome.json' with LoadOptions::euler_floating_base");
   params.reference.jump_momentum_gain = 250.0;
   const auto t0 = std::chrono::steady_clock::now();
   expect_error([&] { BuildHoppingDiagram(model, test::SpecLegLength, jump_planner, nullptr, params); },

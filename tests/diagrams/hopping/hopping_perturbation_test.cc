@@ -29,7 +29,7 @@ struct Hop {
 std::unique_ptr<Hop> MakeHop(const PerturbationParams& perturbations) {
   auto h = std::make_unique<Hop>();
   h->model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json")));
+      MultibodyModel::LoadFromSidecar(FindRobotFile("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
   h->rom = std::make_unique<SpringMassHopPlanners>(*h->model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{},
                                                    SpringMassLandingParams{});
   HoppingDiagramParams params;

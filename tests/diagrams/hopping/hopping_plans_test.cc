@@ -17,8 +17,8 @@ namespace rome {
 namespace {
 
 TEST(LegLengthTable, MatchesTheSpecTable) {
-  const MultibodyModel model =
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"),
+                                                               {.euler_floating_base = true});
   const LegLengthTable table(model);
   const double q_deg[] = {-45, -54.4, -60, -70, -80, -90, -100, -110, -120};
   const double L_m[] = {0.9577, 0.9235, 0.9003, 0.8535, 0.8002, 0.7407, 0.6757, 0.6055, 0.5308};
@@ -65,8 +65,8 @@ TEST(LegLengthTable, ToLegLengthPlanTakesTheLegRows) {
 }
 
 TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection) {
-  const MultibodyModel model =
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"),
+                                                               {.euler_floating_base = true});
   const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
   const SpringMassLandingParams params;
   auto records = std::make_shared<std::vector<PlannerRecord>>();
@@ -96,8 +96,8 @@ TEST(SpringMassLandingPlanner, ClampedLegLengthKeepsTheMeasuredSpringDeflection)
 // The landing NLP solved at lift-off starts from the touchdown of the ROM's ballistic flight with the leg held
 // (closed form: x = L, ẋ = −sqrt(ẋ_lo² + 2 g (x_lo − L))), and the touchdown solve that follows is recorded after it.
 TEST(SpringMassLandingPlanner, LiftoffSolveStartsFromTheBallisticTouchdown) {
-  const MultibodyModel model =
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"));
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"),
+                                                               {.euler_floating_base = true});
   const SpringMassParams rom = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
   const SpringMassLandingParams params;
   auto records = std::make_shared<std::vector<PlannerRecord>>();

@@ -34,7 +34,7 @@ namespace {
 
 std::shared_ptr<const MultibodyModel> LoadCassieEuler() {
   LoadOptions euler;
-  euler.quaternion_floating_base = false;
+  euler.euler_floating_base = true;
   return std::make_shared<const MultibodyModel>(
       MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"), euler));
 }

@@ -27,8 +27,8 @@ struct ReferenceRun {
 // Standing Cassie, the reference told the plant is in "jump" with total normal force `F` [N] (half per foot), `until`
 // [s] simulated; the jump starts at kSettle.
 ReferenceRun RunReference(double F, double k_F, double k_I, double c_max, double until, bool plan_has_force = true) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
   auto leg_length = [](double q, double* L, double* dL) { *L = 0.9 - 0.2 * q, *dL = -0.2; };  // any smooth L(q_knee)
   auto jump = [plan_has_force](const RomState&, LegLengthPlan* plan, std::string*) {
     plan->t = Eigen::Vector3d(0.0, 0.1, 0.2);

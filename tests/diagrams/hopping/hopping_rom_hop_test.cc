@@ -46,8 +46,8 @@ class HoppingRomHop : public ::testing::TestWithParam<double> {};
 TEST_P(HoppingRomHop, JumpsFliesLandsAndComesToRestWithPhysicalContactForces) {
   SpringMassJumpParams jump;
   if (GetParam() > 0) jump.apex_rise = GetParam();
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   auto records = std::make_shared<std::vector<PlannerRecord>>();
   auto rest_height = std::make_shared<double>(0.0);
@@ -230,8 +230,8 @@ INSTANTIATE_TEST_SUITE_P(ApexRise, HoppingRomHop, ::testing::Values(0.0, 0.10, 0
 // at rest (every |q̇| < rest_max_speed) or after max_rest_time_s, the plant's contact forces stay unilateral and inside
 // the friction cone throughout, and the robot is at rest (every |q̇| < 0.05) 2 s after the last touchdown.
 TEST(HoppingRomHops, ThreeHopsInARowLandAndComeToRest) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
   const SpringMassParams rom = CassieSpringMassParams(*model, LegStiffnessVariant::kIdentified);
   auto records = std::make_shared<std::vector<PlannerRecord>>();
   auto rest_height = std::make_shared<double>(0.0);

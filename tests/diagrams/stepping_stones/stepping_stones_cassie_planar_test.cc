@@ -28,7 +28,9 @@ constexpr double kMomentumTolerance = 0.10;
 const char* kCassie = "robots/cassie_planar/cassie_planar.rome.json";
 
 SteppingStonesDiagramParams CassieParams() { return SteppingStonesDiagramParams::ForRobot(kCassie); }
-double StoneLength() { return SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(kCassie)); }
+double StoneLength() {
+  return SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(kCassie, {.euler_floating_base = true}));
+}
 
 test::WalkResult WalkCassie(const Terrain& terrain, int steps, SteppingStonesDiagramParams params = CassieParams()) {
   return test::Walk(terrain, steps, params, TaskSpaceQpControllerFactory(params));
@@ -48,13 +50,15 @@ TEST(CassiePlanar, ParametersFollowTheRobot) {
   const SteppingStonesDiagramParams amber = SteppingStonesDiagramParams::ForRobot("robots/amber/amber.rome.json");
   EXPECT_EQ(amber.supervisor.walking_com_height_m, SteppingStonesDiagramParams{}.supervisor.walking_com_height_m);
   EXPECT_EQ(amber.swing_foot_gains.kp, SteppingStonesDiagramParams{}.swing_foot_gains.kp);
-  EXPECT_EQ(SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar("robots/amber/amber.rome.json")), 0.1);
+  EXPECT_EQ(SteppingStoneLengthFor(
+                MultibodyModel::LoadFromSidecar("robots/amber/amber.rome.json", {.euler_floating_base = true})),
+            0.1);
 }
 
 TEST(CassiePlanar, InitialStateStandsFlatOnTheFirstStoneWithTheRodsClosed) {
   const SteppingStonesDiagramParams p = CassieParams();
   const Terrain terrain = PeriodicSteppingStones(0.4, 0.0, 4, StoneLength());
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(kCassie);
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(kCassie, {.euler_floating_base = true});
   const Eigen::VectorXd x = SteppingStonesInitialState(model, terrain, p);
   MultibodyWorkspace ws(model);
   const Eigen::VectorXd q = x.head(model.nv()), v = x.tail(model.nv());

@@ -36,7 +36,8 @@ WhipRun WalkCourse(bool clf) {
   RandomSteppingStonesParams course;
   course.num_stones = 30 + 2;  // the example's course for 30 steps, of which the first kSteps are walked
   course.seed = 50030;
-  course.stone_length_m = SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(kCassie));
+  course.stone_length_m =
+      SteppingStoneLengthFor(MultibodyModel::LoadFromSidecar(kCassie, {.euler_floating_base = true}));
   SteppingStonesDiagramParams p = params;
   p.supervisor.max_steps = kSteps;
   SteppingStonesDiagram d = BuildSteppingStonesDiagram(

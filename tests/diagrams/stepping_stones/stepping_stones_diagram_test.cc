@@ -202,7 +202,7 @@ TEST(SteppingStonesDiagram, SaturatedSubDiagramControllerWalks) {
   const int steps = 6;
   const Terrain terrain = PeriodicSteppingStones(0.4, 0.0, steps + 2);
   SteppingStonesDiagramParams params;
-  const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar);
+  const MultibodyModel model = MultibodyModel::LoadFromSidecar(params.robot_sidecar, {.euler_floating_base = true});
   const int nu = model.nu();
   ASSERT_GT(model.torque_limits().minCoeff(), kLimitNm);  // below the default limits
   const Eigen::VectorXd lower = Eigen::VectorXd::Constant(nu, -kLimitNm),
@@ -265,7 +265,7 @@ TEST(SteppingStonesDiagram, ControllerSpecGivesTheLayoutOfDesired) {
       seen = spec;
       return TaskSpaceQpControllerFactory(params)(spec);
     };
-    const MultibodyModel model = MultibodyModel::LoadFromSidecar(c.sidecar);
+    const MultibodyModel model = MultibodyModel::LoadFromSidecar(c.sidecar, {.euler_floating_base = true});
     const SteppingStonesDiagram d =
         BuildSteppingStonesDiagram(PeriodicSteppingStones(0.5, 0.0, 4, SteppingStoneLengthFor(model)), params, spy);
     EXPECT_EQ(seen.num_task_rows, c.rows) << c.sidecar;

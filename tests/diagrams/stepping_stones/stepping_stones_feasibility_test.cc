@@ -11,7 +11,7 @@ namespace rome {
 namespace {
 
 MultibodyModel Load(const std::string& robot) {
-  return MultibodyModel::LoadFromSidecar("robots/" + robot + "/" + robot + ".rome.json");
+  return MultibodyModel::LoadFromSidecar("robots/" + robot + "/" + robot + ".rome.json", {.euler_floating_base = true});
 }
 
 // The message of the std::invalid_argument that `f` throws ("" if none).
@@ -122,6 +122,15 @@ TEST(SteppingStonesFeasibility, RobotsTheDiagramsCannotUse) {
   EXPECT_NE(Refusal([] { CheckWalkingRobot(Load("amber")); }).find("spatial"), std::string::npos);
   EXPECT_NE(Refusal([] { CheckWalkingRobot(Load("cassie")); }).find("flat feet"), std::string::npos);
   EXPECT_EQ(Refusal([] { CheckWalkingRobot(Load("exoskeleton")); }), "");
+  // The exoskeleton on its default base, the quaternion free-flyer: one line naming the file and the option.
+  const std::string quaternion =
+      Refusal([] { CheckWalkingRobot(MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json")); });
+  EXPECT_NE(quaternion.find("walking diagram: robot 'exoskeleton' has a quaternion floating base (nq = 19, nv = 18)"),
+            std::string::npos)
+      << quaternion;
+  EXPECT_NE(quaternion.find("exoskeleton.rome.json' with LoadOptions::euler_floating_base"), std::string::npos)
+      << quaternion;
+  EXPECT_EQ(quaternion.find('\n'), std::string::npos) << quaternion;
 }
 
 TEST(SteppingStonesInitialState, FarFromTheOriginIsThePoseAtTheOriginMoved) {

@@ -24,8 +24,8 @@ constexpr double kStep = 0.4;
 class SupervisorTest : public ::testing::Test {
  protected:
   SupervisorTest()
-      : model_(std::make_shared<const MultibodyModel>(
-            MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")))),
+      : model_(std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+            rome::test::SourcePath("robots/amber/amber.rome.json"), {.euler_floating_base = true}))),
         terrain_(PeriodicSteppingStones(kStep, 0.0, 6)),
         ws_(*model_) {
     params_.max_steps = 3;

@@ -22,7 +22,9 @@
 namespace rome {
 namespace {
 
-MultibodyModel Amber() { return MultibodyModel::LoadFromSidecar("robots/amber/amber.rome.json"); }
+MultibodyModel Amber() {
+  return MultibodyModel::LoadFromSidecar("robots/amber/amber.rome.json", {.euler_floating_base = true});
+}
 
 SteppingStonesDiagramParams Params(double energy, double eps) {
   SteppingStonesDiagramParams p;
@@ -111,7 +113,8 @@ TEST(PlanTorqueNeed, BadInputIsRefused) {
   EXPECT_THROW(CalcPeriodicPlanTorqueNeed(amber, 0.0, 0.0, 0.1, Params(0.5, 0.6)), std::invalid_argument);
   EXPECT_THROW(CalcPeriodicPlanTorqueNeed(amber, 0.4, 0.0, 0.1, Params(0.5, 0.6), {.samples = 0}),
                std::invalid_argument);
-  const MultibodyModel cassie = MultibodyModel::LoadFromSidecar("robots/cassie_planar/cassie_planar.rome.json");
+  const MultibodyModel cassie =
+      MultibodyModel::LoadFromSidecar("robots/cassie_planar/cassie_planar.rome.json", {.euler_floating_base = true});
   EXPECT_THROW(CalcPeriodicPlanTorqueNeed(cassie, 0.4, 0.0, 0.1, Params(0.5, 0.6)), std::invalid_argument);
 }
 

@@ -677,7 +677,7 @@ TEST(WalkingDiagram, DISABLED_DoubleSupportOnTheBulletPlantCarriesThePlannedForc
 // the walking issue's acceptance on its result: every planned step on its foothold, the COM within 1 cm RMS per axis.
 TEST(WalkingRun, TheHeaderSnippetWalks) {
   // clang-format off
-  auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json"));
+  auto model = std::make_shared<const rome::MultibodyModel>(rome::MultibodyModel::LoadFromSidecar("robots/exoskeleton/exoskeleton.rome.json", {.euler_floating_base = true}));
   rome::StandToWalkParams stand;
   stand.sole = rome::SoleOf(*model, "left_foot");
   const rome::WalkingPlan plan = rome::BuildStandToWalkPlan(rome::WalkingGait{}, 8, 1, nullptr, nullptr, stand);

@@ -31,7 +31,7 @@ struct Walk {
 
 Walk RunShortWalk(PlantBase base) {
   LoadOptions euler;
-  euler.quaternion_floating_base = false;
+  euler.euler_floating_base = true;
   auto model = std::make_shared<const MultibodyModel>(
       MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/exoskeleton/exoskeleton.rome.json"), euler));
   const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_quaternion_test_plans"));

@@ -16,8 +16,8 @@
 namespace rome::test {
 
 inline std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"), {.euler_floating_base = true}));
 }
 
 /// AMBER standing on its left foot at (0, 0) with the COM straight above it, the torso upright and the right

@@ -24,8 +24,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadTestModel(const std::string& name) {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("tests/systems/controllers/data/" + name + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("tests/systems/controllers/data/" + name + ".rome.json"), {.euler_floating_base = true}));
 }
 
 Eigen::VectorXd Stack(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {

@@ -11,8 +11,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"), {.euler_floating_base = true}));
 }
 
 void CheckAgainstFiniteDifferences(const MultibodyModel& model, const TaskSpaceTask& task, const Eigen::VectorXd& q,

@@ -35,7 +35,7 @@ ContactSet AllIndependentContacts(const MultibodyModel& model) {
 class ContactDynamicsTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(ContactDynamicsTest, KktResidualsAndMomentumBalance) {
-  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  const MultibodyModel model = MultibodyModel::Load(GetParam(), "", {.euler_floating_base = true});
   if (model.num_contacts() == 0 && model.num_loop_closures() == 0) GTEST_SKIP();
   MultibodyWorkspace ws(model);
   ConstrainedDynamicsParameters params;
@@ -90,7 +90,7 @@ TEST_P(ContactDynamicsTest, KktResidualsAndMomentumBalance) {
 }
 
 TEST_P(ContactDynamicsTest, ImpactMapStopsContactsAndDissipates) {
-  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  const MultibodyModel model = MultibodyModel::Load(GetParam(), "", {.euler_floating_base = true});
   if (model.num_contacts() == 0) GTEST_SKIP();
   MultibodyWorkspace ws(model);
   ConstrainedDynamicsParameters params;
@@ -136,7 +136,7 @@ TEST_P(ContactDynamicsTest, ImpactMapStopsContactsAndDissipates) {
 // The tree-sparse path (J M^-1 J^T = Z^T Z, Z = D^-1/2 L^-T J^T) and the dense-Cholesky
 // fallback must give the same accelerations, forces and post-impact velocities.
 TEST_P(ContactDynamicsTest, TreeFactorAndDenseCholeskyAgree) {
-  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  const MultibodyModel model = MultibodyModel::Load(GetParam(), "", {.euler_floating_base = true});
   MultibodyWorkspace tree(model), dense(model);
   ASSERT_TRUE(tree.use_tree_factor);
   dense.use_tree_factor = false;
@@ -169,7 +169,7 @@ INSTANTIATE_TEST_SUITE_P(AllModels, ContactDynamicsTest, ::testing::ValuesIn(tes
 TEST(ContactDynamicsUnitTest, RedundantRowsDoNotBreakTheSolve) {
   // biped3d: the flat left foot (6 rows) plus the toe point on a link welded to the same foot
   // (3 rows): 3 rows are redundant; the right line foot and the rod are also active.
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   ConstrainedDynamicsParameters params;
   const int n = model.nv();
@@ -202,7 +202,7 @@ TEST(ContactDynamicsUnitTest, RedundantRowsDoNotBreakTheSolve) {
 }
 
 TEST(ContactDynamicsUnitTest, NoContactsEqualsForwardDynamics) {
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   const int n = model.nv();
   Eigen::VectorXd q = model.q_nominal(), v = Eigen::VectorXd::Random(n), u = Eigen::VectorXd::Random(2);
@@ -216,7 +216,7 @@ TEST(ContactDynamicsUnitTest, NoContactsEqualsForwardDynamics) {
 TEST(ContactDynamicsUnitTest, StandingWalkerForcesAndFrictionCheck) {
   // Symmetric walker standing on both feet with zero velocity: each foot carries roughly half
   // the weight when the hips hold the posture (u from gravity compensation in the stance).
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   const int n = model.nv();
   Eigen::VectorXd q = model.q_nominal(), v = Eigen::VectorXd::Zero(n), u = Eigen::VectorXd::Zero(2);
@@ -240,7 +240,7 @@ TEST(ContactDynamicsUnitTest, StandingWalkerForcesAndFrictionCheck) {
 }
 
 TEST(ContactDynamicsUnitTest, FlatFootCenterOfPressureCheck) {
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   const Eigen::VectorXd q = model.q_nominal();
   ContactWrench w;

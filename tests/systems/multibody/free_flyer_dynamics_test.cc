@@ -21,6 +21,7 @@ using test::DataPath;
 MultibodyModel LoadBiped(bool quaternion) {
   LoadOptions options;
   options.quaternion_floating_base = quaternion;
+  options.euler_floating_base = !quaternion;
   return MultibodyModel::Load(DataPath("biped3d.urdf"), "", options);
 }
 

@@ -21,6 +21,7 @@ using test::DataPath;
 MultibodyModel LoadBiped(bool quaternion) {
   LoadOptions options;
   options.quaternion_floating_base = quaternion;
+  options.euler_floating_base = !quaternion;
   return MultibodyModel::Load(DataPath("biped3d.urdf"), "", options);
 }
 
@@ -112,11 +113,11 @@ TEST(FreeFlyerTest, MapVelocityToQDotMatchesTheDerivativeOfIntegrate) {
   }
 }
 
-TEST(FreeFlyerTest, LoaderOptInKeepsTheEulerModelAndConvertsItsNominalPose) {
+TEST(FreeFlyerTest, LoaderOptionsGiveBothBasesAndConvertTheNominalPose) {
   const MultibodyModel euler = LoadBiped(false), quat = LoadBiped(true);
   EXPECT_FALSE(euler.has_quaternion_base());
   EXPECT_EQ(euler.nq(), euler.nv());
-  EXPECT_STREQ(euler.base_kind(), "spatial");
+  EXPECT_STREQ(euler.base_kind(), "spatial_euler");
   EXPECT_STREQ(quat.base_kind(), "quaternion");
   ASSERT_EQ(quat.nv(), euler.nv());
   EXPECT_EQ(quat.nq(), euler.nq() + 1);
@@ -155,8 +156,49 @@ TEST(FreeFlyerTest, SidecarRequestsTheQuaternionBase) {
     ADD_FAILURE() << "a misspelt base kind loaded";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("box.rome.json"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("expected fixed, planar, spatial or quaternion"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("expected fixed, planar, spatial, quaternion or spatial_euler"),
+              std::string::npos)
         << e.what();
+  }
+}
+
+// The quaternion base is the default for a spatial base, from a URDF floating joint or a sidecar's "spatial"; the
+// Euler base is asked for by the sidecar's "spatial_euler" or LoadOptions::euler_floating_base, and LoadOptions
+// override the sidecar.
+TEST(FreeFlyerTest, QuaternionIsTheDefaultSpatialBaseAndEulerIsAskedFor) {
+  const std::string box = R"(<robot name="box"><link name="box"><inertial><mass value="2"/>
+      <inertia ixx="0.1" iyy="0.2" izz="0.3" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)";
+  const std::string world = R"(<robot name="box"><link name="world"/>
+      <joint name="float" type="floating"><parent link="world"/><child link="box"/></joint>
+      <link name="box"><inertial><mass value="2"/>
+      <inertia ixx="0.1" iyy="0.2" izz="0.3" ixy="0" ixz="0" iyz="0"/></inertial></link></robot>)";
+  auto kind = [](const std::string& urdf, const std::string& sidecar, const LoadOptions& options) {
+    const MultibodyModel m = MultibodyModel::LoadFromText(urdf, sidecar, "box.urdf", "box.rome.json", options);
+    EXPECT_EQ(m.nq(), m.nv() + (m.has_quaternion_base() ? 1 : 0));
+    return std::string(m.base_kind());
+  };
+  const LoadOptions none{}, euler{.euler_floating_base = true}, quaternion{.quaternion_floating_base = true};
+  EXPECT_EQ(kind(world, "", none), "quaternion");
+  EXPECT_EQ(kind(box, R"({"floating_base": "spatial"})", none), "quaternion");
+  EXPECT_EQ(kind(box, R"({"floating_base": "quaternion"})", none), "quaternion");
+  EXPECT_EQ(kind(box, R"({"floating_base": "spatial_euler"})", none), "spatial_euler");
+  EXPECT_EQ(kind(world, R"({"floating_base": "spatial_euler"})", none), "spatial_euler");
+  EXPECT_EQ(kind(world, "", euler), "spatial_euler");
+  EXPECT_EQ(kind(box, R"({"floating_base": "quaternion"})", euler), "spatial_euler");
+  EXPECT_EQ(kind(box, R"({"floating_base": "spatial_euler"})", quaternion), "quaternion");
+  EXPECT_EQ(kind(box, R"({"floating_base": "planar"})", euler), "planar");  // no effect on a planar base
+  EXPECT_EQ(kind(box, "", euler), "fixed");
+  EXPECT_EQ(LoadBiped(false).nq(), 18);
+  EXPECT_EQ(MultibodyModel::Load(DataPath("biped3d.urdf")).nq(), 19);  // its sidecar says "spatial"
+  try {
+    kind(box, R"({"floating_base": "spatial"})", {.euler_floating_base = true, .quaternion_floating_base = true});
+    ADD_FAILURE() << "both base options were accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("box.urdf: LoadOptions::quaternion_floating_base and LoadOptions::euler_floating_base are "
+                        "both set"),
+              std::string::npos)
+        << what;
   }
 }
 
@@ -185,6 +227,7 @@ TEST(FreeFlyerTest, RefusalsNameTheRobotAndTheValue) {
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("system 'plant': robot 'biped3d' has a quaternion floating base"), std::string::npos) << what;
+    EXPECT_NE(what.find("biped3d.rome.json' with LoadOptions::euler_floating_base"), std::string::npos) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos);
   }
   EXPECT_NO_THROW(LoadBiped(false).RequireNqEqualsNv("system 'plant'"));

@@ -51,7 +51,8 @@ double KineticEnergyFromPoses(const MultibodyModel& model, MultibodyWorkspace& w
 }
 
 TEST(MultibodyDynamicsTest, DoublePendulumMassMatrixMatchesClosedForm) {
-  const MultibodyModel model = MultibodyModel::Load(DataPath("double_pendulum.urdf"));
+  const MultibodyModel model =
+      MultibodyModel::Load(DataPath("double_pendulum.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   ASSERT_EQ(model.nv(), 2);
   // Link 1: m1 = 1.5, COM 0.3 from the shoulder axis (the y offset lies along the axis),
@@ -85,7 +86,7 @@ TEST(MultibodyDynamicsTest, MassMatrixIsSymmetricPositiveDefiniteAndEqualsKineti
   std::mt19937 rng(1);
   for (const std::string& urdf : test::AllModelUrdfs()) {
     SCOPED_TRACE(urdf);
-    const MultibodyModel model = MultibodyModel::Load(urdf);
+    const MultibodyModel model = MultibodyModel::Load(urdf, "", {.euler_floating_base = true});
     MultibodyWorkspace ws(model);
     for (int trial = 0; trial < 3; ++trial) {
       Eigen::VectorXd q, v;
@@ -119,7 +120,7 @@ TEST(MultibodyDynamicsTest, BiasForcesMatchLagrangianFiniteDifferences) {
   std::mt19937 rng(2);
   for (const std::string& urdf : test::AllModelUrdfs()) {
     SCOPED_TRACE(urdf);
-    const MultibodyModel model = MultibodyModel::Load(urdf);
+    const MultibodyModel model = MultibodyModel::Load(urdf, "", {.euler_floating_base = true});
     MultibodyWorkspace ws(model);
     const int n = model.nv();
     for (int trial = 0; trial < 3; ++trial) {
@@ -154,7 +155,7 @@ TEST(MultibodyDynamicsTest, BulletForwardDynamicsAndInverseMassMatchCrbaAndRnea)
   std::mt19937 rng(3);
   for (const std::string& urdf : test::AllModelUrdfs()) {
     SCOPED_TRACE(urdf);
-    const MultibodyModel model = MultibodyModel::Load(urdf);
+    const MultibodyModel model = MultibodyModel::Load(urdf, "", {.euler_floating_base = true});
     MultibodyWorkspace ws(model);
     const int n = model.nv();
     for (int trial = 0; trial < 3; ++trial) {
@@ -185,7 +186,7 @@ TEST(MultibodyDynamicsTest, BulletForwardDynamicsAndInverseMassMatchCrbaAndRnea)
 TEST(MultibodyDynamicsTest, TreeSparseFactorSolvesMassMatrix) {
   for (const std::string& urdf : test::AllModelUrdfs()) {
     SCOPED_TRACE(urdf);
-    const MultibodyModel model = MultibodyModel::Load(urdf);
+    const MultibodyModel model = MultibodyModel::Load(urdf, "", {.euler_floating_base = true});
     MultibodyWorkspace ws(model);
     EXPECT_TRUE(ws.use_tree_factor) << "dof order is not parent-first";
     std::mt19937 rng(21);
@@ -217,7 +218,7 @@ TEST(MultibodyDynamicsTest, TreeSparseFactorSolvesMassMatrix) {
 }
 
 TEST(MultibodyDynamicsTest, SpringDeflectsByStaticLoadOverStiffness) {
-  const MultibodyModel model = MultibodyModel::Load(DataPath("spring_arm.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(DataPath("spring_arm.urdf"), "", {.euler_floating_base = true});
   ASSERT_EQ(model.springs().size(), 1u);
   MultibodyWorkspace ws(model);
   const double k = 400.0, m = 2.0, c = 0.4, g = 9.81;
@@ -276,7 +277,7 @@ void Rk4Step(const MultibodyModel& model, MultibodyWorkspace& ws, Eigen::VectorX
 TEST(MultibodyDynamicsTest, PassiveRobotInFlightConservesEnergyAndMomentum) {
   for (const std::string& file : {std::string("walker2d.urdf"), std::string("biped3d.urdf")}) {
     SCOPED_TRACE(file);
-    const MultibodyModel model = MultibodyModel::Load(DataPath(file));
+    const MultibodyModel model = MultibodyModel::Load(DataPath(file), "", {.euler_floating_base = true});
     MultibodyWorkspace ws(model);
     std::mt19937 rng(4);
     Eigen::VectorXd q, v;

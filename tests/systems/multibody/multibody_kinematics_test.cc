@@ -19,7 +19,7 @@ Eigen::Vector3d RotationLog(const Eigen::Matrix3d& R) {
 class KinematicsTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(KinematicsTest, JacobiansMatchFiniteDifferences) {
-  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  const MultibodyModel model = MultibodyModel::Load(GetParam(), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   std::mt19937 rng(7);
   const int n = model.nv();
@@ -100,7 +100,7 @@ INSTANTIATE_TEST_SUITE_P(AllModels, KinematicsTest, ::testing::ValuesIn(test::Al
                          });
 
 TEST(MultibodyKinematicsTest, SpatialBaseCoordinatesAreZyxEuler) {
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nq());
   q.head<6>() << 0.1, -0.2, 0.9, 0.3, -0.4, 0.5;
@@ -117,7 +117,7 @@ TEST(MultibodyKinematicsTest, SpatialBaseCoordinatesAreZyxEuler) {
 }
 
 TEST(MultibodyKinematicsTest, RejectsBadSizesAndIndices) {
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   Eigen::VectorXd q = model.q_nominal();
   Eigen::MatrixXd J(3, model.nv() + 1);

@@ -3,6 +3,7 @@
 // world link and given its floating base by the sidecar (a path of the loader that does not look at
 // floating joints), from the closed form of M's translational block (total mass times identity),
 // and from the joint's <origin> (the nominal base pose).
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <stdexcept>
@@ -105,11 +106,18 @@ void ExpectSameMassMatrix(const MultibodyModel& a, const MultibodyModel& b, doub
 }
 
 TEST(MultibodyModelFloatingJointTest, FloatingJointFromWorldIsTheSpatialBase) {
-  const MultibodyModel with_world =
-      MultibodyModel::LoadFromText(Robot(WorldJoint("floating", "")), "", "walker_world.urdf");
-  const MultibodyModel without_world =
-      MultibodyModel::LoadFromText(Robot(""), R"({"floating_base": "spatial"})", "walker.urdf", "walker.rome.json");
+  // Euler coordinates here, so that both models take the same random q.
+  const MultibodyModel with_world = MultibodyModel::LoadFromText(
+      Robot(WorldJoint("floating", "")), "", "walker_world.urdf", "", {.euler_floating_base = true});
+  const MultibodyModel without_world = MultibodyModel::LoadFromText(
+      Robot(""), R"({"floating_base": "spatial"})", "walker.urdf", "walker.rome.json", {.euler_floating_base = true});
   EXPECT_EQ(with_world.floating_base(), FloatingBaseType::kSpatial);
+  // By default the floating joint is the quaternion free-flyer: one more position coordinate than velocities.
+  const MultibodyModel by_default =
+      MultibodyModel::LoadFromText(Robot(WorldJoint("floating", "")), "", "walker_world.urdf");
+  EXPECT_STREQ(by_default.base_kind(), "quaternion");
+  EXPECT_EQ(by_default.nv(), 6 + 3);
+  EXPECT_EQ(by_default.nq(), 7 + 3);
   EXPECT_EQ(with_world.nv(), 6 + 3);
   EXPECT_FALSE(with_world.HasFrame("world"));
   EXPECT_TRUE(with_world.HasFrame("imu"));
@@ -123,8 +131,9 @@ TEST(MultibodyModelFloatingJointTest, FloatingJointFromWorldIsTheSpatialBase) {
 }
 
 TEST(MultibodyModelFloatingJointTest, FloatingJointOriginIsTheNominalBasePose) {
-  const MultibodyModel model = MultibodyModel::LoadFromText(
-      Robot(WorldJoint("floating", R"(<origin xyz="0.1 -0.2 0.9" rpy="0.3 -0.2 0.5"/>)")), "", "walker_world.urdf");
+  const MultibodyModel model =
+      MultibodyModel::LoadFromText(Robot(WorldJoint("floating", R"(<origin xyz="0.1 -0.2 0.9" rpy="0.3 -0.2 0.5"/>)")),
+                                   "", "walker_world.urdf", "", {.euler_floating_base = true});
   const Eigen::VectorXd& q = model.q_nominal();
   ASSERT_EQ(q.size(), 9);
   // URDF rpy (roll, pitch, yaw) = (0.3, -0.2, 0.5); ROME's base is [x, y, z, yaw, pitch, roll].
@@ -140,10 +149,24 @@ TEST(MultibodyModelFloatingJointTest, FloatingJointOriginIsTheNominalBasePose) {
           .toRotationMatrix();
   EXPECT_LT((X.translation() - Eigen::Vector3d(0.1, -0.2, 0.9)).norm(), 1e-14);
   EXPECT_LT((X.linear() - R).norm(), 1e-14);
+  // The default quaternion base puts the torso at the same pose: q = [p; quaternion of R].
+  const MultibodyModel quat = MultibodyModel::LoadFromText(
+      Robot(WorldJoint("floating", R"(<origin xyz="0.1 -0.2 0.9" rpy="0.3 -0.2 0.5"/>)")), "", "walker_world.urdf");
+  ASSERT_EQ(quat.q_nominal().size(), 10);
+  const Eigen::Quaterniond quat_R(R);
+  EXPECT_LT((quat.q_nominal().head(3) - Eigen::Vector3d(0.1, -0.2, 0.9)).norm(), 1e-14);
+  EXPECT_LT(std::abs(std::abs(quat.q_nominal().segment<4>(3).dot(
+                         Eigen::Vector4d(quat_R.w(), quat_R.x(), quat_R.y(), quat_R.z()))) -
+                     1.0),
+            1e-14);
+  MultibodyWorkspace ws_quat(quat);
+  const Eigen::Isometry3d X_quat = CalcLinkPose(quat, ws_quat, quat.q_nominal(), quat.BodyIndex("torso"));
+  EXPECT_LT((X_quat.matrix() - X.matrix()).cwiseAbs().maxCoeff(), 1e-14);
   // A sidecar nominal base overrides it.
-  const MultibodyModel overridden = MultibodyModel::LoadFromText(
-      Robot(WorldJoint("floating", R"(<origin xyz="0.1 -0.2 0.9" rpy="0.3 -0.2 0.5"/>)")),
-      R"({"nominal_pose": {"base": [0, 0, 1, 0, 0, 0]}})", "walker_world.urdf", "walker_world.rome.json");
+  const MultibodyModel overridden =
+      MultibodyModel::LoadFromText(Robot(WorldJoint("floating", R"(<origin xyz="0.1 -0.2 0.9" rpy="0.3 -0.2 0.5"/>)")),
+                                   R"({"nominal_pose": {"base": [0, 0, 1, 0, 0, 0]}})", "walker_world.urdf",
+                                   "walker_world.rome.json", {.euler_floating_base = true});
   EXPECT_EQ(overridden.q_nominal()[2], 1.0);
   EXPECT_EQ(overridden.q_nominal()[3], 0.0);
 }

@@ -20,7 +20,7 @@ class WorkspaceAllocationTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(WorkspaceAllocationTest, HotPathsDoNotAllocate) {
   if (!ROME_COUNT_MALLOC) GTEST_SKIP() << "malloc cannot be counted under AddressSanitizer";
-  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  const MultibodyModel model = MultibodyModel::Load(GetParam(), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   const int n = model.nv();
   std::mt19937 rng(5);
@@ -94,7 +94,7 @@ INSTANTIATE_TEST_SUITE_P(AllModels, WorkspaceAllocationTest, ::testing::ValuesIn
 // The workspace's Eigen forward-kinematics pass must reproduce Bullet's forwardKinematics (the
 // reference) to round-off, for every model and several random states.
 TEST_P(WorkspaceAllocationTest, EigenKinematicsMatchBulletForwardKinematics) {
-  const MultibodyModel model = MultibodyModel::Load(GetParam());
+  const MultibodyModel model = MultibodyModel::Load(GetParam(), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   std::mt19937 rng(11);
   std::vector<Eigen::Isometry3d> X_bullet;
@@ -113,7 +113,7 @@ TEST_P(WorkspaceAllocationTest, EigenKinematicsMatchBulletForwardKinematics) {
 }
 
 TEST(MultibodyWorkspaceTest, CopiesAreIndependentAndAgree) {
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("biped3d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace a(model);
   std::mt19937 rng(6);
   Eigen::VectorXd q, v;
@@ -133,7 +133,7 @@ TEST(MultibodyWorkspaceTest, CopiesAreIndependentAndAgree) {
 }
 
 TEST(MultibodyWorkspaceTest, StateSizeErrors) {
-  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(test::DataPath("walker2d.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   EXPECT_THROW(ws.SetPositions(model, Eigen::VectorXd::Zero(3)), std::invalid_argument);
   ws.SetPositions(model, model.q_nominal());

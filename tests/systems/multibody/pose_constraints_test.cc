@@ -18,7 +18,8 @@ namespace rome {
 namespace {
 
 MultibodyModel LoadRobot(const std::string& name) {
-  return MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + name + "/" + name + ".rome.json"));
+  return MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + name + "/" + name + ".rome.json"),
+                                         {.euler_floating_base = true});
 }
 
 Eigen::Vector3d ContactOrigin(const MultibodyModel& model, MultibodyWorkspace& ws, const Eigen::VectorXd& q,
@@ -249,8 +250,8 @@ TEST(PoseConstraintsTest, JacobianMatchesFiniteDifferences) {
 // its 2.5 rad limit: with respect_joint_limits the elbow stays within [-2.5, 2.5] and the shoulder carries the rest;
 // the tip is checked with the kinematics directly.
 TEST(PoseConstraintsTest, RespectJointLimitsKeepsTheElbowInsideItsLimitAndStillReachesTheTarget) {
-  const MultibodyModel model =
-      MultibodyModel::Load(rome::test::SourcePath("tests/systems/multibody/data/double_pendulum.urdf"));
+  const MultibodyModel model = MultibodyModel::Load(
+      rome::test::SourcePath("tests/systems/multibody/data/double_pendulum.urdf"), "", {.euler_floating_base = true});
   MultibodyWorkspace ws(model);
   const int lower = model.BodyIndex("lower");
   const Eigen::Vector3d tip(0, 0, -0.5);

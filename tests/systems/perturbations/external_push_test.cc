@@ -21,8 +21,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Amber() {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/amber/amber.rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/amber/amber.rome.json"), {.euler_floating_base = true}));
 }
 
 // Adds the push and a zero-torque source next to `plant` (named "plant") and connects them.

@@ -17,7 +17,8 @@ namespace rome {
 namespace {
 
 MultibodyModel Load(const std::string& robot) {
-  return MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"));
+  return MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"),
+                                         {.euler_floating_base = true});
 }
 
 TEST(ScaleMassAndFriction, ScalesTheMassMatrixAndTotalMassByTheFactor) {

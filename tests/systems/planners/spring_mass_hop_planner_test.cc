@@ -21,7 +21,8 @@ constexpr double kStandingLegLength = 0.85;  // [m] ≈ L(q_knee = −1.2 rad), 
 SpringMassParams Rom(LegStiffnessVariant variant) {
   SpringMassParams p;
   if (variant == LegStiffnessVariant::kIdentified) {
-    static const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
+    static const MultibodyModel model =
+        MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"), "", {.euler_floating_base = true});
     static const SpringMassParams identified = CassieSpringMassParams(model, LegStiffnessVariant::kIdentified);
     p = identified;
   }

@@ -18,7 +18,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> Load(const std::string& sidecar) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(rome::test::SourcePath(sidecar)));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(rome::test::SourcePath(sidecar), {.euler_floating_base = true}));
 }
 
 TEST(BulletWorldPlantAllocation, CountingWorks) {

@@ -28,7 +28,8 @@ namespace {
 std::string Source(const std::string& path) { return rome::test::SourcePath(path); }
 
 std::shared_ptr<const MultibodyModel> LoadSidecar(const std::string& path) {
-  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(Source(path)));
+  return std::make_shared<const MultibodyModel>(
+      MultibodyModel::LoadFromSidecar(Source(path), {.euler_floating_base = true}));
 }
 
 ContactModeGraph NoContacts() {
@@ -70,8 +71,8 @@ ContactModeGraph BoxGraph(const std::string& initial_mode) {
 // over 10 s at 1 kHz |E(t) - E(0)| stays below 2.5 % of the potential-energy swing m g Δz ~ 22.6 J (bound ours;
 // measured 1.3 %, growing steadily), and 10 substeps (0.1 ms) cut it at least fivefold (first order).
 TEST(BulletWorldPlant, FreePendulumEnergyDriftIsBoundedOver10sAt1kHz) {
-  auto model = std::make_shared<const MultibodyModel>(
-      MultibodyModel::Load(Source("tests/systems/multibody/data/double_pendulum.urdf")));
+  auto model = std::make_shared<const MultibodyModel>(MultibodyModel::Load(
+      Source("tests/systems/multibody/data/double_pendulum.urdf"), "", {.euler_floating_base = true}));
   MultibodyWorkspace ws(*model);
   auto energy = [&](const Eigen::VectorXd& x) {
     return CalcKineticEnergy(*model, ws, x.head(2), x.tail(2)) + CalcPotentialEnergy(*model, ws, x.head(2));

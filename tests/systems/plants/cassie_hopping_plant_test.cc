@@ -27,8 +27,8 @@ namespace {
 constexpr double kGravity = 9.81;
 
 std::shared_ptr<const MultibodyModel> LoadCassie() {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/cassie/cassie.rome.json"), {.euler_floating_base = true}));
 }
 
 SimulatorConfig Tight() {

@@ -17,8 +17,8 @@ namespace {
 constexpr double kG = 9.81;  // MultibodyModel gravity [m/s^2]
 
 std::shared_ptr<const MultibodyModel> LoadTestModel(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("tests/systems/plants/data/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("tests/systems/plants/data/" + robot + ".rome.json"), {.euler_floating_base = true}));
 }
 
 SimulatorConfig Tight() {

@@ -26,6 +26,7 @@ constexpr double kG = 9.81;
 std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot, bool quaternion) {
   LoadOptions options;
   options.quaternion_floating_base = quaternion;
+  options.euler_floating_base = !quaternion;
   return std::make_shared<const MultibodyModel>(
       MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"), options));
 }

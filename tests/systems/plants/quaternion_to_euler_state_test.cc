@@ -24,6 +24,7 @@ namespace {
 std::shared_ptr<const MultibodyModel> LoadCassie(bool quaternion) {
   LoadOptions options;
   options.quaternion_floating_base = quaternion;
+  options.euler_floating_base = !quaternion;
   return std::make_shared<const MultibodyModel>(
       MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/cassie/cassie.rome.json"), options));
 }
@@ -164,7 +165,9 @@ TEST(QuaternionToEulerState, BlockOutputsTheMapAndRefusesModelsThatAreNotTwins) 
     QuaternionToEulerState swapped("swapped", quat, euler);
     FAIL() << "swapped models accepted";
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("not 'spatial'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(the Euler model) has base 'quaternion', not 'spatial_euler'"),
+              std::string::npos)
+        << e.what();
   }
   auto twin = LoadQuaternionTwin(*euler);
   EXPECT_TRUE(twin->has_quaternion_base());

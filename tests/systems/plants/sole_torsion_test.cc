@@ -35,7 +35,7 @@ std::shared_ptr<const MultibodyModel> Block() {
   </link>
 </robot>)";
   const std::string sidecar = R"({
-  "robot": "twisted_block", "urdf": "twisted_block.urdf", "floating_base": "spatial",
+  "robot": "twisted_block", "urdf": "twisted_block.urdf", "floating_base": "spatial_euler",
   "contacts": [{"name": "sole", "link": "block", "type": "flat", "friction_coefficient": 0.8,
                 "points": [[0.1, 0.05, -0.05], [-0.1, 0.05, -0.05], [-0.1, -0.05, -0.05], [0.1, -0.05, -0.05]]}],
   "nominal_pose": {"base": [0.0, 0.0, 0.05, 0.0, 0.0, 0.0]}

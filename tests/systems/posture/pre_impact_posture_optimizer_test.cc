@@ -16,8 +16,8 @@ namespace rome {
 namespace {
 
 std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot) {
-  return std::make_shared<const MultibodyModel>(
-      MultibodyModel::LoadFromSidecar(rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json")));
+  return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
+      rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"), {.euler_floating_base = true}));
 }
 
 Eigen::Vector3d FootPosition(const MultibodyModel& model, const Eigen::VectorXd& q, const std::string& contact) {

@@ -19,7 +19,8 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 const MultibodyModel& Cassie() {
-  static const MultibodyModel model = MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"));
+  static const MultibodyModel model =
+      MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"), "", {.euler_floating_base = true});
   return model;
 }
 

@@ -20,8 +20,8 @@ namespace rome {
 namespace {
 
 TEST(SpringMassStandingDeflection, PlantMatchesIdentifiedStiffness) {
-  auto model =
-      std::make_shared<const MultibodyModel>(MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf")));
+  auto model = std::make_shared<const MultibodyModel>(
+      MultibodyModel::Load(rome::test::SourcePath("robots/cassie/cassie.urdf"), "", {.euler_floating_base = true}));
   const int nu = model->nu(), nv = model->nv();
   JointPdGains gains;
   gains.kp.resize(nu);
