@@ -32,14 +32,14 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.force_band_at_hold_end = true;     // the band on the force at the end of the held sample (ours)
   p.force_band_margin_N = 0.5;         // ours: the plant misses an edge the QP holds by < 0.05 N (design notes)
   p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
-  // Ours (spec [R]: |τ_z| ≤ 0.02 m f_z): |τ_z| ≤ 0.1 m f_z wherever the CoP is. corner_wrench_cone (off): a rigid
-  // sole's four-corner cone with the sole's own μ (BuildWalkingDiagram sets it when < 0), its yaw rows on the CoP
-  // rows' sole (corner_cone_yaw_margin_m < 0); not the default: 2 (yaw rows on the whole sole less 2 mm) to 7
-  // closed-loop tests then fail (docs/design-notes.md#walking-sole-torsion).
-  p.contact.corner_wrench_cone = false;
-  p.contact.corner_cone_yaw_margin_m = -1.0;
+  // Ours (spec [R]: |τ_z| ≤ 0.02 m f_z): a rigid sole's four-corner wrench cone, so that the QP asks no more torsion
+  // than the plant's four corners (sole_torsion) or Bullet's hold. Its yaw rows on the whole sole less 2 mm, and the
+  // corners' μ 0.75 against the sole's 0.8: a relative margin for the wrench's drift over a held sample as a foot
+  // unloads (docs/design-notes.md#walking-strict-sole-default). yaw_moment_coefficient_m is unused with it.
+  p.contact.corner_wrench_cone = true;
+  p.contact.corner_cone_yaw_margin_m = 0.002;
   p.contact.yaw_moment_coefficient_m = 0.1;
-  p.contact.corner_cone_friction_coefficient = -1.0;
+  p.contact.corner_cone_friction_coefficient = 0.75;
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on
                                   // the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;
@@ -52,6 +52,12 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   // (docs/design-notes.md#walking-controller-defaults).
   p.cost_pd_feedback = true;
   p.force_band_loading_floor_N = -1.0;  // set by the builder: 2 x the plant's planned lift-off force (2 % of m g, ours)
+  return p;
+}
+
+HybridContactPlantParams WalkingDiagramParams::DefaultWalkingPlantParams() {
+  HybridContactPlantParams p;
+  p.sole_torsion = true;  // the sole as strict as a rigid sole's four corners, as on Bullet (ours)
   return p;
 }
 

@@ -75,8 +75,8 @@ namespace rome {
 enum WalkingPlantMode : int { kWalkingLeftStance = 0, kWalkingDoubleSupport = 1, kWalkingRightStance = 2 };
 
 struct WalkingDiagramParams {
-  HybridContactPlantParams
-      plant;  ///< PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
+  /// PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
+  HybridContactPlantParams plant = DefaultWalkingPlantParams();
   /// PlantKind::kBullet (defaults: 1 ms step, the controller's 1 kHz; rigid contact, μ from the sidecar). Its
   /// planned_liftoff_force_N, min_time_in_mode_s and planned_liftoff_min_contact_s, when left at their "off" defaults,
   /// are taken from `plant` (the trailing foot is released at 1 % of m g on either plant; a foot is released by that
@@ -113,6 +113,8 @@ struct WalkingDiagramParams {
   /// differing: yaw |τ_z| ≤ 0.1 m f_z, the torque penalty 3e-8, and the cost's target is the outputs' PD law
   /// (cost_pd_feedback), not the spec's minimum-norm μ = 0 (docs/design-notes.md#walking-controller-defaults).
   static ClfQpParams DefaultWalkingControllerParams();
+  /// The hybrid plant's defaults with sole_torsion on (the four-corner soles slip torsionally as a rigid sole's do).
+  static HybridContactPlantParams DefaultWalkingPlantParams();
 
   /// Throws std::invalid_argument "WalkingDiagramParams: FIELD = VALUE is outside RANGE" for the first field out of
   /// its range (the ranges the CLI enforces; BuildWalkingDiagram calls it first).

@@ -96,21 +96,22 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("clf-cost-target", "pd",
               "pd | min-norm: the CLF-QP cost tracks each output's PD law (ours, default) or its feedforward ÿ_d (spec "
               "§5.5 [C22]: minimum-norm μ = 0)")
-      .Option("sole-torsion", "coefficient",
+      .Option("sole-torsion", "corner-cone",
               "coefficient | corner-cone: the CLF-QP bounds each sole's yaw moment by |tau_z| <= 0.1 m f_z wherever "
-              "the CoP is (ours, default; more than a rigid sole holds near an edge: on the Bullet plant the feet "
-              "slide) or each sole's wrench by the contact wrench cone of its four corners (a rigid sole: less torsion "
-              "where the CoP nears an edge or the foot carries a tangential force; Bullet's feet hold, but gait B and "
-              "the gait changes ask more than it allows)")
-      .Option("sole-torsion-margin", "-1",
-              "corner-cone: the yaw rows' half-sizes are the whole sole's less this margin [m] (ours; < 0, default: "
-              "the CoP rows' sole, 1 cm inside its edges)")
-      .Option("plant-sole-torsion", "off",
+              "the CoP is (more than a rigid sole holds near an edge: on the Bullet plant the feet slide) or each "
+              "sole's wrench by the contact wrench cone of its four corners (ours, default: a rigid sole, less torsion "
+              "where the CoP nears an edge or the foot carries a tangential force)")
+      .Option("sole-torsion-margin", "0.002",
+              "corner-cone: the yaw rows' half-sizes are the whole sole's less this margin [m] (ours; < 0: the CoP "
+              "rows' sole, 1 cm inside its edges)")
+      .Option("plant-sole-torsion", "on",
               "on | off: the hybrid plant's four-corner soles also slip torsionally outside their corners' wrench cone "
-              "(HybridContactPlantParams::sole_torsion; off, the default: only the friction cone)")
-      .Option("sole-torsion-friction", "-1",
+              "(HybridContactPlantParams::sole_torsion; on, the default, as a rigid sole; off: only the friction "
+              "cone)")
+      .Option("sole-torsion-friction", "0.75",
               "corner-cone: the friction coefficient of the corners' pyramids in the yaw rows (inscribed in the "
-              "cone); < 0: the sole's own (the robot file's, 0.8 for the exoskeleton)")
+              "cone; ours, 0.75: a relative margin below the exoskeleton sole's 0.8 for the force's drift over a held "
+              "sample); < 0: the sole's own (the robot file's)")
       .Option("foothold-tolerance", "0.05",
               "a touchdown counts as a step only this close to its planned foothold [m] (ours)")
       .Option("plant", "hybrid",

@@ -10,10 +10,10 @@ tests/systems/plants/sole_torsion_test.cc:
     the planned lift-off releases the sole at the first world step, unless the contact must have touched for
     planned_liftoff_min_contact_s first: then no earlier than that.
 And ContactWrenchParams.corner_cone_yaw_margin_m on the walking diagram (the exoskeleton's 0.25 x 0.10 m sole, the
-CLF-QP's corner cone with the sole's mu 0.8, inscribed: 0.566): gait A's plan asks a stance yaw moment of up to
-0.082 m F_z (plan_inverse_dynamics, docs/design-notes.md#walking-sole-torsion). With the yaw rows on the whole sole
-less 2 mm, 0.566 (0.123 + 0.048) = 0.097 m F_z at the centre, gait A walks; less 45 mm, 0.566 (0.080 + 0.005) =
-0.048 m F_z, below the plan's need, the controller cannot give the swing leg's reaction and the run fails.
+CLF-QP's corner cone with the walking default's mu 0.75, inscribed: 0.530): gait A's plan asks a stance yaw moment of
+up to 0.082 m F_z (plan_inverse_dynamics, docs/design-notes.md#walking-sole-torsion). With the yaw rows on the whole
+sole less 2 mm, 0.530 (0.123 + 0.048) = 0.091 m F_z at the centre, gait A walks; less 45 mm, 0.530 (0.080 + 0.005) =
+0.045 m F_z, below the plan's need, the controller cannot give the swing leg's reaction and the run fails.
 """
 import math
 
@@ -142,7 +142,9 @@ def gait_a_on_its_orbit(yaw_margin_m):
 
 
 def test_corner_cone_yaw_margin_m_bounds_the_torsion_the_controller_can_ask():
-    sole_x, sole_y, mu_corner = 0.125, 0.05, 0.8 / math.sqrt(2.0)  # the exoskeleton's sole (half-sizes) and mu'
+    mu = rome.WalkingDiagramParams().controller.contact.corner_cone_friction_coefficient
+    assert mu == 0.75, mu  # the walking default; the bounds below are written for it
+    sole_x, sole_y, mu_corner = 0.125, 0.05, mu / math.sqrt(2.0)  # the exoskeleton's sole (half-sizes) and mu'
     need = 0.082  # [m F_z] gait A's largest stance yaw moment (plan_inverse_dynamics)
     wide, narrow = 0.002, 0.045
     assert mu_corner * (sole_x + sole_y - 2 * wide) > need > mu_corner * (sole_x + sole_y - 2 * narrow)

@@ -1,5 +1,5 @@
-// Issue 39 §5 on the Bullet plant (joint limits off; the four-corner sole cone with its 2 mm yaw margin,
-// `walking --sole-torsion corner-cone --sole-torsion-margin 0.002 --plant bullet --joint-limits off`): gait B on its
+// Issue 39 §5 on the Bullet plant (joint limits off; the default four-corner sole cone, μ 0.75 and a 2 mm yaw margin,
+// `walking --plant bullet --joint-limits off`): gait B on its
 // orbit (started mid double support), gait A → B from standing and gait B from standing through the gait graph, 10
 // steps of each gait. Judged from the PLANT at every simulator sample, with the issue's thresholds:
 //  * no foot slides more than 1 cm: each sole corner that rests on the ground (within 1 mm of it) is followed from
@@ -39,9 +39,7 @@ const WalkingGait kGaitB{0.40, 0.40, 0.10, 0.25};
 
 WalkingDiagramParams BulletParams() {
   WalkingDiagramParams params;
-  params.controller.contact.corner_wrench_cone = true;         // with the sole's μ (BuildWalkingDiagram)
-  params.controller.contact.corner_cone_yaw_margin_m = 0.002;  // --sole-torsion-margin 0.002
-  params.bullet_plant.enable_joint_limits = false;             // the plans bend the ankles beyond the URDF's
+  params.bullet_plant.enable_joint_limits = false;  // the plans bend the ankles beyond the URDF's (the sole: defaults)
   return params;
 }
 

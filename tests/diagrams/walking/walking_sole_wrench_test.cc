@@ -1,5 +1,6 @@
-// The walking closed loop with the CLF-QP's four-corner sole cone (ContactWrenchParams::corner_wrench_cone with the
-// sole's μ, `walking --sole-torsion corner-cone`; not the default) against a rigid
+// The walking closed loop with its default sole settings (the CLF-QP's four-corner sole cone,
+// ContactWrenchParams::corner_wrench_cone with μ 0.75 and its yaw rows on the sole less 2 mm; the hybrid plant's
+// torsional slip, HybridContactPlantParams::sole_torsion) against a rigid
 // sole's four-corner wrench cone, checked from the PLANT (issue 39, "the two plants disagree"): at every monitor sample
 // of a short walking run, on the hybrid plant (the wrench of its constrained dynamics at its state and the torque it
 // applies) and on the Bullet plant (the mean ground wrench of its last step, from Bullet's manifold points), each
@@ -108,8 +109,7 @@ void RunAndCheckSoleWrench(PlantKind plant_kind, Scenario scenario, double end_t
                                ? BuildPeriodicWalkingPlan(gait, 6 + run.trailing_steps, 1, &cache, stand)
                                : BuildStandToWalkPlan(gait, 4, 1, &cache, nullptr, stand);
   WalkingDiagramParams params;
-  params.controller.contact.corner_wrench_cone = true;  // with the sole's μ (BuildWalkingDiagram)
-  params.bullet_plant.enable_joint_limits = false;      // the plans bend the ankles beyond the URDF's (docs/walking.md)
+  params.bullet_plant.enable_joint_limits = false;  // the plans bend the ankles beyond the URDF's (docs/walking.md)
   const WalkingDiagram d = BuildWalkingDiagram(model, plan, params, plant_kind);
   if (scenario == Scenario::kPeriodic) run.start_time_s = 0.5 * gait.dsp_duration_s, run.start_at_rest = false;
   if (std::isfinite(end_time_s)) run.end_time_s = end_time_s;
