@@ -18,8 +18,9 @@
 //                    v = [v_B, w_B, joint rates]: the base twist in base coordinates; the
 //                    convention, Integrate and Difference are in free_flyer.h. No singularity.
 //                    Joint coordinate k of v is entry k + 1 of q (PositionIndex).
-//                    HybridContactPlant runs it; BulletWorldPlant, the pose solver and the walking and hopping
-//                    diagrams refuse it (RequireNqEqualsNv, one line naming the file and the option). Bullet is not
+//                    HybridContactPlant and the pose solver (SolvePose) run it; BulletWorldPlant and the walking and
+//                    hopping diagrams' own models refuse it (RequireNqEqualsNv, one line naming the file and the
+//                    option; the diagrams' plants may run the quaternion twin, PlantBase). Bullet is not
 //                    used (forward dynamics and M^-1 go through the CRBA and the tree factor).
 //   "spatial_euler": q = [x, y, z, yaw, pitch, roll, joints] (opt-in; floating_base() is kSpatial for both)
 //                    R_world_base = Rz(yaw) Ry(pitch) Rx(roll) (ZYX Euler).

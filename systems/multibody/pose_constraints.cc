@@ -84,7 +84,12 @@ std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstr
     case PoseConstraint::Kind::kCom: s << "COM " << AxisName(c.axis); break;
     case PoseConstraint::Kind::kCoordinate:
       s << "q[" << c.coordinate << "]";
-      if (c.coordinate >= 0 && c.coordinate < model.nq()) s << " (" << model.JointName(c.coordinate) << ")";
+      if (c.coordinate >= 0 && c.coordinate < model.nq()) {
+        if (!model.has_quaternion_base() || c.coordinate >= 7)
+          s << " (" << model.JointName(model.has_quaternion_base() ? c.coordinate - 1 : c.coordinate) << ")";
+        else
+          s << (c.coordinate < 3 ? " (base position)" : " (base quaternion)");
+      }
       break;
     case PoseConstraint::Kind::kLoopClosure:
       s << "loop closure ";
@@ -98,7 +103,6 @@ std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstr
 }
 
 void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<PoseConstraint>& constraints) {
-  model.RequireNqEqualsNv("pose constraints");  // Newton steps q += dq and q-coordinate rows index q by v
   const std::string who = "pose constraints for robot '" + model.name() + "': ";
   if (constraints.empty()) throw std::invalid_argument(who + "no constraints given");
   for (std::size_t i = 0; i < constraints.size(); ++i) {
@@ -123,6 +127,10 @@ void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<Pose
         if (c.coordinate < 0 || c.coordinate >= model.nq())
           throw std::invalid_argument(what + "names coordinate " + std::to_string(c.coordinate) +
                                       ", the model has nq = " + std::to_string(model.nq()));
+        if (model.has_quaternion_base() && c.coordinate >= 3 && c.coordinate < 7)
+          throw std::invalid_argument(what +
+                                      "is an entry of the base quaternion, which is not a coordinate of its "
+                                      "own: constrain the base's orientation by points on it (Point)");
         break;
       case PoseConstraint::Kind::kLoopClosure:
         if (c.loop_closure < 0 || c.loop_closure >= model.num_loop_closures())
@@ -163,7 +171,14 @@ void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
       case PoseConstraint::Kind::kCoordinate:
         residual[r] = q[c.coordinate] - c.target;
         jacobian.row(r).setZero();
-        jacobian(r, c.coordinate) = 1.0;
+        if (!model.has_quaternion_base()) {
+          jacobian(r, c.coordinate) = 1.0;
+        } else if (c.coordinate >= 7) {
+          jacobian(r, c.coordinate - 1) = 1.0;  // joint coordinate k is velocity k - 1 after the 7-number base
+        } else {  // the base position: dp/dt = R v_B (free_flyer.h); ValidatePoseConstraints refuses quaternion entries
+          const Eigen::Quaterniond R(q[3], q[4], q[5], q[6]);
+          jacobian.block<1, 3>(r, 0) = R.normalized().toRotationMatrix().row(c.coordinate);
+        }
         break;
       case PoseConstraint::Kind::kLoopClosure: {
         const LoopClosureInfo& lc = model.loop_closures()[c.loop_closure];
@@ -184,24 +199,29 @@ void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
 namespace {
 
 // One Newton step of SolvePose inside the joint limits: the minimum-norm step with every coordinate that sits on a
-// limit and would move beyond it frozen (its column of C zeroed), then clamped to the limits.
+// limit and would move beyond it frozen (its column of C zeroed), then clamped to the limits. Columns are velocities:
+// joint coordinate k of a quaternion-base model is velocity k - 1, and the base's twist has no limits.
 void BoundedNewtonStep(const MultibodyModel& model, const Eigen::MatrixXd& C, const Eigen::VectorXd& c,
                        Eigen::VectorXd& q) {
   const Eigen::VectorXd &lo = model.position_lower_limits(), &hi = model.position_upper_limits();
   q = q.cwiseMax(lo).cwiseMin(hi);
   Eigen::MatrixXd Cf = C;
-  Eigen::VectorXd dq = -Cf.completeOrthogonalDecomposition().solve(c);
-  for (Eigen::Index pass = 0; pass < q.size(); ++pass) {
+  Eigen::VectorXd dv = -Cf.completeOrthogonalDecomposition().solve(c);
+  for (Eigen::Index pass = 0; pass < dv.size(); ++pass) {
     bool frozen = false;
-    for (Eigen::Index i = 0; i < q.size(); ++i)
-      if (Cf.col(i).squaredNorm() > 0 && ((q[i] >= hi[i] && dq[i] > 0) || (q[i] <= lo[i] && dq[i] < 0))) {
+    for (Eigen::Index i = 0; i < dv.size(); ++i) {
+      const int k = model.PositionIndexOfVelocity(static_cast<int>(i));
+      if (k >= 0 && Cf.col(i).squaredNorm() > 0 && ((q[k] >= hi[k] && dv[i] > 0) || (q[k] <= lo[k] && dv[i] < 0))) {
         Cf.col(i).setZero();
         frozen = true;
       }
+    }
     if (!frozen) break;
-    dq = -Cf.completeOrthogonalDecomposition().solve(c);
+    dv = -Cf.completeOrthogonalDecomposition().solve(c);
   }
-  q = (q + dq).cwiseMax(lo).cwiseMin(hi);
+  Eigen::VectorXd next(q.size());
+  model.Integrate(q, dv, 1.0, next);
+  q = next.cwiseMax(lo).cwiseMin(hi);
 }
 
 }  // namespace
@@ -224,10 +244,14 @@ Eigen::VectorXd SolvePose(const MultibodyModel& model, MultibodyWorkspace& ws, c
     CalcPoseConstraints(model, ws, q, constraints, c, C);
     if (c.norm() < options.tolerance) return q;
     if (it == options.max_iterations || !c.allFinite()) break;
-    if (options.respect_joint_limits)
+    if (options.respect_joint_limits) {
       BoundedNewtonStep(model, C, c, q);
-    else
-      q -= C.completeOrthogonalDecomposition().solve(c);
+    } else {
+      const Eigen::VectorXd dv = -C.completeOrthogonalDecomposition().solve(c);
+      Eigen::VectorXd next(q.size());
+      model.Integrate(q, dv, 1.0, next);  // q + dv, the base quaternion by its exponential
+      q = next;
+    }
   }
   Eigen::Index worst = 0;
   if (c.allFinite()) c.cwiseAbs().maxCoeff(&worst);

@@ -6,9 +6,11 @@
 // (e.g. the base pitch), or the length error of one of the model's loop closures. SolvePose() finds q by Newton
 // iterations with minimum-norm steps from a start q0:
 //
-//   c_k = g(q_k) - target,   C_k = dg/dq (q_k)  (rows of CalcPointJacobian / CalcComJacobian / unit rows),
-//   q_{k+1} = q_k - C_k^+ c_k                    (C^+ from a complete orthogonal decomposition),
+//   c_k = g(q_k) - target,   C_k = dg/dv (q_k)  (rows of CalcPointJacobian / CalcComJacobian / unit rows),
+//   q_{k+1} = Integrate(q_k, -C_k^+ c_k, 1)      (C^+ from a complete orthogonal decomposition),
 //
+// where Integrate is MultibodyModel::Integrate: q + dv, except on the quaternion base, whose quaternion moves by its
+// exponential and stays a unit quaternion (nq = nv + 1; C has nv columns, the base twist first).
 // until |c_k|_2 < tolerance. With fewer constraints than nv the step is the smallest change of q that zeroes the
 // linearised residual, so the solution stays close to q0 (the free directions keep their start values to first
 // order); redundant but consistent constraints are harmless. Positions are world coordinates in m, generalized
@@ -56,7 +58,9 @@ struct PoseConstraint {
                               int axis, double target);
   /// Coordinate `axis` of the whole-body COM.
   static PoseConstraint Com(int axis, double target);
-  /// q[index] = target (e.g. index num_base_dofs() - 1 is the base pitch of a planar model).
+  /// q[index] = target (e.g. index num_base_dofs() - 1 is the base pitch of a planar model). On the quaternion base,
+  /// q[0..2] is the base position and q[7..] the joints; the quaternion's entries q[3..6] cannot be constrained one by
+  /// one (ValidatePoseConstraints refuses them): constrain points on the base instead.
   static PoseConstraint Coordinate(int index, double target);
   /// Loop closure `index` holds its length (|p_a − p_b| = distance_m; e.g. planar Cassie's achilles rods).
   static PoseConstraint LoopClosure(int index);
@@ -78,11 +82,12 @@ std::string DescribePoseConstraint(const MultibodyModel& model, const PoseConstr
 
 /// Checks a request without evaluating it. Throws std::invalid_argument naming the first bad constraint: axis not
 /// in {0, 1, 2}; a y (axis 1) point or COM constraint on a planar model (motion is in the x-z plane, so y cannot be
-/// changed); body or coordinate index out of range; non-finite target; an empty list.
+/// changed); body or coordinate index out of range; an entry of a base quaternion; non-finite target; an empty list.
 void ValidatePoseConstraints(const MultibodyModel& model, const std::vector<PoseConstraint>& constraints);
 
-/// Residual c = g(q) - target (size m) and Jacobian C = dg/dq (m x nv) of the constraints at q (m =
-/// constraints.size()). Does not validate (call ValidatePoseConstraints once). No heap allocation.
+/// Residual c = g(q) - target (size m) and Jacobian C = dg/dv (m x nv; dg/dq on every base but the quaternion's) of the
+/// constraints at q (m = constraints.size()). Does not validate (call ValidatePoseConstraints once). No heap
+/// allocation.
 void CalcPoseConstraints(const MultibodyModel& model, MultibodyWorkspace& ws,
                          const Eigen::Ref<const Eigen::VectorXd>& q, const std::vector<PoseConstraint>& constraints,
                          Eigen::Ref<Eigen::VectorXd> residual, Eigen::Ref<Eigen::MatrixXd> jacobian);
