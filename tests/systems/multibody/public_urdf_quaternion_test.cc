@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -37,14 +36,26 @@ std::string ReadText(const std::string& path) {
   return s.str();
 }
 
-// The <mass> values outside XML comments (atlas_v3_no_head.urdf keeps the head's link in a comment).
+// The <mass value="..."> values outside XML comments (atlas_v3_no_head.urdf keeps the head's link in a comment). Plain
+// string scanning: std::regex trips GCC 12's -Wmaybe-uninitialized in the sanitizer build.
 double SumOfMasses(const std::string& urdf_with_comments) {
-  static const std::regex comment(R"re(<!--[\s\S]*?-->)re");
-  static const std::regex mass(R"re(<mass\s+value\s*=\s*"([^"]+)")re");
-  const std::string urdf = std::regex_replace(urdf_with_comments, comment, "");
+  std::string urdf;
+  for (size_t at = 0; at < urdf_with_comments.size();) {
+    const size_t open = urdf_with_comments.find("<!--", at);
+    urdf += urdf_with_comments.substr(at, open == std::string::npos ? std::string::npos : open - at);
+    if (open == std::string::npos) break;
+    const size_t close = urdf_with_comments.find("-->", open + 4);
+    if (close == std::string::npos) break;
+    at = close + 3;
+  }
   double sum = 0.0;
-  for (auto it = std::sregex_iterator(urdf.begin(), urdf.end(), mass); it != std::sregex_iterator(); ++it)
-    sum += std::stod((*it)[1].str());
+  for (size_t at = urdf.find("<mass"); at != std::string::npos; at = urdf.find("<mass", at + 5)) {
+    const size_t end = urdf.find('>', at);
+    const size_t value = urdf.find("value", at);
+    if (value == std::string::npos || value > end) continue;
+    const size_t quote = urdf.find_first_of("\"'", value);
+    sum += std::stod(urdf.substr(quote + 1, urdf.find(urdf[quote], quote + 1) - quote - 1));
+  }
   return sum;
 }
 
