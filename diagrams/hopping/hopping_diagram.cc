@@ -149,7 +149,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   params.Validate();
   if (!controller_factory) throw std::invalid_argument("BuildHoppingDiagram: the controller factory is empty");
   if (!model) throw std::invalid_argument("BuildHoppingDiagram: the model is null");
-  // `model` is the reference's, the pose solver's and the controller's: the Euler base (plant_base picks the plant's).
+  // `model` is the reference's and the pose solver's: the Euler base (plant_base picks the plant's and the
+  // controller's).
   model->RequireNqEqualsNv("BuildHoppingDiagram");
   HoppingDiagram d;
   d.model = model;
@@ -183,7 +184,8 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   d.plant = b.AddSystem(MakeContactPlant(plant, "plant", plant_model,
                                          ContactModeGraph::JumpFlightLanding("left_foot", "right_foot"),
                                          Terrain::Flat(), plant_params, bullet_params));
-  // The Euler state the reference, the controller and the logger read: the plant's, or its map on the quaternion base.
+  // The Euler state the reference and the logger read: the plant's, or its map on the quaternion base. The controller
+  // runs on the plant's base and reads the plant's state.
   std::string state_source = "plant";
   if (params.plant_base == PlantBase::kQuaternion) {
     d.euler_state =
@@ -194,9 +196,9 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   d.reference = b.AddSystem(std::make_unique<HoppingReference>("reference", model, leg_length, std::move(jump_planner),
                                                                std::move(landing_planner), d.layout, params.reference));
   HoppingControllerSpec spec;
-  spec.model = model;
+  spec.model = base_model;
   spec.mode_contacts = ActiveContactsPerMode(*d.plant);
-  spec.outputs = MakeHoppingOutputs(*model, leg_length, params.outputs);
+  spec.outputs = MakeHoppingOutputs(*base_model, leg_length, params.outputs);
   spec.tasks = TasksOf(spec.outputs);
   spec.layout = d.layout;
   spec.controller = params.controller;
@@ -217,7 +219,7 @@ HoppingDiagram BuildHoppingDiagram(std::shared_ptr<const MultibodyModel> model,
   b.Connect("reference", "desired", spec.name, "desired");
   b.Connect("reference", "domain", spec.name, "mode");
   // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
-  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name, state_source);
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, base_model, "plant", spec.name);
   b.ExportOutput(spec.name, "u", "u");
   if (d.controller->HasOutputPort("qp_failures")) b.ExportOutput(spec.name, "qp_failures", "qp_failures");
   std::vector<std::pair<std::string, std::string>> logged = {{"plant", "state"},      {"plant", "mode"},
@@ -243,8 +245,9 @@ void SetHoppingInitialState(const HoppingDiagram& d, Context& context, const Eig
   LeafContext& rc = d.diagram->GetMutableSubsystemContext(*d.reference, context);
   d.reference->Initialize(rc, q);
   if (const DelayLine* delay = d.perturbation_blocks.sensor_latency)
-    delay->SetHistory(d.diagram->GetMutableSubsystemContext(*delay, context),
-                      (Eigen::VectorXd(2 * q.size()) << q, Eigen::VectorXd::Zero(q.size())).finished());
+    delay->SetHistory(
+        d.diagram->GetMutableSubsystemContext(*delay, context),
+        (Eigen::VectorXd(q_plant.size() + q.size()) << q_plant, Eigen::VectorXd::Zero(q.size())).finished());
 }
 
 SimulatorConfig HoppingSimulatorConfig() {

@@ -17,7 +17,7 @@
 //     → plant
 //   plus a logger.
 // Controller ports (the seam):
-//   inputs  state (2 nv)      plant [q; v]
+//   inputs  state (nq + nv)   plant [q; v] on HoppingControllerSpec::model's base
 //           mode (int, typed) the reference's domain: 0 jump, 1 flight, 2 landing (HoppingDomain)
 //           desired (3 ny)    the reference's [y_d; ẏ_d; ÿ_d], ny = 16 (17 with HoppingOutputParams::
 //                             jump_tracks_momentum, Eq. (41)); rows of y_d in HoppingControllerSpec::tasks order (the
@@ -93,10 +93,10 @@ struct HoppingDiagramParams {
   /// none.
   PerturbationParams perturbations;
   /// The plant's base (issue 43; ours, default Euler for now). kQuaternion: the hybrid plant runs on the quaternion
-  /// twin of the builder's model (LoadQuaternionTwin: the same URDF and sidecar), and a QuaternionToEulerState block
-  /// ("euler_state") maps its state to the Euler state that the reference, the controller and the logger read; the
-  /// builder's model stays the controller's. Needs PlantKind::kHybrid and no perturbations.push (its generalized
-  /// force is the Euler model's).
+  /// twin of the builder's model (LoadQuaternionTwin: the same URDF and sidecar), the controller runs on that twin and
+  /// reads the plant's state (its pelvis angles by BodyEulerAngleTask), and a QuaternionToEulerState block
+  /// ("euler_state") maps the plant's state to the Euler state that the reference and the logger read. Needs
+  /// PlantKind::kHybrid and no perturbations.push (its generalized force is the Euler model's).
   PlantBase plant_base = PlantBase::kEuler;
   EulerStateParams euler_state;  ///< the map's refusal near pitch +-90 deg (plant_base = kQuaternion)
   static HybridContactPlantParams DefaultPlantParams();
@@ -132,6 +132,7 @@ struct HoppingTask {
 /// What the diagram hands a controller factory.
 struct HoppingControllerSpec {
   std::string name = "controller";  ///< the block's name in the diagram
+  /// The plant's base: the builder's model, or its quaternion twin (plant_base = kQuaternion; state = [q (nv + 1); v]).
   std::shared_ptr<const MultibodyModel> model;
   std::vector<ContactSet> mode_contacts;  ///< active contacts of each domain (0 jump, 1 flight, 2 landing)
   std::vector<ClfOutput> outputs;         ///< the outputs of the desired input, in row order (MakeHoppingOutputs)
@@ -157,7 +158,8 @@ struct HoppingDiagram {
   HoppingReference* reference = nullptr;
   const System* controller = nullptr;  ///< whatever the factory built (read it through the diagram's exported ports)
   VectorLogger* logger = nullptr;
-  std::shared_ptr<const MultibodyModel> model;  ///< the controller's (Euler base)
+  /// The reference's (Euler base); the controller's is the plant's base (HoppingControllerSpec::model).
+  std::shared_ptr<const MultibodyModel> model;
   std::shared_ptr<const MultibodyModel>
       plant_model;  ///< the plant's (the quaternion twin with plant_base = kQuaternion)
   /// The map from the plant's quaternion state to the Euler state (null on the Euler base).

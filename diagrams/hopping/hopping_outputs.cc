@@ -34,11 +34,11 @@ std::vector<ClfOutput> MakeHoppingOutputs(const MultibodyModel& model, const Joi
                                               gains(p.leg_length_weight), std::vector<int>{jump, landing})),
       ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>(
           "com_xy", std::vector<Axis>{Axis::kX, Axis::kY}, gains(p.com_weight), std::vector<int>{jump, landing})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>(
-          "pelvis_yaw", model, "base_yaw", gains(p.pelvis_weight), std::vector<int>{jump, landing})),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>(
-          "pelvis_pitch", model, "base_pitch", gains(p.pelvis_weight),
-          p.jump_tracks_momentum ? std::vector<int>{landing} : std::vector<int>{jump, landing}))};
+      ClfOutput::RelativeDegreeTwo(MakeBaseAngleTask("pelvis_yaw", model, EulerAngle::kYaw, gains(p.pelvis_weight),
+                                                     std::vector<int>{jump, landing})),
+      ClfOutput::RelativeDegreeTwo(
+          MakeBaseAngleTask("pelvis_pitch", model, EulerAngle::kPitch, gains(p.pelvis_weight),
+                            p.jump_tracks_momentum ? std::vector<int>{landing} : std::vector<int>{jump, landing}))};
   outputs.insert(outputs.end(), rest.begin(), rest.end());
   for (const ActuatorInfo& a : model.actuators())
     outputs.push_back(ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>(

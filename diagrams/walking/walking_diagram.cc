@@ -191,9 +191,9 @@ std::vector<ClfOutput> WalkingControllerTasks(const MultibodyModel& m, const Wal
   return {
       // Eq. (16): COM position and pelvis orientation, every mode.
       ClfOutput::RelativeDegreeTwo(std::make_shared<ComPositionTask>("com", xyz, com_gains)),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_roll", m, "base_roll", pelvis_gains)),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_pitch", m, "base_pitch", pelvis_gains)),
-      ClfOutput::RelativeDegreeTwo(std::make_shared<JointPositionTask>("pelvis_yaw", m, "base_yaw", pelvis_gains)),
+      ClfOutput::RelativeDegreeTwo(MakeBaseAngleTask("pelvis_roll", m, EulerAngle::kRoll, pelvis_gains)),
+      ClfOutput::RelativeDegreeTwo(MakeBaseAngleTask("pelvis_pitch", m, EulerAngle::kPitch, pelvis_gains)),
+      ClfOutput::RelativeDegreeTwo(MakeBaseAngleTask("pelvis_yaw", m, EulerAngle::kYaw, pelvis_gains)),
       // Eq. (17): swing foot position and orientation, in the other foot's stance only.
       ClfOutput::RelativeDegreeTwo(std::make_shared<PointPositionTask>(
           "left_ankle", m, "left_foot", Eigen::Vector3d::Zero(), xyz, foot_gains, std::vector<int>{right_stance})),
@@ -226,7 +226,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   params.Validate();
   if (model == nullptr) throw std::invalid_argument("BuildWalkingDiagram: the model is null");
   const MultibodyModel& m = *model;
-  // `model` is the plan's, the pose solver's and the controller's: the Euler base (plant_base picks the plant's).
+  // `model` is the plan's and the pose solver's: the Euler base (plant_base picks the plant's and the controller's).
   m.RequireNqEqualsNv("BuildWalkingDiagram");
   for (const char* foot : {"left_foot", "right_foot"}) {
     const ContactInfo& c = m.contacts()[m.ContactIndex(foot)];
@@ -282,17 +282,15 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   d.plant_euler_model = base_model == model ? plant_model : scaled(model);
   d.plant =
       b.AddSystem(MakeContactPlant(plant, "plant", plant_model, modes, Terrain::Flat(), plant_params, bullet_params));
-  std::string state_source = "plant";
-  if (params.plant_base == PlantBase::kQuaternion) {
+  if (params.plant_base == PlantBase::kQuaternion) {  // the Euler state for the run's monitors and logs
     d.euler_state =
         b.AddSystem(std::make_unique<QuaternionToEulerState>("euler_state", model, plant_model, params.euler_state));
     b.Connect("plant", "state", "euler_state", "quaternion_state");
-    state_source = "euler_state";
   }
   WalkingControllerSpec spec;
-  spec.model = model;
+  spec.model = base_model;  // the controller runs on the plant's base and reads the plant's state
   spec.mode_contacts = ActiveContactsPerMode(*d.plant);
-  spec.tasks = WalkingControllerTasks(m, params);
+  spec.tasks = WalkingControllerTasks(*base_model, params);
   spec.layout = WalkingDesiredLayout(spec.tasks);
   spec.params = params.controller;
   spec.params.contact_stabilization = plant_params.dynamics;
@@ -321,7 +319,7 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   if (force_reference) b.Connect("walking_reference", "normal_force_reference", spec.name, "normal_force_reference");
   b.Connect("plant", "mode", spec.name, "mode");
   // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
-  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, model, "plant", spec.name, state_source);
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, base_model, "plant", spec.name);
   d.diagram = b.Build("walking");
   for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i)
     d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));

@@ -25,7 +25,7 @@
 //
 // The controller is a parameter of the builder (WalkingControllerFactory; default MakeWalkingClfQpController, the
 // CLF-QP above). The factory may return any System, a leaf or a Diagram (e.g. controller → Saturation). Its ports:
-//   inputs  state (2 nv, plant [q; v]), mode (int, plant mode), desired (54, below),
+//   inputs  state (nq + nv, plant [q; v] on spec.model's base), mode (int, plant mode), desired (54, below),
 //           normal_force_reference (2, N: the aSLIP's vertical force on the left, right foot; connected only if the
 //           controller has this input);
 //   outputs u (nu, N m: the plant's torque input; actuator order of the model).
@@ -33,7 +33,8 @@
 // third; WalkingControllerSpec::layout gives them, WalkingControllerTasks builds the default controller's tasks):
 //   com (0-2: x, y, z, m), pelvis_roll (3), pelvis_pitch (4), pelvis_yaw (5: the base's ZYX angles, rad),
 //   left_ankle (6-8: m) and left_foot_orientation (9-11: rotation vector, rad), active in right stance,
-//   right_ankle (12-14) and right_foot_orientation (15-17), active in left stance.
+//   right_ankle (12-14) and right_foot_orientation (15-17), active in left stance. The pelvis angles are
+//   MakeBaseAngleTask's: the base coordinates on the Euler base, the pelvis's ZYX angles on the quaternion base.
 // It should re-solve at guard events so that the new contact mode's torque acts from the event instant on.
 //
 // The example below is walking_diagram_test's snippet, line for line (the test checks it), so it keeps its layout.
@@ -102,9 +103,10 @@ struct WalkingDiagramParams {
   /// state the controller sees, torque noise. The plan and the controller keep the nominal model. Default: none.
   PerturbationParams perturbations;
   /// The plant's base (issue 43; ours, default Euler for now). kQuaternion: the hybrid plant runs on the quaternion
-  /// twin of the builder's model (LoadQuaternionTwin: the same URDF and sidecar; a spatial Euler base only), and a
-  /// QuaternionToEulerState block ("euler_state") maps its state to the Euler state that the controller and the run
-  /// read; the plan and the controller keep the builder's model. Needs PlantKind::kHybrid and no perturbations.push.
+  /// twin of the builder's model (LoadQuaternionTwin: the same URDF and sidecar; a spatial Euler base only), the
+  /// controller runs on that twin and reads the plant's state (its pelvis angles by BodyEulerAngleTask), and a
+  /// QuaternionToEulerState block ("euler_state") maps the plant's state to the Euler state the run's monitors and logs
+  /// read; the plan keeps the builder's model. Needs PlantKind::kHybrid and no perturbations.push.
   PlantBase plant_base = PlantBase::kEuler;
   EulerStateParams euler_state;  ///< the map's refusal near pitch +-90 deg (plant_base = kQuaternion)
 
@@ -131,6 +133,7 @@ struct WalkingTaskRows {
 /// What the diagram hands a controller factory.
 struct WalkingControllerSpec {
   std::string name = "controller";  ///< the block's name in the diagram
+  /// The plant's base: the builder's model, or its quaternion twin (plant_base = kQuaternion; state = [q (nv + 1); v]).
   std::shared_ptr<const MultibodyModel> model;
   std::vector<ContactSet> mode_contacts;  ///< active contacts of each plant mode (0 left, 1 double, 2 right stance)
   std::vector<ClfOutput> tasks;           ///< WalkingControllerTasks: the default controller's outputs, in layout order

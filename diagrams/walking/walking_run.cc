@@ -193,7 +193,8 @@ Eigen::VectorXd SetWalkingStart(const WalkingDiagram& walking, const WalkingRunP
                                             : WalkingInitialVelocity(model, q, walking.plan, params.start_time_s),
                        "double_support");
   if (const DelayLine* delay = walking.perturbation_blocks.sensor_latency)
-    delay->SetHistory(walking.diagram->GetMutableSubsystemContext(*delay, root), WalkingPlantEulerState(walking, root));
+    delay->SetHistory(walking.diagram->GetMutableSubsystemContext(*delay, root),
+                      walking.plant->EvalOutput(walking.diagram->GetSubsystemContext(*walking.plant, root), "state"));
   return q;
 }
 

@@ -41,8 +41,8 @@ void DeclareOptions(examples::CommandLine& cli) {
               "BulletWorldPlant)")
       .Option("base", "euler",
               "the plant's floating base: euler (ZYX Euler angles) | quaternion (the quaternion free-flyer twin of the "
-              "same files; the controller, the reference and the logs keep the Euler state through a "
-              "QuaternionToEulerState block; hybrid plant only)")
+              "same files, also the controller's, which reads the plant's state; the reference and the logs keep the "
+              "Euler state through a QuaternionToEulerState block; hybrid plant only)")
       .Option(
           "bullet-substeps", std::to_string(HoppingDiagramParams::DefaultBulletPlantParams().substeps),
           "Bullet plant: Bullet steps per 0.5 ms plant step (1 to 100); the springs' torques are recomputed at each")

@@ -119,8 +119,8 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "BulletWorldPlant)")
       .Option("base", "euler",
               "the plant's floating base: euler (ZYX Euler angles) | quaternion (the quaternion free-flyer twin of the "
-              "robot's files; the plan, the controller and the logs keep the Euler state through a "
-              "QuaternionToEulerState block; hybrid plant, spatial robots only)")
+              "robot's files, also the controller's, which reads the plant's state; the plan and the logs keep the "
+              "Euler state through a QuaternionToEulerState block; hybrid plant, spatial robots only)")
       .Option("joint-limits", "on",
               "on | off: the Bullet plant enforces the URDF's joint limits (the hybrid plant: --joint-stops)")
       .Option("joint-stops", "off",

@@ -199,7 +199,7 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
     clf_.push_back(std::move(clf));
   }
 
-  state_port_ = DeclareInputPort("state", 2 * nv);
+  state_port_ = DeclareInputPort("state", model_->nq() + nv);
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
   if (params_.force_band) force_ref_port_ = DeclareInputPort("normal_force_reference", nc);
@@ -355,7 +355,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
   if (!x.allFinite()) throw std::runtime_error("system '" + name() + "': input port 'state' is not finite");
-  const auto q = x.head(model_->nv());
+  const auto q = x.head(model_->nq());
   const auto v = x.tail(model_->nv());
   const int rows = CalcConstrainedDynamics(context, q, v, same_mode, s, mode);
   if (rows < 0) return QpStatus::kInvalidInput;
@@ -743,7 +743,7 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   (*next)[slot(kV)] = mq.eta.size() > 0 ? mq.eta.dot(mq.Peta) : 0.0;
   auto forces = next->segment(forces_offset(), 3 * nc);
   forces.setZero();
-  const auto q = EvalInput(context, state_port_).head(model_->nv());
+  const auto q = EvalInput(context, state_port_).head(model_->nq());
   for (const ContactWrenchConstraints& cw : mq.wrench)
     forces.segment<3>(3 * cw.contact()) =
         ExtractContactWrench(*model_, s.ws, q, mq.active, mq.F.head(std::max(mq.rows, 1)), cw.contact()).force;

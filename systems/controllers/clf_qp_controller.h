@@ -3,7 +3,8 @@
 // Eq. (18)-(25)). One block serves AMBER, planar Cassie, the exoskeleton and Cassie: the robot, its contact modes and
 // its outputs are arguments, not subclasses.
 //
-// inputs:  state (2 nv)                [q; v] of the plant (HybridContactPlant "state")
+// inputs:  state (nq + nv)             [q; v] of the plant (HybridContactPlant "state"); any base (nq = nv + 1 on
+//                                      the quaternion free-flyer, v its twist: free_flyer.h)
 //          mode (int, typed)           the plant's contact mode (an index into mode_contacts)
 //          desired (3 ny)              [y_d; ẏ_d; ÿ_d], ny = Σ output sizes, outputs in construction order. For a
 //                                      relative-degree-2 output the three thirds hold y_d (m, rad), ẏ_d, ÿ_d; for a

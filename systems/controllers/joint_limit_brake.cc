@@ -17,18 +17,26 @@ void JointLimitBrakeParams::Validate(const std::string& who) const {
 
 JointLimitBrake::JointLimitBrake(const MultibodyModel& model, const JointLimitBrakeParams& params,
                                  const std::string& who)
-    : params_(params), lower_(model.position_lower_limits()), upper_(model.position_upper_limits()) {
+    : params_(params) {
   params_.Validate(who);
-  if (!params_.enabled) return;
-  for (int i = 0; i < model.nv(); ++i)
-    if (std::isfinite(lower_[i]) || std::isfinite(upper_[i])) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  lower_ = Eigen::VectorXd::Constant(model.nv(), -kInf);
+  upper_ = Eigen::VectorXd::Constant(model.nv(), kInf);
+  for (int i = 0; i < model.nv(); ++i) {
+    const int p = model.PositionIndexOfVelocity(i);
+    if (p < 0) continue;  // a twist entry of the quaternion base: no limit
+    lower_[i] = model.position_lower_limits()[p];
+    upper_[i] = model.position_upper_limits()[p];
+    if (params_.enabled && (std::isfinite(lower_[i]) || std::isfinite(upper_[i]))) {
       if (std::isfinite(lower_[i]) && std::isfinite(upper_[i]) && upper_[i] - lower_[i] < 2 * params_.margin_rad)
         throw std::invalid_argument(who +
                                     ": params.joint_limit_brake.margin_rad = " + std::to_string(params_.margin_rad) +
                                     " leaves no room inside the limits of joint '" + model.JointName(i) + "' [" +
                                     std::to_string(lower_[i]) + ", " + std::to_string(upper_[i]) + "]");
       limited_.push_back(i);
+      positions_.push_back(p);
     }
+  }
 }
 
 void JointLimitBrake::Bounds(double q, double v, int i, double* lo, double* hi) const {
@@ -48,7 +56,7 @@ void JointLimitBrake::Fill(const Eigen::Ref<const Eigen::VectorXd>& q, const Eig
     qp.A.row(r).head(nu) = Qu.row(i);
     if (nf > 0) qp.A.row(r).segment(nu, nf) = minv_jt.row(i);
     double lo = 0, hi = 0;
-    Bounds(q[i], v[i], i, &lo, &hi);
+    Bounds(q[positions_[k]], v[i], i, &lo, &hi);
     qp.l[r] = lo - qdd0[i];
     qp.u[r] = hi - qdd0[i];
   }

@@ -5,7 +5,9 @@
 // i.e. the position predicted at constant acceleration over the horizon T, q_i + q̇_i T + ½ q̈_i T², stays at least the
 // margin m inside each limit (params: margin_rad, horizon_s). Inside the band the bound is loose; a joint moving
 // toward a limit gets a deceleration bound that grows as it nears it. Units: rad (m for a prismatic joint), s.
-// Fill writes preallocated rows of a DenseQpSolver and allocates nothing.
+// Fill writes preallocated rows of a DenseQpSolver and allocates nothing. On a quaternion free-flyer base, i is a
+// joint's velocity index and its position is q[i + 1] (MultibodyModel::PositionIndexOfVelocity); the base has no
+// limits.
 
 #include <string>
 #include <vector>
@@ -32,7 +34,8 @@ class JointLimitBrake {
   JointLimitBrake(const MultibodyModel& model, const JointLimitBrakeParams& params, const std::string& who);
   int num_rows() const { return static_cast<int>(limited_.size()); }
   const std::vector<int>& limited() const { return limited_; }
-  /// The bounds [lo, hi] on q̈ of coordinate `i` at (q_i, q̇_i) [rad/s²] (the formula above; ±inf without a limit).
+  /// The bounds [lo, hi] on q̈ of velocity coordinate `i` at (q_i, q̇_i) [rad/s²] (the formula above; ±inf without a
+  /// limit).
   void Bounds(double q, double v, int i, double* lo, double* hi) const;
   /// Rows offset … offset + num_rows() − 1 of `qp`: A = [Q_u.row(i), MinvJT.row(i) (augmented: columns nu …), 0],
   /// l/u = the bounds − q̈0_i. `minv_jt` has zero columns without force variables.
@@ -44,8 +47,9 @@ class JointLimitBrake {
 
  private:
   JointLimitBrakeParams params_;
-  std::vector<int> limited_;
-  Eigen::VectorXd lower_, upper_;
+  std::vector<int> limited_;       // velocity indices
+  std::vector<int> positions_;     // their indices in q
+  Eigen::VectorXd lower_, upper_;  // per velocity index
 };
 
 }  // namespace rome

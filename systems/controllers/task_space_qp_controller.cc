@@ -113,7 +113,7 @@ TaskSpaceQpController::TaskSpaceQpController(std::string name, std::shared_ptr<c
       if (mode_contacts_[m] & ContactBit(c)) InequalityRows(*model_, model_->contacts()[c], this->name());
   }
 
-  state_port_ = DeclareInputPort("state", 2 * nv);
+  state_port_ = DeclareInputPort("state", model_->nq() + nv);
   mode_port_ = DeclareTypedInputPort<int>("mode");
   desired_port_ = DeclareInputPort("desired", 3 * ny_);
 
@@ -238,7 +238,7 @@ QpStatus TaskSpaceQpController::SolveQp(const LeafContext& context) const {
 
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
-  const auto q = x.head(nv);
+  const auto q = x.head(model.nq());
   const auto v = x.tail(nv);
   CalcHoldDrift(context, mode, q, v);  // before the rows below: it overwrites ws' Jacobians
   s.last_mode = mode;
@@ -425,7 +425,7 @@ EventStatus TaskSpaceQpController::Update(const LeafContext& context, Eigen::Vec
     auto forces = next->segment(forces_offset(), 3 * nc);
     forces.setZero();
     (*next)[slot(kTaskCost)] = TaskCost(s, x.head(nv));
-    const auto q = EvalInput(context, state_port_).head(nv);
+    const auto q = EvalInput(context, state_port_).head(model_->nq());
     for (const ContactBlock& b : mq.contacts)
       forces.segment<3>(3 * b.contact) =
           ExtractContactWrench(*model_, s.ws, q, mq.active, x.tail(mq.rows), b.contact).force;

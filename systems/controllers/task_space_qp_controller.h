@@ -1,7 +1,8 @@
 #pragma once
 // TaskSpaceQpController: task-space (TSC) QP controller of the stepping-stones paper, Sec. V, Eq. (29)–(31).
 //
-// inputs:  state (2 nv)              [q; v] of the plant (HybridContactPlant "state")
+// inputs:  state (nq + nv)           [q; v] of the plant (HybridContactPlant "state"); any base (nq = nv + 1 on
+//                                    the quaternion free-flyer, v its twist: free_flyer.h)
 //          mode (int, typed)         index of the plant's active contact mode (HybridContactPlant "mode")
 //          desired (3 ny)            [y_d; ẏ_d; ÿ_d], each ny = Σ task sizes, tasks in construction order
 //                                    (units of each task: m, rad; m/s, rad/s; m/s², rad/s²). Rows of tasks that

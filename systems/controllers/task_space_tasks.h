@@ -19,6 +19,8 @@
 //   BodyOrientationTask orientation of a body in 3D as the rotation vector log(R_world_body) [rad] (target 0 = the
 //                       body aligned with the world: a flat foot with zero yaw, walking paper Eq. (17)); ẏ is taken
 //                       as the world angular velocity ω, exact at y = 0 (the error of d/dt log R is O(|y| |ω|))
+//   BodyEulerAngleTask  one ZYX Euler angle (roll, pitch or yaw) of a body on any 3D base [rad]; on a ZYX-Euler base
+//                       the root link's angles are its coordinates base_roll, base_pitch, base_yaw
 // Tasks are immutable after construction (names are resolved against the model then) and may be shared
 // between controllers; all scratch lives in the MultibodyWorkspace handed to Calc (no heap allocation).
 #include <functional>
@@ -122,7 +124,10 @@ class PointPositionTask final : public TaskSpaceTask {
   std::vector<Axis> axes_;
 };
 
-/// One generalized coordinate q[i] of the joint `joint` (or a base coordinate such as "base_pitch").
+/// One generalized coordinate q[i] of the joint `joint` (or a coordinate of a ZYX-Euler base such as "base_pitch"). On
+/// a quaternion free-flyer base the joint's position is q[i + 1] (J's column stays i); the base's twist entries
+/// ("base_vx" ... "base_wz") have no coordinate and are refused (std::invalid_argument naming the task and the joint:
+/// track the base with BodyEulerAngleTask, BodyOrientationTask, ComPositionTask or PointPositionTask).
 class JointPositionTask final : public TaskSpaceTask {
  public:
   JointPositionTask(std::string name, const MultibodyModel& model, const std::string& joint, TaskGains gains = {},
@@ -132,13 +137,15 @@ class JointPositionTask final : public TaskSpaceTask {
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
               Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
               Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
-  int index_;
+  int index_;    // in v
+  int q_index_;  // in q
 };
 
 /// y = f(q_i), a scalar function of the generalized coordinate of `joint` (hopping paper Eq. (13): the virtual leg
 /// length L(q_knee) of Cassie, whose rod closure at zero spring deflection makes it a function of the knee alone).
 /// J = f'(q_i) e_iᵀ; J̇ q̇ = f''(q_i) q̇_i², with f'' a central difference of f' (step second_derivative_step).
-/// The function must be smooth (C¹, piecewise C²) near the operating range and must not allocate.
+/// The function must be smooth (C¹, piecewise C²) near the operating range and must not allocate. Any base (the
+/// joint's position index as JointPositionTask's).
 class JointFunctionTask final : public TaskSpaceTask {
  public:
   /// Writes f(q) and f'(q).
@@ -150,7 +157,8 @@ class JointFunctionTask final : public TaskSpaceTask {
   void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
               Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
               Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
-  int index_;
+  int index_;    // in v
+  int q_index_;  // in q
   Function function_;
   double step_;
 };
@@ -169,5 +177,36 @@ class BodyOrientationTask final : public TaskSpaceTask {
   int body_;
   Eigen::Matrix3d R_body_link_ = Eigen::Matrix3d::Identity();  // a link merged through a fixed joint
 };
+
+/// One ZYX Euler angle of a body, R_world_body = Rz(yaw) Ry(pitch) Rx(roll) [rad], from the body's rotation: on any 3D
+/// base (the quaternion free-flyer included). On a ZYX-Euler floating base the root link's angles are the coordinates
+/// base_yaw, base_pitch, base_roll, and the task equals a JointPositionTask on them (value, J, J̇q̇) to rounding.
+/// Principal values: pitch in [−π/2, π/2], yaw and roll in (−π, π] (a body turning through ±π jumps by 2π).
+/// With η = (roll, pitch, yaw) and the world angular velocity ω = E(η) η̇, E = [Rz Ry e_x, Rz e_y, e_z]:
+///   J = E⁻¹ J_ω (row of the angle),  J̇q̇ = E⁻¹ (J̇_ω q̇ − Ė η̇).
+/// E is singular at pitch = ±π/2: Calc throws std::runtime_error naming the task, the body and the pitch within
+/// singularity_margin_rad of it.
+enum class EulerAngle { kRoll = 0, kPitch = 1, kYaw = 2 };
+class BodyEulerAngleTask final : public TaskSpaceTask {
+ public:
+  /// Throws std::invalid_argument for a planar model, an unknown body, or a margin outside (0, π/2).
+  BodyEulerAngleTask(std::string name, const MultibodyModel& model, const std::string& body, EulerAngle angle,
+                     TaskGains gains = {}, std::vector<int> active_modes = {}, double singularity_margin_rad = 1e-2);
+
+ private:
+  void DoCalc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
+              Eigen::Ref<Eigen::VectorXd> y, Eigen::Ref<Eigen::MatrixXd> J,
+              Eigen::Ref<Eigen::VectorXd> Jdot_qdot) const override;
+  int body_;
+  EulerAngle angle_;
+  double margin_;
+  Eigen::Matrix3d R_body_link_ = Eigen::Matrix3d::Identity();  // a link merged through a fixed joint
+};
+
+/// The floating base's ZYX angle `angle` on either spatial base: a JointPositionTask on the coordinate base_roll,
+/// base_pitch or base_yaw of a ZYX-Euler base, a BodyEulerAngleTask of the root link on the quaternion free-flyer (the
+/// same value, and the same ÿ for the same motion). Throws std::invalid_argument for another base.
+std::shared_ptr<TaskSpaceTask> MakeBaseAngleTask(std::string name, const MultibodyModel& model, EulerAngle angle,
+                                                 TaskGains gains = {}, std::vector<int> active_modes = {});
 
 }  // namespace rome

@@ -50,14 +50,16 @@ PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationPa
                                          const std::string& controller, const std::string& state_source) {
   params.Validate();
   PerturbationBlocks out;
-  const int nv = model->nv(), nu = model->nu();
+  const int nq = model->nq(), nv = model->nv(), nu = model->nu();
   // Sensor path: plant.state → noise → delay → controller.state.
   const std::string state_system = state_source.empty() ? plant : state_source;
   std::string from_system = state_system, from_port = "state";
   if (params.sensor_noise()) {
-    Eigen::VectorXd sigma(2 * nv);
-    sigma << Eigen::VectorXd::Constant(nv, params.position_noise_sigma),
+    Eigen::VectorXd sigma(nq + nv);
+    sigma << Eigen::VectorXd::Constant(nq, params.position_noise_sigma),
         Eigen::VectorXd::Constant(nv, params.velocity_noise_sigma);
+    // A unit quaternion's entries moved by σ/2 turn it by about σ rad about each axis (2 δ(x, y, z) for w near 1).
+    if (model->has_quaternion_base()) sigma.segment(3, 4) *= 0.5;
     out.sensor_noise = b.AddSystem(std::make_unique<AdditiveGaussianNoise>(
         "sensor_noise", sigma,
         AdditiveGaussianNoiseParams{params.sample_period_s, PerturbationStreamSeed(params.seed, 1)}));
@@ -67,7 +69,7 @@ PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationPa
   }
   if (params.latency_samples > 0) {
     out.sensor_latency =
-        b.AddSystem(std::make_unique<DelayLine>("sensor_latency", Eigen::VectorXd::Zero(2 * nv),
+        b.AddSystem(std::make_unique<DelayLine>("sensor_latency", Eigen::VectorXd::Zero(nq + nv),
                                                 DelayLineParams{params.sample_period_s, params.latency_samples}));
     b.Connect(from_system, from_port, "sensor_latency", "u");
     from_system = std::string("sensor_latency"), from_port = std::string("y");

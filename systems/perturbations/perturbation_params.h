@@ -61,7 +61,9 @@ struct PerturbationBlocks {
 /// Adds the blocks of `params` to `b` and makes every connection between `plant` and `controller` that the diagram
 /// would otherwise make itself: plant.state → controller.state and controller.u → plant.u, through the blocks that
 /// are on. The plant needs a tau_external input when params.push is set (HybridContactPlantParams::
-/// external_force_input). `model` is the controller's (sizes, the pushed body). `state_source`: the system whose
+/// external_force_input). `model` is the controller's (sizes nq + nv, the pushed body; on a quaternion base the sensor
+/// noise moves the quaternion's four entries by position_noise_sigma / 2, about that angle in rad about each axis, and
+/// the controller's kinematics normalise it). `state_source`: the system whose
 /// output "state" feeds the sensor path ("" = `plant`; e.g. a QuaternionToEulerState after a quaternion-base plant);
 /// the push reads it too.
 PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationParams& params,

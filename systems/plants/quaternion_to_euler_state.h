@@ -30,7 +30,8 @@
 
 namespace rome {
 
-/// Which base the plant of a diagram runs on; the controller, planners and logger keep the Euler model either way.
+/// Which base the plant of a diagram runs on (the walking and hopping diagrams run their controller on it too); the
+/// planners, references and loggers keep the Euler model either way.
 enum class PlantBase { kEuler, kQuaternion };
 /// "euler" or "quaternion".
 const char* ToString(PlantBase base);

@@ -1,6 +1,7 @@
 // The default hop (one hop, the hopping example's defaults) with the plant on the quaternion free-flyer base
-// (HoppingDiagramParams::plant_base, issue 43): the controller, the reference and the run read the Euler state through
-// the QuaternionToEulerState block. Checks, from the plant's own outputs:
+// (HoppingDiagramParams::plant_base, issue 43): the controller runs on the quaternion twin and reads the plant's state
+// (its state port has nq + nv entries); the reference and the run read the Euler state through the
+// QuaternionToEulerState block. Checks, from the plant's own outputs:
 //   * the run succeeds (hops, lands, rests) with no plant contact violation after any integrator step (normal forces
 //     >= 0, inside the friction cone: ContactForceStatistics), and the largest |F_t|/F_n stays below mu;
 //   * the quaternion's norm stays within 1e-8 of 1: the plant's norm term holds the drift at the integrator's error
@@ -44,13 +45,17 @@ struct FlightChecks {
   int flight_samples = 0;
 };
 
-HoppingRunResult RunDefaultHop(PlantBase base, FlightChecks* checks) {
+HoppingRunResult RunDefaultHop(PlantBase base, FlightChecks* checks, int latency_samples = 0) {
   auto model = LoadCassieEuler();
   SpringMassHopPlanners planners(*model, LegStiffnessVariant::kIdentified, SpringMassJumpParams{},
                                  SpringMassLandingParams{});
   HoppingDiagramParams params;
   params.plant_base = base;
+  params.perturbations.latency_samples = latency_samples;
+  params.perturbations.sample_period_s = params.controller.update_period_s;
   HoppingDiagram d = BuildHoppingDiagram(model, planners.leg_length, planners.jump, planners.landing, params);
+  const int state_size = d.controller->input_port(d.controller->GetInputPortIndex("state")).size;
+  EXPECT_EQ(state_size, base == PlantBase::kQuaternion ? 2 * model->nv() + 1 : 2 * model->nv());
   Simulator sim(*d.diagram, HoppingSimulatorConfig());
   SetHoppingInitialState(d, sim.get_mutable_context(), model->q_nominal());
   HoppingRunParams run;
@@ -107,6 +112,20 @@ TEST(HoppingQuaternion, DefaultHopOnTheQuaternionPlantIsPhysicalAndMatchesTheEul
   EXPECT_LT(checks.worst_flight_energy, 1e-4);    // J; measured 1.2e-6 J
   EXPECT_LT(checks.worst_flight_momentum, 1e-5);  // N m s; measured 7.3e-8
   EXPECT_LT(checks.worst_kinetic, 1e-10);
+  EXPECT_NEAR(q.com_rise_m, e.com_rise_m, 1e-4);
+  EXPECT_NEAR(q.air_time_s, e.air_time_s, 1e-4);
+}
+
+// The sensor path on the quaternion base carries the plant's quaternion state (nq + nv): a latency of two controller
+// periods, its history set from the initial state, gives the same hop as on the Euler base.
+TEST(HoppingQuaternion, SensorLatencyOnTheQuaternionBaseMatchesTheEulerBase) {
+  const HoppingRunResult q = RunDefaultHop(PlantBase::kQuaternion, nullptr, 2);
+  const HoppingRunResult e = RunDefaultHop(PlantBase::kEuler, nullptr, 2);
+  std::printf("latency 2 periods: quaternion %s, COM rise %.6f m; Euler %s, COM rise %.6f m\n",
+              q.status.ToString().c_str(), q.com_rise_m, e.status.ToString().c_str(), e.com_rise_m);
+  ASSERT_TRUE(e.success) << e.status.ToString();
+  ASSERT_TRUE(q.success) << q.status.ToString();
+  EXPECT_EQ(q.contact.violations, 0);
   EXPECT_NEAR(q.com_rise_m, e.com_rise_m, 1e-4);
   EXPECT_NEAR(q.air_time_s, e.air_time_s, 1e-4);
 }

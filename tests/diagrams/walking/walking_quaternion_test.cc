@@ -1,6 +1,7 @@
 // A short walk (gait A on its orbit, 4 planned steps, the exoskeleton) with the plant on the quaternion free-flyer base
-// (WalkingDiagramParams::plant_base, issue 43): the plan, the controller and the run read the Euler state through the
-// QuaternionToEulerState block. Checks, from the plant's own outputs:
+// (WalkingDiagramParams::plant_base, issue 43): the controller runs on the quaternion twin and reads the plant's state;
+// the plan and the run read the Euler state through the QuaternionToEulerState block. Checks, from the plant's own
+// outputs:
 //   * every planned step is walked, with no plant contact violation (normal forces >= 0, inside the friction cone,
 //     after every integrator step: ContactForceStatistics) and |F_t|/F_n below the feet's mu;
 //   * the quaternion's norm stays within the documented 1e-10 of 1 (docs/design-notes.md#quaternion-norm);
@@ -27,6 +28,7 @@ struct Walk {
   std::vector<double> t;
   std::vector<Eigen::Vector3d> com;
   double worst_norm = 0;
+  bool controller_quaternion = false;  // the CLF-QP's model has the quaternion base
 };
 
 Walk RunShortWalk(PlantBase base) {
@@ -45,6 +47,7 @@ Walk RunShortWalk(PlantBase base) {
   run.start_time_s = 0.5 * gait.dsp_duration_s;
   run.start_at_rest = false;
   Walk w;
+  w.controller_quaternion = d.clf_qp != nullptr && d.clf_qp->model().has_quaternion_base();
   w.result = RunWalking(d, run, [&](const Context& c, const WalkingRunSample& s) {
     if (base == PlantBase::kQuaternion) {
       const Eigen::VectorXd& x = d.plant->EvalOutput(d.diagram->GetSubsystemContext(*d.plant, c), "state");
@@ -77,6 +80,8 @@ TEST(WalkingQuaternion, ShortWalkOnTheQuaternionPlantIsPhysicalAndFollowsTheEule
       e.result.status.ToString().c_str(), e.result.steps_completed, compared, worst);
   ASSERT_TRUE(q.result.success) << q.result.status.ToString();
   ASSERT_TRUE(e.result.success) << e.result.status.ToString();
+  EXPECT_TRUE(q.controller_quaternion);
+  EXPECT_FALSE(e.controller_quaternion);
   EXPECT_EQ(q.result.steps_completed, q.result.steps_planned);
   EXPECT_EQ(q.result.contact.violations, 0);
   EXPECT_LT(q.result.contact.max_friction_ratio, 0.8);  // the exoskeleton's feet: mu = 0.8 (its robot file)
