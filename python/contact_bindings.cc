@@ -292,6 +292,33 @@ void BindTasks(py::module_& m) {
            }),
            py::arg("name"), py::arg("model"), py::arg("body"), py::arg("gains") = TaskGains{},
            py::arg("active_modes") = std::vector<int>{});
+  py::enum_<EulerAngle>(m, "EulerAngle")
+      .value("roll", EulerAngle::kRoll)
+      .value("pitch", EulerAngle::kPitch)
+      .value("yaw", EulerAngle::kYaw);
+  py::class_<BodyEulerAngleTask, TaskSpaceTask, std::shared_ptr<BodyEulerAngleTask>>(
+      m, "BodyEulerAngleTask",
+      "One ZYX Euler angle of a link, R = Rz(yaw) Ry(pitch) Rx(roll) [rad], on any 3D base (the quaternion "
+      "free-flyer included); refused within singularity_margin_rad of pitch +-90 deg.")
+      .def(py::init([](std::string name, const py::object& model, const std::string& body, EulerAngle angle,
+                       const TaskGains& gains, std::vector<int> modes, double margin) {
+             return FromArguments([&] {
+               return std::make_shared<BodyEulerAngleTask>(std::move(name), *SharedModel(model), body, angle, gains,
+                                                           std::move(modes), margin);
+             });
+           }),
+           py::arg("name"), py::arg("model"), py::arg("body"), py::arg("angle"), py::arg("gains") = TaskGains{},
+           py::arg("active_modes") = std::vector<int>{}, py::arg("singularity_margin_rad") = 1e-2);
+  m.def(
+      "make_base_angle_task",
+      [](std::string name, const py::object& model, EulerAngle angle, const TaskGains& gains, std::vector<int> modes) {
+        return FromArguments(
+            [&] { return MakeBaseAngleTask(std::move(name), *SharedModel(model), angle, gains, std::move(modes)); });
+      },
+      "The floating base's ZYX angle: its coordinate on the Euler base, the root link's BodyEulerAngleTask on the "
+      "quaternion base.",
+      py::arg("name"), py::arg("model"), py::arg("angle"), py::arg("gains") = TaskGains{},
+      py::arg("active_modes") = std::vector<int>{});
 }
 
 std::vector<std::shared_ptr<const TaskSpaceTask>> ConstTasks(const std::vector<std::shared_ptr<TaskSpaceTask>>& tasks) {

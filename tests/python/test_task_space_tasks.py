@@ -1,4 +1,4 @@
-"""Task-space tasks from Python (TaskSpaceTask.calc): BodyOrientationTask and JointFunctionTask.
+"""Task-space tasks from Python (TaskSpaceTask.calc): BodyOrientationTask, BodyEulerAngleTask and JointFunctionTask.
 
 Checked against math written here: y against the closed form (the rotation vector of the link's rotation matrix, built
 from the world positions of points on the link by the bound forward kinematics; f(q_i) of the Python function), J
@@ -93,3 +93,48 @@ def test_tasks_report_bad_arguments_and_failing_functions(cassie):
         rome.JointFunctionTask("g", cassie, "left_knee", failing).calc(cassie, cassie.q_nominal, np.zeros(cassie.nv))
     with pytest.raises(ValueError, match="nq = 22"):
         task.calc(cassie, [0.0] * 3, [0.0] * 3)
+
+
+def quaternion_from_zyx(yaw, pitch, roll):
+    """(w, x, y, z) of Rz(yaw) Ry(pitch) Rx(roll), the closed form."""
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    cp, sp = math.cos(pitch / 2), math.sin(pitch / 2)
+    cr, sr = math.cos(roll / 2), math.sin(roll / 2)
+    return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                     cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy])
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_body_euler_angle_task_is_the_base_coordinate_and_differentiates_along_the_motion(cassie, seed):
+    q, v = random_state(cassie, seed)
+    for angle, joint in [(rome.EulerAngle.roll, "base_roll"), (rome.EulerAngle.pitch, "base_pitch"),
+                         (rome.EulerAngle.yaw, "base_yaw")]:
+        i = cassie.velocity_index(joint)
+        y, J, Jdot_v = rome.BodyEulerAngleTask("a", cassie, "pelvis", angle).calc(cassie, q, v)
+        assert y[0] == pytest.approx(q[i], abs=1e-12)
+        assert J[0] == pytest.approx(np.eye(cassie.nv)[i], abs=1e-12)
+        assert Jdot_v[0] == pytest.approx(0.0, abs=1e-10)
+        # a link below the pelvis: J v and J-dot q-dot against central differences along q + t v (q-dot = v here)
+        task = rome.BodyEulerAngleTask("a", cassie, "left_foot", angle)
+        y, J, Jdot_v = task.calc(cassie, q, v)
+        y_of = lambda t: task.calc(cassie, q + t * v, v)[0][0]  # noqa: E731
+        assert J[0] @ v == pytest.approx((y_of(1e-6) - y_of(-1e-6)) / 2e-6, abs=1e-7)
+        assert Jdot_v[0] == pytest.approx((y_of(1e-4) - 2 * y[0] + y_of(-1e-4)) / 1e-8, abs=1e-4)
+
+
+def test_base_angle_task_on_the_quaternion_base_reads_the_quaternion():
+    quat = rome.MultibodyModel.load(CASSIE)  # the quaternion free-flyer (default)
+    assert quat.nq == quat.nv + 1
+    q = np.array(quat.q_nominal, dtype=float)
+    yaw, pitch, roll = 0.4, -0.7, 0.3
+    q[3:7] = quaternion_from_zyx(yaw, pitch, roll)
+    v = np.zeros(quat.nv)
+    for angle, expected in [(rome.EulerAngle.roll, roll), (rome.EulerAngle.pitch, pitch), (rome.EulerAngle.yaw, yaw)]:
+        y, J, _ = rome.make_base_angle_task("a", quat, angle).calc(quat, q, v)
+        assert y[0] == pytest.approx(expected, abs=1e-12)
+        assert np.all(J[0][6:] == 0.0)  # the base's angles move with the base twist only
+    with pytest.raises(ValueError, match="twist entry"):
+        rome.JointPositionTask("yaw", quat, "base_wz")
+    q[3:7] = quaternion_from_zyx(0.0, math.pi / 2, 0.0)
+    with pytest.raises(RuntimeError, match="pitch"):
+        rome.BodyEulerAngleTask("p", quat, "pelvis", rome.EulerAngle.pitch).calc(quat, q, v)
