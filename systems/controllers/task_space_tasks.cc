@@ -259,7 +259,9 @@ void BodyEulerAngleTask::DoCalc(const MultibodyModel& model, MultibodyWorkspace&
   auto J6 = ws.J_point.topRows(6);
   CalcFrameJacobian(model, ws, q, body_, Eigen::Vector3d::Zero(), J6);
   const auto J_w = J6.topRows(3);  // ω (world): the same for every frame on the body
-  const Eigen::Vector3d eta_dot = E_inv * (J_w * v);
+  Eigen::Vector3d omega;
+  omega.noalias() = J_w * v;  // into a fixed-size vector: no temporary on the heap
+  const Eigen::Vector3d eta_dot = E_inv * omega;
   const double droll = eta_dot[0], dpitch = eta_dot[1], dyaw = eta_dot[2];
   Eigen::Vector3d E_dot_eta_dot;
   E_dot_eta_dot << droll * (-sy * cp * dyaw - cy * sp * dpitch) - dpitch * cy * dyaw,

@@ -7,7 +7,8 @@
 //   - ClfQpController gives the same torques from either base at the same physical state (its cost, the outputs'
 //     accelerations, the contact constraints and the wrench rows do not depend on the coordinates), and the same
 //     closed loop: the exoskeleton pushed while standing, run on each base's hybrid plant, with the plant's own
-//     contact wrenches unilateral and inside the friction cone at every integrator step.
+//     contact wrenches unilateral and inside the friction cone at every integrator step; its update on the quaternion
+//     model allocates nothing once running (this binary replaces the global allocator).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "systems/multibody/multibody_kinematics.h"
 #include "systems/plants/hybrid_contact_plant.h"
 #include "systems/plants/quaternion_to_euler_state.h"
+#include "tests/common/allocation_counter.h"
 #include "tests/systems/controllers/amber_test_setup.h"
 
 namespace rome {
@@ -261,6 +263,36 @@ TEST_P(ClfQpOnEitherBase, SameTorquesAtTheSameState) {
               (u[0] - u[1]).cwiseAbs().maxCoeff());
   EXPECT_GT(u[0].norm(), 10.0);
   EXPECT_LT((u[0] - u[1]).cwiseAbs().maxCoeff(), 1e-7 * u[0].cwiseAbs().maxCoeff());
+}
+
+TEST_P(ClfQpOnEitherBase, UpdateOnTheQuaternionModelAllocatesNothingOnceRunning) {
+  const Twins t = LoadTwins();
+  const MultibodyModel& m = *t.quaternion;
+  Eigen::VectorXd xq(m.nq() + m.nv());
+  EulerStateToQuaternion(PushedEulerState(*t.euler, 0.3), xq);
+  const int l = m.ContactIndex("left_foot"), r = m.ContactIndex("right_foot");
+  ClfQpController controller("clf", t.quaternion, {ContactBit(l) | ContactBit(r), ContactBit(l)}, StandingOutputs(m),
+                             StandingParams(GetParam()));
+  auto context = controller.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(m);
+  Eigen::VectorXd desired = Eigen::VectorXd::Zero(18);
+  desired.head(3) = CalcComPosition(m, ws, xq.head(m.nq()));
+  context->FixInputPort(0, xq);
+  context->FixAbstractInputPort(1, std::any(0));
+  context->FixInputPort(2, desired);
+  const auto& update = controller.periodic_events().at(0).update;
+  Eigen::VectorXd next = context->discrete_state();
+  ASSERT_TRUE(update(*context, &next).ok());  // prime both modes' workspaces
+  long allocations = 0;
+  for (int tick = 0; tick < 100; ++tick) {
+    auto& fixed = const_cast<Eigen::VectorXd&>(controller.EvalInput(*context, 0));
+    fixed[m.nq() + 1] = 0.3 + 0.001 * tick;  // the base's lateral velocity changes in place
+    auto& mode = const_cast<int&>(controller.EvalTypedInput<int>(*context, 1));
+    mode = (tick / 25) % 2;
+    context->InvalidateCache();
+    allocations += test::CountAllocations([&] { ASSERT_TRUE(update(*context, &next).ok()); });
+  }
+  EXPECT_EQ(allocations, 0);
 }
 
 struct ClosedLoop {
