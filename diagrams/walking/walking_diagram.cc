@@ -43,6 +43,11 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.cop_margin_m = 0.01;  // ours: the plant's CoP drifts by ~1 mm over a held sample when the QP holds it on
                                   // the edge, more near lift-off (5 mm: 1 mm outside at F_z = 21 N in an -O1 build)
   p.resolve_at_events = true;
+  // Ours: the stance feet are predicted as held, J q̈ + J̇ q̇ = 0, not with the plant's Baumgarte velocity feedback
+  // −2α J q̇: the plant keeps J q̇ near 0 itself, and α = 10 1/s on a measured J q̇ turns sensor noise into predicted
+  // contact force (a rigid sole then slips torsionally at 5e-5 rad of noise; docs/design-notes.md
+  // #walking-controller-contact-model). The exoskeleton has no loop closure for β.
+  p.contact_stabilization.baumgarte_alpha_per_s = 0.0;
   // Ours (default 1e-6): the torque penalty is relative to the largest output curvature, the swing foot's rotation
   // (a 1.3 kg foot); DenseQpSolver needs pivots above 1e-8 of H's largest diagonal, so 1e-8 is the least it accepts
   // (below: kNonConvex, held torques); 1e-6 starves the stance knee (docs/design-notes.md#walking-controller-defaults).
@@ -293,7 +298,6 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   spec.tasks = WalkingControllerTasks(*base_model, params);
   spec.layout = WalkingDesiredLayout(spec.tasks);
   spec.params = params.controller;
-  spec.params.contact_stabilization = plant_params.dynamics;
   if (spec.params.contact.corner_wrench_cone && spec.params.contact.corner_cone_friction_coefficient < 0.0)
     spec.params.contact.corner_cone_friction_coefficient =
         std::min(m.contacts()[m.ContactIndex("left_foot")].friction_coefficient,

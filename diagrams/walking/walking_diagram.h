@@ -76,13 +76,15 @@ namespace rome {
 enum WalkingPlantMode : int { kWalkingLeftStance = 0, kWalkingDoubleSupport = 1, kWalkingRightStance = 2 };
 
 struct WalkingDiagramParams {
-  /// PlantKind::kHybrid; its dynamics (Baumgarte gains) are the controller's on either plant
+  /// PlantKind::kHybrid
   HybridContactPlantParams plant = DefaultWalkingPlantParams();
   /// PlantKind::kBullet (defaults: 1 ms step, the controller's 1 kHz; rigid contact, μ from the sidecar). Its
   /// planned_liftoff_force_N, min_time_in_mode_s and planned_liftoff_min_contact_s, when left at their "off" defaults,
   /// are taken from `plant` (the trailing foot is released at 1 % of m g on either plant; a foot is released by that
   /// force only after min_time_in_mode_s of contact).
   BulletWorldPlantParams bullet_plant;
+  /// The CLF-QP. Its contact_stabilization is its own, not the plant's: the default predicts the stance feet as held
+  /// (α = 0; docs/design-notes.md#walking-controller-contact-model).
   ClfQpParams controller = DefaultWalkingControllerParams();
   SwingFootTrajectoryParams swing;  ///< ankle_height_m is set from the model's sole by the builder
   /// Shift the COM reference so that the legs' centroidal angular momentum is carried by the horizontal ground force,

@@ -3,6 +3,8 @@
 //   mpirun -np 2 build/bin/rome_sweep stepping-stones --grid energy=0.1:0.7:4 --grid step-length=0.2:0.8:4
 //       --set terrain=flat --set steps=15 --out DIR
 //   mpirun -np 2 build/bin/rome_sweep stepping-stones --seeds 1:1000 --out DIR
+//   mpirun -np 2 build/bin/rome_sweep walking --grid sensor-noise=0,0:1e-4,1e-3:5
+//       --seeds perturbation-seed=1000:1009 --out DIR
 //
 // Every run is the example program itself (a separate process: Ipopt 3.11 with MUMPS is not thread-safe), started
 // with an argument list (no shell) and the swept values as its flags, writing DIR/runs/run_NNNNNN.json (its summary),
@@ -41,14 +43,18 @@ using namespace rome::sweep;
 
 void PrintHelp() {
   std::cout
-      << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds A:B] [--set NAME=VALUE]... [--metric NAME] --out "
+      << "usage: rome_sweep EXAMPLE [--grid NAME=LO:HI:N]... [--seeds [NAME=]A:B] [--set NAME=VALUE]... [--metric "
+         "NAME] --out "
          "DIR\n"
          "  EXAMPLE        "
       << ExampleNames(" | ")
       << " (the program next to rome_sweep)\n"
          "  --grid         N values from LO to HI (N = 1: LO) of the example's flag --NAME; several grids multiply\n"
-         "                 (whole numbers only for the flags that take them: seed, steps, hops, ...)\n"
-         "  --seeds A:B    --seed A, A+1, ..., B (a Monte Carlo; multiplies with the grids)\n"
+         "                 (whole numbers only for the flags that take them: seed, steps, hops, ...); for a flag\n"
+         "                 of several numbers LO and HI are tuples a,b,... (each entry interpolated; plots use the "
+         "first)\n"
+         "  --seeds A:B    --seed A, A+1, ..., B (a Monte Carlo; multiplies with the grids; the plots pool them);\n"
+         "                 NAME=A:B for another seed flag (walking: perturbation-seed)\n"
          "  --set          a fixed flag --NAME VALUE for every run (not a swept flag)\n"
          "  --metric NAME  also plot the mean of the summary's numeric field NAME over the first grid parameter\n"
          "                 (sweep_metric_vs_parameter.png; every run that reports it, failed or not)\n"

@@ -67,37 +67,47 @@ Parameter ParseGrid(const std::string& spec, bool integer) {
   Parameter p{spec.substr(0, eq), {}, "--grid " + Excerpt(spec)};
   const std::string range = spec.substr(eq + 1);
   const std::vector<std::string_view> parts = Split(range, ':');
-  double lo = 0, hi = 0;
+  auto malformed = [&] {
+    return Error("--grid " + Excerpt(p.name) + ": malformed range '" + Excerpt(range) +
+                 "' (expected LO:HI:N with finite LO, HI and N in 1.." + std::to_string(kMaxGridPoints) +
+                 "; LO and HI may be tuples a,b,... of the same length)");
+  };
   int n = 0;
-  if (parts.size() != 3 || !ParseDouble(parts[0], &lo) || !ParseDouble(parts[1], &hi) || !ParseWhole(parts[2], &n) ||
-      n < 1 || n > kMaxGridPoints)
-    throw Error("--grid " + Excerpt(p.name) + ": malformed range '" + Excerpt(range) +
-                "' (expected LO:HI:N with finite LO, HI and N in 1.." + std::to_string(kMaxGridPoints) + ")");
+  if (parts.size() != 3 || !ParseWhole(parts[2], &n) || n < 1 || n > kMaxGridPoints) throw malformed();
+  const std::vector<std::string_view> lo_text = Split(parts[0], ','), hi_text = Split(parts[1], ',');
+  if (lo_text.size() != hi_text.size() || lo_text.size() > 16) throw malformed();
+  std::vector<double> lo(lo_text.size()), hi(hi_text.size());
+  for (size_t e = 0; e < lo.size(); ++e)
+    if (!ParseDouble(lo_text[e], &lo[e]) || !ParseDouble(hi_text[e], &hi[e])) throw malformed();
   for (int k = 0; k < n; ++k) {
-    const double v = n == 1 ? lo : lo + (hi - lo) * k / (n - 1);
-    if (!std::isfinite(v)) throw Error(p.origin + ": the values overflow (LO and HI are too far apart)");
-    if (!integer) {
-      p.values.push_back(Format(v));
-      continue;
+    std::string value;
+    for (size_t e = 0; e < lo.size(); ++e) {
+      const double v = n == 1 ? lo[e] : lo[e] + (hi[e] - lo[e]) * k / (n - 1);
+      if (!std::isfinite(v)) throw Error(p.origin + ": the values overflow (LO and HI are too far apart)");
+      if (integer && (v != std::floor(v) || v < INT_MIN || v > INT_MAX))
+        throw Error(p.origin + ": --" + Excerpt(p.name) + " takes whole numbers, and this grid gives " + Format(v) +
+                    " (choose LO, HI and N so that every value is a whole number of int's range)");
+      value += (e == 0 ? "" : ",") + (integer ? std::to_string(static_cast<long long>(v)) : Format(v));
     }
-    if (v != std::floor(v) || v < INT_MIN || v > INT_MAX)
-      throw Error(p.origin + ": --" + Excerpt(p.name) + " takes whole numbers, and this grid gives " + Format(v) +
-                  " (choose LO, HI and N so that every value is a whole number of int's range)");
-    p.values.push_back(std::to_string(static_cast<long long>(v)));
+    p.values.push_back(value);
   }
   return p;
 }
 
-Parameter ParseSeeds(const std::string& range) {
+Parameter ParseSeeds(const std::string& spec) {
+  const size_t eq = spec.find('=');
+  const std::string name = eq == std::string::npos ? "seed" : spec.substr(0, eq);
+  const std::string range = eq == std::string::npos ? spec : spec.substr(eq + 1);
   const std::vector<std::string_view> parts = Split(range, ':');
   long a = 0, b = 0;
-  if (parts.size() != 2 || !ParseWhole(parts[0], &a) || !ParseWhole(parts[1], &b) || a < 0 || b < a || b > INT_MAX)
-    throw Error("--seeds: malformed range '" + Excerpt(range) +
-                "' (expected A:B with whole numbers 0 <= A <= B <= " + std::to_string(INT_MAX) + ")");
+  if (name.empty() || parts.size() != 2 || !ParseWhole(parts[0], &a) || !ParseWhole(parts[1], &b) || a < 0 || b < a ||
+      b > INT_MAX)
+    throw Error("--seeds: malformed range '" + Excerpt(spec) +
+                "' (expected A:B or NAME=A:B with whole numbers 0 <= A <= B <= " + std::to_string(INT_MAX) + ")");
   if (b - a + 1 > kMaxRuns)
-    throw Error("--seeds " + Excerpt(range) + ": " + std::to_string(b - a + 1) + " seeds; a sweep has at most " +
+    throw Error("--seeds " + Excerpt(spec) + ": " + std::to_string(b - a + 1) + " seeds; a sweep has at most " +
                 std::to_string(kMaxRuns) + " runs");
-  Parameter p{"seed", {}, "--seeds " + Excerpt(range)};
+  Parameter p{name, {}, "--seeds " + Excerpt(spec), true};
   for (long s = a; s <= b; ++s) p.values.push_back(std::to_string(s));
   return p;
 }

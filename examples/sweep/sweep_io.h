@@ -32,15 +32,19 @@ struct Parameter {
   std::string name;
   std::vector<std::string> values;
   std::string origin;  ///< e.g. "--grid energy=0.1:0.7:4"
+  bool seeds = false;  ///< from --seeds: the runs of each value pool into one point of the plots
 };
 
 /// --grid NAME=LO:HI:N: N values from LO to HI (N = 1: LO alone), with finite LO and HI and N in 1..kMaxGridPoints.
-/// For an `integer` flag every value must be a whole number in int's range (--grid steps=1:2:3 is refused, it would
-/// send 1.5).
+/// LO and HI may be tuples of the same length, for a flag that takes several numbers (--grid
+/// sensor-noise=0,0:1e-4,1e-3:3 sends 0,0 then 5e-05,0.0005 then 0.0001,0.001): each entry runs from its LO to its
+/// HI, and the plots' axis is the first entry. For an `integer` flag every value must be a whole number in int's
+/// range (--grid steps=1:2:3 is refused, it would send 1.5).
 Parameter ParseGrid(const std::string& spec, bool integer);
 
-/// --seeds A:B: the flag "seed" = A, A+1, ..., B with 0 <= A <= B <= 2147483647 and at most kMaxRuns seeds.
-Parameter ParseSeeds(const std::string& range);
+/// --seeds A:B, or --seeds NAME=A:B for a seed flag with another name (walking's perturbation-seed): the flag = A,
+/// A+1, ..., B with 0 <= A <= B <= 2147483647 and at most kMaxRuns seeds. The result has `seeds` set.
+Parameter ParseSeeds(const std::string& spec);
 
 /// The number of runs, the product of the swept values' counts; refused, naming the cap, beyond kMaxRuns (computed
 /// without overflow, whatever the grids).

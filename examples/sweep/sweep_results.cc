@@ -185,7 +185,7 @@ template <typename Value>
 std::vector<rome::visualization::Series> MeanOverParameter(const Sweep& s, const std::string& single_line,
                                                            const Value& value) {
   const Parameter& x = s.swept[0];
-  const bool lines_by_second = s.swept.size() > 1 && s.swept[1].name != "seed";
+  const bool lines_by_second = s.swept.size() > 1 && !s.swept[1].seeds;
   const size_t lines = lines_by_second ? s.swept[1].values.size() : 1;
   std::vector<rome::visualization::Series> series;
   for (size_t l = 0; l < lines; ++l) {
@@ -236,9 +236,9 @@ void WriteMetricOverParameter(const Sweep& s, const Results& r) {
 }
 
 void WritePlots(const Sweep& s, const Results& r) {
-  if (s.swept[0].name != "seed") WriteSuccessOverParameter(s, r);
-  if (s.swept[0].name != "seed" && !s.metric.empty()) WriteMetricOverParameter(s, r);
-  if (s.swept[0].name != "seed" && r.numeric.count("mean_forward_speed_mps")) {
+  if (!s.swept[0].seeds) WriteSuccessOverParameter(s, r);
+  if (!s.swept[0].seeds && !s.metric.empty()) WriteMetricOverParameter(s, r);
+  if (!s.swept[0].seeds && r.numeric.count("mean_forward_speed_mps")) {
     std::vector<rome::visualization::Series> series;
     const Parameter& x = s.swept[0];
     const size_t lines = s.swept.size() > 1 ? s.swept[1].values.size() : 1;

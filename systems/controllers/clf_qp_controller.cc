@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <tuple>
 
 #include <Eigen/Cholesky>
 
@@ -17,7 +19,35 @@ namespace rome {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The first scalar parameter out of its range, as "params.<name> = <value> must ...", or "" if all are in range.
+std::string ScalarParamError(const ClfQpParams& p) {
+  auto text = [](const char* what, double value, const char* rule) {
+    return std::string("params.") + what + " = " + std::to_string(value) + " must " + rule;
+  };
+  for (const auto& [value, what] : {std::pair{p.update_period_s, "update_period_s"}, std::pair{p.epsilon, "epsilon"},
+                                    std::pair{p.relaxation_weight, "relaxation_weight"}})
+    if (!(value > 0.0) || !std::isfinite(value)) return text(what, value, "be positive and finite");
+  if (!(p.u_regularization >= 0.0)) return text("u_regularization", p.u_regularization, "be >= 0");
+  for (const auto& [value, what, rule] :
+       {std::tuple{p.force_band_loading_floor_N, "force_band_loading_floor_N", "be >= 0 N and finite"},
+        std::tuple{p.force_band_loading_fall_tolerance_N, "force_band_loading_fall_tolerance_N",
+                   "be >= 0 N and finite"},
+        std::tuple{p.force_band_margin_N, "force_band_margin_N", "be >= 0 N and finite"},
+        std::tuple{p.contact_stabilization.baumgarte_alpha_per_s, "contact_stabilization.baumgarte_alpha_per_s",
+                   "be >= 0 1/s and finite"},
+        std::tuple{p.contact_stabilization.baumgarte_beta_per_s, "contact_stabilization.baumgarte_beta_per_s",
+                   "be >= 0 1/s and finite"}})
+    if (!(value >= 0.0) || !std::isfinite(value)) return text(what, value, rule);
+  if (!(p.force_band_halfwidth >= 0.0 && p.force_band_halfwidth < 1.0))
+    return text("force_band_halfwidth", p.force_band_halfwidth, "be in [0, 1)");
+  if ((p.predict_hold_drift || p.force_band_at_hold_end) && p.formulation != ClfQpFormulation::kEliminateContactForces)
+    return "params.predict_hold_drift and params.force_band_at_hold_end need formulation kEliminateContactForces";
+  if (!(p.contact.friction_margin > 0.0 && p.contact.friction_margin <= 1.0))
+    return text("contact.friction_margin", p.contact.friction_margin, "be in (0, 1]");
+  return "";
 }
+}  // namespace
 
 // ---------------------------------------------------------------------------------------------------------
 // Relative-degree-one outputs
@@ -97,30 +127,7 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
   if (!model_) ThrowError("null MultibodyModel");
   const int nv = model_->nv(), nu = model_->nu(), nc = model_->num_contacts();
   if (mode_contacts_.empty()) ThrowError("no contact modes given (mode_contacts is empty)");
-  auto positive = [&](double value, const char* what) {
-    if (!(value > 0.0) || !std::isfinite(value))
-      ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be positive and finite");
-  };
-  positive(params_.update_period_s, "update_period_s");
-  positive(params_.epsilon, "epsilon");
-  positive(params_.relaxation_weight, "relaxation_weight");
-  if (!(params_.u_regularization >= 0.0))
-    ThrowError("params.u_regularization = " + std::to_string(params_.u_regularization) + " must be >= 0");
-  auto non_negative_N = [&](double value, const char* what) {
-    if (!(value >= 0.0) || !std::isfinite(value))
-      ThrowError(std::string("params.") + what + " = " + std::to_string(value) + " must be >= 0 N and finite");
-  };
-  non_negative_N(params_.force_band_loading_floor_N, "force_band_loading_floor_N");
-  non_negative_N(params_.force_band_loading_fall_tolerance_N, "force_band_loading_fall_tolerance_N");
-  non_negative_N(params_.force_band_margin_N, "force_band_margin_N");
-  if (!(params_.force_band_halfwidth >= 0.0 && params_.force_band_halfwidth < 1.0))
-    ThrowError("params.force_band_halfwidth = " + std::to_string(params_.force_band_halfwidth) + " must be in [0, 1)");
-  if ((params_.predict_hold_drift || params_.force_band_at_hold_end) &&
-      params_.formulation != ClfQpFormulation::kEliminateContactForces)
-    ThrowError("params.predict_hold_drift and params.force_band_at_hold_end need formulation kEliminateContactForces");
-  if (!(params_.contact.friction_margin > 0.0 && params_.contact.friction_margin <= 1.0))
-    ThrowError("params.contact.friction_margin = " + std::to_string(params_.contact.friction_margin) +
-               " must be in (0, 1]");
+  if (const std::string e = ScalarParamError(params_); !e.empty()) ThrowError(e);
   for (size_t i = 0; i < outputs_.size(); ++i) {
     const ClfOutput& o = outputs_[i];
     if (!o.rd1 == !o.rd2)

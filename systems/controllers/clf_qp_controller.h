@@ -46,7 +46,8 @@
 //      b_v = −Λ⁻¹ (J M⁻¹ (τ_s − h) + J̇ q̇ + 2α J q̇ + β² φ), Λ = J M⁻¹ Jᵀ.
 //   kAugmentedInput (hopping Eq. (45)-(51)): x = [u; F; δ] with the holonomic equalities J M⁻¹ (B u + Jᵀ F) =
 //      −J M⁻¹ (τ_s − h) − J̇ q̇ − 2α J q̇ − β² φ (contacts and loop closures such as Cassie's achilles rods).
-// α, β come from params.contact_stabilization: pass the plant's (HybridContactPlantParams::dynamics).
+// α, β come from params.contact_stabilization: the plant's (HybridContactPlantParams::dynamics) predict its forces
+// exactly from an exact state; α = 0 keeps a measured J q̇ (sensor noise) out of the predicted forces.
 //
 // Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
 //   1. drop the force band, the hold-drift rows (params.predict_hold_drift) and the joint-limit brake rows
@@ -174,7 +175,7 @@ struct ClfQpParams {
   Eigen::VectorXd torque_limits;  ///< [N m]; empty: the model's
   /// {contact, joint}: the actuator of `joint` gets u = 0 while `contact` is active (e.g. a passive stance ankle).
   std::vector<std::pair<std::string, std::string>> zero_torque_in_contact;
-  ConstrainedDynamicsParameters contact_stabilization;  ///< α, β: pass the plant's
+  ConstrainedDynamicsParameters contact_stabilization;  ///< α, β [1/s] >= 0 (see the header)
   bool resolve_at_events = true;                        ///< also re-solve at guard events (see the header)
   EventTrigger resolve_at = EventTrigger::AnyGuard();
   QpSettings qp;  ///< DenseQpSolver tolerances (warm start on by default)

@@ -81,6 +81,24 @@ TEST(SweepGrid, SpreadsValuesAndGivesIntegerFlagsWholeNumbers) {
   EXPECT_NE(ErrorOf([] { ParseGrid("steps=1:3000000000:2", true); }).find("3000000000"), std::string::npos);
 }
 
+TEST(SweepGrid, InterpolatesTuplesEntryByEntry) {
+  // A flag of several numbers (--sensor-noise sigma_q,sigma_v): each entry runs from its LO to its HI.
+  EXPECT_EQ(ParseGrid("sensor-noise=0,0:1e-4,1e-3:3", false).values,
+            (std::vector<std::string>{"0,0", "5e-05,0.0005", "0.0001,0.001"}));
+  EXPECT_EQ(ParseGrid("push-force=0,10,-20:40,10,20:2", false).values,
+            (std::vector<std::string>{"0,10,-20", "40,10,20"}));
+  EXPECT_EQ(ParseGrid("gait=1,2:3,4:1", true).values, (std::vector<std::string>{"1,2"}));
+  for (const char* bad :
+       {"sensor-noise=0,0:1e-4:3", "sensor-noise=0,:1,1:2", "sensor-noise=,0:1,1:2", "sensor-noise=0,nan:1,1:2",
+        "a=0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0:1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,1,1:2"}) {
+    const std::string e = ErrorOf([&] { ParseGrid(bad, false); });
+    EXPECT_NE(e.find("malformed range"), std::string::npos) << bad << ": " << e;
+    EXPECT_NE(e.find("tuples"), std::string::npos) << e;
+  }
+  const std::string half = ErrorOf([] { ParseGrid("gait=1,1:2,2:3", true); });
+  EXPECT_NE(half.find("takes whole numbers, and this grid gives 1.5"), std::string::npos) << half;
+}
+
 TEST(SweepGrid, RefusesMalformedRangesWithOneLine) {
   EXPECT_NE(ErrorOf([] { ParseGrid("energy=0.1:0.7", false); }).find("malformed range '0.1:0.7'"), std::string::npos);
   for (const char* bad :
@@ -99,6 +117,15 @@ TEST(SweepGrid, RefusesMalformedRangesWithOneLine) {
 TEST(SweepSeeds, AreWholeNumbersInRangeAndNameTheRunCap) {
   EXPECT_EQ(ParseSeeds("1:3").values, (std::vector<std::string>{"1", "2", "3"}));
   EXPECT_EQ(ParseSeeds("7:7").values, (std::vector<std::string>{"7"}));
+  EXPECT_EQ(ParseSeeds("1:3").name, "seed");
+  EXPECT_TRUE(ParseSeeds("1:3").seeds);
+  EXPECT_FALSE(ParseGrid("seed=1:3:3", true).seeds);
+  const Parameter named = ParseSeeds("perturbation-seed=1000:1002");
+  EXPECT_EQ(named.name, "perturbation-seed");
+  EXPECT_EQ(named.values, (std::vector<std::string>{"1000", "1001", "1002"}));
+  EXPECT_TRUE(named.seeds);
+  for (const char* bad : {"=1:3", "perturbation-seed=", "perturbation-seed=1", "a=b=1:2"})
+    EXPECT_NE(ErrorOf([&] { ParseSeeds(bad); }).find("malformed range"), std::string::npos) << bad;
   EXPECT_NE(ErrorOf([] { ParseSeeds("5:1"); }).find("malformed range '5:1'"), std::string::npos);
   for (const char* bad : {"-1:3", "1:99999999999", "1.5:3", "1:3junk", "1", "1:2:3", ""})
     EXPECT_NE(ErrorOf([&] { ParseSeeds(bad); }).find("malformed range"), std::string::npos) << bad;

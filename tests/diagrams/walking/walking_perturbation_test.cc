@@ -164,5 +164,43 @@ TEST(WalkingPerturbations, TheForceBandSlackIsOfTheControllersMass) {
   EXPECT_NEAR(r.force_in_band_fraction, static_cast<double>(in_nominal) / ticks, 1e-12);
 }
 
+// Sensor noise on the state the controller sees, on the default rigid sole: the controller predicts the stance feet
+// as held (α = 0, DefaultWalkingControllerParams). With the plant's Baumgarte feedback −2α J q̇ (α = 10 1/s) on the
+// measured J q̇, noise of σ_q = 5e-5 rad fed the predicted contact force and the trailing foot slipped torsionally as
+// it unloaded (stand-to-walk: 1 of 10 perturbation seeds walked; docs/design-notes.md
+// #walking-controller-contact-model). Here gait A on its orbit walks 6 steps with four times that noise, with every
+// plant contact force inside the four corners' cone (RunWalking fails a run at the first sample outside: success).
+TEST(WalkingPerturbations, SensorNoiseOfTwoTenthsOfAMilliradianWalksOnTheRigidSole) {
+  auto model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*model, "left_foot");
+  const WalkingGait gait;
+  for (const std::uint64_t seed : {1u, 2u, 3u}) {
+    WalkingDiagramParams params;
+    ASSERT_TRUE(params.controller.contact.corner_wrench_cone);
+    ASSERT_TRUE(params.plant.sole_torsion);
+    ASSERT_EQ(params.controller.contact_stabilization.baumgarte_alpha_per_s, 0.0);
+    params.perturbations.seed = seed;
+    params.perturbations.position_noise_sigma = 2e-4;
+    params.perturbations.velocity_noise_sigma = 2e-3;
+    const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 8, 1, &cache, stand), params);
+    ASSERT_NE(d.perturbation_blocks.sensor_noise, nullptr);
+    WalkingRunParams run;
+    run.start_time_s = 0.5 * gait.dsp_duration_s;
+    run.start_at_rest = false;
+    run.end_time_s = run.start_time_s + 6 * (gait.ssp_duration_s + gait.dsp_duration_s);
+    const WalkingRunResult r = RunWalking(d, run);
+    std::printf("seed %d: %s; %d of %d steps, COM RMS x %.2f mm, max |F_t|/F_n %.3f, min F_n %.1f N\n",
+                static_cast<int>(seed), r.status.ToString().c_str(), r.steps_completed, r.steps_planned,
+                1e3 * r.com_rms_error_m.x(), r.contact.max_friction_ratio, r.contact.min_normal_force_N);
+    EXPECT_TRUE(r.success) << "seed " << seed << ": " << r.status.ToString();
+    EXPECT_EQ(r.contact.violations, 0) << "seed " << seed << ": " << r.contact.first_violation;
+    EXPECT_EQ(r.contact_violation_port_samples, 0) << "seed " << seed;
+    EXPECT_EQ(r.steps_completed, r.steps_planned) << "seed " << seed;
+    EXPECT_GE(r.steps_planned, 5) << "seed " << seed;
+  }
+}
+
 }  // namespace
 }  // namespace rome

@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "systems/multibody/multibody_dynamics.h"
 #include "systems/multibody/multibody_kinematics.h"
@@ -742,6 +743,26 @@ TEST(ClfQpController, BadParametersAndInputsAreNamed) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), "system 'clf': params.epsilon = 0.000000 must be positive and finite");
   }
+  for (const double alpha : {-1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    ClfQpParams bad_alpha;
+    bad_alpha.contact_stabilization.baumgarte_alpha_per_s = alpha;
+    try {
+      ClfQpController("clf", model, {0}, {out}, bad_alpha);
+      FAIL() << "no error for alpha " << alpha;
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("system 'clf': params.contact_stabilization.baumgarte_alpha_per_s = ", 0),
+                0u)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("must be >= 0 1/s and finite"), std::string::npos) << e.what();
+    }
+  }
+  ClfQpParams bad_beta;
+  bad_beta.contact_stabilization.baumgarte_beta_per_s = -2.0;
+  EXPECT_THROW(ClfQpController("clf", model, {0}, {out}, bad_beta), std::runtime_error);
+  ClfQpParams held;  // α = β = 0 is allowed: the contacts predicted as held
+  held.contact_stabilization.baumgarte_alpha_per_s = 0.0;
+  held.contact_stabilization.baumgarte_beta_per_s = 0.0;
+  EXPECT_NO_THROW(ClfQpController("clf", model, {0}, {out}, held));
   ClfQpParams bad_weights;
   bad_weights.u_regularization_weights = Eigen::Vector2d(1.0, 2.0);
   EXPECT_THROW(
