@@ -87,7 +87,8 @@ Parameter ParseGrid(const std::string& spec, bool integer) {
       if (integer && (v != std::floor(v) || v < INT_MIN || v > INT_MAX))
         throw Error(p.origin + ": --" + Excerpt(p.name) + " takes whole numbers, and this grid gives " + Format(v) +
                     " (choose LO, HI and N so that every value is a whole number of int's range)");
-      value += (e == 0 ? "" : ",") + (integer ? std::to_string(static_cast<long long>(v)) : Format(v));
+      if (e > 0) value += ',';
+      value += integer ? std::to_string(static_cast<long long>(v)) : Format(v);
     }
     p.values.push_back(value);
   }
