@@ -14,6 +14,7 @@
 
 #include "framework/simulator_presets.h"
 #include "systems/multibody/model_scaling.h"
+#include "systems/controllers/contact_velocity_projection.h"
 #include "systems/controllers/task_space_qp_controller.h"
 #include "systems/multibody/multibody_kinematics.h"
 
@@ -323,7 +324,15 @@ WalkingDiagram BuildWalkingDiagram(std::shared_ptr<const MultibodyModel> model, 
   if (force_reference) b.Connect("walking_reference", "normal_force_reference", spec.name, "normal_force_reference");
   b.Connect("plant", "mode", spec.name, "mode");
   // plant.state → controller.state and controller.u → plant.u, through the perturbation blocks that are on.
-  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, base_model, "plant", spec.name);
+  std::string state_sink;  // the sensor path's end: the controller, or the projection in front of it
+  if (params.project_velocity_on_contacts && perturb.latency_samples > 0) {
+    b.AddSystem(std::make_unique<ContactVelocityProjection>("contact_projection", base_model, spec.mode_contacts,
+                                                            plant_params.dynamics));
+    b.Connect("plant", "mode", "contact_projection", "mode");
+    b.Connect("contact_projection", "state", spec.name, "state");
+    state_sink = "contact_projection";
+  }
+  d.perturbation_blocks = AddPerturbationBlocks(b, perturb, base_model, "plant", spec.name, "", state_sink);
   d.diagram = b.Build("walking");
   for (int i = 0; i < d.diagram->num_leaves() && d.clf_qp == nullptr; ++i)
     d.clf_qp = dynamic_cast<const ClfQpController*>(&d.diagram->leaf(i));

@@ -6,6 +6,8 @@
 //     → outputs (WalkingOutputReference: Eq. (16) in DSP, Eq. (17) in SSP, swing foot to the planned foothold)
 //     → controller (ClfQpController: RES-CLF Eq. (18)-(19), F eliminated Eq. (20)-(22), flat-foot wrench rows
 //       Eq. (23), force band Eq. (25) on normal_force_reference, torque limits, 1 kHz, re-solved at every event)
+//     ← contact_projection (ContactVelocityProjection, with sensor latency: the delayed state with its velocity
+//       projected onto the plant's current contacts) ← plant state
 //     → plant (PlantKind, one builder argument: HybridContactPlant, DSP ↔ SSP: ContactModeGraph::WithDoubleSupport;
 //       DSP → SSP when the trailing foot's normal force reaches 0, no impact; SSP → DSP when the swing sole reaches the
 //       ground, plastic impact; flat feet with 6 constraints each. Or BulletWorldPlant on the same graph: each sole's
@@ -91,6 +93,12 @@ struct WalkingDiagramParams {
   /// not by the CoP (CompensateCentroidalMomentum, ours; the paper's point-mass ROMs have none).
   bool compensate_centroidal_momentum = true;
   CentroidalMomentumCompensationParams compensation;
+  /// With sensor latency (perturbations.latency_samples > 0) the controller reads the delayed state through a
+  /// ContactVelocityProjection onto the plant's current contact mode (ours): the first solves after a touchdown
+  /// otherwise see the pre-impact velocities, and the new stance foot bounces. Not added without latency: on a
+  /// noisy, undelayed state it moved the first lift-off of gait A to the torsion limit on one seed of six
+  /// (docs/design-notes.md#walking-latency-projection).
+  bool project_velocity_on_contacts = true;
   double swing_foot_weight = 5.0;  ///< [-] cost weight of the swing ankle's position (ours: land on the foothold)
   /// [-] cost weight of the swing foot's orientation (ours). The light foot's rows set the QP cost's largest curvature
   /// and so the scale of ClfQpParams::u_regularization (docs/design-notes.md#walking-swing-foot-orientation-weight).

@@ -108,6 +108,10 @@ void DeclareWalkingOptions(CommandLine& cli) {
               "on | off: the hybrid plant's four-corner soles also slip torsionally outside their corners' wrench cone "
               "(HybridContactPlantParams::sole_torsion; on, the default, as a rigid sole; off: only the friction "
               "cone)")
+      .Option("contact-projection", "on",
+              "on | off: with --latency, the controller reads the delayed state with its velocity projected onto the "
+              "plant's current contacts (ContactVelocityProjection; ours, on: the new stance foot otherwise bounces "
+              "at each touchdown)")
       .Option("sole-torsion-friction", "0.75",
               "corner-cone: the friction coefficient of the corners' pyramids in the yaw rows (inscribed in the "
               "cone; ours, 0.75: a relative margin below the exoskeleton sole's 0.8 for the force's drift over a held "
@@ -254,6 +258,7 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   p.controller.contact.corner_cone_friction_coefficient = cli.GetDouble("sole-torsion-friction");
   p.controller.contact.corner_cone_yaw_margin_m = cli.GetDouble("sole-torsion-margin");
   p.plant.sole_torsion = OneOf(cli, "plant-sole-torsion", {"on", "off"}) == "on";
+  p.project_velocity_on_contacts = OneOf(cli, "contact-projection", {"on", "off"}) == "on";
   if (!(p.controller.contact.corner_cone_yaw_margin_m <= 0.05))
     throw std::invalid_argument(
         "walking: --sole-torsion-margin must be < 0 (the CoP rows' sole) or in [0, 0.05] m, got " +

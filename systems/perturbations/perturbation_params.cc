@@ -47,7 +47,8 @@ Terrain WithStoneHeightErrors(const Terrain& terrain, double sigma_m, std::uint6
 
 PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationParams& params,
                                          std::shared_ptr<const MultibodyModel> model, const std::string& plant,
-                                         const std::string& controller, const std::string& state_source) {
+                                         const std::string& controller, const std::string& state_source,
+                                         const std::string& state_sink) {
   params.Validate();
   PerturbationBlocks out;
   const int nq = model->nq(), nv = model->nv(), nu = model->nu();
@@ -74,7 +75,7 @@ PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationPa
     b.Connect(from_system, from_port, "sensor_latency", "u");
     from_system = std::string("sensor_latency"), from_port = std::string("y");
   }
-  b.Connect(from_system, from_port, controller, "state");
+  b.Connect(from_system, from_port, state_sink.empty() ? controller : state_sink, "state");
   // Actuator path: controller.u → noise → plant.u.
   if (params.torque_noise_sigma_Nm > 0.0) {
     out.torque_noise = b.AddSystem(std::make_unique<AdditiveGaussianNoise>(

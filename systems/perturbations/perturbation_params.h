@@ -65,9 +65,11 @@ struct PerturbationBlocks {
 /// noise moves the quaternion's four entries by position_noise_sigma / 2, about that angle in rad about each axis, and
 /// the controller's kinematics normalise it). `state_source`: the system whose
 /// output "state" feeds the sensor path ("" = `plant`; e.g. a QuaternionToEulerState after a quaternion-base plant);
-/// the push reads it too.
+/// the push reads it too. `state_sink`: the system whose input "state" the sensor path ends in ("" = `controller`;
+/// e.g. a ContactVelocityProjection in front of the controller).
 PerturbationBlocks AddPerturbationBlocks(DiagramBuilder& b, const PerturbationParams& params,
                                          std::shared_ptr<const MultibodyModel> model, const std::string& plant,
-                                         const std::string& controller, const std::string& state_source = "");
+                                         const std::string& controller, const std::string& state_source = "",
+                                         const std::string& state_sink = "");
 
 }  // namespace rome
