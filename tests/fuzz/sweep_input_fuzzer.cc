@@ -5,7 +5,8 @@
 // to it: 0 grid, 1 grid of an integer flag, 2 seeds, 3 run record, 4 summary, 5 CSV cell, 6 and 7 --set.
 // Fine: a value that keeps the parser's promise (below), or std::invalid_argument whose message is one line.
 // A finding: any other exception, a multi-line message, a crash, a sanitizer report, a hang (-timeout), or:
-//   grid: a value count outside 1..kMaxGridPoints, a value that is not a finite number, or (integer flags) not whole;
+//   grid: a value count outside 1..kMaxGridPoints, a value entry (a tuple's, comma-separated) that is not a finite
+//   number or (integer flags) not whole, values of different tuple lengths;
 //   seeds: more than kMaxRuns seeds, or seeds that are not consecutive whole numbers;
 //   set: an empty name, or text that is not UTF-8;
 //   run record: a record that RunRecordText and ParseRunRecord do not give back, or an exit code out of range;
@@ -43,11 +44,22 @@ void Grid(const std::string& text, bool integer) {
   const Parameter p = ParseGrid(text, integer);
   if (p.values.empty() || p.values.size() > static_cast<size_t>(kMaxGridPoints))
     Finding("grid value count out of range", text);
+  // Each value is a tuple a,b,... (one entry for a flag of one number) of the same length in every value.
+  size_t entries = 0;
   for (const std::string& v : p.values) {
-    const double x = Number(v);
-    if (!std::isfinite(x)) Finding("grid value is not a finite number", text);
-    if (integer && (x != std::floor(x) || v.find_first_not_of("-0123456789") != std::string::npos))
-      Finding("integer grid value is not whole", text);
+    size_t count = 0;
+    for (size_t at = 0;; ++count) {
+      const size_t comma = v.find(',', at);
+      const std::string entry = v.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+      const double x = Number(entry);
+      if (!std::isfinite(x)) Finding("grid value entry is not a finite number", text);
+      if (integer && (x != std::floor(x) || entry.find_first_not_of("-0123456789") != std::string::npos))
+        Finding("integer grid value entry is not whole", text);
+      if (comma == std::string::npos) break;
+      at = comma + 1;
+    }
+    if (entries != 0 && count + 1 != entries) Finding("grid values have different tuple lengths", text);
+    entries = count + 1;
   }
 }
 
