@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "diagrams/walking/walking_diagram.h"
 #include "diagrams/walking/walking_run.h"
@@ -32,22 +33,38 @@ struct MomentumBalance {
   bool one_mode = true;  // no mode change inside the window
 };
 
+// Gait A's periodic plan of `plan_steps` steps (NLP seed 1, the test plan cache) on the walking diagram built with
+// `params`, and run parameters that start it on its orbit, inside the first double support.
+struct GaitAOnOrbit {
+  std::shared_ptr<const MultibodyModel> model;
+  WalkingGait gait;
+  WalkingDiagram diagram;
+  WalkingRunParams run;
+};
+
+GaitAOnOrbit BuildGaitAOnOrbit(const WalkingDiagramParams& params, int plan_steps) {
+  GaitAOnOrbit g;
+  g.model = test::LoadRobot("exoskeleton");
+  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
+  StandToWalkParams stand;
+  stand.sole = SoleOf(*g.model, "left_foot");
+  g.diagram = BuildWalkingDiagram(g.model, BuildPeriodicWalkingPlan(g.gait, plan_steps, 1, &cache, stand), params);
+  g.run.start_time_s = 0.5 * g.gait.dsp_duration_s;
+  g.run.start_at_rest = false;
+  return g;
+}
+
 // Runs gait A's periodic plan with `perturbations` and balances the momentum over [t_a, t_b] (inside its second
 // single support, 0.6-1.0 s).
 MomentumBalance Balance(const PerturbationParams& perturbations, double t_a, double t_b,
                         std::shared_ptr<const MultibodyModel>* model_out) {
-  auto model = test::LoadRobot("exoskeleton");
-  *model_out = model;
-  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
-  StandToWalkParams stand;
-  stand.sole = SoleOf(*model, "left_foot");
-  const WalkingGait gait;
   WalkingDiagramParams params;
   params.perturbations = perturbations;
-  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 4, 1, &cache, stand), params);
-  WalkingRunParams run;
-  run.start_time_s = 0.5 * gait.dsp_duration_s;  // inside the first double support, on the plan's orbit
-  run.start_at_rest = false;
+  GaitAOnOrbit g = BuildGaitAOnOrbit(params, 4);
+  const auto& model = g.model;
+  *model_out = model;
+  const WalkingDiagram& d = g.diagram;
+  WalkingRunParams& run = g.run;
   run.end_time_s = t_b + 0.05;
   MultibodyWorkspace ws(*model);
   MomentumBalance b;
@@ -126,17 +143,12 @@ TEST(WalkingPerturbations, APushInSingleSupportAddsItsImpulseToTheMomentum) {
 // heavier plant slips at about 0.44 s (10 % slips at 0.39 s, with or without the force-band lead); the band is scored
 // over the ~0.4 s before.
 TEST(WalkingPerturbations, TheForceBandSlackIsOfTheControllersMass) {
-  auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
-  StandToWalkParams stand;
-  stand.sole = SoleOf(*model, "left_foot");
-  const WalkingGait gait;
   WalkingDiagramParams params;
   params.perturbations.mass_scale = 1.2;
-  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 4, 1, &cache, stand), params);
-  WalkingRunParams run;
-  run.start_time_s = 0.5 * gait.dsp_duration_s;
-  run.start_at_rest = false;
+  GaitAOnOrbit g = BuildGaitAOnOrbit(params, 4);
+  const auto& model = g.model;
+  const WalkingDiagram& d = g.diagram;
+  WalkingRunParams& run = g.run;
   run.end_time_s = 1.5;
   const double c = params.controller.force_band_halfwidth, s = run.band_slack_mg;
   const double mg_nominal = model->total_mass() * kGravity, mg_plant = 1.2 * mg_nominal;
@@ -164,6 +176,21 @@ TEST(WalkingPerturbations, TheForceBandSlackIsOfTheControllersMass) {
   EXPECT_NEAR(r.force_in_band_fraction, static_cast<double>(in_nominal) / ticks, 1e-12);
 }
 
+// Runs `g` for 6 steps and expects every planned step taken once, on its foothold, with every plant contact force
+// unilateral and inside the cone (and the four corners' cone: RunWalking fails a run at the first sample outside).
+void ExpectSixStepsPhysically(GaitAOnOrbit& g, const std::string& label) {
+  g.run.end_time_s = g.run.start_time_s + 6 * (g.gait.ssp_duration_s + g.gait.dsp_duration_s);
+  const WalkingRunResult r = RunWalking(g.diagram, g.run);
+  std::printf("%s: %s; %d of %d steps, %d lift-offs, COM RMS x %.2f mm, max |F_t|/F_n %.3f, min F_n %.1f N\n",
+              label.c_str(), r.status.ToString().c_str(), r.steps_completed, r.steps_planned, r.liftoffs,
+              1e3 * r.com_rms_error_m.x(), r.contact.max_friction_ratio, r.contact.min_normal_force_N);
+  EXPECT_TRUE(r.success) << label << ": " << r.status.ToString();
+  EXPECT_EQ(r.contact.violations, 0) << label << ": " << r.contact.first_violation;
+  EXPECT_EQ(r.contact_violation_port_samples, 0) << label;
+  EXPECT_EQ(r.steps_completed, r.steps_planned) << label;
+  EXPECT_GE(r.steps_planned, 5) << label;
+}
+
 // Sensor noise on the state the controller sees, on the default rigid sole: the controller predicts the stance feet
 // as held (α = 0, DefaultWalkingControllerParams). With the plant's Baumgarte feedback −2α J q̇ (α = 10 1/s) on the
 // measured J q̇, noise of σ_q = 5e-5 rad fed the predicted contact force and the trailing foot slipped torsionally as
@@ -171,11 +198,6 @@ TEST(WalkingPerturbations, TheForceBandSlackIsOfTheControllersMass) {
 // #walking-controller-contact-model). Here gait A on its orbit walks 6 steps with twice that noise, with every
 // plant contact force inside the four corners' cone (RunWalking fails a run at the first sample outside: success).
 TEST(WalkingPerturbations, SensorNoiseOfATenthOfAMilliradianWalksOnTheRigidSole) {
-  auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
-  StandToWalkParams stand;
-  stand.sole = SoleOf(*model, "left_foot");
-  const WalkingGait gait;
   for (const std::uint64_t seed : {1u, 2u, 3u}) {
     WalkingDiagramParams params;
     ASSERT_TRUE(params.controller.contact.corner_wrench_cone);
@@ -184,21 +206,9 @@ TEST(WalkingPerturbations, SensorNoiseOfATenthOfAMilliradianWalksOnTheRigidSole)
     params.perturbations.seed = seed;
     params.perturbations.position_noise_sigma = 1e-4;
     params.perturbations.velocity_noise_sigma = 1e-3;
-    const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 8, 1, &cache, stand), params);
-    ASSERT_NE(d.perturbation_blocks.sensor_noise, nullptr);
-    WalkingRunParams run;
-    run.start_time_s = 0.5 * gait.dsp_duration_s;
-    run.start_at_rest = false;
-    run.end_time_s = run.start_time_s + 6 * (gait.ssp_duration_s + gait.dsp_duration_s);
-    const WalkingRunResult r = RunWalking(d, run);
-    std::printf("seed %d: %s; %d of %d steps, COM RMS x %.2f mm, max |F_t|/F_n %.3f, min F_n %.1f N\n",
-                static_cast<int>(seed), r.status.ToString().c_str(), r.steps_completed, r.steps_planned,
-                1e3 * r.com_rms_error_m.x(), r.contact.max_friction_ratio, r.contact.min_normal_force_N);
-    EXPECT_TRUE(r.success) << "seed " << seed << ": " << r.status.ToString();
-    EXPECT_EQ(r.contact.violations, 0) << "seed " << seed << ": " << r.contact.first_violation;
-    EXPECT_EQ(r.contact_violation_port_samples, 0) << "seed " << seed;
-    EXPECT_EQ(r.steps_completed, r.steps_planned) << "seed " << seed;
-    EXPECT_GE(r.steps_planned, 5) << "seed " << seed;
+    GaitAOnOrbit g = BuildGaitAOnOrbit(params, 8);
+    ASSERT_NE(g.diagram.perturbation_blocks.sensor_noise, nullptr);
+    ExpectSixStepsPhysically(g, "seed " + std::to_string(seed));
   }
 }
 
@@ -209,29 +219,12 @@ TEST(WalkingPerturbations, SensorNoiseOfATenthOfAMilliradianWalksOnTheRigidSole)
 // docs/design-notes.md#walking-latency-projection). Gait A on its orbit walks 6 steps, each touchdown counted once,
 // every plant contact force inside the four corners' cone.
 TEST(WalkingPerturbations, TwoMillisecondsOfLatencyWalkOnTheRigidSole) {
-  auto model = test::LoadRobot("exoskeleton");
-  const PlanCache cache(test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
-  StandToWalkParams stand;
-  stand.sole = SoleOf(*model, "left_foot");
-  const WalkingGait gait;
   WalkingDiagramParams params;
   ASSERT_TRUE(params.project_velocity_on_contacts);
   params.perturbations.latency_samples = 2;
-  const WalkingDiagram d = BuildWalkingDiagram(model, BuildPeriodicWalkingPlan(gait, 8, 1, &cache, stand), params);
-  ASSERT_NE(d.perturbation_blocks.sensor_latency, nullptr);
-  WalkingRunParams run;
-  run.start_time_s = 0.5 * gait.dsp_duration_s;
-  run.start_at_rest = false;
-  run.end_time_s = run.start_time_s + 6 * (gait.ssp_duration_s + gait.dsp_duration_s);
-  const WalkingRunResult r = RunWalking(d, run);
-  std::printf("latency 2 ms: %s; %d of %d steps, %d lift-offs, COM RMS x %.2f mm, max |F_t|/F_n %.3f\n",
-              r.status.ToString().c_str(), r.steps_completed, r.steps_planned, r.liftoffs, 1e3 * r.com_rms_error_m.x(),
-              r.contact.max_friction_ratio);
-  EXPECT_TRUE(r.success) << r.status.ToString();
-  EXPECT_EQ(r.steps_completed, r.steps_planned);
-  EXPECT_GE(r.steps_planned, 5);
-  EXPECT_EQ(r.contact.violations, 0) << r.contact.first_violation;
-  EXPECT_EQ(r.contact_violation_port_samples, 0);
+  GaitAOnOrbit g = BuildGaitAOnOrbit(params, 8);
+  ASSERT_NE(g.diagram.perturbation_blocks.sensor_latency, nullptr);
+  ExpectSixStepsPhysically(g, "latency 2 ms");
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
-// Shared AMBER setups for the task-space QP tests and the controllers benchmark: the model, a single-support
-// posture found by SolvePose (stance foot, COM above it, torso upright, swing foot in the air), and
-// the paper's output set of Eq. (19) (torso pitch, COM height, swing-foot x and z).
+// Shared setups for the controller tests and the controllers benchmark: LoadRobot, a generic Euler-base state, and for
+// AMBER a single-support posture found by SolvePose (stance foot, COM above it, torso upright, swing foot in the air)
+// and the paper's output set of Eq. (19) (torso pitch, COM height, swing-foot x and z).
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +19,19 @@ namespace rome::test {
 inline std::shared_ptr<const MultibodyModel> LoadRobot(const std::string& robot) {
   return std::make_shared<const MultibodyModel>(MultibodyModel::LoadFromSidecar(
       rome::test::SourcePath("robots/" + robot + "/" + robot + ".rome.json"), {.euler_floating_base = true}));
+}
+
+/// A generic state of a robot on the ZYX-Euler base: its nominal pose turned (yaw 0.4 rad) and tilted (`pitch`,
+/// `roll` [rad]), with every coordinate moving (rate 0.3 sin(1.7 i + 0.5) of coordinate i), so that no contact holds.
+inline Eigen::VectorXd GenericEulerState(const MultibodyModel& euler, double pitch, double roll) {
+  const int nv = euler.nv();
+  Eigen::VectorXd x(2 * nv);
+  x.head(nv) = euler.q_nominal();
+  x[euler.VelocityIndex("base_yaw")] = 0.4;
+  x[euler.VelocityIndex("base_pitch")] = pitch;
+  x[euler.VelocityIndex("base_roll")] = roll;
+  for (int i = 0; i < nv; ++i) x[nv + i] = 0.3 * std::sin(1.7 * i + 0.5);
+  return x;
 }
 
 /// AMBER standing on its left foot at (0, 0) with the COM straight above it, the torso upright and the right

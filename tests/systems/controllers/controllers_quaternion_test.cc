@@ -39,17 +39,8 @@ Twins LoadTwins() {
   return t;
 }
 
-// A generic Euler state of the exoskeleton: the nominal pose turned and tilted, every coordinate moving.
-Eigen::VectorXd GenericEulerState(const MultibodyModel& euler) {
-  const int nv = euler.nv();
-  Eigen::VectorXd x(2 * nv);
-  x.head(nv) = euler.q_nominal();
-  x[euler.VelocityIndex("base_yaw")] = 0.4;
-  x[euler.VelocityIndex("base_pitch")] = -0.7;
-  x[euler.VelocityIndex("base_roll")] = 0.3;
-  for (int i = 0; i < nv; ++i) x[nv + i] = 0.3 * std::sin(1.7 * i + 0.5);  // rates of every coordinate
-  return x;
-}
+// A generic Euler state of the exoskeleton: pitch −0.7, roll 0.3 rad, every coordinate moving.
+Eigen::VectorXd GenericEulerState(const MultibodyModel& euler) { return test::GenericEulerState(euler, -0.7, 0.3); }
 
 struct TaskValue {
   double y;
