@@ -106,9 +106,14 @@ using SteppingStonesControllerFactory = std::function<std::unique_ptr<System>(co
 
 struct SteppingStonesDiagramParams {
   std::string robot_sidecar = "robots/amber/amber.rome.json";  ///< planar point-foot robot
-  double target_orbital_energy = 0.5;  ///< E* [m²/s²] (paper: 0.5 random stones, 0.3 in Fig. 6)
-  double impact_fraction = 0.6;        ///< ε [-] (paper: 0.6)
-  double log_period_s = 5e-3;          ///< [s]
+  /// E* [m²/s²]. Paper: 0.5 (random stones), 0.3 (Fig. 6). Ours for AMBER (this default): 0.4. At 0.5, after a short
+  /// step up by about 0.25 m onto a stone followed by a short step, AMBER's rear foot must rise about 0.3 m within
+  /// about 0.12 s to clear its stance stone; its swing joints (reflected rotor inertia 0.43 kg m² each) saturate and
+  /// the foot stubs the stone's rear edge (docs/design-notes.md#stepping-stones-amber-energy). ForRobot sets planar
+  /// Cassie's 0.5.
+  double target_orbital_energy = 0.4;
+  double impact_fraction = 0.6;  ///< ε [-] (paper: 0.6)
+  double log_period_s = 5e-3;    ///< [s]
   /// [m] COM position relative to the stance foot at the start (ours; the paper gives no initial state). The
   /// robot starts on the E* orbit there: ṗx = sqrt(E* + λ² x²), λ² = g / walking height (Eq. (16)). Starting
   /// behind the foot gives the first swing (from standing, both feet on the first stone) time to lift; from
@@ -120,7 +125,10 @@ struct SteppingStonesDiagramParams {
   /// on the stones' boxes, its step 1 ms, its update just after the controller's sample (bullet_world_plant.h).
   BulletWorldPlantParams bullet_plant;
   SteppingStonesSupervisorParams supervisor;
-  MomentumRegulationPlannerParams planner;
+  /// Ours for AMBER (this default): u_des >= −1.5 m/s (min_pre_impact_vertical_velocity_mps; the paper: unbounded).
+  /// At E* = 0.4 a short step after a long step down asked for u_des down to −2.8 m/s; the robot ended crouched below
+  /// the fall height on the next step up. ForRobot leaves planar Cassie unbounded.
+  MomentumRegulationPlannerParams planner = DefaultPlannerParams();
   /// Eq. (28). Ours: the plan is held (not re-solved) in the last 50 ms before the predicted impact.
   VerticalComMpcSystemParams mpc = DefaultMpcParams();
   /// Eq. (19)-(24). Ours: the swing foot is re-timed to touch down when the COM reaches ε l_des
@@ -195,9 +203,20 @@ struct SteppingStonesDiagramParams {
     p.predict_hold_drift = true;
     return p;
   }
+  static MomentumRegulationPlannerParams DefaultPlannerParams() {
+    MomentumRegulationPlannerParams p;
+    p.min_pre_impact_vertical_velocity_mps = -1.5;
+    return p;
+  }
+  /// Ours: the relaxed plan (pre-impact state out of reach) keeps the terminal velocity before the height
+  /// (terminal_position_weight 1e3 against terminal_velocity_weight 1e6), as planar Cassie's: with equal weights
+  /// the height error (scaled by 1/dt²) wins, the plan gives up u_des, and an impact that arrives rising leaves the
+  /// next stance asking for free fall, which unloads the stance foot until it slips
+  /// (docs/design-notes.md#stepping-stones-cassie-whip, #stepping-stones-amber-energy).
   static VerticalComMpcSystemParams DefaultMpcParams() {
     VerticalComMpcSystemParams p;
     p.hold_plan_below_horizon_s = 0.05;
+    p.mpc.terminal_position_weight = 1e3;
     return p;
   }
   static SteppingStonesOutputsSystemParams DefaultOutputsParams() {

@@ -95,9 +95,9 @@ if [ $QUICK -eq 1 ]; then STEPS=6 DOWN_STEPS=6 WALK_STEPS=2 SWEEP_STEPS=4; else 
 
 # --- Stepping stones: Fig. 4 (flat l = 0.7 m, stairs up (0.5, 0.2) m, stairs down (0.4, -0.1) m) and Fig. 5 (the stairs
 # down, logged every 1 ms so that the pre-impact sample is at most 1 ms before the impact) for both robots; Fig. 7 on
-# random stones (seed 1, E* = 0.5, epsilon = 0.6) for both robots.
+# random stones (seed 1, E* = 0.5, epsilon = 0.6) for both robots. All at the paper's E* = 0.5 (AMBER's default is 0.4).
 for robot in amber cassie_planar; do
-  ss=("$BIN/stepping_stones" --robot "robots/$robot/$robot.rome.json" --log-period 0.001)
+  ss=("$BIN/stepping_stones" --robot "robots/$robot/$robot.rome.json" --log-period 0.001 --energy 0.5)
   name="AMBER"; [ $robot = cassie_planar ] && name="planar Cassie"
   for terrain in "flat 0.7 0" "stairs-up 0.5 0.2" "stairs-down 0.4 -0.1"; do
     read -r kind l h <<< "$terrain"

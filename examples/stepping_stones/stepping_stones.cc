@@ -97,7 +97,9 @@ int main(int argc, char** argv) {
         std::cout << "animation: " << cli.Get("animation") << " (" << animation->num_frames() << " frames)\n";
     }
     if (!cli.Get("plots").empty())
-      examples::WriteSteppingStonesPlots(d, sim.get_context(), scenario, cli.Get("energy"), cli.Get("plots"));
+      examples::WriteSteppingStonesPlots(d, sim.get_context(), scenario,
+                                         examples::FormatNumber(scenario.params.target_orbital_energy),
+                                         cli.Get("plots"));
     return examples::PrintSteppingStonesReport(result, scenario);
   } catch (const std::exception& e) {
     std::cerr << "error: " << cli.NameTheOption(examples::OneLine(e.what()), examples::kSteppingStonesParameterOptions)

@@ -6,6 +6,7 @@
 #include "framework/text.h"
 
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -111,10 +112,11 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("seed", "1", "random seed of the random terrain and of the perturbations (noise, stone-height errors)")
       .Option("steps", "30", "number of steps to walk")
       .Option(
-          "energy", "0.5",
-          "E* [m^2/s^2], desired orbital energy (paper: 0.5). Measured on flat 0.8 m steps: AMBER walks at 1.0 / "
-          "1.5 / 2.0 / 2.5 (1.26 / 1.43 / 1.59 / 1.72 m/s), planar Cassie at 1.5 (1.60 m/s); AMBER walks 1.54 m/s on "
-          "stairs down (0.8, -0.2) m at 0.5 and 1.66 m/s on flat 0.65 m steps at 2.5 (docs/stepping-stones.md)")
+          "energy", "default",
+          "E* [m^2/s^2], desired orbital energy (default: the robot's, AMBER 0.4 (ours), planar Cassie 0.5 (the "
+          "paper's)). Measured on flat 0.8 m steps: AMBER walks at 1.0 / 1.5 / 2.0 / 2.5 (1.27 / 1.44 / 1.59 / 1.73 "
+          "m/s), planar Cassie at 1.5 (1.60 m/s); AMBER walks 1.52 m/s on stairs down (0.8, -0.2) m at 0.5 and 1.66 "
+          "m/s on flat 0.65 m steps at 2.5 (docs/stepping-stones.md)")
       .Option("plan-check", "off",
               "off | report: before a periodic run (flat, stairs-up, stairs-down; point feet) print the joint "
               "torques and the contact force the plan's inverse dynamics needs (a measurement; nothing is refused)")
@@ -164,9 +166,13 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("mpc-hold", "default",
               "[s] vertical-COM MPC: below this predicted time to impact the plan is held, not re-solved (default: the "
               "diagram's)")
-      .Option("mpc-max-accel", "default",
-              "[m/s^2] vertical-COM MPC: largest upward COM acceleration the plan may ask for, > -9.81 (inf: none; "
-              "default: the diagram's)")
+      .Option(
+          "mpc-max-accel", "default",
+          "[m/s^2] vertical-COM MPC: largest upward COM acceleration the plan may ask for, > -9.81 (none: no bound; "
+          "default: the diagram's)")
+      .Option("min-u-des", "default",
+              "[m/s] lower bound of the planner's pre-impact vertical COM velocity u_des, <= 0 (none: the paper's "
+              "unbounded Eq. (26); default: the robot's, AMBER -1.5 (ours), planar Cassie none)")
       .Option("mpc-position-weight", "default",
               "[-] vertical-COM MPC: weight of the terminal height error when the terminal state is out of reach, > 0 "
               "(default: the diagram's)")
@@ -198,6 +204,7 @@ const std::vector<std::pair<std::string, std::string>> kSteppingStonesParameterO
                                                         {"mpc.hold_plan_below_horizon_s", "mpc-hold"},
                                                         {"max_acceleration", "mpc-max-accel"},
                                                         {"terminal_position_weight", "mpc-position-weight"},
+                                                        {"min_pre_impact_vertical_velocity_mps", "min-u-des"},
                                                         {"clf_com_height_weight", "clf-com-weight"},
                                                         {"clf_controller.update_period_s", "clf-rate"},
                                                         {"controller.friction_margin", "friction-margin"},
@@ -253,7 +260,11 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   if (cli.Get("walking-height") != "default") params.supervisor.walking_com_height_m = cli.GetDouble("walking-height");
   if (cli.Get("max-com-foot-distance") != "default")
     params.supervisor.max_com_foot_distance_m = cli.GetDouble("max-com-foot-distance");
-  params.target_orbital_energy = cli.GetDouble("energy");
+  if (cli.Get("energy") != "default") params.target_orbital_energy = cli.GetDouble("energy");
+  if (cli.Get("min-u-des") == "none")
+    params.planner.min_pre_impact_vertical_velocity_mps = -std::numeric_limits<double>::infinity();
+  else if (cli.Get("min-u-des") != "default")
+    params.planner.min_pre_impact_vertical_velocity_mps = cli.GetDouble("min-u-des");
   params.impact_fraction = cli.GetDouble("epsilon");
   params.supervisor.max_steps = steps;
   params.log_period_s = cli.GetDouble("log-period");
@@ -273,7 +284,10 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   params.clf_controller.contact.friction_margin = params.controller.friction_margin;
   params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
   if (cli.Get("mpc-hold") != "default") params.mpc.hold_plan_below_horizon_s = cli.GetDouble("mpc-hold");
-  if (cli.Get("mpc-max-accel") != "default") params.mpc.mpc.max_acceleration = cli.GetDouble("mpc-max-accel");
+  if (cli.Get("mpc-max-accel") == "none")
+    params.mpc.mpc.max_acceleration = std::numeric_limits<double>::infinity();
+  else if (cli.Get("mpc-max-accel") != "default")
+    params.mpc.mpc.max_acceleration = cli.GetDouble("mpc-max-accel");
   if (cli.Get("mpc-position-weight") != "default")
     params.mpc.mpc.terminal_position_weight = cli.GetDouble("mpc-position-weight");
   if (cli.Get("clf-com-weight") != "default") params.clf_com_height_weight = cli.GetDouble("clf-com-weight");

@@ -32,6 +32,10 @@ MomentumRegulationPlanner::MomentumRegulationPlanner(MomentumRegulationPlannerPa
           params_.min_time_to_impact_s);
   Require(params_.max_time_to_impact_s >= params_.min_time_to_impact_s && std::isfinite(params_.max_time_to_impact_s),
           "parameter max_time_to_impact_s must be finite and >= min_time_to_impact_s", params_.max_time_to_impact_s);
+  Require(
+      !std::isnan(params_.min_pre_impact_vertical_velocity_mps) && params_.min_pre_impact_vertical_velocity_mps <= 0,
+      "parameter min_pre_impact_vertical_velocity_mps (m/s) must be <= 0 or -infinity",
+      params_.min_pre_impact_vertical_velocity_mps);
 }
 
 double MomentumRegulationPlanner::DesiredPostImpactMomentum(double step_length, double step_height,
@@ -103,6 +107,10 @@ MomentumRegulationPlan MomentumRegulationPlanner::Plan(const MomentumRegulationI
                                                params_.gravity, &clamped);
   if (clamped) plan.status |= MomentumRegulationPlan::kPreImpactMomentumClamped;
   plan.u_des = DesiredPreImpactVerticalVelocity(l, h, plan.L_des, plan.L_pre_impact, in.pdot_com_x);
+  if (plan.u_des < params_.min_pre_impact_vertical_velocity_mps) {
+    plan.u_des = params_.min_pre_impact_vertical_velocity_mps;
+    plan.status |= MomentumRegulationPlan::kPreImpactVelocityClamped;
+  }
 
   // Eq. (27).
   const LinearInvertedPendulum lip({.z0 = plan.slope_adjusted_height, .gravity = params_.gravity});

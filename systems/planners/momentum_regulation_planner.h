@@ -18,6 +18,7 @@
 // We use the slope-adjusted ẑ0 of Eq. (27) in Eq. (25) as well, so both predictions use one LIP.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 
 #include "systems/rom/linear_inverted_pendulum.h"
@@ -40,6 +41,10 @@ struct MomentumRegulationPlannerParams {
   /// the COM already passed ε l, T̂_s = min; when the orbit lacks energy to reach ε l, T̂_s = max.
   double min_time_to_impact_s = 0.02;
   double max_time_to_impact_s = 2.0;
+  /// [m/s] u_des is at least this (ours; the paper: no bound, −∞). Eq. (26) sheds momentum at an impact only through
+  /// l u, so a short step after a fast one asks for a steep fall (u_des down to −2.8 m/s on AMBER's random courses);
+  /// bounded, the excess momentum is shed over the next steps instead (kPreImpactVelocityClamped).
+  double min_pre_impact_vertical_velocity_mps = -std::numeric_limits<double>::infinity();
 };
 
 /// Current robot (or ROM) state relative to the stance foot, and the next step.
@@ -61,6 +66,7 @@ struct MomentumRegulationPlan {
     kTimeToImpactInsufficientEnergy = 1u << 1,  ///< Eq. (14) has no real root: T̂ = max.
     kTimeToImpactPassed = 1u << 2,              ///< ε l reached only backwards in time: T̂ = min.
     kTimeToImpactClamped = 1u << 3,             ///< T̂ was outside [min, max].
+    kPreImpactVelocityClamped = 1u << 4,        ///< Eq. (26) asked for less than min_pre_impact_vertical_velocity_mps.
   };
   double L_des = 0;                  ///< [m²/s] desired post-impact momentum
   double L_pre_impact = 0;           ///< [m²/s] L̂⁻, Eq. (25)

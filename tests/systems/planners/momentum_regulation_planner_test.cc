@@ -145,6 +145,66 @@ TEST(MomentumRegulationPlanner, StairGaitConvergesToAFixedPointWhenDecidedEarly)
   EXPECT_NEAR(StepMap(lip, planner, post, l, h, 1.0)[1], L_des, 1e-12);
 }
 
+TEST(MomentumRegulationPlanner, ABoundedUdesShedsExcessMomentumOverSeveralSteps) {
+  // Flat ground, decided at the impact (deadbeat when unbounded). From a start far faster than the E* orbit, the
+  // unbounded planner reaches L* in one impact with u < u_min; bounded, every impact sheds exactly l u_min (Eq. (17),
+  // h = 0) until the remainder fits, then the gait repeats on the E* orbit.
+  const LinearInvertedPendulum lip({.z0 = 0.8});
+  const double l = 0.4, u_min = -1.0;
+  const MomentumRegulationPlanner unbounded({.target_orbital_energy = 0.3, .impact_fraction = 0.6});
+  const MomentumRegulationPlanner bounded(
+      {.target_orbital_energy = 0.3, .impact_fraction = 0.6, .min_pre_impact_vertical_velocity_mps = u_min});
+  const double L_star = unbounded.DesiredPostImpactMomentum(l, 0.0, 0.8);
+  const Eigen::Vector2d start(-0.4 * l, 1.6);
+  EXPECT_NEAR(StepMap(lip, unbounded, start, l, 0.0, 1.0)[1], L_star, 1e-12);
+
+  Eigen::Vector2d post = start;
+  int bounded_impacts = 0;
+  for (int k = 0; k < 12; ++k) {
+    const TimeToImpact T = lip.TimeToReach(0.6 * l, post);
+    ASSERT_TRUE(T.ok());
+    const Eigen::Vector2d pre = lip.Flow(post, T.time_s);
+    const Eigen::Vector2d next = StepMap(lip, bounded, post, l, 0.0, 1.0);
+    if (pre[1] + l * u_min > L_star + 1e-12) {  // the bound binds: exactly l u_min shed
+      EXPECT_NEAR(next[1], pre[1] + l * u_min, 1e-12) << "step " << k;
+      ++bounded_impacts;
+    } else {
+      EXPECT_NEAR(next[1], L_star, 1e-12) << "step " << k;
+    }
+    EXPECT_LT(next[1], pre[1]) << "step " << k;  // never gains momentum on the way down to L*
+    post = next;
+  }
+  EXPECT_GE(bounded_impacts, 2);
+  EXPECT_NEAR(lip.OrbitalEnergy(post), 0.3, 1e-12);
+
+  // The status bit, and no change where Eq. (26) stays above the bound.
+  MomentumRegulationInput in;
+  in.step_length = l;
+  in.p_com_x = 0.6 * l;
+  in.p_com_z = 0.8;
+  in.pre_impact_com_height = 0.8;
+  in.L_y = 1.6;
+  in.pdot_com_x = 1.6 / 0.8;
+  MomentumRegulationPlan plan = bounded.Plan(in);
+  EXPECT_EQ(plan.u_des, u_min);
+  EXPECT_TRUE(plan.status & MomentumRegulationPlan::kPreImpactVelocityClamped);
+  EXPECT_LT(unbounded.Plan(in).u_des, u_min);
+  in.L_y = L_star + 0.05;
+  in.pdot_com_x = in.L_y / 0.8;
+  plan = bounded.Plan(in);
+  EXPECT_FALSE(plan.status & MomentumRegulationPlan::kPreImpactVelocityClamped);
+  EXPECT_EQ(plan.u_des, unbounded.Plan(in).u_des);
+
+  for (double bad : {0.5, std::nan("")}) {
+    try {
+      MomentumRegulationPlanner({.min_pre_impact_vertical_velocity_mps = bad});
+      FAIL() << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("min_pre_impact_vertical_velocity_mps"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(MomentumRegulationPlanner, ReportsPredictionFailures) {
   const MomentumRegulationPlanner planner({.target_orbital_energy = 0.4,
                                            .impact_fraction = 0.6,
