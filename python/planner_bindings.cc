@@ -44,7 +44,10 @@ void BindMomentumRegulation(py::module_& m) {
       .Field("impact_fraction", &MomentumRegulationPlannerParams::impact_fraction, "[-] epsilon")
       .Field("gravity", &MomentumRegulationPlannerParams::gravity, "[m/s^2]")
       .Field("min_time_to_impact_s", &MomentumRegulationPlannerParams::min_time_to_impact_s)
-      .Field("max_time_to_impact_s", &MomentumRegulationPlannerParams::max_time_to_impact_s);
+      .Field("max_time_to_impact_s", &MomentumRegulationPlannerParams::max_time_to_impact_s)
+      .Field("min_pre_impact_vertical_velocity_mps",
+             &MomentumRegulationPlannerParams::min_pre_impact_vertical_velocity_mps,
+             "[m/s] u_des is at least this (-inf: the paper's unbounded Eq. (26))");
   ParamsClass<MomentumRegulationInput>(m, "MomentumRegulationInput",
                                        "The planner's input (relative to the stance foot).")
       .Field("p_com_x", &MomentumRegulationInput::p_com_x, "[m]")
