@@ -261,10 +261,14 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   if (cli.Get("max-com-foot-distance") != "default")
     params.supervisor.max_com_foot_distance_m = cli.GetDouble("max-com-foot-distance");
   if (cli.Get("energy") != "default") params.target_orbital_energy = cli.GetDouble("energy");
-  if (cli.Get("min-u-des") == "none")
-    params.planner.min_pre_impact_vertical_velocity_mps = -std::numeric_limits<double>::infinity();
-  else if (cli.Get("min-u-des") != "default")
-    params.planner.min_pre_impact_vertical_velocity_mps = cli.GetDouble("min-u-des");
+  // A bound option: "default" keeps the diagram's value, "none" sets `none`, anything else is a number.
+  auto bound = [&](const std::string& flag, double none, double* value) {
+    if (cli.Get(flag) == "none")
+      *value = none;
+    else if (cli.Get(flag) != "default")
+      *value = cli.GetDouble(flag);
+  };
+  bound("min-u-des", -std::numeric_limits<double>::infinity(), &params.planner.min_pre_impact_vertical_velocity_mps);
   params.impact_fraction = cli.GetDouble("epsilon");
   params.supervisor.max_steps = steps;
   params.log_period_s = cli.GetDouble("log-period");
@@ -284,10 +288,7 @@ SteppingStonesScenario SteppingStonesScenarioFromCommandLine(const CommandLine& 
   params.clf_controller.contact.friction_margin = params.controller.friction_margin;
   params.clf_controller.contact.min_normal_force_N = params.controller.min_normal_force_N;
   if (cli.Get("mpc-hold") != "default") params.mpc.hold_plan_below_horizon_s = cli.GetDouble("mpc-hold");
-  if (cli.Get("mpc-max-accel") == "none")
-    params.mpc.mpc.max_acceleration = std::numeric_limits<double>::infinity();
-  else if (cli.Get("mpc-max-accel") != "default")
-    params.mpc.mpc.max_acceleration = cli.GetDouble("mpc-max-accel");
+  bound("mpc-max-accel", std::numeric_limits<double>::infinity(), &params.mpc.mpc.max_acceleration);
   if (cli.Get("mpc-position-weight") != "default")
     params.mpc.mpc.terminal_position_weight = cli.GetDouble("mpc-position-weight");
   if (cli.Get("clf-com-weight") != "default") params.clf_com_height_weight = cli.GetDouble("clf-com-weight");
