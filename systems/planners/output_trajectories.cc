@@ -130,17 +130,24 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
     for (int iteration = 0; iteration < 20; ++iteration) {
       const double scale = params_.touchdown_timing == SwingTouchdownTiming::kAtPhaseEnd ? tau_touchdown_ : 1.0;
       double c = c_exact;
-      for (double edge : {-params_.stance_stone_half_length, params_.stance_stone_half_length}) {
+      // The stance stone's two edges (top at 0) and, optionally, the next stone's rear edge (top at the step height).
+      const struct {
+        double x, top;
+        bool checked;
+      } edges[] = {{-params_.stance_stone_half_length, 0.0, true},
+                   {params_.stance_stone_half_length, 0.0, true},
+                   {step_length_ - params_.stance_stone_half_length, step_height_, params_.clear_next_stone_rear_edge}};
+      for (const auto& [edge, top, checked] : edges) {
         const double tau = CrossingPhase(edge);
-        if (!std::isfinite(tau)) continue;
+        if (!checked || !std::isfinite(tau)) continue;
         const double sigma = scale * tau;
-        // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = stance_stone_clearance.
+        // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = top + stance_stone_clearance.
         const double B0 = std::pow(1 - sigma, 5), B4 = 5 * std::pow(sigma, 4) * (1 - sigma), B5 = std::pow(sigma, 5);
         // lift_off_at_rest: γ_1 = γ_0 is fixed, so B_1 moves to the fixed part.
         const double B1 = params_.lift_off_at_rest ? 5 * sigma * std::pow(1 - sigma, 4) : 0.0;
         const double middle = 1 - B0 - B1 - B4 - B5;
         if (middle > 1e-6)
-          c = std::max(c, (params_.stance_stone_clearance - (B0 + B1) * b_v_.control_point(0) -
+          c = std::max(c, (top + params_.stance_stone_clearance - (B0 + B1) * b_v_.control_point(0) -
                            B4 * b_v_.control_point(4) - B5 * b_v_.control_point(5)) /
                               middle);
       }

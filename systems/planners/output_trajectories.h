@@ -135,6 +135,11 @@ struct SwingFootBezierParams {
   double stance_stone_half_length = 0.05;
   /// [m] for SwingApexShape::kClearStanceStone: the least height above the stance stone (ours).
   double stance_stone_clearance = 0.05;
+  /// For SwingApexShape::kClearStanceStone (ours, off by default): the foot is also stance_stone_clearance above the
+  /// next stone's top where it crosses that stone's rear edge, x = l_des − stance_stone_half_length (the same
+  /// half-length, which includes the sole's). A line foot that starts beside the stance foot, 2 cm behind a higher
+  /// next stone, otherwise puts its toe into that stone's rear face.
+  bool clear_next_stone_rear_edge = false;
   /// [-] τ_a in (0, 1]: Eq. (23) runs on τ / τ_a, so the foot is above the foothold (x = l_des, at rest in x) from
   /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a
   /// short, fast step then still lands on the stone centre instead of its near edge.

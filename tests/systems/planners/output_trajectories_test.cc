@@ -237,6 +237,42 @@ TEST(OutputTrajectories, ClearStanceStoneRaisesTheCurveWhereTheFootPassesOverThe
   EXPECT_EQ(cs.vertical().control_point(1), es.vertical().control_point(1));
 }
 
+TEST(OutputTrajectories, ClearNextStoneRearEdgeKeepsTheToeAboveAHigherNextStone) {
+  // Planar Cassie's first step up (issue 42): the swing foot starts beside the stance foot, the next stone is 0.20 m
+  // ahead and 0.22 m up, and the edge half-length is the stone's 0.09 m plus the sole's 0.07 m. The next stone's rear
+  // edge, widened by that half-length, is at x = 0.20 − 0.16 = 0.04 m: from there on the toe is over the stone. With
+  // the check, the foot is at least stance_stone_clearance above the stone's top wherever x >= 0.04 m until it
+  // descends onto the foothold; without it, it is below the top there (the toe runs into the face).
+  SwingFootBezierParams params;
+  params.apex_shape = SwingApexShape::kClearStanceStone;
+  params.apex_reference = SwingApexReference::kHighestStone;
+  params.touchdown_timing = SwingTouchdownTiming::kAtPhaseEnd;
+  params.lift_off_at_rest = true;
+  params.stance_stone_half_length = 0.16;
+  const double l = 0.20, h = 0.22, edge = l - params.stance_stone_half_length;
+  const SwingFootBezier unchecked(params, 0.0, 0.0, l, h);
+  params.clear_next_stone_rear_edge = true;
+  const SwingFootBezier checked(params, 0.0, 0.0, l, h);
+  // Sampled independently of CrossingPhase: the height where x first reaches the edge.
+  auto height_at_edge = [&](const SwingFootBezier& b) -> double {
+    for (int k = 0; k <= 100000; ++k)
+      if (b.X(k / 100000.0).value >= edge) return b.Z(k / 100000.0).value;
+    return NAN;
+  };
+  std::printf("  height where the foot crosses x = %.2f m: unchecked %.4f m, checked %.4f m (stone top %.2f m)\n", edge,
+              height_at_edge(unchecked), height_at_edge(checked), h);
+  EXPECT_LT(height_at_edge(unchecked), h);
+  EXPECT_NEAR(height_at_edge(checked), h + params.stance_stone_clearance, 1e-3);
+  EXPECT_GE(height_at_edge(checked), h + params.stance_stone_clearance - 1e-6);
+  EXPECT_NEAR(checked.Z(1.0).value, h, 1e-9);  // still lands at h_des at τ = 1
+  EXPECT_NEAR(checked.X(1.0).value, l, 1e-12);
+  // A step down: the stance stone's check binds, and the next-edge check changes nothing.
+  SwingFootBezierParams down_params = params;
+  down_params.clear_next_stone_rear_edge = false;
+  const SwingFootBezier down_checked(params, -0.4, 0.0, 0.4, -0.2), down(down_params, -0.4, 0.0, 0.4, -0.2);
+  EXPECT_EQ(down_checked.vertical().control_point(2), down.vertical().control_point(2));
+}
+
 TEST(OutputTrajectories, HighestStoneApexClearsTheStanceStone) {
   // Both neighbouring stones below the stance stone: z_max is measured from the stance stone (z = 0).
   SwingFootBezierParams params;
