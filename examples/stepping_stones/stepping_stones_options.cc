@@ -172,7 +172,7 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
           "default: the diagram's)")
       .Option("min-u-des", "default",
               "[m/s] lower bound of the planner's pre-impact vertical COM velocity u_des, <= 0 (none: the paper's "
-              "unbounded Eq. (26); default: the robot's, AMBER -1.5 (ours), planar Cassie none)")
+              "unbounded Eq. (26); default: the robot's, AMBER -1.5, planar Cassie -1 (both ours))")
       .Option("mpc-position-weight", "default",
               "[-] vertical-COM MPC: weight of the terminal height error when the terminal state is out of reach, > 0 "
               "(default: the diagram's)")

@@ -76,6 +76,10 @@ void AddField(Results& r, long i, const std::string& key, const json& v) {
     text = v.get<bool>() ? "1" : "0";
   } else if (v.is_string()) {
     text = v.get<std::string>();
+  } else if (v.is_array() && !v.empty() &&
+             std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); })) {
+    // A list of numbers (a tuple flag such as --sensor-noise 0.001,0.01): the text the flag takes.
+    for (const json& x : v) text += (text.empty() ? "" : ",") + Format(x.get<double>());
   } else {
     return;
   }

@@ -68,6 +68,15 @@ mpirun -np 2 "$bin/rome_sweep" stepping-stones --grid energy=0.3:0.5:2 --grid st
   --out "$work/grid" > "$work/grid.out" 2>&1
 check "grid exits 0" '[ $? = 0 ]'
 check "grid plot written" '[ -s "$work/grid/sweep_speed.png" ] || ! command -v gnuplot > /dev/null'
+# A tuple grid: each row's scenario holds its tuple as the flag's text (the summary writes most as a JSON list).
+mpirun -np 2 "$bin/rome_sweep" stepping-stones --grid sensor-noise=0,0:1e-4,1e-3:3 --set steps=2 --out "$work/tuple" \
+  > "$work/tuple.out" 2>&1
+check "tuple grid exits 0" '[ $? = 0 ]'
+check "tuple grid rows hold their scenario tuple" 'python3 -c "
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+sys.exit(not (len(rows) == 3 and all(r[\"scenario.sensor-noise\"] == r[\"sensor-noise\"] != \"\" for r in rows)))
+" "$work/tuple/sweep.csv"'
 # Hopping (Cassie, 3D) over a grid of apex rises: every run hops and settles, and each row records its apex rise.
 mpirun -np 2 "$bin/rome_sweep" hopping --grid apex-rise=0.15:0.20:2 --out "$work/hop" > "$work/hop.out" 2>&1
 check "hopping sweep exits 0" '[ $? = 0 ]'

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "tests/common/sanitizer_scale.h"
@@ -234,6 +235,45 @@ TEST_P(CassieFirstStepUp, TheSwingToeClearsTheNextStonesRearFace) {
       << "course " << seed << ": " << r.status.ToString();
 }
 INSTANTIATE_TEST_SUITE_P(FourCourses, CassieFirstStepUp, ::testing::Values(92084u, 92958u, 92966u, 92978u));
+
+// The CLF-QP after short steps down (issue 42; tuning courses 51031 and 51984 of the example's 30-step random terrain):
+// with the paper's unbounded u_des, Eq. (26) asked for u_des down to about −3 m/s, the gait ran ahead of L_des and
+// the swing foot landed beyond its stone. ForRobot's bound u_des >= −1 m/s sheds the momentum over the next steps.
+// Checked: 20 steps, each on its planned stone, u_des never below the bound, physical contact; unbounded, each falls.
+constexpr int kUdesBoundSteps = 20;
+class CassieUdesBound : public ::testing::TestWithParam<unsigned> {};
+
+TEST_P(CassieUdesBound, TheClfQpWalksAfterShortStepsDown) {
+  const unsigned seed = GetParam();
+  const Terrain terrain = FirstStepCourse(seed);
+  const SteppingStonesDiagramParams params = CassieParams();
+  const double bound = params.planner.min_pre_impact_vertical_velocity_mps;
+  EXPECT_EQ(bound, -1.0);
+  const test::WalkResult r = WalkCassieClf(terrain, kUdesBoundSteps, params);
+  const std::string what = "CLF-QP, course " + std::to_string(seed);
+  EXPECT_EQ(r.status.kind(), SimulatorStatus::Kind::kSuccess) << what << ": " << r.status.ToString();
+  ASSERT_EQ(static_cast<int>(r.steps.size()), kUdesBoundSteps) << what;
+  int clamped = 0;
+  for (size_t k = 0; k < r.steps.size(); ++k) {
+    EXPECT_EQ(r.steps[k].stone, r.steps[k].planned_stone) << what << ", step " << k + 1;
+    EXPECT_GE(r.steps[k].u_des_mps, bound - 1e-12) << what << ", step " << k + 1;
+    clamped += r.steps[k].u_des_mps < bound + 1e-9;
+  }
+  EXPECT_GT(clamped, 0) << what << ": the bound never bound";
+  test::ExpectPhysicalContact(r, what);
+
+  SteppingStonesDiagramParams unbounded = params;
+  unbounded.planner.min_pre_impact_vertical_velocity_mps = -std::numeric_limits<double>::infinity();
+  const test::WalkResult u = WalkCassieClf(terrain, kUdesBoundSteps, unbounded);
+  EXPECT_EQ(u.status.kind(), SimulatorStatus::Kind::kFailure) << what << ", unbounded";
+  EXPECT_NE(u.status.message.find("robot fell"), std::string::npos) << what << ", unbounded: " << u.status.ToString();
+  double lowest = 0;
+  for (const StepRecord& s : u.steps) lowest = std::min(lowest, s.u_des_mps);
+  std::printf("  course %u: bounded, %d of %d steps clamped; unbounded, fell after %zu steps, lowest u_des %.2f m/s\n",
+              seed, clamped, kUdesBoundSteps, u.steps.size(), lowest);
+  EXPECT_LT(lowest, 2 * bound) << what;
+}
+INSTANTIATE_TEST_SUITE_P(TwoCourses, CassieUdesBound, ::testing::Values(51031u, 51984u));
 
 }  // namespace
 }  // namespace rome
