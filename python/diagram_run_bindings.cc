@@ -65,7 +65,9 @@ void BindParams(py::module_& m) {
       .Field("impact_fraction", &SteppingStonesDiagramParams::impact_fraction, "epsilon [-]")
       .Field("log_period_s", &SteppingStonesDiagramParams::log_period_s, "[s]")
       .Field("initial_com_x_m", &SteppingStonesDiagramParams::initial_com_x_m, "[m]")
-      .Field("supervisor", &SteppingStonesDiagramParams::supervisor);
+      .Field("supervisor", &SteppingStonesDiagramParams::supervisor)
+      .Field("planner", &SteppingStonesDiagramParams::planner,
+             "the momentum-regulation planner's (Eq. (25)-(27); u_des bound: AMBER -1.5 m/s, planar Cassie -1 m/s)");
   p.cls()
       .def_static("for_robot", &SteppingStonesDiagramParams::ForRobot, py::arg("sidecar"),
                   "The defaults adapted to the robot of `sidecar`.")

@@ -27,6 +27,23 @@ def test_params_are_python_objects():
     assert text.startswith("SteppingStonesDiagramParams(") and "target_orbital_energy=0.3" in text and "max_steps=7" in text
 
 
+def test_the_planner_bound_is_a_field_that_reaches_the_run():
+    assert rome.SteppingStonesDiagramParams.for_robot("robots/amber/amber.rome.json").planner.min_pre_impact_vertical_velocity_mps == -1.5
+    assert rome.SteppingStonesDiagramParams.for_robot(
+        "robots/cassie_planar/cassie_planar.rome.json").planner.min_pre_impact_vertical_velocity_mps == -1.0
+    # AMBER down stairs (0.4, -0.1) m asks for u_des below -0.3 m/s; bounded at -0.3, every step's u_des is at the bound.
+    terrain = rome.periodic_stepping_stones(0.4, -0.1, STEPS + 2, 0.1)
+    params = rome.SteppingStonesDiagramParams.for_robot("robots/amber/amber.rome.json")
+    params.supervisor.max_steps = STEPS
+    free = rome.run_stepping_stones(terrain, params)
+    params.planner.min_pre_impact_vertical_velocity_mps = -0.3
+    bounded = rome.run_stepping_stones(terrain, params)
+    assert free["success"] and bounded["success"]
+    assert min(step["u_des_mps"] for step in free["steps"]) < -0.3 - 0.1
+    assert all(step["u_des_mps"] >= -0.3 - 1e-12 for step in bounded["steps"])
+    assert any(abs(step["u_des_mps"] + 0.3) < 1e-9 for step in bounded["steps"])
+
+
 @pytest.mark.skipif(not EXE, reason="the stepping_stones example is not built (ROME_BUILD_EXAMPLES=OFF)")
 def test_python_run_matches_the_cpp_program(tmp_path):
     summary = tmp_path / "summary.json"
