@@ -67,7 +67,9 @@ void BindParams(py::module_& m) {
       .Field("initial_com_x_m", &SteppingStonesDiagramParams::initial_com_x_m, "[m]")
       .Field("supervisor", &SteppingStonesDiagramParams::supervisor)
       .Field("planner", &SteppingStonesDiagramParams::planner,
-             "the momentum-regulation planner's (Eq. (25)-(27); u_des bound: AMBER -1.5 m/s, planar Cassie -1 m/s)");
+             "the momentum-regulation planner's parameters (Eq. (25)-(27); u_des bound: AMBER -1.5 m/s, planar "
+             "Cassie -1 m/s); its E* and epsilon are taken from this object's target_orbital_energy and "
+             "impact_fraction");
   p.cls()
       .def_static("for_robot", &SteppingStonesDiagramParams::ForRobot, py::arg("sidecar"),
                   "The defaults adapted to the robot of `sidecar`.")

@@ -116,9 +116,9 @@ SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::str
   p.robot_sidecar = sidecar;
   const MultibodyModel model = MultibodyModel::LoadFromSidecar(sidecar, {.euler_floating_base = true});
   if (!HasFootPitchOutput(model)) return p;
-  // Line/flat feet (planar Cassie). The paper's E* = 0.5, and u_des >= −1 m/s (ours; AMBER's bound is −1.5 m/s): with
-  // u_des unbounded the CLF-QP fell on 4 of 1000 tuning courses after short steps down that asked for u_des down to
-  // −3.3 m/s, and on none with the bound (docs/design-notes.md#stepping-stones-cassie-udes-bound).
+  // Line/flat feet (planar Cassie). The paper's E* = 0.5, and u_des >= −1 m/s (ours; AMBER −1.5 m/s): unbounded, short
+  // steps down ask for a steep fall that the CLF-QP does not recover from
+  // (docs/design-notes.md#stepping-stones-cassie-udes-bound).
   p.target_orbital_energy = 0.5;
   p.planner.min_pre_impact_vertical_velocity_mps = -1.0;
   // z0 (hopping spec C.12): the nominal standing pose's COM height above its soles.
@@ -156,8 +156,8 @@ SteppingStonesDiagramParams SteppingStonesDiagramParams::ForRobot(const std::str
   // 1 m/s, a COM out of the next swing leg's reach and a whip of that leg
   // (docs/design-notes.md#stepping-stones-cassie-whip).
   p.mpc.mpc.max_acceleration = 12.0;
-  // The swing curve also clears the next stone's rear edge: Cassie's line foot starts 2 cm behind a 0.18 m stone,
-  // and on a first step up its toe otherwise runs into that stone's face
+  // The swing curve also clears the next stone's rear edge: the toe reaches half a sole ahead of the foot's midpoint,
+  // and on a short step up the next stone's rear face can be closer than that; without the check the toe runs into it
   // (docs/design-notes.md#stepping-stones-cassie-first-step).
   p.outputs.swing_foot.clear_next_stone_rear_edge = true;
   return p;

@@ -127,7 +127,8 @@ struct SteppingStonesDiagramParams {
   SteppingStonesSupervisorParams supervisor;
   /// Ours for AMBER (this default): u_des >= −1.5 m/s (min_pre_impact_vertical_velocity_mps; the paper: unbounded).
   /// At E* = 0.4 a short step after a long step down asked for u_des down to −2.8 m/s; the robot ended crouched below
-  /// the fall height on the next step up. ForRobot sets planar Cassie's −1 m/s.
+  /// the fall height on the next step up. ForRobot sets planar Cassie's −1 m/s. Its target_orbital_energy and
+  /// impact_fraction are replaced by this struct's (BuildSteppingStonesDiagram).
   MomentumRegulationPlannerParams planner = DefaultPlannerParams();
   /// Eq. (28). Ours: the plan is held (not re-solved) in the last 50 ms before the predicted impact.
   VerticalComMpcSystemParams mpc = DefaultMpcParams();

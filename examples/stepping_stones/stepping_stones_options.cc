@@ -125,7 +125,8 @@ void DeclareSteppingStonesOptions(CommandLine& cli) {
       .Option("swing-apex", "clear",
               "paper (Bezier control points at z_sw^max, Eq. (24)) | exact (the curve peaks at z_sw^max) | clear "
               "(exact, and at least "
-              "5 cm above the stance stone wherever the foot passes over it)")
+              "5 cm above the stance stone wherever the foot passes over it; for line feet also 5 cm above the next "
+              "stone where the foot crosses its rear edge)")
       .Option("initial-com-x", "-0.1", "[m] COM position relative to the stance foot at the start (on the E* orbit)")
       .Option("robot", "robots/amber/amber.rome.json",
               "planar robot sidecar (AMBER: point feet; planar Cassie: line feet; a relative path is looked up in "

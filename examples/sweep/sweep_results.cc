@@ -54,8 +54,8 @@ std::string Format(double v) {
   return os.str();
 }
 
-// Every run's record and summary, flattened to the summary's deterministic scalar fields (one level of objects:
-// "tracking_rms.torso_pitch_rad").
+// Every run's record and summary, flattened to the summary's deterministic scalar fields and lists of numbers (one
+// level of objects: "tracking_rms.torso_pitch_rad").
 struct Results {
   std::vector<std::optional<RunRecord>> records;
   std::vector<std::map<std::string, std::string>> cells;  // run -> field -> its text
@@ -78,7 +78,8 @@ void AddField(Results& r, long i, const std::string& key, const json& v) {
     text = v.get<std::string>();
   } else if (v.is_array() && !v.empty() &&
              std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); })) {
-    // A list of numbers (a tuple flag such as --sensor-noise 0.001,0.01): the text the flag takes.
+    // Any list of numbers (a tuple flag such as scenario.sensor-noise, a per-axis error): comma-joined, as a tuple
+    // flag takes it (10 significant digits, as every number here).
     for (const json& x : v) text += (text.empty() ? "" : ",") + Format(x.get<double>());
   } else {
     return;

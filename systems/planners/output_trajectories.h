@@ -101,7 +101,7 @@ enum class SwingApexShape {
   /// stone wherever it passes over it (|p_sw^x| <= stance_stone_half_length). The paper's curve peaks near τ = 0.5
   /// whatever the step: after a long step followed by a short one, the foot passes over the stance stone late,
   /// already on its way down, and grazes it. γ_1 = γ_2 = γ_3 = c as in the paper, c = max(c of kExactPeak, c that
-  /// meets the stance clearance at both edges).
+  /// meets the stance clearance at both edges and, with clear_next_stone_rear_edge, at the next stone's rear edge).
   kClearStanceStone,
 };
 /// When the swing foot reaches the foothold height h_des along the phase (ours).
@@ -133,12 +133,14 @@ struct SwingFootBezierParams {
   /// [m] half the length of the stance stone's top, for SwingApexShape::kClearStanceStone (ours; the paper's stones
   /// are 0.1 m long in our terrains).
   double stance_stone_half_length = 0.05;
-  /// [m] for SwingApexShape::kClearStanceStone: the least height above the stance stone (ours).
+  /// [m] for SwingApexShape::kClearStanceStone: the least height above the stance stone at its edges, and above the
+  /// next stone's top at its rear edge with clear_next_stone_rear_edge (ours).
   double stance_stone_clearance = 0.05;
   /// For SwingApexShape::kClearStanceStone (ours, off by default): the foot is also stance_stone_clearance above the
   /// next stone's top where it crosses that stone's rear edge, x = l_des − stance_stone_half_length (the same
-  /// half-length, which includes the sole's). A line foot that starts beside the stance foot, 2 cm behind a higher
-  /// next stone, otherwise puts its toe into that stone's rear face.
+  /// half-length, which includes the sole's; a terrain of mixed stone lengths places the edge by its longest stone).
+  /// A line foot's toe reaches half a sole ahead of the foot; on a short step up the next stone's rear face can be
+  /// closer than that, and the toe otherwise runs into it. An edge behind the swing foot's start is not checked.
   bool clear_next_stone_rear_edge = false;
   /// [-] τ_a in (0, 1]: Eq. (23) runs on τ / τ_a, so the foot is above the foothold (x = l_des, at rest in x) from
   /// τ = τ_a on and the last part of the swing is a vertical descent. 1 = the paper. Ours: a foot that lags in x on a

@@ -195,14 +195,14 @@ INSTANTIATE_TEST_SUITE_P(PeriodicFootholds, ClfCourses,
 TEST(ClfRandomStones, TenCoursesOfThirtyStepsWithoutAFall) { ExpectTenRandomCourses(true); }
 
 // First steps up to a stone 2 cm ahead of the start stone (issue 42; courses 92084, 92958, 92966 and 92978 of the
-// example's 30-step random terrain, diagnosed on held-out seeds, so tuning seeds now): each first step is 0.20 m long
-// and 0.19-0.24 m up. Cassie's line foot starts beside the stance foot with its toe 7 cm ahead of the sole's midpoint,
-// so a swing curve that clears only the stance stone puts the toe into the next stone's rear face, where the plant
-// registers a touchdown on the start stone. ForRobot's clear_next_stone_rear_edge raises the curve there
+// example's 30-step random terrain): each first step is 0.20 m long and 0.19-0.24 m up. Cassie's line foot starts
+// beside the stance foot with its toe 7 cm ahead of the sole's midpoint, so a swing curve that clears only the stance
+// stone puts the toe into the next stone's rear face, where the plant registers a touchdown on the start stone.
+// ForRobot's clear_next_stone_rear_edge raises the curve there
 // (docs/design-notes.md#stepping-stones-cassie-first-step). Checked: three steps, each on its planned stone, with
 // physical contact, for both controllers; without the check the task-space QP misses the first stone on each course.
 constexpr int kFirstStepSteps = 3;
-Terrain FirstStepCourse(unsigned seed) {
+Terrain ExampleRandomCourse(unsigned seed) {
   RandomSteppingStonesParams p;
   p.num_stones = 30 + 2;  // the example's course for 30 steps
   p.seed = seed;
@@ -214,7 +214,7 @@ class CassieFirstStepUp : public ::testing::TestWithParam<unsigned> {};
 
 TEST_P(CassieFirstStepUp, TheSwingToeClearsTheNextStonesRearFace) {
   const unsigned seed = GetParam();
-  const Terrain terrain = FirstStepCourse(seed);
+  const Terrain terrain = ExampleRandomCourse(seed);
   for (const bool clf : {false, true}) {
     const std::string what = std::string(clf ? "CLF-QP" : "task-space QP") + ", course " + std::to_string(seed);
     const test::WalkResult r = clf ? WalkCassieClf(terrain, kFirstStepSteps) : WalkCassie(terrain, kFirstStepSteps);
@@ -237,15 +237,15 @@ TEST_P(CassieFirstStepUp, TheSwingToeClearsTheNextStonesRearFace) {
 INSTANTIATE_TEST_SUITE_P(FourCourses, CassieFirstStepUp, ::testing::Values(92084u, 92958u, 92966u, 92978u));
 
 // The CLF-QP after short steps down (issue 42; tuning courses 51031 and 51984 of the example's 30-step random terrain):
-// with the paper's unbounded u_des, Eq. (26) asked for u_des down to about −3 m/s, the gait ran ahead of L_des and
-// the swing foot landed beyond its stone. ForRobot's bound u_des >= −1 m/s sheds the momentum over the next steps.
+// with the paper's unbounded u_des, Eq. (26) asked for u_des below −2 m/s, the gait ran ahead of L_des and the swing
+// foot landed beyond its stone. ForRobot's bound u_des >= −1 m/s sheds the momentum over the next steps.
 // Checked: 20 steps, each on its planned stone, u_des never below the bound, physical contact; unbounded, each falls.
 constexpr int kUdesBoundSteps = 20;
 class CassieUdesBound : public ::testing::TestWithParam<unsigned> {};
 
 TEST_P(CassieUdesBound, TheClfQpWalksAfterShortStepsDown) {
   const unsigned seed = GetParam();
-  const Terrain terrain = FirstStepCourse(seed);
+  const Terrain terrain = ExampleRandomCourse(seed);
   const SteppingStonesDiagramParams params = CassieParams();
   const double bound = params.planner.min_pre_impact_vertical_velocity_mps;
   EXPECT_EQ(bound, -1.0);

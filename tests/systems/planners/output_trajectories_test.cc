@@ -241,8 +241,8 @@ TEST(OutputTrajectories, ClearNextStoneRearEdgeKeepsTheToeAboveAHigherNextStone)
   // Planar Cassie's first step up (issue 42): the swing foot starts beside the stance foot, the next stone is 0.20 m
   // ahead and 0.22 m up, and the edge half-length is the stone's 0.09 m plus the sole's 0.07 m. The next stone's rear
   // edge, widened by that half-length, is at x = 0.20 − 0.16 = 0.04 m: from there on the toe is over the stone. With
-  // the check, the foot is at least stance_stone_clearance above the stone's top wherever x >= 0.04 m until it
-  // descends onto the foothold; without it, it is below the top there (the toe runs into the face).
+  // the check, the foot crosses x = 0.04 m stance_stone_clearance above the stone's top and stays above the top until
+  // it lands; without it, it crosses below the top (the toe runs into the face).
   SwingFootBezierParams params;
   params.apex_shape = SwingApexShape::kClearStanceStone;
   params.apex_reference = SwingApexReference::kHighestStone;
@@ -264,12 +264,26 @@ TEST(OutputTrajectories, ClearNextStoneRearEdgeKeepsTheToeAboveAHigherNextStone)
   EXPECT_LT(height_at_edge(unchecked), h);
   EXPECT_NEAR(height_at_edge(checked), h + params.stance_stone_clearance, 1e-3);
   EXPECT_GE(height_at_edge(checked), h + params.stance_stone_clearance - 1e-6);
+  for (int k = 0; k < 100000; ++k) {
+    const double tau = k / 100000.0;
+    if (checked.X(tau).value >= edge) {
+      EXPECT_GE(checked.Z(tau).value, h - 1e-9) << "tau " << tau;  // over the stone, above its top
+    }
+  }
   EXPECT_NEAR(checked.Z(1.0).value, h, 1e-9);  // still lands at h_des at τ = 1
   EXPECT_NEAR(checked.X(1.0).value, l, 1e-12);
-  // A step down: the stance stone's check binds, and the next-edge check changes nothing.
-  SwingFootBezierParams down_params = params;
+  // A long step then a short step down (ClearStanceStoneRaisesTheCurve... above): the stance stone's check binds (c
+  // above the exact peak's), and the next stone's edge, 0.23 m lower, adds nothing.
+  SwingFootBezierParams exact = params, down_params = params;
+  exact.apex_shape = SwingApexShape::kExactPeak;
+  exact.stance_stone_half_length = down_params.stance_stone_half_length = 0.05;
+  exact.lift_off_at_rest = down_params.lift_off_at_rest = false;
   down_params.clear_next_stone_rear_edge = false;
-  const SwingFootBezier down_checked(params, -0.4, 0.0, 0.4, -0.2), down(down_params, -0.4, 0.0, 0.4, -0.2);
+  SwingFootBezierParams down_checked_params = down_params;
+  down_checked_params.clear_next_stone_rear_edge = true;
+  const SwingFootBezier down_exact(exact, -0.52, -0.15, 0.21, -0.23), down(down_params, -0.52, -0.15, 0.21, -0.23),
+      down_checked(down_checked_params, -0.52, -0.15, 0.21, -0.23);
+  EXPECT_GT(down.vertical().control_point(2), down_exact.vertical().control_point(2) + 1e-3);
   EXPECT_EQ(down_checked.vertical().control_point(2), down.vertical().control_point(2));
 }
 
