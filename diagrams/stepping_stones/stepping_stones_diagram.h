@@ -125,9 +125,9 @@ struct SteppingStonesDiagramParams {
   /// on the stones' boxes, its step 1 ms, its update just after the controller's sample (bullet_world_plant.h).
   BulletWorldPlantParams bullet_plant;
   SteppingStonesSupervisorParams supervisor;
-  /// Ours for AMBER (this default): u_des >= −1.5 m/s (min_pre_impact_vertical_velocity_mps; the paper: unbounded).
-  /// At E* = 0.4 a short step after a long step down asked for u_des down to −2.8 m/s; the robot ended crouched below
-  /// the fall height on the next step up. ForRobot sets planar Cassie's −1 m/s. Its target_orbital_energy and
+  /// Ours for AMBER (this default): u_des >= −1.5 m/s (min_pre_impact_vertical_velocity_mps; the paper: unbounded;
+  /// why: MomentumRegulationPlannerParams, docs/design-notes.md#stepping-stones-amber-energy). ForRobot sets planar
+  /// Cassie's −1 m/s. Its target_orbital_energy and
   /// impact_fraction are replaced by this struct's (BuildSteppingStonesDiagram).
   MomentumRegulationPlannerParams planner = DefaultPlannerParams();
   /// Eq. (28). Ours: the plan is held (not re-solved) in the last 50 ms before the predicted impact.

@@ -138,8 +138,9 @@ SwingFootBezier::SwingFootBezier(SwingFootBezierParams params, double p_sw0_x, d
                    {params_.stance_stone_half_length, 0.0, true},
                    {step_length_ - params_.stance_stone_half_length, step_height_, params_.clear_next_stone_rear_edge}};
       for (const auto& [edge, top, checked] : edges) {
+        if (!checked) continue;
         const double tau = CrossingPhase(edge);
-        if (!checked || !std::isfinite(tau)) continue;
+        if (!std::isfinite(tau)) continue;
         const double sigma = scale * tau;
         // b_v(σ) = B_0 γ_0 + (B_1 + B_2 + B_3) c + B_4 γ_4 + B_5 γ_5 = top + stance_stone_clearance.
         const double B0 = std::pow(1 - sigma, 5), B4 = 5 * std::pow(sigma, 4) * (1 - sigma), B5 = std::pow(sigma, 5);

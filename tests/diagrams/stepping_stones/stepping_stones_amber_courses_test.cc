@@ -23,15 +23,8 @@ namespace {
 
 constexpr int kSteps = 12;
 
-Terrain Course(unsigned seed) {
-  RandomSteppingStonesParams course;
-  course.num_stones = 30 + 2;  // the example's course for 30 steps, of which the first kSteps are walked
-  course.seed = seed;
-  return RandomSteppingStones(course);
-}
-
 test::WalkResult WalkCourse(unsigned seed, const SteppingStonesDiagramParams& params, bool clf) {
-  return test::Walk(Course(seed), kSteps, params,
+  return test::Walk(test::ExampleRandomCourse(seed), kSteps, params,
                     clf ? ClfQpControllerFactory(params) : TaskSpaceQpControllerFactory(params));
 }
 

@@ -202,19 +202,12 @@ TEST(ClfRandomStones, TenCoursesOfThirtyStepsWithoutAFall) { ExpectTenRandomCour
 // (docs/design-notes.md#stepping-stones-cassie-first-step). Checked: three steps, each on its planned stone, with
 // physical contact, for both controllers; without the check the task-space QP misses the first stone on each course.
 constexpr int kFirstStepSteps = 3;
-Terrain ExampleRandomCourse(unsigned seed) {
-  RandomSteppingStonesParams p;
-  p.num_stones = 30 + 2;  // the example's course for 30 steps
-  p.seed = seed;
-  p.stone_length_m = StoneLength();
-  return RandomSteppingStones(p);
-}
 
 class CassieFirstStepUp : public ::testing::TestWithParam<unsigned> {};
 
 TEST_P(CassieFirstStepUp, TheSwingToeClearsTheNextStonesRearFace) {
   const unsigned seed = GetParam();
-  const Terrain terrain = ExampleRandomCourse(seed);
+  const Terrain terrain = test::ExampleRandomCourse(seed, StoneLength());
   for (const bool clf : {false, true}) {
     const std::string what = std::string(clf ? "CLF-QP" : "task-space QP") + ", course " + std::to_string(seed);
     const test::WalkResult r = clf ? WalkCassieClf(terrain, kFirstStepSteps) : WalkCassie(terrain, kFirstStepSteps);
@@ -245,7 +238,7 @@ class CassieUdesBound : public ::testing::TestWithParam<unsigned> {};
 
 TEST_P(CassieUdesBound, TheClfQpWalksAfterShortStepsDown) {
   const unsigned seed = GetParam();
-  const Terrain terrain = ExampleRandomCourse(seed);
+  const Terrain terrain = test::ExampleRandomCourse(seed, StoneLength());
   const SteppingStonesDiagramParams params = CassieParams();
   const double bound = params.planner.min_pre_impact_vertical_velocity_mps;
   EXPECT_EQ(bound, -1.0);

@@ -89,6 +89,16 @@ inline WalkResult Walk(const Terrain& terrain, int steps, SteppingStonesDiagramP
 }
 
 /// Speed of the converged gait: Σ l / Σ T over the last `n` steps [m/s].
+/// The stepping_stones example's random course for its default 30 steps (--terrain random --seed seed), whose first
+/// steps a test may walk; stone_length_m as the example's for the robot (the default: point feet).
+inline Terrain ExampleRandomCourse(unsigned seed, double stone_length_m = RandomSteppingStonesParams{}.stone_length_m) {
+  RandomSteppingStonesParams course;
+  course.num_stones = 30 + 2;
+  course.seed = seed;
+  course.stone_length_m = stone_length_m;
+  return RandomSteppingStones(course);
+}
+
 inline double LastStepsSpeed(const WalkResult& r, int n) {
   double length = 0, duration = 0;
   for (int k = static_cast<int>(r.steps.size()) - n; k < static_cast<int>(r.steps.size()); ++k) {
