@@ -110,6 +110,7 @@ void BindControllerParams(py::module_& m) {
       .Field("qp", &ClfQpParams::qp)
       .Field("cost_only_outputs", &ClfQpParams::cost_only_outputs, "names of outputs kept out of the RES-CLF")
       .Field("predict_hold_drift", &ClfQpParams::predict_hold_drift)
+      .Field("hold_drift_settle_s", &ClfQpParams::hold_drift_settle_s)
       .Field("cost_pd_feedback", &ClfQpParams::cost_pd_feedback)
       .Field("clf_active_tolerance", &ClfQpParams::clf_active_tolerance, "[-]");
   py::enum_<QpFailurePolicy>(m, "QpFailurePolicy")

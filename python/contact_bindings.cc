@@ -343,6 +343,7 @@ py::dict ClfDiagnosticsDict(const ClfQpDiagnostics& d) {
   r["delta"] = d.delta;
   r["qp_failures"] = d.qp_failures;
   r["qp_status"] = d.qp_status ? py::cast(std::string(to_string(*d.qp_status))) : py::none();
+  r["drift_dropped"] = d.drift_dropped;
   r["band_dropped"] = d.band_dropped;
   r["cop_dropped"] = d.cop_dropped;
   r["held"] = d.held;

@@ -31,8 +31,12 @@ ClfQpParams WalkingDiagramParams::DefaultWalkingControllerParams() {
   p.contact.min_normal_force_N = 0.0;
   p.force_band_carry_inactive = true;  // a late touchdown: the stance foot keeps the planned total (ours)
   p.force_band_at_hold_end = true;     // the band on the force at the end of the held sample (ours)
-  p.force_band_margin_N = 0.5;         // ours: the plant misses an edge the QP holds by < 0.05 N (design notes)
-  p.contact.friction_margin = 0.5;     // ours: room for the force drift over a held sample as a foot unloads
+  // Ours: the wrench rows also hold at the end of the held sample, so that an unloading foot's torsion falls with its
+  // normal force (docs/design-notes.md#walking-hold-drift).
+  p.predict_hold_drift = true;
+  p.hold_drift_settle_s = 0.003;    // ours: Bullet's touchdown impacts last 2-3 steps
+  p.force_band_margin_N = 0.5;      // ours: the plant misses an edge the QP holds by < 0.05 N (design notes)
+  p.contact.friction_margin = 0.5;  // ours: room for the force drift over a held sample as a foot unloads
   // Ours (spec [R]: |τ_z| ≤ 0.02 m f_z): a rigid sole's four-corner wrench cone, so that the QP asks no more torsion
   // than the plant's four corners (sole_torsion) or Bullet's hold. Its yaw rows on the whole sole less 2 mm, and the
   // corners' μ 0.75 against the sole's 0.8: a relative margin for the wrench's drift over a held sample as a foot

@@ -18,7 +18,8 @@
 // the run would end as a slip at ~0.1 N); the QP keeps the CoP 10 mm inside the sole (cop_margin_m) and uses half the
 // spec's μ = 0.6 (friction_margin 0.5): the plant's forces drift over the 1 ms held sample. For the same hold, the
 // force band bounds the force predicted at the hold's end against the plan's F^z one update ahead
-// (force_band_lead_periods, ClfQpParams::force_band_at_hold_end), 0.5 N inside its edges (force_band_margin_N).
+// (force_band_lead_periods, ClfQpParams::force_band_at_hold_end), 0.5 N inside its edges (force_band_margin_N), and
+// each stance wrench's rows also hold at the hold's end (ClfQpParams::predict_hold_drift, from 3 ms into a mode on).
 // The COM reference is the composed ROM plan shifted for the legs' centroidal angular momentum
 // (compensate_centroidal_momentum), which the point-mass ROMs do not model. What the diagram achieves, measured, is in
 // docs/walking.md (figures) and docs/design-notes.md#walking-status.

@@ -59,6 +59,13 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("force-band-at", "hold-end",
               "hold-end | solve: the force band bounds the force predicted at the end of the held control period "
               "(ours, default) or at the QP's solve instant (the paper)")
+      .Option("hold-drift", "on",
+              "on | off: the CLF-QP also keeps each stance wrench's rows (friction, CoP, the corners' yaw) at the "
+              "wrench predicted at the end of the held control period (ClfQpParams::predict_hold_drift; ours, on: "
+              "an unloading foot's torsion then falls with its normal force)")
+      .Option("hold-drift-settle", "0.003",
+              "[s] --hold-drift's rows take no drift until this long into a contact mode (ClfQpParams::"
+              "hold_drift_settle_s; ours: Bullet's touchdown impacts last 2-3 steps; 0 to 0.1)")
       .Option("stance-stagger", "0",
               "standing stance: 0 = feet side by side (spec [R]; through the start gait), or a step stance with the "
               "right foot this far behind the left [m] (StandToWalkParams::StepStance; 0.40 the earlier default)")
@@ -249,6 +256,11 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   p.controller.force_band_halfwidth = cli.GetDouble("force-band");
   p.force_band_lead_periods = cli.GetDouble("force-band-lead");
   p.controller.force_band_at_hold_end = OneOf(cli, "force-band-at", {"hold-end", "solve"}) == "hold-end";
+  p.controller.predict_hold_drift = OneOf(cli, "hold-drift", {"on", "off"}) == "on";
+  p.controller.hold_drift_settle_s = cli.GetDouble("hold-drift-settle");
+  if (!(p.controller.hold_drift_settle_s >= 0.0 && p.controller.hold_drift_settle_s <= 0.1))
+    throw std::invalid_argument("walking: --hold-drift-settle must be in [0, 0.1] s, got " +
+                                cli.Get("hold-drift-settle"));
   p.swing.touchdown_velocity_mps = cli.GetDouble("touchdown-speed");
   p.swing.pitch_max_rad = cli.GetDouble("swing-pitch");
   if (!(p.swing.pitch_max_rad >= 0.0 && p.swing.pitch_max_rad <= 0.44))

@@ -282,7 +282,7 @@ WalkingRecorder::WalkingRecorder(const WalkingDiagram& walking, bool log, bool p
           "ankle_x,right_ankle_y,right_ankle_z,right_ankle_des_x,right_ankle_des_y,right_ankle_des_z,right_ankle_des_"
           "ax,V,delta,qp_status,left_ankle_x,left_ankle_y,left_ankle_z,left_ankle_des_x,left_ankle_des_y,left_ankle_"
           "des_z,pelvis_roll,pelvis_pitch,pelvis_yaw,qp_fz_left,qp_fz_right,fallback_band,fallback_cop,fallback_hold,"
-          "right_sole_height";
+          "right_sole_height,fallback_drift";
   for (const ActuatorInfo& a : walking.model->actuators())
     log_ << "," << CsvCell("u_" + a.joint) << "," << CsvCell("q_" + a.joint);
   log_ << '\n';
@@ -318,9 +318,9 @@ void WalkingRecorder::Record(const Context& c, const WalkingRunSample& s) {
     log_ << ',' << la.x() << ',' << la.y() << ',' << la.z() << ',' << p.x() << ',' << p.y() << ',' << p.z() << ','
          << q[model.VelocityIndex("base_roll")] << ',' << q[model.VelocityIndex("base_pitch")] << ','
          << q[model.VelocityIndex("base_yaw")];
-    log_ << ',' << clf("contact_forces", 2) << ',' << clf("contact_forces", 5) << ',' << clf("fallbacks", 0) << ','
-         << clf("fallbacks", 1) << ',' << clf("fallbacks", 2) << ','
-         << CalcContactHeight(model, ws_, q, model.ContactIndex("right_foot"));
+    log_ << ',' << clf("contact_forces", 2) << ',' << clf("contact_forces", 5) << ',' << clf("fallbacks", 1) << ','
+         << clf("fallbacks", 2) << ',' << clf("fallbacks", 3) << ','
+         << CalcContactHeight(model, ws_, q, model.ContactIndex("right_foot")) << ',' << clf("fallbacks", 0);
     const Eigen::VectorXd& u = *s.u;
     for (int j = 0; j < model.nu(); ++j) log_ << ',' << u[j] << ',' << q[model.actuators()[j].v_index];
     log_ << '\n';

@@ -34,6 +34,7 @@ std::string ScalarParamError(const ClfQpParams& p) {
         std::tuple{p.force_band_loading_fall_tolerance_N, "force_band_loading_fall_tolerance_N",
                    "be >= 0 N and finite"},
         std::tuple{p.force_band_margin_N, "force_band_margin_N", "be >= 0 N and finite"},
+        std::tuple{p.hold_drift_settle_s, "hold_drift_settle_s", "be >= 0 s and finite"},
         std::tuple{p.contact_stabilization.baumgarte_alpha_per_s, "contact_stabilization.baumgarte_alpha_per_s",
                    "be >= 0 1/s and finite"},
         std::tuple{p.contact_stabilization.baumgarte_beta_per_s, "contact_stabilization.baumgarte_beta_per_s",
@@ -48,39 +49,6 @@ std::string ScalarParamError(const ClfQpParams& p) {
   return "";
 }
 }  // namespace
-
-// ---------------------------------------------------------------------------------------------------------
-// Relative-degree-one outputs
-
-RelativeDegreeOneOutput::RelativeDegreeOneOutput(std::string name, int size, double weight,
-                                                 std::vector<int> active_modes)
-    : name_(std::move(name)), size_(size), weight_(weight), active_modes_(std::move(active_modes)) {
-  if (size_ <= 0)
-    throw std::invalid_argument("output '" + name_ + "': size must be positive, got " + std::to_string(size_));
-  if (!(weight_ > 0) || !std::isfinite(weight_))
-    throw std::invalid_argument("output '" + name_ + "': weight must be positive, got " + std::to_string(weight_));
-}
-
-bool RelativeDegreeOneOutput::IsActiveIn(int mode) const {
-  return active_modes_.empty() || std::find(active_modes_.begin(), active_modes_.end(), mode) != active_modes_.end();
-}
-
-CentroidalPitchMomentumOutput::CentroidalPitchMomentumOutput(std::string name, double weight,
-                                                             std::vector<int> active_modes)
-    : RelativeDegreeOneOutput(std::move(name), 1, weight, std::move(active_modes)) {}
-
-void CentroidalPitchMomentumOutput::Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q,
-                                         const VectorRef& v, Eigen::Ref<Eigen::VectorXd> y1,
-                                         Eigen::Ref<Eigen::MatrixXd> A, Eigen::Ref<Eigen::VectorXd> Adot_v) const {
-  // A_G rows: [angular about the COM (x, y, z); linear]; the pitch row is the angular y row (Eq. (39)).
-  CalcCentroidalMomentumMatrix(model, ws, q, ws.J_point);
-  A = ws.J_point.row(1);
-  y1[0] = ws.J_point.row(1).dot(v);
-  Adot_v[0] = CalcCentroidalMomentumBias(model, ws, q, v)[1];
-}
-
-// ---------------------------------------------------------------------------------------------------------
-// Controller
 
 struct ClfQpController::Scratch {
   struct ModeQp {
@@ -102,6 +70,7 @@ struct ClfQpController::Scratch {
     Eigen::LLT<Eigen::MatrixXd> llt;
     Eigen::MatrixXd MinvJT, Lambda, Av, JMinvB, Q, Aout, WAout, Gc;
     Eigen::VectorXd bv, stab, Lf, w, eta, Peta, LGV, clf_row, lc, uc, F, drift, pd_shift;
+    Eigen::VectorXd drift_rows;  // the hold drift of the wrench rows' copies (0 for hold_drift_settle_s into a mode)
   };
   explicit Scratch(const MultibodyModel& model) : ws(model) {}
   MultibodyWorkspace ws;
@@ -109,6 +78,7 @@ struct ClfQpController::Scratch {
   Eigen::MatrixXd MinvB, Jy, JyMinvB;
   Eigen::VectorXd rhs_free, minv_rhs, qdd0, y, Jdv, Mb;
   int last_mode = 0;
+  double mode_since = -std::numeric_limits<double>::infinity();  // when last_mode began (its first solve) [s]
   // force_band_loading_floor_N: each contact's band reference at the last two update instants, and whether it was in
   // the mode then (a contact is loading when it was not, or its reference did not fall).
   Eigen::VectorXd band_ref_prev, band_ref_cur;
@@ -230,8 +200,8 @@ ClfQpController::ClfQpController(std::string name, std::shared_ptr<const Multibo
       "delta", 1, [this](const LeafContext& c, Eigen::VectorXd* y) { (*y)[0] = c.discrete_state()[slot(kDelta)]; },
       Feedthrough::None());
   DeclareOutputPort(
-      "fallbacks", {"band_dropped", "cop_dropped", "held"},
-      [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<3>(slot(kBandDropped)); },
+      "fallbacks", {"drift_dropped", "band_dropped", "cop_dropped", "held"},
+      [this](const LeafContext& c, Eigen::VectorXd* y) { *y = c.discrete_state().segment<4>(slot(kDriftDropped)); },
       Feedthrough::None());
   DeclareOutputPort(
       "clf_activity", {"clf_active", "solved"},
@@ -299,6 +269,7 @@ std::any ClfQpController::AllocateScratch() const {
     mq.brake_offset = brake_offset;
     mq.F_prev.setZero(std::max(rows, 1));
     mq.drift.setZero(std::max(rows, 1));
+    mq.drift_rows.setZero(std::max(rows, 1));
     mq.nx = nx;
     mq.delta = nx - 1;
     mq.zero_u = zero_torque_[m];
@@ -359,6 +330,7 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   Scratch& s = context.scratch<Scratch>();
   const bool same_mode = s.last_mode == mode;
   s.last_mode = mode;
+  if (!same_mode) s.mode_since = context.time();
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
   if (!x.allFinite()) throw std::runtime_error("system '" + name() + "': input port 'state' is not finite");
@@ -436,6 +408,10 @@ int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const V
     mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
     mq.drift.head(rows) *= params_.update_period_s / dt;
   }
+  if (context.time() - s.mode_since >= params_.hold_drift_settle_s)
+    mq.drift_rows.head(rows) = mq.drift.head(rows);
+  else
+    mq.drift_rows.head(rows).setZero();
   return rows;
 }
 
@@ -624,18 +600,41 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
         qp.u[io + i] = mq.uc[i] - shift;
       }
       if (mq.drift_offset >= 0) {
-        // The same rows on F(u) + d (see params.predict_hold_drift).
+        // The same rows on F(u) + d (see params.predict_hold_drift), but for a contact the band releases.
         const int dro = mq.drift_offset + (io - mq.ineq_offset[0]);
         qp.A.middleRows(dro, nr) = A;
+        const bool released = force_ref != nullptr &&
+                              BandOf(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode).upper <= 0.0;
         for (int i = 0; i < nr; ++i) {
-          const double shift = G.row(i).dot(mq.drift.segment(fo, nf));
-          qp.l[dro + i] = qp.l[io + i] - shift;
-          qp.u[dro + i] = qp.u[io + i] - shift;
+          const double shift = G.row(i).dot(mq.drift_rows.segment(fo, nf));
+          qp.l[dro + i] = released ? -kInf : qp.l[io + i] - shift;
+          qp.u[dro + i] = released ? kInf : qp.u[io + i] - shift;
         }
       }
     }
     if (force_ref != nullptr) FillForceBandRow(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode);
   }
+}
+
+ClfQpController::Band ClfQpController::BandOf(const Eigen::VectorXd& force_ref, int k, double active_ref,
+                                              double inactive_ref, const Scratch& s, int mode) const {
+  const Scratch::ModeQp& mq = s.modes[mode];
+  const int ci = mq.wrench[k].contact();
+  double f_ref = std::max(force_ref[ci], 0.0);
+  if (inactive_ref > 0.0)
+    f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
+  // Walking paper Eq. (25): (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref, with the margin and the loading floor (params).
+  const double c = params_.force_band_halfwidth;
+  double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
+  const double margin = std::min(params_.force_band_margin_N, 0.25 * (upper - lower));
+  lower += margin, upper -= margin;
+  const bool loading = !(s.band_active_prev & ContactBit(ci)) ||
+                       f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
+  if (loading && params_.force_band_loading_floor_N > 0.0) {
+    lower = std::max(lower, params_.force_band_loading_floor_N);
+    upper = std::max(upper, lower);
+  }
+  return {f_ref, lower, upper};
 }
 
 void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref,
@@ -644,13 +643,8 @@ void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, 
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
   const ContactWrenchConstraints& cw = mq.wrench[k];
-  // Walking paper Eq. (25): (1 − c) F_ref ≤ F_z ≤ (1 + c) F_ref, with the loading floor (params).
   const int br = mq.band_offset + k;
   const int fz = mq.force_offset[k] + cw.normal_index();
-  double f_ref = std::max(force_ref[cw.contact()], 0.0);
-  if (inactive_ref > 0.0)
-    f_ref += inactive_ref * (active_ref > 0.0 ? f_ref / active_ref : 1.0 / static_cast<double>(mq.wrench.size()));
-  const double c = params_.force_band_halfwidth;
   qp.A.row(br).setZero();
   double shift = 0.0;
   if (params_.formulation == ClfQpFormulation::kAugmentedInput) {
@@ -659,19 +653,10 @@ void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, 
     qp.A.row(br).head(nu) = mq.Av.row(fz);
     shift = mq.bv[fz] + (params_.force_band_at_hold_end ? mq.drift[fz] : 0.0);  // F_z(u) (+ d_z: the hold's end)
   }
-  double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
-  const double margin = std::min(params_.force_band_margin_N, 0.25 * (upper - lower));
-  lower += margin, upper -= margin;
-  const int ci = cw.contact();
-  s.band_ref_cur[ci] = f_ref;
-  const bool loading = !(s.band_active_prev & ContactBit(ci)) ||
-                       f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
-  if (loading && params_.force_band_loading_floor_N > 0.0) {
-    lower = std::max(lower, params_.force_band_loading_floor_N);
-    upper = std::max(upper, lower);
-  }
-  qp.l[br] = lower - shift;
-  qp.u[br] = upper - shift;
+  const Band band = BandOf(force_ref, k, active_ref, inactive_ref, s, mode);
+  s.band_ref_cur[cw.contact()] = band.reference;
+  qp.l[br] = band.lower - shift;
+  qp.u[br] = band.upper - shift;
 }
 
 void ClfQpController::StorePlannedForces(int rows, Scratch& s, int mode) const {
@@ -686,13 +671,13 @@ void ClfQpController::StorePlannedForces(int rows, Scratch& s, int mode) const {
   }
 }
 
-void ClfQpController::SetRowsEnabled(const LeafContext& context, bool band, bool cop) const {
+void ClfQpController::SetRowsEnabled(const LeafContext& context, bool drift, bool band, bool cop) const {
   Scratch& s = context.scratch<Scratch>();
   Scratch::ModeQp& mq = s.modes[s.last_mode];
   DenseQpSolver& qp = mq.qp;
   if (!band && mq.band_offset >= 0)
     for (size_t k = 0; k < mq.wrench.size(); ++k) qp.l[mq.band_offset + k] = -kInf, qp.u[mq.band_offset + k] = kInf;
-  if (!band && mq.drift_offset >= 0)
+  if (!drift && mq.drift_offset >= 0)
     for (int i = mq.drift_offset;
          i < mq.drift_offset + mq.ineq_offset.back() + mq.wrench.back().num_rows() - mq.ineq_offset[0]; ++i)
       qp.l[i] = -kInf, qp.u[i] = kInf;
@@ -714,15 +699,20 @@ EventStatus ClfQpController::Update(const LeafContext& context, Eigen::VectorXd*
   Scratch::ModeQp& mq = s.modes[s.last_mode];
   if (status != QpStatus::kOptimal && status != QpStatus::kInvalidInput) {
     (*next)[slot(kFailures)] += 1.0;
-    // Fallback 1: drop the force band, the hold-drift and the brake rows; 2: also drop the CoP rows (each counted);
-    // else hold the previous u.
-    if (mq.band_offset >= 0 || mq.drift_offset >= 0 || mq.brake_offset >= 0) {
-      SetRowsEnabled(context, false, true);
+    // Fallback 0: drop the hold-drift rows; 1: also the force band and the brake rows; 2: also the CoP rows (each
+    // counted); else hold the previous u.
+    if (mq.drift_offset >= 0) {
+      SetRowsEnabled(context, false, true, true);
+      status = mq.qp.Solve();
+      (*next)[slot(kDriftDropped)] += 1.0;
+    }
+    if (status != QpStatus::kOptimal && (mq.band_offset >= 0 || mq.brake_offset >= 0)) {
+      SetRowsEnabled(context, false, false, true);
       status = mq.qp.Solve();
       (*next)[slot(kBandDropped)] += 1.0;
     }
     if (status != QpStatus::kOptimal) {
-      SetRowsEnabled(context, false, false);
+      SetRowsEnabled(context, false, false, false);
       status = mq.qp.Solve();
       (*next)[slot(kCopDropped)] += 1.0;
     }
@@ -765,6 +755,7 @@ ClfQpDiagnostics ClfQpController::diagnostics(const LeafContext& context) const 
   d.delta = xd[slot(kDelta)];
   d.qp_failures = count(kFailures);
   if (xd[slot(kStatus)] >= 0.0) d.qp_status = static_cast<QpStatus>(count(kStatus));
+  d.drift_dropped = count(kDriftDropped);
   d.band_dropped = count(kBandDropped);
   d.cop_dropped = count(kCopDropped);
   d.held = count(kHeld);

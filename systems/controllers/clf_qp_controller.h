@@ -19,7 +19,8 @@
 //          delta (1)                   the CLF relaxation δ of the last update
 //          qp_failures (1)             updates whose first QP failed (each then took a fallback below)
 //          qp_status (1)               QpStatus of the last update's final solve (0 = kOptimal)
-//          fallbacks (3)               [band_dropped, cop_dropped, held]: how many updates used each fallback
+//          fallbacks (4)               [drift_dropped, band_dropped, cop_dropped, held]: how many updates used each
+//                                      fallback
 //          clf_activity (2)            [clf_active, solved]: updates whose final QP solution has the CLF row active
 //                                      (δ > 0, or the normalised row's slack ≤ params.clf_active_tolerance; η ≠ 0), and
 //                                      updates solved (kOptimal); their ratio is how often the CLF constraint binds
@@ -50,9 +51,10 @@
 // exactly from an exact state; α = 0 keeps a measured J q̇ (sensor noise) out of the predicted forces.
 //
 // Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
-//   1. drop the force band, the hold-drift rows (params.predict_hold_drift) and the joint-limit brake rows
-//   (params.joint_limit_brake) and re-solve; 2. also drop the
-//   centre-of-pressure rows and re-solve; 3. hold the previous u.
+//   0. with params.predict_hold_drift: drop the hold-drift rows only and re-solve (the band and the brake stay; e.g.
+//   a foot the band unloads to F_z = 0 by the hold's end, whose drift d is not inside the wrench cone); 1. drop the
+//   force band, the hold-drift rows and the joint-limit brake rows (params.joint_limit_brake) and re-solve; 2. also
+//   drop the centre-of-pressure rows and re-solve; 3. hold the previous u.
 // One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
 
 #include <memory>
@@ -64,61 +66,13 @@
 #include "framework/system.h"
 #include "systems/controllers/controller_setup.h"
 #include "solvers/qp/dense_qp_solver.h"
+#include "systems/controllers/clf_outputs.h"
 #include "systems/controllers/contact_wrench_constraints.h"
 #include "systems/controllers/joint_limit_brake.h"
 #include "systems/controllers/task_space_tasks.h"
 #include "systems/multibody/contact_dynamics.h"
 
 namespace rome {
-
-/// A relative-degree-one output y1 = A(q) q̇ (e.g. a momentum): reports y1, A (size × nv) and Ȧ q̇.
-class RelativeDegreeOneOutput {
- public:
-  RelativeDegreeOneOutput(std::string name, int size, double weight = 1.0, std::vector<int> active_modes = {});
-  virtual ~RelativeDegreeOneOutput() = default;
-  RelativeDegreeOneOutput(const RelativeDegreeOneOutput&) = delete;
-  RelativeDegreeOneOutput& operator=(const RelativeDegreeOneOutput&) = delete;
-  const std::string& name() const { return name_; }
-  int size() const { return size_; }
-  double weight() const { return weight_; }
-  const std::vector<int>& active_modes() const { return active_modes_; }
-  bool IsActiveIn(int mode) const;
-  virtual void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
-                    Eigen::Ref<Eigen::VectorXd> y1, Eigen::Ref<Eigen::MatrixXd> A,
-                    Eigen::Ref<Eigen::VectorXd> Adot_v) const = 0;
-
- private:
-  std::string name_;
-  int size_;
-  double weight_;
-  std::vector<int> active_modes_;
-};
-
-/// Centroidal angular momentum about the COM around world y, H_pitch = A_pitch(q) q̇ [N m s] (hopping paper
-/// Eq. (38)-(40)); Ȧ_pitch q̇ from the centroidal momentum bias.
-class CentroidalPitchMomentumOutput final : public RelativeDegreeOneOutput {
- public:
-  explicit CentroidalPitchMomentumOutput(std::string name = "centroidal_pitch_momentum", double weight = 1.0,
-                                         std::vector<int> active_modes = {});
-  void Calc(const MultibodyModel& model, MultibodyWorkspace& ws, const VectorRef& q, const VectorRef& v,
-            Eigen::Ref<Eigen::VectorXd> y1, Eigen::Ref<Eigen::MatrixXd> A,
-            Eigen::Ref<Eigen::VectorXd> Adot_v) const override;
-};
-
-/// One output of the CLF-QP: relative degree 2 (a TaskSpaceTask: COM, a point, a body's pitch, a joint; its weight
-/// and active modes are used, its PD gains are not) or relative degree 1.
-struct ClfOutput {
-  std::shared_ptr<const TaskSpaceTask> rd2;
-  std::shared_ptr<const RelativeDegreeOneOutput> rd1;
-  static ClfOutput RelativeDegreeTwo(std::shared_ptr<const TaskSpaceTask> task) { return {std::move(task), nullptr}; }
-  static ClfOutput RelativeDegreeOne(std::shared_ptr<const RelativeDegreeOneOutput> output) {
-    return {nullptr, std::move(output)};
-  }
-  const std::string& name() const { return rd2 ? rd2->name() : rd1->name(); }
-  int size() const { return rd2 ? rd2->size() : rd1->size(); }
-  bool IsActiveIn(int mode) const { return rd2 ? rd2->IsActiveIn(mode) : rd1->IsActiveIn(mode); }
-  double weight() const { return rd2 ? rd2->gains().weight : rd1->weight(); }
-};
 
 /// How the torque penalty ½ ρ_u Σ_j s_j u_j² scales each actuator (params.u_regularization_kind).
 enum class TorqueRegularization {
@@ -189,7 +143,14 @@ struct ClfQpParams {
   /// force drifted with the state over the last held sample at constant u (F(x_k, u_{k−1}) − F(x_{k−1}, u_{k−1}),
   /// scaled to one update period; 0 after a mode change). A stance force moving quickly toward the friction-pyramid
   /// edge keeps that margin over the hold, since the plant sees the held u, not the QP's solve instant.
+  /// A contact whose band the force_band releases within the hold (its upper edge is 0: the plan lifts it off) gets
+  /// none of these rows: the band already takes its F_z to 0 by the hold's end and the plant releases it before then,
+  /// while a whole wrench of 0 at the hold's end is more than a drift outside the cone allows.
   bool predict_hold_drift = false;
+  /// [s] Ours (default 0): predict_hold_drift's rows take no drift (d = 0, the rows as at the solve instant) until
+  /// this long after the mode began (its first solve there): on a plant whose impacts last several steps (Bullet), the
+  /// states right after a touchdown still move with the impact, and their difference is no hold drift.
+  double hold_drift_settle_s = 0.0;
   /// Ours (default off): the cost of every relative-degree-2 CLF output targets ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d)
   /// with its task's gains (as the task-space QP's cost) instead of ÿ_d. With ÿ_d alone, an output's cost weight makes
   /// correcting its error expensive, so the CLF row decreases V through the cheapest outputs; with the PD target the
@@ -210,6 +171,7 @@ struct ClfQpDiagnostics {
   double delta = 0.0;                 ///< the CLF relaxation δ of the last solved update [-]
   int qp_failures = 0;                ///< updates whose first QP failed (each then took a fallback)
   std::optional<QpStatus> qp_status;  ///< the last update's final solve; empty before the first update
+  int drift_dropped = 0;              ///< updates re-solved without the hold-drift rows (fallback 0)
   int band_dropped = 0;               ///< updates re-solved without the force band and hold-drift rows (fallback 1)
   int cop_dropped = 0;                ///< updates re-solved also without the centre-of-pressure rows (fallback 2)
   int held = 0;                       ///< updates that held the previous u (fallback 3)
@@ -256,6 +218,7 @@ class ClfQpController final : public QpControllerSystem {
     kDelta,
     kFailures,
     kStatus,
+    kDriftDropped,
     kBandDropped,
     kCopDropped,
     kHeld,
@@ -271,7 +234,7 @@ class ClfQpController final : public QpControllerSystem {
   std::any AllocateScratch() const override;
   EventStatus Update(const LeafContext& context, Eigen::VectorXd* next) const;
   int ModeFromInput(const LeafContext& context) const;
-  void SetRowsEnabled(const LeafContext& context, bool band, bool cop) const;
+  void SetRowsEnabled(const LeafContext& context, bool drift, bool band, bool cop) const;
   // SolveQp's stages, in call order, on the QP of mode `mode` in `s`.
   /// M⁻¹ B, q̈0 and the constraint rows (A_v, b_v or the equalities); the number of constraint rows, −1 if Λ is
   /// singular.
@@ -288,6 +251,13 @@ class ClfQpController final : public QpControllerSystem {
   void FillWrenchRows(const LeafContext& context, const VectorRef& q, Scratch& s, int mode) const;
   void FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s,
                         int mode) const;
+  /// The force band of active contact k [N]: its reference F_ref (with its share of the inactive contacts' load,
+  /// force_band_carry_inactive) and the band's edges on F_z after the margin and the loading floor.
+  struct Band {
+    double reference = 0.0, lower = 0.0, upper = 0.0;
+  };
+  Band BandOf(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, const Scratch& s,
+              int mode) const;
   /// The planned constraint forces F of the solution (the first `rows` entries of the mode's F).
   void StorePlannedForces(int rows, Scratch& s, int mode) const;
 

@@ -26,7 +26,7 @@ def test_clf_qp_params_have_keyword_constructors_and_a_repr_of_every_field():
     params = rome.ClfQpParams(
         u_regularization_kind=rome.TorqueRegularization.inverse_joint_inertia, u_regularization_weights=[1, 2, 1, 2],
         u_regularization_modes=[1], force_band_loading_fall_tolerance_N=0.02, cost_only_outputs=["pitch"],
-        predict_hold_drift=True, cost_pd_feedback=True, clf_active_tolerance=1e-6,
+        predict_hold_drift=True, hold_drift_settle_s=0.004, cost_pd_feedback=True, clf_active_tolerance=1e-6,
         contact_stabilization=rome.ConstrainedDynamicsParameters(baumgarte_alpha_per_s=20.0),
         resolve_at=rome.EventTrigger([("plant", "touchdown_*")]), qp=rome.QpSettings(max_iterations=50),
         zero_torque_in_contact=[("left_foot", "left_knee")])
@@ -34,7 +34,7 @@ def test_clf_qp_params_have_keyword_constructors_and_a_repr_of_every_field():
     for field in ["u_regularization_kind=<TorqueRegularization.inverse_joint_inertia", "cost_only_outputs=['pitch']",
                   "resolve_at=EventTrigger([('plant', 'touchdown_*')])", "max_iterations=50",
                   "baumgarte_alpha_per_s=20.0", "zero_torque_in_contact=[('left_foot', 'left_knee')]",
-                  "clf_active_tolerance=1e-06", "predict_hold_drift=True"]:
+                  "clf_active_tolerance=1e-06", "predict_hold_drift=True", "hold_drift_settle_s=0.004"]:
         assert field in text, field
     assert list(params.u_regularization_weights) == [1, 2, 1, 2]
     with pytest.raises(TypeError, match="no field 'cost_only'"):

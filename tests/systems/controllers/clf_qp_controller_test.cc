@@ -59,7 +59,7 @@ Solved RunUpdate(const ClfQpController& controller, LeafContext& context, const 
   r.delta = d.delta;
   r.V = d.V;
   r.status = d.qp_status.value_or(QpStatus::kInvalidInput);
-  r.fallbacks = Eigen::Vector3d(d.band_dropped, d.cop_dropped, d.held);
+  r.fallbacks = Eigen::Vector4d(d.drift_dropped, d.band_dropped, d.cop_dropped, d.held);
   r.failures = d.qp_failures;
   return r;
 }
@@ -495,6 +495,57 @@ TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
   EXPECT_EQ(loading.fallbacks.sum() + unloading.fallbacks.sum(), 0.0);
 }
 
+// predict_hold_drift with the force band: a foot whose reference falls to 0 (the plan lifts it off) gets no hold-drift
+// rows. AMBER at rest in double support, updated at t = 0 with 50 N planned on the left foot, then one period later at
+// a pose whose feet are 0.26 m apart instead of 0.3 m, with the left reference 0. The drift d = F(x1, u0) − F(x0, u0)
+// is computed here from the plant's own constrained dynamics. The band at the hold's end asks F_z(u) + d_z = 0;
+// hold-drift rows on that foot would also ask the whole force F(u) + d = 0, that is F(u) = −d, which the friction rows
+// at the solve instant refuse when −d is outside the pyramid (checked here): the update would need a fallback. Without
+// those rows it solves at once, and the plant's left force at the end of the hold, F_z(x1, u1) + d_z, is 0.
+TEST(ClfQpController, HoldDriftRowsSkipAFootTheBandReleases) {
+  const AmberBandSetup a;
+  const ContactSet both = ContactBit(a.l) | ContactBit(a.r);
+  ClfQpParams params;
+  params.force_band = true;
+  params.force_band_at_hold_end = true;
+  params.predict_hold_drift = true;
+  params.contact.friction_coefficient = 0.5;  // the pyramid μ' (planar: not inscribed)
+  ClfQpController controller("clf", a.model, {both}, a.outputs, params);
+  auto context = controller.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(*a.model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(a.model->nv());
+  const Eigen::VectorXd q0 = a.q, q1 = test::AmberDoubleSupportPose(*a.model, 0.26);
+  auto update = [&](double t, const Eigen::VectorXd& q, double f_left) {
+    context->SetTime(t);
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[a.l] = f_left;
+    f_ref[a.r] = a.mg - f_left;
+    context->FixInputPort(3, f_ref);
+    return RunUpdate(controller, *context, Stack(q, v), 0, a.Desired());
+  };
+  auto left_force = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    Eigen::VectorXd qdd(a.model->nv()), F(a.model->max_constraint_rows());
+    CalcConstrainedForwardDynamics(*a.model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
+    return ExtractContactWrench(*a.model, ws, q, both, F, a.l).force;
+  };
+  const Solved s0 = update(0.0, q0, 50.0);
+  ASSERT_EQ(s0.status, QpStatus::kOptimal);
+  const Eigen::Vector3d d = left_force(q1, s0.u) - left_force(q0, s0.u);
+  const double mu = params.contact.friction_coefficient;
+  const bool inside = -d.z() > 0 && std::abs(d.x()) <= mu * -d.z();
+  std::printf("  left foot's hold drift d = (%.3f, %.3f) N; -d inside the pyramid (mu %.2f): %d\n", d.x(), d.z(), mu,
+              inside);
+  ASSERT_FALSE(inside) << "the case needs a drift the pyramid cannot hold";
+  ASSERT_LT(d.z(), 0.0) << "the case needs a falling force, else the band itself is infeasible";
+  const Solved s1 = update(1e-3, q1, 0.0);
+  ASSERT_EQ(s1.status, QpStatus::kOptimal);
+  EXPECT_EQ(s1.fallbacks.sum(), 0.0);
+  EXPECT_EQ(s1.failures, 0.0);
+  const double hold_end = left_force(q1, s1.u).z() + d.z();
+  std::printf("  the plant's left F_z at the hold's end %.3g N\n", hold_end);
+  EXPECT_NEAR(hold_end, 0.0, 1e-6);
+}
+
 // force_band_carry_inactive: in left stance, the right foot's planned 0.7 m g moves to the left foot, so the band is
 // (1 ± c) · m g there; checked on the plant's own constrained dynamics at the QP's torques (off: the band holds 0.3 m
 // g).
@@ -603,7 +654,7 @@ TEST(ClfQpController, EachFallbackFiresOnAProblemBuiltToNeedIt) {
     context->FixInputPort(3, f_ref);
     const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
     EXPECT_EQ(s.status, QpStatus::kOptimal);
-    EXPECT_EQ(s.fallbacks, Eigen::Vector3d(1, 0, 0));
+    EXPECT_EQ(s.fallbacks, Eigen::Vector4d(0, 1, 0, 0));
     EXPECT_EQ(s.failures, 1.0);
   }
   // 3. F_z ≥ 20 m g cannot be met even without the band and CoP rows: the previous u is held.
@@ -615,7 +666,7 @@ TEST(ClfQpController, EachFallbackFiresOnAProblemBuiltToNeedIt) {
     context->get_mutable_discrete_state().head(4) = Eigen::Vector4d(1, 2, 3, 4);  // "previous" u
     const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, desired);
     EXPECT_NE(s.status, QpStatus::kOptimal);
-    EXPECT_EQ(s.fallbacks, Eigen::Vector3d(0, 1, 1));
+    EXPECT_EQ(s.fallbacks, Eigen::Vector4d(0, 0, 1, 1));
     EXPECT_EQ(s.u, Eigen::Vector4d(1, 2, 3, 4));
   }
 }
@@ -650,7 +701,7 @@ TEST(ClfQpController, CopFallbackFiresWhenOnlyTheCopRowsConflict) {
   auto context = controller.CreateDefaultLeafContext();
   const Solved s = RunUpdate(controller, *context, Stack(q, v), 0, Eigen::VectorXd::Zero(3));
   EXPECT_EQ(s.status, QpStatus::kOptimal);
-  EXPECT_EQ(s.fallbacks, Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(s.fallbacks, Eigen::Vector4d(0, 0, 1, 0));
   EXPECT_EQ(s.failures, 1.0);
 }
 
