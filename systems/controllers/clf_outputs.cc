@@ -5,8 +5,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "systems/multibody/multibody_kinematics.h"
-
 namespace rome {
 
 RelativeDegreeOneOutput::RelativeDegreeOneOutput(std::string name, int size, double weight,

@@ -79,6 +79,7 @@ struct ClfQpController::Scratch {
   Eigen::VectorXd rhs_free, minv_rhs, qdd0, y, Jdv, Mb;
   int last_mode = 0;
   double mode_since = -std::numeric_limits<double>::infinity();  // when last_mode began (its first solve) [s]
+  bool solved_once = false;
   // force_band_loading_floor_N: each contact's band reference at the last two update instants, and whether it was in
   // the mode then (a contact is loading when it was not, or its reference did not fall).
   Eigen::VectorXd band_ref_prev, band_ref_cur;
@@ -330,7 +331,8 @@ QpStatus ClfQpController::SolveQp(const LeafContext& context) const {
   Scratch& s = context.scratch<Scratch>();
   const bool same_mode = s.last_mode == mode;
   s.last_mode = mode;
-  if (!same_mode) s.mode_since = context.time();
+  if (!same_mode || !s.solved_once) s.mode_since = context.time();
+  s.solved_once = true;
   const Eigen::VectorXd& x = EvalInput(context, state_port_);
   const Eigen::VectorXd& desired = EvalInput(context, desired_port_);
   if (!x.allFinite()) throw std::runtime_error("system '" + name() + "': input port 'state' is not finite");
@@ -408,7 +410,7 @@ int ClfQpController::CalcConstrainedDynamics(const LeafContext& context, const V
     mq.drift.head(rows).noalias() += mq.Av * context.discrete_state().segment(u_offset(), nu);
     mq.drift.head(rows) *= params_.update_period_s / dt;
   }
-  if (context.time() - s.mode_since >= params_.hold_drift_settle_s)
+  if (context.time() - s.mode_since >= params_.hold_drift_settle_s - 1e-9)  // 1 ns: a mode begun on the update grid
     mq.drift_rows.head(rows) = mq.drift.head(rows);
   else
     mq.drift_rows.head(rows).setZero();
@@ -604,7 +606,8 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
         const int dro = mq.drift_offset + (io - mq.ineq_offset[0]);
         qp.A.middleRows(dro, nr) = A;
         const bool released = force_ref != nullptr &&
-                              BandOf(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode).upper <= 0.0;
+                              BandOf(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode).upper <=
+                                  params_.force_band_loading_fall_tolerance_N;  // 0 but for the plan's solver noise
         for (int i = 0; i < nr; ++i) {
           const double shift = G.row(i).dot(mq.drift_rows.segment(fo, nf));
           qp.l[dro + i] = released ? -kInf : qp.l[io + i] - shift;

@@ -52,7 +52,7 @@
 //
 // Fallbacks when the QP is infeasible (each counted on 'fallbacks', and qp_failures counts the update):
 //   0. with params.predict_hold_drift: drop the hold-drift rows only and re-solve (the band and the brake stay; e.g.
-//   a foot the band unloads to F_z = 0 by the hold's end, whose drift d is not inside the wrench cone); 1. drop the
+//   a drift d that takes the wrench out of its cone faster than the band and torque limits allow); 1. drop the
 //   force band, the hold-drift rows and the joint-limit brake rows (params.joint_limit_brake) and re-solve; 2. also
 //   drop the centre-of-pressure rows and re-solve; 3. hold the previous u.
 // One DenseQpSolver per mode, sized at construction, warm-started; an update allocates no heap memory.
@@ -143,12 +143,14 @@ struct ClfQpParams {
   /// force drifted with the state over the last held sample at constant u (F(x_k, u_{k−1}) − F(x_{k−1}, u_{k−1}),
   /// scaled to one update period; 0 after a mode change). A stance force moving quickly toward the friction-pyramid
   /// edge keeps that margin over the hold, since the plant sees the held u, not the QP's solve instant.
-  /// A contact whose band the force_band releases within the hold (its upper edge is 0: the plan lifts it off) gets
+  /// A contact whose band the force_band releases within the hold (its upper edge is 0, to
+  /// force_band_loading_fall_tolerance_N: the plan lifts it off) gets
   /// none of these rows: the band already takes its F_z to 0 by the hold's end and the plant releases it before then,
   /// while a whole wrench of 0 at the hold's end is more than a drift outside the cone allows.
   bool predict_hold_drift = false;
   /// [s] Ours (default 0): predict_hold_drift's rows take no drift (d = 0, the rows as at the solve instant) until
-  /// this long after the mode began (its first solve there): on a plant whose impacts last several steps (Bullet), the
+  /// this long after the mode began (its first solve there, or the first solve of all): on a plant whose impacts last
+  /// several steps (Bullet), the
   /// states right after a touchdown still move with the impact, and their difference is no hold drift.
   double hold_drift_settle_s = 0.0;
   /// Ours (default off): the cost of every relative-degree-2 CLF output targets ÿ* = ÿ_d − Kp (y − y_d) − Kd (ẏ − ẏ_d)

@@ -198,8 +198,7 @@ void ExpectSixStepsPhysically(GaitAOnOrbit& g, const std::string& label) {
 // #walking-controller-contact-model). Here gait A on its orbit walks 6 steps with twice that noise, with every
 // plant contact force inside the four corners' cone (RunWalking fails a run at the first sample outside: success), on
 // at least 9 of the perturbation seeds 1-10: a rate, since at this noise a foot unloading to the plant's release force
-// still slips now and then (the example's equivalent walked 20 of 20 tuning seeds 1000-1019 with and without the
-// hold-drift rows, and seed 2 slips with them; docs/design-notes.md#walking-hold-drift).
+// can still slip (docs/design-notes.md#walking-hold-drift).
 TEST(WalkingPerturbations, SensorNoiseOfATenthOfAMilliradianWalksOnTheRigidSole) {
   int walked = 0;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
