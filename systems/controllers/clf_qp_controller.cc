@@ -586,6 +586,8 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
   for (size_t k = 0; k < mq.wrench.size(); ++k) {
     const ContactWrenchConstraints& cw = mq.wrench[k];
     const int nr = cw.num_rows(), nf = cw.num_force_rows(), fo = mq.force_offset[k], io = mq.ineq_offset[k];
+    const Band band =
+        force_ref != nullptr ? BandOf(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode) : Band{};
     auto G = mq.Gc.topLeftCorner(nr, nf);
     cw.Fill(model, s.ws, q, G, mq.lc.head(nr), mq.uc.head(nr));
     auto A = qp.A.middleRows(io, nr);
@@ -605,9 +607,8 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
         // The same rows on F(u) + d (see params.predict_hold_drift), but for a contact the band releases.
         const int dro = mq.drift_offset + (io - mq.ineq_offset[0]);
         qp.A.middleRows(dro, nr) = A;
-        const bool released = force_ref != nullptr &&
-                              BandOf(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode).upper <=
-                                  params_.force_band_loading_fall_tolerance_N;  // 0 but for the plan's solver noise
+        const bool released = force_ref != nullptr &&  // 0 but for the plan's solver noise
+                              band.upper <= params_.force_band_loading_fall_tolerance_N;
         for (int i = 0; i < nr; ++i) {
           const double shift = G.row(i).dot(mq.drift_rows.segment(fo, nf));
           qp.l[dro + i] = released ? -kInf : qp.l[io + i] - shift;
@@ -615,7 +616,7 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
         }
       }
     }
-    if (force_ref != nullptr) FillForceBandRow(*force_ref, static_cast<int>(k), active_ref, inactive_ref, s, mode);
+    if (force_ref != nullptr) FillForceBandRow(band, static_cast<int>(k), s, mode);
   }
 }
 
@@ -640,8 +641,7 @@ ClfQpController::Band ClfQpController::BandOf(const Eigen::VectorXd& force_ref, 
   return {f_ref, lower, upper};
 }
 
-void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref,
-                                       Scratch& s, int mode) const {
+void ClfQpController::FillForceBandRow(const Band& band, int k, Scratch& s, int mode) const {
   const int nu = model_->nu();
   Scratch::ModeQp& mq = s.modes[mode];
   DenseQpSolver& qp = mq.qp;
@@ -656,7 +656,6 @@ void ClfQpController::FillForceBandRow(const Eigen::VectorXd& force_ref, int k, 
     qp.A.row(br).head(nu) = mq.Av.row(fz);
     shift = mq.bv[fz] + (params_.force_band_at_hold_end ? mq.drift[fz] : 0.0);  // F_z(u) (+ d_z: the hold's end)
   }
-  const Band band = BandOf(force_ref, k, active_ref, inactive_ref, s, mode);
   s.band_ref_cur[cw.contact()] = band.reference;
   qp.l[br] = band.lower - shift;
   qp.u[br] = band.upper - shift;

@@ -251,13 +251,13 @@ class ClfQpController final : public QpControllerSystem {
   void FillClfRow(Scratch& s, int mode) const;
   /// The contact-wrench rows, their hold-drift copies and the force band of every active contact.
   void FillWrenchRows(const LeafContext& context, const VectorRef& q, Scratch& s, int mode) const;
-  void FillForceBandRow(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, Scratch& s,
-                        int mode) const;
   /// The force band of active contact k [N]: its reference F_ref (with its share of the inactive contacts' load,
   /// force_band_carry_inactive) and the band's edges on F_z after the margin and the loading floor.
   struct Band {
     double reference = 0.0, lower = 0.0, upper = 0.0;
   };
+  /// The band row of active contact k: `band` on F_z(u) (+ d_z with force_band_at_hold_end).
+  void FillForceBandRow(const Band& band, int k, Scratch& s, int mode) const;
   Band BandOf(const Eigen::VectorXd& force_ref, int k, double active_ref, double inactive_ref, const Scratch& s,
               int mode) const;
   /// The planned constraint forces F of the solution (the first `rows` entries of the mode's F).
