@@ -374,7 +374,7 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
                             const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
                             const std::string& direct_error, WalkingNlpReport* last_transition,
                             WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked,
-                            const StandToWalkParams* first_link = nullptr);
+                            const StandToWalkParams* first_link = nullptr, WalkingPlan* refused_out = nullptr);
 
 // With `chain`, a start gait → g change with no direct plan goes through the gait graph (report->start_chain).
 WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,
@@ -406,7 +406,8 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
         // Only the chain's first link leaves the start gait: it keeps the standing margin, the later links are
         // changes between walking gaits (docs/design-notes.md#walking-start-chain).
         plan = ChainGaitChange(std::move(plan), s, start, a, g, steps, end_in_single_support, seed, cache, sp, who,
-                               direct.what(), &change, nodes, report, &walked, &from_start);
+                               direct.what(), &change, nodes, report, &walked, &from_start,
+                               refused.segments().empty() ? &refused : nullptr);
         if (report != nullptr) report->start_chain = walked;
       } catch (const std::runtime_error&) {
         if (refused.segments().empty()) throw;
@@ -444,12 +445,15 @@ std::string GaitText(const WalkingGait& g) {
 // change into b and steps_b steps of it. A transition or an intermediate gait that has no plan removes that edge.
 // Appends the gaits after a to *walked and adds the search's time and counts to the report. first_link (if given):
 // the parameters of the links that leave a (the start gait's change keeps the standing margin); sp: the others'.
+// refused_out (if given and empty): the whole plan through the first chain whose link into b planned but was refused
+// by the torque check (StandToWalkParams::change_check), for the caller to keep when no chain is found, so that the
+// check before simulating refuses it naming the joint (exit 1) instead of the planner failing.
 WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
                             const WalkingGait& b, int steps_b, bool end_in_single_support, std::uint32_t seed,
                             const PlanCache* cache, const StandToWalkParams& sp, const std::string& who,
                             const std::string& direct_error, WalkingNlpReport* last_transition,
                             WalkingTransitionNodes* nodes, WalkingPlanReport* report, std::vector<WalkingGait>* walked,
-                            const StandToWalkParams* first_link) {
+                            const StandToWalkParams* first_link, WalkingPlan* refused_out) {
   const auto t0 = Clock::now();
   // A gait outside the graph's range (a start gait may be slower) has no chain: the direct change's failure stands.
   for (const WalkingGait* g : {&a, &b})
@@ -477,11 +481,12 @@ WalkingPlan ChainGaitChange(WalkingPlan plan, const SolvedGait& ga, const Walkin
       const std::shared_ptr<const SolvedGait> s = last ? std::make_shared<const SolvedGait>(gb) : periodic[to];
       if (s == nullptr) return false;
       WalkingPlan next = plans[depth];
-      AppendCheckedGaitChange(next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps,
-                              last ? end_in_single_support : true, cache,
-                              depth == 0 && first_link != nullptr ? *first_link : sp,
-                              who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition,
-                              last ? nodes : nullptr, report != nullptr ? &report->refused_changes : nullptr);
+      AppendCheckedGaitChange(
+          next, *solved[depth], gaits[depth], *s, g, last ? steps_b : sp.chain_steps,
+          last ? end_in_single_support : true, cache, depth == 0 && first_link != nullptr ? *first_link : sp,
+          who + " (chain " + GaitText(gaits[depth]) + " -> " + GaitText(g) + ")", last_transition,
+          last ? nodes : nullptr, report != nullptr ? &report->refused_changes : nullptr,
+          last && refused_out != nullptr && refused_out->segments().empty() ? refused_out : nullptr);
       plans.push_back(std::move(next)), solved.push_back(s), gaits.push_back(g);
       return true;
     } catch (const std::runtime_error&) { return false; }
@@ -530,7 +535,8 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
       try {
         if (!chain) throw;
         plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
-                               &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr);
+                               &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr, nullptr,
+                               refused.segments().empty() ? &refused : nullptr);
       } catch (const std::runtime_error&) {
         if (refused.segments().empty()) throw;
         // Beyond the robot every way tried: keep the direct change, which the check before simulating refuses
