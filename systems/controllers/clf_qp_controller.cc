@@ -80,10 +80,10 @@ struct ClfQpController::Scratch {
   int last_mode = 0;
   double mode_since = -std::numeric_limits<double>::infinity();  // when last_mode began (its first solve) [s]
   bool solved_once = false;
-  // force_band_loading_floor_N: each contact's band reference at the last two update instants, and whether it was in
-  // the mode then (a contact is loading when it was not, or its reference did not fall).
+  // force_band_loading_floor_N: each contact's band reference at the last two update instants, whether it was in
+  // the mode then and whether it was loading (see BandOf).
   Eigen::VectorXd band_ref_prev, band_ref_cur;
-  ContactSet band_active_prev = 0, band_active_cur = 0;
+  ContactSet band_active_prev = 0, band_active_cur = 0, band_loading_prev = 0, band_loading_cur = 0;
   double band_time = -std::numeric_limits<double>::infinity();
 };
 
@@ -580,6 +580,7 @@ void ClfQpController::FillWrenchRows(const LeafContext& context, const VectorRef
   if (force_ref != nullptr && context.time() != s.band_time) {  // a new update instant (fallback re-solves share one)
     s.band_ref_prev = s.band_ref_cur;
     s.band_active_prev = s.band_active_cur;
+    s.band_loading_prev = s.band_loading_cur;
     s.band_active_cur = mq.active;
     s.band_time = context.time();
   }
@@ -632,13 +633,16 @@ ClfQpController::Band ClfQpController::BandOf(const Eigen::VectorXd& force_ref, 
   double lower = (1.0 - c) * f_ref, upper = (1.0 + c) * f_ref;
   const double margin = std::min(params_.force_band_margin_N, 0.25 * (upper - lower));
   lower += margin, upper -= margin;
+  // Loading: new in the mode, or its reference did not fall, unless it fell to 0 before (a foot the plan released
+  // but the plant has not: held at the floor, it would never be released).
+  const double tol = params_.force_band_loading_fall_tolerance_N;
   const bool loading = !(s.band_active_prev & ContactBit(ci)) ||
-                       f_ref >= s.band_ref_prev[ci] - params_.force_band_loading_fall_tolerance_N;
+                       (f_ref >= s.band_ref_prev[ci] - tol && ((s.band_loading_prev & ContactBit(ci)) || f_ref > tol));
   if (loading && params_.force_band_loading_floor_N > 0.0) {
     lower = std::max(lower, params_.force_band_loading_floor_N);
     upper = std::max(upper, lower);
   }
-  return {f_ref, lower, upper};
+  return {f_ref, lower, upper, loading};
 }
 
 void ClfQpController::FillForceBandRow(const Band& band, int k, Scratch& s, int mode) const {
@@ -654,9 +658,12 @@ void ClfQpController::FillForceBandRow(const Band& band, int k, Scratch& s, int 
     qp.A(br, nu + fz) = 1.0;
   } else {
     qp.A.row(br).head(nu) = mq.Av.row(fz);
-    shift = mq.bv[fz] + (params_.force_band_at_hold_end ? mq.drift[fz] : 0.0);  // F_z(u) (+ d_z: the hold's end)
+    // F_z(u) (+ d_z: the hold's end); a drift above the upper edge would ask F_z(u) < 0 against the unilateral row.
+    shift = mq.bv[fz] + (params_.force_band_at_hold_end ? std::min(mq.drift[fz], band.upper) : 0.0);
   }
   s.band_ref_cur[cw.contact()] = band.reference;
+  s.band_loading_cur =
+      band.loading ? s.band_loading_cur | ContactBit(cw.contact()) : s.band_loading_cur & ~ContactBit(cw.contact());
   qp.l[br] = band.lower - shift;
   qp.u[br] = band.upper - shift;
 }

@@ -255,6 +255,7 @@ class ClfQpController final : public QpControllerSystem {
   /// force_band_carry_inactive) and the band's edges on F_z after the margin and the loading floor.
   struct Band {
     double reference = 0.0, lower = 0.0, upper = 0.0;
+    bool loading = false;  ///< the loading floor's condition (force_band_loading_floor_N)
   };
   /// The band row of active contact k: `band` on F_z(u) (+ d_z with force_band_at_hold_end).
   void FillForceBandRow(const Band& band, int k, Scratch& s, int mode) const;

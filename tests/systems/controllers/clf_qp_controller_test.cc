@@ -493,6 +493,14 @@ TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
   EXPECT_LE(f_loading, floor + 1e-6);  // the band's upper edge is raised to the floor, no further
   EXPECT_NEAR(f_unloading, 0.0, 1e-6);
   EXPECT_EQ(loading.fallbacks.sum() + unloading.fallbacks.sum(), 0.0);
+  // One update later the foot is still in the mode with its reference still 0 (a plant that has not released it): it
+  // stays unloading. Before, the reference no longer falling made it loading again, and the floor held a walking foot
+  // above the plant's release force for good (docs/design-notes.md#walking-late-release).
+  const Solved late = update(5e-3, 0.0);
+  ASSERT_EQ(late.status, QpStatus::kOptimal);
+  std::printf("  a released foot still in contact: plant F_z left %.3g N\n", plant_left_fz(late.u));
+  EXPECT_NEAR(plant_left_fz(late.u), 0.0, 1e-6);
+  EXPECT_EQ(late.fallbacks.sum(), 0.0);
 }
 
 // predict_hold_drift with the force band: a foot whose reference falls to 0 (the plan lifts it off) gets no hold-drift
@@ -544,6 +552,50 @@ TEST(ClfQpController, HoldDriftRowsSkipAFootTheBandReleases) {
   const double hold_end = left_force(q1, s1.u).z() + d.z();
   std::printf("  the plant's left F_z at the hold's end %.3g N\n", hold_end);
   EXPECT_NEAR(hold_end, 0.0, 1e-6);
+}
+
+// force_band_at_hold_end on a foot the band releases, with a rising drift: AMBER at rest in double support, updated at
+// t = 0 with 50 N planned on the left foot, then one period later at a pose whose feet are 0.34 m apart instead of
+// 0.3 m, with the left reference 0. The drift d = F(x1, u0) − F(x0, u0) (from the plant's own constrained dynamics)
+// has d_z > 0 there (checked), so the band at the hold's end, F_z(u) + d_z ≤ 0, would ask F_z(u) < 0 against the
+// unilateral row: infeasible, and the fallback dropped the band (walking: a foot left at 60 N after its planned
+// lift-off). The band's upper edge then binds F_z(u) at the solve instant: it solves at once with the plant's left
+// F_z(x1, u1) = 0.
+TEST(ClfQpController, AReleasedFootsBandWithARisingDriftHoldsItAtZero) {
+  const AmberBandSetup a;
+  const ContactSet both = ContactBit(a.l) | ContactBit(a.r);
+  ClfQpParams params;
+  params.force_band = true;
+  params.force_band_at_hold_end = true;
+  params.predict_hold_drift = true;
+  ClfQpController controller("clf", a.model, {both}, a.outputs, params);
+  auto context = controller.CreateDefaultLeafContext();
+  MultibodyWorkspace ws(*a.model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(a.model->nv());
+  const Eigen::VectorXd q0 = a.q, q1 = test::AmberDoubleSupportPose(*a.model, 0.34);
+  auto update = [&](double t, const Eigen::VectorXd& q, double f_left) {
+    context->SetTime(t);
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[a.l] = f_left;
+    f_ref[a.r] = a.mg - f_left;
+    context->FixInputPort(3, f_ref);
+    return RunUpdate(controller, *context, Stack(q, v), 0, a.Desired());
+  };
+  auto left_fz = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
+    Eigen::VectorXd qdd(a.model->nv()), F(a.model->max_constraint_rows());
+    CalcConstrainedForwardDynamics(*a.model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
+    return ExtractContactWrench(*a.model, ws, q, both, F, a.l).force.z();
+  };
+  const Solved s0 = update(0.0, q0, 50.0);
+  ASSERT_EQ(s0.status, QpStatus::kOptimal);
+  const double dz = left_fz(q1, s0.u) - left_fz(q0, s0.u);
+  std::printf("  left foot's hold drift d_z = %.3f N\n", dz);
+  ASSERT_GT(dz, 0.0) << "the case needs a rising drift";
+  const Solved s1 = update(1e-3, q1, 0.0);
+  ASSERT_EQ(s1.status, QpStatus::kOptimal);
+  EXPECT_EQ(s1.fallbacks.sum(), 0.0);
+  std::printf("  the plant's left F_z at the solve instant %.3g N\n", left_fz(q1, s1.u));
+  EXPECT_NEAR(left_fz(q1, s1.u), 0.0, 1e-6);
 }
 
 // force_band_carry_inactive: in left stance, the right foot's planned 0.7 m g moves to the left foot, so the band is
