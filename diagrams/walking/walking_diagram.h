@@ -310,8 +310,9 @@ struct StandToWalkParams {
   /// plan and the transition's start and end (its double and single support); a std::runtime_error from it refuses
   /// the transition as beyond the robot (its what(): the reason): the change is planned again with
   /// gait_change_retry_max_force_fraction, then (chain_gait_changes) through the gait graph, as when its NLP has no
-  /// plan; when neither plans, the refused direct change is kept, for the check before simulating to refuse (empty: no
-  /// check). The plan builder does not know the robot: WalkingChangeFeasibilityCheck
+  /// plan; when neither plans (nor, from standing, a lead-in), the builder returns the plan up to the first refused
+  /// change (the direct one, else the first chain's link into the gait), for the check before simulating to refuse
+  /// (empty: no check). The plan builder does not know the robot: WalkingChangeFeasibilityCheck
   /// (walking_robot_check.h) checks the torques as the walking example's feasibility check does.
   std::function<void(const WalkingPlan&, double from_s, double to_s)> change_check;
   /// A → B with no direct transition plan (BuildGaitChangePlan; and every start from standing: the start gait's or the
@@ -423,6 +424,10 @@ struct WalkingPlanReport {
   int chain_transitions_tried = 0, chain_transitions_failed = 0;
   /// Every transition StandToWalkParams::change_check refused, in the order planned (empty: none).
   std::vector<WalkingChangeRefusal> refused_changes;
+  /// Non-empty when the builder returned a plan change_check refused (every way tried was refused; see
+  /// StandToWalkParams::change_check): the refusal's reason. The walking example refuses such a plan (exit 1) also
+  /// when its check before simulating, on the whole plan, finds it within the limits.
+  std::string refused_plan_kept;
 };
 WalkingPlan BuildStandToWalkPlan(const WalkingGait& gait, int steps, std::uint32_t seed, const PlanCache* cache,
                                  WalkingPlanReport* report = nullptr, const StandToWalkParams& params = {});

@@ -9,6 +9,7 @@
 #include <ctime>
 #include <limits>
 #include <map>
+#include <optional>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -325,6 +326,14 @@ double AppendGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGa
 // tighter bound sp.gait_change_retry_max_force_fraction (when set and tighter); if that has no plan or is refused too,
 // std::runtime_error names every refusal (the caller then chains through the gait graph). Refusals are appended to
 // *refused, and the first refused plan to *refused_plan (if given). `plan` is unchanged unless the change succeeds.
+// A plan that every way tried was refused by the torque check (StandToWalkParams::change_check): the first refused
+// transition's whole plan, thrown so that a caller with another way (a lead-in) tries it first; the public builders
+// return it, and the check before simulating refuses it naming the joint (exit 1), not the planner (exit 3).
+struct RefusedPlan : std::runtime_error {
+  RefusedPlan(WalkingPlan refused, const std::string& why) : std::runtime_error(why), plan(std::move(refused)) {}
+  WalkingPlan plan;
+};
+
 void AppendCheckedGaitChange(WalkingPlan& plan, const SolvedGait& ga, const WalkingGait& a, const SolvedGait& gb,
                              const WalkingGait& b, int steps_b, bool end_in_single_support, const PlanCache* cache,
                              const StandToWalkParams& sp, const std::string& who, WalkingNlpReport* transition_report,
@@ -409,9 +418,9 @@ WalkingPlan StandToWalk(const WalkingGait& g, int steps, std::uint32_t seed, con
                                direct.what(), &change, nodes, report, &walked, &from_start,
                                refused.segments().empty() ? &refused : nullptr);
         if (report != nullptr) report->start_chain = walked;
-      } catch (const std::runtime_error&) {
+      } catch (const std::runtime_error& e) {
         if (refused.segments().empty()) throw;
-        plan = std::move(refused);  // beyond the robot: the check before simulating refuses it, naming the joint
+        throw RefusedPlan(std::move(refused), e.what());  // beyond the robot every way tried here
       }
     }
     if (report != nullptr) {
@@ -511,7 +520,7 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
   SolvedGait prev{AslipPeriodicGaitPlanner(GaitParams(gaits.front(), sp)), {}, 0.0};
   if (report != nullptr)
     report->chain_planning_s = 0, report->chain_transitions_tried = report->chain_transitions_failed = 0,
-    report->refused_changes.clear();
+    report->refused_changes.clear(), report->refused_plan_kept.clear();
   WalkingPlan plan =
       StandToWalk(gaits.front(), steps, seed, cache, report, sp, who, /*end_in_single_support=*/true, &prev, chain);
   if (report != nullptr) report->chain = {gaits.front()};
@@ -537,12 +546,10 @@ WalkingPlan SequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::
         plan = ChainGaitChange(std::move(plan), prev, a, gb, b, steps_b, !last, seed, cache, sp, who, direct.what(),
                                &transition_report, nodes, report, report != nullptr ? &report->chain : nullptr, nullptr,
                                refused.segments().empty() ? &refused : nullptr);
-      } catch (const std::runtime_error&) {
+      } catch (const std::runtime_error& e) {
         if (refused.segments().empty()) throw;
-        // Beyond the robot every way tried: keep the direct change, which the check before simulating refuses
-        // (naming the joint, its need and its limit), rather than fail as a planner.
-        plan = std::move(refused);
         if (report != nullptr) report->chain.push_back(b);
+        throw RefusedPlan(std::move(refused), e.what());  // beyond the robot every way tried
       }
     }
     if (report != nullptr && last) {
@@ -588,6 +595,15 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
   lead.dsp_duration_s = sp.lead_in_dsp_duration_s;
   const bool is_lead = SameTiming(g, lead);
   const bool faster = g.ssp_duration_s < lead.ssp_duration_s - 1e-9 || g.dsp_duration_s < lead.dsp_duration_s - 1e-9;
+  std::optional<RefusedPlan> refused;  // the first plan the torque check refused: returned once no other way plans
+  if (report != nullptr) report->refused_plan_kept.clear();
+  const auto keep = [&](const std::runtime_error& e) {
+    if (const auto* r = dynamic_cast<const RefusedPlan*>(&e); r != nullptr && !refused) refused.emplace(*r);
+  };
+  const auto refused_plan = [&] {
+    if (report != nullptr) report->refused_plan_kept = refused->what();
+    return std::move(refused->plan);
+  };
   const auto with_lead_in = [&](const std::string& reason) {
     WalkingPlanReport r;
     WalkingPlan plan = GaitChangePlan(lead, g, sp.lead_in_steps, seed, cache, &r, sp, steps, sp.chain_gait_changes);
@@ -612,11 +628,15 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
     try {
       return with_lead_in(reason);
     } catch (const std::runtime_error& e) {  // "gait A" / "gait B" in e are the lead-in and the gait
+      keep(e);
       const std::string through = "BuildStandToWalkPlan: " + reason + "; through a lead-in of " +
                                   std::to_string(sp.lead_in_steps) + " steps of (" +
                                   with_unit(lead.step_length_m, "m") + ", " + seconds(lead.ssp_duration_s) + ", " +
                                   seconds(lead.dsp_duration_s) + "): " + e.what();
-      if (sp.start_gait_steps == 0) throw std::runtime_error(through);
+      if (sp.start_gait_steps == 0) {
+        if (refused) return refused_plan();
+        throw std::runtime_error(through);
+      }
       // From the start gait (a short, slow first swing) the direct change may still plan.
       try {
         WalkingPlan plan = StandToWalkChained(g, steps, seed, cache, report, sp);
@@ -626,6 +646,8 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
           report->lead_in_reason = "tried and had no plan, so planned directly from the start gait: " + through;
         return plan;
       } catch (const std::runtime_error& direct) {
+        keep(direct);
+        if (refused) return refused_plan();
         throw std::runtime_error(through + "; directly from the start gait: " + direct.what());
       }
     }
@@ -635,10 +657,16 @@ WalkingPlan BuildStandToWalkPlan(const WalkingGait& g, int steps, std::uint32_t 
     if (sp.plan_check) sp.plan_check(plan);
     return plan;
   } catch (const std::runtime_error& direct) {
-    if (sp.lead_in_steps == 0 || is_lead) throw;
+    keep(direct);
+    if (sp.lead_in_steps == 0 || is_lead) {
+      if (refused) return refused_plan();
+      throw;
+    }
     try {
       return with_lead_in(direct.what());
     } catch (const std::runtime_error& e) {
+      keep(e);
+      if (refused) return refused_plan();
       throw std::runtime_error(std::string(direct.what()) + "; with a lead-in of " + std::to_string(sp.lead_in_steps) +
                                " steps of (" + with_unit(lead.step_length_m, "m") + ", " +
                                seconds(lead.ssp_duration_s) + ", " + seconds(lead.dsp_duration_s) + "): " + e.what());
@@ -652,7 +680,12 @@ WalkingPlan BuildGaitChangePlan(const WalkingGait& a, const WalkingGait& b, int 
   a.Validate("BuildGaitChangePlan: gait A");
   b.Validate("BuildGaitChangePlan: gait B");
   sp.Validate("BuildGaitChangePlan");
-  return GaitChangePlan(a, b, steps, seed, cache, report, sp, steps_b, sp.chain_gait_changes);
+  try {
+    return GaitChangePlan(a, b, steps, seed, cache, report, sp, steps_b, sp.chain_gait_changes);
+  } catch (RefusedPlan& r) {
+    if (report != nullptr) report->refused_plan_kept = r.what();
+    return std::move(r.plan);
+  }
 }
 
 WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int steps, std::uint32_t seed,
@@ -665,7 +698,12 @@ WalkingPlan BuildGaitSequencePlan(const std::vector<WalkingGait>& gaits, int ste
   for (size_t i = 0; i < gaits.size(); ++i) gaits[i].Validate(who + ": gait " + std::to_string(i + 1));
   sp.Validate(who);
   if (steps < 1) throw std::invalid_argument(who + ": steps must be >= 1, got " + std::to_string(steps));
-  return SequencePlan(gaits, steps, seed, cache, report, sp, steps_last, sp.chain_gait_changes, who);
+  try {
+    return SequencePlan(gaits, steps, seed, cache, report, sp, steps_last, sp.chain_gait_changes, who);
+  } catch (RefusedPlan& r) {
+    if (report != nullptr) report->refused_plan_kept = r.what();
+    return std::move(r.plan);
+  }
 }
 
 WalkingPlan BuildPeriodicWalkingPlan(const WalkingGait& g, int steps, std::uint32_t seed, const PlanCache* cache,

@@ -174,6 +174,10 @@ int main(int argc, char** argv) {
   if (o.scenario == "walk-to-stand") o.run.end_time_s = d.plan.end_time(), o.run.judge_standing_end = true;
   const double t_stop = WalkingRunEndTime(d.plan, o.run);
   if (const int code = CheckFeasibility(*model, d, o, t_stop); code >= 0) return code;
+  if (!nlp.refused_plan_kept.empty()) {  // refused by the change check, within the limits on the whole plan by a hair
+    std::cerr << "walking: " << nlp.refused_plan_kept << "\n";
+    return 1;
+  }
   if (o.check_only) return 0;
   const nlohmann::json plan_torques = examples::PlanTorqueReport(d, o.diagram, t_stop);
   examples::WalkingRecorder recorder(d, !cli.Get("log").empty(), !cli.Get("plots").empty(),

@@ -108,7 +108,9 @@ struct ClfQpParams {
   /// [N] Ours (default 0, off): while a contact is loading (it was not in the mode at the previous update, or its
   /// reference did not fall since then) the band's lower edge is at least this. Without it a foot that touches down
   /// where the plan's force starts at 0 (walking: the aSLIP's F⁺ = 0 at touchdown) is held at F_z = 0 and the plant
-  /// lifts it off again at once. Unloading contacts keep the band's (1 − c) F_ref, which reaches 0 at lift-off.
+  /// lifts it off again at once. Unloading contacts keep the band's (1 − c) F_ref, which reaches 0 at lift-off; a
+  /// contact whose reference fell to 0 (to force_band_loading_fall_tolerance_N) stays unloading while it stays there
+  /// (a foot the plant has not released yet: the floor would hold it for good).
   double force_band_loading_floor_N = 0.0;
   /// [N] a contact's reference counts as falling (unloading) only when it drops by more than this between two updates
   /// (ours): where the plan's force is 0 it carries solver noise of ~1e-5 N, which must not end the loading floor.
@@ -120,7 +122,8 @@ struct ClfQpParams {
   /// Ours (default off; kEliminateContactForces only): the band bounds F_z(u) + d_z, the normal force predicted at the
   /// end of the zero-order hold (d: the hold drift of predict_hold_drift), instead of F_z(u) at the solve instant. With
   /// a reference read one update period ahead (walking: WalkingDiagramParams::force_band_lead_periods) the band then
-  /// holds the force the plant has when the next update samples it. Dropped with the band in fallback 1.
+  /// holds the force the plant has when the next update samples it. The shift by d_z is at most the band's upper edge
+  /// (a larger drift would ask F_z(u) < 0 against the unilateral row). Dropped with the band in fallback 1.
   bool force_band_at_hold_end = false;
   /// [N] Ours (default 0): the QP's band is this much inside Eq. (25)'s edges on each side (at most a quarter of the
   /// band's width), room for the error of the predicted force: where the QP holds a force on an edge, the plant's

@@ -2,8 +2,9 @@
 // Test sizes under the sanitizers. Under AddressSanitizer + UndefinedBehaviorSanitizer (-O1, ./rome test-sanitize) the
 // closed loops run 15-20 times slower than in Release. The sanitizer suite looks for memory errors and undefined
 // behaviour, which the first random courses exercise along the same code paths as all ten, so the long statistical
-// loops run fewer seeds there; every physics check of each run is the same. Five of the walking diagram's gait-range
-// variants (other gaits along the same code paths and checks as the defaults' runs) skip there. The Release suite
+// loops run fewer seeds there; every physics check of each run is the same. 13 of the walking diagram's gait-range
+// variants (other gaits along the code paths of the defaults' runs, or paths a unit test checks there) and a few
+// planning-only cases skip there. The Release suite
 // (./rome test) runs the full counts and every variant.
 
 namespace rome::test {

@@ -38,7 +38,12 @@ def test_a_run_is_sorted_by_the_issues_thresholds():
     assert pairs.judge(0, _summary(force_in_band_fraction_strict=0.949), "")[0] == "failed"  # >= 95 % in band
     assert pairs.judge(0, _summary(qp_infeasible_ticks=1), "")[0] == "failed"
     assert pairs.judge(0, _summary(contact_violations=1), "")[0] == "failed"
-    refused = "planning ...\nwalking: gait 0.41,0.36,0.12,0.23: the left knee needs 312 N m (limit 300 N m)\n"
-    assert pairs.judge(1, None, refused) == ("refused", refused.splitlines()[-1])
+    reason = "walking: gait 0.41,0.36,0.12,0.23: the left knee needs 312 N m (limit 300 N m)"
+    assert pairs.judge(1, None, "planning: periodic aSLIP ...\n", reason + "\n") == ("refused", reason)
+    # Exit 1 before planning, or after simulating, is bad input (an option, an output file), not a refusal.
+    bad = "walking: option '--steps' is given twice (first '2'); give it once"
+    assert pairs.judge(1, None, "", bad + "\n") == ("error", bad)
+    assert pairs.judge(1, None, "planning: ...\nsimulating 5 s ...\n", "walking: cannot write\n")[0] == "error"
+    assert pairs.judge(0, _summary(com_rms_error_m=[None, 0.0, 0.0]), "")[0] == "failed"  # a NaN written as null
     failed = "t = 6 s\nFAILED: failed at t = 6.021 s (system 'plant'): slipped\n  7 steps\n"
     assert pairs.judge(3, _summary(success=False), failed) == ("failed", failed.splitlines()[1])

@@ -66,6 +66,7 @@ TEST(WalkingChangeCheck, AChangeBeyondTheTorqueLimitsIsPlannedAgainWithinThem) {
               report.chain.size());
   EXPECT_NEAR(report.chain.front().step_length_m, a.step_length_m, 1e-12);
   EXPECT_NEAR(report.chain.back().step_length_m, b.step_length_m, 1e-12);
+  EXPECT_TRUE(report.refused_plan_kept.empty()) << report.refused_plan_kept;  // a chain within the limits was found
   const WalkingDiagram d = BuildWalkingDiagram(model, checked, params);
   const TorquePeak peak = PeakTorque(*model, d.plan, 0.0, WalkingRunEndTime(d.plan, run), false);
   std::printf("  checked: the %s needs %.3f of its limit at t = %.3f s\n", peak.joint.c_str(), peak.limit_fraction,
@@ -77,7 +78,8 @@ TEST(WalkingChangeCheck, AChangeBeyondTheTorqueLimitsIsPlannedAgainWithinThem) {
 // gait-change scenario plans it: the start gait's direct change into A has no NLP plan (locally infeasible), and the
 // gait graph's first chain plans its link into A, which the torque check refuses. With one failure allowed the search
 // gives up there (the example's 16 all end so: 12 refused by the knee, 4 without a plan; measured), and the plan kept
-// is that refused chain. Before, the planner threw (the example's exit 3, "the solver gave up").
+// is that refused chain, up to A (the report's refused_plan_kept says so). Before, the planner threw (the example's
+// exit 3, "the solver gave up").
 TEST(WalkingChangeCheck, AChangeWithNoChainWithinTheLimitsKeepsTheRefusedPlanForTheCheckToRefuse) {
   if (test::kSanitizerBuild) GTEST_SKIP() << "planning only (tens of NLPs); the Release suite runs it";
   std::shared_ptr<const MultibodyModel> model = test::LoadRobot("exoskeleton");
@@ -98,6 +100,7 @@ TEST(WalkingChangeCheck, AChangeWithNoChainWithinTheLimitsKeepsTheRefusedPlanFor
   EXPECT_NEAR(first.to.step_length_m, a.step_length_m, 1e-12);
   EXPECT_NEAR(first.to.ssp_duration_s, a.ssp_duration_s, 1e-12);
   EXPECT_NE(first.problem.find("knee needs"), std::string::npos);
+  EXPECT_NE(report.refused_plan_kept.find("through the gait graph"), std::string::npos) << report.refused_plan_kept;
   const WalkingDiagram d = BuildWalkingDiagram(model, plan, params);
   const TorquePeak peak = PeakTorque(*model, d.plan, 0.0, d.plan.end_time(), false);
   std::printf("  kept: the %s needs %.3f of its limit at t = %.3f s\n", peak.joint.c_str(), peak.limit_fraction,

@@ -544,7 +544,7 @@ TEST(ClfQpController, HoldDriftRowsSkipAFootTheBandReleases) {
   std::printf("  left foot's hold drift d = (%.3f, %.3f) N; -d inside the pyramid (mu %.2f): %d\n", d.x(), d.z(), mu,
               inside);
   ASSERT_FALSE(inside) << "the case needs a drift the pyramid cannot hold";
-  ASSERT_LT(d.z(), 0.0) << "the case needs a falling force, else the band itself is infeasible";
+  ASSERT_LT(d.z(), 0.0) << "the case needs a falling force (a rising one: AReleasedFootsBandWithARisingDrift...)";
   const Solved s1 = update(1e-3, q1, 0.0);
   ASSERT_EQ(s1.status, QpStatus::kOptimal);
   EXPECT_EQ(s1.fallbacks.sum(), 0.0);
