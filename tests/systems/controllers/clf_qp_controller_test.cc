@@ -417,12 +417,28 @@ struct AmberBandSetup {
                                        q, v);
     return desired;
   }
-  /// F_z [N] of `contact` from CalcConstrainedForwardDynamics with `active` at torques u.
-  double PlantNormalForce(const Eigen::VectorXd& u, ContactSet active, int contact) const {
+  /// The force [N] of `contact` at pose q_at, at rest, from CalcConstrainedForwardDynamics with `active` at torques u.
+  Eigen::Vector3d PlantForce(const Eigen::VectorXd& q_at, const Eigen::VectorXd& u, ContactSet active,
+                             int contact) const {
     MultibodyWorkspace ws(*model);
     Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
-    CalcConstrainedForwardDynamics(*model, ws, q, v, u, active, ConstrainedDynamicsParameters{}, qdd, F);
-    return ExtractContactWrench(*model, ws, q, active, F, contact).force.z();
+    CalcConstrainedForwardDynamics(*model, ws, q_at, v, u, active, ConstrainedDynamicsParameters{}, qdd, F);
+    return ExtractContactWrench(*model, ws, q_at, active, F, contact).force;
+  }
+  /// F_z [N] of `contact` at the setup's pose.
+  double PlantNormalForce(const Eigen::VectorXd& u, ContactSet active, int contact) const {
+    return PlantForce(q, u, active, contact).z();
+  }
+  /// One update of `controller` at time t and pose q_at, at rest, with f_left planned on the left foot and the rest of
+  /// m g on the right (the force band's input, port 3).
+  Solved UpdateAt(const ClfQpController& controller, LeafContext& context, double t, const Eigen::VectorXd& q_at,
+                  double f_left) const {
+    context.SetTime(t);
+    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
+    f_ref[l] = f_left;
+    f_ref[r] = mg - f_left;
+    context.FixInputPort(3, f_ref);
+    return RunUpdate(controller, context, Stack(q_at, v), 0, Desired());
   }
 };
 
@@ -463,16 +479,8 @@ TEST(ClfQpController, ForceBandLoadingFloorHoldsALoadingFootAboveIt) {
   params.force_band_loading_floor_N = floor;
   ClfQpController controller("clf", a.model, {both}, a.outputs, params);
   auto context = controller.CreateDefaultLeafContext();
-  const Eigen::VectorXd desired = a.Desired();
   auto plant_left_fz = [&](const Eigen::VectorXd& u) { return a.PlantNormalForce(u, both, a.l); };
-  auto update = [&](double t, double f_left) {
-    context->SetTime(t);
-    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
-    f_ref[a.l] = f_left;
-    f_ref[a.r] = a.mg - f_left;
-    context->FixInputPort(3, f_ref);
-    return RunUpdate(controller, *context, Stack(a.q, a.v), 0, desired);
-  };
+  auto update = [&](double t, double f_left) { return a.UpdateAt(controller, *context, t, a.q, f_left); };
   const Solved loading = update(0.0, 0.0);
   ASSERT_EQ(loading.status, QpStatus::kOptimal);
   const double f_loading = plant_left_fz(loading.u);
@@ -520,22 +528,11 @@ TEST(ClfQpController, HoldDriftRowsSkipAFootTheBandReleases) {
   params.contact.friction_coefficient = 0.5;  // the pyramid μ' (planar: not inscribed)
   ClfQpController controller("clf", a.model, {both}, a.outputs, params);
   auto context = controller.CreateDefaultLeafContext();
-  MultibodyWorkspace ws(*a.model);
-  const Eigen::VectorXd v = Eigen::VectorXd::Zero(a.model->nv());
   const Eigen::VectorXd q0 = a.q, q1 = test::AmberDoubleSupportPose(*a.model, 0.26);
   auto update = [&](double t, const Eigen::VectorXd& q, double f_left) {
-    context->SetTime(t);
-    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
-    f_ref[a.l] = f_left;
-    f_ref[a.r] = a.mg - f_left;
-    context->FixInputPort(3, f_ref);
-    return RunUpdate(controller, *context, Stack(q, v), 0, a.Desired());
+    return a.UpdateAt(controller, *context, t, q, f_left);
   };
-  auto left_force = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    Eigen::VectorXd qdd(a.model->nv()), F(a.model->max_constraint_rows());
-    CalcConstrainedForwardDynamics(*a.model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
-    return ExtractContactWrench(*a.model, ws, q, both, F, a.l).force;
-  };
+  auto left_force = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) { return a.PlantForce(q, u, both, a.l); };
   const Solved s0 = update(0.0, q0, 50.0);
   ASSERT_EQ(s0.status, QpStatus::kOptimal);
   const Eigen::Vector3d d = left_force(q1, s0.u) - left_force(q0, s0.u);
@@ -570,22 +567,11 @@ TEST(ClfQpController, AReleasedFootsBandWithARisingDriftHoldsItAtZero) {
   params.predict_hold_drift = true;
   ClfQpController controller("clf", a.model, {both}, a.outputs, params);
   auto context = controller.CreateDefaultLeafContext();
-  MultibodyWorkspace ws(*a.model);
-  const Eigen::VectorXd v = Eigen::VectorXd::Zero(a.model->nv());
   const Eigen::VectorXd q0 = a.q, q1 = test::AmberDoubleSupportPose(*a.model, 0.34);
   auto update = [&](double t, const Eigen::VectorXd& q, double f_left) {
-    context->SetTime(t);
-    Eigen::VectorXd f_ref = Eigen::VectorXd::Zero(2);
-    f_ref[a.l] = f_left;
-    f_ref[a.r] = a.mg - f_left;
-    context->FixInputPort(3, f_ref);
-    return RunUpdate(controller, *context, Stack(q, v), 0, a.Desired());
+    return a.UpdateAt(controller, *context, t, q, f_left);
   };
-  auto left_fz = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) {
-    Eigen::VectorXd qdd(a.model->nv()), F(a.model->max_constraint_rows());
-    CalcConstrainedForwardDynamics(*a.model, ws, q, v, u, both, ConstrainedDynamicsParameters{}, qdd, F);
-    return ExtractContactWrench(*a.model, ws, q, both, F, a.l).force.z();
-  };
+  auto left_fz = [&](const Eigen::VectorXd& q, const Eigen::VectorXd& u) { return a.PlantForce(q, u, both, a.l).z(); };
   const Solved s0 = update(0.0, q0, 50.0);
   ASSERT_EQ(s0.status, QpStatus::kOptimal);
   const double dz = left_fz(q1, s0.u) - left_fz(q0, s0.u);
