@@ -135,8 +135,8 @@ void StandToWalkParams::Validate(const std::string& who) const {
   Require(In(height_min_m, 0.7, 1.0), who, "height_min_m", height_min_m, "m", Interval(0.7, 1.0, "m"));
   Require(In(height_max_m, 0.7, 1.0) && height_max_m > height_min_m, who, "height_max_m", height_max_m, "m",
           "(height_min_m, 1] m = " + Interval(height_min_m, 1.0, "m", '('));
-  Require(standing_height_m >= height_min_m && standing_height_m <= height_max_m, who, "standing_height_m",
-          standing_height_m, "m", "[height_min_m, height_max_m] = " + Interval(height_min_m, height_max_m, "m"));
+  Require(standing_height_m >= height_min_m && standing_height_m <= 1.0, who, "standing_height_m", standing_height_m,
+          "m", "[height_min_m, 1] m = " + Interval(height_min_m, 1.0, "m"));
   Require(gait_change_max_force_fraction == 0 ||
               (gait_change_max_force_fraction > 1 && gait_change_max_force_fraction <= 3),
           who, "gait_change_max_force_fraction", gait_change_max_force_fraction, "m g", "0 (no bound) or (1, 3] m g");

@@ -223,11 +223,15 @@ SoleGeometry SoleOf(const MultibodyModel& model, const std::string& contact);
 struct WalkingNlpReport;
 /// Choices of the stand-to-walk plan beyond the gait.
 struct StandToWalkParams {
-  /// [m] COM (ROM mass) height standing, and the aSLIP height range of the periodic and transition NLPs (ours;
-  /// spec §1.1/§3.1 [R]: about 0.9 m, range 0.85-0.95 m): lower keeps the stance knee under its torque limit, higher
-  /// straightens the trailing knee (docs/design-notes.md#walking-standing-height).
-  double standing_height_m = 0.86;
+  /// [m] the aSLIP height range of the periodic and transition NLPs (ours; spec §1.1/§3.1 [R]: range 0.85-0.95 m):
+  /// lower keeps the stance knee under its torque limit, higher straightens the trailing knee
+  /// (docs/design-notes.md#walking-standing-height).
   double height_min_m = 0.84, height_max_m = 0.90;
+  /// [m] COM (ROM mass) height standing, in [height_min_m, 1] (ours; spec [R] about 0.9 m). Above height_max_m the
+  /// standing transition's NLP may start above the range and lowers the COM into it, and the walk-to-stand stop raises
+  /// it in its last double support, feet side by side: 0.91 m keeps the standing ankles 0.035 rad inside the URDF's
+  /// dorsiflexion limit, which 0.86 m passes by 0.127 rad (docs/design-notes.md#walking-standing-above-the-range).
+  double standing_height_m = 0.91;
   /// [m] the lifting (right) foot starts this far behind the stance (left) foot (spec [R]: 0, feet side by side, the
   /// default). Side by side, the standing transition's single step must reach the next gait's pre-impact state over one
   /// sole: a LIP from rest with its CoP on the heel (L_h behind the ankle) reaches at most ω (x_f + L_h) at x_f, so
@@ -334,9 +338,11 @@ struct StandToWalkParams {
 
   /// The earlier standing start from a step stance (ours): the right foot `stagger_m` behind the left, no start gait,
   /// the standing transition straight into the gait with a point-foot SSP and the 5 cm CoP margin of the push-off
-  /// from the rear heel. With gait A, 0.35 and 0.40 m walk (docs/design-notes.md#walking-step-stance).
+  /// from the rear heel, standing at 0.86 m (the legs 0.4 m apart do not reach 0.91 m). With gait A, 0.35 and 0.40 m
+  /// walk (docs/design-notes.md#walking-step-stance).
   static StandToWalkParams StepStance(double stagger_m = 0.40) {
     StandToWalkParams p;
+    p.standing_height_m = 0.86;
     p.stance_stagger_m = stagger_m;
     p.start_gait_steps = 0;
     p.point_foot_transition_ssp = true;

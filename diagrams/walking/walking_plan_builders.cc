@@ -209,7 +209,9 @@ WalkingPlan StandingInto(const SolvedGait& a, const WalkingGait& g, int steps, c
                          bool end_in_single_support, const char* into = "gait") {
   const AslipPeriodicGaitParams& gp = a.planner.params();
   const StandToWalkParams standing = WithStandingMargin(sp);
-  const AslipTransitionPlanner transition_planner(TransitionParams(gp, g, standing));
+  AslipTransitionParams tp = TransitionParams(gp, g, standing);
+  tp.bounds.height_max = std::max(tp.bounds.height_max, sp.standing_height_m);
+  const AslipTransitionPlanner transition_planner(tp);
   AslipTransitionData data;
   data.left_foot_x = 0.0;
   data.right_foot_x = -sp.stance_stagger_m;

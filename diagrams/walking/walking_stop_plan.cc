@@ -171,8 +171,10 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
   const WalkingReference td = plan.Sample(plan.end_time());
   const ActuatedSpringLoadedInvertedPendulumParams rom;  // the ROM plans' mass and gravity
   const double m = rom.mass, g = rom.gravity, h = sp.standing_height_m;
+  // Settle and step at the gaits' height range: a standing height above it is reached in the shift, feet side by side.
+  const double step_h = std::min(h, sp.height_max_m);
   const int n = stop.nodes_per_phase;
-  const Eigen::Vector3d rest_x(front_foot.x(), 0.0, 0.0), rest_z(h, 0.0, 0.0);
+  const Eigen::Vector3d rest_x(front_foot.x(), 0.0, 0.0), rest_z(step_h, 0.0, 0.0), stand_z(h, 0.0, 0.0);
   const Eigen::Matrix<double, 6, 1> hold_x = Quintic(1.0, rest_x, rest_x), hold_z = Quintic(1.0, rest_z, rest_z);
   // The rear foot lands beside the front one, at the same step width (its y does not change).
   const Eigen::Vector2d landed(front_foot.x(), rear_foot.y());
@@ -190,10 +192,10 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
   const WalkingDomain stance = front == 0 ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance;
   const StopPhase step =
       MakePhase(stance, stop.step_duration_s, n, hold_x, hold_z, Quintic(1.0, rest_y, rest_y), m, g, front, yf, yo);
-  const StopPhase shift =
-      MakePhase(WalkingDomain::kDoubleSupport, Tf, n, hold_x, hold_z, Quintic(Tf, rest_y, mid_y), m, g, front, yf, yo);
-  const StopPhase hold = MakePhase(WalkingDomain::kDoubleSupport, stop.hold_duration_s, 2, hold_x, hold_z,
-                                   Quintic(1.0, mid_y, mid_y), m, g, front, yf, yo);
+  const StopPhase shift = MakePhase(WalkingDomain::kDoubleSupport, Tf, n, hold_x, Quintic(Tf, rest_z, stand_z),
+                                    Quintic(Tf, rest_y, mid_y), m, g, front, yf, yo);
+  const StopPhase hold = MakePhase(WalkingDomain::kDoubleSupport, stop.hold_duration_s, 2, hold_x,
+                                   Quintic(1.0, stand_z, stand_z), Quintic(1.0, mid_y, mid_y), m, g, front, yf, yo);
   // One footed H-LIP QP over settle, step and shift (shared nodes once).
   FootedHlipTransitionData lat;
   const StopPhase* phases[3] = {&settle, &step, &shift};

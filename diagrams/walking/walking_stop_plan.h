@@ -3,12 +3,13 @@
 // BuildGaitChangePlan), the change into the stop gait (the start gait's timing at the gait's W: short, slow steps, as
 // the start walks them), stop_gait_steps steps of it, then the stop, replacing the stop gait's last double support:
 //   settle (double support, after the last touchdown, 1 s): the COM comes to rest over the front ankle at the standing
-//     height (quintics in x, z and y from the touchdown's position, velocity and acceleration) and the weight moves
-//     onto the front foot; the rear foot is unloaded at the end, where it lifts;
+//     height, or at the NLPs' height_max_m if the standing height is above it (quintics in x, z and y from the
+//     touchdown's position, velocity and acceleration) and the weight moves onto the front foot; the rear foot is
+//     unloaded at the end, where it lifts;
 //   step (single support on the front foot, 0.6 s): the rear foot steps beside it at the same W (no step width
 //     change), the COM at rest over the front ankle;
-//   shift (double support, 2 s): the COM to the midpoint between the ankles (a rest-to-rest quintic in y), the weight
-//     back onto both feet;
+//   shift (double support, 1 s): the COM to the midpoint between the ankles (a rest-to-rest quintic in y) and up to
+//     the standing height (likewise in z), the weight back onto both feet;
 //   hold (double support, 1.5 s): standing still, m g / 2 on each foot.
 // The split of m (g + z̈) between the feet puts the point mass's lateral centre of pressure, y − z ÿ / (g + z̈), where
 // the lateral quintics need it (clipped to the feet; reasons in docs/design-notes.md#walking-walk-to-stand).

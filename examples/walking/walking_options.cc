@@ -83,8 +83,11 @@ void DeclareWalkingOptions(CommandLine& cli) {
       .Option("transition-ssp", "0",
               "lower bound of the standing transition's single-support time [s] (0: the T_SSP of the gait it goes "
               "into: the start gait's side by side, gait A's from a step stance)")
-      .Option("com-heights", "0.86,0.84,0.90",
-              "the ROM's COM height standing, and the NLPs' height range min,max [m] (ours; spec [R] 0.9 in 0.85-0.95)")
+      .Option("com-heights", "auto",
+              "H,MIN,MAX: the ROM's COM height standing, and the NLPs' height range [m] (ours; spec [R] 0.9 in "
+              "0.85-0.95); a standing height above the range is left and reached in double support; auto: "
+              "0.91,0.84,0.90 side by side (the standing ankles inside their URDF limits), 0.86,0.84,0.90 from a step "
+              "stance (whose legs do not reach 0.91 m)")
       .Option("gait-change-max-force", "1.6",
               "the gait-change transition NLPs (A -> B, a lead-in -> A, the start gait -> the next gait) keep each "
               "leg's vertical force <= this many m g (ours; 0: no bound, else in (1, 3])")
@@ -250,8 +253,10 @@ WalkingOptions ParseWalkingOptions(const CommandLine& cli) {
   s.transition_min_ssp_duration_s = cli.GetDouble("transition-ssp");
   s.gait_change_max_force_fraction = cli.GetDouble("gait-change-max-force");
   s.periodic_max_force_fraction = cli.GetDouble("periodic-max-force");
-  const std::vector<double> heights = Numbers(cli, "com-heights", 3, "H,MIN,MAX");
-  s.standing_height_m = heights[0], s.height_min_m = heights[1], s.height_max_m = heights[2];
+  if (cli.Get("com-heights") != "auto") {
+    const std::vector<double> heights = Numbers(cli, "com-heights", 3, "H,MIN,MAX");
+    s.standing_height_m = heights[0], s.height_min_m = heights[1], s.height_max_m = heights[2];
+  }
   WalkingDiagramParams& p = o.diagram;
   p.controller.force_band_halfwidth = cli.GetDouble("force-band");
   p.force_band_lead_periods = cli.GetDouble("force-band-lead");

@@ -3,7 +3,8 @@
 // foot's wrench from the plant's own constrained dynamics has F_z >= 0 and lies in the friction cone of the model's μ
 // with its centre of pressure on the sole (CheckContactForce), and the plant reports no contact violation; at the end
 // the plant's COM (from its q) is within 1 cm of the midpoint between its ankles (horizontal), its speed (from q, v)
-// at most 1 cm/s, the ankles side by side (their x within 1 cm) and both feet on the ground. The COM follows the plan
+// at most 1 cm/s, the ankles side by side (their x within 1 cm) and both feet on the ground; standing, at t = 0 and at
+// every sample of the stop's hold, every joint is inside the URDF's position limits. The COM follows the plan
 // to 1 cm RMS per axis after the first step, every planned step lands on its foothold and no QP update fails. The
 // library's at-rest rule (WalkingRunParams::judge_standing_end, shared with the walking example) agrees with that end.
 #include "diagrams/walking/walking_stop_plan.h"
@@ -12,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -45,6 +47,11 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   Eigen::VectorXd qdd(model->nv()), F(model->max_constraint_rows());
   Eigen::VectorXd end_q(model->nq()), end_v(model->nv());
   int end_mode = -1;
+  // Standing (the first sample, and the stop's hold at the plan's end): every joint of the plant inside the URDF's
+  // position limits (the model's, not the planner's).
+  const double hold_start = d.plan.end_time() - WalkToStandParams{}.hold_duration_s;
+  int standing_samples = 0, standing_beyond = 0;
+  double standing_margin = std::numeric_limits<double>::infinity();
   ContactForceCheckParameters cop_check;
   cop_check.cop_margin_m =
       -5e-4;  // rounding-level CoP motion past the sole's edge between samples (as the walking test)
@@ -52,6 +59,13 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
     const ContactSet active = d.plant->active_contacts(s.mode);
     counts.Record(*model, ws, *s.q, *s.v, *s.u, active, params.plant.dynamics, cop_check, qdd, F);
     end_q = *s.q, end_v = *s.v, end_mode = s.mode;
+    if (standing_samples == 0 || s.t >= hold_start) {
+      const Eigen::VectorXd margin =
+          (*s.q - model->position_lower_limits()).cwiseMin(model->position_upper_limits() - *s.q);
+      standing_margin = std::min(standing_margin, margin.minCoeff());
+      standing_beyond += margin.minCoeff() < 0 ? 1 : 0;
+      ++standing_samples;
+    }
   });
   // The end, from the plant's state.
   const Eigen::Vector3d com = CalcComPosition(*model, ws, end_q), vcom = CalcComVelocity(*model, ws, end_q, end_v);
@@ -93,6 +107,10 @@ void WalkToStand(const WalkingGait& gait, int steps, std::uint32_t seed) {
   EXPECT_NEAR(r.standing_end.com_to_feet_midpoint_m, offset, 1e-12);
   EXPECT_NEAR(r.standing_end.com_speed_mps, vcom.norm(), 1e-12);
   EXPECT_EQ(r.at_rest, offset <= 0.01 && vcom.norm() <= 0.01);
+  std::printf("  standing (t = 0 and the last %.1f s, %d samples): smallest joint-limit margin %.4f rad\n",
+              WalkToStandParams{}.hold_duration_s, standing_samples, standing_margin);
+  EXPECT_GT(standing_samples, 1000);
+  EXPECT_EQ(standing_beyond, 0);
 }
 
 // The at-rest rule judges the run: a run judged standing whose end is not at rest (the plan's end cut off mid-stride:

@@ -502,6 +502,7 @@ TEST(WalkingDiagram, SideBySideStartPlansTheDirectChangeWhenTheLeadInHasNoPlan) 
   no_start.stance_stagger_m = 0.40;
   no_start.point_foot_transition_ssp = true;
   no_start.standing_sagittal_cop_margin_m = -1.0;
+  no_start.standing_height_m = StandToWalkParams::StepStance().standing_height_m;
   try {
     BuildStandToWalkPlan(quick, 4, 1, &cache, nullptr, no_start);
     ADD_FAILURE() << "the failed lead-in was not reported";
