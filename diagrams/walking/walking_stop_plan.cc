@@ -47,10 +47,11 @@ struct StopPhase {
 // point mass, y − z ÿ / (g + z̈), between the feet where the design needs it (front share (p_y − y_other) / (y_front −
 // y_other), clipped to [0, 1]; the footed H-LIP QP then plans y on these forces with the soles' roll torques). Moving
 // the COM sideways needs the centre of pressure on its far side first: a split that followed the COM would push it
-// back.
+// back. other_floor_fraction: the other foot carries at least this share of the load at every node but the last
+// (the settle's rear foot, unloaded only where it lifts).
 StopPhase MakePhase(WalkingDomain domain, double T, int n, const Eigen::Matrix<double, 6, 1>& cx,
                     const Eigen::Matrix<double, 6, 1>& cz, const Eigen::Matrix<double, 6, 1>& cy, double mass, double g,
-                    int front, double y_front, double y_other) {
+                    int front, double y_front, double y_other, double other_floor_fraction = 0.0) {
   StopPhase p;
   p.domain = domain;
   p.t = Eigen::VectorXd::LinSpaced(n, 0.0, T);
@@ -59,8 +60,9 @@ StopPhase MakePhase(WalkingDomain domain, double T, int n, const Eigen::Matrix<d
     const Eigen::Vector3d x = Eval(cx, p.t(k)), z = Eval(cz, p.t(k)), y = Eval(cy, p.t(k));
     p.sagittal.col(k) << x(0), z(0), x(1), z(1), x(2), z(2);
     const double total = mass * (g + z(2)), cop_y = y(0) - z(0) * y(2) / (g + z(2));
+    const double top = k < n - 1 ? 1.0 - other_floor_fraction : 1.0;
     const double share =
-        domain == WalkingDomain::kDoubleSupport ? std::clamp((cop_y - y_other) / (y_front - y_other), 0.0, 1.0) : 1.0;
+        domain == WalkingDomain::kDoubleSupport ? std::clamp((cop_y - y_other) / (y_front - y_other), 0.0, top) : 1.0;
     p.forces(front, k) = share * total;
     p.forces(1 - front, k) = (1.0 - share) * total;
   }
@@ -139,6 +141,8 @@ void WalkToStandParams::Validate(const std::string& who) const {
     m << "shift_duration_s = " << shift_duration_s << " s is outside [0.3, 5] s";
   else if (!in(hold_duration_s, 0.1, 60.0))
     m << "hold_duration_s = " << hold_duration_s << " s is outside [0.1, 60] s";
+  else if (!(settle_rear_force_fraction >= 0.0 && settle_rear_force_fraction < 0.5))
+    m << "settle_rear_force_fraction = " << settle_rear_force_fraction << " is outside [0, 0.5)";
   else if (!(nodes_per_phase >= 5 && nodes_per_phase <= 200))
     m << "nodes_per_phase = " << nodes_per_phase << " is outside [5, 200]";
   if (!m.str().empty()) throw std::invalid_argument(who + ": " + m.str());
@@ -187,7 +191,7 @@ WalkingPlan BuildWalkToStandPlan(const WalkingGait& gait, int steps, std::uint32
                 Quintic(Ts, Eigen::Vector3d(td.com_position.x(), td.com_velocity.x(), td.com_acceleration.x()), rest_x),
                 Quintic(Ts, Eigen::Vector3d(td.com_position.z(), td.com_velocity.z(), td.com_acceleration.z()), rest_z),
                 Quintic(Ts, Eigen::Vector3d(td.com_position.y(), td.com_velocity.y(), td.com_acceleration.y()), rest_y),
-                m, g, front, yf, yo);
+                m, g, front, yf, yo, stop.settle_rear_force_fraction);
   CheckSagittalCop(settle, front_foot.x(), rear_foot.x(), front, sp, g, who);
   const WalkingDomain stance = front == 0 ? WalkingDomain::kLeftStance : WalkingDomain::kRightStance;
   const StopPhase step =

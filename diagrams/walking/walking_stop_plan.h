@@ -4,8 +4,8 @@
 // the start walks them), stop_gait_steps steps of it, then the stop, replacing the stop gait's last double support:
 //   settle (double support, after the last touchdown, 1 s): the COM comes to rest over the front ankle at the standing
 //     height, or at the NLPs' height_max_m if the standing height is above it (quintics in x, z and y from the
-//     touchdown's position, velocity and acceleration) and the weight moves onto the front foot; the rear foot is
-//     unloaded at the end, where it lifts;
+//     touchdown's position, velocity and acceleration) and the weight moves onto the front foot; the rear foot keeps
+//     at least settle_rear_force_fraction of the load until the last node, where it is unloaded and lifts;
 //   step (single support on the front foot, 0.6 s): the rear foot steps beside it at the same W (no step width
 //     change), the COM at rest over the front ankle;
 //   shift (double support, 1 s): the COM to the midpoint between the ankles (a rest-to-rest quintic in y) and up to
@@ -30,6 +30,11 @@ struct WalkToStandParams {
   /// [s] settle: the COM travels about half a stop-gait step to rest; 3 × that distance / the touchdown speed keeps the
   /// quintic monotone (no backward motion) for the stop gait's ~0.3 m/s.
   double settle_duration_s = 1.0;
+  /// [-] the settle's rear foot carries at least this fraction of the load until the settle's last node, where it is
+  /// unloaded and lifts (ours). 0: the split alone, which unloads it as soon as the lateral centre of pressure reaches
+  /// the front foot, 0.7 s early, and the plant then releases it in a double support
+  /// (docs/design-notes.md#walking-walk-to-stand-rear-floor).
+  double settle_rear_force_fraction = 0.05;
   double step_duration_s = 0.6;   ///< [s] the last single support (the start gait's T_SSP is 0.5 s)
   double shift_duration_s = 1.0;  ///< [s] the weight back onto both feet
   double hold_duration_s = 1.5;   ///< [s] standing still at the plan's end
