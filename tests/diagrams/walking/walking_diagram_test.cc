@@ -408,9 +408,9 @@ TEST(WalkingDiagram, StandToWalkUsesTheLeadInForAGaitFasterThanIt) {
 // Side by side (spec [R]) the standing transition's single step must reach the next gait's pre-impact state (x_f ahead
 // of the stance ankle at ẋ_f) over one sole. A LIP from rest whose CoP sits on the heel, L_h behind the ankle (the
 // sole's 7 cm less the 2 cm standing margin), conserves ẋ² − ω² (x + L_h)², so it reaches at most ẋ_f = ω (x_f + L_h)
-// there (ω = √(g / z), z the standing height). Gait A's periodic pre-impact state is beyond that bound and its standing transition has
-// no plan (NLP locally infeasible); the start gait's (0.20 m, 0.50 s, 0.15 s) is within it, and the default plan goes
-// standing → start gait (6 single supports of its 0.50 s) → gait A, from both feet at x = 0.
+// there (ω = √(g / z), z the standing height). Gait A's periodic pre-impact state is beyond that bound and its standing
+// transition has no plan (NLP locally infeasible); the start gait's (0.20 m, 0.50 s, 0.15 s) is within it, and the
+// default plan goes standing → start gait (6 single supports of its 0.50 s) → gait A, from both feet at x = 0.
 TEST(WalkingDiagram, SideBySideStartGoesThroughTheStartGaitTheLipBoundAllows) {
   auto model = test::LoadRobot("exoskeleton");
   const PlanCache cache(rome::test::TestPlanCacheDir("rome_walking_diagram_test_plans"));
